@@ -1,0 +1,9 @@
+//! suntracker — firmware for dual-axis solar trackers.
+//!
+//! This library is `no_std`: it runs on the tracker's microcontroller
+//! (Cortex-M4F, 8-bit AVR) and on a PC for tests, simulations and tools.
+#![no_std]
+#![forbid(unsafe_code)]
+
+/// Name and version of the firmware, printed by every image at boot.
+pub const BANNER: &str = concat!("suntracker ", env!("CARGO_PKG_VERSION"));
