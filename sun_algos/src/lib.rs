@@ -1,2 +1,36 @@
 //! Solar position algorithms for solar trackers, `no_std`, in `f32` and `f64`.
+//!
+//! ```
+//! use sun_algos::{Algorithm, Options, Site, UtcTime};
+//! let t: UtcTime = "2026-06-21T12:00:00Z".parse().unwrap();
+//! let site = Site::new(11.9683f32, 8.4261).unwrap(); // Kano
+//! let p = Algorithm::Psa2020.position(&t, &site, &Options::default()).unwrap();
+//! assert!(p.zenith_deg < 20.0);
+//! ```
 #![no_std]
+#![forbid(unsafe_code)]
+#![warn(missing_docs)]
+
+pub mod algorithm;
+#[cfg(feature = "compact-f32")]
+pub mod compact;
+pub mod delta_t;
+pub mod error;
+pub mod float;
+pub mod grena2008;
+pub mod grena2012;
+pub mod michalsky;
+pub mod position;
+pub mod psa;
+pub mod refraction;
+pub mod site;
+pub mod spa;
+pub mod textbook;
+pub mod time;
+
+pub use algorithm::Algorithm;
+pub use error::Error;
+pub use float::Float;
+pub use position::SunPosition;
+pub use site::{Atmosphere, Options, Site};
+pub use time::UtcTime;

@@ -1,0 +1,62 @@
+//! Atmospheric refraction shared by the algorithms that have none of their own.
+
+use crate::float::Float;
+use crate::position::SunPosition;
+use crate::site::Atmosphere;
+
+/// The sun's semi-diameter plus the refraction at the horizon in degrees
+/// (NREL SPA report, eq. 43: 0.26667° + 0.5667°): below this the sun is set
+/// and no refraction is applied.
+pub const SUN_RADIUS_PLUS_HORIZON_REFRACTION_DEG: f64 = 0.26667 + 0.5667;
+
+/// Refraction correction Δe in degrees for a true (geometric) elevation
+/// `e0_deg` (Reda & Andreas 2004, NREL SPA eq. 42, Bennett's formula scaled
+/// by pressure and temperature). Zero when the sun is below the horizon
+/// limit of eq. 43.
+pub fn refraction_deg<T: Float>(e0_deg: T, atmosphere: &Atmosphere<T>) -> T {
+    if e0_deg < -T::from_f64(SUN_RADIUS_PLUS_HORIZON_REFRACTION_DEG) {
+        return T::ZERO;
+    }
+    let arg = (e0_deg + T::from_f64(10.3) / (e0_deg + T::from_f64(5.11))).to_radians();
+    (atmosphere.pressure_hpa() / T::from_f64(1010.0))
+        * (T::from_f64(283.0) / (T::from_f64(273.0) + atmosphere.temperature_c()))
+        * T::from_f64(1.02)
+        / (T::from_f64(60.0) * arg.tan())
+}
+
+/// Applies [`refraction_deg`] to a geometric position when an atmosphere is
+/// given; returns it unchanged otherwise.
+pub fn apply<T: Float>(
+    geometric: SunPosition<T>,
+    atmosphere: Option<&Atmosphere<T>>,
+) -> SunPosition<T> {
+    match atmosphere {
+        None => geometric,
+        Some(atm) => {
+            let e0 = geometric.elevation_deg();
+            let e = e0 + refraction_deg(e0, atm);
+            SunPosition::new(T::from_f64(90.0) - e, geometric.azimuth_deg, true)
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn nrel_worked_example_refraction() {
+        // NREL SPA report worked example: e0 = 39.872046°, 820 hPa, 11 °C
+        // → Δe = 0.016332° (shared/reference/nrel_spa_test_vector.json).
+        let atm = Atmosphere::new(820.0f64, 11.0).unwrap();
+        let d = refraction_deg(39.872_046, &atm);
+        assert!((d - 0.016_332).abs() < 1e-6, "{d}");
+    }
+
+    #[test]
+    fn no_refraction_below_the_horizon_limit() {
+        let atm = Atmosphere::standard();
+        assert_eq!(refraction_deg(-5.0f64, &atm), 0.0);
+        assert!(refraction_deg(0.0f64, &atm) > 0.4);
+    }
+}

@@ -1,0 +1,417 @@
+//! Time: whole days and the time of day kept apart.
+//!
+//! A Julian Day near 2.46 × 10⁶ formed in `f32` keeps only about 0.1 day of
+//! resolution. [`UtcTime`] therefore stores an integer day count and an
+//! integer millisecond of the day; each algorithm combines them in the way
+//! that keeps its own precision (see the algorithm modules).
+//!
+//! The instant is read as UT1 (UTC without leap-second bookkeeping; the
+//! difference is below 0.9 s, 0.004° of hour angle).
+
+use crate::error::Error;
+use crate::float::Float;
+
+/// Milliseconds in a day.
+pub const MS_PER_DAY: u32 = 86_400_000;
+/// Julian Day of 2000-01-01 00:00 UT is `JD_2000_MIDNIGHT_INT + 0.5`.
+pub const JD_2000_MIDNIGHT_INT: i32 = 2_451_544;
+/// First year a [`UtcTime`] accepts.
+pub const MIN_YEAR: i32 = -4000;
+/// Last year a [`UtcTime`] accepts.
+pub const MAX_YEAR: i32 = 8000;
+
+/// A UTC (taken as UT1) instant on the proleptic Gregorian calendar.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, PartialOrd, Ord, Hash)]
+pub struct UtcTime {
+    /// Days since 2000-01-01 (that day is 0).
+    days: i32,
+    /// Milliseconds since midnight, `0..MS_PER_DAY`.
+    ms_of_day: u32,
+}
+
+/// Days from 1970-01-01 to 2000-01-01.
+const UNIX_TO_2000_DAYS: i64 = 10_957;
+
+/// Days since 2000-01-01 of a proleptic Gregorian date (no validation).
+/// The usual era-based count (400-year cycles of 146 097 days).
+const fn days_from_civil(year: i32, month: u32, day: u32) -> i32 {
+    let y = if month <= 2 { year - 1 } else { year };
+    let era = if y >= 0 { y } else { y - 399 } / 400;
+    let yoe = (y - era * 400) as u32; // 0..=399
+    let mp = (month + 9) % 12; // March = 0
+    let doy = (153 * mp + 2) / 5 + day - 1;
+    let doe = yoe * 365 + yoe / 4 - yoe / 100 + doy;
+    // 730 425 = days from 0000-03-01 to 2000-01-01
+    era * 146_097 + doe as i32 - 730_425
+}
+
+/// Inverse of [`days_from_civil`].
+const fn civil_from_days(days: i32) -> (i32, u8, u8) {
+    let z = days + 730_425;
+    let era = if z >= 0 { z } else { z - 146_096 } / 146_097;
+    let doe = (z - era * 146_097) as u32;
+    let yoe = (doe - doe / 1460 + doe / 36_524 - doe / 146_096) / 365;
+    let doy = doe - (365 * yoe + yoe / 4 - yoe / 100);
+    let mp = (5 * doy + 2) / 153;
+    let d = doy - (153 * mp + 2) / 5 + 1;
+    let m = if mp < 10 { mp + 3 } else { mp - 9 };
+    let y = yoe as i32 + era * 400 + if m <= 2 { 1 } else { 0 };
+    (y, m as u8, d as u8)
+}
+
+/// True for Gregorian leap years.
+pub const fn is_leap_year(year: i32) -> bool {
+    (year % 4 == 0 && year % 100 != 0) || year % 400 == 0
+}
+
+/// Number of days in a month of a year (0 for a month outside 1..=12).
+pub const fn days_in_month(year: i32, month: u8) -> u8 {
+    match month {
+        1 | 3 | 5 | 7 | 8 | 10 | 12 => 31,
+        4 | 6 | 9 | 11 => 30,
+        2 if is_leap_year(year) => 29,
+        2 => 28,
+        _ => 0,
+    }
+}
+
+impl UtcTime {
+    /// An instant from a calendar date and time of day.
+    pub fn from_ymd_hms(
+        year: i32,
+        month: u8,
+        day: u8,
+        hour: u8,
+        minute: u8,
+        second: u8,
+    ) -> Result<Self, Error> {
+        Self::from_ymd_hms_milli(year, month, day, hour, minute, second, 0)
+    }
+
+    /// An instant from a calendar date and time of day with milliseconds.
+    pub fn from_ymd_hms_milli(
+        year: i32,
+        month: u8,
+        day: u8,
+        hour: u8,
+        minute: u8,
+        second: u8,
+        milli: u16,
+    ) -> Result<Self, Error> {
+        if !(MIN_YEAR..=MAX_YEAR).contains(&year)
+            || !(1..=12).contains(&month)
+            || day == 0
+            || day > days_in_month(year, month)
+        {
+            return Err(Error::InvalidDate);
+        }
+        if hour > 23 || minute > 59 || second > 59 || milli > 999 {
+            return Err(Error::InvalidTime);
+        }
+        let ms = ((u32::from(hour) * 60 + u32::from(minute)) * 60 + u32::from(second)) * 1000
+            + u32::from(milli);
+        Ok(UtcTime {
+            days: days_from_civil(year, u32::from(month), u32::from(day)),
+            ms_of_day: ms,
+        })
+    }
+
+    /// An instant from days since 2000-01-01 and milliseconds of that day.
+    pub fn from_days_ms(days_since_2000: i32, ms_of_day: u32) -> Result<Self, Error> {
+        if ms_of_day >= MS_PER_DAY {
+            return Err(Error::InvalidTime);
+        }
+        let lo = days_from_civil(MIN_YEAR, 1, 1);
+        let hi = days_from_civil(MAX_YEAR, 12, 31);
+        if !(lo..=hi).contains(&days_since_2000) {
+            return Err(Error::InvalidDate);
+        }
+        Ok(UtcTime {
+            days: days_since_2000,
+            ms_of_day,
+        })
+    }
+
+    /// An instant from Unix seconds (seconds since 1970-01-01T00:00:00Z).
+    pub fn from_unix_seconds(secs: i64) -> Result<Self, Error> {
+        let days = secs.div_euclid(86_400) - UNIX_TO_2000_DAYS;
+        let sod = secs.rem_euclid(86_400);
+        let days = i32::try_from(days).map_err(|_| Error::InvalidDate)?;
+        Self::from_days_ms(days, (sod as u32) * 1000)
+    }
+
+    /// Seconds since 1970-01-01T00:00:00Z, milliseconds dropped.
+    pub fn unix_seconds(&self) -> i64 {
+        (i64::from(self.days) + UNIX_TO_2000_DAYS) * 86_400 + i64::from(self.ms_of_day / 1000)
+    }
+
+    /// This instant moved by `secs` seconds (either sign).
+    pub fn add_seconds(&self, secs: i64) -> Result<Self, Error> {
+        let total_ms = i64::from(self.ms_of_day) + secs.saturating_mul(1000);
+        let day_shift = total_ms.div_euclid(i64::from(MS_PER_DAY));
+        let ms = total_ms.rem_euclid(i64::from(MS_PER_DAY)) as u32;
+        let days = i64::from(self.days) + day_shift;
+        let days = i32::try_from(days).map_err(|_| Error::InvalidDate)?;
+        Self::from_days_ms(days, ms)
+    }
+
+    /// Midnight (00:00) of this instant's day.
+    pub fn start_of_day(&self) -> Self {
+        UtcTime {
+            days: self.days,
+            ms_of_day: 0,
+        }
+    }
+
+    /// Days since 2000-01-01 (that day is 0; negative before).
+    pub fn days_since_2000(&self) -> i32 {
+        self.days
+    }
+
+    /// Milliseconds since midnight.
+    pub fn ms_of_day(&self) -> u32 {
+        self.ms_of_day
+    }
+
+    /// Integer part of the Julian Day at this day's 00:00 (the JD itself is
+    /// this plus one half).
+    pub fn jd_midnight_int(&self) -> i32 {
+        JD_2000_MIDNIGHT_INT + self.days
+    }
+
+    /// Fraction of the day elapsed, `0 ≤ f < 1`.
+    pub fn day_fraction<T: Float>(&self) -> T {
+        T::from_u32(self.ms_of_day) / T::from_u32(MS_PER_DAY)
+    }
+
+    /// Decimal hours since midnight.
+    pub fn hours<T: Float>(&self) -> T {
+        T::from_u32(self.ms_of_day) / T::from_u32(3_600_000)
+    }
+
+    /// The full Julian Day in `f64` (host tools; algorithms keep days apart).
+    pub fn julian_day_f64(&self) -> f64 {
+        f64::from(self.jd_midnight_int()) + 0.5 + f64::from(self.ms_of_day) / f64::from(MS_PER_DAY)
+    }
+
+    /// Calendar date `(year, month, day)`.
+    pub fn ymd(&self) -> (i32, u8, u8) {
+        civil_from_days(self.days)
+    }
+
+    /// Calendar year.
+    pub fn year(&self) -> i32 {
+        self.ymd().0
+    }
+
+    /// Time of day `(hour, minute, second, millisecond)`.
+    pub fn hms_milli(&self) -> (u8, u8, u8, u16) {
+        let ms = self.ms_of_day;
+        let s = ms / 1000;
+        (
+            (s / 3600) as u8,
+            ((s / 60) % 60) as u8,
+            (s % 60) as u8,
+            (ms % 1000) as u16,
+        )
+    }
+
+    /// Day of the year, 1 on 1 January.
+    pub fn day_of_year(&self) -> u16 {
+        let (y, _, _) = self.ymd();
+        (self.days - days_from_civil(y, 1, 1) + 1) as u16
+    }
+
+    /// Year with its elapsed fraction, e.g. 2024.5 near 1 July 2024.
+    pub fn decimal_year<T: Float>(&self) -> T {
+        let (y, _, _) = self.ymd();
+        let len = if is_leap_year(y) { 366 } else { 365 };
+        let elapsed = (self.days - days_from_civil(y, 1, 1)) as u32;
+        T::from_i32(y) + (T::from_u32(elapsed) + self.day_fraction::<T>()) / T::from_u32(len as u32)
+    }
+}
+
+impl core::fmt::Display for UtcTime {
+    /// ISO 8601, `2031-04-05T06:07:08Z` (milliseconds shown when not zero).
+    fn fmt(&self, f: &mut core::fmt::Formatter<'_>) -> core::fmt::Result {
+        let (y, mo, d) = self.ymd();
+        let (h, mi, s, ms) = self.hms_milli();
+        write!(f, "{y:04}-{mo:02}-{d:02}T{h:02}:{mi:02}:{s:02}")?;
+        if ms != 0 {
+            write!(f, ".{ms:03}")?;
+        }
+        f.write_str("Z")
+    }
+}
+
+impl core::str::FromStr for UtcTime {
+    type Err = Error;
+
+    /// Parses `YYYY-MM-DDTHH:MM:SS[.fff]Z` (the `Z` may be omitted).
+    fn from_str(s: &str) -> Result<Self, Error> {
+        let s = s.trim();
+        let s = s.strip_suffix('Z').unwrap_or(s);
+        let (date, time) = s.split_once(['T', ' ']).ok_or(Error::InvalidDate)?;
+        let (neg, date) = match date.strip_prefix('-') {
+            Some(rest) => (true, rest),
+            None => (false, date),
+        };
+        let mut dp = date.splitn(3, '-');
+        let year: i32 = parse_num(dp.next())?;
+        let month: u8 = parse_num(dp.next())?;
+        let day: u8 = parse_num(dp.next())?;
+        let year = if neg { -year } else { year };
+        let (hms, frac) = match time.split_once('.') {
+            Some((a, b)) => (a, Some(b)),
+            None => (time, None),
+        };
+        let mut tp = hms.splitn(3, ':');
+        let hour: u8 = parse_num(tp.next()).map_err(|_| Error::InvalidTime)?;
+        let minute: u8 = parse_num(tp.next()).map_err(|_| Error::InvalidTime)?;
+        let second: u8 = parse_num(tp.next()).map_err(|_| Error::InvalidTime)?;
+        let milli = match frac {
+            None => 0,
+            Some(f) => {
+                if f.is_empty() || !f.bytes().all(|b| b.is_ascii_digit()) {
+                    return Err(Error::InvalidTime);
+                }
+                let mut ms: u16 = 0;
+                for (i, b) in f.bytes().take(3).enumerate() {
+                    ms += u16::from(b - b'0') * [100, 10, 1][i];
+                }
+                ms
+            }
+        };
+        UtcTime::from_ymd_hms_milli(year, month, day, hour, minute, second, milli)
+    }
+}
+
+fn parse_num<N: core::str::FromStr>(s: Option<&str>) -> Result<N, Error> {
+    let s = s.ok_or(Error::InvalidDate)?;
+    if s.is_empty() || !s.bytes().all(|b| b.is_ascii_digit()) {
+        return Err(Error::InvalidDate);
+    }
+    s.parse().map_err(|_| Error::InvalidDate)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn j2000_epoch_is_day_zero() {
+        let t = UtcTime::from_ymd_hms(2000, 1, 1, 12, 0, 0).unwrap();
+        assert_eq!(t.days_since_2000(), 0);
+        // JD 2451545.0 is 2000-01-01 12:00 (Meeus, Astronomical Algorithms, ch. 7).
+        assert_eq!(t.julian_day_f64(), 2_451_545.0);
+    }
+
+    #[test]
+    fn nrel_example_julian_day() {
+        // NREL SPA report worked example: 2003-10-17 19:30:30 UT → JD 2452930.312847.
+        let t = UtcTime::from_ymd_hms(2003, 10, 17, 19, 30, 30).unwrap();
+        assert!((t.julian_day_f64() - 2_452_930.312_847).abs() < 1e-6);
+    }
+
+    #[test]
+    fn meeus_julian_days() {
+        // Meeus, Astronomical Algorithms, example 7.a and the table of ch. 7.
+        let t = UtcTime::from_ymd_hms(1957, 10, 4, 19, 26, 24).unwrap();
+        assert!((t.julian_day_f64() - 2_436_116.31).abs() < 1e-9);
+        let t = UtcTime::from_ymd_hms(1600, 1, 1, 0, 0, 0).unwrap();
+        assert_eq!(t.julian_day_f64(), 2_305_447.5);
+        let t = UtcTime::from_ymd_hms(-1000, 7, 12, 12, 0, 0).unwrap();
+        // Proleptic Gregorian −1000-07-12 is Julian −1000-07-24... checked as a
+        // round trip instead of against Meeus' Julian-calendar table.
+        assert_eq!(t.ymd(), (-1000, 7, 12));
+    }
+
+    #[test]
+    fn calendar_round_trip_every_day_1900_2100() {
+        let start = UtcTime::from_ymd_hms(1900, 1, 1, 0, 0, 0)
+            .unwrap()
+            .days_since_2000();
+        let end = UtcTime::from_ymd_hms(2100, 12, 31, 0, 0, 0)
+            .unwrap()
+            .days_since_2000();
+        let mut prev: Option<(i32, u8, u8)> = None;
+        for d in start..=end {
+            let t = UtcTime::from_days_ms(d, 0).unwrap();
+            let (y, m, dd) = t.ymd();
+            assert_eq!(UtcTime::from_ymd_hms(y, m, dd, 0, 0, 0).unwrap(), t);
+            if let Some(p) = prev {
+                assert!((y, m, dd) > p);
+            }
+            prev = Some((y, m, dd));
+        }
+    }
+
+    #[test]
+    fn rejects_bad_dates_and_times() {
+        assert_eq!(
+            UtcTime::from_ymd_hms(2023, 2, 29, 0, 0, 0),
+            Err(Error::InvalidDate)
+        );
+        assert!(UtcTime::from_ymd_hms(2024, 2, 29, 0, 0, 0).is_ok());
+        assert_eq!(
+            UtcTime::from_ymd_hms(1900, 2, 29, 0, 0, 0),
+            Err(Error::InvalidDate)
+        );
+        assert_eq!(
+            UtcTime::from_ymd_hms(2024, 13, 1, 0, 0, 0),
+            Err(Error::InvalidDate)
+        );
+        assert_eq!(
+            UtcTime::from_ymd_hms(2024, 1, 1, 24, 0, 0),
+            Err(Error::InvalidTime)
+        );
+        assert_eq!(
+            UtcTime::from_days_ms(0, MS_PER_DAY),
+            Err(Error::InvalidTime)
+        );
+        assert_eq!("2024-01-01".parse::<UtcTime>(), Err(Error::InvalidDate));
+        assert!("2024-01-01T10:00:0xZ".parse::<UtcTime>().is_err());
+    }
+
+    #[test]
+    fn parse_and_display() {
+        let t: UtcTime = "2031-04-05T06:07:08Z".parse().unwrap();
+        assert_eq!(t.ymd(), (2031, 4, 5));
+        assert_eq!(t.hms_milli(), (6, 7, 8, 0));
+        let mut buf = [0u8; 32];
+        let s = fmt_to(&mut buf, &t);
+        assert_eq!(s, "2031-04-05T06:07:08Z");
+        let t: UtcTime = "2031-04-05T06:07:08.25Z".parse().unwrap();
+        assert_eq!(t.hms_milli().3, 250);
+    }
+
+    #[test]
+    fn unix_and_day_of_year() {
+        // 2000-01-01T00:00:00Z is Unix 946 684 800 (POSIX time definition).
+        let t = UtcTime::from_unix_seconds(946_684_800).unwrap();
+        assert_eq!(t.days_since_2000(), 0);
+        assert_eq!(t.unix_seconds(), 946_684_800);
+        let t = UtcTime::from_ymd_hms(2024, 12, 31, 0, 0, 0).unwrap();
+        assert_eq!(t.day_of_year(), 366);
+        let t2 = t.add_seconds(86_400).unwrap();
+        assert_eq!(t2.ymd(), (2025, 1, 1));
+        assert_eq!(t2.add_seconds(-1).unwrap().hms_milli(), (23, 59, 59, 0));
+    }
+
+    fn fmt_to<'a>(buf: &'a mut [u8], t: &UtcTime) -> &'a str {
+        use core::fmt::Write;
+        struct W<'b>(&'b mut [u8], usize);
+        impl Write for W<'_> {
+            fn write_str(&mut self, s: &str) -> core::fmt::Result {
+                let end = self.1 + s.len();
+                self.0[self.1..end].copy_from_slice(s.as_bytes());
+                self.1 = end;
+                Ok(())
+            }
+        }
+        let mut w = W(buf, 0);
+        write!(w, "{t}").unwrap();
+        let n = w.1;
+        core::str::from_utf8(&buf[..n]).unwrap()
+    }
+}
