@@ -1,0 +1,247 @@
+//! Honeywell HMC5883L three-axis magnetometer over I2C (our driver).
+//!
+//! Register map (HMC5883L datasheet, Table 2): `00h` configuration A
+//! (MA[6:5] samples averaged, DO[4:2] output rate, MS[1:0] bias), `01h`
+//! configuration B (GN[7:5] gain), `02h` mode (MD[1:0]: 00 continuous,
+//! 01 single, 1x idle), `03h–08h` data X, Z, Y (MSB first — note the order),
+//! `09h` status (bit 0 RDY, bit 1 LOCK), `0Ah–0Ch` identification "H43".
+//! Seven-bit address 0x1E. The chip has no overflow flag: an axis that over- or
+//! underflows reads −4096 (0xF000), which [`Hmc5883l::read_raw`] reports as
+//! [`Error::Overflow`].
+
+use embedded_hal::i2c::I2c;
+
+use super::{Magnetometer, Vector3};
+
+/// Fixed seven-bit I2C address.
+pub const ADDRESS: u8 = 0x1E;
+
+const REG_CONFIG_A: u8 = 0x00;
+const REG_CONFIG_B: u8 = 0x01;
+const REG_MODE: u8 = 0x02;
+const REG_DATA_X_MSB: u8 = 0x03;
+const REG_STATUS: u8 = 0x09;
+const REG_ID_A: u8 = 0x0A;
+
+const IDENTIFICATION: [u8; 3] = *b"H43";
+const STATUS_RDY: u8 = 1 << 0;
+const STATUS_LOCK: u8 = 1 << 1;
+const MODE_CONTINUOUS: u8 = 0b00;
+const MODE_IDLE: u8 = 0b11;
+const OVERFLOW_VALUE: i16 = -4096;
+
+/// Driver errors.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Error<E> {
+    /// I2C bus error (NACK, arbitration loss, ...).
+    Comm(E),
+    /// Identification registers did not read "H43".
+    WrongChip([u8; 3]),
+    /// RDY is clear: no new sample yet.
+    NotReady,
+    /// An axis read −4096: outside the selected gain's range.
+    Overflow,
+}
+
+/// Samples averaged per output (configuration A, MA bits 6:5).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Averaging {
+    /// 1 sample.
+    X1 = 0b00,
+    /// 2 samples.
+    X2 = 0b01,
+    /// 4 samples.
+    X4 = 0b10,
+    /// 8 samples.
+    X8 = 0b11,
+}
+
+/// Output rate in continuous mode (configuration A, DO bits 4:2).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum DataRate {
+    /// 0.75 Hz.
+    Hz0_75 = 0b000,
+    /// 1.5 Hz.
+    Hz1_5 = 0b001,
+    /// 3 Hz.
+    Hz3 = 0b010,
+    /// 7.5 Hz.
+    Hz7_5 = 0b011,
+    /// 15 Hz (default).
+    Hz15 = 0b100,
+    /// 30 Hz.
+    Hz30 = 0b101,
+    /// 75 Hz.
+    Hz75 = 0b110,
+}
+
+/// Gain (configuration B, GN bits 7:5), named by its range.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Gain {
+    /// ±0.88 Ga, 1370 LSB/Ga.
+    Ga0_88 = 0b000,
+    /// ±1.3 Ga, 1090 LSB/Ga (default).
+    Ga1_3 = 0b001,
+    /// ±1.9 Ga, 820 LSB/Ga.
+    Ga1_9 = 0b010,
+    /// ±2.5 Ga, 660 LSB/Ga.
+    Ga2_5 = 0b011,
+    /// ±4.0 Ga, 440 LSB/Ga.
+    Ga4_0 = 0b100,
+    /// ±4.7 Ga, 390 LSB/Ga.
+    Ga4_7 = 0b101,
+    /// ±5.6 Ga, 330 LSB/Ga.
+    Ga5_6 = 0b110,
+    /// ±8.1 Ga, 230 LSB/Ga.
+    Ga8_1 = 0b111,
+}
+
+impl Gain {
+    fn lsb_per_gauss(self) -> f32 {
+        match self {
+            Gain::Ga0_88 => 1370.0,
+            Gain::Ga1_3 => 1090.0,
+            Gain::Ga1_9 => 820.0,
+            Gain::Ga2_5 => 660.0,
+            Gain::Ga4_0 => 440.0,
+            Gain::Ga4_7 => 390.0,
+            Gain::Ga5_6 => 330.0,
+            Gain::Ga8_1 => 230.0,
+        }
+    }
+}
+
+/// Measurement configuration.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct Config {
+    /// Samples averaged.
+    pub averaging: Averaging,
+    /// Output rate.
+    pub rate: DataRate,
+    /// Gain.
+    pub gain: Gain,
+}
+
+impl Default for Config {
+    /// 8-sample average, 15 Hz, normal bias (CRA = 0x70), ±1.3 Ga (CRB = 0x20).
+    fn default() -> Self {
+        Self {
+            averaging: Averaging::X8,
+            rate: DataRate::Hz15,
+            gain: Gain::Ga1_3,
+        }
+    }
+}
+
+/// Raw status flags (register 09h).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct Status {
+    /// RDY: data written to all six data registers.
+    pub ready: bool,
+    /// LOCK: data registers locked until all six are read.
+    pub locked: bool,
+}
+
+/// One raw sample in LSB.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct RawField {
+    /// X.
+    pub x: i16,
+    /// Y.
+    pub y: i16,
+    /// Z.
+    pub z: i16,
+}
+
+/// HMC5883L device.
+#[derive(Debug)]
+pub struct Hmc5883l<I2C> {
+    i2c: I2C,
+    config: Config,
+}
+
+impl<I2C: I2c> Hmc5883l<I2C> {
+    /// Checks the identification registers, writes configuration A and B and
+    /// selects continuous-measurement mode (the datasheet's three single writes).
+    pub fn new(i2c: I2C, config: Config) -> Result<Self, Error<I2C::Error>> {
+        let mut dev = Self { i2c, config };
+        let mut id = [0u8; 3];
+        dev.i2c
+            .write_read(ADDRESS, &[REG_ID_A], &mut id)
+            .map_err(Error::Comm)?;
+        if id != IDENTIFICATION {
+            return Err(Error::WrongChip(id));
+        }
+        let cra = ((config.averaging as u8) << 5) | ((config.rate as u8) << 2);
+        dev.write_register(REG_CONFIG_A, cra)?;
+        dev.write_register(REG_CONFIG_B, (config.gain as u8) << 5)?;
+        dev.write_register(REG_MODE, MODE_CONTINUOUS)?;
+        Ok(dev)
+    }
+
+    /// Gives the bus back.
+    pub fn destroy(self) -> I2C {
+        self.i2c
+    }
+
+    /// Current configuration.
+    pub fn config(&self) -> Config {
+        self.config
+    }
+
+    /// Reads the status register.
+    pub fn status(&mut self) -> Result<Status, Error<I2C::Error>> {
+        let mut b = [0u8];
+        self.i2c
+            .write_read(ADDRESS, &[REG_STATUS], &mut b)
+            .map_err(Error::Comm)?;
+        Ok(Status {
+            ready: b[0] & STATUS_RDY != 0,
+            locked: b[0] & STATUS_LOCK != 0,
+        })
+    }
+
+    /// Reads one sample: status first; `NotReady` without RDY; otherwise the six
+    /// data bytes X, Z, Y; `Overflow` if any axis reads −4096.
+    pub fn read_raw(&mut self) -> Result<RawField, Error<I2C::Error>> {
+        if !self.status()?.ready {
+            return Err(Error::NotReady);
+        }
+        let mut b = [0u8; 6];
+        self.i2c
+            .write_read(ADDRESS, &[REG_DATA_X_MSB], &mut b)
+            .map_err(Error::Comm)?;
+        let raw = RawField {
+            x: i16::from_be_bytes([b[0], b[1]]),
+            z: i16::from_be_bytes([b[2], b[3]]),
+            y: i16::from_be_bytes([b[4], b[5]]),
+        };
+        if raw.x == OVERFLOW_VALUE || raw.y == OVERFLOW_VALUE || raw.z == OVERFLOW_VALUE {
+            return Err(Error::Overflow);
+        }
+        Ok(raw)
+    }
+
+    /// Idle mode (MD = 11): lowest supply current.
+    pub fn idle(&mut self) -> Result<(), Error<I2C::Error>> {
+        self.write_register(REG_MODE, MODE_IDLE)
+    }
+
+    fn write_register(&mut self, reg: u8, value: u8) -> Result<(), Error<I2C::Error>> {
+        self.i2c.write(ADDRESS, &[reg, value]).map_err(Error::Comm)
+    }
+}
+
+impl<I2C: I2c> Magnetometer for Hmc5883l<I2C> {
+    type Error = Error<I2C::Error>;
+
+    fn read_gauss(&mut self) -> Result<Vector3, Self::Error> {
+        let raw = self.read_raw()?;
+        let k = self.config.gain.lsb_per_gauss();
+        Ok(Vector3::new(
+            f32::from(raw.x) / k,
+            f32::from(raw.y) / k,
+            f32::from(raw.z) / k,
+        ))
+    }
+}

@@ -1,0 +1,241 @@
+//! QST QMC5883L three-axis magnetometer over I2C (our driver).
+//!
+//! Register map (QMC5883L datasheet, section 9):
+//! `00h–05h` data X, Y, Z (LSB first, two's complement), `06h` status
+//! (bit 0 DRDY, bit 1 OVL, bit 2 DOR), `09h` control 1 (OSR[7:6], RNG[5:4],
+//! ODR[3:2], MODE[1:0]), `0Ah` control 2 (SOFT_RST bit 7), `0Bh` SET/RESET
+//! period (datasheet: write 0x01), `0Dh` chip ID (reads 0xFF).
+//! Seven-bit address 0x0D. Sensitivity 12000 LSB/G (±2 G) or 3000 LSB/G (±8 G).
+
+use embedded_hal::i2c::I2c;
+
+use super::{Magnetometer, Vector3};
+
+/// Fixed seven-bit I2C address.
+pub const ADDRESS: u8 = 0x0D;
+
+const REG_DATA_X_LSB: u8 = 0x00;
+const REG_STATUS: u8 = 0x06;
+const REG_CONTROL1: u8 = 0x09;
+const REG_CONTROL2: u8 = 0x0A;
+const REG_SET_RESET_PERIOD: u8 = 0x0B;
+const REG_CHIP_ID: u8 = 0x0D;
+
+const CHIP_ID: u8 = 0xFF;
+const SET_RESET_PERIOD: u8 = 0x01;
+const SOFT_RESET: u8 = 0x80;
+const STATUS_DRDY: u8 = 1 << 0;
+const STATUS_OVL: u8 = 1 << 1;
+const STATUS_DOR: u8 = 1 << 2;
+const MODE_CONTINUOUS: u8 = 0b01;
+const MODE_MASK: u8 = 0b11;
+
+/// Driver errors.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Error<E> {
+    /// I2C bus error (NACK, arbitration loss, ...).
+    Comm(E),
+    /// The chip-ID register did not read 0xFF.
+    WrongChip(u8),
+    /// DRDY is clear: no new sample yet.
+    NotReady,
+    /// OVL is set: some axis is outside the selected range (data read and discarded).
+    Overflow,
+}
+
+/// Output data rate (control 1, ODR bits 3:2).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum DataRate {
+    /// 10 Hz.
+    Hz10 = 0b00,
+    /// 50 Hz.
+    Hz50 = 0b01,
+    /// 100 Hz.
+    Hz100 = 0b10,
+    /// 200 Hz.
+    Hz200 = 0b11,
+}
+
+/// Full-scale range (control 1, RNG bits 5:4).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Range {
+    /// ±2 gauss, 12000 LSB/G.
+    Gauss2 = 0b00,
+    /// ±8 gauss, 3000 LSB/G.
+    Gauss8 = 0b01,
+}
+
+/// Over-sampling ratio (control 1, OSR bits 7:6).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum OverSampling {
+    /// 512.
+    X512 = 0b00,
+    /// 256.
+    X256 = 0b01,
+    /// 128.
+    X128 = 0b10,
+    /// 64.
+    X64 = 0b11,
+}
+
+/// Measurement configuration.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct Config {
+    /// Output data rate.
+    pub rate: DataRate,
+    /// Full-scale range.
+    pub range: Range,
+    /// Over-sampling ratio.
+    pub oversampling: OverSampling,
+}
+
+impl Default for Config {
+    /// 10 Hz, ±8 G, OSR 512: control 1 = 0x11.
+    fn default() -> Self {
+        Self {
+            rate: DataRate::Hz10,
+            range: Range::Gauss8,
+            oversampling: OverSampling::X512,
+        }
+    }
+}
+
+impl Config {
+    fn control1(&self) -> u8 {
+        ((self.oversampling as u8) << 6)
+            | ((self.range as u8) << 4)
+            | ((self.rate as u8) << 2)
+            | MODE_CONTINUOUS
+    }
+
+    fn lsb_per_gauss(&self) -> f32 {
+        match self.range {
+            Range::Gauss2 => 12_000.0,
+            Range::Gauss8 => 3_000.0,
+        }
+    }
+}
+
+/// Raw status flags (register 06h).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct Status {
+    /// DRDY: new data ready.
+    pub data_ready: bool,
+    /// OVL: a channel is out of range.
+    pub overflow: bool,
+    /// DOR: a sample was skipped because the data was not read in time.
+    pub data_skipped: bool,
+}
+
+/// One raw sample in LSB.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct RawField {
+    /// X.
+    pub x: i16,
+    /// Y.
+    pub y: i16,
+    /// Z.
+    pub z: i16,
+}
+
+/// QMC5883L device.
+#[derive(Debug)]
+pub struct Qmc5883l<I2C> {
+    i2c: I2C,
+    config: Config,
+}
+
+impl<I2C: I2c> Qmc5883l<I2C> {
+    /// Checks the chip ID, writes the SET/RESET period and starts continuous
+    /// measurement with `config`.
+    pub fn new(i2c: I2C, config: Config) -> Result<Self, Error<I2C::Error>> {
+        let mut dev = Self { i2c, config };
+        let mut id = [0u8];
+        dev.i2c
+            .write_read(ADDRESS, &[REG_CHIP_ID], &mut id)
+            .map_err(Error::Comm)?;
+        if id[0] != CHIP_ID {
+            return Err(Error::WrongChip(id[0]));
+        }
+        dev.write_register(REG_SET_RESET_PERIOD, SET_RESET_PERIOD)?;
+        dev.write_register(REG_CONTROL1, config.control1())?;
+        Ok(dev)
+    }
+
+    /// Gives the bus back.
+    pub fn destroy(self) -> I2C {
+        self.i2c
+    }
+
+    /// Current configuration.
+    pub fn config(&self) -> Config {
+        self.config
+    }
+
+    /// Reads the status register.
+    pub fn status(&mut self) -> Result<Status, Error<I2C::Error>> {
+        let s = self.read_register(REG_STATUS)?;
+        Ok(Status {
+            data_ready: s & STATUS_DRDY != 0,
+            overflow: s & STATUS_OVL != 0,
+            data_skipped: s & STATUS_DOR != 0,
+        })
+    }
+
+    /// Reads one sample: status first; `NotReady` without DRDY; otherwise the six
+    /// data bytes (which clears DRDY), then `Overflow` if OVL was set.
+    pub fn read_raw(&mut self) -> Result<RawField, Error<I2C::Error>> {
+        let status = self.status()?;
+        if !status.data_ready {
+            return Err(Error::NotReady);
+        }
+        let mut b = [0u8; 6];
+        self.i2c
+            .write_read(ADDRESS, &[REG_DATA_X_LSB], &mut b)
+            .map_err(Error::Comm)?;
+        if status.overflow {
+            return Err(Error::Overflow);
+        }
+        Ok(RawField {
+            x: i16::from_le_bytes([b[0], b[1]]),
+            y: i16::from_le_bytes([b[2], b[3]]),
+            z: i16::from_le_bytes([b[4], b[5]]),
+        })
+    }
+
+    /// Puts the chip in standby (MODE = 00), keeping the other settings.
+    pub fn standby(&mut self) -> Result<(), Error<I2C::Error>> {
+        self.write_register(REG_CONTROL1, self.config.control1() & !MODE_MASK)
+    }
+
+    /// Soft reset (control 2 bit 7); call [`Qmc5883l::new`] again afterwards.
+    pub fn soft_reset(&mut self) -> Result<(), Error<I2C::Error>> {
+        self.write_register(REG_CONTROL2, SOFT_RESET)
+    }
+
+    fn write_register(&mut self, reg: u8, value: u8) -> Result<(), Error<I2C::Error>> {
+        self.i2c.write(ADDRESS, &[reg, value]).map_err(Error::Comm)
+    }
+
+    fn read_register(&mut self, reg: u8) -> Result<u8, Error<I2C::Error>> {
+        let mut b = [0u8];
+        self.i2c
+            .write_read(ADDRESS, &[reg], &mut b)
+            .map_err(Error::Comm)?;
+        Ok(b[0])
+    }
+}
+
+impl<I2C: I2c> Magnetometer for Qmc5883l<I2C> {
+    type Error = Error<I2C::Error>;
+
+    fn read_gauss(&mut self) -> Result<Vector3, Self::Error> {
+        let raw = self.read_raw()?;
+        let k = self.config.lsb_per_gauss();
+        Ok(Vector3::new(
+            f32::from(raw.x) / k,
+            f32::from(raw.y) / k,
+            f32::from(raw.z) / k,
+        ))
+    }
+}

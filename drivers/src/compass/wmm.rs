@@ -1,0 +1,306 @@
+//! World Magnetic Model (WMM2025), `no_std`, no heap, `f64` through `libm`.
+//!
+//! Implements the main-field synthesis of the WMM technical report
+//! (Chulliat et al., *The US/UK World Magnetic Model for 2025–2030*, section 1.2):
+//!
+//! 1. geodetic (WGS-84) → geocentric spherical coordinates (report eqs. 7–8),
+//! 2. Gauss coefficients moved from the epoch with the secular variation (eq. 9),
+//! 3. Schmidt semi-normalised associated Legendre functions `P̆ₙᵐ(sin φ′)` and
+//!    their derivatives by the standard three-term recursions,
+//! 4. field in geocentric components `X′, Y′, Z′` (eq. 10), degree and order 12,
+//! 5. rotation to the ellipsoidal frame (eq. 11) and the elements `H, F, I, D` (eq. 19).
+//!
+//! The recursion keeps only the last two degrees of `P̆ₙᵐ`, so the stack cost is
+//! four arrays of 13 `f64`.
+//!
+//! Coefficients: NOAA NCEI's official `WMM.COF` for WMM2025 (public domain),
+//! committed as `WMM2025.COF` and turned into a const table by
+//! `gen_wmm_coefficients.py` (see `wmm2025_coefficients.rs`).
+
+use super::wmm2025_coefficients::{COEFFICIENTS, EPOCH_YEAR};
+
+/// Highest degree and order of the model.
+const MAX_DEGREE: usize = 12;
+/// Geomagnetic reference radius, km (report Table 1).
+const REFERENCE_RADIUS_KM: f64 = 6371.2;
+/// WGS-84 semi-major axis, km.
+const WGS84_A_KM: f64 = 6378.137;
+/// WGS-84 flattening.
+const WGS84_F: f64 = 1.0 / 298.257_223_563;
+/// Years a WMM stays valid after its epoch.
+const LIFESPAN_YEARS: f64 = 5.0;
+
+/// One row of a WMM coefficient file.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct WmmCoefficient {
+    /// Degree n.
+    pub n: u8,
+    /// Order m.
+    pub m: u8,
+    /// Main-field coefficient gₙᵐ at the epoch, nT.
+    pub g_nt: f64,
+    /// Main-field coefficient hₙᵐ at the epoch, nT.
+    pub h_nt: f64,
+    /// Secular variation of gₙᵐ, nT/year.
+    pub g_dot_nt_per_yr: f64,
+    /// Secular variation of hₙᵐ, nT/year.
+    pub h_dot_nt_per_yr: f64,
+}
+
+/// Why the model could not be evaluated.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum WmmError {
+    /// An input was NaN or infinite.
+    NonFinite,
+    /// Latitude outside −90..=90°.
+    LatitudeOutOfRange,
+    /// Longitude outside −360..=360°.
+    LongitudeOutOfRange,
+    /// Height outside −10..=850 km (the model's stated range).
+    HeightOutOfRange,
+    /// Date outside the model's five-year life span.
+    DateOutsideModel,
+    /// At a geographic pole the east component and the declination are undefined.
+    AtGeographicPole,
+    /// A calendar date that does not exist.
+    InvalidDate,
+    /// The coefficient table is not in (n, m) order for n = 1..=12.
+    BadCoefficientTable,
+}
+
+/// The seven magnetic elements at a point (report section 1.2).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct MagneticElements {
+    /// X, northward component, nT.
+    pub north_nt: f64,
+    /// Y, eastward component, nT.
+    pub east_nt: f64,
+    /// Z, downward component, nT.
+    pub down_nt: f64,
+    /// H, horizontal intensity, nT.
+    pub horizontal_nt: f64,
+    /// F, total intensity, nT.
+    pub total_nt: f64,
+    /// I, inclination (dip), degrees, positive down.
+    pub inclination_deg: f64,
+    /// D, declination, degrees, east of true north positive.
+    pub declination_deg: f64,
+}
+
+/// A spherical-harmonic main-field model with secular variation.
+#[derive(Debug, Clone, Copy)]
+pub struct WmmModel {
+    epoch_year: f64,
+    coefficients: &'static [WmmCoefficient],
+}
+
+impl WmmModel {
+    /// The WMM2025 model (epoch 2025.0, valid until 2030.0).
+    pub const fn wmm2025() -> Self {
+        Self {
+            epoch_year: EPOCH_YEAR,
+            coefficients: &COEFFICIENTS,
+        }
+    }
+
+    /// A model from another WMM coefficient table (same layout as `WMM.COF`:
+    /// rows n = 1..=12, m = 0..=n). Used by the tests to check the synthesis
+    /// against NOAA's WMM2020 test values.
+    pub const fn from_table(epoch_year: f64, coefficients: &'static [WmmCoefficient]) -> Self {
+        Self {
+            epoch_year,
+            coefficients,
+        }
+    }
+
+    /// Epoch of the model, decimal year.
+    pub fn epoch_year(&self) -> f64 {
+        self.epoch_year
+    }
+
+    /// Declination in degrees (east positive) at a geodetic position.
+    pub fn declination_deg(
+        &self,
+        latitude_deg: f64,
+        longitude_deg: f64,
+        height_km: f64,
+        decimal_year: f64,
+    ) -> Result<f64, WmmError> {
+        self.field(latitude_deg, longitude_deg, height_km, decimal_year)
+            .map(|e| e.declination_deg)
+    }
+
+    /// All magnetic elements at a geodetic position (WGS-84 latitude and
+    /// longitude in degrees, height above the ellipsoid in km) and a decimal year.
+    pub fn field(
+        &self,
+        latitude_deg: f64,
+        longitude_deg: f64,
+        height_km: f64,
+        decimal_year: f64,
+    ) -> Result<MagneticElements, WmmError> {
+        if !(latitude_deg.is_finite()
+            && longitude_deg.is_finite()
+            && height_km.is_finite()
+            && decimal_year.is_finite())
+        {
+            return Err(WmmError::NonFinite);
+        }
+        if !(-90.0..=90.0).contains(&latitude_deg) {
+            return Err(WmmError::LatitudeOutOfRange);
+        }
+        if !(-360.0..=360.0).contains(&longitude_deg) {
+            return Err(WmmError::LongitudeOutOfRange);
+        }
+        if !(-10.0..=850.0).contains(&height_km) {
+            return Err(WmmError::HeightOutOfRange);
+        }
+        let dt_years = decimal_year - self.epoch_year;
+        if !(0.0..=LIFESPAN_YEARS).contains(&dt_years) {
+            return Err(WmmError::DateOutsideModel);
+        }
+
+        // Geodetic -> geocentric spherical (report eqs. 7-8).
+        let lat_rad = latitude_deg.to_radians();
+        let lon_rad = longitude_deg.to_radians();
+        let (sin_lat, cos_lat) = libm::sincos(lat_rad);
+        let e2 = WGS84_F * (2.0 - WGS84_F);
+        let rc_km = WGS84_A_KM / libm::sqrt(1.0 - e2 * sin_lat * sin_lat);
+        let p_km = (rc_km + height_km) * cos_lat;
+        let z_km = (rc_km * (1.0 - e2) + height_km) * sin_lat;
+        let r_km = libm::sqrt(p_km * p_km + z_km * z_km);
+        let lat_gc_rad = libm::asin(z_km / r_km);
+        let (sin_gc, cos_gc) = libm::sincos(lat_gc_rad);
+        if cos_gc.abs() < 1e-10 {
+            return Err(WmmError::AtGeographicPole);
+        }
+
+        // cos(m λ), sin(m λ) for m = 0..=12.
+        let mut cos_ml = [0.0f64; MAX_DEGREE + 1];
+        let mut sin_ml = [0.0f64; MAX_DEGREE + 1];
+        for (m, (c, s)) in cos_ml.iter_mut().zip(sin_ml.iter_mut()).enumerate() {
+            let (sm, cm) = libm::sincos(m as f64 * lon_rad);
+            *c = cm;
+            *s = sm;
+        }
+
+        // Legendre rows n-1 and n-2 (values and d/dφ′), seeded with n = 0.
+        let mut p_prev = [0.0f64; MAX_DEGREE + 1];
+        let mut dp_prev = [0.0f64; MAX_DEGREE + 1];
+        let mut p_prev2 = [0.0f64; MAX_DEGREE + 1];
+        let mut dp_prev2 = [0.0f64; MAX_DEGREE + 1];
+        p_prev[0] = 1.0;
+
+        let ratio = REFERENCE_RADIUS_KM / r_km;
+        let mut ratio_pow = ratio * ratio; // (a/r)^(n+2) for n = 0
+        let mut x_gc = 0.0f64;
+        let mut y_gc = 0.0f64;
+        let mut z_gc = 0.0f64;
+        let mut coeffs = self.coefficients.iter();
+
+        for n in 1..=MAX_DEGREE {
+            ratio_pow *= ratio;
+            let nf = n as f64;
+            let mut p_row = [0.0f64; MAX_DEGREE + 1];
+            let mut dp_row = [0.0f64; MAX_DEGREE + 1];
+            let (mut sum_x, mut sum_y, mut sum_z) = (0.0f64, 0.0f64, 0.0f64);
+            for m in 0..=n {
+                let mf = m as f64;
+                let (p, dp) = if m == n {
+                    // Sectoral: P̆ₙⁿ = k cos φ′ P̆ₙ₋₁ⁿ⁻¹, k = 1 for n = 1, √((2n−1)/2n) after.
+                    let k = if n == 1 {
+                        1.0
+                    } else {
+                        libm::sqrt((2.0 * nf - 1.0) / (2.0 * nf))
+                    };
+                    let pm = get(&p_prev, n - 1);
+                    let dpm = get(&dp_prev, n - 1);
+                    (k * cos_gc * pm, k * (-sin_gc * pm + cos_gc * dpm))
+                } else {
+                    // P̆ₙᵐ = [(2n−1) sin φ′ P̆ₙ₋₁ᵐ − √((n−1)²−m²) P̆ₙ₋₂ᵐ] / √(n²−m²)
+                    let a = 2.0 * nf - 1.0;
+                    let b = libm::sqrt(((nf - 1.0) * (nf - 1.0) - mf * mf).max(0.0));
+                    let c = libm::sqrt(nf * nf - mf * mf);
+                    let p1 = get(&p_prev, m);
+                    let dp1 = get(&dp_prev, m);
+                    let p2 = get(&p_prev2, m);
+                    let dp2 = get(&dp_prev2, m);
+                    (
+                        (a * sin_gc * p1 - b * p2) / c,
+                        (a * (cos_gc * p1 + sin_gc * dp1) - b * dp2) / c,
+                    )
+                };
+                if let Some(slot) = p_row.get_mut(m) {
+                    *slot = p;
+                }
+                if let Some(slot) = dp_row.get_mut(m) {
+                    *slot = dp;
+                }
+
+                let coef = coeffs.next().ok_or(WmmError::BadCoefficientTable)?;
+                if usize::from(coef.n) != n || usize::from(coef.m) != m {
+                    return Err(WmmError::BadCoefficientTable);
+                }
+                // Report eq. 9: coefficients at the requested date.
+                let g = coef.g_nt + dt_years * coef.g_dot_nt_per_yr;
+                let h = coef.h_nt + dt_years * coef.h_dot_nt_per_yr;
+                let cm = get(&cos_ml, m);
+                let sm = get(&sin_ml, m);
+                let gc_hs = g * cm + h * sm;
+                sum_x += gc_hs * dp;
+                sum_y += mf * (g * sm - h * cm) * p;
+                sum_z += gc_hs * p;
+            }
+            // Report eq. 10.
+            x_gc -= ratio_pow * sum_x;
+            y_gc += ratio_pow * sum_y;
+            z_gc -= (nf + 1.0) * ratio_pow * sum_z;
+            p_prev2 = p_prev;
+            dp_prev2 = dp_prev;
+            p_prev = p_row;
+            dp_prev = dp_row;
+        }
+        y_gc /= cos_gc;
+
+        // Report eq. 11: rotate from geocentric to ellipsoidal components.
+        let (sin_d, cos_d) = libm::sincos(lat_gc_rad - lat_rad);
+        let north_nt = x_gc * cos_d - z_gc * sin_d;
+        let east_nt = y_gc;
+        let down_nt = x_gc * sin_d + z_gc * cos_d;
+        let horizontal_nt = libm::hypot(north_nt, east_nt);
+        Ok(MagneticElements {
+            north_nt,
+            east_nt,
+            down_nt,
+            horizontal_nt,
+            total_nt: libm::hypot(horizontal_nt, down_nt),
+            inclination_deg: libm::atan2(down_nt, horizontal_nt).to_degrees(),
+            declination_deg: libm::atan2(east_nt, north_nt).to_degrees(),
+        })
+    }
+}
+
+fn get(row: &[f64; MAX_DEGREE + 1], i: usize) -> f64 {
+    row.get(i).copied().unwrap_or(0.0)
+}
+
+/// Decimal year of a UTC calendar date and time of day, as the WMM uses it:
+/// `year + (day_of_year − 1 + seconds_of_day / 86400) / days_in_year`.
+pub fn decimal_year(year: i32, month: u8, day: u8, seconds_of_day: u32) -> Result<f64, WmmError> {
+    let leap = (year % 4 == 0 && year % 100 != 0) || year % 400 == 0;
+    const CUMULATIVE: [u16; 12] = [0, 31, 59, 90, 120, 151, 181, 212, 243, 273, 304, 334];
+    const LENGTH: [u8; 12] = [31, 28, 31, 30, 31, 30, 31, 31, 30, 31, 30, 31];
+    let mi = usize::from(month)
+        .checked_sub(1)
+        .ok_or(WmmError::InvalidDate)?;
+    let start = *CUMULATIVE.get(mi).ok_or(WmmError::InvalidDate)?;
+    let len = LENGTH.get(mi).copied().unwrap_or(0) + u8::from(leap && month == 2);
+    if day == 0 || day > len || seconds_of_day >= 86_400 {
+        return Err(WmmError::InvalidDate);
+    }
+    let extra = u16::from(leap && month > 2);
+    let day_of_year = start + extra + u16::from(day);
+    let days_in_year = if leap { 366.0 } else { 365.0 };
+    Ok(f64::from(year)
+        + (f64::from(day_of_year - 1) + f64::from(seconds_of_day) / 86_400.0) / days_in_year)
+}
