@@ -7,3 +7,6 @@
 
 /// Name and version of the firmware, printed by every image at boot.
 pub const BANNER: &str = concat!("suntracker ", env!("CARGO_PKG_VERSION"));
+
+pub mod attitude;
+pub mod sim;

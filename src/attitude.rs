@@ -1,0 +1,456 @@
+//! Mount attitude and the two-axis (C-axis γ, A-axis α) pose that points the
+//! panel at the sun, after seed *portable-tracker* (Choi et al., "Portable
+//! sun tracking system with tilt and magnetic compensation").
+//!
+//! # Frames (seed Fig. 3)
+//! The horizontal frame XYZ has X toward **west**, Y toward **south** and Z
+//! toward the **sky** (right-handed). The tracker frame xyz is fixed to the
+//! mounting; at the home pose (α = γ = 0) the panel normal is the tracker's
+//! z axis.
+//!
+//! The mount is reached from XYZ by a rotation γ0 about Z, then α0 about the
+//! (new) x axis, then β0 about the (new) y axis (seed eq. 12):
+//! `T = Rz(γ0)·Rx(α0)·Ry(β0)`, which maps tracker coordinates to horizontal
+//! ones. A level mount with its y axis pointing south is the identity.
+//!
+//! The panel normal after turning the C axis by γ and then the A axis by α is
+//! `n(γ, α) = Rz(γ)·Rx(α)·ẑ = (sin γ sin α, −cos γ sin α, cos α)` in tracker
+//! coordinates (seed eq. 15–17).
+
+use sun_algos::Float;
+
+/// A 3-vector.
+pub type Vec3<T> = [T; 3];
+/// A 3×3 matrix, rows first.
+pub type Mat3<T> = [[T; 3]; 3];
+
+/// Why an attitude could not be formed from sensor readings.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum AttitudeError {
+    /// An input was NaN or infinite.
+    NotFinite,
+    /// Tilt angles outside 0…180° or geometrically impossible together.
+    InconsistentTilt,
+    /// The sun direction has zero length.
+    ZeroVector,
+}
+
+/// The rotation of the mounting relative to the horizontal frame (seed eq. 12).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct MountAttitude<T> {
+    /// α0: rotation about the X axis, degrees.
+    pub alpha0_deg: T,
+    /// β0: rotation about the y axis (after α0), degrees.
+    pub beta0_deg: T,
+    /// γ0: rotation about the vertical Z axis, degrees.
+    pub gamma0_deg: T,
+}
+
+/// A pose of the two axes: C-axis (vertical at home) γ and A-axis α, degrees.
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+pub struct Pose<T> {
+    /// C-axis rotation γ, degrees.
+    pub gamma_deg: T,
+    /// A-axis rotation α, degrees.
+    pub alpha_deg: T,
+}
+
+/// Mechanical ranges of the two axes, degrees (inclusive).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct PoseLimits<T> {
+    /// Lowest C-axis angle γ.
+    pub gamma_min_deg: T,
+    /// Highest C-axis angle γ.
+    pub gamma_max_deg: T,
+    /// Lowest A-axis angle α.
+    pub alpha_min_deg: T,
+    /// Highest A-axis angle α.
+    pub alpha_max_deg: T,
+}
+
+impl<T: Float> PoseLimits<T> {
+    /// Full turn on the C axis (−180…180°), ±90° on the A axis.
+    pub fn full() -> Self {
+        PoseLimits {
+            gamma_min_deg: T::from_f64(-180.0),
+            gamma_max_deg: T::from_f64(180.0),
+            alpha_min_deg: T::from_f64(-90.0),
+            alpha_max_deg: T::from_f64(90.0),
+        }
+    }
+
+    /// True when `p` lies inside the limits.
+    pub fn contains(&self, p: &Pose<T>) -> bool {
+        p.gamma_deg >= self.gamma_min_deg
+            && p.gamma_deg <= self.gamma_max_deg
+            && p.alpha_deg >= self.alpha_min_deg
+            && p.alpha_deg <= self.alpha_max_deg
+    }
+
+    /// `p` with each axis clamped into its range.
+    pub fn clamp(&self, p: &Pose<T>) -> Pose<T> {
+        Pose {
+            gamma_deg: p.gamma_deg.clamp(self.gamma_min_deg, self.gamma_max_deg),
+            alpha_deg: p.alpha_deg.clamp(self.alpha_min_deg, self.alpha_max_deg),
+        }
+    }
+}
+
+/// The result of choosing a pose.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum Choice<T> {
+    /// A solution inside the limits, the one with the least motion.
+    Reachable(Pose<T>),
+    /// No solution is inside the limits: the nearest pose clamped into them.
+    Clamped(Pose<T>),
+}
+
+impl<T: Copy> Choice<T> {
+    /// The pose, whether exact or clamped.
+    pub fn pose(&self) -> Pose<T> {
+        match self {
+            Choice::Reachable(p) | Choice::Clamped(p) => *p,
+        }
+    }
+}
+
+fn rot_x<T: Float>(a_deg: T) -> Mat3<T> {
+    let (s, c) = a_deg.to_radians().sin_cos();
+    let (o, z) = (T::ONE, T::ZERO);
+    [[o, z, z], [z, c, -s], [z, s, c]]
+}
+
+fn rot_y<T: Float>(a_deg: T) -> Mat3<T> {
+    let (s, c) = a_deg.to_radians().sin_cos();
+    let (o, z) = (T::ONE, T::ZERO);
+    [[c, z, s], [z, o, z], [-s, z, c]]
+}
+
+fn rot_z<T: Float>(a_deg: T) -> Mat3<T> {
+    let (s, c) = a_deg.to_radians().sin_cos();
+    let (o, z) = (T::ONE, T::ZERO);
+    [[c, -s, z], [s, c, z], [z, z, o]]
+}
+
+/// Matrix product `a·b`.
+pub fn mat_mul<T: Float>(a: &Mat3<T>, b: &Mat3<T>) -> Mat3<T> {
+    let mut m = [[T::ZERO; 3]; 3];
+    for (mi, ai) in m.iter_mut().zip(a.iter()) {
+        for (j, mij) in mi.iter_mut().enumerate() {
+            *mij = ai[0] * b[0][j] + ai[1] * b[1][j] + ai[2] * b[2][j];
+        }
+    }
+    m
+}
+
+/// `m·v`.
+pub fn mat_vec<T: Float>(m: &Mat3<T>, v: &Vec3<T>) -> Vec3<T> {
+    [dot(&m[0], v), dot(&m[1], v), dot(&m[2], v)]
+}
+
+/// `mᵀ·v` (the inverse of a rotation, seed eq. 14).
+pub fn mat_t_vec<T: Float>(m: &Mat3<T>, v: &Vec3<T>) -> Vec3<T> {
+    [
+        m[0][0] * v[0] + m[1][0] * v[1] + m[2][0] * v[2],
+        m[0][1] * v[0] + m[1][1] * v[1] + m[2][1] * v[2],
+        m[0][2] * v[0] + m[1][2] * v[1] + m[2][2] * v[2],
+    ]
+}
+
+/// Dot product.
+pub fn dot<T: Float>(a: &Vec3<T>, b: &Vec3<T>) -> T {
+    a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
+}
+
+/// Angle between two vectors in degrees, `atan2(|a×b|, a·b)` so that tiny
+/// angles keep their precision.
+pub fn angle_between_deg<T: Float>(a: &Vec3<T>, b: &Vec3<T>) -> T {
+    let cx = a[1] * b[2] - a[2] * b[1];
+    let cy = a[2] * b[0] - a[0] * b[2];
+    let cz = a[0] * b[1] - a[1] * b[0];
+    let cross = (cx * cx + cy * cy + cz * cz).sqrt();
+    cross.atan2(dot(a, b)).to_degrees()
+}
+
+/// Folds an angle into `(−180, 180]`.
+pub fn wrap180<T: Float>(a_deg: T) -> T {
+    let r = (a_deg + T::from_f64(180.0)).rem_euclid(T::from_f64(360.0)) - T::from_f64(180.0);
+    if r <= T::from_f64(-180.0) {
+        r + T::from_f64(360.0)
+    } else {
+        r
+    }
+}
+
+/// Unit vector toward the sun in the horizontal frame XYZ (west, south, up)
+/// from its elevation θ and azimuth (degrees east of north) — seed eq. 13.
+pub fn sun_vector_xyz<T: Float>(elevation_deg: T, azimuth_deg: T) -> Vec3<T> {
+    let (se, ce) = elevation_deg.to_radians().sin_cos();
+    let (sa, ca) = azimuth_deg.to_radians().sin_cos();
+    // East-of-north azimuth: east = sin A, north = cos A; west = −east, south = −north.
+    [-ce * sa, -ce * ca, se]
+}
+
+/// Panel normal of a pose in tracker coordinates: `Rz(γ)·Rx(α)·ẑ` (seed eq. 15–17).
+pub fn panel_normal<T: Float>(pose: &Pose<T>) -> Vec3<T> {
+    let (sg, cg) = pose.gamma_deg.to_radians().sin_cos();
+    let (sa, ca) = pose.alpha_deg.to_radians().sin_cos();
+    [sg * sa, -cg * sa, ca]
+}
+
+impl<T: Float> MountAttitude<T> {
+    /// A level mount with its y axis toward south: the identity.
+    pub fn level() -> Self {
+        MountAttitude {
+            alpha0_deg: T::ZERO,
+            beta0_deg: T::ZERO,
+            gamma0_deg: T::ZERO,
+        }
+    }
+
+    /// From the inclinometer's two angles and the tilt-compensated true heading.
+    ///
+    /// `theta_x_deg`, `theta_y_deg` are the seed's tilt outputs θx, θy: the
+    /// angles between the vertical Z and the tracker's x and y axes, 0…180°
+    /// (90° each when level; seed eq. 4). With `T` above, `cos θx = −cos α0
+    /// sin β0` and `cos θy = sin α0` (seed eq. 5–6), so (eq. 7)
+    /// `α0 = asin(cos θy)`, `β0 = asin(−cos θx / cos α0)`, both in ±90°.
+    ///
+    /// `heading_deg` is the true azimuth (east of north; magnetic heading
+    /// plus declination, seed eq. 11) of the horizontal projection of the
+    /// tracker's +y axis. That projection is `Rz(γ0)·(0, cos α0, ·)`, so its
+    /// azimuth is exactly `180° − γ0` whatever the tilt (seed eq. 10–11).
+    pub fn from_sensors(
+        theta_x_deg: T,
+        theta_y_deg: T,
+        heading_deg: T,
+    ) -> Result<Self, AttitudeError> {
+        if !theta_x_deg.is_finite() || !theta_y_deg.is_finite() || !heading_deg.is_finite() {
+            return Err(AttitudeError::NotFinite);
+        }
+        let range = T::ZERO..=T::from_f64(180.0);
+        if !range.contains(&theta_x_deg) || !range.contains(&theta_y_deg) {
+            return Err(AttitudeError::InconsistentTilt);
+        }
+        let sin_a0 = theta_y_deg.to_radians().cos();
+        let alpha0 = sin_a0.clamp(-T::ONE, T::ONE).asin();
+        let cos_a0 = alpha0.cos();
+        let cos_tx = theta_x_deg.to_radians().cos();
+        // Both axes cannot tilt so far that cos²θx + cos²θy > 1.
+        let eps = T::from_f64(1e-9);
+        if cos_tx * cos_tx + sin_a0 * sin_a0 > T::ONE + eps {
+            return Err(AttitudeError::InconsistentTilt);
+        }
+        let beta0 = if cos_a0 <= eps {
+            T::ZERO
+        } else {
+            (-cos_tx / cos_a0).clamp(-T::ONE, T::ONE).asin()
+        };
+        Ok(MountAttitude {
+            alpha0_deg: alpha0.to_degrees(),
+            beta0_deg: beta0.to_degrees(),
+            gamma0_deg: wrap180(T::from_f64(180.0) - heading_deg),
+        })
+    }
+
+    /// The tilt readings (θx, θy) and heading this attitude would produce
+    /// (the inverse of [`MountAttitude::from_sensors`]; sensor models use it).
+    pub fn to_sensors(&self) -> (T, T, T) {
+        let m = self.matrix();
+        // Third row of T is the Z (up) component of each tracker axis.
+        let tx = m[2][0].clamp(-T::ONE, T::ONE).acos().to_degrees();
+        let ty = m[2][1].clamp(-T::ONE, T::ONE).acos().to_degrees();
+        let heading = (T::from_f64(180.0) - self.gamma0_deg).rem_euclid(T::from_f64(360.0));
+        (tx, ty, heading)
+    }
+
+    /// `T = Rz(γ0)·Rx(α0)·Ry(β0)`: tracker coordinates → horizontal (seed eq. 12).
+    pub fn matrix(&self) -> Mat3<T> {
+        mat_mul(
+            &mat_mul(&rot_z(self.gamma0_deg), &rot_x(self.alpha0_deg)),
+            &rot_y(self.beta0_deg),
+        )
+    }
+
+    /// The sun vector seen from the tracker frame, `Tᵀ·S` (seed eq. 14).
+    pub fn sun_in_tracker(&self, sun_xyz: &Vec3<T>) -> Vec3<T> {
+        mat_t_vec(&self.matrix(), sun_xyz)
+    }
+
+    /// Panel normal of `pose` in the horizontal frame.
+    pub fn normal_xyz(&self, pose: &Pose<T>) -> Vec3<T> {
+        mat_vec(&self.matrix(), &panel_normal(pose))
+    }
+
+    /// Both poses `(γ1, α1)`, `(γ2, α2)` that point the panel normal along
+    /// `sun_xyz` (seed eq. 18–21): `cos α = S_z`, `tan γ = S_x / (−S_y)` for
+    /// α ≥ 0, and the same normal with `γ + 180°`, `−α`. When the sun lies on
+    /// the tracker's z axis γ is free: `current_gamma_deg` is kept.
+    pub fn solutions(
+        &self,
+        sun_xyz: &Vec3<T>,
+        current_gamma_deg: T,
+    ) -> Result<[Pose<T>; 2], AttitudeError> {
+        let s = self.sun_in_tracker(sun_xyz);
+        let norm = dot(&s, &s).sqrt();
+        if !norm.is_finite() {
+            return Err(AttitudeError::NotFinite);
+        }
+        if norm <= T::from_f64(1e-12) {
+            return Err(AttitudeError::ZeroVector);
+        }
+        let s = [s[0] / norm, s[1] / norm, s[2] / norm];
+        let horiz = (s[0] * s[0] + s[1] * s[1]).sqrt();
+        // α from atan2 keeps full precision near 0° and 180°.
+        let alpha1 = horiz.atan2(s[2]).to_degrees();
+        let gamma1 = if horiz <= T::from_f64(1e-15) {
+            current_gamma_deg
+        } else {
+            s[0].atan2(-s[1]).to_degrees()
+        };
+        let p1 = Pose {
+            gamma_deg: gamma1,
+            alpha_deg: alpha1,
+        };
+        let p2 = Pose {
+            gamma_deg: wrap180(gamma1 + T::from_f64(180.0)),
+            alpha_deg: -alpha1,
+        };
+        Ok([p1, p2])
+    }
+
+    /// The pose to drive to: of both solutions (and their ±360° turns on the C
+    /// axis) the one inside `limits` that moves least from `current`
+    /// (sum of both axes' travel; seed §IV, last paragraph).
+    pub fn choose(
+        &self,
+        sun_xyz: &Vec3<T>,
+        current: &Pose<T>,
+        limits: &PoseLimits<T>,
+    ) -> Result<Choice<T>, AttitudeError> {
+        let sols = self.solutions(sun_xyz, current.gamma_deg)?;
+        let turn = T::from_f64(360.0);
+        let mut best: Option<(T, Pose<T>)> = None;
+        let mut nearest: Option<(T, Pose<T>)> = None;
+        for sol in sols {
+            for k in [-turn, T::ZERO, turn] {
+                let cand = Pose {
+                    gamma_deg: sol.gamma_deg + k,
+                    alpha_deg: sol.alpha_deg,
+                };
+                let cost = (cand.gamma_deg - current.gamma_deg).abs()
+                    + (cand.alpha_deg - current.alpha_deg).abs();
+                if limits.contains(&cand) {
+                    if best.is_none_or(|(c, _)| cost < c) {
+                        best = Some((cost, cand));
+                    }
+                } else {
+                    let clamped = limits.clamp(&cand);
+                    let miss = angle_between_deg(&panel_normal(&clamped), &panel_normal(&cand));
+                    if nearest.is_none_or(|(m, _)| miss < m) {
+                        nearest = Some((miss, clamped));
+                    }
+                }
+            }
+        }
+        match (best, nearest) {
+            (Some((_, p)), _) => Ok(Choice::Reachable(p)),
+            (None, Some((_, p))) => Ok(Choice::Clamped(p)),
+            (None, None) => Err(AttitudeError::ZeroVector),
+        }
+    }
+
+    /// Angle in degrees between the panel normal at `pose` and `sun_xyz`.
+    pub fn pointing_error_deg(&self, pose: &Pose<T>, sun_xyz: &Vec3<T>) -> T {
+        angle_between_deg(&self.normal_xyz(pose), sun_xyz)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn tilt_readings_round_trip() {
+        let m = MountAttitude {
+            alpha0_deg: 12.0f64,
+            beta0_deg: -7.5,
+            gamma0_deg: 40.0,
+        };
+        let (tx, ty, h) = m.to_sensors();
+        let back = MountAttitude::from_sensors(tx, ty, h).unwrap();
+        assert!((back.alpha0_deg - 12.0).abs() < 1e-9);
+        assert!((back.beta0_deg + 7.5).abs() < 1e-9);
+        assert!((back.gamma0_deg - 40.0).abs() < 1e-9);
+    }
+
+    #[test]
+    fn tilt_of_single_rotation_by_hand() {
+        // Rotating 10° about X only: the y axis rises by 10°, so it makes
+        // 80° with the vertical; the x axis stays horizontal (90°).
+        let m = MountAttitude::from_sensors(90.0f64, 80.0, 180.0).unwrap();
+        assert!((m.alpha0_deg - 10.0).abs() < 1e-12);
+        assert!(m.beta0_deg.abs() < 1e-12);
+        assert!(m.gamma0_deg.abs() < 1e-12);
+    }
+
+    #[test]
+    fn bad_sensor_values_are_errors() {
+        assert_eq!(
+            MountAttitude::from_sensors(f64::NAN, 90.0, 0.0),
+            Err(AttitudeError::NotFinite)
+        );
+        assert_eq!(
+            MountAttitude::from_sensors(200.0f64, 90.0, 0.0),
+            Err(AttitudeError::InconsistentTilt)
+        );
+        // Both axes 10° from vertical cannot happen together.
+        assert_eq!(
+            MountAttitude::from_sensors(10.0f64, 10.0, 0.0),
+            Err(AttitudeError::InconsistentTilt)
+        );
+        let m = MountAttitude::<f64>::level();
+        assert_eq!(
+            m.solutions(&[0.0, 0.0, 0.0], 0.0),
+            Err(AttitudeError::ZeroVector)
+        );
+    }
+
+    #[test]
+    fn sun_at_zenith_keeps_gamma() {
+        let m = MountAttitude::<f64>::level();
+        let s = sun_vector_xyz(90.0, 123.0);
+        let [p1, _] = m.solutions(&s, 17.0).unwrap();
+        assert_eq!(p1.gamma_deg, 17.0);
+        assert!(p1.alpha_deg.abs() < 1e-9);
+    }
+
+    #[test]
+    fn limits_pick_the_other_solution() {
+        let m = MountAttitude::<f64>::level();
+        let s = sun_vector_xyz(30.91, 141.61);
+        let lim = PoseLimits {
+            gamma_min_deg: -180.0,
+            gamma_max_deg: 180.0,
+            alpha_min_deg: 0.0,
+            alpha_max_deg: 90.0,
+        };
+        let c = m.choose(&s, &Pose::default(), &lim).unwrap();
+        let Choice::Reachable(p) = c else {
+            panic!("{c:?}")
+        };
+        assert!(p.alpha_deg > 0.0);
+        assert!(m.pointing_error_deg(&p, &s) < 1e-9);
+        // Nothing reachable → clamped.
+        let lim = PoseLimits {
+            gamma_min_deg: 0.0,
+            gamma_max_deg: 10.0,
+            alpha_min_deg: 0.0,
+            alpha_max_deg: 10.0,
+        };
+        assert!(matches!(
+            m.choose(&s, &Pose::default(), &lim),
+            Ok(Choice::Clamped(_))
+        ));
+    }
+}

@@ -1,0 +1,3 @@
+//! Simulation: plant and sensor models for host runs and the QEMU image.
+
+pub mod rng;
