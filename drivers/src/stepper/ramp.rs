@@ -1,0 +1,94 @@
+//! Trapezoidal speed profile with the step interval computed per step.
+//!
+//! Constant acceleration `a` (steps/s²) from a start speed `v₀` gives, after `k`
+//! steps, `v_k² = v₀² + 2·a·k` (uniform acceleration, `v² = v₀² + 2as`). The
+//! interval before the next step is `1e6 / v` µs, with `v` capped at `v_max`.
+//! Deceleration is the mirror image counted from the end: for a move of `N`
+//! steps, the interval after step `i` (1-based) uses level `k = min(i, N − i)`,
+//! so the profile accelerates, cruises and decelerates symmetrically (a triangle
+//! when `N` is too short to reach `v_max`). Integer arithmetic only (an integer
+//! square root), so it costs the same on an 8-bit AVR as on a Cortex-M.
+
+/// Why a ramp configuration was refused.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum RampError {
+    /// A speed or the acceleration is zero.
+    Zero,
+    /// Start speed above maximum speed.
+    StartAboveMax,
+    /// Maximum speed above 1 000 000 steps/s (interval below 1 µs).
+    TooFast,
+    /// The step pulse (high + low) does not fit in the shortest interval.
+    PulseTooLong,
+}
+
+/// Speed profile parameters.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct Ramp {
+    /// Speed of the first and last step, steps/s (within the motor's pull-in rate).
+    pub start_speed_sps: u32,
+    /// Cruise speed, steps/s.
+    pub max_speed_sps: u32,
+    /// Acceleration and deceleration, steps/s².
+    pub accel_sps2: u32,
+}
+
+impl Ramp {
+    /// Checks the parameters.
+    pub fn validate(&self) -> Result<(), RampError> {
+        if self.start_speed_sps == 0 || self.max_speed_sps == 0 || self.accel_sps2 == 0 {
+            return Err(RampError::Zero);
+        }
+        if self.start_speed_sps > self.max_speed_sps {
+            return Err(RampError::StartAboveMax);
+        }
+        if self.max_speed_sps > 1_000_000 {
+            return Err(RampError::TooFast);
+        }
+        Ok(())
+    }
+
+    /// Speed at ramp level `k` (steps from the nearer end of the move), steps/s.
+    pub fn speed_sps(&self, level: u32) -> u32 {
+        let v0 = u64::from(self.start_speed_sps);
+        let v2 = v0 * v0 + 2 * u64::from(self.accel_sps2) * u64::from(level);
+        let v = isqrt(v2).min(u64::from(self.max_speed_sps)).max(1);
+        u32::try_from(v).unwrap_or(u32::MAX)
+    }
+
+    /// Interval in whole µs (rounded to nearest) at ramp level `k`.
+    pub fn interval_us(&self, level: u32) -> u32 {
+        let v = self.speed_sps(level).max(1);
+        (1_000_000 + v / 2) / v
+    }
+
+    /// Level at which the cruise speed is reached (`v_k ≥ v_max`): also the
+    /// number of steps needed to stop from cruise.
+    pub fn cruise_level(&self) -> u32 {
+        let vmax = u64::from(self.max_speed_sps);
+        let v0 = u64::from(self.start_speed_sps);
+        let a2 = 2 * u64::from(self.accel_sps2.max(1));
+        let k = (vmax * vmax).saturating_sub(v0 * v0).div_ceil(a2);
+        u32::try_from(k).unwrap_or(u32::MAX)
+    }
+}
+
+/// Integer square root, ⌊√n⌋ (bit-by-bit method).
+pub fn isqrt(n: u64) -> u64 {
+    let mut rem = n;
+    let mut root = 0u64;
+    let mut bit = 1u64 << 62;
+    while bit > n {
+        bit >>= 2;
+    }
+    while bit != 0 {
+        if rem >= root + bit {
+            rem -= root + bit;
+            root = (root >> 1) + bit;
+        } else {
+            root >>= 1;
+        }
+        bit >>= 2;
+    }
+    root
+}
