@@ -17,6 +17,7 @@ pub mod compact;
 pub mod delta_t;
 pub mod error;
 pub mod float;
+pub mod geometry;
 pub mod grena2008;
 pub mod grena2012;
 pub mod michalsky;

@@ -1,0 +1,256 @@
+//! DS1302 trickle-charge timekeeping chip over its three-wire interface; our
+//! own driver (no maintained embedded-hal 1.0 crate drives it).
+//!
+//! Facts from the Maxim DS1302 datasheet (19-5420):
+//! - Command byte: bit 7 = 1, bit 6 = 0 for clock/calendar (1 = RAM),
+//!   bits 5..1 = register address, bit 0 = 1 to read, 0 to write.
+//! - Bytes go LSB first. The chip latches input bits on the rising SCLK edge
+//!   and, for reads, drives each output bit after a falling edge, starting
+//!   with the falling edge of the eighth command clock.
+//! - SCLK must be low when CE rises. Timing used here, valid down to
+//!   VCC = 2.0 V: CE-to-SCLK setup tCC >= 4 us, CE inactive time tCWH >= 4 us,
+//!   SCLK high/low times tCH/tCL >= 1000 ns, data delay tCDD <= 800 ns.
+//! - Registers: seconds (bit 7 = CH, clock halt), minutes, hours (bit 7 =
+//!   12/24-hour, bit 5 = PM in 12-hour mode), date, month, day of week, year,
+//!   control (bit 7 = WP, write protect), all BCD. The clock burst command
+//!   (address 31) reads or writes them in that order; a burst write must
+//!   write all eight, control included.
+//! - WP's power-on state is undefined, so it is cleared before every write;
+//!   the burst write then sets it again through the control byte.
+//! - CH set means the oscillator is stopped: we report it as "lost power".
+//!
+//! The I/O line is bidirectional. embedded-hal 1.0 has no pin-direction
+//! trait, so the driver takes one pin type that is both `OutputPin` and
+//! `InputPin`, used as an open-drain line: `set_high` releases it and then
+//! `is_high` reads what the DS1302 drives. Wire it as an open-drain output
+//! with a pull-up (e.g. 10 kΩ, against the chip's internal 40 kΩ
+//! pull-down), or use a HAL "flex" pin that behaves the same way. One type
+//! rather than two keeps the line from being driven from two places.
+
+use embedded_hal::delay::DelayNs;
+use embedded_hal::digital::{InputPin, OutputPin};
+
+use super::Clock;
+use crate::time::DateTime;
+
+const CMD: u8 = 0b1000_0000;
+const CMD_READ: u8 = 0b0000_0001;
+const REG_SECONDS: u8 = 0;
+const REG_CONTROL: u8 = 7;
+const REG_CLOCK_BURST: u8 = 31;
+
+const SECONDS_CH: u8 = 0b1000_0000;
+const HOURS_12H: u8 = 0b1000_0000;
+const HOURS_PM: u8 = 0b0010_0000;
+const CONTROL_WP: u8 = 0b1000_0000;
+
+/// Clock registers read in a burst: seconds through year.
+const CLOCK_REGS: usize = 7;
+
+const T_CE_SETUP_NS: u32 = 4_000;
+const T_CE_INACTIVE_NS: u32 = 4_000;
+const T_HALF_CLOCK_NS: u32 = 1_000;
+
+const fn write_cmd(reg: u8) -> u8 {
+    CMD | (reg << 1)
+}
+
+const fn read_cmd(reg: u8) -> u8 {
+    CMD | (reg << 1) | CMD_READ
+}
+
+/// DS1302 errors.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Error<E> {
+    /// A pin failed.
+    Comm(E),
+    /// The registers hold no valid date-time (bad BCD or impossible date; an
+    /// absent chip reads as all ones or all zeros).
+    InvalidDeviceState,
+    /// The year is outside 2000..=2099, which the chip cannot store.
+    OutOfRange,
+}
+
+fn bcd_to_bin(v: u8) -> Option<u8> {
+    let (hi, lo) = (v >> 4, v & 0x0f);
+    (hi <= 9 && lo <= 9).then_some(hi * 10 + lo)
+}
+
+fn bin_to_bcd(v: u8) -> u8 {
+    ((v / 10) << 4) | (v % 10)
+}
+
+/// Decodes seconds..year as read by a clock burst.
+fn decode(regs: &[u8; CLOCK_REGS]) -> Option<DateTime> {
+    let [sec, min, hour, date, month, _weekday, year] = *regs;
+    let second = bcd_to_bin(sec & !SECONDS_CH)?;
+    let minute = bcd_to_bin(min)?;
+    let hour = if hour & HOURS_12H != 0 {
+        let h12 = bcd_to_bin(hour & 0x1f)?;
+        if !(1..=12).contains(&h12) {
+            return None;
+        }
+        (h12 % 12) + if hour & HOURS_PM != 0 { 12 } else { 0 }
+    } else {
+        bcd_to_bin(hour)?
+    };
+    let day = bcd_to_bin(date)?;
+    let month = bcd_to_bin(month)?;
+    let year = 2000 + u16::from(bcd_to_bin(year)?);
+    DateTime::new(year, month, day, hour, minute, second).ok()
+}
+
+/// A DS1302 on three GPIO lines.
+#[derive(Debug)]
+pub struct Ds1302<CE, CLK, IO, D> {
+    ce: CE,
+    clk: CLK,
+    io: IO,
+    delay: D,
+}
+
+impl<CE, CLK, IO, D, E> Ds1302<CE, CLK, IO, D>
+where
+    CE: OutputPin<Error = E>,
+    CLK: OutputPin<Error = E>,
+    IO: InputPin<Error = E> + OutputPin<Error = E>,
+    D: DelayNs,
+{
+    /// Takes the pins and a delay; no pin is touched until the first transfer.
+    pub fn new(ce: CE, clk: CLK, io: IO, delay: D) -> Self {
+        Self { ce, clk, io, delay }
+    }
+
+    /// Gives the pins and the delay back.
+    pub fn destroy(self) -> (CE, CLK, IO, D) {
+        (self.ce, self.clk, self.io, self.delay)
+    }
+
+    fn begin(&mut self) -> Result<(), Error<E>> {
+        self.clk.set_low().map_err(Error::Comm)?;
+        self.ce.set_high().map_err(Error::Comm)?;
+        self.delay.delay_ns(T_CE_SETUP_NS);
+        Ok(())
+    }
+
+    fn end(&mut self) -> Result<(), Error<E>> {
+        self.ce.set_low().map_err(Error::Comm)?;
+        self.delay.delay_ns(T_CE_INACTIVE_NS);
+        Ok(())
+    }
+
+    /// Shifts out one byte, LSB first. With `release_last`, the I/O line is
+    /// released after the last rising edge so the chip can drive it from the
+    /// following falling edge on.
+    fn write_byte(&mut self, byte: u8, release_last: bool) -> Result<(), Error<E>> {
+        for bit in 0..8 {
+            if byte & (1 << bit) != 0 {
+                self.io.set_high().map_err(Error::Comm)?;
+            } else {
+                self.io.set_low().map_err(Error::Comm)?;
+            }
+            self.delay.delay_ns(T_HALF_CLOCK_NS);
+            self.clk.set_high().map_err(Error::Comm)?;
+            self.delay.delay_ns(T_HALF_CLOCK_NS);
+            if bit == 7 && release_last {
+                self.io.set_high().map_err(Error::Comm)?;
+            }
+            self.clk.set_low().map_err(Error::Comm)?;
+        }
+        Ok(())
+    }
+
+    /// Shifts in one byte, LSB first; each bit is valid after the previous
+    /// falling edge and the clock pulse that follows moves to the next bit.
+    fn read_byte(&mut self) -> Result<u8, Error<E>> {
+        let mut byte = 0;
+        for bit in 0..8 {
+            self.delay.delay_ns(T_HALF_CLOCK_NS);
+            if self.io.is_high().map_err(Error::Comm)? {
+                byte |= 1 << bit;
+            }
+            self.clk.set_high().map_err(Error::Comm)?;
+            self.delay.delay_ns(T_HALF_CLOCK_NS);
+            self.clk.set_low().map_err(Error::Comm)?;
+        }
+        Ok(byte)
+    }
+
+    fn read_into(&mut self, reg: u8, out: &mut [u8]) -> Result<(), Error<E>> {
+        self.begin()?;
+        let result = self
+            .write_byte(read_cmd(reg), true)
+            .and_then(|()| out.iter_mut().try_for_each(|b| Ok(*b = self.read_byte()?)));
+        // Always try to end the transfer, but report the first error.
+        let ended = self.end();
+        result.and(ended)
+    }
+
+    fn write_from(&mut self, reg: u8, data: &[u8]) -> Result<(), Error<E>> {
+        self.begin()?;
+        let result = self
+            .write_byte(write_cmd(reg), false)
+            .and_then(|()| data.iter().try_for_each(|&b| self.write_byte(b, false)));
+        let ended = self.end();
+        result.and(ended)
+    }
+
+    /// Reads one clock register (0..=8).
+    pub fn read_register(&mut self, reg: u8) -> Result<u8, Error<E>> {
+        let mut b = [0];
+        self.read_into(reg, &mut b)?;
+        Ok(b[0])
+    }
+
+    /// Sets or clears write protection (WP, control register bit 7).
+    pub fn set_write_protect(&mut self, protect: bool) -> Result<(), Error<E>> {
+        let value = if protect { CONTROL_WP } else { 0 };
+        self.write_from(REG_CONTROL, &[value])
+    }
+}
+
+impl<CE, CLK, IO, D, E> Clock for Ds1302<CE, CLK, IO, D>
+where
+    CE: OutputPin<Error = E>,
+    CLK: OutputPin<Error = E>,
+    IO: InputPin<Error = E> + OutputPin<Error = E>,
+    D: DelayNs,
+{
+    type Error = Error<E>;
+
+    /// Clock burst read of seconds..year.
+    fn datetime(&mut self) -> Result<DateTime, Error<E>> {
+        let mut regs = [0; CLOCK_REGS];
+        self.read_into(REG_CLOCK_BURST, &mut regs)?;
+        decode(&regs).ok_or(Error::InvalidDeviceState)
+    }
+
+    /// Clears WP, then a clock burst write of all eight registers (24-hour
+    /// mode, CH = 0 so the oscillator runs, day of week 1 = Sunday, and
+    /// WP = 1 again in the control byte).
+    fn set_datetime(&mut self, utc: &DateTime) -> Result<(), Error<E>> {
+        let year = utc
+            .year()
+            .checked_sub(2000)
+            .filter(|y| *y <= 99)
+            .ok_or(Error::OutOfRange)?;
+        // year <= 99 fits in a u8.
+        let regs = [
+            bin_to_bcd(utc.second()),
+            bin_to_bcd(utc.minute()),
+            bin_to_bcd(utc.hour()),
+            bin_to_bcd(utc.day()),
+            bin_to_bcd(utc.month()),
+            utc.weekday_from_sunday(),
+            bin_to_bcd(year as u8),
+            CONTROL_WP,
+        ];
+        self.set_write_protect(false)?;
+        self.write_from(REG_CLOCK_BURST, &regs)
+    }
+
+    /// The clock-halt bit (CH, seconds register bit 7).
+    fn lost_power(&mut self) -> Result<bool, Error<E>> {
+        Ok(self.read_register(REG_SECONDS)? & SECONDS_CH != 0)
+    }
+}

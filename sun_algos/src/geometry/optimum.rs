@@ -1,0 +1,250 @@
+//! The optimum set-point for an instant, free and within mechanical limits.
+//!
+//! Free: seed jimoh-2019 eq (14), `c6 cos β + c7 sin β − 1 = 0` with the
+//! surface azimuth set to the sun's (γ = γs). With γ = γs the coefficients
+//! are c6 = cos θz and c7 = sin θz (eq 7 and 8b), so the root is β = θz in
+//! closed form — no bisection or `fminbnd` needed: [`normal_to_sun`].
+//!
+//! Limited: the mechanics allow β ∈ [β_min, β_max] and γ on an arc
+//! [γ_min, γ_max]. [`best_within`] maximises cos θ over that box by an exact
+//! reduction rather than a numeric search (the seed suggests a bounded
+//! one-dimensional search; the reduction below needs none):
+//!
+//! 1. cos θ = cos β cos θz + sin β sin θz cos(γs − γ). For β ∈ [0°, 180°] and
+//!    θz ∈ [0°, 180°] both sines are ≥ 0, so for every slope cos θ is
+//!    non-increasing in the circular distance |γs − γ|. Hence so is its
+//!    maximum over β, and the best azimuth is the point of the allowed arc
+//!    nearest to γs (γs itself when inside, else the nearer end).
+//! 2. With γ fixed, cos θ = A cos β + B sin β is a sinusoid in β; its
+//!    maximum over an interval is at the unconstrained peak atan2(B, A) when
+//!    that lies inside, otherwise at an end of the interval. The three
+//!    candidates are evaluated and the best kept.
+//!
+//! `tests/geometry_optimum.rs` checks the result against a brute-force grid
+//! at 0.01° steps.
+
+use crate::float::Float;
+use crate::position::SunPosition;
+
+use super::incidence::{incidence_deg, Surface};
+use super::GeometryError;
+
+/// Mechanical limits of a two-axis mount.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Limits<T> {
+    slope_min_deg: T,
+    slope_max_deg: T,
+    azimuth_min_deg: T,
+    azimuth_max_deg: T,
+}
+
+impl<T: Float> Limits<T> {
+    /// Slope in `[slope_min, slope_max]` ⊂ [0°, 180°] and surface azimuth
+    /// (east of north) on the arc from `azimuth_min` clockwise to
+    /// `azimuth_max`; `azimuth_max − azimuth_min` must be in 0…360 (e.g.
+    /// −90…90 is the northern half, 60…300 the southern two thirds).
+    pub fn new(
+        slope_min_deg: T,
+        slope_max_deg: T,
+        azimuth_min_deg: T,
+        azimuth_max_deg: T,
+    ) -> Result<Self, GeometryError> {
+        for v in [
+            slope_min_deg,
+            slope_max_deg,
+            azimuth_min_deg,
+            azimuth_max_deg,
+        ] {
+            if !v.is_finite() {
+                return Err(GeometryError::NotFinite);
+            }
+        }
+        let width = azimuth_max_deg - azimuth_min_deg;
+        if slope_min_deg < T::ZERO
+            || slope_max_deg > T::from_f64(180.0)
+            || slope_min_deg > slope_max_deg
+            || width < T::ZERO
+            || width > T::from_f64(360.0)
+        {
+            return Err(GeometryError::InvalidLimits);
+        }
+        Ok(Limits {
+            slope_min_deg,
+            slope_max_deg,
+            azimuth_min_deg,
+            azimuth_max_deg,
+        })
+    }
+
+    /// No limits: slope 0…180°, any azimuth.
+    pub fn unconstrained() -> Self {
+        Limits {
+            slope_min_deg: T::ZERO,
+            slope_max_deg: T::from_f64(180.0),
+            azimuth_min_deg: T::ZERO,
+            azimuth_max_deg: T::from_f64(360.0),
+        }
+    }
+
+    /// A typical tracker: slope 0…90°, any azimuth.
+    pub fn upward() -> Self {
+        Limits {
+            slope_max_deg: T::from_f64(90.0),
+            ..Self::unconstrained()
+        }
+    }
+
+    /// Lowest slope, degrees.
+    pub fn slope_min_deg(&self) -> T {
+        self.slope_min_deg
+    }
+    /// Highest slope, degrees.
+    pub fn slope_max_deg(&self) -> T {
+        self.slope_max_deg
+    }
+    /// Start of the azimuth arc, degrees east of north.
+    pub fn azimuth_min_deg(&self) -> T {
+        self.azimuth_min_deg
+    }
+    /// End of the azimuth arc (clockwise from the start), degrees.
+    pub fn azimuth_max_deg(&self) -> T {
+        self.azimuth_max_deg
+    }
+
+    /// True when `surface` lies inside the limits (azimuth compared on the
+    /// circle, with a tolerance of `tol_deg`).
+    pub fn contains(&self, surface: &Surface<T>, tol_deg: T) -> bool {
+        let in_slope = surface.slope_deg >= self.slope_min_deg - tol_deg
+            && surface.slope_deg <= self.slope_max_deg + tol_deg;
+        let d =
+            (surface.azimuth_deg - self.azimuth_min_deg + tol_deg).rem_euclid(T::from_f64(360.0));
+        let width = self.azimuth_max_deg - self.azimuth_min_deg;
+        in_slope && (d <= width + tol_deg + tol_deg || width >= T::from_f64(360.0))
+    }
+
+    /// The point of the azimuth arc nearest (on the circle) to `azimuth_deg`.
+    fn nearest_azimuth_deg(&self, azimuth_deg: T) -> T {
+        let full = T::from_f64(360.0);
+        let width = self.azimuth_max_deg - self.azimuth_min_deg;
+        let d = (azimuth_deg - self.azimuth_min_deg).rem_euclid(full);
+        let g = if d <= width {
+            azimuth_deg
+        } else if d - width <= full - d {
+            self.azimuth_max_deg
+        } else {
+            self.azimuth_min_deg
+        };
+        g.rem_euclid(full)
+    }
+}
+
+/// A set-point and the incidence it leaves.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct SetPoint<T> {
+    /// Where the surface points.
+    pub surface: Surface<T>,
+    /// Remaining angle of incidence in degrees (0 when the sun is reachable).
+    pub incidence_deg: T,
+}
+
+/// The zero-incidence set-point (seed jimoh-2019 eq 14 in closed form):
+/// β = θz, γ = γs.
+pub fn normal_to_sun<T: Float>(sun: &SunPosition<T>) -> Surface<T> {
+    Surface::facing(sun)
+}
+
+/// Root of seed jimoh-2019 eq (14), `c6 cos β + c7 sin β = 1`, in degrees,
+/// for coefficients with c6² + c7² = 1 (as they are when γ = γs): β =
+/// atan2(c7, c6). For other coefficients this is the β that maximises the
+/// left side, i.e. the closest the equation can come to holding.
+pub fn eq14_slope_deg<T: Float>(c6: T, c7: T) -> T {
+    c7.atan2(c6).to_degrees()
+}
+
+/// The set-point within `limits` that minimises the incidence (method in
+/// the module documentation). Errors only for non-finite sun angles.
+pub fn best_within<T: Float>(
+    sun: &SunPosition<T>,
+    limits: &Limits<T>,
+) -> Result<SetPoint<T>, GeometryError> {
+    if !sun.zenith_deg.is_finite() || !sun.azimuth_deg.is_finite() {
+        return Err(GeometryError::NotFinite);
+    }
+    let zenith = sun.zenith_deg.clamp(T::ZERO, T::from_f64(180.0));
+    let gamma = limits.nearest_azimuth_deg(sun.azimuth_deg);
+    let (sz, cz) = zenith.to_radians().sin_cos();
+    let a = cz;
+    let b = sz * (sun.azimuth_deg - gamma).to_radians().cos();
+    let peak = b.atan2(a).to_degrees();
+    let value = |beta: T| {
+        let (sb, cb) = beta.to_radians().sin_cos();
+        a * cb + b * sb
+    };
+    let mut best = limits.slope_min_deg;
+    let mut best_v = value(best);
+    let mut consider = |beta: T| {
+        let v = value(beta);
+        if v > best_v {
+            best_v = v;
+            best = beta;
+        }
+    };
+    consider(limits.slope_max_deg);
+    if peak >= limits.slope_min_deg && peak <= limits.slope_max_deg {
+        consider(peak);
+    }
+    let surface = Surface {
+        slope_deg: best,
+        azimuth_deg: gamma,
+    };
+    let sun_c = SunPosition::new(zenith, sun.azimuth_deg, sun.refracted);
+    Ok(SetPoint {
+        surface,
+        incidence_deg: incidence_deg(&sun_c, &surface),
+    })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn free_optimum_has_zero_incidence() {
+        let sun = SunPosition::new(40.0f64, 250.0, false);
+        let sp = best_within(&sun, &Limits::unconstrained()).unwrap();
+        assert!(sp.incidence_deg < 1e-6);
+        assert!((sp.surface.slope_deg - 40.0).abs() < 1e-9);
+        assert!((sp.surface.azimuth_deg - 250.0).abs() < 1e-9);
+    }
+
+    #[test]
+    fn azimuth_outside_arc_goes_to_nearer_end() {
+        // Arc 90..270 (east through south to west); sun at azimuth 20° is
+        // nearer to 90 (70°) than to 270 (110°).
+        let lim = Limits::new(0.0f64, 90.0, 90.0, 270.0).unwrap();
+        let sun = SunPosition::new(60.0, 20.0, false);
+        let sp = best_within(&sun, &lim).unwrap();
+        assert!((sp.surface.azimuth_deg - 90.0).abs() < 1e-9);
+        // Arc wrapping through north: −45..45; sun at 300 → −45 = 315.
+        let lim = Limits::new(0.0f64, 90.0, -45.0, 45.0).unwrap();
+        let sun = SunPosition::new(60.0, 300.0, false);
+        let sp = best_within(&sun, &lim).unwrap();
+        assert!((sp.surface.azimuth_deg - 315.0).abs() < 1e-9);
+    }
+
+    #[test]
+    fn bad_limits_are_errors() {
+        assert_eq!(
+            Limits::new(10.0f32, 5.0, 0.0, 10.0),
+            Err(GeometryError::InvalidLimits)
+        );
+        assert_eq!(
+            Limits::new(0.0f32, 5.0, 0.0, 400.0),
+            Err(GeometryError::InvalidLimits)
+        );
+        assert_eq!(
+            Limits::new(0.0f32, f32::NAN, 0.0, 10.0),
+            Err(GeometryError::NotFinite)
+        );
+    }
+}
