@@ -9,4 +9,6 @@
 pub const BANNER: &str = concat!("suntracker ", env!("CARGO_PKG_VERSION"));
 
 pub mod attitude;
+pub mod scheduler;
 pub mod sim;
+pub mod traits;

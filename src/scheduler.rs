@@ -1,0 +1,600 @@
+//! The set-point scheduler of seed jimoh-2019 (its Figure 5 flowchart, 14
+//! steps) as an explicit state machine driven by [`Scheduler::tick`].
+//!
+//! | seed step | here |
+//! |---|---|
+//! | 1 read site, set-points zero | [`Phase::PowerOn`] → [`Action::SetPoints`] of zero |
+//! | 2 read date, 3 sunrise/sunset | [`Phase::ReadDate`]: the solar day around `now` and its [`Daylight`] |
+//! | 4–6 outside daylight: delay td_os | [`Phase::WaitSunrise`] until sunrise (or the next solar day) |
+//! | 7 day table, 8 store | [`DayTable::compute`] (default every 4 min) |
+//! | 9 read time, 10 end of day? | [`Phase::Tracking`]; past sunset → [`Action::GoHome`], [`Phase::WaitNextDay`] (td_ed) |
+//! | 11–12 match? else 30 s | a table entry whose time lies within `recheck_s` before `now` |
+//! | 13 set set-points, 14 wait 2 min | [`Action::SetPoints`], next check after `hold_s` |
+//!
+//! The home position at the end of the day is the day's starting position
+//! (seed li-2022: "the control algorithm resets the panel to the previous
+//! day initial position"): the first entry of the day table.
+//!
+//! `tick` never blocks: every delay of the seed is a time stored in the
+//! state and compared with the `now` of later ticks. A clock that jumps
+//! backward, or forward by more than `max_tick_gap_s`, re-plans from step 2.
+//!
+//! Days are *solar* days, from one local mean solar midnight
+//! (`00:00 UTC − longitude/15 h`) to the next, so that a day's daylight is
+//! never split; in a polar day the whole solar day is daylight.
+
+use crate::traits::PositionSource;
+use sun_algos::{Error as SunError, Float, SunPosition, UtcTime};
+
+/// Intervals of the scheduler (seed jimoh-2019 defaults).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct ScheduleConfig {
+    /// Set-point table interval, seconds (seed: 4 minutes). Table times are
+    /// whole multiples of it from UTC midnight, so an RTC matches them.
+    pub table_step_s: u32,
+    /// Wait after setting a set-point (seed step 14: 2 minutes).
+    pub hold_s: u32,
+    /// Re-check interval when no entry matches (seed step 12: 30 s); an entry
+    /// matches while `now` lies within this long after its time.
+    pub recheck_s: u32,
+    /// A gap between two ticks longer than this counts as a forward clock
+    /// jump and re-plans the day.
+    pub max_tick_gap_s: u32,
+    /// A backward step larger than this re-plans the day.
+    pub max_backward_s: u32,
+}
+
+impl Default for ScheduleConfig {
+    fn default() -> Self {
+        ScheduleConfig {
+            table_step_s: 240,
+            hold_s: 120,
+            recheck_s: 30,
+            max_tick_gap_s: 900,
+            max_backward_s: 2,
+        }
+    }
+}
+
+/// Why the scheduler cannot work.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum ScheduleError {
+    /// An interval is zero, the table step does not divide a day, or the
+    /// table capacity is too small for a polar day.
+    InvalidConfig,
+    /// The sun position could not be computed.
+    Position(SunError),
+    /// Time arithmetic left the calendar range.
+    TimeRange,
+}
+
+impl From<SunError> for ScheduleError {
+    fn from(e: SunError) -> Self {
+        ScheduleError::Position(e)
+    }
+}
+
+/// A set-point: where the panel normal should point (seed jimoh-2019: slope
+/// β = solar zenith, surface azimuth γ = solar azimuth, eq. 14).
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+pub struct SetPoint<T> {
+    /// Slope from horizontal = the sun's zenith angle, degrees.
+    pub slope_deg: T,
+    /// Azimuth east of north, degrees.
+    pub azimuth_deg: T,
+}
+
+impl<T: Float> SetPoint<T> {
+    /// The set-point that faces a sun position.
+    pub fn facing(sun: &SunPosition<T>) -> Self {
+        SetPoint {
+            slope_deg: sun.zenith_deg,
+            azimuth_deg: sun.azimuth_deg,
+        }
+    }
+    /// Elevation of the normal, degrees.
+    pub fn elevation_deg(&self) -> T {
+        T::from_f64(90.0) - self.slope_deg
+    }
+}
+
+/// Daylight of one solar day.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Daylight {
+    /// The sun rises and sets within the day.
+    Normal {
+        /// Sunrise (sun centre crossing the horizon upward).
+        rise: UtcTime,
+        /// Sunset.
+        set: UtcTime,
+    },
+    /// Above the horizon the whole solar day (polar day).
+    PolarDay,
+    /// Below the horizon the whole solar day (polar night).
+    PolarNight,
+}
+
+/// One solar day: its window and daylight.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct SolarDay {
+    /// Local mean solar midnight starting the day.
+    pub start: UtcTime,
+    /// Daylight.
+    pub daylight: Daylight,
+}
+
+impl SolarDay {
+    /// The next solar midnight.
+    pub fn end(&self) -> Result<UtcTime, ScheduleError> {
+        self.start
+            .add_seconds(86_400)
+            .map_err(|_| ScheduleError::TimeRange)
+    }
+
+    /// Daylight span `[from, to)` (whole day for a polar day).
+    pub fn span(&self) -> Result<Option<(UtcTime, UtcTime)>, ScheduleError> {
+        Ok(match self.daylight {
+            Daylight::Normal { rise, set } => Some((rise, set)),
+            Daylight::PolarDay => Some((self.start, self.end()?)),
+            Daylight::PolarNight => None,
+        })
+    }
+}
+
+/// Seconds of longitude time: 240 s per degree.
+fn longitude_offset_s<T: Float>(longitude_deg: T) -> i64 {
+    let s = (longitude_deg * T::from_f64(240.0)).to_f64();
+    if s.is_finite() {
+        // |s| ≤ 43 200 after validation of the site.
+        s as i64
+    } else {
+        0
+    }
+}
+
+/// The local mean solar midnight at or before `now` for `longitude_deg`.
+pub fn solar_day_start<T: Float>(
+    now: &UtcTime,
+    longitude_deg: T,
+) -> Result<UtcTime, ScheduleError> {
+    let off = longitude_offset_s(longitude_deg);
+    let local = now.unix_seconds() + off;
+    let midnight_local = local.div_euclid(86_400) * 86_400;
+    UtcTime::from_unix_seconds(midnight_local - off).map_err(|_| ScheduleError::TimeRange)
+}
+
+/// Sunrise and sunset of the solar day starting at `start`, found by
+/// sampling the sun's elevation every `scan_s` seconds and bisecting each
+/// horizon crossing to one second. Works with any position source, so the
+/// polar day and night fall out of the samples.
+pub fn find_daylight<T: Float, P: PositionSource<T>>(
+    start: UtcTime,
+    scan_s: u32,
+    sun: &mut P,
+) -> Result<SolarDay, ScheduleError> {
+    let scan = i64::from(scan_s.clamp(60, 3600));
+    let at = |s: i64| start.add_seconds(s).map_err(|_| ScheduleError::TimeRange);
+    let up = |t: &UtcTime, sun: &mut P| -> Result<bool, ScheduleError> {
+        Ok(sun.position(t)?.is_above_horizon())
+    };
+    let first_up = up(&start, sun)?;
+    let mut prev_up = first_up;
+    let mut prev_s = 0i64;
+    let mut rise: Option<UtcTime> = None;
+    let mut set: Option<UtcTime> = None;
+    let mut any_up = first_up;
+    let mut s = 0i64;
+    while s < 86_400 {
+        s = (s + scan).min(86_400);
+        let t = at(s)?;
+        let now_up = up(&t, sun)?;
+        any_up |= now_up;
+        if now_up != prev_up {
+            // Bisect (prev_s, s] to one second.
+            let (mut lo, mut hi) = (prev_s, s);
+            while hi - lo > 1 {
+                let mid = lo + (hi - lo) / 2;
+                if up(&at(mid)?, sun)? == prev_up {
+                    lo = mid;
+                } else {
+                    hi = mid;
+                }
+            }
+            let crossing = at(hi)?;
+            if now_up {
+                if rise.is_none() {
+                    rise = Some(crossing);
+                }
+            } else {
+                set = Some(crossing);
+            }
+        }
+        prev_up = now_up;
+        prev_s = s;
+    }
+    let last_up = prev_up;
+    let daylight = match (any_up, rise, set) {
+        (false, _, _) => Daylight::PolarNight,
+        (true, None, None) => Daylight::PolarDay,
+        (true, r, st) => Daylight::Normal {
+            // Up at a window edge (near polar transitions): daylight runs to it.
+            rise: if first_up { start } else { r.unwrap_or(start) },
+            set: if last_up {
+                at(86_400)?
+            } else {
+                st.unwrap_or(start)
+            },
+        },
+    };
+    Ok(SolarDay { start, daylight })
+}
+
+/// One row of the day table.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct TableEntry<T> {
+    /// When the set-point applies.
+    pub time: UtcTime,
+    /// The set-point.
+    pub set_point: SetPoint<T>,
+}
+
+/// The day's set-points every `step` seconds between sunrise and sunset
+/// (seed jimoh-2019 step 7), in a fixed-capacity table (no heap).
+#[derive(Debug, Clone)]
+pub struct DayTable<T, const N: usize> {
+    entries: [Option<TableEntry<T>>; N],
+    len: usize,
+}
+
+impl<T: Float, const N: usize> DayTable<T, N> {
+    /// An empty table.
+    pub fn new() -> Self {
+        DayTable {
+            entries: [None; N],
+            len: 0,
+        }
+    }
+
+    /// Fills the table for `[from, to)`: times are the multiples of `step_s`
+    /// from UTC midnight inside the span. Errors when it does not fit.
+    pub fn compute<P: PositionSource<T>>(
+        &mut self,
+        from: UtcTime,
+        to: UtcTime,
+        step_s: u32,
+        sun: &mut P,
+    ) -> Result<(), ScheduleError> {
+        self.len = 0;
+        if step_s == 0 {
+            return Err(ScheduleError::InvalidConfig);
+        }
+        let step = i64::from(step_s);
+        let first = from.unix_seconds().div_euclid(step) * step;
+        let first = if first < from.unix_seconds() {
+            first + step
+        } else {
+            first
+        };
+        let end = to.unix_seconds();
+        let mut t = first;
+        while t < end {
+            let time = UtcTime::from_unix_seconds(t).map_err(|_| ScheduleError::TimeRange)?;
+            let pos = sun.position(&time)?;
+            let slot = self
+                .entries
+                .get_mut(self.len)
+                .ok_or(ScheduleError::InvalidConfig)?;
+            *slot = Some(TableEntry {
+                time,
+                set_point: SetPoint::facing(&pos),
+            });
+            self.len += 1;
+            t += step;
+        }
+        Ok(())
+    }
+
+    /// Number of entries.
+    pub fn len(&self) -> usize {
+        self.len
+    }
+
+    /// True when empty.
+    pub fn is_empty(&self) -> bool {
+        self.len == 0
+    }
+
+    /// Entry `i`.
+    pub fn get(&self, i: usize) -> Option<TableEntry<T>> {
+        if i < self.len {
+            self.entries.get(i).copied().flatten()
+        } else {
+            None
+        }
+    }
+
+    /// The entry whose time lies in `(now − window, now]` (seed step 11).
+    pub fn match_at(&self, now: &UtcTime, window_s: u32) -> Option<(usize, TableEntry<T>)> {
+        let first = self.get(0)?;
+        let step = match self.get(1) {
+            Some(e) => e.time.unix_seconds() - first.time.unix_seconds(),
+            None => i64::MAX,
+        };
+        let since = now.unix_seconds() - first.time.unix_seconds();
+        if since < 0 || step <= 0 {
+            return None;
+        }
+        let i = usize::try_from(since / step).ok()?;
+        let e = self.get(i)?;
+        let late = now.unix_seconds() - e.time.unix_seconds();
+        if (0..i64::from(window_s.max(1))).contains(&late) {
+            Some((i, e))
+        } else {
+            None
+        }
+    }
+}
+
+impl<T: Float, const N: usize> Default for DayTable<T, N> {
+    fn default() -> Self {
+        Self::new()
+    }
+}
+
+/// Where the state machine is.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Phase {
+    /// Not started (seed step 1 pending).
+    PowerOn,
+    /// About to read the date and plan the day (seed steps 2–3).
+    ReadDate,
+    /// Outside daylight, waiting td_os until `until` (seed step 6).
+    WaitSunrise {
+        /// End of the delay.
+        until: UtcTime,
+    },
+    /// Following the day table (seed steps 9–14).
+    Tracking {
+        /// Next time the table is searched.
+        next_check: UtcTime,
+    },
+    /// After sunset, waiting td_ed until the next solar day (seed step 10).
+    WaitNextDay {
+        /// End of the delay.
+        until: UtcTime,
+    },
+    /// Planning failed; retried at `retry_at`.
+    Failed {
+        /// Next attempt.
+        retry_at: UtcTime,
+    },
+}
+
+/// What the tracker should do after a tick.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum Action<T> {
+    /// Nothing new.
+    Idle,
+    /// Drive to this set-point (zero at power-on, seed step 1; a table entry,
+    /// seed step 13).
+    SetPoints(SetPoint<T>),
+    /// End of day: return to the day's starting position (seed li-2022).
+    GoHome(SetPoint<T>),
+    /// The day was planned: outside daylight, nothing moves until sunrise.
+    Sleep {
+        /// When the scheduler wakes.
+        until: UtcTime,
+    },
+    /// Planning failed (sun position, time range); retried later.
+    Error(ScheduleError),
+}
+
+/// What a tick reports besides its action.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Output<T> {
+    /// The action.
+    pub action: Action<T>,
+    /// A clock jump was seen and the day re-planned.
+    pub clock_jump: bool,
+}
+
+/// The scheduler; `N` is the day-table capacity (at least one entry per
+/// `table_step_s` of a whole day, for polar days).
+#[derive(Debug, Clone)]
+pub struct Scheduler<T, P, const N: usize> {
+    config: ScheduleConfig,
+    source: P,
+    phase: Phase,
+    day: Option<SolarDay>,
+    table: DayTable<T, N>,
+    last_now: Option<UtcTime>,
+    last_applied: Option<usize>,
+    home: SetPoint<T>,
+}
+
+impl<T: Float, P: PositionSource<T>, const N: usize> Scheduler<T, P, N> {
+    /// A scheduler at power-on. Errors for zero intervals, a step that does
+    /// not divide a day, or a table too small for a polar day.
+    pub fn new(config: ScheduleConfig, source: P) -> Result<Self, ScheduleError> {
+        let c = &config;
+        if c.table_step_s == 0
+            || c.recheck_s == 0
+            || 86_400 % c.table_step_s != 0
+            || (86_400 / c.table_step_s) as usize > N
+        {
+            return Err(ScheduleError::InvalidConfig);
+        }
+        Ok(Scheduler {
+            config,
+            source,
+            phase: Phase::PowerOn,
+            day: None,
+            table: DayTable::new(),
+            last_now: None,
+            last_applied: None,
+            home: SetPoint::default(),
+        })
+    }
+
+    /// The current phase.
+    pub fn phase(&self) -> Phase {
+        self.phase
+    }
+    /// The day being followed, once planned.
+    pub fn day(&self) -> Option<SolarDay> {
+        self.day
+    }
+    /// The stored day table (seed step 8).
+    pub fn table(&self) -> &DayTable<T, N> {
+        &self.table
+    }
+    /// The intervals.
+    pub fn config(&self) -> &ScheduleConfig {
+        &self.config
+    }
+    /// The position source.
+    pub fn source_mut(&mut self) -> &mut P {
+        &mut self.source
+    }
+    /// The home set-point (the day's first table entry; zero before).
+    pub fn home(&self) -> SetPoint<T> {
+        self.home
+    }
+
+    /// Advances the state machine to `now`. Never blocks.
+    pub fn tick(&mut self, now: UtcTime) -> Output<T> {
+        let mut clock_jump = false;
+        if let Some(last) = self.last_now {
+            let dt = now.unix_seconds() - last.unix_seconds();
+            let jumped = dt < -i64::from(self.config.max_backward_s)
+                || dt > i64::from(self.config.max_tick_gap_s);
+            if jumped && self.phase != Phase::PowerOn {
+                clock_jump = true;
+                self.phase = Phase::ReadDate;
+            }
+        }
+        self.last_now = Some(now);
+        let action = self.step(now).unwrap_or_else(|e| {
+            let retry_at = now.add_seconds(60).unwrap_or(now);
+            self.phase = Phase::Failed { retry_at };
+            Action::Error(e)
+        });
+        Output { action, clock_jump }
+    }
+
+    fn step(&mut self, now: UtcTime) -> Result<Action<T>, ScheduleError> {
+        match self.phase {
+            Phase::PowerOn => {
+                // Step 1: the site is in the source; set-points zero.
+                self.phase = Phase::ReadDate;
+                Ok(Action::SetPoints(SetPoint::default()))
+            }
+            Phase::ReadDate => self.plan(now),
+            Phase::WaitSunrise { until } | Phase::WaitNextDay { until } => {
+                if now < until {
+                    Ok(Action::Idle)
+                } else {
+                    self.plan(now)
+                }
+            }
+            Phase::Failed { retry_at } => {
+                if now < retry_at {
+                    Ok(Action::Idle)
+                } else {
+                    self.plan(now)
+                }
+            }
+            Phase::Tracking { next_check } => {
+                if now < next_check {
+                    // Sunset still ends the day even inside a hold.
+                    if self.past_daylight(&now)? {
+                        return self.end_of_day(now);
+                    }
+                    Ok(Action::Idle)
+                } else {
+                    self.track(now)
+                }
+            }
+        }
+    }
+
+    /// Steps 2–8: read the date, find daylight, wait or build the table.
+    fn plan(&mut self, now: UtcTime) -> Result<Action<T>, ScheduleError> {
+        let lon = self.source.site().longitude_deg();
+        let start = solar_day_start(&now, lon)?;
+        let scan = self.config.table_step_s.clamp(60, 600);
+        let day = find_daylight(start, scan, &mut self.source)?;
+        self.day = Some(day);
+        self.last_applied = None;
+        let span = day.span()?;
+        match span {
+            Some((from, to)) if now >= from && now < to => {
+                // Steps 7–8: compute and store the table for the whole daylight.
+                self.table
+                    .compute(from, to, self.config.table_step_s, &mut self.source)?;
+                if let Some(first) = self.table.get(0) {
+                    self.home = first.set_point;
+                }
+                self.phase = Phase::Tracking { next_check: now };
+                self.track(now)
+            }
+            Some((from, _)) if now < from => {
+                // Steps 5–6: td_os = sunrise − now.
+                self.phase = Phase::WaitSunrise { until: from };
+                Ok(Action::Sleep { until: from })
+            }
+            _ => {
+                // After sunset, or polar night: wait for the next solar day.
+                let until = day.end()?;
+                self.phase = Phase::WaitSunrise { until };
+                Ok(Action::Sleep { until })
+            }
+        }
+    }
+
+    fn past_daylight(&self, now: &UtcTime) -> Result<bool, ScheduleError> {
+        match self.day {
+            Some(d) => Ok(match d.span()? {
+                Some((_, to)) => *now >= to,
+                None => true,
+            }),
+            None => Ok(true),
+        }
+    }
+
+    /// Step 10 (yes branch): td_ed until the next solar day, go home.
+    fn end_of_day(&mut self, _now: UtcTime) -> Result<Action<T>, ScheduleError> {
+        let until = match self.day {
+            Some(d) => d.end()?,
+            None => return Err(ScheduleError::TimeRange),
+        };
+        self.phase = Phase::WaitNextDay { until };
+        Ok(Action::GoHome(self.home))
+    }
+
+    /// Steps 9–14.
+    fn track(&mut self, now: UtcTime) -> Result<Action<T>, ScheduleError> {
+        if self.past_daylight(&now)? {
+            return self.end_of_day(now);
+        }
+        let add = |s: u32| {
+            now.add_seconds(i64::from(s))
+                .map_err(|_| ScheduleError::TimeRange)
+        };
+        match self.table.match_at(&now, self.config.recheck_s) {
+            Some((i, e)) if self.last_applied != Some(i) => {
+                self.last_applied = Some(i);
+                self.phase = Phase::Tracking {
+                    next_check: add(self.config.hold_s)?,
+                };
+                Ok(Action::SetPoints(e.set_point))
+            }
+            _ => {
+                self.phase = Phase::Tracking {
+                    next_check: add(self.config.recheck_s)?,
+                };
+                Ok(Action::Idle)
+            }
+        }
+    }
+}

@@ -1,0 +1,323 @@
+//! The seed jimoh-2019 scheduler walked through whole days.
+//!
+//! The sun model here is the seed's own textbook model (jimoh-2019 eq. 2–8:
+//! Cooper declination, Spencer equation of time, hour angle), written out
+//! independently of the library, so that sunrise and sunset have the seed's
+//! closed form (eq. 9) to compare with.
+
+use sun_algos::{Error, Site, SunPosition, UtcTime};
+use suntracker::scheduler::{Action, Daylight, Phase, ScheduleConfig, Scheduler, SetPoint};
+use suntracker::traits::PositionSource;
+
+#[derive(Clone, Copy)]
+struct Textbook {
+    lat: f64,
+    lon: f64,
+}
+
+impl Textbook {
+    fn decl_deg(n: f64) -> f64 {
+        // eq. 2
+        23.45 * (360.0 / 365.25 * (284.0 + n)).to_radians().sin()
+    }
+    fn et_h(n: f64) -> f64 {
+        // eq. 5–6
+        let b = (360.0 * (n - 1.0) / 365.0).to_radians();
+        229.2 / 60.0
+            * (0.000075 + 0.001868 * b.cos()
+                - 0.032077 * b.sin()
+                - 0.014615 * (2.0 * b).cos()
+                - 0.04089 * (2.0 * b).sin())
+            / 60.0
+    }
+    /// Seed eq. 9: sunrise/sunset in UTC hours (None for polar day/night).
+    fn rise_set_utc_h(&self, n: f64) -> Option<(f64, f64)> {
+        let x = -(self.lat.to_radians().tan()) * Self::decl_deg(n).to_radians().tan();
+        if x.abs() >= 1.0 {
+            return None;
+        }
+        let ws = x.acos().to_degrees() / 15.0;
+        // ST = UTC + lon/15 + ET (eq. 4 with LST = UTC, standard longitude 0).
+        let noon_utc = 12.0 - self.lon / 15.0 - Self::et_h(n);
+        Some((noon_utc - ws, noon_utc + ws))
+    }
+}
+
+impl PositionSource<f64> for Textbook {
+    fn site(&self) -> Site<f64> {
+        Site::new(self.lat, self.lon).unwrap()
+    }
+    fn position(&mut self, t: &UtcTime) -> Result<SunPosition<f64>, Error> {
+        let n = f64::from(t.day_of_year());
+        let st = t.hours::<f64>() + self.lon / 15.0 + Self::et_h(n);
+        let w = (15.0 * (st - 12.0)).to_radians(); // eq. 3
+        let d = Self::decl_deg(n).to_radians();
+        let phi = self.lat.to_radians();
+        let sin_alt = d.sin() * phi.sin() + d.cos() * w.cos() * phi.cos(); // eq. 7
+        let alt = sin_alt.clamp(-1.0, 1.0).asin();
+        // eq. 8b, sign of ω; from south positive west.
+        let cg =
+            ((d.cos() * phi.sin() * w.cos() - d.sin() * phi.cos()) / alt.cos()).clamp(-1.0, 1.0);
+        let gs = cg.acos().to_degrees().copysign(w.sin());
+        Ok(SunPosition::new(90.0 - alt.to_degrees(), gs + 180.0, false))
+    }
+}
+
+const KANO: Textbook = Textbook {
+    lat: 11.9683,
+    lon: 8.4261,
+};
+const TROMSO: Textbook = Textbook {
+    lat: 69.65,
+    lon: 18.96,
+};
+
+fn t(s: &str) -> UtcTime {
+    s.parse().unwrap()
+}
+
+type Sched = Scheduler<f64, Textbook, 1440>;
+
+/// Runs ticks every `step_s` from `from` for `secs`, collecting actions.
+fn run(s: &mut Sched, from: UtcTime, secs: i64, step_s: i64) -> Vec<(UtcTime, Action<f64>)> {
+    let mut out = Vec::new();
+    let mut k = 0;
+    while k <= secs {
+        let now = from.add_seconds(k).unwrap();
+        let o = s.tick(now);
+        if o.action != Action::Idle {
+            out.push((now, o.action));
+        }
+        k += step_s;
+    }
+    out
+}
+
+#[test]
+fn whole_day_in_kano_follows_the_flowchart() {
+    let mut s = Sched::new(ScheduleConfig::default(), KANO).unwrap();
+    assert_eq!(s.phase(), Phase::PowerOn);
+    // 19 Oct 2018, the seed's example day; start before sunrise.
+    let start = t("2018-10-19T03:00:00Z");
+    // Step 1: set-points zero.
+    let o = s.tick(start);
+    assert_eq!(o.action, Action::SetPoints(SetPoint::default()));
+    // Steps 2–6: before sunrise → sleep until sunrise.
+    let o = s.tick(start.add_seconds(1).unwrap());
+    let Action::Sleep { until } = o.action else {
+        panic!("{o:?}")
+    };
+    let day = s.day().unwrap();
+    let Daylight::Normal { rise, set } = day.daylight else {
+        panic!()
+    };
+    assert_eq!(until, rise);
+    // Sunrise and sunset agree with the seed's eq. 9 within a minute.
+    let (r_h, s_h) = KANO.rise_set_utc_h(292.0).unwrap();
+    let hours = |u: UtcTime| u.hours::<f64>();
+    assert!((hours(rise) - r_h).abs() * 60.0 < 1.0, "{rise} vs {r_h}");
+    assert!((hours(set) - s_h).abs() * 60.0 < 1.0, "{set} vs {s_h}");
+
+    // Walk the day with 10-second ticks.
+    let acts = run(&mut s, start.add_seconds(2).unwrap(), 20 * 3600, 10);
+    let sets: Vec<_> = acts
+        .iter()
+        .filter_map(|(now, a)| match a {
+            Action::SetPoints(p) => Some((*now, *p)),
+            _ => None,
+        })
+        .collect();
+    // One set-point per 4-minute table entry, applied on its minute.
+    let n_entries = s.table().len();
+    assert!(n_entries > 170 && n_entries < 185, "{n_entries}");
+    assert_eq!(sets.len(), n_entries);
+    for w in sets.windows(2) {
+        assert_eq!(w[1].0.unix_seconds() - w[0].0.unix_seconds(), 240);
+    }
+    for (now, p) in &sets {
+        // Matched within the 30-second re-check window after its time.
+        assert!(now.unix_seconds() % 240 < 30);
+        assert!(*now >= rise && *now < set);
+        // Set-point is the sun's direction at the entry's time.
+        let entry = UtcTime::from_unix_seconds(now.unix_seconds() / 240 * 240).unwrap();
+        let sun = KANO.clone().position(&entry).unwrap();
+        assert!((p.slope_deg - sun.zenith_deg).abs() < 1e-9);
+    }
+    // At solar noon eq. 7 gives zenith = φ − δ (hand formula); the
+    // smallest slope of the table is within the 4-minute sampling of it.
+    let decl = 23.45 * (360.0f64 / 365.25 * (284.0 + 292.0)).to_radians().sin();
+    let noon_zenith = KANO.lat - decl;
+    let min_slope = sets
+        .iter()
+        .map(|(_, p)| p.slope_deg)
+        .fold(f64::INFINITY, f64::min);
+    assert!(
+        (min_slope - noon_zenith).abs() < 0.05,
+        "{min_slope} vs {noon_zenith}"
+    );
+    // Morning set-points face east of south, afternoon ones west.
+    assert!(sets.first().unwrap().1.azimuth_deg < 180.0);
+    assert!(sets.last().unwrap().1.azimuth_deg > 180.0);
+
+    // Step 10: after sunset, go home to the day's first position, then sleep.
+    let homes: Vec<_> = acts
+        .iter()
+        .filter(|(_, a)| matches!(a, Action::GoHome(_)))
+        .collect();
+    assert_eq!(homes.len(), 1);
+    let (when, Action::GoHome(home)) = homes[0] else {
+        unreachable!()
+    };
+    assert!(*when >= set && when.unix_seconds() - set.unix_seconds() <= 10);
+    assert_eq!(*home, sets[0].1);
+    assert!(matches!(
+        s.phase(),
+        Phase::WaitNextDay { .. } | Phase::WaitSunrise { .. }
+    ));
+}
+
+#[test]
+fn seed_intervals_hold_and_recheck() {
+    // With 1-second ticks the table is searched every 30 s and, after a
+    // match, not before 2 minutes: count ticks that did work.
+    let mut s = Sched::new(ScheduleConfig::default(), KANO).unwrap();
+    let start = t("2018-10-19T10:00:00Z");
+    s.tick(start);
+    let acts = run(&mut s, start.add_seconds(1).unwrap(), 3598, 1);
+    let sets = acts
+        .iter()
+        .filter(|(_, a)| matches!(a, Action::SetPoints(_)))
+        .count();
+    assert_eq!(sets, 15); // 3600 s / 240 s
+                          // Configurable: a 1-minute table sets 60 points in an hour.
+    let cfg = ScheduleConfig {
+        table_step_s: 60,
+        hold_s: 30,
+        ..ScheduleConfig::default()
+    };
+    let mut s = Sched::new(cfg, KANO).unwrap();
+    s.tick(start);
+    let acts = run(&mut s, start.add_seconds(1).unwrap(), 3599, 1);
+    let sets = acts
+        .iter()
+        .filter(|(_, a)| matches!(a, Action::SetPoints(_)))
+        .count();
+    assert_eq!(sets, 60);
+}
+
+#[test]
+fn polar_day_in_tromso_tracks_around_the_clock() {
+    // 21 June: eq. 9 has −tanφ tanδ ≤ −1 at 69.65° N, no sunset.
+    assert!(TROMSO.rise_set_utc_h(172.0).is_none());
+    let mut s = Sched::new(ScheduleConfig::default(), TROMSO).unwrap();
+    let start = t("2026-06-21T00:00:00Z");
+    s.tick(start);
+    let acts = run(&mut s, start.add_seconds(1).unwrap(), 86_400 - 1, 10);
+    assert_eq!(s.day().map(|d| d.daylight), Some(Daylight::PolarDay));
+    let sets = acts
+        .iter()
+        .filter(|(_, a)| matches!(a, Action::SetPoints(_)))
+        .count();
+    // Every 4-minute entry of 24 hours, give or take the day boundary.
+    assert!((359..=361).contains(&sets), "{sets}");
+    assert!(!acts.iter().any(|(_, a)| matches!(a, Action::Sleep { .. })));
+    // Midnight sun: set-points with the sun due north, low.
+    let midnight = acts
+        .iter()
+        .find_map(|(n, a)| match a {
+            Action::SetPoints(p) if n.hms_milli().0 == 22 && n.hms_milli().1 == 44 => Some(*p),
+            _ => None,
+        })
+        .unwrap();
+    assert!(midnight.slope_deg > 80.0 && midnight.slope_deg < 90.0);
+    assert!(midnight.azimuth_deg > 350.0 || midnight.azimuth_deg < 10.0);
+}
+
+#[test]
+fn polar_night_in_tromso_never_moves() {
+    assert!(TROMSO.rise_set_utc_h(355.0).is_none());
+    let mut s = Sched::new(ScheduleConfig::default(), TROMSO).unwrap();
+    let start = t("2026-12-21T00:00:00Z");
+    assert_eq!(s.tick(start).action, Action::SetPoints(SetPoint::default()));
+    let acts = run(&mut s, start.add_seconds(1).unwrap(), 2 * 86_400, 60);
+    assert_eq!(s.day().map(|d| d.daylight), Some(Daylight::PolarNight));
+    assert!(acts.iter().all(|(_, a)| matches!(a, Action::Sleep { .. })));
+    // One plan per solar day, each sleeping until the next solar midnight
+    // (00:00 UTC − 18.96°/15 h ≈ 22:44 UTC).
+    assert!((2..=3).contains(&acts.len()), "{acts:?}");
+    for (_, a) in &acts {
+        let Action::Sleep { until } = a else {
+            unreachable!()
+        };
+        assert_eq!(until.hms_milli().0, 22);
+        assert_eq!(until.hms_milli().1, 44);
+    }
+}
+
+#[test]
+fn clock_jump_forward_and_backward_replans() {
+    let cfg = ScheduleConfig::default();
+    let mut s = Sched::new(cfg, KANO).unwrap();
+    let start = t("2018-10-19T09:00:00Z");
+    s.tick(start);
+    run(&mut s, start.add_seconds(1).unwrap(), 600, 10);
+    // Forward: 09:10 → 13:00 the same day; the 13:00 entry is set at once.
+    let o = s.tick(t("2018-10-19T13:00:00Z"));
+    assert!(o.clock_jump);
+    let Action::SetPoints(p) = o.action else {
+        panic!("{o:?}")
+    };
+    let sun = KANO.clone().position(&t("2018-10-19T13:00:00Z")).unwrap();
+    assert!((p.azimuth_deg - sun.azimuth_deg).abs() < 1e-9);
+    // Backward: 13:00 → 08:00; no waiting for a 13:02 hold, 08:00 is set.
+    let o = s.tick(t("2018-10-19T08:00:00Z"));
+    assert!(o.clock_jump);
+    let Action::SetPoints(p) = o.action else {
+        panic!("{o:?}")
+    };
+    let sun = KANO.clone().position(&t("2018-10-19T08:00:00Z")).unwrap();
+    assert!((p.azimuth_deg - sun.azimuth_deg).abs() < 1e-9);
+    // Backward across midnight into the previous night: sleeps until that
+    // day's sunrise.
+    let o = s.tick(t("2018-10-18T02:00:00Z"));
+    assert!(o.clock_jump);
+    let Action::Sleep { until } = o.action else {
+        panic!("{o:?}")
+    };
+    assert_eq!(until.ymd(), (2018, 10, 18));
+    // Forward two days, into the afternoon: tracking that day's table.
+    let o = s.tick(t("2018-10-20T15:00:00Z"));
+    assert!(o.clock_jump);
+    assert!(matches!(o.action, Action::SetPoints(_)));
+    assert_eq!(s.table().get(0).unwrap().time.ymd(), (2018, 10, 20));
+    // Small forward steps are not jumps.
+    let o = s.tick(t("2018-10-20T15:01:00Z"));
+    assert!(!o.clock_jump);
+}
+
+#[test]
+fn invalid_intervals_are_rejected() {
+    let bad = [
+        ScheduleConfig {
+            table_step_s: 0,
+            ..ScheduleConfig::default()
+        },
+        ScheduleConfig {
+            table_step_s: 7,
+            ..ScheduleConfig::default()
+        },
+        ScheduleConfig {
+            recheck_s: 0,
+            ..ScheduleConfig::default()
+        },
+    ];
+    for c in bad {
+        assert!(Sched::new(c, KANO).is_err());
+    }
+    // A table too small for a polar day at 1-minute steps.
+    let c = ScheduleConfig {
+        table_step_s: 60,
+        ..ScheduleConfig::default()
+    };
+    assert!(Scheduler::<f64, Textbook, 360>::new(c, KANO).is_err());
+}
