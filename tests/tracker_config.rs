@@ -1,0 +1,205 @@
+//! Configuration storage: CRC, versions, two slots, torn writes.
+
+use suntracker::config::{
+    crc32, Config, ConfigStore, MemStorage, SlotState, LAYOUT_VERSION, PAYLOAD_LEN, SLOT_LEN,
+};
+use suntracker::traits::Storage;
+
+#[test]
+fn crc32_check_value() {
+    // The standard check value of CRC-32/ISO-HDLC ("123456789").
+    assert_eq!(crc32(b"123456789"), 0xCBF4_3926);
+    assert_eq!(crc32(b""), 0);
+    // "The quick brown fox jumps over the lazy dog" → 0x414FA339 (zlib.crc32).
+    assert_eq!(
+        crc32(b"The quick brown fox jumps over the lazy dog"),
+        0x414F_A339
+    );
+}
+
+fn tromso() -> Config {
+    let mut c = Config::default();
+    c.site.latitude_deg = 69.65;
+    c.site.longitude_deg = 18.96;
+    c.site.elevation_m = 10.0;
+    c.schedule.table_step_s = 60;
+    c.axes[1].backlash_deg = 0.35;
+    c.calibration.declination_deg = 9.5;
+    c
+}
+
+#[test]
+fn encode_decode_round_trip() {
+    let c = tromso();
+    let mut buf = [0u8; 200];
+    let n = c.encode(&mut buf).unwrap();
+    assert_eq!(n, PAYLOAD_LEN);
+    assert_eq!(Config::decode(&buf[..n]), Some(c));
+    // Short or long payloads are rejected.
+    assert_eq!(Config::decode(&buf[..n - 1]), None);
+    assert_eq!(Config::decode(&buf[..n + 1]), None);
+    // Too small a buffer to encode into.
+    assert_eq!(c.encode(&mut [0u8; 10]), None);
+}
+
+#[test]
+fn fresh_storage_gives_defaults() {
+    let mut st = ConfigStore::new(MemStorage::<1024>::new());
+    let l = st.load();
+    assert!(l.defaults);
+    assert_eq!(l.config, Config::default());
+    assert_eq!(l.slots, [SlotState::Empty, SlotState::Empty]);
+}
+
+#[test]
+fn save_alternates_slots_and_newest_wins() {
+    let mut st = ConfigStore::new(MemStorage::<1024>::new());
+    let mut c = tromso();
+    st.save(&c).unwrap();
+    c.wind.threshold_hz = 30.0;
+    st.save(&c).unwrap();
+    let mem = st.release();
+    let mut st = ConfigStore::new(mem);
+    let l = st.load();
+    assert!(!l.defaults);
+    assert_eq!(l.config, c);
+    assert_eq!(l.slots, [SlotState::Good(1), SlotState::Good(2)]);
+    // Third save goes to slot 0 with sequence 3.
+    c.wind.threshold_hz = 31.0;
+    st.save(&c).unwrap();
+    let l = st.load();
+    assert_eq!(l.slots, [SlotState::Good(3), SlotState::Good(2)]);
+    assert_eq!(l.config.wind.threshold_hz, 31.0);
+}
+
+#[test]
+fn torn_write_keeps_the_last_good_config() {
+    let mut st = ConfigStore::new(MemStorage::<1024>::new());
+    let good = tromso();
+    st.save(&good).unwrap();
+    let mut newer = good;
+    newer.site.latitude_deg = 12.0;
+    // Power fails after every possible number of bytes of the next write.
+    for k in 0..(PAYLOAD_LEN + 16) {
+        let mut mem = st.release();
+        let saved = mem.clone();
+        mem.tear_after = Some(k);
+        let mut s2 = ConfigStore::new(mem);
+        assert!(s2.save(&newer).is_err());
+        let l = s2.load();
+        assert!(!l.defaults, "k = {k}");
+        assert_eq!(l.config, good, "k = {k}");
+        // Restore for the next round.
+        st = ConfigStore::new(saved);
+        st.load();
+    }
+    // A complete write then wins.
+    st.save(&newer).unwrap();
+    assert_eq!(st.load().config, newer);
+}
+
+#[test]
+fn corrupt_byte_anywhere_falls_back() {
+    let mut st = ConfigStore::new(MemStorage::<1024>::new());
+    let c = tromso();
+    st.save(&c).unwrap();
+    let clean = st.release();
+    for i in 0..(PAYLOAD_LEN + 16) {
+        let mut mem = clone(&clean);
+        mem.bytes[i] ^= 0x10;
+        let mut s = ConfigStore::new(mem);
+        let l = s.load();
+        // Only one slot was written: any flipped bit gives the defaults.
+        assert!(l.defaults, "byte {i}");
+        assert_eq!(l.config, Config::default());
+    }
+}
+
+#[test]
+fn one_corrupt_slot_uses_the_other() {
+    let mut st = ConfigStore::new(MemStorage::<1024>::new());
+    let a = tromso();
+    let mut b = a;
+    b.safety.max_retries = 7;
+    st.save(&a).unwrap(); // slot 0, seq 1
+    st.save(&b).unwrap(); // slot 1, seq 2
+    let mut mem = st.release();
+    mem.bytes[SLOT_LEN + 40] ^= 0xFF;
+    let mut st = ConfigStore::new(mem);
+    let l = st.load();
+    assert_eq!(l.slots[1], SlotState::Corrupt);
+    assert_eq!(l.config, a);
+}
+
+#[test]
+fn old_version_and_bad_values_are_rejected_whole() {
+    // Build a slot by hand: layout version 0 with a valid CRC.
+    let c = tromso();
+    let mut payload = [0u8; 200];
+    let n = c.encode(&mut payload).unwrap();
+    let slot = |version: u16, body: &[u8]| {
+        let mut s = Vec::new();
+        s.extend_from_slice(b"STCF");
+        s.extend_from_slice(&version.to_le_bytes());
+        s.extend_from_slice(&(body.len() as u16).to_le_bytes());
+        s.extend_from_slice(&9u32.to_le_bytes());
+        s.extend_from_slice(body);
+        let crc = crc32(&s);
+        s.extend_from_slice(&crc.to_le_bytes());
+        s
+    };
+    let mut mem = MemStorage::<1024>::new();
+    mem.write(0, &slot(0, &payload[..n])).unwrap();
+    let l = ConfigStore::new(mem).load();
+    assert!(l.defaults);
+    assert_eq!(l.slots[0], SlotState::OldVersion(0));
+
+    // Current version, valid CRC, but a latitude of 95°: not applied in part.
+    let mut bad = c;
+    bad.site.latitude_deg = 95.0;
+    let n = bad.encode(&mut payload).unwrap();
+    let mut mem = MemStorage::<1024>::new();
+    mem.write(0, &slot(LAYOUT_VERSION, &payload[..n])).unwrap();
+    let l = ConfigStore::new(mem).load();
+    assert!(l.defaults);
+    assert_eq!(l.slots[0], SlotState::Corrupt);
+    assert_eq!(l.config, Config::default());
+
+    // And save refuses it.
+    let mut st = ConfigStore::new(MemStorage::<1024>::new());
+    assert!(st.save(&bad).is_err());
+    // Storage too small for two slots.
+    let mut st = ConfigStore::new(MemStorage::<300>::new());
+    assert!(st.save(&c).is_err());
+}
+
+#[test]
+fn sequence_wraps_around() {
+    // Slot 0 holds sequence u32::MAX, slot 1 sequence 0 (written after it).
+    let c = tromso();
+    let mut payload = [0u8; 200];
+    let n = c.encode(&mut payload).unwrap();
+    let mut newer = c;
+    newer.wind.release_s = 1234;
+    let mut payload2 = [0u8; 200];
+    let n2 = newer.encode(&mut payload2).unwrap();
+    let slot = |seq: u32, body: &[u8]| {
+        let mut s = Vec::new();
+        s.extend_from_slice(b"STCF");
+        s.extend_from_slice(&LAYOUT_VERSION.to_le_bytes());
+        s.extend_from_slice(&(body.len() as u16).to_le_bytes());
+        s.extend_from_slice(&seq.to_le_bytes());
+        s.extend_from_slice(body);
+        let crc = crc32(&s);
+        s.extend_from_slice(&crc.to_le_bytes());
+        s
+    };
+    let mut mem = MemStorage::<1024>::new();
+    mem.write(0, &slot(u32::MAX, &payload[..n])).unwrap();
+    mem.write(SLOT_LEN, &slot(0, &payload2[..n2])).unwrap();
+    assert_eq!(ConfigStore::new(mem).load().config, newer);
+}
+
+fn clone(m: &MemStorage<1024>) -> MemStorage<1024> {
+    m.clone()
+}
