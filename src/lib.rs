@@ -10,6 +10,7 @@ pub const BANNER: &str = concat!("suntracker ", env!("CARGO_PKG_VERSION"));
 
 pub mod attitude;
 pub mod config;
+pub mod safety;
 pub mod scheduler;
 pub mod sim;
 pub mod traits;
