@@ -285,7 +285,7 @@ impl WindMonitor {
     /// Feeds a pulse rate in Hz; returns true while stowed. A rate that is
     /// not a number counts as windy (fail safe).
     pub fn update_rate(&mut self, now: UtcTime, rate_hz: f32) -> bool {
-        let windy = !(rate_hz <= self.config.threshold_hz);
+        let windy = rate_hz.is_nan() || rate_hz > self.config.threshold_hz;
         let elapsed = |since: UtcTime| now.unix_seconds().saturating_sub(since.unix_seconds());
         if windy {
             self.calm_since = None;
