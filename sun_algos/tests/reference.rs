@@ -173,6 +173,40 @@ fn grena_2012_5() {
     check(Algorithm::Grena2012No5);
 }
 
+/// The built-in ΔT model against the tables' ΔT (skyfield's model: IERS
+/// data, then the long-term spline of Stephenson et al.).
+#[test]
+fn delta_t_model_matches_the_tables() {
+    let mut worst = [0.0f64; 3];
+    for table in [
+        "sun_1999_2022.csv",
+        "sun_2010_2110.csv",
+        "sun_2020_2050.csv",
+    ] {
+        for r in load(table) {
+            let ours: f64 = sun_algos::delta_t::estimate_s(&r.time);
+            let ours32: f32 = sun_algos::delta_t::estimate_s(&r.time);
+            assert!((ours - f64::from(ours32)).abs() < 0.01);
+            let d = (ours - r.delta_t_s).abs();
+            let k = match r.time.year() {
+                ..=2024 => 0,
+                2025..=2050 => 1,
+                _ => 2,
+            };
+            worst[k] = worst[k].max(d);
+        }
+    }
+    println!(
+        "delta_t model vs tables: max |diff| {:.3} s to 2024, {:.3} s 2025-2050, {:.3} s 2051-2110",
+        worst[0], worst[1], worst[2]
+    );
+    assert!(worst[0] < 0.3, "{worst:?}");
+    assert!(worst[1] < 1.0, "{worst:?}");
+    // Beyond 2050 both are predictions (Morrison et al. 2021 put ±10 s on
+    // 2100); they part by about 12 s by 2110.
+    assert!(worst[2] < 15.0, "{worst:?}");
+}
+
 #[test]
 fn bad_inputs_are_errors() {
     assert_eq!(Site::new(90.5f64, 0.0), Err(Error::LatitudeOutOfRange));
