@@ -66,3 +66,26 @@ pub enum DeclinationSource {
     /// Computed by the World Magnetic Model for the site and date.
     Wmm2025,
 }
+
+impl DeclinationSource {
+    /// The declination in degrees (east positive) for a site and date: the fixed
+    /// value, or WMM2025 at the WGS-84 position (`height_km` above the ellipsoid)
+    /// and decimal year (see [`wmm::decimal_year`]).
+    pub fn declination_deg(
+        &self,
+        latitude_deg: f64,
+        longitude_deg: f64,
+        height_km: f64,
+        decimal_year: f64,
+    ) -> Result<f32, wmm::WmmError> {
+        match *self {
+            DeclinationSource::Fixed { declination_deg } if declination_deg.is_finite() => {
+                Ok(declination_deg)
+            }
+            DeclinationSource::Fixed { .. } => Err(wmm::WmmError::NonFinite),
+            DeclinationSource::Wmm2025 => wmm::WmmModel::wmm2025()
+                .declination_deg(latitude_deg, longitude_deg, height_km, decimal_year)
+                .map(|d| d as f32),
+        }
+    }
+}

@@ -10,8 +10,11 @@
 
 use drivers::compass::wmm::{decimal_year, WmmCoefficient, WmmError, WmmModel};
 
-/// (year, height km, lat, lon, X, Y, Z nT, I deg, D deg) from NOAA's WMM2025 table.
-const WMM2025_TABLE: [(f64, f64, f64, f64, f64, f64, f64, f64, f64); 12] = [
+/// (year, height km, lat, lon, X, Y, Z nT, I deg, D deg).
+type Row = (f64, f64, f64, f64, f64, f64, f64, f64, f64);
+
+/// NOAA's WMM2025 test-value table.
+const WMM2025_TABLE: [Row; 12] = [
     (2025.0, 0.0, 80.0, 0.0, 6521.6, 145.9, 54791.5, 83.21, 1.28),
     (
         2025.0, 0.0, 0.0, 120.0, 39677.8, -109.6, -10580.2, -14.93, -0.16,
@@ -137,7 +140,7 @@ fn generated_table_matches_cof_file() {
 #[test]
 fn wmm2020_synthesis_matches_noaa_2020_test_values() {
     // NOAA WMM2020testvalues.pdf: (year, km, lat, lon, X, Y, Z, I, D).
-    let table = [
+    let table: [Row; 12] = [
         (
             2020.0, 0.0, 80.0, 0.0, 6570.4, -146.3, 54606.0, 83.14, -1.28,
         ),
@@ -251,4 +254,25 @@ fn decimal_year_by_hand() {
     assert_eq!(decimal_year(2027, 13, 1, 0), Err(WmmError::InvalidDate));
     assert_eq!(decimal_year(2027, 0, 1, 0), Err(WmmError::InvalidDate));
     assert_eq!(decimal_year(2027, 1, 1, 86_400), Err(WmmError::InvalidDate));
+}
+
+#[test]
+fn declination_source() {
+    use drivers::compass::DeclinationSource;
+    let fixed = DeclinationSource::Fixed {
+        declination_deg: -7.5,
+    };
+    assert_eq!(fixed.declination_deg(0.0, 0.0, 0.0, 1900.0), Ok(-7.5));
+    let nan = DeclinationSource::Fixed {
+        declination_deg: f32::NAN,
+    };
+    assert_eq!(
+        nan.declination_deg(0.0, 0.0, 0.0, 2026.0),
+        Err(WmmError::NonFinite)
+    );
+    // Official row: 2027.5, 0 km, 80 S, 240 E -> D = 68.49.
+    let d = DeclinationSource::Wmm2025
+        .declination_deg(-80.0, 240.0, 0.0, 2027.5)
+        .unwrap();
+    assert!((d - 68.49).abs() < 0.006, "{d}");
 }
