@@ -1,8 +1,113 @@
-//! (being written by its helper; TEMPORARY body)
+//! Grena, R. (2008), "An algorithm for the computation of the solar
+//! position", Solar Energy 82, 462–470 (the "ENEA" algorithm), valid
+//! 2003–2022.
+//!
+//! Time (section 3.1) is JDₜ = JD − 2 452 640 (UT; 2003-01-01 00:00 is 0.5)
+//! and t = JDₜ + ΔT/86 400 (TT). Its secular terms, Earth's mean motion in
+//! the heliocentric longitude and Earth's rotation in the hour angle, are
+//! evaluated from the whole days in exact fixed-point turns
+//! ([`crate::spa::split`]), so `f32` keeps its precision; the periodic terms
+//! take t directly. Coefficients are the paper's (sections 3.2–3.8).
+
 use crate::algorithm::Inputs;
 use crate::float::Float;
 use crate::position::SunPosition;
+use crate::spa::split::{frac, Secular};
+use crate::time::MS_PER_DAY;
 
-pub(crate) fn position<T: Float>(_inp: &Inputs<'_, T>) -> SunPosition<T> {
-    unimplemented!("grena2008")
+/// Days from 2000-01-01 to 2003-01-01.
+const DAYS_2000_TO_2003: i32 = 1096;
+
+const fn turns(rad: f64) -> f64 {
+    rad / core::f64::consts::TAU
+}
+
+/// Section 3.2.1: L = 1.740940 + 1.7202768683 × 10⁻² t + … (t from JD 2452640).
+/// The day count here starts at 2003-01-01 00:00, half a day after the
+/// paper's origin, so the offset takes that half day.
+const L_LINEAR: Secular = Secular::turns(
+    turns(1.740_940 + 0.5 * 1.720_276_868_3e-2),
+    turns(1.720_276_868_3e-2),
+);
+/// Section 3.6: H = 6.30038809903 JDₜ + 4.8824623 + 0.9174 Δψ + θ − α.
+const H_LINEAR: Secular = Secular::turns(
+    turns(4.882_462_3 + 0.5 * 6.300_388_099_03),
+    turns(6.300_388_099_03),
+);
+
+/// Periodic terms of L (sections 3.2.2–3.2.3): [amplitude, frequency, phase].
+const L_PERIODIC: [[f64; 3]; 6] = [
+    [3.13e-5, 2.127_730e-1, -0.585],
+    [1.26e-5, 4.243e-3, 1.46],
+    [2.35e-5, 1.0727e-2, 0.72],
+    [2.76e-5, 1.5799e-2, 2.35],
+    [2.75e-5, 2.1551e-2, -1.98],
+    [1.26e-5, 3.1490e-2, -0.80],
+];
+
+/// The sun's position by Grena 2008 for validated inputs.
+pub(crate) fn position<T: Float>(inp: &Inputs<'_, T>) -> SunPosition<T> {
+    let f = T::from_f64;
+    // Whole days since 2003-01-01 and the day's fraction (UT and TT).
+    let days = inp.time.days_since_2000() - DAYS_2000_TO_2003;
+    let frac_ut = T::from_u32(inp.time.ms_of_day()) / T::from_u32(MS_PER_DAY);
+    let frac_tt = frac_ut + inp.delta_t_s / f(86_400.0);
+    // t of the paper (TT, days from JD 2452640), for the periodic terms.
+    let t = T::from_i32(days) + frac_tt + f(0.5);
+
+    // 3.2.1 linear increase with the annual oscillation.
+    let ang = f(1.72019e-2) * t - f(0.0563);
+    let mut l = frac(L_LINEAR.at(days, frac_tt)) * T::TAU
+        + f(3.34118e-2) * ang.sin()
+        + f(3.488e-4) * (f(2.0) * ang).sin();
+    // 3.2.2 Moon perturbation, 3.2.3 harmonic correction.
+    for [a, w, p] in L_PERIODIC {
+        l += f(a) * (f(w) * t + f(p)).sin();
+    }
+    // 3.2.4 polynomial correction (t₂ = t/1000).
+    let t2 = t / f(1000.0);
+    l += (((f(-2.30796e-7) * t2 + f(3.7976e-6)) * t2 - f(2.0458e-5)) * t2 + f(3.976e-5)) * t2 * t2;
+
+    // 3.3 nutation, 3.4 obliquity, 3.5 geocentric coordinates (with aberration).
+    let nut = f(9.252e-4) * t;
+    let dpsi = f(8.33e-5) * (nut - f(1.173)).sin();
+    let eps = f(-6.21e-9) * t + f(0.409_086) + f(4.46e-5) * (nut + f(0.397)).sin();
+    let lambda = l + T::PI + dpsi - f(9.932e-5);
+    let (sl, cl) = lambda.sin_cos();
+    let (se, ce) = eps.sin_cos();
+    let alpha = (sl * ce).atan2(cl);
+    let delta = (sl * se).clamp(-T::ONE, T::ONE).asin();
+
+    // 3.6 local hour angle (on UT), 3.7 parallax corrections.
+    let (sp, cp) = inp.site.latitude_deg().to_radians().sin_cos();
+    let h = frac(H_LINEAR.at(days, frac_ut)) * T::TAU
+        + f(0.9174) * dpsi
+        + inp.site.longitude_deg().to_radians()
+        - alpha;
+    let (sh, ch) = h.sin_cos();
+    let dalpha = f(-4.26e-5) * cp * sh;
+    let delta_t = delta - f(4.26e-5) * (sp - delta * cp);
+    let (sdt, cdt) = delta_t.sin_cos();
+    let ch_t = ch + dalpha * sh;
+    let sh_t = sh - dalpha * ch;
+
+    // 3.8 elevation, refraction (only above −0.01 rad), azimuth.
+    let up = sp * sdt + cp * cdt * ch_t;
+    let north = cp * sdt - sp * cdt * ch_t;
+    let east = -cdt * sh_t;
+    let e0 = up.atan2((east * east + north * north).sqrt());
+    let de = match &inp.atmosphere {
+        Some(atm) if e0 > f(-0.01) => {
+            let p_atm = atm.pressure_hpa() / f(1013.25);
+            f(0.084_217) * p_atm
+                / ((f(273.0) + atm.temperature_c())
+                    * (e0 + f(0.003_137_6) / (e0 + f(0.089_186))).tan())
+        }
+        _ => T::ZERO,
+    };
+    SunPosition::new(
+        (T::FRAC_PI_2 - e0 - de).to_degrees(),
+        east.atan2(north).to_degrees(),
+        inp.atmosphere.is_some(),
+    )
 }
