@@ -60,7 +60,7 @@ pub struct DateTime {
 
 /// Whether `year` is a Gregorian leap year.
 pub const fn is_leap_year(year: u16) -> bool {
-    (year % 4 == 0 && year % 100 != 0) || year % 400 == 0
+    (year.is_multiple_of(4) && !year.is_multiple_of(100)) || year.is_multiple_of(400)
 }
 
 /// Number of days in `month` (1..=12) of `year`; 0 for an invalid month.
@@ -235,7 +235,7 @@ impl DateTime {
     pub fn weekday_from_sunday(&self) -> u8 {
         // 1970-01-01 was a Thursday (5 when Sunday is 1).
         let w = (self.days_since_unix_epoch() + 4).rem_euclid(7); // 0 = Sunday
-        // rem_euclid(7) is in 0..7, so the cast cannot truncate.
+                                                                  // rem_euclid(7) is in 0..7, so the cast cannot truncate.
         w as u8 + 1
     }
 }
@@ -302,23 +302,35 @@ mod tests {
         assert!(is_leap_year(2024));
         assert!(!is_leap_year(1900));
         assert!(!is_leap_year(2100));
-        assert_eq!(
-            DateTime::new(2100, 2, 29, 0, 0, 0),
-            Err(DateTimeError::Day)
-        );
+        assert_eq!(DateTime::new(2100, 2, 29, 0, 0, 0), Err(DateTimeError::Day));
         assert!(DateTime::new(2000, 2, 29, 0, 0, 0).is_ok());
     }
 
     #[test]
     fn invalid_fields_are_errors() {
         assert_eq!(DateTime::new(0, 1, 1, 0, 0, 0), Err(DateTimeError::Year));
-        assert_eq!(DateTime::new(2024, 13, 1, 0, 0, 0), Err(DateTimeError::Month));
-        assert_eq!(DateTime::new(2024, 0, 1, 0, 0, 0), Err(DateTimeError::Month));
+        assert_eq!(
+            DateTime::new(2024, 13, 1, 0, 0, 0),
+            Err(DateTimeError::Month)
+        );
+        assert_eq!(
+            DateTime::new(2024, 0, 1, 0, 0, 0),
+            Err(DateTimeError::Month)
+        );
         assert_eq!(DateTime::new(2024, 4, 31, 0, 0, 0), Err(DateTimeError::Day));
         assert_eq!(DateTime::new(2024, 4, 0, 0, 0, 0), Err(DateTimeError::Day));
-        assert_eq!(DateTime::new(2024, 4, 1, 24, 0, 0), Err(DateTimeError::Hour));
-        assert_eq!(DateTime::new(2024, 4, 1, 0, 60, 0), Err(DateTimeError::Minute));
-        assert_eq!(DateTime::new(2024, 4, 1, 0, 0, 60), Err(DateTimeError::Second));
+        assert_eq!(
+            DateTime::new(2024, 4, 1, 24, 0, 0),
+            Err(DateTimeError::Hour)
+        );
+        assert_eq!(
+            DateTime::new(2024, 4, 1, 0, 60, 0),
+            Err(DateTimeError::Minute)
+        );
+        assert_eq!(
+            DateTime::new(2024, 4, 1, 0, 0, 60),
+            Err(DateTimeError::Second)
+        );
         let t = DateTime::new(2024, 4, 1, 0, 0, 0).unwrap();
         assert_eq!(t.with_millis(1000), Err(DateTimeError::Millis));
     }
@@ -338,8 +350,14 @@ mod tests {
             DateTime::from_unix_seconds(-1),
             Ok(DateTime::new(1969, 12, 31, 23, 59, 59).unwrap())
         );
-        assert_eq!(DateTime::from_unix_seconds(i64::MAX), Err(DateTimeError::Year));
-        assert_eq!(DateTime::from_unix_seconds(i64::MIN), Err(DateTimeError::Year));
+        assert_eq!(
+            DateTime::from_unix_seconds(i64::MAX),
+            Err(DateTimeError::Year)
+        );
+        assert_eq!(
+            DateTime::from_unix_seconds(i64::MIN),
+            Err(DateTimeError::Year)
+        );
     }
 
     #[test]

@@ -178,9 +178,12 @@ where
 
     fn read_into(&mut self, reg: u8, out: &mut [u8]) -> Result<(), Error<E>> {
         self.begin()?;
-        let result = self
-            .write_byte(read_cmd(reg), true)
-            .and_then(|()| out.iter_mut().try_for_each(|b| Ok(*b = self.read_byte()?)));
+        let result = self.write_byte(read_cmd(reg), true).and_then(|()| {
+            out.iter_mut().try_for_each(|b| {
+                *b = self.read_byte()?;
+                Ok(())
+            })
+        });
         // Always try to end the transfer, but report the first error.
         let ended = self.end();
         result.and(ended)

@@ -1,0 +1,140 @@
+//! ADXL345 three-axis accelerometer over I2C, the cheap tilt sensor: at rest
+//! it measures gravity, from which roll and pitch follow.
+//!
+//! Register facts from the Analog Devices ADXL345 datasheet (Rev. G):
+//! I2C address 0x53 with ALT ADDRESS low, 0x1D with it high; DEVID (0x00)
+//! reads 0xE5; BW_RATE (0x2C) rate code 0x0A = 100 Hz; POWER_CTL (0x2D) bit 3
+//! Measure; DATA_FORMAT (0x31) bit 3 FULL_RES, bits 1:0 range (00 = ±2 g);
+//! DATAX0..DATAZ1 (0x32..0x37) little-endian two's complement, read in one
+//! multi-byte transfer; full resolution scale 3.9 mg/LSB (256 LSB/g typical).
+
+use embedded_hal::i2c::I2c;
+
+use super::Inclination;
+
+/// I2C address with ALT ADDRESS tied low.
+pub const ADDRESS_ALT_LOW: u8 = 0x53;
+/// I2C address with ALT ADDRESS tied high.
+pub const ADDRESS_ALT_HIGH: u8 = 0x1D;
+
+const REG_DEVID: u8 = 0x00;
+const REG_BW_RATE: u8 = 0x2C;
+const REG_POWER_CTL: u8 = 0x2D;
+const REG_DATA_FORMAT: u8 = 0x31;
+const REG_DATAX0: u8 = 0x32;
+
+const DEVID: u8 = 0xE5;
+const BW_RATE_100HZ: u8 = 0x0A;
+const POWER_CTL_MEASURE: u8 = 0b0000_1000;
+const DATA_FORMAT_FULL_RES_2G: u8 = 0b0000_1000;
+/// g per LSB at full resolution (3.9 mg/LSB).
+const G_PER_LSB: f32 = 0.0039;
+
+/// ADXL345 errors.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Error<E> {
+    /// I2C error (e.g. NACK).
+    Comm(E),
+    /// DEVID was not 0xE5: the value read.
+    WrongDeviceId(u8),
+    /// The acceleration is too small to tell which way is down.
+    NoGravity,
+}
+
+/// Acceleration in units of g.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Acceleration {
+    /// X axis, g.
+    pub x_g: f32,
+    /// Y axis, g.
+    pub y_g: f32,
+    /// Z axis, g.
+    pub z_g: f32,
+}
+
+/// Roll about X and pitch about Y from gravity, for the X-Y-Z rotation
+/// sequence (NXP application note AN3461, eqs. 25 and 26):
+/// roll = atan2(y, z), pitch = atan2(-x, sqrt(y² + z²)).
+/// `None` when |a| < 0.1 g (free fall: no direction to measure).
+pub fn inclination_from_gravity(a: &Acceleration) -> Option<Inclination> {
+    let norm = libm::sqrtf(a.x_g * a.x_g + a.y_g * a.y_g + a.z_g * a.z_g);
+    if norm.is_nan() || norm < 0.1 {
+        return None;
+    }
+    let roll = libm::atan2f(a.y_g, a.z_g);
+    let pitch = libm::atan2f(-a.x_g, libm::sqrtf(a.y_g * a.y_g + a.z_g * a.z_g));
+    Some(Inclination {
+        roll_deg: roll.to_degrees(),
+        pitch_deg: pitch.to_degrees(),
+    })
+}
+
+/// An ADXL345 on I2C.
+#[derive(Debug)]
+pub struct Adxl345<I2C> {
+    i2c: I2C,
+    address: u8,
+}
+
+impl<I2C: I2c> Adxl345<I2C> {
+    /// Wraps the bus; no bus traffic until [`Adxl345::init`].
+    pub fn new(i2c: I2C, address: u8) -> Self {
+        Self { i2c, address }
+    }
+
+    /// Gives the bus back.
+    pub fn destroy(self) -> I2C {
+        self.i2c
+    }
+
+    /// Checks DEVID, then sets full resolution ±2 g, 100 Hz, and measurement mode.
+    pub fn init(&mut self) -> Result<(), Error<I2C::Error>> {
+        let mut id = [0];
+        self.i2c
+            .write_read(self.address, &[REG_DEVID], &mut id)
+            .map_err(Error::Comm)?;
+        if id[0] != DEVID {
+            return Err(Error::WrongDeviceId(id[0]));
+        }
+        for (reg, value) in [
+            (REG_DATA_FORMAT, DATA_FORMAT_FULL_RES_2G),
+            (REG_BW_RATE, BW_RATE_100HZ),
+            (REG_POWER_CTL, POWER_CTL_MEASURE),
+        ] {
+            self.i2c
+                .write(self.address, &[reg, value])
+                .map_err(Error::Comm)?;
+        }
+        Ok(())
+    }
+
+    /// Raw X, Y, Z counts.
+    pub fn read_raw(&mut self) -> Result<[i16; 3], Error<I2C::Error>> {
+        let mut d = [0u8; 6];
+        self.i2c
+            .write_read(self.address, &[REG_DATAX0], &mut d)
+            .map_err(Error::Comm)?;
+        let [x0, x1, y0, y1, z0, z1] = d;
+        Ok([
+            i16::from_le_bytes([x0, x1]),
+            i16::from_le_bytes([y0, y1]),
+            i16::from_le_bytes([z0, z1]),
+        ])
+    }
+
+    /// Acceleration in g (full-resolution scale).
+    pub fn read_acceleration(&mut self) -> Result<Acceleration, Error<I2C::Error>> {
+        let [x, y, z] = self.read_raw()?;
+        Ok(Acceleration {
+            x_g: f32::from(x) * G_PER_LSB,
+            y_g: f32::from(y) * G_PER_LSB,
+            z_g: f32::from(z) * G_PER_LSB,
+        })
+    }
+
+    /// Roll and pitch in degrees from one acceleration sample.
+    pub fn read_inclination(&mut self) -> Result<Inclination, Error<I2C::Error>> {
+        let a = self.read_acceleration()?;
+        inclination_from_gravity(&a).ok_or(Error::NoGravity)
+    }
+}

@@ -1,0 +1,109 @@
+//! From the two inclinometer axis angles to the mount's tilt α0, β0
+//! (seed portable-tracker-tilt-magnetic-compensation, Section III.A,
+//! Expressions (4)–(7)). Pure math, `f32`.
+//!
+//! The seed's text lost the typeset equations, so they are rebuilt here from
+//! its definitions and stated in full:
+//! - the horizontal frame XYZ has Y to the south, X to the west, Z up;
+//! - the mount is tilted from level by α0 about X, then by β0 about Y
+//!   (Craig's X-Y fixed-angle rotations, the seed's reference [5]), i.e. the
+//!   mount's axes are the columns of R = R_Y(β0) · R_X(α0);
+//! - the sensor outputs θx, θy ∈ [0, π] are the angles between the vertical Z
+//!   and the mount's x and y axes (Expression (4): cos θ = Z · axis).
+//!
+//! Multiplying out the third row of R gives Expression (6):
+//! ```text
+//!   cos θx = −sin β0
+//!   cos θy =  cos β0 · sin α0
+//! ```
+//! and solving it, Expression (7), with α0, β0 ∈ [−π/2, π/2]:
+//! ```text
+//!   β0 = asin(−cos θx)
+//!   α0 = asin(cos θy / cos β0)
+//! ```
+//! Check against the seed's Table IV, Case 2: α0 = 35.26°, β0 = 30° give
+//! θx = acos(−0.5) = 120° and θy = acos(cos 30° · sin 35.26°) = acos(0.5) = 60°
+//! (a hand calculation; the test runs it backwards). Case 1 (level mount):
+//! θx = θy = 90° gives α0 = β0 = 0.
+
+use super::adxl345::Acceleration;
+
+/// How far |cos θy / cos β0| may exceed 1 (sensor noise) before the pair of
+/// angles is refused rather than clamped.
+const RATIO_TOLERANCE: f32 = 1e-3;
+/// Below this |cos β0| the x axis is vertical and α0 is undefined.
+const MIN_COS_BETA: f32 = 1e-4;
+
+/// The mount's tilt from level.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct MountTilt {
+    /// Rotation about the horizontal X axis (west), degrees.
+    pub alpha0_deg: f32,
+    /// Rotation about the horizontal Y axis (south), degrees.
+    pub beta0_deg: f32,
+}
+
+/// Why the axis angles do not describe a tilt.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum MountTiltError {
+    /// An angle outside 0..=180° or not a number.
+    OutOfRange,
+    /// cos²θx + cos²θy > 1: no unit vector has these components.
+    Inconsistent,
+    /// The x axis is (nearly) vertical, so α0 is undefined.
+    Degenerate,
+}
+
+/// Expression (7): α0, β0 from the axis angles θx, θy (degrees from vertical).
+pub fn mount_tilt(theta_x_deg: f32, theta_y_deg: f32) -> Result<MountTilt, MountTiltError> {
+    let in_range = |t: f32| (0.0..=180.0).contains(&t);
+    if !in_range(theta_x_deg) || !in_range(theta_y_deg) {
+        return Err(MountTiltError::OutOfRange);
+    }
+    let cos_x = libm::cosf(theta_x_deg.to_radians());
+    let cos_y = libm::cosf(theta_y_deg.to_radians());
+    let beta0 = libm::asinf((-cos_x).clamp(-1.0, 1.0));
+    let cos_beta = libm::cosf(beta0);
+    if cos_beta < MIN_COS_BETA {
+        return Err(MountTiltError::Degenerate);
+    }
+    let ratio = cos_y / cos_beta;
+    if ratio.abs() > 1.0 + RATIO_TOLERANCE {
+        return Err(MountTiltError::Inconsistent);
+    }
+    let alpha0 = libm::asinf(ratio.clamp(-1.0, 1.0));
+    Ok(MountTilt {
+        alpha0_deg: alpha0.to_degrees(),
+        beta0_deg: beta0.to_degrees(),
+    })
+}
+
+/// Expression (6): the axis angles θx, θy (degrees) a tilt produces.
+pub fn axis_angles(tilt: &MountTilt) -> (f32, f32) {
+    let a = tilt.alpha0_deg.to_radians();
+    let b = tilt.beta0_deg.to_radians();
+    let cos_x = -libm::sinf(b);
+    let cos_y = libm::cosf(b) * libm::sinf(a);
+    (
+        libm::acosf(cos_x.clamp(-1.0, 1.0)).to_degrees(),
+        libm::acosf(cos_y.clamp(-1.0, 1.0)).to_degrees(),
+    )
+}
+
+/// Axis angles θx, θy (degrees from vertical) from an accelerometer at rest
+/// on the mount: it measures +1 g along the up direction, so its x and y
+/// components are cos θx and cos θy times |a|. `None` below 0.1 g.
+pub fn axis_angles_from_gravity(a: &Acceleration) -> Option<(f32, f32)> {
+    let norm = libm::sqrtf(a.x_g * a.x_g + a.y_g * a.y_g + a.z_g * a.z_g);
+    if norm.is_nan() || norm < 0.1 {
+        return None;
+    }
+    let angle = |c: f32| libm::acosf((c / norm).clamp(-1.0, 1.0)).to_degrees();
+    Some((angle(a.x_g), angle(a.y_g)))
+}
+
+/// Axis angles from a two-axis inclinometer that reports each axis's
+/// elevation above the horizontal: θ = 90° − elevation.
+pub fn axis_angles_from_elevations(x_elevation_deg: f32, y_elevation_deg: f32) -> (f32, f32) {
+    (90.0 - x_elevation_deg, 90.0 - y_elevation_deg)
+}

@@ -1,0 +1,91 @@
+//! Seed portable-tracker Expressions (6)–(7) (see drivers/src/tilt/mount.rs
+//! for the reconstruction). Numbers from the seed's Table IV: Case 1 is the
+//! level mount (α0 = β0 = 0), Case 2 has α0 = 35.26°, β0 = 30°. By hand,
+//! Case 2 gives cos θx = −sin 30° = −0.5 (θx = 120°) and
+//! cos θy = cos 30° · sin 35.26° = 0.8660 · 0.5773 = 0.5000 (θy = 60°).
+
+use drivers::tilt::{
+    axis_angles, axis_angles_from_elevations, axis_angles_from_gravity, mount_tilt, Acceleration,
+    MountTilt, MountTiltError,
+};
+
+#[test]
+fn seed_case_1_level() {
+    let t = mount_tilt(90.0, 90.0).unwrap();
+    assert!(t.alpha0_deg.abs() < 1e-5 && t.beta0_deg.abs() < 1e-5);
+}
+
+#[test]
+fn seed_case_2() {
+    let t = mount_tilt(120.0, 60.0).unwrap();
+    assert!((t.alpha0_deg - 35.26).abs() < 0.01, "{t:?}");
+    assert!((t.beta0_deg - 30.0).abs() < 0.01, "{t:?}");
+    let (tx, ty) = axis_angles(&MountTilt {
+        alpha0_deg: 35.26,
+        beta0_deg: 30.0,
+    });
+    assert!(
+        (tx - 120.0).abs() < 0.01 && (ty - 60.0).abs() < 0.01,
+        "{tx} {ty}"
+    );
+}
+
+#[test]
+fn round_trip_over_the_range() {
+    for a in (-85..=85).step_by(5) {
+        for b in (-85..=85).step_by(5) {
+            let tilt = MountTilt {
+                alpha0_deg: a as f32,
+                beta0_deg: b as f32,
+            };
+            let (tx, ty) = axis_angles(&tilt);
+            let back = mount_tilt(tx, ty).unwrap();
+            assert!(
+                (back.alpha0_deg - a as f32).abs() < 0.05,
+                "{a} {b} {back:?}"
+            );
+            assert!((back.beta0_deg - b as f32).abs() < 0.05, "{a} {b} {back:?}");
+        }
+    }
+}
+
+#[test]
+fn bad_inputs_are_errors() {
+    assert_eq!(mount_tilt(-1.0, 90.0), Err(MountTiltError::OutOfRange));
+    assert_eq!(mount_tilt(90.0, 181.0), Err(MountTiltError::OutOfRange));
+    assert_eq!(mount_tilt(f32::NAN, 90.0), Err(MountTiltError::OutOfRange));
+    // Both axes 10° from vertical: cos² + cos² = 1.94 > 1.
+    assert_eq!(mount_tilt(10.0, 10.0), Err(MountTiltError::Inconsistent));
+    // x axis vertical.
+    assert_eq!(mount_tilt(180.0, 90.0), Err(MountTiltError::Degenerate));
+}
+
+#[test]
+fn from_accelerometer_and_elevations() {
+    // Gravity reaction along +z only: both axes horizontal.
+    let level = axis_angles_from_gravity(&Acceleration {
+        x_g: 0.0,
+        y_g: 0.0,
+        z_g: 1.0,
+    })
+    .unwrap();
+    assert!((level.0 - 90.0).abs() < 1e-4 && (level.1 - 90.0).abs() < 1e-4);
+    // Case 2 as an accelerometer would see it: (cos θx, cos θy, ...) = (-0.5, 0.5, sqrt(0.5)).
+    let (tx, ty) = axis_angles_from_gravity(&Acceleration {
+        x_g: -0.5,
+        y_g: 0.5,
+        z_g: 0.5f32.sqrt(),
+    })
+    .unwrap();
+    let t = mount_tilt(tx, ty).unwrap();
+    assert!((t.alpha0_deg - 35.26).abs() < 0.01 && (t.beta0_deg - 30.0).abs() < 0.01);
+    assert_eq!(axis_angles_from_elevations(-30.0, 30.0), (120.0, 60.0));
+    assert_eq!(
+        axis_angles_from_gravity(&Acceleration {
+            x_g: 0.0,
+            y_g: 0.0,
+            z_g: 0.0
+        }),
+        None
+    );
+}
