@@ -178,3 +178,24 @@ fn fix_goes_stale_after_silence() {
     // Before any epoch: stale.
     assert!(GpsDecoder::new(1_500).is_stale(0));
 }
+
+#[test]
+fn poll_if_ready_does_not_block_on_an_idle_port() {
+    // An empty port that is "not ready": poll_if_ready must not read (a read
+    // here would report end of stream).
+    let mut reader = GpsReader::new(MockSerial::new(&[], 8), 1000);
+    assert_eq!(reader.poll_if_ready(0), Ok(None));
+    assert_eq!(reader.poll(0), Err(drivers::gps::Error::EndOfStream));
+    // With data, it gets the same fixes as poll.
+    let mut reader = GpsReader::new(MockSerial::new(LOG, 16), 1000);
+    let mut n = 0;
+    while let Ok(r) = reader.poll_if_ready(0) {
+        if r.is_some() {
+            n += 1;
+        }
+        if reader.stats().sentences >= 32 {
+            break;
+        }
+    }
+    assert_eq!(n, 10);
+}

@@ -176,3 +176,46 @@ fn serial_errors_release_the_bus() {
     assert_eq!(s.read(), Err(Error::Comm(common::SerialError)));
     assert_eq!(*log.borrow(), sent_request());
 }
+
+#[test]
+fn de_pin_error() {
+    use embedded_hal_mock::eh1::digital::{Mock as Pin, State, Transaction as T};
+    use embedded_hal_mock::eh1::MockError;
+    let err = MockError::Io(std::io::ErrorKind::NotConnected);
+    // DE fails to go high: nothing is sent.
+    let de = Pin::new(&[T::set(State::High).with_error(err.clone())]);
+    let serial = MockSerial::new(&RESPONSE, 9);
+    let log = serial.log();
+    let mut s = WitInclinometer::new(
+        serial,
+        de,
+        CountingDelay::default(),
+        DEFAULT_ADDRESS,
+        TIMEOUT,
+    );
+    assert_eq!(s.read(), Err(Error::Pin(err.clone())));
+    assert!(log.borrow().is_empty());
+    let (_, mut de, _) = s.destroy();
+    de.done();
+    // DE fails to go low after sending: the request went out, the error is reported.
+    let de = Pin::new(&[
+        T::set(State::High),
+        T::set(State::Low).with_error(err.clone()),
+    ]);
+    let serial = MockSerial::new(&RESPONSE, 9);
+    let log = serial.log();
+    let mut s = WitInclinometer::new(
+        serial,
+        de,
+        CountingDelay::default(),
+        DEFAULT_ADDRESS,
+        TIMEOUT,
+    );
+    assert_eq!(s.read(), Err(Error::Pin(err)));
+    assert_eq!(
+        *log.borrow(),
+        vec![Event::Write(REQUEST.to_vec()), Event::Flush]
+    );
+    let (_, mut de, _) = s.destroy();
+    de.done();
+}

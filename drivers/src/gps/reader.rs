@@ -2,7 +2,7 @@
 //! a UART interrupt's ring buffer) and [`GpsReader`], which pulls the bytes
 //! from an `embedded_io::Read` serial port.
 
-use embedded_io::{ErrorKind, Read};
+use embedded_io::{ErrorKind, Read, ReadReady};
 
 use super::assembler::{AssemblerStats, SentenceAssembler};
 use super::fix::{FixFusion, GpsFix};
@@ -160,6 +160,23 @@ impl<R: Read> GpsReader<R> {
         self.start = 0;
         self.end = n.min(READ_CHUNK);
         Ok(self.drain(now_ms))
+    }
+
+    /// Like [`GpsReader::poll`], but never blocks: when no byte is buffered
+    /// and the port has none ready, returns `Ok(None)` without reading. For a
+    /// main loop that also drives the motors.
+    pub fn poll_if_ready(&mut self, now_ms: u64) -> Result<Option<GpsFix>, Error<R::Error>>
+    where
+        R: ReadReady,
+    {
+        if let Some(fix) = self.drain(now_ms) {
+            return Ok(Some(fix));
+        }
+        if self.serial.read_ready().map_err(Error::Comm)? {
+            self.poll(now_ms)
+        } else {
+            Ok(None)
+        }
     }
 
     fn drain(&mut self, now_ms: u64) -> Option<GpsFix> {
