@@ -4,7 +4,7 @@
 //!   QST QMC5883L and Honeywell HMC5883L datasheets.
 //! * [`calibration`]: hard- and soft-iron correction from a rotation sweep
 //!   (per-axis min/max: offset = centre, scale = mean radius / axis radius).
-//! * [`heading`]: tilt compensation from roll and pitch and the declination
+//! * [`heading`]: tilt compensation from the mount tilts α₀, β₀ (roll and pitch) and the declination
 //!   correction, seed *portable-tracker-tilt-magnetic-compensation* Expressions (8)–(11).
 //! * [`wmm`]: a `no_std`, heap-free World Magnetic Model (WMM2025) giving the
 //!   declination for a GPS position and date.
@@ -23,14 +23,15 @@ mod wmm2025_coefficients;
 /// A three-axis vector in the sensor frame. The unit is whatever the producer
 /// says: gauss from [`Magnetometer::read_gauss`], raw counts elsewhere.
 ///
-/// Axes follow the convention of [`heading`]: x forward, y right, z down.
+/// For [`heading`] the axes are the tracker's (seed *portable-tracker*): at the
+/// home pose of a level mount x west, y south, z up.
 #[derive(Debug, Clone, Copy, PartialEq, Default)]
 pub struct Vector3 {
-    /// x component (forward).
+    /// x component.
     pub x: f32,
-    /// y component (right).
+    /// y component.
     pub y: f32,
-    /// z component (down).
+    /// z component.
     pub z: f32,
 }
 

@@ -1,10 +1,15 @@
 //! Tilt compensation (seed portable-tracker Expressions (8)–(11)) and min/max
 //! hard/soft-iron calibration, against an independent forward model: the test
-//! builds the sensor reading from a known heading, roll and pitch with its own
-//! rotation matrices (body = R_X(α)^T R_Y(β)^T R_Z(ψ)^T · earth field, NED).
+//! builds the sensor reading from a known mount attitude with its own rotation
+//! matrices, `h = Tᵀ·B` with `T = R_Z(γ₀)·R_X(α₀)·R_Y(β₀)` (seed Expression (12))
+//! and the earth field `B` in the horizontal frame (X west, Y south, Z up):
+//! north component H·cos D, east H·sin D, down H·tan I  ->  B = (−H sin D, −H cos D, −H tan I).
 
 use drivers::compass::calibration::{Calibration, CalibrationError, CalibrationSweep};
-use drivers::compass::heading::{magnetic_heading_deg, true_heading_deg, wrap_deg, HeadingError};
+use drivers::compass::heading::{
+    gamma0_deg, magnetic_heading_deg, magnetic_rotation_deg, true_heading_deg, wrap360_deg,
+    HeadingError,
+};
 use drivers::compass::wmm::WmmModel;
 use drivers::compass::Vector3;
 
@@ -13,34 +18,38 @@ type M = [[f64; 3]; 3];
 fn mul(a: &M, v: [f64; 3]) -> [f64; 3] {
     [0, 1, 2].map(|r| a[r][0] * v[0] + a[r][1] * v[1] + a[r][2] * v[2])
 }
+fn mat(a: &M, b: &M) -> M {
+    [0, 1, 2].map(|r| [0, 1, 2].map(|c| (0..3).map(|k| a[r][k] * b[k][c]).sum()))
+}
 fn transpose(a: &M) -> M {
-    [
-        [a[0][0], a[1][0], a[2][0]],
-        [a[0][1], a[1][1], a[2][1]],
-        [a[0][2], a[1][2], a[2][2]],
-    ]
+    [0, 1, 2].map(|r| [0, 1, 2].map(|c| a[c][r]))
 }
 fn rx(t: f64) -> M {
-    let (s, c) = t.sin_cos();
+    let (s, c) = t.to_radians().sin_cos();
     [[1.0, 0.0, 0.0], [0.0, c, -s], [0.0, s, c]]
 }
 fn ry(t: f64) -> M {
-    let (s, c) = t.sin_cos();
+    let (s, c) = t.to_radians().sin_cos();
     [[c, 0.0, s], [0.0, 1.0, 0.0], [-s, 0.0, c]]
 }
 fn rz(t: f64) -> M {
-    let (s, c) = t.sin_cos();
+    let (s, c) = t.to_radians().sin_cos();
     [[c, -s, 0.0], [s, c, 0.0], [0.0, 0.0, 1.0]]
 }
 
-/// Sensor reading for a body with heading ψ (from magnetic north, clockwise),
-/// roll α about x and pitch β about y, in a field of horizontal strength `h`
-/// and inclination `inc` (down positive).
-fn body_field(heading_deg: f64, roll_deg: f64, pitch_deg: f64, h: f64, inc_deg: f64) -> [f64; 3] {
-    let earth = [h, 0.0, h * inc_deg.to_radians().tan()];
-    let level = mul(&transpose(&rz(heading_deg.to_radians())), earth);
-    let tmp = mul(&transpose(&ry(pitch_deg.to_radians())), level);
-    mul(&transpose(&rx(roll_deg.to_radians())), tmp)
+/// Sensor reading (tracker axes) for mount angles γ₀, α₀, β₀ (degrees), a field of
+/// horizontal strength `h`, inclination `inc` and declination `dec` (degrees).
+fn sensor(gamma0: f64, alpha0: f64, beta0: f64, h: f64, inc: f64, dec: f64) -> [f64; 3] {
+    let t = mat(&rz(gamma0), &mat(&rx(alpha0), &ry(beta0)));
+    let d = dec.to_radians();
+    let earth = [-h * d.sin(), -h * d.cos(), -h * inc.to_radians().tan()];
+    mul(&transpose(&t), earth)
+}
+
+/// Magnetic-only reading (D = 0) for a mount whose +y axis has magnetic azimuth
+/// `heading` (γ₀ = 180 − heading), tilted by roll α₀ and pitch β₀.
+fn body_field(heading: f64, alpha0: f64, beta0: f64, h: f64, inc: f64) -> [f64; 3] {
+    sensor(180.0 - heading, alpha0, beta0, h, inc, 0.0)
 }
 
 fn v(b: [f64; 3]) -> Vector3 {
@@ -48,18 +57,21 @@ fn v(b: [f64; 3]) -> Vector3 {
 }
 
 fn angle_diff(a: f32, b: f32) -> f32 {
-    let d = wrap_deg(a - b);
+    let d = wrap360_deg(a - b);
     d.min(360.0 - d)
 }
 
 #[test]
 fn level_hand_cases() {
-    // Level, x pointing east: north is to the left (-y), so the field reads (0, -H, Z): 90 deg.
-    let hdg = magnetic_heading_deg(Vector3::new(0.0, -20.0, 40.0), 0.0, 0.0).unwrap();
-    assert!((hdg - 90.0).abs() < 1e-4);
-    // Pointing south-west: x = -H cos45, y = +H sin45 ... heading 225.
-    let hdg = magnetic_heading_deg(Vector3::new(-14.142, 14.142, 40.0), 0.0, 0.0).unwrap();
-    assert!((hdg - 225.0).abs() < 1e-3);
+    // Home pose (γ₀ = 0, level): y points south, so magnetic north is -y and
+    // down is -z: h = (0, -H, -Z). δ₀ = atan2(0, H) = 0, heading of +y = 180.
+    let h = Vector3::new(0.0, -20.0, -40.0);
+    assert!(magnetic_rotation_deg(h, 0.0, 0.0).unwrap().abs() < 1e-4);
+    assert!((magnetic_heading_deg(h, 0.0, 0.0).unwrap() - 180.0).abs() < 1e-4);
+    // +y pointing east (γ₀ = 90): x points south, north is -x: h = (-H, 0, -Z).
+    let h = Vector3::new(-20.0, 0.0, -40.0);
+    assert!((magnetic_rotation_deg(h, 0.0, 0.0).unwrap() - 90.0).abs() < 1e-4);
+    assert!((magnetic_heading_deg(h, 0.0, 0.0).unwrap() - 90.0).abs() < 1e-4);
 }
 
 #[test]
@@ -91,18 +103,25 @@ fn tilt_compensation_recovers_heading() {
 
 #[test]
 fn declination_gives_true_heading() {
-    // Expression (11): gamma0 = delta0 + D. WMM2025 at Tianjin (39.1 N, 117.2 E), 2026.5.
+    // Expression (11): γ₀ = δ₀ − D. WMM2025 at Tianjin (39.1 N, 117.2 E), 2026.5.
     let d = WmmModel::wmm2025()
         .declination_deg(39.1, 117.2, 0.0, 2026.5)
-        .unwrap() as f32;
-    assert!(d < -6.0 && d > -9.0, "Tianjin declination {d}"); // seed: 6-8 deg west in Korea/China
-    let b = v(body_field(100.0, 10.0, -5.0, 30.0, 58.0));
-    let t = true_heading_deg(b, 10f32.to_radians(), (-5f32).to_radians(), d).unwrap();
-    assert!(angle_diff(t, 100.0 + d) < 0.01);
-    // Wrap-around: magnetic 2 deg with D = -7 -> 355.
-    let b = v(body_field(2.0, 0.0, 0.0, 30.0, 58.0));
-    let t = true_heading_deg(b, 0.0, 0.0, -7.0).unwrap();
-    assert!((t - 355.0).abs() < 0.01, "{t}");
+        .unwrap();
+    assert!(d < -6.0 && d > -9.0, "Tianjin declination {d}"); // seed: 6-8 deg west in Korea
+    let mut worst = 0.0f32;
+    for gamma0 in (-180..180).step_by(20) {
+        let h = v(sensor(gamma0 as f64, 10.0, -5.0, 30.0, 58.0, d));
+        let (a, b) = (10f32.to_radians(), (-5f32).to_radians());
+        let g = gamma0_deg(h, a, b, d as f32).unwrap();
+        worst = worst.max(angle_diff(g, gamma0 as f32));
+        // Azimuth of +y = 180 - γ₀ (what MountAttitude::from_sensors takes).
+        let t = true_heading_deg(h, a, b, d as f32).unwrap();
+        assert!(angle_diff(t, 180.0 - gamma0 as f32) < 0.01);
+        // Uncorrected, the error is the declination itself.
+        let m = magnetic_heading_deg(h, a, b).unwrap();
+        assert!((angle_diff(m, t) - (d as f32).abs()).abs() < 0.01);
+    }
+    assert!(worst < 0.01, "{worst}");
 }
 
 #[test]
@@ -112,7 +131,7 @@ fn heading_errors() {
         Err(HeadingError::NonFinite)
     );
     assert_eq!(
-        magnetic_heading_deg(Vector3::new(0.0, 0.0, 50.0), 0.0, 0.0),
+        magnetic_heading_deg(Vector3::new(0.0, 0.0, -50.0), 0.0, 0.0),
         Err(HeadingError::NoHorizontalField)
     );
     assert_eq!(

@@ -1,22 +1,33 @@
-//! Tilt-compensated magnetic and true heading.
+//! Tilt-compensated magnetic and true heading, in the frames of seed
+//! *portable-tracker-tilt-magnetic-compensation* (the same frames as the
+//! tracker's `attitude` module).
 //!
-//! Seed *portable-tracker-tilt-magnetic-compensation*, section C "Geomagnetic
-//! Sensor". The seed's sensor frame is tilted from the horizontal frame by a
-//! rotation α₀ about the X axis followed by β₀ about the Y axis (its Expression (5)).
-//! The extracted seed text names the equations but not their bodies, so they are
-//! written out here for our axis convention (sensor x forward, y right, z down,
-//! right-handed; α₀ = roll about x, β₀ = pitch about y, nose up positive):
+//! Frames. Horizontal XYZ: X west, Y south, Z up (seed Fig. 3). Tracker xyz:
+//! fixed to the mounting, equal to XYZ at the home pose of a level mount whose
+//! y axis points south. The mount is reached from XYZ by γ₀ about Z, then α₀
+//! about the new x axis, then β₀ about the new y axis:
+//! `T = R_Z(γ₀)·R_X(α₀)·R_Y(β₀)` maps tracker coordinates to horizontal ones
+//! (seed Expression (12); α₀, β₀ from the inclinometer, Expression (7)). The
+//! magnetometer is mounted with its axes along the tracker's x, y, z (the chip
+//! axes may need a fixed swap/sign change to get there).
 //!
-//! * Expression (8), sensor output in the horizontal frame:
-//!   `H = R_Y(β₀) · R_X(α₀) · h`, i.e.
-//!   `H_X = cos β₀·hx + sin β₀ sin α₀·hy + sin β₀ cos α₀·hz`,
-//!   `H_Y = cos α₀·hy − sin α₀·hz`,
-//!   `H_Z = −sin β₀·hx + cos β₀ sin α₀·hy + cos β₀ cos α₀·hz`.
-//! * Expression (9): only `H_X`, `H_Y` are needed (above).
-//! * Expression (10), rotation about magnetic north (heading of the x axis,
-//!   clockwise seen from above): `δ₀ = atan2(−H_Y, H_X)`.
-//! * Expression (11), about true north: `γ₀ = δ₀ + D`, D the declination
-//!   (east positive), from configuration or [`super::wmm`].
+//! The extracted seed text names the equations of section C but not their
+//! bodies; for these frames they are:
+//!
+//! * Expression (8): the measured field with the tilt removed,
+//!   `H′ = R_X(α₀)·R_Y(β₀)·h`, i.e.
+//!   `H′x = cos β₀·hx + sin β₀·hz`,
+//!   `H′y = sin α₀ sin β₀·hx + cos α₀·hy − sin α₀ cos β₀·hz`,
+//!   `H′z = −cos α₀ sin β₀·hx + sin α₀·hy + cos α₀ cos β₀·hz`.
+//! * Expression (9): the horizontal field points to magnetic north, which is
+//!   −Y rotated by the declination D (east positive), so
+//!   `H′x = −H·sin(γ₀ + D)`, `H′y = −H·cos(γ₀ + D)`.
+//! * Expression (10): the rotation about magnetic north
+//!   `δ₀ = atan2(−H′x, −H′y)` ( = γ₀ + D).
+//! * Expression (11): the rotation about true north `γ₀ = δ₀ − D`.
+//!
+//! The azimuth (clockwise from true north) of the tracker's +y axis is
+//! `180° − γ₀` ([`true_heading_deg`]), the input of `MountAttitude::from_sensors`.
 
 use super::Vector3;
 
@@ -29,56 +40,87 @@ pub enum HeadingError {
     NoHorizontalField,
 }
 
-/// The field in the horizontal frame, seed Expressions (8)–(9).
-///
-/// `field` in the sensor frame (any unit), `roll_rad` = α₀, `pitch_rad` = β₀.
-pub fn horizontal_field(field: Vector3, roll_rad: f32, pitch_rad: f32) -> Vector3 {
-    let (sa, ca) = libm::sincosf(roll_rad);
-    let (sb, cb) = libm::sincosf(pitch_rad);
+/// The field with the tilt removed, seed Expression (8): `R_X(α₀)·R_Y(β₀)·h`.
+pub fn detilt(field: Vector3, alpha0_rad: f32, beta0_rad: f32) -> Vector3 {
+    let (sa, ca) = libm::sincosf(alpha0_rad);
+    let (sb, cb) = libm::sincosf(beta0_rad);
     Vector3 {
-        x: cb * field.x + sb * sa * field.y + sb * ca * field.z,
-        y: ca * field.y - sa * field.z,
-        z: -sb * field.x + cb * sa * field.y + cb * ca * field.z,
+        x: cb * field.x + sb * field.z,
+        y: sa * sb * field.x + ca * field.y - sa * cb * field.z,
+        z: -ca * sb * field.x + sa * field.y + ca * cb * field.z,
     }
 }
 
-/// Magnetic heading δ₀ of the sensor x axis in degrees, 0..360, clockwise from
-/// magnetic north, seed Expression (10) after tilt compensation (8)–(9).
-pub fn magnetic_heading_deg(
+/// δ₀, the mount's rotation about Z measured from magnetic north, degrees in
+/// −180..180: seed Expressions (8)–(10).
+pub fn magnetic_rotation_deg(
     field: Vector3,
-    roll_rad: f32,
-    pitch_rad: f32,
+    alpha0_rad: f32,
+    beta0_rad: f32,
 ) -> Result<f32, HeadingError> {
-    if !field.is_finite() || !roll_rad.is_finite() || !pitch_rad.is_finite() {
+    if !field.is_finite() || !alpha0_rad.is_finite() || !beta0_rad.is_finite() {
         return Err(HeadingError::NonFinite);
     }
-    let h = horizontal_field(field, roll_rad, pitch_rad);
-    let norm = libm::hypotf(h.x, h.y);
+    let h = detilt(field, alpha0_rad, beta0_rad);
+    let horizontal = libm::hypotf(h.x, h.y);
     let total = libm::sqrtf(field.x * field.x + field.y * field.y + field.z * field.z);
-    if norm <= 1e-6 * total || norm == 0.0 {
+    if horizontal == 0.0 || horizontal <= 1e-6 * total {
         return Err(HeadingError::NoHorizontalField);
     }
-    Ok(wrap_deg(libm::atan2f(-h.y, h.x).to_degrees()))
+    Ok(libm::atan2f(-h.x, -h.y).to_degrees())
 }
 
-/// True heading γ₀ in degrees, 0..360: seed Expression (11), `γ₀ = δ₀ + D`.
-pub fn true_heading_deg(
+/// γ₀, the mount's rotation about Z from the true-north frame, degrees in
+/// −180..180: seed Expression (11), `γ₀ = δ₀ − D` (D east positive).
+pub fn gamma0_deg(
     field: Vector3,
-    roll_rad: f32,
-    pitch_rad: f32,
+    alpha0_rad: f32,
+    beta0_rad: f32,
     declination_deg: f32,
 ) -> Result<f32, HeadingError> {
     if !declination_deg.is_finite() {
         return Err(HeadingError::NonFinite);
     }
-    magnetic_heading_deg(field, roll_rad, pitch_rad).map(|d| wrap_deg(d + declination_deg))
+    let delta0 = magnetic_rotation_deg(field, alpha0_rad, beta0_rad)?;
+    Ok(wrap180_deg(delta0 - declination_deg))
+}
+
+/// Azimuth of the tracker's +y axis, degrees 0..360 clockwise from magnetic
+/// north: `180° − δ₀`.
+pub fn magnetic_heading_deg(
+    field: Vector3,
+    alpha0_rad: f32,
+    beta0_rad: f32,
+) -> Result<f32, HeadingError> {
+    magnetic_rotation_deg(field, alpha0_rad, beta0_rad).map(|d| wrap360_deg(180.0 - d))
+}
+
+/// Azimuth of the tracker's +y axis, degrees 0..360 clockwise from true north:
+/// `180° − γ₀` = magnetic heading + D.
+pub fn true_heading_deg(
+    field: Vector3,
+    alpha0_rad: f32,
+    beta0_rad: f32,
+    declination_deg: f32,
+) -> Result<f32, HeadingError> {
+    gamma0_deg(field, alpha0_rad, beta0_rad, declination_deg).map(|g| wrap360_deg(180.0 - g))
 }
 
 /// Wraps an angle into 0..360 degrees.
-pub fn wrap_deg(angle_deg: f32) -> f32 {
+pub fn wrap360_deg(angle_deg: f32) -> f32 {
     let w = angle_deg - 360.0 * libm::floorf(angle_deg / 360.0);
     if w >= 360.0 {
         0.0
+    } else {
+        w
+    }
+}
+
+/// Wraps an angle into −180..180 degrees.
+pub fn wrap180_deg(angle_deg: f32) -> f32 {
+    let w = wrap360_deg(angle_deg);
+    if w >= 180.0 {
+        w - 360.0
     } else {
         w
     }
