@@ -13,4 +13,5 @@ pub mod config;
 pub mod safety;
 pub mod scheduler;
 pub mod sim;
+pub mod site;
 pub mod traits;
