@@ -11,8 +11,9 @@
 //! own eq (7): at solar noon θz = |φ − δ| = 22.876°, not 0°, and the
 //! morning/afternoon values must be mirror images (ω = ∓30° gives the same
 //! θz and opposite γs), which 55°/45° are not. Our figures agree with the
-//! seed's Fig. 6 instead (tested below) and with the precise algorithms
-//! (`geometry_kano_algorithms.rs`). What agrees with Fig. 7: the sign
+//! seed's Fig. 6 instead (tested below). The precise algorithms
+//! (`geometry_kano_algorithms.rs`) give β 37.04°, γ ∓54.8°: the seed's
+//! eq (2) declination (−10.91°) is ~0.9° off SPA's. What agrees with Fig. 7: the sign
 //! convention (γ negative east of south in the morning, positive after
 //! noon) and the shape of the curves.
 

@@ -10,8 +10,9 @@
 //!   10 minutes, each crossing of the zenith limit 90.8333° (SPA's convention,
 //!   NREL SPA report appendix A.2, h0′ = −0.8333°: sun radius 0.26667° plus refraction 0.5667°) is
 //!   bisected to 1 s, and the transit is found by a golden-section search on
-//!   the zenith around the highest sample. SPA's own closed-form event
-//!   routine (Reda & Andreas appendix A.2) lives in the SPA module.
+//!   the zenith around the highest sample.
+//! - [`spa()`]: SPA's own closed-form routine (Reda & Andreas appendix A.2)
+//!   from the SPA module, as [`Events`].
 //!
 //! The day examined is the local mean solar day: 24 h starting at mean solar
 //! midnight, 00:00 UTC − λ/15 h of the given date, so that a site at 170° E
@@ -244,6 +245,68 @@ pub fn for_algorithm<T: Float>(
         ..*options
     };
     find(start, |t| algorithm.position(t, site, &opts))
+}
+
+/// Precise events of the UT day of `(y, m, d)` from NREL SPA's own
+/// closed-form routine (Reda & Andreas 2004, appendix A.2, via
+/// [`crate::spa::rise_transit_set`]; h0′ = −0.8333°, accuracy tested against
+/// NREL's worked example in the SPA module's tests). The window is that UT
+/// day; events may fall slightly outside it, as SPA reports them.
+pub fn spa<T: Float>(
+    ymd: (i32, u8, u8),
+    site: &Site<T>,
+    options: &Options<T>,
+) -> Result<Events<T>, GeometryError> {
+    use crate::spa::RiseSet;
+    let day = UtcTime::from_ymd_hms(ymd.0, ymd.1, ymd.2, 0, 0, 0)?;
+    let rts = crate::spa::rise_transit_set(&day, site, options)?;
+    let transit = at_hours(&day, rts.transit_h)?;
+    let opts = Options {
+        atmosphere: None,
+        ..*options
+    };
+    let transit_zenith_deg = Algorithm::Spa.position(&transit, site, &opts)?.zenith_deg;
+    let (kind, sunrise, sunset) = match rts.rise_set {
+        RiseSet::Both {
+            sunrise_h,
+            sunset_h,
+        } => (
+            DayKind::Normal,
+            Some(at_hours(&day, sunrise_h)?),
+            Some(at_hours(&day, sunset_h)?),
+        ),
+        RiseSet::AlwaysAbove => (DayKind::PolarDay, None, None),
+        RiseSet::AlwaysBelow => (DayKind::PolarNight, None, None),
+    };
+    let daylight_s = match (kind, sunrise, sunset) {
+        (DayKind::PolarDay, _, _) => 86_400,
+        (_, Some(r), Some(s)) => (s.unix_seconds() - r.unix_seconds()).clamp(0, 86_400) as u32,
+        _ => 0,
+    };
+    Ok(Events {
+        kind,
+        window_start: day,
+        sunrise,
+        transit,
+        transit_zenith_deg,
+        sunset,
+        daylight_s,
+    })
+}
+
+/// `day` plus `hours` (either sign), to the millisecond.
+fn at_hours<T: Float>(day: &UtcTime, hours: T) -> Result<UtcTime, GeometryError> {
+    if !hours.is_finite() || hours.abs() > T::from_f64(48.0) {
+        return Err(GeometryError::NotFinite);
+    }
+    let ms = libm::round(hours.to_f64() * 3_600_000.0) as i64;
+    let days = i64::from(day.days_since_2000()) + ms.div_euclid(86_400_000);
+    let days =
+        i32::try_from(days).map_err(|_| GeometryError::Position(crate::Error::InvalidDate))?;
+    Ok(UtcTime::from_days_ms(
+        days,
+        ms.rem_euclid(86_400_000) as u32,
+    )?)
 }
 
 /// Bisects a crossing inside `[t0, t0 + STEP_S]` to 1 s. `rising`: the
