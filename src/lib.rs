@@ -9,6 +9,7 @@
 pub const BANNER: &str = concat!("suntracker ", env!("CARGO_PKG_VERSION"));
 
 pub mod attitude;
+pub mod axis;
 pub mod config;
 pub mod safety;
 pub mod scheduler;
