@@ -1,8 +1,10 @@
 //! Seed portable-tracker Expressions (6)–(7) (see drivers/src/tilt/mount.rs
-//! for the reconstruction). Numbers from the seed's Table IV: Case 1 is the
-//! level mount (α0 = β0 = 0), Case 2 has α0 = 35.26°, β0 = 30°. By hand,
-//! Case 2 gives cos θx = −sin 30° = −0.5 (θx = 120°) and
-//! cos θy = cos 30° · sin 35.26° = 0.8660 · 0.5773 = 0.5000 (θy = 60°).
+//! for the reconstruction, T = Rz(γ0)·Rx(α0)·Ry(β0) as in the tracker's
+//! attitude module). Numbers from the seed's Table IV: Case 1 is the level
+//! mount (α0 = β0 = 0), Case 2 has α0 = 35.26°, β0 = 30°. By hand (checked
+//! with Python's math module), Case 2 gives cos θy = sin 35.26° = 0.577288
+//! (θy = 54.740°) and cos θx = −cos 35.26° · sin 30° = −0.408270
+//! (θx = 114.096°).
 
 use drivers::tilt::{
     axis_angles, axis_angles_from_elevations, axis_angles_from_gravity, mount_tilt, Acceleration,
@@ -17,7 +19,7 @@ fn seed_case_1_level() {
 
 #[test]
 fn seed_case_2() {
-    let t = mount_tilt(120.0, 60.0).unwrap();
+    let t = mount_tilt(114.096, 54.740).unwrap();
     assert!((t.alpha0_deg - 35.26).abs() < 0.01, "{t:?}");
     assert!((t.beta0_deg - 30.0).abs() < 0.01, "{t:?}");
     let (tx, ty) = axis_angles(&MountTilt {
@@ -25,7 +27,7 @@ fn seed_case_2() {
         beta0_deg: 30.0,
     });
     assert!(
-        (tx - 120.0).abs() < 0.01 && (ty - 60.0).abs() < 0.01,
+        (tx - 114.096).abs() < 0.01 && (ty - 54.740).abs() < 0.01,
         "{tx} {ty}"
     );
 }
@@ -56,8 +58,8 @@ fn bad_inputs_are_errors() {
     assert_eq!(mount_tilt(f32::NAN, 90.0), Err(MountTiltError::OutOfRange));
     // Both axes 10° from vertical: cos² + cos² = 1.94 > 1.
     assert_eq!(mount_tilt(10.0, 10.0), Err(MountTiltError::Inconsistent));
-    // x axis vertical.
-    assert_eq!(mount_tilt(180.0, 90.0), Err(MountTiltError::Degenerate));
+    // y axis vertical.
+    assert_eq!(mount_tilt(90.0, 0.0), Err(MountTiltError::Degenerate));
 }
 
 #[test]
@@ -70,16 +72,17 @@ fn from_accelerometer_and_elevations() {
     })
     .unwrap();
     assert!((level.0 - 90.0).abs() < 1e-4 && (level.1 - 90.0).abs() < 1e-4);
-    // Case 2 as an accelerometer would see it: (cos θx, cos θy, ...) = (-0.5, 0.5, sqrt(0.5)).
+    // Case 2 as an accelerometer at rest would see it: its axes' vertical
+    // components (cos θx, cos θy, cos α0 cos β0) = (−0.408270, 0.577288, 0.707145).
     let (tx, ty) = axis_angles_from_gravity(&Acceleration {
-        x_g: -0.5,
-        y_g: 0.5,
-        z_g: 0.5f32.sqrt(),
+        x_g: -0.408_270,
+        y_g: 0.577_288,
+        z_g: 0.707_145,
     })
     .unwrap();
     let t = mount_tilt(tx, ty).unwrap();
     assert!((t.alpha0_deg - 35.26).abs() < 0.01 && (t.beta0_deg - 30.0).abs() < 0.01);
-    assert_eq!(axis_angles_from_elevations(-30.0, 30.0), (120.0, 60.0));
+    assert_eq!(axis_angles_from_elevations(-24.0, 35.0), (114.0, 55.0));
     assert_eq!(
         axis_angles_from_gravity(&Acceleration {
             x_g: 0.0,

@@ -3,43 +3,53 @@
 //! Expressions (4)–(7)). Pure math, `f32`.
 //!
 //! The seed's text lost the typeset equations, so they are rebuilt here from
-//! its definitions and stated in full:
+//! its definitions, in the same frames and rotation order as the tracker's
+//! `attitude` module and the compass heading (`T = Rz(γ0)·Rx(α0)·Ry(β0)`,
+//! seed Expression (12)):
 //! - the horizontal frame XYZ has Y to the south, X to the west, Z up;
-//! - the mount is tilted from level by α0 about X, then by β0 about Y
-//!   (Craig's X-Y fixed-angle rotations, the seed's reference [5]), i.e. the
-//!   mount's axes are the columns of R = R_Y(β0) · R_X(α0);
+//! - the mount is reached from level by α0 about x, then β0 about the new y,
+//!   so its x and y axes in XYZ are the first two columns of Rx(α0)·Ry(β0)
+//!   (γ0 about Z does not change their vertical components);
 //! - the sensor outputs θx, θy ∈ [0, π] are the angles between the vertical Z
 //!   and the mount's x and y axes (Expression (4): cos θ = Z · axis).
 //!
-//! Multiplying out the third row of R gives Expression (6):
+//! The third row of Rx(α0)·Ry(β0) gives Expression (6):
 //! ```text
-//!   cos θx = −sin β0
-//!   cos θy =  cos β0 · sin α0
+//!   cos θx = −cos α0 · sin β0
+//!   cos θy =  sin α0
 //! ```
 //! and solving it, Expression (7), with α0, β0 ∈ [−π/2, π/2]:
 //! ```text
-//!   β0 = asin(−cos θx)
-//!   α0 = asin(cos θy / cos β0)
+//!   α0 = asin(cos θy)
+//!   β0 = asin(−cos θx / cos α0)
 //! ```
-//! Check against the seed's Table IV, Case 2: α0 = 35.26°, β0 = 30° give
-//! θx = acos(−0.5) = 120° and θy = acos(cos 30° · sin 35.26°) = acos(0.5) = 60°
-//! (a hand calculation; the test runs it backwards). Case 1 (level mount):
-//! θx = θy = 90° gives α0 = β0 = 0.
+//! Seed Table IV, Case 1 (level): θx = θy = 90° gives α0 = β0 = 0. Case 2
+//! (α0 = 35.26°, β0 = 30°; the seed's text does not keep its sensor outputs)
+//! corresponds, by hand, to cos θy = sin 35.26° = 0.57729 (θy = 54.74°) and
+//! cos θx = −cos 35.26° · sin 30° = −0.40827 (θx = 114.096°); the test runs
+//! these backwards.
+//!
+//! Note: the extracted wording ("β0 about the Y-axis after α0 about the
+//! X-axis of the horizontal coordinate system") could also be read as
+//! rotations about the fixed axes, R = Ry(β0)·Rx(α0), for which Case 2 would
+//! come from the rounder readings θx = 120°, θy = 60°. The moving-axes reading
+//! is used because the rest of the project (attitude, compass) is built on it;
+//! mixing the two would put α0/β0 into the wrong matrix.
 
 use super::adxl345::Acceleration;
 
-/// How far |cos θy / cos β0| may exceed 1 (sensor noise) before the pair of
+/// How far |cos θx / cos α0| may exceed 1 (sensor noise) before the pair of
 /// angles is refused rather than clamped.
 const RATIO_TOLERANCE: f32 = 1e-3;
-/// Below this |cos β0| the x axis is vertical and α0 is undefined.
-const MIN_COS_BETA: f32 = 1e-4;
+/// Below this |cos α0| the y axis is vertical and β0 is undefined.
+const MIN_COS_ALPHA: f32 = 1e-4;
 
 /// The mount's tilt from level.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct MountTilt {
-    /// Rotation about the horizontal X axis (west), degrees.
+    /// First rotation, about the x axis (west when level), degrees.
     pub alpha0_deg: f32,
-    /// Rotation about the horizontal Y axis (south), degrees.
+    /// Second rotation, about the new y axis, degrees.
     pub beta0_deg: f32,
 }
 
@@ -50,7 +60,7 @@ pub enum MountTiltError {
     OutOfRange,
     /// cos²θx + cos²θy > 1: no unit vector has these components.
     Inconsistent,
-    /// The x axis is (nearly) vertical, so α0 is undefined.
+    /// The y axis is (nearly) vertical, so β0 is undefined.
     Degenerate,
 }
 
@@ -62,16 +72,16 @@ pub fn mount_tilt(theta_x_deg: f32, theta_y_deg: f32) -> Result<MountTilt, Mount
     }
     let cos_x = libm::cosf(theta_x_deg.to_radians());
     let cos_y = libm::cosf(theta_y_deg.to_radians());
-    let beta0 = libm::asinf((-cos_x).clamp(-1.0, 1.0));
-    let cos_beta = libm::cosf(beta0);
-    if cos_beta < MIN_COS_BETA {
+    let alpha0 = libm::asinf(cos_y.clamp(-1.0, 1.0));
+    let cos_alpha = libm::cosf(alpha0);
+    if cos_alpha < MIN_COS_ALPHA {
         return Err(MountTiltError::Degenerate);
     }
-    let ratio = cos_y / cos_beta;
+    let ratio = -cos_x / cos_alpha;
     if ratio.abs() > 1.0 + RATIO_TOLERANCE {
         return Err(MountTiltError::Inconsistent);
     }
-    let alpha0 = libm::asinf(ratio.clamp(-1.0, 1.0));
+    let beta0 = libm::asinf(ratio.clamp(-1.0, 1.0));
     Ok(MountTilt {
         alpha0_deg: alpha0.to_degrees(),
         beta0_deg: beta0.to_degrees(),
@@ -82,8 +92,8 @@ pub fn mount_tilt(theta_x_deg: f32, theta_y_deg: f32) -> Result<MountTilt, Mount
 pub fn axis_angles(tilt: &MountTilt) -> (f32, f32) {
     let a = tilt.alpha0_deg.to_radians();
     let b = tilt.beta0_deg.to_radians();
-    let cos_x = -libm::sinf(b);
-    let cos_y = libm::cosf(b) * libm::sinf(a);
+    let cos_x = -libm::cosf(a) * libm::sinf(b);
+    let cos_y = libm::sinf(a);
     (
         libm::acosf(cos_x.clamp(-1.0, 1.0)).to_degrees(),
         libm::acosf(cos_y.clamp(-1.0, 1.0)).to_degrees(),
