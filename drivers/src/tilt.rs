@@ -14,8 +14,8 @@ pub mod witmotion;
 
 pub use adxl345::{Acceleration, Adxl345};
 pub use mount::{
-    axis_angles, axis_angles_from_elevations, axis_angles_from_gravity, mount_tilt, MountTilt,
-    MountTiltError,
+    axis_angles, axis_angles_from_elevations, axis_angles_from_gravity,
+    axis_angles_from_inclination, mount_tilt, MountTilt, MountTiltError,
 };
 pub use witmotion::WitInclinometer;
 

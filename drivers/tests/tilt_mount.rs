@@ -6,10 +6,12 @@
 //! (θy = 54.740°) and cos θx = −cos 35.26° · sin 30° = −0.408270
 //! (θx = 114.096°).
 
+use drivers::tilt::adxl345::inclination_from_gravity;
 use drivers::tilt::{
     axis_angles, axis_angles_from_elevations, axis_angles_from_gravity, mount_tilt, Acceleration,
     MountTilt, MountTiltError,
 };
+use drivers::tilt::{axis_angles_from_inclination, Inclination};
 
 #[test]
 fn seed_case_1_level() {
@@ -91,4 +93,33 @@ fn from_accelerometer_and_elevations() {
         }),
         None
     );
+}
+
+#[test]
+fn roll_pitch_path_agrees_with_gravity_path() {
+    // Any gravity direction: angles straight from it, or via roll/pitch
+    // (AN3461 formulas) and back, must agree.
+    for (x, y, z) in [
+        (-0.408_270f32, 0.577_288f32, 0.707_145f32),
+        (0.2, -0.3, 0.93),
+        (0.0, 0.0, 1.0),
+        (0.5, 0.5, -0.707),
+    ] {
+        let a = Acceleration {
+            x_g: x,
+            y_g: y,
+            z_g: z,
+        };
+        let direct = axis_angles_from_gravity(&a).unwrap();
+        let incl = inclination_from_gravity(&a).unwrap();
+        let via = axis_angles_from_inclination(&incl);
+        assert!((direct.0 - via.0).abs() < 1e-3, "{direct:?} {via:?}");
+        assert!((direct.1 - via.1).abs() < 1e-3, "{direct:?} {via:?}");
+    }
+    // Level sensor: 90°, 90°.
+    let (tx, ty) = axis_angles_from_inclination(&Inclination {
+        roll_deg: 0.0,
+        pitch_deg: 0.0,
+    });
+    assert!((tx - 90.0).abs() < 1e-4 && (ty - 90.0).abs() < 1e-4);
 }

@@ -117,3 +117,21 @@ pub fn axis_angles_from_gravity(a: &Acceleration) -> Option<(f32, f32)> {
 pub fn axis_angles_from_elevations(x_elevation_deg: f32, y_elevation_deg: f32) -> (f32, f32) {
     (90.0 - x_elevation_deg, 90.0 - y_elevation_deg)
 }
+
+/// Axis angles θx, θy (degrees from vertical) from a roll/pitch pair in the
+/// aerospace Z-Y-X Euler convention (roll about x, pitch about y), which is
+/// what [`super::adxl345::inclination_from_gravity`] computes and what
+/// WitMotion documents for its angle registers (assumed for the
+/// SINDT02 class). In that convention the up direction seen in the sensor
+/// frame is (−sin pitch, cos pitch · sin roll, cos pitch · cos roll), whose
+/// x and y components are cos θx and cos θy.
+pub fn axis_angles_from_inclination(incl: &super::Inclination) -> (f32, f32) {
+    let roll = incl.roll_deg.to_radians();
+    let pitch = incl.pitch_deg.to_radians();
+    let cos_x = -libm::sinf(pitch);
+    let cos_y = libm::cosf(pitch) * libm::sinf(roll);
+    (
+        libm::acosf(cos_x.clamp(-1.0, 1.0)).to_degrees(),
+        libm::acosf(cos_y.clamp(-1.0, 1.0)).to_degrees(),
+    )
+}
