@@ -1,0 +1,38 @@
+//! The tracker's main job on a host: today's set-point table.
+//!
+//! ```text
+//! cargo run --example daily_setpoints                       # Kano, today
+//! cargo run --example daily_setpoints -- --postal-code DZ:16000 --date 2022-12-26
+//! cargo run --example daily_setpoints -- --lat 25.37 --lon 51.49 --format csv
+//! ```
+//! Options: `--lat`/`--lon` or `--postal-code CC:CODE`, `--date YYYY-MM-DD`,
+//! `--interval-min N`, `--algorithm NAME`, `--float f32|f64`,
+//! `--format table|csv`.
+
+#[path = "daily_setpoints_support/run.rs"]
+mod run;
+
+use std::process::ExitCode;
+use std::time::{SystemTime, UNIX_EPOCH};
+
+use sun_algos::UtcTime;
+
+fn main() -> ExitCode {
+    let args: Vec<String> = std::env::args().skip(1).collect();
+    let now_s = SystemTime::now()
+        .duration_since(UNIX_EPOCH)
+        .map(|d| d.as_secs() as i64)
+        .unwrap_or(0);
+    let today = UtcTime::from_unix_seconds(now_s)
+        .map(|t| t.ymd())
+        .unwrap_or((2026, 1, 1));
+    let stdout = std::io::stdout();
+    let mut out = stdout.lock();
+    match run::run(&args, today, &mut out) {
+        Ok(()) => ExitCode::SUCCESS,
+        Err(msg) => {
+            eprintln!("{msg}");
+            ExitCode::from(2)
+        }
+    }
+}

@@ -1,0 +1,337 @@
+//! The `daily_setpoints` job, shared by the example and its tests.
+//!
+//! Prints the day's table of tracker set-points (seed jimoh-2019: optimum
+//! slope and surface azimuth every 4 minutes from sunrise to sunset) for a
+//! site given by latitude/longitude or by postal code (seed dahli-2023).
+
+use std::io::Write;
+
+use sun_algos::geometry::day_table::{capacity_for_interval, DayTable};
+use sun_algos::geometry::events::{self, DayKind, Events};
+use sun_algos::geometry::incidence::incidence_deg;
+use sun_algos::geometry::optimum::Limits;
+use sun_algos::{Algorithm, Atmosphere, Float, Options, Site, UtcTime};
+use suntracker::site::postal;
+
+/// Kano, Nigeria: the site of seed jimoh-2019.
+pub const KANO: (f64, f64) = (11.9683, 8.4261);
+
+/// Exact CSV header.
+pub const CSV_HEADER: &str =
+    "time_utc,solar_time,sun_zenith,sun_azimuth,slope,surface_azimuth,incidence";
+
+pub const USAGE: &str = "\
+usage: daily_setpoints [--lat DEG --lon DEG | --postal-code CC:CODE] [--date YYYY-MM-DD]
+                       [--interval-min N] [--algorithm NAME] [--float f32|f64]
+                       [--format table|csv]
+  Set-points (slope, surface azimuth east of north) every N minutes (default 4)
+  from sunrise to sunset; default site Kano (11.9683 N, 8.4261 E), today (UTC),
+  algorithm spa, f64, table. Positions are apparent (standard atmosphere).";
+
+/// Parsed command line.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Args {
+    pub lat_deg: f64,
+    pub lon_deg: f64,
+    pub place: String,
+    pub ymd: (i32, u8, u8),
+    pub interval_min: u16,
+    pub algorithm: Algorithm,
+    pub f32: bool,
+    pub csv: bool,
+}
+
+fn value<'a>(it: &mut impl Iterator<Item = &'a String>, flag: &str) -> Result<&'a String, String> {
+    it.next().ok_or_else(|| format!("{flag} needs a value"))
+}
+
+fn number(s: &str, flag: &str) -> Result<f64, String> {
+    s.trim()
+        .parse::<f64>()
+        .ok()
+        .filter(|v| v.is_finite())
+        .ok_or_else(|| format!("{flag}: {s:?} is not a number"))
+}
+
+/// Parses the arguments (without the program name); `today` is the default
+/// date.
+pub fn parse(args: &[String], today: (i32, u8, u8)) -> Result<Args, String> {
+    let mut a = Args {
+        lat_deg: KANO.0,
+        lon_deg: KANO.1,
+        place: "Kano".into(),
+        ymd: today,
+        interval_min: 4,
+        algorithm: Algorithm::Spa,
+        f32: false,
+        csv: false,
+    };
+    let (mut lat, mut lon, mut postal_code) = (None, None, None);
+    let mut it = args.iter();
+    while let Some(flag) = it.next() {
+        match flag.as_str() {
+            "--lat" => lat = Some(number(value(&mut it, flag)?, flag)?),
+            "--lon" => lon = Some(number(value(&mut it, flag)?, flag)?),
+            "--postal-code" => postal_code = Some(value(&mut it, flag)?.clone()),
+            "--date" => {
+                let d = value(&mut it, flag)?;
+                let t: UtcTime = format!("{d}T00:00:00Z")
+                    .parse()
+                    .map_err(|e| format!("--date {d:?}: {e} (want YYYY-MM-DD)"))?;
+                a.ymd = t.ymd();
+            }
+            "--interval-min" => {
+                let v = value(&mut it, flag)?;
+                a.interval_min = v
+                    .trim()
+                    .parse::<u16>()
+                    .ok()
+                    .filter(|n| (1..=720).contains(n) && 1440 % n == 0)
+                    .ok_or_else(|| format!("--interval-min {v:?}: want 1..720 dividing 1440"))?;
+            }
+            "--algorithm" => {
+                let v = value(&mut it, flag)?;
+                a.algorithm = Algorithm::from_name(v).ok_or_else(|| {
+                    let names: Vec<&str> = Algorithm::ALL.iter().map(|x| x.name()).collect();
+                    format!("--algorithm {v:?}: one of {}", names.join(", "))
+                })?;
+            }
+            "--float" => match value(&mut it, flag)?.as_str() {
+                "f32" => a.f32 = true,
+                "f64" => a.f32 = false,
+                v => return Err(format!("--float {v:?}: f32 or f64")),
+            },
+            "--format" => match value(&mut it, flag)?.as_str() {
+                "csv" => a.csv = true,
+                "table" => a.csv = false,
+                v => return Err(format!("--format {v:?}: table or csv")),
+            },
+            "-h" | "--help" => return Err(USAGE.into()),
+            other => return Err(format!("unknown option {other:?}\n{USAGE}")),
+        }
+    }
+    match (lat, lon, postal_code) {
+        (None, None, None) => {}
+        (Some(la), Some(lo), None) => {
+            a.lat_deg = la;
+            a.lon_deg = lo;
+            a.place = "site".into();
+        }
+        (None, None, Some(code)) => {
+            let e =
+                postal::lookup_str(&code).map_err(|e| format!("--postal-code {code:?}: {e}"))?;
+            a.lat_deg = e.latitude_deg();
+            a.lon_deg = e.longitude_deg();
+            a.place = format!("{} ({code})", e.place());
+        }
+        (_, _, Some(_)) => return Err("give either --lat/--lon or --postal-code".into()),
+        _ => return Err("--lat and --lon go together".into()),
+    }
+    Site::new(a.lat_deg, a.lon_deg).map_err(|e| format!("site: {e}"))?;
+    Ok(a)
+}
+
+/// One printed row, degrees.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Row {
+    pub time: UtcTime,
+    /// Local apparent solar time, seconds after solar midnight of the date.
+    pub solar_s: i64,
+    pub sun_zenith_deg: f64,
+    pub sun_azimuth_deg: f64,
+    pub slope_deg: f64,
+    pub surface_azimuth_deg: f64,
+    pub incidence_deg: f64,
+}
+
+/// The day's events and rows.
+#[derive(Debug, Clone)]
+pub struct Day {
+    pub events: Events<f64>,
+    pub rows: Vec<Row>,
+}
+
+/// Local apparent solar time of `t` at `lon_deg`: UTC + λ/15 + EoT, with
+/// the equation of time of NREL SPA (eq. A.1), seconds of the day.
+fn solar_seconds<T: Float>(t: &UtcTime, site: &Site<T>) -> Result<i64, String> {
+    let eot_min = sun_algos::spa::equation_of_time_min(t, &Options::<T>::default())
+        .map_err(|e| e.to_string())?;
+    let s = f64::from(t.ms_of_day()) / 1000.0
+        + site.longitude_deg().to_f64() * 240.0
+        + eot_min.to_f64() * 60.0;
+    Ok(s.round() as i64)
+}
+
+fn compute_in<T: Float>(a: &Args) -> Result<Day, String> {
+    let site =
+        Site::new(T::from_f64(a.lat_deg), T::from_f64(a.lon_deg)).map_err(|e| e.to_string())?;
+    let geo = Options::<T> {
+        allow_out_of_range: true,
+        ..Options::default()
+    };
+    let apparent = Options::<T> {
+        atmosphere: Some(Atmosphere::standard()),
+        ..geo
+    };
+    let ev = if a.algorithm == Algorithm::Spa {
+        events::spa(a.ymd, &site, &geo)
+    } else {
+        events::for_algorithm(a.algorithm, a.ymd, &site, &geo)
+    }
+    .map_err(|e| e.to_string())?;
+    let table = DayTable::<{ capacity_for_interval(1) }>::compute(
+        &ev,
+        a.interval_min,
+        &Limits::upward(),
+        |t| a.algorithm.position(t, &site, &apparent),
+    )
+    .map_err(|e| e.to_string())?;
+    let mut rows = Vec::with_capacity(table.len());
+    for (t, entry) in table.iter() {
+        let sun = a
+            .algorithm
+            .position(&t, &site, &apparent)
+            .map_err(|e| e.to_string())?;
+        let surface = entry.surface::<T>();
+        rows.push(Row {
+            time: t,
+            solar_s: solar_seconds(&t, &site)?,
+            sun_zenith_deg: sun.zenith_deg.to_f64(),
+            sun_azimuth_deg: sun.azimuth_deg.to_f64(),
+            slope_deg: surface.slope_deg.to_f64(),
+            surface_azimuth_deg: surface.azimuth_deg.to_f64(),
+            incidence_deg: incidence_deg(&sun, &surface).to_f64(),
+        });
+    }
+    let events = Events {
+        kind: ev.kind,
+        window_start: ev.window_start,
+        sunrise: ev.sunrise,
+        transit: ev.transit,
+        transit_zenith_deg: ev.transit_zenith_deg.to_f64(),
+        sunset: ev.sunset,
+        daylight_s: ev.daylight_s,
+    };
+    Ok(Day { events, rows })
+}
+
+/// Computes the day in the requested float type.
+pub fn compute(a: &Args) -> Result<Day, String> {
+    if a.f32 {
+        compute_in::<f32>(a)
+    } else {
+        compute_in::<f64>(a)
+    }
+}
+
+fn hms(s: i64) -> String {
+    let s = s.rem_euclid(86_400);
+    format!("{:02}:{:02}:{:02}", s / 3600, s / 60 % 60, s % 60)
+}
+
+fn utc_hms(t: &UtcTime) -> String {
+    let (h, m, s, _) = t.hms_milli();
+    format!("{h:02}:{m:02}:{s:02}")
+}
+
+/// Writes the day in the requested format.
+pub fn write(a: &Args, day: &Day, out: &mut impl Write) -> std::io::Result<()> {
+    if a.csv {
+        writeln!(out, "{CSV_HEADER}")?;
+        for r in &day.rows {
+            writeln!(
+                out,
+                "{},{},{:.4},{:.4},{:.2},{:.2},{:.4}",
+                r.time,
+                hms(r.solar_s),
+                r.sun_zenith_deg,
+                r.sun_azimuth_deg,
+                r.slope_deg,
+                r.surface_azimuth_deg,
+                r.incidence_deg
+            )?;
+        }
+        return Ok(());
+    }
+    let (y, m, d) = a.ymd;
+    let ns = if a.lat_deg >= 0.0 { 'N' } else { 'S' };
+    let ew = if a.lon_deg >= 0.0 { 'E' } else { 'W' };
+    writeln!(
+        out,
+        "Set-points for {} ({:.4} {ns}, {:.4} {ew}) on {y:04}-{m:02}-{d:02}, algorithm {} ({}), every {} min",
+        a.place,
+        a.lat_deg.abs(),
+        a.lon_deg.abs(),
+        a.algorithm.name(),
+        if a.f32 { "f32" } else { "f64" },
+        a.interval_min
+    )?;
+    let ev = &day.events;
+    let solar = |t: &UtcTime| {
+        // Solar time of an event, for the header line.
+        let site = Site::new(a.lat_deg, a.lon_deg).ok();
+        site.and_then(|s| solar_seconds(t, &s).ok())
+            .map(hms)
+            .unwrap_or_default()
+    };
+    match ev.kind {
+        DayKind::PolarNight => writeln!(out, "Polar night: the sun does not rise.")?,
+        DayKind::PolarDay => writeln!(out, "Polar day: the sun does not set.")?,
+        DayKind::Normal => {
+            if let Some(r) = &ev.sunrise {
+                writeln!(out, "Sunrise  {} UTC   {} solar", utc_hms(r), solar(r))?;
+            }
+            writeln!(
+                out,
+                "Transit  {} UTC   {} solar   zenith {:.2} deg",
+                utc_hms(&ev.transit),
+                solar(&ev.transit),
+                ev.transit_zenith_deg
+            )?;
+            if let Some(s) = &ev.sunset {
+                writeln!(out, "Sunset   {} UTC   {} solar", utc_hms(s), solar(s))?;
+            }
+        }
+    }
+    writeln!(
+        out,
+        "Daylight {} h {:02} min; {} set-points. Angles in degrees, azimuths east of north.",
+        ev.daylight_s / 3600,
+        ev.daylight_s / 60 % 60,
+        day.rows.len()
+    )?;
+    if day.rows.is_empty() {
+        return Ok(());
+    }
+    writeln!(out)?;
+    writeln!(
+        out,
+        "{:>8}  {:>8}  {:>8}  {:>8}  {:>6}  {:>7}  {:>9}",
+        "UTC", "solar", "zenith", "azimuth", "slope", "surf_az", "incidence"
+    )?;
+    for r in &day.rows {
+        writeln!(
+            out,
+            "{:>8}  {:>8}  {:>8.3}  {:>8.3}  {:>6.2}  {:>7.2}  {:>9.3}",
+            utc_hms(&r.time),
+            hms(r.solar_s),
+            r.sun_zenith_deg,
+            r.sun_azimuth_deg,
+            r.slope_deg,
+            r.surface_azimuth_deg,
+            r.incidence_deg
+        )?;
+    }
+    Ok(())
+}
+
+/// Parse, compute and write; the error is the message to print.
+pub fn run(args: &[String], today: (i32, u8, u8), out: &mut impl Write) -> Result<(), String> {
+    let a = parse(args, today)?;
+    let day = compute(&a)?;
+    match write(&a, &day, out) {
+        // A closed pipe (`| head`) is not an error of ours.
+        Err(e) if e.kind() != std::io::ErrorKind::BrokenPipe => Err(e.to_string()),
+        _ => Ok(()),
+    }
+}

@@ -1,0 +1,165 @@
+//! The `daily_setpoints` job through its shared module.
+
+#[path = "../examples/daily_setpoints_support/run.rs"]
+#[allow(dead_code)]
+mod run;
+
+use run::{compute, parse, run, CSV_HEADER};
+
+fn args(s: &str) -> Vec<String> {
+    s.split_whitespace().map(String::from).collect()
+}
+
+fn output(s: &str) -> Result<String, String> {
+    let mut buf = Vec::new();
+    run(&args(s), (2018, 10, 19), &mut buf)?;
+    Ok(String::from_utf8(buf).unwrap())
+}
+
+#[test]
+fn csv_columns_and_time_format() {
+    let out = output("--format csv").unwrap();
+    let mut lines = out.lines();
+    assert_eq!(lines.next(), Some(CSV_HEADER));
+    assert_eq!(
+        CSV_HEADER,
+        "time_utc,solar_time,sun_zenith,sun_azimuth,slope,surface_azimuth,incidence"
+    );
+    let mut n = 0;
+    for l in lines {
+        let f: Vec<&str> = l.split(',').collect();
+        assert_eq!(f.len(), 7, "{l}");
+        // 2018-10-19T06:04:00Z
+        let t = f[0].as_bytes();
+        assert_eq!(t.len(), 20, "{l}");
+        assert!(
+            f[0].starts_with("2018-10-19T") && f[0].ends_with(":00Z"),
+            "{l}"
+        );
+        assert_eq!(f[1].len(), 8);
+        for v in &f[2..] {
+            assert!(v.parse::<f64>().unwrap().is_finite());
+        }
+        n += 1;
+    }
+    assert!(n > 150, "{n}");
+}
+
+#[test]
+fn kano_table_follows_the_sun_every_four_minutes() {
+    let a = parse(&[], (2018, 10, 19)).unwrap();
+    assert_eq!((a.lat_deg, a.lon_deg, a.interval_min), (11.9683, 8.4261, 4));
+    let day = compute(&a).unwrap();
+    let rise = day.events.sunrise.unwrap().unix_seconds();
+    let set = day.events.sunset.unwrap().unix_seconds();
+    // Entries on every whole 4-minute UTC mark from sunrise to sunset.
+    let expected = (set.div_euclid(240) - (rise + 239).div_euclid(240) + 1) as usize;
+    assert_eq!(day.rows.len(), expected);
+    for w in day.rows.windows(2) {
+        assert_eq!(w[1].time.unix_seconds() - w[0].time.unix_seconds(), 240);
+    }
+    for r in &day.rows {
+        assert_eq!(r.time.unix_seconds() % 240, 0);
+        // Dual-axis set-point = the sun's direction (seed eq 14), up to the
+        // 0.01° storage step; the 90° slope limit only binds at the horizon.
+        if r.sun_zenith_deg < 90.0 {
+            assert!(r.incidence_deg < 0.01, "{r:?}");
+        }
+    }
+    // Near 10:00 and 14:00 solar time: seed model β 37.57°, γ ∓53.64° from
+    // south (hand calculation, geometry_kano.rs); precise algorithms differ by
+    // up to 1.2° through the seed's declination (geometry_kano_algorithms.rs).
+    for (solar_s, gamma_south) in [(36_000, -53.64), (50_400, 53.64)] {
+        let r = day
+            .rows
+            .iter()
+            .min_by_key(|r| (r.solar_s - solar_s).abs())
+            .unwrap();
+        assert!((r.solar_s - solar_s).abs() <= 120);
+        let g = r.surface_azimuth_deg - 180.0;
+        assert!((r.slope_deg - 37.57).abs() < 1.5, "{r:?}");
+        assert!((g - gamma_south).abs() < 2.0, "{r:?}");
+    }
+}
+
+#[test]
+fn sougueur_sunrise_and_sunset_match_seed_dahli() {
+    // Seed dahli-2023: Sougueur (35.18568 N, 1.49612 E) on 26 December 2022,
+    // sunrise 08:01 and sunset 17:49 local time (UTC+1), to the minute.
+    let a = parse(
+        &args("--lat 35.18568 --lon 1.49612 --date 2022-12-26"),
+        (2000, 1, 1),
+    )
+    .unwrap();
+    let day = compute(&a).unwrap();
+    let min_of_day = |t: sun_algos::UtcTime| i64::from(t.ms_of_day() / 1000) / 60;
+    let rise = min_of_day(day.events.sunrise.unwrap()) + 60;
+    let set = min_of_day(day.events.sunset.unwrap()) + 60;
+    assert!((rise - (8 * 60 + 1)).abs() <= 1, "sunrise {rise} min");
+    assert!((set - (17 * 60 + 49)).abs() <= 1, "sunset {set} min");
+}
+
+#[test]
+fn f32_matches_f64() {
+    let a64 = parse(&[], (2018, 10, 19)).unwrap();
+    let a32 = parse(&args("--float f32"), (2018, 10, 19)).unwrap();
+    let (d64, d32) = (compute(&a64).unwrap(), compute(&a32).unwrap());
+    assert_eq!(d64.rows.len(), d32.rows.len());
+    for (x, y) in d64.rows.iter().zip(&d32.rows) {
+        assert_eq!(x.time, y.time);
+        assert!((x.slope_deg - y.slope_deg).abs() <= 0.02, "{x:?} {y:?}");
+        assert!(
+            (x.surface_azimuth_deg - y.surface_azimuth_deg).abs() <= 0.02,
+            "{x:?} {y:?}"
+        );
+    }
+}
+
+#[test]
+fn postal_code_site_and_other_algorithms() {
+    let out = output("--postal-code DZ:16000 --algorithm psa-2020 --interval-min 30").unwrap();
+    assert!(
+        out.contains("Alger Gare (DZ:16000) (36.7794 N, 3.0617 E)"),
+        "{out}"
+    );
+    assert!(out.contains("Sunrise") && out.contains("Sunset"));
+    for name in ["michalsky", "textbook", "psa-2001", "psa-modified"] {
+        let out = output(&format!("--algorithm {name} --interval-min 60")).unwrap();
+        assert!(out.contains(name), "{out}");
+    }
+}
+
+#[test]
+fn polar_day_and_night() {
+    let day = output("--lat 89 --lon 0 --date 2024-06-21 --interval-min 60").unwrap();
+    assert!(day.contains("Polar day"));
+    assert_eq!(
+        day.lines()
+            .filter(|l| l.contains(':') && l.ends_with(|c: char| c.is_ascii_digit()))
+            .count(),
+        25
+    );
+    let night = output("--lat -89 --lon 0 --date 2024-06-21").unwrap();
+    assert!(night.contains("Polar night") && night.contains("0 set-points"));
+}
+
+#[test]
+fn bad_arguments_are_errors_not_panics() {
+    for bad in [
+        "--postal-code DZ:99999",
+        "--postal-code 16000",
+        "--lat 12",
+        "--lat 95 --lon 0",
+        "--lat x --lon 0",
+        "--date 2018-02-30",
+        "--interval-min 7",
+        "--interval-min 0",
+        "--algorithm psa",
+        "--float f16",
+        "--format xml",
+        "--lat 1 --lon 1 --postal-code DZ:16000",
+        "--bogus",
+    ] {
+        assert!(output(bad).is_err(), "{bad}");
+    }
+}
