@@ -187,37 +187,43 @@ pub fn trapezoid_wh_m2<T: Float>(samples: impl IntoIterator<Item = (T, T)>) -> T
     total / T::from_f64(3600.0)
 }
 
-/// Clear-sky energy on a mount over the 24 h from `start`, Wh/m², sampled
-/// every `step_s` seconds (60…3600, dividing 86 400) from the position
-/// source `sun`, integrated by the trapezoid rule.
-pub fn clear_sky_day_energy_wh_m2<T, F>(
+/// Clear-sky energy on each of `mounts` over the 24 h from `start`, Wh/m²,
+/// sampled every `step_s` seconds (60…3600, dividing 86 400) from the
+/// position source `sun` (one position per sample, shared by the mounts),
+/// integrated by the trapezoid rule.
+pub fn clear_sky_day_energy_wh_m2<T, F, const K: usize>(
     start: &UtcTime,
     step_s: u32,
-    mount: &Mount<T>,
+    mounts: &[Mount<T>; K],
     albedo: T,
     mut sun: F,
-) -> Result<T, GeometryError>
+) -> Result<[T; K], GeometryError>
 where
     T: Float,
     F: FnMut(&UtcTime) -> Result<SunPosition<T>, crate::Error>,
 {
-    if !(60..=3600).contains(&step_s) || 86_400 % step_s != 0 || !albedo.is_finite() {
+    if !(60..=3600).contains(&step_s) || 86_400 % step_s != 0 {
         return Err(GeometryError::InvalidInterval);
     }
+    if !albedo.is_finite() {
+        return Err(GeometryError::NotFinite);
+    }
     let n = 86_400 / step_s;
-    let mut total = T::ZERO;
-    let mut prev = T::ZERO;
-    let dt = T::from_u32(step_s);
+    let mut total = [T::ZERO; K];
+    let mut prev = [T::ZERO; K];
+    let half_dt = T::from_u32(step_s) * T::from_f64(0.5);
     for i in 0..=n {
         let t = start.add_seconds(i64::from(i * step_s))?;
         let p = sun(&t)?;
-        let g = clear_sky_on_plane(&p, &mount.surface(&p), t.day_of_year(), albedo).total_w_m2();
-        if i > 0 {
-            total += dt * (prev + g) * T::from_f64(0.5);
+        for ((m, tot), pr) in mounts.iter().zip(total.iter_mut()).zip(prev.iter_mut()) {
+            let g = clear_sky_on_plane(&p, &m.surface(&p), t.day_of_year(), albedo).total_w_m2();
+            if i > 0 {
+                *tot += half_dt * (*pr + g);
+            }
+            *pr = g;
         }
-        prev = g;
     }
-    Ok(total / T::from_f64(3600.0))
+    Ok(total.map(|e| e / T::from_f64(3600.0)))
 }
 
 #[cfg(test)]

@@ -1,0 +1,88 @@
+//! Day table: size, capacity errors, lookup by time, f32.
+
+use sun_algos::geometry::day_table::{capacity_for_interval, DayTable, Entry};
+use sun_algos::geometry::events::{self, find, solar_day_start};
+use sun_algos::geometry::incidence::Surface;
+use sun_algos::geometry::optimum::Limits;
+use sun_algos::geometry::simple::position;
+use sun_algos::geometry::GeometryError;
+use sun_algos::{Algorithm, Options, Site, UtcTime};
+
+#[test]
+fn ram_figures() {
+    // 4-byte entries; table = 4·N + 12 bytes (8-byte instant, 2-byte
+    // interval, 2-byte length).
+    assert_eq!(core::mem::size_of::<Entry>(), 4);
+    assert_eq!(capacity_for_interval(4), 361);
+    assert_eq!(capacity_for_interval(8), 181);
+    assert_eq!(core::mem::size_of::<DayTable<361>>(), 4 * 361 + 12);
+    assert_eq!(core::mem::size_of::<DayTable<181>>(), 4 * 181 + 12);
+    assert_eq!(core::mem::size_of::<DayTable<211>>(), 4 * 211 + 12);
+}
+
+#[test]
+fn polar_day_fills_exactly_the_worst_case_capacity() {
+    let start = solar_day_start(2024, 6, 21, 0.0f64).unwrap();
+    let ev = find(start, |t| Ok(position(t, 85.0f64, 0.0))).unwrap();
+    let t = DayTable::<361>::compute(&ev, 4, &Limits::upward(), |t| Ok(position(t, 85.0f64, 0.0)))
+        .unwrap();
+    assert_eq!(t.len(), 361);
+    // One fewer slot is a clear error, never a truncated table.
+    let e = DayTable::<360>::compute(&ev, 4, &Limits::upward(), |t| Ok(position(t, 85.0f64, 0.0)));
+    assert_eq!(
+        e,
+        Err(GeometryError::CapacityExceeded {
+            needed: 361,
+            capacity: 360
+        })
+    );
+}
+
+#[test]
+fn lookup_by_time_and_bad_interval() {
+    let site = Site::new(11.9683f32, 8.4261).unwrap();
+    let opts = Options::default();
+    let ev = events::spa((2018, 10, 19), &site, &opts).unwrap();
+    let sun = |t: &UtcTime| {
+        Algorithm::Psa2020.position(
+            t,
+            &site,
+            &Options {
+                allow_out_of_range: true,
+                ..opts
+            },
+        )
+    };
+    let table = DayTable::<211>::compute(&ev, 4, &Limits::upward(), sun).unwrap();
+    let first = table.first_time();
+    // Before the first entry: none; 3 min 59 s after: still the first.
+    assert!(table.at(&first.add_seconds(-1).unwrap()).is_none());
+    assert_eq!(table.at(&first.add_seconds(239).unwrap()).unwrap().0, first);
+    assert_eq!(
+        table.at(&first.add_seconds(240).unwrap()).unwrap().0,
+        first.add_seconds(240).unwrap()
+    );
+    let (last, _) = table.get(table.len() - 1).unwrap();
+    assert!(table.at(&last.add_seconds(239).unwrap()).is_some());
+    assert!(table.at(&last.add_seconds(240).unwrap()).is_none());
+    for bad in [0u16, 7, 721] {
+        assert_eq!(
+            DayTable::<211>::compute(&ev, bad, &Limits::upward(), sun),
+            Err(GeometryError::InvalidInterval)
+        );
+    }
+}
+
+#[test]
+fn entries_round_to_centidegrees() {
+    let e = Entry::from_surface(&Surface {
+        slope_deg: 37.566f64,
+        azimuth_deg: 359.996,
+    });
+    assert_eq!((e.slope_cdeg(), e.azimuth_cdeg()), (3757, 0));
+    let e = Entry::from_surface(&Surface {
+        slope_deg: f64::NAN,
+        azimuth_deg: -90.0,
+    });
+    assert_eq!((e.slope_cdeg(), e.azimuth_cdeg()), (0, 27_000));
+}
