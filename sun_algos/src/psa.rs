@@ -426,6 +426,43 @@ mod tests {
     }
 
     #[test]
+    fn li_refraction_corrected_is_bennett_in_radians() {
+        // Elevation 30°, 1013.25 hPa, 10 °C: 0.084217 / (283·tan(0.5236 +
+        // 0.0031376/0.6128)) rad = 0.029186°; Bennett (NREL SPA eq. 42)
+        // gives 1.02/tan(30.2934°)/60 × 1013.25/1010 = 0.029193° (hand/Python).
+        let atm = Atmosphere::new(1013.25f64, 10.0).unwrap();
+        let dz = li_refraction_rad(60f64.to_radians(), &atm, false).to_degrees();
+        assert!((dz - 0.029_186).abs() < 1e-6, "{dz}");
+        // Below the horizon limit: none.
+        assert_eq!(li_refraction_rad(92f64.to_radians(), &atm, false), 0.0);
+        // As printed (millibars, zenith argument) it is a different number
+        // altogether — finite, never a panic.
+        let printed = li_refraction_rad(60f64.to_radians(), &atm, true);
+        assert!(printed.is_finite() && (printed.to_degrees() - dz).abs() > 1.0);
+    }
+
+    #[test]
+    fn modified_with_atmosphere_is_apparent() {
+        use crate::{Algorithm, Options};
+        let t = UtcTime::from_ymd_hms(2030, 6, 21, 9, 0, 0).unwrap();
+        let site = Site::new(39.1f64, 117.2).unwrap(); // Tianjin
+        let geo = Algorithm::PsaModified
+            .position(&t, &site, &Options::default())
+            .unwrap();
+        let opts = Options {
+            atmosphere: Some(Atmosphere::new(1013.25, 10.0).unwrap()),
+            ..Options::default()
+        };
+        let app = Algorithm::PsaModified.position(&t, &site, &opts).unwrap();
+        assert!(app.refracted && !geo.refracted);
+        assert_eq!(app.azimuth_deg, geo.azimuth_deg);
+        let e = 90.0 - geo.zenith_deg;
+        let bennett = 1.02 / (e + 10.3 / (e + 5.11)).to_radians().tan() / 60.0 * 1013.25 / 1010.0;
+        let dz = geo.zenith_deg - app.zenith_deg;
+        assert!((dz - bennett).abs() < 2e-5, "{dz} {bennett}");
+    }
+
+    #[test]
     fn horizontal_matches_the_textbook_formulas() {
         // δ = 10°, H = 30°, φ = 40°: cos θz = sin δ sin φ + cos δ cos φ cos H.
         let site = Site::new(40.0f64, 0.0).unwrap();
