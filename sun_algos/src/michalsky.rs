@@ -34,8 +34,11 @@
 //! **Parallax.** Michalsky has none; the sun's horizontal parallax (up to
 //! 0.0024° at the horizon) makes his position geocentric. The reference data
 //! and a tracker want the topocentric direction, so we add the PSA parallax
-//! term `(R⊕/AU)·sin θz` ([`crate::psa::PARALLAX_RAD`]). Without it the
-//! maximum error on the reference tables grows by up to 0.0024°.
+//! term `(R⊕/AU)·sin θz` ([`crate::psa::PARALLAX_RAD`]). Measured max
+//! (mean) error, sun above the horizon, f64 (f32 the same to 0.00002°):
+//! sun_1999_2022 0.0083° (0.0029°), sun_2020_2050 0.0103° (0.0033°); without
+//! the parallax term they would be 0.0096° (0.0034°) and 0.0118° (0.0037°),
+//! the latter matching solposx's published 0.0118° for Michalsky.
 //!
 //! **Refraction.** When an atmosphere is given, Michalsky's own formula is
 //! used ([`refraction_deg`]), scaled by pressure and temperature.
