@@ -205,9 +205,7 @@ fn main() -> ExitCode {
         for dd in days {
             match day(&a, y, mo, dd) {
                 Ok(e) => {
-                    if a.period == Period::Month {
-                        row(&format!("{y:04}-{mo:02}-{dd:02}"), e);
-                    } else if a.period == Period::Day {
+                    if a.period != Period::Year {
                         row(&format!("{y:04}-{mo:02}-{dd:02}"), e);
                     }
                     for (t, v) in month.iter_mut().zip(e) {

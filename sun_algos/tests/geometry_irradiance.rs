@@ -84,11 +84,11 @@ fn doha_gain_on_the_seeds_simulation_days() {
         let gain_fixed = dual / fixed - 1.0;
         let gain_single = dual / single - 1.0;
         assert!(
-            gain_fixed > 0.10 && gain_fixed < 0.80,
+            (0.10..0.80).contains(&gain_fixed),
             "{m}-{d}: {fixed} {single} {dual}"
         );
         assert!(
-            gain_single >= 0.0 && gain_single < 0.40,
+            (0.0..0.40).contains(&gain_single),
             "{m}-{d}: {fixed} {single} {dual}"
         );
         // A clear day in Doha: 5–12 kWh/m² on a dual-axis tracker.

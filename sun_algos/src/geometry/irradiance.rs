@@ -63,7 +63,8 @@ pub fn ashrae_coefficients<T: Float>(day_of_year: u16) -> AshraeCoefficients<T> 
 /// 1989): 1/(cos z + 0.50572 (96.07995 − z)^−1.6364). `None` at or below
 /// the horizon (z ≥ 90°).
 pub fn air_mass<T: Float>(zenith_deg: T) -> Option<T> {
-    if !(zenith_deg < T::from_f64(90.0)) {
+    // NaN fails this test too.
+    if !zenith_deg.is_finite() || zenith_deg >= T::from_f64(90.0) {
         return None;
     }
     let z = zenith_deg.max(T::ZERO);
@@ -111,7 +112,7 @@ pub fn clear_sky_on_plane<T: Float>(
     albedo: T,
 ) -> PlaneIrradiance<T> {
     let ib = clear_sky_beam_normal_w_m2(sun.zenith_deg, day_of_year);
-    if !(ib > T::ZERO) {
+    if !ib.is_finite() || ib <= T::ZERO {
         return PlaneIrradiance::default();
     }
     let c = ashrae_coefficients::<T>(day_of_year).c;
