@@ -21,8 +21,10 @@ mod table {
     include!(concat!(env!("OUT_DIR"), "/postal_table.rs"));
 }
 
-/// Flash bytes of the keys and coordinates (place names excluded).
-pub const TABLE_BYTES: usize = table::LEN * (8 + 6);
+/// Flash bytes of the keys and coordinates (place names excluded), as the
+/// compiler lays the two arrays out: 14 per entry.
+pub const TABLE_BYTES: usize =
+    core::mem::size_of::<[u64; table::LEN]>() + core::mem::size_of::<[[u8; 6]; table::LEN]>();
 
 /// Number of postal codes in the table.
 pub const LEN: usize = table::LEN;

@@ -139,3 +139,56 @@ fn events_and_day_table_never_panic_nor_nan_1950_2100() {
     }
     assert!(polar_days > 100, "the sample should include polar days");
 }
+
+#[test]
+fn spa_events_and_tables_never_panic_nor_nan_1950_2100() {
+    // The same property with NREL SPA (appendix A.2 events, SPA positions)
+    // on a coarser grid: latitudes every 10° plus ±89.99°, every year,
+    // f64 on even and f32 on odd years, a 30-minute table.
+    use sun_algos::{Algorithm, Options, Site};
+    let mut rng = Rng(0xDEAD_BEEF_F00D_0001);
+    let mut lats: Vec<f64> = (-9..=9).map(|l| f64::from(10 * l)).collect();
+    lats.extend([-89.99, 89.99]);
+    for year in 1950..=2100 {
+        let doy = (rng.next() % 365) as i64;
+        let day = UtcTime::from_ymd_hms(year, 1, 1, 0, 0, 0)
+            .unwrap()
+            .add_seconds(doy * 86_400)
+            .unwrap();
+        let ymd = day.ymd();
+        let lon = (rng.next() % 36_001) as f64 / 100.0 - 180.0;
+        for &lat in &lats {
+            if year % 2 == 0 {
+                let site = Site::new(lat, lon).unwrap();
+                let opts = Options::default();
+                let ev = sun_algos::geometry::events::spa(ymd, &site, &opts).unwrap();
+                assert!(ev.transit_zenith_deg.is_finite(), "{lat} {ymd:?}");
+                let t = DayTable::<{ capacity_for_interval(30) }>::compute(
+                    &ev,
+                    30,
+                    &Limits::upward(),
+                    |t| Algorithm::Spa.position(t, &site, &opts),
+                )
+                .unwrap();
+                assert!(t
+                    .iter()
+                    .all(|(_, e)| e.surface::<f64>().slope_deg.is_finite()));
+            } else {
+                let site = Site::new(lat as f32, lon as f32).unwrap();
+                let opts = Options::default();
+                let ev = sun_algos::geometry::events::spa(ymd, &site, &opts).unwrap();
+                assert!(ev.transit_zenith_deg.is_finite(), "{lat} {ymd:?}");
+                let t = DayTable::<{ capacity_for_interval(30) }>::compute(
+                    &ev,
+                    30,
+                    &Limits::upward(),
+                    |t| Algorithm::Spa.position(t, &site, &opts),
+                )
+                .unwrap();
+                assert!(t
+                    .iter()
+                    .all(|(_, e)| e.surface::<f32>().slope_deg.is_finite()));
+            }
+        }
+    }
+}
