@@ -1,8 +1,10 @@
 //! Earth heliocentric longitude, latitude and radius vector (NREL SPA report,
 //! section 3.2, eq. 9–12, Table A4.2).
 
+use super::fast_tables::{
+    FastSeries, B0, B1, FREQUENCIES, L0, L1, L2, L3, L4, L5, N_FREQUENCIES, R0, R1, R2, R3, R4,
+};
 use super::split::{frac, Secular};
-use super::tables::{Series, B0, B1, L0, L1, L2, L3, L4, L5, R0, R1, R2, R3, R4};
 use crate::float::Float;
 
 /// Days in a Julian millennium.
@@ -29,20 +31,60 @@ pub(crate) fn c32<T: Float>(v: f32) -> T {
     T::from_f64(f64::from(v))
 }
 
-/// Σ A cos(B + C τ) over the terms from `skip` on (report eq. 9).
-#[inline]
-fn sum<T: Float>(s: &Series, tau: T, skip: usize) -> T {
+/// Σ A cos(B + C τ) over the terms from `skip` on (report eq. 9), written
+/// literally: the reference the regrouped evaluation is tested against.
+#[cfg(test)]
+fn sum<T: Float>(s: &super::tables::Series, tau: T, skip: usize) -> T {
     let mut acc = T::ZERO;
-    if is_f32::<T>() {
-        for t in s.f32s.iter().skip(skip) {
-            acc += c32::<T>(t[0]) * (c32::<T>(t[1]) + c32::<T>(t[2]) * tau).cos();
-        }
-    } else {
-        for t in s.f64s.iter().skip(skip) {
-            acc += T::from_f64(t[0]) * (T::from_f64(t[1]) + T::from_f64(t[2]) * tau).cos();
-        }
+    for t in s.f64s.iter().skip(skip) {
+        acc += T::from_f64(t[0]) * (T::from_f64(t[1]) + T::from_f64(t[2]) * tau).cos();
     }
     acc
+}
+
+/// sin(C τ) and cos(C τ) of every distinct frequency C.
+struct Rotations<T>([(T, T); N_FREQUENCIES]);
+
+impl<T: Float> Rotations<T> {
+    fn new(tau: T) -> Self {
+        let mut r = [(T::ZERO, T::ONE); N_FREQUENCIES];
+        // Index 0 is C = 0: sin 0 = 0, cos 0 = 1 as initialised.
+        if is_f32::<T>() {
+            for (out, c) in r.iter_mut().zip(FREQUENCIES.f32s).skip(1) {
+                *out = (c32::<T>(*c) * tau).sin_cos();
+            }
+        } else {
+            for (out, c) in r.iter_mut().zip(FREQUENCIES.f64s).skip(1) {
+                *out = (T::from_f64(*c) * tau).sin_cos();
+            }
+        }
+        Rotations(r)
+    }
+
+    /// Σ A cos(B + C τ) = Σ (A cos B) cos(C τ) − (A sin B) sin(C τ) over the
+    /// terms of `s` from `skip` on (report eq. 9).
+    #[inline]
+    fn sum(&self, s: &FastSeries, skip: usize) -> T {
+        let mut acc = T::ZERO;
+        let rot = |i: u8| {
+            self.0
+                .get(usize::from(i))
+                .copied()
+                .unwrap_or((T::ZERO, T::ZERO))
+        };
+        if is_f32::<T>() {
+            for (&i, k) in s.freq.iter().zip(s.f32s).skip(skip) {
+                let (sn, cs) = rot(i);
+                acc += c32::<T>(k[0]) * cs - c32::<T>(k[1]) * sn;
+            }
+        } else {
+            for (&i, k) in s.freq.iter().zip(s.f64s).skip(skip) {
+                let (sn, cs) = rot(i);
+                acc += T::from_f64(k[0]) * cs - T::from_f64(k[1]) * sn;
+            }
+        }
+        acc
+    }
 }
 
 /// Heliocentric position of the Earth.
@@ -60,26 +102,18 @@ pub(crate) struct Heliocentric<T> {
 /// instant in Julian millennia (JME).
 pub(crate) fn heliocentric<T: Float>(days: i32, frac_tt: T, tau: T) -> Heliocentric<T> {
     let e8 = T::from_f64(1e-8);
+    let r = Rotations::new(tau);
+    let s = |series: &FastSeries| r.sum(series, 0);
     // L1 without its secular first term.
-    let l_periodic = sum(&L0, tau, 0)
-        + tau
-            * (sum(&L1, tau, 1)
-                + tau
-                    * (sum(&L2, tau, 0)
-                        + tau
-                            * (sum(&L3, tau, 0)
-                                + tau * (sum(&L4, tau, 0) + tau * sum(&L5, tau, 0)))));
+    let l_periodic = s(&L0)
+        + tau * (r.sum(&L1, 1) + tau * (s(&L2) + tau * (s(&L3) + tau * (s(&L4) + tau * s(&L5)))));
     let l_turns = frac(L1_SECULAR.at(days, frac_tt) + l_periodic * e8 / T::TAU);
-    let b = (sum(&B0, tau, 0) + tau * sum(&B1, tau, 0)) * e8;
-    let r = (sum(&R0, tau, 0)
-        + tau
-            * (sum(&R1, tau, 0)
-                + tau * (sum(&R2, tau, 0) + tau * (sum(&R3, tau, 0) + tau * sum(&R4, tau, 0)))))
-        * e8;
+    let b = (s(&B0) + tau * s(&B1)) * e8;
+    let r_au = (s(&R0) + tau * (s(&R1) + tau * (s(&R2) + tau * (s(&R3) + tau * s(&R4))))) * e8;
     Heliocentric {
         l_rad: l_turns * T::TAU,
         b_rad: b,
-        r_au: r,
+        r_au,
     }
 }
 
@@ -87,9 +121,57 @@ pub(crate) fn heliocentric<T: Float>(days: i32, frac_tt: T, tau: T) -> Heliocent
 mod tests {
     use super::*;
 
+    use crate::spa::tables as report;
+
     #[test]
     fn secular_term_is_the_first_l1_row() {
-        let first = L1.f64s.first().copied().unwrap_or_default();
+        let first = report::L1.f64s.first().copied().unwrap_or_default();
         assert_eq!(first, [L1_SECULAR_RAD_PER_MILLENNIUM * 1e8, 0.0, 0.0]);
+    }
+
+    #[test]
+    fn fast_tables_match_the_report() {
+        let pairs: [(&report::Series, &FastSeries); 13] = [
+            (&report::L0, &L0),
+            (&report::L1, &L1),
+            (&report::L2, &L2),
+            (&report::L3, &L3),
+            (&report::L4, &L4),
+            (&report::L5, &L5),
+            (&report::B0, &B0),
+            (&report::B1, &B1),
+            (&report::R0, &R0),
+            (&report::R1, &R1),
+            (&report::R2, &R2),
+            (&report::R3, &R3),
+            (&report::R4, &R4),
+        ];
+        for (rep, fast) in pairs {
+            assert_eq!(rep.f64s.len(), fast.f64s.len());
+            assert_eq!(rep.f64s.len(), fast.freq.len());
+            assert_eq!(rep.f32s.len(), fast.f32s.len());
+            for ((t, k), &i) in rep.f64s.iter().zip(fast.f64s).zip(fast.freq) {
+                let [a, b, c] = *t;
+                assert_eq!(FREQUENCIES.f64s[usize::from(i)], c);
+                assert!((k[0] - a * b.cos()).abs() <= 1e-15 * a.abs());
+                assert!((k[1] - a * b.sin()).abs() <= 1e-15 * a.abs());
+            }
+        }
+        // Series agree with the literal sum of eq. 9 at several epochs.
+        for tau in [-0.4f64, -0.1, 0.0, 0.0038, 0.05, 0.11, 0.4] {
+            let r = Rotations::new(tau);
+            for (rep, fast) in pairs {
+                let want = sum(rep, tau, 0);
+                let got = r.sum(fast, 0);
+                // Both round the argument B + C τ (or C τ) to f64: allow
+                // a few ulps of each term's argument, times its amplitude.
+                let tol: f64 = rep
+                    .f64s
+                    .iter()
+                    .map(|t| t[0].abs() * (1.0 + t[1].abs() + (t[2] * tau).abs()) * 1e-15)
+                    .sum();
+                assert!((got - want).abs() <= tol, "{tau}: {got} vs {want}");
+            }
+        }
     }
 }

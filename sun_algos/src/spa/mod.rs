@@ -18,6 +18,7 @@
 
 mod earth;
 mod events;
+mod fast_tables;
 mod geocentric;
 mod nutation;
 pub(crate) mod split;

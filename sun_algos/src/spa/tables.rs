@@ -13,6 +13,7 @@
 
 /// The terms of one series in both precisions (the same literals twice, so
 /// an `f32` build reads `f32` constants and never converts from `f64`).
+#[cfg(test)]
 pub(crate) struct Series {
     /// The terms as `f64`.
     pub f64s: &'static [[f64; 3]],
@@ -24,6 +25,7 @@ pub(crate) struct Series {
 macro_rules! series {
     ($(#[$m:meta])* $name:ident, $n:literal, [$([$a:expr, $b:expr, $c:expr]),* $(,)?]) => {
         $(#[$m])*
+        #[cfg(test)]
         pub(crate) const $name: Series = Series {
             f64s: &[$([$a, $b, $c]),*],
             f32s: &[$([$a, $b, $c]),*],

@@ -1,0 +1,120 @@
+//! Nanoseconds per sun position: every algorithm of the crate in `f32` and
+//! `f64`, side by side with the `solar-positioning` crate's SPA and Grena3.
+//!
+//! Each measured iteration computes the positions of the same fixed set of
+//! 64 instants (2020–2022, inside every algorithm's validity range) and
+//! sites (pseudo-random latitudes and longitudes, sea level), geometric (no
+//! refraction), ΔT given. Divide the reported time by 64 for ns per
+//! position (criterion also prints the throughput in positions per second).
+//!
+//! Run: `cargo bench -p sun_algos --bench positions -- --warm-up-time 1 --measurement-time 2`
+
+use criterion::{criterion_group, criterion_main, BenchmarkId, Criterion, Throughput};
+use solar_positioning::{time::JulianDate, Location, SolarPositions};
+use std::hint::black_box;
+use sun_algos::{Algorithm, Float, Options, Site, UtcTime};
+
+const N: usize = 64;
+const DELTA_T_S: f64 = 69.2;
+
+/// One instant and site in the native types of both crates.
+struct Case {
+    time: UtcTime,
+    lat: f64,
+    lon: f64,
+    jd: JulianDate,
+}
+
+/// The fixed cases: a small linear congruential generator (Knuth's MMIX
+/// constants) so every run measures the same inputs.
+fn cases() -> Vec<Case> {
+    let mut state: u64 = 0x5eed_2024;
+    let mut next = move || {
+        state = state
+            .wrapping_mul(6_364_136_223_846_793_005)
+            .wrapping_add(1_442_695_040_888_963_407);
+        (state >> 11) as f64 / (1u64 << 53) as f64
+    };
+    let start = UtcTime::from_ymd_hms(2020, 1, 1, 0, 0, 0).unwrap();
+    (0..N)
+        .map(|_| {
+            let secs = (next() * 3.0 * 365.0 * 86_400.0) as i64;
+            let time = start.add_seconds(secs).unwrap();
+            let (y, mo, d) = time.ymd();
+            let (h, mi, s, _) = time.hms_milli();
+            let jd = JulianDate::from_utc(
+                y,
+                u32::from(mo),
+                u32::from(d),
+                u32::from(h),
+                u32::from(mi),
+                f64::from(s),
+                DELTA_T_S,
+            )
+            .unwrap();
+            Case {
+                time,
+                lat: next() * 160.0 - 80.0,
+                lon: next() * 360.0 - 180.0,
+                jd,
+            }
+        })
+        .collect()
+}
+
+fn ours<T: Float>(c: &mut Criterion, cases: &[Case], float: &str) {
+    let sites: Vec<Site<T>> = cases
+        .iter()
+        .map(|k| Site::new(T::from_f64(k.lat), T::from_f64(k.lon)).unwrap())
+        .collect();
+    let opts = Options {
+        delta_t_s: Some(T::from_f64(DELTA_T_S)),
+        ..Options::default()
+    };
+    let mut group = c.benchmark_group(format!("sun_algos_{float}"));
+    group.throughput(Throughput::Elements(N as u64));
+    for alg in Algorithm::ALL {
+        group.bench_function(BenchmarkId::from_parameter(alg.name()), |b| {
+            b.iter(|| {
+                for (k, site) in cases.iter().zip(&sites) {
+                    let p = alg.position(black_box(&k.time), black_box(site), &opts);
+                    black_box(p.ok());
+                }
+            })
+        });
+    }
+    group.finish();
+}
+
+fn theirs(c: &mut Criterion, cases: &[Case]) {
+    let mut group = c.benchmark_group("solar_positioning_f64");
+    group.throughput(Throughput::Elements(N as u64));
+    for (name, model) in [
+        ("spa", SolarPositions::new()),
+        ("grena3", SolarPositions::grena3()),
+    ] {
+        group.bench_function(BenchmarkId::from_parameter(name), |b| {
+            b.iter(|| {
+                for k in cases {
+                    let loc = Location {
+                        latitude: k.lat,
+                        longitude: k.lon,
+                    };
+                    let p = model.at_from_julian(black_box(k.jd), black_box(loc), 0.0, None);
+                    black_box(p.ok());
+                }
+            })
+        });
+    }
+    group.finish();
+}
+
+fn benches(c: &mut Criterion) {
+    let cases = cases();
+    theirs(c, &cases);
+    ours::<f64>(c, &cases, "f64");
+    ours::<f32>(c, &cases, "f32");
+}
+
+criterion_group!(positions, benches);
+criterion_main!(positions);
