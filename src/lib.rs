@@ -11,8 +11,12 @@ pub const BANNER: &str = concat!("suntracker ", env!("CARGO_PKG_VERSION"));
 pub mod attitude;
 pub mod axis;
 pub mod config;
+#[cfg(not(target_arch = "avr"))]
+pub mod hw;
 pub mod safety;
 pub mod scheduler;
 pub mod sim;
 pub mod site;
+#[cfg(not(target_arch = "avr"))]
+pub mod sources;
 pub mod traits;

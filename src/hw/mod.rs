@@ -1,0 +1,22 @@
+//! Adapters from the real drivers (`drivers` crate) to the tracker's traits,
+//! so that [`crate::controller::Controller`] runs on a board's peripherals
+//! exactly as it runs against the simulator.
+//!
+//! | adapter | tracker trait | driver |
+//! |---|---|---|
+//! | [`RtcClock`] | [`crate::traits::Clock`] | any [`drivers::rtc::Clock`] (DS3231, DS1302) |
+//! | [`GpsPort`] | — (feeds [`crate::sources`]) | [`drivers::gps::GpsReader`] |
+//! | [`StepperAxis`] | [`crate::axis::AxisDrive`] | [`drivers::stepper::hbridge::HBridgeStepper`] + home switch |
+//!
+//! Time and site fallbacks (GPS, then RTC, then the stored site or a postal
+//! code) are in [`crate::sources`].
+
+mod axis;
+mod clock;
+mod gps;
+mod time;
+
+pub use axis::{StepperAxis, StepperAxisError};
+pub use clock::{ClockError, RtcClock};
+pub use gps::GpsPort;
+pub use time::{datetime_from_utc, utc_from_datetime, TimeConversionError};

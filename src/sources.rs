@@ -1,0 +1,316 @@
+//! Time and site with fallbacks (issue 6 item 2).
+//!
+//! **Time**: a GPS fix first, then the RTC. GPS time disciplines the RTC: it
+//! is written to the RTC when the RTC lost power, holds no valid date, or
+//! has drifted more than [`TimeConfig::max_drift_s`] from GPS. An RTC that
+//! lost power (DS3231 oscillator-stop flag, DS1302 clock halt) is *not*
+//! trusted: until GPS sets it the time is unknown and the controller waits
+//! ([`crate::safety::Mode::WaitForTime`]) instead of tracking with a wrong
+//! time. GPS time is used only with a valid fix (RMC status `A` or GGA
+//! quality > 0): a receiver without a fix may still be counting from a
+//! wrong almanac.
+//!
+//! **Site**: the GPS position first, then the site stored in the
+//! configuration, then a postal code from the table of [`crate::site`]
+//! (seed dahli-2023 replaces the GPS receiver by the postal code).
+//!
+//! Nothing here blocks or panics; every device error ends in a status flag.
+
+use core::cell::Cell;
+
+use drivers::gps::{FixQuality, GpsFix};
+use drivers::rtc::Clock as RtcDriver;
+use sun_algos::{Algorithm, Error as SunError, Float, Options, Site, SunPosition, UtcTime};
+
+use crate::config::SiteConfig;
+use crate::hw::{datetime_from_utc, utc_from_datetime};
+use crate::site::{lookup_str, PostalError};
+use crate::traits::PositionSource;
+
+/// Where the time came from.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum TimeOrigin {
+    /// The GPS fix of this update.
+    Gps,
+    /// The RTC (running, not lost power).
+    Rtc,
+}
+
+/// Settings of the time keeper.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct TimeConfig {
+    /// The RTC is set from GPS when they differ by more than this, seconds.
+    pub max_drift_s: u32,
+}
+
+impl Default for TimeConfig {
+    /// 2 s: a DS3231 (±2 ppm) drifts that much in about 12 days; at the
+    /// equator the sun moves 0.0083° in 2 s, far inside any mechanism's
+    /// resolution.
+    fn default() -> Self {
+        TimeConfig { max_drift_s: 2 }
+    }
+}
+
+/// The outcome of one [`TimeKeeper::update`].
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct TimeStatus {
+    /// The trusted time, when there is one.
+    pub now: Option<UtcTime>,
+    /// Where `now` came from.
+    pub origin: Option<TimeOrigin>,
+    /// The RTC's reading even when it is not trusted (for timers that need
+    /// a monotonic-ish count, e.g. the wind hold), if it could be read.
+    pub rtc_raw: Option<UtcTime>,
+    /// True while GPS has a valid fix.
+    pub gps_fix: bool,
+    /// The RTC reported lost power (before any setting in this update).
+    pub rtc_lost_power: bool,
+    /// The RTC could not be read or written (bus error, invalid registers).
+    pub rtc_error: bool,
+    /// The RTC was set from GPS in this update.
+    pub rtc_set: bool,
+}
+
+impl TimeStatus {
+    /// True when the time can be used for tracking.
+    pub fn time_valid(&self) -> bool {
+        self.now.is_some()
+    }
+}
+
+/// Keeps UTC from GPS and an RTC driver.
+#[derive(Debug)]
+pub struct TimeKeeper<C> {
+    rtc: C,
+    config: TimeConfig,
+    last_valid: Option<UtcTime>,
+    rtc_sets: u32,
+}
+
+/// A fix's UTC when it may be trusted: a valid fix (position) and a time.
+pub fn trusted_gps_time(fix: &GpsFix) -> Option<UtcTime> {
+    if fix.quality == FixQuality::Invalid || !fix.has_position() {
+        return None;
+    }
+    fix.utc.and_then(|t| utc_from_datetime(&t).ok())
+}
+
+impl<C: RtcDriver> TimeKeeper<C> {
+    /// A keeper over the RTC driver; no bus traffic.
+    pub fn new(rtc: C, config: TimeConfig) -> Self {
+        TimeKeeper {
+            rtc,
+            config,
+            last_valid: None,
+            rtc_sets: 0,
+        }
+    }
+
+    /// The RTC driver.
+    pub fn rtc_mut(&mut self) -> &mut C {
+        &mut self.rtc
+    }
+
+    /// Gives the RTC driver back.
+    pub fn destroy(self) -> C {
+        self.rtc
+    }
+
+    /// Times the RTC was set from GPS.
+    pub fn rtc_sets(&self) -> u32 {
+        self.rtc_sets
+    }
+
+    /// The last trusted time.
+    pub fn last_valid(&self) -> Option<UtcTime> {
+        self.last_valid
+    }
+
+    /// Reads the RTC (lost-power flag, then the time unless it lost power),
+    /// disciplines it from `gps` when that has a valid fix, and decides the
+    /// time. Bus traffic per call: one status read and one time read; plus
+    /// one time write (and the flag clear) when the RTC is set.
+    pub fn update(&mut self, gps: &GpsFix) -> TimeStatus {
+        let gps_time = trusted_gps_time(gps);
+        let mut status = TimeStatus {
+            now: None,
+            origin: None,
+            rtc_raw: None,
+            gps_fix: gps_time.is_some(),
+            rtc_lost_power: false,
+            rtc_error: false,
+            rtc_set: false,
+        };
+        // The RTC: a stopped oscillator makes its registers meaningless, so
+        // they are not read.
+        let mut rtc_time = None;
+        let mut bus_ok = true;
+        match self.rtc.lost_power() {
+            Ok(true) => status.rtc_lost_power = true,
+            Ok(false) => match self.rtc.datetime() {
+                Ok(t) => match utc_from_datetime(&t) {
+                    Ok(u) => {
+                        rtc_time = Some(u);
+                        status.rtc_raw = Some(u);
+                    }
+                    Err(_) => status.rtc_error = true,
+                },
+                Err(_) => status.rtc_error = true,
+            },
+            Err(_) => {
+                status.rtc_error = true;
+                bus_ok = false;
+            }
+        }
+        if let Some(g) = gps_time {
+            let drifted = match rtc_time {
+                Some(r) => {
+                    (g.unix_seconds() - r.unix_seconds()).unsigned_abs()
+                        > u64::from(self.config.max_drift_s)
+                }
+                None => true,
+            };
+            // A bus that failed to answer the status read is not written.
+            if drifted && bus_ok {
+                match datetime_from_utc(&g).map(|d| self.rtc.set_datetime(&d)) {
+                    Ok(Ok(())) => {
+                        status.rtc_set = true;
+                        self.rtc_sets = self.rtc_sets.saturating_add(1);
+                    }
+                    _ => status.rtc_error = true,
+                }
+            }
+            status.now = Some(g);
+            status.origin = Some(TimeOrigin::Gps);
+        } else if let Some(r) = rtc_time {
+            status.now = Some(r);
+            status.origin = Some(TimeOrigin::Rtc);
+        }
+        if status.now.is_some() {
+            self.last_valid = status.now;
+        }
+        status
+    }
+}
+
+impl TimeStatus {
+    /// The instant to hand the controller: the trusted time, else the RTC's
+    /// raw reading, else `fallback` (the controller does not track while the
+    /// time is not valid; the instant only drives its timers).
+    pub fn tick_time(&self, fallback: UtcTime) -> UtcTime {
+        self.now.or(self.rtc_raw).unwrap_or(fallback)
+    }
+}
+
+/// Where the site came from.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum SiteOrigin {
+    /// The GPS position.
+    Gps,
+    /// The site stored in the configuration.
+    Stored,
+    /// A postal code (seed dahli-2023).
+    PostalCode,
+}
+
+/// Why no site could be found.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum SiteError {
+    /// No GPS position, no stored site and no postal code.
+    NoSource,
+    /// The postal code gave no site (and nothing came before it).
+    Postal(PostalError),
+    /// The chosen source held impossible coordinates.
+    Invalid(SunError),
+}
+
+/// The site from a GPS fix with a position (altitude from GGA, else sea
+/// level; an altitude outside −500…10 000 m is dropped).
+pub fn site_from_fix(fix: &GpsFix) -> Option<Site<f64>> {
+    if fix.quality == FixQuality::Invalid {
+        return None;
+    }
+    let (lat, lon) = (fix.latitude_deg?, fix.longitude_deg?);
+    let alt = fix.altitude_m.map(f64::from).unwrap_or(0.0);
+    Site::with_elevation(lat, lon, alt)
+        .or_else(|_| Site::new(lat, lon))
+        .ok()
+}
+
+/// The site from the stored configuration.
+pub fn site_from_config(s: &SiteConfig) -> Result<Site<f64>, SunError> {
+    Site::with_elevation(
+        f64::from(s.latitude_deg),
+        f64::from(s.longitude_deg),
+        f64::from(s.elevation_m),
+    )
+}
+
+/// Chooses the site: the GPS position, else `stored` (pass it only when
+/// the configuration was loaded from storage, not defaulted), else
+/// `postal_code` (`COUNTRY:CODE`, e.g. `DZ:16000`).
+pub fn resolve_site(
+    gps: &GpsFix,
+    stored: Option<&SiteConfig>,
+    postal_code: Option<&str>,
+) -> Result<(Site<f64>, SiteOrigin), SiteError> {
+    if let Some(s) = site_from_fix(gps) {
+        return Ok((s, SiteOrigin::Gps));
+    }
+    let mut stored_error = None;
+    if let Some(cfg) = stored {
+        match site_from_config(cfg) {
+            Ok(s) => return Ok((s, SiteOrigin::Stored)),
+            Err(e) => stored_error = Some(e),
+        }
+    }
+    if let Some(code) = postal_code {
+        return match lookup_str(code) {
+            Ok(entry) => entry
+                .site()
+                .map(|s| (s, SiteOrigin::PostalCode))
+                .map_err(SiteError::Invalid),
+            Err(e) => Err(stored_error.map_or(SiteError::Postal(e), SiteError::Invalid)),
+        };
+    }
+    Err(stored_error.map_or(SiteError::NoSource, SiteError::Invalid))
+}
+
+/// A [`PositionSource`] whose site lives in a shared [`Cell`], so that the
+/// site can be replaced (e.g. when GPS gets its first fix) while the
+/// scheduler owns the source.
+pub struct SharedSiteSource<'a, T> {
+    /// The algorithm (`psa-2020` on boards).
+    pub algorithm: Algorithm,
+    /// The site, shared with whoever updates it.
+    pub site: &'a Cell<Site<T>>,
+    /// ΔT, refraction and validity options.
+    pub options: Options<T>,
+}
+
+impl<T: Float> PositionSource<T> for SharedSiteSource<'_, T> {
+    fn site(&self) -> Site<T> {
+        self.site.get()
+    }
+    fn position(&mut self, time: &UtcTime) -> Result<SunPosition<T>, SunError> {
+        self.algorithm.position(time, &self.site.get(), &self.options)
+    }
+}
+
+/// Replaces the shared site by the GPS position when the fix is valid and
+/// the position moved more than `min_move_deg` in latitude or longitude
+/// from the site in use. Returns whether it replaced it. (A portable
+/// tracker carried to a new place; fix noise of a few metres is ignored.)
+pub fn follow_gps_site(cell: &Cell<Site<f64>>, fix: &GpsFix, min_move_deg: f64) -> bool {
+    let Some(s) = site_from_fix(fix) else {
+        return false;
+    };
+    let cur = cell.get();
+    let moved = (s.latitude_deg() - cur.latitude_deg()).abs() > min_move_deg
+        || (s.longitude_deg() - cur.longitude_deg()).abs() > min_move_deg;
+    if moved {
+        cell.set(s);
+    }
+    moved
+}
