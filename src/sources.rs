@@ -294,7 +294,8 @@ impl<T: Float> PositionSource<T> for SharedSiteSource<'_, T> {
         self.site.get()
     }
     fn position(&mut self, time: &UtcTime) -> Result<SunPosition<T>, SunError> {
-        self.algorithm.position(time, &self.site.get(), &self.options)
+        self.algorithm
+            .position(time, &self.site.get(), &self.options)
     }
 }
 

@@ -57,7 +57,10 @@ where
     /// Runs the driver: takes the step due at `now_us`, if any. Call every
     /// pass of the main loop.
     pub fn poll(&mut self, now_us: u64) -> Result<Event, StepperAxisError<E>> {
-        let ev = self.stepper.poll(now_us).map_err(StepperAxisError::Stepper)?;
+        let ev = self
+            .stepper
+            .poll(now_us)
+            .map_err(StepperAxisError::Stepper)?;
         if let Event::LimitReached(_) = ev {
             self.limit_stops = self.limit_stops.saturating_add(1);
         }

@@ -1,0 +1,271 @@
+//! Time and site fallbacks (issue 6 item 2) over the real DS3231 driver on an
+//! I2C mock (transaction-exact) and the real GPS reader on an in-memory
+//! serial port.
+
+mod tracker_hw_common;
+
+use drivers::gps::{FixQuality, GpsFix};
+use drivers::rtc::Ds3231;
+use drivers::time::DateTime;
+use embedded_hal::i2c::{ErrorKind, NoAcknowledgeSource};
+use embedded_hal_mock::eh1::i2c::{Mock as I2cMock, Transaction as I2c};
+use sun_algos::{Site, UtcTime};
+use suntracker::config::SiteConfig;
+use suntracker::hw::{GpsPort, RtcClock};
+use suntracker::site::PostalError;
+use suntracker::sources::{
+    follow_gps_site, resolve_site, trusted_gps_time, SiteError, SiteOrigin, TimeConfig, TimeKeeper,
+    TimeOrigin,
+};
+use suntracker::traits::Clock;
+use tracker_hw_common::*;
+
+fn nack() -> ErrorKind {
+    ErrorKind::NoAcknowledge(NoAcknowledgeSource::Address)
+}
+
+fn at(secs: u32) -> DayTime {
+    DayTime { secs }
+}
+
+fn utc(secs: u32) -> UtcTime {
+    let (h, m, s) = at(secs).hms();
+    UtcTime::from_ymd_hms(2026, 3, 20, h as u8, m as u8, s as u8).unwrap()
+}
+
+/// A GPS fix at Kano, 2026-03-20 `secs` after midnight.
+fn kano_fix(secs: u32) -> GpsFix {
+    let (h, m, s) = at(secs).hms();
+    GpsFix {
+        utc: Some(DateTime::new(2026, 3, 20, h as u8, m as u8, s as u8).unwrap()),
+        latitude_deg: Some(11.9683),
+        longitude_deg: Some(8.4261),
+        altitude_m: Some(480.0),
+        quality: FixQuality::Gps,
+        satellites: Some(8),
+    }
+}
+
+const T0: u32 = 6 * 3600 + 30 * 60; // 06:30:00
+
+#[test]
+fn rtc_that_lost_power_waits_for_gps_then_gps_sets_it() {
+    let mut tx = vec![
+        // 1. No GPS; OSF set: the time registers are not even read.
+        read_status(STATUS_OSF),
+        // 2. GPS fix: OSF still set -> the RTC is set to GPS time.
+        read_status(STATUS_OSF),
+    ];
+    tx.extend(set_time(at(T0 + 60)));
+    // 3. GPS gone: the RTC, now running, gives the time.
+    tx.push(read_status(STATUS_RUNNING));
+    tx.push(read_time(at(T0 + 120)));
+    let mut keeper = TimeKeeper::new(Ds3231::new(I2cMock::new(&tx)), TimeConfig::default());
+
+    let s = keeper.update(&GpsFix::NONE);
+    assert!(!s.time_valid(), "an RTC that lost power is not trusted");
+    assert!(s.rtc_lost_power && !s.gps_fix && !s.rtc_set && !s.rtc_error);
+    assert_eq!(s.rtc_raw, None);
+
+    let s = keeper.update(&kano_fix(T0 + 60));
+    assert_eq!(s.now, Some(utc(T0 + 60)));
+    assert_eq!(s.origin, Some(TimeOrigin::Gps));
+    assert!(s.rtc_set && s.gps_fix && s.rtc_lost_power);
+
+    let s = keeper.update(&GpsFix::NONE);
+    assert_eq!(s.now, Some(utc(T0 + 120)));
+    assert_eq!(s.origin, Some(TimeOrigin::Rtc));
+    assert!(!s.gps_fix && !s.rtc_set);
+    assert_eq!(keeper.rtc_sets(), 1);
+    keeper.destroy().destroy().done();
+}
+
+#[test]
+fn gps_disciplines_the_rtc_only_past_the_drift_limit() {
+    let mut tx = vec![
+        // RTC 2 s slow, limit 2 s: left alone.
+        read_status(STATUS_RUNNING),
+        read_time(at(T0 - 2)),
+        // RTC 3 s fast: set.
+        read_status(STATUS_RUNNING),
+        read_time(at(T0 + 60 + 3)),
+    ];
+    tx.extend(set_time(at(T0 + 60)));
+    let mut keeper = TimeKeeper::new(
+        Ds3231::new(I2cMock::new(&tx)),
+        TimeConfig { max_drift_s: 2 },
+    );
+    let s = keeper.update(&kano_fix(T0));
+    assert_eq!((s.now, s.rtc_set), (Some(utc(T0)), false));
+    assert_eq!(s.rtc_raw, Some(utc(T0 - 2)));
+    let s = keeper.update(&kano_fix(T0 + 60));
+    assert_eq!((s.now, s.rtc_set), (Some(utc(T0 + 60)), true));
+    keeper.destroy().destroy().done();
+}
+
+#[test]
+fn gps_time_without_a_fix_is_not_trusted() {
+    // RMC status V still carries the receiver's time: not used, so an RTC
+    // that lost power stays untrusted and is not written.
+    let no_fix = GpsFix {
+        latitude_deg: None,
+        longitude_deg: None,
+        altitude_m: None,
+        quality: FixQuality::Invalid,
+        satellites: Some(0),
+        ..kano_fix(T0)
+    };
+    assert_eq!(trusted_gps_time(&no_fix), None);
+    let tx = [read_status(STATUS_OSF)];
+    let mut keeper = TimeKeeper::new(Ds3231::new(I2cMock::new(&tx)), TimeConfig::default());
+    let s = keeper.update(&no_fix);
+    assert!(!s.time_valid() && !s.gps_fix && !s.rtc_set);
+    keeper.destroy().destroy().done();
+}
+
+#[test]
+fn rtc_nack_falls_back_to_gps_and_without_gps_the_time_is_unknown() {
+    let tx = [
+        // 1. NACK on the status read, GPS has a fix: GPS time, no write.
+        I2c::write_read(RTC_ADDR, vec![REG_STATUS], vec![0]).with_error(nack()),
+        // 2. NACK again, no GPS: time unknown.
+        I2c::write_read(RTC_ADDR, vec![REG_STATUS], vec![0]).with_error(nack()),
+        // 3. Status fine, time read NACKed, no GPS: unknown.
+        read_status(STATUS_RUNNING),
+        I2c::write_read(RTC_ADDR, vec![REG_SECONDS], vec![0; 7]).with_error(nack()),
+        // 4. Bus back: RTC time.
+        read_status(STATUS_RUNNING),
+        read_time(at(T0 + 180)),
+    ];
+    let mut keeper = TimeKeeper::new(Ds3231::new(I2cMock::new(&tx)), TimeConfig::default());
+    let s = keeper.update(&kano_fix(T0));
+    assert_eq!((s.now, s.origin), (Some(utc(T0)), Some(TimeOrigin::Gps)));
+    assert!(s.rtc_error && !s.rtc_set);
+    let s = keeper.update(&GpsFix::NONE);
+    assert!(!s.time_valid() && s.rtc_error);
+    // The controller still gets an instant for its timers: the last good one.
+    assert_eq!(s.tick_time(keeper.last_valid().unwrap()), utc(T0));
+    let s = keeper.update(&GpsFix::NONE);
+    assert!(!s.time_valid() && s.rtc_error);
+    let s = keeper.update(&GpsFix::NONE);
+    assert_eq!((s.now, s.rtc_error), (Some(utc(T0 + 180)), false));
+    keeper.destroy().destroy().done();
+}
+
+#[test]
+fn garbage_time_registers_are_replaced_by_gps_time() {
+    // OSF clear but the date register holds 0 (no such date): the RTC is
+    // rewritten from GPS.
+    let mut tx = vec![
+        read_status(STATUS_RUNNING),
+        I2c::write_read(RTC_ADDR, vec![REG_SECONDS], vec![0; 7]),
+    ];
+    tx.extend(set_time(at(T0)));
+    let mut keeper = TimeKeeper::new(Ds3231::new(I2cMock::new(&tx)), TimeConfig::default());
+    let s = keeper.update(&kano_fix(T0));
+    assert!(s.rtc_error && s.rtc_set);
+    assert_eq!(s.now, Some(utc(T0)));
+    keeper.destroy().destroy().done();
+}
+
+#[test]
+fn rtc_clock_adapter_refuses_a_clock_that_lost_power() {
+    let tx = [
+        read_status(STATUS_OSF),
+        read_status(STATUS_RUNNING),
+        read_time(at(12 * 3600 + 34 * 60 + 56)),
+        I2c::write_read(RTC_ADDR, vec![REG_STATUS], vec![0]).with_error(nack()),
+    ];
+    let mut clock = RtcClock::new(Ds3231::new(I2cMock::new(&tx)));
+    assert_eq!(clock.now(), Err(suntracker::hw::ClockError::LostPower));
+    assert_eq!(clock.now(), Ok(utc(12 * 3600 + 34 * 60 + 56)));
+    assert!(matches!(
+        clock.now(),
+        Err(suntracker::hw::ClockError::Rtc(_))
+    ));
+    clock.destroy().destroy().done();
+}
+
+#[test]
+fn nmea_on_the_serial_port_sets_a_stopped_rtc() {
+    // The whole path: NMEA bytes -> GpsPort (real assembler, nmea parser,
+    // fusion) -> TimeKeeper -> DS3231 writes.
+    let serial = MemSerial::default();
+    let mut gps = GpsPort::new(serial.clone(), 3_000);
+    let mut tx = vec![read_status(STATUS_OSF), read_status(STATUS_OSF)];
+    tx.extend(set_time(at(T0 + 1)));
+    let mut keeper = TimeKeeper::new(Ds3231::new(I2cMock::new(&tx)), TimeConfig::default());
+
+    // No fix yet: the receiver reports time without position.
+    serial.push(&gps_epoch(at(T0), false));
+    let fix = gps.service(1_000).unwrap();
+    assert_eq!(fix.quality, FixQuality::Invalid);
+    assert!(!keeper.update(&fix).time_valid());
+
+    serial.push(&gps_epoch(at(T0 + 1), true));
+    let fix = gps.service(2_000).unwrap();
+    assert!(fix.has_position());
+    let s = keeper.update(&fix);
+    assert_eq!(s.now, Some(utc(T0 + 1)));
+    assert!(s.rtc_set);
+    assert_eq!(gps.fixes(), 2);
+    assert_eq!(gps.stats().accepted, 4);
+
+    // Silence beyond the stale limit: the fix is gone.
+    assert_eq!(gps.service(10_000).unwrap(), GpsFix::NONE);
+    keeper.destroy().destroy().done();
+}
+
+#[test]
+fn site_from_gps_then_stored_then_postal_code() {
+    let stored = SiteConfig {
+        latitude_deg: 36.75,
+        longitude_deg: 3.06,
+        elevation_m: 10.0,
+    };
+    let (s, o) = resolve_site(&kano_fix(T0), Some(&stored), Some("DZ:16000")).unwrap();
+    assert_eq!(o, SiteOrigin::Gps);
+    assert_eq!((s.latitude_deg(), s.longitude_deg()), (11.9683, 8.4261));
+    assert_eq!(s.elevation_m(), 480.0);
+
+    let (s, o) = resolve_site(&GpsFix::NONE, Some(&stored), Some("DZ:16000")).unwrap();
+    assert_eq!(o, SiteOrigin::Stored);
+    assert!((s.latitude_deg() - 36.75).abs() < 1e-6);
+
+    // DZ:16000 is "Alger Gare" (36.779443, 3.061738) in data/postal_codes.csv.
+    let (s, o) = resolve_site(&GpsFix::NONE, None, Some("DZ:16000")).unwrap();
+    assert_eq!(o, SiteOrigin::PostalCode);
+    let entry = suntracker::site::lookup_str("DZ:16000").unwrap();
+    assert_eq!(s.latitude_deg(), entry.latitude_deg::<f64>());
+    assert_eq!(s.longitude_deg(), entry.longitude_deg::<f64>());
+
+    assert_eq!(
+        resolve_site(&GpsFix::NONE, None, Some("DZ:99999")),
+        Err(SiteError::Postal(PostalError::UnknownPostalCode))
+    );
+    assert_eq!(
+        resolve_site(&GpsFix::NONE, None, None),
+        Err(SiteError::NoSource)
+    );
+    // A stored site that is out of range is an error, never applied.
+    let bad = SiteConfig {
+        latitude_deg: 95.0,
+        ..stored
+    };
+    assert!(matches!(
+        resolve_site(&GpsFix::NONE, Some(&bad), None),
+        Err(SiteError::Invalid(_))
+    ));
+}
+
+#[test]
+fn shared_site_follows_a_moved_gps_only() {
+    let cell = std::cell::Cell::new(Site::new(36.75, 3.06).unwrap());
+    assert!(follow_gps_site(&cell, &kano_fix(T0), 0.01));
+    assert_eq!(cell.get().latitude_deg(), 11.9683);
+    // 0.00005° of fix noise: no change.
+    let mut noisy = kano_fix(T0);
+    noisy.latitude_deg = Some(11.96835);
+    assert!(!follow_gps_site(&cell, &noisy, 0.01));
+    assert!(!follow_gps_site(&cell, &GpsFix::NONE, 0.01));
+}
