@@ -93,12 +93,42 @@ const H0_12: Secular = Secular::turns(turns(1.752_83), turns(6.300_388_1));
 /// Algorithms 3–5: H = 1.7528311 + 6.300388099 t + θ − α (+ 0.92 Δλ).
 const H0_345: Secular = Secular::turns(turns(1.752_831_1), turns(6.300_388_099));
 
+/// cos and sin of the phase 0.06172 of algorithms 3–4 (section 3.4).
+const COS_SIN_PHASE_1: (f64, f64) = (0.998_095_925_357_038_8, 0.061_680_821_862_848_165);
+/// cos and sin of the phase 0.1163 of algorithms 3–4.
+const COS_SIN_PHASE_2: (f64, f64) = (0.993_244_774_242_846, 0.116_038_004_288_586_22);
+/// The obliquity's constant term ε₀ = 0.4089567 rad (sections 3.4–3.6).
+#[cfg(test)]
+const EPS0_RAD: f64 = 0.408_956_7;
+/// cos ε₀ and sin ε₀.
+const COS_SIN_EPS0: (f64, f64) = (0.917_536_192_721_599_4, 0.397_652_279_065_457_1);
+
+/// `sin(wte − p)` from `sin wte`, `cos wte` and `(cos p, sin p)`.
+#[inline]
+fn sin_minus<T: Float>(s: T, c: T, phase: (f64, f64)) -> T {
+    s * T::from_f64(phase.0) - c * T::from_f64(phase.1)
+}
+
+/// sin and cos of ε₀ + x for the obliquity's small variation x (|x| <
+/// 2 × 10⁻⁴ rad in 2010–2110), by the addition theorem with the series of
+/// sin x and cos x to the order the type can hold (x⁵/120 < 10⁻²⁰).
+#[inline]
+fn sin_cos_eps<T: Float>(x: T) -> (T, T) {
+    let f = T::from_f64;
+    let x2 = x * x;
+    let sx = x * (T::ONE - x2 / f(6.0));
+    let cx = T::ONE - x2 / f(2.0) * (T::ONE - x2 / f(12.0));
+    let (c0, s0) = (f(COS_SIN_EPS0.0), f(COS_SIN_EPS0.1));
+    (s0 * cx + c0 * sx, c0 * cx - s0 * sx)
+}
+
 /// The sun's position by Grena 2012 algorithm `v` for validated inputs.
 pub(crate) fn position<T: Float>(inp: &Inputs<'_, T>, v: Variant) -> SunPosition<T> {
     let t = Time::new(inp);
     let f = T::from_f64;
-    // (α, sin δ, cos δ, H without θ) per algorithm.
-    let (alpha, sin_d, cos_d, h_base) = match v {
+    let lon_rad = inp.site.longitude_deg().to_radians();
+    // (sin δ, cos δ cos H, cos δ sin H) per algorithm.
+    let (sin_d, cd_ch, cd_sh) = match v {
         Variant::No1 | Variant::No2 => {
             let (s1, c1) = t.at_te(&WTE_12).sin_cos();
             let (s2, c2) = (f(2.0) * s1 * c1, (c1 + s1) * (c1 - s1));
@@ -114,55 +144,56 @@ pub(crate) fn position<T: Float>(inp: &Inputs<'_, T>, v: Variant) -> SunPosition
                 delta += f(1.50e-3) * s3 - f(2.58e-3) * c3 + f(6e-5) * s4 - f(1.3e-4) * c4;
             }
             let (sd, cd) = delta.sin_cos();
-            (alpha, sd, cd, t.at_t(&H0_12))
+            let (sh, ch) = (t.at_t(&H0_12) + lon_rad - alpha).sin_cos();
+            (sd, cd * ch, cd * sh)
         }
         Variant::No3 | Variant::No4 | Variant::No5 => {
-            let wte = t.at_te(&WTE_345);
-            let (lambda, eps, dlambda) = match v {
-                Variant::No3 => {
-                    let lambda = t.at_te(&LAMBDA_3)
-                        + f(3.3366e-2) * (wte - f(0.06172)).sin()
-                        + f(3.53e-4) * (f(2.0) * wte - f(0.1163)).sin();
-                    (lambda, f(4.089_567e-1) - f(6.19e-9) * t.te, T::ZERO)
-                }
+            let (s1, c1) = t.at_te(&WTE_345).sin_cos();
+            // The two annual harmonics of algorithms 3–4, by the addition
+            // theorem from sin and cos of ω tₑ.
+            let harmonics = |l: T| {
+                let (s2, c2) = (f(2.0) * s1 * c1, (c1 + s1) * (c1 - s1));
+                l + f(3.3366e-2) * sin_minus(s1, c1, COS_SIN_PHASE_1)
+                    + f(3.53e-4) * sin_minus(s2, c2, COS_SIN_PHASE_2)
+            };
+            let (lambda, eps_var, dlambda) = match v {
+                Variant::No3 => (harmonics(t.at_te(&LAMBDA_3)), f(-6.19e-9) * t.te, T::ZERO),
                 _ => {
                     let l = if v == Variant::No4 {
-                        t.at_te(&L_4)
-                            + f(3.3366e-2) * (wte - f(0.06172)).sin()
-                            + f(3.53e-4) * (f(2.0) * wte - f(0.1163)).sin()
+                        harmonics(t.at_te(&L_4))
                     } else {
-                        l_no5(&t, wte)
+                        l_no5(&t, s1, c1)
                     };
                     // Nutation: ν = 9.282 × 10⁻⁴ tₑ − 0.8.
                     let (s_nu, c_nu) = (f(9.282e-4) * t.te - f(0.8)).sin_cos();
                     let dlambda = f(8.34e-5) * s_nu;
-                    let eps = f(4.089_567e-1) - f(6.19e-9) * t.te + f(4.46e-5) * c_nu;
-                    (l + T::PI + dlambda, eps, dlambda)
+                    let eps_var = f(-6.19e-9) * t.te + f(4.46e-5) * c_nu;
+                    (l + T::PI + dlambda, eps_var, dlambda)
                 }
             };
             let (sl, cl) = lambda.sin_cos();
-            let (se, ce) = eps.sin_cos();
-            let alpha = (sl * ce).atan2(cl);
-            let sin_d = sl * se;
-            let cos_d = (T::ONE - sin_d * sin_d).sqrt();
-            (alpha, sin_d, cos_d, t.at_t(&H0_345) + f(0.92) * dlambda)
+            let (se, ce) = sin_cos_eps(eps_var);
+            // α = atan2(sin λ cos ε, cos λ) and H = H₀ + θ − α: with
+            // cos δ cos α = cos λ and cos δ sin α = sin λ cos ε, the
+            // subtraction theorem gives cos δ cos H and cos δ sin H directly.
+            let (sb, cb) = (t.at_t(&H0_345) + lon_rad + f(0.92) * dlambda).sin_cos();
+            let sl_ce = sl * ce;
+            (sl * se, cb * cl + sb * sl_ce, sb * cl - cb * sl_ce)
         }
     };
-    let h = h_base + inp.site.longitude_deg().to_radians() - alpha;
     horizon(
         inp.site.latitude_deg().to_radians(),
         sin_d,
-        cos_d,
-        h,
+        cd_ch,
+        cd_sh,
         inp.atmosphere.as_ref(),
     )
 }
 
 /// Algorithm 5's heliocentric longitude L (section 3.6).
-fn l_no5<T: Float>(t: &Time<T>, wte: T) -> T {
+fn l_no5<T: Float>(t: &Time<T>, s1: T, c1: T) -> T {
     let f = T::from_f64;
     let te = t.te;
-    let (s1, c1) = wte.sin_cos();
     let (s2, c2) = (f(2.0) * s1 * c1, (c1 + s1) * (c1 - s1));
     let (s3, c3) = (s2 * c1 + c2 * s1, c2 * c1 - s2 * s1);
     // Slow perturbations: [amplitude, frequency (day⁻¹), phase].
@@ -186,22 +217,21 @@ fn l_no5<T: Float>(t: &Time<T>, wte: T) -> T {
     l
 }
 
-/// Section 3.7: topocentric elevation (parallax −4.26 × 10⁻⁵ rad · cos e0),
+/// Section 3.7 from sin δ, cos δ cos H and cos δ sin H: topocentric elevation (parallax −4.26 × 10⁻⁵ rad · cos e0),
 /// azimuth, and Grena's refraction for an elevation above 0 (pressure in
 /// atm, temperature in °C).
 fn horizon<T: Float>(
     lat_rad: T,
     sin_d: T,
-    cos_d: T,
-    h: T,
+    cd_ch: T,
+    cd_sh: T,
     atmosphere: Option<&Atmosphere<T>>,
 ) -> SunPosition<T> {
     let f = T::from_f64;
     let (sp, cp) = lat_rad.sin_cos();
-    let (sh, ch) = h.sin_cos();
-    let up = sp * sin_d + cp * cos_d * ch;
-    let north = cp * sin_d - sp * cos_d * ch;
-    let east = -cos_d * sh;
+    let up = sp * sin_d + cp * cd_ch;
+    let north = cp * sin_d - sp * cd_ch;
+    let east = -cd_sh;
     let horiz = (east * east + north * north).sqrt();
     let ep = up.atan2(horiz) - f(4.26e-5) * horiz;
     let de = match atmosphere {
@@ -217,4 +247,142 @@ fn horizon<T: Float>(
         east.atan2(north).to_degrees(),
         atmosphere.is_some(),
     )
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::algorithm::Algorithm;
+    use crate::site::{Options, Site};
+    use crate::time::UtcTime;
+
+    #[test]
+    fn precomputed_constants() {
+        for (x, (c, s)) in [
+            (0.06172f64, COS_SIN_PHASE_1),
+            (0.1163, COS_SIN_PHASE_2),
+            (EPS0_RAD, COS_SIN_EPS0),
+        ] {
+            assert!((x.cos() - c).abs() < 1e-16 && (x.sin() - s).abs() < 1e-16);
+        }
+        for x in [-2e-4f64, -3e-5, 0.0, 1e-6, 2e-4] {
+            let (s, c) = sin_cos_eps(x);
+            assert!((s - (EPS0_RAD + x).sin()).abs() < 2e-16);
+            assert!((c - (EPS0_RAD + x).cos()).abs() < 2e-16);
+        }
+    }
+
+    /// Algorithms 3–5 written literally as in the paper (t from the
+    /// paper's calendar formula, fmod, atan2 and asin), in f64, as an
+    /// independent check of the split time and the trigonometric identities.
+    #[allow(clippy::too_many_arguments)]
+    fn literal(
+        v: Variant,
+        y: i32,
+        mo: i32,
+        d: i32,
+        ut_h: f64,
+        dt: f64,
+        lat: f64,
+        lon: f64,
+    ) -> (f64, f64) {
+        let (yt, mt) = if mo <= 2 { (y - 1, mo + 12) } else { (y, mo) };
+        let t = (365.25 * f64::from(yt - 2000)).trunc() + (30.6001 * f64::from(mt + 1)).trunc()
+            - (0.01 * f64::from(yt)).trunc()
+            + f64::from(d)
+            + ut_h / 24.0
+            - 21958.0;
+        let te = t + dt / 86400.0;
+        let wte = 0.0172019715 * te;
+        let pi = core::f64::consts::PI;
+        let (lambda, epsi, dlam) = match v {
+            Variant::No3 => (
+                -1.388803
+                    + 1.720279216e-2 * te
+                    + 3.3366e-2 * (wte - 0.06172).sin()
+                    + 3.53e-4 * (2.0 * wte - 0.1163).sin(),
+                4.089567e-1 - 6.19e-9 * te,
+                0.0,
+            ),
+            _ => {
+                let l = if v == Variant::No4 {
+                    1.752790
+                        + 1.720279216e-2 * te
+                        + 3.3366e-2 * (wte - 0.06172).sin()
+                        + 3.53e-4 * (2.0 * wte - 0.1163).sin()
+                } else {
+                    let (s1, c1) = wte.sin_cos();
+                    let (s2, c2) = (2.0 * s1 * c1, (c1 + s1) * (c1 - s1));
+                    let (s3, c3) = (s2 * c1 + c2 * s1, c2 * c1 - s2 * s1);
+                    1.7527901 + 1.7202792159e-2 * te + 3.33024e-2 * s1 - 2.0582e-3 * c1
+                        + 3.512e-4 * s2
+                        - 4.07e-5 * c2
+                        + 5.2e-6 * s3
+                        - 9e-7 * c3
+                        - 8.23e-5 * s1 * (2.92e-5 * te).sin()
+                        + 1.27e-5 * (1.49e-3 * te - 2.337).sin()
+                        + 1.21e-5 * (4.31e-3 * te + 3.065).sin()
+                        + 2.33e-5 * (1.076e-2 * te - 1.533).sin()
+                        + 3.49e-5 * (1.575e-2 * te - 2.358).sin()
+                        + 2.67e-5 * (2.152e-2 * te + 0.074).sin()
+                        + 1.28e-5 * (3.152e-2 * te + 1.547).sin()
+                        + 3.14e-5 * (2.1277e-1 * te - 0.488).sin()
+                };
+                let nu = 9.282e-4 * te - 0.8;
+                let dlam = 8.34e-5 * nu.sin();
+                (
+                    l + pi + dlam,
+                    4.089567e-1 - 6.19e-9 * te + 4.46e-5 * nu.cos(),
+                    dlam,
+                )
+            }
+        };
+        let (sl, cl) = lambda.sin_cos();
+        let (se, ce) = epsi.sin_cos();
+        let ra = (sl * ce).atan2(cl);
+        let dec = (sl * se).asin();
+        let h = 1.7528311 + 6.300388099 * t + lon.to_radians() - ra + 0.92 * dlam;
+        let h = (h + pi).rem_euclid(2.0 * pi) - pi;
+        let (sp, cp) = lat.to_radians().sin_cos();
+        let (sd, cd) = dec.sin_cos();
+        let (sh, ch) = h.sin_cos();
+        let se0 = sp * sd + cp * cd * ch;
+        let ep = se0.asin() - 4.26e-5 * (1.0 - se0 * se0).sqrt();
+        let az = sh.atan2(ch * sp - sd * cp / cd);
+        (
+            90.0 - ep.to_degrees(),
+            (az.to_degrees() + 180.0).rem_euclid(360.0),
+        )
+    }
+
+    #[test]
+    fn matches_the_literal_paper_form() {
+        let cases = [
+            (2012, 1, 1, 11.25, 66.9, 41.9, 12.5),
+            (2031, 4, 5, 6.1189, 70.0, -33.9, 18.4),
+            (2060, 1, 1, 0.0, 90.0, 60.0, -150.0),
+            (2095, 8, 17, 20.27, 95.0, 3.9, -174.8),
+        ];
+        for v in [Variant::No3, Variant::No4, Variant::No5] {
+            for &(y, mo, d, ut_h, dt, lat, lon) in &cases {
+                let ms = (ut_h * 3_600_000.0f64).round() as u32;
+                let base = UtcTime::from_ymd_hms(y, mo as u8, d as u8, 0, 0, 0).unwrap();
+                let time = UtcTime::from_days_ms(base.days_since_2000(), ms).unwrap();
+                let site = Site::new(lat, lon).unwrap();
+                let opts = Options {
+                    delta_t_s: Some(dt),
+                    ..Options::default()
+                };
+                let inp = Inputs::new(Algorithm::Grena2012No3, &time, &site, &opts).unwrap();
+                let p = position(&inp, v);
+                let (z, a) = literal(v, y, mo, d, f64::from(ms) / 3_600_000.0, dt, lat, lon);
+                // The paper's 0.0416667 h⁻¹ and 1.1574e-5 s⁻¹ round 1/24 and
+                // 1/86400; the literal form uses them exactly, so the two
+                // agree to far below the algorithms' accuracy.
+                let want = SunPosition::new(z, a, false);
+                let d = p.angular_distance_deg(&want);
+                assert!(d < 1e-8, "{v:?} {y}: {p:?} vs {want:?}: {d}");
+            }
+        }
+    }
 }
