@@ -266,7 +266,12 @@ impl<D: AxisDrive> AxisController<D> {
                     // Inside the deadband: trust the counted position.
                     self.position_counts
                 } else {
-                    // Re-anchor the count on the measurement and correct.
+                    // Re-anchor the count on the measurement and correct; a
+                    // move still under way is dropped first, or its counts
+                    // would be commanded twice.
+                    if self.drive.pending() != 0 {
+                        self.drive.stop().map_err(AxisError::Drive)?;
+                    }
                     let here = ((fb - self.config.home_deg) * self.counts_per_deg) as i64;
                     self.position_counts = here;
                     ((t - self.config.home_deg) * self.counts_per_deg) as i64

@@ -11,6 +11,7 @@ pub const BANNER: &str = concat!("suntracker ", env!("CARGO_PKG_VERSION"));
 pub mod attitude;
 pub mod axis;
 pub mod config;
+pub mod controller;
 #[cfg(not(target_arch = "avr"))]
 pub mod hw;
 pub mod safety;

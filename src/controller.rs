@@ -1,0 +1,669 @@
+//! The tracker's main loop: scheduler, attitude, axes and safety joined.
+//!
+//! [`Controller::tick`] is called periodically (once a minute in the
+//! simulation, every few seconds on a board) and never blocks:
+//!
+//! 1. time and site health (RTC valid? GPS fix?) → faults;
+//! 2. wind monitor → wind stow;
+//! 3. the seed jimoh-2019 scheduler → set-point, night, home;
+//! 4. mount attitude: fixed (a level mount is the identity) or measured by
+//!    the inclinometer and compass (seed portable-tracker);
+//! 5. homing of axes that need it (boot, a fault, every night);
+//! 6. the mode ([`crate::safety::select_mode`]) and its target pose;
+//! 7. both axes driven, feedback checked for stall, deviation and
+//!    unexpected limit switches.
+
+use crate::attitude::{sun_vector_xyz, MountAttitude, Pose, PoseLimits};
+use crate::axis::{AxisController, AxisDrive, AxisError, FeedbackMode, HomeState};
+use crate::config::Config;
+use crate::safety::{
+    select_mode, AxisId, Fault, FaultManager, Mode, ModeInputs, Recovery, Sensor, WindMonitor,
+};
+use crate::scheduler::{Action, ScheduleError, Scheduler, SetPoint};
+use crate::traits::{AttitudeReading, AttitudeSensor, PositionSource};
+use sun_algos::{Float, UtcTime};
+
+/// Where the mount attitude comes from.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum AttitudeSource {
+    /// Known and fixed (a levelled, aligned mount is
+    /// [`MountAttitude::level`]).
+    Fixed(MountAttitude<f64>),
+    /// Measured every tick by the inclinometer and compass.
+    Sensors,
+}
+
+/// Choices of a tracker build.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct ControllerOptions {
+    /// How the axes use their encoders.
+    pub feedback: FeedbackMode,
+    /// Mount attitude source.
+    pub attitude: AttitudeSource,
+    /// At night, stow flat instead of waiting at the day's start position.
+    pub night_stow: bool,
+    /// Re-home both axes at every end of day (open-loop drives lose steps).
+    pub rehome_nightly: bool,
+    /// Attitude readings averaged per tick.
+    pub sensor_samples: u8,
+    /// Weight of a new tick's attitude in the running average (1 = none);
+    /// a change over 5° (the mount was moved) is taken at once.
+    pub attitude_smoothing: f64,
+    /// Homing approach step, degrees.
+    pub homing_chunk_deg: f32,
+    /// Ticks between probes of an axis stopped by a stall.
+    pub probe_every_ticks: u32,
+}
+
+impl Default for ControllerOptions {
+    fn default() -> Self {
+        ControllerOptions {
+            feedback: FeedbackMode::ClosedLoop,
+            attitude: AttitudeSource::Fixed(MountAttitude::level()),
+            night_stow: false,
+            rehome_nightly: true,
+            sensor_samples: 16,
+            attitude_smoothing: 0.2,
+            homing_chunk_deg: 1.0,
+            probe_every_ticks: 10,
+        }
+    }
+}
+
+/// Inputs of one tick besides the devices the controller owns.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct TickInputs {
+    /// The clock's time.
+    pub now: UtcTime,
+    /// False when the RTC lost power and GPS has not set it yet.
+    pub time_valid: bool,
+    /// True while GPS has a fix.
+    pub gps_fix: bool,
+    /// Anemometer pulses since the last tick.
+    pub wind_pulses: u32,
+    /// Seconds those pulses were counted over.
+    pub wind_interval_s: f32,
+}
+
+/// What one tick did.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct TickReport {
+    /// The mode.
+    pub mode: Mode,
+    /// The pose commanded (after limits), if any.
+    pub target: Option<Pose<f64>>,
+    /// The set-point in force.
+    pub set_point: Option<SetPoint<f64>>,
+    /// An axis was homing.
+    pub homing: bool,
+    /// The scheduler saw a clock jump.
+    pub clock_jump: bool,
+    /// The scheduler reported an error.
+    pub schedule_error: Option<ScheduleError>,
+}
+
+/// The tracker.
+pub struct Controller<P, D, S, const N: usize> {
+    config: Config,
+    options: ControllerOptions,
+    scheduler: Scheduler<f64, P, N>,
+    axes: [AxisController<D>; 2],
+    sensors: Option<S>,
+    faults: FaultManager,
+    wind: WindMonitor,
+    attitude: MountAttitude<f64>,
+    set_point: Option<SetPoint<f64>>,
+    home_set_point: Option<SetPoint<f64>>,
+    night: bool,
+    pose: Pose<f64>,
+    command_stow: bool,
+    manual: Option<Pose<f64>>,
+    ticks: u32,
+    /// Tick before which a failed homing is not retried, per axis.
+    home_retry_tick: [u32; 2],
+    /// Mode of the previous tick.
+    last_mode: Option<Mode>,
+    /// First entry time of the day table the branch was chosen for.
+    branch_day: Option<UtcTime>,
+    /// Starting pose of the branch chosen by look-ahead, used once.
+    branch_anchor: Option<Pose<f64>>,
+    /// The first tracking pose of the day (seed li-2022's home).
+    day_start_pose: Option<Pose<f64>>,
+    /// Smoothed attitude readings (θx, θy, heading sin, heading cos).
+    smoothed: Option<[f64; 4]>,
+}
+
+impl<P, D, S, const N: usize> Controller<P, D, S, N>
+where
+    P: PositionSource<f64>,
+    D: AxisDrive,
+    S: AttitudeSensor<f64>,
+{
+    /// A controller at power-on. `axes` are the C axis then the A axis.
+    pub fn new(
+        config: Config,
+        options: ControllerOptions,
+        source: P,
+        axes: [D; 2],
+        sensors: Option<S>,
+    ) -> Result<Self, ScheduleError> {
+        let scheduler = Scheduler::new(config.schedule, source)?;
+        let [dc, da] = axes;
+        let attitude = match options.attitude {
+            AttitudeSource::Fixed(m) => m,
+            AttitudeSource::Sensors => MountAttitude::level(),
+        };
+        Ok(Controller {
+            config,
+            options,
+            scheduler,
+            axes: [
+                AxisController::new(dc, config.axes[0]),
+                AxisController::new(da, config.axes[1]),
+            ],
+            sensors,
+            faults: FaultManager::new(config.safety),
+            wind: WindMonitor::new(config.wind),
+            attitude,
+            set_point: None,
+            home_set_point: None,
+            night: true,
+            pose: Pose::default(),
+            command_stow: false,
+            manual: None,
+            ticks: 0,
+            home_retry_tick: [0; 2],
+            last_mode: None,
+            branch_day: None,
+            branch_anchor: None,
+            day_start_pose: None,
+            smoothed: None,
+        })
+    }
+
+    /// The faults.
+    pub fn faults(&self) -> &FaultManager {
+        &self.faults
+    }
+    /// The wind monitor.
+    pub fn wind(&self) -> &WindMonitor {
+        &self.wind
+    }
+    /// The axis controllers (C, A).
+    pub fn axes(&self) -> &[AxisController<D>; 2] {
+        &self.axes
+    }
+    /// The axis controllers, mutable (tests and simulation drive the plants).
+    pub fn axes_mut(&mut self) -> &mut [AxisController<D>; 2] {
+        &mut self.axes
+    }
+    /// The attitude sensors.
+    pub fn sensors_mut(&mut self) -> Option<&mut S> {
+        self.sensors.as_mut()
+    }
+    /// The attitude in use.
+    pub fn attitude(&self) -> MountAttitude<f64> {
+        self.attitude
+    }
+    /// The scheduler.
+    pub fn scheduler(&self) -> &Scheduler<f64, P, N> {
+        &self.scheduler
+    }
+    /// Stow on an operator's command (true) or release it.
+    pub fn command_stow(&mut self, on: bool) {
+        self.command_stow = on;
+    }
+    /// Manual override to a pose, or back to automatic with `None`.
+    pub fn manual(&mut self, pose: Option<Pose<f64>>) {
+        self.manual = pose;
+    }
+    /// Operator reset after a safe stop.
+    pub fn reset_faults(&mut self) {
+        self.faults.reset();
+    }
+
+    fn limits(&self) -> PoseLimits<f64> {
+        let c = &self.config.axes;
+        PoseLimits {
+            gamma_min_deg: f64::from(c[0].min_deg),
+            gamma_max_deg: f64::from(c[0].max_deg),
+            alpha_min_deg: f64::from(c[1].min_deg),
+            alpha_max_deg: f64::from(c[1].max_deg),
+        }
+    }
+
+    /// One pass of the main loop.
+    pub fn tick(&mut self, inp: &TickInputs) -> TickReport {
+        self.ticks = self.ticks.wrapping_add(1);
+        let now = inp.now;
+        // 1. Time and site health.
+        if inp.time_valid {
+            self.faults.clear(Fault::RtcInvalid);
+        } else {
+            self.faults.raise(Fault::RtcInvalid, now);
+        }
+        if inp.gps_fix {
+            self.faults.clear(Fault::GpsLost);
+        } else {
+            self.faults.raise(Fault::GpsLost, now);
+        }
+        // 2. Wind.
+        let wind_stow = self
+            .wind
+            .update_pulses(now, inp.wind_pulses, inp.wind_interval_s);
+        // 3. Scheduler (only with a trusted clock).
+        let mut clock_jump = false;
+        let mut schedule_error = None;
+        if !self.faults.time_unknown() {
+            let out = self.scheduler.tick(now);
+            clock_jump = out.clock_jump;
+            match out.action {
+                Action::SetPoints(sp) => {
+                    self.set_point = Some(sp);
+                    self.night = false;
+                }
+                Action::GoHome(sp) => {
+                    self.home_set_point = Some(sp);
+                    self.night = true;
+                    if self.options.rehome_nightly {
+                        for ax in self.axes.iter_mut() {
+                            ax.unhome();
+                        }
+                    }
+                }
+                Action::Sleep { .. } => self.night = true,
+                Action::Error(e) => schedule_error = Some(e),
+                Action::Idle => {}
+            }
+        }
+        // 4. Attitude.
+        if self.options.attitude == AttitudeSource::Sensors {
+            self.update_attitude(now);
+        }
+        // 5. Homing.
+        let mut homing = false;
+        for i in 0..2 {
+            homing |= self.home_axis(i, now);
+        }
+        // 6. Mode and target.
+        let mode = select_mode(&ModeInputs {
+            must_stop: self.faults.must_stop(),
+            wind_stow,
+            command_stow: self.command_stow,
+            manual: self.manual.is_some(),
+            time_unknown: self.faults.time_unknown(),
+            night: self.night,
+        });
+        let stow = Pose {
+            gamma_deg: self.pose.gamma_deg,
+            alpha_deg: 0.0,
+        };
+        // Entering tracking, or a new day table: pick the branch of the
+        // two solutions that serves the rest of the day with least travel.
+        let table_day = self.scheduler.table().get(0).map(|e| e.time);
+        if mode == Mode::Tracking
+            && (self.last_mode != Some(Mode::Tracking) || table_day != self.branch_day)
+        {
+            let new_day = table_day != self.branch_day;
+            self.branch_day = table_day;
+            self.branch_anchor = self.look_ahead(now);
+            if new_day {
+                self.day_start_pose = None;
+            }
+        }
+        self.last_mode = Some(mode);
+        let target = match mode {
+            Mode::SafeStop => None,
+            Mode::WindStow | Mode::CommandStow | Mode::WaitForTime => Some(stow),
+            Mode::Manual => self.manual,
+            Mode::Night => {
+                if self.options.night_stow {
+                    Some(stow)
+                } else {
+                    // The day's starting pose, on the branch the day used.
+                    match self.day_start_pose {
+                        Some(p) => Some(p),
+                        None => self.home_set_point.and_then(|sp| self.pose_for(&sp)),
+                    }
+                }
+            }
+            Mode::Tracking => {
+                let p = self.set_point.and_then(|sp| self.pose_for(&sp));
+                if self.day_start_pose.is_none() {
+                    self.day_start_pose = p;
+                }
+                p
+            }
+        };
+        let target = target.map(|p| self.limits().clamp(&p));
+        // 7. Drive.
+        match target {
+            Some(p) => {
+                self.pose = p;
+                self.drive_axis(0, p.gamma_deg, now);
+                self.drive_axis(1, p.alpha_deg, now);
+            }
+            None => {
+                for ax in self.axes.iter_mut() {
+                    // A stop that fails leaves nothing better to do.
+                    let _ = ax.drive_mut().stop();
+                }
+            }
+        }
+        TickReport {
+            mode,
+            target,
+            set_point: self.set_point,
+            homing,
+            clock_jump,
+            schedule_error,
+        }
+    }
+
+    /// The pose for a set-point with the current attitude (seed
+    /// portable-tracker eq. 13–21), least motion from the current pose.
+    fn pose_for(&mut self, sp: &SetPoint<f64>) -> Option<Pose<f64>> {
+        let sun = sun_vector_xyz(sp.elevation_deg(), sp.azimuth_deg);
+        let current = match self.branch_anchor.take() {
+            Some(anchor) => anchor,
+            None => Pose {
+                gamma_deg: f64::from(self.axes[0].counted_deg()),
+                alpha_deg: f64::from(self.axes[1].counted_deg()),
+            },
+        };
+        self.attitude
+            .choose(&sun, &current, &self.limits())
+            .ok()
+            .map(|c| c.pose())
+    }
+
+    /// Follows the rest of the day table from each candidate starting pose
+    /// (both solutions of the first entry, and their ±360° turns), each
+    /// step taking the least-motion solution, and returns the start whose
+    /// day needs the least travel: a C axis that would run into its limit
+    /// at noon (and swing half a turn there) is avoided at sunrise.
+    fn look_ahead(&self, now: UtcTime) -> Option<Pose<f64>> {
+        let limits = self.limits();
+        let table = self.scheduler.table();
+        let first = (0..table.len())
+            .filter_map(|i| table.get(i))
+            .find(|e| e.time.unix_seconds() + 60 >= now.unix_seconds())?;
+        let sun0 = sun_vector_xyz(first.set_point.elevation_deg(), first.set_point.azimuth_deg);
+        let sols = self.attitude.solutions(&sun0, self.pose.gamma_deg).ok()?;
+        let mut best: Option<(f64, Pose<f64>)> = None;
+        for sol in sols {
+            for turn in [-360.0, 0.0, 360.0] {
+                let start = Pose {
+                    gamma_deg: sol.gamma_deg + turn,
+                    alpha_deg: sol.alpha_deg,
+                };
+                if !limits.contains(&start) {
+                    continue;
+                }
+                let mut prev = start;
+                let mut travel = 0.0;
+                for e in (0..table.len()).filter_map(|i| table.get(i)) {
+                    if e.time < first.time {
+                        continue;
+                    }
+                    let s = sun_vector_xyz(e.set_point.elevation_deg(), e.set_point.azimuth_deg);
+                    let Ok(c) = self.attitude.choose(&s, &prev, &limits) else {
+                        continue;
+                    };
+                    let p = c.pose();
+                    travel +=
+                        (p.gamma_deg - prev.gamma_deg).abs() + (p.alpha_deg - prev.alpha_deg).abs();
+                    prev = p;
+                }
+                if best.is_none_or(|(t, _)| travel < t) {
+                    best = Some((travel, start));
+                }
+            }
+        }
+        best.map(|(_, p)| p)
+    }
+
+    fn update_attitude(&mut self, now: UtcTime) {
+        let Some(sensors) = self.sensors.as_mut() else {
+            return;
+        };
+        let n = self.options.sensor_samples.max(1);
+        let (mut sx, mut sy, mut hs, mut hc) = (0.0, 0.0, 0.0, 0.0);
+        let mut ok = 0u32;
+        let mut failed = false;
+        for _ in 0..n {
+            match sensors.read() {
+                Ok(AttitudeReading {
+                    theta_x_deg,
+                    theta_y_deg,
+                    heading_deg,
+                }) => {
+                    sx += theta_x_deg;
+                    sy += theta_y_deg;
+                    // Headings averaged as unit vectors (359° and 1° → 0°).
+                    let (s, c) = heading_deg.to_radians().sin_cos();
+                    hs += s;
+                    hc += c;
+                    ok += 1;
+                }
+                Err(_) => failed = true,
+            }
+        }
+        let fault = Fault::I2cError(Sensor::Compass);
+        if failed || ok == 0 {
+            // Retry next tick; after the retries, go on with the last
+            // attitude (open loop on attitude).
+            self.faults.raise(fault, now);
+            return;
+        }
+        let k = f64::from(ok);
+        let meas = [sx / k, sy / k, hs / k, hc / k];
+        let w = self.options.attitude_smoothing.clamp(0.0, 1.0);
+        let avg = match self.smoothed {
+            Some(old)
+                if (meas[0] - old[0]).abs() < 5.0
+                    && (meas[1] - old[1]).abs() < 5.0
+                    && (meas[2] - old[2]).abs() < 0.09
+                    && (meas[3] - old[3]).abs() < 0.09 =>
+            {
+                [
+                    old[0] + w * (meas[0] - old[0]),
+                    old[1] + w * (meas[1] - old[1]),
+                    old[2] + w * (meas[2] - old[2]),
+                    old[3] + w * (meas[3] - old[3]),
+                ]
+            }
+            _ => meas,
+        };
+        self.smoothed = Some(avg);
+        let [sx, sy, hs, hc] = avg;
+        let cal = &self.config.calibration;
+        let heading = Float::atan2(hs, hc).to_degrees()
+            + f64::from(cal.declination_deg)
+            + f64::from(cal.heading_offset_deg);
+        match MountAttitude::from_sensors(
+            sx - f64::from(cal.tilt_x_offset_deg),
+            sy - f64::from(cal.tilt_y_offset_deg),
+            Float::rem_euclid(heading, 360.0),
+        ) {
+            Ok(m) => {
+                self.attitude = m;
+                self.faults.clear(fault);
+            }
+            Err(_) => {
+                self.faults.raise(fault, now);
+            }
+        }
+    }
+
+    fn axis_id(i: usize) -> AxisId {
+        if i == 0 {
+            AxisId::C
+        } else {
+            AxisId::A
+        }
+    }
+
+    /// Runs homing steps of axis `i` while its drive has time this tick.
+    /// Returns true while homing.
+    fn home_axis(&mut self, i: usize, now: UtcTime) -> bool {
+        let id = Self::axis_id(i);
+        let chunk = self.options.homing_chunk_deg;
+        let ticks = self.ticks;
+        let retry_after = self.options.probe_every_ticks.max(1);
+        let wait_until = self.home_retry_tick.get(i).copied().unwrap_or(0);
+        let Some(ax) = self.axes.get_mut(i) else {
+            return false;
+        };
+        if ax.home_state() == HomeState::Done {
+            return false;
+        }
+        if ticks.wrapping_sub(wait_until) > u32::MAX / 2 {
+            return true; // waiting before another attempt
+        }
+        // Bounded: a whole travel at the fine step is ≤ 50 × 370 chunks.
+        for _ in 0..20_000 {
+            match ax.home_step(chunk) {
+                Ok(HomeState::Done) => {
+                    // A reference regained ends the faults that asked for it.
+                    self.faults.clear(Fault::LimitSwitchHit(id));
+                    self.faults.clear(Fault::SetPointDeviation(id));
+                    return false;
+                }
+                Ok(_) => {
+                    if ax.drive().pending() != 0 {
+                        return true; // out of motion time this tick
+                    }
+                }
+                Err(AxisError::HomeNotFound) => {
+                    // Stuck switch or blocked axis: the fault that asked
+                    // for homing stays active; try again a little later.
+                    if let Some(t) = self.home_retry_tick.get_mut(i) {
+                        *t = ticks.wrapping_add(retry_after);
+                    }
+                    if !self.faults.is_active(Fault::LimitSwitchHit(id)) {
+                        self.faults.raise(Fault::LimitSwitchHit(id), now);
+                    }
+                    return true;
+                }
+                Err(_) => {
+                    self.faults.raise(Fault::I2cError(Sensor::Encoder(id)), now);
+                    return true;
+                }
+            }
+        }
+        true
+    }
+
+    fn drive_axis(&mut self, i: usize, target_deg: f64, now: UtcTime) {
+        let id = Self::axis_id(i);
+        let max_dev = f64::from(self.config.safety.max_deviation_deg);
+        let enc_fault = Fault::SensorTimeout(Sensor::Encoder(id));
+        let stall = Fault::MotorStalled(id);
+        let probe_every = self.options.probe_every_ticks.max(1);
+        let ticks = self.ticks;
+        let disabled = self.faults.axis_disabled(id);
+        let enc_degraded = self.faults.is_active(enc_fault)
+            && self
+                .faults
+                .active()
+                .any(|a| a.fault == enc_fault && a.recovery == Recovery::DegradeOpenLoop);
+        let Some(ax) = self.axes.get_mut(i) else {
+            return;
+        };
+        if ax.home_state() != HomeState::Done {
+            return;
+        }
+        // A stalled axis is left alone, but probed now and then.
+        if disabled && !ticks.is_multiple_of(probe_every) {
+            return;
+        }
+        // Unexpected limit switch: closed far from the home angle.
+        let counted = f64::from(ax.counted_deg());
+        let home = f64::from(ax.config().home_deg);
+        match ax.drive_mut().at_limit() {
+            Ok(true) if counted > home + 2.0 => {
+                let _ = ax.drive_mut().stop();
+                if let Recovery::Rehome(_) = self.faults.raise(Fault::LimitSwitchHit(id), now) {
+                    ax.unhome();
+                }
+                return;
+            }
+            _ => {}
+        }
+        // The encoder is read whenever one is configured, so that its
+        // return is noticed; while degraded its value is not used.
+        let has_feedback = self.options.feedback != FeedbackMode::OpenLoop;
+        let mode = if has_feedback && !enc_degraded {
+            self.options.feedback
+        } else {
+            FeedbackMode::OpenLoop
+        };
+        let read = |ax: &mut AxisController<D>, faults: &mut FaultManager| -> Option<f32> {
+            if !has_feedback {
+                return None;
+            }
+            match ax.drive_mut().encoder_deg() {
+                Ok(v) => {
+                    faults.clear(enc_fault);
+                    if enc_degraded {
+                        None
+                    } else {
+                        v
+                    }
+                }
+                Err(_) => {
+                    faults.raise(enc_fault, now);
+                    None
+                }
+            }
+        };
+        // Closed loop: a few corrections per tick, each checked for motion.
+        let passes = if mode == FeedbackMode::ClosedLoop {
+            3
+        } else {
+            1
+        };
+        let target = target_deg as f32;
+        let mut last_dev = None;
+        for _ in 0..passes {
+            let before = read(ax, &mut self.faults);
+            let report = match ax.update(target, mode, before) {
+                Ok(r) => r,
+                Err(AxisError::NotHomed) => return,
+                Err(_) => {
+                    self.faults.raise(Fault::I2cError(Sensor::Encoder(id)), now);
+                    return;
+                }
+            };
+            last_dev = report.deviation_deg;
+            if report.commanded_counts == 0 {
+                break;
+            }
+            let cmd_deg =
+                f64::from(report.commanded_counts) / f64::from(ax.config().counts_per_deg());
+            let after = read(ax, &mut self.faults);
+            if let (Some(b), Some(a)) = (before, after) {
+                let moved = f64::from(a - b).abs();
+                // Only moves long enough to be seen, and finished this tick.
+                if cmd_deg.abs() > 0.5 && ax.drive().pending() == 0 {
+                    if moved < 0.1 * cmd_deg.abs() {
+                        self.faults.raise(stall, now);
+                        return;
+                    }
+                    self.faults.clear(stall);
+                }
+                last_dev = Some(a - report.target_deg);
+            }
+        }
+        if let Some(dev) = last_dev {
+            if f64::from(dev).abs() > max_dev && ax.drive().pending() == 0 {
+                if let Recovery::Rehome(_) = self.faults.raise(Fault::SetPointDeviation(id), now) {
+                    ax.unhome();
+                }
+            } else if f64::from(dev).abs() <= max_dev {
+                self.faults.clear(Fault::SetPointDeviation(id));
+            }
+        }
+    }
+}
