@@ -111,3 +111,81 @@ pub(crate) fn position<T: Float>(inp: &Inputs<'_, T>) -> SunPosition<T> {
         inp.atmosphere.is_some(),
     )
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::algorithm::Algorithm;
+    use crate::site::{Options, Site};
+    use crate::time::UtcTime;
+
+    /// Grena 2008 written literally as in the paper (JDₜ from its calendar
+    /// formula, the full t in one double, asin for the elevation), as an
+    /// independent check of the split time.
+    fn literal(ymd: (i32, i32, i32), ut_h: f64, dt: f64, lat: f64, lon: f64) -> (f64, f64) {
+        let (y, mo, d) = ymd;
+        let (yt, mt) = if mo <= 2 { (y - 1, mo + 12) } else { (y, mo) };
+        let jd_t = (365.25 * f64::from(yt - 2000)).trunc()
+            + (30.6001 * f64::from(mt + 1)).trunc()
+            + f64::from(d)
+            + ut_h / 24.0
+            - 1158.5;
+        let t = jd_t + dt / 86400.0;
+        let ang = 1.72019e-2 * t - 0.0563;
+        let mut l =
+            1.740940 + 1.7202768683e-2 * t + 3.34118e-2 * ang.sin() + 3.488e-4 * (2.0 * ang).sin();
+        l += 3.13e-5 * (2.127730e-1 * t - 0.585).sin();
+        l += 1.26e-5 * (4.243e-3 * t + 1.46).sin()
+            + 2.35e-5 * (1.0727e-2 * t + 0.72).sin()
+            + 2.76e-5 * (1.5799e-2 * t + 2.35).sin()
+            + 2.75e-5 * (2.1551e-2 * t - 1.98).sin()
+            + 1.26e-5 * (3.1490e-2 * t - 0.80).sin();
+        let t2 = t / 1000.0;
+        l += (((-2.30796e-7 * t2 + 3.7976e-6) * t2 - 2.0458e-5) * t2 + 3.976e-5) * t2 * t2;
+        let dpsi = 8.33e-5 * (9.252e-4 * t - 1.173).sin();
+        let eps = -6.21e-9 * t + 0.409086 + 4.46e-5 * (9.252e-4 * t + 0.397).sin();
+        let lambda = l + core::f64::consts::PI + dpsi - 9.932e-5;
+        let sl = lambda.sin();
+        let ra = (sl * eps.cos()).atan2(lambda.cos());
+        let dec = (sl * eps.sin()).asin();
+        let h = 6.30038809903 * jd_t + 4.8824623 + dpsi * 0.9174 + lon.to_radians() - ra;
+        let (sp, cp) = lat.to_radians().sin_cos();
+        let (sh, ch) = h.sin_cos();
+        let da = -4.26e-5 * cp * sh;
+        let dec_t = dec - 4.26e-5 * (sp - dec * cp);
+        let (sdt, cdt) = dec_t.sin_cos();
+        let (cht, sht) = (ch + da * sh, sh - da * ch);
+        let e0 = (sp * sdt + cp * cdt * cht).asin();
+        let az = sht.atan2(cht * sp - sdt / cdt * cp);
+        (
+            90.0 - e0.to_degrees(),
+            (az.to_degrees() + 180.0).rem_euclid(360.0),
+        )
+    }
+
+    #[test]
+    fn matches_the_literal_paper_form() {
+        let cases = [
+            ((2003, 1, 1), 0.0, 64.3, 45.0, 7.0),
+            ((2008, 2, 29), 13.5125, 65.5, -23.5, 150.25),
+            ((2015, 7, 4), 5.75, 67.6, 60.1, -110.0),
+            ((2022, 12, 31), 23.99, 69.3, 10.0, 179.9),
+        ];
+        for &((y, mo, d), ut_h, dt, lat, lon) in &cases {
+            let ms = (ut_h * 3_600_000.0f64).round() as u32;
+            let base = UtcTime::from_ymd_hms(y, mo as u8, d as u8, 0, 0, 0).unwrap();
+            let time = UtcTime::from_days_ms(base.days_since_2000(), ms).unwrap();
+            let site = Site::new(lat, lon).unwrap();
+            let opts = Options {
+                delta_t_s: Some(dt),
+                ..Options::default()
+            };
+            let inp = Inputs::new(Algorithm::Grena2008, &time, &site, &opts).unwrap();
+            let p = position(&inp);
+            let (z, a) = literal((y, mo, d), f64::from(ms) / 3_600_000.0, dt, lat, lon);
+            let want = SunPosition::new(z, a, false);
+            let dist = p.angular_distance_deg(&want);
+            assert!(dist < 1e-8, "{y}-{mo}-{d}: {p:?} vs {want:?}: {dist}");
+        }
+    }
+}
