@@ -139,3 +139,5 @@ impl embedded_io::ReadReady for MemSerial {
         Ok(!self.rx.borrow().is_empty())
     }
 }
+
+pub mod motor;
