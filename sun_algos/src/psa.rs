@@ -56,11 +56,46 @@ pub enum Variant {
     /// (eq. 17, `I1…I3`) with the pressure in atmospheres and the argument
     /// being the elevation in radians.
     ///
-    /// Measured on sun_2020_2050 (geometric, sun above the horizon): max
-    /// 0.0094°, mean 0.0036° in f64 and f32 — above the 0.008° that issue 3
-    /// asks for. The excess is the algorithm's own: its fixed rates and its
-    /// `F3·cos g` obliquity term drift against the ephemeris toward 2050
-    /// (taking PSA's `cos Ω` instead does not help: 0.0094°).
+    /// Where Table 1 comes from: `C1 = 280.459°`, `D1 = 357.528°`,
+    /// `E1 = 1.915°`, `E2 = 0.020°` (in radians) are the low-precision solar
+    /// coordinates of the Astronomical Almanac / USNO (as in Michalsky
+    /// 1988); `C2`, `D2`, `F1`–`F3` and `G2` are PSA 2001's; `G3 =
+    /// 1.00273790935` is the hour factor of the IAU 1982 GMST
+    /// `6.697374558 + 0.06570982441908·D0 + 1.00273790935·H` (`D0` at 0 h
+    /// UT). PSA's `Ω` terms (nutation, aberration) are dropped.
+    ///
+    /// Measured (geometric, sun above the horizon): on sun_2020_2050
+    /// (`tests/reference.rs`, 986 rows) max 0.00943° f64, 0.00941° f32,
+    /// mean 0.0036°; on 99 962 random instants and sites in 2020–2050
+    /// checked against this crate's SPA (itself 0.00017° from that file)
+    /// max 0.0100° f64 and f32. Issue 3 asks for 0.008°. No correction that
+    /// only repairs a misprint reaches it (measured, nothing fitted):
+    /// - eq. 10 read as the complete IAU 1982 formula (`G1 = 6.697374558`,
+    ///   `G2 = 24·(G3 − 1)`, `n` at 0 h UT): 0.0087° (file and dense);
+    ///   with the printed `G2`: 0.0088° (file), 0.0093° (dense);
+    /// - `cos Ω` (2001 node) for eq. 6's `cos g`, as in PSA 2001 (the seed
+    ///   prints `g` for `Ω` in its 2001 column too): max unchanged (0.0094°
+    ///   file, 0.0100° dense), mean 0.0036° → 0.0035°.
+    ///
+    /// What limits it (diagnostic: one physical term of Meeus, Astronomical
+    /// Algorithms ch. 22/25, added to this model; dense maxima):
+    /// - `E1 = 1.915°` is the equation of centre of epoch 2000, while `2e`
+    ///   falls by 0.0048° per century: a longitude error
+    ///   `(0.0004° + 0.0048°·T)·sin g` (T in centuries from 2000), 0.0014° in
+    ///   2020, 0.0021° in 2035, 0.0028° in 2050 — the only term that grows
+    ///   toward 2050. With `2e` declining: 0.0100° → 0.0093°, and the
+    ///   2045–2049 block 0.0100° → 0.0089°.
+    /// - no nutation (`Δψ` 17.2″, `Δε` 9.2″; `F3·cos g` is no substitute):
+    ///   up to about 0.003°. With Meeus's nutation: 0.0100° → 0.0094°; with
+    ///   both: 0.0088° (0.0077° with the IAU 1982 reading of eq. 10).
+    /// - the rest is the floor every 15-coefficient PSA shares (Earth–Moon
+    ///   barycentre offset 6.4″·sin D, planetary terms): PSA+ measures
+    ///   0.0079° on the same data.
+    ///
+    /// The mean-longitude rate is not a cause: `C2` equals Meeus's
+    /// 36 000.76983° per century to 5e−13 rad/day. Dense maximum by 5-year
+    /// block: 2020 0.0093°, 2025 0.0093°, 2030 0.0080°, 2035 0.0087°, 2040
+    /// 0.0086°, 2045 0.0100°, 2050 0.0095°.
     Modified,
     /// Seed li-2022's Table 1 and eqs. 10, 15–17 exactly as printed:
     /// `E1 = 0.33423055`, `gmst = 6.6208844 + G2·n + G3·h` with `n` at the
