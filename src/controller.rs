@@ -19,7 +19,7 @@ use crate::config::Config;
 use crate::safety::{
     select_mode, AxisId, Fault, FaultManager, Mode, ModeInputs, Recovery, Sensor, WindMonitor,
 };
-use crate::scheduler::{Action, ScheduleError, Scheduler, SetPoint};
+use crate::scheduler::{Action, Phase, ScheduleError, Scheduler, SetPoint};
 use crate::traits::{AttitudeReading, AttitudeSensor, PositionSource};
 use sun_algos::{Float, UtcTime};
 
@@ -131,6 +131,8 @@ pub struct Controller<P, D, S, const N: usize> {
     day_start_pose: Option<Pose<f64>>,
     /// Smoothed attitude readings (θx, θy, heading sin, heading cos).
     smoothed: Option<[f64; 4]>,
+    /// Per axis: encoder angle before the last command, and its size.
+    last_drive: [Option<(f32, f64)>; 2],
 }
 
 impl<P, D, S, const N: usize> Controller<P, D, S, N>
@@ -178,6 +180,7 @@ where
             branch_anchor: None,
             day_start_pose: None,
             smoothed: None,
+            last_drive: [None; 2],
         })
     }
 
@@ -260,7 +263,9 @@ where
             match out.action {
                 Action::SetPoints(sp) => {
                     self.set_point = Some(sp);
-                    self.night = false;
+                    // The power-on zero set-point (seed step 1) is not
+                    // daylight yet: only table set-points are.
+                    self.night = !matches!(self.scheduler.phase(), Phase::Tracking { .. });
                 }
                 Action::GoHome(sp) => {
                     self.home_set_point = Some(sp);
@@ -626,8 +631,26 @@ where
         };
         let target = target_deg as f32;
         let mut last_dev = None;
-        for _ in 0..passes {
-            let before = read(ax, &mut self.faults);
+        // Stall: the previous command was long enough to be seen, but the
+        // encoder has not moved since (one tick later, whatever the speed).
+        let first = read(ax, &mut self.faults);
+        let previous = self.last_drive.get_mut(i).and_then(|d| d.take());
+        if let (Some(now_deg), Some((was_deg, cmd_deg))) = (first, previous) {
+            if cmd_deg.abs() >= 0.5 {
+                if f64::from(now_deg - was_deg).abs() < 0.05 {
+                    // Retry is simply commanding again below.
+                    self.faults.raise(stall, now);
+                } else {
+                    self.faults.clear(stall);
+                }
+            }
+        }
+        for pass in 0..passes {
+            let before = if pass == 0 {
+                first
+            } else {
+                read(ax, &mut self.faults)
+            };
             let report = match ax.update(target, mode, before) {
                 Ok(r) => r,
                 Err(AxisError::NotHomed) => return,
@@ -640,19 +663,14 @@ where
             if report.commanded_counts == 0 {
                 break;
             }
-            let cmd_deg =
-                f64::from(report.commanded_counts) / f64::from(ax.config().counts_per_deg());
-            let after = read(ax, &mut self.faults);
-            if let (Some(b), Some(a)) = (before, after) {
-                let moved = f64::from(a - b).abs();
-                // Only moves long enough to be seen, and finished this tick.
-                if cmd_deg.abs() > 0.5 && ax.drive().pending() == 0 {
-                    if moved < 0.1 * cmd_deg.abs() {
-                        self.faults.raise(stall, now);
-                        return;
-                    }
-                    self.faults.clear(stall);
+            if pass == 0 {
+                let cmd_deg =
+                    f64::from(report.commanded_counts) / f64::from(ax.config().counts_per_deg());
+                if let (Some(b), Some(slot)) = (before, self.last_drive.get_mut(i)) {
+                    *slot = Some((b, cmd_deg));
                 }
+            }
+            if let Some(a) = read(ax, &mut self.faults) {
                 last_dev = Some(a - report.target_deg);
             }
         }

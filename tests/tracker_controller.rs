@@ -1,0 +1,264 @@
+//! The whole controller over the simulated plants and sensors: a full day,
+//! faults with their recoveries, stow, manual override.
+
+use sun_algos::{Algorithm, Options, Site, UtcTime};
+use suntracker::attitude::{angle_between_deg, sun_vector_xyz, MountAttitude, Pose};
+use suntracker::axis::FeedbackMode;
+use suntracker::config::Config;
+use suntracker::controller::{AttitudeSource, Controller, ControllerOptions, TickInputs};
+use suntracker::safety::{AxisId, Fault, Mode, Sensor};
+use suntracker::sim::plant::MotorPlant;
+use suntracker::sim::sensors::{MountSensors, SensorAccuracy};
+use suntracker::traits::{AlgorithmSource, PositionSource};
+
+type Ctl = Controller<AlgorithmSource<f64>, MotorPlant, MountSensors, 1440>;
+
+fn source() -> AlgorithmSource<f64> {
+    AlgorithmSource {
+        algorithm: Algorithm::Psa2020,
+        site: Site::new(11.9683, 8.4261).unwrap(),
+        options: Options::default(),
+    }
+}
+
+fn config() -> Config {
+    let mut c = Config::default();
+    c.schedule.table_step_s = 60;
+    c.schedule.hold_s = 30;
+    for a in c.axes.iter_mut() {
+        a.deadband_deg = 0.02;
+    }
+    c
+}
+
+fn plants(encoder: bool) -> [MotorPlant; 2] {
+    let enc = encoder.then_some(1u32 << 16);
+    [
+        MotorPlant::stepper(1.8, 16, 100.0, 0.2, 2.0, enc, -180.0, 180.0, 10.0),
+        MotorPlant::stepper(1.8, 16, 100.0, 0.2, 2.0, enc, -90.0, 90.0, 20.0),
+    ]
+}
+
+fn controller(encoder: bool, attitude: AttitudeSource, truth: MountAttitude<f64>) -> Ctl {
+    let opts = ControllerOptions {
+        feedback: if encoder {
+            FeedbackMode::ClosedLoop
+        } else {
+            FeedbackMode::OpenLoop
+        },
+        attitude,
+        ..ControllerOptions::default()
+    };
+    let sensors = MountSensors::new(truth, SensorAccuracy::exact(), 3);
+    Controller::new(config(), opts, source(), plants(encoder), Some(sensors)).unwrap()
+}
+
+fn inputs(now: UtcTime) -> TickInputs {
+    TickInputs {
+        now,
+        time_valid: true,
+        gps_fix: true,
+        wind_pulses: 300, // 5 Hz: calm
+        wind_interval_s: 60.0,
+    }
+}
+
+fn true_error(ctl: &Ctl, truth: &MountAttitude<f64>, now: &UtcTime) -> Option<f64> {
+    let sun = source().position(now).ok()?;
+    if !sun.is_above_horizon() {
+        return None;
+    }
+    let s = sun_vector_xyz(sun.elevation_deg(), sun.azimuth_deg);
+    let ax = ctl.axes();
+    let pose = Pose {
+        gamma_deg: ax[0].drive().output_deg(),
+        alpha_deg: ax[1].drive().output_deg(),
+    };
+    Some(angle_between_deg(&truth.normal_xyz(&pose), &s))
+}
+
+fn step(ctl: &mut Ctl, inp: &TickInputs) -> suntracker::controller::TickReport {
+    for ax in ctl.axes_mut().iter_mut() {
+        ax.drive_mut().begin_tick(60.0);
+    }
+    ctl.tick(inp)
+}
+
+fn t(s: &str) -> UtcTime {
+    s.parse().unwrap()
+}
+
+#[test]
+fn full_day_on_a_level_mount_with_encoders() {
+    let truth = MountAttitude::level();
+    let mut ctl = controller(true, AttitudeSource::Fixed(truth), truth);
+    let start = t("2026-03-20T00:00:00Z");
+    let mut errs = Vec::new();
+    let mut modes = Vec::new();
+    for m in 0..1440 {
+        let now = start.add_seconds(m * 60).unwrap();
+        let r = step(&mut ctl, &inputs(now));
+        modes.push(r.mode);
+        if r.mode == Mode::Tracking {
+            if let Some(e) = true_error(&ctl, &truth, &now) {
+                errs.push(e);
+            }
+        }
+    }
+    // Sunrise to sunset near the equinox at 12° N: about 12 h of tracking.
+    assert!(errs.len() > 700 && errs.len() < 740, "{}", errs.len());
+    errs.sort_by(f64::total_cmp);
+    let p95 = errs[errs.len() * 95 / 100];
+    assert!(p95 < 0.05, "p95 {p95}");
+    assert_eq!(modes[0], Mode::Night);
+    assert_eq!(*modes.last().unwrap(), Mode::Night);
+    assert_eq!(ctl.faults().raised, 0);
+}
+
+#[test]
+fn portable_mount_from_sensors_points_at_the_sun() {
+    let truth = MountAttitude {
+        alpha0_deg: 10.0,
+        beta0_deg: -6.0,
+        gamma0_deg: 40.0,
+    };
+    let mut ctl = controller(false, AttitudeSource::Sensors, truth);
+    let now0 = t("2026-06-01T07:00:00Z");
+    let mut worst: f64 = 0.0;
+    for m in 0..120 {
+        let now = now0.add_seconds(m * 60).unwrap();
+        let r = step(&mut ctl, &inputs(now));
+        if m > 10 {
+            assert_eq!(r.mode, Mode::Tracking);
+            worst = worst.max(true_error(&ctl, &truth, &now).unwrap());
+        }
+    }
+    // Exact sensors, counted steps with compensated backlash.
+    assert!(worst < 0.05, "{worst}");
+    let est = ctl.attitude();
+    assert!((est.alpha0_deg - 10.0).abs() < 1e-6 && (est.gamma0_deg - 40.0).abs() < 1e-6);
+}
+
+#[test]
+fn wind_and_command_stow_and_manual_override() {
+    let truth = MountAttitude::level();
+    let mut ctl = controller(true, AttitudeSource::Fixed(truth), truth);
+    let now0 = t("2026-03-20T09:00:00Z");
+    let at = |m: i64| now0.add_seconds(m * 60).unwrap();
+    // Power-on: set-points zero (seed jimoh-2019 step 1), not yet tracking.
+    assert_eq!(step(&mut ctl, &inputs(at(-1))).mode, Mode::Night);
+    for m in 0..5 {
+        assert_eq!(step(&mut ctl, &inputs(at(m))).mode, Mode::Tracking);
+    }
+    // 40 Hz for a minute: beyond the 3-second hold → stow flat (α = 0).
+    let mut windy = inputs(at(5));
+    windy.wind_pulses = 2400;
+    assert_eq!(step(&mut ctl, &windy).mode, Mode::Tracking);
+    windy.now = at(6);
+    let r = step(&mut ctl, &windy);
+    assert_eq!(r.mode, Mode::WindStow);
+    assert!(ctl.axes()[1].drive().output_deg().abs() < 0.05);
+    // Calm again, but stowed for the 10-minute release time.
+    for m in 7..16 {
+        assert_eq!(step(&mut ctl, &inputs(at(m))).mode, Mode::WindStow);
+    }
+    let mut back = None;
+    for m in 16..20 {
+        if step(&mut ctl, &inputs(at(m))).mode == Mode::Tracking {
+            back = Some(m);
+            break;
+        }
+    }
+    assert_eq!(back, Some(17));
+    // Command stow, then manual override.
+    ctl.command_stow(true);
+    assert_eq!(step(&mut ctl, &inputs(at(30))).mode, Mode::CommandStow);
+    ctl.command_stow(false);
+    let manual = Pose {
+        gamma_deg: 30.0,
+        alpha_deg: 45.0,
+    };
+    ctl.manual(Some(manual));
+    assert_eq!(step(&mut ctl, &inputs(at(31))).mode, Mode::Manual);
+    assert!((ctl.axes()[0].drive().output_deg() - 30.0).abs() < 0.05);
+    assert!((ctl.axes()[1].drive().output_deg() - 45.0).abs() < 0.05);
+    ctl.manual(None);
+    assert_eq!(step(&mut ctl, &inputs(at(32))).mode, Mode::Tracking);
+}
+
+#[test]
+fn faults_are_raised_handled_and_cleared() {
+    let truth = MountAttitude {
+        alpha0_deg: 5.0,
+        beta0_deg: 3.0,
+        gamma0_deg: -20.0,
+    };
+    let mut ctl = controller(true, AttitudeSource::Sensors, truth);
+    let now0 = t("2026-03-20T08:00:00Z");
+    let at = |m: i64| now0.add_seconds(m * 60).unwrap();
+    let m = std::cell::Cell::new(0i64);
+    let run = |ctl: &mut Ctl, n: i64, inp: &dyn Fn(UtcTime) -> TickInputs| {
+        let mut last = None;
+        for _ in 0..n {
+            last = Some(step(ctl, &inp(at(m.get()))));
+            m.set(m.get() + 1);
+        }
+        last.unwrap()
+    };
+    run(&mut ctl, 5, &inputs);
+
+    // Compass bus error: retried, then open loop on the last attitude.
+    ctl.sensors_mut().unwrap().failing = true;
+    let r = run(&mut ctl, 6, &inputs);
+    assert_eq!(r.mode, Mode::Tracking);
+    assert!(ctl.faults().is_active(Fault::I2cError(Sensor::Compass)));
+    assert!(ctl.faults().open_loop());
+    ctl.sensors_mut().unwrap().failing = false;
+    run(&mut ctl, 1, &inputs);
+    assert!(!ctl.faults().is_active(Fault::I2cError(Sensor::Compass)));
+
+    // Motor stall on the C axis: driven, no encoder motion.
+    ctl.axes_mut()[0].drive_mut().stalled = true;
+    // The sun moves ~0.25°/min; ask for a bigger move with a manual pose.
+    ctl.manual(Some(Pose {
+        gamma_deg: -60.0,
+        alpha_deg: 30.0,
+    }));
+    run(&mut ctl, 6, &inputs);
+    assert!(ctl.faults().is_active(Fault::MotorStalled(AxisId::C)));
+    assert!(ctl.faults().axis_disabled(AxisId::C));
+    ctl.axes_mut()[0].drive_mut().stalled = false;
+    // Probed every 10 ticks: motion after a probe clears the fault.
+    run(&mut ctl, 25, &inputs);
+    assert!(!ctl.faults().is_active(Fault::MotorStalled(AxisId::C)));
+    ctl.manual(None);
+
+    // A limit switch that closes far from home: re-homed, then tracking.
+    ctl.axes_mut()[1].drive_mut().switch_stuck = true;
+    run(&mut ctl, 1, &inputs);
+    assert!(ctl.faults().is_active(Fault::LimitSwitchHit(AxisId::A)));
+    ctl.axes_mut()[1].drive_mut().switch_stuck = false;
+    let r = run(&mut ctl, 15, &inputs);
+    assert!(!ctl.faults().is_active(Fault::LimitSwitchHit(AxisId::A)));
+    assert_eq!(r.mode, Mode::Tracking);
+    let e = true_error(&ctl, &truth, &at(m.get() - 1)).unwrap();
+    assert!(e < 0.1, "{e}");
+
+    // GPS lost: keep tracking on RTC; RTC invalid: stow until time is back.
+    let no_gps = |now| TickInputs {
+        gps_fix: false,
+        ..inputs(now)
+    };
+    assert_eq!(run(&mut ctl, 2, &no_gps).mode, Mode::Tracking);
+    assert!(ctl.faults().is_active(Fault::GpsLost));
+    let no_time = |now| TickInputs {
+        time_valid: false,
+        ..inputs(now)
+    };
+    assert_eq!(run(&mut ctl, 2, &no_time).mode, Mode::WaitForTime);
+    let r = run(&mut ctl, 2, &inputs);
+    assert_eq!(r.mode, Mode::Tracking);
+    assert_eq!(ctl.faults().active_count(), 0);
+    assert_eq!(ctl.faults().raised, ctl.faults().recovered);
+    assert!(ctl.faults().raised >= 5);
+}
