@@ -6,16 +6,19 @@
 //! |---|---|---|
 //! | [`RtcClock`] | [`crate::traits::Clock`] | any [`drivers::rtc::Clock`] (DS3231, DS1302) |
 //! | [`GpsPort`] | — (feeds [`crate::sources`]) | [`drivers::gps::GpsReader`] |
+//! | [`MountSensorsHw`] | [`crate::traits::AttitudeSensor`] | a tilt sensor ([`AxisAngles`]: ADXL345, WitMotion inclinometer) + any [`drivers::compass::Magnetometer`] |
 //! | [`StepperAxis`] | [`crate::axis::AxisDrive`] | [`drivers::stepper::hbridge::HBridgeStepper`] + home switch |
 //!
 //! Time and site fallbacks (GPS, then RTC, then the stored site or a postal
 //! code) are in [`crate::sources`].
 
+mod attitude;
 mod axis;
 mod clock;
 mod gps;
 mod time;
 
+pub use attitude::{AccelTiltError, AxisAngles, MountSensorError, MountSensorsHw};
 pub use axis::{StepperAxis, StepperAxisError};
 pub use clock::{ClockError, RtcClock};
 pub use gps::GpsPort;

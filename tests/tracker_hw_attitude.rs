@@ -1,0 +1,240 @@
+//! The portable mount's attitude from real sensor drivers on one mocked I2C
+//! bus (ADXL345 accelerometer at 0x53, QMC5883L magnetometer at 0x0D),
+//! through `hw::MountSensorsHw`, alone and inside the controller.
+//!
+//! The bus bytes are made here from a known mount rotation (seed
+//! portable-tracker eq. 12: `T = Rz(γ0)·Rx(α0)·Ry(β0)`, tracker → horizontal,
+//! horizontal X west, Y south, Z up): gravity and the Earth's field are
+//! expressed in the tracker frame with `Tᵀ`, then scaled by the datasheets
+//! (ADXL345 full resolution 3.9 mg/LSB; QMC5883L 8 G range 3000 LSB/G) and
+//! rounded to counts. The chain must give back the rotation.
+
+use drivers::compass::calibration::Calibration;
+use drivers::compass::qmc5883l::{Config as QmcConfig, Qmc5883l};
+use drivers::tilt::adxl345::ADDRESS_ALT_LOW;
+use drivers::tilt::Adxl345;
+use embedded_hal::i2c::{ErrorKind, NoAcknowledgeSource};
+use embedded_hal_mock::eh1::i2c::{Mock as I2cMock, Transaction as I2c};
+use sun_algos::{Algorithm, Options, Site, UtcTime};
+use suntracker::attitude::MountAttitude;
+use suntracker::config::Config;
+use suntracker::controller::{AttitudeSource, Controller, ControllerOptions, TickInputs};
+use suntracker::hw::{MountSensorError, MountSensorsHw};
+use suntracker::safety::{Fault, Sensor};
+use suntracker::sim::plant::MotorPlant;
+use suntracker::traits::{AlgorithmSource, AttitudeSensor};
+
+const ACC: u8 = ADDRESS_ALT_LOW;
+const MAG: u8 = 0x0D;
+const G_PER_LSB: f64 = 0.0039;
+const LSB_PER_GAUSS: f64 = 3000.0;
+
+/// Truth: tilted 4° about x, −6° about y, turned 25° about the vertical.
+const ALPHA0: f64 = 4.0;
+const BETA0: f64 = -6.0;
+const GAMMA0: f64 = 25.0;
+/// Magnetic declination used for the field, east positive.
+const DECL: f64 = 1.5;
+
+type Mat = [[f64; 3]; 3];
+
+fn rx(d: f64) -> Mat {
+    let (s, c) = d.to_radians().sin_cos();
+    [[1.0, 0.0, 0.0], [0.0, c, -s], [0.0, s, c]]
+}
+fn ry(d: f64) -> Mat {
+    let (s, c) = d.to_radians().sin_cos();
+    [[c, 0.0, s], [0.0, 1.0, 0.0], [-s, 0.0, c]]
+}
+fn rz(d: f64) -> Mat {
+    let (s, c) = d.to_radians().sin_cos();
+    [[c, -s, 0.0], [s, c, 0.0], [0.0, 0.0, 1.0]]
+}
+fn mul(a: &Mat, b: &Mat) -> Mat {
+    let mut m = [[0.0; 3]; 3];
+    for i in 0..3 {
+        for j in 0..3 {
+            m[i][j] = (0..3).map(|k| a[i][k] * b[k][j]).sum();
+        }
+    }
+    m
+}
+/// `mᵀ·v`: horizontal → tracker.
+fn to_tracker(m: &Mat, v: [f64; 3]) -> [f64; 3] {
+    [0, 1, 2].map(|j| (0..3).map(|i| m[i][j] * v[i]).sum())
+}
+
+fn t_matrix() -> Mat {
+    mul(&mul(&rz(GAMMA0), &rx(ALPHA0)), &ry(BETA0))
+}
+
+/// "Up" in the tracker frame: an accelerometer at rest reads +1 g there.
+fn up_tracker() -> [f64; 3] {
+    to_tracker(&t_matrix(), [0.0, 0.0, 1.0])
+}
+
+/// The field near Kano: 0.34 G horizontal toward magnetic north (north =
+/// −Y, east = −X, turned `DECL` east), 0.03 G down (−Z).
+fn field_tracker() -> [f64; 3] {
+    let d = DECL.to_radians();
+    let h = 0.34;
+    to_tracker(&t_matrix(), [-h * d.sin(), -h * d.cos(), -0.03])
+}
+
+fn le_counts(v: [f64; 3], per_unit: f64) -> Vec<u8> {
+    v.iter()
+        .flat_map(|c| ((c * per_unit).round() as i16).to_le_bytes())
+        .collect()
+}
+
+fn acc_read() -> I2c {
+    I2c::write_read(ACC, vec![0x32], le_counts(up_tracker(), 1.0 / G_PER_LSB))
+}
+
+/// QMC5883L: status 06h with DRDY, then the six data bytes from 00h.
+fn mag_read() -> [I2c; 2] {
+    [
+        I2c::write_read(MAG, vec![0x06], vec![0x01]),
+        I2c::write_read(MAG, vec![0x00], le_counts(field_tracker(), LSB_PER_GAUSS)),
+    ]
+}
+
+fn init() -> Vec<I2c> {
+    vec![
+        // ADXL345: DEVID, full resolution ±2 g, 100 Hz, measure.
+        I2c::write_read(ACC, vec![0x00], vec![0xE5]),
+        I2c::write(ACC, vec![0x31, 0x08]),
+        I2c::write(ACC, vec![0x2C, 0x0A]),
+        I2c::write(ACC, vec![0x2D, 0x08]),
+        // QMC5883L: chip ID, SET/RESET period, continuous 10 Hz 8 G OSR 512.
+        I2c::write_read(MAG, vec![0x0D], vec![0xFF]),
+        I2c::write(MAG, vec![0x0B, 0x01]),
+        I2c::write(MAG, vec![0x09, 0x11]),
+    ]
+}
+
+type Sensors = MountSensorsHw<Adxl345<I2cMock>, Qmc5883l<I2cMock>>;
+
+fn sensors(bus: &I2cMock) -> Sensors {
+    let mut acc = Adxl345::new(bus.clone(), ACC);
+    acc.init().unwrap();
+    let mag = Qmc5883l::new(bus.clone(), QmcConfig::default()).unwrap();
+    MountSensorsHw::new(acc, mag, Calibration::IDENTITY, DECL as f32)
+}
+
+fn nack() -> ErrorKind {
+    ErrorKind::NoAcknowledge(NoAcknowledgeSource::Address)
+}
+
+#[test]
+fn raw_bus_bytes_give_back_the_mount_rotation() {
+    let mut tx = init();
+    tx.push(acc_read());
+    tx.extend(mag_read());
+    let mut bus = I2cMock::new(&tx);
+    let mut s = sensors(&bus);
+    let r = s.read().unwrap();
+    // θx, θy: cos θ = the x, y components of "up" (seed eq. 4–6).
+    let up = up_tracker();
+    assert!((r.theta_x_deg - up[0].acos().to_degrees()).abs() < 0.3);
+    assert!((r.theta_y_deg - up[1].acos().to_degrees()).abs() < 0.3);
+    // Heading of the +y axis: 180° − γ0 (seed eq. 10–11).
+    assert!((r.heading_deg - (180.0 - GAMMA0)).abs() < 0.3, "{r:?}");
+    let m = MountAttitude::from_sensors(r.theta_x_deg, r.theta_y_deg, r.heading_deg).unwrap();
+    assert!((m.alpha0_deg - ALPHA0).abs() < 0.3, "{m:?}");
+    assert!((m.beta0_deg - BETA0).abs() < 0.3, "{m:?}");
+    assert!((m.gamma0_deg - GAMMA0).abs() < 0.3, "{m:?}");
+    bus.done();
+}
+
+#[test]
+fn sensor_errors_are_typed() {
+    let mut tx = init();
+    tx.push(I2c::write_read(ACC, vec![0x32], vec![0; 6]).with_error(nack()));
+    // Free fall: all zero counts.
+    tx.push(I2c::write_read(ACC, vec![0x32], vec![0; 6]));
+    // Compass not ready (DRDY clear).
+    tx.push(acc_read());
+    tx.push(I2c::write_read(MAG, vec![0x06], vec![0x00]));
+    let mut bus = I2cMock::new(&tx);
+    let mut s = sensors(&bus);
+    assert!(matches!(s.read(), Err(MountSensorError::Tilt(_))));
+    assert!(matches!(s.read(), Err(MountSensorError::Tilt(_))));
+    assert!(matches!(s.read(), Err(MountSensorError::Compass(_))));
+    bus.done();
+}
+
+#[test]
+fn controller_measures_the_mount_and_recovers_from_a_nack() {
+    const SAMPLES: u8 = 4;
+    let mut bus = I2cMock::new(&init());
+    let s = sensors(&bus);
+    let config = Config::default();
+    let options = ControllerOptions {
+        attitude: AttitudeSource::Sensors,
+        sensor_samples: SAMPLES,
+        ..ControllerOptions::default()
+    };
+    let plant = |switch: f64, max: f64| {
+        MotorPlant::stepper(1.8, 16, 100.0, 0.0, 2.0, Some(4096), switch, max, 0.0)
+    };
+    let source = AlgorithmSource {
+        algorithm: Algorithm::Psa2020,
+        site: Site::with_elevation(11.9683, 8.4261, 480.0).unwrap(),
+        options: Options::default(),
+    };
+    let mut ctrl: Controller<_, MotorPlant, Sensors, 360> = Controller::new(
+        config,
+        options,
+        source,
+        [plant(-180.0, 180.0), plant(-90.0, 90.0)],
+        Some(s),
+    )
+    .unwrap();
+    let good_tick = || {
+        let mut v = Vec::new();
+        for _ in 0..SAMPLES {
+            v.push(acc_read());
+            v.extend(mag_read());
+        }
+        v
+    };
+    let fault = Fault::I2cError(Sensor::Compass);
+    let now = UtcTime::from_ymd_hms(2026, 3, 20, 10, 0, 0).unwrap();
+    let tick = |ctrl: &mut Controller<_, MotorPlant, Sensors, 360>, k: i64| {
+        ctrl.tick(&TickInputs {
+            now: now.add_seconds(60 * k).unwrap(),
+            time_valid: true,
+            gps_fix: true,
+            wind_pulses: 0,
+            wind_interval_s: 60.0,
+        })
+    };
+
+    // 1. Four good samples: the measured attitude.
+    bus.update_expectations(&good_tick());
+    tick(&mut ctrl, 0);
+    let m = ctrl.attitude();
+    assert!((m.alpha0_deg - ALPHA0).abs() < 0.3, "{m:?}");
+    assert!((m.beta0_deg - BETA0).abs() < 0.3, "{m:?}");
+    assert!((m.gamma0_deg - GAMMA0).abs() < 0.3, "{m:?}");
+    assert!(!ctrl.faults().is_active(fault));
+
+    // 2. The accelerometer NACKs once: fault raised, last attitude kept.
+    let mut tx = vec![I2c::write_read(ACC, vec![0x32], vec![0; 6]).with_error(nack())];
+    for _ in 1..SAMPLES {
+        tx.push(acc_read());
+        tx.extend(mag_read());
+    }
+    bus.update_expectations(&tx);
+    tick(&mut ctrl, 1);
+    assert!(ctrl.faults().is_active(fault));
+    assert_eq!(ctrl.attitude(), m);
+
+    // 3. Good again: recovered.
+    bus.update_expectations(&good_tick());
+    tick(&mut ctrl, 2);
+    assert!(!ctrl.faults().is_active(fault));
+    assert_eq!(ctrl.faults().recovered, ctrl.faults().raised);
+    bus.done();
+}
