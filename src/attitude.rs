@@ -330,34 +330,59 @@ impl<T: Float> MountAttitude<T> {
     ) -> Result<Choice<T>, AttitudeError> {
         let sols = self.solutions(sun_xyz, current.gamma_deg)?;
         let turn = T::from_f64(360.0);
+        let cost_of = |p: &Pose<T>| {
+            (p.gamma_deg - current.gamma_deg).abs() + (p.alpha_deg - current.alpha_deg).abs()
+        };
         let mut best: Option<(T, Pose<T>)> = None;
-        let mut nearest: Option<(T, Pose<T>)> = None;
+        // Clamped candidates: (miss angle, travel, pose).
+        let mut clamped: [Option<(T, T, Pose<T>)>; 6] = [None; 6];
+        let mut k = 0;
         for sol in sols {
-            for k in [-turn, T::ZERO, turn] {
+            for g in [-turn, T::ZERO, turn] {
                 let cand = Pose {
-                    gamma_deg: sol.gamma_deg + k,
+                    gamma_deg: sol.gamma_deg + g,
                     alpha_deg: sol.alpha_deg,
                 };
-                let cost = (cand.gamma_deg - current.gamma_deg).abs()
-                    + (cand.alpha_deg - current.alpha_deg).abs();
                 if limits.contains(&cand) {
+                    let cost = cost_of(&cand);
                     if best.is_none_or(|(c, _)| cost < c) {
                         best = Some((cost, cand));
                     }
                 } else {
-                    let clamped = limits.clamp(&cand);
-                    let miss = angle_between_deg(&panel_normal(&clamped), &panel_normal(&cand));
-                    if nearest.is_none_or(|(m, _)| miss < m) {
-                        nearest = Some((miss, clamped));
+                    let c = limits.clamp(&cand);
+                    let miss = angle_between_deg(&panel_normal(&c), &panel_normal(&cand));
+                    if let Some(slot) = clamped.get_mut(k) {
+                        *slot = Some((miss, cost_of(&c), c));
                     }
+                    k += 1;
                 }
             }
         }
-        match (best, nearest) {
-            (Some((_, p)), _) => Ok(Choice::Reachable(p)),
-            (None, Some((_, p))) => Ok(Choice::Clamped(p)),
-            (None, None) => Err(AttitudeError::ZeroVector),
+        if let Some((_, p)) = best {
+            return Ok(Choice::Reachable(p));
         }
+        // Out of reach: the smallest miss; among misses within 0.5° of it
+        // (e.g. α = ±90° with γ half a turn apart point the same way) the
+        // least travel, so that noise does not swing the axes to and fro.
+        let min_miss = clamped
+            .iter()
+            .flatten()
+            .map(|c| c.0)
+            .fold(None, |m: Option<T>, x| Some(m.map_or(x, |m| m.min(x))));
+        let Some(min_miss) = min_miss else {
+            return Err(AttitudeError::ZeroVector);
+        };
+        let tol = T::from_f64(0.5);
+        clamped
+            .iter()
+            .flatten()
+            .filter(|c| c.0 <= min_miss + tol)
+            .fold(None, |b: Option<(T, Pose<T>)>, c| match b {
+                Some((t, _)) if t <= c.1 => b,
+                _ => Some((c.1, c.2)),
+            })
+            .map(|(_, p)| Choice::Clamped(p))
+            .ok_or(AttitudeError::ZeroVector)
     }
 
     /// Angle in degrees between the panel normal at `pose` and `sun_xyz`.
