@@ -49,9 +49,10 @@ pub enum Variant {
     /// "PSA+", Blanco, Milidonis & Bonanos 2020, stated for 2020–2050.
     Psa2020,
     /// The modified PSA of seed li-2022 with its printing errors corrected:
-    /// `E1 = 0.033423055`; sidereal time `G1 + G2·n + G3·h` read with `n`
-    /// taken at 0 h UT and `G1 = 6.6974243242` (the 2001 value; that is
-    /// identical to PSA's `6.6974243242 + G2·n + h` with `n` at the instant);
+    /// `E1 = 0.033423055`; sidereal time `G1 + G2·n + G3·h` read as the
+    /// complete IAU 1982 formula its `G3 = 1.00273790935` comes from
+    /// (`G1 = 6.697374558`, `G2 = 24·(G3 − 1)`, `n` at 0 h UT; the printed
+    /// `G1 = 6.6208844` matches no source and puts the sun 1.15° off);
     /// parallax adding `(R⊕/AU)·sin θz` to the zenith angle; refraction
     /// (eq. 17, `I1…I3`) with the pressure in atmospheres and the argument
     /// being the elevation in radians.
@@ -65,17 +66,16 @@ pub enum Variant {
     /// UT). PSA's `Ω` terms (nutation, aberration) are dropped.
     ///
     /// Measured (geometric, sun above the horizon): on sun_2020_2050
-    /// (`tests/reference.rs`, 986 rows) max 0.00943° f64, 0.00941° f32,
-    /// mean 0.0036°; on 99 962 random instants and sites in 2020–2050
-    /// checked against this crate's SPA (itself 0.00017° from that file)
-    /// max 0.0100° f64 and f32. Issue 3 asks for 0.008°. No correction that
-    /// only repairs a misprint reaches it (measured, nothing fitted):
-    /// - eq. 10 read as the complete IAU 1982 formula (`G1 = 6.697374558`,
-    ///   `G2 = 24·(G3 − 1)`, `n` at 0 h UT): 0.0087° (file and dense);
-    ///   with the printed `G2`: 0.0088° (file), 0.0093° (dense);
+    /// (`tests/reference.rs`, 986 rows) max 0.00874° f64, 0.00877° f32,
+    /// mean 0.0033°; 0.0087° also on 99 962 random instants and sites in
+    /// 2020–2050 checked against this crate's SPA. Issue 3 asks for 0.008°.
+    /// No correction that only repairs a misprint reaches it (measured,
+    /// nothing fitted):
+    /// - eq. 10 with PSA 2001's sidereal constants (`G1 = 6.6974243242`,
+    ///   `G2 = 0.0657098283`, hour factor 1): 0.0094° (file), 0.0100° (dense);
+    ///   the IAU 1982 constant with the printed `G2`: 0.0088° / 0.0093°;
     /// - `cos Ω` (2001 node) for eq. 6's `cos g`, as in PSA 2001 (the seed
-    ///   prints `g` for `Ω` in its 2001 column too): max unchanged (0.0094°
-    ///   file, 0.0100° dense), mean 0.0036° → 0.0035°.
+    ///   prints `g` for `Ω` in its 2001 column too): no change of the max.
     ///
     /// What limits it (diagnostic: one physical term of Meeus, Astronomical
     /// Algorithms ch. 22/25, added to this model; dense maxima):
@@ -178,7 +178,10 @@ const MODIFIED: Coefficients = Coefficients {
     aberration: [0.0, 0.0],
     obliquity: [0.409_092_8, -6.2140e-9, 0.000_039_6],
     obliquity_cos_of_anomaly: true,
-    gmst_h: [6.697_424_324_2, 0.065_709_828_3],
+    // IAU 1982 GMST, whose hour factor is li-2022's G3 = 1.00273790935:
+    // 6.697374558 h + G2·n₀ + G3·h with G2 = 24·(G3 − 1) and n₀ at 0 h UT,
+    // which is this structure's `G1 + G2·n + h` with n at the instant.
+    gmst_h: [6.697_374_558, 0.065_709_824_4],
     hour_factor: 1.0,
     parallax_sign: 1.0,
 };

@@ -28,12 +28,13 @@ const CASES: &[Case] = &[
     case(Algorithm::Spa, "sun_2010_2110.csv", 0.0003, 0.003),
     case(Algorithm::Spa, "sun_2020_2050.csv", 0.0003, 0.003),
     case(Algorithm::Psa2020, "sun_2020_2050.csv", 0.008, 0.011),
-    // Issue 3 asks for 0.008° in f64; li-2022's Table 1, misprints repaired,
-    // measures 0.00943° here (0.0100° on a dense check; no misprint repair
-    // reaches 0.008°, the best reading 0.0087°; see `psa::Variant::Modified`
-    // for the terms that limit it). Asserted at the measured level so that a
-    // regression still fails; the shortfall is reported, not hidden.
-    case(Algorithm::PsaModified, "sun_2020_2050.csv", 0.0095, 0.011),
+    // Issue 3 asks for 0.008° in f64; li-2022's Table 1, misprints repaired
+    // (sidereal time read as the IAU 1982 formula of its G3), measures
+    // 0.00874° here and on a dense check; no misprint repair reaches 0.008°
+    // (see `psa::Variant::Modified` for the terms that limit it). Asserted
+    // at the measured level so that a regression fails; the shortfall is
+    // reported, not hidden.
+    case(Algorithm::PsaModified, "sun_2020_2050.csv", 0.009, 0.011),
     case(Algorithm::Psa2001, "sun_1999_2022.csv", 0.0085, 0.011),
     case(Algorithm::Michalsky, "sun_1999_2022.csv", 0.012, 0.014),
     case(Algorithm::Michalsky, "sun_2020_2050.csv", 0.012, 0.014),
