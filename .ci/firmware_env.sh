@@ -1,0 +1,46 @@
+# Shared by the firmware scripts of .ci/ (sourced, not run): where each
+# release ELF lands, and how each image is built. Each image that needs other
+# compiler flags or features than the default builds in its own target
+# directory, so that building one never rebuilds or overwrites another.
+#
+# Needs: rustup with the stable toolchain + target thumbv7em-none-eabihf, the
+# nightly toolchain with rust-src (for avr-none), and avr-gcc + avr-libc
+# (the AVR linker and its libm).
+
+FW_TARGET_DIR=${CARGO_TARGET_DIR:-target}
+# Absolute, so that scripts may change directory.
+case "$FW_TARGET_DIR" in /*) ;; *) FW_TARGET_DIR="$PWD/$FW_TARGET_DIR" ;; esac
+
+ELF_QEMU="$FW_TARGET_DIR/thumbv7em-none-eabihf/release/qemu_tracker"
+ELF_QEMU_BENCH="$FW_TARGET_DIR/thumbv7em-none-eabihf/release/qemu_bench"
+ELF_BLACKPILL="$FW_TARGET_DIR/blackpill/thumbv7em-none-eabihf/release/blackpill_tracker"
+ELF_AVR_UNO="$FW_TARGET_DIR/avr-none/release/avr_tracker.elf"
+ELF_AVR_BENCH="$FW_TARGET_DIR/avr-none/release/avr_bench.elf"
+ELF_AVR_MEGA="$FW_TARGET_DIR/mega/avr-none/release/avr_mega_tracker.elf"
+
+# The ATmega2560 flags: the same as .cargo/config.toml's avr-none flags but
+# for the other CPU (RUSTFLAGS replaces the config file's list entirely).
+AVR_MEGA_RUSTFLAGS="-C target-cpu=atmega2560 --cfg avr_atmega2560 -C link-arg=-Wl,--whole-archive -C link-arg=-lm -C link-arg=-Wl,--no-whole-archive"
+
+build_qemu() {
+  cargo build --release --target thumbv7em-none-eabihf --bin qemu_tracker --bin qemu_bench
+}
+build_blackpill() {
+  cargo build --release --target thumbv7em-none-eabihf --features stm32f411 \
+    --bin blackpill_tracker --target-dir "$FW_TARGET_DIR/blackpill"
+}
+build_avr_uno() {
+  cargo +nightly build --release --target avr-none -Z build-std=core \
+    --bin avr_tracker --bin avr_bench
+}
+build_avr_mega() {
+  RUSTFLAGS="$AVR_MEGA_RUSTFLAGS" \
+    cargo +nightly build --release --target avr-none -Z build-std=core \
+    --bin avr_mega_tracker --target-dir "$FW_TARGET_DIR/mega"
+}
+build_all_firmware() {
+  build_qemu
+  build_blackpill
+  build_avr_uno
+  build_avr_mega
+}
