@@ -256,7 +256,7 @@ fn main() -> ExitCode {
         },
         ..ControllerOptions::default()
     };
-    let mut ctl: Controller<_, _, _, 1440> =
+    let mut ctl: Controller<_, _, _, 1441> =
         match Controller::new(config, options, source, plants, Some(sensors)) {
             Ok(c) => c,
             Err(e) => {

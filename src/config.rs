@@ -410,6 +410,7 @@ impl Config {
             && (-500.0..=10_000.0).contains(&s.elevation_m);
         let sc = &self.schedule;
         let sched_ok = sc.table_step_s > 0
+            && sc.table_step_s.is_multiple_of(60)
             && 86_400 % sc.table_step_s == 0
             && sc.recheck_s > 0
             && sc.max_tick_gap_s > 0;

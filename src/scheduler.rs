@@ -6,7 +6,7 @@
 //! | 1 read site, set-points zero | [`Phase::PowerOn`] → [`Action::SetPoints`] of zero |
 //! | 2 read date, 3 sunrise/sunset | [`Phase::ReadDate`]: the solar day around `now` and its [`Daylight`] |
 //! | 4–6 outside daylight: delay td_os | [`Phase::WaitSunrise`] until sunrise (or the next solar day) |
-//! | 7 day table, 8 store | [`DayTable::compute`] (default every 4 min) |
+//! | 7 day table, 8 store | `sun_algos::geometry::day_table::DayTable` (default every 4 min) |
 //! | 9 read time, 10 end of day? | [`Phase::Tracking`]; past sunset → [`Action::GoHome`], [`Phase::WaitNextDay`] (td_ed) |
 //! | 11–12 match? else 30 s | a table entry whose time lies within `recheck_s` before `now` |
 //! | 13 set set-points, 14 wait 2 min | [`Action::SetPoints`], next check after `hold_s` |
@@ -21,16 +21,23 @@
 //!
 //! Days are *solar* days, from one local mean solar midnight
 //! (`00:00 UTC − longitude/15 h`) to the next, so that a day's daylight is
-//! never split; in a polar day the whole solar day is daylight.
+//! never split; in a polar day the whole solar day is daylight. Sunrise and
+//! sunset are `sun_algos::geometry::events::find` (upper limb on the
+//! refracted horizon, zenith 90.833°), and the table is
+//! `sun_algos::geometry::day_table::DayTable` (4-byte entries in 0.01°).
 
 use crate::traits::PositionSource;
+use sun_algos::geometry::day_table::DayTable;
+use sun_algos::geometry::events::{self, DayKind, Events};
+use sun_algos::geometry::{GeometryError, Limits};
 use sun_algos::{Error as SunError, Float, SunPosition, UtcTime};
 
 /// Intervals of the scheduler (seed jimoh-2019 defaults).
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub struct ScheduleConfig {
-    /// Set-point table interval, seconds (seed: 4 minutes). Table times are
-    /// whole multiples of it from UTC midnight, so an RTC matches them.
+    /// Set-point table interval, seconds (seed: 4 minutes); whole minutes
+    /// dividing a day. Table times are whole multiples of it from UTC
+    /// midnight, so an RTC matches them.
     pub table_step_s: u32,
     /// Wait after setting a set-point (seed step 14: 2 minutes).
     pub hold_s: u32,
@@ -59,13 +66,24 @@ impl Default for ScheduleConfig {
 /// Why the scheduler cannot work.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum ScheduleError {
-    /// An interval is zero, the table step does not divide a day, or the
-    /// table capacity is too small for a polar day.
+    /// An interval is zero, the table step is not whole minutes dividing a
+    /// day, or the table capacity is too small for a polar day.
     InvalidConfig,
     /// The sun position could not be computed.
     Position(SunError),
+    /// Events or table could not be computed.
+    Geometry(GeometryError),
     /// Time arithmetic left the calendar range.
     TimeRange,
+}
+
+impl From<GeometryError> for ScheduleError {
+    fn from(e: GeometryError) -> Self {
+        match e {
+            GeometryError::Position(p) => ScheduleError::Position(p),
+            other => ScheduleError::Geometry(other),
+        }
+    }
 }
 
 impl From<SunError> for ScheduleError {
@@ -163,70 +181,31 @@ pub fn solar_day_start<T: Float>(
     UtcTime::from_unix_seconds(midnight_local - off).map_err(|_| ScheduleError::TimeRange)
 }
 
-/// Sunrise and sunset of the solar day starting at `start`, found by
-/// sampling the sun's elevation every `scan_s` seconds and bisecting each
-/// horizon crossing to one second. Works with any position source, so the
-/// polar day and night fall out of the samples.
+/// Sunrise and sunset of the solar day starting at `start`
+/// (`sun_algos::geometry::events::find`: 10-minute samples, crossings
+/// bisected to a second, any position source).
 pub fn find_daylight<T: Float, P: PositionSource<T>>(
     start: UtcTime,
-    scan_s: u32,
     sun: &mut P,
-) -> Result<SolarDay, ScheduleError> {
-    let scan = i64::from(scan_s.clamp(60, 3600));
-    let at = |s: i64| start.add_seconds(s).map_err(|_| ScheduleError::TimeRange);
-    let up = |t: &UtcTime, sun: &mut P| -> Result<bool, ScheduleError> {
-        Ok(sun.position(t)?.is_above_horizon())
-    };
-    let first_up = up(&start, sun)?;
-    let mut prev_up = first_up;
-    let mut prev_s = 0i64;
-    let mut rise: Option<UtcTime> = None;
-    let mut set: Option<UtcTime> = None;
-    let mut any_up = first_up;
-    let mut s = 0i64;
-    while s < 86_400 {
-        s = (s + scan).min(86_400);
-        let t = at(s)?;
-        let now_up = up(&t, sun)?;
-        any_up |= now_up;
-        if now_up != prev_up {
-            // Bisect (prev_s, s] to one second.
-            let (mut lo, mut hi) = (prev_s, s);
-            while hi - lo > 1 {
-                let mid = lo + (hi - lo) / 2;
-                if up(&at(mid)?, sun)? == prev_up {
-                    lo = mid;
-                } else {
-                    hi = mid;
-                }
-            }
-            let crossing = at(hi)?;
-            if now_up {
-                if rise.is_none() {
-                    rise = Some(crossing);
-                }
-            } else {
-                set = Some(crossing);
-            }
-        }
-        prev_up = now_up;
-        prev_s = s;
-    }
-    let last_up = prev_up;
-    let daylight = match (any_up, rise, set) {
-        (false, _, _) => Daylight::PolarNight,
-        (true, None, None) => Daylight::PolarDay,
-        (true, r, st) => Daylight::Normal {
-            // Up at a window edge (near polar transitions): daylight runs to it.
-            rise: if first_up { start } else { r.unwrap_or(start) },
-            set: if last_up {
-                at(86_400)?
-            } else {
-                st.unwrap_or(start)
-            },
+) -> Result<(SolarDay, Events<T>), ScheduleError> {
+    let ev = events::find(start, |t| sun.position(t))?;
+    let end = start
+        .add_seconds(86_400)
+        .map_err(|_| ScheduleError::TimeRange)?;
+    let daylight = match (ev.kind, ev.sunrise, ev.sunset) {
+        (DayKind::PolarNight, _, _) => Daylight::PolarNight,
+        (DayKind::PolarDay, _, _) => Daylight::PolarDay,
+        (_, Some(rise), Some(set)) if set > rise => Daylight::Normal { rise, set },
+        (_, Some(rise), None) => Daylight::Normal { rise, set: end },
+        (_, None, Some(set)) => Daylight::Normal { rise: start, set },
+        // Set and rose again inside the window (near the polar circles):
+        // the table covers the whole window, so does the daylight.
+        _ => Daylight::Normal {
+            rise: start,
+            set: end,
         },
     };
-    Ok(SolarDay { start, daylight })
+    Ok((SolarDay { start, daylight }, ev))
 }
 
 /// One row of the day table.
@@ -238,106 +217,65 @@ pub struct TableEntry<T> {
     pub set_point: SetPoint<T>,
 }
 
-/// The day's set-points every `step` seconds between sunrise and sunset
-/// (seed jimoh-2019 step 7), in a fixed-capacity table (no heap).
-#[derive(Debug, Clone)]
-pub struct DayTable<T, const N: usize> {
-    entries: [Option<TableEntry<T>>; N],
-    len: usize,
+/// Row `i` of a day table with its set-point in degrees.
+pub fn table_entry<T: Float, const N: usize>(
+    table: &DayTable<N>,
+    i: usize,
+) -> Option<TableEntry<T>> {
+    table.get(i).map(|(time, e)| {
+        let s = e.surface::<T>();
+        TableEntry {
+            time,
+            set_point: SetPoint {
+                slope_deg: s.slope_deg,
+                azimuth_deg: s.azimuth_deg,
+            },
+        }
+    })
 }
 
-impl<T: Float, const N: usize> DayTable<T, N> {
-    /// An empty table.
-    pub fn new() -> Self {
-        DayTable {
-            entries: [None; N],
-            len: 0,
-        }
+/// The entry whose time lies in `(now − window, now]` (seed step 11).
+pub fn match_at<T: Float, const N: usize>(
+    table: &DayTable<N>,
+    now: &UtcTime,
+    window_s: u32,
+) -> Option<(usize, TableEntry<T>)> {
+    let since = now.unix_seconds() - table.first_time().unix_seconds();
+    let step = i64::from(table.interval_min()) * 60;
+    if since < 0 || step <= 0 || table.is_empty() {
+        return None;
     }
+    let i = usize::try_from(since / step).ok()?;
+    let e = table_entry(table, i)?;
+    let late = now.unix_seconds() - e.time.unix_seconds();
+    (0..i64::from(window_s.max(1)))
+        .contains(&late)
+        .then_some((i, e))
+}
 
-    /// Fills the table for `[from, to)`: times are the multiples of `step_s`
-    /// from UTC midnight inside the span. Errors when it does not fit.
-    pub fn compute<P: PositionSource<T>>(
-        &mut self,
-        from: UtcTime,
-        to: UtcTime,
-        step_s: u32,
-        sun: &mut P,
-    ) -> Result<(), ScheduleError> {
-        self.len = 0;
-        if step_s == 0 {
-            return Err(ScheduleError::InvalidConfig);
-        }
-        let step = i64::from(step_s);
-        let first = from.unix_seconds().div_euclid(step) * step;
-        let first = if first < from.unix_seconds() {
-            first + step
-        } else {
-            first
-        };
-        let end = to.unix_seconds();
-        let mut t = first;
-        while t < end {
-            let time = UtcTime::from_unix_seconds(t).map_err(|_| ScheduleError::TimeRange)?;
-            let pos = sun.position(&time)?;
-            let slot = self
-                .entries
-                .get_mut(self.len)
-                .ok_or(ScheduleError::InvalidConfig)?;
-            *slot = Some(TableEntry {
-                time,
-                set_point: SetPoint::facing(&pos),
-            });
-            self.len += 1;
-            t += step;
-        }
-        Ok(())
-    }
+/// A read-only view of the scheduler's day table in degrees.
+#[derive(Debug, Clone, Copy)]
+pub struct TableView<'a, T, const N: usize> {
+    table: Option<&'a DayTable<N>>,
+    _float: core::marker::PhantomData<T>,
+}
 
-    /// Number of entries.
+impl<T: Float, const N: usize> TableView<'_, T, N> {
+    /// Number of entries (0 before the first day and in a polar night).
     pub fn len(&self) -> usize {
-        self.len
+        self.table.map_or(0, |t| t.len())
     }
-
     /// True when empty.
     pub fn is_empty(&self) -> bool {
-        self.len == 0
+        self.len() == 0
     }
-
     /// Entry `i`.
     pub fn get(&self, i: usize) -> Option<TableEntry<T>> {
-        if i < self.len {
-            self.entries.get(i).copied().flatten()
-        } else {
-            None
-        }
+        self.table.and_then(|t| table_entry(t, i))
     }
-
-    /// The entry whose time lies in `(now − window, now]` (seed step 11).
-    pub fn match_at(&self, now: &UtcTime, window_s: u32) -> Option<(usize, TableEntry<T>)> {
-        let first = self.get(0)?;
-        let step = match self.get(1) {
-            Some(e) => e.time.unix_seconds() - first.time.unix_seconds(),
-            None => i64::MAX,
-        };
-        let since = now.unix_seconds() - first.time.unix_seconds();
-        if since < 0 || step <= 0 {
-            return None;
-        }
-        let i = usize::try_from(since / step).ok()?;
-        let e = self.get(i)?;
-        let late = now.unix_seconds() - e.time.unix_seconds();
-        if (0..i64::from(window_s.max(1))).contains(&late) {
-            Some((i, e))
-        } else {
-            None
-        }
-    }
-}
-
-impl<T: Float, const N: usize> Default for DayTable<T, N> {
-    fn default() -> Self {
-        Self::new()
+    /// The compact table itself (4-byte entries), once computed.
+    pub fn raw(&self) -> Option<&DayTable<N>> {
+        self.table
     }
 }
 
@@ -406,21 +344,30 @@ pub struct Scheduler<T, P, const N: usize> {
     source: P,
     phase: Phase,
     day: Option<SolarDay>,
-    table: DayTable<T, N>,
+    table: Option<DayTable<N>>,
+    _float: core::marker::PhantomData<T>,
     last_now: Option<UtcTime>,
     last_applied: Option<usize>,
     home: SetPoint<T>,
 }
 
 impl<T: Float, P: PositionSource<T>, const N: usize> Scheduler<T, P, N> {
-    /// A scheduler at power-on. Errors for zero intervals, a step that does
-    /// not divide a day, or a table too small for a polar day.
+    /// A scheduler at power-on. Errors for zero intervals or a step that is
+    /// not whole minutes dividing a day.
+    ///
+    /// `N` below the polar-day size (`capacity_for_interval` of
+    /// `sun_algos::geometry::day_table`, 361 at 4 minutes) is allowed for sites whose
+    /// longest day fits (an 8-bit board at low latitude); a day that does not
+    /// fit gives [`Action::Error`] with `CapacityExceeded`, never a truncated
+    /// table.
     pub fn new(config: ScheduleConfig, source: P) -> Result<Self, ScheduleError> {
         let c = &config;
         if c.table_step_s == 0
             || c.recheck_s == 0
+            || !c.table_step_s.is_multiple_of(60)
+            || c.table_step_s > 720 * 60
             || 86_400 % c.table_step_s != 0
-            || (86_400 / c.table_step_s) as usize > N
+            || N == 0
         {
             return Err(ScheduleError::InvalidConfig);
         }
@@ -429,7 +376,8 @@ impl<T: Float, P: PositionSource<T>, const N: usize> Scheduler<T, P, N> {
             source,
             phase: Phase::PowerOn,
             day: None,
-            table: DayTable::new(),
+            table: None,
+            _float: core::marker::PhantomData,
             last_now: None,
             last_applied: None,
             home: SetPoint::default(),
@@ -444,9 +392,16 @@ impl<T: Float, P: PositionSource<T>, const N: usize> Scheduler<T, P, N> {
     pub fn day(&self) -> Option<SolarDay> {
         self.day
     }
-    /// The stored day table (seed step 8).
-    pub fn table(&self) -> &DayTable<T, N> {
-        &self.table
+    /// The stored day table (seed step 8); empty before the first day.
+    pub fn table(&self) -> TableView<'_, T, N> {
+        TableView {
+            table: self.table.as_ref(),
+            _float: core::marker::PhantomData,
+        }
+    }
+    /// Entry `i` of the stored table, in degrees.
+    pub fn entry(&self, i: usize) -> Option<TableEntry<T>> {
+        self.table().get(i)
     }
     /// The intervals.
     pub fn config(&self) -> &ScheduleConfig {
@@ -522,17 +477,22 @@ impl<T: Float, P: PositionSource<T>, const N: usize> Scheduler<T, P, N> {
     fn plan(&mut self, now: UtcTime) -> Result<Action<T>, ScheduleError> {
         let lon = self.source.site().longitude_deg();
         let start = solar_day_start(&now, lon)?;
-        let scan = self.config.table_step_s.clamp(60, 600);
-        let day = find_daylight(start, scan, &mut self.source)?;
+        let (day, ev) = find_daylight(start, &mut self.source)?;
         self.day = Some(day);
         self.last_applied = None;
         let span = day.span()?;
         match span {
             Some((from, to)) if now >= from && now < to => {
-                // Steps 7–8: compute and store the table for the whole daylight.
-                self.table
-                    .compute(from, to, self.config.table_step_s, &mut self.source)?;
-                if let Some(first) = self.table.get(0) {
+                // Steps 7–8: compute and store the table for the whole daylight
+                // (set-points facing the sun: no slope or azimuth limits, the
+                // axes' own limits are applied by the attitude step).
+                let interval_min = (self.config.table_step_s / 60) as u16;
+                let src = &mut self.source;
+                let table = DayTable::compute(&ev, interval_min, &Limits::unconstrained(), |t| {
+                    src.position(t)
+                })?;
+                self.table = Some(table);
+                if let Some(first) = self.entry(0) {
                     self.home = first.set_point;
                 }
                 self.phase = Phase::Tracking { next_check: now };
@@ -581,7 +541,11 @@ impl<T: Float, P: PositionSource<T>, const N: usize> Scheduler<T, P, N> {
             now.add_seconds(i64::from(s))
                 .map_err(|_| ScheduleError::TimeRange)
         };
-        match self.table.match_at(&now, self.config.recheck_s) {
+        let found = self
+            .table
+            .as_ref()
+            .and_then(|t| match_at(t, &now, self.config.recheck_s));
+        match found {
             Some((i, e)) if self.last_applied != Some(i) => {
                 self.last_applied = Some(i);
                 self.phase = Phase::Tracking {

@@ -11,7 +11,7 @@ use suntracker::sim::plant::MotorPlant;
 use suntracker::sim::sensors::{MountSensors, SensorAccuracy};
 use suntracker::traits::{AlgorithmSource, PositionSource};
 
-type Ctl = Controller<AlgorithmSource<f64>, MotorPlant, MountSensors, 1440>;
+type Ctl = Controller<AlgorithmSource<f64>, MotorPlant, MountSensors, 1441>;
 
 fn source() -> AlgorithmSource<f64> {
     AlgorithmSource {
