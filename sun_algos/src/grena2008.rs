@@ -35,15 +35,11 @@ const H_LINEAR: Secular = Secular::turns(
     turns(6.300_388_099_03),
 );
 
-/// Periodic terms of L (sections 3.2.2–3.2.3): [amplitude, frequency, phase].
-const L_PERIODIC: [[f64; 3]; 6] = [
-    [3.13e-5, 2.127_730e-1, -0.585],
-    [1.26e-5, 4.243e-3, 1.46],
-    [2.35e-5, 1.0727e-2, 0.72],
-    [2.76e-5, 1.5799e-2, 2.35],
-    [2.75e-5, 2.1551e-2, -1.98],
-    [1.26e-5, 3.1490e-2, -0.80],
-];
+/// `a · sin(w t + p)`, constants folded at compile time.
+#[inline(always)]
+fn wave<T: Float>(a: f64, w: f64, p: f64, t: T) -> T {
+    T::from_f64(a) * (T::from_f64(w) * t + T::from_f64(p)).sin()
+}
 
 /// The sun's position by Grena 2008 for validated inputs.
 pub(crate) fn position<T: Float>(inp: &Inputs<'_, T>) -> SunPosition<T> {
@@ -60,10 +56,14 @@ pub(crate) fn position<T: Float>(inp: &Inputs<'_, T>) -> SunPosition<T> {
     let mut l = frac(L_LINEAR.at(days, frac_tt)) * T::TAU
         + f(3.34118e-2) * ang.sin()
         + f(3.488e-4) * (f(2.0) * ang).sin();
-    // 3.2.2 Moon perturbation, 3.2.3 harmonic correction.
-    for [a, w, p] in L_PERIODIC {
-        l += f(a) * (f(w) * t + f(p)).sin();
-    }
+    // 3.2.2 Moon perturbation.
+    l += wave(3.13e-5, 2.127_730e-1, -0.585, t);
+    // 3.2.3 harmonic correction.
+    l += wave(1.26e-5, 4.243e-3, 1.46, t)
+        + wave(2.35e-5, 1.0727e-2, 0.72, t)
+        + wave(2.76e-5, 1.5799e-2, 2.35, t)
+        + wave(2.75e-5, 2.1551e-2, -1.98, t)
+        + wave(1.26e-5, 3.1490e-2, -0.80, t);
     // 3.2.4 polynomial correction (t₂ = t/1000).
     let t2 = t / f(1000.0);
     l += (((f(-2.30796e-7) * t2 + f(3.7976e-6)) * t2 - f(2.0458e-5)) * t2 + f(3.976e-5)) * t2 * t2;

@@ -196,24 +196,20 @@ fn l_no5<T: Float>(t: &Time<T>, s1: T, c1: T) -> T {
     let te = t.te;
     let (s2, c2) = (f(2.0) * s1 * c1, (c1 + s1) * (c1 - s1));
     let (s3, c3) = (s2 * c1 + c2 * s1, c2 * c1 - s2 * s1);
-    // Slow perturbations: [amplitude, frequency (day⁻¹), phase].
-    const TERMS: [[f64; 3]; 7] = [
-        [1.27e-5, 1.49e-3, -2.337],
-        [1.21e-5, 4.31e-3, 3.065],
-        [2.33e-5, 1.076e-2, -1.533],
-        [3.49e-5, 1.575e-2, -2.358],
-        [2.67e-5, 2.152e-2, 0.074],
-        [1.28e-5, 3.152e-2, 1.547],
-        [3.14e-5, 2.1277e-1, -0.488],
-    ];
     let mut l = t.at_te(&L_5) + f(3.33024e-2) * s1 - f(2.0582e-3) * c1 + f(3.512e-4) * s2
         - f(4.07e-5) * c2
         + f(5.2e-6) * s3
         - f(9e-7) * c3
         - f(8.23e-5) * s1 * (f(2.92e-5) * te).sin();
-    for [a, w, p] in TERMS {
-        l += f(a) * (f(w) * te + f(p)).sin();
-    }
+    // Slow perturbations: amplitude, frequency (day⁻¹), phase.
+    let wave = |a: f64, w: f64, p: f64| f(a) * (f(w) * te + f(p)).sin();
+    l += wave(1.27e-5, 1.49e-3, -2.337)
+        + wave(1.21e-5, 4.31e-3, 3.065)
+        + wave(2.33e-5, 1.076e-2, -1.533)
+        + wave(3.49e-5, 1.575e-2, -2.358)
+        + wave(2.67e-5, 2.152e-2, 0.074)
+        + wave(1.28e-5, 3.152e-2, 1.547)
+        + wave(3.14e-5, 2.1277e-1, -0.488);
     l
 }
 

@@ -2,7 +2,7 @@
 //! right ascension and declination, and the apparent sidereal time (NREL SPA
 //! report, section 3.1–3.8).
 
-use super::earth::{heliocentric, Heliocentric, DAYS_PER_MILLENNIUM};
+use super::earth::{c32, heliocentric, is_f32, Heliocentric, DAYS_PER_MILLENNIUM};
 use super::nutation::nutation_rad;
 use super::split::{frac, Secular, SplitDays};
 use crate::float::Float;
@@ -18,6 +18,16 @@ const SIDEREAL: Secular = Secular::degrees(280.460_618_37, 360.985_647_366_29);
 const OBLIQUITY_ARCSEC: [f64; 11] = [
     84_381.448, -4_680.93, -1.55, 1_999.25, -51.38, -249.67, -39.05, 7.12, 27.87, 5.79, 2.45,
 ];
+/// [`OBLIQUITY_ARCSEC`] rounded to `f32` (no run-time conversion in `f32`).
+const OBLIQUITY_ARCSEC_F32: [f32; 11] = {
+    let mut out = [0.0f32; 11];
+    let mut i = 0;
+    while i < 11 {
+        out[i] = OBLIQUITY_ARCSEC[i] as f32;
+        i += 1;
+    }
+    out
+};
 
 /// Everything SPA knows before it looks at the observer.
 #[derive(Debug, Clone, Copy)]
@@ -65,8 +75,14 @@ pub(crate) fn geocentric<T: Float>(t: &SplitDays<T>) -> Geocentric<T> {
     let (dpsi_rad, deps_rad) = nutation_rad(jce);
     let u = jme / T::from_f64(10.0);
     let mut eps0_arcsec = T::ZERO;
-    for c in OBLIQUITY_ARCSEC.iter().rev() {
-        eps0_arcsec = eps0_arcsec * u + T::from_f64(*c);
+    if is_f32::<T>() {
+        for c in OBLIQUITY_ARCSEC_F32.iter().rev() {
+            eps0_arcsec = eps0_arcsec * u + c32::<T>(*c);
+        }
+    } else {
+        for c in OBLIQUITY_ARCSEC.iter().rev() {
+            eps0_arcsec = eps0_arcsec * u + T::from_f64(*c);
+        }
     }
     let eps_rad = (eps0_arcsec / T::from_f64(3600.0)).to_radians() + deps_rad;
 

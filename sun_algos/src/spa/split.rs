@@ -55,6 +55,10 @@ impl<T: Float> SplitDays<T> {
 pub(crate) struct Secular {
     offset_turns: f64,
     rate_turns_per_day: f64,
+    /// The same two rounded to `f32`, so an `f32` build never converts
+    /// from `f64` at run time (soft-float on single-precision FPUs).
+    offset_turns_f32: f32,
+    rate_turns_per_day_f32: f32,
     /// `frac(rate)` in units of 2⁻⁶⁴ turn per day.
     rate_fx: u64,
 }
@@ -72,6 +76,8 @@ impl Secular {
         Secular {
             offset_turns,
             rate_turns_per_day,
+            offset_turns_f32: offset_turns as f32,
+            rate_turns_per_day_f32: rate_turns_per_day as f32,
             rate_fx,
         }
     }
@@ -90,9 +96,18 @@ impl Secular {
         let p = self.rate_fx.wrapping_mul(days as i64 as u64);
         let whole_days_turns = T::from_u32((p >> 32) as u32) * T::from_f64(TWO_POW_M32)
             + T::from_u32(p as u32) * T::from_f64(TWO_POW_M64);
-        T::from_f64(self.offset_turns)
-            + whole_days_turns
-            + T::from_f64(self.rate_turns_per_day) * frac
+        let (offset, rate) = if core::mem::size_of::<T>() == 4 {
+            (
+                T::from_f64(f64::from(self.offset_turns_f32)),
+                T::from_f64(f64::from(self.rate_turns_per_day_f32)),
+            )
+        } else {
+            (
+                T::from_f64(self.offset_turns),
+                T::from_f64(self.rate_turns_per_day),
+            )
+        };
+        offset + whole_days_turns + rate * frac
     }
 }
 
