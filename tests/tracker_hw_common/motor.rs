@@ -302,3 +302,10 @@ pub fn pointing_error_deg(
     let n = normal_xyz(c.borrow().angle_deg(), a.borrow().angle_deg());
     angle_deg(n, sun_xyz(90.0 - zenith_deg, azimuth_deg))
 }
+
+/// How far the sun is below what a level mount whose A axis stops at ±90°
+/// can face (the horizon): an entry computed with the sun just below the
+/// horizon can only be met that far off.
+pub fn below_reach_deg(zenith_deg: f64) -> f64 {
+    (zenith_deg - 90.0).max(0.0)
+}
