@@ -67,9 +67,8 @@ impl<T: Float> Geocentric<T> {
 
 /// Sections 3.1–3.8 for an instant split into days and fractions.
 pub(crate) fn geocentric<T: Float>(t: &SplitDays<T>) -> Geocentric<T> {
-    let days_tt = t.tt();
-    let jce = days_tt / T::from_f64(DAYS_PER_CENTURY);
-    let jme = days_tt / T::from_f64(DAYS_PER_MILLENNIUM);
+    let jce = t.tt_in(DAYS_PER_CENTURY);
+    let jme = t.tt_in(DAYS_PER_MILLENNIUM);
     let helio = heliocentric(t.days, t.frac_tt, jme);
 
     let (dpsi_rad, deps_rad) = nutation_rad(jce);
@@ -92,7 +91,7 @@ pub(crate) fn geocentric<T: Float>(t: &SplitDays<T>) -> Geocentric<T> {
     let beta_rad = -helio.b_rad;
 
     // Eq. 28–29 on UT1; the JC² and JC³ terms are below 0.1″ for centuries.
-    let jc = t.ut() / T::from_f64(DAYS_PER_CENTURY);
+    let jc = t.ut_in(DAYS_PER_CENTURY);
     let nu0_turns = frac(
         SIDEREAL.at(t.days, t.frac_ut)
             + jc * jc

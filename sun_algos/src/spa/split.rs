@@ -39,14 +39,18 @@ impl<T: Float> SplitDays<T> {
         }
     }
 
-    /// Days from J2000.0 on TT (`days + frac_tt`, rounded to `T`).
-    pub fn tt(&self) -> T {
-        T::from_i32(self.days) + self.frac_tt
+    /// Time from J2000.0 on TT in units of `period_days` (Julian centuries,
+    /// millennia): the whole days and the fraction are scaled apart, so `f32`
+    /// rounds only once at the result's own magnitude.
+    pub fn tt_in(&self, period_days: f64) -> T {
+        let k = T::from_f64(1.0 / period_days);
+        T::from_i32(self.days) * k + self.frac_tt * k
     }
 
-    /// Days from J2000.0 on UT1 (`days + frac_ut`, rounded to `T`).
-    pub fn ut(&self) -> T {
-        T::from_i32(self.days) + self.frac_ut
+    /// The same on UT1.
+    pub fn ut_in(&self, period_days: f64) -> T {
+        let k = T::from_f64(1.0 / period_days);
+        T::from_i32(self.days) * k + self.frac_ut * k
     }
 }
 
