@@ -7,6 +7,7 @@
 //! | [`RtcClock`] | [`crate::traits::Clock`] | any [`drivers::rtc::Clock`] (DS3231, DS1302) |
 //! | [`GpsPort`] | — (feeds [`crate::sources`]) | [`drivers::gps::GpsReader`] |
 //! | [`MountSensorsHw`] | [`crate::traits::AttitudeSensor`] | a tilt sensor ([`AxisAngles`]: ADXL345, WitMotion inclinometer) + any [`drivers::compass::Magnetometer`] |
+//! | [`ServoAxis`] | [`crate::axis::AxisDrive`] | [`drivers::servo::ContinuousServo`] + a quadrature encoder ([`EncoderCount`]) + home switch |
 //! | [`StepperAxis`] | [`crate::axis::AxisDrive`] | [`drivers::stepper::hbridge::HBridgeStepper`] + home switch |
 //!
 //! Time and site fallbacks (GPS, then RTC, then the stored site or a postal
@@ -16,10 +17,12 @@ mod attitude;
 mod axis;
 mod clock;
 mod gps;
+mod servo_axis;
 mod time;
 
 pub use attitude::{AccelTiltError, AxisAngles, MountSensorError, MountSensorsHw};
 pub use axis::{StepperAxis, StepperAxisError};
 pub use clock::{ClockError, RtcClock};
 pub use gps::GpsPort;
+pub use servo_axis::{EncoderCount, ServoAxis, ServoAxisError};
 pub use time::{datetime_from_utc, utc_from_datetime, TimeConversionError};

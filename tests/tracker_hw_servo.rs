@@ -1,0 +1,347 @@
+//! Servo axes on the real drivers: `drivers::servo::ContinuousServo` (PWM),
+//! `drivers::encoder::SharedEncoder` (the Gray-code decoder an interrupt
+//! would feed) and `drivers::servo::PositionController`, through
+//! `hw::ServoAxis`, closed loop in the whole controller over a Kano day.
+//!
+//! The PWM channel and the encoder lines are a small servo model: the pulse
+//! width sets the motor speed (FS5106R class, seed chowdhury-2019: 1.5 ms
+//! stop, ±0.5 ms full speed, taken here as 400°/s at the motor, ±8 µs
+//! dead zone), the motor turns a 300-line encoder (YMT22 class; ×4 = 1200
+//! edges per revolution, each fed to the decoder as its A/B levels) and a
+//! 100:1 gear to the axis. Pointing is checked against NREL SPA as in
+//! `tracker_hw_day`.
+
+mod tracker_hw_common;
+
+use std::cell::RefCell;
+use std::convert::Infallible;
+use std::rc::Rc;
+
+use drivers::encoder::SharedEncoder;
+use drivers::servo::{ContinuousServo, PositionController, ServoConfig};
+use embedded_hal::digital::{ErrorType as PinErrorType, InputPin};
+use embedded_hal::pwm::{ErrorType as PwmErrorType, SetDutyCycle};
+use sun_algos::{Algorithm, Options, Site};
+use suntracker::axis::{AxisController, AxisDrive, FeedbackMode, HomeState};
+use suntracker::config::{AxisConfig, Config};
+use suntracker::controller::{Controller, ControllerOptions, TickInputs};
+use suntracker::hw::ServoAxis;
+use suntracker::safety::Mode;
+use suntracker::scheduler::Phase;
+use suntracker::sim::sensors::MountSensors;
+use suntracker::traits::AlgorithmSource;
+use tracker_hw_common::motor::{angle_deg, below_reach_deg, normal_xyz, sun_xyz, utc_at, TOL_DEG};
+
+const EDGES_PER_MOTOR_REV: u32 = 1200;
+const GEAR: f64 = 100.0;
+const MOTOR_DEG_PER_EDGE: f64 = 360.0 / EDGES_PER_MOTOR_REV as f64;
+const MOTOR_TOP_SPEED_DEG_S: f64 = 400.0;
+/// Forward Gray sequence (A leads B): 00, 10, 11, 01.
+const GRAY: [(bool, bool); 4] = [(false, false), (true, false), (true, true), (false, true)];
+
+#[derive(Debug)]
+struct ServoModel {
+    pulse_us: u32,
+    min_pulse_us: u32,
+    max_pulse_us: u32,
+    motor_deg: f64,
+    start_deg: f64,
+    switch_deg: f64,
+}
+
+impl ServoModel {
+    fn new(start_deg: f64, switch_deg: f64) -> Rc<RefCell<ServoModel>> {
+        Rc::new(RefCell::new(ServoModel {
+            pulse_us: 1500,
+            min_pulse_us: u32::MAX,
+            max_pulse_us: 0,
+            motor_deg: 0.0,
+            start_deg,
+            switch_deg,
+        }))
+    }
+
+    fn output_deg(&self) -> f64 {
+        self.start_deg + self.motor_deg / GEAR
+    }
+
+    /// Runs `dt_s` at the commanded speed, feeding every encoder edge.
+    fn advance(&mut self, dt_s: f64, encoder: &SharedEncoder) {
+        let off = f64::from(self.pulse_us) - 1500.0;
+        let speed = if off.abs() <= 8.0 {
+            0.0
+        } else {
+            (off / 500.0).clamp(-1.0, 1.0) * MOTOR_TOP_SPEED_DEG_S
+        };
+        // Hard stop 1° past the switch.
+        let lowest_motor = (self.switch_deg - 1.0 - self.start_deg) * GEAR;
+        let new = (self.motor_deg + speed * dt_s).max(lowest_motor);
+        let mut n = (self.motor_deg / MOTOR_DEG_PER_EDGE).floor() as i64;
+        let n_new = (new / MOTOR_DEG_PER_EDGE).floor() as i64;
+        while n != n_new {
+            n += (n_new - n).signum();
+            let (a, b) = GRAY[n.rem_euclid(4) as usize];
+            encoder.update(a, b);
+        }
+        self.motor_deg = new;
+    }
+}
+
+/// A PWM channel at 50 Hz with 1 µs per duty step.
+struct Pwm(Rc<RefCell<ServoModel>>);
+
+impl PwmErrorType for Pwm {
+    type Error = Infallible;
+}
+
+impl SetDutyCycle for Pwm {
+    fn max_duty_cycle(&self) -> u16 {
+        20_000
+    }
+    fn set_duty_cycle(&mut self, duty: u16) -> Result<(), Infallible> {
+        let mut m = self.0.borrow_mut();
+        m.pulse_us = u32::from(duty);
+        m.min_pulse_us = m.min_pulse_us.min(m.pulse_us);
+        m.max_pulse_us = m.max_pulse_us.max(m.pulse_us);
+        Ok(())
+    }
+}
+
+/// The home switch, closed = high.
+struct Switch(Rc<RefCell<ServoModel>>);
+
+impl PinErrorType for Switch {
+    type Error = Infallible;
+}
+
+impl InputPin for Switch {
+    fn is_high(&mut self) -> Result<bool, Infallible> {
+        let m = self.0.borrow();
+        Ok(m.output_deg() <= m.switch_deg)
+    }
+    fn is_low(&mut self) -> Result<bool, Infallible> {
+        self.is_high().map(|h| !h)
+    }
+}
+
+type Axis<'a> = ServoAxis<'a, Pwm, SharedEncoder, Switch>;
+
+fn control() -> PositionController {
+    PositionController {
+        kp_per_count: 0.01,
+        deadband_counts: 1,
+        max_speed: 1.0,
+        min_speed: 0.03,
+    }
+}
+
+fn axis_config(min_deg: f32, max_deg: f32) -> AxisConfig {
+    AxisConfig {
+        counts_per_motor_rev: EDGES_PER_MOTOR_REV,
+        microsteps: 1,
+        gear_ratio: GEAR as f32,
+        min_deg,
+        max_deg,
+        home_deg: min_deg,
+        backlash_deg: 0.0,
+        max_speed_deg_s: 4.0,
+        deadband_deg: 0.05,
+    }
+}
+
+fn servo_axis<'a>(
+    model: &Rc<RefCell<ServoModel>>,
+    encoder: &'a SharedEncoder,
+    cfg: &AxisConfig,
+) -> Axis<'a> {
+    let servo = ContinuousServo::new(Pwm(Rc::clone(model)), ServoConfig::STANDARD_50HZ).unwrap();
+    ServoAxis::new(
+        servo,
+        encoder,
+        Switch(Rc::clone(model)),
+        false,
+        control(),
+        cfg,
+    )
+}
+
+/// Polls every millisecond until the axis is on target (speed 0, nothing
+/// pending) or `max_s` elapsed; returns the seconds used.
+fn run(axis: &mut Axis, model: &Rc<RefCell<ServoModel>>, enc: &SharedEncoder, max_s: f64) -> f64 {
+    let mut t = 0.0;
+    while t < max_s {
+        let speed = axis.poll().unwrap();
+        model.borrow_mut().advance(0.001, enc);
+        t += 0.001;
+        if speed == 0.0 && axis.pending() == 0 {
+            break;
+        }
+    }
+    t
+}
+
+#[test]
+fn a_move_settles_within_one_count() {
+    let model = ServoModel::new(0.0, -180.0);
+    let enc = SharedEncoder::new();
+    let cfg = axis_config(-180.0, 180.0);
+    let mut axis = servo_axis(&model, &enc, &cfg);
+    // 10° of axis = 10 × 1200 × 100 / 360 = 3333 counts.
+    axis.move_counts(3333).unwrap();
+    assert_eq!(axis.pending(), 3333);
+    let used = run(&mut axis, &model, &enc, 30.0);
+    assert!(
+        (i64::from(axis.count()) - 3333).abs() <= 1,
+        "{}",
+        axis.count()
+    );
+    assert_eq!(axis.pending(), 0);
+    assert_eq!(axis.pulse_us(), 1500, "stopped at neutral");
+    // 1000° of motor at ≤ 400°/s: at least 2.5 s.
+    assert!((2.5..30.0).contains(&used), "{used}");
+    assert_eq!(enc.errors(), 0);
+    let m = model.borrow();
+    assert!((m.output_deg() - 10.0).abs() <= 2.0 * MOTOR_DEG_PER_EDGE / GEAR);
+    assert!(m.min_pulse_us >= 1000 && m.max_pulse_us <= 2000);
+}
+
+#[test]
+fn homing_gives_the_encoder_its_reference() {
+    let model = ServoModel::new(-150.0, -180.0);
+    let enc = SharedEncoder::new();
+    let cfg = axis_config(-180.0, 180.0);
+    let mut ax = AxisController::new(servo_axis(&model, &enc, &cfg), cfg);
+    assert_eq!(ax.drive_mut().encoder_deg(), Ok(None));
+    let mut steps = 0;
+    loop {
+        steps += 1;
+        assert!(steps < 10_000, "homing did not finish");
+        match ax.home_step(1.0).unwrap() {
+            HomeState::Done => break,
+            _ => {
+                let m = Rc::clone(&model);
+                run(ax.drive_mut(), &m, &enc, 5.0);
+            }
+        }
+    }
+    let truth = model.borrow().output_deg();
+    let fb = f64::from(ax.drive_mut().encoder_deg().unwrap().unwrap());
+    // The switch closes at −180°: found within the slow approach's step.
+    assert!((truth + 180.0).abs() < 0.03, "{truth}");
+    assert!((fb - truth).abs() < 0.03, "{fb} vs {truth}");
+    // Closed loop to 12.5°.
+    for _ in 0..3 {
+        let fb = ax.drive_mut().encoder_deg().unwrap();
+        ax.update(12.5, FeedbackMode::ClosedLoop, fb).unwrap();
+        let m = Rc::clone(&model);
+        run(ax.drive_mut(), &m, &enc, 120.0);
+    }
+    let truth = model.borrow().output_deg();
+    assert!((truth - 12.5).abs() < 0.05, "{truth}");
+}
+
+#[test]
+fn closed_loop_day_on_servo_axes() {
+    let c_model = ServoModel::new(0.0, -180.0);
+    let a_model = ServoModel::new(30.0, -90.0);
+    let (c_enc, a_enc) = (SharedEncoder::new(), SharedEncoder::new());
+    let config = Config {
+        axes: [axis_config(-180.0, 180.0), axis_config(-90.0, 90.0)],
+        ..Config::default()
+    };
+    let options = ControllerOptions {
+        feedback: FeedbackMode::ClosedLoop,
+        ..ControllerOptions::default()
+    };
+    let site = Site::with_elevation(11.9683, 8.4261, 480.0).unwrap();
+    let source = AlgorithmSource {
+        algorithm: Algorithm::Psa2020,
+        site,
+        options: Options::default(),
+    };
+    let axes = [
+        servo_axis(&c_model, &c_enc, &config.axes[0]),
+        servo_axis(&a_model, &a_enc, &config.axes[1]),
+    ];
+    let mut ctrl: Controller<_, Axis, MountSensors, 360> =
+        Controller::new(config, options, source, axes, None).unwrap();
+    // The boot night in command stow: see tracker_hw_day.
+    ctrl.command_stow(true);
+    let spa = |secs: u32| {
+        Algorithm::Spa
+            .position(&utc_at(secs), &site, &Options::default())
+            .unwrap()
+    };
+
+    let mut t: u32 = 5 * 3600;
+    let end = 19 * 3600 + 30 * 60;
+    let mut last_set_point = None;
+    let (mut applied, mut max_err_deg) = (0u32, 0.0f64);
+    while t < end {
+        if t >= 5 * 3600 + 20 * 60 {
+            ctrl.command_stow(false);
+        }
+        let report = ctrl.tick(&TickInputs {
+            now: utc_at(t),
+            time_valid: true,
+            gps_fix: true,
+            wind_pulses: 0,
+            wind_interval_s: 60.0,
+        });
+        let next = if report.homing {
+            t + 1
+        } else {
+            (t / 60 + 1) * 60
+        };
+        // The main loop: both axes every millisecond until on target.
+        let mut s = 0.0;
+        while s < f64::from(next - t) {
+            let mut busy = false;
+            for (ax, (m, e)) in ctrl
+                .axes_mut()
+                .iter_mut()
+                .zip([(&c_model, &c_enc), (&a_model, &a_enc)])
+            {
+                let d = ax.drive_mut();
+                let sp = d.poll().unwrap();
+                busy |= sp != 0.0 || d.pending() != 0;
+                m.borrow_mut().advance(0.001, e);
+            }
+            s += 0.001;
+            if !busy {
+                break;
+            }
+        }
+        let tracking = matches!(ctrl.scheduler().phase(), Phase::Tracking { .. });
+        if report.mode == Mode::Tracking && tracking {
+            if report.set_point != last_set_point && t % 240 < 30 {
+                let sun = spa(t - t % 240);
+                let n = normal_xyz(c_model.borrow().output_deg(), a_model.borrow().output_deg());
+                let err = angle_deg(n, sun_xyz(90.0 - sun.zenith_deg, sun.azimuth_deg))
+                    - below_reach_deg(sun.zenith_deg);
+                assert!(err <= TOL_DEG, "pointing error {err}° at t={t}");
+                max_err_deg = max_err_deg.max(err);
+                applied += 1;
+            }
+            last_set_point = report.set_point;
+        }
+        t = next;
+    }
+    let table = ctrl.scheduler().table();
+    println!(
+        "servo day: entries={} applied={applied} max_err_deg={max_err_deg:.4} raised={}",
+        table.len(),
+        ctrl.faults().raised
+    );
+    assert_eq!(applied as usize, table.len());
+    // Home at night: facing the day's first entry again.
+    let first = table.get(0).unwrap().time;
+    let (h, m, _, _) = first.hms_milli();
+    let sun = spa(u32::from(h) * 3600 + u32::from(m) * 60);
+    let n = normal_xyz(c_model.borrow().output_deg(), a_model.borrow().output_deg());
+    let err = angle_deg(n, sun_xyz(90.0 - sun.zenith_deg, sun.azimuth_deg))
+        - below_reach_deg(sun.zenith_deg);
+    assert!(err <= TOL_DEG, "home pose off by {err}°");
+    assert_eq!(ctrl.faults().active_count(), 0);
+    assert_eq!((c_enc.errors(), a_enc.errors()), (0, 0));
+}
