@@ -326,9 +326,12 @@ where
                     Some(stow)
                 } else {
                     // The day's starting pose, on the branch the day used.
-                    match self.day_start_pose {
-                        Some(p) => Some(p),
-                        None => self.home_set_point.and_then(|sp| self.pose_for(&sp)),
+                    // Before any day: the power-on zero set-point (seed
+                    // jimoh-2019 step 1).
+                    match (self.day_start_pose, self.home_set_point, self.set_point) {
+                        (Some(p), _, _) => Some(p),
+                        (None, Some(sp), _) | (None, None, Some(sp)) => self.pose_for(&sp),
+                        (None, None, None) => None,
                     }
                 }
             }

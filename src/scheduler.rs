@@ -22,14 +22,15 @@
 //! Days are *solar* days, from one local mean solar midnight
 //! (`00:00 UTC − longitude/15 h`) to the next, so that a day's daylight is
 //! never split; in a polar day the whole solar day is daylight. Sunrise and
-//! sunset are `sun_algos::geometry::events::find` (upper limb on the
-//! refracted horizon, zenith 90.833°), and the table is
+//! sunset are `sun_algos::geometry::events::find`, for the sun's centre on
+//! the geometric horizon (seed eq. 9), and the table is
 //! `sun_algos::geometry::day_table::DayTable` (4-byte entries in 0.01°).
 
 use crate::traits::PositionSource;
 use sun_algos::geometry::day_table::DayTable;
 use sun_algos::geometry::events::{self, DayKind, Events};
 use sun_algos::geometry::{GeometryError, Limits};
+use sun_algos::refraction::SUN_RADIUS_PLUS_HORIZON_REFRACTION_DEG;
 use sun_algos::{Error as SunError, Float, SunPosition, UtcTime};
 
 /// Intervals of the scheduler (seed jimoh-2019 defaults).
@@ -181,14 +182,26 @@ pub fn solar_day_start<T: Float>(
     UtcTime::from_unix_seconds(midnight_local - off).map_err(|_| ScheduleError::TimeRange)
 }
 
-/// Sunrise and sunset of the solar day starting at `start`
+/// Sunrise and sunset (sun centre on the geometric horizon, seed
+/// jimoh-2019 eq. 9) of the solar day starting at `start`
 /// (`sun_algos::geometry::events::find`: 10-minute samples, crossings
-/// bisected to a second, any position source).
+/// bisected to a second, any position source). The returned events are in
+/// that sense too (their `transit_zenith_deg` is 0.833° high).
 pub fn find_daylight<T: Float, P: PositionSource<T>>(
     start: UtcTime,
     sun: &mut P,
 ) -> Result<(SolarDay, Events<T>), ScheduleError> {
-    let ev = events::find(start, |t| sun.position(t))?;
+    // Seed jimoh-2019 eq. 9: sunrise is where the zenith angle is 90°
+    // (the sun's centre on the geometric horizon; a set-point below it
+    // could not be reached by an A axis limited to ±90°). `events::find`
+    // looks for the standard 90.833°, so it is handed zenith + 0.833°.
+    let shift = T::from_f64(SUN_RADIUS_PLUS_HORIZON_REFRACTION_DEG);
+    let ev = events::find(start, |t| {
+        sun.position(t).map(|p| SunPosition {
+            zenith_deg: p.zenith_deg + shift,
+            ..p
+        })
+    })?;
     let end = start
         .add_seconds(86_400)
         .map_err(|_| ScheduleError::TimeRange)?;

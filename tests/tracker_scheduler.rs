@@ -33,12 +33,9 @@ impl Textbook {
                 - 0.04089 * (2.0 * b).sin())
             / 60.0
     }
-    /// Seed eq. 10 with the standard sunrise zenith 90.833° (upper limb on
-    /// the refracted horizon; eq. 9 is the case θz = 90°): sunrise/sunset in
-    /// UTC hours (None for polar day/night).
+    /// Seed eq. 9: sunrise/sunset in UTC hours (None for polar day/night).
     fn rise_set_utc_h(&self, n: f64) -> Option<(f64, f64)> {
-        let (phi, d) = (self.lat.to_radians(), Self::decl_deg(n).to_radians());
-        let x = ((90.833f64).to_radians().cos() - d.sin() * phi.sin()) / (d.cos() * phi.cos());
+        let x = -(self.lat.to_radians().tan()) * Self::decl_deg(n).to_radians().tan();
         if x.abs() >= 1.0 {
             return None;
         }
@@ -118,7 +115,7 @@ fn whole_day_in_kano_follows_the_flowchart() {
         panic!()
     };
     assert_eq!(until, rise);
-    // Sunrise and sunset agree with the seed's eq. 10 within a minute.
+    // Sunrise and sunset agree with the seed's eq. 9 within a minute.
     let (r_h, s_h) = KANO.rise_set_utc_h(292.0).unwrap();
     let hours = |u: UtcTime| u.hours::<f64>();
     assert!((hours(rise) - r_h).abs() * 60.0 < 1.0, "{rise} vs {r_h}");
@@ -214,7 +211,7 @@ fn seed_intervals_hold_and_recheck() {
 
 #[test]
 fn polar_day_in_tromso_tracks_around_the_clock() {
-    // 21 June: eq. 10 has no solution at 69.65° N, no sunset.
+    // 21 June: eq. 9 has −tanφ tanδ ≤ −1 at 69.65° N, no sunset.
     assert!(TROMSO.rise_set_utc_h(172.0).is_none());
     let mut s = Sched::new(ScheduleConfig::default(), TROMSO).unwrap();
     let start = t("2026-06-21T00:00:00Z");
