@@ -18,6 +18,7 @@
 
 use core::cell::Cell;
 
+use drivers::compass::wmm::{decimal_year, WmmError, WmmModel};
 use drivers::gps::{FixQuality, GpsFix};
 use drivers::rtc::Clock as RtcDriver;
 use sun_algos::{Algorithm, Error as SunError, Float, Options, Site, SunPosition, UtcTime};
@@ -314,4 +315,24 @@ pub fn follow_gps_site(cell: &Cell<Site<f64>>, fix: &GpsFix, min_move_deg: f64) 
         cell.set(s);
     }
     moved
+}
+
+/// Magnetic declination (degrees, east positive) at the site and instant
+/// from the World Magnetic Model 2025 (the drivers' `no_std` synthesis):
+/// the heading correction the portable-tracker seed finds matters most.
+/// The site's elevation is taken as the height above the ellipsoid (the
+/// geoid difference, tens of metres, changes D by far less than 0.01°).
+/// Errors outside the model's 2025–2030 span or at a pole.
+pub fn wmm_declination_deg(site: &Site<f64>, now: &UtcTime) -> Result<f32, WmmError> {
+    let (y, mo, d) = now.ymd();
+    let seconds_of_day = now.ms_of_day() / 1000;
+    let year = decimal_year(y, mo, d, seconds_of_day)?;
+    WmmModel::wmm2025()
+        .declination_deg(
+            site.latitude_deg(),
+            site.longitude_deg(),
+            site.elevation_m() / 1000.0,
+            year,
+        )
+        .map(|dec| dec as f32)
 }

@@ -269,3 +269,22 @@ fn shared_site_follows_a_moved_gps_only() {
     assert!(!follow_gps_site(&cell, &noisy, 0.01));
     assert!(!follow_gps_site(&cell, &GpsFix::NONE, 0.01));
 }
+
+#[test]
+fn wmm_declination_for_the_site_matches_noaa_test_values() {
+    // NOAA's WMM2025 test values (report table; pygeomag 1.1.0 to 6
+    // decimals): 2027.5 at 80° N 0° E, 0 km: D = 2.59° (2.594134°);
+    // 2025.0 at 0° N 120° E: D = −0.16° (−0.158274°). 2027.5 is
+    // 2027-07-02 12:00 UTC (182.5 days into a 365-day year).
+    let site = Site::new(80.0, 0.0).unwrap();
+    let t = UtcTime::from_ymd_hms(2027, 7, 2, 12, 0, 0).unwrap();
+    let d = suntracker::sources::wmm_declination_deg(&site, &t).unwrap();
+    assert!((f64::from(d) - 2.594134).abs() < 0.005, "{d}");
+    let site = Site::new(0.0, 120.0).unwrap();
+    let t = UtcTime::from_ymd_hms(2025, 1, 1, 0, 0, 0).unwrap();
+    let d = suntracker::sources::wmm_declination_deg(&site, &t).unwrap();
+    assert!((f64::from(d) + 0.158274).abs() < 0.005, "{d}");
+    // Outside the model's life span: an error, not a guess.
+    let t = UtcTime::from_ymd_hms(2031, 1, 1, 0, 0, 0).unwrap();
+    assert!(suntracker::sources::wmm_declination_deg(&site, &t).is_err());
+}
