@@ -24,6 +24,7 @@ use drivers::rtc::Clock as RtcDriver;
 use sun_algos::{Algorithm, Error as SunError, Float, Options, Site, SunPosition, UtcTime};
 
 use crate::config::SiteConfig;
+use crate::controller::TickInputs;
 use crate::hw::{datetime_from_utc, utc_from_datetime};
 use crate::site::{lookup_str, PostalError};
 use crate::traits::PositionSource;
@@ -201,6 +202,23 @@ impl TimeStatus {
     /// time is not valid; the instant only drives its timers).
     pub fn tick_time(&self, fallback: UtcTime) -> UtcTime {
         self.now.or(self.rtc_raw).unwrap_or(fallback)
+    }
+
+    /// The controller's inputs for this tick: time and its validity, the
+    /// GPS state, and the anemometer pulses counted since the last tick.
+    pub fn tick_inputs(
+        &self,
+        fallback: UtcTime,
+        wind_pulses: u32,
+        wind_interval_s: f32,
+    ) -> TickInputs {
+        TickInputs {
+            now: self.tick_time(fallback),
+            time_valid: self.time_valid(),
+            gps_fix: self.gps_fix,
+            wind_pulses,
+            wind_interval_s,
+        }
     }
 }
 

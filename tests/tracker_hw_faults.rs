@@ -24,7 +24,7 @@ use embedded_hal::i2c::{ErrorKind, NoAcknowledgeSource};
 use embedded_hal_mock::eh1::i2c::{Mock as I2cMock, Transaction as I2c};
 use sun_algos::{Algorithm, Options, Site};
 use suntracker::config::Config;
-use suntracker::controller::{Controller, TickInputs};
+use suntracker::controller::Controller;
 use suntracker::hw::GpsPort;
 use suntracker::safety::{Fault, Mode};
 use suntracker::scheduler::Phase;
@@ -121,13 +121,7 @@ fn lost_power_gps_loss_and_rtc_nack_are_raised_and_recovered() {
         i2c.update_expectations(&tx);
         let status = keeper.update(&fix);
         let fallback = keeper.last_valid().unwrap_or(utc_at(t));
-        let report = ctrl.tick(&TickInputs {
-            now: status.tick_time(fallback),
-            time_valid: status.time_valid(),
-            gps_fix: status.gps_fix,
-            wind_pulses: 0,
-            wind_interval_s: 60.0,
-        });
+        let report = ctrl.tick(&status.tick_inputs(fallback, 0, 60.0));
         let next = if report.homing {
             t + 1
         } else {
