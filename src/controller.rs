@@ -133,6 +133,8 @@ pub struct Controller<P, D, S, const N: usize> {
     smoothed: Option<[f64; 4]>,
     /// Per axis: encoder angle before the last command, and its size.
     last_drive: [Option<(f32, f64)>; 2],
+    /// Pose chosen to wait for a sunrise (before the first day).
+    night_pose: Option<(UtcTime, Pose<f64>)>,
 }
 
 impl<P, D, S, const N: usize> Controller<P, D, S, N>
@@ -181,6 +183,7 @@ where
             day_start_pose: None,
             smoothed: None,
             last_drive: [None; 2],
+            night_pose: None,
         })
     }
 
@@ -325,13 +328,20 @@ where
                 if self.options.night_stow {
                     Some(stow)
                 } else {
-                    // The day's starting pose, on the branch the day used.
-                    // Before any day: the power-on zero set-point (seed
-                    // jimoh-2019 step 1).
-                    match (self.day_start_pose, self.home_set_point, self.set_point) {
-                        (Some(p), _, _) => Some(p),
-                        (None, Some(sp), _) | (None, None, Some(sp)) => self.pose_for(&sp),
-                        (None, None, None) => None,
+                    // The day's starting pose, on the branch the day used
+                    // (seed li-2022). Before any day: facing the coming
+                    // sunrise; failing that the power-on zero set-point
+                    // (seed jimoh-2019 step 1).
+                    let next_rise = match self.scheduler.phase() {
+                        Phase::WaitSunrise { until } => Some(until),
+                        _ => None,
+                    };
+                    match (self.day_start_pose, next_rise) {
+                        (Some(p), _) => Some(p),
+                        (None, Some(rise)) => self
+                            .pre_position(rise)
+                            .or_else(|| self.set_point.and_then(|sp| self.pose_for(&sp))),
+                        (None, None) => self.set_point.and_then(|sp| self.pose_for(&sp)),
                     }
                 }
             }
@@ -388,16 +398,45 @@ where
     /// Follows the rest of the day table from each candidate starting pose
     /// (both solutions of the first entry, and their ±360° turns), each
     /// step taking the least-motion solution, and returns the start whose
-    /// day needs the least travel: a C axis that would run into its limit
-    /// at noon (and swing half a turn there) is avoided at sunrise.
+    /// day needs the least travel (the move from where the axes are now
+    /// included): a C axis that would run into its limit at noon (and swing
+    /// half a turn there) is avoided at sunrise.
     fn look_ahead(&self, now: UtcTime) -> Option<Pose<f64>> {
-        let limits = self.limits();
         let table = self.scheduler.table();
         let first = (0..table.len())
             .filter_map(|i| table.get(i))
             .find(|e| e.time.unix_seconds() + 60 >= now.unix_seconds())?;
-        let sun0 = sun_vector_xyz(first.set_point.elevation_deg(), first.set_point.azimuth_deg);
+        let here = Pose {
+            gamma_deg: f64::from(self.axes[0].counted_deg()),
+            alpha_deg: f64::from(self.axes[1].counted_deg()),
+        };
+        self.best_start(first.set_point, Some(here), || {
+            (0..table.len())
+                .filter_map(move |i| table.get(i))
+                .filter(move |e| e.time >= first.time)
+                .map(|e| e.set_point)
+        })
+    }
+
+    /// Of the poses facing `first`, the one whose path through the
+    /// set-points `path()` (least motion at each step) travels least, plus
+    /// the move from `from` when given.
+    fn best_start<I, F>(
+        &self,
+        first: SetPoint<f64>,
+        from: Option<Pose<f64>>,
+        path: F,
+    ) -> Option<Pose<f64>>
+    where
+        I: Iterator<Item = SetPoint<f64>>,
+        F: Fn() -> I,
+    {
+        let limits = self.limits();
+        let sun0 = sun_vector_xyz(first.elevation_deg(), first.azimuth_deg);
         let sols = self.attitude.solutions(&sun0, self.pose.gamma_deg).ok()?;
+        let dist = |a: &Pose<f64>, b: &Pose<f64>| {
+            (a.gamma_deg - b.gamma_deg).abs() + (a.alpha_deg - b.alpha_deg).abs()
+        };
         let mut best: Option<(f64, Pose<f64>)> = None;
         for sol in sols {
             for turn in [-360.0, 0.0, 360.0] {
@@ -409,18 +448,14 @@ where
                     continue;
                 }
                 let mut prev = start;
-                let mut travel = 0.0;
-                for e in (0..table.len()).filter_map(|i| table.get(i)) {
-                    if e.time < first.time {
-                        continue;
-                    }
-                    let s = sun_vector_xyz(e.set_point.elevation_deg(), e.set_point.azimuth_deg);
+                let mut travel = from.map_or(0.0, |f| dist(&f, &start));
+                for sp in path() {
+                    let s = sun_vector_xyz(sp.elevation_deg(), sp.azimuth_deg);
                     let Ok(c) = self.attitude.choose(&s, &prev, &limits) else {
                         continue;
                     };
                     let p = c.pose();
-                    travel +=
-                        (p.gamma_deg - prev.gamma_deg).abs() + (p.alpha_deg - prev.alpha_deg).abs();
+                    travel += dist(&p, &prev);
                     prev = p;
                 }
                 if best.is_none_or(|(t, _)| travel < t) {
@@ -429,6 +464,37 @@ where
             }
         }
         best.map(|(_, p)| p)
+    }
+
+    /// Before the first day: where to wait for sunrise. The sun is sampled
+    /// every 30 minutes over the 24 hours from `sunrise`, and the pose facing
+    /// sunrise on the branch that serves that day with least travel is taken.
+    fn pre_position(&mut self, sunrise: UtcTime) -> Option<Pose<f64>> {
+        if let Some((t, p)) = self.night_pose {
+            if t == sunrise {
+                return Some(p);
+            }
+        }
+        let mut samples = [SetPoint::default(); 48];
+        let mut n = 0;
+        for k in 0..48i64 {
+            let Ok(t) = sunrise.add_seconds(k * 1800) else {
+                break;
+            };
+            let Ok(p) = self.scheduler.source_mut().position(&t) else {
+                continue;
+            };
+            if p.is_above_horizon() || k == 0 {
+                if let Some(slot) = samples.get_mut(n) {
+                    *slot = SetPoint::facing(&p);
+                    n += 1;
+                }
+            }
+        }
+        let first = *samples.first()?;
+        let pose = self.best_start(first, None, || samples.iter().take(n).copied())?;
+        self.night_pose = Some((sunrise, pose));
+        Some(pose)
     }
 
     fn update_attitude(&mut self, now: UtcTime) {
