@@ -141,3 +141,4 @@ impl embedded_io::ReadReady for MemSerial {
 }
 
 pub mod motor;
+pub mod mount;

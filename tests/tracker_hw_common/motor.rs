@@ -260,18 +260,14 @@ pub fn tracker_config() -> (
 /// The main loop between two controller ticks: polls both stepper drivers
 /// every 100 µs from `from_s` until the motion and the coil settle time
 /// are over, or until `to_s`.
-pub fn pump<P, const N: usize>(
-    ctrl: &mut suntracker::controller::Controller<
-        P,
-        Axis,
-        suntracker::sim::sensors::MountSensors,
-        N,
-    >,
+pub fn pump<P, S, const N: usize>(
+    ctrl: &mut suntracker::controller::Controller<P, Axis, S, N>,
     motors: [&Rc<RefCell<Motor>>; 2],
     from_s: u32,
     to_s: u32,
 ) where
     P: suntracker::traits::PositionSource<f64>,
+    S: suntracker::traits::AttitudeSensor<f64>,
 {
     use suntracker::axis::AxisDrive;
     let mut now_us = u64::from(from_s) * 1_000_000;
