@@ -3,7 +3,12 @@
 //!
 //! A term A cos(B + C τ) equals (A cos B) cos(C τ) − (A sin B) sin(C τ). The
 //! 195 terms use only 98 distinct frequencies C, so one sin/cos pair per
-//! frequency serves every term that shares it, bit-for-bit the same C.
+//! frequency serves every term that shares it, bit-for-bit the same C. Many
+//! printed frequencies are, as decimals, exact sums or differences of two
+//! others (e.g. 6283.07585 = 213.299 + 6069.776 + …): their sin/cos pairs
+//! follow from the addition theorem, so only [`DIRECT`]'s 41 are computed
+//! with trigonometry. The rounding this adds is a few units in the last
+//! place of the sin/cos values (checked in the tests against direct sin/cos).
 #![allow(clippy::unreadable_literal, clippy::excessive_precision)]
 
 /// The frequencies in both precisions.
@@ -293,3 +298,73 @@ pub(crate) const R3: FastSeries = fast_series!([
 
 /// Series R4: `(frequency index, A cos B, A sin B)` per term.
 pub(crate) const R4: FastSeries = fast_series!([(64, -3.3423551085256307, 2.1974217457085063),]);
+
+/// Frequencies whose sin and cos are computed directly (indices into
+/// [`FREQUENCIES`]); every other one follows from two already known by the
+/// addition theorem (see [`DERIVED`]).
+pub(crate) const DIRECT: [u8; 41] = [
+    1, 2, 4, 5, 6, 7, 9, 14, 30, 31, 33, 40, 52, 53, 54, 56, 57, 58, 59, 62, 65, 68, 69, 70, 74,
+    76, 80, 82, 83, 85, 86, 87, 88, 89, 91, 92, 93, 94, 95, 96, 97,
+];
+
+/// `(c, a, b, plus)`: frequency `c` is `a + b` (`plus`) or `a − b`, exactly
+/// as the decimal constants of Table A4.2 are printed; listed in an order
+/// where `a` and `b` are always known before (at most 4 steps from a direct one).
+pub(crate) const DERIVED: [(u8, u8, u8, bool); 56] = [
+    (64, 95, 93, false),
+    (81, 95, 92, false),
+    (90, 64, 81, true),
+    (24, 91, 90, false),
+    (67, 91, 81, false),
+    (26, 90, 88, false),
+    (77, 88, 64, false),
+    (46, 77, 64, false),
+    (73, 77, 26, false),
+    (43, 87, 81, false),
+    (66, 77, 43, false),
+    (75, 64, 43, true),
+    (79, 90, 66, false),
+    (17, 77, 75, false),
+    (39, 86, 81, false),
+    (41, 91, 86, false),
+    (71, 86, 64, false),
+    (72, 64, 41, true),
+    (84, 41, 72, true),
+    (20, 41, 39, false),
+    (29, 24, 20, true),
+    (34, 64, 41, false),
+    (50, 86, 72, false),
+    (10, 24, 20, false),
+    (78, 85, 41, false),
+    (21, 83, 78, false),
+    (63, 89, 83, false),
+    (47, 77, 63, false),
+    (51, 78, 63, false),
+    (61, 76, 47, false),
+    (18, 77, 74, false),
+    (44, 74, 63, false),
+    (35, 70, 64, false),
+    (36, 70, 63, false),
+    (16, 70, 69, false),
+    (23, 16, 16, true),
+    (27, 16, 23, true),
+    (37, 35, 16, true),
+    (45, 64, 27, false),
+    (49, 64, 23, false),
+    (42, 49, 23, false),
+    (3, 65, 64, false),
+    (60, 81, 65, false),
+    (13, 64, 58, false),
+    (55, 58, 13, false),
+    (12, 63, 57, false),
+    (15, 63, 56, false),
+    (22, 15, 15, true),
+    (38, 70, 56, false),
+    (48, 56, 15, false),
+    (8, 51, 48, false),
+    (25, 33, 27, false),
+    (28, 33, 23, false),
+    (32, 33, 16, false),
+    (11, 28, 27, false),
+    (19, 28, 23, false),
+];
