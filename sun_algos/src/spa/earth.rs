@@ -43,22 +43,32 @@ fn sum<T: Float>(s: &super::tables::Series, tau: T, skip: usize) -> T {
     acc
 }
 
+/// C τ of each direct frequency as a secular angle in days (rad per
+/// millennium → turns per day).
+const DIRECT_SECULAR: [Secular; DIRECT.len()] = {
+    let mut out = [Secular::turns(0.0, 0.0); DIRECT.len()];
+    let mut i = 0;
+    while i < DIRECT.len() {
+        let c = FREQUENCIES.f64s[DIRECT[i] as usize];
+        out[i] = Secular::turns(0.0, c / (core::f64::consts::TAU * DAYS_PER_MILLENNIUM));
+        i += 1;
+    }
+    out
+};
+
 /// sin(C τ) and cos(C τ) of every distinct frequency C.
 struct Rotations<T>([(T, T); N_FREQUENCIES]);
 
 impl<T: Float> Rotations<T> {
-    fn new(tau: T) -> Self {
+    /// The pairs at `days + frac_tt` days (TT) from J2000.0.
+    fn new(days: i32, frac_tt: T) -> Self {
         let mut r = [(T::ZERO, T::ONE); N_FREQUENCIES];
-        // Index 0 is C = 0: sin 0 = 0, cos 0 = 1 as initialised.
-        for &k in DIRECT.iter() {
-            let k = usize::from(k);
-            let c = if is_f32::<T>() {
-                FREQUENCIES.f32s.get(k).map(|c| c32::<T>(*c))
-            } else {
-                FREQUENCIES.f64s.get(k).map(|c| T::from_f64(*c))
-            };
-            if let (Some(out), Some(c)) = (r.get_mut(k), c) {
-                *out = (c * tau).sin_cos();
+        // Index 0 is C = 0: sin 0 = 0, cos 0 = 1 as initialised. The direct
+        // ones take C τ in exact turns from the whole days, so even `f32`
+        // keeps its precision when C τ reaches 10⁵ rad (τ = ±4 millennia).
+        for (&k, s) in DIRECT.iter().zip(DIRECT_SECULAR.iter()) {
+            if let Some(out) = r.get_mut(usize::from(k)) {
+                *out = (frac(s.at(days, frac_tt)) * T::TAU).sin_cos();
             }
         }
         for &(c, a, b, plus) in DERIVED.iter() {
@@ -117,7 +127,7 @@ pub(crate) struct Heliocentric<T> {
 /// instant in Julian millennia (JME).
 pub(crate) fn heliocentric<T: Float>(days: i32, frac_tt: T, tau: T) -> Heliocentric<T> {
     let e8 = T::from_f64(1e-8);
-    let r = Rotations::new(tau);
+    let r = Rotations::new(days, frac_tt);
     let s = |series: &FastSeries| r.sum(series, 0);
     // L1 without its secular first term.
     let l_periodic = s(&L0)
@@ -191,7 +201,9 @@ mod tests {
         // The derived sin/cos pairs equal direct ones, to the rounding of
         // arguments C τ (up to 3 × 10⁵ rad at SPA's τ = ±4 millennia).
         for tau in [-4.0f64, -0.6, -0.1, 0.0038, 0.11, 0.6, 4.0] {
-            let r = Rotations::new(tau);
+            let days = (tau * DAYS_PER_MILLENNIUM).round() as i32;
+            let tau = f64::from(days) / DAYS_PER_MILLENNIUM;
+            let r = Rotations::new(days, 0.0);
             let tol = 1e-14 * (1.0 + 80_000.0 * tau.abs());
             for (k, &(s, c)) in r.0.iter().enumerate() {
                 let (s0, c0) = (FREQUENCIES.f64s[k] * tau).sin_cos();
@@ -205,7 +217,9 @@ mod tests {
         }
         // Series agree with the literal sum of eq. 9 at several epochs.
         for tau in [-4.0f64, -0.4, -0.1, 0.0, 0.0038, 0.05, 0.11, 0.4, 4.0] {
-            let r = Rotations::new(tau);
+            let days = (tau * DAYS_PER_MILLENNIUM).round() as i32;
+            let tau = f64::from(days) / DAYS_PER_MILLENNIUM;
+            let r = Rotations::new(days, 0.0);
             for (rep, fast) in pairs {
                 let want = sum(rep, tau, 0);
                 let got = r.sum(fast, 0);

@@ -11,17 +11,16 @@
 //! place of the sin/cos values (checked in the tests against direct sin/cos).
 #![allow(clippy::unreadable_literal, clippy::excessive_precision)]
 
-/// The frequencies in both precisions.
+/// The frequencies (used at compile time to build the exact-turn rates, so
+/// `f64` only).
 pub(crate) struct Frequencies {
     /// As `f64`.
     pub f64s: &'static [f64],
-    /// Rounded to `f32`.
-    pub f32s: &'static [f32],
 }
 
 macro_rules! frequencies {
     ([$($c:expr),* $(,)?]) => {
-        Frequencies { f64s: &[$($c),*], f32s: &[$($c),*] }
+        Frequencies { f64s: &[$($c),*] }
     };
 }
 
