@@ -285,6 +285,7 @@ fn main() -> ExitCode {
     let (mut wind_min, mut cmd_min, mut wait_min, mut stop_min, mut home_min) = (0u32, 0, 0, 0, 0);
     let mut rtc_lost_at: Option<u32> = None;
     let mut sched_errors = 0u32;
+    let mut last_raised = 0u32;
     for m in 0..minutes {
         let Ok(now) = args.start.add_seconds(i64::from(m) * 60) else {
             break;
@@ -342,6 +343,30 @@ fn main() -> ExitCode {
             wind_pulses: anemometer.pulses(wind, 60.0),
             wind_interval_s: 60.0,
         });
+        if let Some(w) = std::env::var_os("SIM_TRACE") {
+            if now.to_string().starts_with(w.to_str().unwrap_or("-")) {
+                let ax = ctl.axes();
+                eprintln!(
+                    "{now} {:?} homing {} target {:?} out {:.2} {:.2} counted {:.2} {:.2}",
+                    report.mode,
+                    report.homing,
+                    report.target,
+                    ax[0].drive().output_deg(),
+                    ax[1].drive().output_deg(),
+                    ax[0].counted_deg(),
+                    ax[1].counted_deg()
+                );
+            }
+        }
+        if std::env::var_os("SIM_DEBUG").is_some() && ctl.faults().raised != last_raised {
+            last_raised = ctl.faults().raised;
+            let active: Vec<_> = ctl
+                .faults()
+                .active()
+                .map(|a| (a.fault, a.recovery))
+                .collect();
+            eprintln!("{now} fault raised; active {active:?}");
+        }
         if report.schedule_error.is_some() {
             sched_errors += 1;
         }

@@ -592,6 +592,11 @@ where
         if ax.home_state() == HomeState::Done {
             return false;
         }
+        // Homing moves the axis on its own: the last tracking command says
+        // nothing about a stall any more.
+        if let Some(d) = self.last_drive.get_mut(i) {
+            *d = None;
+        }
         if ticks.wrapping_sub(wait_until) > u32::MAX / 2 {
             return true; // waiting before another attempt
         }
