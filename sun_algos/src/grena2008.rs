@@ -12,7 +12,7 @@
 use crate::algorithm::Inputs;
 use crate::float::Float;
 use crate::position::SunPosition;
-use crate::spa::split::{frac, Secular};
+use crate::spa::split::Secular;
 use crate::time::MS_PER_DAY;
 
 /// Days from 2000-01-01 to 2003-01-01.
@@ -53,7 +53,7 @@ pub(crate) fn position<T: Float>(inp: &Inputs<'_, T>) -> SunPosition<T> {
 
     // 3.2.1 linear increase with the annual oscillation.
     let ang = f(1.72019e-2) * t - f(0.0563);
-    let mut l = frac(L_LINEAR.at(days, frac_tt)) * T::TAU
+    let mut l = L_LINEAR.rad(days, frac_tt)
         + f(3.34118e-2) * ang.sin()
         + f(3.488e-4) * (f(2.0) * ang).sin();
     // 3.2.2 Moon perturbation.
@@ -80,9 +80,7 @@ pub(crate) fn position<T: Float>(inp: &Inputs<'_, T>) -> SunPosition<T> {
 
     // 3.6 local hour angle (on UT), 3.7 parallax corrections.
     let (sp, cp) = inp.site.latitude_deg().to_radians().sin_cos();
-    let h = frac(H_LINEAR.at(days, frac_ut)) * T::TAU
-        + f(0.9174) * dpsi
-        + inp.site.longitude_deg().to_radians()
+    let h = H_LINEAR.rad(days, frac_ut) + f(0.9174) * dpsi + inp.site.longitude_deg().to_radians()
         - alpha;
     let (sh, ch) = h.sin_cos();
     let dalpha = f(-4.26e-5) * cp * sh;

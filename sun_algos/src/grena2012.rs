@@ -18,7 +18,7 @@ use crate::algorithm::Inputs;
 use crate::float::Float;
 use crate::position::SunPosition;
 use crate::site::Atmosphere;
-use crate::spa::split::{frac, Secular};
+use crate::spa::split::Secular;
 use crate::time::MS_PER_DAY;
 
 /// The five algorithms of Grena 2012.
@@ -66,13 +66,13 @@ impl<T: Float> Time<T> {
             te: T::from_i32(days) + frac_tt,
         }
     }
-    /// A secular angle at tₑ, radians in about `[0, 2π)`.
+    /// A secular angle at tₑ, radians within a few turns of `[0, 2π)`.
     fn at_te(&self, s: &Secular) -> T {
-        frac(s.at(self.days, self.frac_tt)) * T::TAU
+        s.rad(self.days, self.frac_tt)
     }
-    /// A secular angle at t (UT), radians in about `[0, 2π)`.
+    /// A secular angle at t (UT), radians within a few turns of `[0, 2π)`.
     fn at_t(&self, s: &Secular) -> T {
-        frac(s.at(self.days, self.frac_ut)) * T::TAU
+        s.rad(self.days, self.frac_ut)
     }
 }
 

@@ -68,7 +68,7 @@ impl<T: Float> Rotations<T> {
         // keeps its precision when C τ reaches 10⁵ rad (τ = ±4 millennia).
         for (&k, s) in DIRECT.iter().zip(DIRECT_SECULAR.iter()) {
             if let Some(out) = r.get_mut(usize::from(k)) {
-                *out = (frac(s.at(days, frac_tt)) * T::TAU).sin_cos();
+                *out = s.rad(days, frac_tt).sin_cos();
             }
         }
         for &(c, a, b, plus) in DERIVED.iter() {

@@ -115,6 +115,21 @@ impl Secular {
     }
 }
 
+impl Secular {
+    /// The angle in radians at `days + frac`: reduced to `[0, 2π)` for `f32`
+    /// (whose precision needs a small argument); left within a few turns
+    /// for `f64`, where trigonometry of ≤ 20 rad loses nothing.
+    #[inline]
+    pub fn rad<T: Float>(&self, days: i32, frac_days: T) -> T {
+        let turns = self.at(days, frac_days);
+        if core::mem::size_of::<T>() == 4 {
+            frac(turns) * T::TAU
+        } else {
+            turns * T::TAU
+        }
+    }
+}
+
 /// `x` reduced to `[0, 1)`.
 #[inline]
 pub(crate) fn frac<T: Float>(x: T) -> T {
