@@ -105,17 +105,17 @@ mod firmware {
     /// A macro, not a function: each expansion has its own closures, so the
     /// algorithm stays a compile-time constant inside the measured code.
     macro_rules! bench_one {
-        ($out:expr, $counter:expr, $algorithm:expr, $options:expr) => {{
+        ($out:expr, $counter:expr, $algorithm:ty, $options:expr) => {{
             let out: &mut Uart0 = $out;
             let counter: &mut CycleCounter = $counter;
             let options: &Options<f32> = $options;
-            let algorithm: Algorithm = $algorithm;
+            let algorithm: Algorithm = <$algorithm as cases::Measured>::ALGORITHM;
             let mut total: u32 = 0;
             let mut max: u32 = 0;
             let mut n: u32 = 0;
             let mut index = 0;
             while let Some(case) = cases::case(index) {
-                let c = counter.measure(|| cases::one_position(algorithm, &case, options));
+                let c = counter.measure(|| cases::one_position::<$algorithm>(&case, options));
                 total = total.saturating_add(c);
                 max = max.max(c);
                 n += 1;
@@ -128,19 +128,21 @@ mod firmware {
             out.text(" cycles_max=");
             out.u32(max);
             out.text("\n");
-            let mut above = 0;
-            let c = counter.measure(|| above = cases::day_table(algorithm, options));
-            out.text("day_table ");
-            out.text(algorithm.name());
-            out.text(" f32 points=");
-            out.u32(u32::from(cases::DAY_TABLE_LEN));
-            out.text(" above_horizon=");
-            out.u32(u32::from(above));
-            out.text(" cycles=");
-            out.u32(c);
-            out.text(" ms=");
-            out.u32(c / 16_000);
-            out.text("\n");
+            let mut mask: cases::DaylightMask = [0; 45];
+            for (label, daylight_only) in [("day_table ", false), ("daylight_table ", true)] {
+                let mut n = 0;
+                let c = counter
+                    .measure(|| n = cases::table::<$algorithm>(options, &mut mask, daylight_only));
+                out.text(label);
+                out.text(algorithm.name());
+                out.text(" f32 points=");
+                out.u32(u32::from(n));
+                out.text(" cycles=");
+                out.u32(c);
+                out.text(" ms=");
+                out.u32(c / 16_000);
+                out.text("\n");
+            }
         }};
     }
 
@@ -158,9 +160,9 @@ mod firmware {
         let options = cases::options();
         // One call site per algorithm, each with a constant algorithm, so
         // that only the measured algorithms are linked (see `cases`).
-        bench_one!(&mut out, &mut counter, Algorithm::Psa2020, &options);
-        bench_one!(&mut out, &mut counter, Algorithm::Michalsky, &options);
-        bench_one!(&mut out, &mut counter, Algorithm::Grena2012No3, &options);
+        bench_one!(&mut out, &mut counter, cases::Psa2020, &options);
+        bench_one!(&mut out, &mut counter, cases::Michalsky, &options);
+        bench_one!(&mut out, &mut counter, cases::Grena2012No3, &options);
         out.text("avr_bench done\n");
         uart::halt(&mut out)
     }

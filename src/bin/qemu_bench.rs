@@ -58,28 +58,33 @@ mod firmware {
     }
 
     macro_rules! bench_one {
-        ($out:expr, $syst:expr, $algorithm:expr, $options:expr) => {{
+        ($out:expr, $syst:expr, $algorithm:ty, $options:expr) => {{
             let out: &mut Semihosting = $out;
             let syst: &mut SYST = $syst;
             let options: &Options<f32> = $options;
-            let algorithm: Algorithm = $algorithm;
-            let mut above = 0;
-            let t = ticks(syst, || above = cases::day_table(algorithm, options));
-            let instructions = t.saturating_mul(INSTRUCTIONS_PER_TICK);
-            out.text("position ");
-            out.text(algorithm.name());
-            out.text(" f32 instructions_per_position=");
-            out.u32(instructions / u32::from(cases::DAY_TABLE_LEN));
-            out.text("\n");
-            out.text("day_table ");
-            out.text(algorithm.name());
-            out.text(" f32 points=");
-            out.u32(u32::from(cases::DAY_TABLE_LEN));
-            out.text(" above_horizon=");
-            out.u32(u32::from(above));
-            out.text(" instructions=");
-            out.u32(instructions);
-            out.text("\n");
+            let algorithm: Algorithm = <$algorithm as cases::Measured>::ALGORITHM;
+            let mut mask: cases::DaylightMask = [0; 45];
+            for (label, daylight_only) in [("day_table ", false), ("daylight_table ", true)] {
+                let mut n = 0;
+                let t = ticks(syst, || {
+                    n = cases::table::<$algorithm>(options, &mut mask, daylight_only)
+                });
+                let instructions = t.saturating_mul(INSTRUCTIONS_PER_TICK);
+                if !daylight_only {
+                    out.text("position ");
+                    out.text(algorithm.name());
+                    out.text(" f32 instructions_per_position=");
+                    out.u32(instructions.checked_div(u32::from(n)).unwrap_or(0));
+                    out.text("\n");
+                }
+                out.text(label);
+                out.text(algorithm.name());
+                out.text(" f32 points=");
+                out.u32(u32::from(n));
+                out.text(" instructions=");
+                out.u32(instructions);
+                out.text("\n");
+            }
         }};
     }
 
@@ -95,9 +100,9 @@ mod firmware {
             out.text(suntracker::BANNER);
             out.text(" qemu_bench on mps2-an386 (run with -icount shift=0)\n");
             let options = cases::options();
-            bench_one!(&mut out, &mut syst, Algorithm::Psa2020, &options);
-            bench_one!(&mut out, &mut syst, Algorithm::Michalsky, &options);
-            bench_one!(&mut out, &mut syst, Algorithm::Grena2012No3, &options);
+            bench_one!(&mut out, &mut syst, cases::Psa2020, &options);
+            bench_one!(&mut out, &mut syst, cases::Michalsky, &options);
+            bench_one!(&mut out, &mut syst, cases::Grena2012No3, &options);
         }
         out.text("qemu_bench done\n");
         debug::exit(debug::EXIT_SUCCESS);

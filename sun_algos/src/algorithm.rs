@@ -105,6 +105,7 @@ impl Algorithm {
     /// Geometric unless `options.atmosphere` is given. Errors (never panics)
     /// for non-finite options, and for an instant outside the validity range
     /// unless `options.allow_out_of_range` is set.
+    #[inline(always)] // a constant algorithm links only that one (small AVR images)
     pub fn position<T: Float>(
         self,
         time: &UtcTime,
@@ -116,6 +117,7 @@ impl Algorithm {
     }
 
     /// Dispatch to the algorithm module; inputs are already validated.
+    #[inline(always)]
     pub(crate) fn position_unchecked<T: Float>(self, inp: &Inputs<'_, T>) -> SunPosition<T> {
         use crate::grena2012::Variant as G12;
         use crate::psa::Variant as Psa;

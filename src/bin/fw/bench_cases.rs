@@ -48,43 +48,95 @@ pub fn options() -> Options<f32> {
     }
 }
 
-/// Computes one position (inlined, so that a constant `algorithm` selects
-/// one algorithm at compile time and the others are not linked); the result goes through `black_box` so that the
-/// optimiser cannot drop the work. Returns the zenith, or NaN on an error.
-#[inline(always)]
-pub fn one_position(algorithm: Algorithm, case: &Case, options: &Options<f32>) -> f32 {
-    let p = algorithm.position(
+/// An algorithm chosen at compile time: each measured algorithm gets one
+/// out-of-line copy, and no other algorithm is linked.
+pub trait Measured {
+    /// The algorithm.
+    const ALGORITHM: Algorithm;
+}
+
+macro_rules! measured {
+    ($name:ident, $algorithm:expr) => {
+        /// Marker of one measured algorithm.
+        pub struct $name;
+        impl Measured for $name {
+            const ALGORITHM: Algorithm = $algorithm;
+        }
+    };
+}
+measured!(Psa2020, Algorithm::Psa2020);
+measured!(Michalsky, Algorithm::Michalsky);
+measured!(Grena2012No3, Algorithm::Grena2012No3);
+
+/// One position with `A`'s algorithm; the zenith, or NaN on an error.
+#[inline(never)]
+pub fn zenith_deg<A: Measured>(time: &UtcTime, site: &Site<f32>, options: &Options<f32>) -> f32 {
+    match A::ALGORITHM.position(time, site, options) {
+        Ok(p) => p.zenith_deg,
+        Err(_) => f32::NAN,
+    }
+}
+
+/// Computes one position; the inputs and the result go through
+/// `black_box` so that the optimiser cannot drop or hoist the work.
+pub fn one_position<A: Measured>(case: &Case, options: &Options<f32>) -> f32 {
+    core::hint::black_box(zenith_deg::<A>(
         core::hint::black_box(&case.time),
         core::hint::black_box(&case.site),
         options,
-    );
-    core::hint::black_box(match p {
-        Ok(p) => p.zenith_deg,
-        Err(_) => f32::NAN,
-    })
+    ))
 }
 
-/// Computes a whole day table (every `DAY_TABLE_STEP_MIN` minutes from 00:00
-/// UTC of 2026-06-21 at Kano) with `algorithm`; returns how many set-points
-/// had the sun above the horizon (errors count as below).
-#[inline(always)]
-pub fn day_table(algorithm: Algorithm, options: &Options<f32>) -> u16 {
-    let Ok(site) = Site::new(11.9683f32, 8.4261) else {
+/// Which 4-minute slots of the measured day have the sun above the horizon.
+pub type DaylightMask = [u8; (DAY_TABLE_LEN as usize).div_ceil(8)];
+
+fn day_site_start() -> Option<(Site<f32>, UtcTime)> {
+    Some((
+        Site::new(11.9683f32, 8.4261).ok()?,
+        UtcTime::from_ymd_hms(2026, 6, 21, 0, 0, 0).ok()?,
+    ))
+}
+
+fn slot_time(start: &UtcTime, i: u16) -> Option<UtcTime> {
+    start
+        .add_seconds(i64::from(i) * i64::from(DAY_TABLE_STEP_MIN) * 60)
+        .ok()
+}
+
+/// Computes a table of set-points every `DAY_TABLE_STEP_MIN` minutes over
+/// 2026-06-21 (UTC) at Kano with `A`'s algorithm, and returns how many it
+/// computed.
+///
+/// With `daylight_only == false`: all 360 slots of the 24 hours; marks in
+/// `mask` the slots with the sun above the horizon. With `true`: only the
+/// marked slots, i.e. the table of seed jimoh-2019's step 7 from sunrise to
+/// sunset, which the scheduler stores.
+#[inline(never)]
+pub fn table<A: Measured>(
+    options: &Options<f32>,
+    mask: &mut DaylightMask,
+    daylight_only: bool,
+) -> u16 {
+    let Some((site, start)) = day_site_start() else {
         return 0;
     };
-    let Ok(start) = UtcTime::from_ymd_hms(2026, 6, 21, 0, 0, 0) else {
-        return 0;
-    };
-    let mut above = 0;
+    let mut n = 0;
     for i in 0..DAY_TABLE_LEN {
-        let Ok(t) = start.add_seconds(i64::from(i) * i64::from(DAY_TABLE_STEP_MIN) * 60) else {
+        let Some(byte) = mask.get_mut(usize::from(i / 8)) else {
             continue;
         };
-        if let Ok(p) = algorithm.position(core::hint::black_box(&t), &site, options) {
-            if p.zenith_deg < 90.0 {
-                above += 1;
-            }
+        let bit = 1 << (i % 8);
+        if daylight_only && *byte & bit == 0 {
+            continue;
+        }
+        let Some(t) = slot_time(&start, i) else {
+            continue;
+        };
+        let zenith_deg = zenith_deg::<A>(core::hint::black_box(&t), &site, options);
+        n += 1;
+        if !daylight_only && zenith_deg < 90.0 {
+            *byte |= bit;
         }
     }
-    core::hint::black_box(above)
+    core::hint::black_box(n)
 }
