@@ -135,6 +135,10 @@ pub struct Controller<P, D, S, const N: usize> {
     last_drive: [Option<(f32, f64)>; 2],
     /// Pose chosen to wait for a sunrise (before the first day).
     night_pose: Option<(UtcTime, Pose<f64>)>,
+    /// First entry time of the table seen by the re-homing check.
+    rehome_day: Option<UtcTime>,
+    /// Re-homed at the last end of day.
+    rehomed_tonight: bool,
 }
 
 impl<P, D, S, const N: usize> Controller<P, D, S, N>
@@ -184,6 +188,8 @@ where
             smoothed: None,
             last_drive: [None; 2],
             night_pose: None,
+            rehome_day: None,
+            rehomed_tonight: false,
         })
     }
 
@@ -277,12 +283,29 @@ where
                         for ax in self.axes.iter_mut() {
                             ax.unhome();
                         }
+                        self.rehomed_tonight = true;
                     }
                 }
                 Action::Sleep { .. } => self.night = true,
                 Action::Error(e) => schedule_error = Some(e),
                 Action::Idle => {}
             }
+        }
+        // A new day without a night before it (polar day): open-loop axes
+        // are re-homed all the same, or lost steps would stay for weeks.
+        let table_day = self.scheduler.table().get(0).map(|e| e.time);
+        if table_day != self.rehome_day {
+            if self.rehome_day.is_some()
+                && !self.rehomed_tonight
+                && self.options.rehome_nightly
+                && self.options.feedback == FeedbackMode::OpenLoop
+            {
+                for ax in self.axes.iter_mut() {
+                    ax.unhome();
+                }
+            }
+            self.rehome_day = table_day;
+            self.rehomed_tonight = false;
         }
         // 4. Attitude.
         if self.options.attitude == AttitudeSource::Sensors {

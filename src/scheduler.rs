@@ -535,12 +535,22 @@ impl<T: Float, P: PositionSource<T>, const N: usize> Scheduler<T, P, N> {
         }
     }
 
-    /// Step 10 (yes branch): td_ed until the next solar day, go home.
-    fn end_of_day(&mut self, _now: UtcTime) -> Result<Action<T>, ScheduleError> {
-        let until = match self.day {
-            Some(d) => d.end()?,
+    /// Step 10 (yes branch): td_ed until the next solar day, go home. When
+    /// the sun is still up as the solar day ends (a polar day, or its edge),
+    /// td_ed is zero and there is no night to go home for: the next day is
+    /// planned at once.
+    fn end_of_day(&mut self, now: UtcTime) -> Result<Action<T>, ScheduleError> {
+        let (until, up_at_end) = match self.day {
+            Some(d) => {
+                let end = d.end()?;
+                let up = matches!(d.span()?, Some((_, to)) if to >= end);
+                (end, up)
+            }
             None => return Err(ScheduleError::TimeRange),
         };
+        if up_at_end && now >= until {
+            return self.plan(now);
+        }
         self.phase = Phase::WaitNextDay { until };
         Ok(Action::GoHome(self.home))
     }

@@ -225,6 +225,9 @@ fn polar_day_in_tromso_tracks_around_the_clock() {
     // Every 4-minute entry of 24 hours, give or take the day boundary.
     assert!((359..=361).contains(&sets), "{sets}");
     assert!(!acts.iter().any(|(_, a)| matches!(a, Action::Sleep { .. })));
+    // The solar day ends at 22:44 UTC with the sun up: td_ed is zero, no
+    // going home, the next day's table follows at once.
+    assert!(!acts.iter().any(|(_, a)| matches!(a, Action::GoHome(_))));
     // Midnight sun: set-points with the sun due north, low.
     let midnight = acts
         .iter()
