@@ -46,8 +46,8 @@ pub(crate) fn position<T: Float>(inp: &Inputs<'_, T>) -> SunPosition<T> {
     let f = T::from_f64;
     // Whole days since 2003-01-01 and the day's fraction (UT and TT).
     let days = inp.time.days_since_2000() - DAYS_2000_TO_2003;
-    let frac_ut = T::from_u32(inp.time.ms_of_day()) / T::from_u32(MS_PER_DAY);
-    let frac_tt = frac_ut + inp.delta_t_s / f(86_400.0);
+    let frac_ut = T::from_u32(inp.time.ms_of_day()) * f(1.0 / MS_PER_DAY as f64);
+    let frac_tt = frac_ut + inp.delta_t_s * f(1.0 / 86_400.0);
     // t of the paper (TT, days from JD 2452640), for the periodic terms.
     let t = T::from_i32(days) + frac_tt + f(0.5);
 

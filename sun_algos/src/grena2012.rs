@@ -57,8 +57,8 @@ struct Time<T> {
 impl<T: Float> Time<T> {
     fn new(inp: &Inputs<'_, T>) -> Self {
         let days = inp.time.days_since_2000() - DAYS_2000_TO_2060;
-        let frac_ut = T::from_u32(inp.time.ms_of_day()) / T::from_u32(MS_PER_DAY);
-        let frac_tt = frac_ut + inp.delta_t_s / T::from_f64(86_400.0);
+        let frac_ut = T::from_u32(inp.time.ms_of_day()) * T::from_f64(1.0 / MS_PER_DAY as f64);
+        let frac_tt = frac_ut + inp.delta_t_s * T::from_f64(1.0 / 86_400.0);
         Time {
             days,
             frac_ut,

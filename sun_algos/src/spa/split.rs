@@ -31,11 +31,12 @@ pub(crate) struct SplitDays<T> {
 impl<T: Float> SplitDays<T> {
     /// Splits `time`, adding ΔT = TT − UT1 (seconds) for the TT fraction.
     pub fn new(time: &UtcTime, delta_t_s: T) -> Self {
-        let frac_ut = T::from_u32(time.ms_of_day()) / T::from_u32(MS_PER_DAY) - T::from_f64(0.5);
+        let frac_ut =
+            T::from_u32(time.ms_of_day()) * T::from_f64(1.0 / MS_PER_DAY as f64) - T::from_f64(0.5);
         SplitDays {
             days: time.days_since_2000(),
             frac_ut,
-            frac_tt: frac_ut + delta_t_s / T::from_f64(86_400.0),
+            frac_tt: frac_ut + delta_t_s * T::from_f64(1.0 / 86_400.0),
         }
     }
 
