@@ -284,3 +284,62 @@ fn bad_inputs_are_errors() {
         Err(Error::OutOfValidityRange { .. })
     ));
 }
+
+/// At the sunrise and sunset of appendix A.2 the sun's centre stands at
+/// h0′ = −0.8333° (geometric, geocentric): check with SPA's own position at
+/// those instants over many sites and days (the position adds the parallax,
+/// below 0.003°, and differs from A.2's interpolation by far less than
+/// 0.01°). At the transit the hour angle is zero: the azimuth is 0° or 180°.
+#[test]
+fn events_put_the_sun_where_they_say() {
+    let opts = Options {
+        delta_t_s: Some(69.0),
+        ..Options::default()
+    };
+    let mut n = 0;
+    for (lat, lon) in [
+        (0.0, 0.0),
+        (39.74, -105.18),
+        (-33.9, 18.4),
+        (60.2, 24.9),
+        (-54.8, -68.3),
+        (64.8, -147.7),
+    ] {
+        let site = Site::new(lat, lon).unwrap();
+        for day in (0..365).step_by(11) {
+            let d = UtcTime::from_days_ms(9_131 + day, 0).unwrap(); // 2025
+            let r = spa::rise_transit_set(&d, &site, &opts).unwrap();
+            let at = |h: f64| d.add_seconds((h * 3600.0).round() as i64).unwrap();
+            let transit = Algorithm::Spa
+                .position(&at(r.transit_h), &site, &opts)
+                .unwrap();
+            let off_meridian = (transit.azimuth_deg - 180.0)
+                .abs()
+                .min(transit.azimuth_deg.min(360.0 - transit.azimuth_deg));
+            // One second of time near the meridian moves the azimuth by up to
+            // ~0.1° at high sun; allow 0.5°.
+            assert!(
+                off_meridian < 0.5 || transit.zenith_deg < 2.0,
+                "{lat} {day}: {transit:?}"
+            );
+            if let RiseSet::Both {
+                sunrise_h,
+                sunset_h,
+            } = r.rise_set
+            {
+                for h in [sunrise_h, sunset_h] {
+                    let p = Algorithm::Spa.position(&at(h), &site, &opts).unwrap();
+                    // Rounding the event to a whole second moves the sun by up
+                    // to 0.0042° (15″ of hour angle).
+                    assert!(
+                        (p.elevation_deg() + 0.8333).abs() < 0.01,
+                        "{lat} {day} {h}: {}",
+                        p.elevation_deg()
+                    );
+                    n += 1;
+                }
+            }
+        }
+    }
+    assert!(n > 300);
+}
