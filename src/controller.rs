@@ -385,9 +385,15 @@ where
                 self.drive_axis(1, p.alpha_deg, now);
             }
             None => {
+                // With no target the axes hold still; an axis still homing
+                // goes on homing (non-blocking drives would otherwise never
+                // finish it before sunrise), unless a fault asks to stop.
+                let stop_all = mode == Mode::SafeStop;
                 for ax in self.axes.iter_mut() {
-                    // A stop that fails leaves nothing better to do.
-                    let _ = ax.drive_mut().stop();
+                    if stop_all || ax.home_state() == HomeState::Done {
+                        // A stop that fails leaves nothing better to do.
+                        let _ = ax.drive_mut().stop();
+                    }
                 }
             }
         }

@@ -78,11 +78,9 @@ fn kano_equinox_day_on_real_drivers() {
     let axes = [stepper_axis(&c_motor), stepper_axis(&a_motor)];
     let mut ctrl: Controller<_, Axis, MountSensors, 360> =
         Controller::new(config, options, source, axes, None).unwrap();
-    // Commissioning: the boot night is spent in command stow. Without a
-    // target (night before the first day's plan) `Controller::tick` stops
-    // every drive after its homing step, which cancels the homing move a
-    // non-blocking drive has just been given; stow gives the night a target.
-    ctrl.command_stow(true);
+    // Boot at midnight: the non-blocking drives home during the night
+    // (the controller never stops an axis that is still homing unless a
+    // fault asks for a safe stop) and wait facing the coming sunrise.
 
     // The independent sun.
     let spa_site = Site::with_elevation(11.9683, 8.4261, 480.0).unwrap();
@@ -103,9 +101,6 @@ fn kano_equinox_day_on_real_drivers() {
     let end_s = 23 * 3600;
     while t < end_s {
         ticks += 1;
-        if t >= 5 * 3600 {
-            ctrl.command_stow(false);
-        }
         // GPS epoch of this second, then the exact RTC traffic of the tick.
         if ticks > 1 {
             uart.push(&gps_epoch(DayTime { secs: t }, true));

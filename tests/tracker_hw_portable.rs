@@ -61,8 +61,7 @@ fn portable_mount_day_with_measured_attitude() {
     let axes = [stepper_axis(&c_motor), stepper_axis(&a_motor)];
     let mut ctrl: Controller<_, Axis, Sensors, 360> =
         Controller::new(config, options, source, axes, Some(sensors)).unwrap();
-    // The boot night in command stow: see tracker_hw_day.
-    ctrl.command_stow(true);
+    // Boot at midnight: homing and waiting need no stow (see tracker_hw_day).
     let spa = |secs: u32| {
         Algorithm::Spa
             .position(&utc_at(secs), &site, &Options::default())
@@ -80,9 +79,6 @@ fn portable_mount_day_with_measured_attitude() {
     let mut last_set_point = None;
     let (mut applied, mut max_err_deg, mut first) = (0usize, 0.0f64, None);
     while t < 23 * 3600 {
-        if t >= 5 * 3600 {
-            ctrl.command_stow(false);
-        }
         bus.update_expectations(&tick_tx);
         let report = ctrl.tick(&TickInputs {
             now: utc_at(t),

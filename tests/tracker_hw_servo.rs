@@ -265,8 +265,7 @@ fn closed_loop_day_on_servo_axes() {
     ];
     let mut ctrl: Controller<_, Axis, MountSensors, 360> =
         Controller::new(config, options, source, axes, None).unwrap();
-    // The boot night in command stow: see tracker_hw_day.
-    ctrl.command_stow(true);
+    // Boot at midnight: homing and waiting need no stow (see tracker_hw_day).
     let spa = |secs: u32| {
         Algorithm::Spa
             .position(&utc_at(secs), &site, &Options::default())
@@ -278,9 +277,6 @@ fn closed_loop_day_on_servo_axes() {
     let mut last_set_point = None;
     let (mut applied, mut max_err_deg) = (0u32, 0.0f64);
     while t < end {
-        if t >= 5 * 3600 + 20 * 60 {
-            ctrl.command_stow(false);
-        }
         let report = ctrl.tick(&TickInputs {
             now: utc_at(t),
             time_valid: true,
