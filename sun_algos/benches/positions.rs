@@ -1,6 +1,8 @@
 //! Nanoseconds per sun position: every algorithm of the crate in `f32` and
 //! `f64`, side by side with the `solar-positioning` crate's SPA and Grena3.
 //!
+//! Group `head_to_head_f64` measures the three comparisons back to
+//! back; groups `sun_algos_f64` and `sun_algos_f32` list every algorithm.
 //! Each measured iteration computes the positions of the same fixed set of
 //! 64 instants (2020–2022, inside every algorithm's validity range) and
 //! sites (pseudo-random latitudes and longitudes, sea level), geometric (no
@@ -86,32 +88,63 @@ fn ours<T: Float>(c: &mut Criterion, cases: &[Case], float: &str) {
     group.finish();
 }
 
-fn theirs(c: &mut Criterion, cases: &[Case]) {
-    let mut group = c.benchmark_group("solar_positioning_f64");
-    group.throughput(Throughput::Elements(N as u64));
-    for (name, model) in [
-        ("spa", SolarPositions::new()),
-        ("grena3", SolarPositions::grena3()),
-    ] {
-        group.bench_function(BenchmarkId::from_parameter(name), |b| {
-            b.iter(|| {
-                for k in cases {
-                    let loc = Location {
-                        latitude: k.lat,
-                        longitude: k.lon,
-                    };
-                    let p = model.at_from_julian(black_box(k.jd), black_box(loc), 0.0, None);
-                    black_box(p.ok());
-                }
-            })
-        });
+/// One round of the cases through the `solar-positioning` crate.
+fn run_theirs(model: &SolarPositions, cases: &[Case]) {
+    for k in cases {
+        let loc = Location {
+            latitude: k.lat,
+            longitude: k.lon,
+        };
+        let p = model.at_from_julian(black_box(k.jd), black_box(loc), 0.0, None);
+        black_box(p.ok());
     }
+}
+
+/// One round of the cases through one of our algorithms.
+fn run_ours(alg: Algorithm, cases: &[Case], sites: &[Site<f64>], opts: &Options<f64>) {
+    for (k, site) in cases.iter().zip(sites) {
+        let p = alg.position(black_box(&k.time), black_box(site), opts);
+        black_box(p.ok());
+    }
+}
+
+/// The comparisons measured back to back (each pair within
+/// seconds of each other, so a busy machine affects both alike): our `spa`
+/// against their SPA, our `grena-2012-3` and `psa-2020` against their Grena3.
+fn head_to_head(c: &mut Criterion, cases: &[Case]) {
+    let sites: Vec<Site<f64>> = cases
+        .iter()
+        .map(|k| Site::new(k.lat, k.lon).unwrap())
+        .collect();
+    let opts = Options {
+        delta_t_s: Some(DELTA_T_S),
+        ..Options::default()
+    };
+    let spa = SolarPositions::new();
+    let grena3 = SolarPositions::grena3();
+    let mut group = c.benchmark_group("head_to_head_f64");
+    group.throughput(Throughput::Elements(N as u64));
+    group.bench_function("solar-positioning spa", |b| {
+        b.iter(|| run_theirs(&spa, cases))
+    });
+    group.bench_function("sun_algos spa", |b| {
+        b.iter(|| run_ours(Algorithm::Spa, cases, &sites, &opts))
+    });
+    group.bench_function("solar-positioning grena3", |b| {
+        b.iter(|| run_theirs(&grena3, cases))
+    });
+    group.bench_function("sun_algos grena-2012-3", |b| {
+        b.iter(|| run_ours(Algorithm::Grena2012No3, cases, &sites, &opts))
+    });
+    group.bench_function("sun_algos psa-2020", |b| {
+        b.iter(|| run_ours(Algorithm::Psa2020, cases, &sites, &opts))
+    });
     group.finish();
 }
 
 fn benches(c: &mut Criterion) {
     let cases = cases();
-    theirs(c, &cases);
+    head_to_head(c, &cases);
     ours::<f64>(c, &cases, "f64");
     ours::<f32>(c, &cases, "f32");
 }
