@@ -6,7 +6,7 @@
 //! and t = JDₜ + ΔT/86 400 (TT). Its secular terms, Earth's mean motion in
 //! the heliocentric longitude and Earth's rotation in the hour angle, are
 //! evaluated from the whole days in exact fixed-point turns
-//! ([`crate::spa::split`]), so `f32` keeps its precision; the periodic terms
+//! (the crate-private `spa::split`), so `f32` keeps its precision; the periodic terms
 //! take t directly. Coefficients are the paper's (sections 3.2–3.8).
 
 use crate::algorithm::Inputs;

@@ -5,7 +5,7 @@
 //! 3.1) and tₑ = t + ΔT/86 400 on TT. Both reach ±18 000 days, where an `f32`
 //! keeps only 0.002 day (0.7° of hour angle): the whole days stay an integer
 //! and the secular terms (rate × t) are reduced in exact fixed-point turns
-//! ([`crate::spa::split`]); only small arguments reach the float type.
+//! (the crate-private `spa::split`); only small arguments reach the float type.
 //!
 //! The coefficients are the paper's (sections 3.3–3.7). Algorithms 1 and 2
 //! fit α and δ directly with 2 and 4 harmonics; 3 fits the ecliptic
