@@ -21,7 +21,7 @@ pub(crate) struct Series {
     pub f32s: &'static [[f32; 3]],
 }
 
-/// Declares a [`Series`] from its `[A, B, C]` rows.
+/// Declares a `Series` from its `[A, B, C]` rows (test builds only).
 macro_rules! series {
     ($(#[$m:meta])* $name:ident, $n:literal, [$([$a:expr, $b:expr, $c:expr]),* $(,)?]) => {
         $(#[$m])*
