@@ -19,10 +19,16 @@ fn main() {
     let out = PathBuf::from(env::var_os("OUT_DIR").expect("cargo sets OUT_DIR"));
     let target = env::var("TARGET").unwrap_or_default();
     if target.starts_with("thumb") {
-        fs::copy("memory.x", out.join("memory.x")).expect("copy memory.x to OUT_DIR");
+        // The board feature picks its memory map; QEMU's by default. (No
+        // memory.x at the package root: the linker would find that first.)
+        let memory = match env::var_os("CARGO_FEATURE_STM32F411") {
+            Some(_) => "boards/stm32f411/memory.x",
+            None => "boards/mps2_an386/memory.x",
+        };
+        fs::copy(memory, out.join("memory.x")).expect("copy memory.x to OUT_DIR");
         println!("cargo:rustc-link-search={}", out.display());
     }
-    println!("cargo:rerun-if-changed=memory.x");
+    println!("cargo:rerun-if-changed=boards");
     println!("cargo:rerun-if-changed=build.rs");
     println!("cargo:rerun-if-changed=src/site/key.rs");
     println!("cargo:rerun-if-changed={POSTAL_CSV}");

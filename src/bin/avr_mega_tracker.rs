@@ -21,7 +21,7 @@ use avr_device::atmega2560 as chip;
 #[path = "fw/fmt.rs"]
 mod fmt;
 #[cfg(target_arch = "avr")]
-#[path = "fw/avr_track.rs"]
+#[path = "fw/track.rs"]
 mod track;
 #[cfg(target_arch = "avr")]
 #[path = "fw/avr_twi.rs"]

@@ -7,7 +7,7 @@
 //! SDA/SCL (A4/A5); log on USART0 (D0/D1) at 115200 baud.
 //!
 //! Under simavr no RTC answers, so the image runs one compressed day on a
-//! simulated clock (see `fw/avr_track.rs`) and prints every set-point:
+//! simulated clock (see `fw/track.rs`) and prints every set-point:
 //! `cargo +nightly avr-run`. The seed's shaft encoders are not read yet.
 #![cfg_attr(target_os = "none", no_std, no_main)]
 
@@ -17,7 +17,7 @@ use avr_device::atmega328p as chip;
 #[path = "fw/fmt.rs"]
 mod fmt;
 #[cfg(target_arch = "avr")]
-#[path = "fw/avr_track.rs"]
+#[path = "fw/track.rs"]
 mod track;
 #[cfg(target_arch = "avr")]
 #[path = "fw/avr_twi.rs"]

@@ -58,15 +58,13 @@ pub trait Sink {
     /// Writes `value` rounded to `decimals` places (at most 6); `nan` for a
     /// value that is not finite or too large for the fixed-point range.
     fn fixed(&mut self, value: f32, decimals: u8) {
-        let decimals = if decimals > 6 { 6 } else { decimals };
-        let mut scale: u32 = 1;
-        for _ in 0..decimals {
-            scale *= 10;
-        }
+        const POW10: [u32; 7] = [1, 10, 100, 1_000, 10_000, 100_000, 1_000_000];
+        let decimals = decimals.min(6);
+        let scale = POW10.get(usize::from(decimals)).copied().unwrap_or(1);
         let magnitude = if value < 0.0 { -value } else { value };
         let scaled = magnitude * scale as f32 + 0.5;
-        // Also rejects NaN: every comparison with NaN is false.
-        if !(scaled < 4.0e9) {
+        // Also rejects NaN.
+        if !scaled.is_finite() || scaled >= 4.0e9 {
             self.put(b"nan");
             return;
         }
@@ -74,10 +72,11 @@ pub trait Sink {
         if value < 0.0 && units != 0 {
             self.put(b"-");
         }
-        self.u32(units / scale);
+        // `scale` is never zero; checked division keeps panics out anyway.
+        self.u32(units.checked_div(scale).unwrap_or(0));
         if decimals > 0 {
             self.put(b".");
-            self.u32_padded(units % scale, decimals);
+            self.u32_padded(units.checked_rem(scale).unwrap_or(0), decimals);
         }
     }
 

@@ -1,4 +1,4 @@
-//! The tracking loop shared by the AVR images: the library's set-point
+//! The tracking loop shared by the firmware images: the library's set-point
 //! scheduler (seed jimoh-2019) over `psa-2020` in `f32`, a clock, and a
 //! board that drives two axes. Prints every action over the UART.
 //!
@@ -43,12 +43,24 @@ impl PositionSource<f32> for Psa2020Source {
     }
 }
 
+/// The start of the simulated day.
+pub fn sim_start() -> Option<UtcTime> {
+    let (y, mo, d) = SIM_START;
+    UtcTime::from_ymd_hms(y, mo, d, 0, 0, 0).ok()
+}
+
 /// What an image's hardware does for the loop.
 pub trait Board {
     /// The RTC's time, or a short reason why it cannot be read.
     fn rtc_now(&mut self) -> Result<UtcTime, &'static str>;
     /// Drives both axes to `sp` and writes what it did (after a space).
     fn drive(&mut self, sp: &SetPoint<f32>, out: &mut dyn Sink);
+    /// Where a run's clock starts: `Ok(t)` follows the RTC from `t`;
+    /// `Err((Some(t), why))` runs one compressed day on a simulated clock
+    /// from `t`. By default the RTC, or the simulated equinox day without one.
+    fn clock_start(&mut self) -> Result<UtcTime, (Option<UtcTime>, &'static str)> {
+        self.rtc_now().map_err(|why| (sim_start(), why))
+    }
 }
 
 /// Writes `HH:MM` of an instant.
@@ -68,25 +80,27 @@ fn set_point(out: &mut dyn Sink, sp: &SetPoint<f32>) {
 
 /// The clock of a run: the RTC, or a simulated day when it cannot be read.
 fn start_clock<B: Board>(board: &mut B, out: &mut dyn Sink) -> Result<Option<UtcTime>, ()> {
-    let (y, mo, d) = SIM_START;
-    match board.rtc_now() {
+    match board.clock_start() {
         Ok(t) => {
             out.text("clock rtc ");
             out.utc(&t);
             out.text("\n");
             Ok(None)
         }
-        Err(why) => match UtcTime::from_ymd_hms(y, mo, d, 0, 0, 0) {
-            Ok(t) => {
-                out.text("rtc: ");
-                out.text(why);
-                out.text(" -> simulated clock from ");
-                out.utc(&t);
-                out.text(", one day\n");
-                Ok(Some(t))
-            }
-            Err(_) => Err(()),
-        },
+        Err((None, why)) => {
+            out.text("clock: ");
+            out.text(why);
+            out.text(", no start time\n");
+            Err(())
+        }
+        Err((Some(t), why)) => {
+            out.text("clock: ");
+            out.text(why);
+            out.text(" -> simulated clock from ");
+            out.utc(&t);
+            out.text(", one day\n");
+            Ok(Some(t))
+        }
     }
 }
 
