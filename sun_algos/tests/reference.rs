@@ -133,45 +133,37 @@ fn textbook() {
     check(Algorithm::Textbook);
 }
 
-// Written by another helper; un-ignore when the module lands.
 #[test]
-#[ignore = "spa not implemented yet"]
 fn spa() {
     check(Algorithm::Spa);
 }
 
 #[test]
-#[ignore = "grena-2008 not implemented yet"]
 fn grena_2008() {
     check(Algorithm::Grena2008);
 }
 
 #[test]
-#[ignore = "grena-2012 not implemented yet"]
 fn grena_2012_1() {
     check(Algorithm::Grena2012No1);
 }
 
 #[test]
-#[ignore = "grena-2012 not implemented yet"]
 fn grena_2012_2() {
     check(Algorithm::Grena2012No2);
 }
 
 #[test]
-#[ignore = "grena-2012 not implemented yet"]
 fn grena_2012_3() {
     check(Algorithm::Grena2012No3);
 }
 
 #[test]
-#[ignore = "grena-2012 not implemented yet"]
 fn grena_2012_4() {
     check(Algorithm::Grena2012No4);
 }
 
 #[test]
-#[ignore = "grena-2012 not implemented yet"]
 fn grena_2012_5() {
     check(Algorithm::Grena2012No5);
 }
