@@ -10,7 +10,7 @@
 //! GGA digit), `satellites`. Unknown values are empty. An epoch with neither a
 //! time nor a position is not printed.
 
-use std::io::Read as _;
+use std::io::{Read as _, Write as _};
 
 use drivers::gps::{GpsFix, GpsReader};
 
@@ -45,24 +45,36 @@ fn csv(fix: &GpsFix) -> String {
 }
 
 fn main() {
+    if let Err(e) = run() {
+        // A closed pipe (`gps_log < log | head`) is a normal way to stop.
+        if e.kind() != std::io::ErrorKind::BrokenPipe {
+            eprintln!("gps_log: {e}");
+            std::process::exit(1);
+        }
+    }
+}
+
+fn run() -> std::io::Result<()> {
     // A log replay has no monotonic clock: time is held at 0 and staleness
     // (a matter for live receivers) is switched off.
     let mut reader = GpsReader::new(Stdin(std::io::stdin()), u64::MAX);
-    println!("utc,latitude,longitude,altitude,quality,satellites");
+    let mut out = std::io::BufWriter::new(std::io::stdout().lock());
+    writeln!(out, "utc,latitude,longitude,altitude,quality,satellites")?;
     loop {
         match reader.poll(0) {
-            Ok(Some(fix)) if fix.utc.is_some() || fix.has_position() => println!("{}", csv(&fix)),
+            Ok(Some(fix)) if fix.utc.is_some() || fix.has_position() => {
+                writeln!(out, "{}", csv(&fix))?
+            }
             Ok(_) => {}
             Err(drivers::gps::Error::EndOfStream) => break,
-            Err(drivers::gps::Error::Comm(e)) => {
-                eprintln!("gps_log: read error: {e}");
-                std::process::exit(1);
-            }
+            Err(drivers::gps::Error::Comm(e)) => return Err(e),
         }
     }
     let s = reader.stats();
-    println!(
+    writeln!(
+        out,
         "sentences={} accepted={} rejected_checksum={} rejected_other={}",
         s.sentences, s.accepted, s.rejected_checksum, s.rejected_other
-    );
+    )?;
+    out.flush()
 }
