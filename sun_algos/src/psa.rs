@@ -131,6 +131,9 @@ struct Coefficients {
     aberration: [f64; 2],
     /// `ε = obliquity[0] + obliquity[1]·n + obliquity[2]·cos(Ω or g)` (rad).
     obliquity: [f64; 3],
+    /// `sin obliquity[0]` and `cos obliquity[0]` (Python `math.sin`/`math.cos`
+    /// in f64; checked against libm by a test).
+    obliquity0_sin_cos: [f64; 2],
     /// li-2022 eq. 6 takes `cos g` where PSA takes `cos Ω`.
     obliquity_cos_of_anomaly: bool,
     /// `gmst = gmst_h[0] + gmst_h[1]·n + hour_factor·h` (hours).
@@ -149,6 +152,7 @@ const PSA_2001: Coefficients = Coefficients {
     centre: [0.033_416_07, 0.000_348_94],
     aberration: [-0.000_113_4, -0.000_020_3],
     obliquity: [0.409_092_8, -6.2140e-9, 0.000_039_6],
+    obliquity0_sin_cos: [0.397_777_152_058_002_6, 0.917_482_063_748_727_9],
     obliquity_cos_of_anomaly: false,
     gmst_h: [6.697_424_324_2, 0.065_709_828_3],
     hour_factor: 1.0,
@@ -163,6 +167,7 @@ const PSA_2020: Coefficients = Coefficients {
     centre: [3.338_320_972e-2, 3.497_596_876e-4],
     aberration: [-1.544_353_226e-4, -8.689_729_360e-6],
     obliquity: [4.090_904_909e-1, -6.213_605_399e-9, 4.418_094_944e-5],
+    obliquity0_sin_cos: [0.397_775_033_499_108_75, 0.917_482_982_253_503_7],
     obliquity_cos_of_anomaly: false,
     gmst_h: [6.697_096_103, 6.570_984_737e-2],
     hour_factor: 1.0,
@@ -177,6 +182,7 @@ const MODIFIED: Coefficients = Coefficients {
     centre: [0.033_423_055, 0.000_349_06],
     aberration: [0.0, 0.0],
     obliquity: [0.409_092_8, -6.2140e-9, 0.000_039_6],
+    obliquity0_sin_cos: [0.397_777_152_058_002_6, 0.917_482_063_748_727_9],
     obliquity_cos_of_anomaly: true,
     // IAU 1982 GMST, whose hour factor is li-2022's G3 = 1.00273790935:
     // 6.697374558 h + G2·n₀ + G3·h with G2 = 24·(G3 − 1) and n₀ at 0 h UT,
@@ -305,14 +311,12 @@ fn position_with<T: Float>(inp: &Inputs<'_, T>, v: Variant, c: &Coefficients) ->
     } else {
         cos_node
     };
-    let obliquity = T::from_f64(c.obliquity[0])
-        + T::from_f64(c.obliquity[1]) * n
-        + T::from_f64(c.obliquity[2]) * cos_arg;
+    let obliquity_change = T::from_f64(c.obliquity[1]) * n + T::from_f64(c.obliquity[2]) * cos_arg;
+    let (sin_eps, cos_eps) = obliquity_sin_cos(c, obliquity_change);
 
     // Equatorial unit vector: cos δ cos α = cos l, cos δ sin α = cos ε sin l,
     // sin δ = sin ε sin l (2001 paper; li-2022 eqs. 7–8 without forming α).
     let (sin_l, cos_l) = ecliptic_longitude.sin_cos();
-    let (sin_eps, cos_eps) = obliquity.sin_cos();
     let x = cos_l;
     let y = cos_eps * sin_l;
     let sin_dec = sin_eps * sin_l;
@@ -347,6 +351,30 @@ fn position_with<T: Float>(inp: &Inputs<'_, T>, v: Variant, c: &Coefficients) ->
             crate::refraction::apply(geometric, inp.atmosphere.as_ref())
         }
     }
+}
+
+/// `sin ε` and `cos ε` for the obliquity `ε = ε₀ + δ` (eq. 6), `δ` the
+/// change `obliquity[1]·n + obliquity[2]·cos(Ω or g)`.
+///
+/// `δ` is tiny (|δ| < 1.6e−4 rad over 2020–2050), so instead of a sine and a
+/// cosine this takes the angle-addition formulas with `sin ε₀`, `cos ε₀`
+/// constant and `sin δ ≈ δ`, `cos δ ≈ 1 − δ²/2`: `sin ε = sin ε₀·(1 − δ²/2) +
+/// cos ε₀·δ`, `cos ε = cos ε₀·(1 − δ²/2) − sin ε₀·δ`, whose truncation error
+/// is below `|δ|³/6` (7e−13 rad at 1.6e−4, 1.7e−10 at the 1e−3 cut-off,
+/// about ±440 years from 2000). Beyond the cut-off (only reachable with
+/// `allow_out_of_range`) the sine and cosine are computed.
+#[inline(always)]
+fn obliquity_sin_cos<T: Float>(c: &Coefficients, change: T) -> (T, T) {
+    if change.abs() > T::from_f64(1e-3) {
+        return (T::from_f64(c.obliquity[0]) + change).sin_cos();
+    }
+    let [sin0, cos0] = c.obliquity0_sin_cos;
+    let half_sq = change * change;
+    let sin_eps =
+        T::from_f64(sin0) + (T::from_f64(cos0) * change - T::from_f64(0.5 * sin0) * half_sq);
+    let cos_eps =
+        T::from_f64(cos0) - (T::from_f64(sin0) * change + T::from_f64(0.5 * cos0) * half_sq);
+    (sin_eps, cos_eps)
 }
 
 /// Days since JD 2451545.0 split as whole days and `hour/24 − 0.5`.
@@ -461,6 +489,30 @@ mod tests {
         assert!((direct - ours).abs() < 1e-12, "{direct} {ours}");
         let ours32 = whole_day_turns::<f32>(turns_per_day_fixed(rate), 18_000);
         assert!((f64::from(ours32) - direct).abs() < 1e-7);
+    }
+
+    #[test]
+    fn obliquity_constants_and_expansion() {
+        for c in [&PSA_2001, &PSA_2020, &MODIFIED, &MODIFIED_AS_PRINTED] {
+            let e0 = c.obliquity[0];
+            assert!((c.obliquity0_sin_cos[0] - libm::sin(e0)).abs() < 1e-16);
+            assert!((c.obliquity0_sin_cos[1] - libm::cos(e0)).abs() < 1e-16);
+            // Against libm's sine and cosine of ε₀ + δ, both sides of the cut-off.
+            for change in [-2e-3, -1e-3, -1.6e-4, 0.0, 4.4e-5, 1.6e-4, 1e-3, 3e-3] {
+                let (s, co) = obliquity_sin_cos::<f64>(c, change);
+                assert!((s - libm::sin(e0 + change)).abs() < 2e-10, "{change}");
+                assert!((co - libm::cos(e0 + change)).abs() < 2e-10, "{change}");
+                let (s32, co32) = obliquity_sin_cos::<f32>(c, change as f32);
+                assert!(
+                    (f64::from(s32) - libm::sin(e0 + change)).abs() < 6e-8,
+                    "{change}"
+                );
+                assert!(
+                    (f64::from(co32) - libm::cos(e0 + change)).abs() < 1.2e-7,
+                    "{change}"
+                );
+            }
+        }
     }
 
     #[test]
