@@ -262,11 +262,11 @@ impl Float for f32 {
     }
     #[inline]
     fn sqrt(self) -> Self {
-        libm::sqrtf(self)
+        backend32::sqrt(self)
     }
     #[inline]
     fn floor(self) -> Self {
-        libm::floorf(self)
+        backend32::floor(self)
     }
     #[inline]
     fn abs(self) -> Self {
@@ -298,15 +298,27 @@ impl Float for f32 {
 #[cfg(not(feature = "compact-f32"))]
 mod backend32 {
     pub use libm::{acosf as acos, asinf as asin, atan2f as atan2, atanf as atan, cosf as cos};
-    pub use libm::{sinf as sin, tanf as tan};
+    pub use libm::{floorf as floor, sinf as sin, sqrtf as sqrt, tanf as tan};
     #[inline]
     pub fn sin_cos(x: f32) -> (f32, f32) {
         libm::sincosf(x)
     }
 }
 
-/// The f32 trigonometry in use: the crate's compact single-precision routines.
-#[cfg(feature = "compact-f32")]
+/// The f32 trigonometry in use: the crate's compact single-precision routines
+/// (with `compact-f32`, or `avr-libc-math` off AVR).
+#[cfg(all(
+    feature = "compact-f32",
+    not(all(target_arch = "avr", feature = "avr-libc-math"))
+))]
 mod backend32 {
     pub use crate::compact::{acos, asin, atan, atan2, cos, sin, sin_cos, tan};
+    pub use libm::{floorf as floor, sqrtf as sqrt};
+}
+
+/// The f32 trigonometry in use on 8-bit AVR with `avr-libc-math`: avr-libc's
+/// assembler routines ([`crate::avr_libc`]).
+#[cfg(all(target_arch = "avr", feature = "avr-libc-math"))]
+mod backend32 {
+    pub use crate::avr_libc::{acos, asin, atan, atan2, cos, floor, sin, sin_cos, sqrt, tan};
 }

@@ -8,10 +8,13 @@
 //! assert!(p.zenith_deg < 20.0);
 //! ```
 #![no_std]
-#![forbid(unsafe_code)]
+#![deny(unsafe_code)]
 #![warn(missing_docs)]
 
 pub mod algorithm;
+#[cfg(all(target_arch = "avr", feature = "avr-libc-math"))]
+#[allow(unsafe_code)]
+mod avr_libc;
 #[cfg(feature = "compact-f32")]
 pub mod compact;
 pub mod delta_t;
