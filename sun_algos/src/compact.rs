@@ -76,14 +76,34 @@ fn cos_kernel(r: f32) -> f32 {
     ((2.443_315_7e-5 * z - 1.388_731_6e-3) * z + 4.166_664_6e-2) * z * z - 0.5 * z + 1.0
 }
 
-/// Sine of `x` radians.
+/// Sine of `x` radians (only the kernel the quadrant needs; the same
+/// result as `sin_cos(x).0`).
 pub fn sin(x: f32) -> f32 {
-    sin_cos(x).0
+    if !x.is_finite() {
+        return f32::NAN;
+    }
+    let (r, q) = reduce(x);
+    match q {
+        0 => sin_kernel(r),
+        1 => cos_kernel(r),
+        2 => -sin_kernel(r),
+        _ => -cos_kernel(r),
+    }
 }
 
-/// Cosine of `x` radians.
+/// Cosine of `x` radians (only the kernel the quadrant needs; the same
+/// result as `sin_cos(x).1`).
 pub fn cos(x: f32) -> f32 {
-    sin_cos(x).1
+    if !x.is_finite() {
+        return f32::NAN;
+    }
+    let (r, q) = reduce(x);
+    match q {
+        0 => cos_kernel(r),
+        1 => -sin_kernel(r),
+        2 => -cos_kernel(r),
+        _ => sin_kernel(r),
+    }
 }
 
 /// Sine and cosine of `x` radians, sharing one reduction.
