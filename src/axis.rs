@@ -256,7 +256,8 @@ impl<D: AxisDrive> AxisController<D> {
         }
         let lo = self.config.min_deg;
         let hi = self.config.max_deg;
-        let t = target_deg.clamp(lo, hi);
+        // max/min, not clamp: no panic path for a misordered config.
+        let t = target_deg.max(lo).min(hi);
         let clamped = t != target_deg;
         let deviation = feedback_deg.map(|f| f - t);
         let goal_counts = match (mode, feedback_deg) {

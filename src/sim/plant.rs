@@ -171,7 +171,8 @@ impl MotorPlant {
             return;
         }
         let max_counts = (self.speed_deg_s * self.budget_s * self.counts_per_deg) as i64;
-        let n = self.pending.clamp(-max_counts, max_counts);
+        // max/min, not clamp: no panic path in the firmware image.
+        let n = self.pending.max(-max_counts).min(max_counts);
         if n == 0 {
             return;
         }

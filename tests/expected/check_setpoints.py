@@ -12,6 +12,11 @@ of the file is recomputed at that minute of the file's day and site:
   home   = the morning's first set-point
   servo_us (Uno) = 500 + angle·2000/180 µs, within 1.5 µs
   steps (Mega)   = angle·10000/360 steps, within 2 steps
+  target=γ,α (QEMU, level mount) = a pose whose panel normal (seed
+           portable-tracker eq. 15–17) lies within 0.03° of pvlib's sun
+  err (QEMU) = the angle between pvlib's sun and the normal of the printed
+           axis positions, within 0.02° (0.011° + print rounding); `night`
+           only with pvlib's sun down
 
 and the set-point times must cover pvlib's daylight at the file's step:
 the first set-point is at most two steps after pvlib's sunrise and the last
@@ -47,6 +52,18 @@ def angle_deg(z1, a1, z2, a2):
     return float(np.degrees(np.arccos(np.clip(c, -1.0, 1.0))))
 
 
+def level_normal(gamma, alpha):
+    """(zenith, azimuth) of the panel normal of a level mount at pose (γ, α).
+
+    Seed portable-tracker eq. 15–17: n = Rz(γ)·Rx(α)·ẑ = (sin γ sin α,
+    −cos γ sin α, cos α) in the horizontal frame (west, south, up); azimuth
+    east of north = atan2(east, north) = atan2(−x, −y).
+    """
+    g, a = np.radians(gamma), np.radians(alpha)
+    x, y, zc = np.sin(g) * np.sin(a), -np.cos(g) * np.sin(a), np.cos(a)
+    return float(np.degrees(np.arccos(np.clip(zc, -1, 1)))), float(np.degrees(np.arctan2(-x, -y)))
+
+
 def check(path):
     text = open(path).read().splitlines()
     step_s = next((int(m.group(1)) for l in text if (m := STEP.search(l))), 240)
@@ -68,6 +85,17 @@ def check(path):
         if (s := re.search(r"servo_us=(\d+),(\d+)", rest)):
             ok &= abs(int(s.group(1)) - (500 + slope * 2000 / 180)) <= 1.5 + 0.6
             ok &= abs(int(s.group(2)) - (500 + (azi - 90) * 2000 / 180)) <= 1.5 + 0.6
+        if (s := re.search(r"target=(-?[\d.]+),(-?[\d.]+) axes=(-?[\d.]+),(-?[\d.]+) err=([\d.]+|night)", rest)):
+            g_t, a_t, g_x, a_x = (float(s.group(i)) for i in range(1, 5))
+            if kind == "set-point" and (slope, azi) != (0.0, 0.0):
+                # the commanded pose faces pvlib's sun (f32 bound + 0.005° rounding per axis)
+                ok &= angle_deg(*level_normal(g_t, a_t), z, a) <= 0.03
+            if s.group(5) == "night":
+                ok &= z >= 89.9
+            else:
+                # the firmware's pointing error, recomputed from its axis positions
+                err = angle_deg(*level_normal(g_x, a_x), z, a)
+                ok &= z < 90.1 and abs(float(s.group(5)) - err) <= 0.02
         if (s := re.search(r"steps=(-?\d+),(-?\d+)", rest)):
             ok &= abs(int(s.group(1)) - slope * 10000 / 360) <= 2 + 1.4
             ok &= abs(int(s.group(2)) - azi * 10000 / 360) <= 2 + 1.4
