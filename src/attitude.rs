@@ -162,15 +162,8 @@ pub fn dot<T: Float>(a: &Vec3<T>, b: &Vec3<T>) -> T {
     a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
 }
 
-/// Angle between two vectors in degrees, `atan2(|a×b|, a·b)` so that tiny
-/// angles keep their precision.
-pub fn angle_between_deg<T: Float>(a: &Vec3<T>, b: &Vec3<T>) -> T {
-    let cx = a[1] * b[2] - a[2] * b[1];
-    let cy = a[2] * b[0] - a[0] * b[2];
-    let cz = a[0] * b[1] - a[1] * b[0];
-    let cross = (cx * cx + cy * cy + cz * cz).sqrt();
-    cross.atan2(dot(a, b)).to_degrees()
-}
+/// Angle between two vectors in degrees (shared with `sun_algos`).
+pub use sun_algos::position::angle_between_deg;
 
 /// Folds an angle into `(−180, 180]`.
 pub fn wrap180<T: Float>(a_deg: T) -> T {

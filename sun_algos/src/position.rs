@@ -49,16 +49,19 @@ impl<T: Float> SunPosition<T> {
 
     /// Angle in degrees between this direction and another.
     pub fn angular_distance_deg(&self, other: &SunPosition<T>) -> T {
-        let a = self.unit_vector_enu();
-        let b = other.unit_vector_enu();
-        // atan2(|a×b|, a·b) keeps precision for tiny angles.
-        let cx = a[1] * b[2] - a[2] * b[1];
-        let cy = a[2] * b[0] - a[0] * b[2];
-        let cz = a[0] * b[1] - a[1] * b[0];
-        let cross = (cx * cx + cy * cy + cz * cz).sqrt();
-        let dot = a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
-        cross.atan2(dot).to_degrees()
+        angle_between_deg(&self.unit_vector_enu(), &other.unit_vector_enu())
     }
+}
+
+/// Angle in degrees between two vectors, `atan2(|a × b|, a · b)`, which keeps
+/// its precision for tiny angles where `acos` of the dot product loses it.
+pub fn angle_between_deg<T: Float>(a: &[T; 3], b: &[T; 3]) -> T {
+    let cx = a[1] * b[2] - a[2] * b[1];
+    let cy = a[2] * b[0] - a[0] * b[2];
+    let cz = a[0] * b[1] - a[1] * b[0];
+    let cross = (cx * cx + cy * cy + cz * cz).sqrt();
+    let dot = a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
+    cross.atan2(dot).to_degrees()
 }
 
 /// Azimuth east of north → azimuth from south, positive west, `(−180, 180]`.

@@ -92,14 +92,7 @@ pub fn cos_incidence<T: Float>(sun: &SunPosition<T>, surface: &Surface<T>) -> T 
 /// `atan2(|a × b|, a · b)`, which keeps precision near 0° where `acos` of the
 /// cosine loses it (at 0.01°, acos of an f32 cosine is off by ~0.02°).
 pub fn incidence_deg<T: Float>(sun: &SunPosition<T>, surface: &Surface<T>) -> T {
-    let a = sun.unit_vector_enu();
-    let b = surface.normal_enu();
-    let cx = a[1] * b[2] - a[2] * b[1];
-    let cy = a[2] * b[0] - a[0] * b[2];
-    let cz = a[0] * b[1] - a[1] * b[0];
-    let cross = (cx * cx + cy * cy + cz * cz).sqrt();
-    let dot = a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
-    cross.atan2(dot).to_degrees()
+    crate::position::angle_between_deg(&sun.unit_vector_enu(), &surface.normal_enu())
 }
 
 #[cfg(test)]
