@@ -5,17 +5,21 @@
 //!     [--pressure HPA --temperature C] [--allow-out-of-range] < in.csv > out.csv
 //! ```
 //!
-//! Input: CSV whose header contains `utc,latitude,longitude` and optionally
-//! `delta_t` (seconds; the built-in model when the column is absent or the
-//! cell empty); other columns are ignored, in any order. `utc` like
-//! `2031-04-05T06:07:08Z`.
+//! Input: CSV (RFC 4180: quoted fields may hold commas, quotes and line
+//! breaks; a UTF-8 BOM and CRLF line ends are fine) whose header contains
+//! `utc,latitude,longitude` and optionally `delta_t` (seconds; the built-in
+//! model when the column is absent or the cell empty); other columns are
+//! ignored, in any order. `utc` like `2031-04-05T06:07:08Z`.
 //!
-//! Output: `utc,latitude,longitude,zenith,azimuth,error`, one row per input
-//! row in input order, degrees with 9 decimals. Without `--pressure` the
-//! position is geometric (no refraction). `error` is empty when fine, else a
-//! short reason with zenith and azimuth empty: a bad field, a site out of
-//! range, or an instant outside the algorithm's validity range (pass
-//! `--allow-out-of-range` to compute those anyway).
+//! Output: `utc,latitude,longitude,zenith,azimuth,error`, exactly one row per
+//! input data row in input order (blank lines are skipped), degrees with 9
+//! decimals. Without `--pressure` the position is geometric (no refraction).
+//! `error` is empty when fine, else a short reason with zenith and azimuth
+//! empty: a row that cannot be decoded (a used field not UTF-8, a number of
+//! fields unlike the header's, a bad number or date), a site out of range,
+//! or an instant outside the algorithm's validity range (pass
+//! `--allow-out-of-range` to compute those anyway). The rows after a bad
+//! row go on.
 
 #[path = "solar_position_support/batch.rs"]
 mod batch;

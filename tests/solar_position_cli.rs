@@ -7,12 +7,26 @@ use batch::{parse_args, run, Config, FloatKind};
 use sun_algos::{Algorithm, SunPosition};
 
 fn run_str(cfg: &Config, input: &str) -> Vec<Vec<String>> {
+    run_bytes(cfg, input.as_bytes())
+}
+
+/// Runs the tool on raw input bytes; the output read back with an
+/// RFC 4180 reader (quoted fields stay one field), header row included.
+fn run_bytes(cfg: &Config, input: &[u8]) -> Vec<Vec<String>> {
     let mut out = Vec::new();
-    run(cfg, input.as_bytes(), &mut out).expect("run");
-    String::from_utf8(out)
-        .expect("utf8")
-        .lines()
-        .map(|l| l.split(',').map(str::to_owned).collect())
+    run(cfg, input, &mut out).expect("run");
+    let text = String::from_utf8(out).expect("utf8 output");
+    csv::ReaderBuilder::new()
+        .has_headers(false)
+        .flexible(true)
+        .from_reader(text.as_bytes())
+        .records()
+        .map(|r| {
+            r.expect("output is CSV")
+                .iter()
+                .map(str::to_owned)
+                .collect()
+        })
         .collect()
 }
 
@@ -217,4 +231,120 @@ fn usage_names_every_flag() {
     ] {
         assert!(batch::USAGE.contains(flag), "{flag}");
     }
+}
+
+/// Row 1 of sun_2020_2050.csv (skyfield + DE421): the site and instant, and
+/// the geometric zenith and azimuth there.
+const ROW1: &str = "2034-09-01T21:58:29Z";
+const ROW1_SITE: (&str, &str) = ("44.28637", "-92.64742");
+const ROW1_ZA: (f64, f64) = (61.115_544_7, 251.556_768_1);
+
+fn assert_row1(o: &[String]) {
+    assert_eq!(o.len(), 6, "{o:?}");
+    assert_eq!(o[..3], [ROW1, ROW1_SITE.0, ROW1_SITE.1], "{o:?}");
+    assert_eq!(o[5], "", "{o:?}");
+    let z: f64 = o[3].parse().unwrap();
+    let a: f64 = o[4].parse().unwrap();
+    assert!(
+        (z - ROW1_ZA.0).abs() < 0.01 && (a - ROW1_ZA.1).abs() < 0.02,
+        "{o:?}"
+    );
+}
+
+fn psa_f64() -> Config {
+    cfg(&["--algorithm", "psa-2020", "--float", "f64"])
+}
+
+#[test]
+fn quoted_fields_with_commas_are_one_field() {
+    // A quoted note with a comma (and an escaped quote) before the site
+    // columns must not shift them; a quoted "1,5" latitude is one field,
+    // a bad number, and is echoed back as one field.
+    let input = format!(
+        "utc,note,latitude,longitude\n\
+         {ROW1},\"Kano, NG \"\"roof\"\"\",{},{}\n\
+         {ROW1},plain,\"1,5\",{}\n\
+         \"{ROW1}\",\"\",\"{}\",\"{}\"\n",
+        ROW1_SITE.0, ROW1_SITE.1, ROW1_SITE.1, ROW1_SITE.0, ROW1_SITE.1
+    );
+    let out = run_str(&psa_f64(), &input);
+    assert_eq!(out.len(), 4, "{out:?}");
+    assert_row1(&out[1]);
+    assert_eq!(out[2].len(), 6, "{:?}", out[2]);
+    assert_eq!(out[2][1], "1,5");
+    assert_eq!((out[2][3].as_str(), out[2][4].as_str()), ("", ""));
+    assert!(out[2][5].contains("latitude"), "{:?}", out[2]);
+    assert_row1(&out[3]);
+}
+
+#[test]
+fn bom_crlf_and_quoted_line_breaks() {
+    // What spreadsheet programs write: a UTF-8 BOM, quoted header names,
+    // CRLF line ends, and a quoted cell holding a line break.
+    let input = format!(
+        "\u{feff}\"utc\",\"latitude\",\"longitude\",\"note\"\r\n\
+         {ROW1},{},{},one\r\n\
+         {ROW1},{},{},\"two\r\nlines\"\r\n\
+         {ROW1},{},{},three\r\n",
+        ROW1_SITE.0, ROW1_SITE.1, ROW1_SITE.0, ROW1_SITE.1, ROW1_SITE.0, ROW1_SITE.1
+    );
+    let out = run_str(&psa_f64(), &input);
+    assert_eq!(
+        out[0],
+        ["utc", "latitude", "longitude", "zenith", "azimuth", "error"]
+    );
+    assert_eq!(out.len(), 4, "one output row per data row: {out:?}");
+    for o in &out[1..] {
+        assert_row1(o);
+    }
+}
+
+#[test]
+fn undecodable_rows_give_error_rows_and_the_run_goes_on() {
+    let (lat, lon) = ROW1_SITE;
+    let mut input = Vec::new();
+    input.extend_from_slice(b"utc,latitude,longitude,note\n");
+    let good = format!("{ROW1},{lat},{lon},ok\n");
+    input.extend_from_slice(good.as_bytes());
+    // Latin-1 degree sign (0xB0) in the latitude: not UTF-8.
+    input.extend_from_slice(format!("{ROW1},{lat}").as_bytes());
+    input.extend_from_slice(b"\xb0");
+    input.extend_from_slice(format!(",{lon},x\n").as_bytes());
+    input.extend_from_slice(good.as_bytes());
+    // Invalid UTF-8 in the utc cell.
+    input.extend_from_slice(b"2034-09-01T21:58:29Z\xff\xfe,");
+    input.extend_from_slice(format!("{lat},{lon},x\n").as_bytes());
+    // Too many and too few fields.
+    input.extend_from_slice(format!("{ROW1},{lat},{lon},x,extra\n").as_bytes());
+    input.extend_from_slice(format!("{ROW1},{lat},{lon}\n").as_bytes());
+    // A bad number and a bad date.
+    input.extend_from_slice(format!("{ROW1},4x,{lon},x\n").as_bytes());
+    input.extend_from_slice(format!("2034-02-30T21:58:29Z,{lat},{lon},x\n").as_bytes());
+    // Latin-1 text in a column the tool does not read: the row is fine.
+    input.extend_from_slice(format!("{ROW1},{lat},{lon},caf").as_bytes());
+    input.extend_from_slice(b"\xe9\n");
+
+    let out = run_bytes(&psa_f64(), &input);
+    assert_eq!(out.len(), 1 + 9, "one output row per data row: {out:?}");
+    for i in [1, 3, 9] {
+        assert_row1(&out[i]);
+    }
+    for (i, what) in [
+        (2, "latitude"),
+        (4, "utc"),
+        (5, "fields"),
+        (6, "fields"),
+        (7, "latitude"),
+        (8, "utc"),
+    ] {
+        let o = &out[i];
+        assert_eq!(o.len(), 6, "row {i}: {o:?}");
+        assert_eq!((o[3].as_str(), o[4].as_str()), ("", ""), "row {i}: {o:?}");
+        assert!(o[5].contains(what), "row {i}: {o:?}");
+        // Same style as the other errors: no comma inside the reason.
+        assert!(!o[5].contains(','), "row {i}: {o:?}");
+    }
+    // The readable fields are still echoed.
+    assert_eq!(out[2][0], ROW1);
+    assert_eq!(out[4][1], lat);
 }

@@ -1,7 +1,7 @@
 //! The batch logic of `examples/solar_position.rs`: arguments, CSV in, CSV
 //! out. Kept apart so that `tests/solar_position_cli.rs` can include it.
 
-use std::io::{BufRead, Write};
+use std::io::{Read, Write};
 
 use sun_algos::{Algorithm, Atmosphere, Float, Options, Site, UtcTime};
 
@@ -29,8 +29,10 @@ pub struct Config {
 /// Usage text.
 pub const USAGE: &str = "usage: solar_position --algorithm NAME --float f32|f64 \
 [--pressure HPA --temperature C] [--allow-out-of-range] < in.csv > out.csv\n\
-input: CSV with a header containing utc,latitude,longitude and optionally delta_t\n\
-output: utc,latitude,longitude,zenith,azimuth,error (degrees; geometric without --pressure)";
+input: CSV (quoted fields, BOM and CRLF allowed) with a header containing\n\
+utc,latitude,longitude and optionally delta_t\n\
+output: utc,latitude,longitude,zenith,azimuth,error (degrees; geometric without --pressure),\n\
+one row per input row; a row that cannot be decoded or computed gets an error text";
 
 /// Parses the arguments (without the program name).
 pub fn parse_args<S: AsRef<str>>(args: &[S]) -> Result<Config, String> {
@@ -95,64 +97,113 @@ struct Columns {
     latitude: usize,
     longitude: usize,
     delta_t: Option<usize>,
+    /// Number of header fields; every data row must have as many.
+    len: usize,
 }
 
-fn split(line: &str) -> Vec<&str> {
-    line.split(',')
-        .map(|f| f.trim().trim_matches('"').trim())
-        .collect()
-}
-
-fn columns(header: &str) -> Result<Columns, String> {
-    let names = split(header.trim_start_matches('\u{feff}'));
-    let find = |n: &str| names.iter().position(|&h| h.eq_ignore_ascii_case(n));
+fn columns(header: &csv::ByteRecord) -> Result<Columns, String> {
+    let names: Vec<String> = header
+        .iter()
+        .map(|f| {
+            String::from_utf8_lossy(f)
+                .trim_start_matches('\u{feff}')
+                .trim()
+                .to_owned()
+        })
+        .collect();
+    let find = |n: &str| names.iter().position(|h| h.eq_ignore_ascii_case(n));
     let need = |n: &str| find(n).ok_or_else(|| format!("input header has no {n} column"));
     Ok(Columns {
         utc: need("utc")?,
         latitude: need("latitude")?,
         longitude: need("longitude")?,
         delta_t: find("delta_t"),
+        len: names.len(),
     })
 }
 
+/// A line holding nothing but blanks: not a data row (as a blank line).
+fn is_blank(record: &csv::ByteRecord) -> bool {
+    record.len() <= 1 && record.iter().all(<[u8]>::is_empty)
+}
+
 /// Reads the CSV from `input` and writes one result row per data row to
-/// `output`. Errors only for I/O and a missing header; a bad row gives an
-/// error row.
-pub fn run<R: BufRead, W: Write>(cfg: &Config, input: R, mut output: W) -> Result<(), String> {
-    let mut lines = input.lines();
-    let header = loop {
-        match lines.next() {
-            None => return Err("empty input: no header".into()),
-            Some(line) => {
-                let line = line.map_err(|e| format!("read: {e}"))?;
-                if !line.trim().is_empty() {
-                    break line;
-                }
-            }
+/// `output`. RFC 4180 input: quoted fields (with commas, quotes, line
+/// breaks), a UTF-8 BOM, LF or CRLF line ends; blank lines are skipped.
+/// Errors only for I/O and a missing header; a row that cannot be decoded
+/// (a used field not UTF-8, a field count unlike the header's, a bad number
+/// or date) or computed gives an error row and the run goes on.
+pub fn run<R: Read, W: Write>(cfg: &Config, input: R, output: W) -> Result<(), String> {
+    // Byte records: a field that is not UTF-8 spoils its own row only (a
+    // String reader would end the run there); decoded per field below.
+    let mut reader = csv::ReaderBuilder::new()
+        .has_headers(false)
+        .flexible(true)
+        .trim(csv::Trim::All)
+        .from_reader(input);
+    let mut writer = csv::WriterBuilder::new().from_writer(output);
+    let mut record = csv::ByteRecord::new();
+    let mut next = |record: &mut csv::ByteRecord| loop {
+        match reader.read_byte_record(record) {
+            Ok(false) => return Ok(false),
+            Ok(true) if is_blank(record) => continue,
+            Ok(true) => return Ok(true),
+            Err(e) => return Err(format!("read: {e}")),
         }
     };
-    let cols = columns(&header)?;
-    let io = |e: std::io::Error| format!("write: {e}");
-    writeln!(output, "utc,latitude,longitude,zenith,azimuth,error").map_err(io)?;
-    for line in lines {
-        let line = line.map_err(|e| format!("read: {e}"))?;
-        if line.trim().is_empty() {
-            continue;
-        }
-        let fields = split(&line);
-        let field = |i: usize| fields.get(i).copied().unwrap_or("");
-        let result = match cfg.float {
+    if !next(&mut record)? {
+        return Err("empty input: no header".into());
+    }
+    let cols = columns(&record)?;
+    let wr = |e: csv::Error| format!("write: {e}");
+    writer
+        .write_record(["utc", "latitude", "longitude", "zenith", "azimuth", "error"])
+        .map_err(wr)?;
+    while next(&mut record)? {
+        let echo = |i: usize| String::from_utf8_lossy(record.get(i).unwrap_or_default());
+        let (utc, lat, lon) = (echo(cols.utc), echo(cols.latitude), echo(cols.longitude));
+        let result = fields(&cols, &record).and_then(|fields| match cfg.float {
             FloatKind::F32 => row::<f32>(cfg, &cols, &fields),
             FloatKind::F64 => row::<f64>(cfg, &cols, &fields),
+        });
+        let (z, a, error) = match result {
+            Ok((z, a)) => (format!("{z:.9}"), format!("{a:.9}"), String::new()),
+            Err(e) => (String::new(), String::new(), e.replace(',', ";")),
         };
-        let (utc, lat, lon) = (field(cols.utc), field(cols.latitude), field(cols.longitude));
-        match result {
-            Ok((z, a)) => writeln!(output, "{utc},{lat},{lon},{z:.9},{a:.9},"),
-            Err(e) => writeln!(output, "{utc},{lat},{lon},,,{}", e.replace(',', ";")),
-        }
-        .map_err(io)?;
+        writer
+            .write_record([&*utc, &*lat, &*lon, &z, &a, &error])
+            .map_err(wr)?;
     }
-    output.flush().map_err(io)
+    writer.flush().map_err(|e| format!("write: {e}"))
+}
+
+/// The fields of a data row as text: the row must have the header's number
+/// of fields, and the fields the tool uses must be UTF-8 (the others are
+/// ignored, whatever their bytes).
+fn fields<'r>(cols: &Columns, record: &'r csv::ByteRecord) -> Result<Vec<&'r str>, String> {
+    if record.len() != cols.len {
+        return Err(format!(
+            "wrong number of fields: {} for {} header columns",
+            record.len(),
+            cols.len
+        ));
+    }
+    let used = [
+        (Some(cols.utc), "utc"),
+        (Some(cols.latitude), "latitude"),
+        (Some(cols.longitude), "longitude"),
+        (cols.delta_t, "delta_t"),
+    ];
+    let used_as = |i: usize| used.iter().find(|(c, _)| *c == Some(i)).map(|(_, n)| *n);
+    record
+        .iter()
+        .enumerate()
+        .map(|(i, f)| match (std::str::from_utf8(f), used_as(i)) {
+            (Ok(s), _) => Ok(s),
+            (Err(_), None) => Ok(""),
+            (Err(_), Some(name)) => Err(format!("bad {name}: not UTF-8")),
+        })
+        .collect()
 }
 
 /// Zenith and azimuth (degrees) of one row, or a short reason.
