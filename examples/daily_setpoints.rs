@@ -7,7 +7,12 @@
 //! ```
 //! Options: `--lat`/`--lon` or `--postal-code CC:CODE`, `--date YYYY-MM-DD`,
 //! `--interval-min N`, `--algorithm NAME`, `--float f32|f64`,
-//! `--format table|csv`.
+//! `--format table|csv`, `--allow-out-of-range`.
+//!
+//! A date outside the algorithm's validity range (`Algorithm::validity_years`,
+//! e.g. psa-2020: 2020 to 2050) is refused with the reason on stderr and exit
+//! code 2, unless `--allow-out-of-range` is given: then the table is computed
+//! and a warning goes to stderr.
 
 #[path = "daily_setpoints_support/run.rs"]
 mod run;
@@ -28,7 +33,7 @@ fn main() -> ExitCode {
         .unwrap_or((2026, 1, 1));
     let stdout = std::io::stdout();
     let mut out = stdout.lock();
-    match run::run(&args, today, &mut out) {
+    match run::run(&args, today, &mut out, &mut std::io::stderr()) {
         Ok(()) => ExitCode::SUCCESS,
         Err(msg) => {
             eprintln!("{msg}");

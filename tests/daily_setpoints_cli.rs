@@ -4,16 +4,24 @@
 #[allow(dead_code)]
 mod run;
 
-use run::{compute, parse, run, CSV_HEADER};
+use run::{compute, parse, run, CSV_HEADER, USAGE};
 
 fn args(s: &str) -> Vec<String> {
     s.split_whitespace().map(String::from).collect()
 }
 
 fn output(s: &str) -> Result<String, String> {
-    let mut buf = Vec::new();
-    run(&args(s), (2018, 10, 19), &mut buf)?;
-    Ok(String::from_utf8(buf).unwrap())
+    output_and_warnings(s).map(|(out, _)| out)
+}
+
+/// The table and what went to the warning stream.
+fn output_and_warnings(s: &str) -> Result<(String, String), String> {
+    let (mut buf, mut warn) = (Vec::new(), Vec::new());
+    run(&args(s), (2018, 10, 19), &mut buf, &mut warn)?;
+    Ok((
+        String::from_utf8(buf).unwrap(),
+        String::from_utf8(warn).unwrap(),
+    ))
 }
 
 #[test]
@@ -117,14 +125,20 @@ fn f32_matches_f64() {
 
 #[test]
 fn postal_code_site_and_other_algorithms() {
-    let out = output("--postal-code DZ:16000 --algorithm psa-2020 --interval-min 30").unwrap();
+    // A date inside every one of these algorithms' validity ranges.
+    let out =
+        output("--postal-code DZ:16000 --algorithm psa-2020 --interval-min 30 --date 2021-03-20")
+            .unwrap();
     assert!(
         out.contains("Alger Gare (DZ:16000) (36.7794 N, 3.0617 E)"),
         "{out}"
     );
     assert!(out.contains("Sunrise") && out.contains("Sunset"));
     for name in ["michalsky", "textbook", "psa-2001", "psa-modified"] {
-        let out = output(&format!("--algorithm {name} --interval-min 60")).unwrap();
+        let out = output(&format!(
+            "--algorithm {name} --interval-min 60 --date 2021-03-20"
+        ))
+        .unwrap();
         assert!(out.contains(name), "{out}");
     }
 }
@@ -162,4 +176,62 @@ fn bad_arguments_are_errors_not_panics() {
     ] {
         assert!(output(bad).is_err(), "{bad}");
     }
+}
+
+/// Validity ranges as their authors state them: PSA+ (Blanco, Milidonis &
+/// Bonanos 2020) 2020–2050, Grena 2012 2010–2110, Michalsky 1988 1950–2050.
+const STATED: [(&str, i32, i32); 3] = [
+    ("psa-2020", 2020, 2050),
+    ("grena-2012-3", 2010, 2110),
+    ("michalsky", 1950, 2050),
+];
+
+#[test]
+fn a_date_outside_the_algorithm_validity_range_is_refused() {
+    for (name, lo, hi) in STATED {
+        for year in [lo - 1, hi + 1] {
+            let cmd = format!("--algorithm {name} --date {year}-06-01 --interval-min 60");
+            let e = output(&cmd).expect_err(&cmd);
+            // Says why: the algorithm, its range and the way out.
+            for part in [
+                name,
+                &lo.to_string(),
+                &hi.to_string(),
+                "--allow-out-of-range",
+            ] {
+                assert!(e.contains(part), "{cmd}: {e}");
+            }
+            assert!(e.contains(&year.to_string()), "{cmd}: {e}");
+        }
+        // The first and last year of the range are fine.
+        for date in [format!("{lo}-01-01"), format!("{hi}-12-31")] {
+            let cmd = format!("--algorithm {name} --date {date} --interval-min 60");
+            assert!(output(&cmd).is_ok(), "{cmd}");
+        }
+    }
+    // The default date counts too: the tests' "today" is 2018-10-19.
+    assert!(output("--algorithm psa-2020").is_err());
+}
+
+#[test]
+fn allow_out_of_range_computes_with_a_warning() {
+    let cmd = "--algorithm psa-2020 --date 2060-06-01 --interval-min 60 --allow-out-of-range";
+    let (out, warn) = output_and_warnings(cmd).unwrap();
+    assert!(
+        out.contains("Sunrise") && out.contains("set-points"),
+        "{out}"
+    );
+    for part in ["warning", "psa-2020", "2060", "2020", "2050"] {
+        assert!(warn.contains(part), "{warn}");
+    }
+    // Inside the range: no warning, flag or not.
+    for cmd in [
+        "--algorithm psa-2020 --date 2030-06-01",
+        "--algorithm psa-2020 --date 2030-06-01 --allow-out-of-range",
+        "--date 2018-10-19",
+    ] {
+        let (_, warn) = output_and_warnings(cmd).unwrap();
+        assert_eq!(warn, "", "{cmd}");
+    }
+    assert!(USAGE.contains("--allow-out-of-range"));
 }

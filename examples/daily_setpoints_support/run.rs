@@ -23,10 +23,12 @@ pub const CSV_HEADER: &str =
 pub const USAGE: &str = "\
 usage: daily_setpoints [--lat DEG --lon DEG | --postal-code CC:CODE] [--date YYYY-MM-DD]
                        [--interval-min N] [--algorithm NAME] [--float f32|f64]
-                       [--format table|csv]
+                       [--format table|csv] [--allow-out-of-range]
   Set-points (slope, surface azimuth east of north) every N minutes (default 4)
   from sunrise to sunset; default site Kano (11.9683 N, 8.4261 E), today (UTC),
-  algorithm spa, f64, table. Positions are apparent (standard atmosphere).";
+  algorithm spa, f64, table. Positions are apparent (standard atmosphere).
+  A date outside the algorithm's validity range (e.g. psa-2020: 2020 to 2050)
+  is refused; --allow-out-of-range computes it anyway, with a warning.";
 
 /// Parsed command line.
 #[derive(Debug, Clone, PartialEq)]
@@ -39,6 +41,9 @@ pub struct Args {
     pub algorithm: Algorithm,
     pub f32: bool,
     pub csv: bool,
+    /// Compute a date outside the algorithm's validity range (with a
+    /// warning) instead of refusing it.
+    pub allow_out_of_range: bool,
 }
 
 fn value<'a>(it: &mut impl Iterator<Item = &'a String>, flag: &str) -> Result<&'a String, String> {
@@ -65,6 +70,7 @@ pub fn parse(args: &[String], today: (i32, u8, u8)) -> Result<Args, String> {
         algorithm: Algorithm::Spa,
         f32: false,
         csv: false,
+        allow_out_of_range: false,
     };
     let (mut lat, mut lon, mut postal_code) = (None, None, None);
     let mut it = args.iter();
@@ -106,6 +112,7 @@ pub fn parse(args: &[String], today: (i32, u8, u8)) -> Result<Args, String> {
                 "table" => a.csv = false,
                 v => return Err(format!("--format {v:?}: table or csv")),
             },
+            "--allow-out-of-range" => a.allow_out_of_range = true,
             "-h" | "--help" => return Err(USAGE.into()),
             other => return Err(format!("unknown option {other:?}\n{USAGE}")),
         }
@@ -128,7 +135,27 @@ pub fn parse(args: &[String], today: (i32, u8, u8)) -> Result<Args, String> {
         _ => return Err("--lat and --lon go together".into()),
     }
     Site::new(a.lat_deg, a.lon_deg).map_err(|e| format!("site: {e}"))?;
+    if let Some(why) = outside_validity(&a) {
+        if !a.allow_out_of_range {
+            return Err(format!(
+                "{why}; pick another --algorithm or pass --allow-out-of-range to compute anyway"
+            ));
+        }
+    }
     Ok(a)
+}
+
+/// Why the date is outside the algorithm's validity range, if it is.
+pub fn outside_validity(a: &Args) -> Option<String> {
+    let (y, m, d) = a.ymd;
+    let (lo, hi) = a.algorithm.validity_years();
+    (!(lo..=hi).contains(&y)).then(|| {
+        format!(
+            "date {y:04}-{m:02}-{d:02} is outside the validity range of algorithm {} \
+             (years {lo} to {hi})",
+            a.algorithm.name()
+        )
+    })
 }
 
 /// One printed row, degrees.
@@ -165,6 +192,8 @@ fn solar_seconds<T: Float>(t: &UtcTime, site: &Site<T>) -> Result<i64, String> {
 fn compute_in<T: Float>(a: &Args) -> Result<Day, String> {
     let site =
         Site::new(T::from_f64(a.lat_deg), T::from_f64(a.lon_deg)).map_err(|e| e.to_string())?;
+    // The date itself was checked against the validity range in `parse`;
+    // the day's instants may still spill into the neighbouring year.
     let geo = Options::<T> {
         allow_out_of_range: true,
         ..Options::default()
@@ -325,9 +354,22 @@ pub fn write(a: &Args, day: &Day, out: &mut impl Write) -> std::io::Result<()> {
     Ok(())
 }
 
-/// Parse, compute and write; the error is the message to print.
-pub fn run(args: &[String], today: (i32, u8, u8), out: &mut impl Write) -> Result<(), String> {
+/// Parse, compute and write the table to `out` and warnings to `warn`; the
+/// error is the message to print.
+pub fn run(
+    args: &[String],
+    today: (i32, u8, u8),
+    out: &mut impl Write,
+    warn: &mut impl Write,
+) -> Result<(), String> {
     let a = parse(args, today)?;
+    if let Some(why) = outside_validity(&a) {
+        // Best effort: a closed stderr must not stop the table.
+        let _ = writeln!(
+            warn,
+            "warning: {why}; computed anyway (--allow-out-of-range), expect larger errors"
+        );
+    }
     let day = compute(&a)?;
     match write(&a, &day, out) {
         // A closed pipe (`| head`) is not an error of ours.
