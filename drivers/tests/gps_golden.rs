@@ -199,3 +199,81 @@ fn poll_if_ready_does_not_block_on_an_idle_port() {
     }
     assert_eq!(n, 10);
 }
+
+/// Feeds `lines` (one sentence each, CR LF added) to a decoder, line `i` at
+/// `now_ms[i]`; returns the fixes (with the end-of-log flush) and, per line,
+/// whether it was rejected as a parse error.
+fn decode_lines(lines: &[&str], now_ms: &[u64]) -> (Vec<GpsFix>, Vec<bool>, GpsDecoder) {
+    let mut d = GpsDecoder::new(60_000);
+    let mut fixes = Vec::new();
+    let mut rejected = Vec::new();
+    for (line, &t) in lines.iter().zip(now_ms) {
+        let before = d.stats().parse_errors;
+        for &b in line.as_bytes().iter().chain(b"\r\n") {
+            fixes.extend(d.push(b, t));
+        }
+        rejected.push(d.stats().parse_errors > before);
+    }
+    fixes.extend(d.finish());
+    (fixes, rejected, d)
+}
+
+const IMPOSSIBLE_LOG: &str = include_str!("data/gps_impossible.nmea");
+
+/// The lines of gps_impossible.nmea that are impossible (see make_golden.py):
+/// 91°, 90°00.5', 200°, 180°00.1' W, minutes 60 and 99, hemisphere X, nan and
+/// inf minutes, altitude nan / 25 km / −600 m, HDOP NaN, negative minutes,
+/// an exponent, hour 24, minute 60, second 60 (leap second, rejected by
+/// design), second 61, 31 June, 29 Feb 2023, 30 Feb 2024, month 13, month 0,
+/// day 0, speed inf, course -nan, 95° S.
+const IMPOSSIBLE_LINES: std::ops::RangeInclusive<usize> = 1..=28;
+
+#[test]
+fn impossible_log_rejects_exactly_the_impossible_lines() {
+    let lines: Vec<&str> = IMPOSSIBLE_LOG.lines().collect();
+    assert_eq!(lines.len(), 35);
+    let now_ms: Vec<u64> = (0..35).map(|i| 1_000 * i).collect();
+    let (_, rejected, d) = decode_lines(&lines, &now_ms);
+    let rejected_lines: Vec<usize> = (0..35).filter(|&i| rejected[i]).collect();
+    assert_eq!(rejected_lines, IMPOSSIBLE_LINES.collect::<Vec<_>>());
+    let stats = d.stats();
+    assert_eq!(stats.sentences, 35);
+    assert_eq!(stats.accepted, 7);
+    assert_eq!(stats.rejected_checksum, 0);
+    assert_eq!(stats.parse_errors, 28);
+    assert_eq!(stats.rejected_other, 28);
+}
+
+#[test]
+fn impossible_log_gives_positions_only_from_the_possible_lines() {
+    let lines: Vec<&str> = IMPOSSIBLE_LOG.lines().collect();
+    let now_ms: Vec<u64> = (0..35).map(|i| 1_000 * i).collect();
+    let (fixes, _, _) = decode_lines(&lines, &now_ms);
+    let lat0 = 37.0 + 34.003 / 60.0;
+    let lon0 = 126.0 + 58.995 / 60.0;
+    // Lines 0 and 29..=34, in order; nothing from lines 1..=28.
+    let expected: [((f64, f64), Option<f32>); 7] = [
+        ((lat0, lon0), Some(39.0)),
+        ((90.0, lon0), Some(39.0)),
+        ((lat0, -180.0), Some(39.0)),
+        ((37.0 + 59.99999 / 60.0, lon0), Some(-500.0)),
+        ((lat0, lon0), Some(20_000.0)),
+        ((lat0, lon0), None),
+        ((0.0, 0.0), None),
+    ];
+    assert_eq!(fixes.len(), expected.len(), "{fixes:#?}");
+    for (fix, (position, altitude_m)) in fixes.iter().zip(expected) {
+        assert!(close(pos(fix), position), "{fix:?}");
+        assert_eq!(fix.altitude_m, altitude_m, "{fix:?}");
+        assert_ne!(fix.quality, FixQuality::Invalid);
+    }
+    let leap_day = DateTime::new(2024, 2, 29, 23, 59, 59)
+        .unwrap()
+        .with_millis(990)
+        .unwrap();
+    assert_eq!(fixes[5].utc, Some(leap_day));
+    assert_eq!(
+        fixes[6].utc,
+        Some(DateTime::new(2025, 3, 1, 0, 0, 0).unwrap())
+    );
+}

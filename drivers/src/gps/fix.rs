@@ -14,10 +14,12 @@
 //! - the altitude only with a GGA quality > 0;
 //! - `quality` is the GGA quality; with only an RMC, `Gps` if its status is
 //!   valid and `Invalid` if not;
+//! - a sentence with impossible values (see `parse_sentence`) is ignored, also
+//!   when it is built by hand and given to [`FixFusion::update`];
 //! - after `stale_after_ms` of the caller's monotonic clock without any
 //!   GGA/RMC, [`FixFusion::current`] reports no fix and no time.
 
-use super::parse::{FixQuality, Gga, Rmc, Sentence, TimeOfDayMs};
+use super::parse::{sentence_is_plausible, FixQuality, Gga, Rmc, Sentence, TimeOfDayMs};
 use crate::time::DateTime;
 
 /// The fused result of one epoch.
@@ -124,8 +126,11 @@ impl FixFusion {
     }
 
     /// Takes one parsed sentence seen at `now_ms`; returns a fix when an
-    /// epoch is complete.
+    /// epoch is complete. A sentence with impossible values is ignored.
     pub fn update(&mut self, sentence: &Sentence, now_ms: u64) -> Option<GpsFix> {
+        if !sentence_is_plausible(sentence) {
+            return None;
+        }
         let key = match sentence {
             Sentence::Gga(g) => g.time_of_day_ms,
             Sentence::Rmc(r) => r.time_of_day_ms,
