@@ -75,6 +75,10 @@ pub const fn days_in_month(year: u16, month: u8) -> u8 {
 }
 
 /// Days from 1970-01-01 to the given (already valid) civil date; negative before.
+///
+/// The argument types bound every intermediate value (|result| < 3 × 10⁶ for
+/// any `u16` year, `u8` month and day), so nothing here can overflow, even for
+/// an invalid date.
 pub fn days_from_civil(year: u16, month: u8, day: u8) -> i64 {
     let m = i64::from(month);
     // Count years from March so that February (and its leap day) ends the year.
@@ -89,10 +93,15 @@ pub fn days_from_civil(year: u16, month: u8, day: u8) -> i64 {
 
 /// Inverse of [`days_from_civil`]: (year, month, day) for a day count from 1970-01-01.
 /// `None` when the year would fall outside [`MIN_YEAR`]..=[`MAX_YEAR`].
+///
+/// Any `i64` is accepted: the only steps that depend on the size of `days`
+/// (the offset to 0000-03-01 and the era arithmetic) are checked, so an
+/// extreme count gives `None`, never an overflow.
 pub fn civil_from_days(days: i64) -> Option<(u16, u8, u8)> {
     let z = days.checked_add(UNIX_EPOCH_DAY_OFFSET)?;
     let era = z.div_euclid(DAYS_PER_ERA);
-    let day_of_era = z - era * DAYS_PER_ERA; // 0..=146096
+    let day_of_era = z.rem_euclid(DAYS_PER_ERA); // 0..=146096
+                                                 // From here on every value is bounded by day_of_era (< 146 097).
     let year_of_era =
         (day_of_era - day_of_era / 1460 + day_of_era / 36_524 - day_of_era / 146_096) / 365;
     let day_of_year = day_of_era - (365 * year_of_era + year_of_era / 4 - year_of_era / 100);
@@ -103,7 +112,10 @@ pub fn civil_from_days(days: i64) -> Option<(u16, u8, u8)> {
     } else {
         month_from_march - 9
     };
-    let year = year_of_era + era * 400 + i64::from(month <= 2);
+    let year = era
+        .checked_mul(400)?
+        .checked_add(year_of_era)?
+        .checked_add(i64::from(month <= 2))?;
     let year = u16::try_from(year).ok()?;
     if !(MIN_YEAR..=MAX_YEAR).contains(&year) {
         return None;
@@ -198,6 +210,9 @@ impl DateTime {
     }
 
     /// Whole seconds since 1970-01-01T00:00:00Z (milliseconds dropped).
+    ///
+    /// Years 1..=9999 span ±3 × 10¹¹ s and ±3 × 10¹⁴ ms, far inside `i64`, so
+    /// this and the other differences below cannot overflow.
     pub fn unix_seconds(&self) -> i64 {
         self.days_since_unix_epoch() * SECONDS_PER_DAY + i64::from(self.seconds_of_day())
     }
@@ -208,6 +223,10 @@ impl DateTime {
     }
 
     /// The date-time `unix_s` whole seconds after 1970-01-01T00:00:00Z.
+    ///
+    /// Any `i64` is accepted: outside years 1..=9999 the result is
+    /// [`DateTimeError::Year`], never an overflow (Euclidean division by a
+    /// positive constant cannot overflow; [`civil_from_days`] is checked).
     pub fn from_unix_seconds(unix_s: i64) -> Result<Self, DateTimeError> {
         let days = unix_s.div_euclid(SECONDS_PER_DAY);
         let sod = unix_s.rem_euclid(SECONDS_PER_DAY);
@@ -358,6 +377,51 @@ mod tests {
             DateTime::from_unix_seconds(i64::MIN),
             Err(DateTimeError::Year)
         );
+    }
+
+    #[test]
+    fn extreme_counts_are_errors_not_overflows() {
+        for days in [
+            i64::MAX,
+            i64::MAX - 1,
+            i64::MAX - UNIX_EPOCH_DAY_OFFSET,
+            i64::MAX - UNIX_EPOCH_DAY_OFFSET + 1,
+            i64::MIN,
+            i64::MIN + 1,
+            i64::MIN + DAYS_PER_ERA,
+            i64::from(i32::MAX),
+            i64::from(i32::MIN),
+        ] {
+            assert_eq!(civil_from_days(days), None, "{days}");
+        }
+        for secs in [i64::MAX - 1, i64::MIN + 1, i64::MAX / 1000, i64::MIN / 1000] {
+            assert_eq!(
+                DateTime::from_unix_seconds(secs),
+                Err(DateTimeError::Year),
+                "{secs}"
+            );
+        }
+        // The ends of the range and one second past each.
+        let first = DateTime::new(MIN_YEAR, 1, 1, 0, 0, 0).unwrap();
+        let last = DateTime::new(MAX_YEAR, 12, 31, 23, 59, 59).unwrap();
+        assert_eq!(DateTime::from_unix_seconds(first.unix_seconds()), Ok(first));
+        assert_eq!(DateTime::from_unix_seconds(last.unix_seconds()), Ok(last));
+        assert_eq!(
+            DateTime::from_unix_seconds(first.unix_seconds() - 1),
+            Err(DateTimeError::Year)
+        );
+        assert_eq!(
+            DateTime::from_unix_seconds(last.unix_seconds() + 1),
+            Err(DateTimeError::Year)
+        );
+        let last_ms = last.with_millis(999).unwrap();
+        assert_eq!(
+            last_ms.millis_since(&first),
+            (last.unix_seconds() - first.unix_seconds()) * 1000 + 999
+        );
+        // Unvalidated arguments to days_from_civil do not overflow either.
+        let _ = days_from_civil(u16::MAX, u8::MAX, u8::MAX);
+        let _ = days_from_civil(0, 0, 0);
     }
 
     #[test]

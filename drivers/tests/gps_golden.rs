@@ -141,9 +141,23 @@ fn golden_log_counters() {
 
 #[test]
 fn chunk_size_does_not_matter() {
+    // Only the receive times differ: run_reader's clock ticks once per poll,
+    // and a bigger chunk needs fewer polls.
+    fn without_receive_time(fixes: Vec<GpsFix>) -> Vec<GpsFix> {
+        fixes
+            .into_iter()
+            .map(|f| {
+                assert_eq!(f.utc.is_some(), f.utc_received_ms.is_some(), "{f:?}");
+                GpsFix {
+                    utc_received_ms: None,
+                    ..f
+                }
+            })
+            .collect()
+    }
     let (one, s1) = run_reader(1);
     let (big, s2) = run_reader(64);
-    assert_eq!(one, big);
+    assert_eq!(without_receive_time(one), without_receive_time(big));
     assert_eq!(s1, s2);
 }
 
@@ -198,4 +212,162 @@ fn poll_if_ready_does_not_block_on_an_idle_port() {
         }
     }
     assert_eq!(n, 10);
+}
+
+/// Feeds `lines` (one sentence each, CR LF added) to a decoder, line `i` at
+/// `now_ms[i]`; returns the fixes (with the end-of-log flush) and, per line,
+/// whether it was rejected as a parse error.
+fn decode_lines(lines: &[&str], now_ms: &[u64]) -> (Vec<GpsFix>, Vec<bool>, GpsDecoder) {
+    let mut d = GpsDecoder::new(60_000);
+    let mut fixes = Vec::new();
+    let mut rejected = Vec::new();
+    for (line, &t) in lines.iter().zip(now_ms) {
+        let before = d.stats().parse_errors;
+        for &b in line.as_bytes().iter().chain(b"\r\n") {
+            fixes.extend(d.push(b, t));
+        }
+        rejected.push(d.stats().parse_errors > before);
+    }
+    fixes.extend(d.finish());
+    (fixes, rejected, d)
+}
+
+const IMPOSSIBLE_LOG: &str = include_str!("data/gps_impossible.nmea");
+
+/// The lines of gps_impossible.nmea that are impossible (see make_golden.py):
+/// 91°, 90°00.5', 200°, 180°00.1' W, minutes 60 and 99, hemisphere X, nan and
+/// inf minutes, altitude nan / 25 km / −600 m, HDOP NaN, negative minutes,
+/// an exponent, hour 24, minute 60, second 60 (leap second, rejected by
+/// design), second 61, 31 June, 29 Feb 2023, 30 Feb 2024, month 13, month 0,
+/// day 0, speed inf, course -nan, 95° S.
+const IMPOSSIBLE_LINES: std::ops::RangeInclusive<usize> = 1..=28;
+
+#[test]
+fn impossible_log_rejects_exactly_the_impossible_lines() {
+    let lines: Vec<&str> = IMPOSSIBLE_LOG.lines().collect();
+    assert_eq!(lines.len(), 35);
+    let now_ms: Vec<u64> = (0..35).map(|i| 1_000 * i).collect();
+    let (_, rejected, d) = decode_lines(&lines, &now_ms);
+    let rejected_lines: Vec<usize> = (0..35).filter(|&i| rejected[i]).collect();
+    assert_eq!(rejected_lines, IMPOSSIBLE_LINES.collect::<Vec<_>>());
+    let stats = d.stats();
+    assert_eq!(stats.sentences, 35);
+    assert_eq!(stats.accepted, 7);
+    assert_eq!(stats.rejected_checksum, 0);
+    assert_eq!(stats.parse_errors, 28);
+    assert_eq!(stats.rejected_other, 28);
+}
+
+#[test]
+fn impossible_log_gives_positions_only_from_the_possible_lines() {
+    let lines: Vec<&str> = IMPOSSIBLE_LOG.lines().collect();
+    let now_ms: Vec<u64> = (0..35).map(|i| 1_000 * i).collect();
+    let (fixes, _, _) = decode_lines(&lines, &now_ms);
+    let lat0 = 37.0 + 34.003 / 60.0;
+    let lon0 = 126.0 + 58.995 / 60.0;
+    // Lines 0 and 29..=34, in order; nothing from lines 1..=28.
+    let expected: [((f64, f64), Option<f32>); 7] = [
+        ((lat0, lon0), Some(39.0)),
+        ((90.0, lon0), Some(39.0)),
+        ((lat0, -180.0), Some(39.0)),
+        ((37.0 + 59.99999 / 60.0, lon0), Some(-500.0)),
+        ((lat0, lon0), Some(20_000.0)),
+        ((lat0, lon0), None),
+        ((0.0, 0.0), None),
+    ];
+    assert_eq!(fixes.len(), expected.len(), "{fixes:#?}");
+    for (fix, (position, altitude_m)) in fixes.iter().zip(expected) {
+        assert!(close(pos(fix), position), "{fix:?}");
+        assert_eq!(fix.altitude_m, altitude_m, "{fix:?}");
+        assert_ne!(fix.quality, FixQuality::Invalid);
+    }
+    let leap_day = DateTime::new(2024, 2, 29, 23, 59, 59)
+        .unwrap()
+        .with_millis(990)
+        .unwrap();
+    assert_eq!(fixes[5].utc, Some(leap_day));
+    assert_eq!(fixes[5].utc_received_ms, Some(33_000));
+    assert_eq!(
+        fixes[6].utc,
+        Some(DateTime::new(2025, 3, 1, 0, 0, 0).unwrap())
+    );
+    assert_eq!(fixes[6].utc_received_ms, Some(34_000));
+}
+
+/// Checksum-valid sentences, written with `common::frame`-style checksums
+/// computed here so that the bodies stay readable.
+fn framed(body: &str) -> String {
+    let cs = body.bytes().fold(0u8, |a, b| a ^ b);
+    format!("${body}*{cs:02X}")
+}
+
+#[test]
+fn rmc_v_never_gives_a_position_or_a_time_that_looks_trusted() {
+    // Some receivers repeat the last known position with status V.
+    let rmc_v = framed("GNRMC,031510.00,V,3734.00300,N,12658.99500,E,0.010,,150624,,,N");
+    let gga_1 = framed("GNGGA,031510.00,3734.00300,N,12658.99500,E,1,08,1.02,38.5,M,18.3,M,,");
+    let rmc_a = framed("GNRMC,031511.00,A,3734.00300,N,12658.99500,E,0.010,,150624,,,A");
+    let gga_0 = framed("GNGGA,031511.00,3734.00300,N,12658.99500,E,0,08,1.02,38.5,M,18.3,M,,");
+    let rmc_v_alone = framed("GNRMC,031512.00,V,3734.00300,N,12658.99500,E,0.010,,150624,,,N");
+    let lines = [
+        rmc_v.as_str(),
+        gga_1.as_str(),
+        rmc_a.as_str(),
+        gga_0.as_str(),
+        rmc_v_alone.as_str(),
+    ];
+    let (fixes, rejected, _) = decode_lines(&lines, &[100, 140, 1_100, 1_140, 2_100]);
+    assert!(rejected.iter().all(|r| !r));
+    assert_eq!(fixes.len(), 3, "{fixes:#?}");
+    for fix in &fixes {
+        assert!(!fix.has_position(), "{fix:?}");
+        assert_eq!(fix.altitude_m, None);
+        assert_eq!(fix.quality, FixQuality::Invalid, "{fix:?}");
+        assert!(fix.utc.is_some());
+    }
+    // RMC V + GGA 1 in one epoch: the time is the receiver's, flagged invalid.
+    assert_eq!(fixes[0].utc, utc(3, 15, 10));
+    assert_eq!(fixes[0].satellites, Some(8));
+    // RMC A + GGA 0: the receivers' two statements disagree; no fix either.
+    assert_eq!(fixes[1].utc, utc(3, 15, 11));
+    assert_eq!(fixes[2].utc, utc(3, 15, 12));
+}
+
+#[test]
+fn utc_received_ms_is_when_the_rmc_was_completed() {
+    let rmc = framed("GNRMC,031501.00,A,3734.00200,N,12658.99800,E,0.012,,150624,,,A");
+    let gga = framed("GNGGA,031501.00,3734.00200,N,12658.99800,E,1,08,1.02,38.5,M,18.3,M,,");
+    let gga_alone = framed("GNGGA,031502.00,3734.00200,N,12658.99800,E,1,08,1.02,38.5,M,18.3,M,,");
+    let lines = [rmc.as_str(), gga.as_str(), gga_alone.as_str()];
+    let (fixes, _, d) = decode_lines(&lines, &[10_000, 10_040, 11_000]);
+    assert_eq!(fixes.len(), 2);
+    let fix = fixes[0];
+    assert!(fix.has_position());
+    assert_eq!(fix.utc, utc(3, 15, 1));
+    // Not the GGA's 10_040, which completed the epoch: the RMC carried the time.
+    assert_eq!(fix.utc_received_ms, Some(10_000));
+    // A fix handed on 2.9 s late says it is 2.9 s old.
+    assert_eq!(fix.utc_age_ms(12_900), Some(2_900));
+    assert_eq!(fix.utc_age_ms(10_000), Some(0));
+    // A clock that went backwards saturates at 0.
+    assert_eq!(fix.utc_age_ms(9_000), Some(0));
+    // GGA alone: a position, but no date-time and so no age.
+    assert!(fixes[1].has_position());
+    assert_eq!(fixes[1].utc, None);
+    assert_eq!(fixes[1].utc_received_ms, None);
+    assert_eq!(fixes[1].utc_age_ms(20_000), None);
+    assert_eq!(GpsFix::NONE.utc_received_ms, None);
+    assert_eq!(GpsFix::NONE.utc_age_ms(u64::MAX), None);
+    assert_eq!(d.current(11_000), fixes[1]);
+}
+
+#[test]
+fn golden_log_receive_times() {
+    // Every fix with a date-time says when its RMC arrived, and only those.
+    let (fixes, _) = run_reader(7);
+    for fix in &fixes {
+        assert_eq!(fix.utc.is_some(), fix.utc_received_ms.is_some(), "{fix:?}");
+    }
+    let times: Vec<u64> = fixes.iter().filter_map(|f| f.utc_received_ms).collect();
+    assert!(times.windows(2).all(|w| w[0] < w[1]), "{times:?}");
 }

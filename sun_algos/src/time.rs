@@ -31,9 +31,16 @@ pub struct UtcTime {
 
 /// Days from 1970-01-01 to 2000-01-01.
 const UNIX_TO_2000_DAYS: i64 = 10_957;
+/// Seconds in a day (no leap seconds: the time scale is read as UT1).
+const SECONDS_PER_DAY: i64 = 86_400;
 
 /// Days since 2000-01-01 of a proleptic Gregorian date (no validation).
 /// The usual era-based count (400-year cycles of 146 097 days).
+///
+/// Only called with dates already checked against `MIN_YEAR..=MAX_YEAR`
+/// (every [`UtcTime`] constructor checks first), where every intermediate
+/// value is below 10⁷: no overflow is possible. The same holds for
+/// [`civil_from_days`], which only sees the day count of a valid [`UtcTime`].
 const fn days_from_civil(year: i32, month: u32, day: u32) -> i32 {
     let y = if month <= 2 { year - 1 } else { year };
     let era = if y >= 0 { y } else { y - 399 } / 400;
@@ -133,26 +140,53 @@ impl UtcTime {
     }
 
     /// An instant from Unix seconds (seconds since 1970-01-01T00:00:00Z).
+    ///
+    /// Any `i64` is accepted: outside the calendar range the result is
+    /// [`Error::InvalidDate`], never an arithmetic overflow.
     pub fn from_unix_seconds(secs: i64) -> Result<Self, Error> {
-        let days = secs.div_euclid(86_400) - UNIX_TO_2000_DAYS;
-        let sod = secs.rem_euclid(86_400);
+        // Division by a positive constant cannot overflow; the subtraction can
+        // only in theory, and is checked anyway.
+        let days = secs
+            .div_euclid(SECONDS_PER_DAY)
+            .checked_sub(UNIX_TO_2000_DAYS)
+            .ok_or(Error::InvalidDate)?;
         let days = i32::try_from(days).map_err(|_| Error::InvalidDate)?;
-        Self::from_days_ms(days, (sod as u32) * 1000)
+        let second_of_day =
+            u32::try_from(secs.rem_euclid(SECONDS_PER_DAY)).map_err(|_| Error::InvalidTime)?;
+        let ms_of_day = second_of_day.checked_mul(1000).ok_or(Error::InvalidTime)?;
+        Self::from_days_ms(days, ms_of_day)
     }
 
     /// Seconds since 1970-01-01T00:00:00Z, milliseconds dropped.
     pub fn unix_seconds(&self) -> i64 {
-        (i64::from(self.days) + UNIX_TO_2000_DAYS) * 86_400 + i64::from(self.ms_of_day / 1000)
+        // `days` is within the ±4.4 million days of MIN_YEAR..=MAX_YEAR (checked
+        // by every constructor), so this is far from the i64 limits.
+        (i64::from(self.days) + UNIX_TO_2000_DAYS) * SECONDS_PER_DAY
+            + i64::from(self.ms_of_day / 1000)
     }
 
     /// This instant moved by `secs` seconds (either sign).
+    ///
+    /// Any `i64` is accepted: a result outside the calendar range is
+    /// [`Error::InvalidDate`], never an arithmetic overflow (the seconds are
+    /// split into whole days and a remainder before anything is multiplied).
     pub fn add_seconds(&self, secs: i64) -> Result<Self, Error> {
-        let total_ms = i64::from(self.ms_of_day) + secs.saturating_mul(1000);
-        let day_shift = total_ms.div_euclid(i64::from(MS_PER_DAY));
-        let ms = total_ms.rem_euclid(i64::from(MS_PER_DAY)) as u32;
-        let days = i64::from(self.days) + day_shift;
+        let whole_days = secs.div_euclid(SECONDS_PER_DAY);
+        // 0..86_400 s, so at most 86_399_000 ms: fits a u32.
+        let rest_s =
+            u32::try_from(secs.rem_euclid(SECONDS_PER_DAY)).map_err(|_| Error::InvalidTime)?;
+        let total_ms = rest_s
+            .checked_mul(1000)
+            .and_then(|ms| ms.checked_add(self.ms_of_day))
+            .ok_or(Error::InvalidTime)?; // < 2 × MS_PER_DAY
+        let carry_days = i64::from(total_ms / MS_PER_DAY);
+        let ms_of_day = total_ms % MS_PER_DAY;
+        let days = i64::from(self.days)
+            .checked_add(whole_days)
+            .and_then(|d| d.checked_add(carry_days))
+            .ok_or(Error::InvalidDate)?;
         let days = i32::try_from(days).map_err(|_| Error::InvalidDate)?;
-        Self::from_days_ms(days, ms)
+        Self::from_days_ms(days, ms_of_day)
     }
 
     /// Midnight (00:00) of this instant's day.
@@ -275,11 +309,12 @@ impl core::str::FromStr for UtcTime {
                 if f.is_empty() || !f.bytes().all(|b| b.is_ascii_digit()) {
                     return Err(Error::InvalidTime);
                 }
-                let mut ms: u16 = 0;
-                for (i, b) in f.bytes().take(3).enumerate() {
-                    ms += u16::from(b - b'0') * [100, 10, 1][i];
-                }
-                ms
+                // The first three digits, right-padded with zeros ("25" is 250 ms);
+                // further digits are dropped. Each digit is 0..=9, so at most 999.
+                f.bytes()
+                    .chain(*b"00")
+                    .take(3)
+                    .fold(0u16, |ms, b| ms * 10 + u16::from(b.wrapping_sub(b'0')))
             }
         };
         UtcTime::from_ymd_hms_milli(year, month, day, hour, minute, second, milli)
@@ -396,6 +431,76 @@ mod tests {
         let t2 = t.add_seconds(86_400).unwrap();
         assert_eq!(t2.ymd(), (2025, 1, 1));
         assert_eq!(t2.add_seconds(-1).unwrap().hms_milli(), (23, 59, 59, 0));
+    }
+
+    #[test]
+    fn add_seconds_at_the_ends_of_i64_is_an_error_not_a_panic() {
+        let t = UtcTime::from_ymd_hms(2024, 6, 15, 12, 0, 0).unwrap();
+        for secs in [
+            i64::MAX,
+            i64::MAX - 1,
+            i64::MAX / 1000,
+            i64::MAX / 1000 + 1,
+            i64::MIN,
+            i64::MIN + 1,
+            i64::MIN / 1000,
+            i64::MIN / 1000 - 1,
+            i64::from(i32::MAX) * 86_400,
+            i64::from(i32::MIN) * 86_400,
+        ] {
+            assert_eq!(t.add_seconds(secs), Err(Error::InvalidDate), "{secs}");
+        }
+        // The last instants that still fit: 8000-12-31T23:59:59 and
+        // -4000-01-01T00:00:00, from either end of the range.
+        let last = UtcTime::from_ymd_hms(MAX_YEAR, 12, 31, 23, 59, 59).unwrap();
+        let first = UtcTime::from_ymd_hms(MIN_YEAR, 1, 1, 0, 0, 0).unwrap();
+        assert_eq!(last.add_seconds(1), Err(Error::InvalidDate));
+        assert_eq!(first.add_seconds(-1), Err(Error::InvalidDate));
+        let span = last.unix_seconds() - first.unix_seconds();
+        assert_eq!(first.add_seconds(span), Ok(last));
+        assert_eq!(last.add_seconds(-span), Ok(first));
+        assert_eq!(first.add_seconds(span + 1), Err(Error::InvalidDate));
+        // Milliseconds are kept and carried across midnight.
+        let t = UtcTime::from_ymd_hms_milli(2024, 12, 31, 23, 59, 59, 750).unwrap();
+        let u = t.add_seconds(1).unwrap();
+        assert_eq!(u.ymd(), (2025, 1, 1));
+        assert_eq!(u.hms_milli(), (0, 0, 0, 750));
+        assert_eq!(
+            u.add_seconds(-86_401).unwrap().hms_milli(),
+            (23, 59, 59, 750)
+        );
+    }
+
+    #[test]
+    fn unix_seconds_at_the_ends_of_i64_is_an_error_not_a_panic() {
+        for secs in [i64::MAX, i64::MAX - 1, i64::MIN, i64::MIN + 1] {
+            assert_eq!(UtcTime::from_unix_seconds(secs), Err(Error::InvalidDate));
+        }
+        let last = UtcTime::from_ymd_hms(MAX_YEAR, 12, 31, 23, 59, 59).unwrap();
+        let first = UtcTime::from_ymd_hms(MIN_YEAR, 1, 1, 0, 0, 0).unwrap();
+        assert_eq!(UtcTime::from_unix_seconds(last.unix_seconds()), Ok(last));
+        assert_eq!(UtcTime::from_unix_seconds(first.unix_seconds()), Ok(first));
+        assert_eq!(
+            UtcTime::from_unix_seconds(last.unix_seconds() + 1),
+            Err(Error::InvalidDate)
+        );
+        assert_eq!(
+            UtcTime::from_unix_seconds(first.unix_seconds() - 1),
+            Err(Error::InvalidDate)
+        );
+    }
+
+    #[test]
+    fn fraction_of_a_second_is_parsed_without_indexing() {
+        for (text, ms) in [("1", 100), ("12", 120), ("123", 123), ("1239", 123)] {
+            let t: UtcTime = format_args_to_time(text);
+            assert_eq!(t.hms_milli().3, ms, "{text}");
+        }
+    }
+
+    fn format_args_to_time(frac: &str) -> UtcTime {
+        extern crate std;
+        std::format!("2024-01-01T00:00:00.{frac}Z").parse().unwrap()
     }
 
     fn fmt_to<'a>(buf: &'a mut [u8], t: &UtcTime) -> &'a str {

@@ -5,12 +5,19 @@
 //! to `nmea::parse_str`; the talker (GP, GN, GL, GA, BD, ...) is not
 //! restricted. Other sentence types (GSV, GSA, VTG, TXT, ...) are
 //! [`Sentence::Other`]: valid, but of no use to the fix.
+//!
+//! A GGA or RMC is checked for possible content both before (the text of its
+//! fields) and after (the values) `nmea` reads it; an impossible one is a
+//! [`ParseError`] like an unreadable one. The rules (ranges, minutes < 60,
+//! calendar dates, no leap second, no `nan`/`inf`) are in the `plausible`
+//! module's documentation and in the README.
 
 use chrono::{Datelike, Timelike};
 use nmea::sentences::rmc::RmcStatusOfFix;
 use nmea::sentences::FixType;
 use nmea::ParseResult;
 
+use super::plausible::{check_fields, gga_is_plausible, rmc_is_plausible, Kind};
 use crate::time::DateTime;
 
 /// Fix quality, GGA field 6.
@@ -116,7 +123,8 @@ pub enum Sentence {
     Other,
 }
 
-/// A GGA or RMC sentence the `nmea` crate could not parse.
+/// A GGA or RMC sentence the `nmea` crate could not parse, or whose content
+/// is impossible (see the module docs).
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub struct ParseError;
 
@@ -143,11 +151,15 @@ fn to_datetime(date: &chrono::NaiveDate, time: &chrono::NaiveTime) -> Option<Dat
 /// (`$` through `*hh`, no CR LF).
 pub fn parse_sentence(sentence: &str) -> Result<Sentence, ParseError> {
     // "$" + 2-character talker + 3-character type.
-    let kind = sentence.get(3..6).ok_or(ParseError)?;
-    if kind != "GGA" && kind != "RMC" {
-        return Ok(Sentence::Other);
+    let kind = match sentence.get(3..6).ok_or(ParseError)? {
+        "GGA" => Kind::Gga,
+        "RMC" => Kind::Rmc,
+        _ => return Ok(Sentence::Other),
+    };
+    if !check_fields(kind, sentence) {
+        return Err(ParseError);
     }
-    match nmea::parse_str(sentence) {
+    let parsed = match nmea::parse_str(sentence) {
         Ok(ParseResult::GGA(g)) => Ok(Sentence::Gga(Gga {
             time_of_day_ms: g.fix_time.as_ref().map(time_of_day_ms),
             quality: g.fix_type.map(FixQuality::from).unwrap_or_default(),
@@ -170,5 +182,21 @@ pub fn parse_sentence(sentence: &str) -> Result<Sentence, ParseError> {
             longitude_deg: r.lon,
         })),
         _ => Err(ParseError),
+    }?;
+    if sentence_is_plausible(&parsed) {
+        Ok(parsed)
+    } else {
+        Err(ParseError)
+    }
+}
+
+/// Whether a GGA's or RMC's values are possible: finite, latitude within ±90°,
+/// longitude within ±180°, altitude within −500..=20,000 m, time of day below
+/// 24 h. [`Sentence::Other`] is always plausible.
+pub(crate) fn sentence_is_plausible(sentence: &Sentence) -> bool {
+    match sentence {
+        Sentence::Gga(g) => gga_is_plausible(g),
+        Sentence::Rmc(r) => rmc_is_plausible(r),
+        Sentence::Other => true,
     }
 }

@@ -82,3 +82,64 @@ lines = [
 
 with open(os.path.join(HERE, "gps_golden_mixed.nmea"), "wb") as f:
     f.write(b"".join(lines))
+
+
+# gps_impossible.nmea: sentences with a right checksum whose content cannot
+# be true, each alone in its epoch (its own time of day), between sentences
+# that are possible but sit right at the limits. Each line is
+# (possible?, body). tests/gps_golden.rs::impossible_log_* expects exactly the
+# lines marked False to be rejected, and no position from them.
+def gga(t, lat="3734.00300", ns="N", lon="12658.99500", ew="E", q="1",
+        hdop="1.00", alt="39.0"):
+    return "GPGGA,%s,%s,%s,%s,%s,%s,08,%s,%s,M,18.3,M,," % (
+        t, lat, ns, lon, ew, q, hdop, alt)
+
+
+def rmc(t, date="150624", lat="3734.00300", ns="N", lon="12658.99500",
+        ew="E", speed="0.010", course=""):
+    return "GPRMC,%s,A,%s,%s,%s,%s,%s,%s,%s,,,A" % (
+        t, lat, ns, lon, ew, speed, course, date)
+
+
+impossible = [
+    (True, gga("031500.00")),                        # 0 reference epoch
+    (False, gga("031501.00", lat="9100.00000")),     # 1 latitude 91 deg
+    (False, gga("031502.00", lat="9000.50000")),     # 2 latitude 90 deg 0.5'
+    (False, gga("031503.00", lon="20000.00000")),    # 3 longitude 200 deg
+    (False, gga("031504.00", lon="18000.10000", ew="W")),  # 4 180 deg 0.1' W
+    (False, gga("031505.00", lat="3760.00000")),     # 5 latitude minutes 60
+    (False, gga("031506.00", lon="12699.50000")),    # 6 longitude minutes 99
+    (False, gga("031507.00", ns="X")),               # 7 hemisphere X
+    (False, gga("031508.00", lat="37nan")),          # 8 latitude minutes nan
+    (False, gga("031509.00", lon="126inf")),         # 9 longitude minutes inf
+    (False, gga("031510.00", alt="nan")),            # 10 altitude nan
+    (False, gga("031511.00", alt="25000.0")),        # 11 altitude 25 km
+    (False, gga("031512.00", alt="-600.0")),         # 12 altitude -600 m
+    (False, gga("031513.00", hdop="NaN")),           # 13 HDOP NaN
+    (False, gga("031514.00", lat="37-4.00300")),     # 14 negative minutes
+    (False, gga("031515.00", lat="37.34e2")),        # 15 minutes with exponent
+    (False, gga("240000.00")),                       # 16 hour 24
+    (False, gga("036000.00")),                       # 17 minute 60
+    (False, gga("235960.00")),                       # 18 leap second 60
+    (False, gga("235961.00")),                       # 19 second 61
+    (False, rmc("031520.00", date="310624")),        # 20 31 June
+    (False, rmc("031521.00", date="290223")),        # 21 29 Feb 2023
+    (False, rmc("031522.00", date="300224")),        # 22 30 Feb 2024
+    (False, rmc("031523.00", date="151324")),        # 23 month 13
+    (False, rmc("031524.00", date="150024")),        # 24 month 0
+    (False, rmc("031525.00", date="000624")),        # 25 day 0
+    (False, rmc("031526.00", speed="inf")),          # 26 speed inf
+    (False, rmc("031527.00", course="-nan")),        # 27 course -nan
+    (False, rmc("031528.00", lat="9500.00000", ns="S")),  # 28 latitude 95 S
+    # Possible, at the limits: all must give a position.
+    (True, gga("031530.00", lat="9000.00000")),      # 29 north pole
+    (True, gga("031531.00", lon="18000.00000", ew="W")),  # 30 180 deg W
+    (True, gga("031532.00", lat="3759.99999", alt="-500.0")),  # 31
+    (True, gga("031533.00", alt="20000.0")),         # 32 20 km
+    (True, rmc("235959.99", date="290224")),         # 33 29 Feb 2024
+    (True, rmc("000000.00", date="010325", lat="0000.00000", ns="S",
+               lon="00000.00000", ew="W")),          # 34 0 deg, 1 Mar 2025
+]
+
+with open(os.path.join(HERE, "gps_impossible.nmea"), "wb") as f:
+    f.write(b"".join(good(body) for _, body in impossible))
