@@ -337,11 +337,13 @@ fn main() -> ExitCode {
             }
         }
         let report = ctl.tick(&TickInputs {
+            now_ms: u64::from(m) * 60_000,
             now,
             time_valid,
             gps_fix,
+            gps_time_implausible: false,
             wind_pulses: anemometer.pulses(wind, 60.0),
-            wind_interval_s: 60.0,
+            wind_interval_ms: 60_000,
         });
         if let Some(w) = std::env::var_os("SIM_TRACE") {
             if now.to_string().starts_with(w.to_str().unwrap_or("-")) {

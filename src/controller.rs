@@ -19,8 +19,10 @@ use crate::config::Config;
 use crate::safety::{
     select_mode, AxisId, Fault, FaultManager, Mode, ModeInputs, Recovery, Sensor, WindMonitor,
 };
-use crate::scheduler::{Action, Phase, ScheduleError, Scheduler, SetPoint};
+use crate::scheduler::{Action, Phase, ScheduleError, Scheduler, SetPoint, TableEntry};
 use crate::traits::{AttitudeReading, AttitudeSensor, PositionSource};
+use sun_algos::geometry::GeometryError;
+use sun_algos::Error as SunError;
 use sun_algos::{Float, UtcTime};
 
 /// Where the mount attitude comes from.
@@ -71,18 +73,31 @@ impl Default for ControllerOptions {
 }
 
 /// Inputs of one tick besides the devices the controller owns.
+///
+/// Two clocks: `now_ms` (the board's monotonic timer) measures every
+/// duration — wind hold and release, fault back-off, homing retries —
+/// and `now` (UTC) is used only for where the sun is and for the day's
+/// schedule. A step of `now` changes neither when a stow happens nor when
+/// a retry is due.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct TickInputs {
-    /// The clock's time.
+    /// Monotonic time, milliseconds since an arbitrary start (boot); it
+    /// never steps and never goes back.
+    pub now_ms: u64,
+    /// The wall clock's time (UTC).
     pub now: UtcTime,
-    /// False when the RTC lost power and GPS has not set it yet.
+    /// False when no trusted time is known (RTC lost power or holds a date
+    /// outside the firmware's window, and GPS has not set it).
     pub time_valid: bool,
-    /// True while GPS has a fix.
+    /// True while GPS has a valid fix.
     pub gps_fix: bool,
+    /// True while GPS reports a date outside the firmware's window (the
+    /// week-rollover bug); its time is not used.
+    pub gps_time_implausible: bool,
     /// Anemometer pulses since the last tick.
     pub wind_pulses: u32,
-    /// Seconds those pulses were counted over.
-    pub wind_interval_s: f32,
+    /// Milliseconds of the monotonic clock those pulses were counted over.
+    pub wind_interval_ms: u32,
 }
 
 /// What one tick did.
@@ -119,8 +134,9 @@ pub struct Controller<P, D, S, const N: usize> {
     command_stow: bool,
     manual: Option<Pose<f64>>,
     ticks: u32,
-    /// Tick before which a failed homing is not retried, per axis.
-    home_retry_tick: [u32; 2],
+    /// Monotonic time (ms) before which a failed homing is not retried,
+    /// per axis.
+    home_retry_ms: [u64; 2],
     /// Mode of the previous tick.
     last_mode: Option<Mode>,
     /// First entry time of the day table the branch was chosen for.
@@ -180,7 +196,7 @@ where
             command_stow: false,
             manual: None,
             ticks: 0,
-            home_retry_tick: [0; 2],
+            home_retry_ms: [0; 2],
             last_mode: None,
             branch_day: None,
             branch_anchor: None,
@@ -229,9 +245,19 @@ where
     pub fn manual(&mut self, pose: Option<Pose<f64>>) {
         self.manual = pose;
     }
-    /// Operator reset after a safe stop.
+    /// Operator reset after a safe stop: faults and their history are
+    /// cleared and failed homing is tried again at once.
     pub fn reset_faults(&mut self) {
         self.faults.reset();
+        self.home_retry_ms = [0; 2];
+    }
+
+    /// Operator command: forget both axes' references and home them again.
+    pub fn rehome(&mut self) {
+        for ax in self.axes.iter_mut() {
+            ax.unhome();
+        }
+        self.home_retry_ms = [0; 2];
     }
 
     fn limits(&self) -> PoseLimits<f64> {
@@ -248,25 +274,31 @@ where
     pub fn tick(&mut self, inp: &TickInputs) -> TickReport {
         self.ticks = self.ticks.wrapping_add(1);
         let now = inp.now;
+        let now_ms = inp.now_ms;
         // 1. Time and site health.
         if inp.time_valid {
-            self.faults.clear(Fault::RtcInvalid);
+            self.faults.clear(Fault::RtcInvalid, now_ms);
         } else {
-            self.faults.raise(Fault::RtcInvalid, now);
+            self.faults.raise(Fault::RtcInvalid, now_ms);
         }
         if inp.gps_fix {
-            self.faults.clear(Fault::GpsLost);
+            self.faults.clear(Fault::GpsLost, now_ms);
         } else {
-            self.faults.raise(Fault::GpsLost, now);
+            self.faults.raise(Fault::GpsLost, now_ms);
         }
-        // 2. Wind.
+        if inp.gps_time_implausible {
+            self.faults.raise(Fault::GpsTimeImplausible, now_ms);
+        } else {
+            self.faults.clear(Fault::GpsTimeImplausible, now_ms);
+        }
+        // 2. Wind (monotonic clock only).
         let wind_stow = self
             .wind
-            .update_pulses(now, inp.wind_pulses, inp.wind_interval_s);
+            .update_pulses(now_ms, inp.wind_pulses, inp.wind_interval_ms);
         // 3. Scheduler (only with a trusted clock).
         let mut clock_jump = false;
         let mut schedule_error = None;
-        if !self.faults.time_unknown() {
+        if inp.time_valid {
             let out = self.scheduler.tick(now);
             clock_jump = out.clock_jump;
             match out.action {
@@ -287,8 +319,54 @@ where
                     }
                 }
                 Action::Sleep { .. } => self.night = true,
-                Action::Error(e) => schedule_error = Some(e),
+                Action::Error(e) => {
+                    // No set-point for this time: the last one is not used
+                    // again, and the tracker waits stowed while the
+                    // scheduler retries.
+                    schedule_error = Some(e);
+                    self.set_point = None;
+                    self.night = true;
+                    let fault = match e {
+                        ScheduleError::TimeRange
+                        | ScheduleError::Position(SunError::OutOfValidityRange { .. })
+                        | ScheduleError::Position(SunError::InvalidDate)
+                        | ScheduleError::Geometry(GeometryError::Position(
+                            SunError::OutOfValidityRange { .. },
+                        )) => Fault::TimeOutOfRange,
+                        _ => Fault::ScheduleFailed,
+                    };
+                    self.faults.raise(fault, now_ms);
+                }
                 Action::Idle => {}
+            }
+            if !matches!(out.action, Action::Error(_) | Action::Idle) {
+                self.faults.clear(Fault::TimeOutOfRange, now_ms);
+                self.faults.clear(Fault::ScheduleFailed, now_ms);
+            }
+        }
+        // Daylight only with a set-point computed for the present minute:
+        // the table entry applied last must be the one for now (a frozen
+        // set-point from an earlier time is never tracked).
+        if !self.night {
+            let step_s = i64::from(self.scheduler.config().table_step_s);
+            let slack_s = i64::from(self.scheduler.config().recheck_s);
+            let age_s = |e: &TableEntry<f64>| now.unix_seconds() - e.time.unix_seconds();
+            let fresh = self
+                .scheduler
+                .applied()
+                .is_some_and(|e| (-60..step_s + slack_s).contains(&age_s(&e)));
+            if !fresh {
+                // Ticks were missed (time unknown for a while, a slow
+                // loop): the table entry of the present slot, if the day
+                // has one, else nothing is tracked.
+                let table = self.scheduler.table();
+                let current = (0..table.len())
+                    .filter_map(|i| table.get(i))
+                    .find(|e| (0..step_s).contains(&age_s(e)));
+                match current {
+                    Some(e) if inp.time_valid => self.set_point = Some(e.set_point),
+                    _ => self.night = true,
+                }
             }
         }
         // A new day without a night before it (polar day): open-loop axes
@@ -309,13 +387,16 @@ where
         }
         // 4. Attitude.
         if self.options.attitude == AttitudeSource::Sensors {
-            self.update_attitude(now);
+            self.update_attitude(now_ms);
         }
-        // 5. Homing.
+        // 5. Homing (never during a safe stop: nothing moves then).
         let mut homing = false;
-        for i in 0..2 {
-            homing |= self.home_axis(i, now);
+        if !self.faults.must_stop() {
+            for i in 0..2 {
+                homing |= self.home_axis(i, now_ms);
+            }
         }
+        let unhomed = self.axes.iter().any(|a| a.home_state() != HomeState::Done);
         // 6. Mode and target.
         let mode = select_mode(&ModeInputs {
             must_stop: self.faults.must_stop(),
@@ -324,6 +405,7 @@ where
             manual: self.manual.is_some(),
             time_unknown: self.faults.time_unknown(),
             night: self.night,
+            unhomed,
         });
         let stow = Pose {
             gamma_deg: self.pose.gamma_deg,
@@ -344,7 +426,7 @@ where
         }
         self.last_mode = Some(mode);
         let target = match mode {
-            Mode::SafeStop => None,
+            Mode::SafeStop | Mode::Homing => None,
             Mode::WindStow | Mode::CommandStow | Mode::WaitForTime => Some(stow),
             Mode::Manual => self.manual,
             Mode::Night => {
@@ -381,8 +463,8 @@ where
         match target {
             Some(p) => {
                 self.pose = p;
-                self.drive_axis(0, p.gamma_deg, now);
-                self.drive_axis(1, p.alpha_deg, now);
+                self.drive_axis(0, p.gamma_deg, now_ms);
+                self.drive_axis(1, p.alpha_deg, now_ms);
             }
             None => {
                 // With no target the axes hold still; an axis still homing
@@ -526,7 +608,7 @@ where
         Some(pose)
     }
 
-    fn update_attitude(&mut self, now: UtcTime) {
+    fn update_attitude(&mut self, now_ms: u64) {
         let Some(sensors) = self.sensors.as_mut() else {
             return;
         };
@@ -556,7 +638,7 @@ where
         if failed || ok == 0 {
             // Retry next tick; after the retries, go on with the last
             // attitude (open loop on attitude).
-            self.faults.raise(fault, now);
+            self.faults.raise(fault, now_ms);
             return;
         }
         let k = f64::from(ok);
@@ -591,10 +673,10 @@ where
         ) {
             Ok(m) => {
                 self.attitude = m;
-                self.faults.clear(fault);
+                self.faults.clear(fault, now_ms);
             }
             Err(_) => {
-                self.faults.raise(fault, now);
+                self.faults.raise(fault, now_ms);
             }
         }
     }
@@ -609,12 +691,17 @@ where
 
     /// Runs homing steps of axis `i` while its drive has time this tick.
     /// Returns true while homing.
-    fn home_axis(&mut self, i: usize, now: UtcTime) -> bool {
+    ///
+    /// A homing run that cannot find its switch (stuck closed: the axis
+    /// cannot back away from it within the bounded back-off; stuck open:
+    /// a whole travel without it) raises [`Fault::LimitSwitchHit`] once per
+    /// failed attempt; the next attempt waits for the fault's back-off on
+    /// the monotonic clock, and after the configured retries the fault's
+    /// final recovery (a safe stop) ends the attempts.
+    fn home_axis(&mut self, i: usize, now_ms: u64) -> bool {
         let id = Self::axis_id(i);
         let chunk = self.options.homing_chunk_deg;
-        let ticks = self.ticks;
-        let retry_after = self.options.probe_every_ticks.max(1);
-        let wait_until = self.home_retry_tick.get(i).copied().unwrap_or(0);
+        let wait_until = self.home_retry_ms.get(i).copied().unwrap_or(0);
         let Some(ax) = self.axes.get_mut(i) else {
             return false;
         };
@@ -626,7 +713,7 @@ where
         if let Some(d) = self.last_drive.get_mut(i) {
             *d = None;
         }
-        if ticks.wrapping_sub(wait_until) > u32::MAX / 2 {
+        if now_ms < wait_until {
             return true; // waiting before another attempt
         }
         // Bounded: a whole travel at the fine step is ≤ 50 × 370 chunks.
@@ -634,8 +721,8 @@ where
             match ax.home_step(chunk) {
                 Ok(HomeState::Done) => {
                     // A reference regained ends the faults that asked for it.
-                    self.faults.clear(Fault::LimitSwitchHit(id));
-                    self.faults.clear(Fault::SetPointDeviation(id));
+                    self.faults.clear(Fault::LimitSwitchHit(id), now_ms);
+                    self.faults.clear(Fault::SetPointDeviation(id), now_ms);
                     return false;
                 }
                 Ok(_) => {
@@ -644,18 +731,21 @@ where
                     }
                 }
                 Err(AxisError::HomeNotFound) => {
-                    // Stuck switch or blocked axis: the fault that asked
-                    // for homing stays active; try again a little later.
-                    if let Some(t) = self.home_retry_tick.get_mut(i) {
-                        *t = ticks.wrapping_add(retry_after);
-                    }
-                    if !self.faults.is_active(Fault::LimitSwitchHit(id)) {
-                        self.faults.raise(Fault::LimitSwitchHit(id), now);
+                    // Stuck switch or blocked axis: one more failed
+                    // attempt; the next one waits for the back-off.
+                    self.faults.raise(Fault::LimitSwitchHit(id), now_ms);
+                    let next = self
+                        .faults
+                        .get(Fault::LimitSwitchHit(id))
+                        .map_or(now_ms, |a| a.next_attempt_ms);
+                    if let Some(t) = self.home_retry_ms.get_mut(i) {
+                        *t = next;
                     }
                     return true;
                 }
                 Err(_) => {
-                    self.faults.raise(Fault::I2cError(Sensor::Encoder(id)), now);
+                    self.faults
+                        .raise(Fault::I2cError(Sensor::Encoder(id)), now_ms);
                     return true;
                 }
             }
@@ -663,7 +753,7 @@ where
         true
     }
 
-    fn drive_axis(&mut self, i: usize, target_deg: f64, now: UtcTime) {
+    fn drive_axis(&mut self, i: usize, target_deg: f64, now_ms: u64) {
         let id = Self::axis_id(i);
         let max_dev = f64::from(self.config.safety.max_deviation_deg);
         let enc_fault = Fault::SensorTimeout(Sensor::Encoder(id));
@@ -692,7 +782,7 @@ where
         match ax.drive_mut().at_limit() {
             Ok(true) if counted > home + 2.0 => {
                 let _ = ax.drive_mut().stop();
-                if let Recovery::Rehome(_) = self.faults.raise(Fault::LimitSwitchHit(id), now) {
+                if let Recovery::Rehome(_) = self.faults.raise(Fault::LimitSwitchHit(id), now_ms) {
                     ax.unhome();
                 }
                 return;
@@ -713,7 +803,7 @@ where
             }
             match ax.drive_mut().encoder_deg() {
                 Ok(v) => {
-                    faults.clear(enc_fault);
+                    faults.clear(enc_fault, now_ms);
                     if enc_degraded {
                         None
                     } else {
@@ -721,7 +811,7 @@ where
                     }
                 }
                 Err(_) => {
-                    faults.raise(enc_fault, now);
+                    faults.raise(enc_fault, now_ms);
                     None
                 }
             }
@@ -742,9 +832,9 @@ where
             if cmd_deg.abs() >= 0.5 {
                 if f64::from(now_deg - was_deg).abs() < 0.05 {
                     // Retry is simply commanding again below.
-                    self.faults.raise(stall, now);
+                    self.faults.raise(stall, now_ms);
                 } else {
-                    self.faults.clear(stall);
+                    self.faults.clear(stall, now_ms);
                 }
             }
         }
@@ -758,7 +848,8 @@ where
                 Ok(r) => r,
                 Err(AxisError::NotHomed) => return,
                 Err(_) => {
-                    self.faults.raise(Fault::I2cError(Sensor::Encoder(id)), now);
+                    self.faults
+                        .raise(Fault::I2cError(Sensor::Encoder(id)), now_ms);
                     return;
                 }
             };
@@ -779,11 +870,12 @@ where
         }
         if let Some(dev) = last_dev {
             if f64::from(dev).abs() > max_dev && ax.drive().pending() == 0 {
-                if let Recovery::Rehome(_) = self.faults.raise(Fault::SetPointDeviation(id), now) {
+                if let Recovery::Rehome(_) = self.faults.raise(Fault::SetPointDeviation(id), now_ms)
+                {
                     ax.unhome();
                 }
             } else if f64::from(dev).abs() <= max_dev {
-                self.faults.clear(Fault::SetPointDeviation(id));
+                self.faults.clear(Fault::SetPointDeviation(id), now_ms);
             }
         }
     }

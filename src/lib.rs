@@ -10,6 +10,7 @@ pub const BANNER: &str = concat!("suntracker ", env!("CARGO_PKG_VERSION"));
 
 pub mod attitude;
 pub mod axis;
+pub mod clock;
 pub mod config;
 pub mod controller;
 #[cfg(not(target_arch = "avr"))]

@@ -5,9 +5,13 @@
 //! transient failure a few times, then degrade (track open loop on counted
 //! steps, or keep tracking on one axis), and stop safely only when neither
 //! keeps the structure safe. Nothing here panics.
+//!
+//! Every duration here (wind hold and release, retry back-off, how long a
+//! fault has been active) is measured on the board's monotonic millisecond
+//! clock, never on UTC: a wall clock corrected by hours or days neither
+//! delays nor hastens a stow or a retry.
 
 use crate::config::{SafetyConfig, WindConfig};
-use sun_algos::UtcTime;
 
 /// The two axes: C (vertical at home, azimuth-like) and A (tilt).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord)]
@@ -58,8 +62,54 @@ pub enum Fault {
     MotorStalled(AxisId),
     /// Feedback and set-point differ by more than the maximum.
     SetPointDeviation(AxisId),
-    /// A limit switch closed where none was expected.
+    /// A limit switch closed where none was expected, or homing could not
+    /// find the switch (stuck closed or stuck open).
     LimitSwitchHit(AxisId),
+    /// GPS reports a date outside the firmware's 1024-week window (the GPS
+    /// week-rollover bug): its time is ignored and never written to the RTC.
+    GpsTimeImplausible,
+    /// The time lies outside the sun algorithm's validity range: no
+    /// set-point can be computed for it.
+    TimeOutOfRange,
+    /// The day could not be planned for another reason (events, table
+    /// capacity).
+    ScheduleFailed,
+}
+
+impl Fault {
+    /// A short name for logs and traces (`motor_stalled_c`, `gps_lost`, …).
+    pub fn name(self) -> &'static str {
+        use AxisId::{A, C};
+        match self {
+            Fault::SensorTimeout(s) => match s {
+                Sensor::Inclinometer => "timeout_inclinometer",
+                Sensor::Compass => "timeout_compass",
+                Sensor::Encoder(C) => "timeout_encoder_c",
+                Sensor::Encoder(A) => "timeout_encoder_a",
+                Sensor::Rtc => "timeout_rtc",
+                Sensor::Gps => "timeout_gps",
+            },
+            Fault::I2cError(s) => match s {
+                Sensor::Inclinometer => "bus_inclinometer",
+                Sensor::Compass => "bus_compass",
+                Sensor::Encoder(C) => "bus_encoder_c",
+                Sensor::Encoder(A) => "bus_encoder_a",
+                Sensor::Rtc => "bus_rtc",
+                Sensor::Gps => "bus_gps",
+            },
+            Fault::GpsLost => "gps_lost",
+            Fault::RtcInvalid => "rtc_invalid",
+            Fault::MotorStalled(C) => "motor_stalled_c",
+            Fault::MotorStalled(A) => "motor_stalled_a",
+            Fault::SetPointDeviation(C) => "deviation_c",
+            Fault::SetPointDeviation(A) => "deviation_a",
+            Fault::LimitSwitchHit(C) => "limit_switch_c",
+            Fault::LimitSwitchHit(A) => "limit_switch_a",
+            Fault::GpsTimeImplausible => "gps_time_implausible",
+            Fault::TimeOutOfRange => "time_out_of_range",
+            Fault::ScheduleFailed => "schedule_failed",
+        }
+    }
 }
 
 /// What to do about a fault.
@@ -77,6 +127,9 @@ pub enum Recovery {
     UseRtcAndStoredSite,
     /// Do not track (the time is unknown) until GPS sets the clock.
     WaitForGps,
+    /// Do not track: no set-point can be computed for the time in force;
+    /// stowed until a tick plans a day again.
+    WaitForValidTime,
     /// Stop both axes; only a person clears it.
     StopSafely,
 }
@@ -87,9 +140,11 @@ impl Fault {
     pub fn recovery(self, attempt: u32, max_retries: u8) -> Recovery {
         let retries = u32::from(max_retries);
         match self {
-            Fault::SensorTimeout(Sensor::Gps) | Fault::I2cError(Sensor::Gps) | Fault::GpsLost => {
-                Recovery::UseRtcAndStoredSite
-            }
+            Fault::SensorTimeout(Sensor::Gps)
+            | Fault::I2cError(Sensor::Gps)
+            | Fault::GpsLost
+            | Fault::GpsTimeImplausible => Recovery::UseRtcAndStoredSite,
+            Fault::TimeOutOfRange | Fault::ScheduleFailed => Recovery::WaitForValidTime,
             Fault::SensorTimeout(Sensor::Rtc)
             | Fault::I2cError(Sensor::Rtc)
             | Fault::RtcInvalid => Recovery::WaitForGps,
@@ -128,23 +183,62 @@ impl Fault {
 /// Capacity of the active-fault list.
 pub const MAX_ACTIVE: usize = 8;
 
+/// First retry back-off, milliseconds; each further attempt waits twice as
+/// long as the one before ([`retry_backoff_ms`]).
+pub const RETRY_BACKOFF_BASE_MS: u64 = 10_000;
+/// Longest retry back-off, milliseconds (10 minutes).
+pub const RETRY_BACKOFF_MAX_MS: u64 = 600_000;
+/// A fault raised again within this long after it cleared is the same
+/// fault coming back: its attempts go on counting from where they were
+/// (1 hour).
+pub const RECURRENCE_WINDOW_MS: u64 = 3_600_000;
+
+/// Back-off after the `attempt`-th attempt (1 = first):
+/// [`RETRY_BACKOFF_BASE_MS`] × 2^(attempt − 1), at most
+/// [`RETRY_BACKOFF_MAX_MS`].
+pub fn retry_backoff_ms(attempt: u32) -> u64 {
+    let shift = attempt.saturating_sub(1).min(16);
+    RETRY_BACKOFF_BASE_MS
+        .saturating_mul(1u64 << shift)
+        .min(RETRY_BACKOFF_MAX_MS)
+}
+
 /// An active fault.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub struct ActiveFault {
     /// The fault.
     pub fault: Fault,
-    /// When first raised.
-    pub since: UtcTime,
-    /// Occurrences while active.
+    /// Monotonic time when first raised, milliseconds.
+    pub since_ms: u64,
+    /// Attempts so far (1 = first occurrence); an attempt counts at most
+    /// once per back-off interval.
     pub attempts: u32,
+    /// Monotonic time from which the next attempt counts, milliseconds.
+    pub next_attempt_ms: u64,
     /// The recovery chosen last.
     pub recovery: Recovery,
+}
+
+impl ActiveFault {
+    /// True when a retry of the failed operation is due at `now_ms`.
+    pub fn retry_due(&self, now_ms: u64) -> bool {
+        now_ms >= self.next_attempt_ms
+    }
+}
+
+/// A fault that cleared recently (for recurrence counting).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+struct Cleared {
+    fault: Fault,
+    attempts: u32,
+    at_ms: u64,
 }
 
 /// Keeps the active faults and counts raised and recovered ones.
 #[derive(Debug, Clone)]
 pub struct FaultManager {
     active: [Option<ActiveFault>; MAX_ACTIVE],
+    recent: [Option<Cleared>; MAX_ACTIVE],
     config: SafetyConfig,
     /// Faults raised (first occurrences).
     pub raised: u32,
@@ -159,6 +253,7 @@ impl FaultManager {
     pub fn new(config: SafetyConfig) -> Self {
         FaultManager {
             active: [None; MAX_ACTIVE],
+            recent: [None; MAX_ACTIVE],
             config,
             raised: 0,
             recovered: 0,
@@ -166,21 +261,46 @@ impl FaultManager {
         }
     }
 
-    /// Reports a fault (again); returns the recovery to apply.
-    pub fn raise(&mut self, fault: Fault, now: UtcTime) -> Recovery {
+    /// Reports a fault (again) at monotonic time `now_ms`; returns the
+    /// recovery to apply.
+    ///
+    /// While the fault is active, a report counts as a new attempt only
+    /// once its back-off ([`retry_backoff_ms`]) has run out, so a fault
+    /// seen on every tick escalates after the same time whatever the tick
+    /// rate. A fault that comes back within [`RECURRENCE_WINDOW_MS`] of
+    /// clearing goes on from its earlier attempts: a fault that keeps
+    /// coming back escalates to its final recovery.
+    pub fn raise(&mut self, fault: Fault, now_ms: u64) -> Recovery {
+        let max_retries = self.config.max_retries;
         if let Some(a) = self.active.iter_mut().flatten().find(|a| a.fault == fault) {
-            a.attempts = a.attempts.saturating_add(1);
-            a.recovery = fault.recovery(a.attempts, self.config.max_retries);
+            if a.retry_due(now_ms) {
+                a.attempts = a.attempts.saturating_add(1);
+                a.next_attempt_ms = now_ms.saturating_add(retry_backoff_ms(a.attempts));
+                a.recovery = fault.recovery(a.attempts, max_retries);
+            }
             return a.recovery;
         }
         self.raised = self.raised.saturating_add(1);
-        let recovery = fault.recovery(1, self.config.max_retries);
+        let mut attempts = 1;
+        if let Some(slot) = self
+            .recent
+            .iter_mut()
+            .find(|c| c.is_some_and(|c| c.fault == fault))
+        {
+            if let Some(c) = slot.take() {
+                if now_ms.saturating_sub(c.at_ms) < RECURRENCE_WINDOW_MS {
+                    attempts = c.attempts.saturating_add(1);
+                }
+            }
+        }
+        let recovery = fault.recovery(attempts, max_retries);
         match self.active.iter_mut().find(|s| s.is_none()) {
             Some(slot) => {
                 *slot = Some(ActiveFault {
                     fault,
-                    since: now,
-                    attempts: 1,
+                    since_ms: now_ms,
+                    attempts,
+                    next_attempt_ms: now_ms.saturating_add(retry_backoff_ms(attempts)),
                     recovery,
                 });
             }
@@ -189,21 +309,52 @@ impl FaultManager {
         recovery
     }
 
-    /// The fault's condition is gone; returns true when it was active.
-    pub fn clear(&mut self, fault: Fault) -> bool {
+    /// The fault's condition is gone at monotonic time `now_ms`; returns
+    /// true when it was active.
+    pub fn clear(&mut self, fault: Fault, now_ms: u64) -> bool {
         for slot in self.active.iter_mut() {
-            if slot.is_some_and(|a| a.fault == fault) {
+            if let Some(a) = slot.filter(|a| a.fault == fault) {
                 *slot = None;
                 self.recovered = self.recovered.saturating_add(1);
+                self.remember(a, now_ms);
                 return true;
             }
         }
         false
     }
 
+    fn remember(&mut self, a: ActiveFault, now_ms: u64) {
+        let entry = Cleared {
+            fault: a.fault,
+            attempts: a.attempts,
+            at_ms: now_ms,
+        };
+        // The same fault's older entry, else a free slot, else the oldest.
+        let idx = self
+            .recent
+            .iter()
+            .position(|c| c.is_some_and(|c| c.fault == a.fault))
+            .or_else(|| self.recent.iter().position(Option::is_none))
+            .or_else(|| {
+                self.recent
+                    .iter()
+                    .enumerate()
+                    .min_by_key(|(_, c)| c.map_or(0, |c| c.at_ms))
+                    .map(|(i, _)| i)
+            });
+        if let Some(slot) = idx.and_then(|i| self.recent.get_mut(i)) {
+            *slot = Some(entry);
+        }
+    }
+
     /// True when `fault` is active.
     pub fn is_active(&self, fault: Fault) -> bool {
-        self.active.iter().flatten().any(|a| a.fault == fault)
+        self.get(fault).is_some()
+    }
+
+    /// The active record of `fault`.
+    pub fn get(&self, fault: Fault) -> Option<&ActiveFault> {
+        self.active.iter().flatten().find(|a| a.fault == fault)
     }
 
     /// The active faults.
@@ -233,18 +384,26 @@ impl FaultManager {
             .any(|a| a.recovery == Recovery::DegradeOneAxis(axis))
     }
 
-    /// True when the time is not trusted.
+    /// True when the time is not trusted or no set-point can be computed
+    /// for it.
     pub fn time_unknown(&self) -> bool {
-        self.active().any(|a| a.recovery == Recovery::WaitForGps)
+        self.active().any(|a| {
+            matches!(
+                a.recovery,
+                Recovery::WaitForGps | Recovery::WaitForValidTime
+            )
+        })
     }
 
-    /// Clears every fault (an operator's reset after a safe stop).
+    /// Clears every fault and forgets their history (an operator's reset
+    /// after a safe stop).
     pub fn reset(&mut self) {
         for slot in self.active.iter_mut() {
             if slot.take().is_some() {
                 self.recovered = self.recovered.saturating_add(1);
             }
         }
+        self.recent = [None; MAX_ACTIVE];
     }
 }
 
@@ -254,8 +413,8 @@ impl FaultManager {
 #[derive(Debug, Clone, Copy)]
 pub struct WindMonitor {
     config: WindConfig,
-    above_since: Option<UtcTime>,
-    calm_since: Option<UtcTime>,
+    above_since_ms: Option<u64>,
+    calm_since_ms: Option<u64>,
     stowed: bool,
     /// Number of stows so far.
     pub stow_count: u32,
@@ -266,38 +425,48 @@ impl WindMonitor {
     pub fn new(config: WindConfig) -> Self {
         WindMonitor {
             config,
-            above_since: None,
-            calm_since: None,
+            above_since_ms: None,
+            calm_since_ms: None,
             stowed: false,
             stow_count: 0,
         }
     }
 
-    /// Feeds `pulses` counted over `interval_s` seconds ending at `now`;
-    /// returns true while stowed. A zero interval keeps the state.
-    pub fn update_pulses(&mut self, now: UtcTime, pulses: u32, interval_s: f32) -> bool {
-        if !(interval_s.is_finite() && interval_s > 0.0) {
+    /// Feeds `pulses` counted over the `interval_ms` milliseconds (of the
+    /// monotonic clock) that end at monotonic time `now_ms`; returns true
+    /// while stowed. A zero interval keeps the state.
+    ///
+    /// The rate was above the threshold over the whole interval, so the
+    /// hold counts from the interval's start: a gale seen over one interval
+    /// at least as long as the hold stows at once.
+    pub fn update_pulses(&mut self, now_ms: u64, pulses: u32, interval_ms: u32) -> bool {
+        if interval_ms == 0 {
             return self.stowed;
         }
-        self.update_rate(now, pulses as f32 / interval_s)
+        let rate_hz = pulses as f32 * 1000.0 / interval_ms as f32;
+        self.update_rate(now_ms, interval_ms, rate_hz)
     }
 
-    /// Feeds a pulse rate in Hz; returns true while stowed. A rate that is
-    /// not a number counts as windy (fail safe).
-    pub fn update_rate(&mut self, now: UtcTime, rate_hz: f32) -> bool {
+    /// Feeds a pulse rate in Hz measured over the `interval_ms` ending at
+    /// monotonic `now_ms`; returns true while stowed. A rate that is not a
+    /// number counts as windy (fail safe).
+    pub fn update_rate(&mut self, now_ms: u64, interval_ms: u32, rate_hz: f32) -> bool {
         let windy = rate_hz.is_nan() || rate_hz > self.config.threshold_hz;
-        let elapsed = |since: UtcTime| now.unix_seconds().saturating_sub(since.unix_seconds());
+        let began = now_ms.saturating_sub(u64::from(interval_ms));
+        let elapsed = |since: u64| now_ms.saturating_sub(since);
         if windy {
-            self.calm_since = None;
-            let since = *self.above_since.get_or_insert(now);
-            if !self.stowed && elapsed(since) >= i64::from(self.config.hold_s) {
+            self.calm_since_ms = None;
+            let since = *self.above_since_ms.get_or_insert(began);
+            let hold_ms = u64::from(self.config.hold_s).saturating_mul(1000);
+            if !self.stowed && elapsed(since) >= hold_ms {
                 self.stowed = true;
                 self.stow_count = self.stow_count.saturating_add(1);
             }
         } else {
-            self.above_since = None;
-            let since = *self.calm_since.get_or_insert(now);
-            if self.stowed && elapsed(since) >= i64::from(self.config.release_s) {
+            self.above_since_ms = None;
+            let since = *self.calm_since_ms.get_or_insert(began);
+            let release_ms = u64::from(self.config.release_s).saturating_mul(1000);
+            if self.stowed && elapsed(since) >= release_ms {
                 self.stowed = false;
             }
         }
@@ -325,8 +494,27 @@ pub enum Mode {
     WaitForTime,
     /// Outside daylight: stowed or parked at home.
     Night,
+    /// Daylight, but an axis has no position reference yet: it is seeking
+    /// its home switch and nothing tracks until it has one.
+    Homing,
     /// Following the sun.
     Tracking,
+}
+
+impl Mode {
+    /// The name used in logs and traces (`safe_stop`, `wind_stow`, …).
+    pub fn name(self) -> &'static str {
+        match self {
+            Mode::SafeStop => "safe_stop",
+            Mode::WindStow => "wind_stow",
+            Mode::CommandStow => "command_stow",
+            Mode::Manual => "manual",
+            Mode::WaitForTime => "wait_for_time",
+            Mode::Night => "night",
+            Mode::Homing => "homing",
+            Mode::Tracking => "tracking",
+        }
+    }
 }
 
 /// Inputs of [`select_mode`].
@@ -342,8 +530,11 @@ pub struct ModeInputs {
     pub manual: bool,
     /// The time is not trusted.
     pub time_unknown: bool,
-    /// The scheduler is outside daylight.
+    /// The scheduler is outside daylight (or has no set-point for the
+    /// present minute).
     pub night: bool,
+    /// An axis has no position reference.
+    pub unhomed: bool,
 }
 
 /// The mode for the inputs. Protection of the structure first (fault stop,
@@ -361,6 +552,8 @@ pub fn select_mode(i: &ModeInputs) -> Mode {
         Mode::WaitForTime
     } else if i.night {
         Mode::Night
+    } else if i.unhomed {
+        Mode::Homing
     } else {
         Mode::Tracking
     }

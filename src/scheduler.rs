@@ -424,6 +424,13 @@ impl<T: Float, P: PositionSource<T>, const N: usize> Scheduler<T, P, N> {
     pub fn source_mut(&mut self) -> &mut P {
         &mut self.source
     }
+    /// The table entry applied last in this day's tracking, if any.
+    pub fn applied(&self) -> Option<TableEntry<T>> {
+        match self.phase {
+            Phase::Tracking { .. } => self.last_applied.and_then(|i| self.entry(i)),
+            _ => None,
+        }
+    }
     /// The home set-point (the day's first table entry; zero before).
     pub fn home(&self) -> SetPoint<T> {
         self.home

@@ -1,14 +1,21 @@
-//! Time and site with fallbacks (issue 6 item 2).
+//! Time and site with fallbacks.
 //!
 //! **Time**: a GPS fix first, then the RTC. GPS time disciplines the RTC: it
 //! is written to the RTC when the RTC lost power, holds no valid date, or
 //! has drifted more than [`TimeConfig::max_drift_s`] from GPS. An RTC that
-//! lost power (DS3231 oscillator-stop flag, DS1302 clock halt) is *not*
+//! lost power (DS3231 oscillator-stop flag, DS1302 clock halt) or reads a
+//! date outside the firmware's 1024-week window ([`DateWindow`]) is *not*
 //! trusted: until GPS sets it the time is unknown and the controller waits
 //! ([`crate::safety::Mode::WaitForTime`]) instead of tracking with a wrong
-//! time. GPS time is used only with a valid fix (RMC status `A` or GGA
-//! quality > 0): a receiver without a fix may still be counting from a
-//! wrong almanac.
+//! time. GPS time is trusted only
+//! - from a valid fix with a plausible position (RMC status `A` or GGA
+//!   quality ≥ 1; a receiver without a fix may still be counting from a
+//!   wrong almanac);
+//! - while it is fresh: received at most [`TimeConfig::max_gps_age_ms`] ago
+//!   on the monotonic clock, and advanced by that age;
+//! - inside the firmware's [`DateWindow`]: a date outside it is the GPS
+//!   week-rollover bug, reported as implausible, never written to the RTC,
+//!   and the tracker carries on with the RTC.
 //!
 //! **Site**: the GPS position first, then the site stored in the
 //! configuration, then a postal code from the table of [`crate::site`]
@@ -23,6 +30,7 @@ use drivers::gps::{FixQuality, GpsFix};
 use drivers::rtc::Clock as RtcDriver;
 use sun_algos::{Algorithm, Error as SunError, Float, Options, Site, SunPosition, UtcTime};
 
+use crate::clock::DateWindow;
 use crate::config::SiteConfig;
 use crate::controller::TickInputs;
 use crate::hw::{datetime_from_utc, utc_from_datetime};
@@ -43,14 +51,76 @@ pub enum TimeOrigin {
 pub struct TimeConfig {
     /// The RTC is set from GPS when they differ by more than this, seconds.
     pub max_drift_s: u32,
+    /// GPS time older than this (monotonic milliseconds since its sentence
+    /// arrived) is not trusted.
+    pub max_gps_age_ms: u32,
+    /// The window a plausible date falls in.
+    pub window: DateWindow,
 }
 
 impl Default for TimeConfig {
-    /// 2 s: a DS3231 (±2 ppm) drifts that much in about 12 days; at the
-    /// equator the sun moves 0.0083° in 2 s, far inside any mechanism's
-    /// resolution.
+    /// 2 s drift: a DS3231 (±2 ppm) drifts that much in about 12 days; at
+    /// the equator the sun moves 0.0083° in 2 s, far inside any mechanism's
+    /// resolution. 1.5 s age: receivers send one epoch a second (NMEA 0183
+    /// at 1 Hz), so a fix older than that is a missed epoch. The window is
+    /// the firmware's own.
     fn default() -> Self {
-        TimeConfig { max_drift_s: 2 }
+        TimeConfig {
+            max_drift_s: 2,
+            max_gps_age_ms: 1_500,
+            window: DateWindow::firmware(),
+        }
+    }
+}
+
+/// What a GPS fix says about the time.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum GpsTime {
+    /// Trustworthy: the fix's UTC advanced by its age.
+    Trusted(UtcTime),
+    /// No valid fix with a plausible position, or no date-time.
+    NoFix,
+    /// The time was received too long ago.
+    Stale,
+    /// A valid fix whose date is outside the window (week rollover).
+    Implausible(UtcTime),
+}
+
+/// `t` plus `ms` milliseconds.
+fn advanced_by_ms(t: &UtcTime, ms: u64) -> Result<UtcTime, SunError> {
+    const MS_PER_DAY: u64 = 86_400_000;
+    let total = u64::from(t.ms_of_day()).saturating_add(ms);
+    let days = i32::try_from(total / MS_PER_DAY).map_err(|_| SunError::InvalidDate)?;
+    let day = t
+        .days_since_2000()
+        .checked_add(days)
+        .ok_or(SunError::InvalidDate)?;
+    // The remainder is below MS_PER_DAY, which fits in u32.
+    UtcTime::from_days_ms(day, (total % MS_PER_DAY) as u32)
+}
+
+/// What `fix` says about the time at monotonic `now_ms` (see the module
+/// documentation for the rules).
+pub fn gps_time(fix: &GpsFix, now_ms: u64, config: &TimeConfig) -> GpsTime {
+    if fix.quality == FixQuality::Invalid || site_from_fix(fix).is_none() {
+        return GpsTime::NoFix;
+    }
+    let (Some(dt), Some(age_ms)) = (fix.utc, fix.utc_age_ms(now_ms)) else {
+        return GpsTime::NoFix;
+    };
+    if age_ms > u64::from(config.max_gps_age_ms) {
+        return GpsTime::Stale;
+    }
+    let Ok(t) = utc_from_datetime(&dt) else {
+        return GpsTime::NoFix;
+    };
+    if !config.window.contains(&t) {
+        return GpsTime::Implausible(t);
+    }
+    match advanced_by_ms(&t, age_ms) {
+        Ok(now) if config.window.contains(&now) => GpsTime::Trusted(now),
+        Ok(now) => GpsTime::Implausible(now),
+        Err(_) => GpsTime::NoFix,
     }
 }
 
@@ -64,8 +134,13 @@ pub struct TimeStatus {
     /// The RTC's reading even when it is not trusted (for timers that need
     /// a monotonic-ish count, e.g. the wind hold), if it could be read.
     pub rtc_raw: Option<UtcTime>,
-    /// True while GPS has a valid fix.
+    /// True while GPS has a valid, fresh fix with a plausible date.
     pub gps_fix: bool,
+    /// GPS reports a valid fix whose date is outside the window (the
+    /// week-rollover bug): ignored, not written to the RTC.
+    pub gps_time_implausible: bool,
+    /// The RTC reads a date outside the window (not trusted).
+    pub rtc_implausible: bool,
     /// The RTC reported lost power (before any setting in this update).
     pub rtc_lost_power: bool,
     /// The RTC could not be read or written (bus error, invalid registers).
@@ -88,14 +163,6 @@ pub struct TimeKeeper<C> {
     config: TimeConfig,
     last_valid: Option<UtcTime>,
     rtc_sets: u32,
-}
-
-/// A fix's UTC when it may be trusted: a valid fix (position) and a time.
-pub fn trusted_gps_time(fix: &GpsFix) -> Option<UtcTime> {
-    if fix.quality == FixQuality::Invalid || !fix.has_position() {
-        return None;
-    }
-    fix.utc.and_then(|t| utc_from_datetime(&t).ok())
 }
 
 impl<C: RtcDriver> TimeKeeper<C> {
@@ -130,16 +197,23 @@ impl<C: RtcDriver> TimeKeeper<C> {
     }
 
     /// Reads the RTC (lost-power flag, then the time unless it lost power),
-    /// disciplines it from `gps` when that has a valid fix, and decides the
-    /// time. Bus traffic per call: one status read and one time read; plus
-    /// one time write (and the flag clear) when the RTC is set.
-    pub fn update(&mut self, gps: &GpsFix) -> TimeStatus {
-        let gps_time = trusted_gps_time(gps);
+    /// disciplines it from `gps` when that gives trusted time
+    /// ([`gps_time`]) at monotonic `now_ms`, and decides the time. Bus
+    /// traffic per call: one status read and one time read; plus one time
+    /// write (and the flag clear) when the RTC is set.
+    pub fn update(&mut self, gps: &GpsFix, now_ms: u64) -> TimeStatus {
+        let gps_said = gps_time(gps, now_ms, &self.config);
+        let gps_time = match gps_said {
+            GpsTime::Trusted(t) => Some(t),
+            _ => None,
+        };
         let mut status = TimeStatus {
             now: None,
             origin: None,
             rtc_raw: None,
             gps_fix: gps_time.is_some(),
+            gps_time_implausible: matches!(gps_said, GpsTime::Implausible(_)),
+            rtc_implausible: false,
             rtc_lost_power: false,
             rtc_error: false,
             rtc_set: false,
@@ -152,8 +226,12 @@ impl<C: RtcDriver> TimeKeeper<C> {
             Ok(true) => status.rtc_lost_power = true,
             Ok(false) => match self.rtc.datetime() {
                 Ok(t) => match utc_from_datetime(&t) {
-                    Ok(u) => {
+                    Ok(u) if self.config.window.contains(&u) => {
                         rtc_time = Some(u);
+                        status.rtc_raw = Some(u);
+                    }
+                    Ok(u) => {
+                        status.rtc_implausible = true;
                         status.rtc_raw = Some(u);
                     }
                     Err(_) => status.rtc_error = true,
@@ -204,20 +282,24 @@ impl TimeStatus {
         self.now.or(self.rtc_raw).unwrap_or(fallback)
     }
 
-    /// The controller's inputs for this tick: time and its validity, the
-    /// GPS state, and the anemometer pulses counted since the last tick.
+    /// The controller's inputs for this tick: the monotonic time, UTC and
+    /// its validity, the GPS state, and the anemometer pulses counted over
+    /// the last `wind_interval_ms` of the monotonic clock.
     pub fn tick_inputs(
         &self,
+        now_ms: u64,
         fallback: UtcTime,
         wind_pulses: u32,
-        wind_interval_s: f32,
+        wind_interval_ms: u32,
     ) -> TickInputs {
         TickInputs {
+            now_ms,
             now: self.tick_time(fallback),
             time_valid: self.time_valid(),
             gps_fix: self.gps_fix,
+            gps_time_implausible: self.gps_time_implausible,
             wind_pulses,
-            wind_interval_s,
+            wind_interval_ms,
         }
     }
 }

@@ -55,11 +55,14 @@ fn controller(encoder: bool, attitude: AttitudeSource, truth: MountAttitude<f64>
 
 fn inputs(now: UtcTime) -> TickInputs {
     TickInputs {
+        // No clock steps here: the monotonic clock runs with UTC.
+        now_ms: now.unix_seconds().unsigned_abs() * 1000,
         now,
         time_valid: true,
         gps_fix: true,
+        gps_time_implausible: false,
         wind_pulses: 300, // 5 Hz: calm
-        wind_interval_s: 60.0,
+        wind_interval_ms: 60_000,
     }
 }
 
@@ -153,15 +156,18 @@ fn wind_and_command_stow_and_manual_override() {
     for m in 0..5 {
         assert_eq!(step(&mut ctl, &inputs(at(m))).mode, Mode::Tracking);
     }
-    // 40 Hz for a minute: beyond the 3-second hold → stow flat (α = 0).
+    // 40 Hz counted over a minute: above the threshold for longer than the
+    // 3-second hold → stowed flat (α = 0) on that very tick.
     let mut windy = inputs(at(5));
     windy.wind_pulses = 2400;
-    assert_eq!(step(&mut ctl, &windy).mode, Mode::Tracking);
-    windy.now = at(6);
+    assert_eq!(step(&mut ctl, &windy).mode, Mode::WindStow);
+    windy = inputs(at(6));
+    windy.wind_pulses = 2400;
     let r = step(&mut ctl, &windy);
     assert_eq!(r.mode, Mode::WindStow);
     assert!(ctl.axes()[1].drive().output_deg().abs() < 0.05);
-    // Calm again, but stowed for the 10-minute release time.
+    // Calm again from minute 6 (the interval counted up to minute 7), but
+    // stowed for the 10-minute release time.
     for m in 7..16 {
         assert_eq!(step(&mut ctl, &inputs(at(m))).mode, Mode::WindStow);
     }
@@ -172,7 +178,7 @@ fn wind_and_command_stow_and_manual_override() {
             break;
         }
     }
-    assert_eq!(back, Some(17));
+    assert_eq!(back, Some(16));
     // Command stow, then manual override.
     ctl.command_stow(true);
     assert_eq!(step(&mut ctl, &inputs(at(30))).mode, Mode::CommandStow);

@@ -115,11 +115,13 @@ fn controller_measures_the_mount_and_recovers_from_a_nack() {
     let now = UtcTime::from_ymd_hms(2026, 3, 20, 10, 0, 0).unwrap();
     let tick = |ctrl: &mut Controller<_, MotorPlant, Sensors, 360>, k: i64| {
         ctrl.tick(&TickInputs {
+            now_ms: (k as u64) * 60_000,
             now: now.add_seconds(60 * k).unwrap(),
             time_valid: true,
             gps_fix: true,
+            gps_time_implausible: false,
             wind_pulses: 0,
-            wind_interval_s: 60.0,
+            wind_interval_ms: 60_000,
         })
     };
 

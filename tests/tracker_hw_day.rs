@@ -46,11 +46,17 @@ fn kano_equinox_day_on_real_drivers() {
     let c_motor = Motor::new(20.0, -180.0);
     let a_motor = Motor::new(10.0, -90.0);
     let mut i2c = I2cMock::new(&[]);
-    let mut keeper = TimeKeeper::new(Ds3231::new(i2c.clone()), TimeConfig { max_drift_s: 2 });
+    let mut keeper = TimeKeeper::new(
+        Ds3231::new(i2c.clone()),
+        TimeConfig {
+            max_drift_s: 2,
+            ..TimeConfig::default()
+        },
+    );
     let uart = MemSerial::default();
     let mut gps = GpsPort::new(uart.clone(), 3_000);
 
-    // Power-on: the first GPS epoch gives the site (issue 6 item 2).
+    // Power-on: the first GPS epoch gives the site (GPS first, then the stored site).
     let mut t: u32 = 60; // seconds after 2026-03-20 00:00 UTC
     uart.push(&gps_epoch(DayTime { secs: t }, true));
     let fix = gps.service(u64::from(t) * 1_000).unwrap();
@@ -115,15 +121,17 @@ fn kano_equinox_day_on_real_drivers() {
             rtc_offset_s = 0;
         }
         i2c.update_expectations(&tx);
-        let status = keeper.update(&fix);
+        let status = keeper.update(&fix, u64::from(t) * 1_000);
         assert_eq!(status.now, Some(utc_at(t)), "GPS time at t={t}");
 
         let report = ctrl.tick(&TickInputs {
+            now_ms: u64::from(t) * 1000,
             now: status.tick_time(utc_at(t)),
             time_valid: status.time_valid(),
             gps_fix: status.gps_fix,
+            gps_time_implausible: status.gps_time_implausible,
             wind_pulses: 0,
-            wind_interval_s: 60.0,
+            wind_interval_ms: 60_000,
         });
         if report.homing {
             homing_ticks += 1;

@@ -119,9 +119,10 @@ fn lost_power_gps_loss_and_rtc_nack_are_raised_and_recovered() {
             vec![read_status(STATUS_RUNNING), read_time(DayTime { secs: t })]
         };
         i2c.update_expectations(&tx);
-        let status = keeper.update(&fix);
+        let now_ms = u64::from(t) * 1_000;
+        let status = keeper.update(&fix, now_ms);
         let fallback = keeper.last_valid().unwrap_or(utc_at(t));
-        let report = ctrl.tick(&status.tick_inputs(fallback, 0, 60.0));
+        let report = ctrl.tick(&status.tick_inputs(now_ms, fallback, 0, 60_000));
         let next = if report.homing {
             t + 1
         } else {

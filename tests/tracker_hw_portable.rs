@@ -81,11 +81,13 @@ fn portable_mount_day_with_measured_attitude() {
     while t < 23 * 3600 {
         bus.update_expectations(&tick_tx);
         let report = ctrl.tick(&TickInputs {
+            now_ms: u64::from(t) * 1000,
             now: utc_at(t),
             time_valid: true,
             gps_fix: true,
+            gps_time_implausible: false,
             wind_pulses: 0,
-            wind_interval_s: 60.0,
+            wind_interval_ms: 60_000,
         });
         let next = if report.homing {
             t + 1

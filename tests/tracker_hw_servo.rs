@@ -278,11 +278,13 @@ fn closed_loop_day_on_servo_axes() {
     let (mut applied, mut max_err_deg) = (0u32, 0.0f64);
     while t < end {
         let report = ctrl.tick(&TickInputs {
+            now_ms: u64::from(t) * 1000,
             now: utc_at(t),
             time_valid: true,
             gps_fix: true,
+            gps_time_implausible: false,
             wind_pulses: 0,
-            wind_interval_s: 60.0,
+            wind_interval_ms: 60_000,
         });
         let next = if report.homing {
             t + 1

@@ -1,4 +1,5 @@
-//! Time and site fallbacks (issue 6 item 2) over the real DS3231 driver on an
+//! Time and site fallbacks (GPS, then RTC; GPS, then stored site, then a
+//! postal code) over the real DS3231 driver on an
 //! I2C mock (transaction-exact) and the real GPS reader on an in-memory
 //! serial port.
 
@@ -14,8 +15,8 @@ use suntracker::config::SiteConfig;
 use suntracker::hw::{GpsPort, RtcClock};
 use suntracker::site::PostalError;
 use suntracker::sources::{
-    follow_gps_site, resolve_site, trusted_gps_time, SiteError, SiteOrigin, TimeConfig, TimeKeeper,
-    TimeOrigin,
+    follow_gps_site, gps_time, resolve_site, GpsTime, SiteError, SiteOrigin, TimeConfig,
+    TimeKeeper, TimeOrigin,
 };
 use suntracker::traits::Clock;
 use tracker_hw_common::*;
@@ -43,7 +44,15 @@ fn kano_fix(secs: u32) -> GpsFix {
         altitude_m: Some(480.0),
         quality: FixQuality::Gps,
         satellites: Some(8),
+        // Received in the same second, on a monotonic clock that counts
+        // from midnight here.
+        utc_received_ms: Some(ms(secs)),
     }
+}
+
+/// The monotonic clock (ms) at `secs` after midnight.
+fn ms(secs: u32) -> u64 {
+    u64::from(secs) * 1000
 }
 
 const T0: u32 = 6 * 3600 + 30 * 60; // 06:30:00
@@ -62,17 +71,17 @@ fn rtc_that_lost_power_waits_for_gps_then_gps_sets_it() {
     tx.push(read_time(at(T0 + 120)));
     let mut keeper = TimeKeeper::new(Ds3231::new(I2cMock::new(&tx)), TimeConfig::default());
 
-    let s = keeper.update(&GpsFix::NONE);
+    let s = keeper.update(&GpsFix::NONE, 0);
     assert!(!s.time_valid(), "an RTC that lost power is not trusted");
     assert!(s.rtc_lost_power && !s.gps_fix && !s.rtc_set && !s.rtc_error);
     assert_eq!(s.rtc_raw, None);
 
-    let s = keeper.update(&kano_fix(T0 + 60));
+    let s = keeper.update(&kano_fix(T0 + 60), ms(T0 + 60));
     assert_eq!(s.now, Some(utc(T0 + 60)));
     assert_eq!(s.origin, Some(TimeOrigin::Gps));
     assert!(s.rtc_set && s.gps_fix && s.rtc_lost_power);
 
-    let s = keeper.update(&GpsFix::NONE);
+    let s = keeper.update(&GpsFix::NONE, 0);
     assert_eq!(s.now, Some(utc(T0 + 120)));
     assert_eq!(s.origin, Some(TimeOrigin::Rtc));
     assert!(!s.gps_fix && !s.rtc_set);
@@ -93,12 +102,15 @@ fn gps_disciplines_the_rtc_only_past_the_drift_limit() {
     tx.extend(set_time(at(T0 + 60)));
     let mut keeper = TimeKeeper::new(
         Ds3231::new(I2cMock::new(&tx)),
-        TimeConfig { max_drift_s: 2 },
+        TimeConfig {
+            max_drift_s: 2,
+            ..TimeConfig::default()
+        },
     );
-    let s = keeper.update(&kano_fix(T0));
+    let s = keeper.update(&kano_fix(T0), ms(T0));
     assert_eq!((s.now, s.rtc_set), (Some(utc(T0)), false));
     assert_eq!(s.rtc_raw, Some(utc(T0 - 2)));
-    let s = keeper.update(&kano_fix(T0 + 60));
+    let s = keeper.update(&kano_fix(T0 + 60), ms(T0 + 60));
     assert_eq!((s.now, s.rtc_set), (Some(utc(T0 + 60)), true));
     keeper.destroy().destroy().done();
 }
@@ -115,10 +127,13 @@ fn gps_time_without_a_fix_is_not_trusted() {
         satellites: Some(0),
         ..kano_fix(T0)
     };
-    assert_eq!(trusted_gps_time(&no_fix), None);
+    assert_eq!(
+        gps_time(&no_fix, ms(T0), &TimeConfig::default()),
+        GpsTime::NoFix
+    );
     let tx = [read_status(STATUS_OSF)];
     let mut keeper = TimeKeeper::new(Ds3231::new(I2cMock::new(&tx)), TimeConfig::default());
-    let s = keeper.update(&no_fix);
+    let s = keeper.update(&no_fix, ms(T0));
     assert!(!s.time_valid() && !s.gps_fix && !s.rtc_set);
     keeper.destroy().destroy().done();
 }
@@ -138,16 +153,16 @@ fn rtc_nack_falls_back_to_gps_and_without_gps_the_time_is_unknown() {
         read_time(at(T0 + 180)),
     ];
     let mut keeper = TimeKeeper::new(Ds3231::new(I2cMock::new(&tx)), TimeConfig::default());
-    let s = keeper.update(&kano_fix(T0));
+    let s = keeper.update(&kano_fix(T0), ms(T0));
     assert_eq!((s.now, s.origin), (Some(utc(T0)), Some(TimeOrigin::Gps)));
     assert!(s.rtc_error && !s.rtc_set);
-    let s = keeper.update(&GpsFix::NONE);
+    let s = keeper.update(&GpsFix::NONE, 0);
     assert!(!s.time_valid() && s.rtc_error);
     // The controller still gets an instant for its timers: the last good one.
     assert_eq!(s.tick_time(keeper.last_valid().unwrap()), utc(T0));
-    let s = keeper.update(&GpsFix::NONE);
+    let s = keeper.update(&GpsFix::NONE, 0);
     assert!(!s.time_valid() && s.rtc_error);
-    let s = keeper.update(&GpsFix::NONE);
+    let s = keeper.update(&GpsFix::NONE, 0);
     assert_eq!((s.now, s.rtc_error), (Some(utc(T0 + 180)), false));
     keeper.destroy().destroy().done();
 }
@@ -162,7 +177,7 @@ fn garbage_time_registers_are_replaced_by_gps_time() {
     ];
     tx.extend(set_time(at(T0)));
     let mut keeper = TimeKeeper::new(Ds3231::new(I2cMock::new(&tx)), TimeConfig::default());
-    let s = keeper.update(&kano_fix(T0));
+    let s = keeper.update(&kano_fix(T0), ms(T0));
     assert!(s.rtc_error && s.rtc_set);
     assert_eq!(s.now, Some(utc(T0)));
     keeper.destroy().destroy().done();
@@ -200,12 +215,12 @@ fn nmea_on_the_serial_port_sets_a_stopped_rtc() {
     serial.push(&gps_epoch(at(T0), false));
     let fix = gps.service(1_000).unwrap();
     assert_eq!(fix.quality, FixQuality::Invalid);
-    assert!(!keeper.update(&fix).time_valid());
+    assert!(!keeper.update(&fix, 1_000).time_valid());
 
     serial.push(&gps_epoch(at(T0 + 1), true));
     let fix = gps.service(2_000).unwrap();
     assert!(fix.has_position());
-    let s = keeper.update(&fix);
+    let s = keeper.update(&fix, 2_000);
     assert_eq!(s.now, Some(utc(T0 + 1)));
     assert!(s.rtc_set);
     assert_eq!(gps.fixes(), 2);
@@ -287,4 +302,128 @@ fn wmm_declination_for_the_site_matches_noaa_test_values() {
     // Outside the model's life span: an error, not a guess.
     let t = UtcTime::from_ymd_hms(2031, 1, 1, 0, 0, 0).unwrap();
     assert!(suntracker::sources::wmm_declination_deg(&site, &t).is_err());
+}
+
+#[test]
+fn an_old_fix_does_not_set_a_correct_rtc_back() {
+    // The RTC is right (T0 + 3 s); the fix says T0 but arrived 2.9 s ago.
+    // Before the age was accounted for, the 3 s "drift" set the RTC back
+    // by 2.9 s. Now: older than 1.5 s is stale, the RTC is kept.
+    let old = kano_fix(T0);
+    let tx = [read_status(STATUS_RUNNING), read_time(at(T0 + 3))];
+    let mut keeper = TimeKeeper::new(Ds3231::new(I2cMock::new(&tx)), TimeConfig::default());
+    let now_ms = ms(T0) + 2_900;
+    assert_eq!(
+        gps_time(&old, now_ms, &TimeConfig::default()),
+        GpsTime::Stale
+    );
+    let s = keeper.update(&old, now_ms);
+    assert!(!s.rtc_set && !s.gps_fix);
+    assert_eq!(
+        (s.now, s.origin),
+        (Some(utc(T0 + 3)), Some(TimeOrigin::Rtc))
+    );
+    keeper.destroy().destroy().done();
+
+    // A fresh fix 0.9 s old is advanced by its age: T0 + 0.9 s, within
+    // the drift limit of an RTC reading T0 + 1 s, so nothing is written.
+    let now_ms = ms(T0) + 900;
+    let want = utc(T0).add_seconds(0).unwrap();
+    match gps_time(&old, now_ms, &TimeConfig::default()) {
+        GpsTime::Trusted(t) => {
+            assert_eq!(t.days_since_2000(), want.days_since_2000());
+            assert_eq!(t.ms_of_day(), want.ms_of_day() + 900);
+        }
+        other => panic!("{other:?}"),
+    }
+    let tx = [read_status(STATUS_RUNNING), read_time(at(T0 + 1))];
+    let mut keeper = TimeKeeper::new(Ds3231::new(I2cMock::new(&tx)), TimeConfig::default());
+    let s = keeper.update(&old, now_ms);
+    assert!(s.gps_fix && !s.rtc_set);
+    keeper.destroy().destroy().done();
+}
+
+#[test]
+fn a_week_rollover_date_is_never_written_to_the_rtc() {
+    // The receiver reports 2006-08-04 (1024 weeks before 2026-03-20) with
+    // a valid fix: outside the firmware's window, reported as implausible;
+    // the correct RTC stays as it is and gives the time.
+    let (h, m, sec) = at(T0).hms();
+    let rolled = GpsFix {
+        utc: Some(DateTime::new(2006, 8, 4, h as u8, m as u8, sec as u8).unwrap()),
+        ..kano_fix(T0)
+    };
+    let cfg = TimeConfig::default();
+    assert!(matches!(
+        gps_time(&rolled, ms(T0), &cfg),
+        GpsTime::Implausible(_)
+    ));
+    // After the window's end (2045-08-18 for a 2026-01-01 floor) too.
+    let late = GpsFix {
+        utc: Some(DateTime::new(2046, 1, 1, 0, 0, 0).unwrap()),
+        ..kano_fix(T0)
+    };
+    assert!(matches!(
+        gps_time(&late, ms(T0), &cfg),
+        GpsTime::Implausible(_)
+    ));
+    let tx = [read_status(STATUS_RUNNING), read_time(at(T0))];
+    let mut keeper = TimeKeeper::new(Ds3231::new(I2cMock::new(&tx)), cfg);
+    let s = keeper.update(&rolled, ms(T0));
+    assert!(s.gps_time_implausible && !s.gps_fix && !s.rtc_set);
+    assert_eq!((s.now, s.origin), (Some(utc(T0)), Some(TimeOrigin::Rtc)));
+    keeper.destroy().destroy().done();
+}
+
+#[test]
+fn an_rtc_date_outside_the_window_is_not_trusted() {
+    // A running RTC that reads 2000-01-01 (never set): not trusted; GPS
+    // sets it.
+    let mut tx = vec![
+        read_status(STATUS_RUNNING),
+        I2c::write_read(
+            RTC_ADDR,
+            vec![REG_SECONDS],
+            vec![0x00, 0x00, 0x00, 0x07, 0x01, 0x01, 0x00],
+        ),
+    ];
+    tx.extend(set_time(at(T0)));
+    tx.push(read_status(STATUS_RUNNING));
+    tx.push(I2c::write_read(
+        RTC_ADDR,
+        vec![REG_SECONDS],
+        vec![0x00, 0x00, 0x00, 0x07, 0x01, 0x01, 0x00],
+    ));
+    let mut keeper = TimeKeeper::new(Ds3231::new(I2cMock::new(&tx)), TimeConfig::default());
+    let s = keeper.update(&kano_fix(T0), ms(T0));
+    assert!(s.rtc_implausible && s.rtc_set);
+    assert_eq!(s.now, Some(utc(T0)));
+    // Without GPS the same reading leaves the time unknown.
+    let s = keeper.update(&GpsFix::NONE, ms(T0) + 1_000);
+    assert!(s.rtc_implausible && !s.time_valid());
+    keeper.destroy().destroy().done();
+}
+
+#[test]
+fn a_fix_with_an_impossible_position_gives_neither_site_nor_time() {
+    // Built directly (the parser already rejects such sentences): the
+    // tracker does not rely on the parser alone.
+    for (lat, lon) in [(91.0, 8.0), (12.0, 200.0), (f64::NAN, 8.0)] {
+        let bad = GpsFix {
+            latitude_deg: Some(lat),
+            longitude_deg: Some(lon),
+            ..kano_fix(T0)
+        };
+        assert_eq!(
+            gps_time(&bad, ms(T0), &TimeConfig::default()),
+            GpsTime::NoFix
+        );
+        let stored = SiteConfig {
+            latitude_deg: 11.9683,
+            longitude_deg: 8.4261,
+            elevation_m: 480.0,
+        };
+        let (_, origin) = resolve_site(&bad, Some(&stored), None).unwrap();
+        assert_eq!(origin, SiteOrigin::Stored);
+    }
 }

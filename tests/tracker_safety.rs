@@ -1,16 +1,14 @@
 //! Faults, recoveries, wind stow and mode selection.
 
-use sun_algos::UtcTime;
 use suntracker::config::{Config, WindConfig};
 use suntracker::safety::{
-    select_mode, AxisId, Fault, FaultManager, Mode, ModeInputs, Recovery, Sensor, WindMonitor,
+    retry_backoff_ms, select_mode, AxisId, Fault, FaultManager, Mode, ModeInputs, Recovery, Sensor,
+    WindMonitor, RECURRENCE_WINDOW_MS,
 };
 
-fn t0() -> UtcTime {
-    "2026-03-01T10:00:00Z".parse().unwrap()
-}
-fn at(s: i64) -> UtcTime {
-    t0().add_seconds(s).unwrap()
+/// Monotonic milliseconds at `s` seconds after boot.
+fn at(s: u64) -> u64 {
+    s * 1000
 }
 
 #[test]
@@ -43,21 +41,28 @@ fn every_fault_has_its_recovery() {
 fn manager_counts_raised_and_recovered() {
     let mut m = FaultManager::new(Config::default().safety);
     let f = Fault::MotorStalled(AxisId::A);
-    for k in 1..=3 {
+    // Attempts count once per back-off (10 s, 20 s, 40 s): reported every
+    // second, the fault stays at its first attempt for 10 s.
+    for k in 0..10 {
         assert_eq!(m.raise(f, at(k)), Recovery::Retry);
     }
-    assert_eq!(m.raise(f, at(4)), Recovery::DegradeOneAxis(AxisId::A));
+    assert_eq!(m.get(f).unwrap().attempts, 1);
+    for k in [10, 30] {
+        assert_eq!(m.raise(f, at(k)), Recovery::Retry);
+    }
+    assert_eq!(m.raise(f, at(69)), Recovery::Retry);
+    assert_eq!(m.raise(f, at(70)), Recovery::DegradeOneAxis(AxisId::A));
     assert!(m.axis_disabled(AxisId::A));
     assert!(!m.axis_disabled(AxisId::C));
     assert_eq!(m.raised, 1);
-    assert!(m.clear(f));
-    assert!(!m.clear(f));
+    assert!(m.clear(f, at(71)));
+    assert!(!m.clear(f, at(71)));
     assert_eq!(m.recovered, 1);
     assert_eq!(m.active_count(), 0);
     // A limit switch hit over and over ends in a safe stop until reset.
     let l = Fault::LimitSwitchHit(AxisId::C);
-    for k in 0..4 {
-        m.raise(l, at(10 + k));
+    for k in [100, 110, 130, 170] {
+        m.raise(l, at(k));
     }
     assert!(m.must_stop());
     assert_eq!(
@@ -72,7 +77,7 @@ fn manager_counts_raised_and_recovered() {
     assert_eq!(m.raised, 2);
     assert_eq!(m.recovered, 2);
     // RTC invalid: time unknown.
-    m.raise(Fault::RtcInvalid, at(20));
+    m.raise(Fault::RtcInvalid, at(200));
     assert!(m.time_unknown());
     // Full list: still answered, counted as dropped.
     for s in [
@@ -81,8 +86,8 @@ fn manager_counts_raised_and_recovered() {
         Sensor::Gps,
         Sensor::Rtc,
     ] {
-        m.raise(Fault::SensorTimeout(s), at(21));
-        m.raise(Fault::I2cError(s), at(21));
+        m.raise(Fault::SensorTimeout(s), at(201));
+        m.raise(Fault::I2cError(s), at(201));
     }
     assert!(m.dropped > 0);
     assert_eq!(m.active_count(), suntracker::safety::MAX_ACTIVE);
@@ -99,24 +104,26 @@ fn wind() -> WindConfig {
 #[test]
 fn wind_stow_needs_the_hold_time() {
     let mut w = WindMonitor::new(wind());
-    // A 2-second gust above the threshold does not stow.
-    assert!(!w.update_pulses(at(0), 30, 1.0));
-    assert!(!w.update_pulses(at(1), 30, 1.0));
-    assert!(!w.update_pulses(at(2), 10, 1.0));
-    // Sustained: stows once 3 s have passed above the threshold.
-    assert!(!w.update_pulses(at(3), 30, 1.0));
-    assert!(!w.update_pulses(at(4), 30, 1.0));
-    assert!(!w.update_pulses(at(5), 30, 1.0));
-    assert!(w.update_pulses(at(6), 30, 1.0));
+    // Pulses counted over 1-second intervals ending at each time.
+    // A 2-second gust above the threshold (seconds 0..2) does not stow.
+    assert!(!w.update_pulses(at(1), 30, 1000));
+    assert!(!w.update_pulses(at(2), 30, 1000));
+    assert!(!w.update_pulses(at(3), 10, 1000));
+    // Sustained from second 3: stows once 3 s have passed above it.
+    assert!(!w.update_pulses(at(4), 30, 1000));
+    assert!(!w.update_pulses(at(5), 30, 1000));
+    assert!(w.update_pulses(at(6), 30, 1000));
     assert_eq!(w.stow_count, 1);
     // Exactly at the threshold counts as calm.
-    assert!(w.update_pulses(at(7), 25, 1.0));
+    assert!(w.update_pulses(at(7), 25, 1000));
     // Calm, but a gust inside the release time restarts the count.
-    assert!(w.update_pulses(at(300), 5, 1.0));
-    assert!(w.update_pulses(at(400), 40, 1.0));
-    assert!(w.update_pulses(at(401), 5, 1.0));
-    assert!(w.update_pulses(at(1000), 5, 1.0));
-    assert!(!w.update_pulses(at(1001), 5, 1.0));
+    assert!(w.update_pulses(at(300), 5, 1000));
+    assert!(w.update_pulses(at(400), 40, 1000));
+    // Calm from second 400 (the interval ending at 401): released 600 s
+    // later.
+    assert!(w.update_pulses(at(401), 5, 1000));
+    assert!(w.update_pulses(at(999), 5, 1000));
+    assert!(!w.update_pulses(at(1000), 5, 1000));
     assert_eq!(w.stow_count, 1);
 }
 
@@ -124,10 +131,10 @@ fn wind_stow_needs_the_hold_time() {
 fn wind_bad_inputs_fail_safe() {
     let mut w = WindMonitor::new(wind());
     // A zero interval is ignored.
-    assert!(!w.update_pulses(at(0), 1000, 0.0));
+    assert!(!w.update_pulses(at(0), 1000, 0));
     // A NaN rate counts as windy.
-    w.update_rate(at(0), f32::NAN);
-    assert!(w.update_rate(at(5), f32::NAN));
+    w.update_rate(at(1), 1000, f32::NAN);
+    assert!(w.update_rate(at(5), 1000, f32::NAN));
 }
 
 #[test]
@@ -139,6 +146,7 @@ fn mode_priorities() {
         manual: true,
         time_unknown: true,
         night: true,
+        unhomed: true,
     };
     assert_eq!(select_mode(&all), Mode::SafeStop);
     let i = ModeInputs {
@@ -164,5 +172,62 @@ fn mode_priorities() {
     };
     assert_eq!(select_mode(&i), Mode::Night);
     let i = ModeInputs { night: false, ..i };
+    assert_eq!(select_mode(&i), Mode::Homing);
+    let i = ModeInputs {
+        unhomed: false,
+        ..i
+    };
     assert_eq!(select_mode(&i), Mode::Tracking);
+}
+
+#[test]
+fn backoff_doubles_up_to_its_cap() {
+    assert_eq!(retry_backoff_ms(1), 10_000);
+    assert_eq!(retry_backoff_ms(2), 20_000);
+    assert_eq!(retry_backoff_ms(3), 40_000);
+    assert_eq!(retry_backoff_ms(7), 600_000);
+    assert_eq!(retry_backoff_ms(u32::MAX), 600_000);
+}
+
+#[test]
+fn a_fault_that_keeps_coming_back_escalates() {
+    // A limit switch hit, cleared by homing, hit again: each return is the
+    // next attempt, and the fourth ends in a safe stop (3 retries).
+    let mut m = FaultManager::new(Config::default().safety);
+    let l = Fault::LimitSwitchHit(AxisId::A);
+    let mut t = 0;
+    for attempt in 1..=4u32 {
+        let r = m.raise(l, at(t));
+        assert_eq!(m.get(l).unwrap().attempts, attempt);
+        if attempt < 4 {
+            assert_eq!(r, Recovery::Rehome(AxisId::A));
+            assert!(m.clear(l, at(t + 60)));
+        } else {
+            assert_eq!(r, Recovery::StopSafely);
+        }
+        t += 600;
+    }
+    assert!(m.must_stop());
+    // The operator's reset forgets the history: a new hit starts over.
+    m.reset();
+    assert_eq!(m.raise(l, at(t)), Recovery::Rehome(AxisId::A));
+    // A return long after the last one is a new fault, not a recurrence.
+    assert!(m.clear(l, at(t)));
+    let later = t + RECURRENCE_WINDOW_MS / 1000 + 1;
+    m.raise(l, at(later));
+    assert_eq!(m.get(l).unwrap().attempts, 1);
+}
+
+#[test]
+fn wind_hold_and_release_ignore_the_wall_clock() {
+    // The monitor never sees UTC: whatever the wall clock does, the hold is
+    // counted on the monotonic clock it is given.
+    let mut w = WindMonitor::new(wind());
+    // 50 Hz over 1-s intervals: stowed after 3 s.
+    assert!(!w.update_pulses(at(1), 50, 1000));
+    assert!(!w.update_pulses(at(2), 50, 1000));
+    assert!(w.update_pulses(at(3), 50, 1000));
+    // One interval as long as the hold is enough on its own.
+    let mut w = WindMonitor::new(wind());
+    assert!(w.update_pulses(at(60), 3000, 60_000));
 }

@@ -45,6 +45,7 @@ mod firmware {
     use suntracker::scheduler::SetPoint;
     use suntracker::sim::plant::MotorPlant;
     use suntracker::sim::sensors::MountSensors;
+    use suntracker::sources::{gps_time, site_from_fix, GpsTime, TimeConfig};
     use suntracker::traits::PositionSource;
 
     /// The stored site, used without a GPS fix: Kano, Nigeria.
@@ -281,6 +282,9 @@ mod firmware {
         out.text(", one day\n");
         let mut last: Option<SetPoint<f64>> = None;
         let mut last_mode: Option<Mode> = None;
+        // Minutes whose time the scheduler could not plan (outside the
+        // algorithm's validity range, or another scheduler error).
+        let mut no_set_point_minutes = 0u32;
         for m in 0..MINUTES as i64 {
             let Ok(now) = start.add_seconds(m * 60) else {
                 break;
@@ -288,13 +292,20 @@ mod firmware {
             for ax in ctl.axes_mut().iter_mut() {
                 ax.drive_mut().begin_tick(60.0);
             }
+            // The compressed day's monotonic clock: one minute a tick.
+            let now_ms = (m as u64).saturating_mul(60_000);
             let report = ctl.tick(&TickInputs {
+                now_ms,
                 now,
                 time_valid: true,
                 gps_fix: true,
+                gps_time_implausible: false,
                 wind_pulses: CALM_PULSES,
-                wind_interval_s: 60.0,
+                wind_interval_ms: 60_000,
             });
+            if report.schedule_error.is_some() {
+                no_set_point_minutes = no_set_point_minutes.saturating_add(1);
+            }
             let err = pointing_error_deg(ctl, &mut truth, &now);
             if report.mode == Mode::Tracking {
                 if let Some(e) = err {
@@ -355,7 +366,12 @@ mod firmware {
         out.text(", table entries=");
         out.u32(ctl.scheduler().table().len() as u32);
         out.text("\n");
-        unrecovered == 0
+        if no_set_point_minutes > 0 {
+            out.text("error: no set-point could be computed for ");
+            out.u32(no_set_point_minutes);
+            out.text(" minutes (time outside psa-2020's validity range 2020-2050)\n");
+        }
+        unrecovered == 0 && no_set_point_minutes == 0 && errors.len > 0
     }
 
     fn mode_name(m: Mode) -> &'static str {
@@ -366,6 +382,7 @@ mod firmware {
             Mode::WaitForTime => "wait-for-time",
             Mode::Manual => "manual",
             Mode::Night => "night",
+            Mode::Homing => "homing",
             Mode::Tracking => "tracking",
         }
     }
@@ -380,27 +397,50 @@ mod firmware {
         out.text("gps: ");
         out.u32(bytes);
         out.text(" bytes of NMEA on UART0");
-        let mut site = Site::new(SITE_LAT_DEG, SITE_LON_DEG);
+        let stored = Site::new(SITE_LAT_DEG, SITE_LON_DEG);
+        let mut site = stored;
         let mut start = None;
+        let mut time_rejected = false;
         match fix {
             Some(f) => {
-                let lat = f.latitude_deg.unwrap_or(f64::NAN);
-                let lon = f.longitude_deg.unwrap_or(f64::NAN);
-                start = f
-                    .utc
-                    .and_then(|t| UtcTime::from_unix_seconds(t.unix_seconds()).ok());
-                out.text(", fix ");
-                if let Some(t) = start.as_ref() {
-                    out.utc(t);
+                // The GPS position only when it is a plausible one; else the
+                // stored site. The decoder ran with a monotonic time of 0
+                // and the fix is taken at once, so its age is 0.
+                let time_cfg = TimeConfig::default();
+                match gps_time(&f, 0, &time_cfg) {
+                    GpsTime::Trusted(t) => start = Some(t),
+                    GpsTime::Implausible(t) => {
+                        time_rejected = true;
+                        out.text(", date ");
+                        out.utc(&t);
+                        out.text(" outside the firmware's 1024-week window (GPS week rollover): not trusted");
+                    }
+                    GpsTime::NoFix | GpsTime::Stale => {}
                 }
-                out.text(" lat=");
-                out.fixed(lat as f32, 4);
-                out.text(" lon=");
-                out.fixed(lon as f32, 4);
-                out.text("\n");
-                site = Site::new(lat, lon);
+                match site_from_fix(&f) {
+                    Some(s) => {
+                        out.text(", fix ");
+                        if let Some(t) = start.as_ref() {
+                            out.utc(t);
+                        }
+                        out.text(" lat=");
+                        out.fixed(s.latitude_deg() as f32, 4);
+                        out.text(" lon=");
+                        out.fixed(s.longitude_deg() as f32, 4);
+                        out.text("\n");
+                        site = Ok(s);
+                    }
+                    None => out.text(", no valid position -> stored site\n"),
+                }
             }
             None => out.text(", no fix -> stored site\n"),
+        }
+        if time_rejected {
+            // No RTC on this board: without a trusted time nothing tracks.
+            out.text("error: no trusted time (waiting for time); 0 tracking minutes\n");
+            debug::exit(debug::EXIT_FAILURE);
+            #[allow(clippy::empty_loop)]
+            loop {}
         }
         let start = start.or_else(track::sim_start);
         let status = match (site, start) {

@@ -51,6 +51,8 @@ pub struct MotorPlant {
     pub stalled: bool,
     /// Injected: the limit switch reads closed.
     pub switch_stuck: bool,
+    /// Injected: the limit switch never closes (broken wire).
+    pub switch_stuck_open: bool,
     /// Injected: the encoder does not answer.
     pub encoder_timeout: bool,
     /// Output travel, degrees.
@@ -90,6 +92,7 @@ impl MotorPlant {
             budget_s: 0.0,
             stalled: false,
             switch_stuck: false,
+            switch_stuck_open: false,
             encoder_timeout: false,
             travel_deg: 0.0,
         }
@@ -119,6 +122,7 @@ impl MotorPlant {
             budget_s: 0.0,
             stalled: false,
             switch_stuck: false,
+            switch_stuck_open: false,
             encoder_timeout: false,
             travel_deg: 0.0,
         }
@@ -200,7 +204,7 @@ impl MotorPlant {
 impl AxisDrive for MotorPlant {
     type Error = SimError;
     fn move_counts(&mut self, counts: i32) -> Result<(), SimError> {
-        self.pending += i64::from(counts);
+        self.pending = self.pending.saturating_add(i64::from(counts));
         self.run();
         Ok(())
     }
@@ -212,7 +216,7 @@ impl AxisDrive for MotorPlant {
         Ok(())
     }
     fn at_limit(&mut self) -> Result<bool, SimError> {
-        Ok(self.switch_stuck || self.output_deg <= self.switch_deg)
+        Ok(self.switch_stuck || (!self.switch_stuck_open && self.output_deg <= self.switch_deg))
     }
     fn encoder_deg(&mut self) -> Result<Option<f32>, SimError> {
         if self.encoder_timeout {
