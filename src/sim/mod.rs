@@ -2,4 +2,6 @@
 
 pub mod plant;
 pub mod rng;
+#[cfg(not(target_arch = "avr"))]
+pub mod rtc;
 pub mod sensors;
