@@ -6,4 +6,5 @@ pub mod plant;
 pub mod rng;
 #[cfg(not(target_arch = "avr"))]
 pub mod rtc;
+pub mod scenario;
 pub mod sensors;
