@@ -271,3 +271,156 @@ fn faults_are_raised_handled_and_cleared() {
     assert_eq!(ctl.faults().raised, ctl.faults().recovered);
     assert!(ctl.faults().raised >= 5);
 }
+
+// ------------------------------------------------ field incidents, replayed
+
+/// A tick with its own monotonic time `ms` and wall clock `now`.
+fn at_clock(ms: u64, now: UtcTime) -> TickInputs {
+    TickInputs {
+        now_ms: ms,
+        ..inputs(now)
+    }
+}
+
+#[test]
+fn a_gale_after_the_clock_steps_back_a_day_stows_within_one_tick() {
+    // Before: the wind hold ran on UTC. With the clock stepped back a day
+    // during a gale, the hold "began" a day in the future and the panel
+    // kept tracking for 24 hours at |α| ≈ 90°.
+    let truth = MountAttitude::level();
+    let mut ctl = controller(true, AttitudeSource::Fixed(truth), truth);
+    let now0 = t("2026-03-20T09:00:00Z");
+    let mut ms = 0u64;
+    for m in 0..5 {
+        ms += 60_000;
+        step(&mut ctl, &at_clock(ms, now0.add_seconds(m * 60).unwrap()));
+    }
+    assert_eq!(ctl.faults().active_count(), 0);
+    // The gale begins within a minute (counted 50 Hz over a 1-s window of
+    // a 1-s tick), then the RTC is corrected back by a day.
+    let mut gale = at_clock(ms + 1_000, now0.add_seconds(300).unwrap());
+    gale.wind_pulses = 50;
+    gale.wind_interval_ms = 1_000;
+    assert_eq!(step(&mut ctl, &gale).mode, Mode::Tracking);
+    let stepped = now0.add_seconds(300 - 86_400).unwrap();
+    for k in 2..=3u64 {
+        gale.now_ms = ms + k * 1_000;
+        gale.now = stepped.add_seconds(k as i64).unwrap();
+        let mode = step(&mut ctl, &gale).mode;
+        // Three seconds above 25 Hz: stowed at the third second.
+        assert_eq!(mode == Mode::WindStow, k == 3, "second {k}: {mode:?}");
+    }
+    // Calm from here; the wall clock jumps forward two days: the release
+    // still takes its 600 s on the monotonic clock, no more, no less.
+    let calm_from = ms + 3_000;
+    let jumped = now0.add_seconds(2 * 86_400).unwrap();
+    let mut released_after_s = None;
+    for s in 1..=700u64 {
+        let inp = TickInputs {
+            wind_pulses: 5,
+            wind_interval_ms: 1_000,
+            ..at_clock(calm_from + s * 1_000, jumped.add_seconds(s as i64).unwrap())
+        };
+        if step(&mut ctl, &inp).mode != Mode::WindStow {
+            released_after_s = Some(s);
+            break;
+        }
+    }
+    assert_eq!(released_after_s, Some(600));
+}
+
+#[test]
+fn a_time_outside_the_algorithm_range_stops_tracking_with_a_fault() {
+    // Before: after a forward jump out of psa-2020's range (2020–2050) the
+    // scheduler errored every minute, no fault was raised and the mode
+    // stayed Tracking on a frozen set-point all night.
+    let truth = MountAttitude::level();
+    let mut ctl = controller(true, AttitudeSource::Fixed(truth), truth);
+    let now0 = t("2026-03-20T09:00:00Z");
+    let mut ms = 0;
+    let mut tick = |ctl: &mut Ctl, now: UtcTime| {
+        ms += 60_000;
+        step(ctl, &at_clock(ms, now))
+    };
+    for m in 0..5 {
+        assert_ne!(
+            tick(&mut ctl, now0.add_seconds(m * 60).unwrap()).mode,
+            Mode::SafeStop
+        );
+    }
+    assert_eq!(
+        tick(&mut ctl, now0.add_seconds(300).unwrap()).mode,
+        Mode::Tracking
+    );
+    let far = t("2051-03-20T09:06:00Z");
+    for m in 0..30 {
+        let r = tick(&mut ctl, far.add_seconds(m * 60).unwrap());
+        assert_eq!(r.mode, Mode::WaitForTime, "minute {m}");
+        assert!(r.set_point.is_none());
+        assert!(ctl.faults().is_active(Fault::TimeOutOfRange));
+    }
+    // Before the range too (the week-rollover year 2006).
+    let early = t("2006-08-04T09:36:00Z");
+    let r = tick(&mut ctl, early);
+    assert_eq!(r.mode, Mode::WaitForTime);
+    // A correct time again: the fault clears and tracking resumes.
+    let back = now0.add_seconds(3600).unwrap();
+    let mut resumed = None;
+    for m in 0..5 {
+        if tick(&mut ctl, back.add_seconds(m * 60).unwrap()).mode == Mode::Tracking {
+            resumed = Some(m);
+            break;
+        }
+    }
+    assert!(resumed.is_some());
+    assert!(!ctl.faults().is_active(Fault::TimeOutOfRange));
+}
+
+#[test]
+fn a_limit_switch_stuck_closed_ends_in_a_safe_stop_within_soft_limits() {
+    // Before: homing backed off 15° per attempt, attempt after attempt,
+    // with no soft-limit check; the C axis ended at its hard stop (181°),
+    // the fault stayed at attempt 1 and the mode read Tracking while the
+    // axis was unhomed.
+    let truth = MountAttitude::level();
+    let mut ctl = controller(true, AttitudeSource::Fixed(truth), truth);
+    ctl.axes_mut()[0].drive_mut().switch_stuck = true;
+    let now0 = t("2026-03-20T09:00:00Z");
+    let limits = Config::default().axes;
+    let mut stop_at = None;
+    for m in 0..120i64 {
+        let now = now0.add_seconds(m * 60).unwrap();
+        let r = step(&mut ctl, &at_clock((m as u64 + 1) * 60_000, now));
+        let c = ctl.axes()[0].drive().output_deg();
+        assert!(
+            c <= f64::from(limits[0].max_deg) && c >= f64::from(limits[0].min_deg) - 1.0,
+            "C axis at {c}° at minute {m}"
+        );
+        let unhomed = ctl
+            .axes()
+            .iter()
+            .any(|a| a.home_state() != suntracker::axis::HomeState::Done);
+        assert!(!(unhomed && r.mode == Mode::Tracking), "minute {m}");
+        if r.mode == Mode::SafeStop {
+            stop_at.get_or_insert(m);
+        }
+    }
+    // Four failed attempts 10, 20 and 40 s of back-off apart (one-minute
+    // ticks): the safe stop comes within 5 minutes and holds.
+    let stop_at = stop_at.expect("no safe stop");
+    assert!(stop_at <= 5, "safe stop at minute {stop_at}");
+    let lim = ctl.faults().get(Fault::LimitSwitchHit(AxisId::C)).unwrap();
+    assert!(lim.attempts >= 4);
+    // The technician frees the switch and clears the stop: homed, tracking.
+    ctl.axes_mut()[0].drive_mut().switch_stuck = false;
+    ctl.reset_faults();
+    let mut tracking = None;
+    for m in 120..140i64 {
+        let now = now0.add_seconds(m * 60).unwrap();
+        if step(&mut ctl, &at_clock((m as u64 + 1) * 60_000, now)).mode == Mode::Tracking {
+            tracking = Some(m);
+            break;
+        }
+    }
+    assert!(tracking.is_some_and(|m| m <= 125), "{tracking:?}");
+}
