@@ -479,6 +479,16 @@ where
                 }
             }
         }
+        // A fault found while driving (a deviation, a limit switch) may
+        // have taken an axis's reference: that tick is no longer tracking.
+        let mode = if mode == Mode::Tracking
+            && self.axes.iter().any(|a| a.home_state() != HomeState::Done)
+        {
+            self.last_mode = Some(Mode::Homing);
+            Mode::Homing
+        } else {
+            mode
+        };
         TickReport {
             mode,
             target,
