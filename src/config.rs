@@ -105,6 +105,7 @@ pub mod ranges {
     /// above it (inside the range); homing drives negative onto it, and
     /// backs off a closed switch by at most `axis::HOMING_BACKOFF_MAX_DEG`
     /// (15°), which must get an axis resting at its lowest limit off it.
+    /// Never above `max_deg` either: homed, the axis is at the switch.
     pub const HOME_ABOVE_MIN_DEG: (f32, f32) = (-5.0, 10.0);
     /// Backlash, degrees: worm gears and slewing drives have 0.1–1°;
     /// beyond 5° counting the slack is meaningless.
@@ -180,7 +181,7 @@ pub struct AxisConfig {
     /// (`axis.c.max_deg`).
     pub max_deg: f32,
     /// Angle of the homing limit switch, degrees: `min_deg − 5`…`min_deg +
-    /// 10` (`axis.c.home_deg`). The switch is closed at and below this angle
+    /// 10` and at most `max_deg` (`axis.c.home_deg`). The switch is closed at and below this angle
     /// and homing drives negative onto it, so it sits at the low end of the
     /// travel; backing off a closed switch is limited to 15° in all, which
     /// must get an axis resting at its lowest limit off the switch.
@@ -318,9 +319,9 @@ impl AxisConfig {
         let (below, above) = r::HOME_ABOVE_MIN_DEG;
         check_f32(
             self.home_deg,
-            (self.min_deg + below, self.min_deg + above),
+            (self.min_deg + below, (self.min_deg + above).min(self.max_deg)),
             k.home_deg,
-            "min_deg − 5° … min_deg + 10°: the switch is at the low end of the travel",
+            "min_deg − 5° … min_deg + 10° and at most max_deg: the switch is at the low end of the travel",
         )?;
         check_f32(self.backlash_deg, r::BACKLASH_DEG, k.backlash_deg, "0…5°")?;
         check_f32(

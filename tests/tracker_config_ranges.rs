@@ -89,6 +89,10 @@ const OUT_OF_RANGE: &[(&str, Mutate)] = &[
     ("axis.c.home_deg", |c| c.axes[0].home_deg = -185.5),
     ("axis.c.home_deg", |c| c.axes[0].home_deg = -169.5),
     ("axis.a.home_deg", |c| c.axes[1].home_deg = 90.0),
+    ("axis.a.home_deg", |c| {
+        c.axes[1].max_deg = -85.0;
+        c.axes[1].home_deg = -84.0;
+    }),
     ("axis.a.backlash_deg", |c| c.axes[1].backlash_deg = -0.1),
     ("axis.a.backlash_deg", |c| c.axes[1].backlash_deg = 5.5),
     ("axis.c.max_speed_deg_s", |c| {
