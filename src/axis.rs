@@ -82,41 +82,147 @@ pub struct AxisReport {
     pub deviation_deg: Option<f32>,
 }
 
+/// Total back-off from a closed limit switch, degrees: homing never takes
+/// the counted position more than this above the lowest point homing took
+/// it to since the axis last had a reference, however many attempts. A
+/// stuck-closed switch thus costs 15° of motion once, not 15° per attempt.
+pub const HOMING_BACKOFF_MAX_DEG: f32 = 15.0;
+
+/// Margin of a homing seek below the lowest soft limit or the home angle,
+/// whichever is lower, degrees (the backlash is added): once the axis has
+/// had a reference, its counted position is a good estimate and a seek
+/// stops there instead of running a whole travel into the hard stop.
+pub const HOMING_SEEK_MARGIN_DEG: f32 = 5.0;
+
+/// Extra travel of a homing attempt beyond the soft-limit span, degrees
+/// (the backlash is added): an attempt takes the axis at most `max_deg −
+/// min_deg + 10° + backlash_deg` below where it started.
+pub const HOMING_SEEK_EXTRA_DEG: f32 = 10.0;
+
+/// Feedback is believed up to this far outside the soft limits, degrees;
+/// beyond, it is clamped before the count is re-anchored on it (an encoder
+/// glitch of 1e30° must not move the count out of every range).
+pub const FEEDBACK_MARGIN_DEG: f32 = 90.0;
+
+/// Counts per degree used when the configuration's are not finite or not
+/// positive.
+const FALLBACK_COUNTS_PER_DEG: f32 = 1.0;
+/// Counts per degree are clamped to this (see
+/// `config::ranges::COUNTS_PER_DEG`); below, the lowest value that keeps
+/// `counted_deg` meaningful for any `i64` count.
+const COUNTS_PER_DEG_CLAMP: (f32, f32) = (1e-3, 1e6);
+/// Angles of an invalid configuration are clamped to this, degrees.
+const ANGLE_CLAMP_DEG: f32 = 365.0;
+
+/// `v` when finite, else `fallback`; then into `lo..=hi` (max/min, no panic
+/// path).
+fn sane(v: f32, fallback: f32, lo: f32, hi: f32) -> f32 {
+    let v = if v.is_finite() { v } else { fallback };
+    v.max(lo).min(hi)
+}
+
+/// Angles and scale of an axis, made safe for the arithmetic whatever the
+/// configuration: finite, ordered, bounded. For a configuration that passes
+/// `Config::validate` they equal the configured values.
+#[derive(Debug, Clone, Copy)]
+struct Geometry {
+    counts_per_deg: f32,
+    min_deg: f32,
+    max_deg: f32,
+    home_deg: f32,
+    backlash_deg: f32,
+    deadband_deg: f32,
+}
+
+impl Geometry {
+    fn of(c: &AxisConfig) -> Self {
+        let cpd = c.counts_per_deg();
+        let counts_per_deg = if cpd.is_finite() && cpd > 0.0 {
+            cpd.max(COUNTS_PER_DEG_CLAMP.0).min(COUNTS_PER_DEG_CLAMP.1)
+        } else {
+            FALLBACK_COUNTS_PER_DEG
+        };
+        let a = sane(
+            c.min_deg,
+            -ANGLE_CLAMP_DEG,
+            -ANGLE_CLAMP_DEG,
+            ANGLE_CLAMP_DEG,
+        );
+        let b = sane(
+            c.max_deg,
+            ANGLE_CLAMP_DEG,
+            -ANGLE_CLAMP_DEG,
+            ANGLE_CLAMP_DEG,
+        );
+        let (min_deg, max_deg) = if a <= b { (a, b) } else { (b, a) };
+        Geometry {
+            counts_per_deg,
+            min_deg,
+            max_deg,
+            home_deg: sane(c.home_deg, min_deg, min_deg - 5.0, max_deg + 5.0),
+            backlash_deg: sane(c.backlash_deg, 0.0, 0.0, 5.0),
+            deadband_deg: sane(c.deadband_deg, 0.0, 0.0, 5.0),
+        }
+    }
+
+    /// `deg` in motor counts, truncated toward zero. `deg` is clamped to
+    /// ±4 × 365°, which no move of a sane geometry exceeds, so the result
+    /// is within ±1.5 × 10^9 counts; NaN gives 0.
+    fn counts(&self, deg: f32) -> i64 {
+        const LIMIT_DEG: f32 = 4.0 * ANGLE_CLAMP_DEG;
+        if deg.is_nan() {
+            return 0;
+        }
+        let c = deg.clamp(-LIMIT_DEG, LIMIT_DEG) * self.counts_per_deg;
+        // Constant bounds: clamp cannot panic. In range of i64 by the
+        // clamps; `as` saturates anyway.
+        c as i64
+    }
+}
+
 /// An axis under control.
 #[derive(Debug)]
 pub struct AxisController<D> {
     drive: D,
     config: AxisConfig,
-    counts_per_deg: f32,
-    /// Position in counts relative to the home switch, as commanded.
+    geo: Geometry,
+    /// Position in counts relative to the home switch, as commanded; while
+    /// not homed, counted on from the last reference (or from power-on).
     position_counts: i64,
     /// Direction of the last move: +1, −1 or 0 (unknown).
     last_dir: i8,
     home: HomeState,
-    seek_counts: i64,
+    /// Counted position at the start of this homing attempt.
+    attempt_start_counts: i64,
     /// Second, slow approach of homing.
     fine: bool,
+    /// The axis has been homed at least once: the counted position is an
+    /// estimate of the angle even while not homed.
+    referenced: bool,
+    /// Lowest counted position homing reached since the last reference
+    /// (`None` until homing starts); back-off stays within
+    /// [`HOMING_BACKOFF_MAX_DEG`] of it.
+    homing_low_counts: Option<i64>,
     /// Total counts commanded (motor travel).
     pub travel_counts: u64,
 }
 
 impl<D: AxisDrive> AxisController<D> {
-    /// An axis over `drive`; not homed yet.
+    /// An axis over `drive`; not homed yet. Any `config` is accepted; the
+    /// arithmetic stays in range even for one that fails
+    /// `Config::validate` (its values are then clamped).
     pub fn new(drive: D, config: AxisConfig) -> Self {
-        let cpd = config.counts_per_deg();
         AxisController {
             drive,
             config,
-            counts_per_deg: if cpd.is_finite() && cpd > 0.0 {
-                cpd
-            } else {
-                1.0
-            },
+            geo: Geometry::of(&config),
             position_counts: 0,
             last_dir: 0,
             home: HomeState::Idle,
-            seek_counts: 0,
+            attempt_start_counts: 0,
             fine: false,
+            referenced: false,
+            homing_low_counts: None,
             travel_counts: 0,
         }
     }
@@ -141,18 +247,34 @@ impl<D: AxisDrive> AxisController<D> {
         self.home
     }
 
-    /// Forgets the reference (after a fault): homing is needed again.
+    /// True once the axis has been homed: while not homed, the counted
+    /// position is then an estimate from that reference.
+    pub fn has_had_reference(&self) -> bool {
+        self.referenced
+    }
+
+    /// Forgets the reference (after a fault): homing is needed again. The
+    /// count goes on from the last reference, which bounds the homing
+    /// moves (see [`AxisController::home_step`]).
     pub fn unhome(&mut self) {
         self.home = HomeState::Idle;
     }
 
     /// The angle the step count says, degrees.
     pub fn counted_deg(&self) -> f32 {
-        self.config.home_deg + self.position_counts as f32 / self.counts_per_deg
+        self.geo.home_deg + self.position_counts as f32 / self.geo.counts_per_deg
     }
 
+    /// The counted position, motor counts from the home switch.
+    pub fn position_counts(&self) -> i64 {
+        self.position_counts
+    }
+
+    /// Commands `counts` (clamped to the `i32` range) and returns what was
+    /// commanded; the caller accounts the position.
     fn command(&mut self, counts: i64) -> Result<i32, AxisError<D::Error>> {
-        let c = i32::try_from(counts.clamp(i64::from(i32::MIN), i64::from(i32::MAX))).unwrap_or(0);
+        let c =
+            i32::try_from(counts.max(i64::from(i32::MIN)).min(i64::from(i32::MAX))).unwrap_or(0);
         if c != 0 {
             self.drive.move_counts(c).map_err(AxisError::Drive)?;
             self.travel_counts = self
@@ -162,9 +284,68 @@ impl<D: AxisDrive> AxisController<D> {
         Ok(c)
     }
 
+    /// Stops the drive and takes the counts it drops off the position.
+    fn stop(&mut self) -> Result<(), AxisError<D::Error>> {
+        let before = self.drive.pending();
+        self.drive.stop().map_err(AxisError::Drive)?;
+        // A ramped stop still runs `after` counts; the rest never will.
+        let after = self.drive.pending();
+        let dropped = i64::from(before).saturating_sub(i64::from(after));
+        self.position_counts = self.position_counts.saturating_sub(dropped);
+        Ok(())
+    }
+
+    fn note_low(&mut self) {
+        let p = self.position_counts;
+        self.homing_low_counts = Some(self.homing_low_counts.map_or(p, |l| l.min(p)));
+    }
+
+    /// Counts a back-off may still move up: within
+    /// [`HOMING_BACKOFF_MAX_DEG`] of the lowest point of homing and, with a
+    /// reference, not beyond `max_deg`.
+    fn backoff_room_counts(&self) -> i64 {
+        let low = self.homing_low_counts.unwrap_or(self.position_counts);
+        let mut ceiling = low.saturating_add(self.geo.counts(HOMING_BACKOFF_MAX_DEG));
+        if self.referenced {
+            ceiling = ceiling.min(self.geo.counts(self.geo.max_deg - self.geo.home_deg));
+        }
+        ceiling.saturating_sub(self.position_counts)
+    }
+
+    /// Counts a seek may still move down: the documented travel below the
+    /// position where the attempt started and, with a reference, not below the lower limit or home angle by
+    /// more than [`HOMING_SEEK_MARGIN_DEG`] + backlash.
+    fn seek_room_counts(&self) -> i64 {
+        let g = &self.geo;
+        let travel_deg = (g.max_deg - g.min_deg) + HOMING_SEEK_EXTRA_DEG + g.backlash_deg;
+        let below_start = self
+            .attempt_start_counts
+            .saturating_sub(self.position_counts);
+        let mut room = g.counts(travel_deg).saturating_sub(below_start);
+        if self.referenced {
+            let floor_deg = g.min_deg.min(g.home_deg) - HOMING_SEEK_MARGIN_DEG - g.backlash_deg;
+            let floor = g.counts(floor_deg - g.home_deg);
+            room = room.min(self.position_counts.saturating_sub(floor));
+        }
+        room
+    }
+
     /// One step of homing: drive toward the switch (negative direction) in
     /// chunks of `chunk_deg`; when the switch closes, stop and take the
     /// switch angle as the position. Call until it returns `Done`.
+    ///
+    /// Bounds on the motion:
+    /// - a switch closed at the start (or stuck closed) is backed away from
+    ///   by at most [`HOMING_BACKOFF_MAX_DEG`] above the lowest point homing
+    ///   reached since the last reference, over all attempts: a new attempt
+    ///   after [`AxisError::HomeNotFound`] does not back off again;
+    /// - an attempt takes the axis at most `max_deg − min_deg` +
+    ///   [`HOMING_SEEK_EXTRA_DEG`] + `backlash_deg` below where it started,
+    ///   then reports [`AxisError::HomeNotFound`];
+    /// - once the axis has had a reference, the counted position never goes
+    ///   above `max_deg` backing off, nor below the lower of `min_deg` and
+    ///   `home_deg` by more than [`HOMING_SEEK_MARGIN_DEG`] + `backlash_deg`
+    ///   seeking.
     pub fn home_step(&mut self, chunk_deg: f32) -> Result<HomeState, AxisError<D::Error>> {
         if !chunk_deg.is_finite() || chunk_deg <= 0.0 {
             return Err(AxisError::NotFinite);
@@ -173,6 +354,10 @@ impl<D: AxisDrive> AxisController<D> {
             return Ok(HomeState::Done);
         }
         let closed = self.drive.at_limit().map_err(AxisError::Drive)?;
+        let settled = self.drive.pending() == 0;
+        if settled && self.home != HomeState::BackingOff {
+            self.note_low();
+        }
         // Fast approach in `chunk_deg` steps, then back off and approach
         // again 50 times slower: the switch angle is known to chunk/50.
         let step_deg = if self.fine {
@@ -180,9 +365,11 @@ impl<D: AxisDrive> AxisController<D> {
         } else {
             chunk_deg
         };
+        let step_counts = self.geo.counts(step_deg).max(1);
         if self.home == HomeState::Idle {
-            self.seek_counts = 0;
+            self.attempt_start_counts = self.position_counts;
             self.fine = false;
+            self.note_low();
             // Approach the switch from the open side: a switch already
             // closed (or stuck) is first backed away from.
             self.home = if closed {
@@ -193,55 +380,59 @@ impl<D: AxisDrive> AxisController<D> {
         }
         if self.home == HomeState::BackingOff {
             if !closed {
-                self.drive.stop().map_err(AxisError::Drive)?;
+                self.stop()?;
                 self.home = HomeState::Seeking;
-                self.seek_counts = 0;
                 return Ok(HomeState::Seeking);
             }
-            if self.drive.pending() != 0 {
+            if !settled {
                 return Ok(HomeState::BackingOff);
             }
-            if self.seek_counts as f32 > 15.0 * self.counts_per_deg {
+            let room = self.backoff_room_counts();
+            if room <= 0 {
                 self.home = HomeState::Idle;
                 return Err(AxisError::HomeNotFound);
             }
-            let chunk = ((step_deg * self.counts_per_deg) as i64).max(1);
-            self.command(chunk)?;
-            self.seek_counts += chunk;
+            let c = self.command(step_counts.min(room))?;
+            self.position_counts = self.position_counts.saturating_add(i64::from(c));
+            self.last_dir = 1;
             return Ok(HomeState::BackingOff);
         }
         if closed && !self.fine {
-            self.drive.stop().map_err(AxisError::Drive)?;
+            self.stop()?;
+            self.note_low();
             self.fine = true;
-            self.seek_counts = 0;
             self.home = HomeState::BackingOff;
             return Ok(HomeState::BackingOff);
         }
         if closed {
-            self.drive.stop().map_err(AxisError::Drive)?;
+            self.stop()?;
             self.position_counts = 0;
             // Arrived moving negative: the gear's slack is taken up that way.
             self.last_dir = -1;
+            self.referenced = true;
+            self.homing_low_counts = None;
             self.home = HomeState::Done;
             return Ok(HomeState::Done);
         }
-        if self.drive.pending() != 0 {
+        if !settled {
             return Ok(HomeState::Seeking);
         }
-        let range = (self.config.max_deg - self.config.min_deg) + 10.0;
-        if (self.seek_counts as f32) > (range + self.config.backlash_deg) * self.counts_per_deg {
+        let room = self.seek_room_counts();
+        if room <= 0 {
             self.home = HomeState::Idle;
             return Err(AxisError::HomeNotFound);
         }
-        let chunk = -((step_deg * self.counts_per_deg) as i64).max(1);
-        self.command(chunk)?;
-        self.seek_counts += -chunk;
+        let c = self.command(-step_counts.min(room))?;
+        self.position_counts = self.position_counts.saturating_add(i64::from(c));
+        self.last_dir = -1;
         Ok(HomeState::Seeking)
     }
 
     /// Moves toward `target_deg` (clamped to the soft limits) and, per
     /// `mode`, uses `feedback_deg` (the axis angle from an encoder or from
-    /// attitude sensors).
+    /// attitude sensors). Feedback more than [`FEEDBACK_MARGIN_DEG`]
+    /// outside the soft limits is clamped before the count is re-anchored
+    /// on it; the reported deviation uses it as given.
     pub fn update(
         &mut self,
         target_deg: f32,
@@ -254,44 +445,49 @@ impl<D: AxisDrive> AxisController<D> {
         if !target_deg.is_finite() || feedback_deg.is_some_and(|f| !f.is_finite()) {
             return Err(AxisError::NotFinite);
         }
-        let lo = self.config.min_deg;
-        let hi = self.config.max_deg;
-        // max/min, not clamp: no panic path for a misordered config.
-        let t = target_deg.max(lo).min(hi);
+        let g = self.geo;
+        // max/min, not clamp: no panic path.
+        let t = target_deg.max(g.min_deg).min(g.max_deg);
         let clamped = t != target_deg;
         let deviation = feedback_deg.map(|f| f - t);
-        let goal_counts = match (mode, feedback_deg) {
-            (FeedbackMode::ClosedLoop, Some(fb)) => {
-                let err = t - fb;
-                if err.abs() <= self.config.deadband_deg {
-                    // Inside the deadband: trust the counted position.
-                    self.position_counts
-                } else {
-                    // Re-anchor the count on the measurement and correct; a
-                    // move still under way is dropped first, or its counts
-                    // would be commanded twice.
-                    if self.drive.pending() != 0 {
-                        self.drive.stop().map_err(AxisError::Drive)?;
-                    }
-                    let here = ((fb - self.config.home_deg) * self.counts_per_deg) as i64;
-                    self.position_counts = here;
-                    ((t - self.config.home_deg) * self.counts_per_deg) as i64
+        let goal_counts = g.counts(t - g.home_deg);
+        if let (FeedbackMode::ClosedLoop, Some(fb)) = (mode, feedback_deg) {
+            let fb = fb
+                .max(g.min_deg - FEEDBACK_MARGIN_DEG)
+                .min(g.max_deg + FEEDBACK_MARGIN_DEG);
+            if (t - fb).abs() > g.deadband_deg {
+                // Re-anchor the count on the measurement and correct; a
+                // move still under way is dropped first, or its counts
+                // would be commanded twice.
+                if self.drive.pending() != 0 {
+                    self.drive.stop().map_err(AxisError::Drive)?;
                 }
+                self.position_counts = g.counts(fb - g.home_deg);
+            } else {
+                // Inside the deadband: trust the counted position.
+                return Ok(AxisReport {
+                    target_deg: t,
+                    clamped,
+                    commanded_counts: 0,
+                    deviation_deg: deviation,
+                });
             }
-            _ => ((t - self.config.home_deg) * self.counts_per_deg) as i64,
-        };
-        let delta = goal_counts - self.position_counts;
+        }
+        let delta = goal_counts.saturating_sub(self.position_counts);
         let mut commanded = 0;
         if delta != 0 {
             let dir: i8 = if delta > 0 { 1 } else { -1 };
             // Backlash compensation: on reversal, take up the slack first.
             let take_up = if self.last_dir != 0 && dir != self.last_dir {
-                (self.config.backlash_deg * self.counts_per_deg) as i64 * i64::from(dir)
+                g.counts(g.backlash_deg).saturating_mul(i64::from(dir))
             } else {
                 0
             };
-            commanded = self.command(delta + take_up)?;
-            self.position_counts = goal_counts;
+            commanded = self.command(delta.saturating_add(take_up))?;
+            // The take-up only closes the slack; the rest moves the axis.
+            // Equal to `goal_counts` unless the command was clamped.
+            let moved = i64::from(commanded).saturating_sub(take_up);
+            self.position_counts = self.position_counts.saturating_add(moved);
             self.last_dir = dir;
         }
         Ok(AxisReport {

@@ -45,39 +45,229 @@ pub fn crc32(data: &[u8]) -> u32 {
     !crc
 }
 
+/// Which field of a [`Config`] is out of its range, and why.
+///
+/// `field` is a dotted key naming the field and its unit: `site.lat_deg`,
+/// `schedule.table_step_s`, `axis.c.gear_ratio` (the C axis is
+/// `Config::axes[0]`, the A axis `Config::axes[1]`), `wind.stow_hz`,
+/// `safety.max_retries`, `calibration.tilt_x_offset_deg`. `reason` states
+/// the range or rule that was broken.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct ConfigError {
+    /// Dotted key of the field, with its unit.
+    pub field: &'static str,
+    /// The range or rule the value breaks.
+    pub reason: &'static str,
+}
+
+/// The physical ranges of the configuration, as checked by
+/// [`Config::validate`]; each field's doc comment gives the reason.
+pub mod ranges {
+    /// Latitude, degrees: the geographic range.
+    pub const LAT_DEG: (f32, f32) = (-90.0, 90.0);
+    /// Longitude, degrees: the geographic range.
+    pub const LON_DEG: (f32, f32) = (-180.0, 180.0);
+    /// Elevation, metres: Dead Sea shore (−430 m) to above Everest.
+    pub const ELEVATION_M: (f32, f32) = (-500.0, 10_000.0);
+    /// Set-point table interval, seconds: one minute to half a day.
+    pub const TABLE_STEP_S: (u32, u32) = (60, 43_200);
+    /// Hold after a set-point, seconds: none to one hour.
+    pub const HOLD_S: (u32, u32) = (0, 3_600);
+    /// Re-check interval, seconds: one second to one hour.
+    pub const RECHECK_S: (u32, u32) = (1, 3_600);
+    /// Forward clock jump that re-plans, seconds: one second to one day.
+    pub const MAX_TICK_GAP_S: (u32, u32) = (1, 86_400);
+    /// Backward clock step that re-plans, seconds: none to one day.
+    pub const MAX_BACKWARD_S: (u32, u32) = (0, 86_400);
+    /// Full steps or encoder counts per motor revolution: 1 to 2^24 (a
+    /// 24-bit absolute encoder).
+    pub const COUNTS_PER_MOTOR_REV: (u32, u32) = (1, 16_777_216);
+    /// Microsteps per full step, as stepper drivers offer: 1 to 256.
+    pub const MICROSTEPS: (u16, u16) = (1, 256);
+    /// Gear ratio, motor revolutions per axis revolution: direct drive to a
+    /// worm plus planetary stack.
+    pub const GEAR_RATIO: (f32, f32) = (1.0, 10_000.0);
+    /// Motor counts per axis degree (derived: counts × microsteps × gear /
+    /// 360): a 1° resolution at least; at most 10^6, so that the largest
+    /// move of an axis ([`MAX_MOVE_DEG`] = 925°) is 9.25 × 10^8 counts,
+    /// under half of `i32::MAX` (2.1 × 10^9).
+    pub const COUNTS_PER_DEG: (f32, f32) = (1.0, 1_000_000.0);
+    /// The largest move of an axis, degrees: the widest soft-limit span
+    /// (720°), a home switch 5° below it, feedback believed up to
+    /// `axis::FEEDBACK_MARGIN_DEG` (90°) beyond either limit, and the
+    /// backlash take-up (5°), rounded up.
+    pub const MAX_MOVE_DEG: f32 = 925.0;
+    /// Soft limits, degrees: at most one turn either way (720° of cable
+    /// wrap in all).
+    pub const LIMIT_DEG: (f32, f32) = (-360.0, 360.0);
+    /// Home switch angle relative to `min_deg`, degrees: from 5° below the
+    /// lowest soft limit (a switch just outside the working range) to 10°
+    /// above it (inside the range); homing drives negative onto it, and
+    /// backs off a closed switch by at most `axis::HOMING_BACKOFF_MAX_DEG`
+    /// (15°), which must get an axis resting at its lowest limit off it.
+    /// Never above `max_deg` either: homed, the axis is at the switch.
+    pub const HOME_ABOVE_MIN_DEG: (f32, f32) = (-5.0, 10.0);
+    /// Backlash, degrees: worm gears and slewing drives have 0.1–1°;
+    /// beyond 5° counting the slack is meaningless.
+    pub const BACKLASH_DEG: (f32, f32) = (0.0, 5.0);
+    /// Highest axis speed, degrees per second: a slow slewing drive to a
+    /// 12-second sweep of a 360° span.
+    pub const MAX_SPEED_DEG_S: (f32, f32) = (0.01, 30.0);
+    /// Closed-loop deadband, degrees: none to 5° (cos 5° = 0.996, 0.4 %
+    /// of the direct beam); also below `safety.max_deviation_deg`.
+    pub const DEADBAND_DEG: (f32, f32) = (0.0, 5.0);
+    /// Anemometer pulse rate that means "too windy", Hz: a cup anemometer
+    /// gives 1–20 pulses per turn and turns at most ~30 times a second.
+    pub const STOW_HZ: (f32, f32) = (0.1, 1_000.0);
+    /// Seconds above the threshold before stowing: at once to 10 minutes.
+    pub const WIND_HOLD_S: (u32, u32) = (0, 600);
+    /// Seconds of calm before leaving stow: at once to one day.
+    pub const WIND_RELEASE_S: (u32, u32) = (0, 86_400);
+    /// Largest set-point deviation, degrees: above the attitude sensors'
+    /// noise (0.1°), below the 45° that would let a reversed axis pass.
+    pub const MAX_DEVIATION_DEG: (f32, f32) = (0.1, 45.0);
+    /// Seconds without encoder motion before "stalled": 1 s to 10 minutes.
+    pub const STALL_TIMEOUT_S: (u32, u32) = (1, 600);
+    /// Seconds without a sensor reading before "timeout": 1 s to one hour.
+    pub const SENSOR_TIMEOUT_S: (u32, u32) = (1, 3_600);
+    /// Retries before degrading: none to 20.
+    pub const MAX_RETRIES: (u8, u8) = (0, 20);
+    /// Magnetic declination and compass mounting offset, degrees: any
+    /// direction (declination reaches ±180° near the magnetic poles).
+    pub const HEADING_DEG: (f32, f32) = (-180.0, 180.0);
+    /// Inclinometer offsets, degrees: a sensor mounted more than 45° off
+    /// has its x and y axes swapped, not offset.
+    pub const TILT_OFFSET_DEG: (f32, f32) = (-45.0, 45.0);
+}
+
 /// The tracker's site.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct SiteConfig {
-    /// Latitude, degrees north.
+    /// Latitude, degrees north: −90…90 (`site.lat_deg`), the geographic
+    /// range.
     pub latitude_deg: f32,
-    /// Longitude, degrees east.
+    /// Longitude, degrees east: −180…180 (`site.lon_deg`), the geographic
+    /// range.
     pub longitude_deg: f32,
-    /// Elevation, metres.
+    /// Elevation, metres: −500…10,000 (`site.elevation_m`), from below the
+    /// Dead Sea shore (−430 m) to above Everest (8,849 m).
     pub elevation_m: f32,
 }
 
 /// Mechanics and limits of one axis.
+///
+/// Besides each field's range, the counts per degree derived from the
+/// first three ([`AxisConfig::counts_per_deg`], key `axis.c.counts_per_deg`)
+/// lie in 1…1,000,000: at least a 1° resolution, and the largest move of
+/// the axis (925°, [`ranges::MAX_MOVE_DEG`]) fits in under half of the
+/// `i32` motor counts, so that no axis arithmetic can overflow.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct AxisConfig {
     /// Motor full steps per motor revolution (stepper) or encoder counts per
-    /// motor revolution (servo).
+    /// motor revolution (servo): 1…16,777,216 (`axis.c.counts_per_motor_rev`);
+    /// steppers have 200 or 400 full steps, absolute encoders up to 24 bits.
     pub counts_per_motor_rev: u32,
-    /// Microsteps per full step (1 for a servo).
+    /// Microsteps per full step (1 for a servo): 1…256 (`axis.c.microsteps`),
+    /// what stepper drivers offer.
     pub microsteps: u16,
-    /// Gear ratio, motor revolutions per axis revolution.
+    /// Gear ratio, motor revolutions per axis revolution: 1…10,000
+    /// (`axis.c.gear_ratio`), from direct drive to a worm gear plus a
+    /// planetary stage.
     pub gear_ratio: f32,
-    /// Soft limit, lowest angle, degrees.
+    /// Soft limit, lowest angle, degrees: −360…360 and below `max_deg`
+    /// (`axis.c.min_deg`); at most one turn either way.
     pub min_deg: f32,
-    /// Soft limit, highest angle, degrees.
+    /// Soft limit, highest angle, degrees: −360…360 and above `min_deg`
+    /// (`axis.c.max_deg`).
     pub max_deg: f32,
-    /// Angle of the homing limit switch, degrees.
+    /// Angle of the homing limit switch, degrees: `min_deg − 5`…`min_deg +
+    /// 10` and at most `max_deg` (`axis.c.home_deg`). The switch is closed at and below this angle
+    /// and homing drives negative onto it, so it sits at the low end of the
+    /// travel; backing off a closed switch is limited to 15° in all, which
+    /// must get an axis resting at its lowest limit off the switch.
     pub home_deg: f32,
-    /// Backlash of the gear train, degrees.
+    /// Backlash of the gear train, degrees: 0…5 (`axis.c.backlash_deg`);
+    /// worm gears and slewing drives have 0.1–1°, beyond 5° counting the
+    /// slack is meaningless.
     pub backlash_deg: f32,
-    /// Highest axis speed, degrees per second.
+    /// Highest axis speed, degrees per second: 0.01…30
+    /// (`axis.c.max_speed_deg_s`), from a slow slewing drive to a sweep of
+    /// 360° in 12 s; a panel's inertia allows no more.
     pub max_speed_deg_s: f32,
-    /// Closed-loop deadband, degrees.
+    /// Closed-loop deadband, degrees: 0…5 (`axis.c.deadband_deg`; cos 5° =
+    /// 0.996, 0.4 % of the direct beam) and below
+    /// `safety.max_deviation_deg`, or a deviation fault would be raised for
+    /// an error the loop does not correct.
     pub deadband_deg: f32,
+}
+
+/// Dotted keys of one axis's fields (`axis.c.*` or `axis.a.*`).
+struct AxisKeys {
+    counts_per_motor_rev: &'static str,
+    microsteps: &'static str,
+    gear_ratio: &'static str,
+    counts_per_deg: &'static str,
+    min_deg: &'static str,
+    max_deg: &'static str,
+    home_deg: &'static str,
+    backlash_deg: &'static str,
+    max_speed_deg_s: &'static str,
+    deadband_deg: &'static str,
+}
+
+const AXIS_KEYS: [AxisKeys; 2] = [
+    AxisKeys {
+        counts_per_motor_rev: "axis.c.counts_per_motor_rev",
+        microsteps: "axis.c.microsteps",
+        gear_ratio: "axis.c.gear_ratio",
+        counts_per_deg: "axis.c.counts_per_deg",
+        min_deg: "axis.c.min_deg",
+        max_deg: "axis.c.max_deg",
+        home_deg: "axis.c.home_deg",
+        backlash_deg: "axis.c.backlash_deg",
+        max_speed_deg_s: "axis.c.max_speed_deg_s",
+        deadband_deg: "axis.c.deadband_deg",
+    },
+    AxisKeys {
+        counts_per_motor_rev: "axis.a.counts_per_motor_rev",
+        microsteps: "axis.a.microsteps",
+        gear_ratio: "axis.a.gear_ratio",
+        counts_per_deg: "axis.a.counts_per_deg",
+        min_deg: "axis.a.min_deg",
+        max_deg: "axis.a.max_deg",
+        home_deg: "axis.a.home_deg",
+        backlash_deg: "axis.a.backlash_deg",
+        max_speed_deg_s: "axis.a.max_speed_deg_s",
+        deadband_deg: "axis.a.deadband_deg",
+    },
+];
+
+/// `Err` naming `field` unless `v` is finite and inside `lo..=hi`.
+fn check_f32(
+    v: f32,
+    (lo, hi): (f32, f32),
+    field: &'static str,
+    reason: &'static str,
+) -> Result<(), ConfigError> {
+    if v.is_finite() && v >= lo && v <= hi {
+        Ok(())
+    } else {
+        Err(ConfigError { field, reason })
+    }
+}
+
+/// `Err` naming `field` unless `v` is inside `lo..=hi`.
+fn check_int<T: PartialOrd>(
+    v: T,
+    (lo, hi): (T, T),
+    field: &'static str,
+    reason: &'static str,
+) -> Result<(), ConfigError> {
+    if v >= lo && v <= hi {
+        Ok(())
+    } else {
+        Err(ConfigError { field, reason })
+    }
 }
 
 impl AxisConfig {
@@ -86,67 +276,116 @@ impl AxisConfig {
         self.counts_per_motor_rev as f32 * f32::from(self.microsteps) * self.gear_ratio / 360.0
     }
 
-    fn is_valid(&self) -> bool {
-        let finite = [
+    /// Checks every field against its range; `axis` 0 is the C axis (keys
+    /// `axis.c.*`), any other the A axis (`axis.a.*`). The deadband's
+    /// relation to `safety.max_deviation_deg` is checked by
+    /// [`Config::validate`].
+    pub fn validate(&self, axis: usize) -> Result<(), ConfigError> {
+        use ranges as r;
+        let [keys_c, keys_a] = &AXIS_KEYS;
+        let k = if axis == 0 { keys_c } else { keys_a };
+        check_int(
+            self.counts_per_motor_rev,
+            r::COUNTS_PER_MOTOR_REV,
+            k.counts_per_motor_rev,
+            "1…16,777,216 full steps or encoder counts per motor revolution",
+        )?;
+        check_int(
+            self.microsteps,
+            r::MICROSTEPS,
+            k.microsteps,
+            "1…256 microsteps per full step",
+        )?;
+        check_f32(
             self.gear_ratio,
-            self.min_deg,
-            self.max_deg,
+            r::GEAR_RATIO,
+            k.gear_ratio,
+            "1…10,000 motor revolutions per axis revolution",
+        )?;
+        check_f32(
+            self.counts_per_deg(),
+            r::COUNTS_PER_DEG,
+            k.counts_per_deg,
+            "counts × microsteps × gear / 360 must be 1…1,000,000 counts per degree",
+        )?;
+        check_f32(self.min_deg, r::LIMIT_DEG, k.min_deg, "−360…360°")?;
+        check_f32(self.max_deg, r::LIMIT_DEG, k.max_deg, "−360…360°")?;
+        if self.max_deg <= self.min_deg {
+            return Err(ConfigError {
+                field: k.max_deg,
+                reason: "must be above min_deg",
+            });
+        }
+        let (below, above) = r::HOME_ABOVE_MIN_DEG;
+        check_f32(
             self.home_deg,
-            self.backlash_deg,
+            (self.min_deg + below, (self.min_deg + above).min(self.max_deg)),
+            k.home_deg,
+            "min_deg − 5° … min_deg + 10° and at most max_deg: the switch is at the low end of the travel",
+        )?;
+        check_f32(self.backlash_deg, r::BACKLASH_DEG, k.backlash_deg, "0…5°")?;
+        check_f32(
             self.max_speed_deg_s,
-            self.deadband_deg,
-        ]
-        .iter()
-        .all(|v| v.is_finite());
-        finite
-            && self.counts_per_motor_rev > 0
-            && self.microsteps > 0
-            && self.gear_ratio > 0.0
-            && self.min_deg < self.max_deg
-            && self.min_deg >= -360.0
-            && self.max_deg <= 360.0
-            && self.home_deg >= self.min_deg - 5.0
-            && self.home_deg <= self.max_deg + 5.0
-            && (0.0..=10.0).contains(&self.backlash_deg)
-            && self.max_speed_deg_s > 0.0
-            && (0.0..=10.0).contains(&self.deadband_deg)
+            r::MAX_SPEED_DEG_S,
+            k.max_speed_deg_s,
+            "0.01…30°/s",
+        )?;
+        check_f32(self.deadband_deg, r::DEADBAND_DEG, k.deadband_deg, "0…5°")
     }
 }
 
 /// Wind stow (anemometer pulse rate).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct WindConfig {
-    /// Pulse rate that means "too windy", Hz.
+    /// Pulse rate that means "too windy", Hz: 0.1…1,000 (`wind.stow_hz`); a
+    /// cup anemometer gives 1–20 pulses per turn and turns at most ~30
+    /// times a second.
     pub threshold_hz: f32,
-    /// Seconds above the threshold before stowing.
+    /// Seconds above the threshold before stowing: 0…600 (`wind.hold_s`);
+    /// at once up to 10 minutes (a gust front arrives within minutes).
     pub hold_s: u32,
-    /// Seconds of calm (below the threshold) before leaving stow.
+    /// Seconds of calm (below the threshold) before leaving stow: 0…86,400
+    /// (`wind.release_s`), at once up to one day.
     pub release_s: u32,
 }
 
 /// Fault thresholds.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct SafetyConfig {
-    /// Largest allowed difference between set-point and feedback, degrees.
+    /// Largest allowed difference between set-point and feedback, degrees:
+    /// 0.1…45 (`safety.max_deviation_deg`); above the attitude sensors'
+    /// noise, below the 45° that would let a reversed axis pass.
     pub max_deviation_deg: f32,
-    /// Seconds a driven axis may show no encoder motion before "stalled".
+    /// Seconds a driven axis may show no encoder motion before "stalled":
+    /// 1…600 (`safety.stall_timeout_s`); a slow slewing drive shows motion
+    /// within a second, and 10 minutes of a stalled motor overheats it.
     pub stall_timeout_s: u32,
-    /// Seconds without a sensor reading before "timeout".
+    /// Seconds without a sensor reading before "timeout": 1…3,600
+    /// (`safety.sensor_timeout_s`); sensors answer within a second, and the
+    /// sun moves 15° an hour.
     pub sensor_timeout_s: u32,
-    /// Retries of a failed operation before degrading.
+    /// Retries of a failed operation before degrading: 0…20
+    /// (`safety.max_retries`); more keeps a failing part in use too long.
     pub max_retries: u8,
 }
 
 /// Sensor calibration offsets.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Calibration {
-    /// Magnetic declination, degrees east (true = magnetic + declination).
+    /// Magnetic declination, degrees east (true = magnetic + declination):
+    /// −180…180 (`calibration.declination_deg`); any direction near the
+    /// magnetic poles.
     pub declination_deg: f32,
-    /// Compass mounting offset, degrees.
+    /// Compass mounting offset, degrees: −180…180
+    /// (`calibration.heading_offset_deg`); the compass may be mounted in any
+    /// direction.
     pub heading_offset_deg: f32,
-    /// Inclinometer x offset, degrees.
+    /// Inclinometer x offset, degrees: −45…45
+    /// (`calibration.tilt_x_offset_deg`); a sensor more than 45° off has its
+    /// axes swapped, not offset.
     pub tilt_x_offset_deg: f32,
-    /// Inclinometer y offset, degrees.
+    /// Inclinometer y offset, degrees: −45…45
+    /// (`calibration.tilt_y_offset_deg`), as x.
     pub tilt_y_offset_deg: f32,
 }
 
@@ -155,9 +394,18 @@ pub struct Calibration {
 pub struct Config {
     /// Site (used until GPS gives one).
     pub site: SiteConfig,
-    /// Scheduler intervals.
+    /// Scheduler intervals, with these ranges (checked by
+    /// [`Config::validate`]):
+    ///
+    /// | key | range | why |
+    /// |---|---|---|
+    /// | `schedule.table_step_s` | 60…43,200, whole minutes dividing 86,400 | the table is in whole minutes from UTC midnight; at least two entries a day |
+    /// | `schedule.hold_s` | 0…3,600 | the sun moves 15° an hour |
+    /// | `schedule.recheck_s` | 1…3,600 | zero would never advance; as hold |
+    /// | `schedule.max_tick_gap_s` | 1…86,400 | a gap of a day or more is always a clock jump |
+    /// | `schedule.max_backward_s` | 0…86,400 | as the gap |
     pub schedule: ScheduleConfig,
-    /// C axis (vertical at home), then A axis.
+    /// C axis (vertical at home, keys `axis.c.*`), then A axis (`axis.a.*`).
     pub axes: [AxisConfig; 2],
     /// Wind stow.
     pub wind: WindConfig,
@@ -399,43 +647,124 @@ impl Config {
         cfg.is_valid().then_some(cfg)
     }
 
-    /// Every value inside its range.
+    /// Every value inside its range: `validate().is_ok()`.
     pub fn is_valid(&self) -> bool {
+        self.validate().is_ok()
+    }
+
+    /// Checks every field against its documented range (see [`ranges`] and
+    /// the fields' doc comments) and the rules between fields; the first
+    /// field out of range is named in the error. For every configuration
+    /// that passes, the axis arithmetic cannot overflow (see
+    /// [`ranges::COUNTS_PER_DEG`]).
+    pub fn validate(&self) -> Result<(), ConfigError> {
+        use ranges as r;
         let s = &self.site;
-        let site_ok = s.latitude_deg.is_finite()
-            && s.longitude_deg.is_finite()
-            && s.elevation_m.is_finite()
-            && s.latitude_deg.abs() <= 90.0
-            && s.longitude_deg.abs() <= 180.0
-            && (-500.0..=10_000.0).contains(&s.elevation_m);
+        check_f32(s.latitude_deg, r::LAT_DEG, "site.lat_deg", "−90…90°")?;
+        check_f32(s.longitude_deg, r::LON_DEG, "site.lon_deg", "−180…180°")?;
+        check_f32(
+            s.elevation_m,
+            r::ELEVATION_M,
+            "site.elevation_m",
+            "−500…10,000 m",
+        )?;
         let sc = &self.schedule;
-        let sched_ok = sc.table_step_s > 0
-            && sc.table_step_s.is_multiple_of(60)
-            && 86_400 % sc.table_step_s == 0
-            && sc.recheck_s > 0
-            && sc.max_tick_gap_s > 0;
+        check_int(
+            sc.table_step_s,
+            r::TABLE_STEP_S,
+            "schedule.table_step_s",
+            "60…43,200 s",
+        )?;
+        if !sc.table_step_s.is_multiple_of(60) || 86_400 % sc.table_step_s != 0 {
+            return Err(ConfigError {
+                field: "schedule.table_step_s",
+                reason: "whole minutes dividing a day (86,400 s)",
+            });
+        }
+        check_int(sc.hold_s, r::HOLD_S, "schedule.hold_s", "0…3,600 s")?;
+        check_int(
+            sc.recheck_s,
+            r::RECHECK_S,
+            "schedule.recheck_s",
+            "1…3,600 s",
+        )?;
+        check_int(
+            sc.max_tick_gap_s,
+            r::MAX_TICK_GAP_S,
+            "schedule.max_tick_gap_s",
+            "1…86,400 s",
+        )?;
+        check_int(
+            sc.max_backward_s,
+            r::MAX_BACKWARD_S,
+            "schedule.max_backward_s",
+            "0…86,400 s",
+        )?;
+        for (i, a) in self.axes.iter().enumerate() {
+            a.validate(i)?;
+        }
         let w = &self.wind;
-        let wind_ok = w.threshold_hz.is_finite() && w.threshold_hz > 0.0;
+        check_f32(w.threshold_hz, r::STOW_HZ, "wind.stow_hz", "0.1…1,000 Hz")?;
+        check_int(w.hold_s, r::WIND_HOLD_S, "wind.hold_s", "0…600 s")?;
+        check_int(
+            w.release_s,
+            r::WIND_RELEASE_S,
+            "wind.release_s",
+            "0…86,400 s",
+        )?;
         let sf = &self.safety;
-        let safety_ok = sf.max_deviation_deg.is_finite()
-            && sf.max_deviation_deg > 0.0
-            && sf.stall_timeout_s > 0
-            && sf.sensor_timeout_s > 0;
+        check_f32(
+            sf.max_deviation_deg,
+            r::MAX_DEVIATION_DEG,
+            "safety.max_deviation_deg",
+            "0.1…45°",
+        )?;
+        check_int(
+            sf.stall_timeout_s,
+            r::STALL_TIMEOUT_S,
+            "safety.stall_timeout_s",
+            "1…600 s",
+        )?;
+        check_int(
+            sf.sensor_timeout_s,
+            r::SENSOR_TIMEOUT_S,
+            "safety.sensor_timeout_s",
+            "1…3,600 s",
+        )?;
+        check_int(sf.max_retries, r::MAX_RETRIES, "safety.max_retries", "0…20")?;
+        for (a, k) in self.axes.iter().zip(AXIS_KEYS.iter()) {
+            if a.deadband_deg >= sf.max_deviation_deg {
+                return Err(ConfigError {
+                    field: k.deadband_deg,
+                    reason: "must be below safety.max_deviation_deg",
+                });
+            }
+        }
         let c = &self.calibration;
-        let cal_ok = [
+        check_f32(
             c.declination_deg,
+            r::HEADING_DEG,
+            "calibration.declination_deg",
+            "−180…180°",
+        )?;
+        check_f32(
             c.heading_offset_deg,
+            r::HEADING_DEG,
+            "calibration.heading_offset_deg",
+            "−180…180°",
+        )?;
+        check_f32(
             c.tilt_x_offset_deg,
+            r::TILT_OFFSET_DEG,
+            "calibration.tilt_x_offset_deg",
+            "−45…45°",
+        )?;
+        check_f32(
             c.tilt_y_offset_deg,
-        ]
-        .iter()
-        .all(|v| v.is_finite() && v.abs() <= 180.0);
-        site_ok
-            && sched_ok
-            && self.axes.iter().all(AxisConfig::is_valid)
-            && wind_ok
-            && safety_ok
-            && cal_ok
+            r::TILT_OFFSET_DEG,
+            "calibration.tilt_y_offset_deg",
+            "−45…45°",
+        )
     }
 }
 
