@@ -419,6 +419,12 @@ impl<D: AxisDrive> AxisController<D> {
         }
         let room = self.seek_room_counts();
         if room <= 0 {
+            // A referenced axis that reaches its floor without closing the
+            // switch was not where it counted (steps lost while stalled):
+            // the count is no reference any more, and the next attempt runs
+            // the whole travel instead of stopping at the same wrong floor
+            // for ever.
+            self.referenced = false;
             self.home = HomeState::Idle;
             return Err(AxisError::HomeNotFound);
         }
