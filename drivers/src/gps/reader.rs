@@ -20,9 +20,11 @@ pub struct GpsStats {
     pub accepted: u32,
     /// Checksum wrong.
     pub rejected_checksum: u32,
-    /// Any other rejection (framing, overflow, non-ASCII, unparseable GGA/RMC).
+    /// Any other rejection (framing, overflow, non-ASCII, a GGA/RMC that is
+    /// unparseable or has impossible content).
     pub rejected_other: u32,
-    /// The part of `rejected_other` that framed well but failed to parse.
+    /// The part of `rejected_other` that framed well but failed to parse or
+    /// had impossible content.
     pub parse_errors: u32,
     /// The assembler's detailed counters.
     pub framing: AssemblerStats,
