@@ -15,7 +15,7 @@
 
 use crate::attitude::{sun_vector_xyz, MountAttitude, Pose, PoseLimits};
 use crate::axis::{AxisController, AxisDrive, AxisError, FeedbackMode, HomeState};
-use crate::config::Config;
+use crate::config::{Config, ConfigError};
 use crate::safety::{
     select_mode, AxisId, Fault, FaultManager, Mode, ModeInputs, Recovery, Sensor, WindMonitor,
 };
@@ -70,6 +70,15 @@ impl Default for ControllerOptions {
             probe_every_ticks: 10,
         }
     }
+}
+
+/// Why a controller could not be built.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum ControllerError {
+    /// A configuration value is out of its range (the field is named).
+    Config(ConfigError),
+    /// The scheduler refused its intervals or table capacity.
+    Schedule(ScheduleError),
 }
 
 /// Inputs of one tick besides the devices the controller owns.
@@ -164,14 +173,18 @@ where
     S: AttitudeSensor<f64>,
 {
     /// A controller at power-on. `axes` are the C axis then the A axis.
+    /// A configuration with a value outside its range is refused, naming
+    /// the field: the axis arithmetic is proven only over the valid ranges.
     pub fn new(
         config: Config,
         options: ControllerOptions,
         source: P,
         axes: [D; 2],
         sensors: Option<S>,
-    ) -> Result<Self, ScheduleError> {
-        let scheduler = Scheduler::new(config.schedule, source)?;
+    ) -> Result<Self, ControllerError> {
+        config.validate().map_err(ControllerError::Config)?;
+        let scheduler =
+            Scheduler::new(config.schedule, source).map_err(ControllerError::Schedule)?;
         let [dc, da] = axes;
         let attitude = match options.attitude {
             AttitudeSource::Fixed(m) => m,

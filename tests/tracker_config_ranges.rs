@@ -230,3 +230,31 @@ fn ends_of_every_range_validate() {
         assert_eq!(Config::decode(&buf[..n]), Some(c), "extreme {i}");
     }
 }
+
+#[test]
+fn the_controller_refuses_a_configuration_out_of_range() {
+    use suntracker::controller::{Controller, ControllerError, ControllerOptions};
+    use suntracker::sim::plant::MotorPlant;
+    use suntracker::sim::sensors::MountSensors;
+    use suntracker::traits::AlgorithmSource;
+    let mut config = Config::default();
+    config.axes[0].gear_ratio = 1e30;
+    let source = AlgorithmSource {
+        algorithm: sun_algos::Algorithm::Psa2020,
+        site: sun_algos::Site::new(11.9683, 8.4261).unwrap(),
+        options: sun_algos::Options::default(),
+    };
+    let plant = || MotorPlant::stepper(1.8, 16, 100.0, 0.2, 2.0, None, -90.0, 90.0, 0.0);
+    let r: Result<Controller<_, _, MountSensors, 361>, _> = Controller::new(
+        config,
+        ControllerOptions::default(),
+        source,
+        [plant(), plant()],
+        None,
+    );
+    match r {
+        Err(ControllerError::Config(e)) => assert_eq!(e.field, "axis.c.gear_ratio"),
+        Err(e) => panic!("{e:?}"),
+        Ok(_) => panic!("accepted a gear ratio of 1e30"),
+    }
+}
