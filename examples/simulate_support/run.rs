@@ -401,6 +401,10 @@ fn simulate(args: &[String], out: &mut dyn Write, err: &mut dyn Write) -> Result
     let mut next_event = 0usize;
     let mut row = String::with_capacity(256);
     let mut buf = [0u8; EPOCH_BUF_LEN];
+    // The wind over the minute before the tick: the anemometer pulses
+    // counted at tick m are those of minutes m-1..m, so a wind that starts
+    // at minute m is first counted at tick m + 1.
+    let mut counted_hz: Option<f64> = None;
     for m in 0..minutes {
         let now = args
             .start
@@ -562,7 +566,9 @@ fn simulate(args: &[String], out: &mut dyn Write, err: &mut dyn Write) -> Result
                     .and_then(|s| UtcTime::from_unix_seconds(s).ok())
             })
             .unwrap_or(args.start);
-        let inputs = status.tick_inputs(now_ms, fallback, pulses_per_minute(wind_hz), 60_000);
+        let pulses = pulses_per_minute(counted_hz.unwrap_or(wind_hz));
+        counted_hz = Some(wind_hz);
+        let inputs = status.tick_inputs(now_ms, fallback, pulses, 60_000);
         let report = ctl.tick(&inputs);
 
         if std::env::var_os("SIM_DEBUG").is_some() && ctl.faults().raised != last_raised {
