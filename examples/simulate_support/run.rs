@@ -1,0 +1,775 @@
+//! The `simulate` tool: arguments, the simulated world (plants, sensors,
+//! RTC, GPS receiver, wind), the scenario and fault events, the trace and
+//! the summary. `examples/simulate.rs` calls [`run`]; so does
+//! `tests/simulate_scenarios.rs`.
+
+use std::cell::Cell;
+use std::fmt::Write as _;
+use std::fs::File;
+use std::io::{BufWriter, Write};
+
+use drivers::gps::GpsDecoder;
+use sun_algos::geometry::irradiance::clear_sky_beam_normal_w_m2;
+use sun_algos::{Algorithm, Options, Site, UtcTime};
+use suntracker::attitude::{angle_between_deg, sun_vector_xyz, MountAttitude, Pose};
+use suntracker::axis::FeedbackMode;
+use suntracker::clock::DateWindow;
+use suntracker::config::{Config, ConfigStore, MemStorage};
+use suntracker::controller::{AttitudeSource, Controller, ControllerOptions};
+use suntracker::safety::Mode;
+use suntracker::sim::gps::{GpsReceiverModel, EPOCH_BUF_LEN};
+use suntracker::sim::plant::MotorPlant;
+use suntracker::sim::rng::SplitMix64;
+use suntracker::sim::rtc::SimRtc;
+use suntracker::sim::scenario::{parse_all, Command, Event, RtcState, SwitchState};
+use suntracker::sim::sensors::{Anemometer, MountSensors, SensorAccuracy};
+use suntracker::sources::{
+    follow_gps_site, site_from_config, SharedSiteSource, TimeConfig, TimeKeeper,
+};
+use suntracker::traits::{AlgorithmSource, PositionSource};
+
+use super::schedule::{self, Action, Kind, Timed, Window};
+
+/// The header of `--trace`.
+pub const TRACE_HEADER: &str = "minute,utc,mode,homing,faults,target_c_deg,target_a_deg,axis_c_deg,axis_a_deg,sun_zenith_deg,sun_azimuth_deg,pointing_error_deg,wind_hz";
+
+pub const USAGE: &str = "\
+usage: simulate [--lat DEG] [--lon DEG] [--start YYYY-MM-DD] [--days N]
+                [--drive stepper|servo] [--feedback encoder|sensors]
+                [--mount level|portable] [--faults] [--seed N]
+                [--scenario FILE] [--trace OUT.csv]
+
+Defaults: Kano (11.9683, 8.4261), 2026-01-01, 1 day, stepper, encoder, level.
+Every minute the GPS receiver model writes an NMEA epoch that goes through
+the GPS decoder and the time keeper (over a simulated RTC) to the
+controller. A run starting before 2026-01-01 (the firmware's date floor)
+uses a date window starting on the run's first day, so that its dates are
+trusted; a run outside psa-2020's 2020-2050 lets the algorithm extrapolate.
+--scenario FILE replays timed events (see suntracker::sim::scenario);
+--trace OUT.csv writes one row per minute.";
+
+/// Wind speed of the calm default and of a random gale, m/s.
+const CALM_M_S: f64 = 4.0;
+const GALE_M_S: f64 = 22.0;
+/// Fix stale after this long in the decoder (as on the Black Pill board).
+const GPS_STALE_MS: u64 = 10_000;
+/// The site follows GPS when it moved more than this.
+const SITE_MIN_MOVE_DEG: f64 = 0.01;
+/// Technician visits: at this local solar time (minutes after midnight).
+const TECHNICIAN_MINUTE_OF_DAY: i64 = 8 * 60;
+
+#[derive(Debug, Clone, Copy, PartialEq)]
+enum Drive {
+    Stepper,
+    Servo,
+}
+
+#[derive(Debug, Clone)]
+pub struct Args {
+    lat: f64,
+    lon: f64,
+    start: UtcTime,
+    days: u32,
+    drive: Drive,
+    encoder: bool,
+    portable: bool,
+    faults: bool,
+    seed: u64,
+    scenario: Option<String>,
+    trace: Option<String>,
+}
+
+pub fn parse_args(args: &[String]) -> Result<Args, String> {
+    let mut a = Args {
+        lat: 11.9683,
+        lon: 8.4261,
+        start: UtcTime::from_ymd_hms(2026, 1, 1, 0, 0, 0).map_err(|e| e.to_string())?,
+        days: 1,
+        drive: Drive::Stepper,
+        encoder: true,
+        portable: false,
+        faults: false,
+        seed: 1,
+        scenario: None,
+        trace: None,
+    };
+    let mut it = args.iter();
+    while let Some(k) = it.next() {
+        let mut val = || {
+            it.next()
+                .cloned()
+                .ok_or_else(|| format!("{k} needs a value"))
+        };
+        match k.as_str() {
+            "--lat" => a.lat = val()?.parse().map_err(|_| "bad --lat")?,
+            "--lon" => a.lon = val()?.parse().map_err(|_| "bad --lon")?,
+            "--start" => {
+                a.start = format!("{}T00:00:00Z", val()?)
+                    .parse()
+                    .map_err(|_| "bad --start (YYYY-MM-DD)")?
+            }
+            "--days" => a.days = val()?.parse().map_err(|_| "bad --days")?,
+            "--drive" => {
+                a.drive = match val()?.as_str() {
+                    "stepper" => Drive::Stepper,
+                    "servo" => Drive::Servo,
+                    _ => return Err("--drive stepper|servo".into()),
+                }
+            }
+            "--feedback" => {
+                a.encoder = match val()?.as_str() {
+                    "encoder" => true,
+                    "sensors" => false,
+                    _ => return Err("--feedback encoder|sensors".into()),
+                }
+            }
+            "--mount" => {
+                a.portable = match val()?.as_str() {
+                    "level" => false,
+                    "portable" => true,
+                    _ => return Err("--mount level|portable".into()),
+                }
+            }
+            "--faults" => a.faults = true,
+            "--seed" => a.seed = val()?.parse().map_err(|_| "bad --seed")?,
+            "--scenario" => a.scenario = Some(val()?),
+            "--trace" => a.trace = Some(val()?),
+            "--help" | "-h" => return Err(USAGE.into()),
+            _ => return Err(format!("unknown argument {k}\n{USAGE}")),
+        }
+    }
+    if a.days == 0 || a.days > 3660 {
+        return Err("--days 1..3660".into());
+    }
+    Site::new(a.lat, a.lon).map_err(|e| e.to_string())?;
+    Ok(a)
+}
+
+/// Reads and parses a scenario file; every bad line is reported.
+pub fn load_scenario(path: &str) -> Result<Vec<Timed>, String> {
+    let text = std::fs::read_to_string(path).map_err(|e| format!("{path}: {e}"))?;
+    let mut events = Vec::new();
+    let mut errors = Vec::new();
+    for item in parse_all(&text) {
+        match item {
+            Ok(l) => events.push(Timed {
+                minute: l.minute,
+                action: Action::Event(l.event),
+            }),
+            Err((_, e)) => errors.push(format!("{path}: {e}")),
+        }
+    }
+    if errors.is_empty() {
+        Ok(events)
+    } else {
+        Err(errors.join("\n"))
+    }
+}
+
+fn percentile(sorted: &[f64], p: f64) -> f64 {
+    if sorted.is_empty() {
+        return 0.0;
+    }
+    let i = ((sorted.len() - 1) as f64 * p).round() as usize;
+    sorted[i.min(sorted.len() - 1)]
+}
+
+/// Pulses counted in one minute at `hz`.
+fn pulses_per_minute(hz: f64) -> u32 {
+    let p = (hz.max(0.0) * 60.0).round();
+    if p.is_finite() && p < f64::from(u32::MAX) {
+        p as u32
+    } else {
+        u32::MAX
+    }
+}
+
+/// ISO 8601 to the second.
+fn iso(t: &UtcTime) -> String {
+    let (y, mo, d) = t.ymd();
+    let (h, mi, s, _) = t.hms_milli();
+    format!("{y:04}-{mo:02}-{d:02}T{h:02}:{mi:02}:{s:02}Z")
+}
+
+/// The injected conditions that scenario events set (the random daily
+/// windows of `--faults` add to them).
+#[derive(Debug, Clone)]
+struct World {
+    wind_hz: Option<f64>,
+    gps_on: bool,
+    switch: [SwitchState; 2],
+    stalled: [bool; 2],
+    encoder_failed: [bool; 2],
+    attitude_failed: bool,
+}
+
+type Ctl<'a> = Controller<SharedSiteSource<'a, f64>, MotorPlant, MountSensors, 1441>;
+
+/// Runs the tool with `args` (without the program name); the summary goes
+/// to `out`, errors to `err`. Returns the exit code (2 for bad input).
+pub fn run(args: &[String], out: &mut dyn Write, err: &mut dyn Write) -> u8 {
+    match simulate(args, out, err) {
+        Ok(()) => 0,
+        Err(e) => {
+            let _ = writeln!(err, "simulate: {e}");
+            2
+        }
+    }
+}
+
+fn simulate(args: &[String], out: &mut dyn Write, err: &mut dyn Write) -> Result<(), String> {
+    let args = parse_args(args)?;
+    // The scenario is parsed before anything runs.
+    let scenario = match &args.scenario {
+        Some(p) => load_scenario(p)?,
+        None => Vec::new(),
+    };
+    let mut trace = match &args.trace {
+        Some(p) => {
+            let f = File::create(p).map_err(|e| format!("{p}: {e}"))?;
+            let mut w = BufWriter::new(f);
+            writeln!(w, "{TRACE_HEADER}").map_err(|e| format!("{p}: {e}"))?;
+            Some(w)
+        }
+        None => None,
+    };
+    let io_err = |e: std::io::Error| format!("write: {e}");
+
+    let mut rng = SplitMix64::new(args.seed);
+    let site = Site::new(args.lat, args.lon).map_err(|e| e.to_string())?;
+    let algorithm = Algorithm::Psa2020;
+    let mut truth_sun = AlgorithmSource {
+        algorithm,
+        site,
+        options: Options {
+            allow_out_of_range: true,
+            ..Options::default()
+        },
+    };
+    let end = args
+        .start
+        .add_seconds(i64::from(args.days) * 86_400)
+        .map_err(|e| e.to_string())?;
+    // The controller's algorithm as in the firmware (no extrapolation),
+    // except for runs outside psa-2020's range.
+    let in_range = args.start.ymd().0 >= 2020 && end.ymd().0 < 2050;
+    let ctl_options = Options {
+        allow_out_of_range: !in_range,
+        ..Options::default()
+    };
+    let firmware_window = DateWindow::firmware();
+    let window = if firmware_window.contains(&args.start) {
+        firmware_window
+    } else {
+        DateWindow::starting(&args.start)
+    };
+    let time_config = TimeConfig {
+        window,
+        ..TimeConfig::default()
+    };
+
+    let mut config = Config::default();
+    config.site.latitude_deg = args.lat as f32;
+    config.site.longitude_deg = args.lon as f32;
+    // Set-points every minute; the seed's 2-minute hold would skip them.
+    config.schedule.table_step_s = 60;
+    config.schedule.hold_s = 30;
+    for ax in config.axes.iter_mut() {
+        ax.deadband_deg = 0.02;
+    }
+    // Servo: encoder of 2^14 counts on the output, no gear, no microsteps.
+    let servo_cpr = 1u32 << 14;
+    if args.drive == Drive::Servo {
+        for ax in config.axes.iter_mut() {
+            ax.counts_per_motor_rev = servo_cpr;
+            ax.microsteps = 1;
+            ax.gear_ratio = 1.0;
+            ax.backlash_deg = 0.0;
+        }
+    }
+    // The configuration as stored on the board: a power cycle reloads it.
+    let mut store = ConfigStore::new(MemStorage::<512>::new());
+    store
+        .save(&config)
+        .map_err(|e| format!("configuration not stored: {e:?}"))?;
+    let stored_site = site_from_config(&config.site).map_err(|e| e.to_string())?;
+
+    let encoder = if args.encoder { Some(1u32 << 16) } else { None };
+    let plant = |min: f64, max: f64, start: f64| match args.drive {
+        Drive::Stepper => MotorPlant::stepper(1.8, 16, 100.0, 0.2, 2.0, encoder, min, max, start),
+        Drive::Servo => MotorPlant::servo(servo_cpr, 2.0, min, max, start),
+    };
+    let c = config.axes[0];
+    let a = config.axes[1];
+    let plants = [
+        plant(f64::from(c.min_deg), f64::from(c.max_deg), 10.0),
+        plant(f64::from(a.min_deg), f64::from(a.max_deg), 20.0),
+    ];
+    let truth = if args.portable {
+        MountAttitude {
+            alpha0_deg: 6.0,
+            beta0_deg: -4.0,
+            gamma0_deg: 25.0,
+        }
+    } else {
+        MountAttitude::level()
+    };
+    let accuracy = SensorAccuracy::seed_li_2022(&mut rng);
+    let sensors = MountSensors::new(truth, accuracy, rng.next_u64());
+    let use_sensors = args.portable || !args.encoder;
+    let options = ControllerOptions {
+        feedback: if args.encoder {
+            FeedbackMode::ClosedLoop
+        } else {
+            FeedbackMode::OpenLoop
+        },
+        attitude: if use_sensors {
+            AttitudeSource::Sensors
+        } else {
+            AttitudeSource::Fixed(MountAttitude::level())
+        },
+        ..ControllerOptions::default()
+    };
+    let site_cell = Cell::new(stored_site);
+    let new_controller =
+        |config: Config, plants: [MotorPlant; 2], sensors: Option<MountSensors>| {
+            let source = SharedSiteSource {
+                algorithm,
+                site: &site_cell,
+                options: ctl_options,
+            };
+            Controller::new(config, options, source, plants, sensors)
+                .map_err(|e| format!("controller: {e:?}"))
+        };
+    let mut ctl: Ctl = new_controller(config, plants, Some(sensors))?;
+
+    let windows: Vec<Window> = if args.faults {
+        schedule::daily(args.days, &mut rng)
+    } else {
+        Vec::new()
+    };
+    // Scenario events first (file order within a minute), then incidents.
+    let mut events = scenario;
+    if args.faults {
+        events.extend(schedule::incidents(args.days, &mut rng));
+    }
+    events.sort_by_key(|t| t.minute);
+    let minutes = args.days * 1440;
+    let ignored = events.iter().filter(|t| t.minute >= minutes).count();
+    if ignored > 0 {
+        writeln!(
+            err,
+            "simulate: {ignored} event(s) after the end of the run ignored"
+        )
+        .map_err(io_err)?;
+    }
+
+    // The world.
+    let anemometer = Anemometer { hz_per_m_s: 1.43 };
+    let mut world = World {
+        wind_hz: None,
+        gps_on: true,
+        switch: [SwitchState::Ok; 2],
+        stalled: [false; 2],
+        encoder_failed: [false; 2],
+        attitude_failed: false,
+    };
+    let mut receiver =
+        GpsReceiverModel::new(args.lat, args.lon, f64::from(config.site.elevation_m));
+    let mut keeper = TimeKeeper::new(SimRtc::new(args.start), time_config);
+    let mut decoder = GpsDecoder::new(GPS_STALE_MS);
+    let mut boot_minute = 0u32;
+    let mut power_cycles = 0u32;
+    let (mut prior_raised, mut prior_recovered) = (0u32, 0u32);
+    let mut technician_at: Option<u32> = None;
+    let mut technician_clears = 0u32;
+    let mut epoch_errors = 0u32;
+
+    let fixed_tilt = args.lat.abs();
+    let fixed_normal = {
+        // Tilted at |latitude| toward the equator: facing south (azimuth
+        // 180°) in the north, north in the south.
+        let az = if args.lat >= 0.0 { 180.0 } else { 0.0 };
+        sun_vector_xyz(90.0 - fixed_tilt, az)
+    };
+
+    let mut errors: Vec<f64> = Vec::with_capacity(minutes as usize / 2);
+    let (mut e_act, mut e_ideal, mut e_fixed) = (0.0f64, 0.0f64, 0.0f64);
+    let (mut wind_min, mut cmd_min, mut wait_min, mut stop_min, mut home_min) = (0u32, 0, 0, 0, 0);
+    let mut sched_errors = 0u32;
+    let mut last_raised = 0u32;
+    let mut next_event = 0usize;
+    let mut row = String::with_capacity(256);
+    let mut buf = [0u8; EPOCH_BUF_LEN];
+    // The wind over the minute before the tick: the anemometer pulses
+    // counted at tick m are those of minutes m-1..m, so a wind that starts
+    // at minute m is first counted at tick m + 1.
+    let mut counted_hz: Option<f64> = None;
+    for m in 0..minutes {
+        let now = args
+            .start
+            .add_seconds(i64::from(m) * 60)
+            .map_err(|e| e.to_string())?;
+        keeper.rtc_mut().advance(now);
+        // Scenario and incident events of this minute, in order.
+        while let Some(t) = events.get(next_event).filter(|t| t.minute <= m) {
+            next_event += 1;
+            match t.action {
+                Action::GpsDateTrue => receiver.date_override = None,
+                Action::GpsPositionTrue => receiver.position_override = None,
+                Action::Event(e) => match e {
+                    Event::WindHz(hz) => world.wind_hz = Some(hz),
+                    Event::ClockStep { seconds } => {
+                        keeper.rtc_mut().step_s(seconds);
+                        receiver.time_offset_s = receiver.time_offset_s.saturating_add(seconds);
+                    }
+                    Event::Gps(on) => world.gps_on = on,
+                    Event::GpsPosition { lat_deg, lon_deg } => {
+                        receiver.position_override = Some((lat_deg, lon_deg))
+                    }
+                    Event::GpsDate { year, month, day } => {
+                        receiver.date_override = Some((year, month, day))
+                    }
+                    Event::Rtc(RtcState::LostPower) => keeper.rtc_mut().power_loss(),
+                    Event::Rtc(RtcState::BusError) => keeper.rtc_mut().bus_error = true,
+                    Event::Rtc(RtcState::Ok) => keeper.rtc_mut().bus_error = false,
+                    Event::LimitSwitch(ax, s) => world.switch[ax.index()] = s,
+                    Event::Motor(ax, on) => world.stalled[ax.index()] = on,
+                    Event::Encoder(ax, on) => world.encoder_failed[ax.index()] = on,
+                    Event::AttitudeSensor(on) => world.attitude_failed = on,
+                    Event::Command(Command::Stow) => ctl.command_stow(true),
+                    Event::Command(Command::Resume) => ctl.command_stow(false),
+                    Event::Command(Command::Home) => ctl.rehome(),
+                    Event::Command(Command::Clear) => ctl.reset_faults(),
+                    Event::PowerCycle => {
+                        // RAM is lost; the axes, the RTC and the receiver
+                        // keep their state.
+                        prior_raised = prior_raised.saturating_add(ctl.faults().raised);
+                        prior_recovered = prior_recovered.saturating_add(ctl.faults().recovered);
+                        let axes = ctl.axes();
+                        let plants = [axes[0].drive().clone(), axes[1].drive().clone()];
+                        let sensors = ctl.sensors_mut().map(|s| s.clone());
+                        let loaded = store.load();
+                        if loaded.defaults {
+                            return Err("stored configuration lost".into());
+                        }
+                        site_cell
+                            .set(site_from_config(&loaded.config.site).map_err(|e| e.to_string())?);
+                        ctl = new_controller(loaded.config, plants, sensors)?;
+                        let rtc = std::mem::replace(
+                            &mut keeper,
+                            TimeKeeper::new(SimRtc::new(now), time_config),
+                        )
+                        .destroy();
+                        keeper = TimeKeeper::new(rtc, time_config);
+                        decoder = GpsDecoder::new(GPS_STALE_MS);
+                        boot_minute = m;
+                        power_cycles += 1;
+                    }
+                },
+            }
+        }
+        let now_ms = u64::from(m - boot_minute) * 60_000;
+        // Random daily conditions of --faults.
+        let active = |k: &dyn Fn(Kind) -> bool| {
+            windows
+                .iter()
+                .any(|e| k(e.kind) && e.from <= m && m < e.until)
+        };
+        for w in windows.iter().filter(|w| w.from == m) {
+            match w.kind {
+                Kind::RtcPowerLoss => keeper.rtc_mut().power_loss(),
+                Kind::CommandStow => ctl.command_stow(true),
+                _ => {}
+            }
+        }
+        if windows
+            .iter()
+            .any(|w| w.kind == Kind::CommandStow && w.until == m)
+        {
+            ctl.command_stow(false);
+        }
+        let wind_hz = match world.wind_hz {
+            Some(hz) => hz,
+            None if active(&|k| k == Kind::Wind) => GALE_M_S * anemometer.hz_per_m_s,
+            None => CALM_M_S * anemometer.hz_per_m_s,
+        };
+        receiver.fix = world.gps_on && !active(&|k| k == Kind::GpsLost);
+        // A technician comes by the morning after a safe stop and clears it
+        // once the hardware is repaired (the injected cause is gone).
+        if args.faults {
+            if let Some(at) = technician_at.filter(|at| *at <= m) {
+                let hardware_ok = world.switch == [SwitchState::Ok; 2]
+                    && world.stalled == [false; 2]
+                    && world.encoder_failed == [false; 2]
+                    && !world.attitude_failed
+                    && !active(&|k| {
+                        matches!(
+                            k,
+                            Kind::CompassBus
+                                | Kind::EncoderTimeout(_)
+                                | Kind::Stall(_)
+                                | Kind::SwitchStuck(_)
+                        )
+                    });
+                if hardware_ok {
+                    ctl.reset_faults();
+                    technician_clears += 1;
+                    technician_at = None;
+                } else {
+                    technician_at = Some(at + 1440);
+                }
+            }
+        }
+        if let Some(s) = ctl.sensors_mut() {
+            s.failing = world.attitude_failed || active(&|k| k == Kind::CompassBus);
+        }
+        for i in 0..2 {
+            let stalled = world.stalled[i] || active(&|k| k == Kind::Stall(i));
+            let enc = world.encoder_failed[i] || active(&|k| k == Kind::EncoderTimeout(i));
+            let stuck = world.switch[i] == SwitchState::StuckClosed
+                || active(&|k| k == Kind::SwitchStuck(i));
+            let slip = windows.iter().find_map(|e| match e.kind {
+                Kind::Slip(ax, d) if ax == i && e.from == m => Some(d),
+                _ => None,
+            });
+            if let Some(ax) = ctl.axes_mut().get_mut(i) {
+                let p = ax.drive_mut();
+                p.stalled = stalled;
+                p.encoder_timeout = enc;
+                p.switch_stuck = stuck;
+                p.switch_stuck_open = world.switch[i] == SwitchState::StuckOpen;
+                if let Some(d) = slip {
+                    p.slip(d);
+                }
+                p.begin_tick(60.0);
+            }
+        }
+        // Time and site: receiver → NMEA → decoder → time keeper.
+        match receiver.epoch(now, &mut buf) {
+            Ok(n) => {
+                for &b in buf.iter().take(n) {
+                    decoder.push(b, now_ms);
+                }
+            }
+            Err(_) => epoch_errors += 1,
+        }
+        let fix = decoder.current(now_ms);
+        follow_gps_site(&site_cell, &fix, SITE_MIN_MOVE_DEG);
+        let status = keeper.update(&fix, now_ms);
+        let fallback = keeper
+            .last_valid()
+            .or_else(|| {
+                keeper
+                    .rtc_mut()
+                    .reading_unix_s()
+                    .and_then(|s| UtcTime::from_unix_seconds(s).ok())
+            })
+            .unwrap_or(args.start);
+        let pulses = pulses_per_minute(counted_hz.unwrap_or(wind_hz));
+        counted_hz = Some(wind_hz);
+        let inputs = status.tick_inputs(now_ms, fallback, pulses, 60_000);
+        let report = ctl.tick(&inputs);
+
+        if std::env::var_os("SIM_DEBUG").is_some() && ctl.faults().raised != last_raised {
+            last_raised = ctl.faults().raised;
+            let active: Vec<_> = ctl
+                .faults()
+                .active()
+                .map(|a| (a.fault, a.recovery))
+                .collect();
+            writeln!(err, "{} fault raised; active {active:?}", inputs.now).map_err(io_err)?;
+        }
+        if report.schedule_error.is_some() {
+            sched_errors += 1;
+        }
+        match report.mode {
+            Mode::WindStow => wind_min += 1,
+            Mode::CommandStow => cmd_min += 1,
+            Mode::WaitForTime => wait_min += 1,
+            Mode::SafeStop => stop_min += 1,
+            _ => {}
+        }
+        if args.faults && report.mode == Mode::SafeStop && technician_at.is_none() {
+            // Next 08:00 local solar time, at least an hour from now.
+            let local = i64::from(m) + (args.lon / 15.0 * 60.0).round() as i64;
+            let to_visit = (TECHNICIAN_MINUTE_OF_DAY - local).rem_euclid(1440);
+            let wait = if to_visit < 60 {
+                to_visit + 1440
+            } else {
+                to_visit
+            };
+            technician_at = Some(m + wait as u32);
+        }
+        if report.homing {
+            home_min += 1;
+        }
+        // Truth: where the sun is and where the panel points now.
+        let sun = truth_sun.position(&now).ok();
+        let axes = ctl.axes();
+        let pose = Pose {
+            gamma_deg: axes[0].drive().output_deg(),
+            alpha_deg: axes[1].drive().output_deg(),
+        };
+        let mut pointing = None;
+        if let Some(sun) = sun.filter(|s| s.is_above_horizon()) {
+            let s = sun_vector_xyz(sun.elevation_deg(), sun.azimuth_deg);
+            let n = truth.normal_xyz(&pose);
+            let err = angle_between_deg(&n, &s);
+            if report.mode == Mode::Tracking {
+                errors.push(err);
+                pointing = Some(err);
+            }
+            let beam = clear_sky_beam_normal_w_m2(sun.zenith_deg, now.day_of_year());
+            e_ideal += beam;
+            e_act += beam * err.to_radians().cos().max(0.0);
+            let cos_fixed = angle_between_deg(&fixed_normal, &s)
+                .to_radians()
+                .cos()
+                .max(0.0);
+            e_fixed += beam * cos_fixed;
+        }
+        if let Some(w) = trace.as_mut() {
+            row.clear();
+            let names: Vec<&str> = ctl.faults().active().map(|a| a.fault.name()).collect();
+            let opt = |v: Option<f64>| v.map(|x| format!("{x:.4}")).unwrap_or_default();
+            let _ = write!(
+                row,
+                "{m},{},{},{},{},{},{},{:.4},{:.4},{},{},{},{:.4}",
+                iso(&inputs.now),
+                report.mode.name(),
+                u8::from(report.homing),
+                names.join(";"),
+                opt(report.target.map(|t| t.gamma_deg)),
+                opt(report.target.map(|t| t.alpha_deg)),
+                pose.gamma_deg,
+                pose.alpha_deg,
+                opt(sun.map(|s| s.zenith_deg)),
+                opt(sun.map(|s| s.azimuth_deg)),
+                opt(pointing),
+                wind_hz
+            );
+            writeln!(w, "{row}").map_err(io_err)?;
+        }
+    }
+    if let Some(w) = trace.as_mut() {
+        w.flush().map_err(io_err)?;
+    }
+    errors.sort_by(|a, b| a.total_cmp(b));
+    let mean = if errors.is_empty() {
+        0.0
+    } else {
+        errors.iter().sum::<f64>() / errors.len() as f64
+    };
+    let p95 = percentile(&errors, 0.95);
+    let max = errors.last().copied().unwrap_or(0.0);
+    let f = ctl.faults();
+    let raised = prior_raised.saturating_add(f.raised);
+    let recovered = prior_recovered.saturating_add(f.recovered);
+    let unrecovered = f.active_count() as u32 + f.dropped;
+    let travel: Vec<f64> = ctl.axes().iter().map(|a| a.drive().travel_deg).collect();
+    let p = |out: &mut dyn Write, s: String| writeln!(out, "{s}").map_err(io_err);
+    p(
+        out,
+        format!(
+            "site {:.4} {:.4}, {} days from {}, drive {:?}, feedback {}, mount {}, faults {}",
+            args.lat,
+            args.lon,
+            args.days,
+            args.start,
+            args.drive,
+            if args.encoder { "encoder" } else { "sensors" },
+            if args.portable { "portable" } else { "level" },
+            if args.faults { "on" } else { "off" },
+        ),
+    )?;
+    p(
+        out,
+        format!(
+            "pointing error while tracking: mean {mean:.4} deg, p95 {p95:.4} deg, max {max:.3} deg over {} min",
+            errors.len()
+        ),
+    )?;
+    p(
+        out,
+        format!(
+            "energy (clear-sky beam): tracker {:.1} kWh/m2, ideal {:.1}, fixed tilt {:.1} deg {:.1}",
+            e_act / 60_000.0,
+            e_ideal / 60_000.0,
+            fixed_tilt,
+            e_fixed / 60_000.0
+        ),
+    )?;
+    p(
+        out,
+        format!(
+            "faults: raised {raised}, recovered {recovered}, still active {}, injected events {}",
+            f.active_count(),
+            windows.len() + events.len()
+        ),
+    )?;
+    p(
+        out,
+        format!(
+            "stow: wind {:.1} h ({} stows), command {:.1} h, waiting for time {:.1} h, safe stop {:.1} h; homing {} min; scheduler errors {}",
+            f64::from(wind_min) / 60.0,
+            ctl.wind().stow_count,
+            f64::from(cmd_min) / 60.0,
+            f64::from(wait_min) / 60.0,
+            f64::from(stop_min) / 60.0,
+            home_min,
+            sched_errors
+        ),
+    )?;
+    p(
+        out,
+        format!(
+            "motor travel: C axis {:.0} deg, A axis {:.0} deg",
+            travel.first().copied().unwrap_or(0.0),
+            travel.get(1).copied().unwrap_or(0.0)
+        ),
+    )?;
+    p(
+        out,
+        format!(
+            "time chain: RTC set from GPS {} times, GPS epochs not written {epoch_errors}, power cycles {power_cycles}, technician clears {technician_clears}",
+            keeper.rtc_mut().sets,
+        ),
+    )?;
+    let mut why: Vec<String> = f
+        .active()
+        .map(|a| {
+            format!(
+                "{} ({:?} after {} attempt{})",
+                a.fault.name(),
+                a.recovery,
+                a.attempts,
+                if a.attempts == 1 { "" } else { "s" }
+            )
+        })
+        .collect();
+    if f.dropped > 0 {
+        why.push(format!("{} not recorded (list full)", f.dropped));
+    }
+    p(
+        out,
+        format!(
+            "unrecovered at end: {}",
+            if why.is_empty() {
+                "none".to_string()
+            } else {
+                why.join(", ")
+            }
+        ),
+    )?;
+    let ratio = |x: f64| if e_ideal > 0.0 { x / e_ideal } else { 0.0 };
+    let vs_fixed = if e_fixed > 0.0 { e_act / e_fixed } else { 0.0 };
+    p(
+        out,
+        format!(
+            "simulate: pointing_p95_deg={p95:.4} energy_vs_ideal={:.4} energy_vs_fixed={vs_fixed:.4} faults_raised={raised} faults_unrecovered={unrecovered} panics=0",
+            ratio(e_act),
+        ),
+    )?;
+    Ok(())
+}

@@ -1,0 +1,384 @@
+//! The `simulate` tool on the field-incident scenarios of `tests/scenarios/`:
+//! each is run for one day with `--trace`, through the tool's shared module
+//! (as the other example tests do), and the trace is checked row by row.
+
+#[path = "../examples/simulate_support/run.rs"]
+#[allow(dead_code)]
+mod run;
+#[path = "../examples/simulate_support/schedule.rs"]
+#[allow(dead_code)]
+mod schedule;
+
+use std::path::PathBuf;
+
+/// Start day of the scenario runs: June, so that a clock stepped back a
+/// day stays inside the firmware's date window (from 2026-01-01).
+const START: &str = "2026-06-01";
+
+/// One trace row.
+#[derive(Debug)]
+struct Row {
+    minute: u32,
+    utc: String,
+    mode: String,
+    homing: bool,
+    faults: Vec<String>,
+    target: Option<(f64, f64)>,
+    axis_c: f64,
+    axis_a: f64,
+    zenith: f64,
+    pointing: Option<f64>,
+    wind_hz: f64,
+}
+
+impl Row {
+    fn has(&self, fault: &str) -> bool {
+        self.faults.iter().any(|f| f == fault)
+    }
+    fn daylight(&self) -> bool {
+        self.zenith < 80.0
+    }
+}
+
+/// A unique temporary path.
+fn temp(name: &str) -> PathBuf {
+    let mut p = std::env::temp_dir();
+    p.push(format!("simulate_scenarios_{}_{name}", std::process::id()));
+    p
+}
+
+fn scenario_path(name: &str) -> String {
+    format!("{}/tests/scenarios/{name}", env!("CARGO_MANIFEST_DIR"))
+}
+
+/// Runs the tool; returns (exit code, stdout, stderr).
+fn simulate(args: &[&str]) -> (u8, String, String) {
+    let args: Vec<String> = args.iter().map(|s| s.to_string()).collect();
+    let (mut out, mut err) = (Vec::new(), Vec::new());
+    let code = run::run(&args, &mut out, &mut err);
+    (
+        code,
+        String::from_utf8(out).expect("utf8 stdout"),
+        String::from_utf8(err).expect("utf8 stderr"),
+    )
+}
+
+fn opt(s: &str) -> Option<f64> {
+    if s.is_empty() {
+        None
+    } else {
+        Some(s.parse().unwrap_or_else(|_| panic!("number: {s}")))
+    }
+}
+
+/// Runs one scenario for a day with a trace; checks what every trace must
+/// satisfy and returns the rows.
+fn run_scenario(name: &str) -> Vec<Row> {
+    let trace = temp(&format!("{name}.trace.csv"));
+    let trace_s = trace.to_string_lossy().to_string();
+    let scenario = scenario_path(name);
+    let (code, out, err) = simulate(&[
+        "--start",
+        START,
+        "--days",
+        "1",
+        "--scenario",
+        &scenario,
+        "--trace",
+        &trace_s,
+    ]);
+    assert_eq!(code, 0, "{name}: {err}");
+    let last = out.lines().last().unwrap_or("");
+    assert!(last.starts_with("simulate: pointing_p95_deg="), "{out}");
+    assert!(last.ends_with("panics=0"), "{out}");
+    assert!(out.contains("\nunrecovered at end: "), "{out}");
+    let text = std::fs::read_to_string(&trace).expect("trace written");
+    let _ = std::fs::remove_file(&trace);
+    let mut lines = text.lines();
+    assert_eq!(lines.next(), Some(run::TRACE_HEADER));
+    assert_eq!(
+        run::TRACE_HEADER,
+        "minute,utc,mode,homing,faults,target_c_deg,target_a_deg,axis_c_deg,axis_a_deg,sun_zenith_deg,sun_azimuth_deg,pointing_error_deg,wind_hz"
+    );
+    let modes = [
+        "safe_stop",
+        "wind_stow",
+        "command_stow",
+        "manual",
+        "wait_for_time",
+        "night",
+        "homing",
+        "tracking",
+    ];
+    let rows: Vec<Row> = lines
+        .map(|l| {
+            let f: Vec<&str> = l.split(',').collect();
+            assert_eq!(f.len(), 13, "{name}: {l}");
+            let target = match (opt(f[5]), opt(f[6])) {
+                (Some(c), Some(a)) => Some((c, a)),
+                (None, None) => None,
+                _ => panic!("{name}: half a target: {l}"),
+            };
+            Row {
+                minute: f[0].parse().expect("minute"),
+                utc: f[1].to_string(),
+                mode: f[2].to_string(),
+                homing: match f[3] {
+                    "0" => false,
+                    "1" => true,
+                    h => panic!("{name}: homing {h}"),
+                },
+                faults: f[4]
+                    .split(';')
+                    .filter(|s| !s.is_empty())
+                    .map(String::from)
+                    .collect(),
+                target,
+                axis_c: f[7].parse().expect("axis_c"),
+                axis_a: f[8].parse().expect("axis_a"),
+                zenith: f[9].parse().expect("zenith"),
+                pointing: opt(f[11]),
+                wind_hz: f[12].parse().expect("wind_hz"),
+            }
+        })
+        .collect();
+    assert_eq!(rows.len(), 1440, "{name}: one row per minute");
+    for (i, r) in rows.iter().enumerate() {
+        assert_eq!(r.minute as usize, i, "{name}");
+        // 2026-06-01T06:04:00Z
+        let b = r.utc.as_bytes();
+        assert!(
+            b.len() == 20 && b[4] == b'-' && b[10] == b'T' && b[19] == b'Z',
+            "{name}: utc {}",
+            r.utc
+        );
+        assert!(modes.contains(&r.mode.as_str()), "{name}: mode {}", r.mode);
+        assert!(
+            !(r.homing && r.mode == "tracking"),
+            "{name}: tracking while homing at minute {}",
+            r.minute
+        );
+        if r.pointing.is_some() {
+            assert_eq!(r.mode, "tracking", "{name}: minute {}", r.minute);
+            assert!(r.zenith < 90.5, "{name}: minute {}", r.minute);
+        }
+        if r.mode == "tracking" {
+            assert!(r.target.is_some(), "{name}: minute {}", r.minute);
+        }
+        if r.mode == "tracking" && r.zenith < 89.0 {
+            assert!(r.pointing.is_some(), "{name}: minute {}", r.minute);
+        }
+        // Soft limits of the default configuration; homing stops at the
+        // first step on which the switch (at the limit) reads closed, so
+        // an axis may sit up to a step or two (0.001125 deg each) past it.
+        const TOL: f64 = 0.01;
+        assert!(
+            (-180.0 - TOL..=180.0 + TOL).contains(&r.axis_c),
+            "{name}: C axis {} at minute {}",
+            r.axis_c,
+            r.minute
+        );
+        assert!(
+            (-90.0 - TOL..=90.0 + TOL).contains(&r.axis_a),
+            "{name}: A axis {} at minute {}",
+            r.axis_a,
+            r.minute
+        );
+    }
+    rows
+}
+
+/// Rows of minutes `from..to`.
+fn span(rows: &[Row], from: u32, to: u32) -> &[Row] {
+    &rows[from as usize..to as usize]
+}
+
+/// Tracking with a small pointing error in daylight over the span.
+fn tracks_well(name: &str, rows: &[Row]) {
+    for r in rows.iter().filter(|r| r.daylight()) {
+        assert_eq!(r.mode, "tracking", "{name}: minute {} {:?}", r.minute, r);
+        let e = r.pointing.unwrap_or(f64::NAN);
+        assert!(e < 0.5, "{name}: pointing error {e} at minute {}", r.minute);
+    }
+}
+
+#[test]
+fn wind_stow_after_a_clock_step_back() {
+    let name = "wind_clock_step_back.csv";
+    let rows = run_scenario(name);
+    // The clock went back a day at minute 600.
+    assert!(rows[599].utc.starts_with("2026-06-01T09:59"));
+    assert!(
+        rows[600].utc.starts_with("2026-05-31T10:00"),
+        "{:?}",
+        rows[600]
+    );
+    // The gale blows over minutes 660..720; the pulses counted at tick m
+    // are those of minute m-1..m. Hold 3 s is shorter than a tick: stowed
+    // at the first tick that counts the gale (661), until 10 minutes after
+    // it ended (release 600 s: the tick at 730 counts the tenth calm
+    // minute and releases).
+    assert_eq!(rows[659].wind_hz, rows[0].wind_hz, "calm default");
+    assert_eq!(rows[660].wind_hz, 50.0);
+    assert_eq!(rows[720].wind_hz, 2.0);
+    for r in span(&rows, 661, 730) {
+        assert_eq!(r.mode, "wind_stow", "minute {}", r.minute);
+    }
+    for r in span(&rows, 600, 661) {
+        assert_ne!(r.mode, "wind_stow", "minute {}", r.minute);
+    }
+    assert_ne!(rows[730].mode, "wind_stow", "{:?}", rows[730]);
+    tracks_well(name, span(&rows, 745, 1000));
+}
+
+#[test]
+fn impossible_gps_position_keeps_the_stored_site() {
+    let name = "gps_impossible_position.csv";
+    let rows = run_scenario(name);
+    for r in &rows {
+        assert_ne!(r.mode, "safe_stop", "minute {}", r.minute);
+        assert_ne!(r.mode, "wait_for_time", "minute {}", r.minute);
+    }
+    assert!(rows[600].has("gps_lost"), "{:?}", rows[600]);
+    assert!(!rows[800].has("gps_lost"), "{:?}", rows[800]);
+    tracks_well(name, span(&rows, 400, 1100));
+}
+
+#[test]
+fn gps_week_rollover_is_ignored() {
+    let name = "gps_week_rollover.csv";
+    let rows = run_scenario(name);
+    for r in &rows {
+        assert!(!r.utc.starts_with("2006"), "minute {}: {}", r.minute, r.utc);
+        assert!(
+            r.utc.starts_with("2026-06-0"),
+            "minute {}: {}",
+            r.minute,
+            r.utc
+        );
+    }
+    assert!(!rows[479].has("gps_time_implausible"));
+    for r in span(&rows, 480, 1440) {
+        assert!(r.has("gps_time_implausible"), "minute {}", r.minute);
+    }
+    tracks_well(name, span(&rows, 400, 1100));
+}
+
+#[test]
+fn rtc_lost_power_waits_for_gps() {
+    let name = "rtc_lost_power.csv";
+    let rows = run_scenario(name);
+    for r in span(&rows, 490, 600) {
+        assert_eq!(r.mode, "wait_for_time", "minute {}", r.minute);
+        assert!(r.has("rtc_invalid"), "minute {}", r.minute);
+    }
+    assert!(!rows[489].has("rtc_invalid"));
+    assert!(!rows[600].has("rtc_invalid"), "{:?}", rows[600]);
+    tracks_well(name, span(&rows, 300, 489));
+    tracks_well(name, span(&rows, 610, 1100));
+}
+
+#[test]
+fn stuck_closed_limit_switch_stops_safely_and_recovers() {
+    let name = "limit_switch_stuck_closed.csv";
+    let rows = run_scenario(name);
+    let stop = span(&rows, 480, 840)
+        .iter()
+        .find(|r| r.mode == "safe_stop")
+        .map(|r| r.minute)
+        .expect("safe stop");
+    // Measured: 4 minutes after the switch stuck (3 after the power cycle).
+    assert!(stop - 480 <= 10, "safe stop after {} min", stop - 480);
+    assert!(rows[stop as usize].has("limit_switch_c"));
+    for r in span(&rows, stop, 850) {
+        assert_eq!(r.mode, "safe_stop", "minute {}", r.minute);
+    }
+    for r in span(&rows, 481, 850) {
+        assert_ne!(r.mode, "tracking", "minute {}", r.minute);
+    }
+    tracks_well(name, span(&rows, 300, 480));
+    tracks_well(name, span(&rows, 860, 1100));
+    assert!(rows[860..].iter().all(|r| !r.has("limit_switch_c")));
+}
+
+#[test]
+fn motor_stall_is_raised_and_recovers() {
+    let name = "motor_stall.csv";
+    let rows = run_scenario(name);
+    assert!(span(&rows, 0, 720).iter().all(|r| r.faults.is_empty()));
+    assert!(span(&rows, 720, 732)
+        .iter()
+        .any(|r| r.has("motor_stalled_a")));
+    assert!(span(&rows, 760, 1440)
+        .iter()
+        .all(|r| !r.has("motor_stalled_a")));
+    assert!(span(&rows, 0, 1440).iter().all(|r| r.mode != "safe_stop"));
+    tracks_well(name, span(&rows, 300, 720));
+    tracks_well(name, span(&rows, 760, 1100));
+}
+
+#[test]
+fn forward_jump_out_of_range_never_tracks() {
+    let name = "forward_jump_out_of_range.csv";
+    let rows = run_scenario(name);
+    assert!(rows[600].utc.starts_with("2056"), "{:?}", rows[600]);
+    for r in span(&rows, 600, 1440) {
+        assert_eq!(r.mode, "wait_for_time", "minute {}", r.minute);
+        assert!(
+            r.has("rtc_invalid") || r.has("time_out_of_range"),
+            "minute {}: {:?}",
+            r.minute,
+            r.faults
+        );
+        assert!(r.pointing.is_none());
+    }
+    tracks_well(name, span(&rows, 400, 599));
+}
+
+#[test]
+fn every_scenario_file_has_a_comment_header() {
+    let dir = format!("{}/tests/scenarios", env!("CARGO_MANIFEST_DIR"));
+    let mut n = 0;
+    for e in std::fs::read_dir(dir).expect("scenarios") {
+        let p = e.expect("entry").path();
+        let text = std::fs::read_to_string(&p).expect("read");
+        assert!(text.starts_with("# "), "{}", p.display());
+        n += 1;
+    }
+    assert!(n >= 7);
+}
+
+#[test]
+fn malformed_scenario_is_an_error_with_its_line_number() {
+    let path = temp("bad.csv");
+    std::fs::write(&path, "# a comment\n10,wind_hz,30\n20,wnd_hz,5\n").expect("write");
+    let trace = temp("bad.trace.csv");
+    let (code, out, err) = simulate(&[
+        "--scenario",
+        &path.to_string_lossy(),
+        "--trace",
+        &trace.to_string_lossy(),
+    ]);
+    let _ = std::fs::remove_file(&path);
+    assert_eq!(code, 2);
+    assert!(out.is_empty(), "{out}");
+    assert!(err.contains("line 3"), "{err}");
+    assert!(err.contains("wnd_hz"), "{err}");
+    // Nothing ran: no trace was written.
+    assert!(!trace.exists());
+    let (code, _, err) = simulate(&["--scenario", "/nonexistent/scenario.csv"]);
+    assert_eq!(code, 2);
+    assert!(err.contains("/nonexistent/scenario.csv"), "{err}");
+}
+
+#[test]
+fn trace_without_scenario() {
+    let trace = temp("plain.trace.csv");
+    let (code, out, err) = simulate(&["--trace", &trace.to_string_lossy()]);
+    assert_eq!(code, 0, "{err}");
+    assert!(out.contains("faults_unrecovered=0 panics=0"), "{out}");
+    let text = std::fs::read_to_string(&trace).expect("trace");
+    let _ = std::fs::remove_file(&trace);
+    assert_eq!(text.lines().count(), 1441);
+    assert_eq!(text.lines().next(), Some(run::TRACE_HEADER));
+}
