@@ -51,7 +51,10 @@ mod firmware {
     use hal::timer::CounterHz;
     use stm32f4xx_hal as hal;
     use sun_algos::{Site, UtcTime};
+    use suntracker::clock::DateWindow;
+    use suntracker::hw::datetime_from_utc;
     use suntracker::scheduler::{ScheduleConfig, SetPoint};
+    use suntracker::sources::{gps_time, GpsTime, TimeConfig};
 
     /// The stored site, used until GPS gives one: Kano, Nigeria.
     const SITE_LAT_DEG: f32 = 11.9683;
@@ -124,18 +127,25 @@ mod firmware {
         gps: Rx<pac::USART1>,
         decoder: GpsDecoder,
         tick: CounterHz<pac::TIM2>,
+        /// Monotonic milliseconds: 1000 per 1 Hz tick.
+        ms: u64,
         coils: [[ErasedPin<Output>; 4]; 2],
         steps: [i32; 2],
     }
 
     impl BlackPill {
-        /// Feeds waiting GPS bytes to the decoder; a fix with time
-        /// disciplines the RTC.
+        /// Feeds waiting GPS bytes to the decoder; only a fix whose time
+        /// the tracker trusts (a valid fix with a plausible position, fresh,
+        /// inside the firmware's date window: `sources::gps_time`)
+        /// disciplines the RTC. An RMC with status V never sets it.
         fn poll_gps(&mut self) {
+            let cfg = TimeConfig::default();
             while let Ok(b) = hal::prelude::_embedded_hal_serial_nb_Read::read(&mut self.gps) {
-                if let Some(fix) = self.decoder.push(b, 0) {
-                    if let Some(utc) = fix.utc {
-                        let _ = sync_from_gps(&mut self.rtc, &utc, MAX_RTC_DRIFT_S);
+                if let Some(fix) = self.decoder.push(b, self.ms) {
+                    if let GpsTime::Trusted(t) = gps_time(&fix, self.ms, &cfg) {
+                        if let Ok(utc) = datetime_from_utc(&t) {
+                            let _ = sync_from_gps(&mut self.rtc, &utc, MAX_RTC_DRIFT_S);
+                        }
                     }
                 }
             }
@@ -158,9 +168,19 @@ mod firmware {
     impl track::Board for BlackPill {
         fn rtc_now(&mut self) -> Result<UtcTime, &'static str> {
             let _ = hal::block!(self.tick.wait());
+            self.ms = self.ms.saturating_add(1000);
             self.poll_gps();
+            if self.rtc.lost_power().map_err(|_| "DS3231 read failed")? {
+                return Err("RTC lost power");
+            }
             let dt = self.rtc.datetime().map_err(|_| "DS3231 read failed")?;
-            UtcTime::from_unix_seconds(dt.unix_seconds()).map_err(|_| "RTC time out of range")
+            let t = UtcTime::from_unix_seconds(dt.unix_seconds())
+                .map_err(|_| "RTC time out of range")?;
+            if DateWindow::firmware().contains(&t) {
+                Ok(t)
+            } else {
+                Err("RTC date outside the firmware's window")
+            }
         }
 
         fn drive(&mut self, sp: &SetPoint<f32>, out: &mut dyn Sink) {
@@ -280,6 +300,7 @@ mod firmware {
             gps,
             decoder: GpsDecoder::new(10_000),
             tick,
+            ms: 0,
             coils,
             steps: [0, 0],
         };

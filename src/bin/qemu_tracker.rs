@@ -419,9 +419,12 @@ mod firmware {
                 }
                 match site_from_fix(&f) {
                     Some(s) => {
-                        out.text(", fix ");
-                        if let Some(t) = start.as_ref() {
-                            out.utc(t);
+                        match start.as_ref() {
+                            Some(t) => {
+                                out.text(", fix ");
+                                out.utc(t);
+                            }
+                            None => out.text(", position"),
                         }
                         out.text(" lat=");
                         out.fixed(s.latitude_deg() as f32, 4);
