@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# Speed of the sun-position algorithms on the 8-bit part (issue 7), cycle
+# Speed of the sun-position algorithms on the 8-bit part, cycle
 # exact: builds the avr_bench image (release, f32, sun_algos' avr-libc-math
 # feature: avr-libc's assembler trigonometry and float routines), runs it in simavr at
 # 16 MHz and checks the budgets. Also runs the Cortex-M bench in QEMU with

@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# Panic-free images (issue 7): fails when a release ELF's symbol table holds
+# Panic-free images: fails when a release ELF's symbol table holds
 # a function of `core::panicking` or `panic_bounds_check` (the targets of
 # every panic call site; with LTO and gc-sections they only stay in the
 # image when reachable code calls them). Builds the images first (skip with

@@ -13,7 +13,7 @@ pub enum ClockError<E> {
     /// hold no valid date).
     Rtc(E),
     /// The RTC lost power (DS3231 oscillator-stop flag, DS1302 clock-halt):
-    /// its time must not be used until GPS sets it (issue 6 item 2).
+    /// its time must not be used until GPS sets it.
     LostPower,
     /// The date is outside the range the tracker computes for.
     OutOfRange,

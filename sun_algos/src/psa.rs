@@ -68,7 +68,7 @@ pub enum Variant {
     /// Measured (geometric, sun above the horizon): on sun_2020_2050
     /// (`tests/reference.rs`, 986 rows) max 0.00874° f64, 0.00877° f32,
     /// mean 0.0033°; 0.0087° also on 99 962 random instants and sites in
-    /// 2020–2050 checked against this crate's SPA. Issue 3 asks for 0.008°.
+    /// 2020–2050 checked against this crate's SPA; the goal set for it was 0.008°.
     /// No correction that only repairs a misprint reaches it (measured,
     /// nothing fitted):
     /// - eq. 10 with PSA 2001's sidereal constants (`G1 = 6.6974243242`,
