@@ -27,21 +27,21 @@ use sun_algos::{Float, UtcTime};
 
 /// Where the mount attitude comes from.
 #[derive(Debug, Clone, Copy, PartialEq)]
-pub enum AttitudeSource {
+pub enum AttitudeSource<T> {
     /// Known and fixed (a levelled, aligned mount is
     /// [`MountAttitude::level`]).
-    Fixed(MountAttitude<f64>),
+    Fixed(MountAttitude<T>),
     /// Measured every tick by the inclinometer and compass.
     Sensors,
 }
 
 /// Choices of a tracker build.
 #[derive(Debug, Clone, Copy, PartialEq)]
-pub struct ControllerOptions {
+pub struct ControllerOptions<T> {
     /// How the axes use their encoders.
     pub feedback: FeedbackMode,
     /// Mount attitude source.
-    pub attitude: AttitudeSource,
+    pub attitude: AttitudeSource<T>,
     /// At night, stow flat instead of waiting at the day's start position.
     pub night_stow: bool,
     /// Re-home both axes at every end of day (open-loop drives lose steps).
@@ -50,14 +50,14 @@ pub struct ControllerOptions {
     pub sensor_samples: u8,
     /// Weight of a new tick's attitude in the running average (1 = none);
     /// a change over 5° (the mount was moved) is taken at once.
-    pub attitude_smoothing: f64,
+    pub attitude_smoothing: f32,
     /// Homing approach step, degrees.
     pub homing_chunk_deg: f32,
     /// Ticks between probes of an axis stopped by a stall.
     pub probe_every_ticks: u32,
 }
 
-impl Default for ControllerOptions {
+impl<T: Float> Default for ControllerOptions<T> {
     fn default() -> Self {
         ControllerOptions {
             feedback: FeedbackMode::ClosedLoop,
@@ -111,13 +111,13 @@ pub struct TickInputs {
 
 /// What one tick did.
 #[derive(Debug, Clone, Copy, PartialEq)]
-pub struct TickReport {
+pub struct TickReport<T> {
     /// The mode.
     pub mode: Mode,
     /// The pose commanded (after limits), if any.
-    pub target: Option<Pose<f64>>,
+    pub target: Option<Pose<T>>,
     /// The set-point in force.
-    pub set_point: Option<SetPoint<f64>>,
+    pub set_point: Option<SetPoint<T>>,
     /// An axis was homing.
     pub homing: bool,
     /// The scheduler saw a clock jump.
@@ -126,22 +126,23 @@ pub struct TickReport {
     pub schedule_error: Option<ScheduleError>,
 }
 
-/// The tracker.
-pub struct Controller<P, D, S, const N: usize> {
+/// The tracker, computing in `T` (`f32` on microcontrollers, `f64` on
+/// hosts).
+pub struct Controller<T, P, D, S, const N: usize> {
     config: Config,
-    options: ControllerOptions,
-    scheduler: Scheduler<f64, P, N>,
+    options: ControllerOptions<T>,
+    scheduler: Scheduler<T, P, N>,
     axes: [AxisController<D>; 2],
     sensors: Option<S>,
     faults: FaultManager,
     wind: WindMonitor,
-    attitude: MountAttitude<f64>,
-    set_point: Option<SetPoint<f64>>,
-    home_set_point: Option<SetPoint<f64>>,
+    attitude: MountAttitude<T>,
+    set_point: Option<SetPoint<T>>,
+    home_set_point: Option<SetPoint<T>>,
     night: bool,
-    pose: Pose<f64>,
+    pose: Pose<T>,
     command_stow: bool,
-    manual: Option<Pose<f64>>,
+    manual: Option<Pose<T>>,
     ticks: u32,
     /// Monotonic time (ms) before which a failed homing is not retried,
     /// per axis.
@@ -151,33 +152,34 @@ pub struct Controller<P, D, S, const N: usize> {
     /// First entry time of the day table the branch was chosen for.
     branch_day: Option<UtcTime>,
     /// Starting pose of the branch chosen by look-ahead, used once.
-    branch_anchor: Option<Pose<f64>>,
+    branch_anchor: Option<Pose<T>>,
     /// The first tracking pose of the day (seed li-2022's home).
-    day_start_pose: Option<Pose<f64>>,
+    day_start_pose: Option<Pose<T>>,
     /// Smoothed attitude readings (θx, θy, heading sin, heading cos).
-    smoothed: Option<[f64; 4]>,
+    smoothed: Option<[T; 4]>,
     /// Per axis: encoder angle before the last command, and its size.
-    last_drive: [Option<(f32, f64)>; 2],
+    last_drive: [Option<(f32, f32)>; 2],
     /// Pose chosen to wait for a sunrise (before the first day).
-    night_pose: Option<(UtcTime, Pose<f64>)>,
+    night_pose: Option<(UtcTime, Pose<T>)>,
     /// First entry time of the table seen by the re-homing check.
     rehome_day: Option<UtcTime>,
     /// Re-homed at the last end of day.
     rehomed_tonight: bool,
 }
 
-impl<P, D, S, const N: usize> Controller<P, D, S, N>
+impl<T, P, D, S, const N: usize> Controller<T, P, D, S, N>
 where
-    P: PositionSource<f64>,
+    T: Float,
+    P: PositionSource<T>,
     D: AxisDrive,
-    S: AttitudeSensor<f64>,
+    S: AttitudeSensor<T>,
 {
     /// A controller at power-on. `axes` are the C axis then the A axis.
     /// A configuration with a value outside its range is refused, naming
     /// the field: the axis arithmetic is proven only over the valid ranges.
     pub fn new(
         config: Config,
-        options: ControllerOptions,
+        options: ControllerOptions<T>,
         source: P,
         axes: [D; 2],
         sensors: Option<S>,
@@ -243,11 +245,11 @@ where
         self.sensors.as_mut()
     }
     /// The attitude in use.
-    pub fn attitude(&self) -> MountAttitude<f64> {
+    pub fn attitude(&self) -> MountAttitude<T> {
         self.attitude
     }
     /// The scheduler.
-    pub fn scheduler(&self) -> &Scheduler<f64, P, N> {
+    pub fn scheduler(&self) -> &Scheduler<T, P, N> {
         &self.scheduler
     }
     /// Stow on an operator's command (true) or release it.
@@ -255,7 +257,7 @@ where
         self.command_stow = on;
     }
     /// Manual override to a pose, or back to automatic with `None`.
-    pub fn manual(&mut self, pose: Option<Pose<f64>>) {
+    pub fn manual(&mut self, pose: Option<Pose<T>>) {
         self.manual = pose;
     }
     /// Operator reset after a safe stop: faults and their history are
@@ -273,18 +275,18 @@ where
         self.home_retry_ms = [0; 2];
     }
 
-    fn limits(&self) -> PoseLimits<f64> {
+    fn limits(&self) -> PoseLimits<T> {
         let c = &self.config.axes;
         PoseLimits {
-            gamma_min_deg: f64::from(c[0].min_deg),
-            gamma_max_deg: f64::from(c[0].max_deg),
-            alpha_min_deg: f64::from(c[1].min_deg),
-            alpha_max_deg: f64::from(c[1].max_deg),
+            gamma_min_deg: T::from_f32(c[0].min_deg),
+            gamma_max_deg: T::from_f32(c[0].max_deg),
+            alpha_min_deg: T::from_f32(c[1].min_deg),
+            alpha_max_deg: T::from_f32(c[1].max_deg),
         }
     }
 
     /// One pass of the main loop.
-    pub fn tick(&mut self, inp: &TickInputs) -> TickReport {
+    pub fn tick(&mut self, inp: &TickInputs) -> TickReport<T> {
         self.ticks = self.ticks.wrapping_add(1);
         let now = inp.now;
         let now_ms = inp.now_ms;
@@ -363,7 +365,7 @@ where
         if !self.night {
             let step_s = i64::from(self.scheduler.config().table_step_s);
             let slack_s = i64::from(self.scheduler.config().recheck_s);
-            let age_s = |e: &TableEntry<f64>| now.unix_seconds() - e.time.unix_seconds();
+            let age_s = |e: &TableEntry<T>| now.unix_seconds() - e.time.unix_seconds();
             let fresh = self
                 .scheduler
                 .applied()
@@ -422,7 +424,7 @@ where
         });
         let stow = Pose {
             gamma_deg: self.pose.gamma_deg,
-            alpha_deg: 0.0,
+            alpha_deg: T::ZERO,
         };
         // Entering tracking, or a new day table: pick the branch of the
         // two solutions that serves the rest of the day with least travel.
@@ -514,13 +516,13 @@ where
 
     /// The pose for a set-point with the current attitude (seed
     /// portable-tracker eq. 13–21), least motion from the current pose.
-    fn pose_for(&mut self, sp: &SetPoint<f64>) -> Option<Pose<f64>> {
+    fn pose_for(&mut self, sp: &SetPoint<T>) -> Option<Pose<T>> {
         let sun = sun_vector_xyz(sp.elevation_deg(), sp.azimuth_deg);
         let current = match self.branch_anchor.take() {
             Some(anchor) => anchor,
             None => Pose {
-                gamma_deg: f64::from(self.axes[0].counted_deg()),
-                alpha_deg: f64::from(self.axes[1].counted_deg()),
+                gamma_deg: T::from_f32(self.axes[0].counted_deg()),
+                alpha_deg: T::from_f32(self.axes[1].counted_deg()),
             },
         };
         self.attitude
@@ -535,14 +537,14 @@ where
     /// day needs the least travel (the move from where the axes are now
     /// included): a C axis that would run into its limit at noon (and swing
     /// half a turn there) is avoided at sunrise.
-    fn look_ahead(&self, now: UtcTime) -> Option<Pose<f64>> {
+    fn look_ahead(&self, now: UtcTime) -> Option<Pose<T>> {
         let table = self.scheduler.table();
         let first = (0..table.len())
             .filter_map(|i| table.get(i))
             .find(|e| e.time.unix_seconds() + 60 >= now.unix_seconds())?;
         let here = Pose {
-            gamma_deg: f64::from(self.axes[0].counted_deg()),
-            alpha_deg: f64::from(self.axes[1].counted_deg()),
+            gamma_deg: T::from_f32(self.axes[0].counted_deg()),
+            alpha_deg: T::from_f32(self.axes[1].counted_deg()),
         };
         self.best_start(first.set_point, Some(here), || {
             (0..table.len())
@@ -557,32 +559,32 @@ where
     /// the move from `from` when given.
     fn best_start<I, F>(
         &self,
-        first: SetPoint<f64>,
-        from: Option<Pose<f64>>,
+        first: SetPoint<T>,
+        from: Option<Pose<T>>,
         path: F,
-    ) -> Option<Pose<f64>>
+    ) -> Option<Pose<T>>
     where
-        I: Iterator<Item = SetPoint<f64>>,
+        I: Iterator<Item = SetPoint<T>>,
         F: Fn() -> I,
     {
         let limits = self.limits();
         let sun0 = sun_vector_xyz(first.elevation_deg(), first.azimuth_deg);
         let sols = self.attitude.solutions(&sun0, self.pose.gamma_deg).ok()?;
-        let dist = |a: &Pose<f64>, b: &Pose<f64>| {
+        let dist = |a: &Pose<T>, b: &Pose<T>| {
             (a.gamma_deg - b.gamma_deg).abs() + (a.alpha_deg - b.alpha_deg).abs()
         };
-        let mut best: Option<(f64, Pose<f64>)> = None;
+        let mut best: Option<(T, Pose<T>)> = None;
         for sol in sols {
             for turn in [-360.0, 0.0, 360.0] {
                 let start = Pose {
-                    gamma_deg: sol.gamma_deg + turn,
+                    gamma_deg: sol.gamma_deg + T::from_f64(turn),
                     alpha_deg: sol.alpha_deg,
                 };
                 if !limits.contains(&start) {
                     continue;
                 }
                 let mut prev = start;
-                let mut travel = from.map_or(0.0, |f| dist(&f, &start));
+                let mut travel = from.map_or(T::ZERO, |f| dist(&f, &start));
                 for sp in path() {
                     let s = sun_vector_xyz(sp.elevation_deg(), sp.azimuth_deg);
                     let Ok(c) = self.attitude.choose(&s, &prev, &limits) else {
@@ -603,7 +605,7 @@ where
     /// Before the first day: where to wait for sunrise. The sun is sampled
     /// every 30 minutes over the 24 hours from `sunrise`, and the pose facing
     /// sunrise on the branch that serves that day with least travel is taken.
-    fn pre_position(&mut self, sunrise: UtcTime) -> Option<Pose<f64>> {
+    fn pre_position(&mut self, sunrise: UtcTime) -> Option<Pose<T>> {
         if let Some((t, p)) = self.night_pose {
             if t == sunrise {
                 return Some(p);
@@ -636,7 +638,7 @@ where
             return;
         };
         let n = self.options.sensor_samples.max(1);
-        let (mut sx, mut sy, mut hs, mut hc) = (0.0, 0.0, 0.0, 0.0);
+        let (mut sx, mut sy, mut hs, mut hc) = (T::ZERO, T::ZERO, T::ZERO, T::ZERO);
         let mut ok = 0u32;
         let mut failed = false;
         for _ in 0..n {
@@ -664,15 +666,18 @@ where
             self.faults.raise(fault, now_ms);
             return;
         }
-        let k = f64::from(ok);
+        let k = T::from_u32(ok);
         let meas = [sx / k, sy / k, hs / k, hc / k];
-        let w = self.options.attitude_smoothing.clamp(0.0, 1.0);
+        let w = T::from_f32(self.options.attitude_smoothing.clamp(0.0, 1.0));
+        // A change over 5° (or ~5° of heading: 0.09 of a unit vector) is a
+        // moved mount, taken at once.
+        let (tilt_jump, heading_jump) = (T::from_f64(5.0), T::from_f64(0.09));
         let avg = match self.smoothed {
             Some(old)
-                if (meas[0] - old[0]).abs() < 5.0
-                    && (meas[1] - old[1]).abs() < 5.0
-                    && (meas[2] - old[2]).abs() < 0.09
-                    && (meas[3] - old[3]).abs() < 0.09 =>
+                if (meas[0] - old[0]).abs() < tilt_jump
+                    && (meas[1] - old[1]).abs() < tilt_jump
+                    && (meas[2] - old[2]).abs() < heading_jump
+                    && (meas[3] - old[3]).abs() < heading_jump =>
             {
                 [
                     old[0] + w * (meas[0] - old[0]),
@@ -687,12 +692,12 @@ where
         let [sx, sy, hs, hc] = avg;
         let cal = &self.config.calibration;
         let heading = Float::atan2(hs, hc).to_degrees()
-            + f64::from(cal.declination_deg)
-            + f64::from(cal.heading_offset_deg);
+            + T::from_f32(cal.declination_deg)
+            + T::from_f32(cal.heading_offset_deg);
         match MountAttitude::from_sensors(
-            sx - f64::from(cal.tilt_x_offset_deg),
-            sy - f64::from(cal.tilt_y_offset_deg),
-            Float::rem_euclid(heading, 360.0),
+            sx - T::from_f32(cal.tilt_x_offset_deg),
+            sy - T::from_f32(cal.tilt_y_offset_deg),
+            Float::rem_euclid(heading, T::from_f64(360.0)),
         ) {
             Ok(m) => {
                 self.attitude = m;
@@ -776,9 +781,9 @@ where
         true
     }
 
-    fn drive_axis(&mut self, i: usize, target_deg: f64, now_ms: u64) {
+    fn drive_axis(&mut self, i: usize, target_deg: T, now_ms: u64) {
         let id = Self::axis_id(i);
-        let max_dev = f64::from(self.config.safety.max_deviation_deg);
+        let max_dev = self.config.safety.max_deviation_deg;
         let enc_fault = Fault::SensorTimeout(Sensor::Encoder(id));
         let stall = Fault::MotorStalled(id);
         let probe_every = self.options.probe_every_ticks.max(1);
@@ -800,8 +805,8 @@ where
             return;
         }
         // Unexpected limit switch: closed far from the home angle.
-        let counted = f64::from(ax.counted_deg());
-        let home = f64::from(ax.config().home_deg);
+        let counted = ax.counted_deg();
+        let home = ax.config().home_deg;
         match ax.drive_mut().at_limit() {
             Ok(true) if counted > home + 2.0 => {
                 let _ = ax.drive_mut().stop();
@@ -845,7 +850,7 @@ where
         } else {
             1
         };
-        let target = target_deg as f32;
+        let target = target_deg.to_f32();
         let mut last_dev = None;
         // Stall: the previous command was long enough to be seen, but the
         // encoder has not moved since (one tick later, whatever the speed).
@@ -853,7 +858,7 @@ where
         let previous = self.last_drive.get_mut(i).and_then(|d| d.take());
         if let (Some(now_deg), Some((was_deg, cmd_deg))) = (first, previous) {
             if cmd_deg.abs() >= 0.5 {
-                if f64::from(now_deg - was_deg).abs() < 0.05 {
+                if (now_deg - was_deg).abs() < 0.05 {
                     // Retry is simply commanding again below.
                     self.faults.raise(stall, now_ms);
                 } else {
@@ -881,8 +886,9 @@ where
                 break;
             }
             if pass == 0 {
-                let cmd_deg =
-                    f64::from(report.commanded_counts) / f64::from(ax.config().counts_per_deg());
+                // Counts are at most 10^9 (configuration ranges): f32
+                // keeps them to 7 digits, plenty for "was it ≥ 0.5°".
+                let cmd_deg = report.commanded_counts as f32 / ax.config().counts_per_deg();
                 if let (Some(b), Some(slot)) = (before, self.last_drive.get_mut(i)) {
                     *slot = Some((b, cmd_deg));
                 }
@@ -892,12 +898,12 @@ where
             }
         }
         if let Some(dev) = last_dev {
-            if f64::from(dev).abs() > max_dev && ax.drive().pending() == 0 {
+            if dev.abs() > max_dev && ax.drive().pending() == 0 {
                 if let Recovery::Rehome(_) = self.faults.raise(Fault::SetPointDeviation(id), now_ms)
                 {
                     ax.unhome();
                 }
-            } else if f64::from(dev).abs() <= max_dev {
+            } else if dev.abs() <= max_dev {
                 self.faults.clear(Fault::SetPointDeviation(id), now_ms);
             }
         }

@@ -245,7 +245,7 @@ fn the_controller_refuses_a_configuration_out_of_range() {
         options: sun_algos::Options::default(),
     };
     let plant = || MotorPlant::stepper(1.8, 16, 100.0, 0.2, 2.0, None, -90.0, 90.0, 0.0);
-    let r: Result<Controller<_, _, MountSensors, 361>, _> = Controller::new(
+    let r: Result<Controller<f64, _, _, MountSensors, 361>, _> = Controller::new(
         config,
         ControllerOptions::default(),
         source,

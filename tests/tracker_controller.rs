@@ -11,7 +11,7 @@ use suntracker::sim::plant::MotorPlant;
 use suntracker::sim::sensors::{MountSensors, SensorAccuracy};
 use suntracker::traits::{AlgorithmSource, PositionSource};
 
-type Ctl = Controller<AlgorithmSource<f64>, MotorPlant, MountSensors, 1441>;
+type Ctl = Controller<f64, AlgorithmSource<f64>, MotorPlant, MountSensors, 1441>;
 
 fn source() -> AlgorithmSource<f64> {
     AlgorithmSource {
@@ -39,7 +39,7 @@ fn plants(encoder: bool) -> [MotorPlant; 2] {
     ]
 }
 
-fn controller(encoder: bool, attitude: AttitudeSource, truth: MountAttitude<f64>) -> Ctl {
+fn controller(encoder: bool, attitude: AttitudeSource<f64>, truth: MountAttitude<f64>) -> Ctl {
     let opts = ControllerOptions {
         feedback: if encoder {
             FeedbackMode::ClosedLoop
@@ -80,7 +80,7 @@ fn true_error(ctl: &Ctl, truth: &MountAttitude<f64>, now: &UtcTime) -> Option<f6
     Some(angle_between_deg(&truth.normal_xyz(&pose), &s))
 }
 
-fn step(ctl: &mut Ctl, inp: &TickInputs) -> suntracker::controller::TickReport {
+fn step(ctl: &mut Ctl, inp: &TickInputs) -> suntracker::controller::TickReport<f64> {
     for ax in ctl.axes_mut().iter_mut() {
         ax.drive_mut().begin_tick(60.0);
     }

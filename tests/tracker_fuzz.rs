@@ -29,7 +29,7 @@ use suntracker::sim::rng::SplitMix64;
 use suntracker::sim::sensors::{MountSensors, SensorAccuracy};
 use suntracker::traits::AlgorithmSource;
 
-type Ctl = Controller<AlgorithmSource<f64>, MotorPlant, MountSensors, 361>;
+type Ctl = Controller<f64, AlgorithmSource<f64>, MotorPlant, MountSensors, 361>;
 
 #[derive(Debug, Default)]
 struct Figures {

@@ -95,7 +95,7 @@ fn controller_measures_the_mount_and_recovers_from_a_nack() {
         site: Site::with_elevation(11.9683, 8.4261, 480.0).unwrap(),
         options: Options::default(),
     };
-    let mut ctrl: Controller<_, MotorPlant, Sensors, 360> = Controller::new(
+    let mut ctrl: Controller<f64, _, MotorPlant, Sensors, 360> = Controller::new(
         config,
         options,
         source,
@@ -113,7 +113,7 @@ fn controller_measures_the_mount_and_recovers_from_a_nack() {
     };
     let fault = Fault::I2cError(Sensor::Compass);
     let now = UtcTime::from_ymd_hms(2026, 3, 20, 10, 0, 0).unwrap();
-    let tick = |ctrl: &mut Controller<_, MotorPlant, Sensors, 360>, k: i64| {
+    let tick = |ctrl: &mut Controller<f64, _, MotorPlant, Sensors, 360>, k: i64| {
         ctrl.tick(&TickInputs {
             now_ms: (k as u64) * 60_000,
             now: now.add_seconds(60 * k).unwrap(),

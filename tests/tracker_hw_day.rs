@@ -82,7 +82,7 @@ fn kano_equinox_day_on_real_drivers() {
     // li-2022's H-bridge steppers have no encoders), re-homed every night.
     let (config, options) = tracker_config();
     let axes = [stepper_axis(&c_motor), stepper_axis(&a_motor)];
-    let mut ctrl: Controller<_, Axis, MountSensors, 360> =
+    let mut ctrl: Controller<f64, _, Axis, MountSensors, 360> =
         Controller::new(config, options, source, axes, None).unwrap();
     // Boot at midnight: the non-blocking drives home during the night
     // (the controller never stops an axis that is still homing unless a

@@ -72,7 +72,7 @@ fn lost_power_gps_loss_and_rtc_nack_are_raised_and_recovered() {
     };
     let (config, options) = tracker_config();
     let axes = [stepper_axis(&c_motor), stepper_axis(&a_motor)];
-    let mut ctrl: Controller<_, Axis, MountSensors, 360> =
+    let mut ctrl: Controller<f64, _, Axis, MountSensors, 360> =
         Controller::new(config, options, source, axes, None).unwrap();
 
     let spa_site = Site::with_elevation(11.9683, 8.4261, 480.0).unwrap();

@@ -59,7 +59,7 @@ fn portable_mount_day_with_measured_attitude() {
         options: Options::default(),
     };
     let axes = [stepper_axis(&c_motor), stepper_axis(&a_motor)];
-    let mut ctrl: Controller<_, Axis, Sensors, 360> =
+    let mut ctrl: Controller<f64, _, Axis, Sensors, 360> =
         Controller::new(config, options, source, axes, Some(sensors)).unwrap();
     // Boot at midnight: homing and waiting need no stow (see tracker_hw_day).
     let spa = |secs: u32| {

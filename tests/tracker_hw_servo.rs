@@ -263,7 +263,7 @@ fn closed_loop_day_on_servo_axes() {
         servo_axis(&c_model, &c_enc, &config.axes[0]),
         servo_axis(&a_model, &a_enc, &config.axes[1]),
     ];
-    let mut ctrl: Controller<_, Axis, MountSensors, 360> =
+    let mut ctrl: Controller<f64, _, Axis, MountSensors, 360> =
         Controller::new(config, options, source, axes, None).unwrap();
     // Boot at midnight: homing and waiting need no stow (see tracker_hw_day).
     let spa = |secs: u32| {

@@ -203,7 +203,7 @@ struct World {
     attitude_failed: bool,
 }
 
-type Ctl<'a> = Controller<SharedSiteSource<'a, f64>, MotorPlant, MountSensors, 1441>;
+type Ctl<'a> = Controller<f64, SharedSiteSource<'a, f64>, MotorPlant, MountSensors, 1441>;
 
 /// Runs the tool with `args` (without the program name); the summary goes
 /// to `out`, errors to `err`. Returns the exit code (2 for bad input).

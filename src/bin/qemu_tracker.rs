@@ -161,7 +161,7 @@ mod firmware {
         }
     }
 
-    type Tracker = Controller<Psa2020F64, MotorPlant, MountSensors, TABLE_LEN>;
+    type Tracker = Controller<f64, Psa2020F64, MotorPlant, MountSensors, TABLE_LEN>;
 
     /// Pointing errors of the tracking minutes, for the day's percentiles.
     struct Errors {

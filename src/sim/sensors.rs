@@ -114,3 +114,17 @@ impl Anemometer {
         }
     }
 }
+
+/// The same readings in `f32` (a controller computing in `f32`, as on a
+/// microcontroller).
+impl AttitudeSensor<f32> for MountSensors {
+    type Error = SensorError;
+    fn read(&mut self) -> Result<AttitudeReading<f32>, SensorError> {
+        let r: AttitudeReading<f64> = AttitudeSensor::<f64>::read(self)?;
+        Ok(AttitudeReading {
+            theta_x_deg: r.theta_x_deg as f32,
+            theta_y_deg: r.theta_y_deg as f32,
+            heading_deg: r.heading_deg as f32,
+        })
+    }
+}

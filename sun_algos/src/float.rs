@@ -43,6 +43,10 @@ pub trait Float:
     fn from_u32(v: u32) -> Self;
     /// Widens to `f64` (host tools and tests).
     fn to_f64(self) -> f64;
+    /// Converts an `f32` (configuration values; exact, and free for `f32`).
+    fn from_f32(v: f32) -> Self;
+    /// Narrows to `f32` (axis set-points; free for `f32`).
+    fn to_f32(self) -> f32;
 
     /// Sine of an angle in radians.
     fn sin(self) -> Self;
@@ -148,6 +152,14 @@ impl Float for f64 {
         self
     }
     #[inline]
+    fn from_f32(v: f32) -> Self {
+        f64::from(v)
+    }
+    #[inline]
+    fn to_f32(self) -> f32 {
+        self as f32
+    }
+    #[inline]
     fn sin(self) -> Self {
         libm::sin(self)
     }
@@ -231,6 +243,14 @@ impl Float for f32 {
     #[inline]
     fn to_f64(self) -> f64 {
         self as f64
+    }
+    #[inline]
+    fn from_f32(v: f32) -> Self {
+        v
+    }
+    #[inline]
+    fn to_f32(self) -> f32 {
+        self
     }
     #[inline]
     fn sin(self) -> Self {

@@ -241,7 +241,7 @@ pub fn utc_at(secs: u32) -> UtcTime {
 /// backlash), open loop (seed li-2022's H-bridge steppers have no encoder).
 pub fn tracker_config() -> (
     suntracker::config::Config,
-    suntracker::controller::ControllerOptions,
+    suntracker::controller::ControllerOptions<f64>,
 ) {
     let mut config = suntracker::config::Config::default();
     for ax in config.axes.iter_mut() {
@@ -261,7 +261,7 @@ pub fn tracker_config() -> (
 /// every 100 µs from `from_s` until the motion and the coil settle time
 /// are over, or until `to_s`.
 pub fn pump<P, S, const N: usize>(
-    ctrl: &mut suntracker::controller::Controller<P, Axis, S, N>,
+    ctrl: &mut suntracker::controller::Controller<f64, P, Axis, S, N>,
     motors: [&Rc<RefCell<Motor>>; 2],
     from_s: u32,
     to_s: u32,
