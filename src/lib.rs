@@ -13,6 +13,7 @@ pub mod axis;
 pub mod clock;
 pub mod config;
 pub mod controller;
+pub mod log;
 #[cfg(not(target_arch = "avr"))]
 pub mod hw;
 pub mod safety;

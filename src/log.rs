@@ -1,0 +1,242 @@
+//! The one log format every image speaks, written without `core::fmt`.
+//!
+//! `core::fmt` with floats costs several kilobytes of flash on an 8-bit AVR
+//! and carries panic paths; [`Sink`] writes integers and fixed-point
+//! decimals byte by byte into a UART, semihosting or a test buffer, never
+//! panics and never allocates. The line shapes, one per event, so that a
+//! person or a script can follow any tracker:
+//!
+//! ```text
+//! boot suntracker <version> board=<name>
+//! time source=gps|rtc utc=YYYY-MM-DDTHH:MM:SSZ
+//! site source=gps|config lat=<deg, 4 decimals> lon=<deg, 4 decimals>
+//! setpoint utc=YYYY-MM-DDTHH:MM:SSZ zenith=<deg, 3 decimals> azimuth=<deg, 3 decimals> c=<deg, 2 decimals> a=<deg, 2 decimals>
+//! mode <name>
+//! fault <name> raised|cleared
+//! ```
+//!
+//! Mode and fault names are [`Mode::name`] and [`Fault::name`], as in the
+//! simulator's trace.
+
+use crate::safety::{Fault, FaultManager, Mode, MAX_ACTIVE};
+use sun_algos::UtcTime;
+
+/// Where formatted text goes: a UART, semihosting, or a buffer in tests.
+pub trait Sink {
+    /// Writes all of `bytes`.
+    fn put(&mut self, bytes: &[u8]);
+
+    /// Writes a string.
+    fn text(&mut self, s: &str) {
+        self.put(s.as_bytes());
+    }
+
+    /// Writes an unsigned integer in decimal.
+    fn u32(&mut self, value: u32) {
+        let mut digits = [0u8; 10];
+        let mut n = value;
+        let mut len = 0;
+        for slot in digits.iter_mut().rev() {
+            *slot = b'0' + (n % 10) as u8;
+            n /= 10;
+            len += 1;
+            if n == 0 {
+                break;
+            }
+        }
+        let start = digits.len() - len;
+        if let Some(used) = digits.get(start..) {
+            self.put(used);
+        }
+    }
+
+    /// Writes a signed integer in decimal.
+    fn i32(&mut self, value: i32) {
+        if value < 0 {
+            self.put(b"-");
+        }
+        self.u32(value.unsigned_abs());
+    }
+
+    /// Writes an unsigned integer padded with zeros to `width` digits.
+    fn u32_padded(&mut self, value: u32, width: u8) {
+        let mut limit: u32 = 10;
+        for _ in 1..width {
+            if value < limit {
+                self.put(b"0");
+            }
+            limit = limit.saturating_mul(10);
+        }
+        self.u32(value);
+    }
+
+    /// Writes `value` rounded to `decimals` places (at most 6); `nan` for a
+    /// value that is not finite or too large for the fixed-point range.
+    fn fixed(&mut self, value: f32, decimals: u8) {
+        const POW10: [u32; 7] = [1, 10, 100, 1_000, 10_000, 100_000, 1_000_000];
+        let decimals = decimals.min(6);
+        let scale = POW10.get(usize::from(decimals)).copied().unwrap_or(1);
+        let magnitude = if value < 0.0 { -value } else { value };
+        let scaled = magnitude * scale as f32 + 0.5;
+        // Also rejects NaN.
+        if !scaled.is_finite() || scaled >= 4.0e9 {
+            self.put(b"nan");
+            return;
+        }
+        let units = scaled as u32;
+        if value < 0.0 && units != 0 {
+            self.put(b"-");
+        }
+        // `scale` is never zero; checked division keeps panics out anyway.
+        self.u32(units.checked_div(scale).unwrap_or(0));
+        if decimals > 0 {
+            self.put(b".");
+            self.u32_padded(units.checked_rem(scale).unwrap_or(0), decimals);
+        }
+    }
+
+    /// Writes a UTC instant as `YYYY-MM-DDTHH:MM:SSZ`.
+    fn utc(&mut self, t: &UtcTime) {
+        let (y, mo, d) = t.ymd();
+        let (h, mi, s, _) = t.hms_milli();
+        self.i32(y);
+        self.put(b"-");
+        self.u32_padded(u32::from(mo), 2);
+        self.put(b"-");
+        self.u32_padded(u32::from(d), 2);
+        self.put(b"T");
+        self.u32_padded(u32::from(h), 2);
+        self.put(b":");
+        self.u32_padded(u32::from(mi), 2);
+        self.put(b":");
+        self.u32_padded(u32::from(s), 2);
+        self.put(b"Z");
+    }
+}
+
+/// Where the time in force came from.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum TimeSource {
+    /// A GPS fix.
+    Gps,
+    /// The real-time clock.
+    Rtc,
+}
+
+/// Where the site in use came from.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum SiteSource {
+    /// The GPS position.
+    Gps,
+    /// The stored configuration (or a postal code entered into it).
+    Config,
+}
+
+/// `boot suntracker <version> board=<name>`
+pub fn boot(out: &mut dyn Sink, board: &str) {
+    out.text("boot ");
+    out.text(crate::BANNER);
+    out.text(" board=");
+    out.text(board);
+    out.text("\n");
+}
+
+/// `time source=gps|rtc utc=…`, when the time is first trusted or its
+/// source changes.
+pub fn time(out: &mut dyn Sink, source: TimeSource, utc: &UtcTime) {
+    out.text(match source {
+        TimeSource::Gps => "time source=gps utc=",
+        TimeSource::Rtc => "time source=rtc utc=",
+    });
+    out.utc(utc);
+    out.text("\n");
+}
+
+/// `site source=gps|config lat=… lon=…`, when the site is taken or changes.
+pub fn site(out: &mut dyn Sink, source: SiteSource, lat_deg: f32, lon_deg: f32) {
+    out.text(match source {
+        SiteSource::Gps => "site source=gps lat=",
+        SiteSource::Config => "site source=config lat=",
+    });
+    out.fixed(lat_deg, 4);
+    out.text(" lon=");
+    out.fixed(lon_deg, 4);
+    out.text("\n");
+}
+
+/// `setpoint utc=… zenith=… azimuth=… c=… a=…`: the sun's topocentric
+/// zenith and azimuth (east of north) for that instant and the commanded
+/// axis pose.
+pub fn setpoint(
+    out: &mut dyn Sink,
+    utc: &UtcTime,
+    zenith_deg: f32,
+    azimuth_deg: f32,
+    c_deg: f32,
+    a_deg: f32,
+) {
+    out.text("setpoint utc=");
+    out.utc(utc);
+    out.text(" zenith=");
+    out.fixed(zenith_deg, 3);
+    out.text(" azimuth=");
+    out.fixed(azimuth_deg, 3);
+    out.text(" c=");
+    out.fixed(c_deg, 2);
+    out.text(" a=");
+    out.fixed(a_deg, 2);
+    out.text("\n");
+}
+
+/// `mode <name>`, on each mode change.
+pub fn mode(out: &mut dyn Sink, mode: Mode) {
+    out.text("mode ");
+    out.text(mode.name());
+    out.text("\n");
+}
+
+/// `fault <name> raised|cleared`.
+pub fn fault(out: &mut dyn Sink, fault: Fault, raised: bool) {
+    out.text("fault ");
+    out.text(fault.name());
+    out.text(if raised { " raised\n" } else { " cleared\n" });
+}
+
+/// Remembers the active faults and the mode between ticks and logs what
+/// changed: `fault … raised|cleared` and `mode …` lines.
+#[derive(Debug, Clone, Default)]
+pub struct ChangeLog {
+    faults: [Option<Fault>; MAX_ACTIVE],
+    mode: Option<Mode>,
+}
+
+impl ChangeLog {
+    /// Nothing logged yet.
+    pub fn new() -> Self {
+        Self::default()
+    }
+
+    /// Logs the faults cleared and raised since the last call (cleared
+    /// first), then the mode if it changed.
+    pub fn update(&mut self, out: &mut dyn Sink, faults: &FaultManager, mode: Mode) {
+        for old in self.faults.iter().flatten() {
+            if !faults.is_active(*old) {
+                fault(out, *old, false);
+            }
+        }
+        for a in faults.active() {
+            if !self.faults.iter().flatten().any(|f| *f == a.fault) {
+                fault(out, a.fault, true);
+            }
+        }
+        let mut now = [None; MAX_ACTIVE];
+        for (slot, a) in now.iter_mut().zip(faults.active()) {
+            *slot = Some(a.fault);
+        }
+        self.faults = now;
+        if self.mode != Some(mode) {
+            self::mode(out, mode);
+            self.mode = Some(mode);
+        }
+    }
+}
