@@ -59,8 +59,9 @@ fn dual_axis_beam_is_never_beaten() {
 }
 
 /// Daily clear-sky energy on the three mounts, Wh/m², recomputed without
-/// this crate by `python3 sun_algos/tests/data/make_irradiance_gain_fixture.py
-/// > sun_algos/tests/data/doha_clear_sky_energy_pvlib.csv`: pvlib 0.16.1 SPA
+/// this crate by the script `sun_algos/tests/data/make_irradiance_gain_fixture.py`
+/// (run from the repository root, its output redirected to
+/// `sun_algos/tests/data/doha_clear_sky_energy_pvlib.csv`): pvlib 0.16.1 SPA
 /// positions, Masters' ASHRAE clear-day fits written out in numpy, pvlib's
 /// Kasten–Young air mass, single-axis tracker angles (`tracking.singleaxis`)
 /// and isotropic plane-of-array total (`irradiance.get_total_irradiance`),
