@@ -5,19 +5,21 @@ use suntracker::attitude::{
 };
 use suntracker::sim::rng::SplitMix64;
 
-/// Seed Table IV, Case 1: mount aligned with the horizontal frame
-/// (α0 = β0 = γ0 = 0, tilt sensor θx = θy = 90°, +y axis toward south).
+/// Seed Table IV, Case 1, as a round trip: mount aligned with the
+/// horizontal frame (α0 = β0 = γ0 = 0, tilt sensor θx = θy = 90°, +y axis
+/// toward south).
 ///
-/// The seed's Table III (the sun's position) is missing from the text; the
-/// inputs below are recovered from its own statement for a level mount
-/// ("γ is either 38.39° or 141.11°, α should be ±59.09°"): α = ±(90° − θ)
-/// gives the elevation θ = 30.91°, and for a level mount the two C-axis
-/// solutions are 180° − A and −A, so A = 180° − 38.39° = 141.61° (the
-/// seed's "141.11°" breaks the 180° relation between the two solutions that
-/// its Case 2 pair 67.08°/112.92° keeps, and is read as a misprint of
-/// 141.61°, reported there as a magnitude).
+/// The seed's Table III (the sun's position) is missing from the text, so
+/// the sun below is worked back from the seed's own outputs for a level
+/// mount ("γ is either 38.39° or 141.11°, α should be ±59.09°") through the
+/// level-mount case of the relation under test: α = ±(90° − θ) gives the
+/// elevation θ = 30.91°, and the two C-axis solutions 180° − A and −A give
+/// A = 180° − 38.39° = 141.61° (reading "141.11°" as a misprint; the other
+/// reading, A = 141.11° and "38.39°" a misprint of 38.89°, fits as well).
+/// This only checks that the code is consistent with that reading; the
+/// case below has inputs that do not come from the relation.
 #[test]
-fn seed_table_iv_case_1_level_mount() {
+fn seed_table_iv_case_1_round_trip_level_mount() {
     let mount = MountAttitude::from_sensors(90.0f64, 90.0, 180.0).unwrap();
     assert!(mount.alpha0_deg.abs() < 1e-12);
     assert!(mount.beta0_deg.abs() < 1e-12);
@@ -39,6 +41,43 @@ fn seed_table_iv_case_1_level_mount() {
     assert!(mount.pointing_error_deg(&a, &sun) < 1e-9);
     assert!(mount.pointing_error_deg(&b, &sun) < 1e-9);
     println!("case 1: {a:?} {b:?}");
+}
+
+/// A tilted mount and a sun whose inputs owe nothing to the relation under
+/// test: the mount angles printed for the seed's Table IV Case 2 (α0 =
+/// 35.26°, β0 = 30°, γ0 = 54.74°) and the sun of the NREL SPA report's worked
+/// example (Reda & Andreas 2004, NREL/TP-560-34302: topocentric zenith
+/// 50.111622°, azimuth 194.340241°; `sun_algos/tests/data/
+/// nrel_spa_test_vector.json`). The seed's own Case 2 outputs (67.08° /
+/// 112.92°, ±78.60°) are for its Table III sun, which the text does not
+/// print, so they cannot be used here.
+///
+/// Expected poses from SciPy 1.17.1, not from this crate:
+/// `T = Rotation.from_euler('ZXY', [54.74, 35.26, 30], degrees=True)`
+/// (intrinsic z-x'-y'', i.e. Rz·Rx·Ry, the documented mount convention),
+/// `s = T.inv().apply(S)` with S = (−cos e sin A, −cos e cos A, sin e) in
+/// (west, south, up), α1 = atan2(√(s_x² + s_y²), s_z) = 47.555511°,
+/// γ1 = atan2(s_x, −s_y) = 143.595129°, and the check that
+/// `Rotation.from_euler('ZX', [γ1, α1]).apply([0, 0, 1])` equals s (and for
+/// γ1 − 180° = −36.404871°, −α1). The same script gives the tilt readings of
+/// that mount, θx = 114.096231°, θy = 54.740000° (the drivers' hand values
+/// 114.096° / 54.740°), heading 180° − γ0 = 125.26°.
+#[test]
+fn tilted_mount_published_inputs_against_scipy() {
+    let sun = sun_vector_xyz(90.0 - 50.111622f64, 194.340241);
+    let printed = MountAttitude {
+        alpha0_deg: 35.26f64,
+        beta0_deg: 30.0,
+        gamma0_deg: 54.74,
+    };
+    let sensed = MountAttitude::from_sensors(114.096_230_623_998_1f64, 54.74, 125.26).unwrap();
+    for mount in [printed, sensed] {
+        let [p1, p2] = mount.solutions(&sun, 0.0).unwrap();
+        assert!((p1.gamma_deg - 143.595_129_11).abs() < 1e-6, "{p1:?}");
+        assert!((p1.alpha_deg - 47.555_511_15).abs() < 1e-6, "{p1:?}");
+        assert!((p2.gamma_deg + 36.404_870_89).abs() < 1e-6, "{p2:?}");
+        assert!((p2.alpha_deg + 47.555_511_15).abs() < 1e-6, "{p2:?}");
+    }
 }
 
 /// Identity attitude: a level mount behaves like a plain azimuth/elevation
