@@ -8,15 +8,20 @@
 #
 # How:
 #  1. Panic entries are found by symbol in the disassembly: every function of
-#     core/alloc named panic*, *_fail, *_fail_rt, *_failed or do_panic
+#     core/alloc named panic*, *_panic, *_fail, *_fail_rt, *_failed or do_panic
 #     (core::panicking::*, panic_bounds_check, slice_index_fail and the other
 #     slice index failures, option/result unwrap_failed, expect_failed,
 #     str::slice_error_fail, cell borrow panics, …) and the panic handler
 #     (rust_begin_unwind).
+#     A core wrapper named otherwise that calls one of these shows up as a
+#     site in core under its own name (not allowed unless listed): add its
+#     name here so that its callers are found instead.
 #  2. A call site is a direct branch to the start of an entry — `bl`, `b`,
-#     `b.w` and conditional branches (tail calls) on ARM; `call`, `rcall`,
-#     `jmp`, `rjmp` and `br*` on AVR — from a function that is not itself an
-#     entry (panic -> panic_fmt -> rust_begin_unwind is one panic, not three).
+#     `b.w`, conditional branches (tail calls), `cbz`/`cbnz` on ARM; `call`,
+#     `rcall`, `jmp`, `rjmp` and `br*` on AVR — from a function that is not
+#     itself an entry (panic -> panic_fmt -> rust_begin_unwind is one panic,
+#     not three). Calls through a function pointer are not seen (rustc does
+#     not emit them for panics).
 #  3. `addr2line -f -i` resolves each site through inlining (the images have
 #     `debug = true`). The frames are innermost first; the site of the panic
 #     is the first frame, going outwards, that is not in core/alloc (those are
@@ -85,7 +90,7 @@ function norm(a) { sub(/^0x/, "", a); sub(/^0+/, "", a); return a == "" ? "0" : 
 function is_entry(n) {
   if (n ~ /(^|::)rust_begin_unwind$/) return 1
   if (n !~ /^<?(core|alloc)::/) return 0
-  return n ~ /::panicking::/ || n ~ /::panic[a-z0-9_]*(::|$)/ ||
+  return n ~ /::panicking::/ || n ~ /::panic[a-z0-9_]*(::|$)/ || n ~ /_panic(::|$)/ ||
          n ~ /_fail(_rt)?(::|$)/ || n ~ /_failed(::|$)/ || n ~ /::do_panic(::|$)/
 }
 function header_name(line) { line = substr(line, index(line, " <") + 2); sub(/>:$/, "", line); return line }
@@ -100,7 +105,7 @@ FNR == NR {
 /^ *[0-9a-f]+:\t/ {
   if (in_entry) next
   mn = $2; gsub(/ /, "", mn)
-  if (mn !~ /^(b|bl|b(eq|ne|cs|hs|cc|lo|mi|pl|vs|vc|hi|ls|ge|lt|gt|le|al))(\.[nw])?$/ &&
+  if (mn !~ /^bl?(eq|ne|cs|hs|cc|lo|mi|pl|vs|vc|hi|ls|ge|lt|gt|le|al)?(\.[nw])?$/ && mn !~ /^cbn?z$/ &&
       mn !~ /^(call|rcall|jmp|rjmp|br[a-z][a-z])$/) next
   ops = $0
   if (!match(ops, /[0-9a-fx]+ </)) next
