@@ -77,7 +77,7 @@ check() { # image elf
   echo "== $image: ${elf#"$PWD"/}"
   if [ ! -f "$elf" ]; then
     echo "   missing ELF (build it first)"
-    SUMMARY+=("$(printf '%-20s %6s %8s %12s %8s  %s' "$image" - - - - 'MISSING ELF')")
+    SUMMARY+=("$(printf '%-20s %6s %8s %16s %10s  %s' "$image" - - - - 'MISSING ELF')")
     status=1
     return
   fi
@@ -121,8 +121,8 @@ check() { # image elf
       printf '   %3d  %-8s %s  [%s]\n' "${count[$k]}" "$crate" "$fun" "${verdict[$k]}"
       [ -z "${reached[$k]}" ] || printf '%s\n' "${reached[$k]}" | sed 's/^/           <- /'
     done < <(printf '%s\n' "${keys[@]}" | sort -t$'\t' -k1,1 -k2,2)
-  else
-    echo "   no third-party or core panic sites"
+  elif [ "$n_prj" -eq 0 ]; then
+    echo "   no panic call sites"
   fi
   if [ "$n_bad" -gt 0 ]; then
     echo "   $n_bad site(s) NOT ALLOWED: add 'image crate function  # reason' to $ALLOW, or remove them"
@@ -133,12 +133,12 @@ check() { # image elf
     v=PANICS
     status=1
   fi
-  SUMMARY+=("$(printf '%-20s %6d %8d %12d %8d  %s' "$image" "$n" "$n_prj" "$((n_tp + n_lib))" "$n_bad" "$v")")
+  SUMMARY+=("$(printf '%-20s %6d %8d %16d %10d  %s' "$image" "$n" "$n_prj" "$((n_tp + n_lib))" "$n_bad" "$v")")
 }
 
 summary() {
   echo
-  printf '%-20s %6s %8s %12s %8s  %s\n' image sites project third-party/core unallowed verdict
+  printf '%-20s %6s %8s %16s %10s  %s\n' image sites project third-party/core unallowed verdict
   printf '%s\n' "${SUMMARY[@]}"
 }
 
