@@ -70,7 +70,7 @@ status=0
 SUMMARY=()
 check() { # image elf
   local image=$1 elf=$2 sites addr kind crate fun loc outer entry
-  local n=0 n_prj=0 n_tp=0 n_lib=0 n_bad=0 key
+  local n=0 n_prj=0 n_tp=0 n_lib=0 n_bad=0 key caller via
   local -A count=() reached=() verdict=()
   local -a keys=() project=()
   echo
@@ -82,7 +82,7 @@ check() { # image elf
     return
   fi
   sites=$(bash .ci/panic_sites.sh "$elf")
-  while IFS=$'\t' read -r addr kind crate fun loc outer entry; do
+  while IFS=$'\t' read -r addr kind crate fun loc outer entry caller; do
     [ -n "$addr" ] || continue
     n=$((n + 1))
     if [ "$kind" = project ]; then
@@ -99,10 +99,13 @@ check() { # image elf
       if allowed "$image" "$crate" "$fun"; then verdict[$key]=allowed; else verdict[$key]="NOT ALLOWED"; fi
     fi
     count[$key]=$((count[$key] + 1))
+    # Where the crate is entered from, and the function symbol it is in.
+    via=$outer
+    if [ -n "$caller" ] && [ "$caller" != "$outer" ]; then via="$caller, in $outer"; fi
     if [ "$outer" != "$fun" ]; then
       case $'\n'"${reached[$key]}"$'\n' in
-        *$'\n'"$outer"$'\n'*) ;;
-        *) reached[$key]+="${reached[$key]:+$'\n'}$outer" ;;
+        *$'\n'"$via"$'\n'*) ;;
+        *) reached[$key]+="${reached[$key]:+$'\n'}$via" ;;
       esac
     fi
     [ "${verdict[$key]}" = allowed ] || n_bad=$((n_bad + 1))
@@ -113,7 +116,8 @@ check() { # image elf
     printf '     %s\n' "${project[@]}"
   fi
   if [ ${#keys[@]} -gt 0 ]; then
-    echo "   third-party and core panic sites by function (sites, crate, function, <- the functions they are inlined into):"
+    echo "   third-party and core panic sites by function (sites, crate, function;"
+    echo "   <- the function outside that crate it is inlined into, and the function symbol):"
     local k
     while IFS= read -r k; do
       crate=${k%%$'\t'*}

@@ -2,7 +2,13 @@
 # Panic call sites of one release ELF, by caller. Prints one line per call
 # site, tab-separated:
 #
-#   address  kind  crate  site-function  site-file:line  outer-function  entry
+#   address  kind  crate  site-function  site-file:line  outer-function
+#   entry  caller
+#
+# outer-function is the function symbol the site is compiled into, entry the
+# panic function called, caller the innermost frame outside the site's crate
+# (and core/alloc) that the site is inlined into (empty if none: the site's
+# crate is called through a function symbol of its own).
 #
 #   bash .ci/panic_sites.sh ELF
 #
@@ -146,8 +152,9 @@ function rel(p) {
   if (match(p, /\/\.cargo\/(registry\/src|git\/checkouts)\/[^\/]+\//)) return substr(p, RSTART + RLENGTH)
   return p
 }
-function flush(   i, s, c, kind) {
+function flush(   i, s, c, cc, kind, caller) {
   if (addr == "") return
+  if (nf == 0 || fun[nf] == "??") { nf++; fun[nf] = encl[addr]; loc[nf] = "??:0" }
   s = 0
   for (i = 1; i <= nf; i++) {
     c = crate_of(loc[i])
@@ -157,8 +164,13 @@ function flush(   i, s, c, kind) {
   if (c ~ /^prj:/) kind = "project"
   else if (c ~ /^lib:/) kind = "library"
   else kind = "third-party"
+  caller = ""
+  for (i = s + 1; i <= nf; i++) {
+    cc = crate_of(loc[i])
+    if (cc != c && cc != "lib:core" && cc != "lib:alloc") { caller = fun[i]; break }
+  }
   sub(/^(prj|lib):/, "", c)
-  printf "%s\t%s\t%s\t%s\t%s\t%s\t%s\n", addr, kind, c, fun[s], rel(loc[s]), fun[nf], entry[addr]
+  printf "%s\t%s\t%s\t%s\t%s\t%s\t%s\t%s\n", addr, kind, c, fun[s], rel(loc[s]), fun[nf], entry[addr], caller
   addr = ""
 }
 FNR == NR { entry[$1] = $3; encl[$1] = $2; next }
