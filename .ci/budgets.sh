@@ -4,6 +4,8 @@
 # non-zero when any image is over its budget.
 #
 #   bash .ci/budgets.sh
+#   SELF_TEST=1 bash .ci/budgets.sh   # a missing, unreadable or over-budget
+#                                      # input must each fail the check
 #
 # Sizes are read from the ELF section headers with `readelf` (binutils; any
 # architecture), so no cross `size` tool is needed. Flash = every allocated
@@ -15,55 +17,138 @@ cd "$(dirname "$0")/.."
 # shellcheck source=.ci/firmware_env.sh
 source .ci/firmware_env.sh
 
-if [ "${NO_BUILD:-0}" != 1 ]; then
-  build_all_firmware >&2
-fi
+err() { echo "budgets: $*" >&2; }
 
-# section sizes of an ELF: prints "flash ram"
-elf_sizes() {
-  local flash=0 ram=0 line name type size flags
+# "flash ram" from `readelf -S -W` output on stdin; fails on a section row
+# that does not parse, or when there is no allocated section at all.
+sizes_from_readelf() {
+  local flash=0 ram=0 line name type size flags rows=0
   while read -r line; do
     # "[Nr] Name Type Address Off Size ES Flg Lk Inf Al", Nr may hold spaces
     line=${line#*]}
     read -r name type _ _ size _ flags _ <<<"$line"
+    if ! [[ "$size" =~ ^[0-9a-fA-F]{1,16}$ ]]; then
+      err "unparseable section size '$size' in readelf row: $line"
+      return 1
+    fi
     size=$((16#$size))
     case "$flags" in *A*) ;; *) continue ;; esac
+    rows=$((rows + 1))
     case "$name" in
       .data) flash=$((flash + size)); ram=$((ram + size)) ;;
       .bss | .uninit | .noinit) ram=$((ram + size)) ;;
       .stack | .heap | .eeprom | .fuse | .lock | .signature) ;;
       *) if [ "$type" = NOBITS ]; then ram=$((ram + size)); else flash=$((flash + size)); fi ;;
     esac
-  done < <(readelf -S -W "$1" | grep -E '^ *\[ *[0-9]+\]')
+  done < <(grep -E '^ *\[ *[0-9]+\]' | grep -v '^ *\[ *0\]')
+  if [ "$rows" -eq 0 ] || [ "$flash" -eq 0 ]; then
+    err "no allocated sections with flash contents"
+    return 1
+  fi
   echo "$flash $ram"
 }
 
+# section sizes of an ELF: prints "flash ram"
+elf_sizes() {
+  local text
+  if ! text=$(readelf -S -W "$1" 2>&1); then
+    err "readelf cannot read $1: $(head -1 <<<"$text")"
+    return 1
+  fi
+  sizes_from_readelf <<<"$text"
+}
+
 status=0
-printf '%-20s %-26s %10s %10s %10s %10s  %s\n' image part flash_B budget_B ram_B budget_B verdict
 check() { # name part elf flash_budget ram_budget
-  local name=$1 part=$2 elf=$3 flash_budget=$4 ram_budget=$5 flash ram verdict=ok
+  local name=$1 part=$2 elf=$3 flash_budget=$4 ram_budget=$5 flash ram sizes verdict=ok
   if [ ! -f "$elf" ]; then
     printf '%-20s %-26s missing ELF %s\n' "$name" "$part" "$elf"
-    status=1
-    return
+    err "missing ELF $elf"
+    return 1
   fi
-  read -r flash ram < <(elf_sizes "$elf")
+  if ! sizes=$(elf_sizes "$elf") || ! [[ "$sizes" =~ ^[0-9]+\ [0-9]+$ ]]; then
+    printf '%-20s %-26s unreadable ELF %s\n' "$name" "$part" "$elf"
+    err "cannot size $elf (got '${sizes:-}')"
+    return 1
+  fi
+  read -r flash ram <<<"$sizes"
   if [ "$flash" -gt "$flash_budget" ] || [ "$ram" -gt "$ram_budget" ]; then
     verdict=OVER
-    status=1
   fi
   printf '%-20s %-26s %10d %10d %10d %10d  %s\n' "$name" "$part" "$flash" "$flash_budget" \
     "$ram" "$ram_budget" "$verdict"
+  [ "$verdict" = ok ]
 }
+
+# Each bad input must fail `check`; a readable ELF within budget must pass.
+self_test() {
+  local dir good failures=0 msg
+  dir=$(mktemp -d)
+  # Any ELF will do for the parser (readelf reads every architecture):
+  # an image of this run if built, else this machine's own `readelf`.
+  good=$ELF_QEMU
+  [ -f "$good" ] || good=$(command -v readelf)
+  if ! check good "self-test" "$good" 999999999 999999999 >/dev/null 2>"$dir/msg"; then
+    cat "$dir/msg" >&2; err "self-test: a readable ELF fails"; return 1
+  fi
+  head -c 2000 "$good" >"$dir/truncated.elf"
+  echo "not an ELF" >"$dir/text.elf"
+  : >"$dir/empty.elf"
+  expect_red() { # description elf flash_budget ram_budget
+    if check bad "self-test" "$2" "$3" "$4" >"$dir/table" 2>"$dir/msg"; then
+      err "self-test: '$1' was NOT caught"
+      failures=$((failures + 1))
+    else
+      msg=$(head -1 "$dir/msg")
+      [ -n "$msg" ] || msg=$(tr -s ' ' <"$dir/table")
+      echo "self-test: red as it should: $1 -> $msg"
+    fi
+  }
+  expect_red "missing ELF" "$dir/absent.elf" 999999999 999999999
+  expect_red "empty file" "$dir/empty.elf" 999999999 999999999
+  expect_red "text file" "$dir/text.elf" 999999999 999999999
+  expect_red "truncated ELF" "$dir/truncated.elf" 999999999 999999999
+  expect_red "flash over budget" "$good" 1 999999999
+  expect_red "RAM over budget" "$good" 999999999 0
+  # readelf output whose size column is garbled or absent
+  local table
+  table=$(readelf -S -W "$good")
+  for doctor in 's/^\( *\[ *1\] *[^ ]* *[^ ]* *[^ ]* *[^ ]* *\)[0-9a-f]*/\1zz12/' \
+    's/^\( *\[ *1\] *[^ ]* *[^ ]* *[^ ]* *[^ ]*\).*/\1/' '/^ *\[ *[0-9]*\]/d'; do
+    if sizes_from_readelf < <(sed -e "$doctor" <<<"$table") >/dev/null 2>"$dir/msg"; then
+      err "self-test: readelf output doctored with '$doctor' was NOT caught"
+      failures=$((failures + 1))
+    else
+      echo "self-test: red as it should: readelf table doctored ($doctor) -> $(head -1 "$dir/msg")"
+    fi
+  done
+  rm -rf "$dir"
+  if [ "$failures" -ne 0 ]; then
+    err "self-test FAILED: $failures bad inputs passed"
+    return 1
+  fi
+  echo "budgets: self-test passed (every bad input fails)"
+}
+
+if [ "${SELF_TEST:-0}" = 1 ]; then
+  self_test
+  exit $?
+fi
+
+if [ "${NO_BUILD:-0}" != 1 ]; then
+  build_all_firmware >&2
+fi
+
+printf '%-20s %-26s %10s %10s %10s %10s  %s\n' image part flash_B budget_B ram_B budget_B verdict
 
 # ATmega328P: 32 KiB flash less 512 B for a bootloader; 2 KiB RAM of which
 # 1,536 B static, the rest for the stack.
-check avr_tracker "ATmega328P (Uno)" "$ELF_AVR_UNO" 32256 1536
+check avr_tracker "ATmega328P (Uno)" "$ELF_AVR_UNO" 32256 1536 || status=1
 # ATmega2560: 128 KiB of its 256 KiB (half, leaving room to grow); RAM: the part's 8 KiB.
-check avr_mega_tracker "ATmega2560 (Mega)" "$ELF_AVR_MEGA" 131072 8192
+check avr_mega_tracker "ATmega2560 (Mega)" "$ELF_AVR_MEGA" 131072 8192 || status=1
 # Cortex-M images: 128 KiB flash and 32 KiB static RAM.
-check qemu_tracker "Cortex-M4F (QEMU an386)" "$ELF_QEMU" 131072 32768
-check blackpill_tracker "STM32F411 (Black Pill)" "$ELF_BLACKPILL" 131072 32768
+check qemu_tracker "Cortex-M4F (QEMU an386)" "$ELF_QEMU" 131072 32768 || status=1
+check blackpill_tracker "STM32F411 (Black Pill)" "$ELF_BLACKPILL" 131072 32768 || status=1
 
 if [ "$status" -ne 0 ]; then
   echo "budgets: FAILED (an image is over budget or missing)" >&2

@@ -7,7 +7,7 @@ prints), ΔT = 69.2 s, sea level. Every `HH:MM set-point` / `home` line
 of the file is recomputed at that minute of the file's day and site:
 
   (slope, az) = the sun's direction (zenith, azimuth) within 0.08° of
-           angular distance (0.011°, the f32 bound of psa-2020 in issue 3,
+           angular distance (0.011°, psa-2020's f32 bound,
            plus up to 0.05° of print rounding on each angle)
   home   = the morning's first set-point
   servo_us (Uno) = 500 + angle·2000/180 µs, within 1.5 µs
@@ -19,12 +19,22 @@ of the file is recomputed at that minute of the file's day and site:
            only with pvlib's sun down
 
 and the set-point times must cover pvlib's daylight at the file's step:
-the first set-point is at most two steps after pvlib's sunrise and the last
-at most one step from pvlib's sunset (the scheduler's table holds the
-multiples of its step inside its own sunrise–sunset span).
+the first set-point is at most two steps after pvlib's sunrise, the last at
+most one step from pvlib's sunset, consecutive set-points at most one step
+apart, and the number of daylight set-points is at least the multiples of
+the step inside pvlib's sunrise–sunset span less two (one per end; 178 for
+2026-03-20 at Kano with 240 s) and at most that span's count plus one.
 
-  python3 -m venv .venv && .venv/bin/pip install pvlib
+Strict format: a line holding `set-point`, `slope=` or `az=`, or `HH:MM
+home`, must parse completely (known `key=value` fields only: servo_us,
+steps, moved, target, axes, err, mode), and the file must state the site
+and day above and one `step_s=`; anything else fails the file, so a changed
+log format cannot pass with nothing checked.
+
+  python3 -m venv .venv && .venv/bin/pip install pvlib==0.16.1
   .venv/bin/python tests/expected/check_setpoints.py tests/expected/avr_tracker.txt ...
+  .venv/bin/python tests/expected/check_setpoints.py --self-test FILE...
+      (doctored copies of each good FILE must each fail)
 """
 import re
 import sys
@@ -35,8 +45,27 @@ from pvlib import solarposition
 
 DAY = "2026-03-20"
 LAT, LON, DELTA_T = 11.9683, 8.4261, 69.2
-LINE = re.compile(r"^(\d\d):(\d\d) (set-point|home) slope=(-?[\d.]+) az=(-?[\d.]+)(.*)$")
-STEP = re.compile(r"step_s=(\d+)")
+# The site and day every checked run must state (the inputs CI gives the
+# images: the stored site or the GPS fix of tests/firmware, the simulated
+# clock's day); a file of another site or day fails rather than being
+# checked against the wrong sky.
+SITE = "lat=11.9683 lon=8.4261"
+CLOCK = "2026-03-20T00:00:00Z"
+# A line is taken for a set-point line when it holds any of these; it must
+# then parse completely (LINE, then only FIELDS), else the file fails.
+CANDIDATE = re.compile(r"set-point|slope=|\baz=|^\S+ home\b")
+LINE = re.compile(r"^(\d\d):(\d\d) (set-point|home) slope=(-?\d+\.\d+) az=(-?\d+\.\d+)((?: \S+)*)$")
+F = r"-?\d+\.\d+"
+FIELDS = {
+    "servo_us": re.compile(r"\d+,\d+"),
+    "steps": re.compile(r"-?\d+,-?\d+"),
+    "moved": re.compile(r"-?\d+,-?\d+"),
+    "target": re.compile(f"{F},{F}"),
+    "axes": re.compile(f"{F},{F}"),
+    "err": re.compile(r"\d+\.\d+|night"),
+    "mode": re.compile(r"[a-z][a-z-]*"),
+}
+STEP = re.compile(r"step_s=(\d+)\b")
 
 
 def sun(times):
@@ -64,59 +93,181 @@ def level_normal(gamma, alpha):
     return float(np.degrees(np.arccos(np.clip(zc, -1, 1)))), float(np.degrees(np.arctan2(-x, -y)))
 
 
+def parse_fields(rest):
+    """{key: value} of the ` key=value` fields after slope/az; None when a
+    field is not `key=value`, is unknown, repeats or has a malformed value."""
+    fields = {}
+    for tok in rest.split():
+        key, eq, val = tok.partition("=")
+        if not eq or key not in FIELDS or key in fields or not FIELDS[key].fullmatch(val):
+            return None
+        fields[key] = val
+    if ("target" in fields) != ("axes" in fields) or ("target" in fields) != ("err" in fields):
+        return None
+    return fields
+
+
+def daylight():
+    """pvlib's daylight at minute resolution: (sunrise, sunset) minutes."""
+    minutes = pd.date_range(f"{DAY}T00:00:00", periods=24 * 60, freq="min")
+    zmin, _ = sun(minutes)
+    up = minutes[zmin < 90.0]
+    return up[0], up[-1]
+
+
+def minimum_setpoints(step_s):
+    """The least number of daylight set-points a run may print: the multiples
+    of its step inside pvlib's sunrise–sunset span, less one at each end (the
+    scheduler's own span may differ from pvlib's by up to a step)."""
+    rise, set_ = daylight()
+    day0 = pd.Timestamp(f"{DAY}T00:00:00")
+    first = -(-int((rise - day0).total_seconds()) // step_s)
+    last = int((set_ - day0).total_seconds()) // step_s
+    return last - first + 1 - 2, last - first + 1
+
+
 def check(path):
+    """Returns the list of problems of one file (empty: it passes)."""
+    problems = []
     text = open(path).read().splitlines()
-    step_s = next((int(m.group(1)) for l in text if (m := STEP.search(l))), 240)
-    rows = [(l, m) for l in text if (m := LINE.match(l))]
-    times = [pd.Timestamp(f"{DAY}T{m.group(1)}:{m.group(2)}:00") for _, m in rows]
-    zen, az = sun(times)
-    bad, first, sp_times = 0, None, []
-    for (line, m), z, a, t in zip(rows, zen, az, times):
-        kind, slope, azi, rest = m.group(3), float(m.group(4)), float(m.group(5)), m.group(6)
+    if not any(SITE in l for l in text):
+        problems.append(f"no line states the site '{SITE}'")
+    if not any(CLOCK in l for l in text):
+        problems.append(f"no line states the day '{CLOCK}'")
+    steps = {int(m.group(1)) for l in text if (m := STEP.search(l))}
+    if len(steps) != 1:
+        problems.append(f"expected one table step (step_s=N) in the file, found {sorted(steps)}")
+        return problems
+    step_s = steps.pop()
+    rows = []
+    for line in text:
+        if not CANDIDATE.search(line):
+            continue
+        m = LINE.match(line)
+        fields = parse_fields(m.group(6)) if m else None
+        if m is None or fields is None:
+            problems.append(f"set-point line does not parse (changed format?): {line!r}")
+            continue
+        rows.append((line, m, fields))
+    times = [pd.Timestamp(f"{DAY}T{m.group(1)}:{m.group(2)}:00") for _, m, _ in rows]
+    zen, az = sun(times) if rows else ([], [])
+    first, sp_times, homes = None, [], 0
+    for (line, m, f), z, a, t in zip(rows, zen, az, times):
+        kind, slope, azi = m.group(3), float(m.group(4)), float(m.group(5))
         if kind == "home":
+            homes += 1
             ok = first is not None and (slope, azi) == first
+        elif slope == 0.0 and azi == 0.0 and z >= 90.0:  # power-on zero set-point at night (seed step 1)
+            ok = True
         else:
             if first is None:
-                if slope == 0.0 and azi == 0.0:  # power-on zero set-point (seed step 1)
-                    continue
                 first = (slope, azi)
             sp_times.append(t)
             ok = angle_deg(slope, azi, z, a) <= 0.08
-        if (s := re.search(r"servo_us=(\d+),(\d+)", rest)):
-            ok &= abs(int(s.group(1)) - (500 + slope * 2000 / 180)) <= 1.5 + 0.6
-            ok &= abs(int(s.group(2)) - (500 + (azi - 90) * 2000 / 180)) <= 1.5 + 0.6
-        if (s := re.search(r"target=(-?[\d.]+),(-?[\d.]+) axes=(-?[\d.]+),(-?[\d.]+) err=([\d.]+|night)", rest)):
-            g_t, a_t, g_x, a_x = (float(s.group(i)) for i in range(1, 5))
+        if "servo_us" in f:
+            s0, s1 = (int(v) for v in f["servo_us"].split(","))
+            ok &= abs(s0 - (500 + slope * 2000 / 180)) <= 1.5 + 0.6
+            ok &= abs(s1 - (500 + (azi - 90) * 2000 / 180)) <= 1.5 + 0.6
+        if "target" in f:
+            g_t, a_t = (float(v) for v in f["target"].split(","))
+            g_x, a_x = (float(v) for v in f["axes"].split(","))
             if kind == "set-point" and (slope, azi) != (0.0, 0.0):
                 # the commanded pose faces pvlib's sun (f32 bound + 0.005° rounding per axis)
                 ok &= angle_deg(*level_normal(g_t, a_t), z, a) <= 0.03
-            if s.group(5) == "night":
+            if f["err"] == "night":
                 ok &= z >= 89.9
             else:
                 # the firmware's pointing error, recomputed from its axis positions
                 err = angle_deg(*level_normal(g_x, a_x), z, a)
-                ok &= z < 90.1 and abs(float(s.group(5)) - err) <= 0.02
-        if (s := re.search(r"steps=(-?\d+),(-?\d+)", rest)):
-            ok &= abs(int(s.group(1)) - slope * 10000 / 360) <= 2 + 1.4
-            ok &= abs(int(s.group(2)) - azi * 10000 / 360) <= 2 + 1.4
+                ok &= z < 90.1 and abs(float(f["err"]) - err) <= 0.02
+        if "steps" in f:
+            s0, s1 = (int(v) for v in f["steps"].split(","))
+            ok &= abs(s0 - slope * 10000 / 360) <= 2 + 1.4
+            ok &= abs(s1 - azi * 10000 / 360) <= 2 + 1.4
         if not ok:
-            bad += 1
-            print(f"{path}: MISMATCH {line!r}: pvlib zenith {z:.4f} azimuth {a:.4f}")
-    # daylight coverage at minute resolution
-    minutes = pd.date_range(f"{DAY}T00:00:00", periods=24 * 60, freq="min")
-    zmin, _ = sun(minutes)
-    up = minutes[zmin < 90.0]
+            problems.append(f"MISMATCH {line!r}: pvlib zenith {z:.4f} azimuth {a:.4f}")
+    # daylight coverage: enough set-points, no gap, first and last near
+    # pvlib's sunrise and sunset, at most one home line
+    least, expected = minimum_setpoints(step_s)
+    if not least <= len(sp_times) <= expected + 1:
+        problems.append(f"{len(sp_times)} daylight set-points, expected {least}..{expected + 1} "
+                        f"(pvlib daylight at step {step_s} s holds {expected})")
+    if homes > 1:
+        problems.append(f"{homes} home lines")
+    rise, set_ = daylight()
+    step = pd.Timedelta(seconds=step_s)
     if sp_times:
-        step = pd.Timedelta(seconds=step_s)
-        if not (up[0] - pd.Timedelta(minutes=1) <= sp_times[0] <= up[0] + 2 * step):
-            bad += 1
-            print(f"{path}: first set-point {sp_times[0]} vs pvlib sunrise {up[0]}")
-        if not (up[-1] - step <= sp_times[-1] <= up[-1] + step):
-            bad += 1
-            print(f"{path}: last set-point {sp_times[-1]} vs pvlib sunset {up[-1]}")
-    print(f"{path}: {len(rows)} set-point lines checked against pvlib SPA, {bad} mismatches")
-    return bad == 0
+        if not (rise - pd.Timedelta(minutes=1) <= sp_times[0] <= rise + 2 * step):
+            problems.append(f"first set-point {sp_times[0]} vs pvlib sunrise {rise}")
+        if not (set_ - step <= sp_times[-1] <= set_ + step):
+            problems.append(f"last set-point {sp_times[-1]} vs pvlib sunset {set_}")
+        gaps = [(a, b) for a, b in zip(sp_times, sp_times[1:]) if not pd.Timedelta(0) < b - a <= step]
+        for a, b in gaps[:3]:
+            problems.append(f"set-points {a.time()} then {b.time()}: not one step apart at most")
+    for p in problems:
+        print(f"{path}: {p}")
+    print(f"{path}: {len(rows)} set-point lines ({len(sp_times)} in daylight, minimum {least}) "
+          f"checked against pvlib SPA, {len(problems)} problems")
+    return problems
+
+
+def self_test(paths):
+    """Doctored copies of good files must each fail; the files must pass."""
+    import os
+    import tempfile
+
+    def sub_first(pattern, repl):
+        return lambda t: re.sub(pattern, repl, t, count=1, flags=re.M)
+
+    doctors = {
+        "format change: 'set-point' renamed 'setpoint'": lambda t: t.replace("set-point", "setpoint"),
+        "format change: 'slope=' became 'slope:' on one line": sub_first(r"slope=", "slope:"),
+        "garbled number on one line": sub_first(r"(\d\d:\d\d set-point slope=\d+\.\d) az=(\d+\.\d)", r"\1 az=1.2.3"),
+        "unknown field on one line": sub_first(r"^(\d\d:\d\d set-point .*)$", r"\1 speed=3"),
+        "azimuth 1° off on one line": lambda t: re.sub(
+            r"^(12:00 set-point slope=\d+\.\d az=)(\d+)", lambda m: m.group(1) + str(int(m.group(2)) + 1), t,
+            count=1, flags=re.M),
+        "every other set-point line dropped": lambda t: "\n".join(
+            l for i, l in enumerate(t.splitlines()) if "set-point" not in l or i % 2) + "\n",
+        "set-points after 15:00 dropped": lambda t: "\n".join(
+            l for l in t.splitlines() if not re.match(r"^1[5-9]:\d\d set-point", l)) + "\n",
+        "another site": lambda t: t.replace("lat=11.9683", "lat=12.9683"),
+        "no step line": lambda t: re.sub(r"step_s=\d+", "step=?", t),
+        "empty output": lambda t: "",
+    }
+    failures = 0
+    with tempfile.TemporaryDirectory() as d:
+        for path in paths:
+            good = open(path).read()
+            if check(path):
+                print(f"self-test: the undoctored {path} fails")
+                failures += 1
+            for name, doctor in doctors.items():
+                bad = doctor(good)
+                doctored = os.path.join(d, os.path.basename(path))
+                with open(doctored, "w") as fh:
+                    fh.write(bad)
+                if bad == good:
+                    print(f"self-test: {path}: '{name}' changed nothing (doctor out of date)")
+                    failures += 1
+                    continue
+                import contextlib
+                import io
+                with contextlib.redirect_stdout(io.StringIO()):
+                    problems = check(doctored)
+                if problems:
+                    print(f"self-test: red as it should: {path}: {name} -> {problems[0]}")
+                else:
+                    print(f"self-test: {path}: '{name}' was NOT caught")
+                    failures += 1
+    print(f"check_setpoints: self-test {'FAILED' if failures else 'passed'} ({failures} uncaught)")
+    return failures == 0
 
 
 if __name__ == "__main__":
-    sys.exit(0 if all([check(p) for p in sys.argv[1:]]) else 1)
+    args = sys.argv[1:]
+    if args[:1] == ["--self-test"]:
+        sys.exit(0 if args[1:] and self_test(args[1:]) else 1)
+    if not args:
+        sys.exit("usage: check_setpoints.py [--self-test] FILE...")
+    sys.exit(0 if all([not check(p) for p in args]) else 1)
