@@ -13,9 +13,9 @@ pub mod axis;
 pub mod clock;
 pub mod config;
 pub mod controller;
-pub mod log;
 #[cfg(not(target_arch = "avr"))]
 pub mod hw;
+pub mod log;
 pub mod safety;
 pub mod scheduler;
 pub mod sim;

@@ -40,7 +40,14 @@ fn every_line_shape() {
     assert_eq!(b.take(), "site source=config lat=11.9683 lon=8.4261\n");
     log::site(&mut b, SiteSource::Gps, -33.92487, -18.42406);
     assert_eq!(b.take(), "site source=gps lat=-33.9249 lon=-18.4241\n");
-    log::setpoint(&mut b, &t("2026-03-20T12:00:00Z"), 12.3456, 181.0004, -1.004, 12.34);
+    log::setpoint(
+        &mut b,
+        &t("2026-03-20T12:00:00Z"),
+        12.3456,
+        181.0004,
+        -1.004,
+        12.34,
+    );
     assert_eq!(
         b.take(),
         "setpoint utc=2026-03-20T12:00:00Z zenith=12.346 azimuth=181.000 c=-1.00 a=12.34\n"
