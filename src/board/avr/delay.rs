@@ -2,11 +2,12 @@
 //!
 //! Accuracy: a delay is never shorter than asked (it is rounded up to whole
 //! CPU cycles of 62.5 ns, and `avr_device::asm::delay_cycles` loops in
-//! 6-cycle steps), and longer by the call overhead (a few cycles, plus about
-//! 0.2 µs per millisecond chunk for long delays) and by every interrupt taken
-//! meanwhile: with the [`Millis`](super::Millis) tick on, its handler (about
-//! 70 cycles, ~4.4 µs) runs once per millisecond, so a long delay is about
-//! 0.5 % long. Use [`millis`](super::millis) to measure real time.
+//! 6-cycle steps). It is longer by the call overhead (a few cycles, plus
+//! under 1 µs of loop per millisecond of `delay_ms`) and by every interrupt
+//! taken meanwhile: with the [`Millis`](super::Millis) tick on, its handler
+//! (about 70 cycles, ~4.4 µs) runs once per millisecond, so a long delay is
+//! about 0.5 % long (the selftest's 100 ms measure 100 ms of Timer0 time).
+//! Use [`millis`](super::millis) to measure real time.
 
 use embedded_hal::delay::DelayNs;
 
