@@ -3,13 +3,17 @@
 //! This library is `no_std`: it runs on the tracker's microcontroller
 //! (Cortex-M4F, 8-bit AVR) and on a PC for tests, simulations and tools.
 #![no_std]
-#![forbid(unsafe_code)]
+// No unsafe code, except in the AVR board layer (src/board/avr), which
+// allows it for raw register writes and its interrupt handlers' register
+// access, each with a SAFETY comment.
+#![deny(unsafe_code)]
 
 /// Name and version of the firmware, printed by every image at boot.
 pub const BANNER: &str = concat!("suntracker ", env!("CARGO_PKG_VERSION"));
 
 pub mod attitude;
 pub mod axis;
+pub mod board;
 pub mod clock;
 pub mod config;
 pub mod controller;

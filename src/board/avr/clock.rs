@@ -1,0 +1,85 @@
+//! A millisecond clock on Timer0 (ATmega2560 datasheet §16 / ATmega328P
+//! §14 "8-bit Timer/Counter0 with PWM": "Clear Timer on Compare Match (CTC)
+//! Mode", TCCR0A/TCCR0B/OCR0A/TIMSK0) and idle sleep between ticks
+//! (ATmega2560 §11 / ATmega328P §9 "Power Management and Sleep Modes":
+//! "Idle Mode", SMCR).
+//!
+//! CTC with prescaler 64 and OCR0A = 249: 16 MHz / 64 / 250 = exactly
+//! 1 kHz, the compare-match A interrupt adds one to a 64-bit count. The
+//! count only ever goes up by one per tick (never set, never stepped; it
+//! wraps after 584 million years). Timer0 is then taken: its PWM outputs
+//! (OC0A/OC0B) are unavailable.
+
+use core::cell::Cell;
+
+use avr_device::interrupt::{self, Mutex};
+
+use super::chip;
+
+/// Milliseconds since [`Millis::start`].
+static MILLIS: Mutex<Cell<u64>> = Mutex::new(Cell::new(0));
+
+/// Compare value for 1 kHz: 16 MHz / 64 / (249 + 1).
+const OCR0A_1KHZ: u8 = 249;
+
+/// The running Timer0 tick. The vector is bound by
+/// `avr_board_interrupts!(timer0)`; [`millis`] advances once interrupts
+/// are enabled.
+pub struct Millis {
+    tc0: chip::TC0,
+}
+
+impl Millis {
+    /// Takes Timer0 and starts the 1 kHz tick from 0 ms.
+    pub fn start(tc0: chip::TC0) -> Self {
+        interrupt::free(|cs| MILLIS.borrow(cs).set(0));
+        tc0.tccr0a().write(|w| w.wgm0().ctc());
+        tc0.ocr0a().write(|w| w.set(OCR0A_1KHZ));
+        tc0.tcnt0().write(|w| w.set(0));
+        tc0.timsk0().write(|w| w.ocie0a().set_bit());
+        tc0.tccr0b().write(|w| w.cs0().prescale_64());
+        Millis { tc0 }
+    }
+
+    /// Milliseconds since [`Millis::start`] (same as [`millis`]).
+    pub fn now_ms(&self) -> u64 {
+        millis()
+    }
+
+    /// Stops the tick and gives Timer0 back; [`millis`] then stands still.
+    pub fn stop(self) -> chip::TC0 {
+        self.tc0.tccr0b().write(|w| w.cs0().no_clock());
+        self.tc0.timsk0().write(|w| w.ocie0a().clear_bit());
+        self.tc0
+    }
+}
+
+/// Milliseconds since the tick started, read in a critical section (the
+/// eight bytes cannot tear against the interrupt). 0 before the start.
+pub fn millis() -> u64 {
+    interrupt::free(|cs| MILLIS.borrow(cs).get())
+}
+
+/// The TIMER0_COMPA handler's work; bound by `avr_board_interrupts!`.
+#[inline(always)]
+pub fn on_timer0_compare() {
+    interrupt::free(|cs| {
+        let count = MILLIS.borrow(cs);
+        count.set(count.get().wrapping_add(1));
+    });
+}
+
+/// Sleeps in idle mode until the next interrupt (at most 1 ms while the
+/// tick runs; a received byte also wakes): for a main loop with nothing to
+/// do. Returns at once, without sleeping, while interrupts are disabled
+/// (nothing could wake the CPU). Interrupt flags that rise between the
+/// caller's last check and the SLEEP instruction are served on wake-up, so
+/// a loop never misses work, at worst it waits one tick longer.
+pub fn sleep_until_interrupt(cpu: &chip::CPU) {
+    if !interrupt::is_enabled() {
+        return;
+    }
+    cpu.smcr().write(|w| w.sm().idle().se().set_bit());
+    avr_device::asm::sleep();
+    cpu.smcr().write(|w| w.se().clear_bit());
+}

@@ -1,0 +1,142 @@
+//! The 8-bit AVR board layer over the `avr-device` 0.9 PAC: the ATmega2560
+//! when the build sets `--cfg avr_atmega2560` (see `.ci/firmware_env.sh`),
+//! else the ATmega328P. The two chips share the register names of every
+//! peripheral used here; where they differ (the second USART, INT2..INT7,
+//! ports A and E..L) the 2560-only parts are behind the same cfg.
+//!
+//! | part | type | traits |
+//! |---|---|---|
+//! | TWI at 100 kHz | [`I2c`] | `embedded_hal::i2c::I2c` |
+//! | port bits | [`OutputPin`], [`InputPin`], [`OpenDrainPin`] | `OutputPin`, `StatefulOutputPin`, `InputPin` |
+//! | busy wait | [`Delay`] | `embedded_hal::delay::DelayNs` |
+//! | USART0 (+ USART1 on the 2560) | [`Usart0`], [`Usart1`] | `embedded_io::{Read, ReadReady, Write}`, [`crate::log::Sink`] |
+//! | Timer0 | [`Millis`] | 1 kHz tick, [`millis`] |
+//! | INTn | [`Anemometer`] | falling-edge pulse count |
+//! | WDT | [`Watchdog`] | ~2 s, [`Watchdog::feed`] |
+//!
+//! Interrupts: the layer defines no interrupt vector itself (an image that
+//! does not use a part keeps its vector and its flash); an image binds the
+//! vectors of the parts it uses with [`avr_board_interrupts!`](crate::avr_board_interrupts)
+//! and then enables interrupts (`unsafe { avr_device::interrupt::enable() }`,
+//! in the image, after every part is set up).
+//!
+//! `unsafe` in this module: only raw register writes (`W::bits`) to
+//! registers whose every bit pattern is valid, and the receive interrupts'
+//! access to the data register of a USART that the interrupt's owner
+//! configured; each block carries a SAFETY comment.
+//!
+//! RAM: the layer's statics are 143 B (USART0 ring 133 B, plus 133 B for
+//! USART1's when used; millis 8 B; anemometer 2 B). avr-gcc keeps constant
+//! data in RAM (`.data`), so a driver's tables cost RAM, not only flash:
+//! `drivers::rtc::Ds3231` goes through `ds323x` to `chrono`, whose date
+//! tables (400 B + 832 B) then take 1,232 B of RAM — fine on the 2560
+//! (8 KiB), more than half of the 328P's 2 KiB.
+#![allow(unsafe_code)]
+
+mod anemometer;
+mod clock;
+mod delay;
+mod gpio;
+mod serial;
+mod twi;
+mod watchdog;
+
+#[cfg(avr_atmega2560)]
+pub use avr_device::atmega2560 as chip;
+#[cfg(not(avr_atmega2560))]
+pub use avr_device::atmega328p as chip;
+
+pub use anemometer::{on_anemometer_edge, Anemometer, ExtInt};
+pub use clock::{millis, on_timer0_compare, sleep_until_interrupt, Millis};
+pub use delay::Delay;
+pub use gpio::{InputPin, OpenDrainPin, OutputPin, Port};
+pub use serial::{on_usart0_rx, SerialError, Usart0};
+#[cfg(avr_atmega2560)]
+pub use serial::{on_usart1_rx, Usart1};
+pub use twi::{I2c, TwiError};
+pub use watchdog::Watchdog;
+
+/// CPU clock of every supported board (Arduino Uno and Mega: 16 MHz crystal).
+pub const CPU_HZ: u32 = 16_000_000;
+
+/// Binds interrupt vectors to the board layer's handlers. Name the parts the
+/// image uses, in any order:
+///
+/// * `timer0` — TIMER0_COMPA → [`Millis`] tick;
+/// * `usart0` — USART0 RX complete (vector `USART_RX` on the 328P) → [`Usart0`];
+/// * `usart1` — USART1 RX complete (2560 only) → [`Usart1`];
+/// * `int0` … `int7` — the external interrupt the [`Anemometer`] listens on
+///   (`int0`, `int1` on the 328P).
+///
+/// ```ignore
+/// suntracker::avr_board_interrupts!(timer0, usart0);
+/// ```
+///
+/// Expands in the image's crate, which needs `avr-device` with its `rt`
+/// feature (as every AVR image has) and, for the handlers' unstable
+/// `avr-interrupt` ABI, `#![cfg_attr(target_arch = "avr", feature(abi_avr_interrupt))]`
+/// at its root.
+#[macro_export]
+macro_rules! avr_board_interrupts {
+    ($($part:ident),* $(,)?) => {
+        $( $crate::__avr_board_isr!($part); )*
+    };
+}
+
+/// One vector of [`avr_board_interrupts!`]; not for direct use.
+#[doc(hidden)]
+#[macro_export]
+macro_rules! __avr_board_isr {
+    (timer0) => {
+        #[cfg_attr(avr_atmega2560, avr_device::interrupt(atmega2560))]
+        #[cfg_attr(not(avr_atmega2560), avr_device::interrupt(atmega328p))]
+        #[allow(non_snake_case)]
+        fn TIMER0_COMPA() {
+            $crate::board::avr::on_timer0_compare();
+        }
+    };
+    (usart0) => {
+        #[cfg(avr_atmega2560)]
+        #[avr_device::interrupt(atmega2560)]
+        #[allow(non_snake_case)]
+        fn USART0_RX() {
+            $crate::board::avr::on_usart0_rx();
+        }
+        #[cfg(not(avr_atmega2560))]
+        #[avr_device::interrupt(atmega328p)]
+        #[allow(non_snake_case)]
+        fn USART_RX() {
+            $crate::board::avr::on_usart0_rx();
+        }
+    };
+    (usart1) => {
+        #[avr_device::interrupt(atmega2560)]
+        #[allow(non_snake_case)]
+        fn USART1_RX() {
+            $crate::board::avr::on_usart1_rx();
+        }
+    };
+    (int0) => { $crate::__avr_board_isr!(@ext INT0); };
+    (int1) => { $crate::__avr_board_isr!(@ext INT1); };
+    (int2) => { $crate::__avr_board_isr!(@ext2560 INT2); };
+    (int3) => { $crate::__avr_board_isr!(@ext2560 INT3); };
+    (int4) => { $crate::__avr_board_isr!(@ext2560 INT4); };
+    (int5) => { $crate::__avr_board_isr!(@ext2560 INT5); };
+    (int6) => { $crate::__avr_board_isr!(@ext2560 INT6); };
+    (int7) => { $crate::__avr_board_isr!(@ext2560 INT7); };
+    (@ext $vector:ident) => {
+        #[cfg_attr(avr_atmega2560, avr_device::interrupt(atmega2560))]
+        #[cfg_attr(not(avr_atmega2560), avr_device::interrupt(atmega328p))]
+        #[allow(non_snake_case)]
+        fn $vector() {
+            $crate::board::avr::on_anemometer_edge();
+        }
+    };
+    (@ext2560 $vector:ident) => {
+        #[avr_device::interrupt(atmega2560)]
+        #[allow(non_snake_case)]
+        fn $vector() {
+            $crate::board::avr::on_anemometer_edge();
+        }
+    };
+}
