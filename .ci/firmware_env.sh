@@ -17,6 +17,7 @@ ELF_BLACKPILL="$FW_TARGET_DIR/blackpill/thumbv7em-none-eabihf/release/blackpill_
 ELF_AVR_UNO="$FW_TARGET_DIR/avr-none/release/avr_tracker.elf"
 ELF_AVR_BENCH="$FW_TARGET_DIR/avr-none/release/avr_bench.elf"
 ELF_AVR_MEGA="$FW_TARGET_DIR/mega/avr-none/release/avr_mega_tracker.elf"
+ELF_AVR_SELFTEST="$FW_TARGET_DIR/mega/avr-none/release/avr_board_selftest.elf"
 
 # The ATmega2560 flags: the same as .cargo/config.toml's avr-none flags but
 # for the other CPU (RUSTFLAGS replaces the config file's list entirely).
@@ -36,7 +37,7 @@ build_avr_uno() {
 build_avr_mega() {
   RUSTFLAGS="$AVR_MEGA_RUSTFLAGS" \
     cargo +nightly build --release --target avr-none -Z build-std=core \
-    --bin avr_mega_tracker --target-dir "$FW_TARGET_DIR/mega"
+    --bin avr_mega_tracker --bin avr_board_selftest --target-dir "$FW_TARGET_DIR/mega"
 }
 build_all_firmware() {
   build_qemu
