@@ -70,6 +70,7 @@ COMMANDS = {
     "hw": "cargo test -q --release --test tracker_hw_day --test tracker_hw_servo --test tracker_hw_portable"
     " --test tracker_attitude -- --nocapture --test-threads=1",
     "wmm": "cargo test -q -p drivers --release --test compass_wmm -- --nocapture --test-threads=1",
+    "servo": "cargo test -q -p drivers --release --test servo_closed_loop -- --nocapture --test-threads=1",
     "axis_property": "cargo test -q --release --test tracker_axis property -- --nocapture --test-threads=1",
     "postal": "grep -cE '^DZ,[0-9]{2}000,' data/postal_codes.csv",
     "panic": "NO_BUILD=1 bash .ci/panic_check.sh",
@@ -490,6 +491,16 @@ figure(
     regex_reader(r"^WMM2025 worst \|D - official\| = (?P<d>[0-9.]+) deg"),
     "within {d}° of NOAA's published test values",
 )
+
+
+def servo(out):
+    # a bound: the README's "within one count" holds while every error is <= 1
+    m = rx(out, r"^300 ppr final errors \(counts\): \[([-0-9, ]+)\]")
+    worst = max(abs(int(v)) for v in m.group(1).split(","))
+    return {"n": "one" if worst <= 1 else str(worst)}
+
+
+figure("servo.counts", "servo", servo, "within {n} encoder count on a simulated FS5106R (300 pulses/rev)")
 
 
 def axis_property(out):
