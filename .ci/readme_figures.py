@@ -342,7 +342,7 @@ figure(
     "energy",
     energy,
     "dual-axis over fixed {mar} (2016-03-21), {jul} (07-10), {dec} (12-15), {year} over 2016; "
-    "over a horizontal N–S single axis {mar_s}, {jul_s}, {dec_s}, {year_s}.",
+    "over a horizontal N–S single axis {mar_s}, {jul_s}, {dec_s}, {year_s} (from:",
 )
 
 
