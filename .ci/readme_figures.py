@@ -70,6 +70,7 @@ COMMANDS = {
     "hw": "cargo test -q --release --test tracker_hw_day --test tracker_hw_servo --test tracker_hw_portable"
     " --test tracker_attitude -- --nocapture --test-threads=1",
     "wmm": "cargo test -q -p drivers --release --test compass_wmm -- --nocapture --test-threads=1",
+    "compact": "cargo test -q -p sun_algos --features compact-f32 --lib compact -- --nocapture --test-threads=1",
     "servo": "cargo test -q -p drivers --release --test servo_closed_loop -- --nocapture --test-threads=1",
     "axis_property": "cargo test -q --release --test tracker_axis property -- --nocapture --test-threads=1",
     "postal": "grep -cE '^DZ,[0-9]{2}000,' data/postal_codes.csv",
@@ -458,7 +459,8 @@ def hw(out):
     return {
         "n": day.group(1),
         "day": f"{float(day.group(3)):.3f}",
-        "servo": f"{float(servo.group(3)):.3f}",
+        "compact": "cargo test -q -p sun_algos --features compact-f32 --lib compact -- --nocapture --test-threads=1",
+    "servo": f"{float(servo.group(3)):.3f}",
         "portable": f"{float(port.group(3)):.3f}",
     }
 
@@ -491,6 +493,16 @@ figure(
     regex_reader(r"^WMM2025 worst \|D - official\| = (?P<d>[0-9.]+) deg"),
     "within {d}° of NOAA's published test values",
 )
+
+
+def compact(out):
+    # a bound: the README's "within 2 ulp" holds while sin and cos stay <= 2
+    m = rx(out, r"^\|x\| <= 6\.3: sin ([0-9.]+) ulp, cos ([0-9.]+) ulp")
+    worst = max(float(m.group(1)), float(m.group(2)))
+    return {"ulp": "2" if worst <= 2.0 else f"{worst:.2f}"}
+
+
+figure("compact.sin_cos", "compact", compact, "routines (within {ulp} ulp on |x| ≤ 2π, the bound asserted by")
 
 
 def servo(out):
