@@ -40,6 +40,12 @@ fn declination_of_the_day() {
 fn set_points_at_ten_and_fourteen_solar_time() {
     let (b10, g10) = optimum_at_solar_hour(10.0);
     let (b14, g14) = optimum_at_solar_hour(14.0);
+    let (b12, _) = optimum_at_solar_hour(12.0);
+    // The README quotes this line (.ci/readme_figures.py checks it).
+    println!(
+        "kano seed eqs: 10:00 beta {b10:.2} gamma {g10:+.2}, 14:00 beta {b14:.2} gamma {g14:+.2}, \
+         12:00 beta {b12:.2} deg"
+    );
     assert!((b10 - 37.566).abs() < 0.001, "{b10}");
     assert!((g10 + 53.638).abs() < 0.001, "{g10}");
     assert!((b14 - 37.566).abs() < 0.001, "{b14}");
@@ -47,7 +53,6 @@ fn set_points_at_ten_and_fourteen_solar_time() {
     // The seed's sign convention (Fig. 7): negative before noon.
     assert!(g10 < 0.0 && g14 > 0.0);
     // Noon: β = |φ − δ| (eq 7 with ω = 0).
-    let (b12, _) = optimum_at_solar_hour(12.0);
     assert!((b12 - 22.876).abs() < 0.001, "{b12}");
 }
 

@@ -27,6 +27,12 @@ fn set_points_at_ten_and_fourteen_apparent_solar_time() {
     for (dt, g_simple) in [(-7200, -53.638), (7200, 53.638)] {
         let t = ev.transit.add_seconds(dt).unwrap();
         let spa = normal_to_sun(&Algorithm::Spa.position(&t, &site, &opts()).unwrap());
+        // The README quotes this line (.ci/readme_figures.py checks it).
+        println!(
+            "kano spa: transit {dt:+} s beta {:.2} gamma {:+.2} deg",
+            spa.slope_deg,
+            spa.azimuth_from_south_deg()
+        );
         // The precise algorithms agree with each other.
         for alg in [Algorithm::Psa2020, Algorithm::Michalsky] {
             let s = normal_to_sun(&alg.position(&t, &site, &opts()).unwrap());

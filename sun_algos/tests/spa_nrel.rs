@@ -155,6 +155,13 @@ fn sunrise_transit_sunset_within_one_second() {
     };
     let rise = spa::local_hours(sunrise_h, tz);
     let set = spa::local_hours(sunset_h, tz);
+    // The README quotes this line (.ci/readme_figures.py checks it).
+    println!(
+        "spa events f64 vs printed: sunrise {:.3} s, transit {:.3} s, sunset {:.3} s",
+        (rise - value("sunrise_local_hours")).abs() * 3600.0,
+        (transit - value("sun_transit_local_hours")).abs() * 3600.0,
+        (set - value("sunset_local_hours")).abs() * 3600.0
+    );
     assert!(
         (rise - value("sunrise_local_hours")).abs() <= one_s,
         "sunrise {rise}"
