@@ -65,13 +65,13 @@ COMMANDS = {
     " cargo run -q --release --example energy_gain -- --period day --date $d || exit 1; done;"
     " cargo run -q --release --example energy_gain -- --period year --date 2016-01-01",
     "qemu": "timeout 300 cargo run -q --release --target thumbv7em-none-eabihf --bin qemu_tracker",
-    "gps_fuzz": "cargo test -q -p drivers --release --test gps_fuzz -- --ignored --nocapture",
+    "gps_fuzz": "cargo test -q -p suntracker-drivers --release --test gps_fuzz -- --ignored --nocapture",
     "tracker_fuzz": "cargo test -q --release --test tracker_fuzz -- --ignored --nocapture",
     "hw": "cargo test -q --release --test tracker_hw_day --test tracker_hw_servo --test tracker_hw_portable"
     " --test tracker_attitude -- --nocapture --test-threads=1",
-    "wmm": "cargo test -q -p drivers --release --test compass_wmm -- --nocapture --test-threads=1",
+    "wmm": "cargo test -q -p suntracker-drivers --release --test compass_wmm -- --nocapture --test-threads=1",
     "compact": "cargo test -q -p sun_algos --features compact-f32 --lib compact -- --nocapture --test-threads=1",
-    "servo": "cargo test -q -p drivers --release --test servo_closed_loop -- --nocapture --test-threads=1",
+    "servo": "cargo test -q -p suntracker-drivers --release --test servo_closed_loop -- --nocapture --test-threads=1",
     "axis_property": "cargo test -q --release --test tracker_axis property -- --nocapture --test-threads=1",
     "postal": "grep -cE '^DZ,[0-9]{2}000,' data/postal_codes.csv",
     "panic": "NO_BUILD=1 bash .ci/panic_check.sh",

@@ -2,7 +2,7 @@
 //! the sentence counters:
 //!
 //! ```text
-//! cargo run -p drivers --example gps_log < drivers/tests/data/gps_golden_mixed.nmea
+//! cargo run -p suntracker-drivers --example gps_log < drivers/tests/data/gps_golden_mixed.nmea
 //! ```
 //!
 //! Columns: `utc` (ISO 8601), `latitude` and `longitude` (degrees, north and

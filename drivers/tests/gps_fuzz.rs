@@ -13,10 +13,10 @@
 //! 0 or 13..99) is rejected as a parse error; and every fix the decoder gives
 //! out (from `push`, `finish` and `current`) passes a plausibility check
 //! written here independently of the driver (`fix_is_wrong`). The figures are
-//! printed: `cargo test -p drivers --test gps_fuzz -- --nocapture`.
+//! printed: `cargo test -p suntracker-drivers --test gps_fuzz -- --nocapture`.
 //!
 //! `fuzz_1m_streams` runs 1,000,000 streams (ignored by default:
-//! `cargo test -p drivers --test gps_fuzz -- --ignored --nocapture`; add
+//! `cargo test -p suntracker-drivers --test gps_fuzz -- --ignored --nocapture`; add
 //! `--release`: about 12 s on the 2-core dev machine); `fuzz_20k_streams`, about
 //! 2 s in a debug build, is the always-on smaller run
 //! with another seed.
