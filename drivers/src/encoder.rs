@@ -250,6 +250,16 @@ pub enum Error<E> {
     Comm(E),
 }
 
+impl<E: core::fmt::Debug> core::fmt::Display for Error<E> {
+    fn fmt(&self, f: &mut core::fmt::Formatter<'_>) -> core::fmt::Result {
+        match self {
+            Error::Comm(e) => write!(f, "encoder channel read error: {e:?}"),
+        }
+    }
+}
+
+impl<E: core::fmt::Debug> core::error::Error for Error<E> {}
+
 /// An encoder read by polling its two `InputPin`s (or from an interrupt
 /// handler that owns the pins).
 #[derive(Debug)]

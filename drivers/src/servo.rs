@@ -24,6 +24,19 @@ pub enum Error<E> {
     InvalidConfig,
 }
 
+impl<E: core::fmt::Debug> core::fmt::Display for Error<E> {
+    fn fmt(&self, f: &mut core::fmt::Formatter<'_>) -> core::fmt::Result {
+        match self {
+            Error::Comm(e) => write!(f, "servo PWM error: {e:?}"),
+            Error::InvalidSpeed => f.write_str("servo speed command NaN or infinite"),
+            Error::PulseOutOfRange => f.write_str("servo pulse width outside the configured range"),
+            Error::InvalidConfig => f.write_str("inconsistent servo configuration"),
+        }
+    }
+}
+
+impl<E: core::fmt::Debug> core::error::Error for Error<E> {}
+
 /// Pulse timing of a servo.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub struct ServoConfig {

@@ -62,6 +62,17 @@ pub enum Error<E> {
     InvalidConfig(ramp::RampError),
 }
 
+impl<E: core::fmt::Debug> core::fmt::Display for Error<E> {
+    fn fmt(&self, f: &mut core::fmt::Formatter<'_>) -> core::fmt::Result {
+        match self {
+            Error::Comm(e) => write!(f, "stepper pin error: {e:?}"),
+            Error::InvalidConfig(r) => write!(f, "unusable stepper configuration: {r}"),
+        }
+    }
+}
+
+impl<E: core::fmt::Debug> core::error::Error for Error<E> {}
+
 /// Limit-switch inputs; either may be absent.
 #[derive(Debug)]
 pub struct LimitSwitches<L> {

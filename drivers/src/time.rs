@@ -42,6 +42,22 @@ pub enum DateTimeError {
     Millis,
 }
 
+impl core::fmt::Display for DateTimeError {
+    fn fmt(&self, f: &mut core::fmt::Formatter<'_>) -> core::fmt::Result {
+        match self {
+            DateTimeError::Year => write!(f, "year outside {MIN_YEAR}..={MAX_YEAR}"),
+            DateTimeError::Month => f.write_str("month outside 1..=12"),
+            DateTimeError::Day => f.write_str("day is 0 or past the end of the month"),
+            DateTimeError::Hour => f.write_str("hour outside 0..=23"),
+            DateTimeError::Minute => f.write_str("minute outside 0..=59"),
+            DateTimeError::Second => f.write_str("second outside 0..=59"),
+            DateTimeError::Millis => f.write_str("milliseconds outside 0..=999"),
+        }
+    }
+}
+
+impl core::error::Error for DateTimeError {}
+
 /// A validated UTC date and time of day with millisecond resolution.
 ///
 /// Fields are private so that every value in circulation is valid; the

@@ -25,6 +25,22 @@ pub enum CalibrationError {
     SpanTooSmall,
 }
 
+impl core::fmt::Display for CalibrationError {
+    fn fmt(&self, f: &mut core::fmt::Formatter<'_>) -> core::fmt::Result {
+        match self {
+            CalibrationError::NonFinite => f.write_str("calibration sample NaN or infinite"),
+            CalibrationError::TooFewSamples => {
+                f.write_str("fewer calibration samples than asked for")
+            }
+            CalibrationError::SpanTooSmall => {
+                f.write_str("axis span below the minimum: the sweep did not turn far enough")
+            }
+        }
+    }
+}
+
+impl core::error::Error for CalibrationError {}
+
 /// Hard-iron offsets and soft-iron scale factors.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Calibration {

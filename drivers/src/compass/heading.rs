@@ -40,6 +40,17 @@ pub enum HeadingError {
     NoHorizontalField,
 }
 
+impl core::fmt::Display for HeadingError {
+    fn fmt(&self, f: &mut core::fmt::Formatter<'_>) -> core::fmt::Result {
+        match self {
+            HeadingError::NonFinite => f.write_str("heading input NaN or infinite"),
+            HeadingError::NoHorizontalField => f.write_str("horizontal field is zero: no heading"),
+        }
+    }
+}
+
+impl core::error::Error for HeadingError {}
+
 /// The field with the tilt removed, seed Expression (8): `R_X(α₀)·R_Y(β₀)·h`.
 pub fn detilt(field: Vector3, alpha0_rad: f32, beta0_rad: f32) -> Vector3 {
     let (sa, ca) = libm::sincosf(alpha0_rad);

@@ -43,6 +43,22 @@ pub enum Error<E> {
     Overflow,
 }
 
+impl<E: core::fmt::Debug> core::fmt::Display for Error<E> {
+    fn fmt(&self, f: &mut core::fmt::Formatter<'_>) -> core::fmt::Result {
+        match self {
+            Error::Comm(e) => write!(f, "HMC5883L I2C error: {e:?}"),
+            Error::WrongChip(id) => write!(
+                f,
+                "HMC5883L identification registers read {id:02x?}, expected \"H43\""
+            ),
+            Error::NotReady => f.write_str("HMC5883L has no new sample yet"),
+            Error::Overflow => f.write_str("HMC5883L axis outside the selected gain's range"),
+        }
+    }
+}
+
+impl<E: core::fmt::Debug> core::error::Error for Error<E> {}
+
 /// Samples averaged per output (configuration A, MA bits 6:5).
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum Averaging {

@@ -43,6 +43,22 @@ pub enum Error<E> {
     Overflow,
 }
 
+impl<E: core::fmt::Debug> core::fmt::Display for Error<E> {
+    fn fmt(&self, f: &mut core::fmt::Formatter<'_>) -> core::fmt::Result {
+        match self {
+            Error::Comm(e) => write!(f, "QMC5883L I2C error: {e:?}"),
+            Error::WrongChip(id) => write!(
+                f,
+                "QMC5883L chip-ID register reads {id:#04x}, expected 0xff"
+            ),
+            Error::NotReady => f.write_str("QMC5883L has no new sample yet"),
+            Error::Overflow => f.write_str("QMC5883L axis outside the selected range"),
+        }
+    }
+}
+
+impl<E: core::fmt::Debug> core::error::Error for Error<E> {}
+
 /// Output data rate (control 1, ODR bits 3:2).
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum DataRate {

@@ -68,6 +68,27 @@ pub enum WmmError {
     BadCoefficientTable,
 }
 
+impl core::fmt::Display for WmmError {
+    fn fmt(&self, f: &mut core::fmt::Formatter<'_>) -> core::fmt::Result {
+        match self {
+            WmmError::NonFinite => f.write_str("WMM input NaN or infinite"),
+            WmmError::LatitudeOutOfRange => f.write_str("latitude outside −90..=90°"),
+            WmmError::LongitudeOutOfRange => f.write_str("longitude outside −360..=360°"),
+            WmmError::HeightOutOfRange => {
+                f.write_str("height outside the model range, −10..=850 km")
+            }
+            WmmError::DateOutsideModel => f.write_str("date outside the model's life span"),
+            WmmError::AtGeographicPole => f.write_str("declination undefined at a geographic pole"),
+            WmmError::InvalidDate => f.write_str("calendar date does not exist"),
+            WmmError::BadCoefficientTable => {
+                f.write_str("WMM coefficient table out of (n, m) order")
+            }
+        }
+    }
+}
+
+impl core::error::Error for WmmError {}
+
 /// The seven magnetic elements at a point (report section 1.2).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct MagneticElements {

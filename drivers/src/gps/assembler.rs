@@ -40,6 +40,21 @@ pub enum Reject {
     BadChecksum,
 }
 
+impl core::fmt::Display for Reject {
+    fn fmt(&self, f: &mut core::fmt::Formatter<'_>) -> core::fmt::Result {
+        match self {
+            Reject::Overflow => write!(f, "sentence longer than {MAX_SENTENCE_LEN} bytes"),
+            Reject::MissingStart => f.write_str("line without a leading $"),
+            Reject::NonAscii => f.write_str("non-ASCII byte or control character in the sentence"),
+            Reject::Partial => f.write_str("sentence cut off"),
+            Reject::MissingChecksum => f.write_str("no *hh checksum at the end of the sentence"),
+            Reject::BadChecksum => f.write_str("checksum does not match the sentence"),
+        }
+    }
+}
+
+impl core::error::Error for Reject {}
+
 /// Counters of everything the assembler has seen.
 #[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
 pub struct AssemblerStats {

@@ -128,6 +128,14 @@ pub enum Sentence {
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub struct ParseError;
 
+impl core::fmt::Display for ParseError {
+    fn fmt(&self, f: &mut core::fmt::Formatter<'_>) -> core::fmt::Result {
+        f.write_str("unparsable or impossible GGA/RMC sentence")
+    }
+}
+
+impl core::error::Error for ParseError {}
+
 fn time_of_day_ms(t: &chrono::NaiveTime) -> TimeOfDayMs {
     // chrono encodes a leap second as nanosecond >= 1e9; clamp into the second.
     let millis = (t.nanosecond() / 1_000_000).min(999);

@@ -102,6 +102,17 @@ pub enum Error<E> {
     EndOfStream,
 }
 
+impl<E: core::fmt::Debug> core::fmt::Display for Error<E> {
+    fn fmt(&self, f: &mut core::fmt::Formatter<'_>) -> core::fmt::Result {
+        match self {
+            Error::Comm(e) => write!(f, "GPS serial port error: {e:?}"),
+            Error::EndOfStream => f.write_str("GPS serial port reported end of stream"),
+        }
+    }
+}
+
+impl<E: core::fmt::Debug> core::error::Error for Error<E> {}
+
 impl<E: embedded_io::Error> Error<E> {
     /// The `embedded-io` kind of a communication error.
     pub fn kind(&self) -> ErrorKind {

@@ -71,6 +71,20 @@ pub enum Error<E> {
     OutOfRange,
 }
 
+impl<E: core::fmt::Debug> core::fmt::Display for Error<E> {
+    fn fmt(&self, f: &mut core::fmt::Formatter<'_>) -> core::fmt::Result {
+        match self {
+            Error::Comm(e) => write!(f, "DS1302 pin error: {e:?}"),
+            Error::InvalidDeviceState => f.write_str("DS1302 registers hold no valid date-time"),
+            Error::OutOfRange => {
+                f.write_str("year outside 2000..=2099, which the DS1302 cannot store")
+            }
+        }
+    }
+}
+
+impl<E: core::fmt::Debug> core::error::Error for Error<E> {}
+
 fn bcd_to_bin(v: u8) -> Option<u8> {
     let (hi, lo) = (v >> 4, v & 0x0f);
     (hi <= 9 && lo <= 9).then_some(hi * 10 + lo)

@@ -23,6 +23,18 @@ pub enum Error<E> {
     OutOfRange,
 }
 
+impl<E: core::fmt::Debug> core::fmt::Display for Error<E> {
+    fn fmt(&self, f: &mut core::fmt::Formatter<'_>) -> core::fmt::Result {
+        match self {
+            Error::Comm(e) => write!(f, "DS3231 I2C error: {e:?}"),
+            Error::InvalidDeviceState => f.write_str("DS3231 registers hold no valid date-time"),
+            Error::OutOfRange => f.write_str("date outside what the DS3231 stores"),
+        }
+    }
+}
+
+impl<E: core::fmt::Debug> core::error::Error for Error<E> {}
+
 impl<E> From<ds323x::Error<E>> for Error<E> {
     fn from(e: ds323x::Error<E>) -> Self {
         match e {

@@ -22,6 +22,21 @@ pub enum RampError {
     PulseTooLong,
 }
 
+impl core::fmt::Display for RampError {
+    fn fmt(&self, f: &mut core::fmt::Formatter<'_>) -> core::fmt::Result {
+        match self {
+            RampError::Zero => f.write_str("a speed or the acceleration is zero"),
+            RampError::StartAboveMax => f.write_str("start speed above maximum speed"),
+            RampError::TooFast => f.write_str("maximum speed above 1 000 000 steps/s"),
+            RampError::PulseTooLong => {
+                f.write_str("step pulse does not fit in the shortest step interval")
+            }
+        }
+    }
+}
+
+impl core::error::Error for RampError {}
+
 /// Speed profile parameters.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub struct Ramp {

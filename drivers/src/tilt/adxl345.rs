@@ -41,6 +41,18 @@ pub enum Error<E> {
     NoGravity,
 }
 
+impl<E: core::fmt::Debug> core::fmt::Display for Error<E> {
+    fn fmt(&self, f: &mut core::fmt::Formatter<'_>) -> core::fmt::Result {
+        match self {
+            Error::Comm(e) => write!(f, "ADXL345 I2C error: {e:?}"),
+            Error::WrongDeviceId(id) => write!(f, "ADXL345 DEVID reads {id:#04x}, expected 0xe5"),
+            Error::NoGravity => f.write_str("acceleration too small to tell which way is down"),
+        }
+    }
+}
+
+impl<E: core::fmt::Debug> core::error::Error for Error<E> {}
+
 /// Acceleration in units of g.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Acceleration {

@@ -121,6 +121,25 @@ pub enum Error<E, P> {
     BadRequest,
 }
 
+impl<E: core::fmt::Debug, P: core::fmt::Debug> core::fmt::Display for Error<E, P> {
+    fn fmt(&self, f: &mut core::fmt::Formatter<'_>) -> core::fmt::Result {
+        match self {
+            Error::Comm(e) => write!(f, "Modbus serial port error: {e:?}"),
+            Error::Pin(p) => write!(f, "Modbus direction-enable pin error: {p:?}"),
+            Error::Timeout => f.write_str("Modbus response timed out"),
+            Error::WriteZero => f.write_str("serial port accepted no bytes"),
+            Error::Crc => f.write_str("Modbus response CRC is wrong"),
+            Error::Exception(x) => write!(f, "Modbus exception from the device: {x:?}"),
+            Error::UnexpectedResponse => {
+                f.write_str("unexpected address, function or byte count in the Modbus response")
+            }
+            Error::BadRequest => write!(f, "register count zero or above {MAX_REGISTERS}"),
+        }
+    }
+}
+
+impl<E: core::fmt::Debug, P: core::fmt::Debug> core::error::Error for Error<E, P> {}
+
 /// Timeout settings, in microseconds of the delay provider.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub struct Timeout {

@@ -64,6 +64,22 @@ pub enum MountTiltError {
     Degenerate,
 }
 
+impl core::fmt::Display for MountTiltError {
+    fn fmt(&self, f: &mut core::fmt::Formatter<'_>) -> core::fmt::Result {
+        match self {
+            MountTiltError::OutOfRange => {
+                f.write_str("axis angle outside 0..=180° or not a number")
+            }
+            MountTiltError::Inconsistent => {
+                f.write_str("axis angles inconsistent: cos²θx + cos²θy > 1")
+            }
+            MountTiltError::Degenerate => f.write_str("y axis (nearly) vertical: β0 undefined"),
+        }
+    }
+}
+
+impl core::error::Error for MountTiltError {}
+
 /// Expression (7): α0, β0 from the axis angles θx, θy (degrees from vertical).
 pub fn mount_tilt(theta_x_deg: f32, theta_y_deg: f32) -> Result<MountTilt, MountTiltError> {
     let in_range = |t: f32| (0.0..=180.0).contains(&t);

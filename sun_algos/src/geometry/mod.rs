@@ -67,3 +67,5 @@ impl core::fmt::Display for GeometryError {
         }
     }
 }
+
+impl core::error::Error for GeometryError {}
