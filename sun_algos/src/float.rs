@@ -3,7 +3,7 @@
 //! All trigonometry of the crate goes through [`Float`], implemented for
 //! `f32` and `f64`. The default backend is `libm`; with the `compact-f32`
 //! feature `f32` uses the crate's own single-precision routines
-//! ([`crate::compact`]) so AVR images carry no software double arithmetic.
+//! (module `compact`, public with that feature) so AVR images carry no software double arithmetic.
 
 use core::fmt::Debug;
 use core::ops::{Add, AddAssign, Div, DivAssign, Mul, MulAssign, Neg, Sub, SubAssign};

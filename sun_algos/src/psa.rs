@@ -25,10 +25,10 @@
 //!
 //! **Precision.** Every angle that grows with time (`L`, `g`, `gmst`) is
 //! reduced exactly: the whole-day part `rate × days` is computed as a
-//! fraction of a turn in 64-bit fixed point ([`whole_day_turns`]) and only
+//! fraction of a turn in 64-bit fixed point (`whole_day_turns`) and only
 //! the part of a day is multiplied in floating point. `f32` therefore keeps
 //! its full precision (no Julian Day is ever formed in `T`). The horizontal
-//! coordinates are taken from the sun's unit vector ([`horizontal`]), which
+//! coordinates are taken from the sun's unit vector (`horizontal`), which
 //! is the same as the paper's `acos`/`atan` formulas but well conditioned
 //! near the zenith in `f32`.
 

@@ -1,8 +1,8 @@
 //! Honeywell HMC5883L three-axis magnetometer over I2C (our driver).
 //!
 //! Register map (HMC5883L datasheet, Table 2): `00h` configuration A
-//! (MA[6:5] samples averaged, DO[4:2] output rate, MS[1:0] bias), `01h`
-//! configuration B (GN[7:5] gain), `02h` mode (MD[1:0]: 00 continuous,
+//! (`MA[6:5]` samples averaged, `DO[4:2]` output rate, `MS[1:0]` bias), `01h`
+//! configuration B (`GN[7:5]` gain), `02h` mode (`MD[1:0]`: 00 continuous,
 //! 01 single, 1x idle), `03h–08h` data X, Z, Y (MSB first — note the order),
 //! `09h` status (bit 0 RDY, bit 1 LOCK), `0Ah–0Ch` identification "H43".
 //! Seven-bit address 0x1E. The chip has no overflow flag: an axis that over- or

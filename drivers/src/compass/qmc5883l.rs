@@ -2,8 +2,8 @@
 //!
 //! Register map (QMC5883L datasheet, section 9):
 //! `00h–05h` data X, Y, Z (LSB first, two's complement), `06h` status
-//! (bit 0 DRDY, bit 1 OVL, bit 2 DOR), `09h` control 1 (OSR[7:6], RNG[5:4],
-//! ODR[3:2], MODE[1:0]), `0Ah` control 2 (SOFT_RST bit 7), `0Bh` SET/RESET
+//! (bit 0 DRDY, bit 1 OVL, bit 2 DOR), `09h` control 1 (`OSR[7:6]`, `RNG[5:4]`,
+//! `ODR[3:2]`, `MODE[1:0]`), `0Ah` control 2 (SOFT_RST bit 7), `0Bh` SET/RESET
 //! period (datasheet: write 0x01), `0Dh` chip ID (reads 0xFF).
 //! Seven-bit address 0x0D. Sensitivity 12000 LSB/G (±2 G) or 3000 LSB/G (±8 G).
 

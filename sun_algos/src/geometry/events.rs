@@ -1,7 +1,7 @@
 //! Sunrise, transit, sunset and daylight hours.
 //!
 //! Two models:
-//! - [`simple`]: seed jimoh-2019 eq (9)–(12) on the seed's declination and
+//! - [`simple()`]: seed jimoh-2019 eq (9)–(12) on the seed's declination and
 //!   equation of time, with polar day and night exactly as the seed states:
 //!   no sunrise when −tan φ tan δ ≥ 1 (ω_sr = ω_ss = 0, both at solar 12 h),
 //!   no sunset when −tan φ tan δ ≤ −1 (ω = ∓180°, solar 0 h and 24 h).
