@@ -1,7 +1,4 @@
-//! Device drivers for solar trackers over embedded-hal 1.0, `no_std`.
-//!
-//! Serial devices (GPS, RS-485 inclinometer) use `embedded-io` `Read`/`Write`
-//! throughout the crate; I2C, GPIO, PWM and delays use `embedded-hal` 1.0.
+#![doc = include_str!("../README.md")]
 #![no_std]
 
 pub mod compass;

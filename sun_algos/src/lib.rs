@@ -1,12 +1,4 @@
-//! Solar position algorithms for solar trackers, `no_std`, in `f32` and `f64`.
-//!
-//! ```
-//! use sun_algos::{Algorithm, Options, Site, UtcTime};
-//! let t: UtcTime = "2026-06-21T12:00:00Z".parse().unwrap();
-//! let site = Site::new(11.9683f32, 8.4261).unwrap(); // Kano
-//! let p = Algorithm::Psa2020.position(&t, &site, &Options::default()).unwrap();
-//! assert!(p.zenith_deg < 20.0);
-//! ```
+#![doc = include_str!("../README.md")]
 #![no_std]
 #![deny(unsafe_code)]
 #![warn(missing_docs)]
