@@ -86,19 +86,6 @@ pub enum GpsTime {
     Implausible(UtcTime),
 }
 
-/// `t` plus `ms` milliseconds.
-fn advanced_by_ms(t: &UtcTime, ms: u64) -> Result<UtcTime, SunError> {
-    const MS_PER_DAY: u64 = 86_400_000;
-    let total = u64::from(t.ms_of_day()).saturating_add(ms);
-    let days = i32::try_from(total / MS_PER_DAY).map_err(|_| SunError::InvalidDate)?;
-    let day = t
-        .days_since_2000()
-        .checked_add(days)
-        .ok_or(SunError::InvalidDate)?;
-    // The remainder is below MS_PER_DAY, which fits in u32.
-    UtcTime::from_days_ms(day, (total % MS_PER_DAY) as u32)
-}
-
 /// What `fix` says about the time at monotonic `now_ms` (see the module
 /// documentation for the rules).
 pub fn gps_time(fix: &GpsFix, now_ms: u64, config: &TimeConfig) -> GpsTime {
@@ -117,7 +104,8 @@ pub fn gps_time(fix: &GpsFix, now_ms: u64, config: &TimeConfig) -> GpsTime {
     if !config.window.contains(&t) {
         return GpsTime::Implausible(t);
     }
-    match advanced_by_ms(&t, age_ms) {
+    // The age is at most max_gps_age_ms (a u32) here: it fits an i64.
+    match t.add_millis(i64::try_from(age_ms).unwrap_or(i64::MAX)) {
         Ok(now) if config.window.contains(&now) => GpsTime::Trusted(now),
         Ok(now) => GpsTime::Implausible(now),
         Err(_) => GpsTime::NoFix,

@@ -171,14 +171,25 @@ impl UtcTime {
     /// [`Error::InvalidDate`], never an arithmetic overflow (the seconds are
     /// split into whole days and a remainder before anything is multiplied).
     pub fn add_seconds(&self, secs: i64) -> Result<Self, Error> {
-        let whole_days = secs.div_euclid(SECONDS_PER_DAY);
         // 0..86_400 s, so at most 86_399_000 ms: fits a u32.
         let rest_s =
             u32::try_from(secs.rem_euclid(SECONDS_PER_DAY)).map_err(|_| Error::InvalidTime)?;
-        let total_ms = rest_s
-            .checked_mul(1000)
-            .and_then(|ms| ms.checked_add(self.ms_of_day))
-            .ok_or(Error::InvalidTime)?; // < 2 × MS_PER_DAY
+        let rest_ms = rest_s.checked_mul(1000).ok_or(Error::InvalidTime)?;
+        self.add_days_ms(secs.div_euclid(SECONDS_PER_DAY), rest_ms)
+    }
+
+    /// This instant moved by `ms` milliseconds (either sign); like
+    /// [`UtcTime::add_seconds`], any `i64` gives a time or
+    /// [`Error::InvalidDate`], never an overflow.
+    pub fn add_millis(&self, ms: i64) -> Result<Self, Error> {
+        let per_day = i64::from(MS_PER_DAY);
+        let rest_ms = u32::try_from(ms.rem_euclid(per_day)).map_err(|_| Error::InvalidTime)?;
+        self.add_days_ms(ms.div_euclid(per_day), rest_ms)
+    }
+
+    /// This instant plus whole days and `ms` (below one day) milliseconds.
+    fn add_days_ms(&self, whole_days: i64, ms: u32) -> Result<Self, Error> {
+        let total_ms = ms.checked_add(self.ms_of_day).ok_or(Error::InvalidTime)?; // < 2 × MS_PER_DAY
         let carry_days = i64::from(total_ms / MS_PER_DAY);
         let ms_of_day = total_ms % MS_PER_DAY;
         let days = i64::from(self.days)
@@ -431,6 +442,18 @@ mod tests {
         let t2 = t.add_seconds(86_400).unwrap();
         assert_eq!(t2.ymd(), (2025, 1, 1));
         assert_eq!(t2.add_seconds(-1).unwrap().hms_milli(), (23, 59, 59, 0));
+    }
+
+    #[test]
+    fn add_millis_carries_days_and_stops_at_the_ends() {
+        let t = UtcTime::from_ymd_hms_milli(2026, 3, 20, 23, 59, 59, 500).unwrap();
+        let next = UtcTime::from_ymd_hms_milli(2026, 3, 21, 0, 0, 0, 400).unwrap();
+        assert_eq!(t.add_millis(900), Ok(next));
+        assert_eq!(next.add_millis(-900), Ok(t));
+        assert_eq!(t.add_millis(0), Ok(t));
+        for ms in [i64::MAX, i64::MIN, i64::MAX - 1, i64::MIN + 1] {
+            assert_eq!(t.add_millis(ms), Err(Error::InvalidDate), "{ms}");
+        }
     }
 
     #[test]
