@@ -97,11 +97,12 @@ where
             continue;
         }
         last = r.set_point;
-        let (Some(p), Some(sp)) = (r.target, r.set_point) else {
+        // Tracking always has a set-point (the fuzz checks it); the pose
+        // commanded for it is what is measured here, at this minute (the
+        // table step is one minute).
+        let Some(p) = r.target else {
             continue;
         };
-        // The set-point is for its table entry's minute: this one.
-        let _ = sp;
         let sun = Algorithm::Spa
             .position(&now, &spa_site, &Options::default())
             .unwrap();
