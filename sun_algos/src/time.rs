@@ -188,6 +188,7 @@ impl UtcTime {
     }
 
     /// This instant plus whole days and `ms` (below one day) milliseconds.
+    #[inline]
     fn add_days_ms(&self, whole_days: i64, ms: u32) -> Result<Self, Error> {
         let total_ms = ms.checked_add(self.ms_of_day).ok_or(Error::InvalidTime)?; // < 2 × MS_PER_DAY
         let carry_days = i64::from(total_ms / MS_PER_DAY);
