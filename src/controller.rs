@@ -252,6 +252,14 @@ where
     pub fn scheduler(&self) -> &Scheduler<T, P, N> {
         &self.scheduler
     }
+    /// The scheduler's position source (to change the site).
+    pub fn position_source_mut(&mut self) -> &mut P {
+        self.scheduler.source_mut()
+    }
+    /// Plans the day again at the next tick, after the site changed.
+    pub fn replan(&mut self) {
+        self.scheduler.replan();
+    }
     /// Stow on an operator's command (true) or release it.
     pub fn command_stow(&mut self, on: bool) {
         self.command_stow = on;
@@ -640,6 +648,10 @@ where
 
     fn update_attitude(&mut self, now_ms: u64) {
         let Some(sensors) = self.sensors.as_mut() else {
+            // Measured attitude asked for but no sensor answered at power-on:
+            // the last attitude (level at first) is used, and it is a fault.
+            self.faults
+                .raise(Fault::SensorTimeout(Sensor::Inclinometer), now_ms);
             return;
         };
         let n = self.options.sensor_samples.max(1);

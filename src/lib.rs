@@ -11,19 +11,18 @@
 /// Name and version of the firmware, printed by every image at boot.
 pub const BANNER: &str = concat!("suntracker ", env!("CARGO_PKG_VERSION"));
 
+pub mod app;
 pub mod attitude;
 pub mod axis;
 pub mod board;
 pub mod clock;
 pub mod config;
 pub mod controller;
-#[cfg(not(target_arch = "avr"))]
 pub mod hw;
 pub mod log;
 pub mod safety;
 pub mod scheduler;
 pub mod sim;
 pub mod site;
-#[cfg(not(target_arch = "avr"))]
 pub mod sources;
 pub mod traits;

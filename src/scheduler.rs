@@ -424,6 +424,14 @@ impl<T: Float, P: PositionSource<T>, const N: usize> Scheduler<T, P, N> {
     pub fn source_mut(&mut self) -> &mut P {
         &mut self.source
     }
+    /// Plans the day again at the next tick (the site changed: a GPS fix
+    /// moved it). Before the first tick nothing changes: the power-on
+    /// step plans with the new site anyway.
+    pub fn replan(&mut self) {
+        if self.phase != Phase::PowerOn {
+            self.phase = Phase::ReadDate;
+        }
+    }
     /// The table entry applied last in this day's tracking, if any.
     pub fn applied(&self) -> Option<TableEntry<T>> {
         match self.phase {

@@ -69,4 +69,10 @@ pub trait AttitudeSensor<T> {
     type Error;
     /// A fresh reading.
     fn read(&mut self) -> Result<AttitudeReading<T>, Self::Error>;
+    /// Sets the magnetic declination (degrees, east positive) the sensor
+    /// applies to its heading, e.g. from WMM2025 once the site is known.
+    /// Sensors that report a true heading already ignore it.
+    fn set_declination_deg(&mut self, declination_deg: f32) {
+        let _ = declination_deg;
+    }
 }

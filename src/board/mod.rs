@@ -4,3 +4,8 @@
 
 #[cfg(target_arch = "avr")]
 pub mod avr;
+
+/// The Arduino Mega 2560 tracker (ATmega2560 builds: `--cfg avr_atmega2560`).
+#[cfg(all(target_arch = "avr", avr_atmega2560))]
+#[allow(unsafe_code)]
+pub mod mega2560;

@@ -16,6 +16,8 @@ use embedded_hal::digital::OutputPin;
 use embedded_hal::i2c::I2c;
 use embedded_io::{Read, ReadReady, Write};
 
+use sun_algos::Float;
+
 use crate::traits::{AttitudeReading, AttitudeSensor};
 
 /// A sensor giving the angles between the vertical and the tracker's x and
@@ -113,10 +115,14 @@ impl<I: AxisAngles, M: Magnetometer> MountSensorsHw<I, M> {
     }
 }
 
-impl<I: AxisAngles, M: Magnetometer> AttitudeSensor<f64> for MountSensorsHw<I, M> {
+impl<T: Float, I: AxisAngles, M: Magnetometer> AttitudeSensor<T> for MountSensorsHw<I, M> {
     type Error = MountSensorError<I::Error, M::Error>;
 
-    fn read(&mut self) -> Result<AttitudeReading<f64>, Self::Error> {
+    fn set_declination_deg(&mut self, declination_deg: f32) {
+        self.declination_deg = declination_deg;
+    }
+
+    fn read(&mut self) -> Result<AttitudeReading<T>, Self::Error> {
         let (theta_x_deg, theta_y_deg) = self
             .tilt
             .axis_angles_deg()
@@ -135,9 +141,9 @@ impl<I: AxisAngles, M: Magnetometer> AttitudeSensor<f64> for MountSensorsHw<I, M
         )
         .map_err(MountSensorError::Heading)?;
         Ok(AttitudeReading {
-            theta_x_deg: f64::from(theta_x_deg),
-            theta_y_deg: f64::from(theta_y_deg),
-            heading_deg: f64::from(heading_deg),
+            theta_x_deg: T::from_f32(theta_x_deg),
+            theta_y_deg: T::from_f32(theta_y_deg),
+            heading_deg: T::from_f32(heading_deg),
         })
     }
 }

@@ -36,6 +36,7 @@ impl EncoderCount for SharedEncoder {
 }
 
 #[cfg(target_has_atomic = "32")]
+#[cfg(target_has_atomic = "32")]
 impl EncoderCount for drivers::encoder::AtomicEncoder {
     fn count(&self) -> i32 {
         drivers::encoder::AtomicEncoder::count(self)

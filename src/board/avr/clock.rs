@@ -5,7 +5,8 @@
 //! "Idle Mode", SMCR).
 //!
 //! CTC with prescaler 64 and OCR0A = 249: 16 MHz / 64 / 250 = exactly
-//! 1 kHz, the compare-match A interrupt adds one to a 64-bit count. The
+//! 1 kHz, the compare-match A interrupt adds one to a 64-bit count
+//! ([`MS_PER_TICK`] in an emulator build). The
 //! count only ever goes up by one per tick (never set, never stepped; it
 //! wraps after 584 million years). Timer0 is then taken: its PWM outputs
 //! (OC0A/OC0B) are unavailable.
@@ -18,6 +19,32 @@ use super::chip;
 
 /// Milliseconds since [`Millis::start`].
 static MILLIS: Mutex<Cell<u64>> = Mutex::new(Cell::new(0));
+
+/// Milliseconds the count advances per 1 kHz tick: 1 on a board. An image
+/// built for the emulator harness with the environment variable
+/// `SUNTRACKER_EMU_MS_PER_TICK=N` (see `.ci/firmware_env.sh`) advances `N`
+/// per tick instead, so that an emulated day passes in 1/N of the CPU time;
+/// nothing else in the image changes.
+pub const MS_PER_TICK: u64 = ms_per_tick(option_env!("SUNTRACKER_EMU_MS_PER_TICK"));
+
+const fn ms_per_tick(text: Option<&str>) -> u64 {
+    let Some(text) = text else { return 1 };
+    let bytes = text.as_bytes();
+    let mut value = 0u64;
+    let mut i = 0;
+    while i < bytes.len() {
+        let d = bytes[i];
+        assert!(
+            d.is_ascii_digit(),
+            "SUNTRACKER_EMU_MS_PER_TICK: digits only"
+        );
+        value = value * 10 + (d - b'0') as u64;
+        assert!(value <= 1000, "SUNTRACKER_EMU_MS_PER_TICK: at most 1000");
+        i += 1;
+    }
+    assert!(value >= 1, "SUNTRACKER_EMU_MS_PER_TICK: at least 1");
+    value
+}
 
 /// Compare value for 1 kHz: 16 MHz / 64 / (249 + 1).
 const OCR0A_1KHZ: u8 = 249;
@@ -65,7 +92,7 @@ pub fn millis() -> u64 {
 pub fn on_timer0_compare() {
     interrupt::free(|cs| {
         let count = MILLIS.borrow(cs);
-        count.set(count.get().wrapping_add(1));
+        count.set(count.get().wrapping_add(MS_PER_TICK));
     });
 }
 

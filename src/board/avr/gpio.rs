@@ -259,3 +259,77 @@ impl<P: Port, const BIT: u8> embedded_hal::digital::InputPin for OpenDrainPin<'_
         Ok(self.port.pin() & Mask::<BIT>::VALUE == 0)
     }
 }
+
+/// A push-pull output whose bit is kept at run time ([`OutputPin::erase`]),
+/// so that pins of one port share one type (the four inputs of an H-bridge
+/// in `drivers::stepper::hbridge::BridgePins`).
+pub struct PortOutputPin<'p, P: Port> {
+    port: &'p P,
+    mask: u8,
+}
+
+impl<'p, P: Port, const BIT: u8> OutputPin<'p, P, BIT> {
+    /// The same pin with its bit kept at run time.
+    pub fn erase(self) -> PortOutputPin<'p, P> {
+        PortOutputPin {
+            port: self.port,
+            mask: Mask::<BIT>::VALUE,
+        }
+    }
+}
+
+impl<P: Port> PortOutputPin<'_, P> {
+    fn is_set(&self) -> bool {
+        self.port.port() & self.mask != 0
+    }
+    fn set(&mut self, high: bool) {
+        if self.is_set() != high {
+            self.port.toggle(self.mask);
+        }
+    }
+}
+
+impl<P: Port> ErrorType for PortOutputPin<'_, P> {
+    type Error = Infallible;
+}
+
+impl<P: Port> embedded_hal::digital::OutputPin for PortOutputPin<'_, P> {
+    fn set_low(&mut self) -> Result<(), Infallible> {
+        self.set(false);
+        Ok(())
+    }
+    fn set_high(&mut self) -> Result<(), Infallible> {
+        self.set(true);
+        Ok(())
+    }
+}
+
+/// An input whose bit is kept at run time ([`InputPin::erase`]), so that
+/// switches of one port share one type (`drivers::stepper::LimitSwitches`).
+pub struct PortInputPin<'p, P: Port> {
+    port: &'p P,
+    mask: u8,
+}
+
+impl<'p, P: Port, const BIT: u8> InputPin<'p, P, BIT> {
+    /// The same pin with its bit kept at run time.
+    pub fn erase(self) -> PortInputPin<'p, P> {
+        PortInputPin {
+            port: self.port,
+            mask: Mask::<BIT>::VALUE,
+        }
+    }
+}
+
+impl<P: Port> ErrorType for PortInputPin<'_, P> {
+    type Error = Infallible;
+}
+
+impl<P: Port> embedded_hal::digital::InputPin for PortInputPin<'_, P> {
+    fn is_high(&mut self) -> Result<bool, Infallible> {
+        Ok(self.port.pin() & self.mask != 0)
+    }
+    fn is_low(&mut self) -> Result<bool, Infallible> {
+        Ok(self.port.pin() & self.mask == 0)
+    }
+}

@@ -47,9 +47,9 @@ pub use avr_device::atmega2560 as chip;
 pub use avr_device::atmega328p as chip;
 
 pub use anemometer::{on_anemometer_edge, Anemometer, ExtInt};
-pub use clock::{millis, on_timer0_compare, sleep_until_interrupt, Millis};
+pub use clock::{millis, on_timer0_compare, sleep_until_interrupt, Millis, MS_PER_TICK};
 pub use delay::Delay;
-pub use gpio::{InputPin, OpenDrainPin, OutputPin, Port};
+pub use gpio::{InputPin, OpenDrainPin, OutputPin, Port, PortInputPin, PortOutputPin};
 pub use serial::{on_usart0_rx, SerialError, Usart0};
 #[cfg(avr_atmega2560)]
 pub use serial::{on_usart1_rx, Usart1};

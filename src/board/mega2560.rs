@@ -1,0 +1,279 @@
+//! The Arduino Mega 2560 tracker (seed li-2022's build): everything about
+//! this board in one place — pins, devices, configuration — turned into the
+//! parts of [`crate::app::Firmware`]. The image `avr_mega_tracker` binds the
+//! interrupt vectors and calls [`run`].
+//!
+//! | function | pin | Mega header |
+//! |---|---|---|
+//! | log, 115200 8N1 | USART0 TXD0/RXD0 (PE1/PE0) | D1/D0 (USB) |
+//! | GPS NMEA in, 9600 8N1 | USART1 RXD1/TXD1 (PD2/PD3) | D19/D18 |
+//! | I²C 100 kHz: DS3231 0x68, QMC5883L 0x0D, ADXL345 0x53 | SDA/SCL (PD1/PD0) | D20/D21 |
+//! | C axis (azimuth rotation γ) H-bridge IN1–IN4 | PA0–PA3 | D22–D25 |
+//! | A axis (tilt α) H-bridge IN1–IN4 | PA4–PA7 | D26–D29 |
+//! | C home switch (low end, to GND, pull-up) | PC0 | D37 |
+//! | A home switch (low end, to GND, pull-up) | PC1 | D36 |
+//! | C high-end limit switch (to GND, pull-up) | PC2 | D35 |
+//! | A high-end limit switch (to GND, pull-up) | PC3 | D34 |
+//! | anemometer reed contact (to GND, pull-up; falling edge) | INT4 (PE4) | D2 |
+//!
+//! Wiring sketch (one axis; the other is the same on the next four pins):
+//!
+//! ```text
+//!  Mega D22 ─ IN1 ┐                ┌ OUT1 ─ coil A+
+//!  Mega D23 ─ IN2 ├ L298N H-bridge ┤ OUT2 ─ coil A−      200-step motor
+//!  Mega D24 ─ IN3 │  (+12 V motor) │ OUT3 ─ coil B+      → 50:1 worm → C axis
+//!  Mega D25 ─ IN4 ┘                └ OUT4 ─ coil B−
+//!  Mega D37 ─┬─ home switch (closed at the low stop) ─ GND
+//!  Mega D35 ─┴─ limit switch (closed at the high stop) ─ GND
+//!  Mega D20/D21 ─ SDA/SCL ─ DS3231 · QMC5883L · ADXL345 (3.3 V modules with level shifters)
+//!  Mega D19 ─ GPS TX      Mega D2 ─ anemometer reed ─ GND
+//! ```
+//!
+//! Drives: 200 full steps per motor turn, full-step (two-phase-on)
+//! sequence, 50:1 worm gear: 10,000 steps per axis turn, 0.036° a step;
+//! 2°/s at most (56 steps/s) with a 100 steps/s² ramp. The C axis turns
+//! −180…+180° from its home switch at −180°, the A axis −90…+90° from its
+//! home at −90°. The H-bridge axes have no encoder: open loop, homed at
+//! power-on and at every end of day.
+//!
+//! The QMC5883L and the ADXL345 are probed at power-on; when both answer,
+//! the mount's attitude is measured every tick (seed portable-tracker)
+//! with the WMM2025 declination of the site; else a level mount facing
+//! north is assumed and fault `timeout_inclinometer` says so.
+
+use core::cell::RefCell;
+
+use drivers::compass::calibration::Calibration;
+use drivers::compass::qmc5883l::{Config as QmcConfig, Qmc5883l};
+use drivers::rtc::Ds3231;
+use drivers::stepper::hbridge::{BridgePins, Config as BridgeConfig, HBridgeStepper, StepMode};
+use drivers::stepper::ramp::Ramp;
+use drivers::stepper::LimitSwitches;
+use drivers::tilt::adxl345::Adxl345;
+use embedded_hal_bus::i2c::RefCellDevice;
+
+use super::avr::{
+    chip, millis, sleep_until_interrupt, Anemometer, ExtInt, I2c, InputPin, Millis, OutputPin,
+    Usart0, Usart1, Watchdog, MS_PER_TICK,
+};
+use crate::app::{AppConfig, Firmware, Platform};
+use crate::axis::FeedbackMode;
+use crate::config::{AxisConfig, Config};
+use crate::controller::{AttitudeSource, ControllerOptions};
+use crate::hw::{MountSensorsHw, StepperAxis};
+use crate::log::Sink;
+
+/// Board name in the boot line.
+pub const BOARD: &str = "mega2560";
+/// Log serial.
+pub const LOG_BAUD_HZ: u32 = 115_200;
+/// GPS receivers' default rate (NEO-6M and kin).
+pub const GPS_BAUD_HZ: u32 = 9_600;
+/// ADXL345 address with SDO low (datasheet "Serial Communications", I²C).
+pub const ADXL345_ADDRESS: u8 = 0x53;
+/// Day-table capacity: the seed's 4-minute table of a polar day.
+pub const TABLE_LEN: usize = 360;
+
+/// Full steps per axis degree: 200 × 50 / 360.
+const STEPS_PER_TURN: u32 = 200;
+const GEAR_RATIO: f32 = 50.0;
+/// Highest axis speed, degrees per second (56 full steps/s).
+const MAX_SPEED_DEG_S: f32 = 2.0;
+
+/// The board's axis configuration (C then A).
+pub fn axis_configs() -> [AxisConfig; 2] {
+    let c = AxisConfig {
+        counts_per_motor_rev: STEPS_PER_TURN,
+        microsteps: 1,
+        gear_ratio: GEAR_RATIO,
+        min_deg: -180.0,
+        max_deg: 180.0,
+        home_deg: -180.0,
+        backlash_deg: 0.0,
+        max_speed_deg_s: MAX_SPEED_DEG_S,
+        // Open loop: every set-point is driven to the nearest step.
+        deadband_deg: 0.0,
+    };
+    let a = AxisConfig {
+        min_deg: -90.0,
+        max_deg: 90.0,
+        home_deg: -90.0,
+        ..c
+    };
+    [c, a]
+}
+
+/// The H-bridge drive settings: full steps, ramp from 20 to 56 steps/s.
+fn bridge_config() -> BridgeConfig {
+    BridgeConfig {
+        mode: StepMode::Full,
+        ramp: Ramp {
+            start_speed_sps: 20,
+            max_speed_sps: 56,
+            accel_sps2: 100,
+        },
+        settle_us: 20_000,
+        release_when_idle: true,
+    }
+}
+
+/// Monotonic clock, anemometer, watchdog and sleep of the board.
+struct MegaPlatform {
+    _millis: Millis,
+    anemometer: Anemometer,
+    watchdog: Watchdog,
+    cpu: chip::CPU,
+}
+
+impl Platform for MegaPlatform {
+    fn now_ms(&mut self) -> u64 {
+        millis()
+    }
+    fn take_wind_pulses(&mut self) -> u32 {
+        u32::from(self.anemometer.take_pulses())
+    }
+    fn feed_watchdog(&mut self) {
+        self.watchdog.feed();
+    }
+    fn wait_for_interrupt(&mut self) {
+        sleep_until_interrupt(&self.cpu);
+    }
+}
+
+/// Starts the tracker on the board's peripherals; never returns. A
+/// configuration the controller refuses (none: it is the board's own) is
+/// reported on the log and the board then only feeds nothing: the watchdog
+/// resets it.
+pub fn run(dp: chip::Peripherals) -> ! {
+    let mut log = Usart0::new(dp.USART0, LOG_BAUD_HZ);
+    let gps = Usart1::new(dp.USART1, GPS_BAUD_HZ);
+    let millis_clock = Millis::start(dp.TC0);
+    if MS_PER_TICK != 1 {
+        // Emulator builds only: the harness reads the time scale here.
+        log.text("timescale ");
+        log.u32(MS_PER_TICK as u32);
+        log.text("\n");
+    }
+    let watchdog = Watchdog::enable(dp.WDT, &dp.CPU);
+
+    // Motors and switches.
+    let porta = dp.PORTA;
+    let portc = dp.PORTC;
+    let bridge = |p0, p1, p2, p3| BridgePins {
+        in1: p0,
+        in2: p1,
+        in3: p2,
+        in4: p3,
+    };
+    let c_pins = bridge(
+        OutputPin::<_, 0>::new(&porta, false).erase(),
+        OutputPin::<_, 1>::new(&porta, false).erase(),
+        OutputPin::<_, 2>::new(&porta, false).erase(),
+        OutputPin::<_, 3>::new(&porta, false).erase(),
+    );
+    let a_pins = bridge(
+        OutputPin::<_, 4>::new(&porta, false).erase(),
+        OutputPin::<_, 5>::new(&porta, false).erase(),
+        OutputPin::<_, 6>::new(&porta, false).erase(),
+        OutputPin::<_, 7>::new(&porta, false).erase(),
+    );
+    let c_limits = LimitSwitches {
+        min: Some(InputPin::<_, 0>::new(&portc, true).erase()),
+        max: Some(InputPin::<_, 2>::new(&portc, true).erase()),
+        active_low: true,
+    };
+    let a_limits = LimitSwitches {
+        min: Some(InputPin::<_, 1>::new(&portc, true).erase()),
+        max: Some(InputPin::<_, 3>::new(&portc, true).erase()),
+        active_low: true,
+    };
+    let c_home = InputPin::<_, 0>::new(&portc, true).erase();
+    let a_home = InputPin::<_, 1>::new(&portc, true).erase();
+    let anemometer = Anemometer::new(dp.EXINT, ExtInt::Int4);
+    // The reed contact to ground needs the pull-up of PE4.
+    let porte = dp.PORTE;
+    let _wind_pin = InputPin::<_, 4>::new(&porte, true);
+
+    // Interrupts on before any bus or port traffic that waits for them.
+    // SAFETY: every part the vectors touch is set up above.
+    unsafe { avr_device::interrupt::enable() };
+
+    let axes = match (
+        HBridgeStepper::new(c_pins, c_limits, bridge_config()),
+        HBridgeStepper::new(a_pins, a_limits, bridge_config()),
+    ) {
+        (Ok(c), Ok(a)) => [
+            StepperAxis::new(c, c_home, true),
+            StepperAxis::new(a, a_home, true),
+        ],
+        _ => halt(&mut log, "stepper configuration refused"),
+    };
+
+    // The I²C devices.
+    let bus = RefCell::new(I2c::new(dp.TWI));
+    let rtc = Ds3231::new(RefCellDevice::new(&bus));
+    let compass = Qmc5883l::new(RefCellDevice::new(&bus), QmcConfig::default());
+    let mut tilt = Adxl345::new(RefCellDevice::new(&bus), ADXL345_ADDRESS);
+    let sensors = match (compass, tilt.init()) {
+        (Ok(compass), Ok(())) => Some(MountSensorsHw::new(
+            tilt,
+            compass,
+            Calibration::IDENTITY,
+            0.0,
+        )),
+        _ => {
+            log.text("attitude sensors absent: level mount facing north\n");
+            None
+        }
+    };
+
+    let mut config = Config::default();
+    config.axes = axis_configs();
+    if config.validate().is_err() {
+        halt(&mut log, "configuration refused");
+    }
+    let options = ControllerOptions {
+        feedback: FeedbackMode::OpenLoop,
+        // Without sensors the controller keeps the level attitude and
+        // raises `timeout_inclinometer`.
+        attitude: AttitudeSource::Sensors,
+        sensor_samples: 4,
+        ..ControllerOptions::default()
+    };
+    let mut platform = MegaPlatform {
+        _millis: millis_clock,
+        anemometer,
+        watchdog,
+        cpu: dp.CPU,
+    };
+    let firmware = Firmware::<f32, _, _, _, _, _, TABLE_LEN>::new(
+        AppConfig::new(BOARD),
+        config,
+        options,
+        rtc,
+        gps,
+        axes,
+        sensors,
+        log,
+    );
+    match firmware {
+        Ok(fw) => fw.run(&mut platform),
+        // The board's own configuration was checked above; the scheduler's
+        // intervals are the defaults. Nothing is driven; the watchdog,
+        // no longer fed, resets the board.
+        Err(_) => loop {
+            avr_device::asm::sleep();
+        },
+    }
+}
+
+/// Says why and stops: the watchdog, no longer fed, resets the board.
+fn halt(log: &mut Usart0, why: &str) -> ! {
+    log.text("halt: ");
+    log.text(why);
+    log.text("\n");
+    log.flush_all();
+    loop {
+        avr_device::asm::sleep();
+    }
+}
