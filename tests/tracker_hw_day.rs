@@ -117,7 +117,7 @@ fn kano_equinox_day_on_real_drivers() {
         };
         let mut tx: Vec<I2c> = vec![read_status(STATUS_RUNNING), read_time(rtc_reads)];
         if rtc_offset_s.abs() > 2 {
-            tx.extend(set_time(DayTime { secs: t }));
+            tx.extend(set_time(DayTime { secs: t }, STATUS_RUNNING));
             rtc_offset_s = 0;
         }
         i2c.update_expectations(&tx);

@@ -111,7 +111,7 @@ fn lost_power_gps_loss_and_rtc_nack_are_raised_and_recovered() {
         } else if rtc_stopped && gps_valid {
             rtc_stopped = false;
             let mut v = vec![read_status(STATUS_OSF)];
-            v.extend(set_time(DayTime { secs: t }));
+            v.extend(set_time(DayTime { secs: t }, STATUS_OSF));
             v
         } else if rtc_stopped {
             vec![read_status(STATUS_OSF)]

@@ -65,7 +65,7 @@ fn rtc_that_lost_power_waits_for_gps_then_gps_sets_it() {
         // 2. GPS fix: OSF still set -> the RTC is set to GPS time.
         read_status(STATUS_OSF),
     ];
-    tx.extend(set_time(at(T0 + 60)));
+    tx.extend(set_time(at(T0 + 60), STATUS_OSF));
     // 3. GPS gone: the RTC, now running, gives the time.
     tx.push(read_status(STATUS_RUNNING));
     tx.push(read_time(at(T0 + 120)));
@@ -99,7 +99,7 @@ fn gps_disciplines_the_rtc_only_past_the_drift_limit() {
         read_status(STATUS_RUNNING),
         read_time(at(T0 + 60 + 3)),
     ];
-    tx.extend(set_time(at(T0 + 60)));
+    tx.extend(set_time(at(T0 + 60), STATUS_RUNNING));
     let mut keeper = TimeKeeper::new(
         Ds3231::new(I2cMock::new(&tx)),
         TimeConfig {
@@ -175,7 +175,7 @@ fn garbage_time_registers_are_replaced_by_gps_time() {
         read_status(STATUS_RUNNING),
         I2c::write_read(RTC_ADDR, vec![REG_SECONDS], vec![0; 7]),
     ];
-    tx.extend(set_time(at(T0)));
+    tx.extend(set_time(at(T0), STATUS_RUNNING));
     let mut keeper = TimeKeeper::new(Ds3231::new(I2cMock::new(&tx)), TimeConfig::default());
     let s = keeper.update(&kano_fix(T0), ms(T0));
     assert!(s.rtc_error && s.rtc_set);
@@ -208,7 +208,7 @@ fn nmea_on_the_serial_port_sets_a_stopped_rtc() {
     let serial = MemSerial::default();
     let mut gps = GpsPort::new(serial.clone(), 3_000);
     let mut tx = vec![read_status(STATUS_OSF), read_status(STATUS_OSF)];
-    tx.extend(set_time(at(T0 + 1)));
+    tx.extend(set_time(at(T0 + 1), STATUS_OSF));
     let mut keeper = TimeKeeper::new(Ds3231::new(I2cMock::new(&tx)), TimeConfig::default());
 
     // No fix yet: the receiver reports time without position.
@@ -387,7 +387,7 @@ fn an_rtc_date_outside_the_window_is_not_trusted() {
             vec![0x00, 0x00, 0x00, 0x07, 0x01, 0x01, 0x00],
         ),
     ];
-    tx.extend(set_time(at(T0)));
+    tx.extend(set_time(at(T0), STATUS_RUNNING));
     tx.push(read_status(STATUS_RUNNING));
     tx.push(I2c::write_read(
         RTC_ADDR,

@@ -1,5 +1,5 @@
-//! Real-time clocks behind one [`Clock`] trait: the DS3231 (I2C, through the
-//! `ds323x` crate) and the DS1302 (three-wire, our own driver), plus
+//! Real-time clocks behind one [`Clock`] trait: the DS3231 (I2C) and the
+//! DS1302 (three-wire), both our own register-level drivers, plus
 //! [`sync_from_gps`] to set a clock that has drifted from GPS time.
 
 mod ds1302;

@@ -265,8 +265,8 @@ impl DateTime {
         self.unix_millis() - earlier.unix_millis()
     }
 
-    /// Day of the week, 1 = Sunday .. 7 = Saturday (the numbering `ds323x`
-    /// writes into the DS3231 and that we use for the DS1302 too).
+    /// Day of the week, 1 = Sunday .. 7 = Saturday (the numbering our DS3231
+    /// and DS1302 drivers write into the chips' day-of-week registers).
     pub fn weekday_from_sunday(&self) -> u8 {
         // 1970-01-01 was a Thursday (5 when Sunday is 1).
         let w = (self.days_since_unix_epoch() + 4).rem_euclid(7); // 0 = Sunday

@@ -12,16 +12,21 @@ use embedded_hal_mock::eh1::i2c::Transaction as I2c;
 /// DS3231 (Maxim 19-5170): 7-bit address 0x68; time registers 0x00..=0x06
 /// (seconds, minutes, hours [bit 6 = 12 h mode], day of week 1..7, date,
 /// month [bit 7 = century], year), all BCD; status register 0x0F, bit 7 =
-/// OSF (oscillator stopped), bit 3 = EN32kHz (1 at power-on).
+/// OSF (oscillator stopped), bit 3 = EN32kHz (1 at power-on); control
+/// register 0x0E (bit 7 = EOSC; 0x1C at power-on), read together with the
+/// status register after setting the time.
 pub const RTC_ADDR: u8 = 0x68;
 pub const REG_SECONDS: u8 = 0x00;
+pub const REG_CONTROL: u8 = 0x0E;
 pub const REG_STATUS: u8 = 0x0F;
+/// Control register at power-on (EOSC clear: the oscillator runs on battery).
+pub const CONTROL_POWER_ON: u8 = 0x1C;
 /// Status with OSF set (power-on value 0x88).
 pub const STATUS_OSF: u8 = 0x88;
 /// Status of a running clock (EN32kHz only).
 pub const STATUS_RUNNING: u8 = 0x08;
-/// What `ds323x` writes to clear OSF: EN32kHz kept, A2F/A1F written 1
-/// (writing 1 leaves those alarm flags unchanged).
+/// What the driver writes back to clear OSF from 0x88: EN32kHz kept, A2F/A1F
+/// written 1 (writing 1 leaves those alarm flags unchanged).
 pub const STATUS_CLEAR_OSF: u8 = 0x0B;
 
 /// Binary-coded decimal of 0..=99.
@@ -31,7 +36,7 @@ pub fn bcd(n: u32) -> u8 {
 }
 
 /// A calendar instant of 2026-03-20 (a Friday: day-of-week register 6 when
-/// Sunday is 1, as `ds323x` numbers it), `secs` seconds after midnight UTC.
+/// Sunday is 1, as the driver numbers it), `secs` seconds after midnight UTC.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub struct DayTime {
     pub secs: u32,
@@ -59,14 +64,22 @@ pub fn read_time(t: DayTime) -> I2c {
     I2c::write_read(RTC_ADDR, vec![REG_SECONDS], rtc_registers(t))
 }
 
-/// Setting the time to `t` (burst write from register 0, then OSF clear).
-pub fn set_time(t: DayTime) -> [I2c; 2] {
+/// Setting the time to `t` on a chip whose status register reads `status`
+/// (`STATUS_OSF` or `STATUS_RUNNING`): burst write from register 0, control
+/// and status read, then the OSF clear only if OSF was set.
+pub fn set_time(t: DayTime, status: u8) -> Vec<I2c> {
     let mut w = vec![REG_SECONDS];
     w.extend(rtc_registers(t));
-    [
+    let mut tx = vec![
         I2c::write(RTC_ADDR, w),
-        I2c::write(RTC_ADDR, vec![REG_STATUS, STATUS_CLEAR_OSF]),
-    ]
+        I2c::write_read(RTC_ADDR, vec![REG_CONTROL], vec![CONTROL_POWER_ON, status]),
+    ];
+    match status {
+        STATUS_OSF => tx.push(I2c::write(RTC_ADDR, vec![REG_STATUS, STATUS_CLEAR_OSF])),
+        STATUS_RUNNING => {}
+        _ => panic!("set_time: status {status:#04x} not modelled"),
+    }
+    tx
 }
 
 /// An NMEA 0183 sentence `$body*HH\r\n`, HH the XOR of the body's bytes.
