@@ -23,7 +23,7 @@ use suntracker::controller::{AttitudeSource, Controller, ControllerOptions, Tick
 use suntracker::hw::{MountSensorError, MountSensorsHw};
 use suntracker::safety::{Fault, Sensor};
 use suntracker::sim::plant::MotorPlant;
-use suntracker::traits::{AlgorithmSource, AttitudeSensor};
+use suntracker::traits::{AlgorithmSource, AttitudeReading, AttitudeSensor};
 
 use std::collections::VecDeque;
 
@@ -45,7 +45,7 @@ fn raw_bus_bytes_give_back_the_mount_rotation() {
     tx.extend(mag_read());
     let mut bus = I2cMock::new(&tx);
     let mut s = sensors(&bus);
-    let r = s.read().unwrap();
+    let r: AttitudeReading<f64> = s.read().unwrap();
     // θx, θy: cos θ = the x, y components of "up" (seed eq. 4–6).
     let up = up_tracker();
     assert!((r.theta_x_deg - up[0].acos().to_degrees()).abs() < 0.3);
@@ -70,9 +70,18 @@ fn sensor_errors_are_typed() {
     tx.push(I2c::write_read(MAG, vec![0x06], vec![0x00]));
     let mut bus = I2cMock::new(&tx);
     let mut s = sensors(&bus);
-    assert!(matches!(s.read(), Err(MountSensorError::Tilt(_))));
-    assert!(matches!(s.read(), Err(MountSensorError::Tilt(_))));
-    assert!(matches!(s.read(), Err(MountSensorError::Compass(_))));
+    assert!(matches!(
+        AttitudeSensor::<f64>::read(&mut s),
+        Err(MountSensorError::Tilt(_))
+    ));
+    assert!(matches!(
+        AttitudeSensor::<f64>::read(&mut s),
+        Err(MountSensorError::Tilt(_))
+    ));
+    assert!(matches!(
+        AttitudeSensor::<f64>::read(&mut s),
+        Err(MountSensorError::Compass(_))
+    ));
     bus.done();
 }
 
@@ -246,7 +255,7 @@ fn witmotion_inclinometer_and_qmc5883l_give_back_the_mount_rotation() {
     let mag = Qmc5883l::new(bus.clone(), QmcConfig::default()).unwrap();
     let mut s = MountSensorsHw::new(incl, mag, Calibration::IDENTITY, DECL as f32);
 
-    let r = s.read().unwrap();
+    let r: AttitudeReading<f64> = s.read().unwrap();
     let m = MountAttitude::from_sensors(r.theta_x_deg, r.theta_y_deg, r.heading_deg).unwrap();
     // 16-bit angles (0.0055°) and 3000 LSB/G: well inside 0.05°.
     assert!((m.alpha0_deg - ALPHA0).abs() < 0.05, "{m:?}");

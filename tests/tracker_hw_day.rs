@@ -1,7 +1,7 @@
 //! One whole simulated day of the controller on the real drivers with mocked
 //! buses: Kano (11.9683° N, 8.4261° E), 2026-03-20, one tick a minute.
 //!
-//! - RTC: the real DS3231 driver (through `ds323x`) on an embedded-hal-mock
+//! - RTC: the real DS3231 driver on an embedded-hal-mock
 //!   I2C bus; every tick's transactions are set exactly from the datasheet
 //!   register layout (status read, time burst read; once, the setting from
 //!   GPS because the RTC starts 7 s slow).

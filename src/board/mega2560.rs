@@ -1,7 +1,11 @@
 //! The Arduino Mega 2560 tracker (seed li-2022's build): everything about
 //! this board in one place — pins, devices, configuration — turned into the
-//! parts of [`crate::app::Firmware`]. The image `avr_mega_tracker` binds the
-//! interrupt vectors and calls [`run`].
+//! parts of [`crate::app::Firmware`]. An image binds the interrupt vectors
+//! (`timer0, usart0, usart1, int4`) and calls [`run`]. Not yet the shipped
+//! `avr_mega_tracker` image: linked, its constant data (the WMM2025
+//! coefficients in `f64` alone are 3 KB) leaves too little of the 8 KB RAM
+//! for the controller and the stack, so that image still runs its older
+//! loop until the tables are smaller or in flash.
 //!
 //! | function | pin | Mega header |
 //! |---|---|---|

@@ -28,9 +28,9 @@
 //! RAM: the layer's statics are 143 B (USART0 ring 133 B, plus 133 B for
 //! USART1's when used; millis 8 B; anemometer 2 B). avr-gcc keeps constant
 //! data in RAM (`.data`), so a driver's tables cost RAM, not only flash:
-//! `drivers::rtc::Ds3231` goes through `ds323x` to `chrono`, whose date
-//! tables (400 B + 832 B) then take 1,232 B of RAM — fine on the 2560
-//! (8 KiB), more than half of the 328P's 2 KiB.
+//! `drivers::compass::wmm`'s WMM2025 coefficients in `f64` take 3 KB, and
+//! `drivers::gps` through the `nmea` crate brings core's float-parsing
+//! tables (12 KB) — more than the 2560's 8 KiB.
 #![allow(unsafe_code)]
 
 mod anemometer;
