@@ -1,9 +1,9 @@
-//! GPS over NMEA 0183: sentence framing of our own, GGA/RMC parsing by the
-//! `nmea` crate (0.8, `default-features = false`, features `GGA` and `RMC`,
-//! which keeps it `no_std`), and a fusion of the two into a [`GpsFix`].
+//! GPS over NMEA 0183: sentence framing, GGA/RMC field reading (integer
+//! arithmetic, no text-to-float parsing) and a fusion of the two into a
+//! [`GpsFix`], all of our own.
 //!
 //! ```text
-//! serial bytes ─> SentenceAssembler ─> parse_sentence (nmea) ─> FixFusion ─> GpsFix
+//! serial bytes ─> SentenceAssembler ─> parse_sentence ───────> FixFusion ─> GpsFix
 //!                 (82-char buffer,      (GGA, RMC, any talker,   (per epoch,
 //!                  checksum, counters)   impossible content       stale after N ms)
 //!                                        rejected)

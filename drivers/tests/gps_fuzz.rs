@@ -1,5 +1,5 @@
 //! Property run of random and mutated byte streams through the sentence
-//! assembler, the `nmea` parser and the fusion, and through the whole
+//! assembler, the GGA/RMC reader and the fusion, and through the whole
 //! [`GpsDecoder`].
 //!
 //! Properties: nothing panics; every accepted sentence starts with '$', is at

@@ -16,7 +16,7 @@
 //!
 //! Positions are written as `ddmm.mmmm` / `dddmm.mmmm` (minutes to 1e-4,
 //! i.e. better than 1e-6° after rounding). RMC carries a two-digit year:
-//! the `nmea` crate reads 83..=99 as 19xx and the rest as 20xx.
+//! `drivers::gps` reads 83..=99 as 19xx and the rest as 20xx.
 
 use core::fmt::{self, Write};
 

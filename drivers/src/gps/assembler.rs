@@ -274,7 +274,7 @@ impl SentenceAssembler {
 }
 
 /// Checks `$<body>*hh`.
-fn check(sentence: &[u8]) -> Result<(), Reject> {
+pub(super) fn check(sentence: &[u8]) -> Result<(), Reject> {
     let (&first, rest) = sentence.split_first().ok_or(Reject::MissingStart)?;
     if first != START {
         return Err(Reject::MissingStart);

@@ -1,24 +1,54 @@
-//! GGA and RMC contents through the `nmea` crate (no default features, only
-//! its `GGA` and `RMC` features, so it stays `no_std`).
+//! GGA and RMC contents, read field by field with integer arithmetic.
 //!
-//! Only the sentence type is looked at here before handing the whole sentence
-//! to `nmea::parse_str`; the talker (GP, GN, GL, GA, BD, ...) is not
-//! restricted. Other sentence types (GSV, GSA, VTG, TXT, ...) are
-//! [`Sentence::Other`]: valid, but of no use to the fix.
+//! Only the sentence type is looked at to classify a sentence; the talker
+//! (GP, GN, GL, GA, BD, ...) is not restricted. Other sentence types (GSV,
+//! GSA, VTG, TXT, ...) are [`Sentence::Other`]: valid, but of no use to the
+//! fix.
+//!
+//! The fields are those of NMEA 0183 (v2.3 to v4.11; see e.g. u-blox, *NEO-6
+//! Receiver Description including Protocol Specification*, §NMEA Messages,
+//! GGA and RMC):
+//!
+//! ```text
+//! $--GGA,hhmmss.ss,ddmm.mm,N,dddmm.mm,E,q,ss,h.h,a.a,M,g.g,M,age,stn*hh
+//!        1         2       3 4        5 6 7  8   9   10 11 12 13  14
+//! $--RMC,hhmmss.ss,A,ddmm.mm,N,dddmm.mm,E,s.s,c.c,ddmmyy,v.v,E,m,n*hh
+//!        1         2 3       4 5        6 7   8   9      10  11 12 13
+//! ```
+//!
+//! Numbers are read as decimal digits into an integer mantissa with a scale
+//! (no text-to-float parsing, no `core::fmt`), then converted: a latitude
+//! `ddmm.mmmm` is `(dd·60·10^k + mm·10^k + mmmm) / (60·10^k)` in one
+//! division, exact in the numerator up to [`MINUTE_DECIMALS`] minute decimals,
+//! so the result is the correctly rounded `f64` of the value written. Integer
+//! parts and counts are accumulated with checked arithmetic: one that
+//! overflows is a [`ParseError`]; decimals past [`MINUTE_DECIMALS`],
+//! [`ALTITUDE_DECIMALS`] or (for the time of day) the tenth are checked to be
+//! digits and then dropped (they are below 2·10⁻¹³°, a nanometre, or the
+//! rounding of a nanosecond).
+//!
+//! What each field must be, beyond its grammar, is what the `nmea` crate
+//! (0.8), which this module replaced, required, so that the same sentences are
+//! accepted and give the same values (see the tests, which compare both):
+//! - GGA: fields 1..=12 present (13 and 14 may be missing); quality exactly
+//!   one digit `0`..=`8`; altitude unit empty or `M`;
+//! - RMC: fields 1..=11 present (the NMEA 2.3 mode and 4.1 navigational status
+//!   may be missing, and are not read); status exactly `A`, `D` or `V`; a
+//!   magnetic variation only with its `E`/`W`;
+//! - time: leap second rejected; a fraction that rounds to the next second
+//!   (ten or more nines) is rejected, except in second 59, where it is read as
+//!   59.999 (as `chrono`, behind the `nmea` crate, represented it);
+//! - satellites: any digit string that fits a `u32`, saturated to 255.
 //!
 //! A GGA or RMC is checked for possible content both before (the text of its
-//! fields) and after (the values) `nmea` reads it; an impossible one is a
-//! [`ParseError`] like an unreadable one. The rules (ranges, minutes < 60,
-//! calendar dates, no leap second, no `nan`/`inf`) are in the `plausible`
-//! module's documentation and in the README.
+//! fields, [`check_fields`]) and after (the values) it is read here; an
+//! impossible one is a [`ParseError`] like an unreadable one. The rules
+//! (ranges, minutes < 60, calendar dates, no leap second, no `nan`/`inf`) are
+//! in the `plausible` module's documentation and in the README.
 
-use chrono::{Datelike, Timelike};
-use nmea::sentences::rmc::RmcStatusOfFix;
-use nmea::sentences::FixType;
-use nmea::ParseResult;
-
+use super::assembler::{check as check_framing, MAX_SENTENCE_LEN};
 use super::plausible::{check_fields, gga_is_plausible, rmc_is_plausible, Kind};
-use crate::time::DateTime;
+use crate::time::{days_in_month, DateTime};
 
 /// Fix quality, GGA field 6.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
@@ -57,22 +87,6 @@ impl FixQuality {
             FixQuality::Estimated => 6,
             FixQuality::Manual => 7,
             FixQuality::Simulation => 8,
-        }
-    }
-}
-
-impl From<FixType> for FixQuality {
-    fn from(f: FixType) -> Self {
-        match f {
-            FixType::Invalid => FixQuality::Invalid,
-            FixType::Gps => FixQuality::Gps,
-            FixType::DGps => FixQuality::Dgps,
-            FixType::Pps => FixQuality::Pps,
-            FixType::Rtk => FixQuality::Rtk,
-            FixType::FloatRtk => FixQuality::FloatRtk,
-            FixType::Estimated => FixQuality::Estimated,
-            FixType::Manual => FixQuality::Manual,
-            FixType::Simulation => FixQuality::Simulation,
         }
     }
 }
@@ -123,8 +137,8 @@ pub enum Sentence {
     Other,
 }
 
-/// A GGA or RMC sentence the `nmea` crate could not parse, or whose content
-/// is impossible (see the module docs).
+/// A GGA or RMC sentence that could not be read, or whose content is
+/// impossible (see the module docs).
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub struct ParseError;
 
@@ -136,27 +150,58 @@ impl core::fmt::Display for ParseError {
 
 impl core::error::Error for ParseError {}
 
-fn time_of_day_ms(t: &chrono::NaiveTime) -> TimeOfDayMs {
-    // chrono encodes a leap second as nanosecond >= 1e9; clamp into the second.
-    let millis = (t.nanosecond() / 1_000_000).min(999);
-    t.num_seconds_from_midnight() * 1000 + millis
+/// Minute decimals of a latitude or longitude that are read; more are checked
+/// to be digits and dropped (10⁻¹¹ minute is below 2·10⁻¹³°). With 11, the
+/// numerator `(180·60 + 59)·10¹¹ + …` stays below 2⁵³, exact in an `f64`.
+pub(crate) const MINUTE_DECIMALS: usize = 11;
+
+/// Altitude decimals that are read (a nanometre); more are dropped.
+pub(crate) const ALTITUDE_DECIMALS: usize = 9;
+
+/// A UTC time of day as NMEA gives it, to the millisecond.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+struct Hms {
+    hour: u8,
+    minute: u8,
+    second: u8,
+    millis: u16,
 }
 
-fn to_datetime(date: &chrono::NaiveDate, time: &chrono::NaiveTime) -> Option<DateTime> {
-    let year = u16::try_from(date.year()).ok()?;
-    let month = u8::try_from(date.month()).ok()?;
-    let day = u8::try_from(date.day()).ok()?;
-    let hour = u8::try_from(time.hour()).ok()?;
-    let minute = u8::try_from(time.minute()).ok()?;
-    let second = u8::try_from(time.second()).ok()?;
-    let millis = u16::try_from((time.nanosecond() / 1_000_000).min(999)).ok()?;
-    DateTime::new(year, month, day, hour, minute, second)
-        .and_then(|dt| dt.with_millis(millis))
-        .ok()
+impl Hms {
+    fn time_of_day_ms(self) -> TimeOfDayMs {
+        let seconds =
+            (u32::from(self.hour) * 60 + u32::from(self.minute)) * 60 + u32::from(self.second);
+        seconds * 1000 + u32::from(self.millis)
+    }
+}
+
+/// An RMC date `ddmmyy`.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+struct Ymd {
+    year: u16,
+    month: u8,
+    day: u8,
+}
+
+fn to_datetime(date: Ymd, time: Hms) -> Option<DateTime> {
+    DateTime::new(
+        date.year,
+        date.month,
+        date.day,
+        time.hour,
+        time.minute,
+        time.second,
+    )
+    .and_then(|dt| dt.with_millis(time.millis))
+    .ok()
 }
 
 /// Classifies and parses one sentence as returned by the assembler
 /// (`$` through `*hh`, no CR LF).
+///
+/// The framing is checked again as the assembler checks it (at most
+/// [`MAX_SENTENCE_LEN`] characters, `*hh` at the end, checksum right), so a
+/// sentence given here by other means is held to the same rules.
 pub fn parse_sentence(sentence: &str) -> Result<Sentence, ParseError> {
     // "$" + 2-character talker + 3-character type.
     let kind = match sentence.get(3..6).ok_or(ParseError)? {
@@ -164,38 +209,314 @@ pub fn parse_sentence(sentence: &str) -> Result<Sentence, ParseError> {
         "RMC" => Kind::Rmc,
         _ => return Ok(Sentence::Other),
     };
+    if sentence.len() > MAX_SENTENCE_LEN || check_framing(sentence.as_bytes()).is_err() {
+        return Err(ParseError);
+    }
     if !check_fields(kind, sentence) {
         return Err(ParseError);
     }
-    let parsed = match nmea::parse_str(sentence) {
-        Ok(ParseResult::GGA(g)) => Ok(Sentence::Gga(Gga {
-            time_of_day_ms: g.fix_time.as_ref().map(time_of_day_ms),
-            quality: g.fix_type.map(FixQuality::from).unwrap_or_default(),
-            latitude_deg: g.latitude,
-            longitude_deg: g.longitude,
-            altitude_m: g.altitude,
-            satellites: g.fix_satellites.map(|n| u8::try_from(n).unwrap_or(u8::MAX)),
-        })),
-        Ok(ParseResult::RMC(r)) => Ok(Sentence::Rmc(Rmc {
-            time_of_day_ms: r.fix_time.as_ref().map(time_of_day_ms),
-            utc: match (r.fix_date.as_ref(), r.fix_time.as_ref()) {
-                (Some(d), Some(t)) => to_datetime(d, t),
-                _ => None,
-            },
-            valid: matches!(
-                r.status_of_fix,
-                RmcStatusOfFix::Autonomous | RmcStatusOfFix::Differential
-            ),
-            latitude_deg: r.lat,
-            longitude_deg: r.lon,
-        })),
-        _ => Err(ParseError),
-    }?;
+    // The framing check leaves exactly one '*', three characters from the end.
+    let body = sentence.strip_prefix('$').ok_or(ParseError)?;
+    let (body, _checksum) = body.split_once('*').ok_or(ParseError)?;
+    let mut fields = body.split(',');
+    // Address: 2-character talker and 3-character type, then the first comma.
+    if fields.next().map(str::len) != Some(5) {
+        return Err(ParseError);
+    }
+    let parsed = match kind {
+        Kind::Gga => Sentence::Gga(parse_gga(&mut fields)?),
+        Kind::Rmc => Sentence::Rmc(parse_rmc(&mut fields)?),
+    };
     if sentence_is_plausible(&parsed) {
         Ok(parsed)
     } else {
         Err(ParseError)
     }
+}
+
+/// The next field, which must be there (it may be empty).
+fn next<'a>(fields: &mut impl Iterator<Item = &'a str>) -> Result<&'a str, ParseError> {
+    fields.next().ok_or(ParseError)
+}
+
+/// `None` for an empty field, else the field read by `parse`.
+fn optional<T>(
+    text: &str,
+    parse: impl FnOnce(&str) -> Result<T, ParseError>,
+) -> Result<Option<T>, ParseError> {
+    if text.is_empty() {
+        Ok(None)
+    } else {
+        parse(text).map(Some)
+    }
+}
+
+/// GGA fields 1..=12 (field 0, the address, already taken). The HDOP (8)
+/// and geoid separation (11) are not used; their grammar is checked by
+/// [`check_fields`], like that of the fields after 12.
+fn parse_gga<'a>(fields: &mut impl Iterator<Item = &'a str>) -> Result<Gga, ParseError> {
+    let time = optional(next(fields)?, parse_time)?;
+    let (latitude_deg, longitude_deg) =
+        parse_position(next(fields)?, next(fields)?, next(fields)?, next(fields)?)?;
+    let quality = parse_quality(next(fields)?)?;
+    let satellites = optional(next(fields)?, parse_count)?;
+    let _hdop = next(fields)?;
+    let altitude_m = optional(next(fields)?, parse_altitude)?;
+    if !matches!(next(fields)?, "" | "M") {
+        return Err(ParseError);
+    }
+    let _geoid_separation = next(fields)?;
+    let _geoid_unit = next(fields)?;
+    Ok(Gga {
+        time_of_day_ms: time.map(Hms::time_of_day_ms),
+        quality,
+        latitude_deg,
+        longitude_deg,
+        altitude_m,
+        satellites: satellites.map(|n| u8::try_from(n).unwrap_or(u8::MAX)),
+    })
+}
+
+/// RMC fields 1..=11 (field 0, the address, already taken). Speed (7),
+/// course (8) and magnetic variation (10) are not used; their grammar is
+/// checked by [`check_fields`].
+fn parse_rmc<'a>(fields: &mut impl Iterator<Item = &'a str>) -> Result<Rmc, ParseError> {
+    let time = optional(next(fields)?, parse_time)?;
+    let valid = match next(fields)? {
+        "A" | "D" => true,
+        "V" => false,
+        _ => return Err(ParseError),
+    };
+    let (latitude_deg, longitude_deg) =
+        parse_position(next(fields)?, next(fields)?, next(fields)?, next(fields)?)?;
+    let _speed = next(fields)?;
+    let _course = next(fields)?;
+    let date = optional(next(fields)?, parse_date)?;
+    let variation = next(fields)?;
+    let variation_side = next(fields)?;
+    if !variation.is_empty() && !matches!(variation_side, "E" | "W") {
+        return Err(ParseError);
+    }
+    Ok(Rmc {
+        time_of_day_ms: time.map(Hms::time_of_day_ms),
+        utc: match (date, time) {
+            (Some(d), Some(t)) => to_datetime(d, t),
+            _ => None,
+        },
+        valid,
+        latitude_deg,
+        longitude_deg,
+    })
+}
+
+/// Splits `digits[.digits]` into its integer and fraction digits (the
+/// fraction empty without a point). No sign, no exponent, at least one digit
+/// each side of a point.
+fn split_decimal(text: &str) -> Result<(&str, &str), ParseError> {
+    let (int, frac) = match text.split_once('.') {
+        Some((int, frac)) if !frac.is_empty() => (int, frac),
+        Some(_) => return Err(ParseError),
+        None => (text, ""),
+    };
+    let digits = |s: &str| s.bytes().all(|b| b.is_ascii_digit());
+    if int.is_empty() || !digits(int) || !digits(frac) {
+        return Err(ParseError);
+    }
+    Ok((int, frac))
+}
+
+/// Value of a digit string (digits only, may be empty: 0); `None` on a
+/// non-digit or when it does not fit a `u64`.
+fn digits_value(text: &str) -> Option<u64> {
+    text.bytes().try_fold(0u64, |acc, b| {
+        let digit = b.checked_sub(b'0').filter(|d| *d <= 9)?;
+        acc.checked_mul(10)?.checked_add(u64::from(digit))
+    })
+}
+
+/// The first `n` characters of an ASCII digit string (all of it if shorter).
+fn leading(text: &str, n: usize) -> &str {
+    text.get(..n).unwrap_or(text)
+}
+
+/// `hhmmss[.s…]`: hour < 24, minute < 60, second < 60.
+fn parse_time(text: &str) -> Result<Hms, ParseError> {
+    let (int, frac) = split_decimal(text)?;
+    let two = |range: core::ops::Range<usize>| {
+        int.get(range)
+            .and_then(digits_value)
+            .and_then(|v| u8::try_from(v).ok())
+            .ok_or(ParseError)
+    };
+    if int.len() != 6 {
+        return Err(ParseError);
+    }
+    let (hour, minute, second) = (two(0..2)?, two(2..4)?, two(4..6)?);
+    if hour >= 24 || minute >= 60 || second >= 60 {
+        return Err(ParseError);
+    }
+    // The fraction to the nanosecond, rounded half up on the tenth digit.
+    let nine = leading(frac, 9);
+    let mut nanos = digits_value(nine).ok_or(ParseError)?;
+    for _ in nine.len()..9 {
+        nanos *= 10;
+    }
+    if frac.as_bytes().get(9).is_some_and(|d| *d >= b'5') {
+        nanos += 1;
+    }
+    let millis = if nanos < 1_000_000_000 {
+        nanos / 1_000_000
+    } else if second == 59 {
+        // Rounded up into the next second: chrono (behind the old parser)
+        // took that as the leap second 59.999…; only there is it accepted.
+        999
+    } else {
+        return Err(ParseError);
+    };
+    Ok(Hms {
+        hour,
+        minute,
+        second,
+        millis: u16::try_from(millis).map_err(|_| ParseError)?,
+    })
+}
+
+/// The four position fields: all empty (no position), or all present with
+/// hemispheres exactly `N`/`S` and `E`/`W`.
+fn parse_position(
+    lat: &str,
+    north_south: &str,
+    lon: &str,
+    east_west: &str,
+) -> Result<(Option<f64>, Option<f64>), ParseError> {
+    if lat.is_empty() && north_south.is_empty() && lon.is_empty() && east_west.is_empty() {
+        return Ok((None, None));
+    }
+    let latitude = parse_angle(lat, 2)?;
+    let latitude = match north_south {
+        "N" => latitude,
+        "S" => -latitude,
+        _ => return Err(ParseError),
+    };
+    let longitude = parse_angle(lon, 3)?;
+    let longitude = match east_west {
+        "E" => longitude,
+        "W" => -longitude,
+        _ => return Err(ParseError),
+    };
+    Ok((Some(latitude), Some(longitude)))
+}
+
+/// Degrees and minutes `d…dmm[.m…]` with exactly `degree_digits` degree
+/// digits and minutes below 60, in degrees. The degree range is left to the
+/// value check (90°00.0' is a latitude, 90°00.1' is not).
+fn parse_angle(text: &str, degree_digits: usize) -> Result<f64, ParseError> {
+    let (int, frac) = split_decimal(text)?;
+    if int.len() != degree_digits + 2 {
+        return Err(ParseError);
+    }
+    let degrees = int
+        .get(..degree_digits)
+        .and_then(digits_value)
+        .ok_or(ParseError)?;
+    let minutes = int
+        .get(degree_digits..)
+        .and_then(digits_value)
+        .ok_or(ParseError)?;
+    if minutes >= 60 {
+        return Err(ParseError);
+    }
+    let decimals = leading(frac, MINUTE_DECIMALS);
+    let scale = u32::try_from(decimals.len())
+        .ok()
+        .and_then(|k| 10u64.checked_pow(k))
+        .ok_or(ParseError)?;
+    let numerator = degrees
+        .checked_mul(60)
+        .and_then(|m| m.checked_add(minutes))
+        .and_then(|m| m.checked_mul(scale))
+        .and_then(|m| m.checked_add(digits_value(decimals)?))
+        .ok_or(ParseError)?;
+    let denominator = scale.checked_mul(60).ok_or(ParseError)?;
+    // Both below 2^53 here, so exact; the division rounds once.
+    Ok(numerator as f64 / denominator as f64)
+}
+
+/// `[+-]digits[.digits]`, metres.
+fn parse_altitude(text: &str) -> Result<f32, ParseError> {
+    let (negative, unsigned) = match text.strip_prefix('-') {
+        Some(rest) => (true, rest),
+        None => (false, text.strip_prefix('+').unwrap_or(text)),
+    };
+    let (int, frac) = split_decimal(unsigned)?;
+    let decimals = leading(frac, ALTITUDE_DECIMALS);
+    let scale = u32::try_from(decimals.len())
+        .ok()
+        .and_then(|k| 10u64.checked_pow(k))
+        .ok_or(ParseError)?;
+    let mantissa = digits_value(int)
+        .and_then(|i| i.checked_mul(scale))
+        .and_then(|m| m.checked_add(digits_value(decimals)?))
+        .ok_or(ParseError)?;
+    // Mantissa and scale exact in an f32 (10^9 = 2^9·5^9, 5^9 < 2^24): one rounding,
+    // the correctly rounded f32. Else through an f64 (the value is out of the
+    // plausible range or has more than 7 significant digits).
+    let value = if mantissa <= 1 << 24 {
+        mantissa as f32 / scale as f32
+    } else {
+        (mantissa as f64 / scale as f64) as f32
+    };
+    Ok(if negative { -value } else { value })
+}
+
+/// Digits only, fitting a `u32`.
+fn parse_count(text: &str) -> Result<u32, ParseError> {
+    if text.is_empty() {
+        return Err(ParseError);
+    }
+    digits_value(text)
+        .and_then(|v| u32::try_from(v).ok())
+        .ok_or(ParseError)
+}
+
+/// GGA field 6: exactly one digit 0..=8.
+fn parse_quality(text: &str) -> Result<FixQuality, ParseError> {
+    Ok(match text {
+        "0" => FixQuality::Invalid,
+        "1" => FixQuality::Gps,
+        "2" => FixQuality::Dgps,
+        "3" => FixQuality::Pps,
+        "4" => FixQuality::Rtk,
+        "5" => FixQuality::FloatRtk,
+        "6" => FixQuality::Estimated,
+        "7" => FixQuality::Manual,
+        "8" => FixQuality::Simulation,
+        _ => return Err(ParseError),
+    })
+}
+
+/// `ddmmyy` naming a day that exists; years 83..=99 are 1983..=1999 (NMEA 0183
+/// appeared in 1983), the others 2000..=2082.
+fn parse_date(text: &str) -> Result<Ymd, ParseError> {
+    if text.len() != 6 {
+        return Err(ParseError);
+    }
+    let two = |range: core::ops::Range<usize>| {
+        text.get(range)
+            .and_then(digits_value)
+            .and_then(|v| u8::try_from(v).ok())
+            .ok_or(ParseError)
+    };
+    let (day, month, yy) = (two(0..2)?, two(2..4)?, two(4..6)?);
+    let year = if yy >= 83 {
+        1900 + u16::from(yy)
+    } else {
+        2000 + u16::from(yy)
+    };
+    if !(1..=12).contains(&month) || day == 0 || day > days_in_month(year, month) {
+        return Err(ParseError);
+    }
+    Ok(Ymd { year, month, day })
 }
 
 /// Whether a GGA's or RMC's values are possible: finite, latitude within ±90°,
@@ -206,5 +527,379 @@ pub(crate) fn sentence_is_plausible(sentence: &Sentence) -> bool {
         Sentence::Gga(g) => gga_is_plausible(g),
         Sentence::Rmc(r) => rmc_is_plausible(r),
         Sentence::Other => true,
+    }
+}
+
+#[cfg(test)]
+mod differential;
+
+#[cfg(test)]
+mod tests {
+    extern crate std;
+
+    use std::format;
+    use std::string::String;
+
+    use super::super::assembler::nmea_checksum;
+    use super::*;
+
+    fn frame(body: &str) -> String {
+        format!("${body}*{:02X}", nmea_checksum(body.as_bytes()))
+    }
+
+    fn gga(fields: &str) -> Result<Gga, ParseError> {
+        match parse_sentence(&frame(&format!("GPGGA,{fields}")))? {
+            Sentence::Gga(g) => Ok(g),
+            other => panic!("{other:?}"),
+        }
+    }
+
+    fn rmc(fields: &str) -> Result<Rmc, ParseError> {
+        match parse_sentence(&frame(&format!("GNRMC,{fields}")))? {
+            Sentence::Rmc(r) => Ok(r),
+            other => panic!("{other:?}"),
+        }
+    }
+
+    /// A GGA with this latitude and longitude (and their hemispheres).
+    fn position(lat: &str, ns: &str, lon: &str, ew: &str) -> Result<(f64, f64), ParseError> {
+        let g = gga(&format!(
+            "120000,{lat},{ns},{lon},{ew},1,08,0.9,10.0,M,0.0,M,,"
+        ))?;
+        Ok((g.latitude_deg.unwrap(), g.longitude_deg.unwrap()))
+    }
+
+    #[test]
+    fn full_gga() {
+        let g = gga("033745.25,5650.82344,N,03548.9778,W,2,07,1.8,-101.2,M,14.7,M,,0000").unwrap();
+        assert_eq!(
+            g.time_of_day_ms,
+            Some(((3 * 60 + 37) * 60 + 45) * 1000 + 250)
+        );
+        assert_eq!(g.quality, FixQuality::Dgps);
+        assert_eq!(g.satellites, Some(7));
+        assert_eq!(g.altitude_m, Some(-101.2));
+        assert_eq!(g.latitude_deg, Some(56.0 + 50.82344 / 60.0));
+        assert_eq!(g.longitude_deg, Some(-(35.0 + 48.9778 / 60.0)));
+    }
+
+    #[test]
+    fn full_rmc() {
+        let r = rmc("225446.33,D,4916.45,S,12311.12,E,000.5,054.7,191194,020.3,E,D,V").unwrap();
+        assert!(r.valid);
+        assert_eq!(
+            r.time_of_day_ms,
+            Some(((22 * 60 + 54) * 60 + 46) * 1000 + 330)
+        );
+        let utc = DateTime::new(1994, 11, 19, 22, 54, 46)
+            .unwrap()
+            .with_millis(330)
+            .unwrap();
+        assert_eq!(r.utc, Some(utc));
+        assert_eq!(r.latitude_deg, Some(-(49.0 + 16.45 / 60.0)));
+        assert_eq!(r.longitude_deg, Some(123.0 + 11.12 / 60.0));
+        // NMEA 2.0 (no mode) and 2.3 (mode, no navigational status) lengths.
+        assert!(rmc("225446,A,4916.45,N,12311.12,W,0.5,54.7,191194,,").is_ok());
+        assert!(rmc("225446,V,,,,,,,191194,,,N").is_ok_and(|r| !r.valid));
+    }
+
+    #[test]
+    fn talkers_are_not_restricted() {
+        for talker in ["GP", "GN", "GL", "GA", "BD", "GB", "QZ"] {
+            let s = frame(&format!(
+                "{talker}GGA,120000,3734.002,N,12658.998,E,1,08,,,,,,,"
+            ));
+            assert!(matches!(parse_sentence(&s), Ok(Sentence::Gga(_))), "{s}");
+        }
+        for other in [
+            "GPGSV,1,1,00",
+            "GPVTG,,T,,M,,N,,K,N",
+            "PUBX,00",
+            "GPTXT,01,01,02,ANT",
+        ] {
+            assert_eq!(
+                parse_sentence(&frame(other)),
+                Ok(Sentence::Other),
+                "{other}"
+            );
+        }
+        // The address is 2 + 3 characters.
+        assert_eq!(
+            parse_sentence(&frame("GPGGAX,120000,,,,,0,,,,,,,,")),
+            Err(ParseError)
+        );
+    }
+
+    #[test]
+    fn framing_is_checked_again() {
+        let good = frame("GPGGA,120000,,,,,0,00,,,,,,,");
+        assert!(parse_sentence(&good).is_ok());
+        let body = "GPGGA,120000,,,,,0,00,,,,,,,";
+        let bad_sum = format!("${body}*{:02X}", nmea_checksum(body.as_bytes()) ^ 1);
+        assert_eq!(parse_sentence(&bad_sum), Err(ParseError));
+        assert_eq!(parse_sentence(&format!("{good}\r\n")), Err(ParseError));
+        assert_eq!(
+            parse_sentence("$GPGGA,120000,,,,,0,00,,,,,,,"),
+            Err(ParseError)
+        );
+        let long = frame(&format!("GPGGA,120000,,,,,0,00,,,,,,,{}", "0".repeat(60)));
+        assert_eq!(parse_sentence(&long), Err(ParseError));
+    }
+
+    #[test]
+    fn latitude_and_longitude() {
+        let (lat, lon) = position("3734.00200", "N", "12658.99800", "E").unwrap();
+        assert_eq!(lat, 37.0 + 34.002 / 60.0);
+        assert_eq!(lon, 126.0 + 58.998 / 60.0);
+        // Integers only, and the limits: 90° and 180° exactly, minutes 59.9999.
+        assert_eq!(
+            position("3734", "S", "12658", "W").unwrap(),
+            (-(37.0 + 34.0 / 60.0), -(126.0 + 58.0 / 60.0))
+        );
+        assert_eq!(
+            position("9000.0000", "N", "18000.0000", "W").unwrap(),
+            (90.0, -180.0)
+        );
+        assert_eq!(
+            position("0000.0000", "S", "00000.0", "E").unwrap(),
+            (0.0, 0.0)
+        );
+        let (lat, lon) = position("8959.9999", "N", "17959.9999", "E").unwrap();
+        assert_eq!(lat, 89.0 + 59.9999 / 60.0);
+        assert_eq!(lon, 179.0 + 59.9999 / 60.0);
+        // Eleven minute decimals are read, more are dropped.
+        let (lat, _) = position("1234.56789012345678", "N", "00000.0", "E").unwrap();
+        assert_eq!(lat, 12.0 + 34.56789012345 / 60.0);
+        // Beyond the poles and the antimeridian, minutes of 60, wrong widths.
+        for (lat, lon) in [
+            ("9000.0001", "00000.0"),
+            ("9100.0", "00000.0"),
+            ("0000.0", "18000.0001"),
+            ("0000.0", "18100.0"),
+            ("3760.0000", "00000.0"),
+            ("0000.0", "00060.0"),
+            ("373.4", "00000.0"),
+            ("03734.0", "00000.0"),
+            ("0000.0", "0000.0"),
+            ("0000.0", "000000.0"),
+        ] {
+            assert_eq!(position(lat, "N", lon, "E"), Err(ParseError), "{lat} {lon}");
+        }
+    }
+
+    #[test]
+    fn malformed_numbers_are_errors() {
+        for lat in [
+            "37a4.0", "3734.0a", "+3734.0", "-3734.0", "3734.", ".3734", "37.34e2", "3734..0",
+            "3734.0.0", "nan", "inf", " 3734.0",
+        ] {
+            assert_eq!(position(lat, "N", "00000.0", "E"), Err(ParseError), "{lat}");
+        }
+        for alt in [
+            "1e3", "12.", ".5", "--1", "+-1", "1.2.3", "nan", "-inf", "12 ", "0x10",
+        ] {
+            let g = gga(&format!("120000,,,,,0,00,,{alt},M,,,,"));
+            assert_eq!(g, Err(ParseError), "{alt}");
+        }
+        for sats in [
+            "+8",
+            "-1",
+            "8.0",
+            "0x8",
+            "4294967296",
+            "99999999999999999999999",
+        ] {
+            assert_eq!(
+                gga(&format!("120000,,,,,0,{sats},,,,,,,")),
+                Err(ParseError),
+                "{sats}"
+            );
+        }
+    }
+
+    #[test]
+    fn hemispheres_exactly_as_before() {
+        // The old parser (nmea's one_of("NS")/one_of("EW"), and check_fields
+        // before it) took only capitals; so does this one.
+        for (ns, ew) in [
+            ("n", "E"),
+            ("N", "e"),
+            ("s", "W"),
+            ("S", "w"),
+            ("X", "E"),
+            ("N", "Q"),
+            ("NN", "E"),
+        ] {
+            assert_eq!(
+                position("3734.0", ns, "12658.0", ew),
+                Err(ParseError),
+                "{ns} {ew}"
+            );
+        }
+    }
+
+    #[test]
+    fn empty_fields() {
+        // No fix: the four position fields empty, and everything optional empty.
+        let g = gga(",,,,,0,,,,,,,,").unwrap();
+        assert_eq!(g, Gga::default());
+        let r = rmc(",V,,,,,,,,,,N").unwrap();
+        assert_eq!(r, Rmc::default());
+        // Some of the four position fields only: error.
+        for fields in ["3734.0,N,,", ",,12658.0,E", "3734.0,N,12658.0,", ",N,,"] {
+            assert_eq!(
+                gga(&format!("120000,{fields},1,08,,,,,,,")),
+                Err(ParseError),
+                "{fields}"
+            );
+        }
+        // A date without a time, or a time without a date: no date-time.
+        let r = rmc("120000,A,,,,,,,,,").unwrap();
+        assert_eq!((r.time_of_day_ms, r.utc), (Some(43_200_000), None));
+        let r = rmc(",A,,,,,,,150624,,").unwrap();
+        assert_eq!((r.time_of_day_ms, r.utc), (None, None));
+    }
+
+    #[test]
+    fn required_fields_and_letters() {
+        // Quality exactly one digit 0..=8 (it is not optional).
+        for q in ["", "9", "10", "01", "A"] {
+            assert_eq!(
+                gga(&format!("120000,,,,,{q},00,,,,,,,")),
+                Err(ParseError),
+                "{q}"
+            );
+        }
+        for (q, quality) in [
+            ("0", FixQuality::Invalid),
+            ("4", FixQuality::Rtk),
+            ("8", FixQuality::Simulation),
+        ] {
+            assert_eq!(
+                gga(&format!("120000,,,,,{q},00,,,,,,,")).unwrap().quality,
+                quality
+            );
+        }
+        // Altitude unit empty or M; GGA up to field 12, RMC up to field 11.
+        assert_eq!(gga("120000,,,,,1,08,,12.0,F,,,,"), Err(ParseError));
+        assert!(gga("120000,,,,,1,08,,12.0,M,,").is_ok());
+        assert_eq!(gga("120000,,,,,1,08,,12.0,M,"), Err(ParseError));
+        assert!(rmc("120000,A,,,,,,,150624,,").is_ok());
+        assert_eq!(rmc("120000,A,,,,,,,150624,"), Err(ParseError));
+        // RMC status A, D or V; a magnetic variation needs its side.
+        for status in ["", "a", "X", "AV"] {
+            assert_eq!(
+                rmc(&format!("120000,{status},,,,,,,150624,,")),
+                Err(ParseError),
+                "{status}"
+            );
+        }
+        assert!(rmc("120000,A,,,,,,,150624,3.1,W").is_ok());
+        assert_eq!(rmc("120000,A,,,,,,,150624,3.1,"), Err(ParseError));
+        assert!(rmc("120000,A,,,,,,,150624,,W").is_ok());
+    }
+
+    #[test]
+    fn satellites_saturate() {
+        let sats = |s: &str| gga(&format!("120000,,,,,1,{s},,,,,,,")).unwrap().satellites;
+        assert_eq!(sats(""), None);
+        assert_eq!(sats("00"), Some(0));
+        assert_eq!(sats("255"), Some(255));
+        assert_eq!(sats("256"), Some(255));
+        assert_eq!(sats("4294967295"), Some(255));
+        assert_eq!(sats("0000000000000000000012"), Some(12));
+    }
+
+    #[test]
+    fn altitudes() {
+        let alt = |a: &str| gga(&format!("120000,,,,,1,08,,{a},M,,,,")).map(|g| g.altitude_m);
+        assert_eq!(alt(""), Ok(None));
+        assert_eq!(alt("38.5"), Ok(Some(38.5)));
+        assert_eq!(alt("+38.7"), Ok(Some(38.7)));
+        assert_eq!(alt("-500"), Ok(Some(-500.0)));
+        assert_eq!(alt("20000.0"), Ok(Some(20_000.0)));
+        assert_eq!(alt("-0.0"), Ok(Some(-0.0)));
+        // Out of range (the value check), overflowing digits (the reader).
+        assert_eq!(alt("-500.1"), Err(ParseError));
+        assert_eq!(alt("20000.01"), Err(ParseError));
+        assert_eq!(alt("99999999999999999999"), Err(ParseError));
+        // Nine decimals are read, more are dropped.
+        assert_eq!(alt("1.0000000001"), Ok(Some(1.0)));
+    }
+
+    #[test]
+    fn altitudes_are_correctly_rounded() {
+        // Every altitude of the plausible range to the decimetre, and strides
+        // of those to the centimetre and millimetre, equal str::parse::<f32>,
+        // which the old parser used.
+        for (decimals, step) in [(1u32, 1usize), (2, 7), (3, 71)] {
+            let scale = 10i64.pow(decimals);
+            for m in (-500 * scale..=20_000 * scale).step_by(step) {
+                let text = format!(
+                    "{}{}.{:0width$}",
+                    if m < 0 { "-" } else { "" },
+                    m.abs() / scale,
+                    m.abs() % scale,
+                    width = decimals as usize
+                );
+                assert_eq!(
+                    parse_altitude(&text),
+                    Ok(text.parse::<f32>().unwrap()),
+                    "{text}"
+                );
+            }
+        }
+    }
+
+    #[test]
+    fn times() {
+        let ms = |t: &str| gga(&format!("{t},,,,,0,,,,,,,,")).map(|g| g.time_of_day_ms);
+        assert_eq!(ms(""), Ok(None));
+        assert_eq!(ms("000000"), Ok(Some(0)));
+        assert_eq!(ms("235959.999"), Ok(Some(86_399_999)));
+        assert_eq!(ms("123456.7"), Ok(Some(45_296_700)));
+        assert_eq!(ms("123456.9999"), Ok(Some(45_296_999)));
+        // Rounded to the nanosecond, as the old parser did: into the next second
+        // only with ten nines, an error except in second 59 (read as 59.999).
+        assert_eq!(ms("123456.999999999"), Ok(Some(45_296_999)));
+        assert_eq!(ms("123456.9999999995"), Err(ParseError));
+        assert_eq!(ms("123459.9999999995"), Ok(Some(45_299_999)));
+        for bad in [
+            "240000", "236000", "235960", "235961", "12345", "1234567", "123456.", "12:34:56",
+            "+23456", "1234a6",
+        ] {
+            assert_eq!(ms(bad), Err(ParseError), "{bad}");
+        }
+    }
+
+    #[test]
+    fn dates() {
+        let utc = |d: &str| rmc(&format!("120000,A,,,,,,,{d},,")).map(|r| r.utc);
+        let day = |y, m, d| Some(DateTime::new(y, m, d, 12, 0, 0).unwrap());
+        assert_eq!(utc("150624"), Ok(day(2024, 6, 15)));
+        assert_eq!(utc("290224"), Ok(day(2024, 2, 29)));
+        assert_eq!(utc("010183"), Ok(day(1983, 1, 1)));
+        assert_eq!(utc("311299"), Ok(day(1999, 12, 31)));
+        assert_eq!(utc("311282"), Ok(day(2082, 12, 31)));
+        assert_eq!(utc(""), Ok(None));
+        for bad in [
+            "290223", "300224", "310624", "000624", "150024", "151324", "15062", "1506244",
+            "15o624",
+        ] {
+            assert_eq!(utc(bad), Err(ParseError), "{bad}");
+        }
+    }
+
+    #[test]
+    fn digit_helpers() {
+        assert_eq!(digits_value(""), Some(0));
+        assert_eq!(digits_value("18446744073709551615"), Some(u64::MAX));
+        assert_eq!(digits_value("18446744073709551616"), None);
+        assert_eq!(digits_value("1a"), None);
+        assert_eq!(split_decimal("12.50"), Ok(("12", "50")));
+        assert_eq!(split_decimal("12"), Ok(("12", "")));
+        for bad in ["", ".", "1.", ".1", "1..2", "-1", "1e2", "١٢"] {
+            assert_eq!(split_decimal(bad), Err(ParseError), "{bad}");
+        }
     }
 }

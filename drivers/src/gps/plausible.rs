@@ -2,17 +2,19 @@
 //!
 //! A checksum only shows that the bytes arrived as they were sent; a sentence
 //! can still say something impossible (a receiver bug, a corrupted buffer
-//! checksummed afterwards, a spoofer, a hand-written log). The `nmea` crate
-//! reads numbers with a general floating-point parser, so on its own it takes
-//! `nan`, `inf`, exponents, signs and minutes of 60 or more in a latitude.
-//! Every GGA and RMC goes through both checks here, in
+//! checksummed afterwards, a spoofer, a hand-written log). The field reader
+//! in [`super::parse_sentence`] takes only digits, but these checks were
+//! written for the general floating-point parser of the `nmea` crate it
+//! replaced (which took `nan`, `inf`, exponents, signs and minutes of 60 or
+//! more in a latitude), and they stay as a second line that does not depend
+//! on the reader. Every GGA and RMC goes through both checks here, in
 //! [`super::parse_sentence`], and [`super::FixFusion`] checks the values again,
 //! so no path turns such a sentence into a fix.
 //!
 //! 1. The text of each field ([`check_fields`]), by its NMEA 0183 meaning:
 //!    - UTC time `hhmmss[.s…]`: hour 0..=23, minute 0..=59, second 0..=59. A
-//!      leap second (`60`) is rejected: neither [`crate::time::DateTime`] nor
-//!      the `nmea` crate can represent it, and taking it as `59` or as the next
+//!      leap second (`60`) is rejected: [`crate::time::DateTime`] cannot
+//!      represent it, and taking it as `59` or as the next
 //!      `00` would give two epochs the same time. At most the one epoch stamped
 //!      `23:59:60` is lost when a leap second is inserted (none has been since
 //!      2016-12-31);
@@ -21,7 +23,7 @@
 //!      hemisphere exactly `N`/`S` and `E`/`W`; the four fields all present or
 //!      all empty;
 //!    - date `ddmmyy`: a day that exists in that month (years `83`..`99` are
-//!      1983..1999, the others 2000..2082, as the `nmea` crate reads them);
+//!      1983..1999, the others 2000..2082, as the reader takes them);
 //!    - counts (quality, satellites, station ID): digits only;
 //!    - decimals (HDOP, altitude, geoid separation, age of differential data,
 //!      speed, course, magnetic variation): digits with an optional fraction,
@@ -47,8 +49,8 @@ const MS_PER_DAY: TimeOfDayMs = 86_400_000;
 /// What a field must look like.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 enum Field {
-    /// Checked by the `nmea` crate (address, status, mode) or not used; only
-    /// the non-finite rule applies.
+    /// Checked by the reader in `parse.rs` (address, status, units) or not
+    /// used; only the non-finite rule applies.
     Other,
     /// `hhmmss[.s…]`, UTC time of day.
     Time,
@@ -167,7 +169,7 @@ fn field_ok(field: Field, text: &str) -> bool {
 }
 
 /// `nan`, `inf`, `infinity` in any case, with or without a sign: what
-/// floating-point parsers (also the one inside `nmea`) take as non-finite.
+/// floating-point parsers take as non-finite.
 fn spells_non_finite(text: &str) -> bool {
     let unsigned = text.strip_prefix(['-', '+']).unwrap_or(text);
     let prefix = unsigned.get(..3).unwrap_or(unsigned);
@@ -244,7 +246,7 @@ fn date_ok(text: &str) -> bool {
     ) else {
         return false;
     };
-    // The `nmea` crate's reading of the two-digit year (NMEA 0183 appeared in 1983).
+    // The reader's two-digit year (NMEA 0183 appeared in 1983), as `parse_date`.
     let year = if yy >= 83 { 1900 + yy } else { 2000 + yy };
     let Ok(month) = u8::try_from(month) else {
         return false;

@@ -16,7 +16,7 @@ const READ_CHUNK: usize = 32;
 pub struct GpsStats {
     /// Lines seen (accepted + rejected).
     pub sentences: u32,
-    /// Checksum correct and, for GGA/RMC, parsed by `nmea`.
+    /// Checksum correct and, for GGA/RMC, read by `parse_sentence`.
     pub accepted: u32,
     /// Checksum wrong.
     pub rejected_checksum: u32,
