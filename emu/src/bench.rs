@@ -58,10 +58,25 @@ pub struct LogLine {
     pub text: String,
     /// Parsed shape.
     pub event: Event,
-    /// C axis angle, degrees.
+    /// C axis angle when the line completed, degrees.
     pub c_deg: f64,
-    /// A axis angle, degrees.
+    /// A axis angle when the line completed, degrees.
     pub a_deg: f64,
+    /// C axis angle when the line's first byte arrived, degrees.
+    pub c_start_deg: f64,
+    /// A axis angle when the line's first byte arrived, degrees.
+    pub a_start_deg: f64,
+}
+
+/// A switch changing state.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct SwitchEvent {
+    /// Emulated UTC, Unix seconds.
+    pub utc_s: f64,
+    /// 0 C home (PC0), 1 A home (PC1), 2 C max (PC2), 3 A max (PC3).
+    pub switch: usize,
+    /// True when it closed (pin driven low).
+    pub closed: bool,
 }
 
 /// One recorded axis motion sample (at the first write after a pause, and
@@ -88,6 +103,8 @@ pub struct Run {
     /// Axis angles each time an axis's coil pattern changed after at least
     /// 1 emulated second without change, and every emulated minute.
     pub angle_trace: Vec<AngleSample>,
+    /// Switch changes (the power-on levels are not listed).
+    pub switch_events: Vec<SwitchEvent>,
     /// Minimum angles reached (C, A).
     pub min_angles: (f64, f64),
     /// Wall-clock time of the run.
@@ -270,6 +287,8 @@ impl Bench {
 
         let end_emu_s = minutes * 60.0;
         let mut switches = [None::<bool>; 4];
+        let mut switch_events = Vec::new();
+        let mut line_start = None::<(f64, f64)>;
         let mut wind_level = None::<bool>;
         let mut last_change_emu = [f64::NEG_INFINITY; 2];
         let mut last_trace_min = -1i64;
@@ -294,6 +313,13 @@ impl Bench {
             ];
             for (i, l) in levels.iter().enumerate() {
                 if switches[i] != Some(*l) {
+                    if switches[i].is_some() {
+                        switch_events.push(SwitchEvent {
+                            utc_s: utc,
+                            switch: i,
+                            closed: !*l,
+                        });
+                    }
                     sim.set_pin('C', i as u8, *l);
                     switches[i] = Some(*l);
                 }
@@ -352,6 +378,7 @@ impl Bench {
 
             let bytes = sim.uart_take('0');
             if !bytes.is_empty() {
+                let start_angles = line_start.unwrap_or((c_axis.angle_deg(), a_axis.angle_deg()));
                 let t = emu_at(sim.cycle(), origin_cycle, origin_emu_s, timescale);
                 for text in log.push(&bytes) {
                     let event = parse_line(&text);
@@ -363,12 +390,15 @@ impl Bench {
                             gps.set_byte_s(byte_s(n));
                         }
                     }
+                    let st = line_start.take().unwrap_or(start_angles);
                     let line = LogLine {
                         utc_s: self.start_unix_s as f64 + t,
                         text,
                         event,
                         c_deg: c_axis.angle_deg(),
                         a_deg: a_axis.angle_deg(),
+                        c_start_deg: st.0,
+                        a_start_deg: st.1,
                     };
                     if self.echo || log_file.is_some() {
                         let s = format!(
@@ -388,6 +418,10 @@ impl Bench {
                     }
                     lines.push(line);
                 }
+                // A partial line is left: it started in this batch.
+                if log.has_partial() && line_start.is_none() {
+                    line_start = Some(start_angles);
+                }
             }
             if cpu != CpuState::Running {
                 break;
@@ -405,6 +439,7 @@ impl Bench {
             lines,
             final_angles: (c_axis.angle_deg(), a_axis.angle_deg()),
             illegal_steps: (c_axis.illegal.clone(), a_axis.illegal.clone()),
+            switch_events,
             angle_trace: trace,
             min_angles,
             wall: wall_start.elapsed(),

@@ -140,6 +140,11 @@ pub struct LineAssembler {
 }
 
 impl LineAssembler {
+    /// Whether an unfinished line is pending.
+    pub fn has_partial(&self) -> bool {
+        !self.partial.is_empty()
+    }
+
     /// Feeds bytes; returns the completed lines.
     pub fn push(&mut self, bytes: &[u8]) -> Vec<String> {
         let mut out = Vec::new();
