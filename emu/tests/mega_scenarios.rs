@@ -291,8 +291,8 @@ fn d_gale_at_noon_stows_and_releases() {
     // α before the gale, from the last set-point before it.
     let alpha_before = set_points(&run)
         .iter()
-        .filter(|s| s.0.utc_s < gale as f64)
-        .last()
+        .rev()
+        .find(|s| s.0.utc_s < gale as f64)
         .map_or(90.0, |s| s.3);
     let deadline = gale as f64 + WIND_HOLD_S + 5.0 + alpha_before.abs() / min_axis_deg_s();
     let stowed_at = run
