@@ -1,0 +1,456 @@
+//! The bench: one ATmega2560 image under simavr with every model attached,
+//! run for a span of emulated time.
+//!
+//! Time compression: the emulation build of the image advances its Timer0
+//! millisecond clock by `EMU_MS_PER_TICK` ms per Timer0 interrupt (one per
+//! ms of CPU time) and logs `timescale <N>` at boot; emulated time =
+//! N × CPU time (N = 60 until the line is seen). Every model runs on
+//! emulated time.
+//!
+//! Sampling: PORTA is watched through simavr's port IRQ, so the stepper
+//! decoders see every single pin write (with its cycle). Switch levels,
+//! the anemometer, the GPS queue and the log are serviced every
+//! `SERVICE_CYCLES` CPU cycles (64 µs of CPU time, 3.84 ms emulated at
+//! 60×) and at once after every PORTA write (so the switches follow the
+//! decoded angle without delay).
+
+use std::cell::RefCell;
+use std::path::{Path, PathBuf};
+use std::rc::Rc;
+use std::time::{Duration, Instant};
+
+use crate::log::{parse_line, Event, LineAssembler};
+use crate::models::adxl345::Adxl345;
+use crate::models::ds3231::Ds3231;
+use crate::models::mount::{Field, Mount};
+use crate::models::nmea::{GpsFeed, NmeaFeeder};
+use crate::models::qmc5883l::Qmc5883l;
+use crate::models::stepper::{AxisGeometry, IllegalStep, StepperDecoder};
+use crate::models::wind::{Anemometer, WindProfile};
+use crate::sim::{CpuState, Sim};
+use crate::twi::{EmuClock, TwiBus};
+
+/// CPU clock of the Mega.
+pub const F_CPU: u32 = 16_000_000;
+/// CPU cycles between two services of the slow models.
+pub const SERVICE_CYCLES: u64 = 1024;
+/// Default timescale before the image says otherwise.
+pub const DEFAULT_TIMESCALE: f64 = 60.0;
+
+/// The state of the DS3231 at power-on.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum Rtc {
+    /// Kept time on its battery: shows the bench's start time, OSF clear.
+    Valid,
+    /// Lost power: OSF set, time 2000-01-01.
+    LostPower,
+    /// Not fitted (no device at 0x68).
+    Absent,
+}
+
+/// A log line with the emulated time it completed at and the decoded axis
+/// angles at that moment.
+#[derive(Debug, Clone, PartialEq)]
+pub struct LogLine {
+    /// Emulated UTC, Unix seconds (fractional).
+    pub utc_s: f64,
+    /// The text.
+    pub text: String,
+    /// Parsed shape.
+    pub event: Event,
+    /// C axis angle when the line completed, degrees.
+    pub c_deg: f64,
+    /// A axis angle when the line completed, degrees.
+    pub a_deg: f64,
+    /// C axis angle when the line's first byte arrived, degrees.
+    pub c_start_deg: f64,
+    /// A axis angle when the line's first byte arrived, degrees.
+    pub a_start_deg: f64,
+}
+
+/// A switch changing state.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct SwitchEvent {
+    /// Emulated UTC, Unix seconds.
+    pub utc_s: f64,
+    /// 0 C home (PC0), 1 A home (PC1), 2 C max (PC2), 3 A max (PC3).
+    pub switch: usize,
+    /// True when it closed (pin driven low).
+    pub closed: bool,
+}
+
+/// One recorded axis motion sample (at the first write after a pause, and
+/// when motion stops): emulated UTC and both angles.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct AngleSample {
+    /// Emulated UTC, Unix seconds.
+    pub utc_s: f64,
+    /// C axis angle.
+    pub c_deg: f64,
+    /// A axis angle.
+    pub a_deg: f64,
+}
+
+/// The outcome of a run.
+#[derive(Debug, Clone)]
+pub struct Run {
+    /// Log lines.
+    pub lines: Vec<LogLine>,
+    /// Final C, A axis angles, degrees.
+    pub final_angles: (f64, f64),
+    /// Illegal coil sequences, per axis (C, A).
+    pub illegal_steps: (Vec<IllegalStep>, Vec<IllegalStep>),
+    /// Axis angles each time an axis's coil pattern changed after at least
+    /// 1 emulated second without change, and every emulated minute.
+    pub angle_trace: Vec<AngleSample>,
+    /// Switch changes (the power-on levels are not listed).
+    pub switch_events: Vec<SwitchEvent>,
+    /// Minimum angles reached (C, A).
+    pub min_angles: (f64, f64),
+    /// Wall-clock time of the run.
+    pub wall: Duration,
+    /// CPU cycles simulated.
+    pub cycles: u64,
+    /// Timescale used (from the log, or the default).
+    pub timescale: f64,
+    /// Emulated UTC at the start, Unix seconds.
+    pub start_unix_s: i64,
+    /// How the CPU ended: `Running` when the span was reached.
+    pub cpu: CpuState,
+    /// Anemometer falling edges sent.
+    pub wind_pulses: u64,
+    /// GPS epochs sent.
+    pub gps_epochs: u32,
+    /// Times the firmware wrote the DS3231's seconds register.
+    pub rtc_time_writes: u32,
+    /// TWI transactions (START + address) per 7-bit address seen.
+    pub twi_starts: Vec<(u8, u32)>,
+}
+
+impl Run {
+    /// Parsed events with their lines.
+    pub fn events(&self) -> impl Iterator<Item = &LogLine> {
+        self.lines.iter().filter(|l| l.event != Event::Other)
+    }
+
+    /// The modes logged, in order.
+    pub fn modes(&self) -> Vec<(f64, String)> {
+        self.lines
+            .iter()
+            .filter_map(|l| match &l.event {
+                Event::Mode(m) => Some((l.utc_s, m.clone())),
+                _ => None,
+            })
+            .collect()
+    }
+}
+
+/// Builder and runner.
+#[derive(Debug, Clone)]
+pub struct Bench {
+    elf: PathBuf,
+    start_unix_s: i64,
+    rtc: Rtc,
+    gps: GpsFeed,
+    wind: WindProfile,
+    mount: Mount,
+    field: Field,
+    power_on: (f64, f64),
+    echo: bool,
+    log_file: Option<PathBuf>,
+    timescale: f64,
+}
+
+/// Default start: 2026-06-21T05:00:00Z.
+pub const DEFAULT_START: i64 = 1_782_018_000;
+
+impl Bench {
+    /// The ATmega2560 image at `elf`, defaults: start 2026-06-21T05:00Z,
+    /// RTC valid, GPS silent, calm, level north-facing mount, Kano field,
+    /// power-on angles C = 30°, A = 20°.
+    pub fn mega(elf: impl AsRef<Path>) -> Self {
+        Bench {
+            elf: elf.as_ref().to_path_buf(),
+            start_unix_s: DEFAULT_START,
+            rtc: Rtc::Valid,
+            gps: GpsFeed::Silent,
+            wind: WindProfile::calm(),
+            mount: Mount::level(),
+            field: Field::kano_2026(),
+            power_on: (30.0, 20.0),
+            echo: false,
+            log_file: None,
+            timescale: DEFAULT_TIMESCALE,
+        }
+    }
+
+    /// Emulated UTC at power-on, Unix seconds.
+    pub fn start(mut self, unix_s: i64) -> Self {
+        self.start_unix_s = unix_s;
+        self
+    }
+
+    /// The DS3231's state.
+    pub fn rtc(mut self, rtc: Rtc) -> Self {
+        self.rtc = rtc;
+        self
+    }
+
+    /// The GPS feed.
+    pub fn gps(mut self, feed: GpsFeed) -> Self {
+        self.gps = feed;
+        self
+    }
+
+    /// The wind.
+    pub fn wind(mut self, profile: WindProfile) -> Self {
+        self.wind = profile;
+        self
+    }
+
+    /// The mount (see [`Mount::tilted`]).
+    pub fn mount(mut self, tilt_deg: f64, heading_deg: f64) -> Self {
+        self.mount = Mount::tilted(tilt_deg, heading_deg);
+        self
+    }
+
+    /// Axis angles at power-on (C, A), degrees.
+    pub fn power_on_angles(mut self, c_deg: f64, a_deg: f64) -> Self {
+        self.power_on = (c_deg, a_deg);
+        self
+    }
+
+    /// Timescale to assume until the image logs `timescale <N>` (60 by
+    /// default; 1 for images without time compression, e.g. the selftest).
+    pub fn timescale(mut self, n: f64) -> Self {
+        self.timescale = n;
+        self
+    }
+
+    /// Print each log line to stdout as it completes.
+    pub fn echo(mut self, on: bool) -> Self {
+        self.echo = on;
+        self
+    }
+
+    /// Also write the log lines to a file.
+    pub fn log_to(mut self, path: Option<PathBuf>) -> Self {
+        self.log_file = path;
+        self
+    }
+
+    /// Runs for `minutes` of emulated time.
+    pub fn run_minutes(&self, minutes: f64) -> Result<Run, String> {
+        let wall_start = Instant::now();
+        let mut sim = Sim::new("atmega2560", F_CPU, &self.elf)?;
+        sim.attach_uart('0')?;
+        sim.attach_uart('1')?;
+        sim.watch_port('A')?;
+
+        let clock = EmuClock::new();
+        let bus = Rc::new(RefCell::new(TwiBus::new(clock.clone())));
+        let rtc = match self.rtc {
+            Rtc::Valid => Some(Ds3231::running(self.start_unix_s)),
+            Rtc::LostPower => Some(Ds3231::lost_power()),
+            Rtc::Absent => None,
+        }
+        .map(|d| Rc::new(RefCell::new(d)));
+        if let Some(r) = &rtc {
+            bus.borrow_mut().attach(Box::new(r.clone()));
+        }
+        bus.borrow_mut()
+            .attach(Box::new(Qmc5883l::new(&self.mount, &self.field)));
+        bus.borrow_mut().attach(Box::new(Adxl345::new(&self.mount)));
+        sim.attach_twi(bus.clone())?;
+
+        let mut c_axis = StepperDecoder::new(AxisGeometry::c_axis(), self.power_on.0);
+        let mut a_axis = StepperDecoder::new(AxisGeometry::a_axis(), self.power_on.1);
+        let mut timescale = self.timescale;
+        let byte_s = |ts: f64| 10.0 / 9600.0 * ts;
+        let mut gps = NmeaFeeder::new(self.gps.clone(), self.start_unix_s, byte_s(timescale));
+        let mut wind = Anemometer::new(self.wind.clone());
+        let mut log = LineAssembler::default();
+        let mut lines = Vec::new();
+        let mut trace = Vec::new();
+        let mut log_file = match &self.log_file {
+            Some(p) => Some(std::fs::File::create(p).map_err(|e| format!("{}: {e}", p.display()))?),
+            None => None,
+        };
+
+        // Emulated seconds since power-on at a CPU cycle. The timescale can
+        // change once (when the image tells it): keep a piecewise origin.
+        let mut origin_cycle: u64 = 0;
+        let mut origin_emu_s: f64 = 0.0;
+        let emu_at = |cycle: u64, oc: u64, oe: f64, ts: f64| {
+            oe + (cycle - oc) as f64 / f64::from(F_CPU) * ts
+        };
+
+        let end_emu_s = minutes * 60.0;
+        let mut switches = [None::<bool>; 4];
+        let mut switch_events = Vec::new();
+        let mut line_start = None::<(f64, f64)>;
+        let mut wind_level = None::<bool>;
+        let mut last_change_emu = [f64::NEG_INFINITY; 2];
+        let mut last_trace_min = -1i64;
+        let mut min_angles = (c_axis.angle_deg(), a_axis.angle_deg());
+        let mut cpu = CpuState::Running;
+        loop {
+            let now_cycle = sim.cycle();
+            let now_emu = emu_at(now_cycle, origin_cycle, origin_emu_s, timescale);
+            if now_emu >= end_emu_s {
+                break;
+            }
+            clock.set_s(now_emu);
+            let utc = self.start_unix_s as f64 + now_emu;
+
+            // Switches from the decoded angles: PC0 C home, PC1 A home,
+            // PC2 C max, PC3 A max; active low.
+            let levels = [
+                !c_axis.home_closed(),
+                !a_axis.home_closed(),
+                !c_axis.max_closed(),
+                !a_axis.max_closed(),
+            ];
+            for (i, l) in levels.iter().enumerate() {
+                if switches[i] != Some(*l) {
+                    if switches[i].is_some() {
+                        switch_events.push(SwitchEvent {
+                            utc_s: utc,
+                            switch: i,
+                            closed: !*l,
+                        });
+                    }
+                    sim.set_pin('C', i as u8, *l);
+                    switches[i] = Some(*l);
+                }
+            }
+            if wind_level.is_none() {
+                sim.set_pin('E', 4, true);
+                wind_level = Some(true);
+            }
+            if let Some(l) = wind.advance(utc) {
+                sim.set_pin('E', 4, l);
+                wind_level = Some(l);
+            }
+            if let Some(text) = gps.poll(utc, sim.uart_pending('1') == 0) {
+                sim.uart_send('1', text.as_bytes());
+            }
+
+            cpu = sim.run_until(now_cycle + SERVICE_CYCLES);
+
+            for (cycle, value) in sim.port_changes('A') {
+                let t = emu_at(cycle, origin_cycle, origin_emu_s, timescale);
+                for (k, (axis, bits)) in [(&mut c_axis, value & 0x0F), (&mut a_axis, value >> 4)]
+                    .into_iter()
+                    .enumerate()
+                {
+                    let before = axis.half_steps();
+                    axis.observe(cycle, bits);
+                    if axis.half_steps() != before {
+                        if t - last_change_emu[k] > 1.0 {
+                            trace.push(AngleSample {
+                                utc_s: self.start_unix_s as f64 + t,
+                                c_deg: f64::NAN,
+                                a_deg: f64::NAN,
+                            });
+                        }
+                        last_change_emu[k] = t;
+                    }
+                }
+                if let Some(s) = trace.last_mut() {
+                    if s.c_deg.is_nan() {
+                        s.c_deg = c_axis.angle_deg();
+                        s.a_deg = a_axis.angle_deg();
+                    }
+                }
+                min_angles.0 = min_angles.0.min(c_axis.angle_deg());
+                min_angles.1 = min_angles.1.min(a_axis.angle_deg());
+            }
+            let minute = (now_emu / 60.0) as i64;
+            if minute != last_trace_min {
+                last_trace_min = minute;
+                trace.push(AngleSample {
+                    utc_s: utc,
+                    c_deg: c_axis.angle_deg(),
+                    a_deg: a_axis.angle_deg(),
+                });
+            }
+
+            let bytes = sim.uart_take('0');
+            if !bytes.is_empty() {
+                let start_angles = line_start.unwrap_or((c_axis.angle_deg(), a_axis.angle_deg()));
+                let t = emu_at(sim.cycle(), origin_cycle, origin_emu_s, timescale);
+                for text in log.push(&bytes) {
+                    let event = parse_line(&text);
+                    if let Event::Timescale(n) = event {
+                        if n > 0.0 && n != timescale {
+                            origin_emu_s = t;
+                            origin_cycle = sim.cycle();
+                            timescale = n;
+                            gps.set_byte_s(byte_s(n));
+                        }
+                    }
+                    let st = line_start.take().unwrap_or(start_angles);
+                    let line = LogLine {
+                        utc_s: self.start_unix_s as f64 + t,
+                        text,
+                        event,
+                        c_deg: c_axis.angle_deg(),
+                        a_deg: a_axis.angle_deg(),
+                        c_start_deg: st.0,
+                        a_start_deg: st.1,
+                    };
+                    if self.echo || log_file.is_some() {
+                        let s = format!(
+                            "{} c={:.3} a={:.3} | {}",
+                            crate::log::format_utc(line.utc_s.floor() as i64),
+                            line.c_deg,
+                            line.a_deg,
+                            line.text
+                        );
+                        if self.echo {
+                            println!("{s}");
+                        }
+                        if let Some(f) = log_file.as_mut() {
+                            use std::io::Write as _;
+                            let _ = writeln!(f, "{s}");
+                        }
+                    }
+                    lines.push(line);
+                }
+                // A partial line is left: it started in this batch.
+                if log.has_partial() && line_start.is_none() {
+                    line_start = Some(start_angles);
+                }
+            }
+            if cpu != CpuState::Running {
+                break;
+            }
+        }
+        let twi_starts = bus
+            .borrow()
+            .starts
+            .iter()
+            .enumerate()
+            .filter(|(_, n)| **n > 0)
+            .map(|(a, n)| (a as u8, *n))
+            .collect();
+        Ok(Run {
+            lines,
+            final_angles: (c_axis.angle_deg(), a_axis.angle_deg()),
+            illegal_steps: (c_axis.illegal.clone(), a_axis.illegal.clone()),
+            switch_events,
+            angle_trace: trace,
+            min_angles,
+            wall: wall_start.elapsed(),
+            cycles: sim.cycle(),
+            timescale,
+            start_unix_s: self.start_unix_s,
+            cpu,
+            wind_pulses: wind.pulses,
+            gps_epochs: gps.epochs_sent,
+            rtc_time_writes: rtc.map_or(0, |r| r.borrow().time_writes),
+            twi_starts,
+        })
+    }
+}

@@ -1,0 +1,17 @@
+//! Emulator harness for the suntracker AVR images: simavr (the build that
+//! the `avr-tester` crate runs on, through `simavr-ffi`) with models of the
+//! board's peripherals — DS3231 RTC, QMC5883L compass and ADXL345
+//! accelerometer on the TWI, two H-bridge steppers on PORTA with their home
+//! and max-end switches on PORTC, a GPS on USART1, a cup anemometer on
+//! INT4 — and a reader of the log on USART0. See `emu/README.md`.
+
+pub mod bench;
+pub mod log;
+pub mod models;
+pub mod sim;
+pub mod twi;
+
+pub use bench::{Bench, LogLine, Rtc, Run};
+pub use models::mount::Mount;
+pub use models::nmea::{GpsFeed, GpsSite};
+pub use models::wind::WindProfile;

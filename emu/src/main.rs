@@ -1,0 +1,156 @@
+//! `suntracker-emu`: run a suntracker AVR image under simavr with the
+//! peripheral models and print its log. See `emu/README.md`.
+
+use std::path::PathBuf;
+use std::process::ExitCode;
+
+use suntracker_emu::log::{format_utc, parse_utc};
+use suntracker_emu::models::nmea::{parse_log, GpsFeed};
+use suntracker_emu::{Bench, Rtc, WindProfile};
+
+const HELP: &str = "\
+suntracker-emu: run a suntracker firmware image under simavr with models of
+its peripherals (DS3231, QMC5883L, ADXL345, two H-bridge steppers with end
+switches, GPS on USART1, anemometer on INT4) and print the board's log.
+
+USAGE:
+  suntracker-emu --image mega|uno|qemu [OPTIONS]
+
+OPTIONS:
+  --image NAME          mega (ATmega2560); uno and qemu are not supported yet
+  --elf PATH            the ELF (default: $CARGO_TARGET_DIR or target, then
+                        /mega-emu/avr-none/release/avr_mega_tracker.elf)
+  --nmea FILE           feed this recorded NMEA log on USART1 (default: a
+                        generated Kano fix, 11.9683 N 8.4261 E, 480 m)
+  --no-gps              keep USART1 silent
+  --start UTC           power-on time, YYYY-MM-DDTHH:MM:SSZ (default: the
+                        first NMEA time, else 2026-06-21T05:00:00Z)
+  --rtc valid|lost|absent   DS3231 state at power-on (default valid)
+  --minutes N           emulated minutes to run (default 1440)
+  --tilt-deg X          mount tilt about the tracker's x axis (default 0)
+  --heading-deg Y       azimuth the mount faces, east of north (default 0)
+  --gale-at UTC         40 Hz anemometer pulses for 10 minutes from UTC
+  --log OUT             also write the log lines to OUT
+  --quiet               do not print the log lines
+  -h, --help            this text
+
+Exit status: 0 if the image ran for the whole span, 1 if it stopped or
+crashed early, 2 for usage errors or an unsupported image.";
+
+fn main() -> ExitCode {
+    match run() {
+        Ok(code) => code,
+        Err(e) => {
+            eprintln!("suntracker-emu: {e}");
+            ExitCode::from(2)
+        }
+    }
+}
+
+fn run() -> Result<ExitCode, String> {
+    use lexopt::prelude::*;
+    let mut image = None::<String>;
+    let mut elf = None::<PathBuf>;
+    let mut nmea = None::<PathBuf>;
+    let mut no_gps = false;
+    let mut start = None::<i64>;
+    let mut minutes = 1440.0;
+    let mut tilt = 0.0;
+    let mut heading = 0.0;
+    let mut log = None::<PathBuf>;
+    let mut quiet = false;
+    let mut rtc = Rtc::Valid;
+    let mut gale = None::<i64>;
+    let mut p = lexopt::Parser::from_env();
+    let err = |e: lexopt::Error| e.to_string();
+    let utc = |s: String| parse_utc(&s).ok_or(format!("bad time {s}, want YYYY-MM-DDTHH:MM:SSZ"));
+    while let Some(arg) = p.next().map_err(err)? {
+        match arg {
+            Long("image") => image = Some(p.value().map_err(err)?.string().map_err(err)?),
+            Long("elf") => elf = Some(p.value().map_err(err)?.into()),
+            Long("nmea") => nmea = Some(p.value().map_err(err)?.into()),
+            Long("no-gps") => no_gps = true,
+            Long("start") => start = Some(utc(p.value().map_err(err)?.string().map_err(err)?)?),
+            Long("minutes") => minutes = p.value().map_err(err)?.parse().map_err(err)?,
+            Long("tilt-deg") => tilt = p.value().map_err(err)?.parse().map_err(err)?,
+            Long("heading-deg") => heading = p.value().map_err(err)?.parse().map_err(err)?,
+            Long("log") => log = Some(p.value().map_err(err)?.into()),
+            Long("quiet") => quiet = true,
+            Long("gale-at") => gale = Some(utc(p.value().map_err(err)?.string().map_err(err)?)?),
+            Long("rtc") => {
+                rtc = match p.value().map_err(err)?.string().map_err(err)?.as_str() {
+                    "valid" => Rtc::Valid,
+                    "lost" => Rtc::LostPower,
+                    "absent" => Rtc::Absent,
+                    other => return Err(format!("--rtc {other}: want valid, lost or absent")),
+                }
+            }
+            Short('h') | Long("help") => {
+                println!("{HELP}");
+                return Ok(ExitCode::SUCCESS);
+            }
+            _ => return Err(arg.unexpected().to_string()),
+        }
+    }
+    match image.as_deref() {
+        Some("mega") => {}
+        Some(other @ ("uno" | "qemu")) => {
+            eprintln!("suntracker-emu: --image {other}: not supported yet");
+            return Ok(ExitCode::from(2));
+        }
+        Some(other) => return Err(format!("--image {other}: want mega, uno or qemu")),
+        None => return Err("--image is required (see --help)".into()),
+    }
+    let elf = elf.unwrap_or_else(|| {
+        let target = std::env::var_os("CARGO_TARGET_DIR")
+            .map_or_else(|| PathBuf::from("target"), PathBuf::from);
+        target.join("mega-emu/avr-none/release/avr_mega_tracker.elf")
+    });
+    let default_start = suntracker_emu::bench::DEFAULT_START;
+    let (feed, first) = match (&nmea, no_gps) {
+        (_, true) => (GpsFeed::Silent, None),
+        (Some(path), false) => {
+            let text =
+                std::fs::read_to_string(path).map_err(|e| format!("{}: {e}", path.display()))?;
+            let epochs = parse_log(&text, start.unwrap_or(default_start).div_euclid(86_400));
+            let first = epochs.first().map(|e| e.unix_s);
+            (GpsFeed::Recorded(epochs), first)
+        }
+        (None, false) => (GpsFeed::kano(), None),
+    };
+    let start = start.or(first).unwrap_or(default_start);
+    let wind = gale.map_or_else(WindProfile::calm, |t| WindProfile::gust(t, 10, 40.0));
+    let run = Bench::mega(&elf)
+        .start(start)
+        .rtc(rtc)
+        .gps(feed)
+        .wind(wind)
+        .mount(tilt, heading)
+        .echo(!quiet)
+        .log_to(log)
+        .run_minutes(minutes)?;
+    let emulated_s = run.cycles as f64 / f64::from(suntracker_emu::bench::F_CPU) * run.timescale;
+    eprintln!(
+        "suntracker-emu: {} from {}: {:.1} emulated min ({} cycles, timescale {}) in {:.2} s wall; \
+         {} log lines; final C {:.3}° A {:.3}°; illegal steps C {} A {}; GPS epochs {}; wind pulses {}; cpu {:?}",
+        elf.display(),
+        format_utc(start),
+        emulated_s / 60.0,
+        run.cycles,
+        run.timescale,
+        run.wall.as_secs_f64(),
+        run.lines.len(),
+        run.final_angles.0,
+        run.final_angles.1,
+        run.illegal_steps.0.len(),
+        run.illegal_steps.1.len(),
+        run.gps_epochs,
+        run.wind_pulses,
+        run.cpu
+    );
+    Ok(if run.cpu == suntracker_emu::sim::CpuState::Running {
+        ExitCode::SUCCESS
+    } else {
+        ExitCode::from(1)
+    })
+}

@@ -1,0 +1,265 @@
+//! Decoder of one H-bridge stepper axis from its four bridge inputs, and the
+//! axis's end switches.
+//!
+//! Coil table of `drivers/src/stepper/hbridge.rs` (half-step phases 0..7 of
+//! `[IN1, IN2, IN3, IN4]`): 1000, 1010, 0010, 0110, 0100, 0101, 0001, 1001;
+//! forward (increasing angle) is increasing phase. Full step uses the odd
+//! phases, two half-phases per step, and the driver writes the pins one at
+//! a time, lows first then highs, so every full step passes through the
+//! even half-phase between (e.g. 1010 → 0010 → 0110). All-low is released:
+//! the rotor stays at its last phase, and re-energising must resume at that
+//! phase or one half-phase beside it.
+//!
+//! Anything else — a pattern not in the table (e.g. 1100, both ends of a
+//! coil high: a shoot-through), or a jump of more than one half-phase
+//! between consecutive observed patterns — is an illegal sequence and is
+//! recorded (the rotor position is then unknown; the decoder keeps counting
+//! from the new phase, taking the shortest way).
+
+/// Half-step coil table, IN1 as bit 0 … IN4 as bit 3.
+const PHASES: [u8; 8] = [
+    0b0001, 0b0101, 0b0100, 0b0110, 0b0010, 0b1010, 0b1000, 0b1001,
+];
+
+fn phase_of(bits: u8) -> Option<u8> {
+    PHASES.iter().position(|&p| p == bits).map(|p| p as u8)
+}
+
+/// One illegal observation.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct IllegalStep {
+    /// CPU cycle of the write.
+    pub cycle: u64,
+    /// Previous pattern (IN1 = bit 0).
+    pub from: u8,
+    /// New pattern.
+    pub to: u8,
+}
+
+/// Axis geometry and end switches.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct AxisGeometry {
+    /// Half-steps per degree of axis rotation (2 × 10,000 / 360).
+    pub half_steps_per_deg: f64,
+    /// Home switch closed at and below this angle.
+    pub home_deg: f64,
+    /// Max-end switch closed at and above this angle.
+    pub max_deg: f64,
+}
+
+impl AxisGeometry {
+    /// 200-step motor, 50:1 gear: 10,000 full steps per turn.
+    pub const HALF_STEPS_PER_DEG: f64 = 20_000.0 / 360.0;
+
+    /// C axis: −180…+180°, max switch at +181°.
+    pub fn c_axis() -> Self {
+        AxisGeometry {
+            half_steps_per_deg: Self::HALF_STEPS_PER_DEG,
+            home_deg: -180.0,
+            max_deg: 181.0,
+        }
+    }
+
+    /// A axis: −90…+90°, max switch at +91°.
+    pub fn a_axis() -> Self {
+        AxisGeometry {
+            half_steps_per_deg: Self::HALF_STEPS_PER_DEG,
+            home_deg: -90.0,
+            max_deg: 91.0,
+        }
+    }
+}
+
+/// The decoder of one axis.
+#[derive(Debug, Clone)]
+pub struct StepperDecoder {
+    geometry: AxisGeometry,
+    /// Position in half-steps from angle 0.
+    half_steps: i64,
+    /// Last energised phase (the rotor's), `None` before the first one.
+    phase: Option<u8>,
+    last_bits: u8,
+    /// Illegal observations.
+    pub illegal: Vec<IllegalStep>,
+    /// Half-steps moved in total (both directions).
+    pub travelled: u64,
+    /// Pattern writes observed (including repeats and releases).
+    pub writes: u64,
+}
+
+impl StepperDecoder {
+    /// An axis at `angle_deg` at power-on, rotor at the odd (full-step)
+    /// phase nearest that position.
+    pub fn new(geometry: AxisGeometry, angle_deg: f64) -> Self {
+        let hs = (angle_deg * geometry.half_steps_per_deg).round() as i64;
+        StepperDecoder {
+            geometry,
+            half_steps: hs,
+            phase: None,
+            last_bits: 0,
+            illegal: Vec::new(),
+            travelled: 0,
+            writes: 0,
+        }
+    }
+
+    /// Axis angle, degrees.
+    pub fn angle_deg(&self) -> f64 {
+        self.half_steps as f64 / self.geometry.half_steps_per_deg
+    }
+
+    /// Position in half-steps.
+    pub fn half_steps(&self) -> i64 {
+        self.half_steps
+    }
+
+    /// Whether the coils are energised now.
+    pub fn energised(&self) -> bool {
+        self.last_bits != 0
+    }
+
+    /// Home switch closed (angle at or below the home angle).
+    pub fn home_closed(&self) -> bool {
+        self.angle_deg() <= self.geometry.home_deg + 1e-9
+    }
+
+    /// Max-end switch closed.
+    pub fn max_closed(&self) -> bool {
+        self.angle_deg() >= self.geometry.max_deg - 1e-9
+    }
+
+    /// One observed pattern of IN1..IN4 (IN1 = bit 0).
+    pub fn observe(&mut self, cycle: u64, bits: u8) {
+        let bits = bits & 0x0F;
+        self.writes += 1;
+        if bits == self.last_bits {
+            return;
+        }
+        let from = self.last_bits;
+        self.last_bits = bits;
+        if bits == 0 {
+            return; // released: the rotor keeps its phase
+        }
+        let Some(p) = phase_of(bits) else {
+            self.illegal.push(IllegalStep {
+                cycle,
+                from,
+                to: bits,
+            });
+            return;
+        };
+        let Some(old) = self.phase else {
+            // First energising: the rotor snaps to the nearest position
+            // with this phase (the harness's power-on angle is a guess).
+            let cur = self.half_steps.rem_euclid(8) as u8;
+            let d = (i64::from(p) - i64::from(cur) + 8).rem_euclid(8);
+            let d = if d > 4 { d - 8 } else { d };
+            self.half_steps += d;
+            self.phase = Some(p);
+            return;
+        };
+        let d = (i64::from(p) - i64::from(old) + 8).rem_euclid(8);
+        let d = if d > 4 { d - 8 } else { d };
+        if d.abs() > 1 {
+            self.illegal.push(IllegalStep {
+                cycle,
+                from,
+                to: bits,
+            });
+        }
+        self.half_steps += d;
+        self.travelled += d.unsigned_abs();
+        self.phase = Some(p);
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The driver's full step forward from phase 1 to 3: lows first
+    /// (IN1 low: 0100), then highs (IN2 high: 0110).
+    fn bits(in1: u8, in2: u8, in3: u8, in4: u8) -> u8 {
+        in1 | in2 << 1 | in3 << 2 | in4 << 3
+    }
+
+    #[test]
+    fn full_steps_through_half_phases_count_forward_and_back() {
+        let mut d = StepperDecoder::new(AxisGeometry::a_axis(), 0.0);
+        // Energise at phase 1 (1010): snaps from 0 (phase 0) to +1.
+        d.observe(0, bits(1, 0, 1, 0));
+        assert_eq!(d.half_steps(), 1);
+        // Forward 1 → 3: 0010 (phase 2) then 0110 (phase 3).
+        d.observe(1, bits(0, 0, 1, 0));
+        d.observe(2, bits(0, 1, 1, 0));
+        assert_eq!(d.half_steps(), 3);
+        // Release and resume at the same phase: no motion.
+        for (i, b) in [bits(0, 1, 0, 0), bits(0, 0, 0, 0), bits(0, 1, 1, 0)]
+            .into_iter()
+            .enumerate()
+        {
+            d.observe(3 + i as u64, b);
+        }
+        // Releasing lows-first passes 0100 (phase 4, one half-phase on),
+        // re-energising highs-in-order passes it again: net zero.
+        assert_eq!(d.half_steps(), 3);
+        // Backward 3 → 1: IN2 low (0010, phase 2), IN1 high (1010).
+        d.observe(10, bits(0, 0, 1, 0));
+        d.observe(11, bits(1, 0, 1, 0));
+        assert_eq!(d.half_steps(), 1);
+        assert!(d.illegal.is_empty(), "{:?}", d.illegal);
+        assert_eq!(d.travelled, 2 + 2 + 2);
+    }
+
+    #[test]
+    fn ten_thousand_full_steps_are_one_turn() {
+        let mut d = StepperDecoder::new(AxisGeometry::c_axis(), 0.0);
+        let full = [
+            bits(1, 0, 1, 0),
+            bits(0, 1, 1, 0),
+            bits(0, 1, 0, 1),
+            bits(1, 0, 0, 1),
+        ];
+        d.observe(0, full[0]);
+        let start = d.half_steps();
+        let mut cur = full[0];
+        for s in 1..=10_000usize {
+            let next = full[s % 4];
+            // Lows first, then highs.
+            d.observe(0, cur & next);
+            d.observe(0, next);
+            cur = next;
+        }
+        assert!(d.illegal.is_empty());
+        assert!(
+            (d.angle_deg() - (start as f64 / AxisGeometry::HALF_STEPS_PER_DEG + 360.0)).abs()
+                < 1e-9
+        );
+    }
+
+    #[test]
+    fn jumps_and_shoot_through_are_illegal() {
+        let mut d = StepperDecoder::new(AxisGeometry::a_axis(), 0.0);
+        d.observe(0, bits(1, 0, 1, 0)); // phase 1
+        d.observe(1, bits(0, 1, 1, 0)); // phase 3 directly: a 2-half-phase jump
+        assert_eq!(d.illegal.len(), 1);
+        d.observe(2, bits(1, 1, 0, 0)); // IN1 and IN2 high: not in the table
+        assert_eq!(d.illegal.len(), 2);
+        // A released rotor re-energised two half-phases away is a jump too.
+        let mut d = StepperDecoder::new(AxisGeometry::a_axis(), 0.0);
+        d.observe(0, bits(1, 0, 1, 0));
+        d.observe(1, 0);
+        d.observe(2, bits(0, 1, 1, 0));
+        assert_eq!(d.illegal.len(), 1);
+    }
+
+    #[test]
+    fn switches_follow_the_angle() {
+        let mut d = StepperDecoder::new(AxisGeometry::a_axis(), -89.99);
+        assert!(!d.home_closed());
+        d.half_steps = (-90.0 * AxisGeometry::HALF_STEPS_PER_DEG).round() as i64;
+        assert!(d.home_closed());
+        d.half_steps = (91.0 * AxisGeometry::HALF_STEPS_PER_DEG).round() as i64;
+        assert!(d.max_closed());
+    }
+}

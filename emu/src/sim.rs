@@ -1,0 +1,343 @@
+//! A thin, owned wrapper around simavr (through `simavr-ffi`, the simavr
+//! build that `avr-tester` 0.6 runs on).
+//!
+//! Why not `avr_tester::AvrTester` itself: its `run()` panics as soon as the
+//! CPU sleeps (`AvrState::Sleeping`), and the suntracker images idle-sleep
+//! between Timer0 ticks; and neither it nor `avr-simulator` exposes the I/O
+//! port IRQs, which the stepper decoder needs to see every single pin write.
+//! The TWI message protocol used here is simavr's (`avr_twi.h`:
+//! START/ADDR/ACK/WRITE/READ/STOP bits in a 32-bit IRQ value), the same one
+//! `avr_tester::TwiPacket` decodes.
+//!
+//! Everything the firmware drives out (USART bytes, TWI messages, PORTA
+//! writes) arrives through simavr IRQ callbacks, during `avr_run`; the
+//! callbacks only push into shared queues / models, which the harness reads
+//! between instructions.
+
+use std::cell::RefCell;
+use std::collections::VecDeque;
+use std::ffi::CString;
+use std::path::Path;
+use std::ptr::NonNull;
+use std::rc::Rc;
+
+use simavr_ffi as ffi;
+
+use crate::twi::TwiBus;
+
+fn ioctl_code(a: u8, b: u8, c: u8, d: u8) -> u32 {
+    u32::from_be_bytes([a, b, c, d])
+}
+
+/// CPU state after a run step.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum CpuState {
+    /// Executing (or sleeping with interrupts enabled: simavr then skips
+    /// to the next timer event, which is what we want).
+    Running,
+    /// Sleeping with interrupts off, or the program ended.
+    Done,
+    /// Invalid instruction or similar.
+    Crashed,
+}
+
+/// The receive side of one USART as seen from outside (bytes the AVR sent).
+#[derive(Default)]
+struct UartState {
+    from_avr: VecDeque<u8>,
+    to_avr: VecDeque<u8>,
+    xon: bool,
+}
+
+struct UartHandle {
+    state: Box<RefCell<UartState>>,
+    input: NonNull<ffi::avr_irq_t>,
+}
+
+/// Callback state of a port watch: the last PINx-as-driven value per write.
+struct PortWatch {
+    changes: RefCell<Vec<(u64, u8)>>,
+    /// Set by every write, cleared by the run loop: lets `run_until`
+    /// return at once so that switches follow the motion without delay.
+    flag: std::rc::Rc<std::cell::Cell<bool>>,
+    avr: NonNull<ffi::avr_t>,
+}
+
+struct TwiHandle {
+    bus: Rc<RefCell<TwiBus>>,
+    input: NonNull<ffi::avr_irq_t>,
+}
+
+/// One simulated AVR.
+pub struct Sim {
+    avr: NonNull<ffi::avr_t>,
+    uarts: Vec<(char, UartHandle)>,
+    ports: Vec<(char, Box<PortWatch>)>,
+    twi: Option<Box<TwiHandle>>,
+    port_flag: std::rc::Rc<std::cell::Cell<bool>>,
+    tx_pending: bool,
+    _firmware: Box<ffi::elf_firmware_t>,
+}
+
+unsafe extern "C" fn quiet_logger(
+    _: *mut ffi::avr_t,
+    _: std::os::raw::c_int,
+    _: *const std::os::raw::c_char,
+    _: *mut ffi::__va_list_tag,
+) {
+}
+
+/// simavr's default `sleep` callback usleep()s to keep the simulation in
+/// step with wall time; the harness wants it as fast as possible.
+unsafe extern "C" fn no_sleep(_: *mut ffi::avr_t, _: ffi::avr_cycle_count_t) {}
+
+unsafe extern "C" fn on_uart_output(
+    _: *mut ffi::avr_irq_t,
+    value: u32,
+    param: *mut std::ffi::c_void,
+) {
+    let state = unsafe { &*(param as *const RefCell<UartState>) };
+    if let Ok(mut s) = state.try_borrow_mut() {
+        s.from_avr.push_back(value as u8);
+    }
+}
+
+unsafe extern "C" fn on_uart_xon(_: *mut ffi::avr_irq_t, _: u32, param: *mut std::ffi::c_void) {
+    let state = unsafe { &*(param as *const RefCell<UartState>) };
+    if let Ok(mut s) = state.try_borrow_mut() {
+        s.xon = true;
+    }
+}
+
+unsafe extern "C" fn on_uart_xoff(_: *mut ffi::avr_irq_t, _: u32, param: *mut std::ffi::c_void) {
+    let state = unsafe { &*(param as *const RefCell<UartState>) };
+    if let Ok(mut s) = state.try_borrow_mut() {
+        s.xon = false;
+    }
+}
+
+unsafe extern "C" fn on_port_all(_: *mut ffi::avr_irq_t, value: u32, param: *mut std::ffi::c_void) {
+    let watch = unsafe { &*(param as *const PortWatch) };
+    let cycle = unsafe { watch.avr.as_ref().cycle };
+    watch.changes.borrow_mut().push((cycle, value as u8));
+    watch.flag.set(true);
+}
+
+unsafe extern "C" fn on_twi_output(
+    _: *mut ffi::avr_irq_t,
+    value: u32,
+    param: *mut std::ffi::c_void,
+) {
+    let handle = unsafe { &*(param as *const TwiHandle) };
+    let [_, msg, addr, data] = value.to_le_bytes();
+    let reply = handle.bus.borrow_mut().message(msg, addr, data);
+    if let Some((msg, addr, data)) = reply {
+        let v = u32::from_le_bytes([0, msg, addr, data]);
+        unsafe { ffi::avr_raise_irq(handle.input.as_ptr(), v) };
+    }
+}
+
+impl Sim {
+    /// Loads `elf` into a fresh `mcu` (e.g. "atmega2560") at `frequency` Hz.
+    pub fn new(mcu: &str, frequency: u32, elf: &Path) -> Result<Sim, String> {
+        if !elf.is_file() {
+            return Err(format!("no ELF at {}", elf.display()));
+        }
+        let c_mcu = CString::new(mcu).map_err(|e| e.to_string())?;
+        unsafe { ffi::avr_global_logger_set(Some(quiet_logger)) };
+        let avr = NonNull::new(unsafe { ffi::avr_make_mcu_by_name(c_mcu.as_ptr()) })
+            .ok_or_else(|| format!("simavr has no MCU {mcu}"))?;
+        if unsafe { ffi::avr_init(avr.as_ptr()) } != 0 {
+            return Err("avr_init failed".into());
+        }
+        // SAFETY: zeroed is the documented initial state of elf_firmware_t.
+        let mut firmware: Box<ffi::elf_firmware_t> = Box::new(unsafe { std::mem::zeroed() });
+        firmware.frequency = frequency;
+        for (dst, src) in firmware.mmcu.iter_mut().zip(mcu.bytes()) {
+            *dst = src as _;
+        }
+        let c_path = CString::new(elf.display().to_string()).map_err(|e| e.to_string())?;
+        let c_name = CString::new("suntracker-emu").map_err(|e| e.to_string())?;
+        // sim_setup_firmware exits the process on a bad file; checked above.
+        unsafe {
+            ffi::sim_setup_firmware(c_path.as_ptr(), 0, &mut *firmware, c_name.as_ptr());
+            ffi::avr_load_firmware(avr.as_ptr(), &mut *firmware);
+            (*avr.as_ptr()).frequency = frequency;
+            (*avr.as_ptr()).sleep = Some(no_sleep);
+        }
+        Ok(Sim {
+            avr,
+            uarts: Vec::new(),
+            ports: Vec::new(),
+            twi: None,
+            port_flag: Default::default(),
+            tx_pending: false,
+            _firmware: firmware,
+        })
+    }
+
+    fn getirq(&self, ctl: u32, n: u32) -> Option<NonNull<ffi::avr_irq_t>> {
+        NonNull::new(unsafe { ffi::avr_io_getirq(self.avr.as_ptr(), ctl, n as _) })
+    }
+
+    /// Attaches to USART `id` ('0', '1', ...): detaches it from simavr's
+    /// stdout and collects what the AVR sends.
+    pub fn attach_uart(&mut self, id: char) -> Result<(), String> {
+        let mut flags: u32 = 0;
+        let get = ioctl_code(b'u', b'a', b'g', id as u8);
+        let set = ioctl_code(b'u', b'a', b's', id as u8);
+        if unsafe { ffi::avr_ioctl(self.avr.as_ptr(), get, &mut flags as *mut u32 as *mut _) } != 0
+        {
+            return Err(format!("no USART{id}"));
+        }
+        // Not to stdout, and no usleep() when the firmware polls the status.
+        flags &= !(ffi::AVR_UART_FLAG_STDIO | ffi::AVR_UART_FLAG_POLL_SLEEP);
+        unsafe { ffi::avr_ioctl(self.avr.as_ptr(), set, &mut flags as *mut u32 as *mut _) };
+        let irq = ioctl_code(b'u', b'a', b'r', id as u8);
+        let state = Box::new(RefCell::new(UartState {
+            xon: true,
+            ..Default::default()
+        }));
+        let p = &*state as *const RefCell<UartState> as *mut std::ffi::c_void;
+        let out = self.getirq(irq, ffi::UART_IRQ_OUTPUT).ok_or("uart irq")?;
+        let xon = self.getirq(irq, ffi::UART_IRQ_OUT_XON).ok_or("uart irq")?;
+        let xoff = self.getirq(irq, ffi::UART_IRQ_OUT_XOFF).ok_or("uart irq")?;
+        let input = self.getirq(irq, ffi::UART_IRQ_INPUT).ok_or("uart irq")?;
+        unsafe {
+            ffi::avr_irq_register_notify(out.as_ptr(), Some(on_uart_output), p);
+            ffi::avr_irq_register_notify(xon.as_ptr(), Some(on_uart_xon), p);
+            ffi::avr_irq_register_notify(xoff.as_ptr(), Some(on_uart_xoff), p);
+        }
+        self.uarts.push((id, UartHandle { state, input }));
+        Ok(())
+    }
+
+    fn uart(&self, id: char) -> &UartHandle {
+        &self
+            .uarts
+            .iter()
+            .find(|(i, _)| *i == id)
+            .expect("USART attached")
+            .1
+    }
+
+    /// Bytes the AVR sent on USART `id` since the last call.
+    pub fn uart_take(&mut self, id: char) -> Vec<u8> {
+        let mut s = self.uart(id).state.borrow_mut();
+        if s.from_avr.is_empty() {
+            return Vec::new();
+        }
+        s.from_avr.drain(..).collect()
+    }
+
+    /// Queues bytes for the AVR's receiver on USART `id`.
+    pub fn uart_send(&mut self, id: char, bytes: &[u8]) {
+        self.uart(id).state.borrow_mut().to_avr.extend(bytes);
+        self.tx_pending = true;
+    }
+
+    /// Bytes still queued for USART `id`.
+    pub fn uart_pending(&self, id: char) -> usize {
+        self.uart(id).state.borrow().to_avr.len()
+    }
+
+    /// Pushes queued bytes into simavr's receive FIFO while it says XON
+    /// (simavr then delivers them at the programmed baud rate).
+    fn flush_uarts(&mut self) {
+        let mut pending = false;
+        for (_, u) in &self.uarts {
+            loop {
+                let byte = {
+                    let mut s = u.state.borrow_mut();
+                    if !s.xon {
+                        break;
+                    }
+                    match s.to_avr.pop_front() {
+                        Some(b) => b,
+                        None => break,
+                    }
+                };
+                unsafe { ffi::avr_raise_irq(u.input.as_ptr(), u32::from(byte)) };
+            }
+            pending |= !u.state.borrow().to_avr.is_empty();
+        }
+        self.tx_pending = pending;
+    }
+
+    /// Connects the TWI (TWI0) to `bus`.
+    pub fn attach_twi(&mut self, bus: Rc<RefCell<TwiBus>>) -> Result<(), String> {
+        let ctl = ioctl_code(b't', b'w', b'i', 0);
+        let input = self.getirq(ctl, ffi::TWI_IRQ_INPUT).ok_or("no TWI")?;
+        let output = self.getirq(ctl, ffi::TWI_IRQ_OUTPUT).ok_or("no TWI")?;
+        let handle = Box::new(TwiHandle { bus, input });
+        let p = &*handle as *const TwiHandle as *mut std::ffi::c_void;
+        unsafe { ffi::avr_irq_register_notify(output.as_ptr(), Some(on_twi_output), p) };
+        self.twi = Some(handle);
+        Ok(())
+    }
+
+    /// Records every change of the driven value of port `port` ('A', ...):
+    /// one entry per PORTx/DDRx write, with the cycle it happened at.
+    pub fn watch_port(&mut self, port: char) -> Result<(), String> {
+        let ctl = ioctl_code(b'i', b'o', b'g', port as u8);
+        let irq = self
+            .getirq(ctl, ffi::IOPORT_IRQ_PIN_ALL)
+            .ok_or_else(|| format!("no port {port}"))?;
+        let watch = Box::new(PortWatch {
+            changes: RefCell::new(Vec::new()),
+            flag: self.port_flag.clone(),
+            avr: self.avr,
+        });
+        let p = &*watch as *const PortWatch as *mut std::ffi::c_void;
+        unsafe { ffi::avr_irq_register_notify(irq.as_ptr(), Some(on_port_all), p) };
+        self.ports.push((port, watch));
+        Ok(())
+    }
+
+    /// Port writes recorded since the last call: (cycle, driven value).
+    pub fn port_changes(&mut self, port: char) -> Vec<(u64, u8)> {
+        self.ports
+            .iter()
+            .find(|(p, _)| *p == port)
+            .map(|(_, w)| std::mem::take(&mut *w.changes.borrow_mut()))
+            .unwrap_or_default()
+    }
+
+    /// Drives input pin `Pxn` from outside (a switch, a sensor output).
+    pub fn set_pin(&mut self, port: char, pin: u8, high: bool) {
+        let ctl = ioctl_code(b'i', b'o', b'g', port as u8);
+        if let Some(irq) = self.getirq(ctl, u32::from(pin)) {
+            unsafe { ffi::avr_raise_irq(irq.as_ptr(), u32::from(high)) };
+        }
+    }
+
+    /// CPU cycles since reset.
+    pub fn cycle(&self) -> u64 {
+        unsafe { self.avr.as_ref().cycle }
+    }
+
+    /// Runs instructions until the cycle counter reaches `cycle`, a watched
+    /// port was written, or the program stops. Sleeping counts as running:
+    /// simavr advances the clock to the next timer event.
+    pub fn run_until(&mut self, cycle: u64) -> CpuState {
+        self.port_flag.set(false);
+        while self.cycle() < cycle && !self.port_flag.get() {
+            if self.tx_pending {
+                self.flush_uarts();
+            }
+            let state = unsafe { ffi::avr_run(self.avr.as_ptr()) } as u32;
+            match state {
+                ffi::cpu_Running | ffi::cpu_Sleeping | ffi::cpu_Step | ffi::cpu_StepDone => {}
+                ffi::cpu_Crashed => return CpuState::Crashed,
+                _ => return CpuState::Done,
+            }
+        }
+        CpuState::Running
+    }
+}
+
+impl Drop for Sim {
+    fn drop(&mut self) {
+        unsafe { ffi::avr_terminate(self.avr.as_ptr()) };
+    }
+}

@@ -1,0 +1,361 @@
+//! Scenario tests of the ATmega2560 tracker image (`avr_mega_tracker`, the
+//! emulation build with time compression) under the harness.
+//!
+//! Gated: they run only when `SUNTRACKER_EMU_ELF_MEGA` names the ELF;
+//! otherwise each prints "skipped: SUNTRACKER_EMU_ELF_MEGA not set" and
+//! passes. What the image must do for them is listed in `emu/README.md`
+//! ("What the image must do").
+//!
+//! Conventions checked against (see `emu/src/models/mount.rs`): the panel
+//! normal of a pose (γ = C, α = A) is `suntracker::attitude`'s forward
+//! function `MountAttitude::normal_xyz`; the sun is SPA (sun_algos, f64,
+//! geometric, Kano 11.9683 N 8.4261 E 480 m) at the set-point's UTC.
+
+use std::path::PathBuf;
+
+use sun_algos::{Algorithm, Options, Site, UtcTime};
+use suntracker::attitude::{angle_between_deg, sun_vector_xyz, MountAttitude, Pose};
+use suntracker_emu::bench::SwitchEvent;
+use suntracker_emu::log::{format_utc, parse_utc, Event};
+use suntracker_emu::{Bench, GpsFeed, LogLine, Mount, Rtc, Run, WindProfile};
+
+/// One motor step in axis degrees (10,000 full steps per turn).
+const STEP_DEG: f64 = 0.036;
+/// Slack for comparing decoded angles with commanded ones: one step, plus
+/// the firmware's 2-decimal rounding of c and a.
+const ANGLE_TOL_DEG: f64 = STEP_DEG + 0.005;
+/// Config defaults (src/config.rs `WindConfig`): hold before stowing and
+/// calm before release, seconds.
+const WIND_HOLD_S: f64 = 3.0;
+const WIND_RELEASE_S: f64 = 600.0;
+/// Assumed slowest axis speed for "travel time" bounds, degrees per
+/// emulated second (override with SUNTRACKER_EMU_MIN_AXIS_DEG_S).
+const MIN_AXIS_DEG_S: f64 = 1.0;
+
+fn elf() -> Option<PathBuf> {
+    std::env::var_os("SUNTRACKER_EMU_ELF_MEGA").map(PathBuf::from)
+}
+
+macro_rules! elf_or_skip {
+    () => {
+        match elf() {
+            Some(p) => p,
+            None => {
+                println!("skipped: SUNTRACKER_EMU_ELF_MEGA not set");
+                return;
+            }
+        }
+    };
+}
+
+fn min_axis_deg_s() -> f64 {
+    std::env::var("SUNTRACKER_EMU_MIN_AXIS_DEG_S")
+        .ok()
+        .and_then(|v| v.parse().ok())
+        .unwrap_or(MIN_AXIS_DEG_S)
+}
+
+fn t(s: &str) -> i64 {
+    parse_utc(s).unwrap()
+}
+
+fn kano_sun(unix_s: i64) -> [f64; 3] {
+    let site = Site::with_elevation(11.9683, 8.4261, 480.0).unwrap();
+    let p = Algorithm::Spa
+        .position(
+            &UtcTime::from_unix_seconds(unix_s).unwrap(),
+            &site,
+            &Options::default(),
+        )
+        .unwrap();
+    sun_vector_xyz(90.0 - p.zenith_deg, p.azimuth_deg)
+}
+
+fn report(name: &str, run: &Run) {
+    println!(
+        "{name}: {} lines, {} cycles, timescale {}, wall {:.1} s, final C {:.3} A {:.3}, illegal C {} A {}",
+        run.lines.len(),
+        run.cycles,
+        run.timescale,
+        run.wall.as_secs_f64(),
+        run.final_angles.0,
+        run.final_angles.1,
+        run.illegal_steps.0.len(),
+        run.illegal_steps.1.len()
+    );
+    for l in run.events() {
+        println!("  {} {}", format_utc(l.utc_s as i64), l.text);
+    }
+}
+
+fn assert_no_illegal_steps(run: &Run) {
+    assert!(
+        run.illegal_steps.0.is_empty() && run.illegal_steps.1.is_empty(),
+        "illegal coil sequences: C {:?} A {:?}",
+        run.illegal_steps.0.first(),
+        run.illegal_steps.1.first()
+    );
+}
+
+fn set_points(run: &Run) -> Vec<(&LogLine, i64, f64, f64)> {
+    run.lines
+        .iter()
+        .filter_map(|l| match l.event {
+            Event::SetPoint {
+                unix_s,
+                c_deg,
+                a_deg,
+                ..
+            } => Some((l, unix_s, c_deg, a_deg)),
+            _ => None,
+        })
+        .collect()
+}
+
+/// Both home switches closed at some time; the time both had closed.
+fn homed_at(events: &[SwitchEvent], after_s: f64) -> Option<f64> {
+    let first = |sw: usize| {
+        events
+            .iter()
+            .find(|e| e.switch == sw && e.closed && e.utc_s >= after_s)
+            .map(|e| e.utc_s)
+    };
+    Some(first(0)?.max(first(1)?))
+}
+
+fn has_line(run: &Run, pred: impl Fn(&Event) -> bool) -> bool {
+    run.lines.iter().any(|l| pred(&l.event))
+}
+
+/// For each set-point but the last: the decoded angles just before the
+/// next set-point line started equal (c, a) within a step; the panel
+/// normal of (c, a) through `mount` is within `pointing_tol_deg` of the sun.
+fn check_set_points(run: &Run, mount: &MountAttitude<f64>, pointing_tol_deg: f64) -> usize {
+    let sps = set_points(run);
+    assert!(!sps.is_empty(), "no setpoint line");
+    let mut worst_angle: f64 = 0.0;
+    let mut worst_pointing: f64 = 0.0;
+    for w in sps.windows(2) {
+        let (_, utc, c, a) = w[0];
+        let (next, ..) = w[1];
+        let dc = next.c_start_deg - c;
+        let da = next.a_start_deg - a;
+        worst_angle = worst_angle.max(dc.abs()).max(da.abs());
+        assert!(
+            dc.abs() <= ANGLE_TOL_DEG && da.abs() <= ANGLE_TOL_DEG,
+            "set-point {} c={c} a={a}: axes at C {:.4} A {:.4} before the next one",
+            format_utc(utc),
+            next.c_start_deg,
+            next.a_start_deg
+        );
+        let pose = Pose {
+            gamma_deg: c,
+            alpha_deg: a,
+        };
+        let err = angle_between_deg(&mount.normal_xyz(&pose), &kano_sun(utc));
+        worst_pointing = worst_pointing.max(err);
+        assert!(
+            err <= pointing_tol_deg,
+            "set-point {} c={c} a={a}: normal {err:.4}° from the SPA sun",
+            format_utc(utc)
+        );
+    }
+    println!(
+        "{} set-points: worst axis error {worst_angle:.4}°, worst pointing error {worst_pointing:.4}°",
+        sps.len()
+    );
+    sps.len()
+}
+
+/// (a) Kano, 2026-06-21, power-on 05:00Z with GPS: homing, tracking all
+/// day within a step of each set-point and 0.02° of the sun, home at the
+/// end of the day, no illegal coil sequence.
+#[test]
+fn a_kano_whole_day_with_gps() {
+    let elf = elf_or_skip!();
+    let start = t("2026-06-21T05:00:00Z");
+    let run = Bench::mega(&elf)
+        .start(start)
+        .rtc(Rtc::Valid)
+        .gps(GpsFeed::kano())
+        .power_on_angles(30.0, 20.0)
+        .run_minutes(1440.0)
+        .unwrap();
+    report("a", &run);
+    assert!(has_line(&run, |e| matches!(e, Event::Boot { .. })));
+    assert!(has_line(
+        &run,
+        |e| matches!(e, Event::Time { source, .. } if source == "gps")
+    ));
+    assert!(has_line(
+        &run,
+        |e| matches!(e, Event::Site { source, .. } if source == "gps")
+    ));
+    let homed = homed_at(&run.switch_events, start as f64).expect("both axes reach home");
+    let sps = set_points(&run);
+    let first_sp = sps.first().expect("set-points").0.utc_s;
+    assert!(homed <= first_sp, "homing before tracking");
+    let n = check_set_points(&run, &MountAttitude::level(), 0.02);
+    // 4-minute table from about sunrise to sunset: dozens at least.
+    assert!(n >= 100, "{n} set-points");
+    let last_sp = sps.last().unwrap().0.utc_s;
+    assert!(
+        homed_at(&run.switch_events, last_sp).is_some(),
+        "home at the end of the day"
+    );
+    assert_no_illegal_steps(&run);
+}
+
+/// (b) GPS silent, DS3231 valid: time from the RTC, site from the
+/// configuration, and it tracks.
+#[test]
+fn b_rtc_only_tracks() {
+    let elf = elf_or_skip!();
+    let run = Bench::mega(&elf)
+        .start(t("2026-06-21T08:00:00Z"))
+        .rtc(Rtc::Valid)
+        .gps(GpsFeed::Silent)
+        .run_minutes(60.0)
+        .unwrap();
+    report("b", &run);
+    assert!(has_line(
+        &run,
+        |e| matches!(e, Event::Time { source, .. } if source == "rtc")
+    ));
+    assert!(has_line(
+        &run,
+        |e| matches!(e, Event::Site { source, .. } if source == "config")
+    ));
+    check_set_points(&run, &MountAttitude::level(), 0.02);
+    assert_no_illegal_steps(&run);
+}
+
+/// (c) No valid time (DS3231 lost power, no GPS): after homing the axes
+/// never move again, and `mode wait_for_time` is logged.
+#[test]
+fn c_no_time_waits_after_homing() {
+    let elf = elf_or_skip!();
+    let run = Bench::mega(&elf)
+        .start(t("2026-06-21T08:00:00Z"))
+        .rtc(Rtc::LostPower)
+        .gps(GpsFeed::Silent)
+        .run_minutes(60.0)
+        .unwrap();
+    report("c", &run);
+    assert!(has_line(
+        &run,
+        |e| matches!(e, Event::Mode(m) if m == "wait_for_time")
+    ));
+    assert!(set_points(&run).is_empty(), "no set-point without time");
+    let homed = homed_at(&run.switch_events, 0.0).expect("both axes reach home");
+    // After homing (and any back-off from the switches, 60 s), no motion.
+    let settle = homed + 60.0;
+    let later: Vec<_> = run
+        .angle_trace
+        .iter()
+        .filter(|s| s.utc_s >= settle)
+        .collect();
+    assert!(!later.is_empty());
+    for s in &later {
+        assert!(
+            (s.c_deg - run.final_angles.0).abs() < 1e-9
+                && (s.a_deg - run.final_angles.1).abs() < 1e-9,
+            "moved after homing: {s:?}"
+        );
+    }
+    assert_no_illegal_steps(&run);
+}
+
+/// (d) A gale (40 Hz for 10 minutes from 12:00Z): `mode wind_stow`, the A
+/// axis at α = 0 within the hold time plus the travel time, and back to
+/// tracking after 600 s of calm.
+#[test]
+fn d_gale_at_noon_stows_and_releases() {
+    let elf = elf_or_skip!();
+    let gale = t("2026-06-21T12:00:00Z");
+    let run = Bench::mega(&elf)
+        .start(t("2026-06-21T11:30:00Z"))
+        .rtc(Rtc::Valid)
+        .gps(GpsFeed::kano())
+        .wind(WindProfile::gust(gale, 10, 40.0))
+        .run_minutes(60.0)
+        .unwrap();
+    report("d", &run);
+    println!("wind pulses {}", run.wind_pulses);
+    let stow = run
+        .lines
+        .iter()
+        .find(|l| matches!(&l.event, Event::Mode(m) if m == "wind_stow"))
+        .expect("mode wind_stow");
+    assert!(stow.utc_s >= gale as f64, "stowed before the gale");
+    // α before the gale, from the last set-point before it.
+    let alpha_before = set_points(&run)
+        .iter()
+        .rev()
+        .find(|s| s.0.utc_s < gale as f64)
+        .map_or(90.0, |s| s.3);
+    let deadline = gale as f64 + WIND_HOLD_S + 5.0 + alpha_before.abs() / min_axis_deg_s();
+    let stowed_at = run
+        .angle_trace
+        .iter()
+        .find(|s| s.utc_s >= gale as f64 && s.a_deg.abs() <= ANGLE_TOL_DEG)
+        .map(|s| s.utc_s)
+        .or_else(|| {
+            run.lines
+                .iter()
+                .find(|l| l.utc_s >= gale as f64 && l.a_deg.abs() <= ANGLE_TOL_DEG)
+                .map(|l| l.utc_s)
+        })
+        .expect("A axis reaches α = 0");
+    assert!(
+        stowed_at <= deadline,
+        "stowed at {} > deadline {}",
+        format_utc(stowed_at as i64),
+        format_utc(deadline as i64)
+    );
+    let calm = (gale + 600) as f64;
+    let release = run
+        .lines
+        .iter()
+        .find(|l| l.utc_s > stow.utc_s && matches!(&l.event, Event::Mode(m) if m != "wind_stow"))
+        .expect("leaves wind_stow");
+    assert!(
+        release.utc_s >= calm + WIND_RELEASE_S - 5.0
+            && release.utc_s <= calm + WIND_RELEASE_S + 60.0,
+        "released at {} (calm from {})",
+        format_utc(release.utc_s as i64),
+        format_utc(calm as i64)
+    );
+    assert_no_illegal_steps(&run);
+}
+
+/// (e) Mount tilted 7° facing 20° east of north: the attitude is applied
+/// (the commanded pose differs from a level mount's), and the panel normal
+/// through the tilted mount is within 0.05° of the sun. The frame
+/// conventions are the firmware's (`src/attitude.rs`); the harness's
+/// tilt/heading mapping is in `emu/src/models/mount.rs`.
+#[test]
+fn e_tilted_mount_is_compensated() {
+    let elf = elf_or_skip!();
+    let run = Bench::mega(&elf)
+        .start(t("2026-06-21T08:00:00Z"))
+        .rtc(Rtc::Valid)
+        .gps(GpsFeed::kano())
+        .mount(7.0, 20.0)
+        .run_minutes(60.0)
+        .unwrap();
+    report("e", &run);
+    let mount = Mount::tilted(7.0, 20.0).attitude;
+    check_set_points(&run, &mount, 0.05);
+    // A level mount would command something else.
+    let level = MountAttitude::<f64>::level();
+    let differs = set_points(&run).iter().any(|&(_, utc, c, a)| {
+        let pose = Pose {
+            gamma_deg: c,
+            alpha_deg: a,
+        };
+        angle_between_deg(&level.normal_xyz(&pose), &kano_sun(utc)) > 1.0
+    });
+    assert!(differs, "the commanded poses ignore the tilt");
+    assert_no_illegal_steps(&run);
+}
