@@ -17,6 +17,7 @@ ELF_BLACKPILL="$FW_TARGET_DIR/blackpill/thumbv7em-none-eabihf/release/blackpill_
 ELF_AVR_UNO="$FW_TARGET_DIR/avr-none/release/avr_tracker.elf"
 ELF_AVR_BENCH="$FW_TARGET_DIR/avr-none/release/avr_bench.elf"
 ELF_AVR_MEGA="$FW_TARGET_DIR/mega/avr-none/release/avr_mega_tracker.elf"
+ELF_AVR_MEGA_EMU="$FW_TARGET_DIR/mega-emu/avr-none/release/avr_mega_tracker.elf"
 ELF_AVR_SELFTEST="$FW_TARGET_DIR/mega/avr-none/release/avr_board_selftest.elf"
 
 # The ATmega2560 flags: the same as .cargo/config.toml's avr-none flags but
@@ -36,8 +37,17 @@ build_avr_uno() {
 }
 build_avr_mega() {
   RUSTFLAGS="$AVR_MEGA_RUSTFLAGS" \
-    cargo +nightly build --release --target avr-none -Z build-std=core \
+    cargo +nightly build --release --target avr-none -Z build-std=core --features mega2560 \
     --bin avr_mega_tracker --bin avr_board_selftest --target-dir "$FW_TARGET_DIR/mega"
+}
+# The same image for the emulator harness (emu/): its Timer0 clock advances
+# EMU_MS_PER_TICK ms per 1 ms tick (src/board/avr/clock.rs); nothing else
+# differs.
+EMU_MS_PER_TICK=60
+build_avr_mega_emu() {
+  SUNTRACKER_EMU_MS_PER_TICK=$EMU_MS_PER_TICK RUSTFLAGS="$AVR_MEGA_RUSTFLAGS" \
+    cargo +nightly build --release --target avr-none -Z build-std=core --features mega2560 \
+    --bin avr_mega_tracker --target-dir "$FW_TARGET_DIR/mega-emu"
 }
 build_all_firmware() {
   build_qemu

@@ -204,6 +204,9 @@ where
     /// The firmware at power-on: writes the boot line and the stored site.
     /// `axes` are the C (azimuth rotation) then the A (tilt) axis.
     #[allow(clippy::too_many_arguments)]
+    // Not inlined: its temporaries (the controller under construction) then
+    // leave the stack before the loop starts (an 8-bit board has 8 KB).
+    #[inline(never)]
     pub fn new(
         app: AppConfig,
         config: Config,
@@ -270,8 +273,9 @@ where
         self.last_report
     }
 
-    /// Runs forever, sleeping between passes.
-    pub fn run<P: Platform>(mut self, platform: &mut P) -> ! {
+    /// Runs forever, sleeping between passes. Takes `&mut self`: moving
+    /// the firmware (kilobytes) into the call would copy it on the stack.
+    pub fn run<P: Platform>(&mut self, platform: &mut P) -> ! {
         loop {
             self.poll(platform);
             platform.wait_for_interrupt();
@@ -353,6 +357,9 @@ where
         self.last_report = Some(report);
     }
 
+    // Not inlined: the WMM synthesis's rows (about 1 KB of f64) are then on
+    // the stack only during this call, not under the controller's tick.
+    #[inline(never)]
     fn update_site(&mut self, now: Option<UtcTime>) {
         match site_from_fix(&self.fix) {
             Some(s) => {

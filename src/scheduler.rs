@@ -357,7 +357,10 @@ pub struct Scheduler<T, P, const N: usize> {
     source: P,
     phase: Phase,
     day: Option<SolarDay>,
-    table: Option<DayTable<N>>,
+    /// The day table's storage, reused in place every day; valid only
+    /// while `has_table` (an 8-bit board cannot hold a second copy).
+    table: DayTable<N>,
+    has_table: bool,
     _float: core::marker::PhantomData<T>,
     last_now: Option<UtcTime>,
     last_applied: Option<usize>,
@@ -389,7 +392,8 @@ impl<T: Float, P: PositionSource<T>, const N: usize> Scheduler<T, P, N> {
             source,
             phase: Phase::PowerOn,
             day: None,
-            table: None,
+            table: DayTable::empty(UtcTime::from_days_ms(0, 0)?),
+            has_table: false,
             _float: core::marker::PhantomData,
             last_now: None,
             last_applied: None,
@@ -408,7 +412,7 @@ impl<T: Float, P: PositionSource<T>, const N: usize> Scheduler<T, P, N> {
     /// The stored day table (seed step 8); empty before the first day.
     pub fn table(&self) -> TableView<'_, T, N> {
         TableView {
-            table: self.table.as_ref(),
+            table: self.has_table.then_some(&self.table),
             _float: core::marker::PhantomData,
         }
     }
@@ -516,10 +520,12 @@ impl<T: Float, P: PositionSource<T>, const N: usize> Scheduler<T, P, N> {
                 // axes' own limits are applied by the attitude step).
                 let interval_min = (self.config.table_step_s / 60) as u16;
                 let src = &mut self.source;
-                let table = DayTable::compute(&ev, interval_min, &Limits::unconstrained(), |t| {
-                    src.position(t)
-                })?;
-                self.table = Some(table);
+                self.has_table = false;
+                self.table
+                    .recompute(&ev, interval_min, &Limits::unconstrained(), |t| {
+                        src.position(t)
+                    })?;
+                self.has_table = true;
                 if let Some(first) = self.entry(0) {
                     self.home = first.set_point;
                 }
@@ -580,8 +586,8 @@ impl<T: Float, P: PositionSource<T>, const N: usize> Scheduler<T, P, N> {
                 .map_err(|_| ScheduleError::TimeRange)
         };
         let found = self
-            .table
-            .as_ref()
+            .has_table
+            .then_some(&self.table)
             .and_then(|t| match_at(t, &now, self.config.recheck_s));
         match found {
             Some((i, e)) if self.last_applied != Some(i) => {

@@ -75,8 +75,11 @@ pub const LOG_BAUD_HZ: u32 = 115_200;
 pub const GPS_BAUD_HZ: u32 = 9_600;
 /// ADXL345 address with SDO low (datasheet "Serial Communications", I²C).
 pub const ADXL345_ADDRESS: u8 = 0x53;
-/// Day-table capacity: the seed's 4-minute table of a polar day.
-pub const TABLE_LEN: usize = 360;
+/// Day-table capacity: the seed's 4-minute table of a day of up to 16 h
+/// (latitudes within about ±48°; a longer day is refused with the
+/// scheduler's `schedule_failed`, never truncated). A polar day's 360
+/// entries would take 480 B more of the 8 KB RAM.
+pub const TABLE_LEN: usize = 240;
 
 /// Full steps per axis degree: 200 × 50 / 360.
 const STEPS_PER_TURN: u32 = 200;
@@ -250,7 +253,7 @@ pub fn run(dp: chip::Peripherals) -> ! {
         watchdog,
         cpu: dp.CPU,
     };
-    let firmware = Firmware::<f32, _, _, _, _, _, TABLE_LEN>::new(
+    let mut firmware = Firmware::<f32, _, _, _, _, _, TABLE_LEN>::new(
         AppConfig::new(BOARD),
         config,
         options,
@@ -260,7 +263,9 @@ pub fn run(dp: chip::Peripherals) -> ! {
         sensors,
         log,
     );
-    match firmware {
+    // Run it where it is, inside the result: moving it out would put a
+    // second copy of its kilobytes on the stack.
+    match &mut firmware {
         Ok(fw) => fw.run(&mut platform),
         // The board's own configuration was checked above; the scheduler's
         // intervals are the defaults. Nothing is driven; the watchdog,

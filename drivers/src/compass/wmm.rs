@@ -108,11 +108,43 @@ pub struct MagneticElements {
     pub declination_deg: f64,
 }
 
+/// Where a model's coefficients are.
+#[derive(Debug, Clone, Copy)]
+enum Table {
+    /// The built-in WMM2025 table; on AVR it lives in flash (`.progmem`):
+    /// avr-gcc would otherwise copy its 3 KB into RAM at start-up.
+    Wmm2025,
+    /// A table given by the caller.
+    Slice(&'static [WmmCoefficient]),
+}
+
+#[cfg(target_arch = "avr")]
+avr_progmem::progmem! {
+    /// WMM2025 in flash, read with `lpm` one row at a time.
+    static progmem WMM2025_FLASH: [WmmCoefficient; 90] = COEFFICIENTS;
+}
+
+impl Table {
+    fn get(&self, i: usize) -> Option<WmmCoefficient> {
+        match self {
+            #[cfg(target_arch = "avr")]
+            Table::Wmm2025 => (i < WMM2025_FLASH.len()).then(|| WMM2025_FLASH.load_at(i)),
+            #[cfg(not(target_arch = "avr"))]
+            Table::Wmm2025 => COEFFICIENTS_STATIC.get(i).copied(),
+            Table::Slice(rows) => rows.get(i).copied(),
+        }
+    }
+}
+
+/// The built-in table as one static (a `const` would be copied per use).
+#[cfg(not(target_arch = "avr"))]
+static COEFFICIENTS_STATIC: [WmmCoefficient; 90] = COEFFICIENTS;
+
 /// A spherical-harmonic main-field model with secular variation.
 #[derive(Debug, Clone, Copy)]
 pub struct WmmModel {
     epoch_year: f64,
-    coefficients: &'static [WmmCoefficient],
+    coefficients: Table,
 }
 
 impl WmmModel {
@@ -120,7 +152,7 @@ impl WmmModel {
     pub const fn wmm2025() -> Self {
         Self {
             epoch_year: EPOCH_YEAR,
-            coefficients: &COEFFICIENTS,
+            coefficients: Table::Wmm2025,
         }
     }
 
@@ -130,7 +162,7 @@ impl WmmModel {
     pub const fn from_table(epoch_year: f64, coefficients: &'static [WmmCoefficient]) -> Self {
         Self {
             epoch_year,
-            coefficients,
+            coefficients: Table::Slice(coefficients),
         }
     }
 
@@ -217,7 +249,8 @@ impl WmmModel {
         let mut x_gc = 0.0f64;
         let mut y_gc = 0.0f64;
         let mut z_gc = 0.0f64;
-        let mut coeffs = self.coefficients.iter();
+        let table = self.coefficients;
+        let mut coeffs = (0..).map_while(move |i| table.get(i));
 
         for n in 1..=MAX_DEGREE {
             ratio_pow *= ratio;

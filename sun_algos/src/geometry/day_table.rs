@@ -113,12 +113,41 @@ impl<const N: usize> DayTable<N> {
         events: &Events<T>,
         interval_min: u16,
         limits: &Limits<T>,
-        mut sun: F,
+        sun: F,
     ) -> Result<Self, GeometryError>
     where
         T: Float,
         F: FnMut(&UtcTime) -> Result<SunPosition<T>, crate::Error>,
     {
+        let mut table = DayTable::empty(events.window_start);
+        table.recompute(events, interval_min, limits, sun)?;
+        Ok(table)
+    }
+
+    /// A table without entries whose first instant is `first`.
+    pub fn empty(first: UtcTime) -> Self {
+        DayTable {
+            first,
+            interval_min: 1,
+            entries: Vec::new(),
+        }
+    }
+
+    /// [`DayTable::compute`] into this table's storage, in place: no second
+    /// table on the stack (1.4 KB at 360 entries, which an 8-bit board's
+    /// RAM cannot spare). On an error the table is left empty.
+    pub fn recompute<T, F>(
+        &mut self,
+        events: &Events<T>,
+        interval_min: u16,
+        limits: &Limits<T>,
+        mut sun: F,
+    ) -> Result<(), GeometryError>
+    where
+        T: Float,
+        F: FnMut(&UtcTime) -> Result<SunPosition<T>, crate::Error>,
+    {
+        self.entries.clear();
         if interval_min == 0 || interval_min > 720 || 1440 % interval_min != 0 {
             return Err(GeometryError::InvalidInterval);
         }
@@ -148,23 +177,39 @@ impl<const N: usize> DayTable<N> {
             });
         }
         let first = UtcTime::from_unix_seconds(first_s)?;
-        let mut entries: Vec<Entry, N, u16> = Vec::new();
+        self.first = first;
+        self.interval_min = interval_min;
+        let result = self.fill(first, step, needed, limits, &mut sun);
+        if result.is_err() {
+            self.entries.clear();
+        }
+        result
+    }
+
+    fn fill<T, F>(
+        &mut self,
+        first: UtcTime,
+        step: i64,
+        needed: usize,
+        limits: &Limits<T>,
+        sun: &mut F,
+    ) -> Result<(), GeometryError>
+    where
+        T: Float,
+        F: FnMut(&UtcTime) -> Result<SunPosition<T>, crate::Error>,
+    {
         for k in 0..needed {
             let t = first.add_seconds(k as i64 * step)?;
             let p = sun(&t)?;
             let sp = best_within(&p, limits)?;
-            entries
+            self.entries
                 .push(Entry::from_surface(&sp.surface))
                 .map_err(|_| GeometryError::CapacityExceeded {
                     needed,
                     capacity: N,
                 })?;
         }
-        Ok(DayTable {
-            first,
-            interval_min,
-            entries,
-        })
+        Ok(())
     }
 
     /// Number of entries.
