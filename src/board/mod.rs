@@ -9,3 +9,8 @@ pub mod avr;
 #[cfg(all(target_arch = "avr", avr_atmega2560))]
 #[allow(unsafe_code)]
 pub mod mega2560;
+
+/// The STM32F411CEU6 "Black Pill" tracker (feature `stm32f411`, Cortex-M
+/// builds).
+#[cfg(all(feature = "stm32f411", target_arch = "arm", target_os = "none"))]
+pub mod stm32f411;
