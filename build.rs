@@ -1,6 +1,6 @@
 //! Build script of the `suntracker` package:
-//! - puts `memory.x` where the Cortex-M linker script (`link.x` of
-//!   cortex-m-rt) looks for it;
+//! - puts the selected board's memory map where the root `memory.x` (which
+//!   `link.x` of cortex-m-rt includes) looks for it;
 //! - turns `data/postal_codes.csv` into the sorted no_std postal-code table
 //!   `$OUT_DIR/postal_table.rs` (format in `src/site/postal.rs`).
 
@@ -19,16 +19,22 @@ fn main() {
     let out = PathBuf::from(env::var_os("OUT_DIR").expect("cargo sets OUT_DIR"));
     let target = env::var("TARGET").unwrap_or_default();
     if target.starts_with("thumb") {
-        // The board feature picks its memory map; QEMU's by default. (No
-        // memory.x at the package root: the linker would find that first.)
+        // cortex-m-rt's link.x does `INCLUDE memory.x`; the linker looks in
+        // its working directory (the package root) first, then on the
+        // search path. The root memory.x only does `INCLUDE board_memory.x`,
+        // so the map is the one written here: the board feature's, QEMU's
+        // by default. The root file goes to OUT_DIR too, for a linker that
+        // runs elsewhere (the package built as a dependency).
         let memory = match env::var_os("CARGO_FEATURE_STM32F411") {
             Some(_) => "boards/stm32f411/memory.x",
             None => "boards/mps2_an386/memory.x",
         };
-        fs::copy(memory, out.join("memory.x")).expect("copy memory.x to OUT_DIR");
+        fs::copy(memory, out.join("board_memory.x")).expect("copy the board map to OUT_DIR");
+        fs::copy("memory.x", out.join("memory.x")).expect("copy memory.x to OUT_DIR");
         println!("cargo:rustc-link-search={}", out.display());
     }
     println!("cargo:rerun-if-changed=boards");
+    println!("cargo:rerun-if-changed=memory.x");
     println!("cargo:rerun-if-changed=build.rs");
     println!("cargo:rerun-if-changed=src/site/key.rs");
     println!("cargo:rerun-if-changed={POSTAL_CSV}");

@@ -268,3 +268,23 @@ fn witmotion_inclinometer_and_qmc5883l_give_back_the_mount_rotation() {
     de.done();
     bus.done();
 }
+
+/// A board that probes for one of two tilt sensors hands the loop whichever
+/// answered: `EitherTilt` reads through to it and tags its error.
+#[test]
+fn either_tilt_reads_the_sensor_it_holds() {
+    use suntracker::hw::{AxisAngles, EitherTilt, EitherTiltError};
+    struct Fixed(Result<(f32, f32), u8>);
+    impl AxisAngles for Fixed {
+        type Error = u8;
+        fn axis_angles_deg(&mut self) -> Result<(f32, f32), u8> {
+            self.0
+        }
+    }
+    let mut first: EitherTilt<Fixed, Fixed> = EitherTilt::First(Fixed(Ok((80.0, 95.0))));
+    assert_eq!(first.axis_angles_deg(), Ok((80.0, 95.0)));
+    let mut second: EitherTilt<Fixed, Fixed> = EitherTilt::Second(Fixed(Err(7)));
+    assert_eq!(second.axis_angles_deg(), Err(EitherTiltError::Second(7)));
+    let mut first_err: EitherTilt<Fixed, Fixed> = EitherTilt::First(Fixed(Err(3)));
+    assert_eq!(first_err.axis_angles_deg(), Err(EitherTiltError::First(3)));
+}

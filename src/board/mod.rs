@@ -9,3 +9,9 @@ pub mod avr;
 #[cfg(all(target_arch = "avr", avr_atmega2560))]
 #[allow(unsafe_code)]
 pub mod mega2560;
+
+// The STM32F411CEU6 "Black Pill" tracker (feature `stm32f411`, Cortex-M
+// builds). Its docs are the module's own (an outer doc here would make
+// rustdoc resolve the module's links in this scope).
+#[cfg(all(feature = "stm32f411", target_arch = "arm", target_os = "none"))]
+pub mod stm32f411;

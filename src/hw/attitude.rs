@@ -63,6 +63,37 @@ where
     }
 }
 
+/// One of two kinds of tilt sensor, chosen at power-on by probing (a board
+/// that takes either a WitMotion inclinometer or an ADXL345 has one sensor
+/// type for its [`MountSensorsHw`] either way).
+#[derive(Debug)]
+pub enum EitherTilt<A, B> {
+    /// The first kind (e.g. the RS-485 inclinometer).
+    First(A),
+    /// The second kind (e.g. the accelerometer).
+    Second(B),
+}
+
+/// The error of whichever sensor [`EitherTilt`] holds.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum EitherTiltError<EA, EB> {
+    /// The first kind failed.
+    First(EA),
+    /// The second kind failed.
+    Second(EB),
+}
+
+impl<A: AxisAngles, B: AxisAngles> AxisAngles for EitherTilt<A, B> {
+    type Error = EitherTiltError<A::Error, B::Error>;
+
+    fn axis_angles_deg(&mut self) -> Result<(f32, f32), Self::Error> {
+        match self {
+            EitherTilt::First(a) => a.axis_angles_deg().map_err(EitherTiltError::First),
+            EitherTilt::Second(b) => b.axis_angles_deg().map_err(EitherTiltError::Second),
+        }
+    }
+}
+
 /// Why an attitude reading failed.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum MountSensorError<EI, EM> {

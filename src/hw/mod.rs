@@ -20,7 +20,9 @@ mod gps;
 mod servo_axis;
 mod time;
 
-pub use attitude::{AccelTiltError, AxisAngles, MountSensorError, MountSensorsHw};
+pub use attitude::{
+    AccelTiltError, AxisAngles, EitherTilt, EitherTiltError, MountSensorError, MountSensorsHw,
+};
 pub use axis::{StepperAxis, StepperAxisError};
 pub use clock::{ClockError, RtcClock};
 pub use gps::GpsPort;
