@@ -639,7 +639,7 @@ pub fn run(dp: pac::Peripherals, cp: cortex_m::Peripherals) -> ! {
         ..ControllerOptions::default()
     };
     let mut platform = BlackPillPlatform { watchdog };
-    let firmware = Firmware::<f32, _, _, _, _, _, TABLE_LEN>::new(
+    let mut firmware = Firmware::<f32, _, _, _, _, _, TABLE_LEN>::new(
         AppConfig::new(BOARD),
         config,
         options,
@@ -649,7 +649,9 @@ pub fn run(dp: pac::Peripherals, cp: cortex_m::Peripherals) -> ! {
         sensors,
         log,
     );
-    match firmware {
+    // Run it where it is, inside the result: moving it out would copy its
+    // kilobytes on the stack.
+    match &mut firmware {
         Ok(fw) => fw.run(&mut platform),
         // The board's own configuration was checked above. Nothing is
         // driven; the watchdog, no longer fed, resets the board.
