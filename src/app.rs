@@ -96,12 +96,11 @@ pub struct AppConfig {
 }
 
 impl AppConfig {
-    /// One tick every two seconds, the default trust rules, declination
-    /// from WMM.
+    /// One tick a second, the default trust rules, declination from WMM.
     pub fn new(board: &'static str) -> Self {
         AppConfig {
             board,
-            tick_ms: 2000,
+            tick_ms: 1000,
             time: TimeConfig::default(),
             site_min_move_deg: 0.001,
             wmm_declination: true,

@@ -135,7 +135,7 @@ where
     let log = Log::default();
     let mut fw = Firmware::<T, _, _, _, MountSensors, _, 361>::new(
         AppConfig {
-            tick_ms: std::env::var("FW_TICK_MS").map_or(2000, |v| v.parse().unwrap()),
+            tick_ms: std::env::var("FW_TICK_MS").map_or(1000, |v| v.parse().unwrap()),
             ..AppConfig::new("host")
         },
         config,
@@ -199,8 +199,16 @@ where
             }
         }
         seen = lines.len();
-        // Moving: the next pass 1 ms later; idle: the next second.
-        let busy = c.borrow().energised() || a.borrow().energised();
+        // Moving (or steps still to take): the next pass 1 ms later, as a
+        // board's loop wakes on every millisecond tick; idle: the next second.
+        let pending = {
+            use suntracker::axis::AxisDrive;
+            fw.controller()
+                .axes()
+                .iter()
+                .any(|ax| ax.drive().pending() != 0)
+        };
+        let busy = pending || c.borrow().energised() || a.borrow().energised();
         platform.now_ms += if busy {
             1
         } else {
