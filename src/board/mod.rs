@@ -9,3 +9,8 @@ pub mod avr;
 #[cfg(all(target_arch = "avr", avr_atmega2560))]
 #[allow(unsafe_code)]
 pub mod mega2560;
+
+/// QEMU's `mps2-an386` (Cortex-M4F): the `qemu_tracker` image.
+#[cfg(all(target_arch = "arm", target_os = "none"))]
+#[allow(unsafe_code)]
+pub mod mps2_an386;
