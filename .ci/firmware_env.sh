@@ -25,7 +25,8 @@ ELF_AVR_SELFTEST="$FW_TARGET_DIR/mega/avr-none/release/avr_board_selftest.elf"
 AVR_MEGA_RUSTFLAGS="-C target-cpu=atmega2560 --cfg avr_atmega2560 -C link-arg=-Wl,--whole-archive -C link-arg=-lm -C link-arg=-Wl,--no-whole-archive"
 
 build_qemu() {
-  cargo build --release --target thumbv7em-none-eabihf --bin qemu_tracker --bin qemu_bench
+  cargo build --release --target thumbv7em-none-eabihf --features mps2-an386 \
+    --bin qemu_tracker --bin qemu_bench
 }
 build_blackpill() {
   cargo build --release --target thumbv7em-none-eabihf --features stm32f411 \

@@ -17,7 +17,8 @@ USAGE:
   suntracker-emu --image mega|uno|qemu [OPTIONS]
 
 OPTIONS:
-  --image NAME          mega (ATmega2560); uno and qemu are not supported yet
+  --image NAME          mega (ATmega2560); uno is not supported yet; qemu
+                        runs in QEMU, not here: python3 .ci/qemu_gps.py ELF
   --elf PATH            the ELF (default: $CARGO_TARGET_DIR or target, then
                         /mega-emu/avr-none/release/avr_mega_tracker.elf)
   --nmea FILE           feed this recorded NMEA log on USART1 (default: a
@@ -94,7 +95,14 @@ fn run() -> Result<ExitCode, String> {
     }
     match image.as_deref() {
         Some("mega") => {}
-        Some(other @ ("uno" | "qemu")) => {
+        Some("qemu") => {
+            eprintln!(
+                "suntracker-emu: --image qemu: the QEMU image runs under QEMU, fed by \
+                 .ci/qemu_gps.py (same --nmea, --start, --minutes, --log, --no-gps options)"
+            );
+            return Ok(ExitCode::from(2));
+        }
+        Some(other @ "uno") => {
             eprintln!("suntracker-emu: --image {other}: not supported yet");
             return Ok(ExitCode::from(2));
         }

@@ -13,5 +13,9 @@ pub mod mega2560;
 // The STM32F411CEU6 "Black Pill" tracker (feature `stm32f411`, Cortex-M
 // builds). Its docs are the module's own (an outer doc here would make
 // rustdoc resolve the module's links in this scope).
+/// QEMU's `mps2-an386` (Cortex-M4F): the `qemu_tracker` image.
+#[cfg(all(target_arch = "arm", target_os = "none"))]
+#[allow(unsafe_code)]
+pub mod mps2_an386;
 #[cfg(all(feature = "stm32f411", target_arch = "arm", target_os = "none"))]
 pub mod stm32f411;

@@ -6,6 +6,7 @@
 //! `dt` seconds of motion at its top speed; moves beyond that wait for the
 //! next tick.
 
+use crate::app::Motion;
 use crate::axis::AxisDrive;
 
 /// Errors of the simulated drive.
@@ -57,6 +58,8 @@ pub struct MotorPlant {
     pub encoder_timeout: bool,
     /// Output travel, degrees.
     pub travel_deg: f64,
+    /// Monotonic time of the last [`Motion::service`], µs.
+    last_service_us: Option<u64>,
 }
 
 impl MotorPlant {
@@ -95,6 +98,7 @@ impl MotorPlant {
             switch_stuck_open: false,
             encoder_timeout: false,
             travel_deg: 0.0,
+            last_service_us: None,
         }
     }
 
@@ -125,6 +129,7 @@ impl MotorPlant {
             switch_stuck_open: false,
             encoder_timeout: false,
             travel_deg: 0.0,
+            last_service_us: None,
         }
     }
 
@@ -226,5 +231,19 @@ impl AxisDrive for MotorPlant {
             let cpd = f64::from(cpr) / 360.0;
             (libm::floor(self.output_deg * cpd) / cpd) as f32
         }))
+    }
+}
+
+/// A plant driven by the firmware loop's clock (boards without motors, e.g.
+/// QEMU's): each service gives the axis the monotonic time elapsed since
+/// the previous one, then ends the tick, so a move commanded afterwards
+/// starts at the next service (no motion before the command).
+impl Motion for MotorPlant {
+    fn service(&mut self, now_us: u64) -> bool {
+        let dt_us = self.last_service_us.map_or(0, |t| now_us.saturating_sub(t));
+        self.last_service_us = Some(now_us);
+        self.begin_tick(dt_us as f64 * 1e-6);
+        self.begin_tick(0.0);
+        true
     }
 }

@@ -18,7 +18,24 @@ of the file is recomputed at that minute of the file's day and site:
            axis positions, within 0.02° (0.011° + print rounding); `night`
            only with pvlib's sun down
 
-and the set-point times must cover pvlib's daylight at the file's step:
+The firmware loop's log (`suntracker::log`, images on `suntracker::app`,
+QEMU's first) has instead `setpoint utc=YYYY-MM-DDTHH:MM:SSZ zenith= azimuth=
+c= a=` lines, each checked at its utc (to the second):
+
+  (zenith, azimuth) = pvlib's sun within 0.02° of angular distance
+           (psa-2020's f32 bound 0.011° plus the 0.0005° print rounding)
+  c, a     = the commanded pose (level mount): its panel normal n =
+           Rz(γ)·Rx(α)·ẑ = (sin γ sin α, −cos γ sin α, cos α) in (west,
+           south, up) lies within 0.027° of pvlib's sun (0.02° plus the
+           0.005° print rounding of each angle)
+  axes     = the one `axes utc=<that utc> c= a=` line (where the simulated
+           axes were when the set-point ended) holds c and a within one
+           axis step (`axis_step_deg=` of the file) plus 0.005° rounding
+
+and the day is that of a `time source=… utc=` line instead of the simulated
+clock's.
+
+In both formats the set-point times must cover pvlib's daylight at the file's step:
 the first set-point is at most two steps after pvlib's sunrise, the last at
 most one step from pvlib's sunset, consecutive set-points at most one step
 apart, and the number of daylight set-points is at least the multiples of
@@ -26,7 +43,8 @@ the step inside pvlib's sunrise–sunset span less two (one per end; 178 for
 2026-03-20 at Kano with 240 s) and at most that span's count plus one.
 
 Strict format: a line holding `set-point`, `slope=` or `az=`, or `HH:MM
-home`, must parse completely (known `key=value` fields only: servo_us,
+home` (`setpoint`, `zenith=`, or a line starting `axes` in the log format),
+must parse completely (known `key=value` fields only: servo_us,
 steps, moved, target, axes, err, mode), and the file must state the site
 and day above and one `step_s=`; anything else fails the file, so a changed
 log format cannot pass with nothing checked.
@@ -66,6 +84,18 @@ FIELDS = {
     "mode": re.compile(r"[a-z][a-z-]*"),
 }
 STEP = re.compile(r"step_s=(\d+)\b")
+# The firmware loop's log (src/log.rs) and the QEMU board's `axes` lines.
+UTC = r"(\d{4}-\d\d-\d\dT\d\d:\d\d:\d\dZ)"
+LOG_CANDIDATE = re.compile(r"\bsetpoint\b|zenith=|^axes")
+LOG_SETPOINT = re.compile(rf"^setpoint utc={UTC} zenith=(-?\d+\.\d{{3}}) azimuth=(-?\d+\.\d{{3}}) "
+                          r"c=(-?\d+\.\d\d) a=(-?\d+\.\d\d)$")
+LOG_AXES = re.compile(rf"^axes utc={UTC} c=(-?\d+\.\d{{4}}) a=(-?\d+\.\d{{4}})$")
+LOG_DAY = re.compile(rf"^time source=(?:gps|rtc) utc={DAY}T")
+AXIS_STEP = re.compile(r"axis_step_deg=(\d+\.\d+)\b")
+
+
+def is_log_format(text):
+    return any(l.startswith("boot suntracker ") for l in text)
 
 
 def sun(times):
@@ -126,10 +156,88 @@ def minimum_setpoints(step_s):
     return last - first + 1 - 2, last - first + 1
 
 
+def check_log(path, text):
+    """The checks of a firmware-loop log (see the module documentation)."""
+    problems = []
+    if not any(SITE in l for l in text if l.startswith("site ")):
+        problems.append(f"no site line states '{SITE}'")
+    if not any(LOG_DAY.match(l) for l in text):
+        problems.append(f"no time line states the day {DAY}")
+    steps = {int(m.group(1)) for l in text if (m := STEP.search(l))}
+    axis_steps = {float(m.group(1)) for l in text if (m := AXIS_STEP.search(l))}
+    if len(steps) != 1 or len(axis_steps) != 1:
+        problems.append(f"expected one step_s=N and one axis_step_deg=X, found {sorted(steps)}, "
+                        f"{sorted(axis_steps)}")
+        return problems
+    step_s, axis_step = steps.pop(), axis_steps.pop()
+    rows, axes = [], {}
+    for line in text:
+        if not LOG_CANDIDATE.search(line):
+            continue
+        m = LOG_SETPOINT.match(line)
+        x = LOG_AXES.match(line)
+        if m:
+            rows.append((line, m))
+        elif x:
+            if x.group(1) in axes:
+                problems.append(f"second axes line for {x.group(1)}: {line!r}")
+            axes[x.group(1)] = (float(x.group(2)), float(x.group(3)))
+        else:
+            problems.append(f"set-point line does not parse (changed format?): {line!r}")
+    times = [pd.Timestamp(m.group(1).rstrip("Z")) for _, m in rows]
+    zen, az = sun(times) if rows else ([], [])
+    worst_sun = worst_normal = worst_axes = 0.0
+    sp_times = []
+    for (line, m), z, a, t in zip(rows, zen, az, times):
+        if t.strftime("%Y-%m-%d") != DAY:
+            problems.append(f"set-point of another day: {line!r}")
+            continue
+        sp_times.append(t)
+        zf, af, c, al = (float(m.group(i)) for i in range(2, 6))
+        d_sun = angle_deg(zf, af, z, a)
+        d_normal = angle_deg(*level_normal(c, al), z, a)
+        worst_sun, worst_normal = max(worst_sun, d_sun), max(worst_normal, d_normal)
+        ok = d_sun <= 0.02 and d_normal <= 0.027
+        pos = axes.pop(m.group(1), None)
+        if pos is None:
+            problems.append(f"no axes line for {line!r}")
+            continue
+        d_axes = max(abs(pos[0] - c), abs(pos[1] - al))
+        worst_axes = max(worst_axes, d_axes)
+        ok &= d_axes <= axis_step + 0.005 + 1e-9
+        if not ok:
+            problems.append(f"MISMATCH {line!r}: pvlib zenith {z:.4f} azimuth {a:.4f}, "
+                            f"printed sun {d_sun:.4f}°, normal {d_normal:.4f}° off; axes at {pos}")
+    for utc in list(axes)[:3]:
+        problems.append(f"axes line without its set-point: {utc}")
+    least, expected = minimum_setpoints(step_s)
+    if not least <= len(sp_times) <= expected + 1:
+        problems.append(f"{len(sp_times)} daylight set-points, expected {least}..{expected + 1} "
+                        f"(pvlib daylight at step {step_s} s holds {expected})")
+    rise, set_ = daylight()
+    step = pd.Timedelta(seconds=step_s)
+    if sp_times:
+        if not (rise - pd.Timedelta(minutes=1) <= sp_times[0] <= rise + 2 * step):
+            problems.append(f"first set-point {sp_times[0]} vs pvlib sunrise {rise}")
+        if not (set_ - step <= sp_times[-1] <= set_ + step):
+            problems.append(f"last set-point {sp_times[-1]} vs pvlib sunset {set_}")
+        gaps = [(a, b) for a, b in zip(sp_times, sp_times[1:]) if not pd.Timedelta(0) < b - a <= step]
+        for a, b in gaps[:3]:
+            problems.append(f"set-points {a.time()} then {b.time()}: not one step apart at most")
+    for p in problems:
+        print(f"{path}: {p}")
+    print(f"{path}: {len(rows)} setpoint lines (minimum {least}) checked against pvlib SPA: worst "
+          f"printed sun {worst_sun:.4f}°, commanded normal {worst_normal:.4f}°, axes {worst_axes:.4f}° "
+          f"from the pose; {len(problems)} problems")
+    return problems
+
+
 def check(path):
     """Returns the list of problems of one file (empty: it passes)."""
-    problems = []
     text = open(path).read().splitlines()
+    if is_log_format(text):
+        return check_log(path, text)
+    problems = []
     if not any(SITE in l for l in text):
         problems.append(f"no line states the site '{SITE}'")
     if not any(CLOCK in l for l in text):
@@ -235,14 +343,39 @@ def self_test(paths):
         "no step line": lambda t: re.sub(r"step_s=\d+", "step=?", t),
         "empty output": lambda t: "",
     }
+    log_doctors = {
+        "format change: 'setpoint' renamed 'set-point'": lambda t: t.replace("setpoint utc", "set-point utc"),
+        "format change: 'zenith=' became 'zenith:' on one line": sub_first(r"zenith=", "zenith:"),
+        "garbled number on one line": sub_first(r"(^setpoint .*) azimuth=\d+\.\d+", r"\1 azimuth=1.2.3"),
+        "unknown field on one line": sub_first(r"^(setpoint .*)$", r"\1 speed=3"),
+        "azimuth 1° off on one line": lambda t: re.sub(
+            r"^(setpoint utc=\S+T12:00:00Z zenith=\S+ azimuth=)(\d+)",
+            lambda m: m.group(1) + str(int(m.group(2)) + 1), t, count=1, flags=re.M),
+        "commanded c 0.1° off on one line": lambda t: re.sub(
+            r"^(setpoint utc=\S+T12:00:00Z .* c=-?\d+\.)(\d)",
+            lambda m: m.group(1) + str((int(m.group(2)) + 1) % 10), t, count=1, flags=re.M),
+        "axes 0.1° from the pose on one line": lambda t: re.sub(
+            r"^(axes utc=\S+T12:00:00Z c=-?\d+\.)(\d)",
+            lambda m: m.group(1) + str((int(m.group(2)) + 1) % 10), t, count=1, flags=re.M),
+        "one axes line dropped": sub_first(r"^axes utc=\S+T12:00:00Z .*\n", ""),
+        "every other setpoint line dropped": lambda t: "\n".join(
+            l for i, l in enumerate(t.splitlines())
+            if not l.startswith("setpoint") or sum(x.startswith("setpoint") for x in t.splitlines()[:i]) % 2) + "\n",
+        "set-points after 15:00 dropped": lambda t: "\n".join(
+            l for l in t.splitlines() if not re.match(r"^(setpoint|axes) utc=\S+T1[5-9]:", l)) + "\n",
+        "another site": lambda t: t.replace("lat=11.9683", "lat=12.9683"),
+        "no step line": lambda t: re.sub(r"step_s=\d+", "step=?", t),
+        "empty output": lambda t: "",
+    }
     failures = 0
     with tempfile.TemporaryDirectory() as d:
         for path in paths:
             good = open(path).read()
+            doctors_here = log_doctors if is_log_format(good.splitlines()) else doctors
             if check(path):
                 print(f"self-test: the undoctored {path} fails")
                 failures += 1
-            for name, doctor in doctors.items():
+            for name, doctor in doctors_here.items():
                 bad = doctor(good)
                 doctored = os.path.join(d, os.path.basename(path))
                 with open(doctored, "w") as fh:

@@ -1,0 +1,202 @@
+#!/usr/bin/env python3
+"""Runs a suntracker image in QEMU mps2-an386 with a GPS on UART0, paced by
+the guest's emulated time.
+
+QEMU runs with `-icount shift=5,sleep=off`: 32 ns of emulated time per
+instruction (about the an386's 25 MHz), and idle time (`wfi`) skipped, so an
+emulated day passes in a minute or two of wall time, decoupled from the host.
+The host cannot see when the guest's clock moves, so the image asks
+(src/board/mps2_an386.rs, "the gate"): once per emulated second it stops its
+clocks, writes `T<monotonic ms>` on UART1 and waits for an answer there. This script then writes the NMEA epoch of that
+instant (UTC = the stream's first time + ms) into UART0 and answers with the
+number of bytes (or `stop` once `--minutes` have passed); the image waits
+until the bytes are in and restarts its clocks. The image then exits through
+semihosting with its status, which is this script's exit status (2 for a
+usage error, 3 when QEMU ended without the image's `end` line or timed
+out).
+
+The NMEA: each epoch is the first GGA and RMC of `--nmea FILE` (default
+tests/firmware/gps_kano_2026-03-20.nmea) with their time (and RMC date)
+re-stamped: the file's first time plus the emulated time, or `--start` plus
+it. `--no-gps` keeps UART0 silent. A recorded stream with the week-rollover
+bug keeps its wrong date running on the same way.
+
+The log (semihosting output, QEMU's stdout here) is printed and, with
+`--log OUT`, written to OUT.
+
+  python3 .ci/qemu_gps.py ELF [--nmea FILE | --no-gps] [--start UTC]
+                          [--minutes N] [--log OUT] [--quiet] [--timeout S]
+
+Any ELF that does not gate (qemu_bench) just runs to its exit.
+"""
+import argparse
+import datetime as dt
+import os
+import select
+import socket
+import subprocess
+import sys
+import tempfile
+import time
+
+ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+DEFAULT_NMEA = os.path.join(ROOT, "tests", "firmware", "gps_kano_2026-03-20.nmea")
+
+
+def checksum(body):
+    c = 0
+    for ch in body.encode():
+        c ^= ch
+    return f"{c:02X}"
+
+
+def sentence(fields):
+    body = ",".join(fields)
+    return f"${body}*{checksum(body)}\r\n"
+
+
+def parse_template(path):
+    """The first GGA and RMC of a recorded stream, as field lists, and the
+    RMC's UTC."""
+    gga = rmc = None
+    with open(path, encoding="ascii") as f:
+        for line in f:
+            line = line.strip()
+            if not line.startswith("$") or "*" not in line:
+                continue
+            fields = line[1:line.index("*")].split(",")
+            if fields[0].endswith("GGA") and gga is None:
+                gga = fields
+            elif fields[0].endswith("RMC") and rmc is None:
+                rmc = fields
+    if gga is None or rmc is None:
+        raise SystemExit(f"qemu_gps: {path} has no GGA and RMC")
+    t = rmc[1]
+    d = rmc[9]
+    first = dt.datetime(2000 + int(d[4:6]), int(d[2:4]), int(d[0:2]),
+                        int(t[0:2]), int(t[2:4]), int(t[4:6]), tzinfo=dt.timezone.utc)
+    return gga, rmc, first
+
+
+def epoch(gga, rmc, when):
+    hms = when.strftime("%H%M%S") + f".{when.microsecond // 10000:02d}"
+    g = list(gga)
+    r = list(rmc)
+    g[1] = hms
+    r[1] = hms
+    r[9] = when.strftime("%d%m%y")
+    return (sentence(g) + sentence(r)).encode("ascii")
+
+
+def parse_utc(s):
+    try:
+        return dt.datetime.strptime(s, "%Y-%m-%dT%H:%M:%SZ").replace(tzinfo=dt.timezone.utc)
+    except ValueError:
+        raise SystemExit(f"qemu_gps: bad time {s}, want YYYY-MM-DDTHH:MM:SSZ") from None
+
+
+def main():
+    ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    ap.add_argument("elf")
+    ap.add_argument("--nmea", default=DEFAULT_NMEA)
+    ap.add_argument("--no-gps", action="store_true")
+    ap.add_argument("--start", help="UTC of the first epoch (default: the stream's)")
+    ap.add_argument("--minutes", type=float, default=1440.0)
+    ap.add_argument("--log")
+    ap.add_argument("--quiet", action="store_true")
+    ap.add_argument("--timeout", type=float, default=900.0, help="wall seconds")
+    ap.add_argument("--qemu", default="qemu-system-arm")
+    ap.add_argument("--qemu-arg", action="append", default=[], help="extra QEMU argument")
+    a = ap.parse_args()
+
+    gga, rmc, first = parse_template(a.nmea)
+    if a.start:
+        first = parse_utc(a.start)
+    end_ms = int(a.minutes * 60_000)
+
+    tmp = tempfile.mkdtemp(prefix="qemu_gps.")
+    paths = {k: os.path.join(tmp, k + ".sock") for k in ("gps", "gate")}
+    listeners = {}
+    for k, p in paths.items():
+        s = socket.socket(socket.AF_UNIX, socket.SOCK_STREAM)
+        s.bind(p)
+        s.listen(1)
+        s.settimeout(30)
+        listeners[k] = s
+    cmd = [a.qemu, "-cpu", "cortex-m4", "-machine", "mps2-an386", "-nographic",
+           "-monitor", "none", "-no-reboot", "-icount", "shift=5,sleep=off",
+           "-chardev", f"socket,id=gps,path={paths['gps']}", "-serial", "chardev:gps",
+           "-chardev", f"socket,id=gate,path={paths['gate']}", "-serial", "chardev:gate",
+           "-semihosting-config", "enable=on,target=native",
+           "-kernel", a.elf, *a.qemu_arg]
+    t0 = time.monotonic()
+    qemu = subprocess.Popen(cmd, stdin=subprocess.DEVNULL, stdout=subprocess.PIPE)
+    out = qemu.stdout.fileno()
+    try:
+        gps, _ = listeners["gps"].accept()
+        gate, _ = listeners["gate"].accept()
+    except OSError as e:
+        qemu.kill()
+        raise SystemExit(f"qemu_gps: QEMU did not connect: {e}") from None
+    log = open(a.log, "w", encoding="utf-8") if a.log else None
+    buf = b""
+    gbuf = b""
+    gates = 0
+    ended = False
+    timed_out = False
+    out_open = True
+    while out_open:
+        left = a.timeout - (time.monotonic() - t0)
+        if left <= 0:
+            timed_out = True
+            break
+        r, _, _ = select.select([out, gate], [], [], min(left, 1.0))
+        if gate in r:
+            data = gate.recv(65536)
+            gbuf += data
+            while b"\n" in gbuf:
+                req, gbuf = gbuf.split(b"\n", 1)
+                ms = int(req.decode("ascii").lstrip("T"))
+                gates += 1
+                if ms >= end_ms:
+                    gate.sendall(b"stop\n")
+                    continue
+                nmea = b"" if a.no_gps else epoch(gga, rmc, first + dt.timedelta(milliseconds=ms))
+                if nmea:
+                    gps.sendall(nmea)
+                gate.sendall(f"{len(nmea)}\n".encode())
+        if out in r:
+            data = os.read(out, 65536)
+            if not data:
+                out_open = False
+            buf += data
+            while b"\n" in buf:
+                raw, buf = buf.split(b"\n", 1)
+                line = raw.decode("utf-8", "replace")
+                if line.startswith("end "):
+                    ended = True
+                if not a.quiet:
+                    print(line, flush=False)
+                if log:
+                    log.write(line + "\n")
+    if timed_out:
+        qemu.kill()
+    rc = qemu.wait()
+    sys.stdout.flush()
+    if log:
+        log.close()
+    for s in (gps, gate, *listeners.values()):
+        s.close()
+    for p in paths.values():
+        os.unlink(p)
+    os.rmdir(tmp)
+    wall = time.monotonic() - t0
+    print(f"qemu_gps: {gates} gates, {wall:.1f} s wall, exit {rc}"
+          + (" (timed out)" if timed_out else ""), file=sys.stderr)
+    if timed_out or (gates > 0 and not ended):
+        return 3
+    return rc
+
+
+if __name__ == "__main__":
+    sys.exit(main())

@@ -1,0 +1,597 @@
+//! QEMU's `mps2-an386` board (Cortex-M4F, 25 MHz): everything about this
+//! board in one place, turned into the parts of [`crate::app::Firmware`].
+//! The image (`src/bin/qemu_tracker.rs`) binds the SysTick and interrupt
+//! vectors to [`on_systick`] and [`on_interrupt`] and calls [`run`].
+//!
+//! | part | here |
+//! |---|---|
+//! | emulator gate | CMSDK APB UART1 at 0x4000_5000, polled |
+//! | GPS port | CMSDK APB UART0 at 0x4000_4000 (ARM DDI 0479), 9600 baud, receive interrupt (IRQ 0) into a 512-byte ring |
+//! | log | semihosting (`SYS_WRITE` to `:tt`) |
+//! | monotonic ms | SysTick (ARMv7-M ARM B3.3) on the 25 MHz core clock, one interrupt every 500 ms, the count in between |
+//! | UTC clock | none the tracker can use: a clock that always reports lost power, so time comes from GPS only |
+//! | axis drives | [`MotorPlant`] steppers (QEMU has no motors), advanced by the elapsed monotonic time in [`crate::app::Motion::service`] |
+//! | attitude | none: a level mount facing north |
+//! | anemometer | none: zero pulses (calm) |
+//! | watchdog | CMSDK APB watchdog at 0x4000_8000, 10 s (QEMU models it on the an386, but resets at the first timeout, with the NMI: run QEMU with `-no-reboot`, and a reset ends the run) |
+//! | sleep | `wfi` between passes |
+//!
+//! # Emulated time: the gate
+//!
+//! QEMU runs the image with `-icount shift=5,sleep=off`: every instruction
+//! takes 32 ns of emulated time (≈ the an386's 25 MHz), and while the core
+//! sleeps in `wfi` the emulated clock jumps to the next timer deadline, so
+//! an idle day passes in seconds. The host cannot know when that happens,
+//! so the board asks it: once every controller tick ([`GATE_MS`], 10 s) it stops
+//! SysTick (the firmware's clock then stands still), writes `T<monotonic
+//! ms>` on UART1 and polls UART1 for the host's answer: the number of GPS
+//! bytes the host has just written into UART0 (`<n>`), or `stop`. It waits
+//! (busy: the receive interrupt fills the ring) until those bytes are in,
+//! then restarts SysTick. The core never sleeps in a gate: QEMU's watchdog
+//! cannot be paused (its CONTROL register does not stop the counter), and
+//! a `wfi` would let the emulated clock jump to its deadline; the busy
+//! wait costs the watchdog some emulated microseconds per gate, nothing
+//! the firmware's clock sees. So the NMEA of an epoch arrives at the emulated
+//! instant its UTC says, whatever the host's scheduling, and a run is
+//! repeatable. On `stop` the image writes an `end …` summary and exits
+//! through semihosting with the firmware's status: success when no fault
+//! is active. The host side is `.ci/qemu_gps.py` (the Cortex-M runner of
+//! `.cargo/config.toml`). (Semihosting `SYS_READC` would do for the
+//! answer, but QEMU 7.2 does not resume a core blocked in it.)
+//!
+//! Free-form lines besides the log's (`crate::log`): `axes utc=<set-point utc>
+//! c=<deg> a=<deg>` (where the simulated axes were when the set-point of
+//! that utc ended: at the next set-point, or when tracking stopped), and
+//! the closing `end ms=… ticks=… setpoints=… faults_active=… …`.
+
+use core::cell::RefCell;
+use core::convert::Infallible;
+use core::sync::atomic::{AtomicU32, Ordering};
+
+use cortex_m::interrupt::{InterruptNumber, Mutex};
+use cortex_m::peripheral::syst::SystClkSource;
+use cortex_m::peripheral::{NVIC, SYST};
+use cortex_m_semihosting::{debug, hio};
+use drivers::rtc::Clock as RtcClock;
+use drivers::time::DateTime;
+use sun_algos::UtcTime;
+
+use crate::app::{AppConfig, Firmware, Platform};
+use crate::axis::FeedbackMode;
+use crate::config::Config;
+use crate::controller::{AttitudeSource, ControllerOptions};
+use crate::log::Sink;
+use crate::safety::Mode;
+use crate::sim::plant::MotorPlant;
+use crate::sim::sensors::MountSensors;
+
+/// Board name in the boot line.
+pub const BOARD: &str = "mps2-an386";
+/// Core clock, Hz (the an386's SYSCLK).
+pub const CORE_HZ: u32 = 25_000_000;
+/// SysTick interrupt period, ms (reload 12,499,999 < 2^24).
+pub const SYSTICK_MS: u32 = 500;
+/// Controller tick period, ms: 10 s, so that one GPS epoch a tick (the
+/// loop trusts GPS time for 1.5 s, and this board has no RTC to carry it)
+/// costs QEMU a tenth of a 1 Hz stream (see [`GATE_MS`]).
+pub const TICK_MS: u32 = 10_000;
+/// Emulated milliseconds between two gates (one GPS epoch each): one per
+/// controller tick, at its instant. QEMU's UART takes about 10,000 bytes a
+/// wall second (one per main-loop turn), so a whole 1 Hz day (12 MB of
+/// NMEA) would take twenty minutes; one epoch every 10 s takes two.
+pub const GATE_MS: u64 = TICK_MS as u64;
+/// Day-table capacity: the seed's 4-minute table of a polar day.
+pub const TABLE_LEN: usize = 360;
+/// GPS baud rate (NEO-6M and kin).
+pub const GPS_BAUD_HZ: u32 = 9_600;
+/// Watchdog timeout, ms.
+pub const WATCHDOG_MS: u32 = 10_000;
+
+/// The simulated axes: 1.8° steppers in full steps through a 100:1 gear
+/// (0.018° a step), no backlash, 2°/s.
+const STEP_ANGLE_DEG: f64 = 1.8;
+const GEAR_RATIO: f64 = 100.0;
+const SPEED_DEG_S: f64 = 2.0;
+/// Homing chunk: the fine approach (chunk/50) is one step.
+const HOMING_CHUNK_DEG: f32 = 0.9;
+
+const UART0: usize = 0x4000_4000;
+/// The emulator gate's line (QEMU's second `-serial`).
+const UART1: usize = 0x4000_5000;
+const UART_DATA: usize = 0x00;
+const UART_STATE: usize = 0x04;
+const UART_CTRL: usize = 0x08;
+const UART_INTCLEAR: usize = 0x0C;
+const UART_BAUDDIV: usize = 0x10;
+const STATE_TX_FULL: u32 = 1 << 0;
+const STATE_RX_FULL: u32 = 1 << 1;
+const CTRL_TX_EN: u32 = 1 << 0;
+const CTRL_RX_EN: u32 = 1 << 1;
+const CTRL_RX_INTEN: u32 = 1 << 3;
+const INT_RX: u32 = 1 << 1;
+
+const WDOG: usize = 0x4000_8000;
+const WDOG_LOAD: usize = 0x00;
+const WDOG_CONTROL: usize = 0x08;
+const WDOG_INTCLR: usize = 0x0C;
+const WDOG_LOCK: usize = 0xC00;
+const WDOG_UNLOCK_KEY: u32 = 0x1ACC_E551;
+const WDOG_INTEN_RESEN: u32 = 0b11;
+
+fn reg_write(addr: usize, value: u32) {
+    // SAFETY: every caller passes a documented 32-bit register of this
+    // board's UART0 or watchdog (ARM DDI 0479), whose writes have no
+    // effect on memory the program uses.
+    unsafe { core::ptr::write_volatile(addr as *mut u32, value) }
+}
+
+fn reg_read(addr: usize) -> u32 {
+    // SAFETY: as in `reg_write`; reads of these registers have no side
+    // effect but DATA's, which only the receive path reads.
+    unsafe { core::ptr::read_volatile(addr as *const u32) }
+}
+
+/// The an386's interrupt lines the board uses.
+#[derive(Clone, Copy)]
+#[repr(u16)]
+enum Irq {
+    /// UART0 receive (QEMU `hw/arm/mps2.c`: UART0 RX is IRQ 0).
+    Uart0Rx = 0,
+}
+
+// SAFETY: `number` returns a valid interrupt number of this board.
+unsafe impl InterruptNumber for Irq {
+    fn number(self) -> u16 {
+        self as u16
+    }
+}
+
+/// Received GPS bytes, filled by the UART0 receive interrupt.
+struct Ring {
+    buf: [u8; 512],
+    head: usize,
+    len: usize,
+    /// Bytes received since boot (the gate counts them).
+    received: u32,
+    /// Bytes lost to a full ring.
+    overruns: u32,
+}
+
+static RX: Mutex<RefCell<Ring>> = Mutex::new(RefCell::new(Ring {
+    buf: [0; 512],
+    head: 0,
+    len: 0,
+    received: 0,
+    overruns: 0,
+}));
+
+/// SysTick periods since start.
+static PERIODS: AtomicU32 = AtomicU32::new(0);
+
+/// The SysTick exception: one more period.
+pub fn on_systick() {
+    PERIODS.fetch_add(1, Ordering::Relaxed);
+}
+
+/// NMI's number in cortex-m-rt's `DefaultHandler` argument (IPSR − 16).
+const NMI_IRQN: i16 = -14;
+
+/// A device interrupt or an exception without its own handler, `irqn` as
+/// cortex-m-rt's `DefaultHandler` gives it. The watchdog's first timeout
+/// (NMI) ends the run with failure, where the chip would reset at the
+/// second one.
+pub fn on_interrupt(irqn: i16) {
+    if irqn == NMI_IRQN {
+        let mut out = Semihosting(hio::hstdout().ok());
+        out.text("watchdog timeout\n");
+        debug::exit(debug::EXIT_FAILURE);
+    }
+    if irqn == Irq::Uart0Rx as i16 {
+        reg_write(UART0 + UART_INTCLEAR, INT_RX);
+        cortex_m::interrupt::free(|cs| {
+            // Never borrowed elsewhere inside a critical section: the
+            // `Err` arm (no panic path) is not taken.
+            let Ok(mut r) = RX.borrow(cs).try_borrow_mut() else {
+                return;
+            };
+            while reg_read(UART0 + UART_STATE) & STATE_RX_FULL != 0 {
+                let b = reg_read(UART0 + UART_DATA) as u8;
+                r.received = r.received.wrapping_add(1);
+                if r.len < r.buf.len() {
+                    let at = (r.head + r.len) % r.buf.len();
+                    if let Some(slot) = r.buf.get_mut(at) {
+                        *slot = b;
+                    }
+                    r.len += 1;
+                } else {
+                    r.overruns = r.overruns.saturating_add(1);
+                }
+            }
+        });
+    }
+}
+
+/// UART0 as the GPS port: reads the receive ring.
+pub struct GpsUart;
+
+impl GpsUart {
+    fn start() -> Self {
+        // 9600 baud from the 25 MHz clock (BAUDDIV = 25e6 / 9600 = 2604).
+        reg_write(UART0 + UART_BAUDDIV, CORE_HZ / GPS_BAUD_HZ);
+        reg_write(UART0 + UART_CTRL, CTRL_TX_EN | CTRL_RX_EN | CTRL_RX_INTEN);
+        reg_write(UART1 + UART_BAUDDIV, 16);
+        reg_write(UART1 + UART_CTRL, CTRL_TX_EN | CTRL_RX_EN);
+        // SAFETY: the handler (`on_interrupt`) only touches the ring,
+        // through a critical section.
+        unsafe { NVIC::unmask(Irq::Uart0Rx) };
+        GpsUart
+    }
+}
+
+impl embedded_io::ErrorType for GpsUart {
+    type Error = Infallible;
+}
+
+impl embedded_io::Read for GpsUart {
+    fn read(&mut self, buf: &mut [u8]) -> Result<usize, Infallible> {
+        Ok(cortex_m::interrupt::free(|cs| {
+            let Ok(mut r) = RX.borrow(cs).try_borrow_mut() else {
+                return 0;
+            };
+            let n = buf.len().min(r.len);
+            for out in buf.iter_mut().take(n) {
+                *out = r.buf.get(r.head).copied().unwrap_or(0);
+                r.head = (r.head + 1) % r.buf.len();
+                r.len -= 1;
+            }
+            n
+        }))
+    }
+}
+
+impl embedded_io::ReadReady for GpsUart {
+    fn read_ready(&mut self) -> Result<bool, Infallible> {
+        Ok(cortex_m::interrupt::free(|cs| {
+            RX.borrow(cs).try_borrow().is_ok_and(|r| r.len > 0)
+        }))
+    }
+}
+
+fn rx_counts() -> (u32, usize, u32) {
+    cortex_m::interrupt::free(|cs| {
+        RX.borrow(cs)
+            .try_borrow()
+            .map_or((0, 0, 0), |r| (r.received, r.len, r.overruns))
+    })
+}
+
+/// The semihosting console as the log.
+pub struct Semihosting(Option<hio::HostStream>);
+
+impl Sink for Semihosting {
+    fn put(&mut self, bytes: &[u8]) {
+        if let Some(s) = self.0.as_mut() {
+            let _ = s.write_all(bytes);
+        }
+    }
+}
+
+/// The real-time clock of a board without one: always "lost power", so
+/// the loop never trusts it and time comes from GPS alone.
+pub struct NoRtc;
+
+/// [`NoRtc`] has no time to read.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct NoTime;
+
+impl RtcClock for NoRtc {
+    type Error = NoTime;
+    fn datetime(&mut self) -> Result<DateTime, NoTime> {
+        Err(NoTime)
+    }
+    /// Nothing to set; the next read still reports lost power.
+    fn set_datetime(&mut self, _utc: &DateTime) -> Result<(), NoTime> {
+        Ok(())
+    }
+    fn lost_power(&mut self) -> Result<bool, NoTime> {
+        Ok(true)
+    }
+}
+
+/// Monotonic clock, watchdog, sleep and the emulator gate.
+struct Board {
+    syst: SYST,
+    last_ms: u64,
+    next_gate_ms: u64,
+    log: Semihosting,
+    stop: bool,
+}
+
+impl Board {
+    fn start(mut syst: SYST) -> Self {
+        syst.set_clock_source(SystClkSource::Core);
+        syst.set_reload(CORE_HZ / 1000 * SYSTICK_MS - 1);
+        syst.clear_current();
+        syst.enable_interrupt();
+        syst.enable_counter();
+        // The watchdog: unlock, load, interrupt (NMI) and reset on timeout.
+        reg_write(WDOG + WDOG_LOCK, WDOG_UNLOCK_KEY);
+        reg_write(WDOG + WDOG_LOAD, CORE_HZ / 1000 * WATCHDOG_MS);
+        reg_write(WDOG + WDOG_CONTROL, WDOG_INTEN_RESEN);
+        reg_write(WDOG + WDOG_LOCK, 0);
+        Board {
+            syst,
+            last_ms: 0,
+            next_gate_ms: 0,
+            log: Semihosting(hio::hstdout().ok()),
+            stop: false,
+        }
+    }
+
+    /// Lets the host put the GPS bytes of this instant into UART0 while
+    /// the emulated clock stands still (see the module documentation).
+    fn gate(&mut self, now_ms: u64) {
+        self.syst.disable_counter();
+        // Counted from before the request: the bytes may come in (receive
+        // interrupt) while the answer is read.
+        let (start, _, _) = rx_counts();
+        let mut req = GateLine;
+        req.text("T");
+        put_u64(&mut req, now_ms);
+        req.text("\n");
+        let mut count: u32 = 0;
+        let mut digits = 0;
+        loop {
+            // Busy-waits: no timer runs, so the emulated clock the firmware
+            // sees stands still however long the host takes.
+            while reg_read(UART1 + UART_STATE) & STATE_RX_FULL == 0 {}
+            match reg_read(UART1 + UART_DATA) as u8 {
+                c @ b'0'..=b'9' => {
+                    count = count.saturating_mul(10).saturating_add(u32::from(c - b'0'));
+                    digits += 1;
+                }
+                b'\n' if digits > 0 || self.stop => break,
+                b's' => self.stop = true,
+                _ => {}
+            }
+        }
+        // Busy as well (a `wfi` here would let QEMU jump the emulated
+        // clock to the watchdog's deadline): the receive interrupt fills
+        // the ring meanwhile.
+        while rx_counts().0.wrapping_sub(start) < count {}
+        self.syst.enable_counter();
+    }
+}
+
+/// UART1's transmit side, where the gate's requests go.
+struct GateLine;
+
+impl Sink for GateLine {
+    fn put(&mut self, bytes: &[u8]) {
+        for &b in bytes {
+            while reg_read(UART1 + UART_STATE) & STATE_TX_FULL != 0 {}
+            reg_write(UART1 + UART_DATA, u32::from(b));
+        }
+    }
+}
+
+impl Platform for Board {
+    fn now_ms(&mut self) -> u64 {
+        let reload = u64::from(self.syst.rvr.read() & 0x00FF_FFFF) + 1;
+        let ms = loop {
+            let p1 = PERIODS.load(Ordering::Relaxed);
+            let cvr = u64::from(SYST::get_current());
+            let p2 = PERIODS.load(Ordering::Relaxed);
+            if p1 == p2 {
+                let in_period = (reload.saturating_sub(cvr)) * 1000 / u64::from(CORE_HZ);
+                break u64::from(p1) * u64::from(SYSTICK_MS) + in_period;
+            }
+        };
+        // A wrap whose interrupt has not run yet reads as the period's
+        // start: never go back.
+        self.last_ms = self.last_ms.max(ms);
+        self.last_ms
+    }
+    fn take_wind_pulses(&mut self) -> u32 {
+        0
+    }
+    fn feed_watchdog(&mut self) {
+        reg_write(WDOG + WDOG_LOCK, WDOG_UNLOCK_KEY);
+        reg_write(WDOG + WDOG_INTCLR, 1);
+        reg_write(WDOG + WDOG_LOCK, 0);
+    }
+    fn wait_for_interrupt(&mut self) {
+        // Bytes still in the ring (more than a pass reads): no sleep.
+        if rx_counts().1 == 0 {
+            cortex_m::asm::wfi();
+        }
+        let now = self.now_ms();
+        if now >= self.next_gate_ms {
+            self.gate(now);
+            self.next_gate_ms = now - now % GATE_MS + GATE_MS;
+        }
+    }
+}
+
+fn put_u64(out: &mut dyn Sink, v: u64) {
+    let hi = v / 1_000_000_000;
+    let lo = (v % 1_000_000_000) as u32;
+    if hi > 0 {
+        out.u32(hi as u32);
+        out.u32_padded(lo, 9);
+    } else {
+        out.u32(lo);
+    }
+}
+
+/// One simulated axis (see the constants above).
+fn plant(min_deg: f32, max_deg: f32, start_deg: f64) -> MotorPlant {
+    MotorPlant::stepper(
+        STEP_ANGLE_DEG,
+        1,
+        GEAR_RATIO,
+        0.0,
+        SPEED_DEG_S,
+        None,
+        f64::from(min_deg),
+        f64::from(max_deg),
+        start_deg,
+    )
+}
+
+type Tracker = Firmware<f32, NoRtc, GpsUart, MotorPlant, MountSensors, Semihosting, TABLE_LEN>;
+
+/// Starts the tracker; returns only through semihosting exit (when the host
+/// says `stop`).
+pub fn run() -> ! {
+    let Some(cp) = cortex_m::Peripherals::take() else {
+        debug::exit(debug::EXIT_FAILURE);
+        halt()
+    };
+    let mut board = Board::start(cp.SYST);
+    let gps = GpsUart::start();
+    let mut config = Config::default();
+    for ax in config.axes.iter_mut() {
+        ax.counts_per_motor_rev = (360.0 / STEP_ANGLE_DEG) as u32;
+        ax.microsteps = 1;
+        ax.gear_ratio = GEAR_RATIO as f32;
+        ax.backlash_deg = 0.0;
+        ax.max_speed_deg_s = SPEED_DEG_S as f32;
+        // Open loop: every set-point is driven to the nearest step.
+        ax.deadband_deg = 0.0;
+    }
+    let [c, a] = config.axes;
+    // Power-on angles on the step grid from the home switches (the fine
+    // homing approach then lands on the switch to the step).
+    let on_grid = |home: f32, steps: f64| f64::from(home) + steps * STEP_ANGLE_DEG / GEAR_RATIO;
+    let plants = [
+        plant(c.home_deg, c.max_deg, on_grid(c.home_deg, 10_556.0)),
+        plant(a.home_deg, a.max_deg, on_grid(a.home_deg, 6_111.0)),
+    ];
+    let options = ControllerOptions {
+        feedback: FeedbackMode::OpenLoop,
+        attitude: AttitudeSource::Fixed(crate::attitude::MountAttitude::level()),
+        homing_chunk_deg: HOMING_CHUNK_DEG,
+        ..ControllerOptions::default()
+    };
+    let Some(slot) = cortex_m::singleton!(: Option<Tracker> = None) else {
+        debug::exit(debug::EXIT_FAILURE);
+        halt()
+    };
+    let log = Semihosting(hio::hstdout().ok());
+    let fw = match Tracker::new(
+        AppConfig {
+            tick_ms: TICK_MS,
+            ..AppConfig::new(BOARD)
+        },
+        config,
+        options,
+        NoRtc,
+        gps,
+        plants,
+        None,
+        log,
+    ) {
+        Ok(fw) => slot.insert(fw),
+        Err(_) => {
+            board.log.text("halt: configuration refused\n");
+            debug::exit(debug::EXIT_FAILURE);
+            halt()
+        }
+    };
+    board.log.text("config step_s=");
+    board
+        .log
+        .u32(fw.controller().scheduler().config().table_step_s);
+    board.log.text(" tick_ms=");
+    board.log.u32(TICK_MS);
+    board.log.text(" gate_ms=");
+    put_u64(&mut board.log, GATE_MS);
+    board.log.text(" axis_step_deg=");
+    board.log.fixed((STEP_ANGLE_DEG / GEAR_RATIO) as f32, 3);
+    board.log.text("\n");
+    // The first epoch before the first pass.
+    board.gate(0);
+    board.next_gate_ms = GATE_MS;
+    let mut tracking = false;
+    loop {
+        let applied = fw.controller().scheduler().applied().map(|e| e.time);
+        if board.stop {
+            if let (true, Some(t)) = (tracking, applied) {
+                axes_line(fw, &mut board.log, &t);
+            }
+            let status = end_line(fw, &mut board);
+            debug::exit(status);
+            halt()
+        }
+        let setpoints = fw.stats().setpoints;
+        if fw.poll(&mut board) {
+            let now_tracking = fw.last_report().is_some_and(|r| r.mode == Mode::Tracking);
+            let ended = fw.stats().setpoints != setpoints || (tracking && !now_tracking);
+            if let (true, Some(t)) = (ended && tracking, applied) {
+                axes_line(fw, &mut board.log, &t);
+            }
+            tracking = now_tracking;
+        }
+        board.wait_for_interrupt();
+    }
+}
+
+/// `axes utc=<set-point utc> c=<deg> a=<deg>`: where the plants are.
+fn axes_line(fw: &Tracker, out: &mut Semihosting, t: &UtcTime) {
+    let [c, a] = fw.controller().axes();
+    out.text("axes utc=");
+    out.utc(t);
+    out.text(" c=");
+    out.fixed(c.drive().output_deg() as f32, 4);
+    out.text(" a=");
+    out.fixed(a.drive().output_deg() as f32, 4);
+    out.text("\n");
+}
+
+/// The closing summary; the status is success when no fault is active.
+fn end_line(fw: &Tracker, board: &mut Board) -> debug::ExitStatus {
+    let now = board.now_ms();
+    let s = fw.stats();
+    let f = fw.controller().faults();
+    let active = f.active_count() as u32;
+    let (received, _, overruns) = rx_counts();
+    let out = &mut board.log;
+    out.text("end ms=");
+    put_u64(out, now);
+    out.text(" ticks=");
+    out.u32(s.ticks);
+    out.text(" setpoints=");
+    out.u32(s.setpoints);
+    out.text(" faults_active=");
+    out.u32(active);
+    out.text(" late_ticks=");
+    out.u32(s.late_ticks);
+    out.text(" gps_bytes=");
+    out.u32(received);
+    out.text(" gps_overruns=");
+    out.u32(overruns);
+    out.text(" drive_errors=");
+    out.u32(s.drive_errors);
+    out.text("\n");
+    if active == 0 {
+        debug::EXIT_SUCCESS
+    } else {
+        debug::EXIT_FAILURE
+    }
+}
+
+/// Stops here (after a semihosting exit QEMU has already ended).
+pub fn halt() -> ! {
+    loop {
+        cortex_m::asm::wfi();
+    }
+}
+
+/// The image's panic handler: says so and exits with failure.
+pub fn on_panic() -> ! {
+    let mut out = Semihosting(hio::hstdout().ok());
+    out.text("panic\n");
+    debug::exit(debug::EXIT_FAILURE);
+    halt()
+}
