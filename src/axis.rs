@@ -174,9 +174,11 @@ impl Geometry {
             return 0;
         }
         let c = deg.clamp(-LIMIT_DEG, LIMIT_DEG) * self.counts_per_deg;
-        // Constant bounds: clamp cannot panic. In range of i64 by the
-        // clamps; `as` saturates anyway.
-        c as i64
+        // Constant bounds: clamp cannot panic. To the nearest count (a
+        // truncated move ends up to a whole count short of its target, and
+        // the counts of successive moves would always fall short the same
+        // way). In range of i64 by the clamps; `as` saturates anyway.
+        libm::roundf(c) as i64
     }
 }
 

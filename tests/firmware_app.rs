@@ -7,7 +7,7 @@
 //! The log is parsed line by line in the shapes of `suntracker::log`.
 //!
 //! Independent check of each `setpoint` line: the decoded axis angles just
-//! before the next set-point equal the logged pose within two half-steps,
+//! before the next set-point equal the logged pose within one half-step,
 //! and the panel normal of the logged pose (`n = Rz(γ)·Rx(α)·ẑ`, written
 //! out in the test helpers) is within 0.02° of the sun by NREL SPA (Reda &
 //! Andreas 2004) for the set-point's instant — the firmware computes with
@@ -259,8 +259,8 @@ fn utc_field(line: &str) -> UtcTime {
     .unwrap()
 }
 
-/// Checks every set-point: motors at the logged pose (two half-steps,
-/// 0.018°, plus the print rounding), logged pose facing the SPA sun.
+/// Checks every set-point: motors at the logged pose (one half-step,
+/// 0.009°, plus the print rounding), logged pose facing the SPA sun.
 fn check_setpoints(run: &Run, lat: f64, lon: f64) -> f64 {
     let site = Site::with_elevation(lat, lon, 480.0).unwrap();
     let options = Options {
@@ -269,6 +269,7 @@ fn check_setpoints(run: &Run, lat: f64, lon: f64) -> f64 {
     };
     let step_deg = 1.0 / COUNTS_PER_DEG;
     let mut worst = 0.0f64;
+    let mut worst_axis = 0.0f64;
     assert!(
         run.setpoints.len() > 150,
         "{} set-points\n{:#?}",
@@ -277,10 +278,11 @@ fn check_setpoints(run: &Run, lat: f64, lon: f64) -> f64 {
     );
     for (line, c_deg, a_deg) in &run.setpoints {
         let (c, a) = (field(line, "c"), field(line, "a"));
-        // Two steps: the switch is found to one (the fine approach), and a
-        // move ends on a whole step below the exact target (the axis counts
-        // truncate); plus the 0.005° rounding of the printed pose.
-        let tol = 2.0 * step_deg + 0.005;
+        // One step: the switch is found to one count (the fine approach),
+        // each move ends on the count nearest its target; plus the 0.005°
+        // rounding of the printed pose.
+        let tol = step_deg + 0.005;
+        worst_axis = worst_axis.max((c - c_deg).abs()).max((a - a_deg).abs());
         assert!(
             (c - c_deg).abs() <= tol && (a - a_deg).abs() <= tol,
             "{line}: motors at c={c_deg:.4} a={a_deg:.4}"
@@ -309,6 +311,7 @@ fn check_setpoints(run: &Run, lat: f64, lon: f64) -> f64 {
         );
         worst = worst.max(err);
     }
+    println!("axes at most {worst_axis:.4}° from the logged pose (one step {step_deg:.4}°)");
     worst
 }
 

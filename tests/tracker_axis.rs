@@ -246,8 +246,9 @@ impl AxisDrive for Mock {
     }
 }
 
+/// Counts of `deg`, to the nearest count as the axis computes them.
 fn counts(c: &AxisConfig, deg: f32) -> i64 {
-    (deg * c.counts_per_deg()) as i64
+    (deg * c.counts_per_deg()).round() as i64
 }
 
 /// A mock for axis `c` with the true angle `start_deg`; hard stops 1° past
