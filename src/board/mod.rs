@@ -5,17 +5,19 @@
 #[cfg(target_arch = "avr")]
 pub mod avr;
 
-/// The Arduino Mega 2560 tracker (ATmega2560 builds: `--cfg avr_atmega2560`).
+// The Arduino Mega 2560 tracker (ATmega2560 builds: `--cfg avr_atmega2560`).
+// Each board module's docs are its own (an outer doc here would make rustdoc
+// resolve the module's links in this scope).
 #[cfg(all(target_arch = "avr", avr_atmega2560))]
 #[allow(unsafe_code)]
 pub mod mega2560;
 
-// The STM32F411CEU6 "Black Pill" tracker (feature `stm32f411`, Cortex-M
-// builds). Its docs are the module's own (an outer doc here would make
-// rustdoc resolve the module's links in this scope).
-/// QEMU's `mps2-an386` (Cortex-M4F): the `qemu_tracker` image.
+// QEMU's `mps2-an386` (Cortex-M4F): the `qemu_tracker` image.
 #[cfg(all(target_arch = "arm", target_os = "none"))]
 #[allow(unsafe_code)]
 pub mod mps2_an386;
+
+// The STM32F411CEU6 "Black Pill" tracker (feature `stm32f411`, Cortex-M
+// builds).
 #[cfg(all(feature = "stm32f411", target_arch = "arm", target_os = "none"))]
 pub mod stm32f411;
