@@ -1,7 +1,7 @@
 //! The Arduino Mega 2560 tracker (seed li-2022's build): everything about
 //! this board in one place — pins, devices, configuration — turned into the
 //! parts of [`crate::app::Firmware`]. An image binds the interrupt vectors
-//! (`timer0, usart0, usart1, int4`) and calls [`run`]. Not yet the shipped
+//! (`timer0, usart1, int4`; the log's USART0 only sends) and calls [`run`]. Not yet the shipped
 //! `avr_mega_tracker` image: linked, its constant data (the WMM2025
 //! coefficients in `f64` alone are 3 KB) leaves too little of the 8 KB RAM
 //! for the controller and the stack, so that image still runs its older
@@ -152,7 +152,9 @@ impl Platform for MegaPlatform {
 /// reported on the log and the board then only feeds nothing: the watchdog
 /// resets it.
 pub fn run(dp: chip::Peripherals) -> ! {
-    let mut log = Usart0::new(dp.USART0, LOG_BAUD_HZ);
+    // Nothing is read from the log port: no receive ring (its vector is
+    // not bound either).
+    let mut log = Usart0::new_tx_only(dp.USART0, LOG_BAUD_HZ);
     let gps = Usart1::new(dp.USART1, GPS_BAUD_HZ);
     let millis_clock = Millis::start(dp.TC0);
     if MS_PER_TICK != 1 {
