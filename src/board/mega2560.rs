@@ -1,11 +1,12 @@
 //! The Arduino Mega 2560 tracker (seed li-2022's build): everything about
 //! this board in one place — pins, devices, configuration — turned into the
 //! parts of [`crate::app::Firmware`]. An image binds the interrupt vectors
-//! (`timer0, usart1, int4`; the log's USART0 only sends) and calls [`run`]. Not yet the shipped
-//! `avr_mega_tracker` image: linked, its constant data (the WMM2025
-//! coefficients in `f64` alone are 3 KB) leaves too little of the 8 KB RAM
-//! for the controller and the stack, so that image still runs its older
-//! loop until the tables are smaller or in flash.
+//! (`timer0, usart1, int4`; the log's USART0 only sends) and calls [`run`],
+//! as `avr_mega_tracker` does. Start-up is refused on the ATmega2560 today
+//! (`halt: site refused`, then the watchdog resets it): `f64` comparisons
+//! there go to compiler-builtins' `__ltdf2`/`__gtdf2` (avr-gcc 5.4's libgcc
+//! has no `f64` routines), and `Site::<f64>::with_elevation` finds 480 m out
+//! of range although the same comparisons alone are right.
 //!
 //! | function | pin | Mega header |
 //! |---|---|---|
@@ -60,10 +61,10 @@ use super::avr::{
     chip, millis, sleep_until_interrupt, Anemometer, ExtInt, I2c, InputPin, Millis, OutputPin,
     Usart0, Usart1, Watchdog, MS_PER_TICK,
 };
-use crate::app::{AppConfig, Firmware, Platform};
+use crate::app::{AppConfig, Firmware, Platform, StartError};
 use crate::axis::FeedbackMode;
 use crate::config::{AxisConfig, Config};
-use crate::controller::{AttitudeSource, ControllerOptions};
+use crate::controller::{AttitudeSource, ControllerError, ControllerOptions};
 use crate::hw::{MountSensorsHw, StepperAxis};
 use crate::log::Sink;
 
@@ -272,9 +273,18 @@ pub fn run(dp: chip::Peripherals) -> ! {
         // The board's own configuration was checked above; the scheduler's
         // intervals are the defaults. Nothing is driven; the watchdog,
         // no longer fed, resets the board.
-        Err(_) => loop {
-            avr_device::asm::sleep();
-        },
+        Err(e) => {
+            // The log port went into the firmware that was not made: take
+            // it again to say why.
+            // SAFETY: the `Usart0` that owned it was dropped with the error.
+            let mut log = Usart0::new_tx_only(unsafe { chip::USART0::steal() }, LOG_BAUD_HZ);
+            let why = match e {
+                StartError::Site(_) => "site refused",
+                StartError::Controller(ControllerError::Config(_)) => "configuration refused",
+                StartError::Controller(ControllerError::Schedule(_)) => "schedule refused",
+            };
+            halt(&mut log, why)
+        }
     }
 }
 
