@@ -2,11 +2,13 @@
 //! this board in one place — pins, devices, configuration — turned into the
 //! parts of [`crate::app::Firmware`]. An image binds the interrupt vectors
 //! (`timer0, usart1, int4`; the log's USART0 only sends) and calls [`run`],
-//! as `avr_mega_tracker` does. Start-up is refused on the ATmega2560 today
-//! (`halt: site refused`, then the watchdog resets it): `f64` comparisons
-//! there go to compiler-builtins' `__ltdf2`/`__gtdf2` (avr-gcc 5.4's libgcc
-//! has no `f64` routines), and `Site::<f64>::with_elevation` finds 480 m out
-//! of range although the same comparisons alone are right.
+//! as `avr_mega_tracker` does. LLVM reads stack-passed arguments one byte
+//! low on this 3-byte-PC chip: a function whose arguments do not all fit
+//! the registers (r8–r25) gets garbage (`Site::<f64>::with_elevation` did,
+//! and start-up was refused: `halt: site refused`); such functions are
+//! inlined. A scan of the image for frame loads above a function's own
+//! frame finds only libm's `k_sin` left (its `iy` only selects the tail
+//! term of the reduced argument, ~1e-17).
 //!
 //! | function | pin | Mega header |
 //! |---|---|---|
