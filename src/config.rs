@@ -47,17 +47,139 @@ pub fn crc32(data: &[u8]) -> u32 {
 
 /// Which field of a [`Config`] is out of its range, and why.
 ///
-/// `field` is a dotted key naming the field and its unit: `site.lat_deg`,
-/// `schedule.table_step_s`, `axis.c.gear_ratio` (the C axis is
-/// `Config::axes[0]`, the A axis `Config::axes[1]`), `wind.stow_hz`,
-/// `safety.max_retries`, `calibration.tilt_x_offset_deg`. `reason` states
-/// the range or rule that was broken.
+/// `field` names the field by a dotted key with its unit
+/// ([`Field::name`]): `site.lat_deg`, `schedule.table_step_s`,
+/// `axis.c.gear_ratio` (the C axis is `Config::axes[0]`, the A axis
+/// `Config::axes[1]`), `wind.stow_hz`, `safety.max_retries`,
+/// `calibration.tilt_x_offset_deg`. `reason` is the range or rule that was
+/// broken ([`Reason::text`]). Both are enums, not strings: an image links
+/// the texts only where it prints them (an 8-bit AVR keeps every linked
+/// string in its RAM). `Display` prints `key: reason`.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub struct ConfigError {
-    /// Dotted key of the field, with its unit.
-    pub field: &'static str,
+    /// The field, by its dotted key.
+    pub field: Field,
     /// The range or rule the value breaks.
-    pub reason: &'static str,
+    pub reason: Reason,
+}
+
+impl core::fmt::Display for ConfigError {
+    fn fmt(&self, f: &mut core::fmt::Formatter<'_>) -> core::fmt::Result {
+        write!(f, "{}: {}", self.field.name(), self.reason.text())
+    }
+}
+
+/// An enum of names: each variant with its text, the text only through a
+/// function (linked where called) and `Debug`/`Display`.
+macro_rules! named {
+    ($(#[$m:meta])* $vis:vis enum $name:ident fn $f:ident { $($v:ident => $s:literal,)* }) => {
+        $(#[$m])*
+        #[derive(Clone, Copy, PartialEq, Eq)]
+        #[allow(missing_docs)]
+        $vis enum $name { $($v,)* }
+        impl $name {
+            /// The text.
+            pub fn $f(self) -> &'static str {
+                match self { $($name::$v => $s,)* }
+            }
+        }
+        impl core::fmt::Debug for $name {
+            fn fmt(&self, f: &mut core::fmt::Formatter<'_>) -> core::fmt::Result {
+                f.write_str(self.$f())
+            }
+        }
+        impl core::fmt::Display for $name {
+            fn fmt(&self, f: &mut core::fmt::Formatter<'_>) -> core::fmt::Result {
+                f.write_str(self.$f())
+            }
+        }
+        impl PartialEq<str> for $name {
+            fn eq(&self, other: &str) -> bool {
+                self.$f() == other
+            }
+        }
+        impl PartialEq<&str> for $name {
+            fn eq(&self, other: &&str) -> bool {
+                self.$f() == *other
+            }
+        }
+    };
+}
+
+named! {
+    /// A field of [`Config`] by its dotted key with unit ([`Field::name`]).
+    pub enum Field fn name {
+        AxisCCountsPerMotorRev => "axis.c.counts_per_motor_rev",
+        AxisCMicrosteps => "axis.c.microsteps",
+        AxisCGearRatio => "axis.c.gear_ratio",
+        AxisCCountsPerDeg => "axis.c.counts_per_deg",
+        AxisCMinDeg => "axis.c.min_deg",
+        AxisCMaxDeg => "axis.c.max_deg",
+        AxisCHomeDeg => "axis.c.home_deg",
+        AxisCBacklashDeg => "axis.c.backlash_deg",
+        AxisCMaxSpeedDegS => "axis.c.max_speed_deg_s",
+        AxisCDeadbandDeg => "axis.c.deadband_deg",
+        AxisACountsPerMotorRev => "axis.a.counts_per_motor_rev",
+        AxisAMicrosteps => "axis.a.microsteps",
+        AxisAGearRatio => "axis.a.gear_ratio",
+        AxisACountsPerDeg => "axis.a.counts_per_deg",
+        AxisAMinDeg => "axis.a.min_deg",
+        AxisAMaxDeg => "axis.a.max_deg",
+        AxisAHomeDeg => "axis.a.home_deg",
+        AxisABacklashDeg => "axis.a.backlash_deg",
+        AxisAMaxSpeedDegS => "axis.a.max_speed_deg_s",
+        AxisADeadbandDeg => "axis.a.deadband_deg",
+        SiteLatDeg => "site.lat_deg",
+        SiteLonDeg => "site.lon_deg",
+        SiteElevationM => "site.elevation_m",
+        ScheduleTableStepS => "schedule.table_step_s",
+        ScheduleHoldS => "schedule.hold_s",
+        ScheduleRecheckS => "schedule.recheck_s",
+        ScheduleMaxTickGapS => "schedule.max_tick_gap_s",
+        ScheduleMaxBackwardS => "schedule.max_backward_s",
+        WindStowHz => "wind.stow_hz",
+        WindHoldS => "wind.hold_s",
+        WindReleaseS => "wind.release_s",
+        SafetyMaxDeviationDeg => "safety.max_deviation_deg",
+        SafetyStallTimeoutS => "safety.stall_timeout_s",
+        SafetySensorTimeoutS => "safety.sensor_timeout_s",
+        SafetyMaxRetries => "safety.max_retries",
+        CalibrationDeclinationDeg => "calibration.declination_deg",
+        CalibrationHeadingOffsetDeg => "calibration.heading_offset_deg",
+        CalibrationTiltXOffsetDeg => "calibration.tilt_x_offset_deg",
+        CalibrationTiltYOffsetDeg => "calibration.tilt_y_offset_deg",
+    }
+}
+
+named! {
+    /// The range or rule a field breaks ([`Reason::text`]).
+    pub enum Reason fn text {
+        CountsPerMotorRev => "1…16,777,216 full steps or encoder counts per motor revolution",
+        Microsteps => "1…256 microsteps per full step",
+        GearRatio => "1…10,000 motor revolutions per axis revolution",
+        CountsPerDeg => "counts × microsteps × gear / 360 must be 1…1,000,000 counts per degree",
+        LimitDeg => "−360…360°",
+        AboveMinDeg => "must be above min_deg",
+        HomeNearMinDeg => "min_deg − 5° … min_deg + 10° and at most max_deg: the switch is at the low end of the travel",
+        Deg0To5 => "0…5°",
+        SpeedDegS => "0.01…30°/s",
+        Latitude => "−90…90°",
+        Deg180 => "−180…180°",
+        ElevationM => "−500…10,000 m",
+        TableStepS => "60…43,200 s",
+        WholeMinutesOfDay => "whole minutes dividing a day (86,400 s)",
+        S0To3600 => "0…3,600 s",
+        S1To3600 => "1…3,600 s",
+        S1To86400 => "1…86,400 s",
+        S0To86400 => "0…86,400 s",
+        StowHz => "0.1…1,000 Hz",
+        S0To600 => "0…600 s",
+        MaxDeviationDeg => "0.1…45°",
+        S1To600 => "1…600 s",
+        MaxRetries => "0…20",
+        BelowMaxDeviation => "must be below safety.max_deviation_deg",
+        TiltOffsetDeg => "−45…45°",
+    }
 }
 
 /// The physical ranges of the configuration, as checked by
@@ -203,42 +325,42 @@ pub struct AxisConfig {
 
 /// Dotted keys of one axis's fields (`axis.c.*` or `axis.a.*`).
 struct AxisKeys {
-    counts_per_motor_rev: &'static str,
-    microsteps: &'static str,
-    gear_ratio: &'static str,
-    counts_per_deg: &'static str,
-    min_deg: &'static str,
-    max_deg: &'static str,
-    home_deg: &'static str,
-    backlash_deg: &'static str,
-    max_speed_deg_s: &'static str,
-    deadband_deg: &'static str,
+    counts_per_motor_rev: Field,
+    microsteps: Field,
+    gear_ratio: Field,
+    counts_per_deg: Field,
+    min_deg: Field,
+    max_deg: Field,
+    home_deg: Field,
+    backlash_deg: Field,
+    max_speed_deg_s: Field,
+    deadband_deg: Field,
 }
 
 const AXIS_KEYS: [AxisKeys; 2] = [
     AxisKeys {
-        counts_per_motor_rev: "axis.c.counts_per_motor_rev",
-        microsteps: "axis.c.microsteps",
-        gear_ratio: "axis.c.gear_ratio",
-        counts_per_deg: "axis.c.counts_per_deg",
-        min_deg: "axis.c.min_deg",
-        max_deg: "axis.c.max_deg",
-        home_deg: "axis.c.home_deg",
-        backlash_deg: "axis.c.backlash_deg",
-        max_speed_deg_s: "axis.c.max_speed_deg_s",
-        deadband_deg: "axis.c.deadband_deg",
+        counts_per_motor_rev: Field::AxisCCountsPerMotorRev,
+        microsteps: Field::AxisCMicrosteps,
+        gear_ratio: Field::AxisCGearRatio,
+        counts_per_deg: Field::AxisCCountsPerDeg,
+        min_deg: Field::AxisCMinDeg,
+        max_deg: Field::AxisCMaxDeg,
+        home_deg: Field::AxisCHomeDeg,
+        backlash_deg: Field::AxisCBacklashDeg,
+        max_speed_deg_s: Field::AxisCMaxSpeedDegS,
+        deadband_deg: Field::AxisCDeadbandDeg,
     },
     AxisKeys {
-        counts_per_motor_rev: "axis.a.counts_per_motor_rev",
-        microsteps: "axis.a.microsteps",
-        gear_ratio: "axis.a.gear_ratio",
-        counts_per_deg: "axis.a.counts_per_deg",
-        min_deg: "axis.a.min_deg",
-        max_deg: "axis.a.max_deg",
-        home_deg: "axis.a.home_deg",
-        backlash_deg: "axis.a.backlash_deg",
-        max_speed_deg_s: "axis.a.max_speed_deg_s",
-        deadband_deg: "axis.a.deadband_deg",
+        counts_per_motor_rev: Field::AxisACountsPerMotorRev,
+        microsteps: Field::AxisAMicrosteps,
+        gear_ratio: Field::AxisAGearRatio,
+        counts_per_deg: Field::AxisACountsPerDeg,
+        min_deg: Field::AxisAMinDeg,
+        max_deg: Field::AxisAMaxDeg,
+        home_deg: Field::AxisAHomeDeg,
+        backlash_deg: Field::AxisABacklashDeg,
+        max_speed_deg_s: Field::AxisAMaxSpeedDegS,
+        deadband_deg: Field::AxisADeadbandDeg,
     },
 ];
 
@@ -246,8 +368,8 @@ const AXIS_KEYS: [AxisKeys; 2] = [
 fn check_f32(
     v: f32,
     (lo, hi): (f32, f32),
-    field: &'static str,
-    reason: &'static str,
+    field: Field,
+    reason: Reason,
 ) -> Result<(), ConfigError> {
     if v.is_finite() && v >= lo && v <= hi {
         Ok(())
@@ -260,8 +382,8 @@ fn check_f32(
 fn check_int<T: PartialOrd>(
     v: T,
     (lo, hi): (T, T),
-    field: &'static str,
-    reason: &'static str,
+    field: Field,
+    reason: Reason,
 ) -> Result<(), ConfigError> {
     if v >= lo && v <= hi {
         Ok(())
@@ -288,49 +410,62 @@ impl AxisConfig {
             self.counts_per_motor_rev,
             r::COUNTS_PER_MOTOR_REV,
             k.counts_per_motor_rev,
-            "1…16,777,216 full steps or encoder counts per motor revolution",
+            Reason::CountsPerMotorRev,
         )?;
         check_int(
             self.microsteps,
             r::MICROSTEPS,
             k.microsteps,
-            "1…256 microsteps per full step",
+            Reason::Microsteps,
         )?;
         check_f32(
             self.gear_ratio,
             r::GEAR_RATIO,
             k.gear_ratio,
-            "1…10,000 motor revolutions per axis revolution",
+            Reason::GearRatio,
         )?;
         check_f32(
             self.counts_per_deg(),
             r::COUNTS_PER_DEG,
             k.counts_per_deg,
-            "counts × microsteps × gear / 360 must be 1…1,000,000 counts per degree",
+            Reason::CountsPerDeg,
         )?;
-        check_f32(self.min_deg, r::LIMIT_DEG, k.min_deg, "−360…360°")?;
-        check_f32(self.max_deg, r::LIMIT_DEG, k.max_deg, "−360…360°")?;
+        check_f32(self.min_deg, r::LIMIT_DEG, k.min_deg, Reason::LimitDeg)?;
+        check_f32(self.max_deg, r::LIMIT_DEG, k.max_deg, Reason::LimitDeg)?;
         if self.max_deg <= self.min_deg {
             return Err(ConfigError {
                 field: k.max_deg,
-                reason: "must be above min_deg",
+                reason: Reason::AboveMinDeg,
             });
         }
         let (below, above) = r::HOME_ABOVE_MIN_DEG;
         check_f32(
             self.home_deg,
-            (self.min_deg + below, (self.min_deg + above).min(self.max_deg)),
+            (
+                self.min_deg + below,
+                (self.min_deg + above).min(self.max_deg),
+            ),
             k.home_deg,
-            "min_deg − 5° … min_deg + 10° and at most max_deg: the switch is at the low end of the travel",
+            Reason::HomeNearMinDeg,
         )?;
-        check_f32(self.backlash_deg, r::BACKLASH_DEG, k.backlash_deg, "0…5°")?;
+        check_f32(
+            self.backlash_deg,
+            r::BACKLASH_DEG,
+            k.backlash_deg,
+            Reason::Deg0To5,
+        )?;
         check_f32(
             self.max_speed_deg_s,
             r::MAX_SPEED_DEG_S,
             k.max_speed_deg_s,
-            "0.01…30°/s",
+            Reason::SpeedDegS,
         )?;
-        check_f32(self.deadband_deg, r::DEADBAND_DEG, k.deadband_deg, "0…5°")
+        check_f32(
+            self.deadband_deg,
+            r::DEADBAND_DEG,
+            k.deadband_deg,
+            Reason::Deg0To5,
+        )
     }
 }
 
@@ -660,83 +795,103 @@ impl Config {
     pub fn validate(&self) -> Result<(), ConfigError> {
         use ranges as r;
         let s = &self.site;
-        check_f32(s.latitude_deg, r::LAT_DEG, "site.lat_deg", "−90…90°")?;
-        check_f32(s.longitude_deg, r::LON_DEG, "site.lon_deg", "−180…180°")?;
+        check_f32(
+            s.latitude_deg,
+            r::LAT_DEG,
+            Field::SiteLatDeg,
+            Reason::Latitude,
+        )?;
+        check_f32(
+            s.longitude_deg,
+            r::LON_DEG,
+            Field::SiteLonDeg,
+            Reason::Deg180,
+        )?;
         check_f32(
             s.elevation_m,
             r::ELEVATION_M,
-            "site.elevation_m",
-            "−500…10,000 m",
+            Field::SiteElevationM,
+            Reason::ElevationM,
         )?;
         let sc = &self.schedule;
         check_int(
             sc.table_step_s,
             r::TABLE_STEP_S,
-            "schedule.table_step_s",
-            "60…43,200 s",
+            Field::ScheduleTableStepS,
+            Reason::TableStepS,
         )?;
         if !sc.table_step_s.is_multiple_of(60) || 86_400 % sc.table_step_s != 0 {
             return Err(ConfigError {
-                field: "schedule.table_step_s",
-                reason: "whole minutes dividing a day (86,400 s)",
+                field: Field::ScheduleTableStepS,
+                reason: Reason::WholeMinutesOfDay,
             });
         }
-        check_int(sc.hold_s, r::HOLD_S, "schedule.hold_s", "0…3,600 s")?;
+        check_int(sc.hold_s, r::HOLD_S, Field::ScheduleHoldS, Reason::S0To3600)?;
         check_int(
             sc.recheck_s,
             r::RECHECK_S,
-            "schedule.recheck_s",
-            "1…3,600 s",
+            Field::ScheduleRecheckS,
+            Reason::S1To3600,
         )?;
         check_int(
             sc.max_tick_gap_s,
             r::MAX_TICK_GAP_S,
-            "schedule.max_tick_gap_s",
-            "1…86,400 s",
+            Field::ScheduleMaxTickGapS,
+            Reason::S1To86400,
         )?;
         check_int(
             sc.max_backward_s,
             r::MAX_BACKWARD_S,
-            "schedule.max_backward_s",
-            "0…86,400 s",
+            Field::ScheduleMaxBackwardS,
+            Reason::S0To86400,
         )?;
         for (i, a) in self.axes.iter().enumerate() {
             a.validate(i)?;
         }
         let w = &self.wind;
-        check_f32(w.threshold_hz, r::STOW_HZ, "wind.stow_hz", "0.1…1,000 Hz")?;
-        check_int(w.hold_s, r::WIND_HOLD_S, "wind.hold_s", "0…600 s")?;
+        check_f32(
+            w.threshold_hz,
+            r::STOW_HZ,
+            Field::WindStowHz,
+            Reason::StowHz,
+        )?;
+        check_int(w.hold_s, r::WIND_HOLD_S, Field::WindHoldS, Reason::S0To600)?;
         check_int(
             w.release_s,
             r::WIND_RELEASE_S,
-            "wind.release_s",
-            "0…86,400 s",
+            Field::WindReleaseS,
+            Reason::S0To86400,
         )?;
         let sf = &self.safety;
         check_f32(
             sf.max_deviation_deg,
             r::MAX_DEVIATION_DEG,
-            "safety.max_deviation_deg",
-            "0.1…45°",
+            Field::SafetyMaxDeviationDeg,
+            Reason::MaxDeviationDeg,
         )?;
         check_int(
             sf.stall_timeout_s,
             r::STALL_TIMEOUT_S,
-            "safety.stall_timeout_s",
-            "1…600 s",
+            Field::SafetyStallTimeoutS,
+            Reason::S1To600,
         )?;
         check_int(
             sf.sensor_timeout_s,
             r::SENSOR_TIMEOUT_S,
-            "safety.sensor_timeout_s",
-            "1…3,600 s",
+            Field::SafetySensorTimeoutS,
+            Reason::S1To3600,
         )?;
-        check_int(sf.max_retries, r::MAX_RETRIES, "safety.max_retries", "0…20")?;
+        check_int(
+            sf.max_retries,
+            r::MAX_RETRIES,
+            Field::SafetyMaxRetries,
+            Reason::MaxRetries,
+        )?;
         for (a, k) in self.axes.iter().zip(AXIS_KEYS.iter()) {
             if a.deadband_deg >= sf.max_deviation_deg {
                 return Err(ConfigError {
                     field: k.deadband_deg,
-                    reason: "must be below safety.max_deviation_deg",
+                    reason: Reason::BelowMaxDeviation,
                 });
             }
         }
@@ -744,26 +899,26 @@ impl Config {
         check_f32(
             c.declination_deg,
             r::HEADING_DEG,
-            "calibration.declination_deg",
-            "−180…180°",
+            Field::CalibrationDeclinationDeg,
+            Reason::Deg180,
         )?;
         check_f32(
             c.heading_offset_deg,
             r::HEADING_DEG,
-            "calibration.heading_offset_deg",
-            "−180…180°",
+            Field::CalibrationHeadingOffsetDeg,
+            Reason::Deg180,
         )?;
         check_f32(
             c.tilt_x_offset_deg,
             r::TILT_OFFSET_DEG,
-            "calibration.tilt_x_offset_deg",
-            "−45…45°",
+            Field::CalibrationTiltXOffsetDeg,
+            Reason::TiltOffsetDeg,
         )?;
         check_f32(
             c.tilt_y_offset_deg,
             r::TILT_OFFSET_DEG,
-            "calibration.tilt_y_offset_deg",
-            "−45…45°",
+            Field::CalibrationTiltYOffsetDeg,
+            Reason::TiltOffsetDeg,
         )
     }
 }

@@ -3,7 +3,7 @@
 use suntracker::config::{ranges, Config, ConfigError};
 
 fn field_of(c: &Config) -> Option<&'static str> {
-    c.validate().err().map(|e: ConfigError| e.field)
+    c.validate().err().map(|e: ConfigError| e.field.name())
 }
 
 #[test]
@@ -146,7 +146,8 @@ fn every_field_out_of_range_is_named() {
         mutate(&mut c);
         let e = c.validate().expect_err(key);
         assert_eq!(e.field, *key, "{e:?}");
-        assert!(!e.reason.is_empty());
+        assert!(!e.reason.text().is_empty());
+        assert_eq!(e.to_string(), format!("{key}: {}", e.reason));
         assert!(!c.is_valid());
         // Never stored nor loaded.
         let mut buf = [0u8; 256];

@@ -125,6 +125,18 @@ pub struct Run {
     pub rtc_time_writes: u32,
     /// TWI transactions (START + address) per 7-bit address seen.
     pub twi_starts: Vec<(u8, u32)>,
+    /// Static RAM of the image: `.data` + `.bss` (+ `.noinit`), bytes.
+    pub static_ram_bytes: u16,
+    /// Peak stack, bytes, by painting: the RAM between the end of `.bss`
+    /// and RAMEND is filled with [`PAINT`] before the run; this is the
+    /// part of it the run overwrote (from RAMEND down).
+    pub stack_peak_bytes: u16,
+    /// RAM never touched during the run: painted bytes still intact above
+    /// the end of `.bss`. `static_ram_bytes + stack_peak_bytes +
+    /// ram_free_bytes` is the whole RAM ([`Run::ram_bytes`]).
+    pub ram_free_bytes: u16,
+    /// The MCU's RAM, bytes (8,192 on the ATmega2560).
+    pub ram_bytes: u16,
 }
 
 impl Run {
@@ -160,6 +172,11 @@ pub struct Bench {
     log_file: Option<PathBuf>,
     timescale: f64,
 }
+
+/// The byte the free RAM is painted with before a run.
+pub const PAINT: u8 = 0xA5;
+/// First data-space address of the ATmega2560's RAM (after the I/O space).
+pub const RAM_START: u16 = 0x200;
 
 /// Default start: 2026-06-21T05:00:00Z.
 pub const DEFAULT_START: i64 = 1_782_018_000;
@@ -243,6 +260,11 @@ impl Bench {
     pub fn run_minutes(&self, minutes: f64) -> Result<Run, String> {
         let wall_start = Instant::now();
         let mut sim = Sim::new("atmega2560", F_CPU, &self.elf)?;
+        // Stack painting: everything between the end of the static RAM and
+        // RAMEND; what is left of the pattern at the end was never used.
+        let (_, static_end) = crate::sim::static_ram(&self.elf)?;
+        let ram_top = sim.ramend() + 1;
+        sim.paint_ram(static_end, ram_top, PAINT);
         sim.attach_uart('0')?;
         sim.attach_uart('1')?;
         sim.watch_port('A')?;
@@ -435,7 +457,16 @@ impl Bench {
             .filter(|(_, n)| **n > 0)
             .map(|(a, n)| (a as u8, *n))
             .collect();
+        if std::env::var_os("SUNTRACKER_EMU_PC").is_some() {
+            let (pc, sp) = sim.pc_sp();
+            eprintln!("suntracker-emu: pc {pc:#x} sp {sp:#x}");
+        }
+        let ram_free_bytes = sim.count_untouched(static_end, ram_top, PAINT);
         Ok(Run {
+            static_ram_bytes: static_end - RAM_START,
+            stack_peak_bytes: ram_top - static_end - ram_free_bytes,
+            ram_free_bytes,
+            ram_bytes: ram_top - RAM_START,
             lines,
             final_angles: (c_axis.angle_deg(), a_axis.angle_deg()),
             illegal_steps: (c_axis.illegal.clone(), a_axis.illegal.clone()),

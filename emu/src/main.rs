@@ -156,6 +156,11 @@ fn run() -> Result<ExitCode, String> {
         run.wind_pulses,
         run.cpu
     );
+    eprintln!(
+        "suntracker-emu: RAM {} B: static {} B (.data + .bss), stack peak {} B (painted), \
+         never touched {} B",
+        run.ram_bytes, run.static_ram_bytes, run.stack_peak_bytes, run.ram_free_bytes
+    );
     Ok(if run.cpu == suntracker_emu::sim::CpuState::Running {
         ExitCode::SUCCESS
     } else {

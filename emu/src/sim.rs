@@ -311,6 +311,46 @@ impl Sim {
         }
     }
 
+    /// Fills data memory `[from, to)` (data-space addresses, e.g. from the
+    /// end of `.bss` to RAMEND + 1) with `pattern` before the run: what
+    /// the stack never reaches keeps it ([`Sim::count_untouched`]).
+    pub fn paint_ram(&mut self, from: u16, to: u16, pattern: u8) {
+        let avr = unsafe { self.avr.as_ref() };
+        let end = usize::from(to).min(usize::from(avr.ramend) + 1);
+        for a in usize::from(from)..end {
+            unsafe { *avr.data.add(a) = pattern };
+        }
+    }
+
+    /// Bytes of `[from, to)` that still hold `pattern`, counted upwards
+    /// from `from` (the end of `.bss`) to the first byte that does not:
+    /// the stack grows down from RAMEND, so this is the RAM it never
+    /// reached.
+    pub fn count_untouched(&self, from: u16, to: u16, pattern: u8) -> u16 {
+        let avr = unsafe { self.avr.as_ref() };
+        let end = usize::from(to).min(usize::from(avr.ramend) + 1);
+        let mut n = 0u16;
+        for a in usize::from(from)..end {
+            if unsafe { *avr.data.add(a) } != pattern {
+                break;
+            }
+            n += 1;
+        }
+        n
+    }
+
+    /// Program counter (byte address) and stack pointer now.
+    pub fn pc_sp(&self) -> (u32, u16) {
+        let avr = unsafe { self.avr.as_ref() };
+        let sp = unsafe { u16::from(*avr.data.add(0x5D)) | u16::from(*avr.data.add(0x5E)) << 8 };
+        (avr.pc, sp)
+    }
+
+    /// RAMEND of the MCU (data-space address of the last RAM byte).
+    pub fn ramend(&self) -> u16 {
+        unsafe { self.avr.as_ref().ramend }
+    }
+
     /// CPU cycles since reset.
     pub fn cycle(&self) -> u64 {
         unsafe { self.avr.as_ref().cycle }
@@ -334,6 +374,42 @@ impl Sim {
         }
         CpuState::Running
     }
+}
+
+/// Static RAM of an AVR ELF: the data-space range `[start, end)` that the
+/// allocated sections in RAM (`.data`, `.bss`, `.noinit`) cover, read from
+/// the ELF32 section headers (data addresses carry avr-gcc's 0x800000
+/// offset).
+pub fn static_ram(elf: &Path) -> Result<(u16, u16), String> {
+    let b = std::fs::read(elf).map_err(|e| format!("{}: {e}", elf.display()))?;
+    let u16_at = |o: usize| b.get(o..o + 2).map(|s| u16::from_le_bytes([s[0], s[1]]));
+    let u32_at = |o: usize| {
+        b.get(o..o + 4)
+            .map(|s| u32::from_le_bytes([s[0], s[1], s[2], s[3]]))
+    };
+    if b.get(0..4) != Some(&b"\x7fELF"[..]) || b.get(4) != Some(&1) || b.get(5) != Some(&1) {
+        return Err(format!("{}: not a little-endian ELF32", elf.display()));
+    }
+    let bad = || format!("{}: truncated ELF", elf.display());
+    let shoff = u32_at(0x20).ok_or_else(bad)? as usize;
+    let shentsize = usize::from(u16_at(0x2E).ok_or_else(bad)?);
+    let shnum = usize::from(u16_at(0x30).ok_or_else(bad)?);
+    let (mut start, mut end) = (u32::MAX, 0u32);
+    for i in 0..shnum {
+        let h = shoff + i * shentsize;
+        let flags = u32_at(h + 8).ok_or_else(bad)?;
+        let addr = u32_at(h + 12).ok_or_else(bad)?;
+        let size = u32_at(h + 20).ok_or_else(bad)?;
+        // SHF_ALLOC, in the data space, not empty.
+        if flags & 2 != 0 && (0x80_0000..0x81_0000).contains(&addr) && size > 0 {
+            start = start.min(addr - 0x80_0000);
+            end = end.max(addr - 0x80_0000 + size);
+        }
+    }
+    if end == 0 {
+        return Err(format!("{}: no sections in RAM", elf.display()));
+    }
+    Ok((start as u16, end as u16))
 }
 
 impl Drop for Sim {

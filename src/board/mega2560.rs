@@ -1,11 +1,14 @@
 //! The Arduino Mega 2560 tracker (seed li-2022's build): everything about
 //! this board in one place — pins, devices, configuration — turned into the
 //! parts of [`crate::app::Firmware`]. An image binds the interrupt vectors
-//! (`timer0, usart0, usart1, int4`) and calls [`run`]. Not yet the shipped
-//! `avr_mega_tracker` image: linked, its constant data (the WMM2025
-//! coefficients in `f64` alone are 3 KB) leaves too little of the 8 KB RAM
-//! for the controller and the stack, so that image still runs its older
-//! loop until the tables are smaller or in flash.
+//! (`timer0, usart1, int4`; the log's USART0 only sends) and calls [`run`],
+//! as `avr_mega_tracker` does. LLVM reads stack-passed arguments one byte
+//! low on this 3-byte-PC chip: a function whose arguments do not all fit
+//! the registers (r8–r25) gets garbage (`Site::<f64>::with_elevation` did,
+//! and start-up was refused: `halt: site refused`); such functions are
+//! inlined. A scan of the image for frame loads above a function's own
+//! frame finds only libm's `k_sin` left (its `iy` only selects the tail
+//! term of the reduced argument, ~1e-17).
 //!
 //! | function | pin | Mega header |
 //! |---|---|---|
@@ -60,10 +63,10 @@ use super::avr::{
     chip, millis, sleep_until_interrupt, Anemometer, ExtInt, I2c, InputPin, Millis, OutputPin,
     Usart0, Usart1, Watchdog, MS_PER_TICK,
 };
-use crate::app::{AppConfig, Firmware, Platform};
+use crate::app::{AppConfig, Firmware, Platform, StartError};
 use crate::axis::FeedbackMode;
 use crate::config::{AxisConfig, Config};
-use crate::controller::{AttitudeSource, ControllerOptions};
+use crate::controller::{AttitudeSource, ControllerError, ControllerOptions};
 use crate::hw::{MountSensorsHw, StepperAxis};
 use crate::log::Sink;
 
@@ -152,7 +155,9 @@ impl Platform for MegaPlatform {
 /// reported on the log and the board then only feeds nothing: the watchdog
 /// resets it.
 pub fn run(dp: chip::Peripherals) -> ! {
-    let mut log = Usart0::new(dp.USART0, LOG_BAUD_HZ);
+    // Nothing is read from the log port: no receive ring (its vector is
+    // not bound either).
+    let mut log = Usart0::new_tx_only(dp.USART0, LOG_BAUD_HZ);
     let gps = Usart1::new(dp.USART1, GPS_BAUD_HZ);
     let millis_clock = Millis::start(dp.TC0);
     if MS_PER_TICK != 1 {
@@ -270,9 +275,18 @@ pub fn run(dp: chip::Peripherals) -> ! {
         // The board's own configuration was checked above; the scheduler's
         // intervals are the defaults. Nothing is driven; the watchdog,
         // no longer fed, resets the board.
-        Err(_) => loop {
-            avr_device::asm::sleep();
-        },
+        Err(e) => {
+            // The log port went into the firmware that was not made: take
+            // it again to say why.
+            // SAFETY: the `Usart0` that owned it was dropped with the error.
+            let mut log = Usart0::new_tx_only(unsafe { chip::USART0::steal() }, LOG_BAUD_HZ);
+            let why = match e {
+                StartError::Site(_) => "site refused",
+                StartError::Controller(ControllerError::Config(_)) => "configuration refused",
+                StartError::Controller(ControllerError::Schedule(_)) => "schedule refused",
+            };
+            halt(&mut log, why)
+        }
     }
 }
 

@@ -19,6 +19,11 @@ impl<T: Float> Site<T> {
     }
 
     /// A site with its elevation above sea level in metres (−500…10 000).
+    // Always inlined: three f64 do not fit the AVR argument registers, and
+    // LLVM reads stack-passed arguments one byte low on the ATmega2560
+    // (3-byte return address), so an out-of-line call there saw 480 m as
+    // out of range.
+    #[inline(always)]
     pub fn with_elevation(
         latitude_deg: T,
         longitude_deg: T,

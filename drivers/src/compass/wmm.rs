@@ -228,21 +228,18 @@ impl WmmModel {
             return Err(WmmError::AtGeographicPole);
         }
 
-        // cos(m λ), sin(m λ) for m = 0..=12.
-        let mut cos_ml = [0.0f64; MAX_DEGREE + 1];
-        let mut sin_ml = [0.0f64; MAX_DEGREE + 1];
-        for (m, (c, s)) in cos_ml.iter_mut().zip(sin_ml.iter_mut()).enumerate() {
-            let (sm, cm) = libm::sincos(m as f64 * lon_rad);
-            *c = cm;
-            *s = sm;
-        }
+        // cos(m λ), sin(m λ) by the angle-addition recurrence, one step
+        // per m (no per-m arrays: an 8-bit board has 8 KB of RAM for all).
+        let (sin_l, cos_l) = libm::sincos(lon_rad);
 
         // Legendre rows n-1 and n-2 (values and d/dφ′), seeded with n = 0.
-        let mut p_prev = [0.0f64; MAX_DEGREE + 1];
-        let mut dp_prev = [0.0f64; MAX_DEGREE + 1];
-        let mut p_prev2 = [0.0f64; MAX_DEGREE + 1];
-        let mut dp_prev2 = [0.0f64; MAX_DEGREE + 1];
-        p_prev[0] = 1.0;
+        // Row n is computed over row n-2 in place (its entry m is last
+        // needed for entry m of row n), then the two swap roles: two pairs
+        // of rows, no copies.
+        let mut rows_a = ([0.0f64; MAX_DEGREE + 1], [0.0f64; MAX_DEGREE + 1]);
+        let mut rows_b = ([0.0f64; MAX_DEGREE + 1], [0.0f64; MAX_DEGREE + 1]);
+        rows_a.0[0] = 1.0;
+        let (mut prev, mut prev2) = (&mut rows_a, &mut rows_b);
 
         let ratio = REFERENCE_RADIUS_KM / r_km;
         let mut ratio_pow = ratio * ratio; // (a/r)^(n+2) for n = 0
@@ -255,9 +252,9 @@ impl WmmModel {
         for n in 1..=MAX_DEGREE {
             ratio_pow *= ratio;
             let nf = n as f64;
-            let mut p_row = [0.0f64; MAX_DEGREE + 1];
-            let mut dp_row = [0.0f64; MAX_DEGREE + 1];
             let (mut sum_x, mut sum_y, mut sum_z) = (0.0f64, 0.0f64, 0.0f64);
+            // cos(m λ), sin(m λ) for m = 0.
+            let (mut cm, mut sm) = (1.0f64, 0.0f64);
             for m in 0..=n {
                 let mf = m as f64;
                 let (p, dp) = if m == n {
@@ -267,27 +264,28 @@ impl WmmModel {
                     } else {
                         libm::sqrt((2.0 * nf - 1.0) / (2.0 * nf))
                     };
-                    let pm = get(&p_prev, n - 1);
-                    let dpm = get(&dp_prev, n - 1);
+                    let pm = get(&prev.0, n - 1);
+                    let dpm = get(&prev.1, n - 1);
                     (k * cos_gc * pm, k * (-sin_gc * pm + cos_gc * dpm))
                 } else {
                     // P̆ₙᵐ = [(2n−1) sin φ′ P̆ₙ₋₁ᵐ − √((n−1)²−m²) P̆ₙ₋₂ᵐ] / √(n²−m²)
                     let a = 2.0 * nf - 1.0;
                     let b = libm::sqrt(((nf - 1.0) * (nf - 1.0) - mf * mf).max(0.0));
                     let c = libm::sqrt(nf * nf - mf * mf);
-                    let p1 = get(&p_prev, m);
-                    let dp1 = get(&dp_prev, m);
-                    let p2 = get(&p_prev2, m);
-                    let dp2 = get(&dp_prev2, m);
+                    let p1 = get(&prev.0, m);
+                    let dp1 = get(&prev.1, m);
+                    let p2 = get(&prev2.0, m);
+                    let dp2 = get(&prev2.1, m);
                     (
                         (a * sin_gc * p1 - b * p2) / c,
                         (a * (cos_gc * p1 + sin_gc * dp1) - b * dp2) / c,
                     )
                 };
-                if let Some(slot) = p_row.get_mut(m) {
+                // Row n takes the place of row n-2.
+                if let Some(slot) = prev2.0.get_mut(m) {
                     *slot = p;
                 }
-                if let Some(slot) = dp_row.get_mut(m) {
+                if let Some(slot) = prev2.1.get_mut(m) {
                     *slot = dp;
                 }
 
@@ -298,21 +296,19 @@ impl WmmModel {
                 // Report eq. 9: coefficients at the requested date.
                 let g = coef.g_nt + dt_years * coef.g_dot_nt_per_yr;
                 let h = coef.h_nt + dt_years * coef.h_dot_nt_per_yr;
-                let cm = get(&cos_ml, m);
-                let sm = get(&sin_ml, m);
                 let gc_hs = g * cm + h * sm;
                 sum_x += gc_hs * dp;
                 sum_y += mf * (g * sm - h * cm) * p;
                 sum_z += gc_hs * p;
+                // cos((m+1)λ), sin((m+1)λ).
+                (cm, sm) = (cm * cos_l - sm * sin_l, sm * cos_l + cm * sin_l);
             }
             // Report eq. 10.
             x_gc -= ratio_pow * sum_x;
             y_gc += ratio_pow * sum_y;
             z_gc -= (nf + 1.0) * ratio_pow * sum_z;
-            p_prev2 = p_prev;
-            dp_prev2 = dp_prev;
-            p_prev = p_row;
-            dp_prev = dp_row;
+            // Row n is now the previous one, row n-1 the one before.
+            core::mem::swap(&mut prev, &mut prev2);
         }
         y_gc /= cos_gc;
 
