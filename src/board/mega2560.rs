@@ -36,12 +36,9 @@
 //!  Mega D19 ─ GPS TX      Mega D2 ─ anemometer reed ─ GND
 //! ```
 //!
-//! Drives: 200 full steps per motor turn, full-step (two-phase-on)
-//! sequence, 50:1 worm gear: 10,000 steps per axis turn, 0.036° a step;
-//! 2°/s at most (56 steps/s) with a 100 steps/s² ramp. The C axis turns
-//! −180…+180° from its home switch at −180°, the A axis −90…+90° from its
-//! home at −90°. The H-bridge axes have no encoder: open loop, homed at
-//! power-on and at every end of day.
+//! Drives and axes: seed li-2022's mechanics, [`super::li2022`] (200-step
+//! motors, full step, 50:1 worms, 0.036° a step, C −180…+180°, A −90…+90°,
+//! homed at the low ends, open loop).
 //!
 //! The QMC5883L and the ADXL345 are probed at power-on; when both answer,
 //! the mount's attitude is measured every tick (seed portable-tracker)
@@ -53,8 +50,7 @@ use core::cell::RefCell;
 use drivers::compass::calibration::Calibration;
 use drivers::compass::qmc5883l::{Config as QmcConfig, Qmc5883l};
 use drivers::rtc::Ds3231;
-use drivers::stepper::hbridge::{BridgePins, Config as BridgeConfig, HBridgeStepper, StepMode};
-use drivers::stepper::ramp::Ramp;
+use drivers::stepper::hbridge::{BridgePins, HBridgeStepper};
 use drivers::stepper::LimitSwitches;
 use drivers::tilt::adxl345::Adxl345;
 use embedded_hal_bus::i2c::RefCellDevice;
@@ -63,9 +59,10 @@ use super::avr::{
     chip, millis, sleep_until_interrupt, Anemometer, ExtInt, I2c, InputPin, Millis, OutputPin,
     Usart0, Usart1, Watchdog, MS_PER_TICK,
 };
+use super::li2022::{axis_configs, bridge_config};
 use crate::app::{AppConfig, Firmware, Platform, StartError};
 use crate::axis::FeedbackMode;
-use crate::config::{AxisConfig, Config};
+use crate::config::Config;
 use crate::controller::{AttitudeSource, ControllerError, ControllerOptions};
 use crate::hw::{MountSensorsHw, StepperAxis};
 use crate::log::Sink;
@@ -83,49 +80,6 @@ pub const ADXL345_ADDRESS: u8 = 0x53;
 /// scheduler's `schedule_failed`, never truncated). A polar day's 360
 /// entries would take 480 B more of the 8 KB RAM.
 pub const TABLE_LEN: usize = 240;
-
-/// Full steps per axis degree: 200 × 50 / 360.
-const STEPS_PER_TURN: u32 = 200;
-const GEAR_RATIO: f32 = 50.0;
-/// Highest axis speed, degrees per second (56 full steps/s).
-const MAX_SPEED_DEG_S: f32 = 2.0;
-
-/// The board's axis configuration (C then A).
-pub fn axis_configs() -> [AxisConfig; 2] {
-    let c = AxisConfig {
-        counts_per_motor_rev: STEPS_PER_TURN,
-        microsteps: 1,
-        gear_ratio: GEAR_RATIO,
-        min_deg: -180.0,
-        max_deg: 180.0,
-        home_deg: -180.0,
-        backlash_deg: 0.0,
-        max_speed_deg_s: MAX_SPEED_DEG_S,
-        // Open loop: every set-point is driven to the nearest step.
-        deadband_deg: 0.0,
-    };
-    let a = AxisConfig {
-        min_deg: -90.0,
-        max_deg: 90.0,
-        home_deg: -90.0,
-        ..c
-    };
-    [c, a]
-}
-
-/// The H-bridge drive settings: full steps, ramp from 20 to 56 steps/s.
-fn bridge_config() -> BridgeConfig {
-    BridgeConfig {
-        mode: StepMode::Full,
-        ramp: Ramp {
-            start_speed_sps: 20,
-            max_speed_sps: 56,
-            accel_sps2: 100,
-        },
-        settle_us: 20_000,
-        release_when_idle: true,
-    }
-}
 
 /// Monotonic clock, anemometer, watchdog and sleep of the board.
 struct MegaPlatform {

@@ -5,6 +5,8 @@
 #[cfg(target_arch = "avr")]
 pub mod avr;
 
+pub mod li2022;
+
 // The Arduino Mega 2560 tracker (ATmega2560 builds: `--cfg avr_atmega2560`).
 // Each board module's docs are its own (an outer doc here would make rustdoc
 // resolve the module's links in this scope).

@@ -85,8 +85,7 @@ use cortex_m_rt::exception;
 use drivers::compass::calibration::Calibration;
 use drivers::compass::qmc5883l::{Config as QmcConfig, Qmc5883l};
 use drivers::rtc::Ds3231;
-use drivers::stepper::hbridge::{BridgePins, Config as BridgeConfig, HBridgeStepper, StepMode};
-use drivers::stepper::ramp::Ramp;
+use drivers::stepper::hbridge::{BridgePins, HBridgeStepper};
 use drivers::stepper::LimitSwitches;
 use drivers::tilt::adxl345::Adxl345;
 use drivers::tilt::modbus::Timeout;
@@ -104,9 +103,10 @@ use hal::serial::{Rx, RxListen, Serial, Tx};
 use hal::timer::DelayUs;
 use hal::watchdog::IndependentWatchdog;
 
+use super::li2022::{axis_configs, bridge_config};
 use crate::app::{AppConfig, Firmware, Platform};
 use crate::axis::FeedbackMode;
-use crate::config::{AxisConfig, Config};
+use crate::config::Config;
 use crate::controller::{AttitudeSource, ControllerOptions};
 use crate::hw::{EitherTilt, MountSensorsHw, StepperAxis};
 use crate::log::Sink;
@@ -131,49 +131,6 @@ pub const WATCHDOG_MS: u32 = 2_000;
 pub const TABLE_LEN: usize = 360;
 /// GPS receive ring, bytes.
 pub const GPS_RING_LEN: usize = 512;
-
-/// Full steps per motor turn; with the 50:1 worm, 10,000 per axis turn.
-const STEPS_PER_TURN: u32 = 200;
-const GEAR_RATIO: f32 = 50.0;
-/// Highest axis speed, degrees per second (56 full steps/s).
-const MAX_SPEED_DEG_S: f32 = 2.0;
-
-/// The board's axis configuration (C then A).
-pub fn axis_configs() -> [AxisConfig; 2] {
-    let c = AxisConfig {
-        counts_per_motor_rev: STEPS_PER_TURN,
-        microsteps: 1,
-        gear_ratio: GEAR_RATIO,
-        min_deg: -180.0,
-        max_deg: 180.0,
-        home_deg: -180.0,
-        backlash_deg: 0.0,
-        max_speed_deg_s: MAX_SPEED_DEG_S,
-        // Open loop: every set-point is driven to the nearest step.
-        deadband_deg: 0.0,
-    };
-    let a = AxisConfig {
-        min_deg: -90.0,
-        max_deg: 90.0,
-        home_deg: -90.0,
-        ..c
-    };
-    [c, a]
-}
-
-/// The H-bridge drive settings: full steps, ramp from 20 to 56 steps/s.
-fn bridge_config() -> BridgeConfig {
-    BridgeConfig {
-        mode: StepMode::Full,
-        ramp: Ramp {
-            start_speed_sps: 20,
-            max_speed_sps: 56,
-            accel_sps2: 100,
-        },
-        settle_us: 20_000,
-        release_when_idle: true,
-    }
-}
 
 // ---------------------------------------------------------------------------
 // Interrupt-side state: each static is shared with one handler only.

@@ -1,0 +1,57 @@
+//! The mechanics of seed li-2022's tracker, shared by every board that
+//! drives it (the Arduino Mega and the Black Pill images): two bipolar
+//! steppers of 200 full steps per turn behind H-bridges, full-step
+//! (two-phase-on) drive, each through a 50:1 worm gear — 10,000 steps per
+//! axis turn, 0.036° a step — at most 2°/s (56 steps/s) with a 100 steps/s²
+//! ramp. The C axis turns −180…+180° from its home switch at −180°, the A
+//! axis −90…+90° from its home at −90°. No encoder: open loop, homed at
+//! power-on and at every end of day.
+
+use drivers::stepper::hbridge::{Config as BridgeConfig, StepMode};
+use drivers::stepper::ramp::Ramp;
+
+use crate::config::AxisConfig;
+
+/// Full steps per motor turn.
+pub const STEPS_PER_TURN: u32 = 200;
+/// Worm gear: motor turns per axis turn.
+pub const GEAR_RATIO: f32 = 50.0;
+/// Highest axis speed, degrees per second (56 full steps/s).
+pub const MAX_SPEED_DEG_S: f32 = 2.0;
+
+/// The axis configuration (C then A).
+pub fn axis_configs() -> [AxisConfig; 2] {
+    let c = AxisConfig {
+        counts_per_motor_rev: STEPS_PER_TURN,
+        microsteps: 1,
+        gear_ratio: GEAR_RATIO,
+        min_deg: -180.0,
+        max_deg: 180.0,
+        home_deg: -180.0,
+        backlash_deg: 0.0,
+        max_speed_deg_s: MAX_SPEED_DEG_S,
+        // Open loop: every set-point is driven to the nearest step.
+        deadband_deg: 0.0,
+    };
+    let a = AxisConfig {
+        min_deg: -90.0,
+        max_deg: 90.0,
+        home_deg: -90.0,
+        ..c
+    };
+    [c, a]
+}
+
+/// The H-bridge drive settings: full steps, ramp from 20 to 56 steps/s.
+pub fn bridge_config() -> BridgeConfig {
+    BridgeConfig {
+        mode: StepMode::Full,
+        ramp: Ramp {
+            start_speed_sps: 20,
+            max_speed_sps: 56,
+            accel_sps2: 100,
+        },
+        settle_us: 20_000,
+        release_when_idle: true,
+    }
+}
