@@ -10,7 +10,10 @@
 use drivers::stepper::hbridge::{Config as BridgeConfig, StepMode};
 use drivers::stepper::ramp::Ramp;
 
-use crate::config::AxisConfig;
+use crate::axis::FeedbackMode;
+use crate::config::{AxisConfig, Config};
+use crate::controller::{AttitudeSource, ControllerOptions};
+use sun_algos::Float;
 
 /// Full steps per motor turn.
 pub const STEPS_PER_TURN: u32 = 200;
@@ -53,5 +56,26 @@ pub fn bridge_config() -> BridgeConfig {
         },
         settle_us: 20_000,
         release_when_idle: true,
+    }
+}
+
+/// The tracker configuration: the defaults with these axes.
+pub fn config() -> Config {
+    Config {
+        axes: axis_configs(),
+        ..Config::default()
+    }
+}
+
+/// The controller options of this build: open loop (no encoders), attitude
+/// measured by the inclinometer and compass (without them the controller
+/// keeps the level attitude and raises `timeout_inclinometer`), four
+/// readings averaged per tick.
+pub fn controller_options<T: Float>() -> ControllerOptions<T> {
+    ControllerOptions {
+        feedback: FeedbackMode::OpenLoop,
+        attitude: AttitudeSource::Sensors,
+        sensor_samples: 4,
+        ..ControllerOptions::default()
     }
 }

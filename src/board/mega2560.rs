@@ -59,11 +59,9 @@ use super::avr::{
     chip, millis, sleep_until_interrupt, Anemometer, ExtInt, I2c, InputPin, Millis, OutputPin,
     Usart0, Usart1, Watchdog, MS_PER_TICK,
 };
-use super::li2022::{axis_configs, bridge_config};
+use super::li2022::{self, bridge_config};
 use crate::app::{AppConfig, Firmware, Platform, StartError};
-use crate::axis::FeedbackMode;
-use crate::config::Config;
-use crate::controller::{AttitudeSource, ControllerError, ControllerOptions};
+use crate::controller::ControllerError;
 use crate::hw::{MountSensorsHw, StepperAxis};
 use crate::log::Sink;
 
@@ -193,19 +191,11 @@ pub fn run(dp: chip::Peripherals) -> ! {
         }
     };
 
-    let mut config = Config::default();
-    config.axes = axis_configs();
+    let config = li2022::config();
     if config.validate().is_err() {
         halt(&mut log, "configuration refused");
     }
-    let options = ControllerOptions {
-        feedback: FeedbackMode::OpenLoop,
-        // Without sensors the controller keeps the level attitude and
-        // raises `timeout_inclinometer`.
-        attitude: AttitudeSource::Sensors,
-        sensor_samples: 4,
-        ..ControllerOptions::default()
-    };
+    let options = li2022::controller_options();
     let mut platform = MegaPlatform {
         _millis: millis_clock,
         anemometer,

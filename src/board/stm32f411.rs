@@ -103,11 +103,8 @@ use hal::serial::{Rx, RxListen, Serial, Tx};
 use hal::timer::DelayUs;
 use hal::watchdog::IndependentWatchdog;
 
-use super::li2022::{axis_configs, bridge_config};
+use super::li2022::{self, bridge_config};
 use crate::app::{AppConfig, Firmware, Platform};
-use crate::axis::FeedbackMode;
-use crate::config::Config;
-use crate::controller::{AttitudeSource, ControllerOptions};
 use crate::hw::{EitherTilt, MountSensorsHw, StepperAxis};
 use crate::log::Sink;
 
@@ -580,21 +577,11 @@ pub fn run(dp: pac::Peripherals, cp: cortex_m::Peripherals) -> ! {
         }
     };
 
-    let config = Config {
-        axes: axis_configs(),
-        ..Config::default()
-    };
+    let config = li2022::config();
     if config.validate().is_err() {
         halt(&mut log, "configuration refused");
     }
-    let options = ControllerOptions {
-        feedback: FeedbackMode::OpenLoop,
-        // Without sensors the controller keeps the level attitude and
-        // raises `timeout_inclinometer`.
-        attitude: AttitudeSource::Sensors,
-        sensor_samples: 4,
-        ..ControllerOptions::default()
-    };
+    let options = li2022::controller_options();
     let mut platform = BlackPillPlatform { watchdog };
     let mut firmware = Firmware::<f32, _, _, _, _, _, TABLE_LEN>::new(
         AppConfig::new(BOARD),
