@@ -145,6 +145,23 @@ def daylight():
     return up[0], up[-1]
 
 
+def coverage_problems(sp_times, step_s):
+    """The daylight set-point times must start at pvlib's sunrise, end at its
+    sunset and be at most one step apart."""
+    problems = []
+    rise, set_ = daylight()
+    step = pd.Timedelta(seconds=step_s)
+    if sp_times:
+        if not (rise - pd.Timedelta(minutes=1) <= sp_times[0] <= rise + 2 * step):
+            problems.append(f"first set-point {sp_times[0]} vs pvlib sunrise {rise}")
+        if not (set_ - step <= sp_times[-1] <= set_ + step):
+            problems.append(f"last set-point {sp_times[-1]} vs pvlib sunset {set_}")
+        gaps = [(a, b) for a, b in zip(sp_times, sp_times[1:]) if not pd.Timedelta(0) < b - a <= step]
+        for a, b in gaps[:3]:
+            problems.append(f"set-points {a.time()} then {b.time()}: not one step apart at most")
+    return problems
+
+
 def minimum_setpoints(step_s):
     """The least number of daylight set-points a run may print: the multiples
     of its step inside pvlib's sunrise–sunset span, less one at each end (the
@@ -214,16 +231,7 @@ def check_log(path, text):
     if not least <= len(sp_times) <= expected + 1:
         problems.append(f"{len(sp_times)} daylight set-points, expected {least}..{expected + 1} "
                         f"(pvlib daylight at step {step_s} s holds {expected})")
-    rise, set_ = daylight()
-    step = pd.Timedelta(seconds=step_s)
-    if sp_times:
-        if not (rise - pd.Timedelta(minutes=1) <= sp_times[0] <= rise + 2 * step):
-            problems.append(f"first set-point {sp_times[0]} vs pvlib sunrise {rise}")
-        if not (set_ - step <= sp_times[-1] <= set_ + step):
-            problems.append(f"last set-point {sp_times[-1]} vs pvlib sunset {set_}")
-        gaps = [(a, b) for a, b in zip(sp_times, sp_times[1:]) if not pd.Timedelta(0) < b - a <= step]
-        for a, b in gaps[:3]:
-            problems.append(f"set-points {a.time()} then {b.time()}: not one step apart at most")
+    problems += coverage_problems(sp_times, step_s)
     for p in problems:
         print(f"{path}: {p}")
     print(f"{path}: {len(rows)} setpoint lines (minimum {least}) checked against pvlib SPA: worst "
@@ -302,16 +310,7 @@ def check(path):
                         f"(pvlib daylight at step {step_s} s holds {expected})")
     if homes > 1:
         problems.append(f"{homes} home lines")
-    rise, set_ = daylight()
-    step = pd.Timedelta(seconds=step_s)
-    if sp_times:
-        if not (rise - pd.Timedelta(minutes=1) <= sp_times[0] <= rise + 2 * step):
-            problems.append(f"first set-point {sp_times[0]} vs pvlib sunrise {rise}")
-        if not (set_ - step <= sp_times[-1] <= set_ + step):
-            problems.append(f"last set-point {sp_times[-1]} vs pvlib sunset {set_}")
-        gaps = [(a, b) for a, b in zip(sp_times, sp_times[1:]) if not pd.Timedelta(0) < b - a <= step]
-        for a, b in gaps[:3]:
-            problems.append(f"set-points {a.time()} then {b.time()}: not one step apart at most")
+    problems += coverage_problems(sp_times, step_s)
     for p in problems:
         print(f"{path}: {p}")
     print(f"{path}: {len(rows)} set-point lines ({len(sp_times)} in daylight, minimum {least}) "
