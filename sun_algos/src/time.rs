@@ -123,6 +123,12 @@ impl UtcTime {
         })
     }
 
+    /// 2000-01-01T00:00:00Z, the origin of the day count.
+    pub const MIDNIGHT_2000: UtcTime = UtcTime {
+        days: 0,
+        ms_of_day: 0,
+    };
+
     /// An instant from days since 2000-01-01 and milliseconds of that day.
     pub fn from_days_ms(days_since_2000: i32, ms_of_day: u32) -> Result<Self, Error> {
         if ms_of_day >= MS_PER_DAY {

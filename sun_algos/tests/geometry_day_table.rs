@@ -10,14 +10,15 @@ use sun_algos::{Algorithm, Options, Site, UtcTime};
 
 #[test]
 fn ram_figures() {
-    // 4-byte entries; table = 4·N + 12 bytes (8-byte instant, 2-byte
-    // interval, 2-byte length).
+    // 4-byte entries; table = 4·N + 14 bytes (8-byte instant, 2-byte
+    // interval, 2-byte length, 2-byte length once complete), padded here to
+    // the instant's 4-byte alignment (none on AVR).
     assert_eq!(core::mem::size_of::<Entry>(), 4);
     assert_eq!(capacity_for_interval(4), 361);
     assert_eq!(capacity_for_interval(8), 181);
-    assert_eq!(core::mem::size_of::<DayTable<361>>(), 4 * 361 + 12);
-    assert_eq!(core::mem::size_of::<DayTable<181>>(), 4 * 181 + 12);
-    assert_eq!(core::mem::size_of::<DayTable<211>>(), 4 * 211 + 12);
+    assert_eq!(core::mem::size_of::<DayTable<361>>(), 4 * 361 + 16);
+    assert_eq!(core::mem::size_of::<DayTable<181>>(), 4 * 181 + 16);
+    assert_eq!(core::mem::size_of::<DayTable<211>>(), 4 * 211 + 16);
 }
 
 #[test]
@@ -85,4 +86,28 @@ fn entries_round_to_centidegrees() {
         azimuth_deg: -90.0,
     });
     assert_eq!((e.slope_cdeg(), e.azimuth_cdeg()), (0, 27_000));
+}
+
+#[test]
+fn filling_a_few_entries_at_a_time_gives_the_same_table() {
+    // Kano, 20 March 2026, psa-2020 in f32: the whole table at once and
+    // three entries per call must agree entry for entry.
+    let site = Site::new(11.9683f32, 8.4261).unwrap();
+    let opts = Options::default();
+    let sun = |t: &UtcTime| Algorithm::Psa2020.position(t, &site, &opts);
+    let start = solar_day_start(2026, 3, 20, 8.4261f32).unwrap();
+    let ev = find(start, sun).unwrap();
+    let whole = DayTable::<211>::compute(&ev, 4, &Limits::upward(), sun).unwrap();
+    let mut table = DayTable::<211>::empty(start);
+    table.begin(&ev, 4).unwrap();
+    assert!(table.is_empty() && !table.is_complete());
+    let mut calls = 0;
+    let mut src = sun;
+    while !table.fill(&Limits::upward(), &mut src, 3).unwrap() {
+        calls += 1;
+        assert_eq!(table.len(), 3 * calls);
+    }
+    assert!(table.is_complete());
+    assert_eq!(table, whole);
+    assert!(whole.len() > 150);
 }

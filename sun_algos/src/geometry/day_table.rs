@@ -11,14 +11,15 @@
 //! chosen per board; the worst case is a polar day, 24 h, which needs
 //! [`capacity_for_interval`] entries: 361 at 4 minutes.
 //!
-//! RAM of `DayTable<N>` = 4·N + 12 bytes (4-byte entries, 8-byte first
-//! instant, 2-byte interval, 2-byte length; no padding on AVR, checked on the
+//! RAM of `DayTable<N>` = 4·N + 14 bytes (4-byte entries, 8-byte first
+//! instant, 2-byte interval, 2-byte length, 2-byte length once complete; no
+//! padding on AVR, 2 bytes of it on 32- and 64-bit targets; checked on the
 //! host by `size_of` in `tests/geometry_day_table.rs`):
-//! - `DayTable<361>` (4 min, polar day): 1456 B — fits an ATmega328P's
+//! - `DayTable<361>` (4 min, polar day): 1458 B — fits an ATmega328P's
 //!   2048 B only with ~590 B left for stack and the rest of the firmware;
-//! - `DayTable<181>` (8 min, polar day) 736 B, or `DayTable<211>` (4 min, up
+//! - `DayTable<181>` (8 min, polar day) 738 B, or `DayTable<211>` (4 min, up
 //!   to 14 h of daylight: |φ| ≲ 30°, e.g. Kano's longest day is 12 h 50 min)
-//!   856 B — the sizes we suggest for the ATmega328P; a longer day gives
+//!   858 B — the sizes we suggest for the ATmega328P; a longer day gives
 //!   [`GeometryError::CapacityExceeded`], never a truncated table;
 //! - Cortex-M boards: `DayTable<361>` (or `<1441>` at 1 minute, 5776 B).
 
@@ -99,6 +100,8 @@ pub struct DayTable<const N: usize> {
     first: UtcTime,
     interval_min: u16,
     entries: Vec<Entry, N, u16>,
+    /// Entries the table will hold once complete ([`DayTable::begin`]).
+    needed: u16,
 }
 
 impl<const N: usize> DayTable<N> {
@@ -130,6 +133,7 @@ impl<const N: usize> DayTable<N> {
             first,
             interval_min: 1,
             entries: Vec::new(),
+            needed: 0,
         }
     }
 
@@ -147,7 +151,23 @@ impl<const N: usize> DayTable<N> {
         T: Float,
         F: FnMut(&UtcTime) -> Result<SunPosition<T>, crate::Error>,
     {
+        self.begin(events, interval_min)?;
+        while !self.fill(limits, &mut sun, usize::MAX)? {}
+        Ok(())
+    }
+
+    /// Empties the table and sets it up for `events` every `interval_min`
+    /// minutes (as [`DayTable::compute`]) without computing an entry:
+    /// [`DayTable::fill`] then computes them a few at a time. Errors (and
+    /// leaves the table empty) for an interval that does not divide a day or
+    /// a daylight longer than the capacity.
+    pub fn begin<T: Float>(
+        &mut self,
+        events: &Events<T>,
+        interval_min: u16,
+    ) -> Result<(), GeometryError> {
         self.entries.clear();
+        self.needed = 0;
         if interval_min == 0 || interval_min > 720 || 1440 % interval_min != 0 {
             return Err(GeometryError::InvalidInterval);
         }
@@ -176,30 +196,52 @@ impl<const N: usize> DayTable<N> {
                 capacity: N,
             });
         }
-        let first = UtcTime::from_unix_seconds(first_s)?;
-        self.first = first;
+        self.first = UtcTime::from_unix_seconds(first_s)?;
         self.interval_min = interval_min;
-        let result = self.fill(first, step, needed, limits, &mut sun);
-        if result.is_err() {
-            self.entries.clear();
-        }
-        result
+        // needed ≤ N ≤ u16::MAX (the entries' length type).
+        self.needed = u16::try_from(needed).unwrap_or(u16::MAX);
+        Ok(())
     }
 
-    fn fill<T, F>(
+    /// Computes up to `budget` more entries (at least one) of the table
+    /// [`DayTable::begin`] set up; true once it is complete. On an error
+    /// the table is left empty (and complete: call `begin` again).
+    pub fn fill<T, F>(
         &mut self,
-        first: UtcTime,
-        step: i64,
-        needed: usize,
         limits: &Limits<T>,
         sun: &mut F,
-    ) -> Result<(), GeometryError>
+        budget: usize,
+    ) -> Result<bool, GeometryError>
     where
         T: Float,
         F: FnMut(&UtcTime) -> Result<SunPosition<T>, crate::Error>,
     {
-        for k in 0..needed {
-            let t = first.add_seconds(k as i64 * step)?;
+        let result = self.fill_some(limits, sun, budget.max(1));
+        if result.is_err() {
+            self.entries.clear();
+            self.needed = 0;
+        }
+        result
+    }
+
+    fn fill_some<T, F>(
+        &mut self,
+        limits: &Limits<T>,
+        sun: &mut F,
+        budget: usize,
+    ) -> Result<bool, GeometryError>
+    where
+        T: Float,
+        F: FnMut(&UtcTime) -> Result<SunPosition<T>, crate::Error>,
+    {
+        let step = i64::from(self.interval_min) * 60;
+        let needed = usize::from(self.needed);
+        for _ in 0..budget {
+            let k = self.entries.len();
+            if k >= needed {
+                break;
+            }
+            let t = self.first.add_seconds(k as i64 * step)?;
             let p = sun(&t)?;
             let sp = best_within(&p, limits)?;
             self.entries
@@ -209,7 +251,12 @@ impl<const N: usize> DayTable<N> {
                     capacity: N,
                 })?;
         }
-        Ok(())
+        Ok(self.entries.len() >= needed)
+    }
+
+    /// True once every entry [`DayTable::begin`] set up is computed.
+    pub fn is_complete(&self) -> bool {
+        self.entries.len() >= usize::from(self.needed)
     }
 
     /// Number of entries.

@@ -153,82 +153,304 @@ pub fn solar_day_start<T: Float>(
 
 /// Precise events in the 24 h from `window_start`, from any position
 /// source `sun` (method in the module documentation; about 190 calls).
+/// All at once: [`EventSearch`] does the same search a few positions at a
+/// time.
 pub fn find<T, F>(window_start: UtcTime, mut sun: F) -> Result<Events<T>, GeometryError>
 where
     T: Float,
     F: FnMut(&UtcTime) -> Result<SunPosition<T>, crate::Error>,
 {
-    let limit = T::from_f64(90.0 + SUN_RADIUS_PLUS_HORIZON_REFRACTION_DEG);
-    // Height above the limit; positive when the sun is up.
-    let mut up = |t: &UtcTime| -> Result<T, GeometryError> {
-        let p = sun(t)?;
-        if !p.zenith_deg.is_finite() {
-            return Err(GeometryError::NotFinite);
+    let mut search = EventSearch::new(window_start);
+    loop {
+        if let Some(events) = search.step(&mut sun, u32::MAX)? {
+            return Ok(events);
         }
-        Ok(limit - p.zenith_deg)
-    };
-    let at = |s: i64| window_start.add_seconds(s);
-
-    let mut prev = up(&window_start)?;
-    let first_up = prev > T::ZERO;
-    let mut sunrise: Option<UtcTime> = None;
-    let mut sunset: Option<UtcTime> = None;
-    let mut any_up = first_up;
-    let mut best_i: i64 = 0;
-    let mut best_v = prev;
-    for i in 1..SAMPLES {
-        let v = up(&at(i * STEP_S)?)?;
-        if v > best_v {
-            best_v = v;
-            best_i = i;
-        }
-        let crossed_up = prev <= T::ZERO && v > T::ZERO;
-        let crossed_down = prev > T::ZERO && v <= T::ZERO;
-        if crossed_up && sunrise.is_none() {
-            sunrise = Some(bisect(&mut up, &at((i - 1) * STEP_S)?, true)?);
-        }
-        if crossed_down {
-            sunset = Some(bisect(&mut up, &at((i - 1) * STEP_S)?, false)?);
-        }
-        any_up |= v > T::ZERO;
-        prev = v;
     }
-    // Transit: golden-section search on the height over ±1 step around the
-    // highest sample, to 1 s.
-    let lo = (best_i - 1).max(0) * STEP_S;
-    let hi = ((best_i + 1) * STEP_S).min(86_400);
-    let (transit_s, transit_v) = golden_max(&mut up, &window_start, lo, hi)?;
-    let transit = at(transit_s)?;
-    let kind = match (sunrise, sunset) {
-        (None, None) if any_up => DayKind::PolarDay,
-        (None, None) => DayKind::PolarNight,
-        _ => DayKind::Normal,
-    };
-    let end_s: i64 = 86_400;
-    let rise_s = sunrise.map(|t| t.unix_seconds() - window_start.unix_seconds());
-    let set_s = sunset.map(|t| t.unix_seconds() - window_start.unix_seconds());
-    let daylight_s = match kind {
-        DayKind::PolarDay => end_s,
-        DayKind::PolarNight => 0,
-        DayKind::Normal => match (rise_s, set_s) {
-            (Some(r), Some(s)) if s > r => s - r,
-            // Set then rose again (up at both ends of the window).
-            (Some(r), Some(s)) => s + (end_s - r),
-            (Some(r), None) => end_s - r,
-            (None, Some(s)) => s,
-            (None, None) => 0,
-        },
-    };
-    Ok(Events {
-        kind,
-        window_start,
-        sunrise,
-        transit,
-        transit_zenith_deg: limit - transit_v,
-        sunset,
-        daylight_s: daylight_s.clamp(0, end_s) as u32,
-    })
 }
+
+/// Where an [`EventSearch`] is.
+#[derive(Debug, Clone, Copy, PartialEq)]
+enum Stage<T> {
+    /// The first sample (window start).
+    Start,
+    /// The 10-minute samples; `i` is the next one.
+    Sample { i: i64 },
+    /// Bisecting a crossing that starts at `t0` (`a`, `b` seconds after it);
+    /// then the two ends are compared (`va` once the first is known). The
+    /// samples continue at `resume`.
+    Bisect {
+        t0: UtcTime,
+        rising: bool,
+        a: i64,
+        b: i64,
+        va: Option<T>,
+        resume: i64,
+    },
+    /// Golden-section search for the transit on `[a, b]` seconds with the
+    /// interior points `c`, `d` (their heights once known).
+    Golden {
+        a: f64,
+        b: f64,
+        c: f64,
+        d: f64,
+        fc: Option<T>,
+        fd: Option<T>,
+    },
+}
+
+/// [`find`] as a resumable search: [`EventSearch::step`] evaluates at most
+/// a given number of positions and returns, so that a main loop on a slow
+/// microcontroller (a position costs about 45,000 cycles on an ATmega) is
+/// never blocked for the whole search. Same samples, same order, same
+/// result as [`find`].
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct EventSearch<T> {
+    window_start: UtcTime,
+    stage: Stage<T>,
+    prev: T,
+    any_up: bool,
+    best_i: i64,
+    best_v: T,
+    sunrise: Option<UtcTime>,
+    sunset: Option<UtcTime>,
+}
+
+impl<T: Float> EventSearch<T> {
+    /// A search over the 24 h from `window_start`; nothing evaluated yet.
+    pub fn new(window_start: UtcTime) -> Self {
+        EventSearch {
+            window_start,
+            stage: Stage::Start,
+            prev: T::ZERO,
+            any_up: false,
+            best_i: 0,
+            best_v: T::ZERO,
+            sunrise: None,
+            sunset: None,
+        }
+    }
+
+    /// The start of the window searched.
+    pub fn window_start(&self) -> UtcTime {
+        self.window_start
+    }
+
+    /// Evaluates up to `budget` positions (at least one); `Ok(Some(_))`
+    /// when the search is complete, `Ok(None)` when it needs more calls.
+    /// After an error the search starts over on the next call.
+    pub fn step<F>(&mut self, sun: &mut F, budget: u32) -> Result<Option<Events<T>>, GeometryError>
+    where
+        F: FnMut(&UtcTime) -> Result<SunPosition<T>, crate::Error>,
+    {
+        let r = self.advance(sun, budget.max(1));
+        if r.is_err() {
+            *self = EventSearch::new(self.window_start);
+        }
+        r
+    }
+
+    fn advance<F>(&mut self, sun: &mut F, budget: u32) -> Result<Option<Events<T>>, GeometryError>
+    where
+        F: FnMut(&UtcTime) -> Result<SunPosition<T>, crate::Error>,
+    {
+        let limit = T::from_f64(90.0 + SUN_RADIUS_PLUS_HORIZON_REFRACTION_DEG);
+        // Height above the limit; positive when the sun is up.
+        let mut up = |t: &UtcTime| -> Result<T, GeometryError> {
+            let p = sun(t)?;
+            if !p.zenith_deg.is_finite() {
+                return Err(GeometryError::NotFinite);
+            }
+            Ok(limit - p.zenith_deg)
+        };
+        let w0 = self.window_start;
+        let at = |s: i64| w0.add_seconds(s);
+        for _ in 0..budget {
+            self.stage = match self.stage {
+                Stage::Start => {
+                    let v = up(&w0)?;
+                    self.prev = v;
+                    self.any_up = v > T::ZERO;
+                    self.best_i = 0;
+                    self.best_v = v;
+                    Stage::Sample { i: 1 }
+                }
+                Stage::Sample { i } if i < SAMPLES => {
+                    let v = up(&at(i * STEP_S)?)?;
+                    if v > self.best_v {
+                        self.best_v = v;
+                        self.best_i = i;
+                    }
+                    let prev = self.prev;
+                    let crossed_up = prev <= T::ZERO && v > T::ZERO;
+                    let crossed_down = prev > T::ZERO && v <= T::ZERO;
+                    self.any_up |= v > T::ZERO;
+                    self.prev = v;
+                    if (crossed_up && self.sunrise.is_none()) || crossed_down {
+                        Stage::Bisect {
+                            t0: at((i - 1) * STEP_S)?,
+                            rising: crossed_up,
+                            a: 0,
+                            b: STEP_S,
+                            va: None,
+                            resume: i + 1,
+                        }
+                    } else {
+                        Stage::Sample { i: i + 1 }
+                    }
+                }
+                Stage::Sample { .. } => {
+                    // Transit: golden-section search on the height over
+                    // ±1 step around the highest sample, to 1 s.
+                    let lo = (self.best_i - 1).max(0) * STEP_S;
+                    let hi = ((self.best_i + 1) * STEP_S).min(86_400);
+                    let (a, b) = (lo as f64, hi as f64);
+                    Stage::Golden {
+                        a,
+                        b,
+                        c: b - INV_PHI * (b - a),
+                        d: a + INV_PHI * (b - a),
+                        fc: None,
+                        fd: None,
+                    }
+                }
+                Stage::Bisect {
+                    t0,
+                    rising,
+                    a,
+                    b,
+                    va,
+                    resume,
+                } => {
+                    if b - a > 1 {
+                        let m = (a + b) / 2;
+                        let above = up(&t0.add_seconds(m)?)? > T::ZERO;
+                        let (a, b) = if above == rising { (a, m) } else { (m, b) };
+                        Stage::Bisect {
+                            t0,
+                            rising,
+                            a,
+                            b,
+                            va,
+                            resume,
+                        }
+                    } else if let Some(va) = va {
+                        // The nearer whole second to the crossing.
+                        let vb = up(&t0.add_seconds(b)?)?.abs();
+                        let t = t0.add_seconds(if va < vb { a } else { b })?;
+                        if rising {
+                            self.sunrise = Some(t);
+                        } else {
+                            self.sunset = Some(t);
+                        }
+                        Stage::Sample { i: resume }
+                    } else {
+                        Stage::Bisect {
+                            t0,
+                            rising,
+                            a,
+                            b,
+                            va: Some(up(&t0.add_seconds(a)?)?.abs()),
+                            resume,
+                        }
+                    }
+                }
+                Stage::Golden { a, b, c, d, fc, fd } => {
+                    let f = |up: &mut dyn FnMut(&UtcTime) -> Result<T, GeometryError>, s: f64| {
+                        up(&w0.add_seconds(libm::round(s) as i64)?)
+                    };
+                    match (fc, fd) {
+                        (None, _) => Stage::Golden {
+                            a,
+                            b,
+                            c,
+                            d,
+                            fc: Some(f(&mut up, c)?),
+                            fd,
+                        },
+                        (Some(fc), None) => Stage::Golden {
+                            a,
+                            b,
+                            c,
+                            d,
+                            fc: Some(fc),
+                            fd: Some(f(&mut up, d)?),
+                        },
+                        (Some(fc), Some(fd)) if b - a > 1.0 => {
+                            if fc >= fd {
+                                let (a, b, d, fd) = (a, d, c, fc);
+                                let c = b - INV_PHI * (b - a);
+                                Stage::Golden {
+                                    a,
+                                    b,
+                                    c,
+                                    d,
+                                    fc: Some(f(&mut up, c)?),
+                                    fd: Some(fd),
+                                }
+                            } else {
+                                let (a, b, c, fc) = (c, b, d, fd);
+                                let d = a + INV_PHI * (b - a);
+                                Stage::Golden {
+                                    a,
+                                    b,
+                                    c,
+                                    d,
+                                    fc: Some(fc),
+                                    fd: Some(f(&mut up, d)?),
+                                }
+                            }
+                        }
+                        (Some(_), Some(_)) => {
+                            let s = libm::round((a + b) / 2.0) as i64;
+                            let v = f(&mut up, s as f64)?;
+                            return Ok(Some(self.finish(s, v, limit)?));
+                        }
+                    }
+                }
+            };
+        }
+        Ok(None)
+    }
+
+    /// The events once the transit is at `transit_s` with height `transit_v`.
+    fn finish(&self, transit_s: i64, transit_v: T, limit: T) -> Result<Events<T>, GeometryError> {
+        let window_start = self.window_start;
+        let (sunrise, sunset) = (self.sunrise, self.sunset);
+        let transit = window_start.add_seconds(transit_s)?;
+        let kind = match (sunrise, sunset) {
+            (None, None) if self.any_up => DayKind::PolarDay,
+            (None, None) => DayKind::PolarNight,
+            _ => DayKind::Normal,
+        };
+        let end_s: i64 = 86_400;
+        let rise_s = sunrise.map(|t| t.unix_seconds() - window_start.unix_seconds());
+        let set_s = sunset.map(|t| t.unix_seconds() - window_start.unix_seconds());
+        let daylight_s = match kind {
+            DayKind::PolarDay => end_s,
+            DayKind::PolarNight => 0,
+            DayKind::Normal => match (rise_s, set_s) {
+                (Some(r), Some(s)) if s > r => s - r,
+                // Set then rose again (up at both ends of the window).
+                (Some(r), Some(s)) => s + (end_s - r),
+                (Some(r), None) => end_s - r,
+                (None, Some(s)) => s,
+                (None, None) => 0,
+            },
+        };
+        Ok(Events {
+            kind,
+            window_start,
+            sunrise,
+            transit,
+            transit_zenith_deg: limit - transit_v,
+            sunset,
+            daylight_s: daylight_s.clamp(0, end_s) as u32,
+        })
+    }
+}
+
+/// 1/φ, the golden-section ratio.
+const INV_PHI: f64 = 0.618_033_988_749_895;
 
 /// Precise events of the local solar day of date `(y, m, d)` at `site` with
 /// `algorithm`. Positions are geometric (any atmosphere in `options` is
@@ -309,65 +531,6 @@ fn at_hours<T: Float>(day: &UtcTime, hours: T) -> Result<UtcTime, GeometryError>
     )?)
 }
 
-/// Bisects a crossing inside `[t0, t0 + STEP_S]` to 1 s. `rising`: the
-/// height goes from ≤ 0 to > 0.
-fn bisect<T: Float>(
-    up: &mut impl FnMut(&UtcTime) -> Result<T, GeometryError>,
-    t0: &UtcTime,
-    rising: bool,
-) -> Result<UtcTime, GeometryError> {
-    let (mut a, mut b) = (0i64, STEP_S);
-    while b - a > 1 {
-        let m = (a + b) / 2;
-        let above = up(&t0.add_seconds(m)?)? > T::ZERO;
-        if above == rising {
-            b = m;
-        } else {
-            a = m;
-        }
-    }
-    // The nearer whole second to the crossing.
-    let va = up(&t0.add_seconds(a)?)?.abs();
-    let vb = up(&t0.add_seconds(b)?)?.abs();
-    Ok(t0.add_seconds(if va < vb { a } else { b })?)
-}
-
-/// Golden-section search for the maximum of `up` on `[lo, hi]` seconds
-/// after `t0`, to 1 s; returns the second and the value there.
-fn golden_max<T: Float>(
-    up: &mut impl FnMut(&UtcTime) -> Result<T, GeometryError>,
-    t0: &UtcTime,
-    lo: i64,
-    hi: i64,
-) -> Result<(i64, T), GeometryError> {
-    const INV_PHI: f64 = 0.618_033_988_749_895;
-    let (mut a, mut b) = (lo as f64, hi as f64);
-    let mut f =
-        |s: f64| -> Result<T, GeometryError> { up(&t0.add_seconds(libm::round(s) as i64)?) };
-    let mut c = b - INV_PHI * (b - a);
-    let mut d = a + INV_PHI * (b - a);
-    let mut fc = f(c)?;
-    let mut fd = f(d)?;
-    while b - a > 1.0 {
-        if fc >= fd {
-            b = d;
-            d = c;
-            fd = fc;
-            c = b - INV_PHI * (b - a);
-            fc = f(c)?;
-        } else {
-            a = c;
-            c = d;
-            fc = fd;
-            d = a + INV_PHI * (b - a);
-            fd = f(d)?;
-        }
-    }
-    let s = libm::round((a + b) / 2.0) as i64;
-    let v = f(s as f64)?;
-    Ok((s, v))
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -391,5 +554,82 @@ mod tests {
         assert_eq!(s.kind, DayKind::PolarNight);
         assert_eq!((s.sunrise_solar_h, s.sunset_solar_h), (12.0, 12.0));
         assert_eq!(s.daylight_h, 0.0);
+    }
+
+    /// Kano (seed jimoh-2019's site), Tromsø in polar day and in polar
+    /// night, and 66° N in June (the sun grazes the horizon).
+    fn days() -> [(f64, f64, (i32, u8, u8)); 4] {
+        [
+            (11.9683, 8.4261, (2026, 3, 20)),
+            (69.6492, 18.9553, (2026, 6, 21)),
+            (69.6492, 18.9553, (2026, 12, 21)),
+            (66.0, -20.0, (2026, 6, 10)),
+        ]
+    }
+
+    #[test]
+    fn search_in_small_steps_equals_find() {
+        for (lat, lon, ymd) in days() {
+            for algorithm in [Algorithm::Psa2020, Algorithm::Spa] {
+                let site = Site::new(lat, lon).unwrap();
+                let opts = Options::default();
+                let whole = for_algorithm(algorithm, ymd, &site, &opts).unwrap();
+                let start = solar_day_start(ymd.0, ymd.1, ymd.2, lon).unwrap();
+                for budget in [1u32, 7] {
+                    let mut calls = 0u32;
+                    let mut sun = |t: &UtcTime| {
+                        calls += 1;
+                        algorithm.position(t, &site, &opts)
+                    };
+                    let mut search = EventSearch::new(start);
+                    let mut steps = 0u32;
+                    let got = loop {
+                        steps += 1;
+                        if let Some(e) = search.step(&mut sun, budget).unwrap() {
+                            break e;
+                        }
+                    };
+                    assert_eq!(got, whole, "{lat} {lon} {ymd:?} budget {budget}");
+                    // Never more than the budget per call, and no call
+                    // wasted (one stage change evaluates nothing).
+                    assert!(calls <= steps * budget, "{calls} in {steps}");
+                    assert!(steps <= calls.div_ceil(budget) + 1, "{calls} in {steps}");
+                    // About 190 positions in all (module documentation).
+                    assert!((150..=220).contains(&calls), "{calls} positions");
+                }
+            }
+        }
+    }
+
+    #[test]
+    fn search_starts_over_after_an_error() {
+        let (lat, lon, ymd) = days()[0];
+        let site = Site::new(lat, lon).unwrap();
+        let opts = Options::default();
+        let whole = for_algorithm(Algorithm::Psa2020, ymd, &site, &opts).unwrap();
+        let start = solar_day_start(ymd.0, ymd.1, ymd.2, lon).unwrap();
+        let mut calls = 0u32;
+        // The 50th position fails once.
+        let mut sun = |t: &UtcTime| {
+            calls += 1;
+            if calls == 50 {
+                Err(crate::Error::InvalidDate)
+            } else {
+                Algorithm::Psa2020.position(t, &site, &opts)
+            }
+        };
+        let mut search = EventSearch::new(start);
+        let mut failed = 0;
+        let got = loop {
+            match search.step(&mut sun, 10) {
+                Ok(Some(e)) => break e,
+                Ok(None) => {}
+                Err(e) => {
+                    assert_eq!(e, GeometryError::Position(crate::Error::InvalidDate));
+                    failed += 1;
+                }
+            }
+        };
+        assert_eq!((got, failed), (whole, 1));
     }
 }
