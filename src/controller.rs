@@ -55,6 +55,13 @@ pub struct ControllerOptions<T> {
     pub homing_chunk_deg: f32,
     /// Ticks between probes of an axis stopped by a stall.
     pub probe_every_ticks: u32,
+    /// Sun positions computed per tick while the day is planned (0: the
+    /// whole plan in one tick); see `Scheduler::set_plan_budget`.
+    pub plan_positions_per_tick: u16,
+    /// Read the attitude sensors at most this often, monotonic ms (0: every
+    /// tick). A fixed mount does not move between reads; a slow 8-bit board
+    /// saves the bus transfers and the trigonometry of every tick.
+    pub attitude_every_ms: u32,
 }
 
 impl<T: Float> Default for ControllerOptions<T> {
@@ -68,6 +75,8 @@ impl<T: Float> Default for ControllerOptions<T> {
             attitude_smoothing: 0.2,
             homing_chunk_deg: 1.0,
             probe_every_ticks: 10,
+            plan_positions_per_tick: 0,
+            attitude_every_ms: 0,
         }
     }
 }
@@ -159,6 +168,8 @@ pub struct Controller<T, P, D, S, const N: usize> {
     smoothed: Option<[T; 4]>,
     /// Per axis: encoder angle before the last command, and its size.
     last_drive: [Option<(f32, f32)>; 2],
+    /// When the attitude sensors were last read (monotonic ms).
+    last_attitude_ms: Option<u64>,
     /// Pose chosen to wait for a sunrise (before the first day).
     night_pose: Option<(UtcTime, Pose<T>)>,
     /// First entry time of the table seen by the re-homing check.
@@ -184,15 +195,36 @@ where
         axes: [D; 2],
         sensors: Option<S>,
     ) -> Result<Self, ControllerError> {
+        Self::check(&config)?;
+        Ok(Self::new_checked(config, options, source, axes, sensors))
+    }
+
+    /// Whether [`Controller::new`] accepts `config`.
+    pub fn check(config: &Config) -> Result<(), ControllerError> {
         config.validate().map_err(ControllerError::Config)?;
-        let scheduler =
-            Scheduler::new(config.schedule, source).map_err(ControllerError::Schedule)?;
+        Scheduler::<T, P, N>::check(&config.schedule).map_err(ControllerError::Schedule)
+    }
+
+    /// [`Controller::new`] for a configuration [`Controller::check`]
+    /// accepted. Infallible and not inlined, so that the controller (its day
+    /// table is most of an 8-bit board's RAM) is built once, in the place
+    /// the caller gives it, not in a temporary first.
+    #[inline(never)]
+    pub fn new_checked(
+        config: Config,
+        options: ControllerOptions<T>,
+        source: P,
+        axes: [D; 2],
+        sensors: Option<S>,
+    ) -> Self {
+        let mut scheduler = Scheduler::new_checked(config.schedule, source);
+        scheduler.set_plan_budget(options.plan_positions_per_tick);
         let [dc, da] = axes;
         let attitude = match options.attitude {
             AttitudeSource::Fixed(m) => m,
             AttitudeSource::Sensors => MountAttitude::level(),
         };
-        Ok(Controller {
+        Controller {
             config,
             options,
             scheduler,
@@ -218,10 +250,11 @@ where
             day_start_pose: None,
             smoothed: None,
             last_drive: [None; 2],
+            last_attitude_ms: None,
             night_pose: None,
             rehome_day: None,
             rehomed_tonight: false,
-        })
+        }
     }
 
     /// The faults.
@@ -413,8 +446,12 @@ where
             self.rehome_day = table_day;
             self.rehomed_tonight = false;
         }
-        // 4. Attitude.
-        if self.options.attitude == AttitudeSource::Sensors {
+        // 4. Attitude (at the configured cadence; the first tick always).
+        let attitude_due = self
+            .last_attitude_ms
+            .is_none_or(|t| now_ms.saturating_sub(t) >= u64::from(self.options.attitude_every_ms));
+        if self.options.attitude == AttitudeSource::Sensors && attitude_due {
+            self.last_attitude_ms = Some(now_ms);
             self.update_attitude(now_ms);
         }
         // 5. Homing (never during a safe stop: nothing moves then).

@@ -28,7 +28,7 @@
 
 use crate::traits::PositionSource;
 use sun_algos::geometry::day_table::DayTable;
-use sun_algos::geometry::events::{self, DayKind, Events};
+use sun_algos::geometry::events::{self, DayKind, EventSearch, Events};
 use sun_algos::geometry::{GeometryError, Limits};
 use sun_algos::refraction::SUN_RADIUS_PLUS_HORIZON_REFRACTION_DEG;
 use sun_algos::{Error as SunError, Float, SunPosition, UtcTime};
@@ -202,6 +202,13 @@ pub fn find_daylight<T: Float, P: PositionSource<T>>(
             ..p
         })
     })?;
+    Ok((solar_day_of(&ev)?, ev))
+}
+
+/// The solar day whose events (found with the zenith shifted as
+/// [`find_daylight`] does) are `ev`.
+fn solar_day_of<T: Float>(ev: &Events<T>) -> Result<SolarDay, ScheduleError> {
+    let start = ev.window_start;
     let end = start
         .add_seconds(86_400)
         .map_err(|_| ScheduleError::TimeRange)?;
@@ -218,7 +225,7 @@ pub fn find_daylight<T: Float, P: PositionSource<T>>(
             set: end,
         },
     };
-    Ok((SolarDay { start, daylight }, ev))
+    Ok(SolarDay { start, daylight })
 }
 
 /// One row of the day table.
@@ -314,6 +321,9 @@ pub enum Phase {
         /// End of the delay.
         until: UtcTime,
     },
+    /// Planning the day a few positions per tick (seed steps 2–8 spread
+    /// over ticks: see [`Scheduler::set_plan_budget`]).
+    Planning,
     /// Planning failed; retried at `retry_at`.
     Failed {
         /// Next attempt.
@@ -365,6 +375,19 @@ pub struct Scheduler<T, P, const N: usize> {
     last_now: Option<UtcTime>,
     last_applied: Option<usize>,
     home: SetPoint<T>,
+    /// Positions computed per tick while planning; 0: all in one tick.
+    plan_budget: u16,
+    /// The plan in progress.
+    planner: Option<Planner<T>>,
+}
+
+/// A day being planned over several ticks.
+#[derive(Debug, Clone, Copy, PartialEq)]
+enum Planner<T> {
+    /// Finding sunrise and sunset (seed steps 2–4).
+    Daylight(EventSearch<T>),
+    /// Filling the table of this day (seed steps 7–8).
+    Table(SolarDay),
 }
 
 impl<T: Float, P: PositionSource<T>, const N: usize> Scheduler<T, P, N> {
@@ -377,7 +400,13 @@ impl<T: Float, P: PositionSource<T>, const N: usize> Scheduler<T, P, N> {
     /// fit gives [`Action::Error`] with `CapacityExceeded`, never a truncated
     /// table.
     pub fn new(config: ScheduleConfig, source: P) -> Result<Self, ScheduleError> {
-        let c = &config;
+        Self::check(&config)?;
+        Ok(Self::new_checked(config, source))
+    }
+
+    /// Whether [`Scheduler::new`] accepts `config` for this capacity.
+    pub fn check(config: &ScheduleConfig) -> Result<(), ScheduleError> {
+        let c = config;
         if c.table_step_s == 0
             || c.recheck_s == 0
             || !c.table_step_s.is_multiple_of(60)
@@ -387,18 +416,27 @@ impl<T: Float, P: PositionSource<T>, const N: usize> Scheduler<T, P, N> {
         {
             return Err(ScheduleError::InvalidConfig);
         }
-        Ok(Scheduler {
+        Ok(())
+    }
+
+    /// [`Scheduler::new`] for a configuration [`Scheduler::check`] accepted.
+    /// Infallible, so that a caller can build it straight into its place
+    /// (an 8-bit board cannot hold a second copy of the day table).
+    pub(crate) fn new_checked(config: ScheduleConfig, source: P) -> Self {
+        Scheduler {
             config,
             source,
             phase: Phase::PowerOn,
             day: None,
-            table: DayTable::empty(UtcTime::from_days_ms(0, 0)?),
+            table: DayTable::empty(UtcTime::MIDNIGHT_2000),
             has_table: false,
             _float: core::marker::PhantomData,
             last_now: None,
             last_applied: None,
             home: SetPoint::default(),
-        })
+            plan_budget: 0,
+            planner: None,
+        }
     }
 
     /// The current phase.
@@ -432,9 +470,20 @@ impl<T: Float, P: PositionSource<T>, const N: usize> Scheduler<T, P, N> {
     /// moved it). Before the first tick nothing changes: the power-on
     /// step plans with the new site anyway.
     pub fn replan(&mut self) {
+        self.planner = None;
         if self.phase != Phase::PowerOn {
             self.phase = Phase::ReadDate;
         }
+    }
+    /// Spreads planning over ticks: at most `positions` sun positions per
+    /// tick (0, the default: the whole plan in one tick). A plan takes
+    /// about 190 positions for sunrise and sunset and one per table entry
+    /// (some 180 at 4 minutes); at 45,000 cycles a position (psa-2020 in f32
+    /// on a 16 MHz ATmega) it would hold one tick for about a second, during
+    /// which the loop serves neither motors nor serial ports. While
+    /// planning, nothing is tracked ([`Phase::Planning`]).
+    pub fn set_plan_budget(&mut self, positions: u16) {
+        self.plan_budget = positions;
     }
     /// The table entry applied last in this day's tracking, if any.
     pub fn applied(&self) -> Option<TableEntry<T>> {
@@ -476,7 +525,7 @@ impl<T: Float, P: PositionSource<T>, const N: usize> Scheduler<T, P, N> {
                 self.phase = Phase::ReadDate;
                 Ok(Action::SetPoints(SetPoint::default()))
             }
-            Phase::ReadDate => self.plan(now),
+            Phase::ReadDate | Phase::Planning => self.plan(now),
             Phase::WaitSunrise { until } | Phase::WaitNextDay { until } => {
                 if now < until {
                     Ok(Action::Idle)
@@ -505,43 +554,95 @@ impl<T: Float, P: PositionSource<T>, const N: usize> Scheduler<T, P, N> {
         }
     }
 
-    /// Steps 2–8: read the date, find daylight, wait or build the table.
+    /// Steps 2–8: read the date, find daylight, wait or build the table;
+    /// in steps of the plan budget, resumed at the next tick.
     fn plan(&mut self, now: UtcTime) -> Result<Action<T>, ScheduleError> {
         let lon = self.source.site().longitude_deg();
         let start = solar_day_start(&now, lon)?;
-        let (day, ev) = find_daylight(start, &mut self.source)?;
-        self.day = Some(day);
-        self.last_applied = None;
-        let span = day.span()?;
-        match span {
-            Some((from, to)) if now >= from && now < to => {
-                // Steps 7–8: compute and store the table for the whole daylight
-                // (set-points facing the sun: no slope or azimuth limits, the
-                // axes' own limits are applied by the attitude step).
-                let interval_min = (self.config.table_step_s / 60) as u16;
-                let src = &mut self.source;
-                self.has_table = false;
-                self.table
-                    .recompute(&ev, interval_min, &Limits::unconstrained(), |t| {
-                        src.position(t)
-                    })?;
-                self.has_table = true;
-                if let Some(first) = self.entry(0) {
-                    self.home = first.set_point;
+        // A plan for another solar day (midnight passed while planning) is
+        // dropped.
+        let mut planner = match self.planner.take() {
+            Some(Planner::Daylight(s)) if s.window_start() == start => Planner::Daylight(s),
+            Some(Planner::Table(day)) if day.start == start => Planner::Table(day),
+            _ => Planner::Daylight(EventSearch::new(start)),
+        };
+        let mut budget = match self.plan_budget {
+            0 => u32::MAX,
+            b => u32::from(b),
+        };
+        loop {
+            match planner {
+                Planner::Daylight(mut search) => {
+                    // Seed jimoh-2019 eq. 9: sunrise is where the zenith
+                    // angle is 90° (see find_daylight).
+                    let shift = T::from_f64(SUN_RADIUS_PLUS_HORIZON_REFRACTION_DEG);
+                    let src = &mut self.source;
+                    let mut used = 0u32;
+                    let mut sun = |t: &UtcTime| {
+                        used = used.saturating_add(1);
+                        src.position(t).map(|p| SunPosition {
+                            zenith_deg: p.zenith_deg + shift,
+                            ..p
+                        })
+                    };
+                    let found = search.step(&mut sun, budget)?;
+                    budget = budget.saturating_sub(used);
+                    let Some(ev) = found else {
+                        self.planner = Some(Planner::Daylight(search));
+                        self.phase = Phase::Planning;
+                        return Ok(Action::Idle);
+                    };
+                    let day = solar_day_of(&ev)?;
+                    self.day = Some(day);
+                    self.last_applied = None;
+                    match day.span()? {
+                        Some((from, to)) if now >= from && now < to => {
+                            // Steps 7–8: the table for the whole daylight
+                            // (set-points facing the sun: no slope or
+                            // azimuth limits, the axes' own limits are
+                            // applied by the attitude step).
+                            let interval_min = (self.config.table_step_s / 60) as u16;
+                            self.has_table = false;
+                            self.table.begin(&ev, interval_min)?;
+                            planner = Planner::Table(day);
+                        }
+                        Some((from, _)) if now < from => {
+                            // Steps 5–6: td_os = sunrise − now.
+                            self.phase = Phase::WaitSunrise { until: from };
+                            return Ok(Action::Sleep { until: from });
+                        }
+                        _ => {
+                            // After sunset, or polar night: wait for the
+                            // next solar day.
+                            let until = day.end()?;
+                            self.phase = Phase::WaitSunrise { until };
+                            return Ok(Action::Sleep { until });
+                        }
+                    }
                 }
-                self.phase = Phase::Tracking { next_check: now };
-                self.track(now)
-            }
-            Some((from, _)) if now < from => {
-                // Steps 5–6: td_os = sunrise − now.
-                self.phase = Phase::WaitSunrise { until: from };
-                Ok(Action::Sleep { until: from })
-            }
-            _ => {
-                // After sunset, or polar night: wait for the next solar day.
-                let until = day.end()?;
-                self.phase = Phase::WaitSunrise { until };
-                Ok(Action::Sleep { until })
+                Planner::Table(day) => {
+                    let src = &mut self.source;
+                    let mut sun = |t: &UtcTime| src.position(t);
+                    let done = budget > 0
+                        && self.table.fill(
+                            &Limits::unconstrained(),
+                            &mut sun,
+                            usize::try_from(budget).unwrap_or(usize::MAX),
+                        )?;
+                    if !done {
+                        self.planner = Some(Planner::Table(day));
+                        self.phase = Phase::Planning;
+                        return Ok(Action::Idle);
+                    }
+                    self.has_table = true;
+                    if let Some(first) = self.entry(0) {
+                        self.home = first.set_point;
+                    }
+                    // (Daylight may have ended while the table was filled:
+                    // tracking begins with that check.)
+                    self.phase = Phase::Tracking { next_check: now };
+                    return self.track(now);
+                }
             }
         }
     }

@@ -354,3 +354,80 @@ fn a_day_longer_than_the_table_is_an_error_not_a_truncation() {
         Action::SetPoints(_)
     ));
 }
+
+/// Planning spread over ticks (a slow board's budget) computes the same day
+/// as planning in one tick, never more positions per tick than the budget,
+/// and tracks from the first tick after the plan completes.
+#[test]
+fn planning_in_small_steps_gives_the_same_day() {
+    struct Counting {
+        sun: Textbook,
+        calls: u32,
+    }
+    impl PositionSource<f64> for Counting {
+        fn site(&self) -> Site<f64> {
+            self.sun.site()
+        }
+        fn position(&mut self, t: &UtcTime) -> Result<SunPosition<f64>, Error> {
+            self.calls += 1;
+            self.sun.position(t)
+        }
+    }
+    // Noon at Kano on the seed's example day: the whole table is needed.
+    let noon = t("2018-10-19T11:30:00Z");
+    let mut whole = Sched::new(ScheduleConfig::default(), KANO).unwrap();
+    whole.tick(noon);
+    let first_set_point = |s: &mut Sched| {
+        (1..600).find_map(|k| match s.tick(noon.add_seconds(k).unwrap()).action {
+            Action::SetPoints(sp) => Some((k, sp)),
+            _ => None,
+        })
+    };
+    // The one-tick planner plans at +1 s and re-checks every 30 s (seed
+    // step 12): the 11:32 entry is found at 11:32:01.
+    let (k_whole, expected) = first_set_point(&mut whole).unwrap();
+    assert_eq!(k_whole, 121);
+    let budget = 4;
+    let mut s = Scheduler::<f64, Counting, 1441>::new(
+        ScheduleConfig::default(),
+        Counting {
+            sun: KANO,
+            calls: 0,
+        },
+    )
+    .unwrap();
+    s.set_plan_budget(budget);
+    s.tick(noon);
+    let mut ticks = 0;
+    let mut planned_at = None;
+    let got = loop {
+        ticks += 1;
+        let before = s.source_mut().calls;
+        let o = s.tick(noon.add_seconds(ticks).unwrap());
+        assert!(s.source_mut().calls - before <= u32::from(budget));
+        match (o.action, s.phase()) {
+            (Action::Idle, Phase::Planning) => {
+                assert!(s.table().is_empty(), "a table shown before it is complete");
+            }
+            (Action::Idle, Phase::Tracking { .. }) => {
+                planned_at.get_or_insert(ticks);
+            }
+            (Action::SetPoints(sp), _) => break sp,
+            other => panic!("{other:?} while planning"),
+        }
+    };
+    let planned_at = planned_at.unwrap();
+    // ~190 positions for the events and one per 4-minute entry.
+    let total = s.source_mut().calls;
+    assert!((300..=450).contains(&total), "{total} positions");
+    assert!(planned_at as u32 >= total / u32::from(budget));
+    assert!(planned_at < 115, "planned at +{planned_at} s");
+    // Planned within the two minutes before the 11:32 entry: the same
+    // first set-point at the same tick.
+    assert_eq!((ticks, got), (k_whole, expected));
+    assert_eq!(s.table().len(), whole.table().len());
+    for i in 0..whole.table().len() {
+        assert_eq!(s.table().get(i), whole.table().get(i));
+    }
+    assert_eq!(s.day(), whole.day());
+}
