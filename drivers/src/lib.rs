@@ -3,6 +3,7 @@
 
 pub mod compass;
 pub mod encoder;
+mod fmath;
 pub mod gps;
 pub mod rtc;
 pub mod servo;

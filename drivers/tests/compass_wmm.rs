@@ -94,6 +94,33 @@ fn wmm2025_matches_noaa_test_values() {
     );
 }
 
+/// The same synthesis in `f32` (what an 8-bit board runs): NOAA's published
+/// values within their rounding plus the `f32` error, which stays under
+/// 0.5 nT and 0.01° of declination on all twelve points (the 80° rows, with
+/// the weakest horizontal field, are the hardest).
+#[test]
+fn wmm2025_in_f32_matches_noaa_test_values() {
+    let model = WmmModel::wmm2025();
+    let mut worst_d = 0.0f64;
+    let mut worst_nt = 0.0f64;
+    for (i, &(t, h, lat, lon, x, y, z, _inc, dec)) in WMM2025_TABLE.iter().enumerate() {
+        let e = model
+            .field(lat as f32, lon as f32, h as f32, t as f32)
+            .unwrap();
+        for (got, want) in [(e.north_nt, x), (e.east_nt, y), (e.down_nt, z)] {
+            let err = (f64::from(got) - want).abs();
+            worst_nt = worst_nt.max(err);
+            assert!(err <= 0.5, "row {i}: {got} nT vs {want}");
+        }
+        let err = (f64::from(e.declination_deg) - dec).abs();
+        worst_d = worst_d.max(err);
+        assert!(err <= 0.01, "row {i}: D {} vs {dec}", e.declination_deg);
+    }
+    println!(
+        "WMM2025 in f32: worst component error {worst_nt:.3} nT, |D - official| {worst_d:.5} deg"
+    );
+}
+
 fn parse_cof(text: &str) -> (f64, Vec<WmmCoefficient>) {
     let mut lines = text.lines();
     let epoch: f64 = lines

@@ -110,8 +110,14 @@ fn max_limit_switch_stops_motion() {
     // Active-low switch: step 1 reads high (free), step 2 reads low (pressed):
     // no second step, coils released, position stays 1. Backward then works
     // (min switch absent) and reads no switch.
-    // Phase 1 (A+B+); limit -> release; phase 0 (A+); arrival -> release.
-    let p = pins(&[H, L, H, L], &[L, L, L, L], &[H, L, L, L], &[L, L, L, L]);
+    // Phase 1 (A+B+); limit -> release; hold phase 1 again, then phase 0
+    // (A+); arrival -> release.
+    let p = pins(
+        &[H, L, H, H, L],
+        &[L, L, L, L, L],
+        &[H, L, H, L, L],
+        &[L, L, L, L, L],
+    );
     let limits = LimitSwitches {
         min: None,
         max: Some(Pin::new(&[T::get(H), T::get(L)])),
@@ -126,6 +132,32 @@ fn max_limit_switch_stops_motion() {
     m.move_by(-1);
     assert_eq!(m.poll(2_000_000).unwrap(), Event::Arrived);
     assert_eq!(m.position(), 0);
+    done(m);
+}
+
+#[test]
+fn a_released_rotor_is_held_before_the_next_step() {
+    // Full step: forward one step to phase 3 (A−B+), released on arrival.
+    // Then backward one step: the coils are energised at phase 3 again
+    // (IN2, IN3 high: passing A− alone, phase 4, beside the rotor) before
+    // phase 1 (A+B+: IN2 low, then IN1 high, passing B+ alone, phase 2).
+    // Energising phase 1 straight from all-low would pass A+ alone
+    // (phase 0), three half-phases from a rotor at 3.
+    // Per pin: step to 3, release, hold 3, step to 1, release (every
+    // phase write sets all four pins, lows first).
+    let p = pins(
+        &[L, L, L, H, L],
+        &[H, L, H, L, L],
+        &[H, L, H, H, L],
+        &[L, L, L, L, L],
+    );
+    let mut m = HBridgeStepper::new(p, LimitSwitches::none(), config(StepMode::Full)).unwrap();
+    m.move_to(1);
+    assert_eq!(m.poll(0).unwrap(), Event::Arrived);
+    assert_eq!((m.phase(), m.is_energised()), (3, false));
+    m.move_to(0);
+    assert_eq!(m.poll(1_000_000).unwrap(), Event::Arrived);
+    assert_eq!((m.position(), m.phase(), m.is_energised()), (0, 1, false));
     done(m);
 }
 

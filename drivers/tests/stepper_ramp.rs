@@ -2,7 +2,7 @@
 //! count, against the kinematics of uniform acceleration computed here in f64.
 
 use drivers::stepper::planner::{Due, Planner};
-use drivers::stepper::ramp::{isqrt, Ramp, RampError};
+use drivers::stepper::ramp::{isqrt, isqrt32, Ramp, RampError};
 use drivers::stepper::Direction;
 
 const RAMP: Ramp = Ramp {
@@ -167,4 +167,51 @@ fn bad_ramps() {
         ..RAMP
     };
     assert_eq!(Planner::new(f).err(), Some(RampError::TooFast));
+}
+
+/// The 32-bit root and the 32-bit fast path of `speed_sps` agree with the
+/// 64-bit definition: every root up to 2²⁰ and around every perfect square
+/// to 65,535², and the speeds of ramps whose v² fits in 32 bits or not.
+#[test]
+fn the_32_bit_path_equals_the_64_bit_definition() {
+    for n in 0u32..(1 << 20) {
+        assert_eq!(u64::from(isqrt32(n)), isqrt(u64::from(n)), "{n}");
+    }
+    for r in (1u32..=65_535).step_by(7) {
+        for n in [r * r - 1, r * r, r * r + 1] {
+            assert_eq!(u64::from(isqrt32(n)), isqrt(u64::from(n)), "{n}");
+        }
+    }
+    assert_eq!(isqrt32(u32::MAX), 65_535);
+    let ramps = [
+        Ramp {
+            start_speed_sps: 20,
+            max_speed_sps: 56,
+            accel_sps2: 100,
+        },
+        Ramp {
+            start_speed_sps: 100,
+            max_speed_sps: 1_000,
+            accel_sps2: 10_000,
+        },
+        Ramp {
+            start_speed_sps: 1_000,
+            max_speed_sps: 60_000,
+            accel_sps2: 50_000,
+        },
+        // v0² alone overflows 32 bits: the 64-bit path.
+        Ramp {
+            start_speed_sps: 70_000,
+            max_speed_sps: 1_000_000,
+            accel_sps2: 1_000_000,
+        },
+    ];
+    for r in ramps {
+        for level in (0u32..5_000).chain([u32::MAX / 4, u32::MAX]) {
+            let v0 = u64::from(r.start_speed_sps);
+            let v2 = v0 * v0 + 2 * u64::from(r.accel_sps2) * u64::from(level);
+            let want = isqrt(v2).min(u64::from(r.max_speed_sps)).max(1);
+            assert_eq!(u64::from(r.speed_sps(level)), want, "{r:?} level {level}");
+        }
+    }
 }

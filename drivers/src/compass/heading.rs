@@ -30,6 +30,7 @@
 //! `180° − γ₀` ([`true_heading_deg`]), the input of `MountAttitude::from_sensors`.
 
 use super::Vector3;
+use crate::fmath;
 
 /// Why no heading could be computed.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -53,8 +54,8 @@ impl core::error::Error for HeadingError {}
 
 /// The field with the tilt removed, seed Expression (8): `R_X(α₀)·R_Y(β₀)·h`.
 pub fn detilt(field: Vector3, alpha0_rad: f32, beta0_rad: f32) -> Vector3 {
-    let (sa, ca) = libm::sincosf(alpha0_rad);
-    let (sb, cb) = libm::sincosf(beta0_rad);
+    let (sa, ca) = fmath::sin_cos(alpha0_rad);
+    let (sb, cb) = fmath::sin_cos(beta0_rad);
     Vector3 {
         x: cb * field.x + sb * field.z,
         y: sa * sb * field.x + ca * field.y - sa * cb * field.z,
@@ -73,12 +74,12 @@ pub fn magnetic_rotation_deg(
         return Err(HeadingError::NonFinite);
     }
     let h = detilt(field, alpha0_rad, beta0_rad);
-    let horizontal = libm::hypotf(h.x, h.y);
-    let total = libm::sqrtf(field.x * field.x + field.y * field.y + field.z * field.z);
+    let horizontal = fmath::hypot(h.x, h.y);
+    let total = fmath::sqrt(field.x * field.x + field.y * field.y + field.z * field.z);
     if horizontal == 0.0 || horizontal <= 1e-6 * total {
         return Err(HeadingError::NoHorizontalField);
     }
-    Ok(libm::atan2f(-h.x, -h.y).to_degrees())
+    Ok(fmath::atan2(-h.x, -h.y).to_degrees())
 }
 
 /// γ₀, the mount's rotation about Z from the true-north frame, degrees in
@@ -119,7 +120,7 @@ pub fn true_heading_deg(
 
 /// Wraps an angle into 0..360 degrees.
 pub fn wrap360_deg(angle_deg: f32) -> f32 {
-    let w = angle_deg - 360.0 * libm::floorf(angle_deg / 360.0);
+    let w = angle_deg - 360.0 * fmath::floor(angle_deg / 360.0);
     if w >= 360.0 {
         0.0
     } else {

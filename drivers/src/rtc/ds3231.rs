@@ -124,6 +124,14 @@ fn decode_hours(h: u8) -> Option<u8> {
 }
 
 /// Registers 00h..=06h to a date-time; `None` for impossible contents.
+// Not inlined (nor `encode`): a small leaf function keeps its BCD
+// arithmetic out of a caller's large stack frame. In a frame over 63 bytes
+// LLVM's AVR backend reaches stack slots through a `Y` adjustment bracketed
+// by `in r0, SREG` … `out SREG, r0`, and it has been seen to let that
+// bracket fall between a `mul` (result in r0:r1) and the read of r0,
+// which then reads SREG instead of the product. `.ci/avr_codegen_check.py`
+// rejects any image with that pattern.
+#[inline(never)]
 fn decode(regs: [u8; 7]) -> Option<DateTime> {
     // The day of week (03h) is redundant with the date; not checked.
     let [sec, min, hour, _weekday, date, month, year] = regs;
@@ -141,7 +149,8 @@ fn decode(regs: [u8; 7]) -> Option<DateTime> {
 }
 
 /// A date-time to registers 00h..=06h (24-hour mode); `None` outside
-/// 2000..=2199.
+/// 2000..=2199. Not inlined: see `decode`.
+#[inline(never)]
 fn encode(t: &DateTime) -> Option<[u8; 7]> {
     if !(FIRST_YEAR..=LAST_YEAR).contains(&t.year()) {
         return None;

@@ -104,6 +104,9 @@ pub struct HBridgeStepper<P, L> {
     config: Config,
     phase: u8,
     energised: bool,
+    /// The coils have been energised at `phase` since power-on: the rotor
+    /// rests there (before that its phase is unknown).
+    rotor_at_phase: bool,
     release_at_us: Option<u64>,
 }
 
@@ -127,6 +130,7 @@ where
             config,
             phase: config.mode.first_phase(),
             energised: false,
+            rotor_at_phase: false,
             release_at_us: None,
         })
     }
@@ -201,6 +205,14 @@ where
                     self.release()?;
                     return Ok(Event::LimitReached(limit));
                 }
+                if !self.energised && self.rotor_at_phase {
+                    // Released after a move: the rotor rests at `phase`.
+                    // Hold it there first, then step. Energising the next
+                    // phase straight from all-low passes through that
+                    // phase's first coil alone, which (depending on the
+                    // direction) can lie three half-phases from the rotor.
+                    self.write_phase()?;
+                }
                 let inc = self.config.mode.phase_increment();
                 self.phase = match dir {
                     Direction::Forward => (self.phase + inc) % 8,
@@ -262,6 +274,7 @@ where
             }
         }
         self.energised = true;
+        self.rotor_at_phase = true;
         Ok(())
     }
 }

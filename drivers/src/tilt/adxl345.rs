@@ -8,6 +8,7 @@
 //! DATAX0..DATAZ1 (0x32..0x37) little-endian two's complement, read in one
 //! multi-byte transfer; full resolution scale 3.9 mg/LSB (256 LSB/g typical).
 
+use crate::fmath;
 use embedded_hal::i2c::I2c;
 
 use super::Inclination;
@@ -69,12 +70,12 @@ pub struct Acceleration {
 /// roll = atan2(y, z), pitch = atan2(-x, sqrt(y² + z²)).
 /// `None` when |a| < 0.1 g (free fall: no direction to measure).
 pub fn inclination_from_gravity(a: &Acceleration) -> Option<Inclination> {
-    let norm = libm::sqrtf(a.x_g * a.x_g + a.y_g * a.y_g + a.z_g * a.z_g);
+    let norm = fmath::sqrt(a.x_g * a.x_g + a.y_g * a.y_g + a.z_g * a.z_g);
     if norm.is_nan() || norm < 0.1 {
         return None;
     }
-    let roll = libm::atan2f(a.y_g, a.z_g);
-    let pitch = libm::atan2f(-a.x_g, libm::sqrtf(a.y_g * a.y_g + a.z_g * a.z_g));
+    let roll = fmath::atan2(a.y_g, a.z_g);
+    let pitch = fmath::atan2(-a.x_g, fmath::sqrt(a.y_g * a.y_g + a.z_g * a.z_g));
     Some(Inclination {
         roll_deg: roll.to_degrees(),
         pitch_deg: pitch.to_degrees(),

@@ -37,6 +37,7 @@
 //! mixing the two would put α0/β0 into the wrong matrix.
 
 use super::adxl345::Acceleration;
+use crate::fmath;
 
 /// How far |cos θx / cos α0| may exceed 1 (sensor noise) before the pair of
 /// angles is refused rather than clamped.
@@ -86,10 +87,10 @@ pub fn mount_tilt(theta_x_deg: f32, theta_y_deg: f32) -> Result<MountTilt, Mount
     if !in_range(theta_x_deg) || !in_range(theta_y_deg) {
         return Err(MountTiltError::OutOfRange);
     }
-    let cos_x = libm::cosf(theta_x_deg.to_radians());
-    let cos_y = libm::cosf(theta_y_deg.to_radians());
-    let alpha0 = libm::asinf(cos_y.clamp(-1.0, 1.0));
-    let cos_alpha = libm::cosf(alpha0);
+    let cos_x = fmath::cos(theta_x_deg.to_radians());
+    let cos_y = fmath::cos(theta_y_deg.to_radians());
+    let alpha0 = fmath::asin(cos_y.clamp(-1.0, 1.0));
+    let cos_alpha = fmath::cos(alpha0);
     if cos_alpha < MIN_COS_ALPHA {
         return Err(MountTiltError::Degenerate);
     }
@@ -97,7 +98,7 @@ pub fn mount_tilt(theta_x_deg: f32, theta_y_deg: f32) -> Result<MountTilt, Mount
     if ratio.abs() > 1.0 + RATIO_TOLERANCE {
         return Err(MountTiltError::Inconsistent);
     }
-    let beta0 = libm::asinf(ratio.clamp(-1.0, 1.0));
+    let beta0 = fmath::asin(ratio.clamp(-1.0, 1.0));
     Ok(MountTilt {
         alpha0_deg: alpha0.to_degrees(),
         beta0_deg: beta0.to_degrees(),
@@ -108,11 +109,11 @@ pub fn mount_tilt(theta_x_deg: f32, theta_y_deg: f32) -> Result<MountTilt, Mount
 pub fn axis_angles(tilt: &MountTilt) -> (f32, f32) {
     let a = tilt.alpha0_deg.to_radians();
     let b = tilt.beta0_deg.to_radians();
-    let cos_x = -libm::cosf(a) * libm::sinf(b);
-    let cos_y = libm::sinf(a);
+    let cos_x = -fmath::cos(a) * fmath::sin(b);
+    let cos_y = fmath::sin(a);
     (
-        libm::acosf(cos_x.clamp(-1.0, 1.0)).to_degrees(),
-        libm::acosf(cos_y.clamp(-1.0, 1.0)).to_degrees(),
+        fmath::acos(cos_x.clamp(-1.0, 1.0)).to_degrees(),
+        fmath::acos(cos_y.clamp(-1.0, 1.0)).to_degrees(),
     )
 }
 
@@ -120,11 +121,11 @@ pub fn axis_angles(tilt: &MountTilt) -> (f32, f32) {
 /// on the mount: it measures +1 g along the up direction, so its x and y
 /// components are cos θx and cos θy times |a|. `None` below 0.1 g.
 pub fn axis_angles_from_gravity(a: &Acceleration) -> Option<(f32, f32)> {
-    let norm = libm::sqrtf(a.x_g * a.x_g + a.y_g * a.y_g + a.z_g * a.z_g);
+    let norm = fmath::sqrt(a.x_g * a.x_g + a.y_g * a.y_g + a.z_g * a.z_g);
     if norm.is_nan() || norm < 0.1 {
         return None;
     }
-    let angle = |c: f32| libm::acosf((c / norm).clamp(-1.0, 1.0)).to_degrees();
+    let angle = |c: f32| fmath::acos((c / norm).clamp(-1.0, 1.0)).to_degrees();
     Some((angle(a.x_g), angle(a.y_g)))
 }
 
@@ -144,10 +145,10 @@ pub fn axis_angles_from_elevations(x_elevation_deg: f32, y_elevation_deg: f32) -
 pub fn axis_angles_from_inclination(incl: &super::Inclination) -> (f32, f32) {
     let roll = incl.roll_deg.to_radians();
     let pitch = incl.pitch_deg.to_radians();
-    let cos_x = -libm::sinf(pitch);
-    let cos_y = libm::cosf(pitch) * libm::sinf(roll);
+    let cos_x = -fmath::sin(pitch);
+    let cos_y = fmath::cos(pitch) * fmath::sin(roll);
     (
-        libm::acosf(cos_x.clamp(-1.0, 1.0)).to_degrees(),
-        libm::acosf(cos_y.clamp(-1.0, 1.0)).to_degrees(),
+        fmath::acos(cos_x.clamp(-1.0, 1.0)).to_degrees(),
+        fmath::acos(cos_y.clamp(-1.0, 1.0)).to_degrees(),
     )
 }
