@@ -89,9 +89,11 @@ pub struct AppConfig {
     /// ΔT (TT − UT1) in seconds for the sun algorithm.
     pub delta_t_s: f32,
     /// GPS counts as lost (fault `gps_lost`) only after this long without
-    /// trusted GPS time on the monotonic clock: a receiver that misses an
-    /// epoch or two neither raises it nor switches the time source in the
-    /// log (the RTC it set a moment ago carries the time meanwhile).
+    /// trusted GPS time on the monotonic clock: a receiver that misses
+    /// epochs for up to a minute (an obstructed antenna, a receiver set to
+    /// a slow output rate) neither raises it nor switches the time source
+    /// in the log (the RTC it set carries the time meanwhile; at ±2 ppm a
+    /// DS3231 drifts 0.12 ms in a minute).
     pub gps_hold_ms: u32,
 }
 
@@ -105,7 +107,7 @@ impl AppConfig {
             site_min_move_deg: 0.001,
             wmm_declination: true,
             delta_t_s: 69.0,
-            gps_hold_ms: 10_000,
+            gps_hold_ms: 60_000,
         }
     }
 }
@@ -223,10 +225,10 @@ where
         let site_f64 = site_from_config(&config.site).map_err(StartError::Site)?;
         let site = convert_site::<T>(&site_f64).map_err(StartError::Site)?;
         let source = SiteSource::new(site, app.delta_t_s);
-        let controller = Controller::new(config, options, source, axes, sensors)
-            .map_err(StartError::Controller)?;
+        Controller::<T, SiteSource<T>, D, S, N>::check(&config).map_err(StartError::Controller)?;
         Ok(Firmware {
-            controller,
+            // Built in place (no temporary copy of the controller).
+            controller: Controller::new_checked(config, options, source, axes, sensors),
             time: TimeKeeper::new(rtc, app.time),
             gps: GpsPort::new(gps, u64::from(app.time.max_gps_age_ms)),
             log,
@@ -402,7 +404,9 @@ where
                 let key = (self.site_f64, day);
                 if self.declination_for != Some(key) {
                     self.declination_for = Some(key);
-                    if let Ok(d) = wmm_declination_deg(&self.site_f64, &now) {
+                    // In the controller's precision: f32 on a board
+                    // without an FPU (software f64 takes ten times longer).
+                    if let Ok(d) = wmm_declination_deg::<T>(&self.site_f64, &now) {
                         if let Some(s) = self.controller.sensors_mut() {
                             s.set_declination_deg(d);
                         }

@@ -293,15 +293,26 @@ fn wmm_declination_for_the_site_matches_noaa_test_values() {
     // 2027-07-02 12:00 UTC (182.5 days into a 365-day year).
     let site = Site::new(80.0, 0.0).unwrap();
     let t = UtcTime::from_ymd_hms(2027, 7, 2, 12, 0, 0).unwrap();
-    let d = suntracker::sources::wmm_declination_deg(&site, &t).unwrap();
-    assert!((f64::from(d) - 2.594134).abs() < 0.005, "{d}");
+    // In f64 (hosts) and in f32 (the 8-bit board's synthesis).
+    use suntracker::sources::wmm_declination_deg as wmm;
+    for d in [
+        wmm::<f64>(&site, &t).unwrap(),
+        wmm::<f32>(&site, &t).unwrap(),
+    ] {
+        assert!((f64::from(d) - 2.594134).abs() < 0.005, "{d}");
+    }
     let site = Site::new(0.0, 120.0).unwrap();
     let t = UtcTime::from_ymd_hms(2025, 1, 1, 0, 0, 0).unwrap();
-    let d = suntracker::sources::wmm_declination_deg(&site, &t).unwrap();
-    assert!((f64::from(d) + 0.158274).abs() < 0.005, "{d}");
+    for d in [
+        wmm::<f64>(&site, &t).unwrap(),
+        wmm::<f32>(&site, &t).unwrap(),
+    ] {
+        assert!((f64::from(d) + 0.158274).abs() < 0.005, "{d}");
+    }
     // Outside the model's life span: an error, not a guess.
     let t = UtcTime::from_ymd_hms(2031, 1, 1, 0, 0, 0).unwrap();
-    assert!(suntracker::sources::wmm_declination_deg(&site, &t).is_err());
+    assert!(wmm::<f64>(&site, &t).is_err());
+    assert!(wmm::<f32>(&site, &t).is_err());
 }
 
 #[test]

@@ -61,7 +61,7 @@ use super::avr::{
 };
 use super::li2022::{self, bridge_config};
 use crate::app::{AppConfig, Firmware, Platform, StartError};
-use crate::controller::ControllerError;
+use crate::controller::{ControllerError, ControllerOptions};
 use crate::hw::{MountSensorsHw, StepperAxis};
 use crate::log::Sink;
 
@@ -78,6 +78,10 @@ pub const ADXL345_ADDRESS: u8 = 0x53;
 /// scheduler's `schedule_failed`, never truncated). A polar day's 360
 /// entries would take 480 B more of the 8 KB RAM.
 pub const TABLE_LEN: usize = 240;
+/// Sun positions computed per tick while a day is planned (see `run`).
+pub const PLAN_POSITIONS_PER_TICK: u16 = 4;
+/// Attitude sensors read every this many ms (see `run`).
+pub const ATTITUDE_EVERY_MS: u32 = 10_000;
 
 /// Monotonic clock, anemometer, watchdog and sleep of the board.
 struct MegaPlatform {
@@ -195,7 +199,18 @@ pub fn run(dp: chip::Peripherals) -> ! {
     if config.validate().is_err() {
         halt(&mut log, "configuration refused");
     }
-    let options = li2022::controller_options();
+    // A sun position costs about 45,000 cycles here (psa-2020 in f32):
+    // planning a day (some 370 positions, about a second) is spread over
+    // ticks, four positions (11 ms) per tick, so that the loop keeps serving
+    // the motors, the GPS ring and the watchdog; tracking starts about 90 s
+    // after the time is trusted. The attitude (four readings of each sensor
+    // and their trigonometry, about 10 ms) is read every 10 s, not every
+    // tick: the mount does not move in between.
+    let options = ControllerOptions {
+        plan_positions_per_tick: PLAN_POSITIONS_PER_TICK,
+        attitude_every_ms: ATTITUDE_EVERY_MS,
+        ..li2022::controller_options()
+    };
     let mut platform = MegaPlatform {
         _millis: millis_clock,
         anemometer,
