@@ -131,6 +131,10 @@ pub struct Run {
     /// and RAMEND is filled with [`PAINT`] before the run; this is the
     /// part of it the run overwrote (from RAMEND down).
     pub stack_peak_bytes: u16,
+    /// Peak stack, bytes, from the lowest stack pointer the run reached
+    /// (RAMEND − SP): counts frames that were reserved but not all
+    /// written, which painting misses. At least `stack_peak_bytes`.
+    pub stack_peak_sp_bytes: u16,
     /// RAM never touched during the run: painted bytes still intact above
     /// the end of `.bss`. `static_ram_bytes + stack_peak_bytes +
     /// ram_free_bytes` is the whole RAM ([`Run::ram_bytes`]).
@@ -359,7 +363,6 @@ impl Bench {
             }
 
             cpu = sim.run_until(now_cycle + SERVICE_CYCLES);
-
             for (cycle, value) in sim.port_changes('A') {
                 let t = emu_at(cycle, origin_cycle, origin_emu_s, timescale);
                 for (k, (axis, bits)) in [(&mut c_axis, value & 0x0F), (&mut a_axis, value >> 4)]
@@ -465,6 +468,7 @@ impl Bench {
         Ok(Run {
             static_ram_bytes: static_end - RAM_START,
             stack_peak_bytes: ram_top - static_end - ram_free_bytes,
+            stack_peak_sp_bytes: (ram_top - 1).saturating_sub(sim.min_sp()),
             ram_free_bytes,
             ram_bytes: ram_top - RAM_START,
             lines,

@@ -156,10 +156,30 @@ fn run() -> Result<ExitCode, String> {
         run.wind_pulses,
         run.cpu
     );
+    for (axis, steps) in [("C", &run.illegal_steps.0), ("A", &run.illegal_steps.1)] {
+        for s in steps.iter().take(5) {
+            let at = s.cycle as f64 / f64::from(suntracker_emu::bench::F_CPU) * run.timescale;
+            eprintln!(
+                "suntracker-emu: illegal coil sequence on {axis} at {}: {:04b} -> {:04b} (IN4..IN1)",
+                format_utc(start + at as i64),
+                s.from,
+                s.to
+            );
+        }
+    }
     eprintln!(
         "suntracker-emu: RAM {} B: static {} B (.data + .bss), stack peak {} B (painted), \
-         never touched {} B",
-        run.ram_bytes, run.static_ram_bytes, run.stack_peak_bytes, run.ram_free_bytes
+         {} B (lowest stack pointer), never touched {} B{}",
+        run.ram_bytes,
+        run.static_ram_bytes,
+        run.stack_peak_bytes,
+        run.stack_peak_sp_bytes,
+        run.ram_free_bytes,
+        if run.static_ram_bytes + run.stack_peak_sp_bytes > run.ram_bytes {
+            " — STACK OVERFLOW into the static RAM"
+        } else {
+            ""
+        }
     );
     Ok(if run.cpu == suntracker_emu::sim::CpuState::Running {
         ExitCode::SUCCESS

@@ -76,6 +76,8 @@ pub struct Sim {
     twi: Option<Box<TwiHandle>>,
     port_flag: std::rc::Rc<std::cell::Cell<bool>>,
     tx_pending: bool,
+    /// The lowest stack pointer seen after an instruction.
+    min_sp: u16,
     _firmware: Box<ffi::elf_firmware_t>,
 }
 
@@ -172,6 +174,7 @@ impl Sim {
             twi: None,
             port_flag: Default::default(),
             tx_pending: false,
+            min_sp: u16::MAX,
             _firmware: firmware,
         })
     }
@@ -346,6 +349,18 @@ impl Sim {
         (avr.pc, sp)
     }
 
+    /// A byte of the data space (registers at 0–31, I/O, RAM).
+    pub fn peek(&self, addr: u16) -> u8 {
+        unsafe { *self.avr.as_ref().data.add(usize::from(addr)) }
+    }
+
+    /// The lowest stack pointer seen so far (after any instruction the
+    /// harness ran, interrupt entries included): the stack's real peak,
+    /// which painting can miss when a frame is reserved but not all written.
+    pub fn min_sp(&self) -> u16 {
+        self.min_sp
+    }
+
     /// RAMEND of the MCU (data-space address of the last RAM byte).
     pub fn ramend(&self) -> u16 {
         unsafe { self.avr.as_ref().ramend }
@@ -366,6 +381,8 @@ impl Sim {
                 self.flush_uarts();
             }
             let state = unsafe { ffi::avr_run(self.avr.as_ptr()) } as u32;
+            let (_, sp) = self.pc_sp();
+            self.min_sp = self.min_sp.min(sp);
             match state {
                 ffi::cpu_Running | ffi::cpu_Sleeping | ffi::cpu_Step | ffi::cpu_StepDone => {}
                 ffi::cpu_Crashed => return CpuState::Crashed,

@@ -9,6 +9,14 @@
 //! UTC reaches the epoch's time (a byte takes 10/9600 s of CPU time, i.e.
 //! timescale × that of emulated time), which is how a receiver stamps and
 //! sends its epochs. Recorded epochs already past are skipped.
+//!
+//! Order: the image stamps an epoch's time when its RMC arrives (the age of
+//! the fix runs from there, and time older than 1.5 s is not trusted). On the
+//! wire at 9600 baud a GGA takes 75 ms, but under the harness's time
+//! compression it takes timescale × that (4.5 emulated s at 60×), so an RMC
+//! sent before the GGA would be stale by the time the epoch completes. Every
+//! epoch therefore ends with its RMC (as SiRF receivers send them: GGA …
+//! RMC); a recorded log's epochs are reordered that way.
 
 use drivers::time::{civil_from_days, days_from_civil};
 
@@ -88,19 +96,18 @@ impl GpsSite {
     }
 }
 
-/// RMC + GGA of one epoch.
+/// GGA + RMC of one epoch (RMC last: see the module documentation).
 pub fn epoch_sentences(site: &GpsSite, unix_s: i64, fix: bool) -> String {
     let t = hms(unix_s);
     if fix {
         let pos = format!("{},{}", lat_field(site.lat_deg), lon_field(site.lon_deg));
-        sentence(&format!("GPRMC,{t},A,{pos},0.0,0.0,{},,,A", dmy(unix_s)))
-            + &sentence(&format!(
-                "GPGGA,{t},{pos},1,08,0.9,{:.1},M,23.1,M,,",
-                site.elevation_m
-            ))
+        sentence(&format!(
+            "GPGGA,{t},{pos},1,08,0.9,{:.1},M,23.1,M,,",
+            site.elevation_m
+        )) + &sentence(&format!("GPRMC,{t},A,{pos},0.0,0.0,{},,,A", dmy(unix_s)))
     } else {
-        sentence(&format!("GPRMC,{t},V,,,,,,,{},,,N", dmy(unix_s)))
-            + &sentence(&format!("GPGGA,{t},,,,,0,00,99.9,,,,,,"))
+        sentence(&format!("GPGGA,{t},,,,,0,00,99.9,,,,,,"))
+            + &sentence(&format!("GPRMC,{t},V,,,,,,,{},,,N", dmy(unix_s)))
     }
 }
 
@@ -115,7 +122,8 @@ pub struct Epoch {
 
 /// Splits a recorded log into epochs by the UTC time field; dates come from
 /// the RMC sentences (a GGA-only epoch takes the last date seen, or
-/// `default_day` before any).
+/// `default_day` before any). Within an epoch the RMC sentences move to the
+/// end, the others keep their order.
 pub fn parse_log(text: &str, default_day: i64) -> Vec<Epoch> {
     let mut out: Vec<Epoch> = Vec::new();
     let mut day = default_day;
@@ -155,14 +163,17 @@ pub fn parse_log(text: &str, default_day: i64) -> Vec<Epoch> {
     while i < pending.len() {
         let sod = pending[i].0;
         let mut j = i;
-        let mut text = String::new();
+        let (mut text, mut rmc) = (String::new(), String::new());
         while j < pending.len() && pending[j].0 == sod {
             if let Some(d) = pending[j].2 {
                 day = d;
             }
-            text.push_str(&pending[j].1);
+            let line = &pending[j].1;
+            let is_rmc = line.get(3..6) == Some("RMC");
+            (if is_rmc { &mut rmc } else { &mut text }).push_str(line);
             j += 1;
         }
+        text.push_str(&rmc);
         out.push(Epoch {
             unix_s: day * 86_400 + i64::from(sod),
             text,
@@ -302,8 +313,9 @@ mod tests {
         for l in gen.lines() {
             assert!(checksum_ok(l), "{l}");
         }
-        assert!(gen.starts_with("$GPRMC,050000.00,A,1158.0980,N,00825.5660,E,0.0,0.0,210626,,,A*"));
-        assert!(gen.contains("$GPGGA,050000.00,1158.0980,N,00825.5660,E,1,08,0.9,480.0,M"));
+        assert!(gen.starts_with("$GPGGA,050000.00,1158.0980,N,00825.5660,E,1,08,0.9,480.0,M"));
+        let rmc = "$GPRMC,050000.00,A,1158.0980,N,00825.5660,E,0.0,0.0,210626,,,A*";
+        assert!(gen.lines().nth(1).is_some_and(|l| l.starts_with(rmc)));
         let nofix = epoch_sentences(&GpsSite::kano(), 1_782_018_000, false);
         assert!(nofix.contains(",V,") && nofix.lines().all(checksum_ok));
     }
@@ -329,6 +341,12 @@ mod tests {
         assert_eq!(epochs[0].unix_s, day * 86_400);
         assert_eq!(epochs[1].unix_s, day * 86_400 + 1);
         assert_eq!(epochs[0].text.lines().count(), 2);
+        // RMC last whatever the log's order.
+        assert!(epochs.iter().all(|e| e
+            .text
+            .lines()
+            .last()
+            .is_some_and(|l| l.starts_with("$GPRMC"))));
         let mut f = NmeaFeeder::new(GpsFeed::Recorded(epochs), 0, 0.001);
         // At 00:00:02.5 epochs 0–1 are past; epoch 2 (00:00:02) is within
         // the 1 s grace and is sent; 3 waits.
@@ -336,6 +354,23 @@ mod tests {
         assert!(f.poll(now, true).is_some());
         assert_eq!(f.epochs_skipped, 2);
         assert!(f.poll(now, true).is_none());
+    }
+
+    #[test]
+    fn recorded_epoch_is_reordered_to_end_with_its_rmc() {
+        let rmc = "$GPRMC,120000.00,A,1158.0980,N,00825.5660,E,0.0,0.0,200326,,,A*5E";
+        let gga = "$GPGGA,120000.00,1158.0980,N,00825.5660,E,1,08,0.9,472.0,M,23.1,M,,*69";
+        let gsa = "$GPGSA,A,3,01,02,03,04,,,,,,,,,1.5,0.9,1.2*38";
+        let log = format!("{rmc}\n{gga}\n{gsa}\n");
+        let epochs = parse_log(&log, 0);
+        // The GSA has no time field: not part of any epoch.
+        assert_eq!(epochs.len(), 1);
+        assert!([rmc, gga, gsa].iter().all(|l| checksum_ok(l)));
+        assert_eq!(epochs[0].text, format!("{gga}\r\n{rmc}\r\n"));
+        assert_eq!(
+            epochs[0].unix_s,
+            days_from_civil(2026, 3, 20) * 86_400 + 43_200
+        );
     }
 
     #[test]

@@ -10,6 +10,11 @@
 //! the rotor stays at its last phase, and re-energising must resume at that
 //! phase or one half-phase beside it.
 //!
+//! A pattern the driver leaves within [`SETTLE_CYCLES`] (the one-coil
+//! pattern a release passes through as it drops the coils one at a time,
+//! for example) does not move the rotor: released after it, the rotor is
+//! still at the phase held before.
+//!
 //! Anything else — a pattern not in the table (e.g. 1100, both ends of a
 //! coil high: a shoot-through), or a jump of more than one half-phase
 //! between consecutive observed patterns — is an illegal sequence and is
@@ -20,6 +25,11 @@
 const PHASES: [u8; 8] = [
     0b0001, 0b0101, 0b0100, 0b0110, 0b0010, 0b1010, 0b1000, 0b1001,
 ];
+
+/// A pattern held for less than this many CPU cycles (100 µs at 16 MHz)
+/// does not move the rotor: a small stepper's mechanical time constant is
+/// milliseconds.
+pub const SETTLE_CYCLES: u64 = 1_600;
 
 fn phase_of(bits: u8) -> Option<u8> {
     PHASES.iter().position(|&p| p == bits).map(|p| p as u8)
@@ -79,6 +89,11 @@ pub struct StepperDecoder {
     /// Last energised phase (the rotor's), `None` before the first one.
     phase: Option<u8>,
     last_bits: u8,
+    /// CPU cycle of the last pattern change.
+    last_change: u64,
+    /// Phase and position of the last pattern held for at least
+    /// [`SETTLE_CYCLES`].
+    settled: Option<(u8, i64)>,
     /// Illegal observations.
     pub illegal: Vec<IllegalStep>,
     /// Half-steps moved in total (both directions).
@@ -97,6 +112,8 @@ impl StepperDecoder {
             half_steps: hs,
             phase: None,
             last_bits: 0,
+            last_change: 0,
+            settled: None,
             illegal: Vec::new(),
             travelled: 0,
             writes: 0,
@@ -136,9 +153,25 @@ impl StepperDecoder {
             return;
         }
         let from = self.last_bits;
+        let held = cycle.saturating_sub(self.last_change) >= SETTLE_CYCLES;
+        if held && from != 0 {
+            if let Some(p) = self.phase {
+                self.settled = Some((p, self.half_steps));
+            }
+        }
         self.last_bits = bits;
+        self.last_change = cycle;
         if bits == 0 {
-            return; // released: the rotor keeps its phase
+            // Released: the rotor keeps its phase, the one it was held at
+            // (not a pattern passed through on the way to all-low).
+            if !held {
+                if let Some((p, hs)) = self.settled {
+                    self.travelled = self.travelled.saturating_sub(self.half_steps.abs_diff(hs));
+                    self.half_steps = hs;
+                    self.phase = Some(p);
+                }
+            }
+            return;
         }
         let Some(p) = phase_of(bits) else {
             self.illegal.push(IllegalStep {
@@ -235,6 +268,26 @@ mod tests {
             (d.angle_deg() - (start as f64 / AxisGeometry::HALF_STEPS_PER_DEG + 360.0)).abs()
                 < 1e-9
         );
+    }
+
+    #[test]
+    fn a_release_through_one_coil_leaves_the_rotor_where_it_was_held() {
+        let mut d = StepperDecoder::new(AxisGeometry::a_axis(), 0.0);
+        // Held at phase 1 (1010), then released IN1 first: 0010 (phase 2)
+        // for 36 cycles, then 0000.
+        d.observe(0, bits(1, 0, 1, 0));
+        d.observe(10_000, bits(0, 0, 1, 0));
+        d.observe(10_036, 0);
+        assert_eq!(d.half_steps(), 1);
+        // Re-energised at phase 1 through 1000 (phase 0): legal.
+        d.observe(50_000, bits(1, 0, 0, 0));
+        d.observe(50_040, bits(1, 0, 1, 0));
+        assert!(d.illegal.is_empty(), "{:?}", d.illegal);
+        assert_eq!(d.half_steps(), 1);
+        // A pattern held longer than the settle time is where the rotor went.
+        d.observe(60_000, bits(0, 0, 1, 0));
+        d.observe(60_000 + SETTLE_CYCLES, 0);
+        assert_eq!(d.half_steps(), 2);
     }
 
     #[test]
