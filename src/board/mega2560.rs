@@ -6,9 +6,10 @@
 //! low on this 3-byte-PC chip: a function whose arguments do not all fit
 //! the registers (r8–r25) gets garbage (`Site::<f64>::with_elevation` did,
 //! and start-up was refused: `halt: site refused`); such functions are
-//! inlined. A scan of the image for frame loads above a function's own
-//! frame finds only libm's `k_sin` left (its `iy` only selects the tail
-//! term of the reduced argument, ~1e-17).
+//! inlined. `.ci/avr_codegen_check.py` scans every image for a function
+//! reading its stack arguments (only libm's `k_sin` is left, harmless: see
+//! the script) and for the other pattern found here, r0 overwritten between
+//! a MUL and the read of its product.
 //!
 //! | function | pin | Mega header |
 //! |---|---|---|
@@ -41,7 +42,7 @@
 //! homed at the low ends, open loop).
 //!
 //! The QMC5883L and the ADXL345 are probed at power-on; when both answer,
-//! the mount's attitude is measured every tick (seed portable-tracker)
+//! the mount's attitude is measured every 10 s (seed portable-tracker)
 //! with the WMM2025 declination of the site; else a level mount facing
 //! north is assumed and fault `timeout_inclinometer` says so.
 
