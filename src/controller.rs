@@ -587,6 +587,9 @@ where
     /// day needs the least travel (the move from where the axes are now
     /// included): a C axis that would run into its limit at noon (and swing
     /// half a turn there) is avoided at sunrise.
+    /// Set-points of the day's remainder the look-ahead follows, at most.
+    const LOOK_AHEAD_POINTS: usize = 48;
+
     fn look_ahead(&self, now: UtcTime) -> Option<Pose<T>> {
         let table = self.scheduler.table();
         let first = (0..table.len())
@@ -596,10 +599,20 @@ where
             gamma_deg: T::from_f32(self.axes[0].counted_deg()),
             alpha_deg: T::from_f32(self.axes[1].counted_deg()),
         };
+        // The rest of the day at most LOOK_AHEAD_POINTS set-points apart
+        // (every entry of a short remainder): which branch travels least
+        // shows at that resolution, and on an 8-bit board the whole table
+        // (six starts by ~180 entries of inverse kinematics) would hold
+        // the loop past the watchdog's 2 s.
+        let rest = (0..table.len())
+            .filter(|&i| table.get(i).is_some_and(|e| e.time >= first.time))
+            .count();
+        let stride = rest.div_ceil(Self::LOOK_AHEAD_POINTS).max(1);
+        let skip = table.len() - rest;
         self.best_start(first.set_point, Some(here), || {
-            (0..table.len())
+            (skip..table.len())
+                .filter(move |i| (i - skip) % stride == 0 || *i + 1 == table.len())
                 .filter_map(move |i| table.get(i))
-                .filter(move |e| e.time >= first.time)
                 .map(|e| e.set_point)
         })
     }

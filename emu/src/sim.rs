@@ -39,6 +39,9 @@ pub enum CpuState {
     Done,
     /// Invalid instruction or similar.
     Crashed,
+    /// The chip reset (the watchdog expired): simavr restarts its cycle
+    /// count, so the run cannot go on in step with emulated time.
+    Reset,
 }
 
 /// The receive side of one USART as seen from outside (bytes the AVR sent).
@@ -380,7 +383,11 @@ impl Sim {
             if self.tx_pending {
                 self.flush_uarts();
             }
+            let before = self.cycle();
             let state = unsafe { ffi::avr_run(self.avr.as_ptr()) } as u32;
+            if self.cycle() < before {
+                return CpuState::Reset;
+            }
             let (_, sp) = self.pc_sp();
             self.min_sp = self.min_sp.min(sp);
             match state {
