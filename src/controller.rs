@@ -611,7 +611,7 @@ where
         let skip = table.len() - rest;
         self.best_start(first.set_point, Some(here), || {
             (skip..table.len())
-                .filter(move |i| (i - skip) % stride == 0 || *i + 1 == table.len())
+                .filter(move |i| (i - skip).is_multiple_of(stride) || *i + 1 == table.len())
                 .filter_map(move |i| table.get(i))
                 .map(|e| e.set_point)
         })
