@@ -104,25 +104,21 @@ def stack_args(name, ins):
             # restore of SREG (the restore may be tail-merged into another
             # block): Y is at the frame at both ends.
             ydisp = 0
+        # A pointer moved: subi/sbci by a 16-bit immediate, or adiw/sbiw.
+        moved = None
         if op == "subi" and a[0] in ("r28", "r30", "r26") and nxt[1] == "sbci":
-            d = -s16(int(a[1], 0) + (int(nxt[2][1], 0) << 8))
+            moved = (-s16(int(a[1], 0) + (int(nxt[2][1], 0) << 8)), 2)
+        elif op in ("adiw", "sbiw") and a[0] in ("r28", "r30", "r26"):
+            moved = (int(a[1], 0) * (1 if op == "adiw" else -1), 1)
+        if moved:
+            d, width = moved
             if a[0] == "r28":
                 ydisp += d
             else:
                 key = "Z" if a[0] == "r30" else "X"
                 if ptr[key] is not None:
                     ptr[key] += d
-            k += 2
-            continue
-        if op in ("adiw", "sbiw") and a[0] in ("r28", "r30", "r26"):
-            d = int(a[1], 0) * (1 if op == "adiw" else -1)
-            if a[0] == "r28":
-                ydisp += d
-            else:
-                key = "Z" if a[0] == "r30" else "X"
-                if ptr[key] is not None:
-                    ptr[key] += d
-            k += 1
+            k += width
             continue
         if op == "movw" and len(a) == 2 and a[1] == "r28" and a[0] in ("r30", "r26"):
             ptr["Z" if a[0] == "r30" else "X"] = ydisp

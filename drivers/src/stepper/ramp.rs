@@ -105,43 +105,40 @@ impl Ramp {
     }
 }
 
-/// [`isqrt`] of a 32-bit value (the same bit-by-bit method, half the
-/// iterations, 32-bit arithmetic).
-pub fn isqrt32(n: u32) -> u32 {
-    let mut rem = n;
-    let mut root = 0u32;
-    let mut bit = 1u32 << 30;
-    while bit > n {
-        bit >>= 2;
-    }
-    while bit != 0 {
-        if rem >= root + bit {
-            rem -= root + bit;
-            root = (root >> 1) + bit;
-        } else {
-            root >>= 1;
+/// The bit-by-bit integer square root ⌊√n⌋ for one unsigned width.
+macro_rules! bitwise_isqrt {
+    ($(#[$doc:meta])* $name:ident, $t:ty) => {
+        $(#[$doc])*
+        pub fn $name(n: $t) -> $t {
+            let mut rem = n;
+            let mut root: $t = 0;
+            // The highest power of four the type holds.
+            let mut bit: $t = 1 << (<$t>::BITS - 2);
+            while bit > n {
+                bit >>= 2;
+            }
+            while bit != 0 {
+                if rem >= root + bit {
+                    rem -= root + bit;
+                    root = (root >> 1) + bit;
+                } else {
+                    root >>= 1;
+                }
+                bit >>= 2;
+            }
+            root
         }
-        bit >>= 2;
-    }
-    root
+    };
 }
 
-/// Integer square root, ⌊√n⌋ (bit-by-bit method).
-pub fn isqrt(n: u64) -> u64 {
-    let mut rem = n;
-    let mut root = 0u64;
-    let mut bit = 1u64 << 62;
-    while bit > n {
-        bit >>= 2;
-    }
-    while bit != 0 {
-        if rem >= root + bit {
-            rem -= root + bit;
-            root = (root >> 1) + bit;
-        } else {
-            root >>= 1;
-        }
-        bit >>= 2;
-    }
-    root
-}
+bitwise_isqrt!(
+    /// [`isqrt`] of a 32-bit value (the same method, half the iterations,
+    /// 32-bit arithmetic).
+    isqrt32,
+    u32
+);
+bitwise_isqrt!(
+    /// Integer square root, ⌊√n⌋ (bit-by-bit method).
+    isqrt,
+    u64
+);
