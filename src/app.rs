@@ -70,6 +70,12 @@ where
     }
 }
 
+/// Longest pass after which a GPS fix decoded in the next pass keeps its
+/// stamp (the moment it was decoded): 50 ms, a few ticks of a loop that
+/// wakes every millisecond. After a longer pass (a day plan's step, the
+/// axis branch look-ahead) the stamp is the previous pass's instant.
+pub const GPS_STAMP_SLACK_MS: u64 = 50;
+
 /// Settings of the loop itself (the tracker's are in [`Config`]).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct AppConfig {
@@ -183,6 +189,12 @@ pub struct Firmware<T, R, G, D, S, L, const N: usize> {
     fix: GpsFix,
     next_tick_ms: Option<u64>,
     last_tick_ms: u64,
+    /// UTC handed to the controller at the last tick.
+    last_tick_utc: Option<UtcTime>,
+    /// Monotonic ms of the last pass.
+    last_pass_ms: Option<u64>,
+    /// A fix stamp moved back (from, to) after a long pass.
+    restamp: Option<(u64, u64)>,
     time_origin: Option<TimeOrigin>,
     site_origin: Option<LogSite>,
     site_f64: Site<f64>,
@@ -238,6 +250,9 @@ where
             fix: GpsFix::NONE,
             next_tick_ms: None,
             last_tick_ms: 0,
+            last_tick_utc: None,
+            last_pass_ms: None,
+            restamp: None,
             time_origin: None,
             site_origin: None,
             site_f64,
@@ -287,8 +302,27 @@ where
     /// controller tick ran in it.
     pub fn poll<P: Platform>(&mut self, platform: &mut P) -> bool {
         let now_ms = platform.now_ms();
+        let previous_pass_ms = self.last_pass_ms.replace(now_ms);
         match self.gps.service(now_ms) {
-            Ok(fix) => self.fix = fix,
+            Ok(mut fix) => {
+                // The reader stamps a fix when it decodes it, in this pass;
+                // its bytes came at any time since the previous pass. After
+                // a pass longer than GPS_STAMP_SLACK_MS the stamp is moved
+                // back to the previous pass: the fix's age is then never
+                // under-counted, and a fix found late is not taken as fresh
+                // time (it would set the clock back by the pass's length).
+                if let (Some(stamp), Some(prev)) = (fix.utc_received_ms, previous_pass_ms) {
+                    if stamp == now_ms && now_ms.saturating_sub(prev) > GPS_STAMP_SLACK_MS {
+                        self.restamp = Some((stamp, prev));
+                    }
+                }
+                if let Some((from, to)) = self.restamp {
+                    if fix.utc_received_ms == Some(from) {
+                        fix.utc_received_ms = Some(to);
+                    }
+                }
+                self.fix = fix;
+            }
             Err(_) => self.stats.gps_errors = self.stats.gps_errors.saturating_add(1),
         }
         let now_us = now_ms.saturating_mul(1000);
@@ -352,6 +386,22 @@ where
         let fallback = self.time.last_valid().unwrap_or(self.boot_fallback);
         let inputs = status.tick_inputs(now_ms, fallback, wind_pulses, interval_ms);
         let report = self.controller.tick(&inputs);
+        if report.clock_jump {
+            // The schedule starts over: say why tracking pauses.
+            self.log.text("clock jump from=");
+            if let Some(t) = self.last_tick_utc {
+                self.log.utc(&t);
+            }
+            self.log.text(" to=");
+            self.log.utc(&inputs.now);
+            self.log.text(match status.origin {
+                Some(TimeOrigin::Gps) => " source=gps",
+                Some(TimeOrigin::Rtc) => " source=rtc",
+                None => " source=none",
+            });
+            self.log.text(": the day is planned again\n");
+        }
+        self.last_tick_utc = Some(inputs.now);
         self.log_setpoint(&report);
         self.changes
             .update(&mut self.log, self.controller.faults(), report.mode);

@@ -287,7 +287,9 @@ impl<D: AxisDrive> AxisController<D> {
     }
 
     /// Stops the drive and takes the counts it drops off the position.
-    fn stop(&mut self) -> Result<(), AxisError<D::Error>> {
+    /// (Stopping through [`AxisController::drive_mut`] instead would leave the
+    /// position counting a move that never ran.)
+    pub fn stop(&mut self) -> Result<(), AxisError<D::Error>> {
         let before = self.drive.pending();
         self.drive.stop().map_err(AxisError::Drive)?;
         // A ramped stop still runs `after` counts; the rest never will.

@@ -35,6 +35,11 @@ pub enum AttitudeSource<T> {
     Sensors,
 }
 
+/// Attitude readings in a row that may find no new compass sample before
+/// the compass counts as stalled (`timeout_compass`): a part measuring at
+/// 10 Hz has a sample for every reading one tick apart.
+pub const ATTITUDE_NOT_READY_LIMIT: u8 = 5;
+
 /// Choices of a tracker build.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct ControllerOptions<T> {
@@ -150,6 +155,8 @@ pub struct Controller<T, P, D, S, const N: usize> {
     home_set_point: Option<SetPoint<T>>,
     night: bool,
     pose: Pose<T>,
+    /// Whether a target pose was ever driven (`pose` is then its last).
+    pose_commanded: bool,
     command_stow: bool,
     manual: Option<Pose<T>>,
     ticks: u32,
@@ -170,6 +177,8 @@ pub struct Controller<T, P, D, S, const N: usize> {
     last_drive: [Option<(f32, f32)>; 2],
     /// When the attitude sensors were last read (monotonic ms).
     last_attitude_ms: Option<u64>,
+    /// Attitude readings in a row that found no new compass sample.
+    attitude_not_ready: u8,
     /// Pose chosen to wait for a sunrise (before the first day).
     night_pose: Option<(UtcTime, Pose<T>)>,
     /// First entry time of the table seen by the re-homing check.
@@ -240,6 +249,7 @@ where
             home_set_point: None,
             night: true,
             pose: Pose::default(),
+            pose_commanded: false,
             command_stow: false,
             manual: None,
             ticks: 0,
@@ -251,6 +261,7 @@ where
             smoothed: None,
             last_drive: [None; 2],
             last_attitude_ms: None,
+            attitude_not_ready: 0,
             night_pose: None,
             rehome_day: None,
             rehomed_tonight: false,
@@ -472,8 +483,18 @@ where
             night: self.night,
             unhomed,
         });
+        // Stow: the panel flat (α = 0), the C axis at the last commanded
+        // azimuth; before any pose was commanded (just homed, no trusted
+        // time yet), where the C axis is: no 180° swing from the home
+        // switch to an azimuth nobody asked for.
+        let gamma_now = match self.axes.first() {
+            Some(c) if !self.pose_commanded && c.home_state() == HomeState::Done => {
+                T::from_f32(c.counted_deg())
+            }
+            _ => self.pose.gamma_deg,
+        };
         let stow = Pose {
-            gamma_deg: self.pose.gamma_deg,
+            gamma_deg: gamma_now,
             alpha_deg: T::ZERO,
         };
         // Entering tracking, or a new day table: pick the branch of the
@@ -528,6 +549,9 @@ where
         match target {
             Some(p) => {
                 self.pose = p;
+                // Counts once the axes can follow it (they ignore targets
+                // while homing).
+                self.pose_commanded |= self.axes.iter().all(|a| a.home_state() == HomeState::Done);
                 self.drive_axis(0, p.gamma_deg, now_ms);
                 self.drive_axis(1, p.alpha_deg, now_ms);
             }
@@ -539,7 +563,9 @@ where
                 for ax in self.axes.iter_mut() {
                     if stop_all || ax.home_state() == HomeState::Done {
                         // A stop that fails leaves nothing better to do.
-                        let _ = ax.drive_mut().stop();
+                        // Through the axis: the counts the drive drops are
+                        // taken off its position.
+                        let _ = ax.stop();
                     }
                 }
             }
@@ -710,6 +736,10 @@ where
         let mut failed = false;
         for _ in 0..n {
             match sensors.read() {
+                // No new sample yet (the compass measures at its data
+                // rate; the next ones will not be ready either): average
+                // what came.
+                Err(e) if S::is_not_ready(&e) => break,
                 Ok(AttitudeReading {
                     theta_x_deg,
                     theta_y_deg,
@@ -727,12 +757,26 @@ where
             }
         }
         let fault = Fault::I2cError(Sensor::Compass);
-        if failed || ok == 0 {
+        if failed {
             // Retry next tick; after the retries, go on with the last
             // attitude (open loop on attitude).
             self.faults.raise(fault, now_ms);
             return;
         }
+        let stalled = Fault::SensorTimeout(Sensor::Compass);
+        if ok == 0 {
+            // Not one new sample: read again at the next tick, keeping the
+            // last attitude. A compass that has stopped measuring (never
+            // ready ATTITUDE_NOT_READY_LIMIT times in a row) is a fault.
+            self.attitude_not_ready = self.attitude_not_ready.saturating_add(1);
+            if self.attitude_not_ready >= ATTITUDE_NOT_READY_LIMIT {
+                self.faults.raise(stalled, now_ms);
+            }
+            self.last_attitude_ms = None;
+            return;
+        }
+        self.attitude_not_ready = 0;
+        self.faults.clear(stalled, now_ms);
         let k = T::from_u32(ok);
         let meas = [sx / k, sy / k, hs / k, hc / k];
         let w = T::from_f32(self.options.attitude_smoothing.clamp(0.0, 1.0));
@@ -876,7 +920,7 @@ where
         let home = ax.config().home_deg;
         match ax.drive_mut().at_limit() {
             Ok(true) if counted > home + 2.0 => {
-                let _ = ax.drive_mut().stop();
+                let _ = ax.stop();
                 if let Recovery::Rehome(_) = self.faults.raise(Fault::LimitSwitchHit(id), now_ms) {
                     ax.unhome();
                 }

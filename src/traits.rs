@@ -69,6 +69,13 @@ pub trait AttitudeSensor<T> {
     type Error;
     /// A fresh reading.
     fn read(&mut self) -> Result<AttitudeReading<T>, Self::Error>;
+    /// True when `error` only says that a sensor has no new sample yet (it
+    /// measures at its own rate): not a fault, the reading is retried at
+    /// the next tick. False for every other error.
+    fn is_not_ready(error: &Self::Error) -> bool {
+        let _ = error;
+        false
+    }
     /// Sets the magnetic declination (degrees, east positive) the sensor
     /// applies to its heading, e.g. from WMM2025 once the site is known.
     /// Sensors that report a true heading already ignore it.

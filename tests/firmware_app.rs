@@ -371,3 +371,69 @@ fn no_rtc_and_no_gps_waits_stowed_and_never_tracks() {
     assert!(!l.iter().any(|s| s == "mode tracking"));
     assert!(run.setpoints.is_empty());
 }
+
+/// A pass that ran long (5 s here; under an emulator's time compression a
+/// 0.3 s look-ahead is 18 emulated s) decodes a GPS epoch that arrived at
+/// its start. Its time must not be taken as fresh: the RTC is not set back
+/// by the pass's length and the time handed on never steps back.
+#[test]
+fn a_fix_found_after_a_long_pass_does_not_set_the_clock_back() {
+    let start = UtcTime::from_ymd_hms(2026, 6, 21, 9, 0, 0).unwrap();
+    let (config, _) = tracker_hw_common::motor::tracker_config();
+    let c = Motor::new(30.0, config.axes[0].home_deg as f64);
+    let a = Motor::new(20.0, config.axes[1].home_deg as f64);
+    let uart = Uart::default();
+    let log = Log::default();
+    let mut fw = Firmware::<f64, _, _, _, MountSensors, _, 361>::new(
+        AppConfig::new("host"),
+        config,
+        ControllerOptions::default(),
+        SimRtc::new(start),
+        uart.clone(),
+        [stepper_axis(&c), stepper_axis(&a)],
+        None,
+        log.clone(),
+    )
+    .expect("valid configuration");
+    let receiver = GpsReceiverModel::new(LAT, LON, 480.0);
+    let mut platform = HostPlatform {
+        now_ms: 0,
+        pulses: 0,
+        fed: 0,
+    };
+    let mut buf = [0u8; 256];
+    let late_from_ms = 20_000;
+    let late_ms = 5_000;
+    // One pass every 10 ms; an epoch each second (its last byte at the
+    // whole second); the epoch of 20 s is read by a pass 5 s later.
+    while platform.now_ms < 40_000 {
+        let now = start.add_millis(platform.now_ms as i64).unwrap();
+        fw.time_keeper_mut().rtc_mut().advance(now);
+        if platform.now_ms.is_multiple_of(1000) {
+            let n = receiver.epoch(now, &mut buf).unwrap();
+            uart.0.borrow_mut().extend(&buf[..n]);
+        }
+        if platform.now_ms == late_from_ms {
+            // The epoch of 20 s waits in the UART while the pass runs.
+            platform.now_ms += late_ms;
+            let now = start.add_millis(platform.now_ms as i64).unwrap();
+            fw.time_keeper_mut().rtc_mut().advance(now);
+        }
+        fw.poll(&mut platform);
+        let rtc = fw.time_keeper_mut().rtc_mut().reading_unix_s().unwrap();
+        let truth = now_s(start, platform.now_ms);
+        assert!(
+            (rtc - truth).abs() <= 1,
+            "at {} ms the RTC reads {rtc}, true {truth}",
+            platform.now_ms
+        );
+        platform.now_ms += 10;
+    }
+    let text = String::from_utf8(log.0.borrow().clone()).unwrap();
+    assert!(!text.contains("clock jump"), "{text}");
+    assert!(text.contains("time source=gps"), "{text}");
+}
+
+fn now_s(start: UtcTime, ms: u64) -> i64 {
+    start.unix_seconds() + (ms / 1000) as i64
+}

@@ -3,7 +3,7 @@
 
 use sun_algos::{Algorithm, Options, Site, UtcTime};
 use suntracker::attitude::{angle_between_deg, sun_vector_xyz, MountAttitude, Pose};
-use suntracker::axis::FeedbackMode;
+use suntracker::axis::{AxisDrive, FeedbackMode};
 use suntracker::config::Config;
 use suntracker::controller::{AttitudeSource, Controller, ControllerOptions, TickInputs};
 use suntracker::safety::{AxisId, Fault, Mode, Sensor};
@@ -423,4 +423,80 @@ fn a_limit_switch_stuck_closed_ends_in_a_safe_stop_within_soft_limits() {
         }
     }
     assert!(tracking.is_some_and(|m| m <= 125), "{tracking:?}");
+}
+
+/// Without a trusted time the tracker homes and then waits stowed: the
+/// panel flat (α = 0) and the C axis left at its home switch, not swung
+/// 180° to an azimuth nobody commanded; after that nothing moves.
+#[test]
+fn without_time_it_homes_then_stows_without_an_azimuth_swing() {
+    let truth = MountAttitude::level();
+    let mut ctl = controller(true, AttitudeSource::Fixed(truth), truth);
+    let now0 = t("2026-03-20T09:00:00Z");
+    let mut positions = Vec::new();
+    for m in 0..30u64 {
+        let inp = TickInputs {
+            time_valid: false,
+            gps_fix: false,
+            ..at_clock(m * 60_000, now0)
+        };
+        let r = step(&mut ctl, &inp);
+        assert_eq!(r.mode, Mode::WaitForTime, "minute {m}");
+        let ax = ctl.axes();
+        positions.push((ax[0].drive().output_deg(), ax[1].drive().output_deg()));
+    }
+    let (c, a) = *positions.last().unwrap();
+    // Homed at the low stops (C −180°, A −90°), then A to the flat stow.
+    assert!((c - (-180.0)).abs() < 0.5, "C at {c}");
+    assert!(a.abs() < 0.5, "A at {a}");
+    // The last ten minutes: still.
+    for p in &positions[20..] {
+        assert_eq!(*p, (c, a));
+    }
+}
+
+/// An axis stopped mid-move (the other axis lost its reference, so the
+/// tracker homes it and holds the homed one still) keeps counting where it
+/// really is: the counts its drive dropped are taken off its position. Open
+/// loop, where nothing else would ever correct the count.
+#[test]
+fn an_axis_held_still_mid_move_counts_where_it_stopped() {
+    let truth = MountAttitude::level();
+    let mut ctl = controller(false, AttitudeSource::Fixed(truth), truth);
+    let t0 = t("2026-03-20T07:00:00Z");
+    let mut ms = 0u64;
+    // Minutes with whole moves: homed and tracking.
+    let mut r = None;
+    for m in 0..30 {
+        ms += 60_000;
+        r = Some(step(
+            &mut ctl,
+            &at_clock(ms, t0.add_seconds(m * 60).unwrap()),
+        ));
+    }
+    assert_eq!(r.unwrap().mode, Mode::Tracking);
+    // Five hours on (a long move for both axes), with 1 s of motion a tick.
+    let later = t("2026-03-20T12:00:00Z");
+    let short_tick = |ctl: &mut Ctl, ms: u64, now: UtcTime| {
+        for ax in ctl.axes_mut().iter_mut() {
+            ax.drive_mut().begin_tick(1.0);
+        }
+        ctl.tick(&at_clock(ms, now))
+    };
+    ms += 1_000;
+    short_tick(&mut ctl, ms, later);
+    assert!(ctl.axes()[1].drive().pending() != 0, "A should be mid-move");
+    // C loses its reference: the tracker homes it and holds A still.
+    ctl.axes_mut()[0].unhome();
+    ms += 1_000;
+    let r = short_tick(&mut ctl, ms, later.add_seconds(1).unwrap());
+    assert_eq!(r.mode, Mode::Homing);
+    let a = &ctl.axes()[1];
+    assert_eq!(a.drive().pending(), 0);
+    let counted = f64::from(a.counted_deg());
+    let real = a.drive().output_deg();
+    assert!(
+        (counted - real).abs() < 0.01,
+        "A counts {counted}° but stands at {real}°"
+    );
 }

@@ -162,6 +162,103 @@ fn controller_measures_the_mount_and_recovers_from_a_nack() {
     bus.done();
 }
 
+/// The QMC5883L measures at 10 Hz: a reading faster than that finds DRDY
+/// clear (datasheet "Status Register": DRDY is set when data is ready and
+/// cleared once read). That is not a bus fault: the samples that came are
+/// averaged; a reading with none keeps the last attitude and is retried at
+/// the next tick; only a compass that never has a sample
+/// (`ATTITUDE_NOT_READY_LIMIT` readings in a row) is a fault, a timeout.
+#[test]
+fn a_compass_without_a_new_sample_is_read_again_not_a_fault() {
+    use suntracker::controller::ATTITUDE_NOT_READY_LIMIT;
+    const SAMPLES: u8 = 4;
+    let mut bus = I2cMock::new(&init());
+    let s = sensors(&bus);
+    let options = ControllerOptions {
+        attitude: AttitudeSource::Sensors,
+        sensor_samples: SAMPLES,
+        attitude_every_ms: 10_000,
+        ..ControllerOptions::default()
+    };
+    let plant = |switch: f64, max: f64| {
+        MotorPlant::stepper(1.8, 16, 100.0, 0.0, 2.0, Some(4096), switch, max, 0.0)
+    };
+    let source = AlgorithmSource {
+        algorithm: Algorithm::Psa2020,
+        site: Site::with_elevation(11.9683, 8.4261, 480.0).unwrap(),
+        options: Options::default(),
+    };
+    let mut ctrl: Controller<f64, _, MotorPlant, Sensors, 360> = Controller::new(
+        Config::default(),
+        options,
+        source,
+        [plant(-180.0, 180.0), plant(-90.0, 90.0)],
+        Some(s),
+    )
+    .unwrap();
+    let now = UtcTime::from_ymd_hms(2026, 3, 20, 10, 0, 0).unwrap();
+    // Ticks one second apart.
+    let tick = |ctrl: &mut Controller<f64, _, MotorPlant, Sensors, 360>, k: i64| {
+        ctrl.tick(&TickInputs {
+            now_ms: (k as u64) * 1_000,
+            now: now.add_seconds(k).unwrap(),
+            time_valid: true,
+            gps_fix: true,
+            gps_time_implausible: false,
+            wind_pulses: 0,
+            wind_interval_ms: 1_000,
+        })
+    };
+    let not_ready = || vec![acc_read(), I2c::write_read(MAG, vec![0x06], vec![0x00])];
+    let bus_fault = Fault::I2cError(Sensor::Compass);
+    let stalled = Fault::SensorTimeout(Sensor::Compass);
+
+    // 1. One sample, then DRDY clear: the reading stops there and the one
+    //    sample is the attitude; no fault.
+    let mut tx = vec![acc_read()];
+    tx.extend(mag_read());
+    tx.extend(not_ready());
+    bus.update_expectations(&tx);
+    tick(&mut ctrl, 0);
+    let m = ctrl.attitude();
+    assert!((m.gamma0_deg - GAMMA0).abs() < 0.3, "{m:?}");
+    assert!(!ctrl.faults().is_active(bus_fault));
+
+    // 2. Due again at 10 s, no sample: kept, not a fault, and read again at
+    //    the very next tick (not 10 s later), where a sample comes.
+    bus.update_expectations(&not_ready());
+    tick(&mut ctrl, 10);
+    assert_eq!(ctrl.attitude(), m);
+    assert!(!ctrl.faults().is_active(bus_fault));
+    assert!(!ctrl.faults().is_active(stalled));
+    let mut tx = vec![acc_read()];
+    tx.extend(mag_read());
+    tx.extend(not_ready());
+    bus.update_expectations(&tx);
+    tick(&mut ctrl, 11);
+    assert!(!ctrl.faults().is_active(stalled));
+
+    // 3. A compass that stops measuring: after the limit, timeout_compass;
+    //    cleared by the next sample.
+    for k in 0..i64::from(ATTITUDE_NOT_READY_LIMIT) {
+        assert!(
+            !ctrl.faults().is_active(stalled),
+            "raised after {k} readings"
+        );
+        bus.update_expectations(&not_ready());
+        tick(&mut ctrl, 21 + k);
+    }
+    assert!(ctrl.faults().is_active(stalled));
+    assert!(!ctrl.faults().is_active(bus_fault));
+    let mut tx = vec![acc_read()];
+    tx.extend(mag_read());
+    tx.extend(not_ready());
+    bus.update_expectations(&tx);
+    tick(&mut ctrl, 21 + i64::from(ATTITUDE_NOT_READY_LIMIT));
+    assert!(!ctrl.faults().is_active(stalled));
+    bus.done();
+}
+
 // ------------------------------------------------ WitMotion over RS-485
 
 /// CRC-16/MODBUS (reflected polynomial 0xA001, initial 0xFFFF), bit by bit;

@@ -54,6 +54,15 @@ pub trait Magnetometer {
 
     /// Reads one field sample, in gauss, sensor frame.
     fn read_gauss(&mut self) -> Result<Vector3, Self::Error>;
+
+    /// True when `error` only says that no new sample is ready yet: the
+    /// part measures at its output data rate (the QMC5883L at 10 Hz by
+    /// default), and a reader faster than that is told so. Not a fault: the
+    /// caller reads again later. False for every other error.
+    fn is_not_ready(error: &Self::Error) -> bool {
+        let _ = error;
+        false
+    }
 }
 
 /// Where the magnetic declination comes from.

@@ -153,6 +153,10 @@ impl<T: Float, I: AxisAngles, M: Magnetometer> AttitudeSensor<T> for MountSensor
         self.declination_deg = declination_deg;
     }
 
+    fn is_not_ready(error: &Self::Error) -> bool {
+        matches!(error, MountSensorError::Compass(e) if M::is_not_ready(e))
+    }
+
     fn read(&mut self) -> Result<AttitudeReading<T>, Self::Error> {
         let (theta_x_deg, theta_y_deg) = self
             .tilt

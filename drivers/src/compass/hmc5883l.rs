@@ -260,4 +260,8 @@ impl<I2C: I2c> Magnetometer for Hmc5883l<I2C> {
             f32::from(raw.z) / k,
         ))
     }
+
+    fn is_not_ready(error: &Self::Error) -> bool {
+        matches!(error, Error::NotReady)
+    }
 }

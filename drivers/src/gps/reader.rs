@@ -192,6 +192,20 @@ impl<R: Read> GpsReader<R> {
         }
     }
 
+    /// True when a byte is waiting: read but not yet decoded, or ready at
+    /// the port. A main loop polls while this holds and stops when the port
+    /// is drained, instead of calling [`GpsReader::poll_if_ready`] a fixed
+    /// number of times.
+    pub fn has_input(&mut self) -> Result<bool, Error<R::Error>>
+    where
+        R: ReadReady,
+    {
+        if self.start < self.end {
+            return Ok(true);
+        }
+        self.serial.read_ready().map_err(Error::Comm)
+    }
+
     fn drain(&mut self, now_ms: u64) -> Option<GpsFix> {
         while self.start < self.end {
             let byte = *self.buf.get(self.start)?;
