@@ -273,6 +273,20 @@ pub fn match_at<T: Float, const N: usize>(
         .then_some((i, e))
 }
 
+/// The start of the table slot after the one `now` is in: the instant the
+/// next entry becomes due. `None` before the table or without one.
+fn next_slot_time<const N: usize>(table: &DayTable<N>, now: &UtcTime) -> Option<UtcTime> {
+    let first = table.first_time();
+    let since = now.unix_seconds() - first.unix_seconds();
+    let step = i64::from(table.interval_min()) * 60;
+    if since < 0 || step <= 0 || table.is_empty() {
+        return None;
+    }
+    first
+        .add_seconds((since / step + 1).checked_mul(step)?)
+        .ok()
+}
+
 /// A read-only view of the scheduler's day table in degrees.
 #[derive(Debug, Clone, Copy)]
 pub struct TableView<'a, T, const N: usize> {
@@ -690,17 +704,32 @@ impl<T: Float, P: PositionSource<T>, const N: usize> Scheduler<T, P, N> {
             .has_table
             .then_some(&self.table)
             .and_then(|t| match_at(t, &now, self.config.recheck_s));
+        // The next check comes after the hold (or the recheck interval),
+        // but never after the next entry falls due: checks every recheck_s
+        // against a window of recheck_s would otherwise drift to its edge,
+        // and a tick a second late would skip an entry.
+        let next_slot = self
+            .has_table
+            .then(|| next_slot_time(&self.table, &now))
+            .flatten();
+        let next_check = |wait_s: u32| -> Result<UtcTime, ScheduleError> {
+            let t = add(wait_s)?;
+            Ok(match next_slot {
+                Some(slot) if slot < t => slot,
+                _ => t,
+            })
+        };
         match found {
             Some((i, e)) if self.last_applied != Some(i) => {
                 self.last_applied = Some(i);
                 self.phase = Phase::Tracking {
-                    next_check: add(self.config.hold_s)?,
+                    next_check: next_check(self.config.hold_s)?,
                 };
                 Ok(Action::SetPoints(e.set_point))
             }
             _ => {
                 self.phase = Phase::Tracking {
-                    next_check: add(self.config.recheck_s)?,
+                    next_check: next_check(self.config.recheck_s)?,
                 };
                 Ok(Action::Idle)
             }
