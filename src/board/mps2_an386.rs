@@ -441,9 +441,53 @@ fn plant(min_deg: f32, max_deg: f32, start_deg: f64) -> MotorPlant {
 
 type Tracker = Firmware<f32, NoRtc, GpsUart, MotorPlant, MountSensors, Semihosting, TABLE_LEN>;
 
+/// The word the free RAM is painted with at start-up.
+const STACK_PAINT: u32 = 0xA5A5_A5A5;
+/// Bytes under the stack pointer left unpainted at start-up (the frame
+/// that paints).
+const PAINT_GAP_B: usize = 256;
+
+extern "C" {
+    /// cortex-m-rt (`link.x`): the first byte after the static RAM.
+    static mut __sheap: u32;
+    /// cortex-m-rt (`link.x`): the initial stack pointer, top of RAM.
+    static _stack_start: u32;
+}
+
+/// Stack painting, measured rather than estimated: fills the RAM between
+/// the end of the static RAM and [`PAINT_GAP_B`] under the stack pointer
+/// with [`STACK_PAINT`]; [`stack_peak_bytes`] then finds how deep the stack
+/// went. (No heap: the RAM after `__sheap` is the stack's.)
+fn paint_stack() {
+    let from = core::ptr::addr_of_mut!(__sheap) as usize;
+    let sp = cortex_m::register::msp::read() as usize;
+    let to = sp.saturating_sub(PAINT_GAP_B) & !3;
+    let mut p = from;
+    while p < to {
+        // SAFETY: word-aligned addresses between the end of the static RAM
+        // and below the live stack: RAM nothing else uses.
+        unsafe { core::ptr::write_volatile(p as *mut u32, STACK_PAINT) };
+        p += 4;
+    }
+}
+
+/// The deepest the stack has been since [`paint_stack`]: from the top of
+/// RAM down to the lowest word no longer holding the paint.
+fn stack_peak_bytes() -> u32 {
+    let from = core::ptr::addr_of_mut!(__sheap) as usize;
+    let top = core::ptr::addr_of!(_stack_start) as usize;
+    let mut p = from;
+    // SAFETY: reads of RAM words between the static RAM and the stack top.
+    while p < top && unsafe { core::ptr::read_volatile(p as *const u32) } == STACK_PAINT {
+        p += 4;
+    }
+    u32::try_from(top.saturating_sub(p)).unwrap_or(u32::MAX)
+}
+
 /// Starts the tracker; returns only through semihosting exit (when the host
 /// says `stop`).
 pub fn run() -> ! {
+    paint_stack();
     let Some(cp) = cortex_m::Peripherals::take() else {
         debug::exit(debug::EXIT_FAILURE);
         halt()
@@ -573,6 +617,8 @@ fn end_line(fw: &Tracker, board: &mut Board) -> debug::ExitStatus {
     out.u32(overruns);
     out.text(" drive_errors=");
     out.u32(s.drive_errors);
+    out.text(" stack_peak_b=");
+    out.u32(stack_peak_bytes());
     out.text("\n");
     if active == 0 {
         debug::EXIT_SUCCESS
