@@ -54,11 +54,10 @@ use drivers::rtc::Ds3231;
 use drivers::stepper::hbridge::{BridgePins, HBridgeStepper};
 use drivers::stepper::LimitSwitches;
 use drivers::tilt::adxl345::Adxl345;
-use embedded_hal_bus::i2c::RefCellDevice;
 
 use super::avr::{
     chip, millis, sleep_until_interrupt, Anemometer, ExtInt, I2c, InputPin, Millis, OutputPin,
-    Usart0, Usart1, Watchdog, MS_PER_TICK,
+    SharedI2c, Usart0, Usart1, Watchdog, MS_PER_TICK,
 };
 use super::li2022::{self, bridge_config};
 use crate::app::{AppConfig, Firmware, Platform, StartError};
@@ -180,9 +179,9 @@ pub fn run(dp: chip::Peripherals) -> ! {
 
     // The I²C devices.
     let bus = RefCell::new(I2c::new(dp.TWI));
-    let rtc = Ds3231::new(RefCellDevice::new(&bus));
-    let compass = Qmc5883l::new(RefCellDevice::new(&bus), QmcConfig::default());
-    let mut tilt = Adxl345::new(RefCellDevice::new(&bus), ADXL345_ADDRESS);
+    let rtc = Ds3231::new(SharedI2c::new(&bus));
+    let compass = Qmc5883l::new(SharedI2c::new(&bus), QmcConfig::default());
+    let mut tilt = Adxl345::new(SharedI2c::new(&bus), ADXL345_ADDRESS);
     let sensors = match (compass, tilt.init()) {
         (Ok(compass), Ok(())) => Some(MountSensorsHw::new(
             tilt,

@@ -6,7 +6,7 @@
 //!
 //! | part | type | traits |
 //! |---|---|---|
-//! | TWI at 100 kHz | [`I2c`] | `embedded_hal::i2c::I2c` |
+//! | TWI at 100 kHz | [`I2c`], shared by several drivers through [`SharedI2c`] | `embedded_hal::i2c::I2c` |
 //! | port bits | [`OutputPin`], [`InputPin`], [`OpenDrainPin`] | `OutputPin`, `StatefulOutputPin`, `InputPin` |
 //! | busy wait | [`Delay`] | `embedded_hal::delay::DelayNs` |
 //! | USART0 (+ USART1 on the 2560) | [`Usart0`], [`Usart1`] | `embedded_io::{Read, ReadReady, Write}`, [`crate::log::Sink`] |
@@ -53,7 +53,7 @@ pub use gpio::{InputPin, OpenDrainPin, OutputPin, Port, PortInputPin, PortOutput
 pub use serial::{on_usart0_rx, SerialError, Usart0};
 #[cfg(avr_atmega2560)]
 pub use serial::{on_usart1_rx, Usart1};
-pub use twi::{I2c, TwiError};
+pub use twi::{I2c, SharedI2c, TwiError};
 pub use watchdog::Watchdog;
 
 /// CPU clock of every supported board (Arduino Uno and Mega: 16 MHz crystal).

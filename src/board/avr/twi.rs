@@ -5,6 +5,8 @@
 //! TWSTO after a STOP) is bounded, so a missing, stuck or stretching device
 //! is an error, never a hang.
 
+use core::cell::RefCell;
+
 use embedded_hal::i2c::{ErrorKind, ErrorType, NoAcknowledgeSource, Operation, SevenBitAddress};
 
 use super::{chip, CPU_HZ};
@@ -48,6 +50,10 @@ pub enum TwiError {
     /// TWINT (or the end of a STOP) did not come within
     /// [`TWINT_POLL_LIMIT`] polls; the TWI was reset.
     Timeout,
+    /// A [`SharedI2c`] found the bus borrowed by another device's
+    /// transaction (only possible if a driver were called from inside
+    /// another's, or from an interrupt); nothing was sent.
+    BusInUse,
 }
 
 impl embedded_hal::i2c::Error for TwiError {
@@ -56,7 +62,7 @@ impl embedded_hal::i2c::Error for TwiError {
             TwiError::NoAcknowledge(source) => ErrorKind::NoAcknowledge(source),
             TwiError::ArbitrationLoss => ErrorKind::ArbitrationLoss,
             TwiError::Bus(_) => ErrorKind::Bus,
-            TwiError::Timeout => ErrorKind::Other,
+            TwiError::Timeout | TwiError::BusInUse => ErrorKind::Other,
         }
     }
 }
@@ -173,6 +179,8 @@ impl I2c {
                     .write(|w| w.twint().set_bit().twen().set_bit());
             }
             TwiError::Timeout => self.reset(),
+            // Never produced here: the bus was not touched.
+            TwiError::BusInUse => {}
             TwiError::NoAcknowledge(_) | TwiError::Bus(_) => {
                 if self.stop().is_err() {
                     self.reset();
@@ -266,5 +274,37 @@ impl embedded_hal::i2c::I2c<SevenBitAddress> for I2c {
                 Err(error)
             }
         }
+    }
+}
+
+/// One device's handle on a TWI shared by several drivers (the DS3231, the
+/// compass and the accelerometer of the Mega). Like `embedded-hal-bus`'s
+/// `RefCellDevice`, but a bus already borrowed is an error,
+/// [`TwiError::BusInUse`], not a panic: the images keep no panic path.
+#[derive(Clone, Copy)]
+pub struct SharedI2c<'a> {
+    bus: &'a RefCell<I2c>,
+}
+
+impl<'a> SharedI2c<'a> {
+    /// A handle on `bus`.
+    pub fn new(bus: &'a RefCell<I2c>) -> Self {
+        SharedI2c { bus }
+    }
+}
+
+impl ErrorType for SharedI2c<'_> {
+    type Error = TwiError;
+}
+
+impl embedded_hal::i2c::I2c<SevenBitAddress> for SharedI2c<'_> {
+    /// The whole transaction on the bus, or [`TwiError::BusInUse`].
+    fn transaction(
+        &mut self,
+        address: SevenBitAddress,
+        operations: &mut [Operation<'_>],
+    ) -> Result<(), TwiError> {
+        let mut bus = self.bus.try_borrow_mut().map_err(|_| TwiError::BusInUse)?;
+        bus.transaction(address, operations)
     }
 }
