@@ -55,4 +55,5 @@ build_all_firmware() {
   build_blackpill
   build_avr_uno
   build_avr_mega
+  build_avr_mega_emu
 }

@@ -7,6 +7,15 @@
 //! N × CPU time (N = 60 until the line is seen). Every model runs on
 //! emulated time.
 //!
+//! Real time during motion: the image's 56 steps/s take one loop pass per
+//! step, and under 60× the loop gets 1/60 of the CPU per emulated second
+//! (16.7 Timer0 ticks): the axes would crawl. So the bench holds PL0 high
+//! (the emulation build then advances its clock 1 ms per tick, see
+//! `src/board/avr/clock.rs`) while any coil is driven and for
+//! [`REAL_TIME_HOLD_S`] after, and compresses the rest of the day. Every
+//! switch of scale is a new segment of the cycle → emulated-time map
+//! ([`Run::time_segments`]).
+//!
 //! Sampling: PORTA is watched through simavr's port IRQ, so the stepper
 //! decoders see every single pin write (with its cycle). Switch levels,
 //! the anemometer, the GPS queue and the log are serviced every
@@ -34,8 +43,36 @@ use crate::twi::{EmuClock, TwiBus};
 pub const F_CPU: u32 = 16_000_000;
 /// CPU cycles between two services of the slow models.
 pub const SERVICE_CYCLES: u64 = 1024;
+/// Emulated seconds of real time kept after a GPS epoch's last byte.
+pub const GPS_END_MARGIN_S: f64 = 0.05;
+/// CPU cycles between two services of the slow models at real time (one
+/// emulated ms; at 60× [`SERVICE_CYCLES`] is 3.84 emulated ms).
+pub const REAL_TIME_SERVICE_CYCLES: u64 = 16_000;
 /// Default timescale before the image says otherwise.
 pub const DEFAULT_TIMESCALE: f64 = 60.0;
+/// Emulated seconds the bench stays at real time after the last coil is
+/// released (the tracker's moves come in bursts: homing, back-off, the
+/// next set-point).
+pub const REAL_TIME_HOLD_S: f64 = 2.0;
+
+/// One piece of the cycle → emulated-time map: from `cycle` on, emulated
+/// time runs `timescale` × CPU time from `emu_s`.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct TimeSegment {
+    /// First CPU cycle of the segment.
+    pub cycle: u64,
+    /// Emulated seconds since power-on at that cycle.
+    pub emu_s: f64,
+    /// Emulated ms per CPU ms in the segment.
+    pub timescale: f64,
+}
+
+impl TimeSegment {
+    /// Emulated seconds since power-on at `cycle` (at or after the start).
+    pub fn emu_s_at(&self, cycle: u64) -> f64 {
+        self.emu_s + cycle.saturating_sub(self.cycle) as f64 / f64::from(F_CPU) * self.timescale
+    }
+}
 
 /// The state of the DS3231 at power-on.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -101,7 +138,8 @@ pub struct Run {
     /// Illegal coil sequences, per axis (C, A).
     pub illegal_steps: (Vec<IllegalStep>, Vec<IllegalStep>),
     /// Axis angles each time an axis's coil pattern changed after at least
-    /// 1 emulated second without change, and every emulated minute.
+    /// 1 emulated second without change, each time both bridges were
+    /// released (a move ended), and every emulated minute.
     pub angle_trace: Vec<AngleSample>,
     /// Switch changes (the power-on levels are not listed).
     pub switch_events: Vec<SwitchEvent>,
@@ -111,8 +149,14 @@ pub struct Run {
     pub wall: Duration,
     /// CPU cycles simulated.
     pub cycles: u64,
-    /// Timescale used (from the log, or the default).
+    /// Compressed timescale (from the log, or the default).
     pub timescale: f64,
+    /// Emulated seconds the run covered.
+    pub emulated_s: f64,
+    /// Emulated seconds spent at real time (motion).
+    pub real_time_s: f64,
+    /// The cycle → emulated-time map, in order.
+    pub time_segments: Vec<TimeSegment>,
     /// Emulated UTC at the start, Unix seconds.
     pub start_unix_s: i64,
     /// How the CPU ended: `Running` when the span was reached.
@@ -144,6 +188,16 @@ pub struct Run {
 }
 
 impl Run {
+    /// Emulated seconds since power-on at CPU cycle `cycle`.
+    pub fn emu_s_at(&self, cycle: u64) -> f64 {
+        self.time_segments
+            .iter()
+            .rev()
+            .find(|s| s.cycle <= cycle)
+            .or(self.time_segments.first())
+            .map_or(0.0, |s| s.emu_s_at(cycle))
+    }
+
     /// Parsed events with their lines.
     pub fn events(&self) -> impl Iterator<Item = &LogLine> {
         self.lines.iter().filter(|l| l.event != Event::Other)
@@ -272,6 +326,9 @@ impl Bench {
         sim.attach_uart('0')?;
         sim.attach_uart('1')?;
         sim.watch_port('A')?;
+        if std::env::var_os("SUNTRACKER_EMU_PROFILE").is_some() {
+            sim.enable_profile();
+        }
 
         let clock = EmuClock::new();
         let bus = Rc::new(RefCell::new(TwiBus::new(clock.clone())));
@@ -293,7 +350,7 @@ impl Bench {
         let mut a_axis = StepperDecoder::new(AxisGeometry::a_axis(), self.power_on.1);
         let mut timescale = self.timescale;
         let byte_s = |ts: f64| 10.0 / 9600.0 * ts;
-        let mut gps = NmeaFeeder::new(self.gps.clone(), self.start_unix_s, byte_s(timescale));
+        let mut gps = NmeaFeeder::new(self.gps.clone(), self.start_unix_s, byte_s(1.0));
         let mut wind = Anemometer::new(self.wind.clone());
         let mut log = LineAssembler::default();
         let mut lines = Vec::new();
@@ -303,13 +360,26 @@ impl Bench {
             None => None,
         };
 
-        // Emulated seconds since power-on at a CPU cycle. The timescale can
-        // change once (when the image tells it): keep a piecewise origin.
-        let mut origin_cycle: u64 = 0;
-        let mut origin_emu_s: f64 = 0.0;
-        let emu_at = |cycle: u64, oc: u64, oe: f64, ts: f64| {
-            oe + (cycle - oc) as f64 / f64::from(F_CPU) * ts
-        };
+        // Emulated seconds since power-on at a CPU cycle: piecewise, a new
+        // segment when the image tells its timescale and at every switch
+        // to and from real time.
+        let mut segments = vec![TimeSegment {
+            cycle: 0,
+            emu_s: 0.0,
+            timescale,
+        }];
+        let mut compressed = timescale;
+        let mut real_time = false;
+        let mut real_time_s = 0.0;
+        let mut coils = 0u8;
+        let mut coils_off_emu = 0.0f64;
+        // When the GPS epoch on the wire ends. An epoch is sent at real
+        // time (its 139 bytes take 145 ms at 9600 baud): under 60× they
+        // would take 8.7 emulated s, and a loop pass that ran long would
+        // then decode the RMC seconds after its instant, all of it inside
+        // the image's 1.5 s freshness window.
+        let mut gps_end_utc = f64::NEG_INFINITY;
+        sim.set_pin('L', 0, false);
 
         let end_emu_s = minutes * 60.0;
         let mut switches = [None::<bool>; 4];
@@ -322,7 +392,7 @@ impl Bench {
         let mut cpu = CpuState::Running;
         loop {
             let now_cycle = sim.cycle();
-            let now_emu = emu_at(now_cycle, origin_cycle, origin_emu_s, timescale);
+            let now_emu = segments[segments.len() - 1].emu_s_at(now_cycle);
             if now_emu >= end_emu_s {
                 break;
             }
@@ -359,12 +429,47 @@ impl Bench {
                 wind_level = Some(l);
             }
             if let Some(text) = gps.poll(utc, sim.uart_pending('1') == 0) {
+                gps_end_utc = utc + text.len() as f64 * byte_s(1.0);
                 sim.uart_send('1', text.as_bytes());
             }
 
-            cpu = sim.run_until(now_cycle + SERVICE_CYCLES);
+            // Bytes still queued: they reach simavr's 64-byte receive FIFO
+            // only as it empties, so the epoch ends at least a FIFO's worth
+            // of bytes (67 ms) after the queue is empty.
+            if sim.uart_pending('1') > 0 {
+                gps_end_utc = gps_end_utc.max(utc + 64.0 * byte_s(1.0));
+            }
+            // Real time while a coil is driven and REAL_TIME_HOLD_S after,
+            // and while a GPS epoch is on the wire.
+            let want_real = coils != 0
+                || now_emu - coils_off_emu < REAL_TIME_HOLD_S
+                || utc < gps_end_utc + GPS_END_MARGIN_S;
+            if want_real != real_time && compressed > 1.0 {
+                real_time = want_real;
+                if real_time {
+                    real_time_s -= now_emu;
+                } else {
+                    real_time_s += now_emu;
+                }
+                timescale = if real_time { 1.0 } else { compressed };
+                segments.push(TimeSegment {
+                    cycle: now_cycle,
+                    emu_s: now_emu,
+                    timescale,
+                });
+                sim.set_pin('L', 0, real_time);
+            }
+
+            // At real time the models are serviced every REAL_TIME_SERVICE_CYCLES
+            // (1 emulated ms; PORTA writes still stop the run at once).
+            let span = if real_time {
+                REAL_TIME_SERVICE_CYCLES
+            } else {
+                SERVICE_CYCLES
+            };
+            cpu = sim.run_until(now_cycle + span);
             for (cycle, value) in sim.port_changes('A') {
-                let t = emu_at(cycle, origin_cycle, origin_emu_s, timescale);
+                let t = segments[segments.len() - 1].emu_s_at(cycle);
                 for (k, (axis, bits)) in [(&mut c_axis, value & 0x0F), (&mut a_axis, value >> 4)]
                     .into_iter()
                     .enumerate()
@@ -390,6 +495,18 @@ impl Bench {
                 }
                 min_angles.0 = min_angles.0.min(c_axis.angle_deg());
                 min_angles.1 = min_angles.1.min(a_axis.angle_deg());
+                if value != 0 {
+                    coils = value;
+                } else if coils != 0 {
+                    // Both bridges released: the move has ended here.
+                    coils = 0;
+                    coils_off_emu = t;
+                    trace.push(AngleSample {
+                        utc_s: self.start_unix_s as f64 + t,
+                        c_deg: c_axis.angle_deg(),
+                        a_deg: a_axis.angle_deg(),
+                    });
+                }
             }
             let minute = (now_emu / 60.0) as i64;
             if minute != last_trace_min {
@@ -404,15 +521,20 @@ impl Bench {
             let bytes = sim.uart_take('0');
             if !bytes.is_empty() {
                 let start_angles = line_start.unwrap_or((c_axis.angle_deg(), a_axis.angle_deg()));
-                let t = emu_at(sim.cycle(), origin_cycle, origin_emu_s, timescale);
+                let t = segments[segments.len() - 1].emu_s_at(sim.cycle());
                 for text in log.push(&bytes) {
                     let event = parse_line(&text);
                     if let Event::Timescale(n) = event {
-                        if n > 0.0 && n != timescale {
-                            origin_emu_s = t;
-                            origin_cycle = sim.cycle();
-                            timescale = n;
-                            gps.set_byte_s(byte_s(n));
+                        if n > 0.0 && n != compressed {
+                            compressed = n;
+                            if !real_time {
+                                timescale = n;
+                                segments.push(TimeSegment {
+                                    cycle: sim.cycle(),
+                                    emu_s: t,
+                                    timescale,
+                                });
+                            }
                         }
                     }
                     let st = line_start.take().unwrap_or(start_angles);
@@ -464,6 +586,14 @@ impl Bench {
             let (pc, sp) = sim.pc_sp();
             eprintln!("suntracker-emu: pc {pc:#x} sp {sp:#x}");
         }
+        if let Some(p) = sim.profile() {
+            // Top addresses by cycles, for `avr-addr2line -f -e ELF`.
+            let mut v: Vec<_> = p.iter().map(|(a, c)| (*c, *a)).collect();
+            v.sort_unstable_by(|a, b| b.cmp(a));
+            for (c, a) in v.iter().take(400) {
+                eprintln!("profile {a:#x} {c}");
+            }
+        }
         let ram_free_bytes = sim.count_untouched(static_end, ram_top, PAINT);
         Ok(Run {
             static_ram_bytes: static_end - RAM_START,
@@ -479,7 +609,14 @@ impl Bench {
             min_angles,
             wall: wall_start.elapsed(),
             cycles: sim.cycle(),
-            timescale,
+            timescale: compressed,
+            emulated_s: segments[segments.len() - 1].emu_s_at(sim.cycle()),
+            real_time_s: if real_time {
+                real_time_s + segments[segments.len() - 1].emu_s_at(sim.cycle())
+            } else {
+                real_time_s
+            },
+            time_segments: segments,
             start_unix_s: self.start_unix_s,
             cpu,
             wind_pulses: wind.pulses,

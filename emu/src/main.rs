@@ -137,15 +137,16 @@ fn run() -> Result<ExitCode, String> {
         .echo(!quiet)
         .log_to(log)
         .run_minutes(minutes)?;
-    let emulated_s = run.cycles as f64 / f64::from(suntracker_emu::bench::F_CPU) * run.timescale;
+    let emulated_s = run.emulated_s;
     eprintln!(
-        "suntracker-emu: {} from {}: {:.1} emulated min ({} cycles, timescale {}) in {:.2} s wall; \
+        "suntracker-emu: {} from {}: {:.1} emulated min ({} cycles, timescale {}, {:.0} s of it real time) in {:.2} s wall; \
          {} log lines; final C {:.3}° A {:.3}°; illegal steps C {} A {}; GPS epochs {}; wind pulses {}; cpu {:?}",
         elf.display(),
         format_utc(start),
         emulated_s / 60.0,
         run.cycles,
         run.timescale,
+        run.real_time_s,
         run.wall.as_secs_f64(),
         run.lines.len(),
         run.final_angles.0,
@@ -156,9 +157,35 @@ fn run() -> Result<ExitCode, String> {
         run.wind_pulses,
         run.cpu
     );
+    if std::env::var_os("SUNTRACKER_EMU_TRACE").is_some() {
+        // Motion starts and minute samples, then switch changes.
+        for t in &run.angle_trace {
+            eprintln!(
+                "suntracker-emu: trace {} C {:.3} A {:.3}",
+                format_utc(t.utc_s.floor() as i64),
+                t.c_deg,
+                t.a_deg
+            );
+        }
+        for g in &run.time_segments {
+            eprintln!(
+                "suntracker-emu: timescale {} from {}",
+                g.timescale,
+                format_utc(start + g.emu_s.floor() as i64)
+            );
+        }
+        for e in &run.switch_events {
+            eprintln!(
+                "suntracker-emu: switch {} {} {}",
+                format_utc(e.utc_s.floor() as i64),
+                ["C home", "A home", "C max", "A max"][e.switch.min(3)],
+                if e.closed { "closed" } else { "open" }
+            );
+        }
+    }
     for (axis, steps) in [("C", &run.illegal_steps.0), ("A", &run.illegal_steps.1)] {
         for s in steps.iter().take(5) {
-            let at = s.cycle as f64 / f64::from(suntracker_emu::bench::F_CPU) * run.timescale;
+            let at = run.emu_s_at(s.cycle);
             eprintln!(
                 "suntracker-emu: illegal coil sequence on {axis} at {}: {:04b} -> {:04b} (IN4..IN1)",
                 format_utc(start + at as i64),

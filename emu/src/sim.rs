@@ -81,6 +81,9 @@ pub struct Sim {
     tx_pending: bool,
     /// The lowest stack pointer seen after an instruction.
     min_sp: u16,
+    /// Cycles spent per program-counter address (byte address), when
+    /// profiling ([`Sim::enable_profile`]).
+    profile: Option<std::collections::HashMap<u32, u64>>,
     _firmware: Box<ffi::elf_firmware_t>,
 }
 
@@ -178,6 +181,7 @@ impl Sim {
             port_flag: Default::default(),
             tx_pending: false,
             min_sp: u16::MAX,
+            profile: None,
             _firmware: firmware,
         })
     }
@@ -369,6 +373,17 @@ impl Sim {
         unsafe { self.avr.as_ref().ramend }
     }
 
+    /// Starts counting the cycles of every instruction by its address
+    /// (sleep counted at the SLEEP's address): see [`Sim::profile`].
+    pub fn enable_profile(&mut self) {
+        self.profile = Some(std::collections::HashMap::new());
+    }
+
+    /// Cycles per byte address since [`Sim::enable_profile`], or `None`.
+    pub fn profile(&self) -> Option<&std::collections::HashMap<u32, u64>> {
+        self.profile.as_ref()
+    }
+
     /// CPU cycles since reset.
     pub fn cycle(&self) -> u64 {
         unsafe { self.avr.as_ref().cycle }
@@ -384,9 +399,14 @@ impl Sim {
                 self.flush_uarts();
             }
             let before = self.cycle();
+            let pc_before = unsafe { self.avr.as_ref().pc };
             let state = unsafe { ffi::avr_run(self.avr.as_ptr()) } as u32;
             if self.cycle() < before {
                 return CpuState::Reset;
+            }
+            let spent = self.cycle() - before;
+            if let Some(p) = self.profile.as_mut() {
+                *p.entry(pc_before).or_insert(0) += spent;
             }
             let (_, sp) = self.pc_sp();
             self.min_sp = self.min_sp.min(sp);

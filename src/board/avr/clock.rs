@@ -24,7 +24,9 @@ static MILLIS: Mutex<Cell<u64>> = Mutex::new(Cell::new(0));
 /// built for the emulator harness with the environment variable
 /// `SUNTRACKER_EMU_MS_PER_TICK=N` (see `.ci/firmware_env.sh`) advances `N`
 /// per tick instead, so that an emulated day passes in 1/N of the CPU time;
-/// nothing else in the image changes.
+/// nothing else in the image changes. In such a build on the ATmega2560 the
+/// harness can hold PL0 (Mega D49, unused by the tracker) high to run the
+/// clock at 1 ms per tick while the motors move (see [`on_timer0_compare`]).
 pub const MS_PER_TICK: u64 = ms_per_tick(option_env!("SUNTRACKER_EMU_MS_PER_TICK"));
 
 const fn ms_per_tick(text: Option<&str>) -> u64 {
@@ -90,10 +92,33 @@ pub fn millis() -> u64 {
 /// The TIMER0_COMPA handler's work; bound by `avr_board_interrupts!`.
 #[inline(always)]
 pub fn on_timer0_compare() {
+    let step_ms = if MS_PER_TICK != 1 && emu_real_time_requested() {
+        1
+    } else {
+        MS_PER_TICK
+    };
     interrupt::free(|cs| {
         let count = MILLIS.borrow(cs);
-        count.set(count.get().wrapping_add(MS_PER_TICK));
+        count.set(count.get().wrapping_add(step_ms));
     });
+}
+
+/// Emulator builds only (the caller tests [`MS_PER_TICK`], a constant, so a
+/// board image has no trace of this): the harness holds PL0 high while the
+/// stepper coils are driven, so that motion (56 steps/s, one step per loop
+/// pass at most) runs in real time while the rest of the day is compressed.
+#[cfg(avr_atmega2560)]
+#[inline(always)]
+fn emu_real_time_requested() -> bool {
+    // SAFETY: a read of the PINL input register, which has no side effect.
+    let pinl = unsafe { (*chip::PORTL::ptr()).pinl().read().bits() };
+    pinl & 1 != 0
+}
+
+#[cfg(not(avr_atmega2560))]
+#[inline(always)]
+fn emu_real_time_requested() -> bool {
+    false
 }
 
 /// Sleeps in idle mode until the next interrupt (at most 1 ms while the
