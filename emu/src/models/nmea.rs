@@ -12,11 +12,11 @@
 //!
 //! Order: the image stamps an epoch's time when its RMC arrives (the age of
 //! the fix runs from there, and time older than 1.5 s is not trusted). On the
-//! wire at 9600 baud a GGA takes 75 ms, but under the harness's time
-//! compression it takes timescale × that (4.5 emulated s at 60×), so an RMC
-//! sent before the GGA would be stale by the time the epoch completes. Every
-//! epoch therefore ends with its RMC (as SiRF receivers send them: GGA …
-//! RMC); a recorded log's epochs are reordered that way.
+//! wire at 9600 baud a GGA takes 75 ms (the bench sends epochs at real
+//! time; under its 60× compression a GGA would take 4.5 emulated s), so an
+//! RMC sent before the GGA would be older than the epoch's end. Every epoch
+//! therefore ends with its RMC (as SiRF receivers send them: GGA … RMC); a
+//! recorded log's epochs are reordered that way.
 
 use drivers::time::{civil_from_days, days_from_civil};
 
