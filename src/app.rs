@@ -193,8 +193,6 @@ pub struct Firmware<T, R, G, D, S, L, const N: usize> {
     last_tick_utc: Option<UtcTime>,
     /// Monotonic ms of the last pass.
     last_pass_ms: Option<u64>,
-    /// A fix stamp moved back (from, to) after a long pass.
-    restamp: Option<(u64, u64)>,
     time_origin: Option<TimeOrigin>,
     site_origin: Option<LogSite>,
     site_f64: Site<f64>,
@@ -252,7 +250,6 @@ where
             last_tick_ms: 0,
             last_tick_utc: None,
             last_pass_ms: None,
-            restamp: None,
             time_origin: None,
             site_origin: None,
             site_f64,
@@ -302,27 +299,19 @@ where
     /// controller tick ran in it.
     pub fn poll<P: Platform>(&mut self, platform: &mut P) -> bool {
         let now_ms = platform.now_ms();
-        let previous_pass_ms = self.last_pass_ms.replace(now_ms);
-        match self.gps.service(now_ms) {
-            Ok(mut fix) => {
-                // The reader stamps a fix when it decodes it, in this pass;
-                // its bytes came at any time since the previous pass. After
-                // a pass longer than GPS_STAMP_SLACK_MS the stamp is moved
-                // back to the previous pass: the fix's age is then never
-                // under-counted, and a fix found late is not taken as fresh
-                // time (it would set the clock back by the pass's length).
-                if let (Some(stamp), Some(prev)) = (fix.utc_received_ms, previous_pass_ms) {
-                    if stamp == now_ms && now_ms.saturating_sub(prev) > GPS_STAMP_SLACK_MS {
-                        self.restamp = Some((stamp, prev));
-                    }
-                }
-                if let Some((from, to)) = self.restamp {
-                    if fix.utc_received_ms == Some(from) {
-                        fix.utc_received_ms = Some(to);
-                    }
-                }
-                self.fix = fix;
-            }
+        // The reader stamps what it decodes with the instant it is given;
+        // the bytes drained now came at any time since the previous pass.
+        // After a pass longer than GPS_STAMP_SLACK_MS they are stamped at
+        // the previous pass: a fix's age is then never under-counted, and
+        // a fix found late is not taken as fresh time (it would set the
+        // clock back by the pass's length). The time keeper ages the fix
+        // against `now_ms`.
+        let stamp_ms = match self.last_pass_ms.replace(now_ms) {
+            Some(prev) if now_ms.saturating_sub(prev) > GPS_STAMP_SLACK_MS => prev,
+            _ => now_ms,
+        };
+        match self.gps.service(stamp_ms) {
+            Ok(fix) => self.fix = fix,
             Err(_) => self.stats.gps_errors = self.stats.gps_errors.saturating_add(1),
         }
         let now_us = now_ms.saturating_mul(1000);

@@ -260,12 +260,7 @@ pub fn match_at<T: Float, const N: usize>(
     now: &UtcTime,
     window_s: u32,
 ) -> Option<(usize, TableEntry<T>)> {
-    let since = now.unix_seconds() - table.first_time().unix_seconds();
-    let step = i64::from(table.interval_min()) * 60;
-    if since < 0 || step <= 0 || table.is_empty() {
-        return None;
-    }
-    let i = usize::try_from(since / step).ok()?;
+    let i = usize::try_from(slot_of(table, now)?).ok()?;
     let e = table_entry(table, i)?;
     let late = now.unix_seconds() - e.time.unix_seconds();
     (0..i64::from(window_s.max(1)))
@@ -273,18 +268,23 @@ pub fn match_at<T: Float, const N: usize>(
         .then_some((i, e))
 }
 
-/// The start of the table slot after the one `now` is in: the instant the
-/// next entry becomes due. `None` before the table or without one.
-fn next_slot_time<const N: usize>(table: &DayTable<N>, now: &UtcTime) -> Option<UtcTime> {
-    let first = table.first_time();
-    let since = now.unix_seconds() - first.unix_seconds();
+/// The table slot `now` is in (entry index, possibly past the last entry);
+/// `None` before the table or without one.
+fn slot_of<const N: usize>(table: &DayTable<N>, now: &UtcTime) -> Option<i64> {
+    let since = now.unix_seconds() - table.first_time().unix_seconds();
     let step = i64::from(table.interval_min()) * 60;
     if since < 0 || step <= 0 || table.is_empty() {
         return None;
     }
-    first
-        .add_seconds((since / step + 1).checked_mul(step)?)
-        .ok()
+    Some(since / step)
+}
+
+/// The start of the table slot after the one `now` is in: the instant the
+/// next entry becomes due. `None` before the table or without one.
+fn next_slot_time<const N: usize>(table: &DayTable<N>, now: &UtcTime) -> Option<UtcTime> {
+    let step = i64::from(table.interval_min()) * 60;
+    let next = slot_of(table, now)?.checked_add(1)?.checked_mul(step)?;
+    table.first_time().add_seconds(next).ok()
 }
 
 /// A read-only view of the scheduler's day table in degrees.

@@ -85,17 +85,11 @@ fn sensor_errors_are_typed() {
     bus.done();
 }
 
-#[test]
-fn controller_measures_the_mount_and_recovers_from_a_nack() {
-    const SAMPLES: u8 = 4;
-    let mut bus = I2cMock::new(&init());
-    let s = sensors(&bus);
-    let config = Config::default();
-    let options = ControllerOptions {
-        attitude: AttitudeSource::Sensors,
-        sensor_samples: SAMPLES,
-        ..ControllerOptions::default()
-    };
+type MeasuringController = Controller<f64, AlgorithmSource<f64>, MotorPlant, Sensors, 360>;
+
+/// The controller at Kano with the mocked sensors on `bus` and two
+/// encoder-fed stepper plants (C −180…180°, A −90…90°).
+fn measuring_controller(bus: &I2cMock, options: ControllerOptions<f64>) -> MeasuringController {
     let plant = |switch: f64, max: f64| {
         MotorPlant::stepper(1.8, 16, 100.0, 0.0, 2.0, Some(4096), switch, max, 0.0)
     };
@@ -104,14 +98,28 @@ fn controller_measures_the_mount_and_recovers_from_a_nack() {
         site: Site::with_elevation(11.9683, 8.4261, 480.0).unwrap(),
         options: Options::default(),
     };
-    let mut ctrl: Controller<f64, _, MotorPlant, Sensors, 360> = Controller::new(
-        config,
+    Controller::new(
+        Config::default(),
         options,
         source,
         [plant(-180.0, 180.0), plant(-90.0, 90.0)],
-        Some(s),
+        Some(sensors(bus)),
     )
-    .unwrap();
+    .unwrap()
+}
+
+#[test]
+fn controller_measures_the_mount_and_recovers_from_a_nack() {
+    const SAMPLES: u8 = 4;
+    let mut bus = I2cMock::new(&init());
+    let mut ctrl = measuring_controller(
+        &bus,
+        ControllerOptions {
+            attitude: AttitudeSource::Sensors,
+            sensor_samples: SAMPLES,
+            ..ControllerOptions::default()
+        },
+    );
     let good_tick = || {
         let mut v = Vec::new();
         for _ in 0..SAMPLES {
@@ -122,7 +130,7 @@ fn controller_measures_the_mount_and_recovers_from_a_nack() {
     };
     let fault = Fault::I2cError(Sensor::Compass);
     let now = UtcTime::from_ymd_hms(2026, 3, 20, 10, 0, 0).unwrap();
-    let tick = |ctrl: &mut Controller<f64, _, MotorPlant, Sensors, 360>, k: i64| {
+    let tick = |ctrl: &mut MeasuringController, k: i64| {
         ctrl.tick(&TickInputs {
             now_ms: (k as u64) * 60_000,
             now: now.add_seconds(60 * k).unwrap(),
@@ -173,32 +181,18 @@ fn a_compass_without_a_new_sample_is_read_again_not_a_fault() {
     use suntracker::controller::ATTITUDE_NOT_READY_LIMIT;
     const SAMPLES: u8 = 4;
     let mut bus = I2cMock::new(&init());
-    let s = sensors(&bus);
-    let options = ControllerOptions {
-        attitude: AttitudeSource::Sensors,
-        sensor_samples: SAMPLES,
-        attitude_every_ms: 10_000,
-        ..ControllerOptions::default()
-    };
-    let plant = |switch: f64, max: f64| {
-        MotorPlant::stepper(1.8, 16, 100.0, 0.0, 2.0, Some(4096), switch, max, 0.0)
-    };
-    let source = AlgorithmSource {
-        algorithm: Algorithm::Psa2020,
-        site: Site::with_elevation(11.9683, 8.4261, 480.0).unwrap(),
-        options: Options::default(),
-    };
-    let mut ctrl: Controller<f64, _, MotorPlant, Sensors, 360> = Controller::new(
-        Config::default(),
-        options,
-        source,
-        [plant(-180.0, 180.0), plant(-90.0, 90.0)],
-        Some(s),
-    )
-    .unwrap();
+    let mut ctrl = measuring_controller(
+        &bus,
+        ControllerOptions {
+            attitude: AttitudeSource::Sensors,
+            sensor_samples: SAMPLES,
+            attitude_every_ms: 10_000,
+            ..ControllerOptions::default()
+        },
+    );
     let now = UtcTime::from_ymd_hms(2026, 3, 20, 10, 0, 0).unwrap();
     // Ticks one second apart.
-    let tick = |ctrl: &mut Controller<f64, _, MotorPlant, Sensors, 360>, k: i64| {
+    let tick = |ctrl: &mut MeasuringController, k: i64| {
         ctrl.tick(&TickInputs {
             now_ms: (k as u64) * 1_000,
             now: now.add_seconds(k).unwrap(),

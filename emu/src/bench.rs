@@ -45,6 +45,9 @@ use crate::twi::{EmuClock, TwiBus};
 pub const F_CPU: u32 = 16_000_000;
 /// CPU cycles between two services of the slow models.
 pub const SERVICE_CYCLES: u64 = 1024;
+/// Seconds a byte takes on the GPS port (10 bits at 9600 baud); epochs are
+/// sent at real time, so this is emulated time too.
+pub const GPS_BYTE_S: f64 = 10.0 / 9600.0;
 /// Emulated seconds of real time kept after a GPS epoch's last byte.
 pub const GPS_END_MARGIN_S: f64 = 0.05;
 /// CPU cycles between two services of the slow models at real time (one
@@ -351,8 +354,7 @@ impl Bench {
         let mut c_axis = StepperDecoder::new(AxisGeometry::c_axis(), self.power_on.0);
         let mut a_axis = StepperDecoder::new(AxisGeometry::a_axis(), self.power_on.1);
         let mut timescale = self.timescale;
-        let byte_s = |ts: f64| 10.0 / 9600.0 * ts;
-        let mut gps = NmeaFeeder::new(self.gps.clone(), self.start_unix_s, byte_s(1.0));
+        let mut gps = NmeaFeeder::new(self.gps.clone(), self.start_unix_s, GPS_BYTE_S);
         let mut wind = Anemometer::new(self.wind.clone());
         let mut log = LineAssembler::default();
         let mut lines = Vec::new();
@@ -431,7 +433,7 @@ impl Bench {
                 wind_level = Some(l);
             }
             if let Some(text) = gps.poll(utc, sim.uart_pending('1') == 0) {
-                gps_end_utc = utc + text.len() as f64 * byte_s(1.0);
+                gps_end_utc = utc + text.len() as f64 * GPS_BYTE_S;
                 sim.uart_send('1', text.as_bytes());
             }
 
@@ -439,7 +441,7 @@ impl Bench {
             // only as it empties, so the epoch ends at least a FIFO's worth
             // of bytes (67 ms) after the queue is empty.
             if sim.uart_pending('1') > 0 {
-                gps_end_utc = gps_end_utc.max(utc + 64.0 * byte_s(1.0));
+                gps_end_utc = gps_end_utc.max(utc + 64.0 * GPS_BYTE_S);
             }
             // Real time while a coil is driven and REAL_TIME_HOLD_S after,
             // and while a GPS epoch is on the wire.

@@ -74,6 +74,17 @@ mod tests {
         read_calls: u32,
     }
 
+    impl CountingPort {
+        fn new(data: &'static [u8], chunk: usize) -> Self {
+            CountingPort {
+                data,
+                chunk,
+                ready_calls: 0,
+                read_calls: 0,
+            }
+        }
+    }
+
     impl embedded_io::ErrorType for CountingPort {
         type Error = Infallible;
     }
@@ -100,12 +111,7 @@ mod tests {
 
     #[test]
     fn an_empty_port_costs_one_ready_check_and_no_read() {
-        let port = CountingPort {
-            data: b"",
-            chunk: 8,
-            ready_calls: 0,
-            read_calls: 0,
-        };
+        let port = CountingPort::new(b"", 8);
         let mut gps = GpsPort::new(port, 3_000);
         gps.service(0).unwrap();
         let port = gps.destroy();
@@ -116,12 +122,7 @@ mod tests {
     fn a_service_reads_until_the_port_is_drained_then_stops() {
         // 67 bytes in chunks of 8: nine reads, then the empty port is
         // seen once and the loop ends (not 64 passes).
-        let port = CountingPort {
-            data: RMC,
-            chunk: 8,
-            ready_calls: 0,
-            read_calls: 0,
-        };
+        let port = CountingPort::new(RMC, 8);
         let mut gps = GpsPort::new(port, 3_000);
         gps.service(0).unwrap();
         let port = gps.destroy();

@@ -241,11 +241,6 @@ impl NmeaFeeder {
         }
     }
 
-    /// Changes the per-byte time (after the image told its timescale).
-    pub fn set_byte_s(&mut self, byte_s: f64) {
-        self.byte_s = byte_s;
-    }
-
     /// At emulated UTC `now_unix_s` with the port idle: the bytes to queue now.
     pub fn poll(&mut self, now_unix_s: f64, port_idle: bool) -> Option<String> {
         if !port_idle {
