@@ -18,6 +18,7 @@ ELF_AVR_UNO="$FW_TARGET_DIR/avr-none/release/avr_tracker.elf"
 ELF_AVR_BENCH="$FW_TARGET_DIR/avr-none/release/avr_bench.elf"
 ELF_AVR_MEGA="$FW_TARGET_DIR/mega/avr-none/release/avr_mega_tracker.elf"
 ELF_AVR_MEGA_EMU="$FW_TARGET_DIR/mega-emu/avr-none/release/avr_mega_tracker.elf"
+ELF_AVR_UNO_EMU="$FW_TARGET_DIR/uno-emu/avr-none/release/avr_tracker.elf"
 ELF_AVR_SELFTEST="$FW_TARGET_DIR/mega/avr-none/release/avr_board_selftest.elf"
 
 # The ATmega2560 flags: the same as .cargo/config.toml's avr-none flags but
@@ -33,7 +34,7 @@ build_blackpill() {
     --bin blackpill_tracker --target-dir "$FW_TARGET_DIR/blackpill"
 }
 build_avr_uno() {
-  cargo +nightly build --release --target avr-none -Z build-std=core \
+  cargo +nightly build --release --target avr-none -Z build-std=core --features uno \
     --bin avr_tracker --bin avr_bench
 }
 build_avr_mega() {
@@ -50,10 +51,17 @@ build_avr_mega_emu() {
     cargo +nightly build --release --target avr-none -Z build-std=core --features mega2560 \
     --bin avr_mega_tracker --target-dir "$FW_TARGET_DIR/mega-emu"
 }
+# The Uno image for the emulator harness, the same way.
+build_avr_uno_emu() {
+  SUNTRACKER_EMU_MS_PER_TICK=$EMU_MS_PER_TICK \
+    cargo +nightly build --release --target avr-none -Z build-std=core --features uno \
+    --bin avr_tracker --target-dir "$FW_TARGET_DIR/uno-emu"
+}
 build_all_firmware() {
   build_qemu
   build_blackpill
   build_avr_uno
   build_avr_mega
   build_avr_mega_emu
+  build_avr_uno_emu
 }

@@ -14,6 +14,7 @@ pub const BANNER: &str = concat!("suntracker ", env!("CARGO_PKG_VERSION"));
 pub mod app;
 pub mod attitude;
 pub mod axis;
+pub mod bench;
 pub mod board;
 pub mod clock;
 pub mod config;

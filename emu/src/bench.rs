@@ -38,7 +38,7 @@ use crate::models::nmea::{GpsFeed, NmeaFeeder};
 use crate::models::qmc5883l::Qmc5883l;
 use crate::models::stepper::{AxisGeometry, IllegalStep, StepperDecoder};
 use crate::models::wind::{Anemometer, WindProfile};
-use crate::sim::{CpuState, Sim};
+use crate::sim::{CpuState, RamUse, Sim};
 use crate::twi::{EmuClock, TwiBus};
 
 /// CPU clock of the Mega.
@@ -174,22 +174,8 @@ pub struct Run {
     pub rtc_time_writes: u32,
     /// TWI transactions (START + address) per 7-bit address seen.
     pub twi_starts: Vec<(u8, u32)>,
-    /// Static RAM of the image: `.data` + `.bss` (+ `.noinit`), bytes.
-    pub static_ram_bytes: u16,
-    /// Peak stack, bytes, by painting: the RAM between the end of `.bss`
-    /// and RAMEND is filled with [`PAINT`] before the run; this is the
-    /// part of it the run overwrote (from RAMEND down).
-    pub stack_peak_bytes: u16,
-    /// Peak stack, bytes, from the lowest stack pointer the run reached
-    /// (RAMEND − SP): counts frames that were reserved but not all
-    /// written, which painting misses. At least `stack_peak_bytes`.
-    pub stack_peak_sp_bytes: u16,
-    /// RAM never touched during the run: painted bytes still intact above
-    /// the end of `.bss`. `static_ram_bytes + stack_peak_bytes +
-    /// ram_free_bytes` is the whole RAM ([`Run::ram_bytes`]).
-    pub ram_free_bytes: u16,
-    /// The MCU's RAM, bytes (8,192 on the ATmega2560).
-    pub ram_bytes: u16,
+    /// RAM: static, the stack's peak (painted and lowest SP), untouched.
+    pub ram: RamUse,
 }
 
 impl Run {
@@ -598,13 +584,8 @@ impl Bench {
                 eprintln!("profile {a:#x} {c}");
             }
         }
-        let ram_free_bytes = sim.count_untouched(static_end, ram_top, PAINT);
         Ok(Run {
-            static_ram_bytes: static_end - RAM_START,
-            stack_peak_bytes: ram_top - static_end - ram_free_bytes,
-            stack_peak_sp_bytes: (ram_top - 1).saturating_sub(sim.min_sp()),
-            ram_free_bytes,
-            ram_bytes: ram_top - RAM_START,
+            ram: RamUse::measure(&sim, RAM_START, static_end, PAINT),
             lines,
             final_angles: (c_axis.angle_deg(), a_axis.angle_deg()),
             illegal_steps: (c_axis.illegal.clone(), a_axis.illegal.clone()),

@@ -3,13 +3,16 @@
 //! board's peripherals — DS3231 RTC, QMC5883L compass and ADXL345
 //! accelerometer on the TWI, two H-bridge steppers on PORTA with their home
 //! and max-end switches on PORTC, a GPS on USART1, a cup anemometer on
-//! INT4 — and a reader of the log on USART0. See `emu/README.md`.
+//! INT4 — and a reader of the log on USART0; and the ATmega328P (Uno)
+//! image with a DS3231 and its two servo signals decoded ([`uno`]). See
+//! `emu/README.md`.
 
 pub mod bench;
 pub mod log;
 pub mod models;
 pub mod sim;
 pub mod twi;
+pub mod uno;
 
 pub use bench::{Bench, LogLine, Rtc, Run};
 pub use models::mount::Mount;

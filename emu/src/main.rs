@@ -6,6 +6,7 @@ use std::process::ExitCode;
 
 use suntracker_emu::log::{format_utc, parse_utc};
 use suntracker_emu::models::nmea::{parse_log, GpsFeed};
+use suntracker_emu::uno::UnoBench;
 use suntracker_emu::{Bench, Rtc, WindProfile};
 
 const HELP: &str = "\
@@ -17,10 +18,13 @@ USAGE:
   suntracker-emu --image mega|uno|qemu [OPTIONS]
 
 OPTIONS:
-  --image NAME          mega (ATmega2560); uno is not supported yet; qemu
-                        runs in QEMU, not here: python3 .ci/qemu_gps.py ELF
+  --image NAME          mega (ATmega2560) or uno (ATmega328P: DS3231 and the
+                        two servo signals only; the GPS, mount and wind
+                        options do not apply); qemu runs in QEMU, not here:
+                        python3 .ci/qemu_gps.py ELF
   --elf PATH            the ELF (default: $CARGO_TARGET_DIR or target, then
-                        /mega-emu/avr-none/release/avr_mega_tracker.elf)
+                        /mega-emu/avr-none/release/avr_mega_tracker.elf or
+                        /uno-emu/avr-none/release/avr_tracker.elf)
   --nmea FILE           feed this recorded NMEA log on USART1 (default: a
                         generated Kano fix, 11.9683 N 8.4261 E, 480 m)
   --no-gps              keep USART1 silent
@@ -31,7 +35,10 @@ OPTIONS:
   --tilt-deg X          mount tilt about the tracker's x axis (default 0)
   --heading-deg Y       azimuth the mount faces, east of north (default 0)
   --gale-at UTC         40 Hz anemometer pulses for 10 minutes from UTC
-  --log OUT             also write the log lines to OUT
+  --log OUT             also write the log lines to OUT (uno: at the end, as
+                        the image sent them, each set-point followed by an
+                        `axes utc=… c=… a=…` line: the pose decoded from
+                        the servo pins)
   --quiet               do not print the log lines
   -h, --help            this text
 
@@ -93,8 +100,9 @@ fn run() -> Result<ExitCode, String> {
             _ => return Err(arg.unexpected().to_string()),
         }
     }
-    match image.as_deref() {
-        Some("mega") => {}
+    let uno = match image.as_deref() {
+        Some("mega") => false,
+        Some("uno") => true,
         Some("qemu") => {
             eprintln!(
                 "suntracker-emu: --image qemu: the QEMU image runs under QEMU, fed by \
@@ -102,18 +110,47 @@ fn run() -> Result<ExitCode, String> {
             );
             return Ok(ExitCode::from(2));
         }
-        Some(other @ "uno") => {
-            eprintln!("suntracker-emu: --image {other}: not supported yet");
-            return Ok(ExitCode::from(2));
-        }
         Some(other) => return Err(format!("--image {other}: want mega, uno or qemu")),
         None => return Err("--image is required (see --help)".into()),
-    }
+    };
     let elf = elf.unwrap_or_else(|| {
         let target = std::env::var_os("CARGO_TARGET_DIR")
             .map_or_else(|| PathBuf::from("target"), PathBuf::from);
-        target.join("mega-emu/avr-none/release/avr_mega_tracker.elf")
+        target.join(if uno {
+            "uno-emu/avr-none/release/avr_tracker.elf"
+        } else {
+            "mega-emu/avr-none/release/avr_mega_tracker.elf"
+        })
     });
+    if uno {
+        let start = start.unwrap_or(suntracker_emu::bench::DEFAULT_START);
+        let run = UnoBench::new(&elf)
+            .start(start)
+            .rtc(rtc)
+            .echo(!quiet)
+            .log_to(log)
+            .run_minutes(minutes)?;
+        eprintln!(
+            "suntracker-emu: {} from {}: {:.1} emulated min ({} cycles, timescale {}) in {:.2} s wall; \
+             {} log lines; servo pulses C {} A {}; cpu {:?}",
+            elf.display(),
+            format_utc(start),
+            run.emulated_s / 60.0,
+            run.cycles,
+            run.timescale,
+            run.wall.as_secs_f64(),
+            run.lines.len(),
+            run.pulses_c.len(),
+            run.pulses_a.len(),
+            run.cpu
+        );
+        eprintln!("suntracker-emu: {}", run.ram.summary());
+        return Ok(if run.cpu == suntracker_emu::sim::CpuState::Running {
+            ExitCode::SUCCESS
+        } else {
+            ExitCode::from(1)
+        });
+    }
     let default_start = suntracker_emu::bench::DEFAULT_START;
     let (feed, first) = match (&nmea, no_gps) {
         (_, true) => (GpsFeed::Silent, None),
@@ -194,20 +231,7 @@ fn run() -> Result<ExitCode, String> {
             );
         }
     }
-    eprintln!(
-        "suntracker-emu: RAM {} B: static {} B (.data + .bss), stack peak {} B (painted), \
-         {} B (lowest stack pointer), never touched {} B{}",
-        run.ram_bytes,
-        run.static_ram_bytes,
-        run.stack_peak_bytes,
-        run.stack_peak_sp_bytes,
-        run.ram_free_bytes,
-        if run.static_ram_bytes + run.stack_peak_sp_bytes > run.ram_bytes {
-            " — STACK OVERFLOW into the static RAM"
-        } else {
-            ""
-        }
-    );
+    eprintln!("suntracker-emu: {}", run.ram.summary());
     Ok(if run.cpu == suntracker_emu::sim::CpuState::Running {
         ExitCode::SUCCESS
     } else {

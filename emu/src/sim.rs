@@ -66,6 +66,13 @@ struct PortWatch {
     avr: NonNull<ffi::avr_t>,
 }
 
+/// Level changes of one pin (a timer's compare output drives the pin's own
+/// IRQ, not the port's PIN_ALL one).
+struct PinWatch {
+    changes: RefCell<Vec<(u64, bool)>>,
+    avr: NonNull<ffi::avr_t>,
+}
+
 struct TwiHandle {
     bus: Rc<RefCell<TwiBus>>,
     input: NonNull<ffi::avr_irq_t>,
@@ -76,6 +83,7 @@ pub struct Sim {
     avr: NonNull<ffi::avr_t>,
     uarts: Vec<(char, UartHandle)>,
     ports: Vec<(char, Box<PortWatch>)>,
+    pins: Vec<((char, u8), Box<PinWatch>)>,
     twi: Option<Box<TwiHandle>>,
     port_flag: std::rc::Rc<std::cell::Cell<bool>>,
     tx_pending: bool,
@@ -131,6 +139,12 @@ unsafe extern "C" fn on_port_all(_: *mut ffi::avr_irq_t, value: u32, param: *mut
     watch.flag.set(true);
 }
 
+unsafe extern "C" fn on_pin(_: *mut ffi::avr_irq_t, value: u32, param: *mut std::ffi::c_void) {
+    let watch = unsafe { &*(param as *const PinWatch) };
+    let cycle = unsafe { watch.avr.as_ref().cycle };
+    watch.changes.borrow_mut().push((cycle, value & 1 != 0));
+}
+
 unsafe extern "C" fn on_twi_output(
     _: *mut ffi::avr_irq_t,
     value: u32,
@@ -178,6 +192,7 @@ impl Sim {
             uarts: Vec::new(),
             ports: Vec::new(),
             twi: None,
+            pins: Vec::new(),
             port_flag: Default::default(),
             tx_pending: false,
             min_sp: u16::MAX,
@@ -304,6 +319,32 @@ impl Sim {
         Ok(())
     }
 
+    /// Records every level change of pin `Pxn`, including those a timer's
+    /// compare output makes (PWM), with the cycle it happened at.
+    pub fn watch_pin(&mut self, port: char, pin: u8) -> Result<(), String> {
+        let ctl = ioctl_code(b'i', b'o', b'g', port as u8);
+        let irq = self
+            .getirq(ctl, u32::from(pin))
+            .ok_or_else(|| format!("no pin P{port}{pin}"))?;
+        let watch = Box::new(PinWatch {
+            changes: RefCell::new(Vec::new()),
+            avr: self.avr,
+        });
+        let p = &*watch as *const PinWatch as *mut std::ffi::c_void;
+        unsafe { ffi::avr_irq_register_notify(irq.as_ptr(), Some(on_pin), p) };
+        self.pins.push(((port, pin), watch));
+        Ok(())
+    }
+
+    /// Level changes of a watched pin since the last call: (cycle, high).
+    pub fn pin_changes(&mut self, port: char, pin: u8) -> Vec<(u64, bool)> {
+        self.pins
+            .iter()
+            .find(|(k, _)| *k == (port, pin))
+            .map(|(_, w)| std::mem::take(&mut *w.changes.borrow_mut()))
+            .unwrap_or_default()
+    }
+
     /// Port writes recorded since the last call: (cycle, driven value).
     pub fn port_changes(&mut self, port: char) -> Vec<(u64, u8)> {
         self.ports
@@ -424,6 +465,80 @@ impl Sim {
 /// allocated sections in RAM (`.data`, `.bss`, `.noinit`) cover, read from
 /// the ELF32 section headers (data addresses carry avr-gcc's 0x800000
 /// offset).
+/// RAM of a run: the static RAM from the ELF, the stack's peak measured
+/// two ways, and what was never touched.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct RamUse {
+    /// Static RAM of the image: `.data` + `.bss` (+ `.noinit`), bytes.
+    pub static_bytes: u16,
+    /// Peak stack, bytes, by painting: the RAM between the end of `.bss`
+    /// and RAMEND is filled with a pattern before the run; this is the
+    /// part of it the run overwrote (from RAMEND down).
+    pub stack_painted_bytes: u16,
+    /// Peak stack, bytes, from the lowest stack pointer the run reached
+    /// (RAMEND − SP): counts frames that were reserved but not all
+    /// written, which painting misses. At least `stack_painted_bytes`.
+    pub stack_sp_bytes: u16,
+    /// Painted bytes still intact above the end of `.bss`.
+    pub free_bytes: u16,
+    /// The MCU's RAM, bytes.
+    pub total_bytes: u16,
+}
+
+impl RamUse {
+    /// Measures the run so far: `ram_start` is the part's first RAM address,
+    /// `static_end` the end of its static RAM, painted with `pattern` from
+    /// there to RAMEND before the run.
+    pub fn measure(sim: &Sim, ram_start: u16, static_end: u16, pattern: u8) -> Self {
+        let top = sim.ramend() + 1;
+        let free_bytes = sim.count_untouched(static_end, top, pattern);
+        RamUse {
+            static_bytes: static_end - ram_start,
+            stack_painted_bytes: top - static_end - free_bytes,
+            stack_sp_bytes: (top - 1).saturating_sub(sim.min_sp()),
+            free_bytes,
+            total_bytes: top - ram_start,
+        }
+    }
+
+    /// Bytes left between the static RAM and the deepest stack (negative:
+    /// the stack ran into the static RAM).
+    pub fn headroom_bytes(&self) -> i32 {
+        i32::from(self.total_bytes) - i32::from(self.static_bytes) - i32::from(self.stack_sp_bytes)
+    }
+
+    /// One line: `RAM N B: static …, stack peak … (lowest stack pointer; …
+    /// by painting), never touched …`.
+    pub fn summary(&self) -> String {
+        format!(
+            "RAM {} B: static {} B (.data + .bss), stack peak {} B (lowest stack pointer; {} B by painting), \
+             never touched {} B{}",
+            self.total_bytes,
+            self.static_bytes,
+            self.stack_sp_bytes,
+            self.stack_painted_bytes,
+            self.free_bytes,
+            if self.headroom_bytes() < 0 {
+                " — STACK OVERFLOW into the static RAM"
+            } else {
+                ""
+            }
+        )
+    }
+
+    /// Panics unless static RAM and the deepest stack leave `headroom`
+    /// bytes of the part's RAM free (a test's stack budget).
+    pub fn assert_headroom(&self, name: &str, headroom: u16) {
+        assert!(
+            self.headroom_bytes() >= i32::from(headroom),
+            "{name}: static {} B + stack {} B leaves less than {headroom} B of {} B",
+            self.static_bytes,
+            self.stack_sp_bytes,
+            self.total_bytes
+        );
+    }
+}
+
 pub fn static_ram(elf: &Path) -> Result<(u16, u16), String> {
     let b = std::fs::read(elf).map_err(|e| format!("{}: {e}", elf.display()))?;
     let u16_at = |o: usize| b.get(o..o + 2).map(|s| u16::from_le_bytes([s[0], s[1]]));

@@ -21,7 +21,7 @@ use suntracker_emu::{Bench, GpsFeed, LogLine, Mount, Rtc, Run, WindProfile};
 
 /// RAM that must stay free under the deepest stack a scenario reaches
 /// (interrupts nesting on a path the scenarios did not take).
-const STACK_HEADROOM_B: u32 = 512;
+const STACK_HEADROOM_B: u16 = 512;
 /// One motor step in axis degrees (10,000 full steps per turn).
 const STEP_DEG: f64 = 0.036;
 /// Slack for comparing decoded angles with commanded ones: one step, plus
@@ -91,24 +91,8 @@ fn report(name: &str, run: &Run) {
     for l in run.events() {
         println!("  {} {}", format_utc(l.utc_s as i64), l.text);
     }
-    println!(
-        "{name}: RAM {} B: static {} B, stack peak {} B (lowest SP; {} B by painting), {} B never touched",
-        run.ram_bytes,
-        run.static_ram_bytes,
-        run.stack_peak_sp_bytes,
-        run.stack_peak_bytes,
-        run.ram_free_bytes
-    );
-    // The stack budget: static RAM plus the deepest stack the run reached
-    // leave at least STACK_HEADROOM_B of the part's RAM.
-    let used = u32::from(run.static_ram_bytes) + u32::from(run.stack_peak_sp_bytes);
-    assert!(
-        used + STACK_HEADROOM_B <= u32::from(run.ram_bytes),
-        "{name}: static {} B + stack {} B leaves less than {STACK_HEADROOM_B} B of {} B",
-        run.static_ram_bytes,
-        run.stack_peak_sp_bytes,
-        run.ram_bytes
-    );
+    println!("{name}: {}", run.ram.summary());
+    run.ram.assert_headroom(name, STACK_HEADROOM_B);
 }
 
 fn assert_no_illegal_steps(run: &Run) {

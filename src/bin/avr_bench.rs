@@ -13,34 +13,29 @@
 //! in the compiler flags (see `.ci/firmware_env.sh`); there `call`/`ret`
 //! cost one cycle more (3-byte program counter).
 //!
-//! `cargo +nightly build --release --target avr-none -Z build-std=core --bin avr_bench`
+//! `cargo +nightly build --release --target avr-none -Z build-std=core --features uno --bin avr_bench`
 //! then `simavr -m atmega328p -f 16000000 target/avr-none/release/avr_bench.elf`;
 //! `.ci/avr_cycles.sh` runs it and checks the budgets.
-#![cfg_attr(target_os = "none", no_std, no_main)]
-#![cfg_attr(target_arch = "avr", feature(abi_avr_interrupt))]
+#![no_std]
+#![no_main]
+#![feature(abi_avr_interrupt)]
 
-#[cfg(all(target_arch = "avr", avr_atmega2560))]
+#[cfg(avr_atmega2560)]
 use avr_device::atmega2560 as chip;
-#[cfg(all(target_arch = "avr", not(avr_atmega2560)))]
+#[cfg(not(avr_atmega2560))]
 use avr_device::atmega328p as chip;
-#[cfg(target_arch = "avr")]
-#[path = "fw/bench_cases.rs"]
-mod cases;
-#[cfg(target_arch = "avr")]
-#[path = "fw/fmt.rs"]
-mod fmt;
-#[cfg(target_arch = "avr")]
-#[path = "fw/avr_uart.rs"]
-mod uart;
 
-#[cfg(target_arch = "avr")]
 mod firmware {
-    use crate::{cases, chip, fmt, uart};
+    use crate::chip;
     use avr_device::interrupt::Mutex;
     use core::cell::Cell;
-    use fmt::Sink;
     use sun_algos::{Algorithm, Options};
-    use uart::Uart0;
+    use suntracker::bench as cases;
+    use suntracker::board::avr::Usart0;
+    use suntracker::log::Sink;
+
+    /// The log's rate (USART0, 8N1).
+    const BAUD_HZ: u32 = 115_200;
 
     #[cfg(not(avr_atmega2560))]
     const CHIP_LINE: &str = " avr_bench on atmega328p @ 16 MHz (Timer1 clk/1)\n";
@@ -106,7 +101,7 @@ mod firmware {
     /// algorithm stays a compile-time constant inside the measured code.
     macro_rules! bench_one {
         ($out:expr, $counter:expr, $algorithm:ty, $options:expr) => {{
-            let out: &mut Uart0 = $out;
+            let out: &mut Usart0 = $out;
             let counter: &mut CycleCounter = $counter;
             let options: &Options<f32> = $options;
             let algorithm: Algorithm = <$algorithm as cases::Measured>::ALGORITHM;
@@ -150,7 +145,7 @@ mod firmware {
     pub extern "C" fn main() -> ! {
         // SAFETY: taken once, at the start of the only thread.
         let dp = unsafe { chip::Peripherals::steal() };
-        let mut out = Uart0::new(dp.USART0);
+        let mut out = Usart0::new_tx_only(dp.USART0, BAUD_HZ);
         let mut counter = CycleCounter::new(dp.TC1);
         out.text(suntracker::BANNER);
         out.text(CHIP_LINE);
@@ -164,23 +159,25 @@ mod firmware {
         bench_one!(&mut out, &mut counter, cases::Michalsky, &options);
         bench_one!(&mut out, &mut counter, cases::Grena2012No3, &options);
         out.text("avr_bench done\n");
-        uart::halt(&mut out)
+        halt(&mut out)
     }
 
     #[panic_handler]
     fn panic(_info: &core::panic::PanicInfo) -> ! {
         // SAFETY: the program is over; nothing else uses USART0 any more.
-        let dp = unsafe { chip::Peripherals::steal() };
-        let mut out = Uart0::new(dp.USART0);
+        let usart = unsafe { chip::USART0::steal() };
+        let mut out = Usart0::new_tx_only(usart, BAUD_HZ);
         out.text("panic\n");
-        uart::halt(&mut out)
+        halt(&mut out)
     }
-}
 
-#[cfg(not(target_os = "none"))]
-fn main() {
-    println!(
-        "{}: avr_bench runs on the ATmega328P (simavr)",
-        suntracker::BANNER
-    );
+    /// Sends what is queued, then sleeps with interrupts off: simavr ends
+    /// the simulation there.
+    fn halt(out: &mut Usart0) -> ! {
+        out.flush_all();
+        loop {
+            avr_device::interrupt::disable();
+            avr_device::asm::sleep();
+        }
+    }
 }

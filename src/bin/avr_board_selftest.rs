@@ -9,14 +9,14 @@
 //! the watchdog fed for 2.5 s.
 //!
 //! Build and run (ATmega2560):
-//! `RUSTFLAGS="$AVR_MEGA_RUSTFLAGS" cargo +nightly build --release --target avr-none -Z build-std=core --bin avr_board_selftest --target-dir target/mega`,
+//! `RUSTFLAGS="$AVR_MEGA_RUSTFLAGS" cargo +nightly build --release --target avr-none -Z build-std=core --features mega2560 --bin avr_board_selftest --target-dir target/mega`,
 //! then `simavr -m atmega2560 -f 16000000 target/mega/avr-none/release/avr_board_selftest.elf`.
-#![cfg_attr(target_os = "none", no_std, no_main)]
+#![no_std]
+#![no_main]
 // Interrupt handlers (`avr_board_interrupts!`) use the avr-interrupt ABI,
 // unstable: AVR builds are nightly anyway.
-#![cfg_attr(target_arch = "avr", feature(abi_avr_interrupt))]
+#![feature(abi_avr_interrupt)]
 
-#[cfg(target_arch = "avr")]
 mod firmware {
     use embedded_hal::delay::DelayNs;
     use embedded_hal::digital::{OutputPin as _, StatefulOutputPin as _};
@@ -275,12 +275,4 @@ mod firmware {
         out.flush_all();
         halt()
     }
-}
-
-#[cfg(not(target_os = "none"))]
-fn main() {
-    println!(
-        "{} on host: the AVR board selftest runs on avr-none only",
-        suntracker::BANNER
-    );
 }

@@ -16,23 +16,16 @@
 //!   -serial null -icount shift=0 -semihosting-config enable=on,target=native \
 //!   -kernel target/thumbv7em-none-eabihf/release/qemu_bench
 //! ```
-#![cfg_attr(target_os = "none", no_std, no_main)]
+#![no_std]
+#![no_main]
 
-#[cfg(all(target_arch = "arm", target_os = "none"))]
-#[path = "fw/bench_cases.rs"]
-mod cases;
-#[cfg(all(target_arch = "arm", target_os = "none"))]
-#[path = "fw/fmt.rs"]
-mod fmt;
-
-#[cfg(all(target_arch = "arm", target_os = "none"))]
 mod firmware {
-    use crate::cases;
-    use crate::fmt::Sink;
     use cortex_m::peripheral::{syst::SystClkSource, SYST};
     use cortex_m_rt::entry;
     use cortex_m_semihosting::{debug, hio};
     use sun_algos::{Algorithm, Options};
+    use suntracker::bench as cases;
+    use suntracker::log::Sink;
 
     /// Instructions per SysTick count: 1 ns per instruction (`-icount
     /// shift=0`) at a 25 MHz SysTick clock.
@@ -116,9 +109,4 @@ mod firmware {
         #[allow(clippy::empty_loop)]
         loop {}
     }
-}
-
-#[cfg(not(target_os = "none"))]
-fn main() {
-    println!("{}: qemu_bench runs on QEMU mps2-an386", suntracker::BANNER);
 }

@@ -14,6 +14,11 @@ pub mod li2022;
 #[allow(unsafe_code)]
 pub mod mega2560;
 
+// The Arduino Uno tracker (ATmega328P builds: no `avr_atmega2560` cfg).
+#[cfg(all(target_arch = "avr", not(avr_atmega2560)))]
+#[allow(unsafe_code)]
+pub mod uno;
+
 // QEMU's `mps2-an386` (Cortex-M4F): the `qemu_tracker` image.
 #[cfg(all(target_arch = "arm", target_os = "none"))]
 #[allow(unsafe_code)]
