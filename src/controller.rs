@@ -429,13 +429,9 @@ where
                 .is_some_and(|e| (-60..step_s + slack_s).contains(&age_s(&e)));
             if !fresh {
                 // Ticks were missed (time unknown for a while, a slow
-                // loop): the table entry of the present slot, if the day
-                // has one, else nothing is tracked.
-                let table = self.scheduler.table();
-                let current = (0..table.len())
-                    .filter_map(|i| table.get(i))
-                    .find(|e| (0..step_s).contains(&age_s(e)));
-                match current {
+                // loop): the entry of the present slot, if the day has
+                // one, else nothing is tracked.
+                match self.scheduler.current(&now) {
                     Some(e) if inp.time_valid => self.set_point = Some(e.set_point),
                     _ => self.night = true,
                 }
@@ -443,7 +439,7 @@ where
         }
         // A new day without a night before it (polar day): open-loop axes
         // are re-homed all the same, or lost steps would stay for weeks.
-        let table_day = self.scheduler.table().get(0).map(|e| e.time);
+        let table_day = self.scheduler.day_key();
         if table_day != self.rehome_day {
             if self.rehome_day.is_some()
                 && !self.rehomed_tonight
@@ -499,7 +495,7 @@ where
         };
         // Entering tracking, or a new day table: pick the branch of the
         // two solutions that serves the rest of the day with least travel.
-        let table_day = self.scheduler.table().get(0).map(|e| e.time);
+        let table_day = self.scheduler.day_key();
         if mode == Mode::Tracking
             && (self.last_mode != Some(Mode::Tracking) || table_day != self.branch_day)
         {
@@ -523,10 +519,7 @@ where
                     // (seed li-2022). Before any day: facing the coming
                     // sunrise; failing that the power-on zero set-point
                     // (seed jimoh-2019 step 1).
-                    let next_rise = match self.scheduler.phase() {
-                        Phase::WaitSunrise { until } => Some(until),
-                        _ => None,
-                    };
+                    let next_rise = self.scheduler.next_sunrise();
                     match (self.day_start_pose, next_rise) {
                         (Some(p), _) => Some(p),
                         (None, Some(rise)) => self
@@ -616,7 +609,20 @@ where
     /// Set-points of the day's remainder the look-ahead follows, at most.
     const LOOK_AHEAD_POINTS: usize = 48;
 
-    fn look_ahead(&self, now: UtcTime) -> Option<Pose<T>> {
+    fn look_ahead(&mut self, now: UtcTime) -> Option<Pose<T>> {
+        if Scheduler::<T, P, N>::REAL_TIME {
+            // No table: the rest of the day sampled every 30 minutes from
+            // the set-point in force.
+            let first = self.scheduler.applied()?;
+            let here = Pose {
+                gamma_deg: T::from_f32(self.axes[0].counted_deg()),
+                alpha_deg: T::from_f32(self.axes[1].counted_deg()),
+            };
+            let (samples, n) = self.sample_day(first.time, first.set_point);
+            return self.best_start(first.set_point, Some(here), || {
+                samples.iter().take(n).copied()
+            });
+        }
         let table = self.scheduler.table();
         let first = (0..table.len())
             .filter_map(|i| table.get(i))
@@ -700,26 +706,39 @@ where
                 return Some(p);
             }
         }
-        let mut samples = [SetPoint::default(); 48];
-        let mut n = 0;
-        for k in 0..48i64 {
-            let Ok(t) = sunrise.add_seconds(k * 1800) else {
+        let first = self
+            .scheduler
+            .source_mut()
+            .position(&sunrise)
+            .ok()
+            .map(|p| SetPoint::facing(&p))?;
+        let (samples, n) = self.sample_day(sunrise, first);
+        let pose = self.best_start(first, None, || samples.iter().take(n).copied())?;
+        self.night_pose = Some((sunrise, pose));
+        Some(pose)
+    }
+
+    /// Half-hourly samples of the sun over the 24 hours from `from`, the
+    /// daylight ones, after `first` (the set-point at `from`): the path a
+    /// day's branch is judged on when no table holds it.
+    fn sample_day(&mut self, from: UtcTime, first: SetPoint<T>) -> ([SetPoint<T>; 48], usize) {
+        let mut samples = [first; 48];
+        let mut n = 1;
+        for k in 1..48i64 {
+            let Ok(t) = from.add_seconds(k * 1800) else {
                 break;
             };
             let Ok(p) = self.scheduler.source_mut().position(&t) else {
                 continue;
             };
-            if p.is_above_horizon() || k == 0 {
+            if p.is_above_horizon() {
                 if let Some(slot) = samples.get_mut(n) {
                     *slot = SetPoint::facing(&p);
                     n += 1;
                 }
             }
         }
-        let first = *samples.first()?;
-        let pose = self.best_start(first, None, || samples.iter().take(n).copied())?;
-        self.night_pose = Some((sunrise, pose));
-        Some(pose)
+        (samples, n)
     }
 
     fn update_attitude(&mut self, now_ms: u64) {

@@ -15,6 +15,18 @@
 //! (seed li-2022: "the control algorithm resets the panel to the previous
 //! day initial position"): the first entry of the day table.
 //!
+//! **Real-time mode** (`N = 0`, no table; seed chowdhury-2019's way on an
+//! ATmega328P, which "recomputes the sun every 4 minutes"): the same
+//! flowchart with the table replaced by one sun position per slot, computed
+//! when the slot falls due. Step 3's daylight is the sun's centre above the
+//! geometric horizon at the slot's time (seed jimoh-2019 eq. 9, the table's
+//! own criterion); steps 4–6 wait for the next slot instead of a computed
+//! sunrise; step 10's end of day is the first slot after daylight (at most
+//! one slot after sunset); steps 11–14 match and hold as with a table, and
+//! home is the day's first daylight set-point. No sunrise/sunset search
+//! and no table: no 1.4 KB of day table in RAM, and none of the event
+//! search's or table's code in flash.
+//!
 //! `tick` never blocks: every delay of the seed is a time stored in the
 //! state and compared with the `now` of later ticks. A clock that jumps
 //! backward, or forward by more than `max_tick_gap_s`, re-plans from step 2.
@@ -388,6 +400,11 @@ pub struct Scheduler<T, P, const N: usize> {
     _float: core::marker::PhantomData<T>,
     last_now: Option<UtcTime>,
     last_applied: Option<usize>,
+    /// Real-time mode: the entry applied last (its slot and set-point).
+    last_entry: Option<TableEntry<T>>,
+    /// Real-time mode: the solar day being tracked (its start) and its
+    /// first daylight slot.
+    rt_day: Option<(UtcTime, UtcTime)>,
     home: SetPoint<T>,
     /// Positions computed per tick while planning; 0: all in one tick.
     plan_budget: u16,
@@ -405,6 +422,10 @@ enum Planner<T> {
 }
 
 impl<T: Float, P: PositionSource<T>, const N: usize> Scheduler<T, P, N> {
+    /// True for a scheduler without a table (`N = 0`): real-time mode, see
+    /// the module documentation.
+    pub const REAL_TIME: bool = N == 0;
+
     /// A scheduler at power-on. Errors for zero intervals or a step that is
     /// not whole minutes dividing a day.
     ///
@@ -426,7 +447,6 @@ impl<T: Float, P: PositionSource<T>, const N: usize> Scheduler<T, P, N> {
             || !c.table_step_s.is_multiple_of(60)
             || c.table_step_s > 720 * 60
             || 86_400 % c.table_step_s != 0
-            || N == 0
         {
             return Err(ScheduleError::InvalidConfig);
         }
@@ -447,6 +467,8 @@ impl<T: Float, P: PositionSource<T>, const N: usize> Scheduler<T, P, N> {
             _float: core::marker::PhantomData,
             last_now: None,
             last_applied: None,
+            last_entry: None,
+            rt_day: None,
             home: SetPoint::default(),
             plan_budget: 0,
             planner: None,
@@ -502,7 +524,41 @@ impl<T: Float, P: PositionSource<T>, const N: usize> Scheduler<T, P, N> {
     /// The table entry applied last in this day's tracking, if any.
     pub fn applied(&self) -> Option<TableEntry<T>> {
         match self.phase {
+            Phase::Tracking { .. } if Self::REAL_TIME => self.last_entry,
             Phase::Tracking { .. } => self.last_applied.and_then(|i| self.entry(i)),
+            _ => None,
+        }
+    }
+    /// The entry for the slot `now` is in, when the day has one: from the
+    /// table, or in real-time mode the entry applied last if it is that
+    /// slot's (ticks were missed: nothing else is known without computing).
+    pub fn current(&self, now: &UtcTime) -> Option<TableEntry<T>> {
+        let step_s = i64::from(self.config.table_step_s);
+        let in_slot =
+            |e: &TableEntry<T>| (0..step_s).contains(&(now.unix_seconds() - e.time.unix_seconds()));
+        if Self::REAL_TIME {
+            return self.applied().filter(in_slot);
+        }
+        let table = self.table();
+        (0..table.len())
+            .filter_map(|i| table.get(i))
+            .find(|e| in_slot(e))
+    }
+    /// The day being tracked, as the time of its first set-point (the
+    /// table's first entry; real-time mode: the first daylight slot); it
+    /// changes when a new day starts.
+    pub fn day_key(&self) -> Option<UtcTime> {
+        if Self::REAL_TIME {
+            self.rt_day.map(|(_, first)| first)
+        } else {
+            self.table().get(0).map(|e| e.time)
+        }
+    }
+    /// The computed sunrise the scheduler waits for, if any (real-time
+    /// mode computes none: `None`).
+    pub fn next_sunrise(&self) -> Option<UtcTime> {
+        match self.phase {
+            Phase::WaitSunrise { until } if !Self::REAL_TIME => Some(until),
             _ => None,
         }
     }
@@ -533,6 +589,9 @@ impl<T: Float, P: PositionSource<T>, const N: usize> Scheduler<T, P, N> {
     }
 
     fn step(&mut self, now: UtcTime) -> Result<Action<T>, ScheduleError> {
+        if Self::REAL_TIME {
+            return self.rt_step(now);
+        }
         match self.phase {
             Phase::PowerOn => {
                 // Step 1: the site is in the source; set-points zero.
@@ -734,5 +793,93 @@ impl<T: Float, P: PositionSource<T>, const N: usize> Scheduler<T, P, N> {
                 Ok(Action::Idle)
             }
         }
+    }
+
+    /// Real-time mode: the flowchart with one position per slot.
+    fn rt_step(&mut self, now: UtcTime) -> Result<Action<T>, ScheduleError> {
+        match self.phase {
+            Phase::PowerOn => {
+                // Step 1: the site is in the source; set-points zero.
+                self.phase = Phase::ReadDate;
+                Ok(Action::SetPoints(SetPoint::default()))
+            }
+            Phase::Tracking { next_check: t }
+            | Phase::WaitSunrise { until: t }
+            | Phase::WaitNextDay { until: t }
+            | Phase::Failed { retry_at: t }
+                if now < t =>
+            {
+                Ok(Action::Idle)
+            }
+            _ => self.rt_check(now),
+        }
+    }
+
+    /// Real-time mode, steps 2–14 at one instant: the slot `now` is in
+    /// (whole multiples of the step from UTC midnight, as the table's),
+    /// the sun at the slot's time, and what follows from it.
+    fn rt_check(&mut self, now: UtcTime) -> Result<Action<T>, ScheduleError> {
+        let step_s = i64::from(self.config.table_step_s.max(60));
+        let now_s = now.unix_seconds();
+        // The Unix epoch is a UTC midnight and the step divides a day.
+        let slot_s = now_s.div_euclid(step_s) * step_s;
+        let slot = UtcTime::from_unix_seconds(slot_s).map_err(|_| ScheduleError::TimeRange)?;
+        let next_slot = slot
+            .add_seconds(step_s)
+            .map_err(|_| ScheduleError::TimeRange)?;
+        let tracking = matches!(self.phase, Phase::Tracking { .. });
+        let add = |s: u32| -> Result<UtcTime, ScheduleError> {
+            let t = now
+                .add_seconds(i64::from(s))
+                .map_err(|_| ScheduleError::TimeRange)?;
+            // Never after the next slot falls due.
+            Ok(if next_slot < t { next_slot } else { t })
+        };
+        // This slot's set-point was applied: nothing to compute (step 12).
+        if tracking && self.last_entry.is_some_and(|e| e.time == slot) {
+            self.phase = Phase::Tracking {
+                next_check: add(self.config.recheck_s)?,
+            };
+            return Ok(Action::Idle);
+        }
+        let sun = self.source.position(&slot)?;
+        // (A NaN zenith is not daylight.)
+        let up = sun.zenith_deg < T::from_f64(90.0);
+        if !up {
+            // Outside daylight (seed eq. 9). After tracking: the day has
+            // ended (step 10), go home; else wait for the next slot (steps
+            // 4–6), with a Sleep the first time (power-on, clock jump).
+            let first = matches!(self.phase, Phase::ReadDate | Phase::Planning);
+            if tracking {
+                self.phase = Phase::WaitNextDay { until: next_slot };
+                return Ok(Action::GoHome(self.home));
+            }
+            self.phase = Phase::WaitSunrise { until: next_slot };
+            return Ok(if first {
+                Action::Sleep { until: next_slot }
+            } else {
+                Action::Idle
+            });
+        }
+        let set_point = SetPoint::facing(&sun);
+        // A new solar day: its first daylight slot is home (seed li-2022).
+        let day_start = solar_day_start(&slot, self.source.site().longitude_deg())?;
+        if self.rt_day.map(|(d, _)| d) != Some(day_start) {
+            self.rt_day = Some((day_start, slot));
+            self.home = set_point;
+            self.last_entry = None;
+        }
+        // Steps 11–14: the slot's set-point, then the hold. A check that
+        // comes late in the slot (ticks were missed) still takes it, as the
+        // table's present entry would be taken (it is the slot's time the
+        // set-point faces, at most one step old).
+        self.last_entry = Some(TableEntry {
+            time: slot,
+            set_point,
+        });
+        self.phase = Phase::Tracking {
+            next_check: add(self.config.hold_s)?,
+        };
+        Ok(Action::SetPoints(set_point))
     }
 }

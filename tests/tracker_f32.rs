@@ -44,7 +44,7 @@ fn plants() -> [MotorPlant; 2] {
 /// Worst angle between the commanded pose's normal and SPA's sun over the
 /// set-points of a day (poses not clamped to a soft limit), and the
 /// tracking minutes.
-fn day<T: Float>(truth: MountAttitude<f64>, sensors: bool) -> (f64, u32)
+fn day<T: Float, const N: usize>(truth: MountAttitude<f64>, sensors: bool) -> (f64, u32)
 where
     MountSensors: suntracker::traits::AttitudeSensor<T>,
 {
@@ -68,7 +68,7 @@ where
         ..ControllerOptions::default()
     };
     let sens = MountSensors::new(truth, SensorAccuracy::exact(), 3);
-    let mut ctl: Controller<T, _, _, _, 1441> =
+    let mut ctl: Controller<T, _, _, _, N> =
         Controller::new(config(), options, source, plants(), Some(sens)).unwrap();
     let spa_site = Site::new(LAT, LON).unwrap();
     let start: UtcTime = "2026-03-20T00:00:00Z".parse().unwrap();
@@ -125,8 +125,8 @@ where
 #[test]
 fn f32_controller_points_within_its_bound_on_a_level_mount() {
     let level = MountAttitude::level();
-    let (e32, n32) = day::<f32>(level, false);
-    let (e64, n64) = day::<f64>(level, false);
+    let (e32, n32) = day::<f32, 1441>(level, false);
+    let (e64, n64) = day::<f64, 1441>(level, false);
     println!("level: f32 worst {e32:.5} deg over {n32} min, f64 {e64:.5} deg over {n64} min");
     assert!(e64 < 0.01, "f64 {e64}");
     assert!(e32 < 0.02, "f32 {e32}");
@@ -142,9 +142,30 @@ fn f32_controller_points_within_its_bound_on_a_portable_mount() {
         beta0_deg: -5.0,
         gamma0_deg: 20.0,
     };
-    let (e32, n32) = day::<f32>(truth, true);
-    let (e64, n64) = day::<f64>(truth, true);
+    let (e32, n32) = day::<f32, 1441>(truth, true);
+    let (e64, n64) = day::<f64, 1441>(truth, true);
     println!("portable: f32 worst {e32:.5} deg over {n32} min, f64 {e64:.5} deg over {n64} min");
     assert!(e64 < 0.01, "f64 {e64}");
     assert!(e32 < 0.02, "f32 {e32}");
+}
+
+/// The scheduler without a table (real-time mode, as on the 2 KB
+/// ATmega328P: one position per slot when it falls due): the same bound,
+/// the same tracking minutes within a set-point.
+#[test]
+fn f32_controller_in_real_time_mode_points_within_its_bound() {
+    let level = MountAttitude::level();
+    let (e_rt, n_rt) = day::<f32, 0>(level, false);
+    let (_, n_table) = day::<f32, 1441>(level, false);
+    println!("real time: f32 worst {e_rt:.5} deg over {n_rt} min (table: {n_table} min)");
+    assert!(e_rt < 0.02, "f32 real time {e_rt}");
+    assert!(n_rt.abs_diff(n_table) <= 2, "{n_rt} vs {n_table}");
+    let truth = MountAttitude {
+        alpha0_deg: 5.0,
+        beta0_deg: -5.0,
+        gamma0_deg: 20.0,
+    };
+    let (e_rt, _) = day::<f32, 0>(truth, true);
+    println!("real time, portable: f32 worst {e_rt:.5} deg");
+    assert!(e_rt < 0.02, "f32 real time portable {e_rt}");
 }

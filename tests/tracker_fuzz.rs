@@ -29,7 +29,9 @@ use suntracker::sim::rng::SplitMix64;
 use suntracker::sim::sensors::{MountSensors, SensorAccuracy};
 use suntracker::traits::AlgorithmSource;
 
-type Ctl = Controller<f64, AlgorithmSource<f64>, MotorPlant, MountSensors, 361>;
+/// The controller under test; `N` = 361 (a table for any day), or 0 (no
+/// table: the scheduler's real-time mode of the 2 KB boards).
+type Ctl<const N: usize> = Controller<f64, AlgorithmSource<f64>, MotorPlant, MountSensors, N>;
 
 #[derive(Debug, Default)]
 struct Figures {
@@ -40,7 +42,7 @@ struct Figures {
     safe_stops: u64,
 }
 
-fn new_controller(rng: &mut SplitMix64, config: &Config) -> Ctl {
+fn new_controller<const N: usize>(rng: &mut SplitMix64, config: &Config) -> Ctl<N> {
     let source = AlgorithmSource {
         algorithm: Algorithm::Psa2020,
         site: Site::new(rng.uniform(-66.0, 66.0), rng.uniform(-180.0, 180.0)).unwrap(),
@@ -96,10 +98,10 @@ fn flip(rng: &mut SplitMix64, on: &mut bool, p_on: f64) {
 }
 
 /// One run of `ticks` ticks; panics (fails) on a broken invariant.
-fn run(seed: u64, ticks: u32, fig: &mut Figures) {
+fn run<const N: usize>(seed: u64, ticks: u32, fig: &mut Figures) {
     let mut rng = SplitMix64::new(seed);
     let config = Config::default();
-    let mut ctl = new_controller(&mut rng, &config);
+    let mut ctl = new_controller::<N>(&mut rng, &config);
     let (lo_year, hi_year) = Algorithm::Psa2020.validity_years();
     let threshold_hz = f64::from(config.wind.threshold_hz);
     let hold_ms = u64::from(config.wind.hold_s) * 1000;
@@ -247,7 +249,7 @@ fn run(seed: u64, ticks: u32, fig: &mut Figures) {
 fn controller_invariants_hold_under_random_faults() {
     let mut fig = Figures::default();
     for seed in 1..=8 {
-        run(seed, 3_000, &mut fig);
+        run::<361>(seed, 3_000, &mut fig);
     }
     println!("{fig:?}");
     assert!(fig.tracking_ticks > 1_000, "{fig:?}");
@@ -259,7 +261,28 @@ fn controller_invariants_hold_under_random_faults() {
 fn controller_invariants_hold_under_random_faults_long() {
     let mut fig = Figures::default();
     for seed in 1..=40 {
-        run(1000 + seed, 20_000, &mut fig);
+        run::<361>(1000 + seed, 20_000, &mut fig);
     }
     println!("{fig:?}");
+}
+
+#[test]
+fn controller_invariants_hold_under_random_faults_in_real_time_mode() {
+    let mut fig = Figures::default();
+    for seed in 1..=8 {
+        run::<0>(seed, 3_000, &mut fig);
+    }
+    println!("real-time {fig:?}");
+    assert!(fig.tracking_ticks > 1_000, "{fig:?}");
+    assert!(fig.gale_ticks > 100, "{fig:?}");
+}
+
+#[test]
+#[ignore = "long: 40 runs of 20,000 ticks, real-time mode"]
+fn controller_invariants_hold_under_random_faults_in_real_time_mode_long() {
+    let mut fig = Figures::default();
+    for seed in 1..=40 {
+        run::<0>(1000 + seed, 20_000, &mut fig);
+    }
+    println!("real-time {fig:?}");
 }

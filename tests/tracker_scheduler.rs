@@ -460,3 +460,195 @@ fn late_ticks_skip_no_entry() {
         assert!(t.unix_seconds().rem_euclid(240) <= 7, "taken at {t}");
     }
 }
+
+// ---------------------------------------------------------------------
+// Real-time mode (`N = 0`): no table, one position per slot when it falls
+// due (seed chowdhury-2019's 4-minute recomputation).
+
+type RealTime<P> = Scheduler<f64, P, 0>;
+
+/// A source that counts the positions it computes.
+struct Counting<P> {
+    inner: P,
+    calls: u32,
+}
+
+impl<P: PositionSource<f64>> PositionSource<f64> for Counting<P> {
+    fn site(&self) -> Site<f64> {
+        self.inner.site()
+    }
+    fn position(&mut self, t: &UtcTime) -> Result<SunPosition<f64>, Error> {
+        self.calls += 1;
+        self.inner.position(t)
+    }
+}
+
+fn run_rt<P: PositionSource<f64>>(
+    s: &mut RealTime<P>,
+    from: UtcTime,
+    secs: i64,
+    step_s: i64,
+) -> Vec<(UtcTime, Action<f64>)> {
+    let mut out = Vec::new();
+    let mut k = 0;
+    while k <= secs {
+        let now = from.add_seconds(k).unwrap();
+        let o = s.tick(now);
+        if o.action != Action::Idle {
+            out.push((now, o.action));
+        }
+        k += step_s;
+    }
+    out
+}
+
+#[test]
+fn real_time_day_in_kano_follows_the_flowchart() {
+    assert!(RealTime::<Textbook>::REAL_TIME);
+    let mut s = RealTime::new(ScheduleConfig::default(), KANO).unwrap();
+    let start = t("2018-10-19T03:00:00Z");
+    // Step 1, then outside daylight: sleep until the next slot.
+    assert_eq!(s.tick(start).action, Action::SetPoints(SetPoint::default()));
+    let o = s.tick(start.add_seconds(1).unwrap());
+    assert_eq!(
+        o.action,
+        Action::Sleep {
+            until: t("2018-10-19T03:04:00Z")
+        }
+    );
+    assert!(s.table().is_empty());
+    let acts = run_rt(&mut s, start.add_seconds(2).unwrap(), 20 * 3600, 10);
+    let sets: Vec<_> = acts
+        .iter()
+        .filter_map(|(now, a)| match a {
+            Action::SetPoints(p) => Some((*now, *p)),
+            _ => None,
+        })
+        .collect();
+    // The slots with the textbook sun's centre above the horizon (eq. 9),
+    // counted here from the model: every one set, on time, facing the sun
+    // at the slot's time.
+    let day0 = t("2018-10-19T00:00:00Z").unix_seconds();
+    let expected: Vec<UtcTime> = (0..360)
+        .map(|k| UtcTime::from_unix_seconds(day0 + k * 240).unwrap())
+        .filter(|u| KANO.clone().position(u).unwrap().zenith_deg < 90.0)
+        .collect();
+    assert_eq!(sets.len(), expected.len());
+    for ((now, p), slot) in sets.iter().zip(&expected) {
+        assert_eq!(
+            now.unix_seconds() - now.unix_seconds() % 240,
+            slot.unix_seconds()
+        );
+        assert!(
+            now.unix_seconds() - slot.unix_seconds() < 30,
+            "late at {now}"
+        );
+        let sun = KANO.clone().position(slot).unwrap();
+        assert_eq!(*p, SetPoint::facing(&sun));
+    }
+    // The first and last set-points bracket eq. 9's sunrise and sunset
+    // within a slot.
+    let (r_h, s_h) = KANO.rise_set_utc_h(292.0).unwrap();
+    let h = |u: &UtcTime| u.hours::<f64>();
+    let first = expected.first().unwrap();
+    let last = expected.last().unwrap();
+    assert!(h(first) >= r_h - 1.0 / 60.0 && h(first) - r_h < 4.0 / 60.0);
+    assert!(h(last) <= s_h + 1.0 / 60.0 && s_h - h(last) < 4.0 / 60.0);
+    // Step 10: home once, at the first slot after daylight, to the day's
+    // first set-point; then nothing but waiting.
+    let homes: Vec<_> = acts
+        .iter()
+        .filter_map(|(now, a)| match a {
+            Action::GoHome(p) => Some((*now, *p)),
+            _ => None,
+        })
+        .collect();
+    assert_eq!(homes.len(), 1);
+    assert_eq!(homes[0].1, sets[0].1);
+    let home_slot = homes[0].0.unix_seconds() / 240 * 240;
+    assert_eq!(home_slot, last.unix_seconds() + 240);
+    assert_eq!(s.day_key(), Some(*first));
+    assert!(!acts.iter().any(|(_, a)| matches!(a, Action::Error(_))));
+}
+
+#[test]
+fn real_time_mode_computes_one_position_per_slot() {
+    let mut s = RealTime::new(
+        ScheduleConfig::default(),
+        Counting {
+            inner: KANO,
+            calls: 0,
+        },
+    )
+    .unwrap();
+    let start = t("2018-10-19T10:00:00Z");
+    s.tick(start);
+    // An hour of 1-second ticks: the seed's 15 set-points, the 2-minute
+    // hold, and one sun position per 4-minute slot.
+    let acts = run_rt(&mut s, start.add_seconds(1).unwrap(), 3598, 1);
+    let sets = acts
+        .iter()
+        .filter(|(_, a)| matches!(a, Action::SetPoints(_)))
+        .count();
+    assert_eq!(sets, 15);
+    assert_eq!(s.source_mut().calls, 15);
+    // The entry in force for any instant of its slot, none for the next.
+    let e = s.applied().unwrap();
+    assert_eq!(e.time, t("2018-10-19T10:56:00Z"));
+    assert_eq!(s.current(&t("2018-10-19T10:59:59Z")), Some(e));
+    assert_eq!(s.current(&t("2018-10-19T11:00:00Z")), None);
+}
+
+#[test]
+fn real_time_polar_day_and_night_in_tromso() {
+    // 21 June: every slot of 24 hours is daylight; no home; a new day
+    // (and home) from the first slot after the solar midnight (00:00 UTC −
+    // 18.96°/15 h = 22:44:10 UTC): 22:48.
+    let mut s = RealTime::new(ScheduleConfig::default(), TROMSO).unwrap();
+    let start = t("2026-06-21T00:00:00Z");
+    s.tick(start);
+    let acts = run_rt(&mut s, start.add_seconds(1).unwrap(), 86_400 - 1, 10);
+    let sets = acts
+        .iter()
+        .filter(|(_, a)| matches!(a, Action::SetPoints(_)))
+        .count();
+    assert_eq!(sets, 360);
+    assert!(!acts
+        .iter()
+        .any(|(_, a)| matches!(a, Action::GoHome(_) | Action::Sleep { .. })));
+    assert_eq!(s.day_key(), Some(t("2026-06-21T22:48:00Z")));
+    // 21 December: never daylight; one Sleep after power-on, then nothing.
+    let mut s = RealTime::new(ScheduleConfig::default(), TROMSO).unwrap();
+    let start = t("2026-12-21T00:00:00Z");
+    assert_eq!(s.tick(start).action, Action::SetPoints(SetPoint::default()));
+    let acts = run_rt(&mut s, start.add_seconds(1).unwrap(), 2 * 86_400, 60);
+    assert_eq!(acts.len(), 1, "{acts:?}");
+    assert!(matches!(acts[0].1, Action::Sleep { .. }));
+    assert_eq!(s.day_key(), None);
+}
+
+#[test]
+fn real_time_clock_jumps_set_the_new_slot_at_once() {
+    let mut s = RealTime::new(ScheduleConfig::default(), KANO).unwrap();
+    let start = t("2018-10-19T09:00:00Z");
+    s.tick(start);
+    run_rt(&mut s, start.add_seconds(1).unwrap(), 600, 10);
+    for (to, slot) in [
+        ("2018-10-19T13:00:10Z", "2018-10-19T13:00:00Z"),
+        ("2018-10-19T08:00:05Z", "2018-10-19T08:00:00Z"),
+    ] {
+        let o = s.tick(t(to));
+        assert!(o.clock_jump);
+        let sun = KANO.clone().position(&t(slot)).unwrap();
+        assert_eq!(o.action, Action::SetPoints(SetPoint::facing(&sun)));
+    }
+    // Into the night: waits (Sleep) for the next slot.
+    let o = s.tick(t("2018-10-18T02:00:00Z"));
+    assert!(o.clock_jump);
+    assert_eq!(
+        o.action,
+        Action::Sleep {
+            until: t("2018-10-18T02:04:00Z")
+        }
+    );
+}
