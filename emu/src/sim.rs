@@ -362,6 +362,31 @@ impl Sim {
         }
     }
 
+    /// Puts `millivolts` on ADC input `channel` (0 = ADC0/PC0 … 7 on the
+    /// ATmega328P): simavr's `ADC_IRQ_ADC0 + channel` input IRQ of the
+    /// ADC module (`avr_adc.h`, ioctl `AVR_IOCTL_ADC_GETIRQ` = 'a','d','c','0'),
+    /// whose values are millivolts. The level holds until the next call;
+    /// each conversion the firmware starts reads it. simavr stores 16 bits:
+    /// values above 65,535 mV are clamped there. It scales by its reference
+    /// (`mV · 1023 / Vref`): with REFS = AVcc that is `avr_t::avcc`, which an
+    /// ELF without a `.mmcu` voltage leaves 0 (simavr then uses 3,300 mV),
+    /// so set it with [`Sim::set_avcc_mv`]. Nothing happens on a part
+    /// without an ADC. Panics on a channel above 15 (the IRQs after the 16
+    /// inputs are the temperature sensor and the triggers).
+    pub fn set_adc_mv(&mut self, channel: u8, millivolts: u32) {
+        assert!(channel < 16, "ADC channel {channel}");
+        let ctl = ioctl_code(b'a', b'd', b'c', b'0');
+        if let Some(irq) = self.getirq(ctl, ffi::ADC_IRQ_ADC0 + u32::from(channel)) {
+            unsafe { ffi::avr_raise_irq(irq.as_ptr(), millivolts.min(u32::from(u16::MAX))) };
+        }
+    }
+
+    /// Sets the analog supply AVcc, mV: the ADC's reference when the
+    /// firmware selects AVcc (REFS = 01 on the ATmega328P; 5,000 on an Uno).
+    pub fn set_avcc_mv(&mut self, millivolts: u32) {
+        unsafe { (*self.avr.as_ptr()).avcc = millivolts };
+    }
+
     /// Fills data memory `[from, to)` (data-space addresses, e.g. from the
     /// end of `.bss` to RAMEND + 1) with `pattern` before the run: what
     /// the stack never reaches keeps it ([`Sim::count_untouched`]).

@@ -2,8 +2,11 @@
 
 pub mod adxl345;
 pub mod ds3231;
+pub mod fs5106r;
 pub mod mount;
 pub mod nmea;
+pub mod panel;
 pub mod qmc5883l;
+pub mod quadrature;
 pub mod stepper;
 pub mod wind;
