@@ -21,6 +21,7 @@ pub mod config;
 pub mod controller;
 pub mod hw;
 pub mod log;
+pub mod panel;
 pub mod safety;
 pub mod scheduler;
 pub mod sim;

@@ -175,6 +175,36 @@ pub fn setpoint(
     c_deg: f32,
     a_deg: f32,
 ) {
+    setpoint_fields(out, utc, zenith_deg, azimuth_deg, c_deg, a_deg);
+    out.text("\n");
+}
+
+/// [`setpoint`] with the panel voltage read with it appended:
+/// `setpoint utc=… zenith=… azimuth=… c=… a=… panel_mv=<int>` (seed
+/// chowdhury-2019 logs the panel voltage; see [`crate::panel`]).
+pub fn setpoint_with_panel(
+    out: &mut dyn Sink,
+    utc: &UtcTime,
+    zenith_deg: f32,
+    azimuth_deg: f32,
+    c_deg: f32,
+    a_deg: f32,
+    panel_mv: u32,
+) {
+    setpoint_fields(out, utc, zenith_deg, azimuth_deg, c_deg, a_deg);
+    out.text(" panel_mv=");
+    out.u32(panel_mv);
+    out.text("\n");
+}
+
+fn setpoint_fields(
+    out: &mut dyn Sink,
+    utc: &UtcTime,
+    zenith_deg: f32,
+    azimuth_deg: f32,
+    c_deg: f32,
+    a_deg: f32,
+) {
     out.text("setpoint utc=");
     out.utc(utc);
     out.text(" zenith=");
@@ -185,7 +215,6 @@ pub fn setpoint(
     out.fixed(c_deg, 2);
     out.text(" a=");
     out.fixed(a_deg, 2);
-    out.text("\n");
 }
 
 /// `mode <name>`, on each mode change.

@@ -52,6 +52,19 @@ fn every_line_shape() {
         b.take(),
         "setpoint utc=2026-03-20T12:00:00Z zenith=12.346 azimuth=181.000 c=-1.00 a=12.34\n"
     );
+    log::setpoint_with_panel(
+        &mut b,
+        &t("2026-03-20T12:00:00Z"),
+        12.3456,
+        181.0004,
+        -1.004,
+        12.34,
+        7_105,
+    );
+    assert_eq!(
+        b.take(),
+        "setpoint utc=2026-03-20T12:00:00Z zenith=12.346 azimuth=181.000 c=-1.00 a=12.34 panel_mv=7105\n"
+    );
     log::mode(&mut b, Mode::WaitForTime);
     assert_eq!(b.take(), "mode wait_for_time\n");
     log::fault(&mut b, Fault::LimitSwitchHit(AxisId::C), true);

@@ -1,0 +1,243 @@
+//! The panel's voltage and the day's energy figure of seed chowdhury-2019:
+//! the panel voltage is read on the microcontroller's ADC through a
+//! resistor divider, logged with each set-point, and the area under the
+//! voltage curve over the day (the seed's Table 1 and Figs. 7–8, an "area
+//! under the curve" in V·h) is summed by the trapezoid rule.
+//!
+//! Everything is integer arithmetic (millivolts, milliseconds of the
+//! monotonic clock), so an 8-bit part needs no float for it, and no input
+//! can overflow it: products are formed in `u64` and saturate.
+
+use crate::log::Sink;
+
+/// A resistor divider between the panel and the ADC pin: the pin sees
+/// `V_panel · r_bottom / (r_top + r_bottom)`.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct Divider {
+    /// Resistor from the panel to the pin, ohms.
+    pub r_top_ohm: u32,
+    /// Resistor from the pin to ground, ohms.
+    pub r_bottom_ohm: u32,
+}
+
+/// An ADC channel reading the panel through a divider.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct PanelAdc {
+    /// The ADC's reference, millivolts (AVcc = 5,000 on an Arduino Uno).
+    pub vref_mv: u32,
+    /// Resolution, bits (10 on the ATmega328P).
+    pub bits: u8,
+    /// The divider in front of the pin.
+    pub divider: Divider,
+}
+
+/// Why a panel reading is refused.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum PanelError {
+    /// The divider has no bottom resistor, or the resolution is not 1–16
+    /// bits: no voltage can be computed.
+    BadConfig,
+    /// The code is beyond the converter's range (`2^bits − 1`).
+    CodeOutOfRange,
+}
+
+impl PanelAdc {
+    /// The panel voltage, millivolts, for conversion result `code`:
+    /// `V_pin = code · V_ref / 2^bits` (ATmega328P datasheet §24.7 "ADC
+    /// Conversion Result": `ADC = V_in · 1024 / V_ref`), then through the
+    /// divider, `V_panel = V_pin · (r_top + r_bottom) / r_bottom`; rounded
+    /// down, saturating at `u32::MAX`.
+    pub fn panel_mv(&self, code: u16) -> Result<u32, PanelError> {
+        if self.divider.r_bottom_ohm == 0 || !(1..=16).contains(&self.bits) {
+            return Err(PanelError::BadConfig);
+        }
+        let full = 1u64 << self.bits;
+        if u64::from(code) >= full {
+            return Err(PanelError::CodeOutOfRange);
+        }
+        // code · V_ref < 2^48; times (r_top + r_bottom) < 2^33 it saturates
+        // only for absurd dividers (the result is then u32::MAX anyway).
+        let total_ohm = u64::from(self.divider.r_top_ohm) + u64::from(self.divider.r_bottom_ohm);
+        let mv = (u64::from(code) * u64::from(self.vref_mv)).saturating_mul(total_ohm)
+            / full
+            / u64::from(self.divider.r_bottom_ohm);
+        Ok(u32::try_from(mv).unwrap_or(u32::MAX))
+    }
+}
+
+/// The day's area under the panel voltage, by the trapezoid rule over the
+/// samples given (the seed samples at each set-point).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub struct DayEnergy {
+    last: Option<(u64, u32)>,
+    sum_mv_ms: u64,
+    samples: u32,
+}
+
+/// Milliseconds in an hour.
+const MS_PER_HOUR: u64 = 3_600_000;
+
+impl DayEnergy {
+    /// Nothing summed.
+    pub const fn new() -> Self {
+        DayEnergy {
+            last: None,
+            sum_mv_ms: 0,
+            samples: 0,
+        }
+    }
+
+    /// Adds the sample `panel_mv` taken at `now_ms` of the monotonic clock:
+    /// the trapezoid between it and the previous sample. A sample not after
+    /// the previous one (the same instant, or a clock that went back, which
+    /// a monotonic clock never does) adds no area and replaces it.
+    pub fn add(&mut self, now_ms: u64, panel_mv: u32) {
+        if let Some((t0, v0)) = self.last {
+            if now_ms > t0 {
+                let dt_ms = now_ms - t0;
+                let twice_mean = u64::from(v0) + u64::from(panel_mv);
+                self.sum_mv_ms = self
+                    .sum_mv_ms
+                    .saturating_add(twice_mean.saturating_mul(dt_ms) / 2);
+            }
+        }
+        self.last = Some((now_ms, panel_mv));
+        self.samples = self.samples.saturating_add(1);
+    }
+
+    /// Samples added since the last reset.
+    pub fn samples(&self) -> u32 {
+        self.samples
+    }
+
+    /// The area so far, millivolt-hours (V·h × 1000), rounded to nearest.
+    pub fn mvh(&self) -> u64 {
+        (self.sum_mv_ms + MS_PER_HOUR / 2) / MS_PER_HOUR
+    }
+
+    /// Starts a new day.
+    pub fn reset(&mut self) {
+        *self = DayEnergy::new();
+    }
+}
+
+/// `day_energy vh=<V·h, 3 decimals>`: the day's area, at its end.
+pub fn log_day_energy(out: &mut dyn Sink, energy: &DayEnergy) {
+    let mvh = energy.mvh();
+    out.text("day_energy vh=");
+    let whole = u32::try_from(mvh / 1000).unwrap_or(u32::MAX);
+    out.u32(whole);
+    out.text(".");
+    out.u32_padded((mvh % 1000) as u32, 3);
+    out.text("\n");
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A fixed buffer (the library is `no_std` in its unit tests too).
+    struct Text {
+        buf: [u8; 64],
+        len: usize,
+    }
+    impl Text {
+        fn new() -> Self {
+            Text {
+                buf: [0; 64],
+                len: 0,
+            }
+        }
+        fn as_str(&self) -> &str {
+            core::str::from_utf8(&self.buf[..self.len]).unwrap()
+        }
+    }
+    impl Sink for Text {
+        fn put(&mut self, bytes: &[u8]) {
+            self.buf[self.len..self.len + bytes.len()].copy_from_slice(bytes);
+            self.len += bytes.len();
+        }
+    }
+
+    const UNO: PanelAdc = PanelAdc {
+        vref_mv: 5_000,
+        bits: 10,
+        divider: Divider {
+            r_top_ohm: 10_000,
+            r_bottom_ohm: 10_000,
+        },
+    };
+
+    #[test]
+    fn codes_become_panel_millivolts() {
+        // 512 of 1024 at 5 V is 2.5 V on the pin, 5.0 V through 1:2.
+        assert_eq!(UNO.panel_mv(512), Ok(5_000));
+        assert_eq!(UNO.panel_mv(0), Ok(0));
+        // 1023 · 5000 / 1024 = 4995.1 mV on the pin → 9990.2 → 9990.
+        assert_eq!(UNO.panel_mv(1023), Ok(9_990));
+        assert_eq!(UNO.panel_mv(1024), Err(PanelError::CodeOutOfRange));
+        let no_bottom = PanelAdc {
+            divider: Divider {
+                r_top_ohm: 1,
+                r_bottom_ohm: 0,
+            },
+            ..UNO
+        };
+        assert_eq!(no_bottom.panel_mv(1), Err(PanelError::BadConfig));
+        let absurd = PanelAdc {
+            vref_mv: u32::MAX,
+            bits: 16,
+            divider: Divider {
+                r_top_ohm: u32::MAX,
+                r_bottom_ohm: 1,
+            },
+        };
+        assert_eq!(absurd.panel_mv(u16::MAX), Ok(u32::MAX));
+    }
+
+    #[test]
+    fn trapezoids_sum_exactly() {
+        // 6 V for 12 hours, sampled every 4 minutes: 72 V·h.
+        let mut e = DayEnergy::new();
+        for k in 0..=180u64 {
+            e.add(k * 240_000, 6_000);
+        }
+        assert_eq!(e.mvh(), 72_000);
+        // A ramp 0 → 6 V over 2 h: 6 V·h (exact for a line).
+        let mut e = DayEnergy::new();
+        for k in 0..=30u64 {
+            e.add(k * 240_000, (k * 200) as u32);
+        }
+        assert_eq!(e.mvh(), 6_000);
+        // A sample at the same instant or earlier adds nothing.
+        e.add(30 * 240_000, 50_000);
+        e.add(0, 50_000);
+        assert_eq!(e.mvh(), 6_000);
+        assert_eq!(e.samples(), 33);
+        let mut out = Text::new();
+        log_day_energy(&mut out, &e);
+        assert_eq!(out.as_str(), "day_energy vh=6.000\n");
+        e.reset();
+        assert_eq!(e.mvh(), 0);
+    }
+
+    #[test]
+    fn the_log_line_has_three_decimals() {
+        let mut e = DayEnergy::new();
+        // 1.5 V for 1 h 2 min 2.4 s = 1.551 V·h.
+        e.add(0, 1_500);
+        e.add(3_722_400, 1_500);
+        let mut out = Text::new();
+        log_day_energy(&mut out, &e);
+        assert_eq!(out.as_str(), "day_energy vh=1.551\n");
+    }
+
+    #[test]
+    fn nothing_overflows() {
+        let mut e = DayEnergy::new();
+        e.add(0, u32::MAX);
+        e.add(u64::MAX, u32::MAX);
+        e.add(u64::MAX, u32::MAX);
+        assert!(e.mvh() > 0);
+    }
+}
