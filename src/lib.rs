@@ -18,6 +18,7 @@ pub mod bench;
 pub mod board;
 pub mod clock;
 pub mod config;
+pub mod console;
 pub mod controller;
 pub mod hw;
 pub mod log;

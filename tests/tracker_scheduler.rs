@@ -467,6 +467,9 @@ fn late_ticks_skip_no_entry() {
 
 type RealTime<P> = Scheduler<f64, P, 0>;
 
+// A table capacity of 0 is the real-time mode.
+const _: () = assert!(RealTime::<Textbook>::REAL_TIME);
+
 /// A source that counts the positions it computes.
 struct Counting<P> {
     inner: P,
@@ -504,7 +507,6 @@ fn run_rt<P: PositionSource<f64>>(
 
 #[test]
 fn real_time_day_in_kano_follows_the_flowchart() {
-    assert!(RealTime::<Textbook>::REAL_TIME);
     let mut s = RealTime::new(ScheduleConfig::default(), KANO).unwrap();
     let start = t("2018-10-19T03:00:00Z");
     // Step 1, then outside daylight: sleep until the next slot.
