@@ -7,7 +7,8 @@
 //! ```
 //! Options: `--lat`/`--lon` or `--postal-code CC:CODE`, `--date YYYY-MM-DD`,
 //! `--interval-min N`, `--algorithm NAME`, `--float f32|f64`,
-//! `--format table|csv`, `--allow-out-of-range`.
+//! `--format table|csv`, `--allow-out-of-range`; `--help` lists them with
+//! their defaults and the algorithms with their validity years.
 //!
 //! A date outside the algorithm's validity range (`Algorithm::validity_years`,
 //! e.g. psa-2020: 2020 to 2050) is refused with the reason on stderr and exit
@@ -23,7 +24,6 @@ use std::time::{SystemTime, UNIX_EPOCH};
 use sun_algos::UtcTime;
 
 fn main() -> ExitCode {
-    let args: Vec<String> = std::env::args().skip(1).collect();
     let now_s = SystemTime::now()
         .duration_since(UNIX_EPOCH)
         .map(|d| d.as_secs() as i64)
@@ -31,13 +31,10 @@ fn main() -> ExitCode {
     let today = UtcTime::from_unix_seconds(now_s)
         .map(|t| t.ymd())
         .unwrap_or((2026, 1, 1));
-    let stdout = std::io::stdout();
-    let mut out = stdout.lock();
-    match run::run(&args, today, &mut out, &mut std::io::stderr()) {
-        Ok(()) => ExitCode::SUCCESS,
-        Err(msg) => {
-            eprintln!("{msg}");
-            ExitCode::from(2)
+    run::cli::main(run::TOOL, |args, out, err| {
+        match run::run(args, today, out, err) {
+            Ok(()) => 0,
+            Err(msg) => run::cli::usage_error(run::TOOL, &msg, err),
         }
-    }
+    })
 }

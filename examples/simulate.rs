@@ -6,7 +6,8 @@
 //! cargo run --release --example simulate -- --lat 11.9683 --lon 8.4261 \
 //!     --start 2026-01-01 --days 365 --drive stepper|servo \
 //!     --feedback encoder|sensors --mount level|portable [--faults] [--seed N] \
-//!     [--scenario tests/scenarios/wind_clock_step_back.csv] [--trace OUT.csv]
+//!     [--scenario tests/scenarios/wind_clock_step_back.csv] [--trace OUT.csv] \
+//!     [--svg OUT.svg]
 //! ```
 //!
 //! Every minute the GPS receiver model writes one NMEA epoch for the true
@@ -31,6 +32,10 @@
 //! loss while GPS is off; a technician clears a safe stop the next morning
 //! once the injected cause is gone.
 //!
+//! `--svg OUT.svg` draws the run (`simulate_support/svg.rs`): the pointing
+//! error while tracking, the controller's mode and the active faults over
+//! time. `--help` lists every option with its default.
+//!
 //! The release profile aborts on panic, so a run that prints its last line
 //! had no panic. Bad arguments or a malformed scenario exit with code 2.
 
@@ -42,9 +47,5 @@ mod run;
 mod schedule;
 
 fn main() -> ExitCode {
-    let args: Vec<String> = std::env::args().skip(1).collect();
-    let stdout = std::io::stdout();
-    let stderr = std::io::stderr();
-    let code = run::run(&args, &mut stdout.lock(), &mut stderr.lock());
-    ExitCode::from(code)
+    run::cli::main(run::TOOL, run::run)
 }

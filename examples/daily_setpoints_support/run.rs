@@ -11,7 +11,11 @@ use sun_algos::geometry::events::{self, DayKind, Events};
 use sun_algos::geometry::incidence::incidence_deg;
 use sun_algos::geometry::optimum::Limits;
 use sun_algos::{Algorithm, Atmosphere, Float, Options, Site, UtcTime};
-use suntracker::site::postal;
+
+#[path = "../common/cli.rs"]
+pub mod cli;
+
+use cli::Parsed;
 
 /// Kano, Nigeria: the site of seed jimoh-2019.
 pub const KANO: (f64, f64) = (11.9683, 8.4261);
@@ -20,15 +24,60 @@ pub const KANO: (f64, f64) = (11.9683, 8.4261);
 pub const CSV_HEADER: &str =
     "time_utc,solar_time,sun_zenith,sun_azimuth,slope,surface_azimuth,incidence";
 
-pub const USAGE: &str = "\
-usage: daily_setpoints [--lat DEG --lon DEG | --postal-code CC:CODE] [--date YYYY-MM-DD]
-                       [--interval-min N] [--algorithm NAME] [--float f32|f64]
-                       [--format table|csv] [--allow-out-of-range]
-  Set-points (slope, surface azimuth east of north) every N minutes (default 4)
-  from sunrise to sunset; default site Kano (11.9683 N, 8.4261 E), today (UTC),
-  algorithm spa, f64, table. Positions are apparent (standard atmosphere).
-  A date outside the algorithm's validity range (e.g. psa-2020: 2020 to 2050)
-  is refused; --allow-out-of-range computes it anyway, with a warning.";
+/// The program name in messages.
+pub const TOOL: &str = "daily_setpoints";
+
+/// The synopsis of `--help`.
+pub const USAGE: &str = "[--lat DEG --lon DEG | --postal-code CC:CODE] [--date YYYY-MM-DD] \
+[--interval-min N] [--algorithm NAME] [--float f32|f64] [--format table|csv] [--allow-out-of-range]";
+
+/// The text of `--help`.
+pub fn help() -> cli::Help {
+    use cli::opt;
+    cli::Help {
+        tool: TOOL,
+        synopsis: USAGE,
+        about: "\
+The tracker's set-points for one day: the slope and surface azimuth (east of north) that put the
+panel normal to the sun every N minutes from sunrise to sunset, with the sun's zenith and azimuth
+and the remaining incidence angle. Times in UTC and local apparent solar time. Positions are
+apparent (standard atmosphere: 1013.25 hPa, 10 °C).",
+        options: vec![
+            opt(
+                "--lat DEG",
+                "site latitude, degrees north (south negative); with --lon",
+                "11.9683 (Kano)",
+            ),
+            opt(
+                "--lon DEG",
+                "site longitude, degrees east (west negative); with --lat",
+                "8.4261 (Kano)",
+            ),
+            opt(
+                "--postal-code CC:CODE",
+                "site of a postal code of data/postal_codes.csv (e.g. DZ:16000); not with --lat/--lon",
+                "none",
+            ),
+            opt("--date YYYY-MM-DD", "the day (UTC)", "today"),
+            opt(
+                "--interval-min N",
+                "minutes between set-points, 1 to 720 dividing 1440",
+                "4",
+            ),
+            opt("--algorithm NAME", "solar position algorithm (list below)", "spa"),
+            opt("--float f32|f64", "floating-point type of the computation", "f64"),
+            opt("--format table|csv", "output: a table with the day's events, or CSV", "table"),
+            opt(
+                "--allow-out-of-range",
+                "compute a date outside the algorithm's validity years, with a warning on stderr, \
+                 instead of refusing it (exit 2)",
+                "off",
+            ),
+        ],
+        algorithms: true,
+        notes: "",
+    }
+}
 
 /// Parsed command line.
 #[derive(Debug, Clone, PartialEq)]
@@ -46,21 +95,10 @@ pub struct Args {
     pub allow_out_of_range: bool,
 }
 
-fn value<'a>(it: &mut impl Iterator<Item = &'a String>, flag: &str) -> Result<&'a String, String> {
-    it.next().ok_or_else(|| format!("{flag} needs a value"))
-}
-
-fn number(s: &str, flag: &str) -> Result<f64, String> {
-    s.trim()
-        .parse::<f64>()
-        .ok()
-        .filter(|v| v.is_finite())
-        .ok_or_else(|| format!("{flag}: {s:?} is not a number"))
-}
-
 /// Parses the arguments (without the program name); `today` is the default
-/// date.
-pub fn parse(args: &[String], today: (i32, u8, u8)) -> Result<Args, String> {
+/// date. `--help` is [`Parsed::Help`].
+pub fn parse_cli(args: &[String], today: (i32, u8, u8)) -> Result<Parsed<Args>, String> {
+    use cli::{Long, Short};
     let mut a = Args {
         lat_deg: KANO.0,
         lon_deg: KANO.1,
@@ -73,68 +111,42 @@ pub fn parse(args: &[String], today: (i32, u8, u8)) -> Result<Args, String> {
         allow_out_of_range: false,
     };
     let (mut lat, mut lon, mut postal_code) = (None, None, None);
-    let mut it = args.iter();
-    while let Some(flag) = it.next() {
-        match flag.as_str() {
-            "--lat" => lat = Some(number(value(&mut it, flag)?, flag)?),
-            "--lon" => lon = Some(number(value(&mut it, flag)?, flag)?),
-            "--postal-code" => postal_code = Some(value(&mut it, flag)?.clone()),
-            "--date" => {
-                let d = value(&mut it, flag)?;
-                let t: UtcTime = format!("{d}T00:00:00Z")
-                    .parse()
-                    .map_err(|e| format!("--date {d:?}: {e} (want YYYY-MM-DD)"))?;
-                a.ymd = t.ymd();
+    let mut p = cli::parser(args);
+    while let Some(arg) = p.next().map_err(cli::error)? {
+        match arg {
+            Short('h') | Long("help") => return Ok(Parsed::Help),
+            Long("lat") => lat = Some(cli::number(&mut p, "--lat")?),
+            Long("lon") => lon = Some(cli::number(&mut p, "--lon")?),
+            Long("postal-code") => postal_code = Some(cli::text(&mut p, "--postal-code")?),
+            Long("date") => a.ymd = cli::date(&mut p, "--date")?,
+            Long("interval-min") => {
+                a.interval_min =
+                    cli::value(&mut p, "--interval-min", "1..720 dividing 1440", |v| {
+                        v.parse::<u16>()
+                            .ok()
+                            .filter(|n| (1..=720).contains(n) && 1440 % n == 0)
+                    })?
             }
-            "--interval-min" => {
-                let v = value(&mut it, flag)?;
-                a.interval_min = v
-                    .trim()
-                    .parse::<u16>()
-                    .ok()
-                    .filter(|n| (1..=720).contains(n) && 1440 % n == 0)
-                    .ok_or_else(|| format!("--interval-min {v:?}: want 1..720 dividing 1440"))?;
+            Long("algorithm") => a.algorithm = cli::algorithm(&mut p, "--algorithm")?,
+            Long("float") => {
+                a.f32 = cli::choice(&mut p, "--float", &[("f32", true), ("f64", false)])?
             }
-            "--algorithm" => {
-                let v = value(&mut it, flag)?;
-                a.algorithm = Algorithm::from_name(v).ok_or_else(|| {
-                    let names: Vec<&str> = Algorithm::ALL.iter().map(|x| x.name()).collect();
-                    format!("--algorithm {v:?}: one of {}", names.join(", "))
-                })?;
+            Long("format") => {
+                a.csv = cli::choice(&mut p, "--format", &[("table", false), ("csv", true)])?
             }
-            "--float" => match value(&mut it, flag)?.as_str() {
-                "f32" => a.f32 = true,
-                "f64" => a.f32 = false,
-                v => return Err(format!("--float {v:?}: f32 or f64")),
-            },
-            "--format" => match value(&mut it, flag)?.as_str() {
-                "csv" => a.csv = true,
-                "table" => a.csv = false,
-                v => return Err(format!("--format {v:?}: table or csv")),
-            },
-            "--allow-out-of-range" => a.allow_out_of_range = true,
-            "-h" | "--help" => return Err(USAGE.into()),
-            other => return Err(format!("unknown option {other:?}\n{USAGE}")),
+            Long("allow-out-of-range") => a.allow_out_of_range = true,
+            other => return Err(cli::unexpected(other)),
         }
     }
-    match (lat, lon, postal_code) {
-        (None, None, None) => {}
-        (Some(la), Some(lo), None) => {
-            a.lat_deg = la;
-            a.lon_deg = lo;
-            a.place = "site".into();
-        }
-        (None, None, Some(code)) => {
-            let e =
-                postal::lookup_str(&code).map_err(|e| format!("--postal-code {code:?}: {e}"))?;
-            a.lat_deg = e.latitude_deg();
-            a.lon_deg = e.longitude_deg();
-            a.place = format!("{} ({code})", e.place());
-        }
-        (_, _, Some(_)) => return Err("give either --lat/--lon or --postal-code".into()),
-        _ => return Err("--lat and --lon go together".into()),
-    }
-    Site::new(a.lat_deg, a.lon_deg).map_err(|e| format!("site: {e}"))?;
+    let kano = cli::NamedSite {
+        lat_deg: KANO.0,
+        lon_deg: KANO.1,
+        place: "Kano".into(),
+    };
+    let site = cli::resolve_site(&cli::site_arg(lat, lon, postal_code)?, kano)?;
+    a.lat_deg = site.lat_deg;
+    a.lon_deg = site.lon_deg;
+    a.place = site.place;
     if let Some(why) = outside_validity(&a) {
         if !a.allow_out_of_range {
             return Err(format!(
@@ -142,7 +154,16 @@ pub fn parse(args: &[String], today: (i32, u8, u8)) -> Result<Args, String> {
             ));
         }
     }
-    Ok(a)
+    Ok(Parsed::Run(a))
+}
+
+/// [`parse_cli`] for a run: `--help` is an error holding the help text.
+#[allow(dead_code)] // the tests' entry (tests/daily_setpoints_cli.rs)
+pub fn parse(args: &[String], today: (i32, u8, u8)) -> Result<Args, String> {
+    match parse_cli(args, today)? {
+        Parsed::Run(a) => Ok(a),
+        Parsed::Help => Err(help().render()),
+    }
 }
 
 /// Why the date is outside the algorithm's validity range, if it is.
@@ -264,7 +285,7 @@ fn utc_hms(t: &UtcTime) -> String {
 }
 
 /// Writes the day in the requested format.
-pub fn write(a: &Args, day: &Day, out: &mut impl Write) -> std::io::Result<()> {
+pub fn write(a: &Args, day: &Day, out: &mut dyn Write) -> std::io::Result<()> {
     if a.csv {
         writeln!(out, "{CSV_HEADER}")?;
         for r in &day.rows {
@@ -354,15 +375,21 @@ pub fn write(a: &Args, day: &Day, out: &mut impl Write) -> std::io::Result<()> {
     Ok(())
 }
 
-/// Parse, compute and write the table to `out` and warnings to `warn`; the
-/// error is the message to print.
+/// Parse, compute and write the table (or the help) to `out` and warnings
+/// to `warn`; the error is the message to print (exit 2).
 pub fn run(
     args: &[String],
     today: (i32, u8, u8),
-    out: &mut impl Write,
-    warn: &mut impl Write,
+    out: &mut dyn Write,
+    warn: &mut dyn Write,
 ) -> Result<(), String> {
-    let a = parse(args, today)?;
+    let a = match parse_cli(args, today)? {
+        Parsed::Run(a) => a,
+        Parsed::Help => {
+            cli::print_help(&help(), out);
+            return Ok(());
+        }
+    };
     if let Some(why) = outside_validity(&a) {
         // Best effort: a closed stderr must not stop the table.
         let _ = writeln!(

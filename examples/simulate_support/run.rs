@@ -1,7 +1,7 @@
 //! The `simulate` tool: arguments, the simulated world (plants, sensors,
-//! RTC, GPS receiver, wind), the scenario and fault events, the trace and
-//! the summary. `examples/simulate.rs` calls [`run`]; so does
-//! `tests/simulate_scenarios.rs`.
+//! RTC, GPS receiver, wind), the scenario and fault events, the trace, the
+//! figure and the summary. `examples/simulate.rs` calls [`run`]; so do
+//! `tests/simulate_scenarios.rs` and `tests/host_tools_cli.rs`.
 
 use std::cell::Cell;
 use std::fmt::Write as _;
@@ -30,23 +30,79 @@ use suntracker::traits::{AlgorithmSource, PositionSource};
 
 use super::schedule::{self, Action, Kind, Timed, Window};
 
+#[path = "../common/cli.rs"]
+pub mod cli;
+#[path = "svg.rs"]
+pub mod svg;
+
+use cli::Parsed;
+
 /// The header of `--trace`.
 pub const TRACE_HEADER: &str = "minute,utc,mode,homing,faults,target_c_deg,target_a_deg,axis_c_deg,axis_a_deg,sun_zenith_deg,sun_azimuth_deg,pointing_error_deg,wind_hz";
 
-pub const USAGE: &str = "\
-usage: simulate [--lat DEG] [--lon DEG] [--start YYYY-MM-DD] [--days N]
-                [--drive stepper|servo] [--feedback encoder|sensors]
-                [--mount level|portable] [--faults] [--seed N]
-                [--scenario FILE] [--trace OUT.csv]
+/// The program name in messages.
+pub const TOOL: &str = "simulate";
 
-Defaults: Kano (11.9683, 8.4261), 2026-01-01, 1 day, stepper, encoder, level.
-Every minute the GPS receiver model writes an NMEA epoch that goes through
-the GPS decoder and the time keeper (over a simulated RTC) to the
-controller. A run starting before 2026-01-01 (the firmware's date floor)
-uses a date window starting on the run's first day, so that its dates are
-trusted; a run outside psa-2020's 2020-2050 lets the algorithm extrapolate.
---scenario FILE replays timed events (see suntracker::sim::scenario);
---trace OUT.csv writes one row per minute.";
+/// The synopsis of `--help`.
+pub const USAGE: &str = "[--lat DEG] [--lon DEG] [--start YYYY-MM-DD] [--days N] \
+[--drive stepper|servo] [--feedback encoder|sensors] [--mount level|portable] [--faults] [--seed N] \
+[--scenario FILE] [--trace OUT.csv] [--svg OUT.svg]";
+
+/// The text of `--help`.
+pub fn help() -> cli::Help {
+    use cli::opt;
+    cli::Help {
+        tool: TOOL,
+        synopsis: USAGE,
+        about: "\
+Runs the whole tracker (controller, axes, safety, time keeper) minute by minute against the plant
+and sensor models of suntracker::sim. Every minute the GPS receiver model writes an NMEA epoch that
+goes through the GPS decoder and the time keeper (over a simulated RTC) to the controller. Prints a
+summary: pointing error while tracking, clear-sky energy against ideal and fixed panels, faults,
+stow times; its last line holds the figures as key=value.",
+        options: vec![
+            opt("--lat DEG", "site latitude, degrees north (south negative)", "11.9683 (Kano)"),
+            opt("--lon DEG", "site longitude, degrees east (west negative)", "8.4261 (Kano)"),
+            opt("--start YYYY-MM-DD", "first day of the run (00:00 UTC)", "2026-01-01"),
+            opt("--days N", "length of the run in days, 1 to 3660", "1"),
+            opt("--drive stepper|servo", "axis drives", "stepper"),
+            opt(
+                "--feedback encoder|sensors",
+                "closed loop on output encoders, or open loop with the attitude sensors",
+                "encoder",
+            ),
+            opt(
+                "--mount level|portable",
+                "a level mount, or one tilted and turned (read by the attitude sensors)",
+                "level",
+            ),
+            opt(
+                "--faults",
+                "add random daily conditions and yearly field incidents (a technician clears a \
+                 safe stop the next morning)",
+                "off",
+            ),
+            opt("--seed N", "seed of the random sensor errors and faults", "1"),
+            opt(
+                "--scenario FILE",
+                "replay the timed events of FILE (format: suntracker::sim::scenario; examples in \
+                 tests/scenarios/)",
+                "none",
+            ),
+            opt("--trace OUT.csv", "write one CSV row per minute", "none"),
+            opt(
+                "--svg OUT.svg",
+                "draw the run: pointing error while tracking, the controller's mode, the active faults",
+                "none",
+            ),
+        ],
+        algorithms: false,
+        notes: "\
+A run starting before 2026-01-01 (the firmware's date floor) uses a date window starting on the
+run's first day, so that its dates are trusted; a run outside psa-2020's 2020-2050 lets the
+algorithm extrapolate. Bad arguments or a malformed scenario exit with code 2.",
+    }
+}
 
 /// Wind speed of the calm default and of a random gale, m/s.
 const CALM_M_S: f64 = 4.0;
@@ -77,9 +133,12 @@ pub struct Args {
     seed: u64,
     scenario: Option<String>,
     trace: Option<String>,
+    svg: Option<String>,
 }
 
-pub fn parse_args(args: &[String]) -> Result<Args, String> {
+/// Parses the arguments (without the program name).
+pub fn parse_args(args: &[String]) -> Result<Parsed<Args>, String> {
+    use cli::{Long, Short};
     let mut a = Args {
         lat: 11.9683,
         lon: 8.4261,
@@ -92,57 +151,57 @@ pub fn parse_args(args: &[String]) -> Result<Args, String> {
         seed: 1,
         scenario: None,
         trace: None,
+        svg: None,
     };
-    let mut it = args.iter();
-    while let Some(k) = it.next() {
-        let mut val = || {
-            it.next()
-                .cloned()
-                .ok_or_else(|| format!("{k} needs a value"))
-        };
-        match k.as_str() {
-            "--lat" => a.lat = val()?.parse().map_err(|_| "bad --lat")?,
-            "--lon" => a.lon = val()?.parse().map_err(|_| "bad --lon")?,
-            "--start" => {
-                a.start = format!("{}T00:00:00Z", val()?)
-                    .parse()
-                    .map_err(|_| "bad --start (YYYY-MM-DD)")?
+    let mut p = cli::parser(args);
+    while let Some(arg) = p.next().map_err(cli::error)? {
+        match arg {
+            Short('h') | Long("help") => return Ok(Parsed::Help),
+            Long("lat") => a.lat = cli::number(&mut p, "--lat")?,
+            Long("lon") => a.lon = cli::number(&mut p, "--lon")?,
+            Long("start") => {
+                let (y, m, d) = cli::date(&mut p, "--start")?;
+                a.start =
+                    UtcTime::from_ymd_hms(y, m, d, 0, 0, 0).map_err(|e| format!("--start: {e}"))?;
             }
-            "--days" => a.days = val()?.parse().map_err(|_| "bad --days")?,
-            "--drive" => {
-                a.drive = match val()?.as_str() {
-                    "stepper" => Drive::Stepper,
-                    "servo" => Drive::Servo,
-                    _ => return Err("--drive stepper|servo".into()),
-                }
+            Long("days") => {
+                a.days = cli::value(&mut p, "--days", "1..3660", |v| {
+                    v.parse::<u32>().ok().filter(|n| (1..=3660).contains(n))
+                })?
             }
-            "--feedback" => {
-                a.encoder = match val()?.as_str() {
-                    "encoder" => true,
-                    "sensors" => false,
-                    _ => return Err("--feedback encoder|sensors".into()),
-                }
+            Long("drive") => {
+                a.drive = cli::choice(
+                    &mut p,
+                    "--drive",
+                    &[("stepper", Drive::Stepper), ("servo", Drive::Servo)],
+                )?
             }
-            "--mount" => {
-                a.portable = match val()?.as_str() {
-                    "level" => false,
-                    "portable" => true,
-                    _ => return Err("--mount level|portable".into()),
-                }
+            Long("feedback") => {
+                a.encoder = cli::choice(
+                    &mut p,
+                    "--feedback",
+                    &[("encoder", true), ("sensors", false)],
+                )?
             }
-            "--faults" => a.faults = true,
-            "--seed" => a.seed = val()?.parse().map_err(|_| "bad --seed")?,
-            "--scenario" => a.scenario = Some(val()?),
-            "--trace" => a.trace = Some(val()?),
-            "--help" | "-h" => return Err(USAGE.into()),
-            _ => return Err(format!("unknown argument {k}\n{USAGE}")),
+            Long("mount") => {
+                a.portable =
+                    cli::choice(&mut p, "--mount", &[("level", false), ("portable", true)])?
+            }
+            Long("faults") => a.faults = true,
+            Long("seed") => {
+                a.seed = cli::value(&mut p, "--seed", "an integer 0..2^64", |v| v.parse().ok())?
+            }
+            Long("scenario") => a.scenario = Some(cli::text(&mut p, "--scenario")?),
+            Long("trace") => a.trace = Some(cli::text(&mut p, "--trace")?),
+            Long("svg") => a.svg = Some(cli::text(&mut p, "--svg")?),
+            other => return Err(cli::unexpected(other)),
         }
     }
     if a.days == 0 || a.days > 3660 {
         return Err("--days 1..3660".into());
     }
-    Site::new(a.lat, a.lon).map_err(|e| e.to_string())?;
-    Ok(a)
+    Site::new(a.lat, a.lon).map_err(|e| format!("site: {e}"))?;
+    Ok(Parsed::Run(a))
 }
 
 /// Reads and parses a scenario file; every bad line is reported.
@@ -208,17 +267,18 @@ type Ctl<'a> = Controller<f64, SharedSiteSource<'a, f64>, MotorPlant, MountSenso
 /// Runs the tool with `args` (without the program name); the summary goes
 /// to `out`, errors to `err`. Returns the exit code (2 for bad input).
 pub fn run(args: &[String], out: &mut dyn Write, err: &mut dyn Write) -> u8 {
-    match simulate(args, out, err) {
+    let args = match parse_args(args) {
+        Ok(Parsed::Run(a)) => a,
+        Ok(Parsed::Help) => return cli::print_help(&help(), out),
+        Err(e) => return cli::usage_error(TOOL, &e, err),
+    };
+    match simulate(&args, out, err) {
         Ok(()) => 0,
-        Err(e) => {
-            let _ = writeln!(err, "simulate: {e}");
-            2
-        }
+        Err(e) => cli::usage_error(TOOL, &e, err),
     }
 }
 
-fn simulate(args: &[String], out: &mut dyn Write, err: &mut dyn Write) -> Result<(), String> {
-    let args = parse_args(args)?;
+fn simulate(args: &Args, out: &mut dyn Write, err: &mut dyn Write) -> Result<(), String> {
     // The scenario is parsed before anything runs.
     let scenario = match &args.scenario {
         Some(p) => load_scenario(p)?,
@@ -231,6 +291,15 @@ fn simulate(args: &[String], out: &mut dyn Write, err: &mut dyn Write) -> Result
             writeln!(w, "{TRACE_HEADER}").map_err(|e| format!("{p}: {e}"))?;
             Some(w)
         }
+        None => None,
+    };
+    // The figure's file is created now, so that a bad path fails before
+    // the run.
+    let mut figure = match &args.svg {
+        Some(p) => Some((
+            File::create(p).map_err(|e| format!("{p}: {e}"))?,
+            svg::Recorder::new(args.days * 1440),
+        )),
         None => None,
     };
     let io_err = |e: std::io::Error| format!("write: {e}");
@@ -629,6 +698,14 @@ fn simulate(args: &[String], out: &mut dyn Write, err: &mut dyn Write) -> Result
                 .max(0.0);
             e_fixed += beam * cos_fixed;
         }
+        if let Some((_, rec)) = figure.as_mut() {
+            rec.minute(
+                m,
+                report.mode,
+                pointing,
+                ctl.faults().active().map(|a| a.fault.name()),
+            );
+        }
         if let Some(w) = trace.as_mut() {
             row.clear();
             let names: Vec<&str> = ctl.faults().active().map(|a| a.fault.name()).collect();
@@ -654,6 +731,39 @@ fn simulate(args: &[String], out: &mut dyn Write, err: &mut dyn Write) -> Result
     }
     if let Some(w) = trace.as_mut() {
         w.flush().map_err(io_err)?;
+    }
+    if let (Some((mut file, rec)), Some(path)) = (figure.take(), &args.svg) {
+        let title = format!(
+            "{:.4} {} {:.4} {} from {}, {} day{}; {}, {}, {} mount; faults {}{}",
+            args.lat.abs(),
+            if args.lat >= 0.0 { 'N' } else { 'S' },
+            args.lon.abs(),
+            if args.lon >= 0.0 { 'E' } else { 'W' },
+            iso(&args.start).get(..10).unwrap_or(""),
+            args.days,
+            if args.days == 1 { "" } else { "s" },
+            match args.drive {
+                Drive::Stepper => "stepper",
+                Drive::Servo => "servo",
+            },
+            if args.encoder { "encoder" } else { "sensors" },
+            if args.portable { "portable" } else { "level" },
+            if args.faults { "on" } else { "off" },
+            match &args.scenario {
+                Some(p) => format!(
+                    "; scenario {}",
+                    std::path::Path::new(p)
+                        .file_name()
+                        .map(|f| f.to_string_lossy().into_owned())
+                        .unwrap_or_default()
+                ),
+                None => String::new(),
+            },
+        );
+        let text =
+            svg::draw(&rec.finish(), &args.start, &title).map_err(|e| format!("{path}: {e}"))?;
+        file.write_all(text.as_bytes())
+            .map_err(|e| format!("{path}: {e}"))?;
     }
     errors.sort_by(|a, b| a.total_cmp(b));
     let mean = if errors.is_empty() {
