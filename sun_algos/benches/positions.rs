@@ -10,8 +10,15 @@
 //! position (criterion also prints the throughput in positions per second).
 //!
 //! Run: `cargo bench -p sun_algos --bench positions -- --warm-up-time 1 --measurement-time 2`
+//!
+//! Instruction counts: with `SPA_CALLGRIND_ROUNDS=n` in the environment the
+//! binary skips criterion and computes `n` rounds of the 64 cases with our
+//! `spa` in `f64` (or `f32` with `SPA_CALLGRIND_F32=1`), for
+//! `valgrind --tool=callgrind`: instructions per position are
+//! (Ir(n) − Ir(0)) / (64 n). The binary is the one
+//! `cargo bench -p sun_algos --bench positions --no-run` names.
 
-use criterion::{criterion_group, criterion_main, BenchmarkId, Criterion, Throughput};
+use criterion::{criterion_group, BenchmarkId, Criterion, Throughput};
 use solar_positioning::{time::JulianDate, Location, SolarPositions};
 use std::hint::black_box;
 use sun_algos::{Algorithm, Float, Options, Site, UtcTime};
@@ -149,5 +156,39 @@ fn benches(c: &mut Criterion) {
     ours::<f32>(c, &cases, "f32");
 }
 
+/// `rounds` rounds of the cases through our `spa` (see the module docs).
+fn callgrind_rounds<T: Float>(cases: &[Case], rounds: usize) {
+    let sites: Vec<Site<T>> = cases
+        .iter()
+        .map(|k| Site::new(T::from_f64(k.lat), T::from_f64(k.lon)).unwrap())
+        .collect();
+    let opts = Options {
+        delta_t_s: Some(T::from_f64(DELTA_T_S)),
+        ..Options::default()
+    };
+    for _ in 0..rounds {
+        for (k, site) in cases.iter().zip(&sites) {
+            let p = Algorithm::Spa.position(black_box(&k.time), black_box(site), &opts);
+            black_box(p.ok());
+        }
+    }
+}
+
 criterion_group!(positions, benches);
-criterion_main!(positions);
+
+fn main() {
+    if let Some(rounds) = std::env::var("SPA_CALLGRIND_ROUNDS")
+        .ok()
+        .and_then(|v| v.parse::<usize>().ok())
+    {
+        let cases = cases();
+        if std::env::var_os("SPA_CALLGRIND_F32").is_some() {
+            callgrind_rounds::<f32>(&cases, rounds);
+        } else {
+            callgrind_rounds::<f64>(&cases, rounds);
+        }
+        return;
+    }
+    positions();
+    Criterion::default().configure_from_args().final_summary();
+}

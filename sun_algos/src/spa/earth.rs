@@ -5,7 +5,9 @@ use super::fast_tables::{
     FastSeries, B0, B1, DERIVED, DIRECT, FREQUENCIES, L0, L1, L2, L3, L4, L5, N_FREQUENCIES, R0,
     R1, R2, R3, R4,
 };
+use super::rot::{Rot, RotTable};
 use super::split::{frac, Secular};
+use super::turns::sin_cos_turns;
 use crate::float::Float;
 
 /// Days in a Julian millennium.
@@ -56,59 +58,121 @@ const DIRECT_SECULAR: [Secular; DIRECT.len()] = {
     out
 };
 
-/// sin(C τ) and cos(C τ) of every distinct frequency C.
-struct Rotations<T>([(T, T); N_FREQUENCIES]);
+/// Slots of the `f64` rotation table: [`N_FREQUENCIES`] rounded up to a
+/// power of two, so that an index masked with `SLOTS_F64 − 1` is in range
+/// by construction (no bounds check, no panic path in the hot loops).
+const SLOTS_F64: usize = 128;
+/// The `f32` table keeps exactly [`N_FREQUENCIES`] slots (the smallest stack
+/// frame, for 8-bit targets); its look-ups are checked.
+const SLOTS_F32: usize = N_FREQUENCIES;
 
-impl<T: Float> Rotations<T> {
-    /// The pairs at `days + frac_tt` days (TT) from J2000.0.
-    fn new(days: i32, frac_tt: T) -> Self {
-        let mut r = [(T::ZERO, T::ONE); N_FREQUENCIES];
-        // Index 0 is C = 0: sin 0 = 0, cos 0 = 1 as initialised. The direct
-        // ones take C τ in exact turns from the whole days, so even `f32`
-        // keeps its precision when C τ reaches 10⁵ rad (τ = ±4 millennia).
-        for (&k, s) in DIRECT.iter().zip(DIRECT_SECULAR.iter()) {
-            if let Some(out) = r.get_mut(usize::from(k)) {
-                *out = s.rad(days, frac_tt).sin_cos();
-            }
+/// Every frequency index of the tables is below [`N_FREQUENCIES`] (checked
+/// at compile time, so masking never aliases two frequencies).
+const _: () = {
+    assert!(N_FREQUENCIES <= SLOTS_F64 && SLOTS_F64.is_power_of_two());
+    let series = [
+        &L0, &L1, &L2, &L3, &L4, &L5, &B0, &B1, &R0, &R1, &R2, &R3, &R4,
+    ];
+    let mut s = 0;
+    while s < series.len() {
+        let f = series[s].freq;
+        assert!(f.len() == series[s].f64s.len() && f.len() == series[s].f32s.len());
+        let mut i = 0;
+        while i < f.len() {
+            assert!((f[i] as usize) < N_FREQUENCIES);
+            i += 1;
         }
-        for &(c, a, b, plus) in DERIVED.iter() {
-            let get = |i: u8| r.get(usize::from(i)).copied().unwrap_or((T::ZERO, T::ONE));
-            let ((sa, ca), (sb, cb)) = (get(a), get(b));
-            let v = if plus {
-                (sa * cb + ca * sb, ca * cb - sa * sb)
+        s += 1;
+    }
+    let mut i = 0;
+    while i < DIRECT.len() {
+        assert!((DIRECT[i] as usize) < N_FREQUENCIES);
+        i += 1;
+    }
+    let mut i = 0;
+    while i < DERIVED.len() {
+        let (c, a, b, _) = DERIVED[i];
+        assert!((c as usize) < N_FREQUENCIES);
+        assert!((a as usize) < N_FREQUENCIES && (b as usize) < N_FREQUENCIES);
+        i += 1;
+    }
+};
+
+/// e^{i C τ} of every distinct frequency C, at its index in [`FREQUENCIES`],
+/// in `N` slots ([`SLOTS_F64`] or [`SLOTS_F32`]).
+struct Rotations<T, const N: usize>(RotTable<T, N>);
+
+impl<T: Float, const N: usize> Rotations<T, N> {
+    /// The table at `days + frac_tt` days (TT) from J2000.0.
+    #[inline(always)]
+    fn new(days: i32, frac_tt: T) -> Self {
+        let mut r = RotTable::zeroed();
+        // Index 0 is C = 0: sin 0 = 0, cos 0 = 1.
+        r.set(0, Rot::ONE);
+        // The direct ones take C τ in exact turns from the whole days, so even
+        // `f32` keeps its precision when C τ reaches 10⁵ rad (τ = ±4 millennia).
+        // `f64` reduces the turns exactly and evaluates sine and cosine in
+        // one kernel (`turns`); `f32` goes through its trigonometry backend.
+        for (&k, s) in DIRECT.iter().zip(DIRECT_SECULAR.iter()) {
+            let v = if is_f32::<T>() {
+                Rot::of_rad(s.rad(days, frac_tt))
             } else {
-                (sa * cb - ca * sb, ca * cb + sa * sb)
+                let (sin, cos) = sin_cos_turns(s.at(days, frac_tt).to_f64());
+                Rot {
+                    c: T::from_f64(cos),
+                    s: T::from_f64(sin),
+                }
             };
-            if let Some(out) = r.get_mut(usize::from(c)) {
-                *out = v;
-            }
+            r.set(k, v);
+        }
+        // e^{i (a ± b)} = e^{i a} · e^{±i b}.
+        for &(c, a, b, plus) in DERIVED.iter() {
+            let rb = r.get(b);
+            r.set(c, r.get(a).mul(if plus { rb } else { rb.conj() }));
         }
         Rotations(r)
     }
 
     /// Σ A cos(B + C τ) = Σ (A cos B) cos(C τ) − (A sin B) sin(C τ) over the
-    /// terms of `s` from `skip` on (report eq. 9).
-    #[inline]
+    /// terms of `s` from `skip` on (report eq. 9), in table order.
+    #[inline(always)]
     fn sum(&self, s: &FastSeries, skip: usize) -> T {
         let mut acc = T::ZERO;
-        let rot = |i: u8| {
-            self.0
-                .get(usize::from(i))
-                .copied()
-                .unwrap_or((T::ZERO, T::ZERO))
-        };
+        let freq = s.freq.get(skip..).unwrap_or(&[]);
         if is_f32::<T>() {
-            for (&i, k) in s.freq.iter().zip(s.f32s).skip(skip) {
-                let (sn, cs) = rot(i);
-                acc += c32::<T>(k[0]) * cs - c32::<T>(k[1]) * sn;
+            let k32 = s.f32s.get(skip..).unwrap_or(&[]);
+            for (&i, k) in freq.iter().zip(k32) {
+                let r = self.0.get(i);
+                acc += c32::<T>(k[0]) * r.c - c32::<T>(k[1]) * r.s;
             }
         } else {
-            for (&i, k) in s.freq.iter().zip(s.f64s).skip(skip) {
-                let (sn, cs) = rot(i);
-                acc += T::from_f64(k[0]) * cs - T::from_f64(k[1]) * sn;
+            let k64 = s.f64s.get(skip..).unwrap_or(&[]);
+            for (&i, k) in freq.iter().zip(k64) {
+                let r = self.0.get(i);
+                acc += T::from_f64(k[0]) * r.c - T::from_f64(k[1]) * r.s;
             }
         }
         acc
+    }
+
+    /// Eq. 9–12 with this table (see [`heliocentric`]).
+    #[inline(always)]
+    fn heliocentric(&self, days: i32, frac_tt: T, tau: T) -> Heliocentric<T> {
+        let e8 = T::from_f64(1e-8);
+        let s = |series: &FastSeries| self.sum(series, 0);
+        // L1 without its secular first term.
+        let l_periodic = s(&L0)
+            + tau
+                * (self.sum(&L1, 1)
+                    + tau * (s(&L2) + tau * (s(&L3) + tau * (s(&L4) + tau * s(&L5)))));
+        let l_turns = frac(L1_SECULAR.at(days, frac_tt) + l_periodic * e8 / T::TAU);
+        let b = (s(&B0) + tau * s(&B1)) * e8;
+        let r_au = (s(&R0) + tau * (s(&R1) + tau * (s(&R2) + tau * (s(&R3) + tau * s(&R4))))) * e8;
+        Heliocentric {
+            l_rad: l_turns * T::TAU,
+            b_rad: b,
+            r_au,
+        }
     }
 }
 
@@ -126,19 +190,10 @@ pub(crate) struct Heliocentric<T> {
 /// Eq. 9–12 at `days + frac_tt` days (TT) from J2000.0; `tau` is the same
 /// instant in Julian millennia (JME).
 pub(crate) fn heliocentric<T: Float>(days: i32, frac_tt: T, tau: T) -> Heliocentric<T> {
-    let e8 = T::from_f64(1e-8);
-    let r = Rotations::new(days, frac_tt);
-    let s = |series: &FastSeries| r.sum(series, 0);
-    // L1 without its secular first term.
-    let l_periodic = s(&L0)
-        + tau * (r.sum(&L1, 1) + tau * (s(&L2) + tau * (s(&L3) + tau * (s(&L4) + tau * s(&L5)))));
-    let l_turns = frac(L1_SECULAR.at(days, frac_tt) + l_periodic * e8 / T::TAU);
-    let b = (s(&B0) + tau * s(&B1)) * e8;
-    let r_au = (s(&R0) + tau * (s(&R1) + tau * (s(&R2) + tau * (s(&R3) + tau * s(&R4))))) * e8;
-    Heliocentric {
-        l_rad: l_turns * T::TAU,
-        b_rad: b,
-        r_au,
+    if is_f32::<T>() {
+        Rotations::<T, SLOTS_F32>::new(days, frac_tt).heliocentric(days, frac_tt, tau)
+    } else {
+        Rotations::<T, SLOTS_F64>::new(days, frac_tt).heliocentric(days, frac_tt, tau)
     }
 }
 
@@ -147,6 +202,11 @@ mod tests {
     use super::*;
 
     use crate::spa::tables as report;
+
+    /// The `f64` table at `days` days (TT) from J2000.0.
+    fn filled(days: i32) -> Rotations<f64, SLOTS_F64> {
+        Rotations::new(days, 0.0)
+    }
 
     #[test]
     fn secular_term_is_the_first_l1_row() {
@@ -203,9 +263,10 @@ mod tests {
         for tau in [-4.0f64, -0.6, -0.1, 0.0038, 0.11, 0.6, 4.0] {
             let days = (tau * DAYS_PER_MILLENNIUM).round() as i32;
             let tau = f64::from(days) / DAYS_PER_MILLENNIUM;
-            let r = Rotations::new(days, 0.0);
+            let r = filled(days);
             let tol = 1e-14 * (1.0 + 80_000.0 * tau.abs());
-            for (k, &(s, c)) in r.0.iter().enumerate() {
+            for k in 0..N_FREQUENCIES {
+                let Rot { c, s } = r.0.get(k as u8);
                 let (s0, c0) = (FREQUENCIES.f64s[k] * tau).sin_cos();
                 assert!(
                     (s - s0).abs() < tol && (c - c0).abs() < tol,
@@ -219,7 +280,7 @@ mod tests {
         for tau in [-4.0f64, -0.4, -0.1, 0.0, 0.0038, 0.05, 0.11, 0.4, 4.0] {
             let days = (tau * DAYS_PER_MILLENNIUM).round() as i32;
             let tau = f64::from(days) / DAYS_PER_MILLENNIUM;
-            let r = Rotations::new(days, 0.0);
+            let r = filled(days);
             for (rep, fast) in pairs {
                 let want = sum(rep, tau, 0);
                 let got = r.sum(fast, 0);

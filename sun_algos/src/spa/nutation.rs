@@ -2,36 +2,10 @@
 //! eq. 15–23, Table A4.3).
 
 use super::earth::{c32, is_f32};
+use super::rot::{Rot, RotTable};
 use super::tables::{NUTATION_ABCD, NUTATION_Y};
+use super::turns::sin_cos_deg;
 use crate::float::Float;
-
-/// A unit complex number `cos x + i sin x`.
-#[derive(Debug, Clone, Copy)]
-struct Rot<T> {
-    c: T,
-    s: T,
-}
-
-impl<T: Float> Rot<T> {
-    const ONE: Rot<T> = Rot {
-        c: T::ONE,
-        s: T::ZERO,
-    };
-    #[inline(always)]
-    fn mul(self, o: Rot<T>) -> Rot<T> {
-        Rot {
-            c: self.c * o.c - self.s * o.s,
-            s: self.s * o.c + self.c * o.s,
-        }
-    }
-    #[inline(always)]
-    fn conj(self) -> Rot<T> {
-        Rot {
-            c: self.c,
-            s: -self.s,
-        }
-    }
-}
 
 /// The five fundamental arguments X0…X4 (D, M, M′, F, Ω) in degrees for
 /// `jce` Julian centuries (TT): eq. 15–19.
@@ -48,6 +22,176 @@ pub(crate) fn fundamental_arguments_deg<T: Float>(jce: T) -> [T; 5] {
     ]
 }
 
+/// Slot of the power e^{i k Xj} in the work table: `9 j + 4 + k` for
+/// k = −4…4 (|Yij| ≤ 4 in Table A4.3; the k = 0 slots are never read). The
+/// products of [`PROGRAM`] follow from slot [`N_POWERS`] on.
+const fn power_slot(j: usize, k: i8) -> u8 {
+    (9 * j as i32 + 4 + k as i32) as u8
+}
+const N_POWERS: usize = 45;
+
+/// The evaluation order of the 63 arguments' sin/cos pairs, fixed at compile
+/// time. Each term's pair is the product of the powers of its non-zero
+/// multiples Yij in order of j, formed left to right, and terms that share
+/// a leading run of factors (e.g. `2F + 2Ω` after the same D, M, M′) share
+/// its product: one complex multiplication per distinct prefix, 78 for
+/// Table A4.3 instead of 104, each rounded exactly as the term-by-term chain
+/// (the `f32` results equal the old term-by-term evaluation bit for bit,
+/// tested in `legacy`).
+struct Program {
+    /// `(dst, a, b)`: slot `dst` = slot `a` × slot `b` (`b` a power).
+    ops: [(u8, u8, u8); N_OPS_MAX],
+    n_ops: usize,
+    /// The slot of each term's product.
+    term: [u8; 63],
+}
+
+/// An upper bound of the distinct prefixes (every non-leading factor).
+const N_OPS_MAX: usize = 63 * 4;
+
+const PROGRAM: Program = {
+    let mut p = Program {
+        ops: [(0, 0, 0); N_OPS_MAX],
+        n_ops: 0,
+        term: [0; 63],
+    };
+    let mut i = 0;
+    while i < 63 {
+        let mut cur = 0u8;
+        let mut first = true;
+        let mut j = 0;
+        while j < 5 {
+            let k = NUTATION_Y[i][j];
+            assert!(k >= -4 && k <= 4);
+            if k != 0 {
+                let f = power_slot(j, k);
+                if first {
+                    cur = f;
+                    first = false;
+                } else {
+                    // An existing product of the same prefix and factor?
+                    let mut found = N_OPS_MAX;
+                    let mut o = 0;
+                    while o < p.n_ops {
+                        if p.ops[o].1 == cur && p.ops[o].2 == f {
+                            found = o;
+                        }
+                        o += 1;
+                    }
+                    if found == N_OPS_MAX {
+                        let dst = (N_POWERS + p.n_ops) as u8;
+                        p.ops[p.n_ops] = (dst, cur, f);
+                        p.n_ops += 1;
+                        cur = dst;
+                    } else {
+                        cur = p.ops[found].0;
+                    }
+                }
+            }
+            j += 1;
+        }
+        assert!(!first, "every term has a non-zero multiple");
+        p.term[i] = cur;
+        i += 1;
+    }
+    p
+};
+
+/// Slots the program needs.
+const N_SLOTS: usize = N_POWERS + PROGRAM.n_ops;
+/// `f64` rounds the slots up to a power of two, so a masked index is in
+/// range by construction (no bounds check in the loops); `f32` keeps the
+/// exact count (the smaller stack frame, for 8-bit targets) and checks.
+const SLOTS_F64: usize = N_SLOTS.next_power_of_two();
+const SLOTS_F32: usize = N_SLOTS;
+const _: () = assert!(SLOTS_F64 <= 256);
+
+/// The number of leading terms of Table A4.3 with a time-dependent
+/// coefficient (b or d non-zero): after them, a + b T = a and c + d T = c
+/// exactly, so the rest skip the product with T.
+const N_SECULAR_TERMS: usize = {
+    let mut n = 0;
+    let mut i = 0;
+    while i < NUTATION_ABCD.f64s.len() {
+        if NUTATION_ABCD.f64s[i][1] != 0.0 || NUTATION_ABCD.f64s[i][3] != 0.0 {
+            n = i + 1;
+        }
+        i += 1;
+    }
+    n
+};
+
+/// The sin/cos pairs of the powers and products, in `N` slots.
+struct Work<T, const N: usize>(RotTable<T, N>);
+
+impl<T: Float, const N: usize> Work<T, N> {
+    /// Every term's e^{i Σ Yij Xj} for the fundamental arguments `x`
+    /// (degrees).
+    #[inline(always)]
+    fn new(x: [T; 5]) -> Self {
+        let mut w = RotTable::zeroed();
+        for (j, xj) in x.into_iter().enumerate() {
+            let z = if is_f32::<T>() {
+                Rot::of_rad(xj.to_radians())
+            } else {
+                // Reduced in degrees first, exactly (see `turns`).
+                let (s, c) = sin_cos_deg(xj.to_f64());
+                Rot {
+                    c: T::from_f64(c),
+                    s: T::from_f64(s),
+                }
+            };
+            let mut acc = Rot::ONE;
+            for k in 1..=4i8 {
+                acc = acc.mul(z);
+                w.set(power_slot(j, k), acc);
+                w.set(power_slot(j, -k), acc.conj());
+            }
+        }
+        // A term's first factor stands for 1 · e^{i k Xj}, which rounds to
+        // itself; each op multiplies on the next factor.
+        let ops = PROGRAM.ops.get(..PROGRAM.n_ops).unwrap_or(&[]);
+        for &(dst, a, b) in ops {
+            w.set(dst, w.get(a).mul(w.get(b)));
+        }
+        Work(w)
+    }
+
+    /// Eq. 20–23 (before the unit conversion): Σ (a + b T) sin(Σ Xj Yij)
+    /// and Σ (c + d T) cos(Σ Xj Yij), in 0.0001″, in table order.
+    #[inline(always)]
+    fn sums(&self, jce: T) -> (T, T) {
+        let (mut dpsi, mut deps) = (T::ZERO, T::ZERO);
+        let (secular, constant) = PROGRAM.term.split_at(N_SECULAR_TERMS);
+        if is_f32::<T>() {
+            let (k_sec, k_const) = NUTATION_ABCD.f32s.split_at(N_SECULAR_TERMS);
+            for (&i, k) in secular.iter().zip(k_sec) {
+                let r = self.0.get(i);
+                dpsi += (c32::<T>(k[0]) + c32::<T>(k[1]) * jce) * r.s;
+                deps += (c32::<T>(k[2]) + c32::<T>(k[3]) * jce) * r.c;
+            }
+            for (&i, k) in constant.iter().zip(k_const) {
+                let r = self.0.get(i);
+                dpsi += c32::<T>(k[0]) * r.s;
+                deps += c32::<T>(k[2]) * r.c;
+            }
+        } else {
+            let (k_sec, k_const) = NUTATION_ABCD.f64s.split_at(N_SECULAR_TERMS);
+            for (&i, k) in secular.iter().zip(k_sec) {
+                let r = self.0.get(i);
+                dpsi += (T::from_f64(k[0]) + T::from_f64(k[1]) * jce) * r.s;
+                deps += (T::from_f64(k[2]) + T::from_f64(k[3]) * jce) * r.c;
+            }
+            for (&i, k) in constant.iter().zip(k_const) {
+                let r = self.0.get(i);
+                dpsi += T::from_f64(k[0]) * r.s;
+                deps += T::from_f64(k[2]) * r.c;
+            }
+        }
+        (dpsi, deps)
+    }
+}
+
 /// Nutation `(Δψ, Δε)` in radians for `jce` Julian centuries (TT), eq. 20–23.
 ///
 /// The sine and cosine of each term's argument Σ Xj Yij are built from
@@ -55,42 +199,11 @@ pub(crate) fn fundamental_arguments_deg<T: Float>(jce: T) -> [T; 5] {
 /// 5 sin/cos pairs replace 63.
 pub(crate) fn nutation_rad<T: Float>(jce: T) -> (T, T) {
     let x = fundamental_arguments_deg(jce);
-    // powers[j][k] = e^{i k Xj}, k = 0…4 (|Yij| ≤ 4 in Table A4.3).
-    let mut powers = [[Rot::<T>::ONE; 5]; 5];
-    for (pj, xj) in powers.iter_mut().zip(x) {
-        let (s, c) = xj.to_radians().sin_cos();
-        let z = Rot { c, s };
-        let mut acc = Rot::ONE;
-        for p in pj.iter_mut().skip(1) {
-            acc = acc.mul(z);
-            *p = acc;
-        }
-    }
-    let (mut dpsi, mut deps) = (T::ZERO, T::ZERO);
-    let mut term = |y: &[i8; 5], a: T, b: T, c: T, d: T| {
-        let mut r = Rot::ONE;
-        for (pj, &k) in powers.iter().zip(y) {
-            if k != 0 {
-                let p = pj
-                    .get(usize::from(k.unsigned_abs()))
-                    .copied()
-                    .unwrap_or(Rot::ONE);
-                r = r.mul(if k < 0 { p.conj() } else { p });
-            }
-        }
-        dpsi += (a + b * jce) * r.s;
-        deps += (c + d * jce) * r.c;
-    };
-    if is_f32::<T>() {
-        for (y, k) in NUTATION_Y.iter().zip(NUTATION_ABCD.f32s) {
-            term(y, c32(k[0]), c32(k[1]), c32(k[2]), c32(k[3]));
-        }
+    let (dpsi, deps) = if is_f32::<T>() {
+        Work::<T, SLOTS_F32>::new(x).sums(jce)
     } else {
-        for (y, k) in NUTATION_Y.iter().zip(NUTATION_ABCD.f64s) {
-            let f = T::from_f64;
-            term(y, f(k[0]), f(k[1]), f(k[2]), f(k[3]));
-        }
-    }
+        Work::<T, SLOTS_F64>::new(x).sums(jce)
+    };
     // Units of 0.0001″ → radians.
     let scale = T::from_f64(1e-4 / 3600.0).to_radians();
     (dpsi * scale, deps * scale)
@@ -103,6 +216,30 @@ mod tests {
     #[test]
     fn multipliers_fit_the_power_table() {
         assert!(NUTATION_Y.iter().flatten().all(|k| k.unsigned_abs() <= 4));
+    }
+
+    #[test]
+    fn program_shares_prefixes_and_fits_its_table() {
+        // Without sharing, a term with n non-zero multiples needs n − 1
+        // multiplications.
+        let unshared: usize = NUTATION_Y
+            .iter()
+            .map(|y| y.iter().filter(|&&k| k != 0).count() - 1)
+            .sum();
+        assert!(PROGRAM.n_ops < unshared, "{} vs {unshared}", PROGRAM.n_ops);
+        assert!(N_SLOTS <= SLOTS_F64 && SLOTS_F64.is_power_of_two());
+        // Every op reads slots written before it (the powers k ≠ 0 first);
+        // every term reads a slot that is written.
+        let mut written = [false; N_SLOTS];
+        for (i, w) in written.iter_mut().enumerate().take(N_POWERS) {
+            *w = i % 9 != 4;
+        }
+        for &(dst, a, b) in &PROGRAM.ops[..PROGRAM.n_ops] {
+            assert!(written[usize::from(a)] && written[usize::from(b)]);
+            assert!(usize::from(b) < N_POWERS && !written[usize::from(dst)]);
+            written[usize::from(dst)] = true;
+        }
+        assert!(PROGRAM.term.iter().all(|&t| written[usize::from(t)]));
     }
 
     #[test]
