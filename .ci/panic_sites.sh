@@ -139,6 +139,7 @@ function crate_of(p,   s, c) {
   }
   if (index(p, root "/") == 1) p = substr(p, length(root) + 2)
   else if (p ~ /^\//) return "?"
+  if (p ~ /^suntracker-time\//) return "prj:suntracker_time"
   if (p ~ /^sun_algos\//) return "prj:sun_algos"
   if (p ~ /^drivers\//) return "prj:drivers"
   if (p ~ /^src\//) return "prj:suntracker"

@@ -92,10 +92,16 @@ pub fn one_position<A: Measured>(case: &Case, options: &Options<f32>) -> f32 {
 pub type DaylightMask = [u8; (DAY_TABLE_LEN as usize).div_ceil(8)];
 
 fn day_site_start() -> Option<(Site<f32>, UtcTime)> {
-    Some((
-        Site::new(11.9683f32, 8.4261).ok()?,
-        UtcTime::from_ymd_hms(2026, 6, 21, 0, 0, 0).ok()?,
-    ))
+    // 2026-06-21T00:00Z, evaluated at compile time (the calendar functions
+    // are `const`), so that the measured tables hold no date arithmetic.
+    const START: Option<UtcTime> = match sun_algos::time::Date::new(2026, 6, 21) {
+        Ok(date) => match UtcTime::from_date_ms(date, 0) {
+            Ok(t) => Some(t),
+            Err(_) => None,
+        },
+        Err(_) => None,
+    };
+    Some((Site::new(11.9683f32, 8.4261).ok()?, START?))
 }
 
 fn slot_time(start: &UtcTime, i: u16) -> Option<UtcTime> {

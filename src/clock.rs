@@ -36,8 +36,16 @@ impl DateWindow {
     /// The window compiled into this firmware (from
     /// [`FIRMWARE_DATE_FLOOR`]).
     pub fn firmware() -> Self {
-        let (y, m, d) = FIRMWARE_DATE_FLOOR;
-        match UtcTime::from_ymd_hms(y, m, d, 0, 0, 0) {
+        // Evaluated at compile time (the calendar functions are `const`):
+        // no date arithmetic in the image.
+        const FLOOR: Result<UtcTime, sun_algos::Error> = {
+            let (y, m, d) = FIRMWARE_DATE_FLOOR;
+            match sun_algos::time::Date::new(y, m, d) {
+                Ok(date) => UtcTime::from_date_ms(date, 0),
+                Err(_) => Err(sun_algos::Error::InvalidDate),
+            }
+        };
+        match FLOOR {
             Ok(t) => Self::starting(&t),
             // The constant is a valid date; this arm is never taken.
             Err(_) => DateWindow { first_day: 0 },

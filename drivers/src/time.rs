@@ -4,19 +4,22 @@
 //! proleptic-Gregorian UTC date and time of day (no leap seconds, no time zones)
 //! and converts it to and from a count of seconds since 1970-01-01T00:00:00Z.
 //!
-//! The day count uses the "days from civil" construction (years counted from
-//! 1 March so that the leap day is the last day of the year, then 400-year eras
-//! of 146 097 days), as described in H. Hinnant, *chrono-Compatible Low-Level
-//! Date Algorithms*.
+//! The calendar is the `suntracker-time` crate's (re-exported here as
+//! [`Date`] and [`DateError`]): a [`DateTime`] holds a [`Date`] plus the time
+//! of day, and every day count, leap-year and month-length rule below is that
+//! crate's, in 16- and 32-bit arithmetic (H. Hinnant, *chrono-Compatible
+//! Low-Level Date Algorithms*). `sun_algos`' `UtcTime` uses the same crate, so
+//! [`DateTime::date`] and [`DateTime::from_date_ms`] exchange an instant with
+//! it without a second calendar.
 
 use core::fmt;
 
+pub use suntracker_time::{Date, DateError};
+
 /// Seconds in one day.
 const SECONDS_PER_DAY: i64 = 86_400;
-/// Days in one 400-year Gregorian era.
-const DAYS_PER_ERA: i64 = 146_097;
-/// Days from 0000-03-01 to 1970-01-01.
-const UNIX_EPOCH_DAY_OFFSET: i64 = 719_468;
+/// Milliseconds in one day.
+const MS_PER_DAY: u32 = 86_400_000;
 
 /// Smallest year accepted by [`DateTime::new`].
 pub const MIN_YEAR: u16 = 1;
@@ -58,16 +61,25 @@ impl core::fmt::Display for DateTimeError {
 
 impl core::error::Error for DateTimeError {}
 
+impl From<DateError> for DateTimeError {
+    fn from(e: DateError) -> Self {
+        match e {
+            DateError::Year => DateTimeError::Year,
+            DateError::Month => DateTimeError::Month,
+            DateError::Day => DateTimeError::Day,
+        }
+    }
+}
+
 /// A validated UTC date and time of day with millisecond resolution.
 ///
 /// Fields are private so that every value in circulation is valid; the
 /// derived ordering is chronological because the fields are declared from the
-/// most to the least significant.
+/// most to the least significant (a [`Date`] orders by year, month, day).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, PartialOrd, Ord, Hash)]
 pub struct DateTime {
-    year: u16,
-    month: u8,
-    day: u8,
+    /// Years [`MIN_YEAR`]..=[`MAX_YEAR`] only.
+    date: Date,
     hour: u8,
     minute: u8,
     second: u8,
@@ -76,67 +88,35 @@ pub struct DateTime {
 
 /// Whether `year` is a Gregorian leap year.
 pub const fn is_leap_year(year: u16) -> bool {
-    (year.is_multiple_of(4) && !year.is_multiple_of(100)) || year.is_multiple_of(400)
+    suntracker_time::is_leap_year(year as i32) // u16 → i32 is lossless
 }
 
 /// Number of days in `month` (1..=12) of `year`; 0 for an invalid month.
 pub const fn days_in_month(year: u16, month: u8) -> u8 {
-    match month {
-        1 | 3 | 5 | 7 | 8 | 10 | 12 => 31,
-        4 | 6 | 9 | 11 => 30,
-        2 if is_leap_year(year) => 29,
-        2 => 28,
-        _ => 0,
-    }
+    suntracker_time::days_in_month(year as i32, month) // u16 → i32 is lossless
 }
 
 /// Days from 1970-01-01 to the given (already valid) civil date; negative before.
 ///
-/// The argument types bound every intermediate value (|result| < 3 × 10⁶ for
-/// any `u16` year, `u8` month and day), so nothing here can overflow, even for
-/// an invalid date.
+/// `suntracker_time::days_from_civil`, which gives a count for any
+/// arguments without overflowing, so an invalid date gives some nearby count,
+/// never a panic.
 pub fn days_from_civil(year: u16, month: u8, day: u8) -> i64 {
-    let m = i64::from(month);
-    // Count years from March so that February (and its leap day) ends the year.
-    let y = i64::from(year) - i64::from(m <= 2);
-    let era = y.div_euclid(400);
-    let year_of_era = y - era * 400; // 0..=399
-    let month_from_march = (m + 9) % 12; // March = 0 .. February = 11
-    let day_of_year = (153 * month_from_march + 2) / 5 + i64::from(day) - 1;
-    let day_of_era = year_of_era * 365 + year_of_era / 4 - year_of_era / 100 + day_of_year;
-    era * DAYS_PER_ERA + day_of_era - UNIX_EPOCH_DAY_OFFSET
+    suntracker_time::days_from_civil(i32::from(year), month, day)
 }
 
 /// Inverse of [`days_from_civil`]: (year, month, day) for a day count from 1970-01-01.
 /// `None` when the year would fall outside [`MIN_YEAR`]..=[`MAX_YEAR`].
 ///
-/// Any `i64` is accepted: the only steps that depend on the size of `days`
-/// (the offset to 0000-03-01 and the era arithmetic) are checked, so an
-/// extreme count gives `None`, never an overflow.
+/// Any `i64` is accepted: a count beyond `i32` or beyond a [`Date`]'s years
+/// is `None`, never an overflow.
 pub fn civil_from_days(days: i64) -> Option<(u16, u8, u8)> {
-    let z = days.checked_add(UNIX_EPOCH_DAY_OFFSET)?;
-    let era = z.div_euclid(DAYS_PER_ERA);
-    let day_of_era = z.rem_euclid(DAYS_PER_ERA); // 0..=146096
-                                                 // From here on every value is bounded by day_of_era (< 146 097).
-    let year_of_era =
-        (day_of_era - day_of_era / 1460 + day_of_era / 36_524 - day_of_era / 146_096) / 365;
-    let day_of_year = day_of_era - (365 * year_of_era + year_of_era / 4 - year_of_era / 100);
-    let month_from_march = (5 * day_of_year + 2) / 153;
-    let day = day_of_year - (153 * month_from_march + 2) / 5 + 1;
-    let month = if month_from_march < 10 {
-        month_from_march + 3
-    } else {
-        month_from_march - 9
-    };
-    let year = era
-        .checked_mul(400)?
-        .checked_add(year_of_era)?
-        .checked_add(i64::from(month <= 2))?;
-    let year = u16::try_from(year).ok()?;
+    let date = Date::from_days_since_unix_epoch(i32::try_from(days).ok()?).ok()?;
+    let year = u16::try_from(date.year()).ok()?;
     if !(MIN_YEAR..=MAX_YEAR).contains(&year) {
         return None;
     }
-    Some((year, u8::try_from(month).ok()?, u8::try_from(day).ok()?))
+    Some((year, date.month(), date.day()))
 }
 
 impl DateTime {
@@ -152,12 +132,7 @@ impl DateTime {
         if !(MIN_YEAR..=MAX_YEAR).contains(&year) {
             return Err(DateTimeError::Year);
         }
-        if !(1..=12).contains(&month) {
-            return Err(DateTimeError::Month);
-        }
-        if day == 0 || day > days_in_month(year, month) {
-            return Err(DateTimeError::Day);
-        }
+        let date = Date::new(i32::from(year), month, day)?;
         if hour > 23 {
             return Err(DateTimeError::Hour);
         }
@@ -168,13 +143,32 @@ impl DateTime {
             return Err(DateTimeError::Second);
         }
         Ok(Self {
-            year,
-            month,
-            day,
+            date,
             hour,
             minute,
             second,
             millis: 0,
+        })
+    }
+
+    /// The instant `ms_of_day` milliseconds after midnight of `date`:
+    /// [`DateTimeError::Year`] for a year outside
+    /// [`MIN_YEAR`]..=[`MAX_YEAR`], [`DateTimeError::Hour`] for
+    /// `ms_of_day` ≥ 86 400 000 (24 h).
+    pub fn from_date_ms(date: Date, ms_of_day: u32) -> Result<Self, DateTimeError> {
+        if !(i32::from(MIN_YEAR)..=i32::from(MAX_YEAR)).contains(&date.year()) {
+            return Err(DateTimeError::Year);
+        }
+        if ms_of_day >= MS_PER_DAY {
+            return Err(DateTimeError::Hour);
+        }
+        let s = ms_of_day / 1000; // 0..86 400: every part below fits its type
+        Ok(Self {
+            date,
+            hour: (s / 3600) as u8,
+            minute: (s / 60 % 60) as u8,
+            second: (s % 60) as u8,
+            millis: (ms_of_day % 1000) as u16,
         })
     }
 
@@ -186,17 +180,22 @@ impl DateTime {
         Ok(Self { millis, ..self })
     }
 
+    /// The calendar date.
+    pub const fn date(&self) -> Date {
+        self.date
+    }
     /// Calendar year.
     pub const fn year(&self) -> u16 {
-        self.year
+        // MIN_YEAR..=MAX_YEAR (checked by every constructor): fits a u16.
+        self.date.year() as u16
     }
     /// Month, 1..=12.
     pub const fn month(&self) -> u8 {
-        self.month
+        self.date.month()
     }
     /// Day of month, 1..=31.
     pub const fn day(&self) -> u8 {
-        self.day
+        self.date.day()
     }
     /// Hour, 0..=23.
     pub const fn hour(&self) -> u8 {
@@ -217,12 +216,17 @@ impl DateTime {
 
     /// Days since 1970-01-01 (negative before).
     pub fn days_since_unix_epoch(&self) -> i64 {
-        days_from_civil(self.year, self.month, self.day)
+        i64::from(self.date.days_since_unix_epoch())
     }
 
     /// Seconds of the day, 0..=86399.
     pub fn seconds_of_day(&self) -> u32 {
         u32::from(self.hour) * 3600 + u32::from(self.minute) * 60 + u32::from(self.second)
+    }
+
+    /// Milliseconds of the day, 0..=86 399 999.
+    pub fn ms_of_day(&self) -> u32 {
+        self.seconds_of_day() * 1000 + u32::from(self.millis)
     }
 
     /// Whole seconds since 1970-01-01T00:00:00Z (milliseconds dropped).
@@ -242,16 +246,15 @@ impl DateTime {
     ///
     /// Any `i64` is accepted: outside years 1..=9999 the result is
     /// [`DateTimeError::Year`], never an overflow (Euclidean division by a
-    /// positive constant cannot overflow; [`civil_from_days`] is checked).
+    /// positive constant cannot overflow; the day count is checked).
     pub fn from_unix_seconds(unix_s: i64) -> Result<Self, DateTimeError> {
-        let days = unix_s.div_euclid(SECONDS_PER_DAY);
-        let sod = unix_s.rem_euclid(SECONDS_PER_DAY);
-        let (year, month, day) = civil_from_days(days).ok_or(DateTimeError::Year)?;
-        // sod is in 0..86400, so each part fits in a u8.
-        let hour = u8::try_from(sod / 3600).map_err(|_| DateTimeError::Hour)?;
-        let minute = u8::try_from(sod % 3600 / 60).map_err(|_| DateTimeError::Minute)?;
-        let second = u8::try_from(sod % 60).map_err(|_| DateTimeError::Second)?;
-        Self::new(year, month, day, hour, minute, second)
+        let days =
+            i32::try_from(unix_s.div_euclid(SECONDS_PER_DAY)).map_err(|_| DateTimeError::Year)?;
+        // 0..86 400 s, so at most 86 399 000 ms: fits a u32.
+        let sod =
+            u32::try_from(unix_s.rem_euclid(SECONDS_PER_DAY)).map_err(|_| DateTimeError::Hour)?;
+        let date = Date::from_days_since_unix_epoch(days)?;
+        Self::from_date_ms(date, sod * 1000)
     }
 
     /// `self - earlier` in whole seconds (milliseconds ignored); negative if
@@ -268,10 +271,8 @@ impl DateTime {
     /// Day of the week, 1 = Sunday .. 7 = Saturday (the numbering our DS3231
     /// and DS1302 drivers write into the chips' day-of-week registers).
     pub fn weekday_from_sunday(&self) -> u8 {
-        // 1970-01-01 was a Thursday (5 when Sunday is 1).
-        let w = (self.days_since_unix_epoch() + 4).rem_euclid(7); // 0 = Sunday
-                                                                  // rem_euclid(7) is in 0..7, so the cast cannot truncate.
-        w as u8 + 1
+        // ISO 8601 numbers Monday 1 .. Sunday 7: Sunday becomes 1, Monday 2.
+        self.date.iso_weekday() % 7 + 1
     }
 }
 
@@ -282,7 +283,12 @@ impl fmt::Display for DateTime {
         write!(
             f,
             "{:04}-{:02}-{:02}T{:02}:{:02}:{:02}",
-            self.year, self.month, self.day, self.hour, self.minute, self.second
+            self.year(),
+            self.month(),
+            self.day(),
+            self.hour,
+            self.minute,
+            self.second
         )?;
         if self.millis != 0 {
             write!(f, ".{:03}", self.millis)?;
@@ -294,6 +300,11 @@ impl fmt::Display for DateTime {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// Days in one 400-year Gregorian era.
+    const DAYS_PER_ERA: i64 = 146_097;
+    /// Days from 0000-03-01 to 1970-01-01.
+    const UNIX_EPOCH_DAY_OFFSET: i64 = 719_468;
 
     // Expected day counts and weekdays computed independently with Python's
     // `datetime` module: `(date(y, m, d) - date(1970, 1, 1)).days`, `isoweekday()`.
@@ -460,6 +471,38 @@ mod tests {
         assert_eq!(sun.weekday_from_sunday(), 1);
         let thu = DateTime::new(1900, 3, 1, 0, 0, 0).unwrap();
         assert_eq!(thu.weekday_from_sunday(), 5);
+    }
+
+    #[test]
+    fn date_and_ms_of_day_exchange() {
+        // 2024-03-10T12:34:56.070Z: 45 296 070 ms after midnight; the day
+        // count is Python's (date(2024, 3, 10) - date(1970, 1, 1)).days.
+        let t = DateTime::new(2024, 3, 10, 12, 34, 56)
+            .unwrap()
+            .with_millis(70)
+            .unwrap();
+        assert_eq!(t.ms_of_day(), 45_296_070);
+        assert_eq!(t.date(), Date::new(2024, 3, 10).unwrap());
+        assert_eq!(t.date().days_since_unix_epoch(), 19_792);
+        assert_eq!(DateTime::from_date_ms(t.date(), t.ms_of_day()), Ok(t));
+        let last = DateTime::from_date_ms(t.date(), 86_399_999).unwrap();
+        assert_eq!(
+            (last.hour(), last.minute(), last.second(), last.millis()),
+            (23, 59, 59, 999)
+        );
+        assert_eq!(
+            DateTime::from_date_ms(t.date(), 86_400_000),
+            Err(DateTimeError::Hour)
+        );
+        // Dates a Date holds but a DateTime does not.
+        for y in [0, -1, -9999] {
+            let d = Date::new(y, 1, 1).unwrap();
+            assert_eq!(DateTime::from_date_ms(d, 0), Err(DateTimeError::Year));
+        }
+        assert_eq!(
+            DateTime::new(2023, 2, 29, 0, 0, 0),
+            Err(DateTimeError::from(DateError::Day))
+        );
     }
 
     #[test]

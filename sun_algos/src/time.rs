@@ -7,9 +7,18 @@
 //!
 //! The instant is read as UT1 (UTC without leap-second bookkeeping; the
 //! difference is below 0.9 s, 0.004° of hour angle).
+//!
+//! The calendar itself (validation, leap years, the day count of a date and
+//! back) is the `suntracker-time` crate's: [`Date`], [`is_leap_year`] and
+//! [`days_in_month`] are re-exported from it, and [`UtcTime::date`] /
+//! [`UtcTime::from_date_ms`] exchange a [`Date`] with any other user of that
+//! crate (such as the clock drivers of `suntracker-drivers`) without going
+//! through calendar fields again.
 
 use crate::error::Error;
 use crate::float::Float;
+
+pub use suntracker_time::{days_in_month, is_leap_year, Date, DateError};
 
 /// Milliseconds in a day.
 pub const MS_PER_DAY: u32 = 86_400_000;
@@ -29,58 +38,21 @@ pub struct UtcTime {
     ms_of_day: u32,
 }
 
-/// Days from 1970-01-01 to 2000-01-01.
-const UNIX_TO_2000_DAYS: i64 = 10_957;
+/// Days from 1970-01-01 to 2000-01-01 (946 684 800 s of POSIX time / 86 400).
+const UNIX_TO_2000_DAYS: i32 = 10_957;
 /// Seconds in a day (no leap seconds: the time scale is read as UT1).
 const SECONDS_PER_DAY: i64 = 86_400;
 
-/// Days since 2000-01-01 of a proleptic Gregorian date (no validation).
-/// The usual era-based count (400-year cycles of 146 097 days).
-///
-/// Only called with dates already checked against `MIN_YEAR..=MAX_YEAR`
-/// (every [`UtcTime`] constructor checks first), where every intermediate
-/// value is below 10⁷: no overflow is possible. The same holds for
-/// [`civil_from_days`], which only sees the day count of a valid [`UtcTime`].
-const fn days_from_civil(year: i32, month: u32, day: u32) -> i32 {
-    let y = if month <= 2 { year - 1 } else { year };
-    let era = if y >= 0 { y } else { y - 399 } / 400;
-    let yoe = (y - era * 400) as u32; // 0..=399
-    let mp = (month + 9) % 12; // March = 0
-    let doy = (153 * mp + 2) / 5 + day - 1;
-    let doe = yoe * 365 + yoe / 4 - yoe / 100 + doy;
-    // 730 425 = days from 0000-03-01 to 2000-01-01
-    era * 146_097 + doe as i32 - 730_425
-}
-
-/// Inverse of [`days_from_civil`].
-const fn civil_from_days(days: i32) -> (i32, u8, u8) {
-    let z = days + 730_425;
-    let era = if z >= 0 { z } else { z - 146_096 } / 146_097;
-    let doe = (z - era * 146_097) as u32;
-    let yoe = (doe - doe / 1460 + doe / 36_524 - doe / 146_096) / 365;
-    let doy = doe - (365 * yoe + yoe / 4 - yoe / 100);
-    let mp = (5 * doy + 2) / 153;
-    let d = doy - (153 * mp + 2) / 5 + 1;
-    let m = if mp < 10 { mp + 3 } else { mp - 9 };
-    let y = yoe as i32 + era * 400 + if m <= 2 { 1 } else { 0 };
-    (y, m as u8, d as u8)
-}
-
-/// True for Gregorian leap years.
-pub const fn is_leap_year(year: i32) -> bool {
-    (year % 4 == 0 && year % 100 != 0) || year % 400 == 0
-}
-
-/// Number of days in a month of a year (0 for a month outside 1..=12).
-pub const fn days_in_month(year: i32, month: u8) -> u8 {
-    match month {
-        1 | 3 | 5 | 7 | 8 | 10 | 12 => 31,
-        4 | 6 | 9 | 11 => 30,
-        2 if is_leap_year(year) => 29,
-        2 => 28,
-        _ => 0,
-    }
-}
+/// Days since 2000-01-01 of the first day of [`MIN_YEAR`] and the last day
+/// of [`MAX_YEAR`] (both years lie inside a [`Date`]'s −9999…9999; a
+/// compile-time check, no code in the image).
+const DAYS_RANGE: (i32, i32) = match (Date::new(MIN_YEAR, 1, 1), Date::new(MAX_YEAR, 12, 31)) {
+    (Ok(first), Ok(last)) => (
+        first.days_since_unix_epoch() - UNIX_TO_2000_DAYS,
+        last.days_since_unix_epoch() - UNIX_TO_2000_DAYS,
+    ),
+    _ => panic!("MIN_YEAR..=MAX_YEAR must lie inside the years of a Date"),
+};
 
 impl UtcTime {
     /// An instant from a calendar date and time of day.
@@ -105,21 +77,37 @@ impl UtcTime {
         second: u8,
         milli: u16,
     ) -> Result<Self, Error> {
-        if !(MIN_YEAR..=MAX_YEAR).contains(&year)
-            || !(1..=12).contains(&month)
-            || day == 0
-            || day > days_in_month(year, month)
-        {
+        if !(MIN_YEAR..=MAX_YEAR).contains(&year) {
             return Err(Error::InvalidDate);
         }
+        let date = Date::new(year, month, day).map_err(|_| Error::InvalidDate)?;
         if hour > 23 || minute > 59 || second > 59 || milli > 999 {
             return Err(Error::InvalidTime);
         }
         let ms = ((u32::from(hour) * 60 + u32::from(minute)) * 60 + u32::from(second)) * 1000
             + u32::from(milli);
         Ok(UtcTime {
-            days: days_from_civil(year, u32::from(month), u32::from(day)),
+            days: date.days_since_unix_epoch() - UNIX_TO_2000_DAYS,
             ms_of_day: ms,
+        })
+    }
+
+    /// An instant from a calendar [`Date`] and the milliseconds since its
+    /// midnight: [`Error::InvalidDate`] for a year outside
+    /// [`MIN_YEAR`]`..=`[`MAX_YEAR`], [`Error::InvalidTime`] for
+    /// `ms_of_day ≥` [`MS_PER_DAY`]. A `const fn`, so that a fixed instant
+    /// can be a compile-time constant.
+    pub const fn from_date_ms(date: Date, ms_of_day: u32) -> Result<Self, Error> {
+        let year = date.year();
+        if year < MIN_YEAR || year > MAX_YEAR {
+            return Err(Error::InvalidDate);
+        }
+        if ms_of_day >= MS_PER_DAY {
+            return Err(Error::InvalidTime);
+        }
+        Ok(UtcTime {
+            days: date.days_since_unix_epoch() - UNIX_TO_2000_DAYS,
+            ms_of_day,
         })
     }
 
@@ -134,9 +122,7 @@ impl UtcTime {
         if ms_of_day >= MS_PER_DAY {
             return Err(Error::InvalidTime);
         }
-        let lo = days_from_civil(MIN_YEAR, 1, 1);
-        let hi = days_from_civil(MAX_YEAR, 12, 31);
-        if !(lo..=hi).contains(&days_since_2000) {
+        if !(DAYS_RANGE.0..=DAYS_RANGE.1).contains(&days_since_2000) {
             return Err(Error::InvalidDate);
         }
         Ok(UtcTime {
@@ -154,7 +140,7 @@ impl UtcTime {
         // only in theory, and is checked anyway.
         let days = secs
             .div_euclid(SECONDS_PER_DAY)
-            .checked_sub(UNIX_TO_2000_DAYS)
+            .checked_sub(i64::from(UNIX_TO_2000_DAYS))
             .ok_or(Error::InvalidDate)?;
         let days = i32::try_from(days).map_err(|_| Error::InvalidDate)?;
         let second_of_day =
@@ -167,7 +153,7 @@ impl UtcTime {
     pub fn unix_seconds(&self) -> i64 {
         // `days` is within the ±4.4 million days of MIN_YEAR..=MAX_YEAR (checked
         // by every constructor), so this is far from the i64 limits.
-        (i64::from(self.days) + UNIX_TO_2000_DAYS) * SECONDS_PER_DAY
+        (i64::from(self.days) + i64::from(UNIX_TO_2000_DAYS)) * SECONDS_PER_DAY
             + i64::from(self.ms_of_day / 1000)
     }
 
@@ -248,7 +234,17 @@ impl UtcTime {
 
     /// Calendar date `(year, month, day)`.
     pub fn ymd(&self) -> (i32, u8, u8) {
-        civil_from_days(self.days)
+        let date = self.date();
+        (date.year(), date.month(), date.day())
+    }
+
+    /// Calendar date as a [`Date`] (for the clock drivers, or any other user
+    /// of the `suntracker-time` calendar).
+    pub fn date(&self) -> Date {
+        // `days` lies within MIN_YEAR..=MAX_YEAR (checked by every
+        // constructor), inside a Date's years (the DAYS_RANGE check): the
+        // shift to the Unix epoch cannot overflow and the clamp never acts.
+        Date::from_days_since_unix_epoch_clamped(self.days + UNIX_TO_2000_DAYS)
     }
 
     /// Calendar year.
@@ -270,16 +266,16 @@ impl UtcTime {
 
     /// Day of the year, 1 on 1 January.
     pub fn day_of_year(&self) -> u16 {
-        let (y, _, _) = self.ymd();
-        (self.days - days_from_civil(y, 1, 1) + 1) as u16
+        self.date().day_of_year()
     }
 
     /// Year with its elapsed fraction, e.g. 2024.5 near 1 July 2024.
     pub fn decimal_year<T: Float>(&self) -> T {
-        let (y, _, _) = self.ymd();
-        let len = if is_leap_year(y) { 366 } else { 365 };
-        let elapsed = (self.days - days_from_civil(y, 1, 1)) as u32;
-        T::from_i32(y) + (T::from_u32(elapsed) + self.day_fraction::<T>()) / T::from_u32(len as u32)
+        let date = self.date();
+        let y = date.year();
+        let len: u32 = if is_leap_year(y) { 366 } else { 365 };
+        let elapsed = u32::from(date.day_of_year()) - 1;
+        T::from_i32(y) + (T::from_u32(elapsed) + self.day_fraction::<T>()) / T::from_u32(len)
     }
 }
 
@@ -397,6 +393,44 @@ mod tests {
             }
             prev = Some((y, m, dd));
         }
+    }
+
+    #[test]
+    fn date_exchange_round_trips_over_the_whole_range() {
+        let first = UtcTime::from_ymd_hms(MIN_YEAR, 1, 1, 0, 0, 0).unwrap();
+        let last = UtcTime::from_ymd_hms(MAX_YEAR, 12, 31, 0, 0, 0).unwrap();
+        for days in first.days_since_2000()..=last.days_since_2000() {
+            let t = UtcTime::from_days_ms(days, 43_200_123).unwrap();
+            let date = t.date();
+            assert_eq!((date.year(), date.month(), date.day()), t.ymd());
+            assert_eq!(UtcTime::from_date_ms(date, 43_200_123), Ok(t));
+        }
+        // 2000-01-01 is day 10 957 of the Unix epoch (946 684 800 s / 86 400,
+        // POSIX time) and day 0 here.
+        let d = Date::new(2000, 1, 1).unwrap();
+        assert_eq!(d.days_since_unix_epoch(), 10_957);
+        assert_eq!(UtcTime::from_date_ms(d, 0), Ok(UtcTime::MIDNIGHT_2000));
+    }
+
+    #[test]
+    fn from_date_ms_rejects_what_utc_time_cannot_hold() {
+        let d = Date::new(MAX_YEAR + 1, 1, 1).unwrap();
+        assert_eq!(UtcTime::from_date_ms(d, 0), Err(Error::InvalidDate));
+        let d = Date::new(MIN_YEAR - 1, 12, 31).unwrap();
+        assert_eq!(UtcTime::from_date_ms(d, 0), Err(Error::InvalidDate));
+        let d = Date::new(2026, 3, 20).unwrap();
+        assert_eq!(
+            UtcTime::from_date_ms(d, MS_PER_DAY),
+            Err(Error::InvalidTime)
+        );
+        let t = UtcTime::from_date_ms(d, MS_PER_DAY - 1).unwrap();
+        assert_eq!(t.ymd(), (2026, 3, 20));
+        assert_eq!(t.hms_milli(), (23, 59, 59, 999));
+        // Day of the year and decimal year from the shared Date: 2024 is a
+        // leap year, so 31 December is day 366.
+        let t = UtcTime::from_ymd_hms(2024, 12, 31, 12, 0, 0).unwrap();
+        assert_eq!(t.day_of_year(), 366);
+        assert_eq!(t.decimal_year::<f64>(), 2024.0 + 365.5 / 366.0);
     }
 
     #[test]

@@ -1,0 +1,516 @@
+//! Proleptic Gregorian civil dates for `no_std` targets, from 8-bit AVR to
+//! hosts: one validated [`Date`] type and the day-count arithmetic behind it,
+//! with no allocation, no dependencies and no panics.
+//!
+//! This is the one calendar of the suntracker workspace. `sun_algos` (its
+//! `UtcTime`: days since 2000 and the millisecond of the day) and
+//! `suntracker-drivers` (its `DateTime`: the fields an RTC chip or an NMEA
+//! sentence carries) both convert through it, so a date has the same day
+//! count on either side and the glue between them only hands a [`Date`]
+//! across.
+//!
+//! # Why a crate of its own
+//!
+//! Both users are published alone and run on 8-bit AVR and Cortex-M. The
+//! drivers must not know about the sun, and the solar algorithms must not
+//! pull in device drivers, so neither can own the calendar for the other:
+//! the drivers already borrow `sun_algos`' `Float` for their f32 math, but
+//! taking their clock type from it as well would tie every RTC and GPS reading
+//! to an astronomy crate, its error type and its year range. A third crate
+//! with nothing in it but the calendar keeps both dependencies honest and is
+//! small enough to cost nothing when unused.
+//!
+//! # Range and representation
+//!
+//! A [`Date`] holds a year in [`MIN_YEAR`]`..=`[`MAX_YEAR`] (−9999 to 9999,
+//! the four-digit years of ISO 8601, year 0 being 1 BC), a month and a day:
+//! four bytes. Its day count since 1970-01-01 is an `i32` (at most ±4.4 × 10⁶
+//! over the range), and the arithmetic behind it needs neither 64-bit nor
+//! signed 32-bit division, each a software routine of some hundred bytes on
+//! AVR. Each user narrows the range to its own (`sun_algos`: −4000…8000; the
+//! drivers: 1…9999). Everything is a `const fn`, so a fixed date or instant
+//! can be a compile-time constant with no arithmetic left in the image.
+//!
+//! The two free functions [`days_from_civil`] and [`civil_from_days`] are the
+//! same arithmetic without validation, total over their argument types, for
+//! tools that must accept any input (such as device models in an emulator).
+//!
+//! # Source
+//!
+//! The conversions are H. Hinnant's `days_from_civil` and `civil_from_days`
+//! (*chrono-Compatible Low-Level Date Algorithms*,
+//! <https://howardhinnant.github.io/date_algorithms.html>): years counted
+//! from 1 March so that the leap day ends the year, months from the
+//! `(153 m + 2) / 5` pattern of their lengths, 400-year cycles of 146 097
+//! days. One change for 8-bit targets: instead of splitting the year into
+//! signed 400-year eras, the count starts 10 000 years (25 whole cycles)
+//! before year 0, so every intermediate value is unsigned and the year
+//! arithmetic fits 16 bits. `tests/reference.rs` checks every day of the
+//! range against chrono's `NaiveDate`, an independent implementation.
+//!
+//! # Example
+//!
+//! ```
+//! use suntracker_time::{Date, DateError};
+//!
+//! let d = Date::new(2024, 2, 29)?;
+//! assert_eq!(d.days_since_unix_epoch(), 19_782);
+//! assert_eq!(d.day_of_year(), 60);
+//! assert_eq!(d.iso_weekday(), 4); // a Thursday
+//! assert_eq!(Date::from_days_since_unix_epoch(19_783)?, Date::new(2024, 3, 1)?);
+//! assert_eq!(Date::new(2100, 2, 29), Err(DateError::Day)); // not a leap year
+//! # Ok::<(), DateError>(())
+//! ```
+
+#![no_std]
+#![deny(unsafe_code)]
+#![warn(missing_docs)]
+
+use core::fmt;
+
+/// First year a [`Date`] holds (ISO 8601 astronomical numbering: year 0 is
+/// 1 BC, −1 is 2 BC).
+pub const MIN_YEAR: i32 = -9999;
+/// Last year a [`Date`] holds.
+pub const MAX_YEAR: i32 = 9999;
+
+/// Days in one 400-year Gregorian cycle (400 × 365 + 97 leap days).
+const DAYS_PER_ERA: i32 = 146_097;
+/// The arithmetic counts years from 1 March of year −10 000: 10 000 years,
+/// 25 whole 400-year cycles, before year 0, so that every year of a [`Date`]
+/// is a non-negative count with the leap years where the calendar has them.
+const YEAR_SHIFT: i16 = 10_000;
+/// Days from −10000-03-01 to 1970-01-01: 25 cycles of 146 097 days, plus
+/// the 719 468 days from 0000-03-01 to 1970-01-01 (Hinnant).
+const DAYS_SHIFT: i32 = 25 * DAYS_PER_ERA + 719_468;
+
+/// True for Gregorian leap years: every fourth year, except the centuries
+/// not divisible by 400 (1900 and 2100 are not leap years, 2000 is).
+pub const fn is_leap_year(year: i32) -> bool {
+    // For a multiple of 4, "divisible by 100" is "divisible by 25" and
+    // "divisible by 400" is "divisible by 16": the same rule with one
+    // division by a constant instead of two (the powers of two are bit
+    // tests, also for negative years in two's complement).
+    year & 3 == 0 && (year % 25 != 0 || year & 15 == 0)
+}
+
+/// Number of days in a month (1..=12) of a year; 0 for a month outside 1..=12.
+pub const fn days_in_month(year: i32, month: u8) -> u8 {
+    match month {
+        2 => 28 + is_leap_year(year) as u8,
+        // 31 for odd months up to July and even months from August:
+        // 31, _, 31, 30, 31, 30, 31, 31, 30, 31, 30, 31.
+        1..=12 => 30 + ((month + month / 8) & 1),
+        _ => 0,
+    }
+}
+
+/// Days from 1 March to the first day of a month, for the month counted from
+/// March (0 = March … 11 = February): the month lengths 31, 30, 31, 30, 31
+/// repeat, which `(153 m + 2) / 5` reproduces (Hinnant, `days_from_civil`).
+const fn days_before_month_from_march(month_from_march: u16) -> u16 {
+    (153 * month_from_march + 2) / 5
+}
+
+/// Days from 1970-01-01 to `year-month-day`: the one implementation of the
+/// date → day count direction in this crate.
+///
+/// Hinnant's `days_from_civil` with the year shifted by [`YEAR_SHIFT`]
+/// instead of split into signed 400-year eras: the count of March-based
+/// years is then never negative, and the days before one of them are the
+/// plain Gregorian sum `365 y + ⌊y/4⌋ − ⌊y/100⌋ + ⌊y/400⌋` in unsigned 16-bit
+/// arithmetic (no signed 32-bit division, a library routine on AVR).
+///
+/// Domain: years −9999 ..= 22 767 (a [`Date`]'s, or the 0..400 to which
+/// [`days_from_civil`] reduces any year), any month and day. Month 0 and 13
+/// and days past either end of a month roll over (day 0 is the last day of
+/// the month before, month 13 is January of the next year).
+const fn days_from_civil_in_range(year: i16, month: u8, day: u8) -> i32 {
+    // Years counted from 1 March: January and February belong to the year
+    // before, so that February and its leap day end the year.
+    let (shifted_year, month_from_march) = if month > 2 {
+        (year + YEAR_SHIFT, month - 3)
+    } else {
+        (year + YEAR_SHIFT - 1, month + 9)
+    };
+    let y = shifted_year as u16; // 0..=32 766 in the domain
+    let centuries = y / 100;
+    let days_before_year =
+        y as i32 * 365 + (y / 4) as i32 - centuries as i32 + (centuries / 4) as i32;
+    days_before_year + days_before_month_from_march(month_from_march as u16) as i32 + day as i32
+        - 1
+        - DAYS_SHIFT
+}
+
+/// The date `days` days after 1970-01-01: the one implementation of the day
+/// count → date direction.
+///
+/// Hinnant's `civil_from_days`, counted from −10000-03-01 (see
+/// [`YEAR_SHIFT`]) so that the 400-year cycle and everything after it are
+/// unsigned. Domain: counts of a [`Date`] (−4 371 587 ..= 2 932 896), or the
+/// 0..146 097 to which [`civil_from_days`] reduces any count.
+const fn civil_in_range(days: i32) -> (i16, u8, u8) {
+    let z = (days + DAYS_SHIFT) as u32; // ≥ 0 in the domain
+    let era = z / DAYS_PER_ERA as u32; // 0..=49
+    let day_of_era = z % DAYS_PER_ERA as u32; // 0..=146 096
+                                              // Years of the cycle: one day less every 4 years, one more every 100,
+                                              // one less on the cycle's last day (its 29 February).
+    let year_of_era = ((day_of_era - day_of_era / 1460 + day_of_era / 36_524
+        - (day_of_era == 146_096) as u32)
+        / 365) as u16; // 0..=399
+    let day_of_year = (day_of_era
+        - (year_of_era as u32 * 365 + (year_of_era / 4) as u32 - (year_of_era / 100) as u32))
+        as u16; // 0..=365, from 1 March
+    let month_from_march = (5 * day_of_year + 2) / 153; // 0..=11
+    let day = day_of_year - days_before_month_from_march(month_from_march) + 1; // 1..=31
+                                                                                // January and February end the March-based year: their calendar year is
+                                                                                // the next one.
+    let (month, next_year) = if month_from_march < 10 {
+        (month_from_march + 3, 0)
+    } else {
+        (month_from_march - 9, 1)
+    };
+    // era × 400 ≤ 19 600: the year fits an i16.
+    let year = (era * 400) as i16 + year_of_era as i16 + next_year - YEAR_SHIFT;
+    (year, month as u8, day as u8)
+}
+
+/// Days from 1970-01-01 to `year-month-day` of the proleptic Gregorian
+/// calendar (negative before), without validation.
+///
+/// For a valid date this is [`Date::days_since_unix_epoch`]. Any arguments
+/// give a count and never overflow (the result is an `i64` because years
+/// beyond about ±5.8 million do not fit an `i32` count). Month 0 and 13 and
+/// days past either end of a month roll over (day 0 is the last day of the
+/// month before, month 13 is January of the next year); months above 13 give
+/// a count callers must not rely on. Firmware should use [`Date`], whose
+/// arithmetic stays in 16 and 32 bits.
+pub const fn days_from_civil(year: i32, month: u8, day: u8) -> i64 {
+    // The calendar repeats every 400 years (146 097 days): whole cycles are
+    // counted apart, the rest goes through the one implementation.
+    let eras = year.div_euclid(400) as i64;
+    let year_of_era = year.rem_euclid(400) as i16; // 0..=399
+    eras * DAYS_PER_ERA as i64 + days_from_civil_in_range(year_of_era, month, day) as i64
+}
+
+/// The date `(year, month, day)` `days` days after 1970-01-01 (before it
+/// when negative), for any `i32`: the inverse of [`days_from_civil`].
+///
+/// No validation is needed (every count is a date, years within about ±5.9
+/// million); [`Date::from_days_since_unix_epoch`] is the same conversion
+/// limited to the years of a [`Date`].
+pub const fn civil_from_days(days: i32) -> (i32, u8, u8) {
+    // As in days_from_civil: whole 400-year cycles apart (|eras| ≤ 14 699,
+    // so eras × 400 is within ±5.9 × 10⁶).
+    let eras = days.div_euclid(DAYS_PER_ERA);
+    let (year, month, day) = civil_in_range(days.rem_euclid(DAYS_PER_ERA));
+    (eras * 400 + year as i32, month, day)
+}
+
+/// Why a date was rejected.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub enum DateError {
+    /// Year outside [`MIN_YEAR`]`..=`[`MAX_YEAR`] (or a day count outside
+    /// those years).
+    Year,
+    /// Month outside 1..=12.
+    Month,
+    /// Day 0 or past the end of the month.
+    Day,
+}
+
+impl fmt::Display for DateError {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            DateError::Year => write!(f, "year outside {MIN_YEAR}..={MAX_YEAR}"),
+            DateError::Month => f.write_str("month outside 1..=12"),
+            DateError::Day => f.write_str("day is 0 or past the end of the month"),
+        }
+    }
+}
+
+impl core::error::Error for DateError {}
+
+/// A valid date of the proleptic Gregorian calendar, years
+/// [`MIN_YEAR`]`..=`[`MAX_YEAR`].
+///
+/// The fields are private, so every `Date` in circulation is valid; the
+/// derived ordering is chronological (year, then month, then day).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, PartialOrd, Ord, Hash)]
+pub struct Date {
+    /// `MIN_YEAR..=MAX_YEAR`, which fits an i16.
+    year: i16,
+    /// 1..=12.
+    month: u8,
+    /// 1..=days_in_month(year, month).
+    day: u8,
+}
+
+impl Date {
+    /// 1970-01-01, day 0 of [`Date::days_since_unix_epoch`].
+    pub const UNIX_EPOCH: Date = Date {
+        year: 1970,
+        month: 1,
+        day: 1,
+    };
+    /// The first date: −9999-01-01.
+    pub const MIN: Date = Date {
+        year: MIN_YEAR as i16,
+        month: 1,
+        day: 1,
+    };
+    /// The last date: 9999-12-31.
+    pub const MAX: Date = Date {
+        year: MAX_YEAR as i16,
+        month: 12,
+        day: 31,
+    };
+    /// Day count of [`Date::MIN`] (−4 371 587).
+    const MIN_DAYS: i32 = Date::MIN.days_since_unix_epoch();
+    /// Day count of [`Date::MAX`] (2 932 896).
+    const MAX_DAYS: i32 = Date::MAX.days_since_unix_epoch();
+
+    /// A validated date; the year is checked first, then the month, then the
+    /// day.
+    pub const fn new(year: i32, month: u8, day: u8) -> Result<Date, DateError> {
+        if year < MIN_YEAR || year > MAX_YEAR {
+            return Err(DateError::Year);
+        }
+        if month < 1 || month > 12 {
+            return Err(DateError::Month);
+        }
+        if day == 0 || day > days_in_month(year, month) {
+            return Err(DateError::Day);
+        }
+        Ok(Date {
+            year: year as i16, // within ±9999 (checked above)
+            month,
+            day,
+        })
+    }
+
+    /// The date `days` days after 1970-01-01 (before it when negative);
+    /// [`DateError::Year`] outside [`Date::MIN`]`..=`[`Date::MAX`].
+    pub const fn from_days_since_unix_epoch(days: i32) -> Result<Date, DateError> {
+        if days < Date::MIN_DAYS || days > Date::MAX_DAYS {
+            return Err(DateError::Year);
+        }
+        let (year, month, day) = civil_in_range(days);
+        Ok(Date { year, month, day })
+    }
+
+    /// The date `days` days after 1970-01-01 (before it when negative),
+    /// clamped to [`Date::MIN`]`..=`[`Date::MAX`]: for callers whose count is
+    /// already known to lie in the range, without an error path to carry.
+    pub const fn from_days_since_unix_epoch_clamped(days: i32) -> Date {
+        let days = if days < Date::MIN_DAYS {
+            Date::MIN_DAYS
+        } else if days > Date::MAX_DAYS {
+            Date::MAX_DAYS
+        } else {
+            days
+        };
+        let (year, month, day) = civil_in_range(days);
+        Date { year, month, day }
+    }
+
+    /// Days since 1970-01-01 (negative before), −4 371 587 ..= 2 932 896.
+    pub const fn days_since_unix_epoch(self) -> i32 {
+        days_from_civil_in_range(self.year, self.month, self.day)
+    }
+
+    /// Year, [`MIN_YEAR`]`..=`[`MAX_YEAR`] (0 is 1 BC).
+    pub const fn year(self) -> i32 {
+        self.year as i32
+    }
+
+    /// Month, 1..=12.
+    pub const fn month(self) -> u8 {
+        self.month
+    }
+
+    /// Day of the month, 1..=31.
+    pub const fn day(self) -> u8 {
+        self.day
+    }
+
+    /// Day of the year, 1 on 1 January, 365 or 366 on 31 December.
+    pub const fn day_of_year(self) -> u16 {
+        // 1..=366 counted from 1 March (1 on 1 March).
+        let from_march =
+            days_before_month_from_march((self.month as u16 + 9) % 12) + self.day as u16;
+        if self.month >= 3 {
+            // 59 days in January and February, 60 in a leap year.
+            from_march + 59 + is_leap_year(self.year as i32) as u16
+        } else {
+            // 1 January is day 307 counted from the 1 March before.
+            from_march - 306
+        }
+    }
+
+    /// Day of the week as in ISO 8601: 1 = Monday … 7 = Sunday.
+    pub const fn iso_weekday(self) -> u8 {
+        // 1970-01-01 (day 0) was a Thursday (4); counted from −10000-03-01
+        // (DAYS_SHIFT ≡ 1 mod 7) the count is never negative, so the
+        // remainder is an unsigned one.
+        ((self.days_since_unix_epoch() + DAYS_SHIFT + 2) as u32 % 7) as u8 + 1
+    }
+}
+
+/// ISO 8601 calendar date, `2024-02-29`; years before 1 with a minus sign and
+/// four digits, `-0044-03-15`.
+impl fmt::Display for Date {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        if self.year < 0 {
+            f.write_str("-")?;
+        }
+        write!(
+            f,
+            "{:04}-{:02}-{:02}",
+            self.year.unsigned_abs(),
+            self.month,
+            self.day
+        )
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    // Expected values from Python's datetime module (proleptic Gregorian,
+    // years 1..=9999): `(date(y, m, d) - date(1970, 1, 1)).days`,
+    // `date(y, m, d).timetuple().tm_yday` and `date(y, m, d).isoweekday()`.
+    const PYTHON: [(i32, u8, u8, i32, u16, u8); 16] = [
+        (1970, 1, 1, 0, 1, 4),
+        (1969, 12, 31, -1, 365, 3),
+        (2000, 1, 1, 10_957, 1, 6),
+        (2000, 2, 29, 11_016, 60, 2),
+        (2000, 12, 31, 11_322, 366, 7),
+        (1900, 2, 28, -25_509, 59, 3),
+        (1900, 3, 1, -25_508, 60, 4),
+        (2100, 2, 28, 47_540, 59, 7),
+        (2100, 3, 1, 47_541, 60, 1),
+        (2024, 2, 29, 19_782, 60, 4),
+        (2023, 12, 31, 19_722, 365, 7),
+        (2026, 11, 21, 20_778, 325, 6),
+        (1600, 2, 29, -135_081, 60, 2),
+        (1, 1, 1, -719_162, 1, 1),
+        (9999, 12, 31, 2_932_896, 365, 5),
+        (2400, 12, 31, 157_419, 366, 7),
+    ];
+
+    #[test]
+    fn known_dates_match_python_datetime() {
+        for (y, m, d, days, yday, wday) in PYTHON {
+            let date = Date::new(y, m, d).unwrap();
+            assert_eq!(date.days_since_unix_epoch(), days, "{date}");
+            assert_eq!(days_from_civil(y, m, d), i64::from(days), "{date}");
+            assert_eq!(Date::from_days_since_unix_epoch(days), Ok(date));
+            assert_eq!(civil_from_days(days), (y, m, d));
+            assert_eq!(date.day_of_year(), yday, "{date}");
+            assert_eq!(date.iso_weekday(), wday, "{date}");
+        }
+    }
+
+    #[test]
+    fn leap_years_follow_the_gregorian_rule() {
+        for (year, leap) in [
+            (1900, false),
+            (2000, true),
+            (2100, false),
+            (2024, true),
+            (2023, false),
+            (0, true),
+            (-4, true),
+            (-100, false),
+            (-400, true),
+        ] {
+            assert_eq!(is_leap_year(year), leap, "{year}");
+            assert_eq!(days_in_month(year, 2), if leap { 29 } else { 28 });
+            assert_eq!(Date::new(year, 2, 29).is_ok(), leap, "{year}");
+        }
+    }
+
+    #[test]
+    fn invalid_fields_are_errors_in_order() {
+        assert_eq!(Date::new(MIN_YEAR - 1, 1, 1), Err(DateError::Year));
+        assert_eq!(Date::new(MAX_YEAR + 1, 1, 1), Err(DateError::Year));
+        assert_eq!(Date::new(i32::MIN, 0, 0), Err(DateError::Year));
+        assert_eq!(Date::new(2024, 0, 1), Err(DateError::Month));
+        assert_eq!(Date::new(2024, 13, 0), Err(DateError::Month));
+        assert_eq!(Date::new(2024, 4, 31), Err(DateError::Day));
+        assert_eq!(Date::new(2024, 4, 0), Err(DateError::Day));
+        assert_eq!(days_in_month(2024, 0), 0);
+        assert_eq!(days_in_month(2024, 13), 0);
+    }
+
+    #[test]
+    fn day_counts_outside_the_range_are_errors() {
+        for days in [Date::MIN_DAYS - 1, Date::MAX_DAYS + 1, i32::MIN, i32::MAX] {
+            assert_eq!(
+                Date::from_days_since_unix_epoch(days),
+                Err(DateError::Year),
+                "{days}"
+            );
+        }
+        assert_eq!(
+            Date::from_days_since_unix_epoch(Date::MIN_DAYS),
+            Ok(Date::MIN)
+        );
+        assert_eq!(
+            Date::from_days_since_unix_epoch(Date::MAX_DAYS),
+            Ok(Date::MAX)
+        );
+        assert_eq!(Date::from_days_since_unix_epoch(0), Ok(Date::UNIX_EPOCH));
+    }
+
+    #[test]
+    fn clamped_conversion_stops_at_the_ends() {
+        assert_eq!(
+            Date::from_days_since_unix_epoch_clamped(0),
+            Date::UNIX_EPOCH
+        );
+        for days in [Date::MIN_DAYS - 1, i32::MIN] {
+            assert_eq!(Date::from_days_since_unix_epoch_clamped(days), Date::MIN);
+        }
+        for days in [Date::MAX_DAYS + 1, i32::MAX] {
+            assert_eq!(Date::from_days_since_unix_epoch_clamped(days), Date::MAX);
+        }
+        // Inside the range it is the checked conversion.
+        for (_, _, _, days, _, _) in PYTHON {
+            assert_eq!(
+                Ok(Date::from_days_since_unix_epoch_clamped(days)),
+                Date::from_days_since_unix_epoch(days)
+            );
+        }
+    }
+
+    #[test]
+    fn raw_arithmetic_is_total() {
+        // The extreme arguments give a value, not an overflow (tests run
+        // with overflow checks).
+        for y in [i32::MIN, i32::MIN + 1, -1, 0, i32::MAX - 1, i32::MAX] {
+            for m in [0, 1, 2, 3, 12, 13, u8::MAX] {
+                for d in [0, 1, 31, u8::MAX] {
+                    let _ = days_from_civil(y, m, d);
+                }
+            }
+        }
+        for days in [i32::MIN, i32::MIN + 1, -1, 0, 1, i32::MAX - 1, i32::MAX] {
+            let (y, m, d) = civil_from_days(days);
+            assert_eq!(days_from_civil(y, m, d), i64::from(days), "{days}");
+        }
+    }
+
+    #[test]
+    fn display_is_iso_8601() {
+        extern crate std;
+        use std::string::ToString;
+        assert_eq!(Date::new(2024, 2, 9).unwrap().to_string(), "2024-02-09");
+        assert_eq!(Date::new(-44, 3, 15).unwrap().to_string(), "-0044-03-15");
+        assert_eq!(Date::MIN.to_string(), "-9999-01-01");
+        assert_eq!(Date::new(7, 1, 1).unwrap().to_string(), "0007-01-01");
+        assert_eq!(DateError::Year.to_string(), "year outside -9999..=9999");
+    }
+}
