@@ -1,9 +1,14 @@
 //! Batch sun positions from a CSV file.
 //!
 //! ```text
-//! cargo run --release --example solar_position -- --algorithm NAME --float f32|f64 \
-//!     [--pressure HPA --temperature C] [--allow-out-of-range] < in.csv > out.csv
+//! cargo run --profile host --example solar_position -- --algorithm NAME --float f32|f64 \
+//!     [--pressure HPA --temperature C] [--allow-out-of-range] [--threads N] < in.csv > out.csv
 //! ```
+//!
+//! (`--profile host`: the workspace's optimised host build, see the root
+//! Cargo.toml; `--release` works too, with the firmware's size-optimised
+//! code.) `--help` lists the options with their defaults and the algorithms
+//! with their validity years.
 //!
 //! Input: CSV (RFC 4180: quoted fields may hold commas, quotes and line
 //! breaks; a UTF-8 BOM and CRLF line ends are fine) whose header contains
@@ -20,32 +25,24 @@
 //! or an instant outside the algorithm's validity range (pass
 //! `--allow-out-of-range` to compute those anyway). The rows after a bad
 //! row go on.
+//!
+//! Reading, computing and writing run in parallel on all cores (`--threads`
+//! to choose), in chunks of whole records with a bounded number in flight:
+//! constant memory for any input size, output in input order, the same
+//! bytes whatever the thread count (see `solar_position_support/batch.rs`).
+//!
+//! Exit status: 0 when every row was handled (error rows included), 1 for
+//! a read or write error or an unusable header, 2 for a usage error.
 
 #[path = "solar_position_support/batch.rs"]
 mod batch;
 
-use std::io::{stdin, stdout, BufWriter};
+use std::io::stdin;
 use std::process::ExitCode;
 
 fn main() -> ExitCode {
-    let args: Vec<String> = std::env::args().skip(1).collect();
-    if args.iter().any(|a| a == "--help" || a == "-h") {
-        println!("{}", batch::USAGE);
-        return ExitCode::SUCCESS;
-    }
-    let cfg = match batch::parse_args(&args) {
-        Ok(c) => c,
-        Err(e) => {
-            eprintln!("error: {e}\n{}", batch::USAGE);
-            return ExitCode::from(2);
-        }
-    };
-    let out = BufWriter::new(stdout().lock());
-    match batch::run(&cfg, stdin().lock(), out) {
-        Ok(()) => ExitCode::SUCCESS,
-        Err(e) => {
-            eprintln!("error: {e}");
-            ExitCode::FAILURE
-        }
-    }
+    batch::cli::main(batch::TOOL, |args, out, err| {
+        // stdout is line-buffered: each chunk of rows goes out in one write.
+        batch::command(args, stdin(), out, err)
+    })
 }
