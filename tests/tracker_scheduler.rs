@@ -82,7 +82,12 @@ fn t(s: &str) -> UtcTime {
 type Sched = Scheduler<f64, Textbook, 1441>;
 
 /// Runs ticks every `step_s` from `from` for `secs`, collecting actions.
-fn run(s: &mut Sched, from: UtcTime, secs: i64, step_s: i64) -> Vec<(UtcTime, Action<f64>)> {
+fn run<P: PositionSource<f64>, const N: usize>(
+    s: &mut Scheduler<f64, P, N>,
+    from: UtcTime,
+    secs: i64,
+    step_s: i64,
+) -> Vec<(UtcTime, Action<f64>)> {
     let mut out = Vec::new();
     let mut k = 0;
     while k <= secs {
@@ -486,25 +491,6 @@ impl<P: PositionSource<f64>> PositionSource<f64> for Counting<P> {
     }
 }
 
-fn run_rt<P: PositionSource<f64>>(
-    s: &mut RealTime<P>,
-    from: UtcTime,
-    secs: i64,
-    step_s: i64,
-) -> Vec<(UtcTime, Action<f64>)> {
-    let mut out = Vec::new();
-    let mut k = 0;
-    while k <= secs {
-        let now = from.add_seconds(k).unwrap();
-        let o = s.tick(now);
-        if o.action != Action::Idle {
-            out.push((now, o.action));
-        }
-        k += step_s;
-    }
-    out
-}
-
 #[test]
 fn real_time_day_in_kano_follows_the_flowchart() {
     let mut s = RealTime::new(ScheduleConfig::default(), KANO).unwrap();
@@ -519,7 +505,7 @@ fn real_time_day_in_kano_follows_the_flowchart() {
         }
     );
     assert!(s.table().is_empty());
-    let acts = run_rt(&mut s, start.add_seconds(2).unwrap(), 20 * 3600, 10);
+    let acts = run(&mut s, start.add_seconds(2).unwrap(), 20 * 3600, 10);
     let sets: Vec<_> = acts
         .iter()
         .filter_map(|(now, a)| match a {
@@ -587,7 +573,7 @@ fn real_time_mode_computes_one_position_per_slot() {
     s.tick(start);
     // An hour of 1-second ticks: the seed's 15 set-points, the 2-minute
     // hold, and one sun position per 4-minute slot.
-    let acts = run_rt(&mut s, start.add_seconds(1).unwrap(), 3598, 1);
+    let acts = run(&mut s, start.add_seconds(1).unwrap(), 3598, 1);
     let sets = acts
         .iter()
         .filter(|(_, a)| matches!(a, Action::SetPoints(_)))
@@ -609,7 +595,7 @@ fn real_time_polar_day_and_night_in_tromso() {
     let mut s = RealTime::new(ScheduleConfig::default(), TROMSO).unwrap();
     let start = t("2026-06-21T00:00:00Z");
     s.tick(start);
-    let acts = run_rt(&mut s, start.add_seconds(1).unwrap(), 86_400 - 1, 10);
+    let acts = run(&mut s, start.add_seconds(1).unwrap(), 86_400 - 1, 10);
     let sets = acts
         .iter()
         .filter(|(_, a)| matches!(a, Action::SetPoints(_)))
@@ -623,7 +609,7 @@ fn real_time_polar_day_and_night_in_tromso() {
     let mut s = RealTime::new(ScheduleConfig::default(), TROMSO).unwrap();
     let start = t("2026-12-21T00:00:00Z");
     assert_eq!(s.tick(start).action, Action::SetPoints(SetPoint::default()));
-    let acts = run_rt(&mut s, start.add_seconds(1).unwrap(), 2 * 86_400, 60);
+    let acts = run(&mut s, start.add_seconds(1).unwrap(), 2 * 86_400, 60);
     assert_eq!(acts.len(), 1, "{acts:?}");
     assert!(matches!(acts[0].1, Action::Sleep { .. }));
     assert_eq!(s.day_key(), None);
@@ -634,7 +620,7 @@ fn real_time_clock_jumps_set_the_new_slot_at_once() {
     let mut s = RealTime::new(ScheduleConfig::default(), KANO).unwrap();
     let start = t("2018-10-19T09:00:00Z");
     s.tick(start);
-    run_rt(&mut s, start.add_seconds(1).unwrap(), 600, 10);
+    run(&mut s, start.add_seconds(1).unwrap(), 600, 10);
     for (to, slot) in [
         ("2018-10-19T13:00:10Z", "2018-10-19T13:00:00Z"),
         ("2018-10-19T08:00:05Z", "2018-10-19T08:00:00Z"),
