@@ -22,7 +22,20 @@ use core::cell::Cell;
 use embedded_hal::digital::InputPin;
 
 /// What one sample of the two channels meant.
+///
+/// ```
+/// use drivers::encoder::{QuadratureDecoder, Transition};
+///
+/// let mut d = QuadratureDecoder::new(false, false);
+/// let seen: Vec<Transition> = [(true, false), (true, false), (false, true)]
+///     .into_iter()
+///     .map(|(a, b)| d.update(a, b))
+///     .collect();
+/// assert_eq!(seen, [Transition::Forward, Transition::None, Transition::Illegal]);
+/// ```
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
 pub enum Transition {
     /// No change.
     None,
@@ -56,6 +69,16 @@ fn state(a: bool, b: bool) -> u8 {
 }
 
 /// Looks up one transition.
+///
+/// ```
+/// use drivers::encoder::{transition, Transition};
+///
+/// // States (A << 1) | B; A leading B runs 00 → 10 → 11 → 01 → 00.
+/// assert_eq!(transition(0b00, 0b10), Transition::Forward);
+/// assert_eq!(transition(0b10, 0b00), Transition::Backward);
+/// assert_eq!(transition(0b11, 0b11), Transition::None);
+/// assert_eq!(transition(0b01, 0b10), Transition::Illegal); // both changed
+/// ```
 pub fn transition(prev: u8, curr: u8) -> Transition {
     TABLE
         .get(usize::from(((prev & 3) << 2) | (curr & 3)))
@@ -64,7 +87,20 @@ pub fn transition(prev: u8, curr: u8) -> Transition {
 }
 
 /// A plain decoder (single owner, no interrupt sharing).
+///
+/// ```
+/// use drivers::encoder::QuadratureDecoder;
+///
+/// // One full Gray-code cycle forward (A leads B), ×4: four counts.
+/// let mut d = QuadratureDecoder::new(false, false);
+/// for (a, b) in [(true, false), (true, true), (false, true), (false, false)] {
+///     d.update(a, b);
+/// }
+/// assert_eq!(d.count(), 4);
+/// ```
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
 pub struct QuadratureDecoder {
     state: u8,
     count: i32,
@@ -73,6 +109,15 @@ pub struct QuadratureDecoder {
 
 impl QuadratureDecoder {
     /// Starts from the current levels of A and B, count 0.
+    ///
+    /// ```
+    /// use drivers::encoder::{QuadratureDecoder, Transition};
+    ///
+    /// // Starting at 11: 11 → 01 is forward, 11 → 10 backward.
+    /// let mut d = QuadratureDecoder::new(true, true);
+    /// assert_eq!(d.update(false, true), Transition::Forward);
+    /// assert_eq!(d.count(), 1);
+    /// ```
     pub const fn new(a: bool, b: bool) -> Self {
         Self {
             state: ((a as u8) << 1) | (b as u8),
@@ -82,6 +127,16 @@ impl QuadratureDecoder {
     }
 
     /// Feeds one sample of both channels.
+    ///
+    /// ```
+    /// use drivers::encoder::{QuadratureDecoder, Transition};
+    ///
+    /// let mut d = QuadratureDecoder::new(false, false);
+    /// assert_eq!(d.update(false, true), Transition::Backward); // 00 → 01
+    /// assert_eq!(d.update(false, true), Transition::None);
+    /// assert_eq!(d.update(true, false), Transition::Illegal); // 01 → 10: an edge missed
+    /// assert_eq!((d.count(), d.errors()), (-1, 1));
+    /// ```
     pub fn update(&mut self, a: bool, b: bool) -> Transition {
         let s = state(a, b);
         let t = transition(self.state, s);
@@ -96,16 +151,42 @@ impl QuadratureDecoder {
     }
 
     /// Counts so far.
+    ///
+    /// ```
+    /// use drivers::encoder::QuadratureDecoder;
+    ///
+    /// let mut d = QuadratureDecoder::new(false, false);
+    /// d.update(true, false); // 00 → 10
+    /// d.update(true, true); // 10 → 11
+    /// assert_eq!(d.count(), 2);
+    /// ```
     pub fn count(&self) -> i32 {
         self.count
     }
 
     /// Illegal transitions so far.
+    ///
+    /// ```
+    /// use drivers::encoder::QuadratureDecoder;
+    ///
+    /// let mut d = QuadratureDecoder::new(false, false);
+    /// d.update(true, true); // 00 → 11: both channels changed
+    /// assert_eq!((d.count(), d.errors()), (0, 1));
+    /// ```
     pub fn errors(&self) -> u32 {
         self.errors
     }
 
     /// Redefines the count (e.g. 0 at home).
+    ///
+    /// ```
+    /// use drivers::encoder::QuadratureDecoder;
+    ///
+    /// let mut d = QuadratureDecoder::new(false, false);
+    /// d.set_count(i32::MAX);
+    /// d.update(true, false); // wraps
+    /// assert_eq!(d.count(), i32::MIN);
+    /// ```
     pub fn set_count(&mut self, count: i32) {
         self.count = count;
     }
@@ -113,6 +194,23 @@ impl QuadratureDecoder {
 
 /// A decoder shared between an interrupt and the main loop through a
 /// critical section (every target).
+///
+/// ```
+/// use drivers::encoder::SharedEncoder;
+///
+/// static ENCODER: SharedEncoder = SharedEncoder::new();
+///
+/// // In the pin-change interrupt: the levels of A and B.
+/// fn on_pin_change(a: bool, b: bool) {
+///     ENCODER.update(a, b);
+/// }
+///
+/// ENCODER.set_levels(false, false);
+/// for (a, b) in [(true, false), (true, true), (false, true)] {
+///     on_pin_change(a, b);
+/// }
+/// assert_eq!(ENCODER.count(), 3); // read from the main loop
+/// ```
 #[derive(Debug)]
 pub struct SharedEncoder {
     inner: critical_section::Mutex<Cell<QuadratureDecoder>>,
@@ -120,6 +218,13 @@ pub struct SharedEncoder {
 
 impl SharedEncoder {
     /// For a `static`; starts in state 00 (call [`SharedEncoder::set_levels`] once at start-up).
+    ///
+    /// ```
+    /// use drivers::encoder::SharedEncoder;
+    ///
+    /// static ENCODER: SharedEncoder = SharedEncoder::new();
+    /// assert_eq!((ENCODER.count(), ENCODER.errors()), (0, 0));
+    /// ```
     pub const fn new() -> Self {
         Self {
             inner: critical_section::Mutex::new(Cell::new(QuadratureDecoder::new(false, false))),
@@ -127,6 +232,15 @@ impl SharedEncoder {
     }
 
     /// Sets the current channel levels without counting (start-up).
+    ///
+    /// ```
+    /// use drivers::encoder::{SharedEncoder, Transition};
+    ///
+    /// let enc = SharedEncoder::new();
+    /// enc.set_levels(true, true); // both channels high at power-on
+    /// assert_eq!(enc.update(false, true), Transition::Forward); // 11 → 01
+    /// assert_eq!(enc.count(), 1);
+    /// ```
     pub fn set_levels(&self, a: bool, b: bool) {
         critical_section::with(|cs| {
             let cell = self.inner.borrow(cs);
@@ -137,6 +251,15 @@ impl SharedEncoder {
     }
 
     /// From the pin-change interrupt: feed the levels of A and B.
+    ///
+    /// ```
+    /// use drivers::encoder::{SharedEncoder, Transition};
+    ///
+    /// let enc = SharedEncoder::new();
+    /// assert_eq!(enc.update(false, true), Transition::Backward); // 00 → 01
+    /// assert_eq!(enc.update(true, false), Transition::Illegal); // 01 → 10
+    /// assert_eq!((enc.count(), enc.errors()), (-1, 1));
+    /// ```
     pub fn update(&self, a: bool, b: bool) -> Transition {
         critical_section::with(|cs| {
             let cell = self.inner.borrow(cs);
@@ -148,16 +271,41 @@ impl SharedEncoder {
     }
 
     /// Counts so far.
+    ///
+    /// ```
+    /// use drivers::encoder::SharedEncoder;
+    ///
+    /// let enc = SharedEncoder::new();
+    /// enc.update(true, false);
+    /// assert_eq!(enc.count(), 1);
+    /// ```
     pub fn count(&self) -> i32 {
         critical_section::with(|cs| self.inner.borrow(cs).get().count)
     }
 
     /// Illegal transitions so far.
+    ///
+    /// ```
+    /// use drivers::encoder::SharedEncoder;
+    ///
+    /// let enc = SharedEncoder::new();
+    /// enc.update(true, true); // 00 → 11
+    /// assert_eq!(enc.errors(), 1);
+    /// ```
     pub fn errors(&self) -> u32 {
         critical_section::with(|cs| self.inner.borrow(cs).get().errors)
     }
 
     /// Redefines the count.
+    ///
+    /// ```
+    /// use drivers::encoder::SharedEncoder;
+    ///
+    /// let enc = SharedEncoder::new();
+    /// enc.set_count(-300); // e.g. the home position
+    /// enc.update(true, false);
+    /// assert_eq!(enc.count(), -299);
+    /// ```
     pub fn set_count(&self, count: i32) {
         critical_section::with(|cs| {
             let cell = self.inner.borrow(cs);
@@ -185,6 +333,18 @@ mod atomic {
 
     /// Lock-free decoder: one interrupt writes (loads and stores only), the
     /// main loop reads. Zeroing is done by the reader keeping an offset.
+    ///
+    /// ```
+    /// use drivers::encoder::AtomicEncoder;
+    ///
+    /// static ENCODER: AtomicEncoder = AtomicEncoder::new();
+    /// // The main loop zeroes by keeping an offset.
+    /// let home = ENCODER.count();
+    /// for (a, b) in [(false, true), (true, true), (true, false)] {
+    ///     ENCODER.update(a, b); // from the one interrupt that owns it
+    /// }
+    /// assert_eq!(ENCODER.count() - home, -3); // B leads A: backward
+    /// ```
     #[derive(Debug)]
     pub struct AtomicEncoder {
         state: AtomicU8,
@@ -194,6 +354,13 @@ mod atomic {
 
     impl AtomicEncoder {
         /// For a `static`; state 00, count 0.
+        ///
+        /// ```
+        /// use drivers::encoder::AtomicEncoder;
+        ///
+        /// static ENCODER: AtomicEncoder = AtomicEncoder::new();
+        /// assert_eq!((ENCODER.count(), ENCODER.errors()), (0, 0));
+        /// ```
         pub const fn new() -> Self {
             Self {
                 state: AtomicU8::new(0),
@@ -203,6 +370,14 @@ mod atomic {
         }
 
         /// From the (single) interrupt that owns the encoder.
+        ///
+        /// ```
+        /// use drivers::encoder::{AtomicEncoder, Transition};
+        ///
+        /// let enc = AtomicEncoder::new();
+        /// assert_eq!(enc.update(true, false), Transition::Forward); // 00 → 10
+        /// assert_eq!(enc.update(false, true), Transition::Illegal); // 10 → 01
+        /// ```
         pub fn update(&self, a: bool, b: bool) -> Transition {
             let s = state(a, b);
             let t = transition(self.state.load(Ordering::Relaxed), s);
@@ -226,11 +401,28 @@ mod atomic {
         }
 
         /// Counts so far.
+        ///
+        /// ```
+        /// use drivers::encoder::AtomicEncoder;
+        ///
+        /// let enc = AtomicEncoder::new();
+        /// enc.update(true, false);
+        /// enc.update(true, true);
+        /// assert_eq!(enc.count(), 2);
+        /// ```
         pub fn count(&self) -> i32 {
             self.count.load(Ordering::Acquire)
         }
 
         /// Illegal transitions so far.
+        ///
+        /// ```
+        /// use drivers::encoder::AtomicEncoder;
+        ///
+        /// let enc = AtomicEncoder::new();
+        /// enc.update(true, true); // 00 → 11
+        /// assert_eq!((enc.count(), enc.errors()), (0, 1));
+        /// ```
         pub fn errors(&self) -> u32 {
             self.errors.load(Ordering::Acquire)
         }
@@ -244,7 +436,24 @@ mod atomic {
 }
 
 /// Driver errors.
+///
+/// ```
+/// use drivers::encoder::{Error, PolledEncoder};
+/// use embedded_hal::digital::ErrorKind;
+/// use embedded_hal_mock::eh1::digital::{Mock as Pin, State, Transaction as T};
+/// use embedded_hal_mock::eh1::MockError;
+///
+/// // Channel A cannot be read.
+/// let err = MockError::Io(std::io::ErrorKind::NotConnected);
+/// let mut a = Pin::new(&[T::get(State::Low).with_error(err.clone())]);
+/// let mut b = Pin::new(&[]);
+/// let e = PolledEncoder::new(a.clone(), b.clone()).err();
+/// assert_eq!(e, Some(Error::Comm(err)));
+/// a.done();
+/// b.done();
+/// ```
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
 pub enum Error<E> {
     /// Reading a channel failed.
     Comm(E),
@@ -262,6 +471,24 @@ impl<E: core::fmt::Debug> core::error::Error for Error<E> {}
 
 /// An encoder read by polling its two `InputPin`s (or from an interrupt
 /// handler that owns the pins).
+///
+/// ```
+/// use drivers::encoder::PolledEncoder;
+/// use embedded_hal_mock::eh1::digital::{Mock as Pin, State, Transaction as T};
+///
+/// // A, B read at start (00), then 10, 11: A leads B, two counts forward.
+/// let (h, l) = (T::get(State::High), T::get(State::Low));
+/// let a = Pin::new(&[l.clone(), h.clone(), h.clone()]);
+/// let b = Pin::new(&[l.clone(), l.clone(), h.clone()]);
+/// let mut enc = PolledEncoder::new(a, b)?;
+/// enc.poll()?;
+/// enc.poll()?;
+/// assert_eq!(enc.decoder().count(), 2);
+/// let (mut a, mut b) = enc.destroy();
+/// a.done();
+/// b.done();
+/// # Ok::<(), Box<dyn core::error::Error>>(())
+/// ```
 #[derive(Debug)]
 pub struct PolledEncoder<P> {
     a: P,
@@ -271,6 +498,22 @@ pub struct PolledEncoder<P> {
 
 impl<P: InputPin> PolledEncoder<P> {
     /// Reads A then B once to learn the starting state.
+    ///
+    /// ```
+    /// use drivers::encoder::{PolledEncoder, Transition};
+    /// use embedded_hal_mock::eh1::digital::{Mock as Pin, State, Transaction as T};
+    ///
+    /// // Both channels high at start (state 11): 11 → 01 is forward.
+    /// let (h, l) = (T::get(State::High), T::get(State::Low));
+    /// let a = Pin::new(&[h.clone(), l.clone()]);
+    /// let b = Pin::new(&[h.clone(), h.clone()]);
+    /// let mut enc = PolledEncoder::new(a, b)?;
+    /// assert_eq!(enc.poll()?, Transition::Forward);
+    /// let (mut a, mut b) = enc.destroy();
+    /// a.done();
+    /// b.done();
+    /// # Ok::<(), Box<dyn core::error::Error>>(())
+    /// ```
     pub fn new(mut a: P, mut b: P) -> Result<Self, Error<P::Error>> {
         let la = a.is_high().map_err(Error::Comm)?;
         let lb = b.is_high().map_err(Error::Comm)?;
@@ -282,6 +525,23 @@ impl<P: InputPin> PolledEncoder<P> {
     }
 
     /// Reads A then B and decodes.
+    ///
+    /// ```
+    /// use drivers::encoder::{PolledEncoder, Transition};
+    /// use embedded_hal_mock::eh1::digital::{Mock as Pin, State, Transaction as T};
+    ///
+    /// // 00 at start, then 01 (B leads: backward), 01 again (no change).
+    /// let (h, l) = (T::get(State::High), T::get(State::Low));
+    /// let a = Pin::new(&[l.clone(), l.clone(), l.clone()]);
+    /// let b = Pin::new(&[l.clone(), h.clone(), h.clone()]);
+    /// let mut enc = PolledEncoder::new(a, b)?;
+    /// assert_eq!(enc.poll()?, Transition::Backward);
+    /// assert_eq!(enc.poll()?, Transition::None);
+    /// let (mut a, mut b) = enc.destroy();
+    /// a.done();
+    /// b.done();
+    /// # Ok::<(), Box<dyn core::error::Error>>(())
+    /// ```
     pub fn poll(&mut self) -> Result<Transition, Error<P::Error>> {
         let la = self.a.is_high().map_err(Error::Comm)?;
         let lb = self.b.is_high().map_err(Error::Comm)?;
@@ -289,11 +549,39 @@ impl<P: InputPin> PolledEncoder<P> {
     }
 
     /// The decoder state.
+    ///
+    /// ```
+    /// use drivers::encoder::{PolledEncoder, Transition};
+    /// use embedded_hal_mock::eh1::digital::{Mock as Pin, State, Transaction as T};
+    ///
+    /// // 00 at start, then 11: both channels changed, an edge was missed.
+    /// let (h, l) = (T::get(State::High), T::get(State::Low));
+    /// let a = Pin::new(&[l.clone(), h.clone()]);
+    /// let b = Pin::new(&[l.clone(), h.clone()]);
+    /// let mut enc = PolledEncoder::new(a, b)?;
+    /// assert_eq!(enc.poll()?, Transition::Illegal);
+    /// assert_eq!((enc.decoder().count(), enc.decoder().errors()), (0, 1));
+    /// let (mut a, mut b) = enc.destroy();
+    /// a.done();
+    /// b.done();
+    /// # Ok::<(), Box<dyn core::error::Error>>(())
+    /// ```
     pub fn decoder(&self) -> &QuadratureDecoder {
         &self.decoder
     }
 
     /// Gives the pins back.
+    ///
+    /// ```
+    /// use drivers::encoder::PolledEncoder;
+    /// use embedded_hal_mock::eh1::digital::{Mock as Pin, State, Transaction as T};
+    ///
+    /// let enc = PolledEncoder::new(Pin::new(&[T::get(State::Low)]), Pin::new(&[T::get(State::High)]))?;
+    /// let (mut a, mut b) = enc.destroy();
+    /// a.done();
+    /// b.done();
+    /// # Ok::<(), Box<dyn core::error::Error>>(())
+    /// ```
     pub fn destroy(self) -> (P, P) {
         (self.a, self.b)
     }

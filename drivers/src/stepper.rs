@@ -13,6 +13,9 @@
 //! Both drivers take limit switches as `InputPin`s; a switch that is active in
 //! the direction of travel stops the motion before the step and is reported as
 //! [`Event::LimitReached`].
+//!
+//! The examples drive `embedded-hal-mock` pins; the expected pin levels
+//! come from each driver's coil table or chip timing (module docs).
 
 pub mod hbridge;
 pub mod planner;
@@ -20,7 +23,20 @@ pub mod ramp;
 pub mod step_dir;
 
 /// Direction of rotation, counted in the position as +1 / −1 step.
+///
+/// ```
+/// use drivers::stepper::planner::{Due, Planner};
+/// use drivers::stepper::ramp::Ramp;
+/// use drivers::stepper::Direction;
+///
+/// let mut p = Planner::new(Ramp { start_speed_sps: 100, max_speed_sps: 1_000, accel_sps2: 10_000 })?;
+/// p.move_to(-3);
+/// assert_eq!(p.due(0), Due::Step(Direction::Backward));
+/// # Ok::<(), drivers::stepper::ramp::RampError>(())
+/// ```
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
 pub enum Direction {
     /// Position increases.
     Forward,
@@ -29,7 +45,20 @@ pub enum Direction {
 }
 
 /// Which end-of-travel switch.
+///
+/// ```
+/// use drivers::stepper::{Direction, Limit};
+///
+/// // The switch that stops a direction of travel.
+/// let guard = |d: Direction| match d {
+///     Direction::Forward => Limit::Max,
+///     Direction::Backward => Limit::Min,
+/// };
+/// assert_eq!(guard(Direction::Backward), Limit::Min);
+/// ```
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
 pub enum Limit {
     /// The switch at the low end (stops `Backward` motion).
     Min,
@@ -38,7 +67,17 @@ pub enum Limit {
 }
 
 /// What one call to `poll` did.
+///
+/// ```
+/// use drivers::stepper::Event;
+///
+/// // A main loop keeps polling while the axis is busy.
+/// let busy = |e: Event| matches!(e, Event::Waiting | Event::Stepped);
+/// assert!(busy(Event::Stepped) && !busy(Event::Arrived) && !busy(Event::Idle));
+/// ```
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
 pub enum Event {
     /// No motion requested (coils may have been released in this call).
     Idle,
@@ -54,7 +93,26 @@ pub enum Event {
 }
 
 /// Driver errors.
+///
+/// ```
+/// use drivers::stepper::hbridge::{BridgePins, Config, HBridgeStepper, StepMode};
+/// use drivers::stepper::ramp::{Ramp, RampError};
+/// use drivers::stepper::{Error, LimitSwitches};
+/// use embedded_hal_mock::eh1::digital::Mock as Pin;
+///
+/// // A start speed above the cruise speed is refused before any pin is used.
+/// let ramp = Ramp { start_speed_sps: 500, max_speed_sps: 400, accel_sps2: 1_000 };
+/// let config = Config { mode: StepMode::Full, ramp, settle_us: 0, release_when_idle: true };
+/// let mut pins = [Pin::new(&[]), Pin::new(&[]), Pin::new(&[]), Pin::new(&[])];
+/// let [in1, in2, in3, in4] = pins.clone();
+/// let bridge = BridgePins { in1, in2, in3, in4 };
+/// let e = HBridgeStepper::new(bridge, LimitSwitches::<Pin>::none(), config).unwrap_err();
+/// assert_eq!(e, Error::InvalidConfig(RampError::StartAboveMax));
+/// assert_eq!(e.to_string(), "unusable stepper configuration: start speed above maximum speed");
+/// pins.iter_mut().for_each(Pin::done); // no pin was touched
+/// ```
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
 pub enum Error<E> {
     /// A pin operation failed.
     Comm(E),
@@ -74,6 +132,33 @@ impl<E: core::fmt::Debug> core::fmt::Display for Error<E> {
 impl<E: core::fmt::Debug> core::error::Error for Error<E> {}
 
 /// Limit-switch inputs; either may be absent.
+///
+/// ```
+/// use drivers::stepper::hbridge::{BridgePins, Config, HBridgeStepper, StepMode};
+/// use drivers::stepper::ramp::Ramp;
+/// use drivers::stepper::{Event, Limit, LimitSwitches};
+/// use embedded_hal_mock::eh1::digital::{Mock as Pin, State, Transaction as T};
+///
+/// // A switch to ground with a pull-up at the high end reads low when
+/// // pressed: the forward step is not taken, and the coils are released
+/// // (all four bridge inputs low).
+/// let mut max = Pin::new(&[T::get(State::Low)]);
+/// let limits = LimitSwitches { min: None, max: Some(max.clone()), active_low: true };
+/// let low = [T::set(State::Low)];
+/// let (mut in1, mut in2, mut in3, mut in4) =
+///     (Pin::new(&low), Pin::new(&low), Pin::new(&low), Pin::new(&low));
+/// let pins = BridgePins { in1: in1.clone(), in2: in2.clone(), in3: in3.clone(), in4: in4.clone() };
+/// let ramp = Ramp { start_speed_sps: 100, max_speed_sps: 1_000, accel_sps2: 10_000 };
+/// let config = Config { mode: StepMode::Full, ramp, settle_us: 0, release_when_idle: true };
+/// let mut motor = HBridgeStepper::new(pins, limits, config)?;
+/// motor.move_to(10);
+/// assert_eq!(motor.poll(0)?, Event::LimitReached(Limit::Max));
+/// assert_eq!((motor.position(), motor.target()), (0, 0));
+/// for pin in [&mut in1, &mut in2, &mut in3, &mut in4, &mut max] {
+///     pin.done();
+/// }
+/// # Ok::<(), Box<dyn core::error::Error>>(())
+/// ```
 #[derive(Debug)]
 pub struct LimitSwitches<L> {
     /// Switch at the low end.
@@ -86,6 +171,14 @@ pub struct LimitSwitches<L> {
 
 impl<L> LimitSwitches<L> {
     /// No switches.
+    ///
+    /// ```
+    /// use drivers::stepper::LimitSwitches;
+    /// use embedded_hal_mock::eh1::digital::Mock as Pin;
+    ///
+    /// let none = LimitSwitches::<Pin>::none();
+    /// assert!(none.min.is_none() && none.max.is_none());
+    /// ```
     pub fn none() -> Self {
         Self {
             min: None,

@@ -20,7 +20,20 @@ pub use mount::{
 pub use witmotion::WitInclinometer;
 
 /// Roll (rotation about the sensor's X axis) and pitch (about its Y axis).
+///
+/// ```
+/// use drivers::tilt::{axis_angles_from_inclination, mount_tilt, Inclination};
+///
+/// // Level sensor: both axes horizontal, 90° from the vertical.
+/// let level = Inclination { roll_deg: 0.0, pitch_deg: 0.0 };
+/// let (theta_x, theta_y) = axis_angles_from_inclination(&level);
+/// let tilt = mount_tilt(theta_x, theta_y)?;
+/// assert!(tilt.alpha0_deg.abs() < 1e-4 && tilt.beta0_deg.abs() < 1e-4);
+/// # Ok::<(), drivers::tilt::MountTiltError>(())
+/// ```
 #[derive(Debug, Clone, Copy, PartialEq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
 pub struct Inclination {
     /// Roll, degrees.
     pub roll_deg: f32,

@@ -26,6 +26,18 @@
 //! whose own uncertainty grows to tens of seconds by 2100. Any year
 //! [`crate::time::MIN_YEAR`]…[`crate::time::MAX_YEAR`] gives a finite value
 //! without panicking.
+//!
+//! # Example
+//!
+//! ```
+//! use sun_algos::{delta_t, UtcTime};
+//!
+//! // The reference files' ΔT is skyfield's (IERS data): 64.886 s on
+//! // 2006-03-01T13:45:38Z (tests/data/sun_1999_2022.csv).
+//! let t: UtcTime = "2006-03-01T13:45:38Z".parse()?;
+//! assert!((delta_t::estimate_s::<f64>(&t) - 64.886).abs() < 0.1);
+//! # Ok::<(), sun_algos::Error>(())
+//! ```
 
 use crate::float::Float;
 use crate::time::UtcTime;
@@ -43,6 +55,19 @@ const OBSERVED_S: [f64; 20] = [
 const LONG_TERM_OFFSET_S: f64 = -150.496_237_07;
 
 /// ΔT in seconds for an instant (see the module documentation).
+///
+/// ```
+/// use sun_algos::{delta_t, UtcTime};
+///
+/// // skyfield's ΔT in the reference files: 64.886 s on 2006-03-01 (observed
+/// // era, this model within 0.1 s) and 70.188 s on 2043-05-30 (predicted,
+/// // within 1 s up to 2050).
+/// let t: UtcTime = "2006-03-01T13:45:38Z".parse()?;
+/// assert!((delta_t::estimate_s::<f64>(&t) - 64.886).abs() < 0.1);
+/// let t: UtcTime = "2043-05-30T18:16:49Z".parse()?;
+/// assert!((delta_t::estimate_s::<f32>(&t) - 70.188).abs() < 1.0);
+/// # Ok::<(), sun_algos::Error>(())
+/// ```
 pub fn estimate_s<T: Float>(time: &UtcTime) -> T {
     let year = time.year();
     let len = if crate::time::is_leap_year(year) {
@@ -56,6 +81,18 @@ pub fn estimate_s<T: Float>(time: &UtcTime) -> T {
 }
 
 /// ΔT for the decimal year `year + frac` (`0 ≤ frac < 1`).
+///
+/// ```
+/// use sun_algos::delta_t::estimate_for_year;
+///
+/// // Morrison & Stephenson 2004 as tabulated by Espenak & Meeus (NASA):
+/// // year −500: 17 190 ± 430 s; year 1000: 1 570 ± 55 s; 1950: 29 s.
+/// assert!((estimate_for_year::<f64>(-500, 0.0) - 17_190.0).abs() < 430.0);
+/// assert!((estimate_for_year::<f64>(1000, 0.0) - 1_570.0).abs() < 55.0);
+/// assert!((estimate_for_year::<f64>(1950, 0.0) - 29.0).abs() < 0.5);
+/// // skyfield's ΔT on 2021-01-07 (tests/data/sun_2010_2110.csv): 69.359 s.
+/// assert!((estimate_for_year::<f64>(2021, 6.5 / 365.0) - 69.359).abs() < 0.1);
+/// ```
 pub fn estimate_for_year<T: Float>(year: i32, frac: T) -> T {
     // Years since `base`, formed exactly from the integer year.
     let since = |base: i32| T::from_i32(year - base) + frac;

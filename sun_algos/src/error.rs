@@ -3,7 +3,26 @@
 use crate::algorithm::Algorithm;
 
 /// Why a position (or other result) could not be computed.
+///
+/// ```
+/// use sun_algos::{Algorithm, Error, Options, Site, UtcTime};
+///
+/// let site = Site::new(40.0f64, 0.0)?;
+/// let t: UtcTime = "2060-06-01T12:00:00Z".parse()?;
+/// match Algorithm::Psa2020.position(&t, &site, &Options::default()) {
+///     Err(e @ Error::OutOfValidityRange { algorithm, year }) => {
+///         assert_eq!((algorithm, year), (Algorithm::Psa2020, 2060));
+///         assert_eq!(e.to_string(), "year 2060 outside psa-2020 validity 2020..2050");
+///     }
+///     other => panic!("{other:?}"),
+/// }
+/// assert_eq!("2023-02-29T00:00:00Z".parse::<UtcTime>(), Err(Error::InvalidDate));
+/// assert_eq!(Error::NotFinite.to_string(), "input is NaN or infinite");
+/// # Ok::<(), sun_algos::Error>(())
+/// ```
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
 pub enum Error {
     /// Latitude outside −90°…90°.
     LatitudeOutOfRange,

@@ -9,6 +9,28 @@ use core::fmt::Debug;
 use core::ops::{Add, AddAssign, Div, DivAssign, Mul, MulAssign, Neg, Sub, SubAssign};
 
 /// Floating-point type usable by the algorithms (`f32` or `f64`).
+///
+/// ```
+/// use sun_algos::Float;
+///
+/// // One formula for f32 and f64: the hour angle of sunrise, cos ω = −tan φ tan δ
+/// // (Duffie & Beckman eq. 1.6.10). At the equinox (δ = 0) it is 90° everywhere.
+/// fn sunset_hour_angle_deg<T: Float>(latitude_deg: T, declination_deg: T) -> T {
+///     let c = -(latitude_deg.to_radians().tan() * declination_deg.to_radians().tan());
+///     c.clamp(-T::ONE, T::ONE).acos().to_degrees()
+/// }
+/// assert!((sunset_hour_angle_deg(52.0f64, 0.0) - 90.0).abs() < 1e-12);
+/// assert!((sunset_hour_angle_deg(52.0f32, 0.0) - 90.0).abs() < 1e-5);
+/// // At 52° N with δ = 23.44° (the June solstice): 2ω/15 = 16.4942 h of
+/// // daylight, as pvlib 0.16.1's `sun_rise_set_transit_geometric` gives.
+/// let w = sunset_hour_angle_deg(52.0f64, 23.44);
+/// assert!((2.0 * w / 15.0 - 16.494_2).abs() < 1e-4);
+/// // The exact values of sine, cosine and the 3-4-5 triangle.
+/// assert!(((30.0f64).to_radians().sin() - 0.5).abs() < 1e-15);
+/// assert!(((60.0f32).to_radians().cos() - 0.5).abs() < 1e-6);
+/// assert_eq!(Float::sqrt(3.0f64 * 3.0 + 4.0 * 4.0), 5.0);
+/// assert_eq!(Float::rem_euclid(-90.0f32, 360.0), 270.0);
+/// ```
 pub trait Float:
     Copy
     + Debug

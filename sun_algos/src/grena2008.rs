@@ -8,6 +8,22 @@
 //! evaluated from the whole days in exact fixed-point turns
 //! (the crate-private `spa::split`), so `f32` keeps its precision; the periodic terms
 //! take t directly. Coefficients are the paper's (sections 3.2–3.8).
+//!
+//! # Example
+//!
+//! ```
+//! use sun_algos::{Algorithm, Options, Site, SunPosition, UtcTime};
+//!
+//! // tests/data/sun_1999_2022.csv (JPL DE421 through skyfield):
+//! // 2005-03-30T13:27:49Z, 16.06476°, −6.58661°, ΔT 64.757 s → zenith
+//! // 18.5379338°, azimuth 230.6523814°. Grena 2008 (ENEA) declares 0.0027°.
+//! let t: UtcTime = "2005-03-30T13:27:49Z".parse()?;
+//! let site = Site::new(16.06476f64, -6.58661)?;
+//! let opts = Options { delta_t_s: Some(64.757), ..Options::default() };
+//! let p = Algorithm::Grena2008.position(&t, &site, &opts)?;
+//! assert!(p.angular_distance_deg(&SunPosition::new(18.537_933_8, 230.652_381_4, false)) < 0.0027);
+//! # Ok::<(), sun_algos::Error>(())
+//! ```
 
 use crate::algorithm::Inputs;
 use crate::float::Float;

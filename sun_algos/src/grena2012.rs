@@ -13,6 +13,32 @@
 //! perturbation terms. Stated maximum errors in 2010–2110: 0.19°, 0.034°,
 //! 0.0094°, 0.0093°, 0.0027°. Parallax (−4.26 × 10⁻⁵ rad · cos e) and
 //! Grena's refraction formula (section 3.7) when an atmosphere is given.
+//!
+//! # Example
+//!
+//! ```
+//! use sun_algos::{Algorithm, Options, Site, SunPosition, UtcTime};
+//!
+//! // tests/data/sun_2010_2110.csv (JPL DE421 through skyfield):
+//! // 2043-07-21T13:59:03Z, 59.44343°, −27.75479°, ΔT 70.21 s → zenith
+//! // 39.0347647°, azimuth 180.572822°. Each algorithm within the maximum
+//! // error Grena 2012 states for it.
+//! let t: UtcTime = "2043-07-21T13:59:03Z".parse()?;
+//! let site = Site::new(59.44343f64, -27.75479)?;
+//! let opts = Options { delta_t_s: Some(70.21), ..Options::default() };
+//! let truth = SunPosition::new(39.034_764_7, 180.572_822, false);
+//! for (a, stated_deg) in [
+//!     (Algorithm::Grena2012No1, 0.19),
+//!     (Algorithm::Grena2012No2, 0.034),
+//!     (Algorithm::Grena2012No3, 0.0094),
+//!     (Algorithm::Grena2012No4, 0.0093),
+//!     (Algorithm::Grena2012No5, 0.0027),
+//! ] {
+//!     let p = a.position(&t, &site, &opts)?;
+//!     assert!(p.angular_distance_deg(&truth) < stated_deg, "{}", a.name());
+//! }
+//! # Ok::<(), sun_algos::Error>(())
+//! ```
 
 use crate::algorithm::Inputs;
 use crate::float::Float;
@@ -21,8 +47,27 @@ use crate::site::Atmosphere;
 use crate::spa::split::Secular;
 use crate::time::MS_PER_DAY;
 
-/// The five algorithms of Grena 2012.
+/// The five algorithms of Grena 2012, chosen through [`crate::Algorithm`]
+/// (`Grena2012No1` … `Grena2012No5`); the module documentation compares all
+/// five with the reference ephemeris.
+///
+/// ```
+/// use sun_algos::grena2012::Variant;
+/// use sun_algos::{Algorithm, Options, Site, SunPosition, UtcTime};
+///
+/// // tests/data/sun_2010_2110.csv (JPL DE421 through skyfield):
+/// // 2043-07-21T13:59:03Z, 59.44343°, −27.75479°, ΔT 70.21 s → zenith
+/// // 39.0347647°, azimuth 180.572822°; algorithm 5 states 0.0027°.
+/// let t: UtcTime = "2043-07-21T13:59:03Z".parse()?;
+/// let opts = Options { delta_t_s: Some(70.21), ..Options::default() };
+/// let p = Algorithm::Grena2012No5.position(&t, &Site::new(59.44343f64, -27.75479)?, &opts)?;
+/// assert!(p.angular_distance_deg(&SunPosition::new(39.034_764_7, 180.572_822, false)) < 0.0027);
+/// assert_ne!(Variant::No1, Variant::No5);
+/// # Ok::<(), sun_algos::Error>(())
+/// ```
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
 pub enum Variant {
     /// Algorithm 1: α and δ with two harmonics (max error 0.19°).
     No1,

@@ -23,6 +23,12 @@ pub mod site;
 pub mod spa;
 pub mod textbook;
 pub mod time;
+#[cfg(feature = "chrono")]
+mod with_chrono;
+#[cfg(feature = "defmt")]
+mod with_defmt;
+#[cfg(feature = "serde")]
+mod with_serde;
 
 pub use algorithm::Algorithm;
 pub use error::Error;

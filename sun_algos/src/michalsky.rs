@@ -45,6 +45,21 @@
 //!
 //! **Precision.** As in [`crate::psa`]: whole days are reduced exactly in
 //! fixed point, only the part of a day is multiplied in `T`.
+//!
+//! # Example
+//!
+//! ```
+//! use sun_algos::{Algorithm, Options, Site, SunPosition, UtcTime};
+//!
+//! // tests/data/sun_1999_2022.csv (JPL DE421 through skyfield):
+//! // 2006-03-01T13:45:38Z, 34.76767°, −45.58589° → zenith 47.2182225°,
+//! // azimuth 149.2139858°. Michalsky's declared accuracy is 0.01°.
+//! let t: UtcTime = "2006-03-01T13:45:38Z".parse()?;
+//! let truth = SunPosition::new(47.218_222_5f32, 149.213_985_8, false);
+//! let p = Algorithm::Michalsky.position(&t, &Site::new(34.76767f32, -45.58589)?, &Options::default())?;
+//! assert!(p.angular_distance_deg(&truth) < 0.01);
+//! # Ok::<(), sun_algos::Error>(())
+//! ```
 
 use crate::algorithm::Inputs;
 use crate::float::Float;
@@ -123,6 +138,19 @@ fn daily_turns<T: Float>(a: [f64; 2], per_turn: f64, days: i32, frac: T) -> T {
 /// `3.51561·(0.1594 + 0.0196 e + 0.00002 e²) / (1 + 0.505 e + 0.0845 e²)`
 /// above −0.56°, and 0.56° below (Michalsky 1988). His factor 3.51561 is
 /// `1013.2 mb / 288.2 K`; we use `P / (273.2 + T)` for the given atmosphere.
+///
+/// ```
+/// use sun_algos::michalsky::refraction_deg;
+/// use sun_algos::Atmosphere;
+///
+/// // Michalsky's own conditions, 1013.2 mb and 15 °C (his factor 3.51561):
+/// // on the horizon 3.51561 × 0.1594 = 0.56038° (hand evaluation of his
+/// // formula); 0.56° below −0.56°.
+/// let atm = Atmosphere::new(1013.2f64, 15.0)?;
+/// assert!((refraction_deg(0.0, &atm) - 0.560_38).abs() < 1e-5);
+/// assert_eq!(refraction_deg(-5.0, &atm), 0.56);
+/// # Ok::<(), sun_algos::Error>(())
+/// ```
 pub fn refraction_deg<T: Float>(e_deg: T, atm: &Atmosphere<T>) -> T {
     if e_deg < T::from_f64(-0.56) {
         return T::from_f64(0.56);

@@ -31,6 +31,25 @@
 //! coordinates are taken from the sun's unit vector (`horizontal`), which
 //! is the same as the paper's `acos`/`atan` formulas but well conditioned
 //! near the zenith in `f32`.
+//!
+//! # Example
+//!
+//! ```
+//! use sun_algos::{Algorithm, Options, Site, SunPosition, UtcTime};
+//!
+//! // tests/data/sun_2020_2050.csv (JPL DE421 through skyfield): 2045-07-06T04:35:23Z,
+//! // 44.99275°, 165.49365° → zenith 48.4104141°, azimuth 260.8232083°.
+//! let t: UtcTime = "2045-07-06T04:35:23Z".parse()?;
+//! let truth = SunPosition::new(48.410_414_1f64, 260.823_208_3, false);
+//! let p64 = Algorithm::Psa2020.position(&t, &Site::new(44.99275f64, 165.49365)?, &Options::default())?;
+//! let p32 = Algorithm::Psa2020.position(&t, &Site::new(44.99275f32, 165.49365)?, &Options::default())?;
+//! // PSA's declared 0.008°, and f32 within 0.0001° of f64: no Julian Day is
+//! // formed in f32.
+//! assert!(p64.angular_distance_deg(&truth) < 0.008);
+//! let p32_in_f64 = SunPosition::new(f64::from(p32.zenith_deg), f64::from(p32.azimuth_deg), false);
+//! assert!(p32_in_f64.angular_distance_deg(&p64) < 1e-4);
+//! # Ok::<(), sun_algos::Error>(())
+//! ```
 
 use crate::algorithm::Inputs;
 use crate::float::Float;
@@ -38,8 +57,28 @@ use crate::position::SunPosition;
 use crate::site::{Atmosphere, Site};
 use crate::time::UtcTime;
 
-/// PSA coefficient sets.
+/// PSA coefficient sets, chosen through [`crate::Algorithm`] (`Psa2001`,
+/// `Psa2020`, `PsaModified`, `PsaModifiedAsPrinted`).
+///
+/// ```
+/// use sun_algos::psa::Variant;
+/// use sun_algos::{Algorithm, Options, Site, UtcTime};
+///
+/// // The coefficient set of each PSA algorithm, by name; the NREL SPA worked
+/// // example's instant and site (nrel_spa_test_vector.json: zenith
+/// // 50.111622° with refraction, 50.127954° geometric: e0 = 39.872046°).
+/// let t: UtcTime = "2003-10-17T19:30:30Z".parse()?;
+/// let site = Site::with_elevation(39.742476f64, -105.1786, 1830.14)?;
+/// let p = Algorithm::Psa2001.position(&t, &site, &Options::default())?;
+/// // PSA's declared 0.008°, plus the 1830 m elevation's parallax, which PSA
+/// // leaves out (below 0.0001°).
+/// assert!((p.zenith_deg - (90.0 - 39.872_046)).abs() < 0.008);
+/// assert_ne!(Variant::Psa2001, Variant::Psa2020);
+/// # Ok::<(), sun_algos::Error>(())
+/// ```
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
 pub enum Variant {
     /// Blanco-Muriel et al. 2001, stated for 1999–2015 (seed li-2022 Table 2,
     /// left column, with the nutation/aberration terms in `sin Ω`/`cos Ω` of
@@ -110,11 +149,34 @@ pub enum Variant {
 }
 
 /// Earth's mean radius in km (Blanco-Muriel et al. 2001, parallax term).
+///
+/// ```
+/// use sun_algos::psa::EARTH_MEAN_RADIUS_KM;
+///
+/// // IUGG mean Earth radius: 6371.0088 km.
+/// assert!((EARTH_MEAN_RADIUS_KM - 6371.0088).abs() < 0.01);
+/// ```
 pub const EARTH_MEAN_RADIUS_KM: f64 = 6371.01;
 /// The astronomical unit in km as used by Blanco-Muriel et al. 2001.
+///
+/// ```
+/// use sun_algos::psa::ASTRONOMICAL_UNIT_KM;
+///
+/// // IAU 2012: 1 au = 149 597 870.7 km; PSA's value is 19.3 km larger.
+/// assert!((ASTRONOMICAL_UNIT_KM - 149_597_870.7).abs() < 20.0);
+/// ```
 pub const ASTRONOMICAL_UNIT_KM: f64 = 149_597_890.0;
 /// Horizontal solar parallax in radians, `R⊕ / AU` (≈ 4.2587e−5 rad,
 /// 0.00244°).
+///
+/// ```
+/// use sun_algos::psa::PARALLAX_RAD;
+///
+/// // The sun's mean horizontal parallax, 8.794″ (IAU; with the equatorial
+/// // radius, 6378.137 km): the mean radius gives 0.1% less.
+/// let arcsec = PARALLAX_RAD.to_degrees() * 3600.0;
+/// assert!((arcsec - 8.794 * 6371.01 / 6378.137).abs() < 0.001);
+/// ```
 pub const PARALLAX_RAD: f64 = EARTH_MEAN_RADIUS_KM / ASTRONOMICAL_UNIT_KM;
 
 /// The 15 coefficients of PSA plus the few switches the li-2022 variants need.
@@ -266,6 +328,20 @@ pub(crate) fn horizontal<T: Float>(
 /// proleptic Gregorian day count for every date [`UtcTime`] accepts
 /// (tested), so the algorithm itself uses [`UtcTime::days_since_2000`]
 /// directly (JDN − 2451545).
+///
+/// ```
+/// use sun_algos::psa::julian_day_number;
+/// use sun_algos::UtcTime;
+///
+/// // Meeus, Astronomical Algorithms, ch. 7: 2000-01-01 12:00 is JD 2451545.0,
+/// // and 1957-10-04 19:26:24 (example 7.a) is JD 2436116.31.
+/// assert_eq!(julian_day_number(2000, 1, 1), 2_451_545);
+/// assert_eq!(julian_day_number(1957, 10, 4), 2_436_116);
+/// // The same day count as UtcTime's.
+/// let t = UtcTime::from_ymd_hms(2024, 2, 29, 0, 0, 0)?;
+/// assert_eq!(julian_day_number(2024, 2, 29), t.days_since_2000() + 2_451_545);
+/// # Ok::<(), sun_algos::Error>(())
+/// ```
 pub fn julian_day_number(year: i32, month: i32, day: i32) -> i32 {
     // Rust's `/` on integers truncates toward zero, like C.
     let aux1 = (month - 14) / 12;

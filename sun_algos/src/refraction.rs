@@ -1,4 +1,18 @@
 //! Atmospheric refraction shared by the algorithms that have none of their own.
+//!
+//! # Example
+//!
+//! ```
+//! use sun_algos::{refraction, Atmosphere, SunPosition};
+//!
+//! // NREL SPA report, worked example (shared/reference/nrel_spa_test_vector.json):
+//! // true elevation 39.872046° at 820 hPa and 11 °C is seen at 39.888378°.
+//! let atm = Atmosphere::new(820.0f64, 11.0)?;
+//! let geometric = SunPosition::new(90.0 - 39.872_046, 194.340_241, false);
+//! let apparent = refraction::apply(geometric, Some(&atm));
+//! assert!((apparent.elevation_deg() - 39.888_378).abs() < 1e-6);
+//! # Ok::<(), sun_algos::Error>(())
+//! ```
 
 use crate::float::Float;
 use crate::position::SunPosition;
@@ -7,12 +21,32 @@ use crate::site::Atmosphere;
 /// The sun's semi-diameter plus the refraction at the horizon in degrees
 /// (NREL SPA report, eq. 43: 0.26667° + 0.5667°): below this the sun is set
 /// and no refraction is applied.
+///
+/// ```
+/// use sun_algos::refraction::SUN_RADIUS_PLUS_HORIZON_REFRACTION_DEG;
+///
+/// // NREL SPA eq. 43: the sun's radius 0.26667° and 0.5667° of refraction at
+/// // the horizon (nrel_spa_test_vector.json: atmospheric_refraction_at_horizon).
+/// assert!((SUN_RADIUS_PLUS_HORIZON_REFRACTION_DEG - 0.83337).abs() < 1e-12);
+/// ```
 pub const SUN_RADIUS_PLUS_HORIZON_REFRACTION_DEG: f64 = 0.26667 + 0.5667;
 
 /// Refraction correction Δe in degrees for a true (geometric) elevation
 /// `e0_deg` (Reda & Andreas 2004, NREL SPA eq. 42, Bennett's formula scaled
 /// by pressure and temperature). Zero when the sun is below the horizon
 /// limit of eq. 43.
+///
+/// ```
+/// use sun_algos::refraction::refraction_deg;
+/// use sun_algos::Atmosphere;
+///
+/// // NREL SPA worked example: Δe = 0.016332° for e0 = 39.872046°, 820 hPa, 11 °C.
+/// let atm = Atmosphere::new(820.0f64, 11.0)?;
+/// assert!((refraction_deg(39.872_046, &atm) - 0.016_332).abs() < 1e-6);
+/// // Below the horizon limit of eq. 43 (−0.83337°): none.
+/// assert_eq!(refraction_deg(-1.0, &atm), 0.0);
+/// # Ok::<(), sun_algos::Error>(())
+/// ```
 pub fn refraction_deg<T: Float>(e0_deg: T, atmosphere: &Atmosphere<T>) -> T {
     if e0_deg < -T::from_f64(SUN_RADIUS_PLUS_HORIZON_REFRACTION_DEG) {
         return T::ZERO;
@@ -26,6 +60,21 @@ pub fn refraction_deg<T: Float>(e0_deg: T, atmosphere: &Atmosphere<T>) -> T {
 
 /// Applies [`refraction_deg`] to a geometric position when an atmosphere is
 /// given; returns it unchanged otherwise.
+///
+/// ```
+/// use sun_algos::refraction::apply;
+/// use sun_algos::{Atmosphere, SunPosition};
+///
+/// // NREL SPA worked example: geometric zenith 90° − 39.872046° becomes the
+/// // apparent 50.111622°.
+/// let atm = Atmosphere::new(820.0f64, 11.0)?;
+/// let p = apply(SunPosition::new(90.0 - 39.872_046, 194.340_241, false), Some(&atm));
+/// assert!(p.refracted && (p.zenith_deg - 50.111_622).abs() < 1e-6);
+/// // Without an atmosphere: unchanged.
+/// let g = SunPosition::new(50.0f64, 194.0, false);
+/// assert_eq!(apply(g, None), g);
+/// # Ok::<(), sun_algos::Error>(())
+/// ```
 pub fn apply<T: Float>(
     geometric: SunPosition<T>,
     atmosphere: Option<&Atmosphere<T>>,

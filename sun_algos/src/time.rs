@@ -21,15 +21,63 @@ use crate::float::Float;
 pub use suntracker_time::{days_in_month, is_leap_year, Date, DateError};
 
 /// Milliseconds in a day.
+///
+/// ```
+/// use sun_algos::time::MS_PER_DAY;
+/// use sun_algos::UtcTime;
+///
+/// assert_eq!(MS_PER_DAY, 24 * 60 * 60 * 1000);
+/// assert!(UtcTime::from_days_ms(0, MS_PER_DAY).is_err());
+/// ```
 pub const MS_PER_DAY: u32 = 86_400_000;
 /// Julian Day of 2000-01-01 00:00 UT is `JD_2000_MIDNIGHT_INT + 0.5`.
+///
+/// ```
+/// use sun_algos::time::JD_2000_MIDNIGHT_INT;
+///
+/// // Meeus, Astronomical Algorithms, ch. 7: 2000-01-01 12:00 is JD 2451545.0,
+/// // so its midnight is JD 2451544.5.
+/// assert_eq!(f64::from(JD_2000_MIDNIGHT_INT) + 0.5, 2_451_545.0 - 0.5);
+/// ```
 pub const JD_2000_MIDNIGHT_INT: i32 = 2_451_544;
 /// First year a [`UtcTime`] accepts.
+///
+/// ```
+/// use sun_algos::time::MIN_YEAR;
+/// use sun_algos::{Error, UtcTime};
+///
+/// assert!(UtcTime::from_ymd_hms(MIN_YEAR, 1, 1, 0, 0, 0).is_ok());
+/// assert_eq!(UtcTime::from_ymd_hms(MIN_YEAR - 1, 12, 31, 0, 0, 0), Err(Error::InvalidDate));
+/// ```
 pub const MIN_YEAR: i32 = -4000;
 /// Last year a [`UtcTime`] accepts.
+///
+/// ```
+/// use sun_algos::time::MAX_YEAR;
+/// use sun_algos::{Error, UtcTime};
+///
+/// let last = UtcTime::from_ymd_hms(MAX_YEAR, 12, 31, 23, 59, 59)?;
+/// assert_eq!(last.add_seconds(1), Err(Error::InvalidDate));
+/// # Ok::<(), sun_algos::Error>(())
+/// ```
 pub const MAX_YEAR: i32 = 8000;
 
 /// A UTC (taken as UT1) instant on the proleptic Gregorian calendar.
+///
+/// ```
+/// use sun_algos::UtcTime;
+///
+/// // ISO 8601 in and out; the `Z` may be left out, a fraction of a second is
+/// // read to the millisecond.
+/// let t: UtcTime = "2031-04-05T06:07:08.25Z".parse()?;
+/// assert_eq!(t.to_string(), "2031-04-05T06:07:08.250Z");
+/// assert_eq!("2031-04-05 06:07:08".parse::<UtcTime>()?.to_string(), "2031-04-05T06:07:08Z");
+/// assert!("2031-02-29T00:00:00Z".parse::<UtcTime>().is_err()); // not a leap year
+/// // Ordered in time; eight bytes (a day count and the millisecond of the day).
+/// assert!(t < t.add_millis(1)?);
+/// assert_eq!(core::mem::size_of::<UtcTime>(), 8);
+/// # Ok::<(), sun_algos::Error>(())
+/// ```
 #[derive(Debug, Clone, Copy, PartialEq, Eq, PartialOrd, Ord, Hash)]
 pub struct UtcTime {
     /// Days since 2000-01-01 (that day is 0).
@@ -56,6 +104,18 @@ const DAYS_RANGE: (i32, i32) = match (Date::new(MIN_YEAR, 1, 1), Date::new(MAX_Y
 
 impl UtcTime {
     /// An instant from a calendar date and time of day.
+    ///
+    /// ```
+    /// use sun_algos::{Error, UtcTime};
+    ///
+    /// // Meeus, Astronomical Algorithms, ch. 7: 2000-01-01 12:00 is JD 2451545.0;
+    /// // example 7.a: 1957-10-04 19:26:24 (October 4.81) is JD 2436116.31.
+    /// assert_eq!(UtcTime::from_ymd_hms(2000, 1, 1, 12, 0, 0)?.julian_day_f64(), 2_451_545.0);
+    /// let sputnik = UtcTime::from_ymd_hms(1957, 10, 4, 19, 26, 24)?;
+    /// assert!((sputnik.julian_day_f64() - 2_436_116.31).abs() < 1e-6);
+    /// assert_eq!(UtcTime::from_ymd_hms(2024, 1, 1, 24, 0, 0), Err(Error::InvalidTime));
+    /// # Ok::<(), sun_algos::Error>(())
+    /// ```
     pub fn from_ymd_hms(
         year: i32,
         month: u8,
@@ -68,6 +128,18 @@ impl UtcTime {
     }
 
     /// An instant from a calendar date and time of day with milliseconds.
+    ///
+    /// ```
+    /// use sun_algos::{Error, UtcTime};
+    ///
+    /// // NREL SPA report, worked example: 2003-10-17 19:30:30 UT is JD
+    /// // 2452930.312847 (shared/reference/nrel_spa_test_vector.json); 500 ms more
+    /// // are 5.787e-6 day.
+    /// let t = UtcTime::from_ymd_hms_milli(2003, 10, 17, 19, 30, 30, 500)?;
+    /// assert!((t.julian_day_f64() - 2_452_930.312_847 - 0.5 / 86_400.0).abs() < 1e-6);
+    /// assert_eq!(UtcTime::from_ymd_hms_milli(2003, 10, 17, 19, 30, 30, 1000), Err(Error::InvalidTime));
+    /// # Ok::<(), sun_algos::Error>(())
+    /// ```
     pub fn from_ymd_hms_milli(
         year: i32,
         month: u8,
@@ -97,6 +169,25 @@ impl UtcTime {
     /// [`MIN_YEAR`]`..=`[`MAX_YEAR`], [`Error::InvalidTime`] for
     /// `ms_of_day ≥` [`MS_PER_DAY`]. A `const fn`, so that a fixed instant
     /// can be a compile-time constant.
+    ///
+    /// ```
+    /// use sun_algos::time::{Date, MS_PER_DAY};
+    /// use sun_algos::{Error, UtcTime};
+    ///
+    /// // A compile-time constant instant from a calendar Date.
+    /// const EQUINOX: Result<UtcTime, Error> = match Date::new(2026, 3, 20) {
+    ///     Ok(d) => UtcTime::from_date_ms(d, 14 * 3_600_000 + 46 * 60_000),
+    ///     Err(_) => Err(Error::InvalidDate),
+    /// };
+    /// assert_eq!(EQUINOX?.to_string(), "2026-03-20T14:46:00Z");
+    /// let d = Date::new(2000, 1, 1).unwrap();
+    /// assert_eq!(UtcTime::from_date_ms(d, 0)?, UtcTime::MIDNIGHT_2000);
+    /// assert_eq!(UtcTime::from_date_ms(d, MS_PER_DAY), Err(Error::InvalidTime));
+    /// // A Date of year 9000 exists, but lies outside UtcTime's years.
+    /// let far = Date::new(9000, 1, 1).unwrap();
+    /// assert_eq!(UtcTime::from_date_ms(far, 0), Err(Error::InvalidDate));
+    /// # Ok::<(), sun_algos::Error>(())
+    /// ```
     pub const fn from_date_ms(date: Date, ms_of_day: u32) -> Result<Self, Error> {
         let year = date.year();
         if year < MIN_YEAR || year > MAX_YEAR {
@@ -112,12 +203,31 @@ impl UtcTime {
     }
 
     /// 2000-01-01T00:00:00Z, the origin of the day count.
+    ///
+    /// ```
+    /// use sun_algos::UtcTime;
+    ///
+    /// // POSIX time of 2000-01-01T00:00:00Z: 946 684 800 s.
+    /// assert_eq!(UtcTime::MIDNIGHT_2000.unix_seconds(), 946_684_800);
+    /// assert_eq!(UtcTime::MIDNIGHT_2000.to_string(), "2000-01-01T00:00:00Z");
+    /// ```
     pub const MIDNIGHT_2000: UtcTime = UtcTime {
         days: 0,
         ms_of_day: 0,
     };
 
     /// An instant from days since 2000-01-01 and milliseconds of that day.
+    ///
+    /// ```
+    /// use sun_algos::{Error, UtcTime};
+    ///
+    /// // Python: (date(2026, 6, 21) - date(2000, 1, 1)).days == 9668.
+    /// let t = UtcTime::from_days_ms(9_668, 43_200_000)?;
+    /// assert_eq!(t.to_string(), "2026-06-21T12:00:00Z");
+    /// assert_eq!(UtcTime::from_days_ms(0, 86_400_000), Err(Error::InvalidTime));
+    /// assert_eq!(UtcTime::from_days_ms(i32::MAX, 0), Err(Error::InvalidDate));
+    /// # Ok::<(), sun_algos::Error>(())
+    /// ```
     pub fn from_days_ms(days_since_2000: i32, ms_of_day: u32) -> Result<Self, Error> {
         if ms_of_day >= MS_PER_DAY {
             return Err(Error::InvalidTime);
@@ -135,6 +245,18 @@ impl UtcTime {
     ///
     /// Any `i64` is accepted: outside the calendar range the result is
     /// [`Error::InvalidDate`], never an arithmetic overflow.
+    ///
+    /// ```
+    /// use sun_algos::{Error, UtcTime};
+    ///
+    /// // Python: datetime.fromtimestamp(1_700_000_000, timezone.utc) is
+    /// // 2023-11-14 22:13:20+00:00.
+    /// assert_eq!(UtcTime::from_unix_seconds(1_700_000_000)?.to_string(), "2023-11-14T22:13:20Z");
+    /// // Before 1970 as well; any i64 is an instant or an error.
+    /// assert_eq!(UtcTime::from_unix_seconds(-1)?.to_string(), "1969-12-31T23:59:59Z");
+    /// assert_eq!(UtcTime::from_unix_seconds(i64::MAX), Err(Error::InvalidDate));
+    /// # Ok::<(), sun_algos::Error>(())
+    /// ```
     pub fn from_unix_seconds(secs: i64) -> Result<Self, Error> {
         // Division by a positive constant cannot overflow; the subtraction can
         // only in theory, and is checked anyway.
@@ -150,6 +272,15 @@ impl UtcTime {
     }
 
     /// Seconds since 1970-01-01T00:00:00Z, milliseconds dropped.
+    ///
+    /// ```
+    /// use sun_algos::UtcTime;
+    ///
+    /// // Python: datetime(2026, 6, 21, 12, tzinfo=timezone.utc).timestamp() == 1782043200.
+    /// let t: UtcTime = "2026-06-21T12:00:00.999Z".parse()?;
+    /// assert_eq!(t.unix_seconds(), 1_782_043_200);
+    /// # Ok::<(), sun_algos::Error>(())
+    /// ```
     pub fn unix_seconds(&self) -> i64 {
         // `days` is within the ±4.4 million days of MIN_YEAR..=MAX_YEAR (checked
         // by every constructor), so this is far from the i64 limits.
@@ -162,6 +293,16 @@ impl UtcTime {
     /// Any `i64` is accepted: a result outside the calendar range is
     /// [`Error::InvalidDate`], never an arithmetic overflow (the seconds are
     /// split into whole days and a remainder before anything is multiplied).
+    ///
+    /// ```
+    /// use sun_algos::{Error, UtcTime};
+    ///
+    /// // Python: datetime(2024, 2, 28, 23) + timedelta(seconds=7200) is 2024-02-29 01:00.
+    /// let t: UtcTime = "2024-02-28T23:00:00Z".parse()?;
+    /// assert_eq!(t.add_seconds(7_200)?.to_string(), "2024-02-29T01:00:00Z");
+    /// assert_eq!(t.add_seconds(i64::MIN), Err(Error::InvalidDate));
+    /// # Ok::<(), sun_algos::Error>(())
+    /// ```
     pub fn add_seconds(&self, secs: i64) -> Result<Self, Error> {
         // 0..86_400 s, so at most 86_399_000 ms: fits a u32.
         let rest_s =
@@ -173,6 +314,16 @@ impl UtcTime {
     /// This instant moved by `ms` milliseconds (either sign); like
     /// [`UtcTime::add_seconds`], any `i64` gives a time or
     /// [`Error::InvalidDate`], never an overflow.
+    ///
+    /// ```
+    /// use sun_algos::UtcTime;
+    ///
+    /// // Python: datetime(2025, 1, 1, 0, 0, 0, 500000) - timedelta(milliseconds=1000)
+    /// // is 2024-12-31 23:59:59.500.
+    /// let t: UtcTime = "2025-01-01T00:00:00.500Z".parse()?;
+    /// assert_eq!(t.add_millis(-1_000)?.to_string(), "2024-12-31T23:59:59.500Z");
+    /// # Ok::<(), sun_algos::Error>(())
+    /// ```
     pub fn add_millis(&self, ms: i64) -> Result<Self, Error> {
         let per_day = i64::from(MS_PER_DAY);
         let rest_ms = u32::try_from(ms.rem_euclid(per_day)).map_err(|_| Error::InvalidTime)?;
@@ -194,6 +345,15 @@ impl UtcTime {
     }
 
     /// Midnight (00:00) of this instant's day.
+    ///
+    /// ```
+    /// use sun_algos::UtcTime;
+    ///
+    /// let t: UtcTime = "2003-10-17T19:30:30Z".parse()?;
+    /// assert_eq!(t.start_of_day().to_string(), "2003-10-17T00:00:00Z");
+    /// assert_eq!(t.start_of_day().days_since_2000(), t.days_since_2000());
+    /// # Ok::<(), sun_algos::Error>(())
+    /// ```
     pub fn start_of_day(&self) -> Self {
         UtcTime {
             days: self.days,
@@ -202,37 +362,101 @@ impl UtcTime {
     }
 
     /// Days since 2000-01-01 (that day is 0; negative before).
+    ///
+    /// ```
+    /// use sun_algos::UtcTime;
+    ///
+    /// // Python: (date(2024, 2, 29) - date(2000, 1, 1)).days == 8825.
+    /// assert_eq!("2024-02-29T18:00:00Z".parse::<UtcTime>()?.days_since_2000(), 8_825);
+    /// assert_eq!("1999-12-31T23:59:59Z".parse::<UtcTime>()?.days_since_2000(), -1);
+    /// # Ok::<(), sun_algos::Error>(())
+    /// ```
     pub fn days_since_2000(&self) -> i32 {
         self.days
     }
 
     /// Milliseconds since midnight.
+    ///
+    /// ```
+    /// use sun_algos::UtcTime;
+    ///
+    /// // 19 h 30 min 30.25 s = ((19 × 60 + 30) × 60 + 30) × 1000 + 250 ms.
+    /// assert_eq!("2003-10-17T19:30:30.25Z".parse::<UtcTime>()?.ms_of_day(), 70_230_250);
+    /// # Ok::<(), sun_algos::Error>(())
+    /// ```
     pub fn ms_of_day(&self) -> u32 {
         self.ms_of_day
     }
 
     /// Integer part of the Julian Day at this day's 00:00 (the JD itself is
     /// this plus one half).
+    ///
+    /// ```
+    /// use sun_algos::UtcTime;
+    ///
+    /// // Meeus, example 7.a: 1957 October 4.81 is JD 2436116.31, so that day's
+    /// // 0 h is JD 2436115.5.
+    /// let t = UtcTime::from_ymd_hms(1957, 10, 4, 19, 26, 24)?;
+    /// assert_eq!(t.jd_midnight_int(), 2_436_115);
+    /// # Ok::<(), sun_algos::Error>(())
+    /// ```
     pub fn jd_midnight_int(&self) -> i32 {
         JD_2000_MIDNIGHT_INT + self.days
     }
 
     /// Fraction of the day elapsed, `0 ≤ f < 1`.
+    ///
+    /// ```
+    /// use sun_algos::UtcTime;
+    ///
+    /// // NREL SPA worked example: JD 2452930.312847 at 19:30:30 UT, so the day
+    /// // (from 0 h, JD …929.5) is 0.812847 gone.
+    /// let t: UtcTime = "2003-10-17T19:30:30Z".parse()?;
+    /// assert!((t.day_fraction::<f64>() - 0.812_847).abs() < 1e-6);
+    /// assert!((t.day_fraction::<f32>() - 0.812_847).abs() < 1e-6);
+    /// # Ok::<(), sun_algos::Error>(())
+    /// ```
     pub fn day_fraction<T: Float>(&self) -> T {
         T::from_u32(self.ms_of_day) / T::from_u32(MS_PER_DAY)
     }
 
     /// Decimal hours since midnight.
+    ///
+    /// ```
+    /// use sun_algos::UtcTime;
+    ///
+    /// // 19:30:30 is 19 + 30/60 + 30/3600 = 19.508333 h.
+    /// let t: UtcTime = "2003-10-17T19:30:30Z".parse()?;
+    /// assert!((t.hours::<f64>() - 19.508_333_333).abs() < 1e-9);
+    /// # Ok::<(), sun_algos::Error>(())
+    /// ```
     pub fn hours<T: Float>(&self) -> T {
         T::from_u32(self.ms_of_day) / T::from_u32(3_600_000)
     }
 
     /// The full Julian Day in `f64` (host tools; algorithms keep days apart).
+    ///
+    /// ```
+    /// use sun_algos::UtcTime;
+    ///
+    /// // NREL SPA report, worked example: JD 2452930.312847.
+    /// let t: UtcTime = "2003-10-17T19:30:30Z".parse()?;
+    /// assert!((t.julian_day_f64() - 2_452_930.312_847).abs() < 1e-6);
+    /// # Ok::<(), sun_algos::Error>(())
+    /// ```
     pub fn julian_day_f64(&self) -> f64 {
         f64::from(self.jd_midnight_int()) + 0.5 + f64::from(self.ms_of_day) / f64::from(MS_PER_DAY)
     }
 
     /// Calendar date `(year, month, day)`.
+    ///
+    /// ```
+    /// use sun_algos::UtcTime;
+    ///
+    /// // Python: date(2000, 1, 1) + timedelta(8825) == date(2024, 2, 29).
+    /// assert_eq!(UtcTime::from_days_ms(8_825, 0)?.ymd(), (2024, 2, 29));
+    /// # Ok::<(), sun_algos::Error>(())
+    /// ```
     pub fn ymd(&self) -> (i32, u8, u8) {
         let date = self.date();
         (date.year(), date.month(), date.day())
@@ -240,6 +464,17 @@ impl UtcTime {
 
     /// Calendar date as a [`Date`] (for the clock drivers, or any other user
     /// of the `suntracker-time` calendar).
+    ///
+    /// ```
+    /// use sun_algos::time::Date;
+    /// use sun_algos::UtcTime;
+    ///
+    /// let t: UtcTime = "2024-02-29T18:00:00Z".parse()?;
+    /// assert_eq!(t.date(), Date::new(2024, 2, 29).unwrap());
+    /// // Python: (date(2024, 2, 29) - date(1970, 1, 1)).days == 19782.
+    /// assert_eq!(t.date().days_since_unix_epoch(), 19_782);
+    /// # Ok::<(), sun_algos::Error>(())
+    /// ```
     pub fn date(&self) -> Date {
         // `days` lies within MIN_YEAR..=MAX_YEAR (checked by every
         // constructor), inside a Date's years (the DAYS_RANGE check): the
@@ -248,11 +483,27 @@ impl UtcTime {
     }
 
     /// Calendar year.
+    ///
+    /// ```
+    /// use sun_algos::UtcTime;
+    ///
+    /// // One second before 2000-01-01 is still 1999.
+    /// assert_eq!(UtcTime::MIDNIGHT_2000.add_seconds(-1)?.year(), 1999);
+    /// # Ok::<(), sun_algos::Error>(())
+    /// ```
     pub fn year(&self) -> i32 {
         self.ymd().0
     }
 
     /// Time of day `(hour, minute, second, millisecond)`.
+    ///
+    /// ```
+    /// use sun_algos::UtcTime;
+    ///
+    /// // 70 230 250 ms after midnight: 19 h 30 min 30 s 250 ms.
+    /// assert_eq!(UtcTime::from_days_ms(0, 70_230_250)?.hms_milli(), (19, 30, 30, 250));
+    /// # Ok::<(), sun_algos::Error>(())
+    /// ```
     pub fn hms_milli(&self) -> (u8, u8, u8, u16) {
         let ms = self.ms_of_day;
         let s = ms / 1000;
@@ -265,11 +516,29 @@ impl UtcTime {
     }
 
     /// Day of the year, 1 on 1 January.
+    ///
+    /// ```
+    /// use sun_algos::UtcTime;
+    ///
+    /// // Python: date(2024, 12, 31).timetuple().tm_yday == 366 (a leap year).
+    /// assert_eq!("2024-12-31T12:00:00Z".parse::<UtcTime>()?.day_of_year(), 366);
+    /// assert_eq!("2026-06-21T12:00:00Z".parse::<UtcTime>()?.day_of_year(), 172);
+    /// # Ok::<(), sun_algos::Error>(())
+    /// ```
     pub fn day_of_year(&self) -> u16 {
         self.date().day_of_year()
     }
 
     /// Year with its elapsed fraction, e.g. 2024.5 near 1 July 2024.
+    ///
+    /// ```
+    /// use sun_algos::UtcTime;
+    ///
+    /// // Noon of 31 December 2024: 365.5 of the year's 366 days have passed.
+    /// let t: UtcTime = "2024-12-31T12:00:00Z".parse()?;
+    /// assert_eq!(t.decimal_year::<f64>(), 2024.0 + 365.5 / 366.0);
+    /// # Ok::<(), sun_algos::Error>(())
+    /// ```
     pub fn decimal_year<T: Float>(&self) -> T {
         let date = self.date();
         let y = date.year();

@@ -48,6 +48,22 @@
 //! arithmetic fits 16 bits. `tests/reference.rs` checks every day of the
 //! range against chrono's `NaiveDate`, an independent implementation.
 //!
+//! # Features
+//!
+//! All optional and off by default; each keeps the crate `no_std` and
+//! allocation-free.
+//!
+//! - `chrono`: `From<Date> for chrono::NaiveDate` (every `Date` is a chrono
+//!   date) and `TryFrom<chrono::NaiveDate> for Date` ([`DateError::Year`]
+//!   outside [`MIN_YEAR`]`..=`[`MAX_YEAR`]); chrono with
+//!   `default-features = false`.
+//! - `serde`: `Serialize`/`Deserialize` for [`Date`], as its fields
+//!   (`{"year":2024,"month":2,"day":29}` in JSON) checked again by
+//!   [`Date::new`] when read, so an invalid date is a deserialization error;
+//!   and for [`DateError`]. serde with `default-features = false`.
+//! - `defmt`: `defmt::Format` for [`Date`] (ISO 8601, as its `Display`) and
+//!   [`DateError`].
+//!
 //! # Example
 //!
 //! ```
@@ -66,12 +82,38 @@
 #![deny(unsafe_code)]
 #![warn(missing_docs)]
 
+// The README's examples are compiled and run as doc tests too.
+#[cfg(doctest)]
+#[doc = include_str!("../README.md")]
+struct ReadmeDoctests;
+
 use core::fmt;
+
+#[cfg(feature = "chrono")]
+mod with_chrono;
+#[cfg(feature = "defmt")]
+mod with_defmt;
+#[cfg(feature = "serde")]
+mod with_serde;
 
 /// First year a [`Date`] holds (ISO 8601 astronomical numbering: year 0 is
 /// 1 BC, −1 is 2 BC).
+///
+/// ```
+/// use suntracker_time::{Date, DateError, MIN_YEAR};
+///
+/// assert_eq!(Date::MIN.year(), MIN_YEAR);
+/// assert_eq!(Date::new(MIN_YEAR - 1, 12, 31), Err(DateError::Year));
+/// ```
 pub const MIN_YEAR: i32 = -9999;
 /// Last year a [`Date`] holds.
+///
+/// ```
+/// use suntracker_time::{Date, DateError, MAX_YEAR};
+///
+/// assert_eq!(Date::MAX.year(), MAX_YEAR);
+/// assert_eq!(Date::new(MAX_YEAR + 1, 1, 1), Err(DateError::Year));
+/// ```
 pub const MAX_YEAR: i32 = 9999;
 
 /// Days in one 400-year Gregorian cycle (400 × 365 + 97 leap days).
@@ -86,6 +128,16 @@ const DAYS_SHIFT: i32 = 25 * DAYS_PER_ERA + 719_468;
 
 /// True for Gregorian leap years: every fourth year, except the centuries
 /// not divisible by 400 (1900 and 2100 are not leap years, 2000 is).
+///
+/// ```
+/// use suntracker_time::is_leap_year;
+///
+/// // Python's calendar.isleap gives the same for each year.
+/// assert!(is_leap_year(2000) && is_leap_year(2024) && is_leap_year(1600));
+/// assert!(!is_leap_year(1900) && !is_leap_year(2100) && !is_leap_year(2023));
+/// // Proleptic and astronomical: year 0 (1 BC) and −4 (5 BC) are leap years.
+/// assert!(is_leap_year(0) && is_leap_year(-4) && !is_leap_year(-100));
+/// ```
 pub const fn is_leap_year(year: i32) -> bool {
     // For a multiple of 4, "divisible by 100" is "divisible by 25" and
     // "divisible by 400" is "divisible by 16": the same rule with one
@@ -95,6 +147,17 @@ pub const fn is_leap_year(year: i32) -> bool {
 }
 
 /// Number of days in a month (1..=12) of a year; 0 for a month outside 1..=12.
+///
+/// ```
+/// use suntracker_time::days_in_month;
+///
+/// // Python: calendar.monthrange(2024, 2)[1] == 29, (2023, 2) → 28.
+/// assert_eq!(days_in_month(2024, 2), 29);
+/// assert_eq!(days_in_month(2023, 2), 28);
+/// assert_eq!(days_in_month(2023, 4), 30);
+/// assert_eq!(days_in_month(2023, 12), 31);
+/// assert_eq!(days_in_month(2023, 13), 0);
+/// ```
 pub const fn days_in_month(year: i32, month: u8) -> u8 {
     match month {
         2 => 28 + is_leap_year(year) as u8,
@@ -185,6 +248,24 @@ const fn civil_in_range(days: i32) -> (i16, u8, u8) {
 /// month before, month 13 is January of the next year); months above 13 give
 /// a count callers must not rely on. Firmware should use [`Date`], whose
 /// arithmetic stays in 16 and 32 bits.
+///
+/// ```
+/// use suntracker_time::days_from_civil;
+///
+/// // Python: (date(2000, 1, 1) - date(1970, 1, 1)).days == 10957, and
+/// // (date(1, 1, 1) - date(1970, 1, 1)).days == -719162.
+/// assert_eq!(days_from_civil(2000, 1, 1), 10_957);
+/// assert_eq!(days_from_civil(1, 1, 1), -719_162);
+/// // Month 13 and day 0 roll over.
+/// assert_eq!(days_from_civil(2024, 13, 1), days_from_civil(2025, 1, 1));
+/// assert_eq!(days_from_civil(2024, 3, 0), days_from_civil(2024, 2, 29));
+/// // Far outside a Date's years, still a count: 1 000 000 years are
+/// // 2 500 Gregorian cycles of 146 097 days.
+/// assert_eq!(
+///     days_from_civil(1_002_000, 1, 1) - days_from_civil(2000, 1, 1),
+///     2_500 * 146_097
+/// );
+/// ```
 pub const fn days_from_civil(year: i32, month: u8, day: u8) -> i64 {
     // The calendar repeats every 400 years (146 097 days): whole cycles are
     // counted apart, the rest goes through the one implementation.
@@ -199,6 +280,18 @@ pub const fn days_from_civil(year: i32, month: u8, day: u8) -> i64 {
 /// No validation is needed (every count is a date, years within about ±5.9
 /// million); [`Date::from_days_since_unix_epoch`] is the same conversion
 /// limited to the years of a [`Date`].
+///
+/// ```
+/// use suntracker_time::civil_from_days;
+///
+/// // Python: date(1970, 1, 1) + timedelta(19782) == date(2024, 2, 29).
+/// assert_eq!(civil_from_days(19_782), (2024, 2, 29));
+/// assert_eq!(civil_from_days(-1), (1969, 12, 31));
+/// assert_eq!(civil_from_days(-719_162), (1, 1, 1));
+/// // Total over i32: years beyond ±5 million.
+/// let (year, _, _) = civil_from_days(i32::MAX);
+/// assert!(year > 5_000_000);
+/// ```
 pub const fn civil_from_days(days: i32) -> (i32, u8, u8) {
     // As in days_from_civil: whole 400-year cycles apart (|eras| ≤ 14 699,
     // so eras × 400 is within ±5.9 × 10⁶).
@@ -208,7 +301,19 @@ pub const fn civil_from_days(days: i32) -> (i32, u8, u8) {
 }
 
 /// Why a date was rejected.
+///
+/// ```
+/// use suntracker_time::{Date, DateError};
+///
+/// // Checked in the order year, month, day.
+/// assert_eq!(Date::new(12_000, 2, 30), Err(DateError::Year));
+/// assert_eq!(Date::new(2024, 13, 30), Err(DateError::Month));
+/// assert_eq!(Date::new(2024, 2, 30), Err(DateError::Day));
+/// assert_eq!(DateError::Month.to_string(), "month outside 1..=12");
+/// ```
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
 pub enum DateError {
     /// Year outside [`MIN_YEAR`]`..=`[`MAX_YEAR`] (or a day count outside
     /// those years).
@@ -235,7 +340,21 @@ impl core::error::Error for DateError {}
 /// [`MIN_YEAR`]`..=`[`MAX_YEAR`].
 ///
 /// The fields are private, so every `Date` in circulation is valid; the
-/// derived ordering is chronological (year, then month, then day).
+/// derived ordering is chronological (year, then month, then day). `Display`
+/// is ISO 8601.
+///
+/// ```
+/// use suntracker_time::{Date, DateError};
+///
+/// let d = Date::new(1969, 7, 20)?;
+/// assert_eq!(d.to_string(), "1969-07-20");
+/// assert!(d < Date::UNIX_EPOCH && Date::MIN < d && d < Date::MAX);
+/// // Python: (date(1969, 7, 20) - date(1970, 1, 1)).days == -165.
+/// assert_eq!(d.days_since_unix_epoch(), -165);
+/// assert_eq!(Date::new(-44, 3, 15)?.to_string(), "-0044-03-15");
+/// assert_eq!(core::mem::size_of::<Date>(), 4);
+/// # Ok::<(), DateError>(())
+/// ```
 #[derive(Debug, Clone, Copy, PartialEq, Eq, PartialOrd, Ord, Hash)]
 pub struct Date {
     /// `MIN_YEAR..=MAX_YEAR`, which fits an i16.
@@ -248,18 +367,40 @@ pub struct Date {
 
 impl Date {
     /// 1970-01-01, day 0 of [`Date::days_since_unix_epoch`].
+    ///
+    /// ```
+    /// use suntracker_time::Date;
+    ///
+    /// assert_eq!(Date::UNIX_EPOCH.days_since_unix_epoch(), 0);
+    /// // 1 January 1970 was a Thursday (Python: date(1970, 1, 1).isoweekday() == 4).
+    /// assert_eq!(Date::UNIX_EPOCH.iso_weekday(), 4);
+    /// ```
     pub const UNIX_EPOCH: Date = Date {
         year: 1970,
         month: 1,
         day: 1,
     };
     /// The first date: −9999-01-01.
+    ///
+    /// ```
+    /// use suntracker_time::{days_from_civil, Date};
+    ///
+    /// assert_eq!(Date::MIN.to_string(), "-9999-01-01");
+    /// assert_eq!(i64::from(Date::MIN.days_since_unix_epoch()), days_from_civil(-9999, 1, 1));
+    /// ```
     pub const MIN: Date = Date {
         year: MIN_YEAR as i16,
         month: 1,
         day: 1,
     };
     /// The last date: 9999-12-31.
+    ///
+    /// ```
+    /// use suntracker_time::Date;
+    ///
+    /// // Python: (date(9999, 12, 31) - date(1970, 1, 1)).days == 2932896.
+    /// assert_eq!(Date::MAX.days_since_unix_epoch(), 2_932_896);
+    /// ```
     pub const MAX: Date = Date {
         year: MAX_YEAR as i16,
         month: 12,
@@ -272,6 +413,19 @@ impl Date {
 
     /// A validated date; the year is checked first, then the month, then the
     /// day.
+    ///
+    /// ```
+    /// use suntracker_time::{Date, DateError};
+    ///
+    /// let d = Date::new(2024, 2, 29)?;
+    /// assert_eq!((d.year(), d.month(), d.day()), (2024, 2, 29));
+    /// assert_eq!(Date::new(2023, 2, 29), Err(DateError::Day)); // not a leap year
+    /// assert_eq!(Date::new(2024, 0, 1), Err(DateError::Month));
+    /// // A const fn: a fixed date can be a compile-time constant.
+    /// const START: Result<Date, DateError> = Date::new(2026, 3, 20);
+    /// assert!(START.is_ok());
+    /// # Ok::<(), DateError>(())
+    /// ```
     pub const fn new(year: i32, month: u8, day: u8) -> Result<Date, DateError> {
         if year < MIN_YEAR || year > MAX_YEAR {
             return Err(DateError::Year);
@@ -291,6 +445,15 @@ impl Date {
 
     /// The date `days` days after 1970-01-01 (before it when negative);
     /// [`DateError::Year`] outside [`Date::MIN`]`..=`[`Date::MAX`].
+    ///
+    /// ```
+    /// use suntracker_time::{Date, DateError};
+    ///
+    /// // Python: date(1970, 1, 1) + timedelta(20778) == date(2026, 11, 21).
+    /// assert_eq!(Date::from_days_since_unix_epoch(20_778)?, Date::new(2026, 11, 21)?);
+    /// assert_eq!(Date::from_days_since_unix_epoch(2_932_897), Err(DateError::Year));
+    /// # Ok::<(), DateError>(())
+    /// ```
     pub const fn from_days_since_unix_epoch(days: i32) -> Result<Date, DateError> {
         if days < Date::MIN_DAYS || days > Date::MAX_DAYS {
             return Err(DateError::Year);
@@ -302,6 +465,15 @@ impl Date {
     /// The date `days` days after 1970-01-01 (before it when negative),
     /// clamped to [`Date::MIN`]`..=`[`Date::MAX`]: for callers whose count is
     /// already known to lie in the range, without an error path to carry.
+    ///
+    /// ```
+    /// use suntracker_time::Date;
+    ///
+    /// // Python: date(1970, 1, 1) + timedelta(10957) == date(2000, 1, 1).
+    /// assert_eq!(Date::from_days_since_unix_epoch_clamped(10_957).to_string(), "2000-01-01");
+    /// assert_eq!(Date::from_days_since_unix_epoch_clamped(i32::MAX), Date::MAX);
+    /// assert_eq!(Date::from_days_since_unix_epoch_clamped(i32::MIN), Date::MIN);
+    /// ```
     pub const fn from_days_since_unix_epoch_clamped(days: i32) -> Date {
         let days = if days < Date::MIN_DAYS {
             Date::MIN_DAYS
@@ -315,26 +487,69 @@ impl Date {
     }
 
     /// Days since 1970-01-01 (negative before), −4 371 587 ..= 2 932 896.
+    ///
+    /// ```
+    /// use suntracker_time::{Date, DateError};
+    ///
+    /// // POSIX time of 2000-01-01T00:00:00Z is 946 684 800 s = 10 957 days.
+    /// assert_eq!(Date::new(2000, 1, 1)?.days_since_unix_epoch(), 946_684_800 / 86_400);
+    /// // Python: (date(1900, 2, 28) - date(1970, 1, 1)).days == -25509.
+    /// assert_eq!(Date::new(1900, 2, 28)?.days_since_unix_epoch(), -25_509);
+    /// # Ok::<(), DateError>(())
+    /// ```
     pub const fn days_since_unix_epoch(self) -> i32 {
         days_from_civil_in_range(self.year, self.month, self.day)
     }
 
     /// Year, [`MIN_YEAR`]`..=`[`MAX_YEAR`] (0 is 1 BC).
+    ///
+    /// ```
+    /// use suntracker_time::{Date, DateError};
+    ///
+    /// assert_eq!(Date::new(-44, 3, 15)?.year(), -44); // 45 BC
+    /// # Ok::<(), DateError>(())
+    /// ```
     pub const fn year(self) -> i32 {
         self.year as i32
     }
 
     /// Month, 1..=12.
+    ///
+    /// ```
+    /// use suntracker_time::{Date, DateError};
+    ///
+    /// // Python: date(1970, 1, 1) + timedelta(-1) is 1969-12-31.
+    /// assert_eq!(Date::from_days_since_unix_epoch(-1)?.month(), 12);
+    /// # Ok::<(), DateError>(())
+    /// ```
     pub const fn month(self) -> u8 {
         self.month
     }
 
     /// Day of the month, 1..=31.
+    ///
+    /// ```
+    /// use suntracker_time::{Date, DateError};
+    ///
+    /// // Python: date(1970, 1, 1) + timedelta(11016) == date(2000, 2, 29).
+    /// assert_eq!(Date::from_days_since_unix_epoch(11_016)?.day(), 29);
+    /// # Ok::<(), DateError>(())
+    /// ```
     pub const fn day(self) -> u8 {
         self.day
     }
 
     /// Day of the year, 1 on 1 January, 365 or 366 on 31 December.
+    ///
+    /// ```
+    /// use suntracker_time::{Date, DateError};
+    ///
+    /// // Python: date(y, m, d).timetuple().tm_yday.
+    /// assert_eq!(Date::new(2024, 12, 31)?.day_of_year(), 366);
+    /// assert_eq!(Date::new(2026, 6, 21)?.day_of_year(), 172);
+    /// assert_eq!(Date::new(1900, 3, 1)?.day_of_year(), 60);
+    /// # Ok::<(), DateError>(())
+    /// ```
     pub const fn day_of_year(self) -> u16 {
         // 1..=366 counted from 1 March (1 on 1 March).
         let from_march =
@@ -349,6 +564,16 @@ impl Date {
     }
 
     /// Day of the week as in ISO 8601: 1 = Monday … 7 = Sunday.
+    ///
+    /// ```
+    /// use suntracker_time::{Date, DateError};
+    ///
+    /// // Python: date(y, m, d).isoweekday().
+    /// assert_eq!(Date::new(2026, 6, 21)?.iso_weekday(), 7); // a Sunday
+    /// assert_eq!(Date::new(2024, 12, 31)?.iso_weekday(), 2); // a Tuesday
+    /// assert_eq!(Date::new(1, 1, 1)?.iso_weekday(), 1); // a Monday
+    /// # Ok::<(), DateError>(())
+    /// ```
     pub const fn iso_weekday(self) -> u8 {
         // 1970-01-01 (day 0) was a Thursday (4); counted from −10000-03-01
         // (DAYS_SHIFT ≡ 1 mod 7) the count is never negative, so the

@@ -15,7 +15,23 @@
 use super::Vector3;
 
 /// Why a sweep did not give a calibration.
+///
+/// ```
+/// use drivers::compass::calibration::{CalibrationError, CalibrationSweep};
+/// use drivers::compass::Vector3;
+///
+/// let mut sweep = CalibrationSweep::new();
+/// assert_eq!(sweep.add(Vector3::new(f32::NAN, 0.0, 0.0)), Err(CalibrationError::NonFinite));
+/// assert_eq!(sweep.finish(2, 0.1), Err(CalibrationError::TooFewSamples));
+/// sweep.add(Vector3::new(0.1, 0.1, 0.1))?;
+/// sweep.add(Vector3::new(0.1, 0.1, 0.1))?;
+/// // The sensor never turned: every span is 0.
+/// assert_eq!(sweep.finish(2, 0.1), Err(CalibrationError::SpanTooSmall));
+/// # Ok::<(), CalibrationError>(())
+/// ```
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
 pub enum CalibrationError {
     /// A sample was NaN or infinite (it was not used).
     NonFinite,
@@ -42,7 +58,24 @@ impl core::fmt::Display for CalibrationError {
 impl core::error::Error for CalibrationError {}
 
 /// Hard-iron offsets and soft-iron scale factors.
+///
+/// With the `serde` feature it can be kept in a configuration store between
+/// boots.
+///
+/// ```
+/// use drivers::compass::calibration::Calibration;
+/// use drivers::compass::Vector3;
+///
+/// let stored = Calibration {
+///     offset: Vector3::new(0.05, -0.02, 0.1),
+///     scale: Vector3::new(1.25, 1.0, 1.0),
+/// };
+/// let corrected = stored.apply(Vector3::new(0.25, -0.02, 0.1));
+/// assert!((corrected.x - 0.25).abs() < 1e-6); // (0.25 − 0.05) × 1.25
+/// ```
 #[derive(Debug, Clone, Copy, PartialEq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
 pub struct Calibration {
     /// Hard-iron offset, subtracted first (same unit as the samples).
     pub offset: Vector3,
@@ -52,12 +85,33 @@ pub struct Calibration {
 
 impl Calibration {
     /// No correction.
+    ///
+    /// ```
+    /// use drivers::compass::calibration::Calibration;
+    /// use drivers::compass::Vector3;
+    ///
+    /// let v = Vector3::new(0.1, -0.2, 0.3);
+    /// assert_eq!(Calibration::IDENTITY.apply(v), v);
+    /// ```
     pub const IDENTITY: Self = Self {
         offset: Vector3::new(0.0, 0.0, 0.0),
         scale: Vector3::new(1.0, 1.0, 1.0),
     };
 
     /// Applies the correction to one raw sample.
+    ///
+    /// ```
+    /// use drivers::compass::calibration::Calibration;
+    /// use drivers::compass::Vector3;
+    ///
+    /// let cal = Calibration {
+    ///     offset: Vector3::new(0.05, -0.02, 0.1),
+    ///     scale: Vector3::new(1.25, 1.0, 0.5),
+    /// };
+    /// // (raw − offset) · scale, per axis.
+    /// let v = cal.apply(Vector3::new(0.05, 0.23, 0.5));
+    /// assert!(v.x.abs() < 1e-7 && (v.y - 0.25).abs() < 1e-7 && (v.z - 0.2).abs() < 1e-7);
+    /// ```
     pub fn apply(&self, raw: Vector3) -> Vector3 {
         Vector3 {
             x: (raw.x - self.offset.x) * self.scale.x,
@@ -68,7 +122,34 @@ impl Calibration {
 }
 
 /// Running min/max of a rotation sweep.
+///
+/// ```
+/// use drivers::compass::calibration::CalibrationSweep;
+/// use drivers::compass::Vector3;
+///
+/// // A sweep of a sensor whose field circle (radius 0.2 G in x, 0.25 G in
+/// // y, 0.3 G in z) is centred on a hard-iron offset (0.05, −0.02, 0.1).
+/// let mut sweep = CalibrationSweep::new();
+/// for raw in [
+///     Vector3::new(0.25, -0.02, 0.1),
+///     Vector3::new(-0.15, -0.02, 0.1),
+///     Vector3::new(0.05, 0.23, 0.1),
+///     Vector3::new(0.05, -0.27, 0.1),
+///     Vector3::new(0.05, -0.02, 0.4),
+///     Vector3::new(0.05, -0.02, -0.2),
+/// ] {
+///     sweep.add(raw)?;
+/// }
+/// let cal = sweep.finish(6, 0.1)?;
+/// // offset = centre of each axis' range; scale = mean radius / axis radius,
+/// // with radii 0.2, 0.25, 0.3 and mean 0.25.
+/// assert!((cal.offset.x - 0.05).abs() < 1e-6 && (cal.offset.z - 0.1).abs() < 1e-6);
+/// assert!((cal.scale.x - 1.25).abs() < 1e-5);
+/// assert!((cal.scale.z - 0.25 / 0.3).abs() < 1e-5);
+/// # Ok::<(), drivers::compass::calibration::CalibrationError>(())
+/// ```
 #[derive(Debug, Clone, Copy, PartialEq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
 pub struct CalibrationSweep {
     min: Vector3,
     max: Vector3,
@@ -83,6 +164,14 @@ impl Default for CalibrationSweep {
 
 impl CalibrationSweep {
     /// An empty sweep.
+    ///
+    /// ```
+    /// use drivers::compass::calibration::CalibrationSweep;
+    ///
+    /// let sweep = CalibrationSweep::new();
+    /// assert_eq!(sweep.samples(), 0);
+    /// assert_eq!(sweep, CalibrationSweep::default());
+    /// ```
     pub const fn new() -> Self {
         Self {
             min: Vector3::new(f32::INFINITY, f32::INFINITY, f32::INFINITY),
@@ -92,11 +181,34 @@ impl CalibrationSweep {
     }
 
     /// Number of samples taken so far.
+    ///
+    /// ```
+    /// use drivers::compass::calibration::CalibrationSweep;
+    /// use drivers::compass::Vector3;
+    ///
+    /// let mut sweep = CalibrationSweep::new();
+    /// sweep.add(Vector3::new(0.1, 0.2, 0.3))?;
+    /// let _ = sweep.add(Vector3::new(f32::NAN, 0.0, 0.0)); // refused, not counted
+    /// assert_eq!(sweep.samples(), 1);
+    /// # Ok::<(), drivers::compass::calibration::CalibrationError>(())
+    /// ```
     pub fn samples(&self) -> u32 {
         self.samples
     }
 
     /// Adds one raw sample; non-finite samples are refused.
+    ///
+    /// ```
+    /// use drivers::compass::calibration::{CalibrationError, CalibrationSweep};
+    /// use drivers::compass::Vector3;
+    ///
+    /// let mut sweep = CalibrationSweep::new();
+    /// assert_eq!(sweep.add(Vector3::new(0.1, 0.2, 0.3)), Ok(()));
+    /// assert_eq!(
+    ///     sweep.add(Vector3::new(0.1, f32::INFINITY, 0.3)),
+    ///     Err(CalibrationError::NonFinite)
+    /// );
+    /// ```
     pub fn add(&mut self, raw: Vector3) -> Result<(), CalibrationError> {
         if !raw.is_finite() {
             return Err(CalibrationError::NonFinite);
@@ -120,6 +232,33 @@ impl CalibrationSweep {
     }
 
     /// Three-axis calibration; every axis span must be at least `min_span`.
+    ///
+    /// ```
+    /// use drivers::compass::calibration::{CalibrationError, CalibrationSweep};
+    /// use drivers::compass::Vector3;
+    ///
+    /// // A sweep of a sensor whose field circle (radius 0.2 G in x, 0.25 G in
+    /// // y, 0.3 G in z) is centred on a hard-iron offset (0.05, −0.02, 0.1).
+    /// let mut sweep = CalibrationSweep::new();
+    /// for raw in [
+    ///     Vector3::new(0.25, -0.02, 0.1),
+    ///     Vector3::new(-0.15, -0.02, 0.1),
+    ///     Vector3::new(0.05, 0.23, 0.1),
+    ///     Vector3::new(0.05, -0.27, 0.1),
+    ///     Vector3::new(0.05, -0.02, 0.4),
+    ///     Vector3::new(0.05, -0.02, -0.2),
+    /// ] {
+    ///     sweep.add(raw)?;
+    /// }
+    /// let cal = sweep.finish(6, 0.1)?;
+    /// // The six extremes map onto one sphere of radius 0.25 (the mean).
+    /// let c = cal.apply(Vector3::new(-0.15, -0.02, 0.1));
+    /// assert!((c.x + 0.25).abs() < 1e-5 && c.y.abs() < 1e-6 && c.z.abs() < 1e-6);
+    /// // A span of 0.4 G in x is not enough when 0.5 G is asked for.
+    /// assert_eq!(sweep.finish(6, 0.5), Err(CalibrationError::SpanTooSmall));
+    /// assert_eq!(sweep.finish(100, 0.1), Err(CalibrationError::TooFewSamples));
+    /// # Ok::<(), CalibrationError>(())
+    /// ```
     pub fn finish(&self, min_samples: u32, min_span: f32) -> Result<Calibration, CalibrationError> {
         self.check(min_samples)?;
         let (ox, rx) = centre_radius(self.min.x, self.max.x, min_span)?;
@@ -134,6 +273,27 @@ impl CalibrationSweep {
 
     /// Calibration of x and y only (z left as measured): for a sweep in azimuth
     /// with the sensor roughly level.
+    ///
+    /// ```
+    /// use drivers::compass::calibration::CalibrationSweep;
+    /// use drivers::compass::Vector3;
+    ///
+    /// // A turn in azimuth only: z stays near −0.4 G.
+    /// let mut sweep = CalibrationSweep::new();
+    /// for raw in [
+    ///     Vector3::new(0.25, -0.02, -0.4),
+    ///     Vector3::new(0.05, 0.23, -0.4),
+    ///     Vector3::new(-0.15, -0.02, -0.41),
+    ///     Vector3::new(0.05, -0.27, -0.4),
+    /// ] {
+    ///     sweep.add(raw)?;
+    /// }
+    /// let cal = sweep.finish_xy(4, 0.1)?;
+    /// assert!((cal.offset.x - 0.05).abs() < 1e-6 && (cal.offset.y + 0.02).abs() < 1e-6);
+    /// assert_eq!((cal.offset.z, cal.scale.z), (0.0, 1.0)); // z left as measured
+    /// assert!((cal.scale.x - 1.125).abs() < 1e-5); // mean radius 0.225 / 0.2
+    /// # Ok::<(), drivers::compass::calibration::CalibrationError>(())
+    /// ```
     pub fn finish_xy(
         &self,
         min_samples: u32,

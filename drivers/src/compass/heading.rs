@@ -33,7 +33,22 @@ use super::Vector3;
 use crate::fmath;
 
 /// Why no heading could be computed.
+///
+/// ```
+/// use drivers::compass::heading::{magnetic_heading_deg, HeadingError};
+/// use drivers::compass::Vector3;
+///
+/// // A field straight down (at a magnetic pole): no horizontal direction.
+/// let down = Vector3::new(0.0, 0.0, -0.6);
+/// assert_eq!(magnetic_heading_deg(down, 0.0, 0.0), Err(HeadingError::NoHorizontalField));
+/// assert_eq!(
+///     magnetic_heading_deg(down, f32::NAN, 0.0),
+///     Err(HeadingError::NonFinite)
+/// );
+/// ```
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
 pub enum HeadingError {
     /// An input was NaN or infinite.
     NonFinite,
@@ -53,6 +68,24 @@ impl core::fmt::Display for HeadingError {
 impl core::error::Error for HeadingError {}
 
 /// The field with the tilt removed, seed Expression (8): `R_X(α₀)·R_Y(β₀)·h`.
+///
+/// ```
+/// use drivers::compass::heading::detilt;
+/// use drivers::compass::Vector3;
+///
+/// // The reading of a magnetometer on a mount turned γ₀ = 30° about Z and
+/// // tilted α₀ = 10°, β₀ = −15°, in a field of 0.2 G horizontal, 0.45 G down
+/// // and a declination of 3° E: Tᵀ·F with T = R_Z(γ₀)·R_X(α₀)·R_Y(β₀),
+/// // computed independently with numpy.
+/// let h = Vector3::new(-0.212_376_78, -0.243_327_54, -0.371_736_21);
+/// let (alpha0, beta0) = (10f32.to_radians(), (-15f32).to_radians());
+/// let level = detilt(h, alpha0, beta0);
+/// // R_X(α₀)·R_Y(β₀)·h by numpy: (−0.108 927 81, −0.167 734 11, −0.45), the
+/// // field as a level sensor turned by γ₀ would see it.
+/// assert!((level.x + 0.108_927_81).abs() < 1e-6);
+/// assert!((level.y + 0.167_734_11).abs() < 1e-6);
+/// assert!((level.z + 0.45).abs() < 1e-6);
+/// ```
 pub fn detilt(field: Vector3, alpha0_rad: f32, beta0_rad: f32) -> Vector3 {
     let (sa, ca) = fmath::sin_cos(alpha0_rad);
     let (sb, cb) = fmath::sin_cos(beta0_rad);
@@ -65,6 +98,25 @@ pub fn detilt(field: Vector3, alpha0_rad: f32, beta0_rad: f32) -> Vector3 {
 
 /// δ₀, the mount's rotation about Z measured from magnetic north, degrees in
 /// −180..180: seed Expressions (8)–(10).
+///
+/// ```
+/// use drivers::compass::heading::magnetic_rotation_deg;
+/// use drivers::compass::Vector3;
+///
+/// // The reading of a magnetometer on a mount turned γ₀ = 30° about Z and
+/// // tilted α₀ = 10°, β₀ = −15°, in a field of 0.2 G horizontal, 0.45 G down
+/// // and a declination of 3° E: Tᵀ·F with T = R_Z(γ₀)·R_X(α₀)·R_Y(β₀),
+/// // computed independently with numpy.
+/// let h = Vector3::new(-0.212_376_78, -0.243_327_54, -0.371_736_21);
+/// let (alpha0, beta0) = (10f32.to_radians(), (-15f32).to_radians());
+/// // δ₀ = γ₀ + D = 33°.
+/// let delta0 = magnetic_rotation_deg(h, alpha0, beta0)?;
+/// assert!((delta0 - 33.0).abs() < 1e-3);
+/// // Level, with the field along +x: x points to magnetic north, δ₀ = −90°.
+/// let d = magnetic_rotation_deg(Vector3::new(0.2, 0.0, -0.4), 0.0, 0.0)?;
+/// assert!((d + 90.0).abs() < 1e-4);
+/// # Ok::<(), drivers::compass::heading::HeadingError>(())
+/// ```
 pub fn magnetic_rotation_deg(
     field: Vector3,
     alpha0_rad: f32,
@@ -84,6 +136,21 @@ pub fn magnetic_rotation_deg(
 
 /// γ₀, the mount's rotation about Z from the true-north frame, degrees in
 /// −180..180: seed Expression (11), `γ₀ = δ₀ − D` (D east positive).
+///
+/// ```
+/// use drivers::compass::heading::gamma0_deg;
+/// use drivers::compass::Vector3;
+///
+/// // The reading of a magnetometer on a mount turned γ₀ = 30° about Z and
+/// // tilted α₀ = 10°, β₀ = −15°, in a field of 0.2 G horizontal, 0.45 G down
+/// // and a declination of 3° E: Tᵀ·F with T = R_Z(γ₀)·R_X(α₀)·R_Y(β₀),
+/// // computed independently with numpy.
+/// let h = Vector3::new(-0.212_376_78, -0.243_327_54, -0.371_736_21);
+/// let (alpha0, beta0) = (10f32.to_radians(), (-15f32).to_radians());
+/// let gamma0 = gamma0_deg(h, alpha0, beta0, 3.0)?;
+/// assert!((gamma0 - 30.0).abs() < 1e-3); // the rotation the reading was made with
+/// # Ok::<(), drivers::compass::heading::HeadingError>(())
+/// ```
 pub fn gamma0_deg(
     field: Vector3,
     alpha0_rad: f32,
@@ -99,6 +166,20 @@ pub fn gamma0_deg(
 
 /// Azimuth of the tracker's +y axis, degrees 0..360 clockwise from magnetic
 /// north: `180° − δ₀`.
+///
+/// ```
+/// use drivers::compass::heading::magnetic_heading_deg;
+/// use drivers::compass::Vector3;
+///
+/// // Level, at the home pose: the field (pointing north and down) is along
+/// // −y, so +y points south, azimuth 180°.
+/// let home = magnetic_heading_deg(Vector3::new(0.0, -0.2, -0.4), 0.0, 0.0)?;
+/// assert!((home - 180.0).abs() < 1e-4);
+/// // The field along +x: x points north, so +y points west, 270°.
+/// let west = magnetic_heading_deg(Vector3::new(0.2, 0.0, -0.4), 0.0, 0.0)?;
+/// assert!((west - 270.0).abs() < 1e-4);
+/// # Ok::<(), drivers::compass::heading::HeadingError>(())
+/// ```
 pub fn magnetic_heading_deg(
     field: Vector3,
     alpha0_rad: f32,
@@ -109,6 +190,21 @@ pub fn magnetic_heading_deg(
 
 /// Azimuth of the tracker's +y axis, degrees 0..360 clockwise from true north:
 /// `180° − γ₀` = magnetic heading + D.
+///
+/// ```
+/// use drivers::compass::heading::true_heading_deg;
+/// use drivers::compass::Vector3;
+///
+/// // The reading of a magnetometer on a mount turned γ₀ = 30° about Z and
+/// // tilted α₀ = 10°, β₀ = −15°, in a field of 0.2 G horizontal, 0.45 G down
+/// // and a declination of 3° E: Tᵀ·F with T = R_Z(γ₀)·R_X(α₀)·R_Y(β₀),
+/// // computed independently with numpy.
+/// let h = Vector3::new(-0.212_376_78, -0.243_327_54, -0.371_736_21);
+/// let (alpha0, beta0) = (10f32.to_radians(), (-15f32).to_radians());
+/// let azimuth = true_heading_deg(h, alpha0, beta0, 3.0)?;
+/// assert!((azimuth - 150.0).abs() < 1e-3); // 180° − γ₀
+/// # Ok::<(), drivers::compass::heading::HeadingError>(())
+/// ```
 pub fn true_heading_deg(
     field: Vector3,
     alpha0_rad: f32,
@@ -119,6 +215,14 @@ pub fn true_heading_deg(
 }
 
 /// Wraps an angle into 0..360 degrees.
+///
+/// ```
+/// use drivers::compass::heading::wrap360_deg;
+///
+/// assert_eq!(wrap360_deg(-90.0), 270.0);
+/// assert_eq!(wrap360_deg(720.0), 0.0);
+/// assert_eq!(wrap360_deg(359.5), 359.5);
+/// ```
 pub fn wrap360_deg(angle_deg: f32) -> f32 {
     let w = angle_deg - 360.0 * fmath::floor(angle_deg / 360.0);
     if w >= 360.0 {
@@ -129,6 +233,14 @@ pub fn wrap360_deg(angle_deg: f32) -> f32 {
 }
 
 /// Wraps an angle into −180..180 degrees.
+///
+/// ```
+/// use drivers::compass::heading::wrap180_deg;
+///
+/// assert_eq!(wrap180_deg(270.0), -90.0);
+/// assert_eq!(wrap180_deg(180.0), -180.0);
+/// assert_eq!(wrap180_deg(-190.0), 170.0);
+/// ```
 pub fn wrap180_deg(angle_deg: f32) -> f32 {
     let w = wrap360_deg(angle_deg);
     if w >= 180.0 {

@@ -24,6 +24,21 @@
 //! Coefficients: NOAA NCEI's official `WMM.COF` for WMM2025 (public domain),
 //! committed as `WMM2025.COF` and turned into a const table by
 //! `gen_wmm_coefficients.py` (see `wmm2025_coefficients.rs`).
+//!
+//! The declinations in the examples are NOAA's WMM2025 test values (WMM2025
+//! technical report, test-value table), given there to 0.01°.
+//!
+//! ```
+//! use drivers::compass::wmm::{decimal_year, WmmModel};
+//!
+//! // NOAA's WMM2025 test values: 2027.5, 0 km, 80° S, 240° E: D = 68.49°.
+//! let d: f64 = WmmModel::wmm2025().declination_deg(-80.0, 240.0, 0.0, 2027.5)?;
+//! assert!((d - 68.49).abs() < 0.005);
+//! // The date as the model wants it: 2027-07-02T12:00Z is half way
+//! // through 2027 (day 183 of 365, at noon).
+//! assert_eq!(decimal_year(2027, 7, 2, 43_200)?, 2027.5);
+//! # Ok::<(), drivers::compass::wmm::WmmError>(())
+//! ```
 
 use super::wmm2025_coefficients::{COEFFICIENTS, EPOCH_YEAR};
 use sun_algos::Float;
@@ -40,7 +55,25 @@ const WGS84_F: f64 = 1.0 / 298.257_223_563;
 const LIFESPAN_YEARS: f64 = 5.0;
 
 /// One row of a WMM coefficient file.
+///
+/// ```
+/// use drivers::compass::wmm::WmmCoefficient;
+///
+/// // The first row of NOAA's WMM2025 WMM.COF: n = 1, m = 0,
+/// // g = −29351.8 nT, h = 0, ġ = 12.0 nT/yr, ḣ = 0.
+/// let row = WmmCoefficient {
+///     n: 1,
+///     m: 0,
+///     g_nt: -29_351.8,
+///     h_nt: 0.0,
+///     g_dot_nt_per_yr: 12.0,
+///     h_dot_nt_per_yr: 0.0,
+/// };
+/// assert_eq!((row.n, row.m), (1, 0));
+/// ```
 #[derive(Debug, Clone, Copy, PartialEq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
 pub struct WmmCoefficient {
     /// Degree n.
     pub n: u8,
@@ -57,7 +90,20 @@ pub struct WmmCoefficient {
 }
 
 /// Why the model could not be evaluated.
+///
+/// ```
+/// use drivers::compass::wmm::{WmmError, WmmModel};
+///
+/// let wmm = WmmModel::wmm2025();
+/// assert_eq!(wmm.declination_deg(91.0, 0.0, 0.0, 2026.0), Err(WmmError::LatitudeOutOfRange));
+/// assert_eq!(wmm.declination_deg(90.0, 0.0, 0.0, 2026.0), Err(WmmError::AtGeographicPole));
+/// assert_eq!(wmm.declination_deg(0.0, 0.0, 900.0, 2026.0), Err(WmmError::HeightOutOfRange));
+/// assert_eq!(wmm.declination_deg(0.0, 0.0, 0.0, 2024.9), Err(WmmError::DateOutsideModel));
+/// assert_eq!(wmm.declination_deg(f64::NAN, 0.0, 0.0, 2026.0), Err(WmmError::NonFinite));
+/// ```
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
 pub enum WmmError {
     /// An input was NaN or infinite.
     NonFinite,
@@ -99,7 +145,26 @@ impl core::fmt::Display for WmmError {
 impl core::error::Error for WmmError {}
 
 /// The seven magnetic elements at a point (report section 1.2).
+///
+/// ```
+/// use drivers::compass::wmm::WmmModel;
+///
+/// // NOAA's WMM2025 test values: 2025.0, 100 km, 80° N, 0° E:
+/// // X = 6216.0, Y = 92.4, Z = 52598.8 nT, I = 83.26°, D = 0.85°.
+/// let e = WmmModel::wmm2025().field(80.0_f64, 0.0, 100.0, 2025.0)?;
+/// assert!((e.north_nt - 6216.0).abs() < 0.05);
+/// assert!((e.east_nt - 92.4).abs() < 0.05);
+/// assert!((e.down_nt - 52_598.8).abs() < 0.05);
+/// assert!((e.inclination_deg - 83.26).abs() < 0.005);
+/// assert!((e.declination_deg - 0.85).abs() < 0.005);
+/// // H and F follow from X, Y, Z.
+/// assert!((e.horizontal_nt - e.north_nt.hypot(e.east_nt)).abs() < 1e-9);
+/// assert!((e.total_nt - e.horizontal_nt.hypot(e.down_nt)).abs() < 1e-9);
+/// # Ok::<(), drivers::compass::wmm::WmmError>(())
+/// ```
 #[derive(Debug, Clone, Copy, PartialEq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
 pub struct MagneticElements<F = f64> {
     /// X, northward component, nT.
     pub north_nt: F,
@@ -119,6 +184,7 @@ pub struct MagneticElements<F = f64> {
 
 /// Where a model's coefficients are.
 #[derive(Debug, Clone, Copy)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
 enum Table {
     /// The built-in WMM2025 table; on AVR it lives in flash (`.progmem`):
     /// avr-gcc would otherwise copy its 3 KB into RAM at start-up.
@@ -150,7 +216,21 @@ impl Table {
 static COEFFICIENTS_STATIC: [WmmCoefficient; 90] = COEFFICIENTS;
 
 /// A spherical-harmonic main-field model with secular variation.
+///
+/// ```
+/// use drivers::compass::wmm::WmmModel;
+///
+/// // NOAA's WMM2025 test values: 2025.0, 0 km, 0° N, 120° E: D = −0.16°,
+/// // in f64 and, on a board without an FPU, in f32.
+/// let wmm = WmmModel::wmm2025();
+/// let d64: f64 = wmm.declination_deg(0.0, 120.0, 0.0, 2025.0)?;
+/// let d32: f32 = wmm.declination_deg(0.0, 120.0, 0.0, 2025.0)?;
+/// assert!((d64 + 0.16).abs() < 0.005);
+/// assert!((d32 + 0.16).abs() < 0.01);
+/// # Ok::<(), drivers::compass::wmm::WmmError>(())
+/// ```
 #[derive(Debug, Clone, Copy)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
 pub struct WmmModel {
     epoch_year: f64,
     coefficients: Table,
@@ -158,6 +238,17 @@ pub struct WmmModel {
 
 impl WmmModel {
     /// The WMM2025 model (epoch 2025.0, valid until 2030.0).
+    ///
+    /// ```
+    /// use drivers::compass::wmm::WmmModel;
+    ///
+    /// const WMM: WmmModel = WmmModel::wmm2025();
+    /// assert_eq!(WMM.epoch_year(), 2025.0);
+    /// // NOAA's WMM2025 test values: 2027.5, 100 km, 80° N, 0° E: D = 2.16°.
+    /// let d: f64 = WMM.declination_deg(80.0, 0.0, 100.0, 2027.5)?;
+    /// assert!((d - 2.16).abs() < 0.005);
+    /// # Ok::<(), drivers::compass::wmm::WmmError>(())
+    /// ```
     pub const fn wmm2025() -> Self {
         Self {
             epoch_year: EPOCH_YEAR,
@@ -168,6 +259,35 @@ impl WmmModel {
     /// A model from another WMM coefficient table (same layout as `WMM.COF`:
     /// rows n = 1..=12, m = 0..=n). Used by the tests to check the synthesis
     /// against NOAA's WMM2020 test values.
+    ///
+    /// ```
+    /// use drivers::compass::wmm::{WmmCoefficient, WmmError, WmmModel};
+    ///
+    /// // A pure axial dipole: g₁⁰ = −30 000 nT, every other coefficient 0
+    /// // (rows n = 1..=12, m = 0..=n, as in WMM.COF).
+    /// let rows: Vec<WmmCoefficient> = (1..=12u8)
+    ///     .flat_map(|n| (0..=n).map(move |m| (n, m)))
+    ///     .map(|(n, m)| WmmCoefficient {
+    ///         n,
+    ///         m,
+    ///         g_nt: if (n, m) == (1, 0) { -30_000.0 } else { 0.0 },
+    ///         h_nt: 0.0,
+    ///         g_dot_nt_per_yr: 0.0,
+    ///         h_dot_nt_per_yr: 0.0,
+    ///     })
+    ///     .collect();
+    /// let dipole = WmmModel::from_table(2025.0, Vec::leak(rows));
+    /// // On the equator at 0° E a dipole field points due north, level, with
+    /// // X = −g₁⁰ (a/r)³ = 30 000 × (6371.2 / 6378.137)³ = 29 902.22 nT
+    /// // (reference radius a, WGS-84 equatorial radius r).
+    /// let e = dipole.field(0.0_f64, 0.0, 0.0, 2026.0)?;
+    /// assert!((e.north_nt - 29_902.22).abs() < 0.01);
+    /// assert!(e.east_nt.abs() < 1e-9 && e.down_nt.abs() < 1e-9);
+    /// // A table without all rows n = 1..=12 is refused when used.
+    /// let short = WmmModel::from_table(2025.0, Vec::leak(Vec::new()));
+    /// assert_eq!(short.field(0.0_f64, 0.0, 0.0, 2026.0), Err(WmmError::BadCoefficientTable));
+    /// # Ok::<(), WmmError>(())
+    /// ```
     pub const fn from_table(epoch_year: f64, coefficients: &'static [WmmCoefficient]) -> Self {
         Self {
             epoch_year,
@@ -176,11 +296,33 @@ impl WmmModel {
     }
 
     /// Epoch of the model, decimal year.
+    ///
+    /// ```
+    /// use drivers::compass::wmm::WmmModel;
+    ///
+    /// assert_eq!(WmmModel::wmm2025().epoch_year(), 2025.0);
+    /// assert_eq!(WmmModel::from_table(2020.0, &[]).epoch_year(), 2020.0);
+    /// ```
     pub fn epoch_year(&self) -> f64 {
         self.epoch_year
     }
 
     /// Declination in degrees (east positive) at a geodetic position.
+    ///
+    /// ```
+    /// use drivers::compass::wmm::WmmModel;
+    ///
+    /// // NOAA's WMM2025 test values, 0 km: (2025.0, 80° N, 0° E) D = 1.28°,
+    /// // (2027.5, 0° N, 120° E) D = −0.24°.
+    /// let wmm = WmmModel::wmm2025();
+    /// assert!((wmm.declination_deg(80.0, 0.0, 0.0, 2025.0)? - 1.28f64).abs() < 0.005);
+    /// assert!((wmm.declination_deg(0.0, 120.0, 0.0, 2027.5)? + 0.24f64).abs() < 0.005);
+    /// // Longitudes may be given east of 180° or as negative (240° = −120°).
+    /// let a: f64 = wmm.declination_deg(-80.0, 240.0, 0.0, 2025.0)?;
+    /// let b: f64 = wmm.declination_deg(-80.0, -120.0, 0.0, 2025.0)?;
+    /// assert!((a - 68.78).abs() < 0.005 && (a - b).abs() < 1e-9);
+    /// # Ok::<(), drivers::compass::wmm::WmmError>(())
+    /// ```
     pub fn declination_deg<F: Float>(
         &self,
         latitude_deg: F,
@@ -194,6 +336,20 @@ impl WmmModel {
 
     /// All magnetic elements at a geodetic position (WGS-84 latitude and
     /// longitude in degrees, height above the ellipsoid in km) and a decimal year.
+    ///
+    /// ```
+    /// use drivers::compass::wmm::WmmModel;
+    ///
+    /// // NOAA's WMM2025 test values: 2027.5, 0 km, 80° S, 240° E:
+    /// // X = 6200.7, Y = 15730.3, Z = −51783.7 nT, I = −71.92°, D = 68.49°.
+    /// let e = WmmModel::wmm2025().field(-80.0_f64, 240.0, 0.0, 2027.5)?;
+    /// assert!((e.north_nt - 6200.7).abs() < 0.05);
+    /// assert!((e.east_nt - 15_730.3).abs() < 0.05);
+    /// assert!((e.down_nt + 51_783.7).abs() < 0.05);
+    /// assert!((e.inclination_deg + 71.92).abs() < 0.005);
+    /// assert!((e.declination_deg - 68.49).abs() < 0.005);
+    /// # Ok::<(), drivers::compass::wmm::WmmError>(())
+    /// ```
     pub fn field<F: Float>(
         &self,
         latitude_deg: F,
@@ -348,6 +504,17 @@ fn get<F: Float>(row: &[F; MAX_DEGREE + 1], i: usize) -> F {
 
 /// Decimal year of a UTC calendar date and time of day, as the WMM uses it:
 /// `year + (day_of_year − 1 + seconds_of_day / 86400) / days_in_year`.
+///
+/// ```
+/// use drivers::compass::wmm::{decimal_year, WmmError};
+///
+/// assert_eq!(decimal_year(2025, 1, 1, 0)?, 2025.0);
+/// // 2028 is a leap year: 2028-07-02 starts day 184 of 366, (184 − 1)/366 = 0.5.
+/// assert_eq!(decimal_year(2028, 7, 2, 0)?, 2028.5);
+/// assert_eq!(decimal_year(2027, 2, 29, 0), Err(WmmError::InvalidDate));
+/// assert_eq!(decimal_year(2027, 1, 1, 86_400), Err(WmmError::InvalidDate));
+/// # Ok::<(), WmmError>(())
+/// ```
 pub fn decimal_year(year: i32, month: u8, day: u8, seconds_of_day: u32) -> Result<f64, WmmError> {
     let leap = (year % 4 == 0 && year % 100 != 0) || year % 400 == 0;
     const CUMULATIVE: [u16; 12] = [0, 31, 59, 90, 120, 151, 181, 212, 243, 273, 304, 334];

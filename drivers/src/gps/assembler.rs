@@ -16,6 +16,17 @@
 //! receivers and log files drop the CR.
 
 /// Longest sentence kept, from `$` through the checksum digits.
+///
+/// ```
+/// use drivers::gps::{Reject, SentenceAssembler, MAX_SENTENCE_LEN};
+///
+/// // NMEA 0183: at most 82 characters including `$` and CR LF; one more
+/// // character and the line is refused.
+/// let mut asm = SentenceAssembler::new();
+/// let long = [b'A'; MAX_SENTENCE_LEN];
+/// let verdict = core::iter::once(&b'$').chain(&long).find_map(|&b| asm.push(b).map(|r| r.err()));
+/// assert_eq!(verdict, Some(Some(Reject::Overflow)));
+/// ```
 pub const MAX_SENTENCE_LEN: usize = 82;
 
 const START: u8 = b'$';
@@ -24,7 +35,25 @@ const CR: u8 = b'\r';
 const LF: u8 = b'\n';
 
 /// Why a line was not accepted as a sentence.
+///
+/// ```
+/// use drivers::gps::{Reject, SentenceAssembler};
+///
+/// let mut asm = SentenceAssembler::new();
+/// let mut verdicts = Vec::new();
+/// // u-blox's GGA example with a wrong checksum (5B → 5C), then a sentence
+/// // without `*hh`.
+/// for &b in b"$GPGGA,092725.00,4717.11399,N,00833.91590,E,1,08,1.01,499.6,M,48.0,M,,*5C\r\n$GPTXT,hello\r\n" {
+///     if let Some(Err(reason)) = asm.push(b) {
+///         verdicts.push(reason);
+///     }
+/// }
+/// assert_eq!(verdicts, [Reject::BadChecksum, Reject::MissingChecksum]);
+/// assert_eq!(verdicts[0].to_string(), "checksum does not match the sentence");
+/// ```
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
 pub enum Reject {
     /// Longer than [`MAX_SENTENCE_LEN`].
     Overflow,
@@ -56,7 +85,21 @@ impl core::fmt::Display for Reject {
 impl core::error::Error for Reject {}
 
 /// Counters of everything the assembler has seen.
+///
+/// ```
+/// use drivers::gps::SentenceAssembler;
+///
+/// let mut asm = SentenceAssembler::new();
+/// // A GSV (checksum 0x79 computed in Python), then a byte above 0x7F.
+/// for &b in b"$GPGSV,1,1,00*79\r\n$GP\xB0\r\n" {
+///     asm.push(b);
+/// }
+/// let stats = asm.stats();
+/// assert_eq!((stats.accepted, stats.non_ascii), (1, 1));
+/// ```
 #[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
 pub struct AssemblerStats {
     /// Sentences with a correct checksum.
     pub accepted: u32,
@@ -76,6 +119,13 @@ pub struct AssemblerStats {
 
 impl AssemblerStats {
     /// Every rejection except a bad checksum.
+    ///
+    /// ```
+    /// use drivers::gps::AssemblerStats;
+    ///
+    /// let stats = AssemblerStats { bad_checksum: 4, overflow: 1, partial: 2, ..Default::default() };
+    /// assert_eq!(stats.rejected_other(), 3);
+    /// ```
     pub fn rejected_other(&self) -> u32 {
         self.missing_checksum
             .saturating_add(self.overflow)
@@ -85,6 +135,13 @@ impl AssemblerStats {
     }
 
     /// Lines seen: accepted plus every rejection.
+    ///
+    /// ```
+    /// use drivers::gps::AssemblerStats;
+    ///
+    /// let stats = AssemblerStats { accepted: 10, bad_checksum: 4, partial: 2, ..Default::default() };
+    /// assert_eq!(stats.sentences(), 16);
+    /// ```
     pub fn sentences(&self) -> u32 {
         self.accepted
             .saturating_add(self.bad_checksum)
@@ -105,6 +162,7 @@ impl AssemblerStats {
 }
 
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
 enum State {
     /// Between sentences; `content` is true once a non-blank byte was seen.
     Idle { content: bool },
@@ -117,7 +175,22 @@ enum State {
 }
 
 /// Assembles NMEA sentences from a byte stream in a fixed buffer.
+///
+/// ```
+/// use drivers::gps::SentenceAssembler;
+///
+/// let mut asm = SentenceAssembler::new();
+/// let mut sentences = Vec::new();
+/// // u-blox's GGA example; a bare LF also ends a line.
+/// for &b in b"$GPGGA,092725.00,4717.11399,N,00833.91590,E,1,08,1.01,499.6,M,48.0,M,,*5B\n" {
+///     if let Some(Ok(s)) = asm.push(b) {
+///         sentences.push(s.to_owned());
+///     }
+/// }
+/// assert_eq!(sentences, ["$GPGGA,092725.00,4717.11399,N,00833.91590,E,1,08,1.01,499.6,M,48.0,M,,*5B"]);
+/// ```
 #[derive(Debug, Clone)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
 pub struct SentenceAssembler {
     buf: [u8; MAX_SENTENCE_LEN],
     len: usize,
@@ -132,6 +205,15 @@ impl Default for SentenceAssembler {
 }
 
 /// XOR of all bytes, the NMEA 0183 checksum of a sentence body.
+///
+/// ```
+/// use drivers::gps::nmea_checksum;
+///
+/// // u-blox NEO-6 protocol specification, GGA example: checksum 5B.
+/// let body = b"GPGGA,092725.00,4717.11399,N,00833.91590,E,1,08,1.01,499.6,M,48.0,M,,";
+/// assert_eq!(nmea_checksum(body), 0x5B);
+/// assert_eq!(nmea_checksum(b""), 0);
+/// ```
 pub fn nmea_checksum(body: &[u8]) -> u8 {
     body.iter().fold(0, |acc, b| acc ^ b)
 }
@@ -147,6 +229,13 @@ fn hex_value(digit: u8) -> Option<u8> {
 
 impl SentenceAssembler {
     /// An empty assembler with zeroed counters.
+    ///
+    /// ```
+    /// use drivers::gps::{AssemblerStats, SentenceAssembler};
+    ///
+    /// let asm = SentenceAssembler::new();
+    /// assert_eq!(asm.stats(), AssemblerStats::default());
+    /// ```
     pub const fn new() -> Self {
         Self {
             buf: [0; MAX_SENTENCE_LEN],
@@ -165,6 +254,17 @@ impl SentenceAssembler {
     }
 
     /// Counters so far.
+    ///
+    /// ```
+    /// use drivers::gps::SentenceAssembler;
+    ///
+    /// // A GSV (checksum 0x79 computed in Python), cut off by the next `$`.
+    /// let mut asm = SentenceAssembler::new();
+    /// for &b in b"$GPGSV,1,1$GPGSV,1,1,00*79\r\n" {
+    ///     asm.push(b);
+    /// }
+    /// assert_eq!((asm.stats().partial, asm.stats().accepted), (1, 1));
+    /// ```
     pub fn stats(&self) -> AssemblerStats {
         self.stats
     }
@@ -173,6 +273,22 @@ impl SentenceAssembler {
     /// correct checksum has just ended (without CR LF, e.g.
     /// `$GPGGA,...*47`), `Some(Err(reason))` when a line was rejected, and
     /// `None` otherwise.
+    ///
+    /// ```
+    /// use drivers::gps::{Reject, SentenceAssembler};
+    ///
+    /// let mut asm = SentenceAssembler::new();
+    /// // u-blox's RMC example: nothing until the line ends.
+    /// let rmc = b"$GPRMC,083559.00,A,4717.11437,N,00833.91522,E,0.004,77.52,091202,,,A*57\r";
+    /// assert!(rmc.iter().all(|&b| asm.push(b).is_none()));
+    /// assert_eq!(
+    ///     asm.push(b'\n'),
+    ///     Some(Ok("$GPRMC,083559.00,A,4717.11437,N,00833.91522,E,0.004,77.52,091202,,,A*57"))
+    /// );
+    /// // A control character inside a sentence rejects the line.
+    /// asm.push(b'$');
+    /// assert_eq!(asm.push(0x07), Some(Err(Reject::NonAscii)));
+    /// ```
     pub fn push(&mut self, byte: u8) -> Option<Result<&str, Reject>> {
         match self.state {
             State::Idle { content } => match byte {
@@ -230,6 +346,16 @@ impl SentenceAssembler {
     /// Call at the end of the stream: an unterminated sentence is counted as
     /// [`Reject::Partial`] and an unterminated line without `$` as
     /// [`Reject::MissingStart`].
+    ///
+    /// ```
+    /// use drivers::gps::{Reject, SentenceAssembler};
+    ///
+    /// let mut asm = SentenceAssembler::new();
+    /// b"$GPGGA,0927".iter().for_each(|&b| drop(asm.push(b)));
+    /// assert_eq!(asm.finish_stream(), Some(Reject::Partial));
+    /// assert_eq!(asm.finish_stream(), None); // nothing left
+    /// assert_eq!(asm.stats().partial, 1);
+    /// ```
     pub fn finish_stream(&mut self) -> Option<Reject> {
         let reason = match self.state {
             State::InSentence | State::AfterCr => Some(Reject::Partial),

@@ -31,7 +31,28 @@ use super::parse::{sentence_is_plausible, FixQuality, Gga, Rmc, Sentence, TimeOf
 use crate::time::DateTime;
 
 /// The fused result of one epoch.
+///
+/// ```
+/// use drivers::gps::{parse_sentence, FixFusion, FixQuality};
+/// use drivers::time::DateTime;
+///
+/// // u-blox NEO-6 protocol specification's GGA example, and an RMC of the
+/// // same epoch (checksum computed independently in Python).
+/// let mut fusion = FixFusion::new(2_000);
+/// let gga = parse_sentence("$GPGGA,092725.00,4717.11399,N,00833.91590,E,1,08,1.01,499.6,M,48.0,M,,*5B")?;
+/// let rmc = parse_sentence("$GPRMC,092725.00,A,4717.11399,N,00833.91590,E,0.004,77.52,091202,,,A*54")?;
+/// assert_eq!(fusion.update(&gga, 100), None); // waits for the RMC
+/// let fix = fusion.update(&rmc, 180).unwrap();
+/// assert_eq!(fix.quality, FixQuality::Gps);
+/// assert_eq!(fix.utc, Some(DateTime::new(2002, 12, 9, 9, 27, 25)?));
+/// assert_eq!(fix.utc_received_ms, Some(180));
+/// assert_eq!(fix.altitude_m, Some(499.6)); // GGA field 9
+/// assert_eq!(fix.satellites, Some(8));
+/// # Ok::<(), Box<dyn core::error::Error>>(())
+/// ```
 #[derive(Debug, Clone, Copy, PartialEq, Default)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
 pub struct GpsFix {
     /// UTC date-time from RMC fields 1 (time) and 9 (date). Taken as the
     /// receiver's clock only: it came with a fix when `quality` is not
@@ -57,6 +78,14 @@ pub struct GpsFix {
 
 impl GpsFix {
     /// No time, no position.
+    ///
+    /// ```
+    /// use drivers::gps::{FixQuality, GpsFix};
+    ///
+    /// assert_eq!(GpsFix::NONE, GpsFix::default());
+    /// assert_eq!(GpsFix::NONE.quality, FixQuality::Invalid);
+    /// assert!(!GpsFix::NONE.has_position());
+    /// ```
     pub const NONE: GpsFix = GpsFix {
         utc: None,
         utc_received_ms: None,
@@ -68,6 +97,20 @@ impl GpsFix {
     };
 
     /// Whether latitude and longitude are known.
+    ///
+    /// ```
+    /// use drivers::gps::{parse_sentence, FixFusion};
+    ///
+    /// // An RMC with status V (receiver warning) and no position (checksum
+    /// // computed in Python): a time, but no position.
+    /// let mut fusion = FixFusion::new(2_000);
+    /// let rmc = parse_sentence("$GPRMC,092725.00,V,,,,,,,091202,,,N*7E")?;
+    /// fusion.update(&rmc, 0);
+    /// let fix = fusion.flush().unwrap();
+    /// assert!(fix.utc.is_some());
+    /// assert!(!fix.has_position());
+    /// # Ok::<(), drivers::gps::ParseError>(())
+    /// ```
     pub fn has_position(&self) -> bool {
         self.latitude_deg.is_some() && self.longitude_deg.is_some()
     }
@@ -76,6 +119,22 @@ impl GpsFix {
     /// the sentence carrying `utc` was received: add it to `utc` to get the
     /// present time. `None` without a `utc`; 0 (saturating) if `now_ms` is
     /// earlier than [`GpsFix::utc_received_ms`].
+    ///
+    /// ```
+    /// use drivers::gps::{parse_sentence, FixFusion, GpsFix};
+    ///
+    /// // u-blox's RMC example, completed at 10 000 ms on the caller's clock.
+    /// let mut fusion = FixFusion::new(2_000);
+    /// let rmc = parse_sentence(
+    ///     "$GPRMC,083559.00,A,4717.11437,N,00833.91522,E,0.004,77.52,091202,,,A*57",
+    /// )?;
+    /// fusion.update(&rmc, 10_000);
+    /// let fix = fusion.flush().unwrap();
+    /// assert_eq!(fix.utc_age_ms(10_350), Some(350)); // 08:35:59 was 350 ms ago
+    /// assert_eq!(fix.utc_age_ms(9_000), Some(0)); // saturates
+    /// assert_eq!(GpsFix::NONE.utc_age_ms(10_350), None);
+    /// # Ok::<(), drivers::gps::ParseError>(())
+    /// ```
     pub fn utc_age_ms(&self, now_ms: u64) -> Option<u64> {
         self.utc?;
         self.utc_received_ms
@@ -84,6 +143,7 @@ impl GpsFix {
 }
 
 #[derive(Debug, Clone, Copy, Default)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
 struct Epoch {
     key: Option<TimeOfDayMs>,
     gga: Option<Gga>,
@@ -131,7 +191,23 @@ impl Epoch {
 }
 
 /// Gathers GGA and RMC sentences into fixes; see the module docs.
+///
+/// ```
+/// use drivers::gps::{parse_sentence, FixFusion, FixQuality};
+///
+/// // A GGA with quality 0 and an RMC with status V (checksums computed in
+/// // Python): the epoch is invalid, so the fix has no position.
+/// let mut fusion = FixFusion::new(2_000);
+/// fusion.update(&parse_sentence("$GPGGA,092725.00,,,,,0,00,99.99,,,,,,*6D")?, 0);
+/// let fix = fusion
+///     .update(&parse_sentence("$GPRMC,092725.00,V,,,,,,,091202,,,N*7E")?, 10)
+///     .unwrap();
+/// assert_eq!(fix.quality, FixQuality::Invalid);
+/// assert!(!fix.has_position());
+/// # Ok::<(), drivers::gps::ParseError>(())
+/// ```
 #[derive(Debug, Clone)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
 pub struct FixFusion {
     stale_after_ms: u64,
     epoch: Epoch,
@@ -140,6 +216,14 @@ pub struct FixFusion {
 
 impl FixFusion {
     /// A fusion whose fix goes stale `stale_after_ms` after the last GGA/RMC.
+    ///
+    /// ```
+    /// use drivers::gps::{FixFusion, GpsFix};
+    ///
+    /// let fusion = FixFusion::new(2_000);
+    /// assert!(fusion.is_stale(0));
+    /// assert_eq!(fusion.current(0), GpsFix::NONE);
+    /// ```
     pub const fn new(stale_after_ms: u64) -> Self {
         Self {
             stale_after_ms,
@@ -157,6 +241,30 @@ impl FixFusion {
 
     /// Takes one parsed sentence seen at `now_ms`; returns a fix when an
     /// epoch is complete. A sentence with impossible values is ignored.
+    ///
+    /// ```
+    /// use drivers::gps::{parse_sentence, FixFusion, Gga, Sentence};
+    ///
+    /// let mut fusion = FixFusion::new(2_000);
+    /// // u-blox's GGA example: the epoch 09:27:25 starts.
+    /// let gga = parse_sentence("$GPGGA,092725.00,4717.11399,N,00833.91590,E,1,08,1.01,499.6,M,48.0,M,,*5B")?;
+    /// assert_eq!(fusion.update(&gga, 0), None);
+    /// // A hand-built GGA of a later epoch with a latitude of 95°: ignored.
+    /// let bad = Sentence::Gga(Gga {
+    ///     time_of_day_ms: Some(34_046_000),
+    ///     latitude_deg: Some(95.0),
+    ///     longitude_deg: Some(8.0),
+    ///     ..Gga::default()
+    /// });
+    /// assert_eq!(fusion.update(&bad, 1_000), None);
+    /// // The next epoch's GGA (checksum computed in Python) closes the first.
+    /// let next = parse_sentence(
+    ///     "$GPGGA,092726.00,4717.11400,N,00833.91590,E,1,08,1.01,499.7,M,48.0,M,,*5E",
+    /// )?;
+    /// let fix = fusion.update(&next, 1_000).unwrap();
+    /// assert_eq!(fix.altitude_m, Some(499.6));
+    /// # Ok::<(), drivers::gps::ParseError>(())
+    /// ```
     pub fn update(&mut self, sentence: &Sentence, now_ms: u64) -> Option<GpsFix> {
         if !sentence_is_plausible(sentence) {
             return None;
@@ -191,6 +299,18 @@ impl FixFusion {
 
     /// Gives out the epoch being gathered, if it has not been given out yet
     /// (call at the end of a log).
+    ///
+    /// ```
+    /// use drivers::gps::{parse_sentence, FixFusion};
+    ///
+    /// // u-blox's GGA example alone.
+    /// let mut fusion = FixFusion::new(2_000);
+    /// fusion.update(&parse_sentence("$GPGGA,092725.00,4717.11399,N,00833.91590,E,1,08,1.01,499.6,M,48.0,M,,*5B")?, 0);
+    /// let fix = fusion.flush().unwrap();
+    /// assert!(fix.has_position());
+    /// assert_eq!(fusion.flush(), None); // only once
+    /// # Ok::<(), drivers::gps::ParseError>(())
+    /// ```
     pub fn flush(&mut self) -> Option<GpsFix> {
         self.finish_epoch()
     }
@@ -207,6 +327,17 @@ impl FixFusion {
 
     /// Whether nothing (no completed epoch) was heard within `stale_after_ms`
     /// before `now_ms`.
+    ///
+    /// ```
+    /// use drivers::gps::{parse_sentence, FixFusion};
+    ///
+    /// let mut fusion = FixFusion::new(2_000);
+    /// fusion.update(&parse_sentence("$GPGGA,092725.00,4717.11399,N,00833.91590,E,1,08,1.01,499.6,M,48.0,M,,*5B")?, 5_000);
+    /// fusion.update(&parse_sentence("$GPRMC,092725.00,A,4717.11399,N,00833.91590,E,0.004,77.52,091202,,,A*54")?, 5_100);
+    /// assert!(!fusion.is_stale(7_100)); // 2 000 ms after the last sentence
+    /// assert!(fusion.is_stale(7_101));
+    /// # Ok::<(), drivers::gps::ParseError>(())
+    /// ```
     pub fn is_stale(&self, now_ms: u64) -> bool {
         match self.last {
             Some((_, at_ms)) => now_ms.saturating_sub(at_ms) > self.stale_after_ms,
@@ -215,6 +346,17 @@ impl FixFusion {
     }
 
     /// The latest fix, or [`GpsFix::NONE`] once it is stale.
+    ///
+    /// ```
+    /// use drivers::gps::{parse_sentence, FixFusion, GpsFix};
+    ///
+    /// let mut fusion = FixFusion::new(2_000);
+    /// fusion.update(&parse_sentence("$GPGGA,092725.00,4717.11399,N,00833.91590,E,1,08,1.01,499.6,M,48.0,M,,*5B")?, 0);
+    /// let fix = fusion.update(&parse_sentence("$GPRMC,092725.00,A,4717.11399,N,00833.91590,E,0.004,77.52,091202,,,A*54")?, 0).unwrap();
+    /// assert_eq!(fusion.current(1_000), fix);
+    /// assert_eq!(fusion.current(2_001), GpsFix::NONE);
+    /// # Ok::<(), drivers::gps::ParseError>(())
+    /// ```
     pub fn current(&self, now_ms: u64) -> GpsFix {
         match self.last {
             Some((fix, _)) if !self.is_stale(now_ms) => fix,

@@ -51,7 +51,19 @@ use super::plausible::{check_fields, gga_is_plausible, rmc_is_plausible, Kind};
 use crate::time::{days_in_month, DateTime};
 
 /// Fix quality, GGA field 6.
+///
+/// ```
+/// use drivers::gps::{parse_sentence, FixQuality, Sentence};
+///
+/// // u-blox's GGA example with quality 2 (checksum 0x58 computed in Python).
+/// let s = parse_sentence("$GPGGA,092725.00,4717.11399,N,00833.91590,E,2,08,1.01,499.6,M,48.0,M,,*58")?;
+/// let Sentence::Gga(gga) = s else { unreachable!() };
+/// assert_eq!(gga.quality, FixQuality::Dgps);
+/// # Ok::<(), drivers::gps::ParseError>(())
+/// ```
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
 pub enum FixQuality {
     /// 0: no fix.
     #[default]
@@ -76,6 +88,17 @@ pub enum FixQuality {
 
 impl FixQuality {
     /// The digit used in GGA field 6.
+    ///
+    /// ```
+    /// use drivers::gps::FixQuality;
+    ///
+    /// // NMEA 0183 GGA quality indicator: 0 invalid, 1 GPS, 2 DGPS, 4 RTK
+    /// // fixed, 5 RTK float, 6 estimated (dead reckoning).
+    /// assert_eq!(FixQuality::Invalid.code(), 0);
+    /// assert_eq!(FixQuality::Dgps.code(), 2);
+    /// assert_eq!(FixQuality::Rtk.code(), 4);
+    /// assert_eq!(FixQuality::Estimated.code(), 6);
+    /// ```
     pub fn code(self) -> u8 {
         match self {
             FixQuality::Invalid => 0,
@@ -92,10 +115,35 @@ impl FixQuality {
 }
 
 /// Time of day in milliseconds, 0..86_400_000.
+///
+/// ```
+/// use drivers::gps::{parse_sentence, Sentence, TimeOfDayMs};
+///
+/// let Sentence::Gga(gga) = parse_sentence("$GPGGA,092725.00,4717.11399,N,00833.91590,E,1,08,1.01,499.6,M,48.0,M,,*5B")? else { unreachable!() };
+/// // 09:27:25.00 = (9·3600 + 27·60 + 25) s.
+/// let expected: TimeOfDayMs = 34_045_000;
+/// assert_eq!(gga.time_of_day_ms, Some(expected));
+/// # Ok::<(), drivers::gps::ParseError>(())
+/// ```
 pub type TimeOfDayMs = u32;
 
 /// What a GGA sentence says.
+///
+/// ```
+/// use drivers::gps::{parse_sentence, FixQuality, Gga, Sentence};
+///
+/// // u-blox NEO-6 protocol specification, GGA example.
+/// let Sentence::Gga(gga) = parse_sentence("$GPGGA,092725.00,4717.11399,N,00833.91590,E,1,08,1.01,499.6,M,48.0,M,,*5B")? else { unreachable!() };
+/// assert_eq!(gga.quality, FixQuality::Gps);
+/// assert_eq!(gga.satellites, Some(8));
+/// assert_eq!(gga.altitude_m, Some(499.6));
+/// // 47°17.11399' N = 47 + 17.11399/60 degrees.
+/// assert!((gga.latitude_deg.unwrap() - 47.285_233_166_666_67).abs() < 1e-12);
+/// # Ok::<(), drivers::gps::ParseError>(())
+/// ```
 #[derive(Debug, Clone, Copy, PartialEq, Default)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
 pub struct Gga {
     /// UTC time of day of the fix, if present.
     pub time_of_day_ms: Option<TimeOfDayMs>,
@@ -112,7 +160,23 @@ pub struct Gga {
 }
 
 /// What an RMC sentence says.
+///
+/// ```
+/// use drivers::gps::{parse_sentence, Sentence};
+/// use drivers::time::DateTime;
+///
+/// // u-blox NEO-6 protocol specification, RMC example: 2002-12-09 08:35:59,
+/// // 47°17.11437' N, 8°33.91522' E.
+/// let s = parse_sentence("$GPRMC,083559.00,A,4717.11437,N,00833.91522,E,0.004,77.52,091202,,,A*57")?;
+/// let Sentence::Rmc(rmc) = s else { unreachable!() };
+/// assert!(rmc.valid);
+/// assert_eq!(rmc.utc, Some(DateTime::new(2002, 12, 9, 8, 35, 59)?));
+/// assert!((rmc.longitude_deg.unwrap() - (8.0 + 33.91522 / 60.0)).abs() < 1e-12);
+/// # Ok::<(), Box<dyn core::error::Error>>(())
+/// ```
 #[derive(Debug, Clone, Copy, PartialEq, Default)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
 pub struct Rmc {
     /// UTC time of day, if present.
     pub time_of_day_ms: Option<TimeOfDayMs>,
@@ -127,7 +191,19 @@ pub struct Rmc {
 }
 
 /// A checksum-verified sentence, classified.
+///
+/// ```
+/// use drivers::gps::{parse_sentence, Sentence};
+///
+/// // A GSV (satellites in view; checksum 0x79 computed in Python): well
+/// // framed but of no use to the fix.
+/// assert_eq!(parse_sentence("$GPGSV,1,1,00*79")?, Sentence::Other);
+/// assert!(matches!(parse_sentence("$GPGGA,092725.00,4717.11399,N,00833.91590,E,1,08,1.01,499.6,M,48.0,M,,*5B")?, Sentence::Gga(_)));
+/// # Ok::<(), drivers::gps::ParseError>(())
+/// ```
 #[derive(Debug, Clone, Copy, PartialEq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
 pub enum Sentence {
     /// GGA from any talker.
     Gga(Gga),
@@ -139,7 +215,19 @@ pub enum Sentence {
 
 /// A GGA or RMC sentence that could not be read, or whose content is
 /// impossible (see the module docs).
+///
+/// ```
+/// use drivers::gps::{parse_sentence, ParseError};
+///
+/// // RMC with 30 February 2023 as its date (checksum 0x5C computed in
+/// // Python): right checksum, impossible content.
+/// let s = "$GPRMC,092725.00,A,4717.11399,N,00833.91590,E,0.004,77.52,300223,,,A*5C";
+/// assert_eq!(parse_sentence(s), Err(ParseError));
+/// assert_eq!(ParseError.to_string(), "unparsable or impossible GGA/RMC sentence");
+/// ```
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
 pub struct ParseError;
 
 impl core::fmt::Display for ParseError {
@@ -202,6 +290,25 @@ fn to_datetime(date: Ymd, time: Hms) -> Option<DateTime> {
 /// The framing is checked again as the assembler checks it (at most
 /// [`MAX_SENTENCE_LEN`] characters, `*hh` at the end, checksum right), so a
 /// sentence given here by other means is held to the same rules.
+///
+/// ```
+/// use drivers::gps::{parse_sentence, ParseError, Sentence};
+///
+/// // u-blox NEO-6 protocol specification, GGA example.
+/// let Sentence::Gga(gga) = parse_sentence("$GPGGA,092725.00,4717.11399,N,00833.91590,E,1,08,1.01,499.6,M,48.0,M,,*5B")? else { unreachable!() };
+/// assert_eq!(gga.time_of_day_ms, Some(34_045_000));
+/// // The same sentence with a wrong checksum, and with a latitude of 91°
+/// // (checksum right: 0x55, computed in Python).
+/// assert_eq!(
+///     parse_sentence("$GPGGA,092725.00,4717.11399,N,00833.91590,E,1,08,1.01,499.6,M,48.0,M,,*5C"),
+///     Err(ParseError)
+/// );
+/// assert_eq!(
+///     parse_sentence("$GPGGA,092725.00,9100.00000,N,00833.91590,E,1,08,1.01,499.6,M,48.0,M,,*55"),
+///     Err(ParseError)
+/// );
+/// # Ok::<(), ParseError>(())
+/// ```
 pub fn parse_sentence(sentence: &str) -> Result<Sentence, ParseError> {
     // "$" + 2-character talker + 3-character type.
     let kind = match sentence.get(3..6).ok_or(ParseError)? {

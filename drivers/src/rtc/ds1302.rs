@@ -26,6 +26,10 @@
 //! with a pull-up (e.g. 10 kΩ, against the chip's internal 40 kΩ
 //! pull-down), or use a HAL "flex" pin that behaves the same way. One type
 //! rather than two keeps the line from being driven from two places.
+//!
+//! The examples below run against `embedded-hal-mock` pins: the hidden
+//! helper `Wire` (`src/doc_support/ds1302_wire.rs`) expands each command and
+//! data byte into the datasheet's exact CE, SCLK and I/O transactions.
 
 use embedded_hal::delay::DelayNs;
 use embedded_hal::digital::{InputPin, OutputPin};
@@ -60,7 +64,26 @@ const fn read_cmd(reg: u8) -> u8 {
 }
 
 /// DS1302 errors.
+///
+/// ```
+/// # mod wire { include!("../doc_support/ds1302_wire.rs"); }
+/// # use wire::{done, Wire};
+/// use drivers::rtc::{Clock, Ds1302, Ds1302Error};
+/// use drivers::time::DateTime;
+///
+/// // The chip stores two-digit years, 2000..=2099: 2100 is refused before
+/// // any pin is touched.
+/// let wire = Wire::default();
+/// let (ce, clk, io, delay) = wire.pins();
+/// let mut rtc = Ds1302::new(ce, clk, io, delay);
+/// let e = rtc.set_datetime(&DateTime::new(2100, 1, 1, 0, 0, 0)?).unwrap_err();
+/// assert_eq!(e, Ds1302Error::OutOfRange);
+/// assert_eq!(e.to_string(), "year outside 2000..=2099, which the DS1302 cannot store");
+/// done(rtc.destroy());
+/// # Ok::<(), Box<dyn core::error::Error>>(())
+/// ```
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
 pub enum Error<E> {
     /// A pin failed.
     Comm(E),
@@ -115,6 +138,23 @@ fn decode(regs: &[u8; CLOCK_REGS]) -> Option<DateTime> {
 }
 
 /// A DS1302 on three GPIO lines.
+///
+/// ```
+/// # mod wire { include!("../doc_support/ds1302_wire.rs"); }
+/// # use wire::{done, Wire};
+/// use drivers::rtc::{Clock, Ds1302};
+/// use drivers::time::DateTime;
+///
+/// // DS1302 datasheet (Maxim 19-5420): command 0xBF is a clock burst read of
+/// // seconds, minutes, hours, date, month, day of week, year, all BCD.
+/// let mut wire = Wire::default();
+/// wire.read(0xBF, &[0x56, 0x34, 0x12, 0x21, 0x06, 0x01, 0x26]);
+/// let (ce, clk, io, delay) = wire.pins();
+/// let mut rtc = Ds1302::new(ce, clk, io, delay);
+/// assert_eq!(rtc.datetime()?, DateTime::new(2026, 6, 21, 12, 34, 56)?);
+/// done(rtc.destroy());
+/// # Ok::<(), Box<dyn core::error::Error>>(())
+/// ```
 #[derive(Debug)]
 pub struct Ds1302<CE, CLK, IO, D> {
     ce: CE,
@@ -131,11 +171,40 @@ where
     D: DelayNs,
 {
     /// Takes the pins and a delay; no pin is touched until the first transfer.
+    ///
+    /// ```
+    /// # mod wire { include!("../doc_support/ds1302_wire.rs"); }
+    /// # use wire::{done, Wire};
+    /// use drivers::rtc::Ds1302;
+    ///
+    /// // No transactions expected: constructing touches no pin.
+    /// let wire = Wire::default();
+    /// let (ce, clk, io, delay) = wire.pins();
+    /// let rtc = Ds1302::new(ce, clk, io, delay);
+    /// done(rtc.destroy());
+    /// ```
     pub fn new(ce: CE, clk: CLK, io: IO, delay: D) -> Self {
         Self { ce, clk, io, delay }
     }
 
     /// Gives the pins and the delay back.
+    ///
+    /// ```
+    /// # mod wire { include!("../doc_support/ds1302_wire.rs"); }
+    /// # use wire::{done, Wire};
+    /// use drivers::rtc::Ds1302;
+    ///
+    /// // DS1302 datasheet: 0x81 reads the seconds register (bit 7 = CH).
+    /// let mut wire = Wire::default();
+    /// wire.read(0x81, &[0x42]);
+    /// let (ce, clk, io, delay) = wire.pins();
+    /// let mut rtc = Ds1302::new(ce, clk, io, delay);
+    /// assert_eq!(rtc.read_register(0)?, 0x42);
+    /// let (ce, clk, io, delay) = rtc.destroy();
+    /// // The pins are free again, e.g. to check the mocks.
+    /// done((ce, clk, io, delay));
+    /// # Ok::<(), Box<dyn core::error::Error>>(())
+    /// ```
     pub fn destroy(self) -> (CE, CLK, IO, D) {
         (self.ce, self.clk, self.io, self.delay)
     }
@@ -213,6 +282,22 @@ where
     }
 
     /// Reads one clock register (0..=8).
+    ///
+    /// ```
+    /// # mod wire { include!("../doc_support/ds1302_wire.rs"); }
+    /// # use wire::{done, Wire};
+    /// use drivers::rtc::Ds1302;
+    ///
+    /// // DS1302 datasheet, register 7 (control): command 0x8F reads it;
+    /// // 0x80 is WP set, the chip write-protected.
+    /// let mut wire = Wire::default();
+    /// wire.read(0x8F, &[0x80]);
+    /// let (ce, clk, io, delay) = wire.pins();
+    /// let mut rtc = Ds1302::new(ce, clk, io, delay);
+    /// assert_eq!(rtc.read_register(7)?, 0x80);
+    /// done(rtc.destroy());
+    /// # Ok::<(), Box<dyn core::error::Error>>(())
+    /// ```
     pub fn read_register(&mut self, reg: u8) -> Result<u8, Error<E>> {
         let mut b = [0];
         self.read_into(reg, &mut b)?;
@@ -220,6 +305,23 @@ where
     }
 
     /// Sets or clears write protection (WP, control register bit 7).
+    ///
+    /// ```
+    /// # mod wire { include!("../doc_support/ds1302_wire.rs"); }
+    /// # use wire::{done, Wire};
+    /// use drivers::rtc::Ds1302;
+    ///
+    /// // DS1302 datasheet: 0x8E writes the control register, WP is bit 7.
+    /// let mut wire = Wire::default();
+    /// wire.write(0x8E, &[0x80]);
+    /// wire.write(0x8E, &[0x00]);
+    /// let (ce, clk, io, delay) = wire.pins();
+    /// let mut rtc = Ds1302::new(ce, clk, io, delay);
+    /// rtc.set_write_protect(true)?;
+    /// rtc.set_write_protect(false)?;
+    /// done(rtc.destroy());
+    /// # Ok::<(), Box<dyn core::error::Error>>(())
+    /// ```
     pub fn set_write_protect(&mut self, protect: bool) -> Result<(), Error<E>> {
         let value = if protect { CONTROL_WP } else { 0 };
         self.write_from(REG_CONTROL, &[value])
@@ -236,6 +338,23 @@ where
     type Error = Error<E>;
 
     /// Clock burst read of seconds..year.
+    ///
+    /// ```
+    /// # mod wire { include!("../doc_support/ds1302_wire.rs"); }
+    /// # use wire::{done, Wire};
+    /// use drivers::rtc::{Clock, Ds1302};
+    /// use drivers::time::DateTime;
+    ///
+    /// // DS1302 datasheet: burst read 0xBF. Hours 0x72 = 12-hour mode (bit 7)
+    /// // with PM (bit 5), 12 → 12 h; date 29, month 02, year 24.
+    /// let mut wire = Wire::default();
+    /// wire.read(0xBF, &[0x00, 0x30, 0xB2, 0x29, 0x02, 0x05, 0x24]);
+    /// let (ce, clk, io, delay) = wire.pins();
+    /// let mut rtc = Ds1302::new(ce, clk, io, delay);
+    /// assert_eq!(rtc.datetime()?, DateTime::new(2024, 2, 29, 12, 30, 0)?);
+    /// done(rtc.destroy());
+    /// # Ok::<(), Box<dyn core::error::Error>>(())
+    /// ```
     fn datetime(&mut self) -> Result<DateTime, Error<E>> {
         let mut regs = [0; CLOCK_REGS];
         self.read_into(REG_CLOCK_BURST, &mut regs)?;
@@ -245,6 +364,25 @@ where
     /// Clears WP, then a clock burst write of all eight registers (24-hour
     /// mode, CH = 0 so the oscillator runs, day of week 1 = Sunday, and
     /// WP = 1 again in the control byte).
+    ///
+    /// ```
+    /// # mod wire { include!("../doc_support/ds1302_wire.rs"); }
+    /// # use wire::{done, Wire};
+    /// use drivers::rtc::{Clock, Ds1302};
+    /// use drivers::time::DateTime;
+    ///
+    /// // DS1302 datasheet: clear WP (0x8E ← 0x00), then a clock burst write
+    /// // (0xBE) of all eight registers: 56 s, 34 min, 12 h (24-hour mode),
+    /// // date 21, month 06, day of week 1 (Sunday), year 26, control 0x80.
+    /// let mut wire = Wire::default();
+    /// wire.write(0x8E, &[0x00]);
+    /// wire.write(0xBE, &[0x56, 0x34, 0x12, 0x21, 0x06, 0x01, 0x26, 0x80]);
+    /// let (ce, clk, io, delay) = wire.pins();
+    /// let mut rtc = Ds1302::new(ce, clk, io, delay);
+    /// rtc.set_datetime(&DateTime::new(2026, 6, 21, 12, 34, 56)?)?;
+    /// done(rtc.destroy());
+    /// # Ok::<(), Box<dyn core::error::Error>>(())
+    /// ```
     fn set_datetime(&mut self, utc: &DateTime) -> Result<(), Error<E>> {
         let year = utc
             .year()
@@ -267,6 +405,24 @@ where
     }
 
     /// The clock-halt bit (CH, seconds register bit 7).
+    ///
+    /// ```
+    /// # mod wire { include!("../doc_support/ds1302_wire.rs"); }
+    /// # use wire::{done, Wire};
+    /// use drivers::rtc::{Clock, Ds1302};
+    ///
+    /// // DS1302 datasheet: seconds register (read command 0x81), bit 7 = CH,
+    /// // the oscillator halted; 0x80 is its power-on state.
+    /// let mut wire = Wire::default();
+    /// wire.read(0x81, &[0x80]);
+    /// wire.read(0x81, &[0x17]);
+    /// let (ce, clk, io, delay) = wire.pins();
+    /// let mut rtc = Ds1302::new(ce, clk, io, delay);
+    /// assert!(rtc.lost_power()?);
+    /// assert!(!rtc.lost_power()?);
+    /// done(rtc.destroy());
+    /// # Ok::<(), Box<dyn core::error::Error>>(())
+    /// ```
     fn lost_power(&mut self) -> Result<bool, Error<E>> {
         Ok(self.read_register(REG_SECONDS)? & SECONDS_CH != 0)
     }

@@ -67,7 +67,24 @@ const FIRST_YEAR: u16 = 2000;
 const LAST_YEAR: u16 = 2199;
 
 /// DS3231 errors.
+///
+/// ```
+/// use drivers::rtc::{Clock, Ds3231, Ds3231Error};
+/// use embedded_hal_mock::eh1::i2c::{Mock, Transaction};
+///
+/// // DS3231 datasheet (Maxim 19-5170): registers 00h..06h at address 0x68.
+/// // A month register of 0x13 (BCD 13) is no date.
+/// let expectations = [Transaction::write_read(
+///     0x68,
+///     vec![0x00],
+///     vec![0x00, 0x00, 0x00, 0x01, 0x01, 0x13, 0x24],
+/// )];
+/// let mut rtc = Ds3231::new(Mock::new(&expectations));
+/// assert_eq!(rtc.datetime(), Err(Ds3231Error::InvalidDeviceState));
+/// rtc.destroy().done();
+/// ```
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
 pub enum Error<E> {
     /// I2C error (e.g. NACK).
     Comm(E),
@@ -182,6 +199,25 @@ fn decode_temperature(msb: u8, lsb: u8) -> f32 {
 }
 
 /// A DS3231 real-time clock.
+///
+/// ```
+/// use drivers::rtc::{Clock, Ds3231};
+/// use drivers::time::DateTime;
+/// use embedded_hal_mock::eh1::i2c::{Mock, Transaction};
+///
+/// // DS3231 datasheet (Maxim 19-5170), "Timekeeping Registers": address
+/// // 0x68; one write-read from 00h gives seconds, minutes, hours, day of
+/// // week, date, month/century, year, all BCD.
+/// let expectations = [Transaction::write_read(
+///     0x68,
+///     vec![0x00],
+///     vec![0x56, 0x34, 0x12, 0x01, 0x21, 0x06, 0x26],
+/// )];
+/// let mut rtc = Ds3231::new(Mock::new(&expectations));
+/// assert_eq!(rtc.datetime()?, DateTime::new(2026, 6, 21, 12, 34, 56)?);
+/// rtc.destroy().done();
+/// # Ok::<(), Box<dyn core::error::Error>>(())
+/// ```
 pub struct Ds3231<I2C> {
     i2c: I2C,
 }
@@ -191,11 +227,33 @@ where
     I2C: I2c<Error = E>,
 {
     /// Wraps the bus; no bus traffic.
+    ///
+    /// ```
+    /// use drivers::rtc::Ds3231;
+    /// use embedded_hal_mock::eh1::i2c::Mock;
+    ///
+    /// // No transactions expected.
+    /// let rtc = Ds3231::new(Mock::new(&[]));
+    /// rtc.destroy().done();
+    /// ```
     pub fn new(i2c: I2C) -> Self {
         Self { i2c }
     }
 
     /// Gives the bus back.
+    ///
+    /// ```
+    /// use drivers::rtc::{Clock, Ds3231};
+    /// use embedded_hal_mock::eh1::i2c::{Mock, Transaction};
+    ///
+    /// // DS3231 datasheet: status register 0Fh, bit 7 = OSF.
+    /// let expectations = [Transaction::write_read(0x68, vec![0x0F], vec![0x08])];
+    /// let mut rtc = Ds3231::new(Mock::new(&expectations));
+    /// assert!(!rtc.lost_power()?);
+    /// let mut i2c = rtc.destroy();
+    /// i2c.done(); // the bus is ours again
+    /// # Ok::<(), Box<dyn core::error::Error>>(())
+    /// ```
     pub fn destroy(self) -> I2C {
         self.i2c
     }
@@ -220,6 +278,24 @@ where
 
     /// Die temperature in degrees Celsius (0.25 °C steps, updated by the chip
     /// every 64 s).
+    ///
+    /// ```
+    /// use drivers::rtc::Ds3231;
+    /// use embedded_hal_mock::eh1::i2c::{Mock, Transaction};
+    ///
+    /// // DS3231 datasheet, "Temperature Registers (11h–12h)": the
+    /// // datasheet's own example 00011001 01b is +25.25 °C; 0xF6 0x80 is
+    /// // −10 + 2 × 0.25 = −9.5 °C (10-bit two's complement).
+    /// let expectations = [
+    ///     Transaction::write_read(0x68, vec![0x11], vec![0x19, 0x40]),
+    ///     Transaction::write_read(0x68, vec![0x11], vec![0xF6, 0x80]),
+    /// ];
+    /// let mut rtc = Ds3231::new(Mock::new(&expectations));
+    /// assert_eq!(rtc.temperature_c()?, 25.25);
+    /// assert_eq!(rtc.temperature_c()?, -9.5);
+    /// rtc.destroy().done();
+    /// # Ok::<(), Box<dyn core::error::Error>>(())
+    /// ```
     pub fn temperature_c(&mut self) -> Result<f32, Error<E>> {
         let mut buf = [0; 2];
         self.read(REG_TEMP_MSB, &mut buf)?;
@@ -229,6 +305,23 @@ where
 
     /// Clears the oscillator-stop flag: reads 0Fh and, if OSF is set, writes
     /// it back with OSF cleared and the other bits kept.
+    ///
+    /// ```
+    /// use drivers::rtc::Ds3231;
+    /// use embedded_hal_mock::eh1::i2c::{Mock, Transaction};
+    ///
+    /// // DS3231 datasheet: status 0Fh reads 0x88 at power-on (OSF, EN32kHz).
+    /// // Written back as 0x0B: OSF cleared, EN32kHz kept, A2F/A1F written 1,
+    /// // which leaves them unchanged.
+    /// let expectations = [
+    ///     Transaction::write_read(0x68, vec![0x0F], vec![0x88]),
+    ///     Transaction::write(0x68, vec![0x0F, 0x0B]),
+    /// ];
+    /// let mut rtc = Ds3231::new(Mock::new(&expectations));
+    /// rtc.clear_lost_power()?;
+    /// rtc.destroy().done();
+    /// # Ok::<(), Box<dyn core::error::Error>>(())
+    /// ```
     pub fn clear_lost_power(&mut self) -> Result<(), Error<E>> {
         let mut buf = [0; 1];
         self.read(REG_STATUS, &mut buf)?;
@@ -243,6 +336,26 @@ where
 {
     type Error = Error<E>;
 
+    /// One write-read of registers 00h..06h; a chip in 12-hour mode is
+    /// converted, impossible contents are [`Error::InvalidDeviceState`].
+    ///
+    /// ```
+    /// use drivers::rtc::{Clock, Ds3231};
+    /// use drivers::time::DateTime;
+    /// use embedded_hal_mock::eh1::i2c::{Mock, Transaction};
+    ///
+    /// // DS3231 datasheet: hours 0x71 = 12-hour mode (bit 6), PM (bit 5),
+    /// // 11 → 23 h; month 0x82 = century bit 7 + February, year 0x00 → 2100.
+    /// let expectations = [Transaction::write_read(
+    ///     0x68,
+    ///     vec![0x00],
+    ///     vec![0x05, 0x04, 0x71, 0x01, 0x28, 0x82, 0x00],
+    /// )];
+    /// let mut rtc = Ds3231::new(Mock::new(&expectations));
+    /// assert_eq!(rtc.datetime()?, DateTime::new(2100, 2, 28, 23, 4, 5)?);
+    /// rtc.destroy().done();
+    /// # Ok::<(), Box<dyn core::error::Error>>(())
+    /// ```
     fn datetime(&mut self) -> Result<DateTime, Error<E>> {
         let mut regs = [0; 7];
         self.read(REG_SECONDS, &mut regs)?;
@@ -252,6 +365,29 @@ where
     /// Writes 00h..=06h in one transaction, then clears EOSC and OSF if set
     /// (see the module docs); a year outside 2000..=2199 is
     /// [`Error::OutOfRange`] with no bus traffic.
+    ///
+    /// ```
+    /// use drivers::rtc::{Clock, Ds3231, Ds3231Error};
+    /// use drivers::time::DateTime;
+    /// use embedded_hal_mock::eh1::i2c::{Mock, Transaction};
+    ///
+    /// // DS3231 datasheet: write 00h..06h (56 s, 34 min, 12 h in 24-hour
+    /// // mode, day 1 = Sunday, date 21, month 06, year 26), then read control
+    /// // 0Eh and status 0Fh: power-on values 0x1C (EOSC clear: no write) and
+    /// // 0x88 (OSF set: written back as 0x0B).
+    /// let expectations = [
+    ///     Transaction::write(0x68, vec![0x00, 0x56, 0x34, 0x12, 0x01, 0x21, 0x06, 0x26]),
+    ///     Transaction::write_read(0x68, vec![0x0E], vec![0x1C, 0x88]),
+    ///     Transaction::write(0x68, vec![0x0F, 0x0B]),
+    /// ];
+    /// let mut rtc = Ds3231::new(Mock::new(&expectations));
+    /// rtc.set_datetime(&DateTime::new(2026, 6, 21, 12, 34, 56)?)?;
+    /// // The chip holds 2000..=2199 only; refused without bus traffic.
+    /// let early = DateTime::new(1999, 12, 31, 0, 0, 0)?;
+    /// assert_eq!(rtc.set_datetime(&early), Err(Ds3231Error::OutOfRange));
+    /// rtc.destroy().done();
+    /// # Ok::<(), Box<dyn core::error::Error>>(())
+    /// ```
     fn set_datetime(&mut self, utc: &DateTime) -> Result<(), Error<E>> {
         let [s, mi, h, wd, d, mo, y] = encode(utc).ok_or(Error::OutOfRange)?;
         self.i2c
@@ -266,6 +402,24 @@ where
         self.clear_osf_in(status)
     }
 
+    /// The oscillator-stop flag (OSF, status register 0Fh bit 7).
+    ///
+    /// ```
+    /// use drivers::rtc::{Clock, Ds3231};
+    /// use embedded_hal_mock::eh1::i2c::{Mock, Transaction};
+    ///
+    /// // DS3231 datasheet: status 0Fh is 0x88 at power-on (OSF set), 0x08
+    /// // on a clock that kept running (EN32kHz only).
+    /// let expectations = [
+    ///     Transaction::write_read(0x68, vec![0x0F], vec![0x88]),
+    ///     Transaction::write_read(0x68, vec![0x0F], vec![0x08]),
+    /// ];
+    /// let mut rtc = Ds3231::new(Mock::new(&expectations));
+    /// assert!(rtc.lost_power()?);
+    /// assert!(!rtc.lost_power()?);
+    /// rtc.destroy().done();
+    /// # Ok::<(), Box<dyn core::error::Error>>(())
+    /// ```
     fn lost_power(&mut self) -> Result<bool, Error<E>> {
         let mut buf = [0; 1];
         self.read(REG_STATUS, &mut buf)?;

@@ -8,9 +8,22 @@
 //! so the profile accelerates, cruises and decelerates symmetrically (a triangle
 //! when `N` is too short to reach `v_max`). Integer arithmetic only (an integer
 //! square root), so it costs the same on an 8-bit AVR as on a Cortex-M.
+//!
+//! The expected values in the examples are the formula above evaluated
+//! independently (Python, `math.isqrt`).
 
 /// Why a ramp configuration was refused.
+///
+/// ```
+/// use drivers::stepper::ramp::{Ramp, RampError};
+///
+/// let zero = Ramp { start_speed_sps: 100, max_speed_sps: 1_000, accel_sps2: 0 };
+/// assert_eq!(zero.validate(), Err(RampError::Zero));
+/// assert_eq!(RampError::Zero.to_string(), "a speed or the acceleration is zero");
+/// ```
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
 pub enum RampError {
     /// A speed or the acceleration is zero.
     Zero,
@@ -38,7 +51,20 @@ impl core::fmt::Display for RampError {
 impl core::error::Error for RampError {}
 
 /// Speed profile parameters.
+///
+/// ```
+/// use drivers::stepper::ramp::Ramp;
+///
+/// // 100 steps/s at the ends, 1000 steps/s cruise, 10 000 steps/s².
+/// let ramp = Ramp { start_speed_sps: 100, max_speed_sps: 1_000, accel_sps2: 10_000 };
+/// // v_k = √(100² + 2·10 000·k): 100, 173, 223, … steps/s; cruise after 50 steps.
+/// let intervals: Vec<u32> = (0..3).map(|k| ramp.interval_us(k)).collect();
+/// assert_eq!(intervals, [10_000, 5_780, 4_484]);
+/// assert_eq!(ramp.cruise_level(), 50);
+/// ```
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
 pub struct Ramp {
     /// Speed of the first and last step, steps/s (within the motor's pull-in rate).
     pub start_speed_sps: u32,
@@ -50,6 +76,18 @@ pub struct Ramp {
 
 impl Ramp {
     /// Checks the parameters.
+    ///
+    /// ```
+    /// use drivers::stepper::ramp::{Ramp, RampError};
+    ///
+    /// // 100 steps/s at the ends, 1000 steps/s cruise, 10 000 steps/s².
+    /// let ramp = Ramp { start_speed_sps: 100, max_speed_sps: 1_000, accel_sps2: 10_000 };
+    /// assert_eq!(ramp.validate(), Ok(()));
+    /// let slow_max = Ramp { max_speed_sps: 50, ..ramp };
+    /// assert_eq!(slow_max.validate(), Err(RampError::StartAboveMax));
+    /// let too_fast = Ramp { max_speed_sps: 2_000_000, ..ramp };
+    /// assert_eq!(too_fast.validate(), Err(RampError::TooFast));
+    /// ```
     pub fn validate(&self) -> Result<(), RampError> {
         if self.start_speed_sps == 0 || self.max_speed_sps == 0 || self.accel_sps2 == 0 {
             return Err(RampError::Zero);
@@ -64,6 +102,19 @@ impl Ramp {
     }
 
     /// Speed at ramp level `k` (steps from the nearer end of the move), steps/s.
+    ///
+    /// ```
+    /// use drivers::stepper::ramp::Ramp;
+    ///
+    /// // 100 steps/s at the ends, 1000 steps/s cruise, 10 000 steps/s².
+    /// let ramp = Ramp { start_speed_sps: 100, max_speed_sps: 1_000, accel_sps2: 10_000 };
+    /// // ⌊√(100² + 2·10 000·k)⌋, capped at 1000.
+    /// assert_eq!(ramp.speed_sps(0), 100);
+    /// assert_eq!(ramp.speed_sps(10), 458);
+    /// assert_eq!(ramp.speed_sps(49), 994);
+    /// assert_eq!(ramp.speed_sps(50), 1_000);
+    /// assert_eq!(ramp.speed_sps(u32::MAX), 1_000);
+    /// ```
     pub fn speed_sps(&self, level: u32) -> u32 {
         // v² = v0² + 2·a·k in 32 bits whenever it fits (every ramp up to
         // 65,535 steps/s): on an 8-bit CPU the 64-bit products and root
@@ -89,6 +140,17 @@ impl Ramp {
     }
 
     /// Interval in whole µs (rounded to nearest) at ramp level `k`.
+    ///
+    /// ```
+    /// use drivers::stepper::ramp::Ramp;
+    ///
+    /// // 100 steps/s at the ends, 1000 steps/s cruise, 10 000 steps/s².
+    /// let ramp = Ramp { start_speed_sps: 100, max_speed_sps: 1_000, accel_sps2: 10_000 };
+    /// // 10⁶ / v rounded: 10⁶ / 458 = 2183.4, 10⁶ / 994 = 1006.04.
+    /// assert_eq!(ramp.interval_us(10), 2_183);
+    /// assert_eq!(ramp.interval_us(49), 1_006);
+    /// assert_eq!(ramp.interval_us(50), 1_000);
+    /// ```
     pub fn interval_us(&self, level: u32) -> u32 {
         let v = self.speed_sps(level).max(1);
         (1_000_000 + v / 2) / v
@@ -96,6 +158,16 @@ impl Ramp {
 
     /// Level at which the cruise speed is reached (`v_k ≥ v_max`): also the
     /// number of steps needed to stop from cruise.
+    ///
+    /// ```
+    /// use drivers::stepper::ramp::Ramp;
+    ///
+    /// // 100 steps/s at the ends, 1000 steps/s cruise, 10 000 steps/s².
+    /// let ramp = Ramp { start_speed_sps: 100, max_speed_sps: 1_000, accel_sps2: 10_000 };
+    /// // ⌈(1000² − 100²) / (2·10 000)⌉ = ⌈49.5⌉.
+    /// assert_eq!(ramp.cruise_level(), 50);
+    /// assert!(ramp.speed_sps(ramp.cruise_level()) >= ramp.max_speed_sps);
+    /// ```
     pub fn cruise_level(&self) -> u32 {
         let vmax = u64::from(self.max_speed_sps);
         let v0 = u64::from(self.start_speed_sps);
@@ -134,11 +206,27 @@ macro_rules! bitwise_isqrt {
 bitwise_isqrt!(
     /// [`isqrt`] of a 32-bit value (the same method, half the iterations,
     /// 32-bit arithmetic).
+    ///
+    /// ```
+    /// use drivers::stepper::ramp::isqrt32;
+    ///
+    /// assert_eq!(isqrt32(0), 0);
+    /// assert_eq!(isqrt32(99), 9);
+    /// assert_eq!(isqrt32(u32::MAX), 65_535);
+    /// ```
     isqrt32,
     u32
 );
 bitwise_isqrt!(
     /// Integer square root, ⌊√n⌋ (bit-by-bit method).
+    ///
+    /// ```
+    /// use drivers::stepper::ramp::isqrt;
+    ///
+    /// assert_eq!(isqrt(1_000_000_000_000), 1_000_000);
+    /// assert_eq!(isqrt(1_000_000_000_000 - 1), 999_999);
+    /// assert_eq!(isqrt(u64::MAX), 4_294_967_295);
+    /// ```
     isqrt,
     u64
 );

@@ -46,7 +46,16 @@ const RATIO_TOLERANCE: f32 = 1e-3;
 const MIN_COS_ALPHA: f32 = 1e-4;
 
 /// The mount's tilt from level.
+///
+/// ```
+/// use drivers::tilt::{axis_angles, MountTilt};
+///
+/// let level = MountTilt { alpha0_deg: 0.0, beta0_deg: 0.0 };
+/// assert_eq!(axis_angles(&level), (90.0, 90.0));
+/// ```
 #[derive(Debug, Clone, Copy, PartialEq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
 pub struct MountTilt {
     /// First rotation, about the x axis (west when level), degrees.
     pub alpha0_deg: f32,
@@ -55,7 +64,20 @@ pub struct MountTilt {
 }
 
 /// Why the axis angles do not describe a tilt.
+///
+/// ```
+/// use drivers::tilt::{mount_tilt, MountTiltError};
+///
+/// assert_eq!(mount_tilt(190.0, 90.0), Err(MountTiltError::OutOfRange));
+/// assert_eq!(mount_tilt(f32::NAN, 90.0), Err(MountTiltError::OutOfRange));
+/// // Both axes 30° from vertical: cos²30° + cos²30° = 1.5 > 1.
+/// assert_eq!(mount_tilt(30.0, 30.0), Err(MountTiltError::Inconsistent));
+/// // The y axis vertical: β₀ undefined.
+/// assert_eq!(mount_tilt(90.0, 0.0), Err(MountTiltError::Degenerate));
+/// ```
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
 pub enum MountTiltError {
     /// An angle outside 0..=180° or not a number.
     OutOfRange,
@@ -82,6 +104,19 @@ impl core::fmt::Display for MountTiltError {
 impl core::error::Error for MountTiltError {}
 
 /// Expression (7): α0, β0 from the axis angles θx, θy (degrees from vertical).
+///
+/// ```
+/// use drivers::tilt::mount_tilt;
+///
+/// // Seed Table IV, Case 1: level, θx = θy = 90°.
+/// let level = mount_tilt(90.0, 90.0)?;
+/// assert!(level.alpha0_deg.abs() < 1e-4 && level.beta0_deg.abs() < 1e-4);
+/// // Case 2, α₀ = 35.26°, β₀ = 30°: cos θy = sin 35.26°, cos θx =
+/// // −cos 35.26° · sin 30° (Expression (6), by hand: θx = 114.096°, θy = 54.74°).
+/// let t = mount_tilt(114.096, 54.74)?;
+/// assert!((t.alpha0_deg - 35.26).abs() < 0.01 && (t.beta0_deg - 30.0).abs() < 0.01);
+/// # Ok::<(), drivers::tilt::MountTiltError>(())
+/// ```
 pub fn mount_tilt(theta_x_deg: f32, theta_y_deg: f32) -> Result<MountTilt, MountTiltError> {
     let in_range = |t: f32| (0.0..=180.0).contains(&t);
     if !in_range(theta_x_deg) || !in_range(theta_y_deg) {
@@ -106,6 +141,18 @@ pub fn mount_tilt(theta_x_deg: f32, theta_y_deg: f32) -> Result<MountTilt, Mount
 }
 
 /// Expression (6): the axis angles θx, θy (degrees) a tilt produces.
+///
+/// ```
+/// use drivers::tilt::{axis_angles, mount_tilt, MountTilt};
+///
+/// // Seed Table IV, Case 2 forwards: θx = 114.096°, θy = 54.74° (by hand).
+/// let (tx, ty) = axis_angles(&MountTilt { alpha0_deg: 35.26, beta0_deg: 30.0 });
+/// assert!((tx - 114.096).abs() < 0.01 && (ty - 54.74).abs() < 0.01);
+/// // And back.
+/// let t = mount_tilt(tx, ty)?;
+/// assert!((t.alpha0_deg - 35.26).abs() < 1e-3 && (t.beta0_deg - 30.0).abs() < 1e-3);
+/// # Ok::<(), drivers::tilt::MountTiltError>(())
+/// ```
 pub fn axis_angles(tilt: &MountTilt) -> (f32, f32) {
     let a = tilt.alpha0_deg.to_radians();
     let b = tilt.beta0_deg.to_radians();
@@ -120,6 +167,19 @@ pub fn axis_angles(tilt: &MountTilt) -> (f32, f32) {
 /// Axis angles θx, θy (degrees from vertical) from an accelerometer at rest
 /// on the mount: it measures +1 g along the up direction, so its x and y
 /// components are cos θx and cos θy times |a|. `None` below 0.1 g.
+///
+/// ```
+/// use drivers::tilt::{axis_angles_from_gravity, Acceleration};
+///
+/// // Level: x and y horizontal.
+/// let level = Acceleration { x_g: 0.0, y_g: 0.0, z_g: 1.0 };
+/// assert_eq!(axis_angles_from_gravity(&level), Some((90.0, 90.0)));
+/// // Up half along +x: x is 60° from vertical (cos 60° = 0.5).
+/// let a = Acceleration { x_g: 0.5, y_g: 0.0, z_g: 0.866_025_4 };
+/// let (tx, ty) = axis_angles_from_gravity(&a).unwrap();
+/// assert!((tx - 60.0).abs() < 1e-4 && (ty - 90.0).abs() < 1e-4);
+/// assert_eq!(axis_angles_from_gravity(&Acceleration { x_g: 0.0, y_g: 0.0, z_g: 0.01 }), None);
+/// ```
 pub fn axis_angles_from_gravity(a: &Acceleration) -> Option<(f32, f32)> {
     let norm = fmath::sqrt(a.x_g * a.x_g + a.y_g * a.y_g + a.z_g * a.z_g);
     if norm.is_nan() || norm < 0.1 {
@@ -131,6 +191,13 @@ pub fn axis_angles_from_gravity(a: &Acceleration) -> Option<(f32, f32)> {
 
 /// Axis angles from a two-axis inclinometer that reports each axis's
 /// elevation above the horizontal: θ = 90° − elevation.
+///
+/// ```
+/// use drivers::tilt::axis_angles_from_elevations;
+///
+/// assert_eq!(axis_angles_from_elevations(0.0, 0.0), (90.0, 90.0));
+/// assert_eq!(axis_angles_from_elevations(-24.096, 35.26), (114.096, 54.74));
+/// ```
 pub fn axis_angles_from_elevations(x_elevation_deg: f32, y_elevation_deg: f32) -> (f32, f32) {
     (90.0 - x_elevation_deg, 90.0 - y_elevation_deg)
 }
@@ -142,6 +209,18 @@ pub fn axis_angles_from_elevations(x_elevation_deg: f32, y_elevation_deg: f32) -
 /// SINDT02 class). In that convention the up direction seen in the sensor
 /// frame is (−sin pitch, cos pitch · sin roll, cos pitch · cos roll), whose
 /// x and y components are cos θx and cos θy.
+///
+/// ```
+/// use drivers::tilt::{axis_angles_from_inclination, Inclination};
+///
+/// // Pitch 30°: up is (−sin 30°, 0, cos 30°) in the sensor frame, so
+/// // θx = acos(−0.5) = 120°, θy = 90°.
+/// let (tx, ty) = axis_angles_from_inclination(&Inclination { roll_deg: 0.0, pitch_deg: 30.0 });
+/// assert!((tx - 120.0).abs() < 1e-4 && (ty - 90.0).abs() < 1e-4);
+/// // Roll 30°: up is (0, sin 30°, cos 30°): θy = 60°.
+/// let (tx, ty) = axis_angles_from_inclination(&Inclination { roll_deg: 30.0, pitch_deg: 0.0 });
+/// assert!((tx - 90.0).abs() < 1e-4 && (ty - 60.0).abs() < 1e-4);
+/// ```
 pub fn axis_angles_from_inclination(incl: &super::Inclination) -> (f32, f32) {
     let roll = incl.roll_deg.to_radians();
     let pitch = incl.pitch_deg.to_radians();

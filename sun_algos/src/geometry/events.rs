@@ -17,6 +17,32 @@
 //! The day examined is the local mean solar day: 24 h starting at mean solar
 //! midnight, 00:00 UTC − λ/15 h of the given date, so that a site at 170° E
 //! or 170° W still gets its whole daylight in one window.
+//!
+//! # Example
+//!
+//! ```
+//! use sun_algos::geometry::events::{self, DayKind};
+//! use sun_algos::{Algorithm, Options, Site, UtcTime};
+//!
+//! // The NREL SPA report's site (39.742476° N, 105.1786° W, 1830.14 m, ΔT
+//! // 67 s) on its example day, 2003-10-17 (local time UTC−7).
+//! let site = Site::with_elevation(39.742476f64, -105.1786, 1830.14)?;
+//! let opts = Options { delta_t_s: Some(67.0), ..Options::default() };
+//! let ev = events::for_algorithm(Algorithm::Spa, (2003, 10, 17), &site, &opts)?;
+//! assert_eq!(ev.kind, DayKind::Normal);
+//! // Sunrise: the report's 6.212067 h local, 13:12:43.44 UT, to ±1 s.
+//! let want_rise: UtcTime = "2003-10-17T13:12:43.440Z".parse()?;
+//! let rise = ev.sunrise.expect("a sunrise");
+//! assert!((rise.unix_seconds() - want_rise.unix_seconds()).abs() <= 1);
+//! // Sunset of that local day: pvlib 0.16.1's spa_python puts the zenith at
+//! // 90.8335° at 2003-10-18T00:18:51Z, on the horizon limit 90.8333°.
+//! let want_set: UtcTime = "2003-10-18T00:18:51Z".parse()?;
+//! let set = ev.sunset.expect("a sunset");
+//! assert!((set.unix_seconds() - want_set.unix_seconds()).abs() <= 1);
+//! // The seed's simple model: 12 h of daylight on the equator at the equinox.
+//! assert!((events::simple(0.0f64, 80)?.daylight_h - 12.0).abs() < 1e-9);
+//! # Ok::<(), sun_algos::geometry::GeometryError>(())
+//! ```
 
 use crate::algorithm::Algorithm;
 use crate::float::Float;
@@ -29,7 +55,20 @@ use super::simple;
 use super::GeometryError;
 
 /// Whether the sun rises and sets on a day.
+///
+/// ```
+/// use sun_algos::geometry::events::{simple, DayKind};
+///
+/// // 21 June (n = 172), δ ≈ +23.45°: above the arctic circle the sun does not
+/// // set; below the antarctic circle it does not rise.
+/// assert_eq!(simple(80.0f64, 172)?.kind, DayKind::PolarDay);
+/// assert_eq!(simple(-80.0f64, 172)?.kind, DayKind::PolarNight);
+/// assert_eq!(simple(52.0f64, 172)?.kind, DayKind::Normal);
+/// # Ok::<(), sun_algos::geometry::GeometryError>(())
+/// ```
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
 pub enum DayKind {
     /// The sun rises and sets (or at least one of the two happens).
     Normal,
@@ -40,7 +79,23 @@ pub enum DayKind {
 }
 
 /// The seed's simple events in local apparent solar time (eq 9–12).
+///
+/// ```
+/// use sun_algos::geometry::events::simple;
+///
+/// // 52° N on 21 June: pvlib 0.16.1's sun_rise_set_transit_geometric with the
+/// // same declination (23.448902°) gives 16.496394 h of daylight, sunrise at
+/// // 03:45:06.49 and sunset at 20:14:53.51 solar time.
+/// let e = simple(52.0f64, 172)?;
+/// assert!((e.daylight_h - 16.496_394).abs() < 1e-6);
+/// assert!((e.sunrise_solar_h - (3.0 + 45.0 / 60.0 + 6.49 / 3600.0)).abs() < 1e-5);
+/// assert!((e.sunset_solar_h - (20.0 + 14.0 / 60.0 + 53.51 / 3600.0)).abs() < 1e-5);
+/// assert!((e.sunset_hour_angle_deg - 15.0 * e.daylight_h / 2.0).abs() < 1e-9);
+/// # Ok::<(), sun_algos::geometry::GeometryError>(())
+/// ```
 #[derive(Debug, Clone, Copy, PartialEq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
 pub struct SimpleEvents<T> {
     /// Normal day, polar day or polar night (from −tan φ tan δ).
     pub kind: DayKind,
@@ -61,6 +116,17 @@ pub struct SimpleEvents<T> {
 impl<T: Float> SimpleEvents<T> {
     /// Solar hours → UTC hours of the same date at `longitude_deg`
     /// (UTC = ST − λ/15 − ET; may leave 0…24 for far-east/west sites).
+    ///
+    /// ```
+    /// use sun_algos::geometry::events::simple;
+    ///
+    /// // Solar noon 15° east of Greenwich is one hour earlier in UTC, less the
+    /// // equation of time (UTC = ST − λ/15 − ET).
+    /// let e = simple(52.0f64, 172)?;
+    /// let utc = e.solar_to_utc_h(12.0, 15.0);
+    /// assert!((utc - (11.0 - e.equation_of_time_h)).abs() < 1e-12);
+    /// # Ok::<(), sun_algos::geometry::GeometryError>(())
+    /// ```
     pub fn solar_to_utc_h(&self, solar_h: T, longitude_deg: T) -> T {
         solar_h - longitude_deg / T::from_f64(15.0) - self.equation_of_time_h
     }
@@ -69,6 +135,21 @@ impl<T: Float> SimpleEvents<T> {
 /// Seed jimoh-2019 eq (9)–(12) for `latitude_deg` on `day_of_year`.
 /// Never NaN: the acos argument −tan φ tan δ is formed as a ratio only
 /// after the polar cases are taken out.
+///
+/// ```
+/// use sun_algos::geometry::events::{simple, DayKind};
+/// use sun_algos::geometry::GeometryError;
+///
+/// // Equator at the March equinox (δ ≈ 0): 12 h (eq. 9 and 12).
+/// let e = simple(0.0f32, 80)?;
+/// assert_eq!(e.kind, DayKind::Normal);
+/// assert!((e.daylight_h - 12.0).abs() < 1e-4);
+/// // North pole in June: polar day, the seed's solar 0 h and 24 h.
+/// let n = simple(90.0f64, 172)?;
+/// assert_eq!((n.kind, n.sunrise_solar_h, n.sunset_solar_h), (DayKind::PolarDay, 0.0, 24.0));
+/// assert_eq!(simple(f64::NAN, 172), Err(GeometryError::NotFinite));
+/// # Ok::<(), sun_algos::geometry::GeometryError>(())
+/// ```
 pub fn simple<T: Float>(
     latitude_deg: T,
     day_of_year: u16,
@@ -106,7 +187,24 @@ pub fn simple<T: Float>(
 }
 
 /// Precise events of one local solar day.
+///
+/// ```
+/// use sun_algos::geometry::events;
+/// use sun_algos::{Algorithm, Options, Site};
+///
+/// let site = Site::new(11.9683f64, 8.4261)?; // Kano
+/// let ev = events::for_algorithm(Algorithm::Spa, (2026, 6, 21), &site, &Options::default())?;
+/// let (rise, set) = (ev.sunrise.expect("sunrise"), ev.sunset.expect("sunset"));
+/// assert!(rise < ev.transit && ev.transit < set);
+/// assert_eq!(i64::from(ev.daylight_s), set.unix_seconds() - rise.unix_seconds());
+/// // At 12° N in June the noon sun stands about 11.5° from the zenith
+/// // (latitude minus the solstice declination 23.44°).
+/// assert!((ev.transit_zenith_deg - (23.44 - 11.9683)).abs() < 0.1);
+/// # Ok::<(), sun_algos::geometry::GeometryError>(())
+/// ```
 #[derive(Debug, Clone, Copy, PartialEq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
 pub struct Events<T> {
     /// Normal day, polar day or polar night.
     pub kind: DayKind,
@@ -131,6 +229,16 @@ const SAMPLES: i64 = 86_400 / STEP_S + 1;
 
 /// Start of the local mean solar day containing local date `(y, m, d)` at
 /// `longitude_deg`: 00:00 UTC − λ/15 h, rounded to the second.
+///
+/// ```
+/// use sun_algos::geometry::events::solar_day_start;
+///
+/// // Kano, 8.4261° E: mean solar midnight is 8.4261 × 240 s = 33 min 42 s
+/// // before 00:00 UTC (hand computation).
+/// assert_eq!(solar_day_start(2026, 6, 21, 8.4261f64)?.to_string(), "2026-06-20T23:26:18Z");
+/// assert!(solar_day_start(2026, 6, 21, 181.0f64).is_err());
+/// # Ok::<(), sun_algos::geometry::GeometryError>(())
+/// ```
 pub fn solar_day_start<T: Float>(
     year: i32,
     month: u8,
@@ -155,6 +263,28 @@ pub fn solar_day_start<T: Float>(
 /// source `sun` (method in the module documentation; about 190 calls).
 /// All at once: [`EventSearch`] does the same search a few positions at a
 /// time.
+///
+/// ```
+/// use sun_algos::geometry::events::{find, solar_day_start};
+/// use sun_algos::{Algorithm, Options, Site, UtcTime};
+///
+/// // The NREL SPA report's site (39.742476° N, 105.1786° W, 1830.14 m, ΔT
+/// // 67 s) on its example day, 2003-10-17 (local time UTC−7).
+/// let site = Site::with_elevation(39.742476f64, -105.1786, 1830.14)?;
+/// let opts = Options { delta_t_s: Some(67.0), ..Options::default() };
+/// let start = solar_day_start(2003, 10, 17, site.longitude_deg())?;
+/// let ev = find(start, |t| Algorithm::Spa.position(t, &site, &opts))?;
+/// // Sunrise: the report's 6.212067 h local, 13:12:43.44 UT, to ±1 s.
+/// let want_rise: UtcTime = "2003-10-17T13:12:43.440Z".parse()?;
+/// let rise = ev.sunrise.expect("a sunrise");
+/// assert!((rise.unix_seconds() - want_rise.unix_seconds()).abs() <= 1);
+/// // Sunset of that local day: pvlib 0.16.1's spa_python puts the zenith at
+/// // 90.8335° at 2003-10-18T00:18:51Z, on the horizon limit 90.8333°.
+/// let want_set: UtcTime = "2003-10-18T00:18:51Z".parse()?;
+/// let set = ev.sunset.expect("a sunset");
+/// assert!((set.unix_seconds() - want_set.unix_seconds()).abs() <= 1);
+/// # Ok::<(), sun_algos::geometry::GeometryError>(())
+/// ```
 pub fn find<T, F>(window_start: UtcTime, mut sun: F) -> Result<Events<T>, GeometryError>
 where
     T: Float,
@@ -170,6 +300,7 @@ where
 
 /// Where an [`EventSearch`] is.
 #[derive(Debug, Clone, Copy, PartialEq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
 enum Stage<T> {
     /// The first sample (window start).
     Start,
@@ -203,7 +334,29 @@ enum Stage<T> {
 /// microcontroller (a position costs about 45,000 cycles on an ATmega) is
 /// never blocked for the whole search. Same samples, same order, same
 /// result as [`find`].
+///
+/// ```
+/// use sun_algos::geometry::events::{find, solar_day_start, EventSearch};
+/// use sun_algos::{Algorithm, Options, Site};
+///
+/// let site = Site::new(11.9683f32, 8.4261)?;
+/// let sun = |t: &_| Algorithm::Michalsky.position(t, &site, &Options::default());
+/// let start = solar_day_start(2026, 6, 21, site.longitude_deg())?;
+/// // Eight positions per call, as a slow main loop would run it.
+/// let mut search = EventSearch::new(start);
+/// let (mut calls, mut source) = (0, sun);
+/// let ev = loop {
+///     calls += 1;
+///     if let Some(ev) = search.step(&mut source, 8)? {
+///         break ev;
+///     }
+/// };
+/// assert!(calls > 10);
+/// assert_eq!(ev, find(start, sun)?);
+/// # Ok::<(), sun_algos::geometry::GeometryError>(())
+/// ```
 #[derive(Debug, Clone, Copy, PartialEq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
 pub struct EventSearch<T> {
     window_start: UtcTime,
     stage: Stage<T>,
@@ -217,6 +370,14 @@ pub struct EventSearch<T> {
 
 impl<T: Float> EventSearch<T> {
     /// A search over the 24 h from `window_start`; nothing evaluated yet.
+    ///
+    /// ```
+    /// use sun_algos::geometry::events::EventSearch;
+    /// use sun_algos::UtcTime;
+    ///
+    /// let s = EventSearch::<f64>::new(UtcTime::MIDNIGHT_2000);
+    /// assert_eq!(s.window_start(), UtcTime::MIDNIGHT_2000);
+    /// ```
     pub fn new(window_start: UtcTime) -> Self {
         EventSearch {
             window_start,
@@ -231,6 +392,14 @@ impl<T: Float> EventSearch<T> {
     }
 
     /// The start of the window searched.
+    ///
+    /// ```
+    /// use sun_algos::geometry::events::{solar_day_start, EventSearch};
+    ///
+    /// let start = solar_day_start(2026, 6, 21, 8.4261f64)?;
+    /// assert_eq!(EventSearch::<f64>::new(start).window_start(), start);
+    /// # Ok::<(), sun_algos::geometry::GeometryError>(())
+    /// ```
     pub fn window_start(&self) -> UtcTime {
         self.window_start
     }
@@ -238,6 +407,21 @@ impl<T: Float> EventSearch<T> {
     /// Evaluates up to `budget` positions (at least one); `Ok(Some(_))`
     /// when the search is complete, `Ok(None)` when it needs more calls.
     /// After an error the search starts over on the next call.
+    ///
+    /// ```
+    /// use sun_algos::geometry::events::{solar_day_start, DayKind, EventSearch};
+    /// use sun_algos::{Algorithm, Options, Site};
+    ///
+    /// // 80° N in June: the sun never sets (polar day).
+    /// let site = Site::new(80.0f64, 15.0)?;
+    /// let mut sun = |t: &_| Algorithm::Spa.position(t, &site, &Options::default());
+    /// let mut search = EventSearch::new(solar_day_start(2026, 6, 21, 15.0)?);
+    /// // One position: not done yet.
+    /// assert_eq!(search.step(&mut sun, 1)?, None);
+    /// let ev = search.step(&mut sun, u32::MAX)?.expect("done");
+    /// assert_eq!((ev.kind, ev.sunrise, ev.sunset, ev.daylight_s), (DayKind::PolarDay, None, None, 86_400));
+    /// # Ok::<(), sun_algos::geometry::GeometryError>(())
+    /// ```
     pub fn step<F>(&mut self, sun: &mut F, budget: u32) -> Result<Option<Events<T>>, GeometryError>
     where
         F: FnMut(&UtcTime) -> Result<SunPosition<T>, crate::Error>,
@@ -455,6 +639,30 @@ const INV_PHI: f64 = 0.618_033_988_749_895;
 /// Precise events of the local solar day of date `(y, m, d)` at `site` with
 /// `algorithm`. Positions are geometric (any atmosphere in `options` is
 /// ignored): the horizon limit already holds the standard refraction.
+///
+/// ```
+/// use sun_algos::geometry::events::for_algorithm;
+/// use sun_algos::{Algorithm, Options, Site, UtcTime};
+///
+/// // The NREL SPA report's site (39.742476° N, 105.1786° W, 1830.14 m, ΔT
+/// // 67 s) on its example day, 2003-10-17 (local time UTC−7).
+/// let site = Site::with_elevation(39.742476f64, -105.1786, 1830.14)?;
+/// let opts = Options { delta_t_s: Some(67.0), ..Options::default() };
+/// let ev = for_algorithm(Algorithm::Spa, (2003, 10, 17), &site, &opts)?;
+/// // Sunrise: the report's 6.212067 h local, 13:12:43.44 UT, to ±1 s.
+/// let want_rise: UtcTime = "2003-10-17T13:12:43.440Z".parse()?;
+/// let rise = ev.sunrise.expect("a sunrise");
+/// assert!((rise.unix_seconds() - want_rise.unix_seconds()).abs() <= 1);
+/// // Sunset of that local day: pvlib 0.16.1's spa_python puts the zenith at
+/// // 90.8335° at 2003-10-18T00:18:51Z, on the horizon limit 90.8333°.
+/// let want_set: UtcTime = "2003-10-18T00:18:51Z".parse()?;
+/// let set = ev.sunset.expect("a sunset");
+/// assert!((set.unix_seconds() - want_set.unix_seconds()).abs() <= 1);
+/// // Grena 2008 (ENEA, 0.0027°) agrees to a few seconds.
+/// let enea = for_algorithm(Algorithm::Grena2008, (2003, 10, 17), &site, &opts)?;
+/// assert!((enea.sunrise.unwrap().unix_seconds() - rise.unix_seconds()).abs() <= 5);
+/// # Ok::<(), sun_algos::geometry::GeometryError>(())
+/// ```
 pub fn for_algorithm<T: Float>(
     algorithm: Algorithm,
     ymd: (i32, u8, u8),
@@ -474,6 +682,30 @@ pub fn for_algorithm<T: Float>(
 /// [`crate::spa::rise_transit_set`]; h0′ = −0.8333°, accuracy tested against
 /// NREL's worked example in the SPA module's tests). The window is that UT
 /// day; events may fall slightly outside it, as SPA reports them.
+///
+/// ```
+/// use sun_algos::geometry::events;
+/// use sun_algos::{Options, Site, UtcTime};
+///
+/// // The NREL SPA report's site (39.742476° N, 105.1786° W, 1830.14 m, ΔT
+/// // 67 s) on its example day, 2003-10-17 (local time UTC−7).
+/// let site = Site::with_elevation(39.742476f64, -105.1786, 1830.14)?;
+/// let opts = Options { delta_t_s: Some(67.0), ..Options::default() };
+/// let ev = events::spa((2003, 10, 17), &site, &opts)?;
+/// // The report's sunrise 6.212067 h and transit 11.768045 h local time are
+/// // 13:12:43.441 and 18:46:04.962 UT; its sunset 17.338667 h local is this UT
+/// // day's 00:20:19.201 (the evening of 16 October, local time).
+/// for (got, want) in [
+///     (ev.sunrise.unwrap(), "2003-10-17T13:12:43.441Z"),
+///     (ev.transit, "2003-10-17T18:46:04.962Z"),
+///     (ev.sunset.unwrap(), "2003-10-17T00:20:19.201Z"),
+/// ] {
+///     let want: UtcTime = want.parse()?;
+///     assert!((got.unix_seconds() * 1000 + i64::from(got.ms_of_day() % 1000)
+///         - want.unix_seconds() * 1000 - i64::from(want.ms_of_day() % 1000)).abs() < 100);
+/// }
+/// # Ok::<(), sun_algos::geometry::GeometryError>(())
+/// ```
 pub fn spa<T: Float>(
     ymd: (i32, u8, u8),
     site: &Site<T>,

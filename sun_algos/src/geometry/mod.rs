@@ -14,6 +14,24 @@
 //!   fixed-capacity table.
 //! - [`irradiance`]: extraterrestrial and clear-sky irradiance, the tilted
 //!   plane (seed dahli-2023), daily energy (seed chowdhury-2019).
+//!
+//! # Example
+//!
+//! ```
+//! use sun_algos::geometry::{incidence, optimum, Surface};
+//! use sun_algos::SunPosition;
+//!
+//! // NREL SPA report, worked example: the sun at zenith 50.111622°, azimuth
+//! // 194.340241°; a surface of slope 30° turned 10° east of south (azimuth
+//! // 170°) sees it at I = 25.187000° (nrel_spa_test_vector.json).
+//! let sun = SunPosition::new(50.111_622f64, 194.340_241, true);
+//! let panel = Surface::new(30.0, 170.0)?;
+//! assert!((incidence::incidence_deg(&sun, &panel) - 25.187_000).abs() < 1e-5);
+//! // Pointed at the sun, the incidence is zero.
+//! let tracked = optimum::normal_to_sun(&sun);
+//! assert!(incidence::incidence_deg(&sun, &tracked) < 1e-6);
+//! # Ok::<(), sun_algos::geometry::GeometryError>(())
+//! ```
 
 pub mod day_table;
 pub mod events;
@@ -26,7 +44,30 @@ pub use incidence::Surface;
 pub use optimum::Limits;
 
 /// Why a geometry result could not be computed (never a panic).
+///
+/// ```
+/// use sun_algos::geometry::{events, GeometryError};
+/// use sun_algos::{Algorithm, Error, Options, Site};
+///
+/// let site = Site::new(11.9683f64, 8.4261)?;
+/// // Michalsky's validity ends in 2050: the position error, wrapped.
+/// let e = events::for_algorithm(Algorithm::Michalsky, (2060, 6, 21), &site, &Options::default());
+/// assert_eq!(
+///     e,
+///     Err(GeometryError::Position(Error::OutOfValidityRange {
+///         algorithm: Algorithm::Michalsky,
+///         year: 2060,
+///     }))
+/// );
+/// assert_eq!(
+///     GeometryError::CapacityExceeded { needed: 400, capacity: 361 }.to_string(),
+///     "day needs 400 entries, table holds 361"
+/// );
+/// # Ok::<(), sun_algos::Error>(())
+/// ```
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
 pub enum GeometryError {
     /// The sun position could not be computed (bad site, date, options…).
     Position(crate::Error),

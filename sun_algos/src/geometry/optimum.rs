@@ -22,6 +22,24 @@
 //!
 //! `tests/geometry_optimum.rs` checks the result against a brute-force grid
 //! at 0.01° steps.
+//!
+//! # Example
+//!
+//! ```
+//! use sun_algos::geometry::optimum::{best_within, Limits};
+//! use sun_algos::SunPosition;
+//!
+//! // The NREL SPA worked example's sun: zenith 50.111622°, azimuth 194.340241°.
+//! // A mount that tilts at most 30° points at the sun's azimuth and tilts all
+//! // the way; what remains is 50.111622° − 30° (hand geometry: the sun and the
+//! // normal lie in one vertical plane).
+//! let sun = SunPosition::new(50.111_622f64, 194.340_241, true);
+//! let sp = best_within(&sun, &Limits::new(0.0, 30.0, 0.0, 360.0)?)?;
+//! assert!((sp.surface.slope_deg - 30.0).abs() < 1e-9);
+//! assert!((sp.surface.azimuth_deg - 194.340_241).abs() < 1e-9);
+//! assert!((sp.incidence_deg - 20.111_622).abs() < 1e-6);
+//! # Ok::<(), sun_algos::geometry::GeometryError>(())
+//! ```
 
 use crate::float::Float;
 use crate::position::SunPosition;
@@ -30,7 +48,18 @@ use super::incidence::{incidence_deg, Surface};
 use super::GeometryError;
 
 /// Mechanical limits of a two-axis mount.
+///
+/// ```
+/// use sun_algos::geometry::{Limits, Surface};
+///
+/// // The southern two thirds of the sky, tilts 5…85°.
+/// let lim = Limits::new(5.0f64, 85.0, 60.0, 300.0)?;
+/// assert!(lim.contains(&Surface::new(45.0, 180.0)?, 0.0));
+/// assert!(!lim.contains(&Surface::new(45.0, 0.0)?, 0.0));
+/// # Ok::<(), sun_algos::geometry::GeometryError>(())
+/// ```
 #[derive(Debug, Clone, Copy, PartialEq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
 pub struct Limits<T> {
     slope_min_deg: T,
     slope_max_deg: T,
@@ -43,6 +72,18 @@ impl<T: Float> Limits<T> {
     /// (east of north) on the arc from `azimuth_min` clockwise to
     /// `azimuth_max`; `azimuth_max − azimuth_min` must be in 0…360 (e.g.
     /// −90…90 is the northern half, 60…300 the southern two thirds).
+    ///
+    /// ```
+    /// use sun_algos::geometry::{GeometryError, Limits};
+    ///
+    /// // −90…90 is the northern half of the azimuths (an arc through north).
+    /// let lim = Limits::new(0.0f32, 60.0, -90.0, 90.0)?;
+    /// assert_eq!(lim.azimuth_max_deg() - lim.azimuth_min_deg(), 180.0);
+    /// assert_eq!(Limits::new(10.0f32, 5.0, 0.0, 10.0), Err(GeometryError::InvalidLimits));
+    /// assert_eq!(Limits::new(0.0f32, 90.0, 0.0, 400.0), Err(GeometryError::InvalidLimits));
+    /// assert_eq!(Limits::new(0.0f32, f32::NAN, 0.0, 10.0), Err(GeometryError::NotFinite));
+    /// # Ok::<(), sun_algos::geometry::GeometryError>(())
+    /// ```
     pub fn new(
         slope_min_deg: T,
         slope_max_deg: T,
@@ -77,6 +118,16 @@ impl<T: Float> Limits<T> {
     }
 
     /// No limits: slope 0…180°, any azimuth.
+    ///
+    /// ```
+    /// use sun_algos::geometry::{optimum::best_within, Limits};
+    /// use sun_algos::SunPosition;
+    ///
+    /// // Any sun can be faced: zero incidence, even below the horizon.
+    /// let sun = SunPosition::new(120.0f64, 45.0, false);
+    /// assert!(best_within(&sun, &Limits::unconstrained())?.incidence_deg < 1e-6);
+    /// # Ok::<(), sun_algos::geometry::GeometryError>(())
+    /// ```
     pub fn unconstrained() -> Self {
         Limits {
             slope_min_deg: T::ZERO,
@@ -87,6 +138,18 @@ impl<T: Float> Limits<T> {
     }
 
     /// A typical tracker: slope 0…90°, any azimuth.
+    ///
+    /// ```
+    /// use sun_algos::geometry::{optimum::best_within, Limits};
+    /// use sun_algos::SunPosition;
+    ///
+    /// // A sun 10° below the horizon: the panel stands vertical, 10° off.
+    /// let sun = SunPosition::new(100.0f64, 270.0, false);
+    /// let sp = best_within(&sun, &Limits::upward())?;
+    /// assert_eq!(sp.surface.slope_deg, 90.0);
+    /// assert!((sp.incidence_deg - 10.0).abs() < 1e-9);
+    /// # Ok::<(), sun_algos::geometry::GeometryError>(())
+    /// ```
     pub fn upward() -> Self {
         Limits {
             slope_max_deg: T::from_f64(90.0),
@@ -95,24 +158,63 @@ impl<T: Float> Limits<T> {
     }
 
     /// Lowest slope, degrees.
+    ///
+    /// ```
+    /// use sun_algos::geometry::Limits;
+    ///
+    /// assert_eq!(Limits::new(5.0f64, 85.0, 60.0, 300.0)?.slope_min_deg(), 5.0);
+    /// # Ok::<(), sun_algos::geometry::GeometryError>(())
+    /// ```
     pub fn slope_min_deg(&self) -> T {
         self.slope_min_deg
     }
     /// Highest slope, degrees.
+    ///
+    /// ```
+    /// use sun_algos::geometry::Limits;
+    ///
+    /// assert_eq!(Limits::<f64>::upward().slope_max_deg(), 90.0);
+    /// ```
     pub fn slope_max_deg(&self) -> T {
         self.slope_max_deg
     }
     /// Start of the azimuth arc, degrees east of north.
+    ///
+    /// ```
+    /// use sun_algos::geometry::Limits;
+    ///
+    /// assert_eq!(Limits::new(5.0f64, 85.0, 60.0, 300.0)?.azimuth_min_deg(), 60.0);
+    /// # Ok::<(), sun_algos::geometry::GeometryError>(())
+    /// ```
     pub fn azimuth_min_deg(&self) -> T {
         self.azimuth_min_deg
     }
     /// End of the azimuth arc (clockwise from the start), degrees.
+    ///
+    /// ```
+    /// use sun_algos::geometry::Limits;
+    ///
+    /// assert_eq!(Limits::new(5.0f64, 85.0, 60.0, 300.0)?.azimuth_max_deg(), 300.0);
+    /// # Ok::<(), sun_algos::geometry::GeometryError>(())
+    /// ```
     pub fn azimuth_max_deg(&self) -> T {
         self.azimuth_max_deg
     }
 
     /// True when `surface` lies inside the limits (azimuth compared on the
     /// circle, with a tolerance of `tol_deg`).
+    ///
+    /// ```
+    /// use sun_algos::geometry::{Limits, Surface};
+    ///
+    /// // The arc −45…45 runs through north: 350° is on it, 50° only with 5° of
+    /// // tolerance.
+    /// let lim = Limits::new(0.0f64, 90.0, -45.0, 45.0)?;
+    /// assert!(lim.contains(&Surface::new(30.0, 350.0)?, 0.0));
+    /// assert!(!lim.contains(&Surface::new(30.0, 50.0)?, 0.0));
+    /// assert!(lim.contains(&Surface::new(30.0, 50.0)?, 5.0));
+    /// # Ok::<(), sun_algos::geometry::GeometryError>(())
+    /// ```
     pub fn contains(&self, surface: &Surface<T>, tol_deg: T) -> bool {
         let in_slope = surface.slope_deg >= self.slope_min_deg - tol_deg
             && surface.slope_deg <= self.slope_max_deg + tol_deg;
@@ -139,7 +241,21 @@ impl<T: Float> Limits<T> {
 }
 
 /// A set-point and the incidence it leaves.
+///
+/// ```
+/// use sun_algos::geometry::{optimum::best_within, Limits};
+/// use sun_algos::SunPosition;
+///
+/// // Inside the limits the sun is faced exactly.
+/// let sun = SunPosition::new(40.0f64, 250.0, false);
+/// let sp = best_within(&sun, &Limits::upward())?;
+/// assert!(sp.incidence_deg < 1e-6);
+/// assert_eq!((sp.surface.slope_deg, sp.surface.azimuth_deg), (40.0, 250.0));
+/// # Ok::<(), sun_algos::geometry::GeometryError>(())
+/// ```
 #[derive(Debug, Clone, Copy, PartialEq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
 pub struct SetPoint<T> {
     /// Where the surface points.
     pub surface: Surface<T>,
@@ -149,6 +265,15 @@ pub struct SetPoint<T> {
 
 /// The zero-incidence set-point (seed jimoh-2019 eq 14 in closed form):
 /// β = θz, γ = γs.
+///
+/// ```
+/// use sun_algos::geometry::optimum::normal_to_sun;
+/// use sun_algos::SunPosition;
+///
+/// // Seed jimoh-2019 eq. 14: slope = zenith, surface azimuth = sun azimuth.
+/// let s = normal_to_sun(&SunPosition::new(50.111_622f32, 194.340_241, true));
+/// assert_eq!((s.slope_deg, s.azimuth_deg), (50.111_622, 194.340_241));
+/// ```
 pub fn normal_to_sun<T: Float>(sun: &SunPosition<T>) -> Surface<T> {
     Surface::facing(sun)
 }
@@ -157,12 +282,37 @@ pub fn normal_to_sun<T: Float>(sun: &SunPosition<T>) -> Surface<T> {
 /// for coefficients with c6² + c7² = 1 (as they are when γ = γs): β =
 /// atan2(c7, c6). For other coefficients this is the β that maximises the
 /// left side, i.e. the closest the equation can come to holding.
+///
+/// ```
+/// use sun_algos::geometry::optimum::eq14_slope_deg;
+///
+/// // c6 = cos θz, c7 = sin θz: the root is θz itself (eq. 14 with γ = γs).
+/// let z = 35.0f64.to_radians();
+/// assert!((eq14_slope_deg(z.cos(), z.sin()) - 35.0).abs() < 1e-12);
+/// ```
 pub fn eq14_slope_deg<T: Float>(c6: T, c7: T) -> T {
     c7.atan2(c6).to_degrees()
 }
 
 /// The set-point within `limits` that minimises the incidence (method in
 /// the module documentation). Errors only for non-finite sun angles.
+///
+/// ```
+/// use sun_algos::geometry::optimum::{best_within, Limits};
+/// use sun_algos::SunPosition;
+///
+/// // Azimuths 90…270 only (east through south to west); a sun in the
+/// // north-east at azimuth 20° is nearer the 90° end (70° away) than the 270°
+/// // end (110°), hand geometry.
+/// let lim = Limits::new(0.0f64, 90.0, 90.0, 270.0)?;
+/// let sp = best_within(&SunPosition::new(60.0, 20.0, false), &lim)?;
+/// assert!((sp.surface.azimuth_deg - 90.0).abs() < 1e-9);
+/// // cos θ = cos β cos 60° + sin β sin 60° cos 70° is largest at
+/// // β = atan(tan 60° · cos 70°) = 30.64°.
+/// let beta = (60.0f64.to_radians().tan() * 70.0f64.to_radians().cos()).atan().to_degrees();
+/// assert!((sp.surface.slope_deg - beta).abs() < 1e-9);
+/// # Ok::<(), sun_algos::geometry::GeometryError>(())
+/// ```
 pub fn best_within<T: Float>(
     sun: &SunPosition<T>,
     limits: &Limits<T>,

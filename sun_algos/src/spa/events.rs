@@ -11,10 +11,36 @@ use crate::time::UtcTime;
 /// Altitude of the sun's centre at sunrise and sunset, h0′ = −0.8333°: the
 /// sun's radius (0.26667°) plus the refraction at the horizon (0.5667°)
 /// (appendix A.2, step 5).
+///
+/// ```
+/// use sun_algos::refraction::SUN_RADIUS_PLUS_HORIZON_REFRACTION_DEG;
+/// use sun_algos::spa::SUNRISE_ALTITUDE_DEG;
+///
+/// // The sun's radius 0.26667° plus 0.5667° of refraction at the horizon,
+/// // 0.83337°, which the report rounds to 0.8333°.
+/// assert!((SUNRISE_ALTITUDE_DEG + SUN_RADIUS_PLUS_HORIZON_REFRACTION_DEG).abs() < 1e-4);
+/// ```
 pub const SUNRISE_ALTITUDE_DEG: f64 = -0.8333;
 
 /// Sun rise and set of one day.
+///
+/// ```
+/// use sun_algos::spa::{rise_transit_set, RiseSet};
+/// use sun_algos::{Options, Site, UtcTime};
+///
+/// // At the June solstice the sun's declination is +23.4°: it never sets north
+/// // of 66.6° N and never rises south of 66.6° S (the polar circles).
+/// let day: UtcTime = "2026-06-21T00:00:00Z".parse()?;
+/// let opts = Options::default();
+/// let north = rise_transit_set(&day, &Site::new(80.0f64, 15.0)?, &opts)?;
+/// assert_eq!(north.rise_set, RiseSet::AlwaysAbove);
+/// let south = rise_transit_set(&day, &Site::new(-80.0f64, 15.0)?, &opts)?;
+/// assert_eq!(south.rise_set, RiseSet::AlwaysBelow);
+/// # Ok::<(), sun_algos::Error>(())
+/// ```
 #[derive(Debug, Clone, Copy, PartialEq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
 pub enum RiseSet<T> {
     /// The sun rises and sets: hours UT1 from 0 h of the day (both may lie
     /// slightly outside `[0, 24)` when the event falls on a neighbouring UT day).
@@ -31,7 +57,23 @@ pub enum RiseSet<T> {
 }
 
 /// Sunrise, transit and sunset of one UT day (appendix A.2).
+///
+/// ```
+/// use sun_algos::spa::{local_hours, rise_transit_set};
+/// use sun_algos::{Options, Site, UtcTime};
+///
+/// // NREL SPA report, worked example (shared/reference/nrel_spa_test_vector.json):
+/// // 39.742476° N, 105.1786° W, 1830.14 m, ΔT 67 s, time zone −7 h.
+/// let site = Site::with_elevation(39.742476f64, -105.1786, 1830.14)?;
+/// let opts = Options { delta_t_s: Some(67.0), ..Options::default() };
+/// // Transit 11.768045 h local time.
+/// let rts = rise_transit_set(&"2003-10-17T00:00:00Z".parse()?, &site, &opts)?;
+/// assert!((local_hours(rts.transit_h, -7.0) - 11.768_045).abs() < 1e-5);
+/// # Ok::<(), sun_algos::Error>(())
+/// ```
 #[derive(Debug, Clone, Copy, PartialEq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
 pub struct RiseTransitSet<T> {
     /// Sun transit (local solar noon), hours after 0 h UT1 (step 12, "T").
     pub transit_h: T,
@@ -41,6 +83,15 @@ pub struct RiseTransitSet<T> {
 
 /// Hours UT1 as local clock hours in `[0, 24)` for a time zone `tz_h` hours
 /// east of Greenwich (the report's "local time" with its `timezone`).
+///
+/// ```
+/// use sun_algos::spa::local_hours;
+///
+/// // NREL SPA worked example: sunrise 13.212067 h UT is 6.212067 h at UTC−7;
+/// // 0.338667 h UT is 17.338667 h the evening before.
+/// assert!((local_hours(13.212_067f64, -7.0) - 6.212_067).abs() < 1e-12);
+/// assert!((local_hours(0.338_667f64, -7.0) - 17.338_667).abs() < 1e-12);
+/// ```
 pub fn local_hours<T: Float>(utc_h: T, tz_h: T) -> T {
     (utc_h + tz_h).rem_euclid(T::from_f64(24.0))
 }
@@ -69,6 +120,26 @@ fn interpolate<T: Float>(v: [T; 3], n: T) -> T {
 /// the horizon is h0′ = [`SUNRISE_ALTITUDE_DEG`]. Polar day and night are
 /// [`RiseSet::AlwaysAbove`] and [`RiseSet::AlwaysBelow`]; the transit is
 /// always given.
+///
+/// ```
+/// use sun_algos::spa::{local_hours, rise_transit_set, RiseSet};
+/// use sun_algos::{Options, Site, UtcTime};
+///
+/// // NREL SPA report, worked example (shared/reference/nrel_spa_test_vector.json):
+/// // 39.742476° N, 105.1786° W, 1830.14 m, ΔT 67 s, time zone −7 h.
+/// let site = Site::with_elevation(39.742476f64, -105.1786, 1830.14)?;
+/// let opts = Options { delta_t_s: Some(67.0), ..Options::default() };
+/// // The report's sunrise 6.212067 h, transit 11.768045 h and sunset
+/// // 17.338667 h local time.
+/// let rts = rise_transit_set(&"2003-10-17T12:30:30Z".parse()?, &site, &opts)?;
+/// let RiseSet::Both { sunrise_h, sunset_h } = rts.rise_set else {
+///     panic!("Golden, Colorado has a sunrise and a sunset in October");
+/// };
+/// assert!((local_hours(sunrise_h, -7.0) - 6.212_067).abs() < 1e-5);
+/// assert!((local_hours(rts.transit_h, -7.0) - 11.768_045).abs() < 1e-5);
+/// assert!((local_hours(sunset_h, -7.0) - 17.338_667).abs() < 1e-5);
+/// # Ok::<(), sun_algos::Error>(())
+/// ```
 pub fn rise_transit_set<T: Float>(
     day: &UtcTime,
     site: &Site<T>,

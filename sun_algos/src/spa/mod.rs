@@ -19,6 +19,30 @@
 //! frequencies and of the nutation's fundamental arguments come from an
 //! exact reduction in turns or degrees and fdlibm's kernels (module
 //! `turns`), within 2.2·10⁻¹⁶ of the exact values.
+//!
+//! # Example
+//!
+//! ```
+//! use sun_algos::{spa, Atmosphere, Options, Site, UtcTime};
+//!
+//! // NREL SPA report, worked example (shared/reference/nrel_spa_test_vector.json):
+//! // 2003-10-17 19:30:30 UT, 39.742476° N, 105.1786° W, 1830.14 m, 820 hPa,
+//! // 11 °C, ΔT 67 s.
+//! let t: UtcTime = "2003-10-17T19:30:30Z".parse()?;
+//! let site = Site::with_elevation(39.742476f64, -105.1786, 1830.14)?;
+//! let opts = Options {
+//!     delta_t_s: Some(67.0),
+//!     atmosphere: Some(Atmosphere::new(820.0, 11.0)?),
+//!     ..Options::default()
+//! };
+//! let i = spa::intermediate(&t, &site, &opts)?;
+//! // The report's printed values: zenith 50.111622°, azimuth 194.340241°,
+//! // equation of time 14.641503 min.
+//! assert!((i.zenith_deg - 50.111_622).abs() < 1e-6);
+//! assert!((i.azimuth_deg - 194.340_241).abs() < 1e-6);
+//! assert!((i.equation_of_time_min - 14.641_503).abs() < 1e-5);
+//! # Ok::<(), sun_algos::Error>(())
+//! ```
 
 mod earth;
 mod events;
@@ -71,7 +95,33 @@ pub(crate) fn position<T: Float>(inp: &Inputs<'_, T>) -> SunPosition<T> {
 
 /// Every intermediate value of SPA for one instant and site (degrees unless
 /// the name says otherwise), as listed in the report's worked example.
+///
+/// ```
+/// use sun_algos::{spa, Atmosphere, Options, Site, UtcTime};
+///
+/// // NREL SPA report, worked example (shared/reference/nrel_spa_test_vector.json):
+/// // 2003-10-17 19:30:30 UT, 39.742476° N, 105.1786° W, 1830.14 m, 820 hPa,
+/// // 11 °C, ΔT 67 s.
+/// let t: UtcTime = "2003-10-17T19:30:30Z".parse()?;
+/// let site = Site::with_elevation(39.742476f64, -105.1786, 1830.14)?;
+/// let opts = Options {
+///     delta_t_s: Some(67.0),
+///     atmosphere: Some(Atmosphere::new(820.0, 11.0)?),
+///     ..Options::default()
+/// };
+/// let i: spa::SpaIntermediate<f64> = spa::intermediate(&t, &site, &opts)?;
+/// // The report's topocentric values: δ′ = −9.316179°, H′ = 11.10627°,
+/// // e0 = 39.872046°, Δe = 0.016332°, e = 39.888378°.
+/// assert!((i.delta_prime_deg + 9.316_179).abs() < 1e-6);
+/// assert!((i.h_prime_deg - 11.106_27).abs() < 1e-5);
+/// assert!((i.e0_deg - 39.872_046).abs() < 1e-6);
+/// assert!((i.delta_e_deg - 0.016_332).abs() < 1e-6);
+/// assert!((i.e_deg - 39.888_378).abs() < 1e-6);
+/// # Ok::<(), sun_algos::Error>(())
+/// ```
 #[derive(Debug, Clone, Copy, PartialEq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
 pub struct SpaIntermediate<T> {
     /// Integer part of the Julian Day (UT1), eq. 4.
     pub julian_day_int: i32,
@@ -129,12 +179,50 @@ pub struct SpaIntermediate<T> {
 
 impl<T: Float> SpaIntermediate<T> {
     /// The Julian Day as one `f64` (for display; the algorithm never forms it).
+    ///
+    /// ```
+    /// use sun_algos::{spa, Atmosphere, Options, Site, UtcTime};
+    ///
+    /// // NREL SPA report, worked example (shared/reference/nrel_spa_test_vector.json):
+    /// // 2003-10-17 19:30:30 UT, 39.742476° N, 105.1786° W, 1830.14 m, 820 hPa,
+    /// // 11 °C, ΔT 67 s.
+    /// let t: UtcTime = "2003-10-17T19:30:30Z".parse()?;
+    /// let site = Site::with_elevation(39.742476f64, -105.1786, 1830.14)?;
+    /// let opts = Options {
+    ///     delta_t_s: Some(67.0),
+    ///     atmosphere: Some(Atmosphere::new(820.0, 11.0)?),
+    ///     ..Options::default()
+    /// };
+    /// // The report's JD: 2452930.312847.
+    /// let i = spa::intermediate(&t, &site, &opts)?;
+    /// assert!((i.julian_day_f64() - 2_452_930.312_847).abs() < 1e-6);
+    /// # Ok::<(), sun_algos::Error>(())
+    /// ```
     pub fn julian_day_f64(&self) -> f64 {
         f64::from(self.julian_day_int) + self.julian_day_frac.to_f64()
     }
 
     /// The topocentric astronomers' azimuth Γ of eq. 45: measured westward
     /// from south, `[0, 360)`.
+    ///
+    /// ```
+    /// use sun_algos::{spa, Atmosphere, Options, Site, UtcTime};
+    ///
+    /// // NREL SPA report, worked example (shared/reference/nrel_spa_test_vector.json):
+    /// // 2003-10-17 19:30:30 UT, 39.742476° N, 105.1786° W, 1830.14 m, 820 hPa,
+    /// // 11 °C, ΔT 67 s.
+    /// let t: UtcTime = "2003-10-17T19:30:30Z".parse()?;
+    /// let site = Site::with_elevation(39.742476f64, -105.1786, 1830.14)?;
+    /// let opts = Options {
+    ///     delta_t_s: Some(67.0),
+    ///     atmosphere: Some(Atmosphere::new(820.0, 11.0)?),
+    ///     ..Options::default()
+    /// };
+    /// // The report's topocentric astronomers' azimuth Γ: 14.340241°.
+    /// let i = spa::intermediate(&t, &site, &opts)?;
+    /// assert!((i.astronomers_azimuth_deg() - 14.340_241).abs() < 1e-6);
+    /// # Ok::<(), sun_algos::Error>(())
+    /// ```
     pub fn astronomers_azimuth_deg(&self) -> T {
         (self.azimuth_deg - T::from_f64(180.0)).rem_euclid(T::from_f64(360.0))
     }
@@ -147,6 +235,34 @@ fn deg360<T: Float>(rad: T) -> T {
 
 /// All SPA intermediate values (validated like [`Algorithm::position`]; the
 /// validity range is SPA's, years −2000…6000).
+///
+/// ```
+/// use sun_algos::{spa, Atmosphere, Options, Site, UtcTime};
+///
+/// // NREL SPA report, worked example (shared/reference/nrel_spa_test_vector.json):
+/// // 2003-10-17 19:30:30 UT, 39.742476° N, 105.1786° W, 1830.14 m, 820 hPa,
+/// // 11 °C, ΔT 67 s.
+/// let t: UtcTime = "2003-10-17T19:30:30Z".parse()?;
+/// let site = Site::with_elevation(39.742476f64, -105.1786, 1830.14)?;
+/// let opts = Options {
+///     delta_t_s: Some(67.0),
+///     atmosphere: Some(Atmosphere::new(820.0, 11.0)?),
+///     ..Options::default()
+/// };
+/// let i = spa::intermediate(&t, &site, &opts)?;
+/// // The report's heliocentric and geocentric values: L = 24.0182616917°,
+/// // B = −0.0001011219°, R = 0.9965422974 AU, Δψ = −0.00399840°,
+/// // ε = 23.440465°, ν = 318.511910°, α = 202.227408°, δ = −9.31434°.
+/// assert!((i.l_deg - 24.018_261_691_7).abs() < 1e-6);
+/// assert!((i.b_deg + 0.000_101_121_9).abs() < 1e-9);
+/// assert!((i.r_au - 0.996_542_297_4).abs() < 1e-9);
+/// assert!((i.dpsi_deg + 0.003_998_40).abs() < 1e-8);
+/// assert!((i.eps_deg - 23.440_465).abs() < 1e-6);
+/// assert!((i.nu_deg - 318.511_910).abs() < 1e-6);
+/// assert!((i.alpha_deg - 202.227_408).abs() < 1e-6);
+/// assert!((i.delta_deg + 9.314_34).abs() < 1e-5);
+/// # Ok::<(), sun_algos::Error>(())
+/// ```
 pub fn intermediate<T: Float>(
     time: &UtcTime,
     site: &Site<T>,
@@ -232,6 +348,17 @@ fn eot_min<T: Float>(t: &SplitDays<T>, geo: &Geocentric<T>) -> T {
 
 /// The equation of time in minutes (apparent minus mean solar time,
 /// appendix A.1), for `time` and the ΔT of `options` (or the built-in model).
+///
+/// ```
+/// use sun_algos::{spa, Options, UtcTime};
+///
+/// // NREL SPA worked example: E = 14.641503 min at 2003-10-17 19:30:30 UT
+/// // with ΔT 67 s (the site does not enter).
+/// let t: UtcTime = "2003-10-17T19:30:30Z".parse()?;
+/// let e = spa::equation_of_time_min(&t, &Options { delta_t_s: Some(67.0f64), ..Options::default() })?;
+/// assert!((e - 14.641_503).abs() < 1e-5);
+/// # Ok::<(), sun_algos::Error>(())
+/// ```
 pub fn equation_of_time_min<T: Float>(time: &UtcTime, options: &Options<T>) -> Result<T, Error> {
     // The site does not enter; validate the rest as usual.
     let site = Site::new(T::ZERO, T::ZERO)?;
@@ -246,6 +373,17 @@ pub fn equation_of_time_min<T: Float>(time: &UtcTime, options: &Options<T>) -> R
 /// `surface_azimuth_rotation_deg` γ in the report's convention: measured
 /// from south to the projection of the surface normal on the horizontal
 /// plane, positive toward west, negative toward east.
+///
+/// ```
+/// use sun_algos::{spa, Error};
+///
+/// // NREL SPA worked example: zenith 50.111622°, azimuth 194.340241°, a
+/// // surface of slope 30° turned 10° east of south: I = 25.187000°.
+/// let i = spa::incidence_deg(50.111_622f64, 194.340_241, 30.0, -10.0)?;
+/// assert!((i - 25.187_000).abs() < 1e-5);
+/// assert_eq!(spa::incidence_deg(f64::NAN, 0.0, 30.0, 0.0), Err(Error::NotFinite));
+/// # Ok::<(), sun_algos::Error>(())
+/// ```
 pub fn incidence_deg<T: Float>(
     zenith_deg: T,
     azimuth_deg: T,
