@@ -96,7 +96,7 @@ fn postal_table(csv: &str) -> Result<String, String> {
     writeln!(s, "/// Number of entries.\npub const LEN: usize = {n};").unwrap();
     writeln!(
         s,
-        "/// Keys (see `key.rs`), ascending.\npub static KEYS: [u64; {n}] = ["
+        "/// Keys (see `key.rs`), ascending; in program memory on AVR.\n#[cfg_attr(target_arch = \"avr\", link_section = \".progmem.data\")]\npub static KEYS: [u64; {n}] = ["
     )
     .unwrap();
     for r in &rows {
@@ -105,7 +105,7 @@ fn postal_table(csv: &str) -> Result<String, String> {
     writeln!(s, "];").unwrap();
     writeln!(
         s,
-        "/// Latitude and longitude, 1e-4 degree, little-endian 24-bit each.\npub static COORDS: [[u8; 6]; {n}] = ["
+        "/// Latitude and longitude, 1e-4 degree, little-endian 24-bit each; in\n/// program memory on AVR.\n#[cfg_attr(target_arch = \"avr\", link_section = \".progmem.data\")]\npub static COORDS: [[u8; 6]; {n}] = ["
     )
     .unwrap();
     for r in &rows {

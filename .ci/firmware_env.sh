@@ -14,6 +14,7 @@ case "$FW_TARGET_DIR" in /*) ;; *) FW_TARGET_DIR="$PWD/$FW_TARGET_DIR" ;; esac
 ELF_QEMU="$FW_TARGET_DIR/thumbv7em-none-eabihf/release/qemu_tracker"
 ELF_QEMU_BENCH="$FW_TARGET_DIR/thumbv7em-none-eabihf/release/qemu_bench"
 ELF_BLACKPILL="$FW_TARGET_DIR/blackpill/thumbv7em-none-eabihf/release/blackpill_tracker"
+ELF_BLACKPILL_DEFMT="$FW_TARGET_DIR/blackpill-defmt/thumbv7em-none-eabihf/release/blackpill_tracker"
 ELF_AVR_UNO="$FW_TARGET_DIR/avr-none/release/avr_tracker.elf"
 ELF_AVR_BENCH="$FW_TARGET_DIR/avr-none/release/avr_bench.elf"
 ELF_AVR_MEGA="$FW_TARGET_DIR/mega/avr-none/release/avr_mega_tracker.elf"
@@ -32,6 +33,13 @@ build_qemu() {
 build_blackpill() {
   cargo build --release --target thumbv7em-none-eabihf --features stm32f411 \
     --bin blackpill_tracker --target-dir "$FW_TARGET_DIR/blackpill"
+}
+# The Black Pill with its log over defmt/RTT: defmt's linker script joins
+# the root config's -Tlink.x (cargo joins rustflags lists across configs).
+build_blackpill_defmt() {
+  cargo build --release --target thumbv7em-none-eabihf --features stm32f411,defmt \
+    --bin blackpill_tracker --target-dir "$FW_TARGET_DIR/blackpill-defmt" \
+    --config 'target.thumbv7em-none-eabihf.rustflags=["-C", "link-arg=-Tdefmt.x"]'
 }
 build_avr_uno() {
   cargo +nightly build --release --target avr-none -Z build-std=core --features uno \
@@ -60,6 +68,7 @@ build_avr_uno_emu() {
 build_all_firmware() {
   build_qemu
   build_blackpill
+  build_blackpill_defmt
   build_avr_uno
   build_avr_mega
   build_avr_mega_emu

@@ -6,10 +6,12 @@ QEMU runs with `-icount shift=5,sleep=off`: 32 ns of emulated time per
 instruction (about the an386's 25 MHz), and idle time (`wfi`) skipped, so an
 emulated day passes in a minute or two of wall time, decoupled from the host.
 The host cannot see when the guest's clock moves, so the image asks
-(src/board/mps2_an386.rs, "the gate"): once per emulated second it stops its
-clocks, writes `T<monotonic ms>` on UART1 and waits for an answer there. This script then writes the NMEA epoch of that
-instant (UTC = the stream's first time + ms) into UART0 and answers with the
-number of bytes (or `stop` once `--minutes` have passed); the image waits
+(src/board/mps2_an386.rs, "the gate"): once per controller tick (10 emulated
+seconds) it stops its clocks, writes `T<monotonic ms>` on UART1 and waits for
+an answer there. This script then writes the NMEA epoch of that instant
+(UTC = the stream's first time + ms) into UART0, and the console lines due
+into UART2, and answers with the number of bytes (`<gps>` or
+`<gps>,<console>`; `stop` once `--minutes` have passed); the image waits
 until the bytes are in and restarts its clocks. The image then exits through
 semihosting with its status, which is this script's exit status (2 for a
 usage error, 3 when QEMU ended without the image's `end` line or timed
@@ -21,11 +23,29 @@ re-stamped: the file's first time plus the emulated time, or `--start` plus
 it. `--no-gps` keeps UART0 silent. A recorded stream with the week-rollover
 bug keeps its wrong date running on the same way.
 
+The console: `--type MINUTE:LINE` (repeatable) types LINE and a newline
+into UART2 (QEMU's third `-serial`, the image's console) at the first gate
+at or after that emulated minute (fractions allowed), lines of one minute
+in the order given. The gate's answer then also counts them (`<gps>,<console>`)
+and the image waits until they are in its console ring before its clock
+runs on, so a typed line takes effect at the same emulated instant in every
+run. At most CONSOLE_RING_LEN bytes (the image's console ring) go in at one
+gate; whole lines beyond that wait for the next gate.
+
+The configuration file: QEMU runs in a fresh temporary directory, where the
+image keeps its stored configuration (`suntracker-config.bin`, semihosting
+file I/O), so every run starts with none (`config source=defaults`) unless
+`--config-file PATH` names a file to use instead (created when missing,
+kept after the run): a later run on the same file boots with what an
+earlier one saved (`config source=stored`).
+
 The log (semihosting output, QEMU's stdout here) is printed and, with
 `--log OUT`, written to OUT.
 
   python3 .ci/qemu_gps.py ELF [--nmea FILE | --no-gps] [--start UTC]
-                          [--minutes N] [--log OUT] [--quiet] [--timeout S]
+                          [--minutes N] [--type MINUTE:LINE]...
+                          [--config-file PATH] [--log OUT] [--quiet]
+                          [--timeout S]
 
 Any ELF that does not gate (qemu_bench) just runs to its exit.
 """
@@ -33,6 +53,7 @@ import argparse
 import datetime as dt
 import os
 import select
+import shutil
 import socket
 import subprocess
 import sys
@@ -41,6 +62,12 @@ import time
 
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 DEFAULT_NMEA = os.path.join(ROOT, "tests", "firmware", "gps_kano_2026-03-20.nmea")
+# The image's console receive ring (CONSOLE_RING_LEN in
+# src/board/mps2_an386.rs): the most bytes typed at one gate.
+CONSOLE_RING_LEN = 256
+# The image's configuration file, in QEMU's working directory (CONFIG_FILE
+# in src/board/mps2_an386.rs).
+CONFIG_FILE = "suntracker-config.bin"
 
 
 def checksum(body):
@@ -95,6 +122,30 @@ def parse_utc(s):
         raise SystemExit(f"qemu_gps: bad time {s}, want YYYY-MM-DDTHH:MM:SSZ") from None
 
 
+def parse_type(s):
+    """`MINUTE:LINE` -> (ms, bytes of LINE + newline); ValueError saying
+    what is wrong."""
+    minute, sep, line = s.partition(":")
+    try:
+        ms = round(float(minute) * 60_000)
+    except ValueError:
+        ms = -1
+    if not sep or ms < 0:
+        raise ValueError(f"bad --type {s!r}, want MINUTE:LINE (MINUTE >= 0)")
+    if not line.isascii() or not line.isprintable():
+        raise ValueError(f"--type {s!r}: the line must be printable ASCII")
+    return ms, (line + "\n").encode("ascii")
+
+
+def take_console(pending):
+    """Whole lines from the front of `pending` (removed there) that fit the
+    image's console ring together; a single longer line goes alone."""
+    out = b""
+    while pending and (not out or len(out) + len(pending[0]) <= CONSOLE_RING_LEN):
+        out += pending.pop(0)
+    return out
+
+
 def main():
     ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     ap.add_argument("elf")
@@ -106,16 +157,35 @@ def main():
     ap.add_argument("--quiet", action="store_true")
     ap.add_argument("--timeout", type=float, default=900.0, help="wall seconds")
     ap.add_argument("--qemu", default="qemu-system-arm")
-    ap.add_argument("--qemu-arg", action="append", default=[], help="extra QEMU argument")
+    ap.add_argument("--qemu-arg", action="append", default=[],
+                    help="extra QEMU argument (QEMU runs in a temporary directory)")
+    ap.add_argument("--type", action="append", default=[], metavar="MINUTE:LINE",
+                    help="type LINE on the console (UART2) at that emulated minute")
+    ap.add_argument("--config-file", metavar="PATH",
+                    help="the image's configuration file (default: a new one per run)")
     a = ap.parse_args()
 
     gga, rmc, first = parse_template(a.nmea)
     if a.start:
         first = parse_utc(a.start)
     end_ms = int(a.minutes * 60_000)
+    try:
+        parsed = [parse_type(t) for t in a.type]
+    except ValueError as e:
+        ap.error(str(e))
+    late = [t for t, (ms, _) in zip(a.type, parsed) if ms >= end_ms]
+    if late:
+        ap.error(f"--type at or after --minutes {a.minutes:g} is never typed: {late}")
+    # Stable sort: lines of one minute keep their order.
+    typed = sorted(parsed, key=lambda x: x[0])
+    pending = []
 
     tmp = tempfile.mkdtemp(prefix="qemu_gps.")
-    paths = {k: os.path.join(tmp, k + ".sock") for k in ("gps", "gate")}
+    if a.config_file:
+        path = os.path.abspath(a.config_file)
+        open(path, "ab").close()
+        os.symlink(path, os.path.join(tmp, CONFIG_FILE))
+    paths = {k: os.path.join(tmp, k + ".sock") for k in ("gps", "gate", "console")}
     listeners = {}
     for k, p in paths.items():
         s = socket.socket(socket.AF_UNIX, socket.SOCK_STREAM)
@@ -127,14 +197,17 @@ def main():
            "-monitor", "none", "-no-reboot", "-icount", "shift=5,sleep=off",
            "-chardev", f"socket,id=gps,path={paths['gps']}", "-serial", "chardev:gps",
            "-chardev", f"socket,id=gate,path={paths['gate']}", "-serial", "chardev:gate",
+           "-chardev", f"socket,id=console,path={paths['console']}", "-serial", "chardev:console",
            "-semihosting-config", "enable=on,target=native",
-           "-kernel", a.elf, *a.qemu_arg]
+           "-kernel", os.path.abspath(a.elf), *a.qemu_arg]
     t0 = time.monotonic()
-    qemu = subprocess.Popen(cmd, stdin=subprocess.DEVNULL, stdout=subprocess.PIPE)
+    # In the temporary directory: the image's semihosting file lives there.
+    qemu = subprocess.Popen(cmd, stdin=subprocess.DEVNULL, stdout=subprocess.PIPE, cwd=tmp)
     out = qemu.stdout.fileno()
     try:
         gps, _ = listeners["gps"].accept()
         gate, _ = listeners["gate"].accept()
+        console, _ = listeners["console"].accept()
     except OSError as e:
         qemu.kill()
         raise SystemExit(f"qemu_gps: QEMU did not connect: {e}") from None
@@ -164,7 +237,14 @@ def main():
                 nmea = b"" if a.no_gps else epoch(gga, rmc, first + dt.timedelta(milliseconds=ms))
                 if nmea:
                     gps.sendall(nmea)
-                gate.sendall(f"{len(nmea)}\n".encode())
+                while typed and typed[0][0] <= ms:
+                    pending.append(typed.pop(0)[1])
+                keys = take_console(pending)
+                if keys:
+                    console.sendall(keys)
+                    gate.sendall(f"{len(nmea)},{len(keys)}\n".encode())
+                else:
+                    gate.sendall(f"{len(nmea)}\n".encode())
         if out in r:
             data = os.read(out, 65536)
             if not data:
@@ -185,11 +265,14 @@ def main():
     sys.stdout.flush()
     if log:
         log.close()
-    for s in (gps, gate, *listeners.values()):
+    for s in (gps, gate, console, *listeners.values()):
         s.close()
-    for p in paths.values():
-        os.unlink(p)
-    os.rmdir(tmp)
+    # The sockets, the image's file or the link to --config-file (not its
+    # target).
+    shutil.rmtree(tmp)
+    if pending or typed:
+        print(f"qemu_gps: {len(pending) + len(typed)} typed line(s) not sent before the end",
+              file=sys.stderr)
     wall = time.monotonic() - t0
     print(f"qemu_gps: {gates} gates, {wall:.1f} s wall, exit {rc}"
           + (" (timed out)" if timed_out else ""), file=sys.stderr)

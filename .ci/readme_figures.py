@@ -137,6 +137,7 @@ for name, label, ram_fmt in [
     ("avr_mega_tracker", "avr_mega_tracker, ATmega2560", "{ram}"),
     ("qemu_tracker", "qemu_tracker, Cortex-M4F", "{ram} + stack"),
     ("blackpill_tracker", "blackpill_tracker, STM32F411", "{ram} + stack"),
+    ("blackpill_tracker_defmt", "blackpill_tracker with `defmt`, STM32F411", "{ram} + stack"),
 ]:
     figure(
         f"size.{name}",

@@ -30,12 +30,15 @@ use drivers::rtc::Clock as RtcDriver;
 use embedded_io::{Read, ReadReady};
 use sun_algos::{Algorithm, Error as SunError, Float, Options, Site, SunPosition, UtcTime};
 
+use crate::attitude::Pose;
 use crate::axis::AxisDrive;
-use crate::config::Config;
+use crate::config::{Config, Loaded, SaveError, SaveStatus};
+use crate::console::{self, Executed, Jogged, LineBuffer, Operator, StatusView, TimeSetError};
 use crate::controller::{Controller, ControllerError, ControllerOptions, TickReport};
+use crate::hw::datetime_from_utc;
 use crate::hw::GpsPort;
 use crate::log::{self, ChangeLog, Sink, SiteSource as LogSite, TimeSource};
-use crate::safety::Mode;
+use crate::safety::{AxisId, Mode};
 use crate::sources::{site_from_config, site_from_fix, wmm_declination_deg, TimeConfig};
 use crate::sources::{TimeKeeper, TimeOrigin};
 use crate::traits::{AttitudeSensor, PositionSource};
@@ -50,7 +53,64 @@ pub trait Platform {
     fn feed_watchdog(&mut self);
     /// Sleeps until the next interrupt (a timer tick at the latest).
     fn wait_for_interrupt(&mut self);
+    /// Moves bytes typed on the console (received since the last call)
+    /// into `buf`; returns how many, 0 when none. Never waits. A board
+    /// without a console keeps this default.
+    fn console_read(&mut self, buf: &mut [u8]) -> usize {
+        let _ = buf;
+        0
+    }
+    /// Where the configuration is stored (console `save` and `load`);
+    /// `None` (the default): this board keeps it in RAM only.
+    fn config_store(&mut self) -> Option<&mut dyn ConfigPersist> {
+        None
+    }
 }
+
+/// A board's configuration storage as the console uses it: load at once,
+/// save stepwise (an EEPROM byte takes 3.4 ms, a flash sector erase
+/// hundreds: the loop keeps running while a save goes on).
+pub trait ConfigPersist {
+    /// Reads the stored copies: the newest good one, or the defaults.
+    fn load(&mut self) -> Loaded;
+    /// Starts storing `config`.
+    fn begin_save(&mut self, config: &Config) -> Result<(), SaveError<()>>;
+    /// Goes on with a save without waiting: `None` while it is not done,
+    /// then its result once.
+    fn poll_save(&mut self) -> Option<Result<(), SaveError<()>>>;
+}
+
+/// The two-slot store over any storage, stepped from the loop.
+impl<S: crate::traits::Storage> ConfigPersist for crate::config::ConfigStore<S> {
+    fn load(&mut self) -> Loaded {
+        crate::config::ConfigStore::load(self)
+    }
+    fn begin_save(&mut self, config: &Config) -> Result<(), SaveError<()>> {
+        crate::config::ConfigStore::begin_save(self, config).map_err(drop_storage_error)
+    }
+    fn poll_save(&mut self) -> Option<Result<(), SaveError<()>>> {
+        match self.poll() {
+            SaveStatus::Busy => None,
+            SaveStatus::Done(r) => Some(r.map_err(drop_storage_error)),
+            // Nothing under way (never after a started save): reported as
+            // a failed save, so that the console does not wait for it.
+            SaveStatus::Idle => Some(Err(SaveError::Storage(()))),
+        }
+    }
+}
+
+fn drop_storage_error<E>(e: SaveError<E>) -> SaveError<()> {
+    match e {
+        SaveError::Invalid => SaveError::Invalid,
+        SaveError::TooSmall => SaveError::TooSmall,
+        SaveError::Storage(_) => SaveError::Storage(()),
+    }
+}
+
+/// Bytes taken from the console per pass: a flood of input is read at
+/// this pace (the receive ring drops what does not fit) and never holds
+/// the loop; typed lines come far slower.
+pub const CONSOLE_BYTES_PER_PASS: usize = 16;
 
 /// A drive whose motion is produced by the main loop (a stepper's steps).
 pub trait Motion {
@@ -77,7 +137,7 @@ where
 pub const GPS_STAMP_SLACK_MS: u64 = 50;
 
 /// Settings of the loop itself (the tracker's are in [`Config`]).
-#[derive(Debug, Clone, Copy, PartialEq)]
+#[derive(Debug, Clone, Copy)]
 pub struct AppConfig {
     /// Board name for the boot line.
     pub board: &'static str,
@@ -101,6 +161,9 @@ pub struct AppConfig {
     /// in the log (the RTC it set carries the time meanwhile; at ±2 ppm a
     /// DS3231 drifts 0.12 ms in a minute).
     pub gps_hold_ms: u32,
+    /// The board's own configuration: what the console's `defaults`
+    /// restores (and what a board uses when nothing good is stored).
+    pub defaults: fn() -> Config,
 }
 
 impl AppConfig {
@@ -114,6 +177,7 @@ impl AppConfig {
             wmm_declination: true,
             delta_t_s: 69.0,
             gps_hold_ms: 60_000,
+            defaults: Config::default,
         }
     }
 }
@@ -201,6 +265,15 @@ pub struct Firmware<T, R, G, D, S, L, const N: usize> {
     last_report: Option<TickReport<T>>,
     last_gps_ms: Option<u64>,
     boot_fallback: UtcTime,
+    console_line: LineBuffer<{ console::LINE_LEN }>,
+    /// A `save` in progress (its reply is due when it ends).
+    saving: bool,
+    /// The trusted time at the last tick and where it came from.
+    last_time: Option<(UtcTime, TimeSource)>,
+    /// Anemometer pulse rate over the last tick, Hz.
+    last_wind_hz: Option<f32>,
+    /// Monotonic ms of the next periodic `status` line.
+    next_status_ms: Option<u64>,
 }
 
 impl<T, R, G, D, S, L, const N: usize> Firmware<T, R, G, D, S, L, N>
@@ -258,6 +331,11 @@ where
             last_report: None,
             last_gps_ms: None,
             boot_fallback,
+            console_line: LineBuffer::new(),
+            saving: false,
+            last_time: None,
+            last_wind_hz: None,
+            next_status_ms: None,
         })
     }
 
@@ -320,6 +398,7 @@ where
                 self.stats.drive_errors = self.stats.drive_errors.saturating_add(1);
             }
         }
+        self.service_console(platform);
         let tick_ms = u64::from(self.app.tick_ms.max(1));
         let due = self.next_tick_ms.is_none_or(|t| now_ms >= t);
         if due {
@@ -331,6 +410,7 @@ where
             let pulses = platform.take_wind_pulses();
             self.tick(now_ms, pulses);
             self.next_tick_ms = Some(now_ms.saturating_add(tick_ms));
+            self.periodic_status(now_ms);
         }
         // Fed only while ticks come on time: a pass that hangs, or ticks
         // that stop, let the watchdog reset the chip.
@@ -344,6 +424,8 @@ where
         let interval_ms = now_ms.saturating_sub(self.last_tick_ms);
         let interval_ms = u32::try_from(interval_ms).unwrap_or(u32::MAX);
         self.last_tick_ms = now_ms;
+        self.last_wind_hz = (interval_ms > 0 && self.stats.ticks > 0)
+            .then(|| wind_pulses as f32 * 1000.0 / interval_ms as f32);
         self.stats.ticks = self.stats.ticks.saturating_add(1);
         let mut status = self.time.update(&self.fix, now_ms);
         if status.origin == Some(TimeOrigin::Gps) {
@@ -370,6 +452,11 @@ where
             }
             self.time_origin = origin;
         }
+        self.last_time = match (origin, status.now) {
+            (Some(TimeOrigin::Gps), Some(t)) => Some((t, TimeSource::Gps)),
+            (Some(TimeOrigin::Rtc), Some(t)) => Some((t, TimeSource::Rtc)),
+            _ => None,
+        };
         // Site: the GPS position when a fix gives one, else the stored one.
         self.update_site(status.now);
         let fallback = self.time.last_valid().unwrap_or(self.boot_fallback);
@@ -377,18 +464,19 @@ where
         let report = self.controller.tick(&inputs);
         if report.clock_jump {
             // The schedule starts over: say why tracking pauses.
-            self.log.text("clock jump from=");
+            self.log.flash(crate::flash_str!("clock jump from="));
             if let Some(t) = self.last_tick_utc {
                 self.log.utc(&t);
             }
-            self.log.text(" to=");
+            self.log.flash(crate::flash_str!(" to="));
             self.log.utc(&inputs.now);
             self.log.text(match status.origin {
                 Some(TimeOrigin::Gps) => " source=gps",
                 Some(TimeOrigin::Rtc) => " source=rtc",
                 None => " source=none",
             });
-            self.log.text(": the day is planned again\n");
+            self.log
+                .flash(crate::flash_str!(": the day is planned again\n"));
         }
         self.last_tick_utc = Some(inputs.now);
         self.log_setpoint(&report);
@@ -408,18 +496,7 @@ where
                     || (s.longitude_deg() - self.site_f64.longitude_deg()).abs()
                         > self.app.site_min_move_deg;
                 if self.site_origin != Some(LogSite::Gps) || moved {
-                    if let Ok(site) = convert_site::<T>(&s) {
-                        self.site_f64 = s;
-                        self.controller.position_source_mut().set_site(site);
-                        self.controller.replan();
-                        self.site_origin = Some(LogSite::Gps);
-                        log::site(
-                            &mut self.log,
-                            LogSite::Gps,
-                            s.latitude_deg() as f32,
-                            s.longitude_deg() as f32,
-                        );
-                    }
+                    self.use_site(s, LogSite::Gps);
                 }
             }
             None => {
@@ -477,6 +554,238 @@ where
             target.gamma_deg.to_f32(),
             target.alpha_deg.to_f32(),
         );
+    }
+}
+
+impl<T, R, G, D, S, L, const N: usize> Firmware<T, R, G, D, S, L, N>
+where
+    T: Float,
+    R: RtcDriver,
+    G: Read + ReadReady,
+    D: AxisDrive + Motion,
+    S: AttitudeSensor<T>,
+    L: Sink,
+{
+    /// The console: takes at most [`CONSOLE_BYTES_PER_PASS`] bytes, runs
+    /// each complete line, and goes on with a `save` in progress. Not
+    /// inlined: its buffers are then not in the frame of every pass.
+    #[inline(never)]
+    fn service_console<P: Platform>(&mut self, platform: &mut P) {
+        if self.saving {
+            if let Some(store) = platform.config_store() {
+                if let Some(result) = store.poll_save() {
+                    self.saving = false;
+                    console::write_saved(&mut self.log, &result);
+                }
+            } else {
+                self.saving = false;
+            }
+            if self.saving {
+                // No command while a save is under way (it takes under a
+                // second): typed bytes wait in the receive ring.
+                return;
+            }
+        }
+        let mut bytes = [0u8; CONSOLE_BYTES_PER_PASS];
+        let n = platform.console_read(&mut bytes).min(bytes.len());
+        for &b in bytes.iter().take(n) {
+            let mut line = [0u8; console::LINE_LEN];
+            let len = match self.console_line.push(b) {
+                None => continue,
+                Some(Err(e)) => {
+                    console::write_line_error(&mut self.log, e);
+                    continue;
+                }
+                Some(Ok(text)) => {
+                    let len = text.len().min(line.len());
+                    if let (Some(dst), Some(src)) =
+                        (line.get_mut(..len), text.as_bytes().get(..len))
+                    {
+                        dst.copy_from_slice(src);
+                    }
+                    len
+                }
+            };
+            // The line buffer passes printable ASCII only.
+            if let Ok(text) = core::str::from_utf8(line.get(..len).unwrap_or(&[])) {
+                self.run_command(text, platform);
+            }
+        }
+    }
+
+    fn run_command<P: Platform>(&mut self, line: &str, platform: &mut P) {
+        let mut op = FirmwareConsole { fw: self, platform };
+        if console::execute(&mut op, line) == Executed::SaveStarted {
+            self.saving = true;
+        }
+    }
+
+    /// Puts a changed configuration into effect: the controller's, and the
+    /// site when GPS does not give it.
+    fn apply_config(&mut self, config: Config) -> bool {
+        if self.controller.reconfigure(config).is_err() {
+            return false;
+        }
+        if self.site_origin == Some(LogSite::Gps) {
+            return true;
+        }
+        let Ok(site_f64) = site_from_config(&config.site) else {
+            return true;
+        };
+        if site_f64 == self.site_f64 {
+            return true;
+        }
+        self.use_site(site_f64, LogSite::Config);
+        true
+    }
+
+    /// Tracks for `site` from now on (the day is planned again) and logs
+    /// where it came from; a site the float type cannot hold is ignored.
+    fn use_site(&mut self, site_f64: Site<f64>, origin: LogSite) {
+        if let Ok(site) = convert_site::<T>(&site_f64) {
+            self.site_f64 = site_f64;
+            self.controller.position_source_mut().set_site(site);
+            self.controller.replan();
+            self.site_origin = Some(origin);
+            log::site(
+                &mut self.log,
+                origin,
+                site_f64.latitude_deg() as f32,
+                site_f64.longitude_deg() as f32,
+            );
+        }
+    }
+
+    fn status_view(&self) -> StatusView {
+        let axes = self.controller.axes();
+        let angle = |i: usize| {
+            axes.get(i)
+                .filter(|a| a.has_had_reference())
+                .map(|a| a.counted_deg())
+        };
+        StatusView {
+            mode: self.last_report.map_or(Mode::WaitForTime, |r| r.mode),
+            time: self.last_time,
+            lat_deg: self.site_f64.latitude_deg() as f32,
+            lon_deg: self.site_f64.longitude_deg() as f32,
+            site_source: match self.site_origin {
+                Some(LogSite::Gps) => LogSite::Gps,
+                _ => LogSite::Config,
+            },
+            c_deg: angle(0),
+            a_deg: angle(1),
+            faults: StatusView::faults_of(self.controller.faults()),
+            wind_hz: self.last_wind_hz,
+        }
+    }
+
+    /// The periodic `status …` line, every `log.status_min` minutes of the
+    /// monotonic clock (none when 0).
+    #[inline(never)]
+    fn periodic_status(&mut self, now_ms: u64) {
+        let every_ms = u64::from(self.controller.config().log.status_every_min) * 60_000;
+        if every_ms == 0 {
+            self.next_status_ms = None;
+            return;
+        }
+        let due = *self
+            .next_status_ms
+            .get_or_insert(now_ms.saturating_add(every_ms));
+        if now_ms >= due {
+            self.next_status_ms = Some(now_ms.saturating_add(every_ms));
+            let view = self.status_view();
+            self.log.flash(crate::flash_str!("status "));
+            console::write_status_fields(&mut self.log, &view);
+        }
+    }
+}
+
+/// The firmware and its board as the console's [`Operator`].
+struct FirmwareConsole<'a, T, R, G, D, S, L, P, const N: usize> {
+    fw: &'a mut Firmware<T, R, G, D, S, L, N>,
+    platform: &'a mut P,
+}
+
+impl<T, R, G, D, S, L, P, const N: usize> Operator for FirmwareConsole<'_, T, R, G, D, S, L, P, N>
+where
+    T: Float,
+    R: RtcDriver,
+    G: Read + ReadReady,
+    D: AxisDrive + Motion,
+    S: AttitudeSensor<T>,
+    L: Sink,
+    P: Platform,
+{
+    fn out(&mut self) -> &mut dyn Sink {
+        &mut self.fw.log
+    }
+    fn config(&self) -> Config {
+        *self.fw.controller.config()
+    }
+    fn defaults(&self) -> Config {
+        (self.fw.app.defaults)()
+    }
+    fn apply(&mut self, config: Config) -> bool {
+        self.fw.apply_config(config)
+    }
+    fn status(&self) -> StatusView {
+        self.fw.status_view()
+    }
+    fn write_faults(&mut self) {
+        console::write_faults(&mut self.fw.log, self.fw.controller.faults());
+    }
+    fn begin_save(&mut self, config: &Config) -> Option<Result<(), SaveError<()>>> {
+        self.platform.config_store().map(|s| s.begin_save(config))
+    }
+    fn load(&mut self) -> Option<Loaded> {
+        self.platform.config_store().map(|s| s.load())
+    }
+    fn set_time(&mut self, t: &UtcTime) -> Result<(), TimeSetError> {
+        if self.fw.time_origin == Some(TimeOrigin::Gps) {
+            return Err(TimeSetError::GpsInForce);
+        }
+        let d = datetime_from_utc(t).map_err(|_| TimeSetError::OutOfRange)?;
+        self.fw
+            .time
+            .rtc_mut()
+            .set_datetime(&d)
+            .map_err(|_| TimeSetError::RtcFailed)
+    }
+    fn stow(&mut self, on: bool) {
+        self.fw.controller.command_stow(on);
+    }
+    fn home(&mut self) -> bool {
+        self.fw.controller.rehome();
+        true
+    }
+    fn jog(&mut self, axis: AxisId, deg: f32) -> Jogged {
+        let c = &mut self.fw.controller;
+        let axes = c.axes();
+        let counted = Pose {
+            gamma_deg: T::from_f32(axes[0].counted_deg()),
+            alpha_deg: T::from_f32(axes[1].counted_deg()),
+        };
+        let mut pose = c.manual_pose().unwrap_or(counted);
+        let limits = &c.config().axes;
+        let (slot, lim) = match axis {
+            AxisId::C => (&mut pose.gamma_deg, &limits[0]),
+            AxisId::A => (&mut pose.alpha_deg, &limits[1]),
+        };
+        let moved = slot.to_f32() + deg;
+        let clamped = moved.max(lim.min_deg).min(lim.max_deg);
+        *slot = T::from_f32(clamped);
+        c.manual(Some(pose));
+        Jogged {
+            c_deg: pose.gamma_deg.to_f32(),
+            a_deg: pose.alpha_deg.to_f32(),
+            limited: clamped != moved,
+        }
+    }
+    fn manual_off(&mut self) {
+        self.fw.controller.manual(None);
+    }
+    fn clear(&mut self) {
+        self.fw.controller.reset_faults();
     }
 }
 

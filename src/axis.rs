@@ -244,6 +244,28 @@ impl<D: AxisDrive> AxisController<D> {
         &self.config
     }
 
+    /// Takes a new configuration (an operator changed it). When what turns
+    /// counts into degrees changed (counts per motor revolution,
+    /// microsteps, gear ratio, the home switch's angle), the counted
+    /// position no longer means the same angle: the axis forgets its
+    /// reference and homes again as at power-on. New limits, speed, dead
+    /// band or backlash apply from the next move.
+    pub fn set_config(&mut self, config: AxisConfig) {
+        let old = &self.config;
+        let scale_same = old.counts_per_motor_rev == config.counts_per_motor_rev
+            && old.microsteps == config.microsteps
+            && old.gear_ratio == config.gear_ratio
+            && old.home_deg == config.home_deg;
+        self.config = config;
+        self.geo = Geometry::of(&config);
+        if !scale_same {
+            self.home = HomeState::Idle;
+            self.referenced = false;
+            self.homing_low_counts = None;
+            self.fine = false;
+        }
+    }
+
     /// Homing state.
     pub fn home_state(&self) -> HomeState {
         self.home

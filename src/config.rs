@@ -21,10 +21,12 @@
 //! good slot the defaults are used. Nothing is ever applied in part.
 
 use crate::scheduler::ScheduleConfig;
+use crate::text::FlashStr;
 use crate::traits::Storage;
 
-/// Layout version written by this firmware.
-pub const LAYOUT_VERSION: u16 = 1;
+/// Layout version written by this firmware: 2 added `log.status_min`; a
+/// slot of version 1 is reported as [`SlotState::OldVersion`] and not used.
+pub const LAYOUT_VERSION: u16 = 2;
 /// Bytes per slot.
 pub const SLOT_LEN: usize = 256;
 /// Header bytes before the payload.
@@ -78,24 +80,24 @@ macro_rules! named {
         #[allow(missing_docs)]
         $vis enum $name { $($v,)* }
         impl $name {
-            /// The text.
-            pub fn $f(self) -> &'static str {
-                match self { $($name::$v => $s,)* }
+            /// The text (in flash on AVR: [`FlashStr`]).
+            pub fn $f(self) -> FlashStr {
+                match self { $($name::$v => crate::flash_str!($s),)* }
             }
         }
         impl core::fmt::Debug for $name {
             fn fmt(&self, f: &mut core::fmt::Formatter<'_>) -> core::fmt::Result {
-                f.write_str(self.$f())
+                core::fmt::Display::fmt(&self.$f(), f)
             }
         }
         impl core::fmt::Display for $name {
             fn fmt(&self, f: &mut core::fmt::Formatter<'_>) -> core::fmt::Result {
-                f.write_str(self.$f())
+                core::fmt::Display::fmt(&self.$f(), f)
             }
         }
         impl PartialEq<str> for $name {
             fn eq(&self, other: &str) -> bool {
-                self.$f() == other
+                self.$f() == *other
             }
         }
         impl PartialEq<&str> for $name {
@@ -148,37 +150,39 @@ named! {
         CalibrationHeadingOffsetDeg => "calibration.heading_offset_deg",
         CalibrationTiltXOffsetDeg => "calibration.tilt_x_offset_deg",
         CalibrationTiltYOffsetDeg => "calibration.tilt_y_offset_deg",
+        LogStatusMin => "log.status_min",
     }
 }
 
 named! {
     /// The range or rule a field breaks ([`Reason::text`]).
     pub enum Reason fn text {
-        CountsPerMotorRev => "1…16,777,216 full steps or encoder counts per motor revolution",
-        Microsteps => "1…256 microsteps per full step",
-        GearRatio => "1…10,000 motor revolutions per axis revolution",
-        CountsPerDeg => "counts × microsteps × gear / 360 must be 1…1,000,000 counts per degree",
-        LimitDeg => "−360…360°",
+        CountsPerMotorRev => "1...16,777,216 full steps or encoder counts per motor revolution",
+        Microsteps => "1...256 microsteps per full step",
+        GearRatio => "1...10,000 motor revolutions per axis revolution",
+        CountsPerDeg => "counts * microsteps * gear / 360 must be 1...1,000,000 counts per degree",
+        LimitDeg => "-360...360 deg",
         AboveMinDeg => "must be above min_deg",
-        HomeNearMinDeg => "min_deg − 5° … min_deg + 10° and at most max_deg: the switch is at the low end of the travel",
-        Deg0To5 => "0…5°",
-        SpeedDegS => "0.01…30°/s",
-        Latitude => "−90…90°",
-        Deg180 => "−180…180°",
-        ElevationM => "−500…10,000 m",
-        TableStepS => "60…43,200 s",
+        HomeNearMinDeg => "min_deg - 5 deg ... min_deg + 10 deg and at most max_deg: the switch is at the low end of the travel",
+        Deg0To5 => "0...5 deg",
+        SpeedDegS => "0.01...30 deg/s",
+        Latitude => "-90...90 deg",
+        Deg180 => "-180...180 deg",
+        ElevationM => "-500...10,000 m",
+        TableStepS => "60...43,200 s",
         WholeMinutesOfDay => "whole minutes dividing a day (86,400 s)",
-        S0To3600 => "0…3,600 s",
-        S1To3600 => "1…3,600 s",
-        S1To86400 => "1…86,400 s",
-        S0To86400 => "0…86,400 s",
-        StowHz => "0.1…1,000 Hz",
-        S0To600 => "0…600 s",
-        MaxDeviationDeg => "0.1…45°",
-        S1To600 => "1…600 s",
-        MaxRetries => "0…20",
+        S0To3600 => "0...3,600 s",
+        S1To3600 => "1...3,600 s",
+        S1To86400 => "1...86,400 s",
+        S0To86400 => "0...86,400 s",
+        StowHz => "0.1...1,000 Hz",
+        S0To600 => "0...600 s",
+        MaxDeviationDeg => "0.1...45 deg",
+        S1To600 => "1...600 s",
+        MaxRetries => "0...20",
         BelowMaxDeviation => "must be below safety.max_deviation_deg",
-        TiltOffsetDeg => "−45…45°",
+        TiltOffsetDeg => "-45...45 deg",
+        StatusMin => "0...1,440 min (0: no periodic status line)",
     }
 }
 
@@ -260,6 +264,10 @@ pub mod ranges {
     /// Inclinometer offsets, degrees: a sensor mounted more than 45° off
     /// has its x and y axes swapped, not offset.
     pub const TILT_OFFSET_DEG: (f32, f32) = (-45.0, 45.0);
+    /// Minutes between periodic `status` log lines; 0 turns them off, a
+    /// day is the longest period that still shows a logger the tracker
+    /// is alive every day.
+    pub const STATUS_MIN: (u16, u16) = (0, 1_440);
 }
 
 /// The tracker's site.
@@ -524,6 +532,14 @@ pub struct Calibration {
     pub tilt_y_offset_deg: f32,
 }
 
+/// What the log reports unasked.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct LogConfig {
+    /// Minutes between periodic `status` lines on the monotonic clock:
+    /// 0…1,440 (`log.status_min`); 0 turns them off.
+    pub status_every_min: u16,
+}
+
 /// The whole configuration.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Config {
@@ -548,6 +564,8 @@ pub struct Config {
     pub safety: SafetyConfig,
     /// Calibration offsets.
     pub calibration: Calibration,
+    /// Periodic log lines.
+    pub log: LogConfig,
 }
 
 impl Default for Config {
@@ -599,12 +617,15 @@ impl Default for Config {
                 tilt_x_offset_deg: 0.0,
                 tilt_y_offset_deg: 0.0,
             },
+            log: LogConfig {
+                status_every_min: 10,
+            },
         }
     }
 }
 
-/// Payload length of layout version 1.
-pub const PAYLOAD_LEN: usize = 12 + 20 + 2 * 34 + 12 + 13 + 16;
+/// Payload length of layout version 2 (version 1 had no `log` fields).
+pub const PAYLOAD_LEN: usize = 12 + 20 + 2 * 34 + 12 + 13 + 16 + 2;
 
 struct Writer<'a> {
     buf: &'a mut [u8],
@@ -714,6 +735,7 @@ impl Config {
         ] {
             w.f32(v);
         }
+        w.u16(self.log.status_every_min);
         if w.overflow {
             None
         } else {
@@ -721,7 +743,7 @@ impl Config {
         }
     }
 
-    /// Parses a payload of layout version 1 and checks every value; `None`
+    /// Parses a payload of layout version 2 and checks every value; `None`
     /// for a short buffer or any value out of range.
     pub fn decode(buf: &[u8]) -> Option<Config> {
         let mut r = Reader { buf, pos: 0 };
@@ -768,6 +790,9 @@ impl Config {
             tilt_x_offset_deg: r.f32()?,
             tilt_y_offset_deg: r.f32()?,
         };
+        let log = LogConfig {
+            status_every_min: r.u16()?,
+        };
         if r.pos != buf.len() {
             return None;
         }
@@ -778,6 +803,7 @@ impl Config {
             wind,
             safety,
             calibration,
+            log,
         };
         cfg.is_valid().then_some(cfg)
     }
@@ -919,6 +945,12 @@ impl Config {
             r::TILT_OFFSET_DEG,
             Field::CalibrationTiltYOffsetDeg,
             Reason::TiltOffsetDeg,
+        )?;
+        check_int(
+            self.log.status_every_min,
+            r::STATUS_MIN,
+            Field::LogStatusMin,
+            Reason::StatusMin,
         )
     }
 }
@@ -949,7 +981,8 @@ pub struct Loaded {
     pub slots: [SlotState; 2],
 }
 
-/// Errors of [`ConfigStore::save`].
+/// Errors of [`ConfigStore::save`] and [`ConfigStore::begin_save`], and
+/// the failed end of a stepped save ([`SaveStatus::Done`]).
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum SaveError<E> {
     /// The configuration has a value out of range.
@@ -960,11 +993,131 @@ pub enum SaveError<E> {
     Storage(E),
 }
 
-/// Two-slot configuration store over a [`Storage`].
+/// Where a stepped save stands: the answer of [`ConfigStore::poll`].
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum SaveStatus<E> {
+    /// No save is staged.
+    Idle,
+    /// A save goes on: poll again (at the next pass of the loop).
+    Busy,
+    /// The save has just ended, with its result; reported once, then
+    /// [`SaveStatus::Idle`]. On `Ok` the new copy is in the storage and is
+    /// what [`ConfigStore::load`] returns; on `Err` the storage holds what it
+    /// held before (the slot written was not the newest good one).
+    Done(Result<(), SaveError<E>>),
+}
+
+/// Bytes of the CRC-32 after the payload.
+const CRC_LEN: usize = 4;
+
+/// Bytes one stored copy takes at the start of its slot: header, payload
+/// and CRC-32 (12 + [`PAYLOAD_LEN`] + 4). The rest of the slot is never
+/// written; [`ConfigStore`] keeps this many bytes in RAM for a save.
+pub const RECORD_LEN: usize = HEADER_LEN + PAYLOAD_LEN + CRC_LEN;
+
+// The record fits in its slot (checked when compiling).
+const _: () = assert!(RECORD_LEN <= SLOT_LEN);
+
+/// The CRC-32 of [`crc32`] over pieces: the register after `data`, without
+/// the initial and final inversion, so that
+/// `!crc32_update(crc32_update(!0, a), b) == crc32(a ‖ b)`.
+fn crc32_update(mut crc: u32, data: &[u8]) -> u32 {
+    for &b in data {
+        crc ^= u32::from(b);
+        for _ in 0..8 {
+            let mask = (crc & 1).wrapping_neg();
+            crc = (crc >> 1) ^ (0xEDB8_8320 & mask);
+        }
+    }
+    crc
+}
+
+/// Which slot holds the newest good copy, as far as the store knows.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+enum Newest {
+    /// Not read yet, or a slot could not be read.
+    Unknown,
+    /// Both slots were read and neither is good.
+    NoGoodSlot,
+    /// This slot, with this sequence number.
+    Slot { slot: usize, seq: u32 },
+}
+
+/// The step a save is at.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+enum Phase {
+    /// Preparing the slot (erasing it on NOR flash); `done` bytes are ready.
+    Erase { done: usize },
+    /// Writing the record; `pos` bytes are taken.
+    Write { pos: usize },
+    /// Waiting until the last bytes are in the storage.
+    Flush,
+}
+
+/// A save under way: the staged record goes to `slot` with `seq`.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+struct Job {
+    slot: usize,
+    seq: u32,
+    /// Bytes of the staged record.
+    len: usize,
+    phase: Phase,
+}
+
+/// The result of reading both slots.
+struct Scan<E> {
+    slots: [SlotState; 2],
+    /// The newest good slot: its index, sequence number and configuration.
+    best: Option<(usize, u32, Config)>,
+    /// The first read error, if a slot could not be read.
+    error: Option<E>,
+}
+
+/// Two-slot configuration store over a [`Storage`], with a save that runs
+/// in steps beside a main loop.
+///
+/// A save writes the slot that does not hold the newest good copy, with the
+/// next sequence number (wrapping, compared RFC 1982 style); the other slot
+/// is never touched, so a power cut at any point of a save leaves either
+/// the old copy or the new one in force, never the defaults while a good
+/// copy existed and never a mix (a part-written slot fails its CRC-32).
+/// `tests/config_powercut.rs` cuts the power at every byte, word and erase
+/// of a save on fault-injecting EEPROM and NOR flash models to show it.
+///
+/// # In a main loop
+///
+/// ```
+/// use suntracker::config::{Config, ConfigStore, MemStorage, SaveStatus};
+///
+/// let mut store = ConfigStore::new(MemStorage::<512>::new());
+/// let config = store.load().config; // at boot: reads only
+/// store.begin_save(&config).unwrap(); // console `save`: stages, writes nothing
+/// loop {
+///     // ... step the motors, serve the console ...
+///     match store.poll() {
+///         SaveStatus::Busy => continue,           // at most one storage step per pass
+///         SaveStatus::Done(result) => { result.unwrap(); break }
+///         SaveStatus::Idle => break,
+///     }
+/// }
+/// ```
+///
+/// Each [`ConfigStore::poll`] makes at most one call into the storage: one
+/// [`Storage::erase_step`], [`Storage::write_step`] or
+/// [`Storage::flush_step`], none of which waits (an AVR EEPROM byte is
+/// started and left to the hardware; a NOR flash write step programs a few
+/// words). What the hardware itself stalls is the storage's to document: a
+/// sector erase of the STM32F411's flash stalls every flash read, and so
+/// the CPU, for the whole erase ([`crate::storage`]).
+///
+/// RAM: the store keeps the staged record ([`RECORD_LEN`] bytes) and a few
+/// words; [`ConfigStore::load`] uses a payload buffer on the stack.
 #[derive(Debug)]
 pub struct ConfigStore<S> {
     storage: S,
-    newest: Option<(usize, u32)>,
+    newest: Newest,
+    job: Option<Job>,
+    staged: [u8; RECORD_LEN],
 }
 
 fn seq_newer(a: u32, b: u32) -> bool {
@@ -972,137 +1125,329 @@ fn seq_newer(a: u32, b: u32) -> bool {
     a != b && a.wrapping_sub(b) < 0x8000_0000
 }
 
+/// Offset of byte `at` of slot `slot`, checked.
+fn slot_offset(slot: usize, at: usize) -> Option<usize> {
+    slot.checked_mul(SLOT_LEN)?.checked_add(at)
+}
+
 impl<S: Storage> ConfigStore<S> {
-    /// A store over `storage`.
+    /// A store over `storage`; nothing is read until [`ConfigStore::load`]
+    /// or a save.
     pub fn new(storage: S) -> Self {
         ConfigStore {
             storage,
-            newest: None,
+            newest: Newest::Unknown,
+            job: None,
+            staged: [0; RECORD_LEN],
         }
     }
 
-    /// Gives the storage back.
+    /// Gives the storage back; a save under way is abandoned (the storage
+    /// then holds the old copy, and the slot being written is not good).
     pub fn release(self) -> S {
         self.storage
     }
 
-    fn read_slot(&mut self, slot: usize) -> (SlotState, Option<Config>) {
-        let mut buf = [0u8; SLOT_LEN];
-        if self.storage.read(slot * SLOT_LEN, &mut buf).is_err() {
-            return (SlotState::Unreadable, None);
-        }
-        if buf.get(0..4) != Some(&MAGIC[..]) {
-            return (SlotState::Empty, None);
-        }
-        let field = |a: usize, b: usize| buf.get(a..b);
-        let version = field(4, 6).map(|s| u16::from_le_bytes([s[0], s[1]]));
-        let len = field(6, 8).map(|s| usize::from(u16::from_le_bytes([s[0], s[1]])));
-        let seq = field(8, 12).map(|s| u32::from_le_bytes([s[0], s[1], s[2], s[3]]));
-        let (Some(version), Some(len), Some(seq)) = (version, len, seq) else {
-            return (SlotState::Corrupt, None);
+    /// The storage, to look at (a board's status, tests).
+    pub fn storage(&self) -> &S {
+        &self.storage
+    }
+
+    /// True while a save is staged and not yet done.
+    pub fn is_saving(&self) -> bool {
+        self.job.is_some()
+    }
+
+    /// Reads and checks slot `slot`: its state and, when good, its
+    /// configuration; `Err` when the storage could not be read.
+    // The good copy goes into `out` (the slot state alone is returned: a
+    // returned `(SlotState, Option<Config>)` made the compiler keep a
+    // 149-byte constant of it in an AVR's RAM).
+    fn read_slot(&mut self, slot: usize, out: &mut Option<Config>) -> Result<SlotState, S::Error> {
+        const CORRUPT: SlotState = SlotState::Corrupt;
+        let Some(base) = slot_offset(slot, 0) else {
+            return Ok(CORRUPT);
         };
-        let end = HEADER_LEN + len;
-        let (Some(body), Some(crc_bytes)) = (buf.get(..end), buf.get(end..end + 4)) else {
-            return (SlotState::Corrupt, None);
+        let mut header = [0u8; HEADER_LEN];
+        self.storage.read(base, &mut header)?;
+        let [m0, m1, m2, m3, v0, v1, l0, l1, s0, s1, s2, s3] = header;
+        if [m0, m1, m2, m3] != MAGIC {
+            return Ok(SlotState::Empty);
+        }
+        let version = u16::from_le_bytes([v0, v1]);
+        let len = usize::from(u16::from_le_bytes([l0, l1]));
+        let seq = u32::from_le_bytes([s0, s1, s2, s3]);
+        // The CRC must lie inside the slot.
+        let crc_at = match HEADER_LEN.checked_add(len) {
+            Some(at) if at.checked_add(CRC_LEN).is_some_and(|end| end <= SLOT_LEN) => at,
+            _ => return Ok(CORRUPT),
         };
-        let stored = u32::from_le_bytes([crc_bytes[0], crc_bytes[1], crc_bytes[2], crc_bytes[3]]);
-        if crc32(body) != stored {
-            return (SlotState::Corrupt, None);
+        let mut crc = crc32_update(!0, &header);
+        let mut payload = [0u8; PAYLOAD_LEN];
+        let current = version == LAYOUT_VERSION && len == PAYLOAD_LEN;
+        if current {
+            let Some(at) = slot_offset(slot, HEADER_LEN) else {
+                return Ok(CORRUPT);
+            };
+            self.storage.read(at, &mut payload)?;
+            crc = crc32_update(crc, &payload);
+        } else {
+            // Another layout or length: the CRC decides between
+            // `OldVersion` and `Corrupt`; read in small pieces.
+            let mut chunk = [0u8; 16];
+            let mut at = HEADER_LEN;
+            while at < crc_at {
+                let n = (crc_at - at).min(chunk.len());
+                let (Some(part), Some(from)) = (chunk.get_mut(..n), slot_offset(slot, at)) else {
+                    return Ok(CORRUPT);
+                };
+                self.storage.read(from, part)?;
+                crc = crc32_update(crc, part);
+                at = at.saturating_add(n);
+            }
+        }
+        let mut stored = [0u8; CRC_LEN];
+        let Some(at) = slot_offset(slot, crc_at) else {
+            return Ok(CORRUPT);
+        };
+        self.storage.read(at, &mut stored)?;
+        if !crc != u32::from_le_bytes(stored) {
+            return Ok(CORRUPT);
         }
         if version != LAYOUT_VERSION {
-            return (SlotState::OldVersion(version), None);
+            return Ok(SlotState::OldVersion(version));
         }
-        match body.get(HEADER_LEN..).and_then(Config::decode) {
-            Some(cfg) => (SlotState::Good(seq), Some(cfg)),
-            None => (SlotState::Corrupt, None),
+        if !current {
+            return Ok(CORRUPT);
         }
+        match Config::decode(&payload) {
+            Some(cfg) => {
+                *out = Some(cfg);
+                Ok(SlotState::Good(seq))
+            }
+            None => Ok(CORRUPT),
+        }
+    }
+
+    /// Reads both slots; remembers which holds the newest good copy.
+    fn scan(&mut self) -> Scan<S::Error> {
+        let mut scan = Scan {
+            slots: [SlotState::Unreadable; 2],
+            best: None,
+            error: None,
+        };
+        for slot in 0..2 {
+            let mut cfg = None;
+            let state = match self.read_slot(slot, &mut cfg) {
+                Ok(state) => {
+                    if let (SlotState::Good(seq), Some(cfg)) = (state, cfg) {
+                        let newer = match scan.best {
+                            Some((_, best_seq, _)) => seq_newer(seq, best_seq),
+                            None => true,
+                        };
+                        if newer {
+                            scan.best = Some((slot, seq, cfg));
+                        }
+                    }
+                    state
+                }
+                Err(e) => {
+                    if scan.error.is_none() {
+                        scan.error = Some(e);
+                    }
+                    SlotState::Unreadable
+                }
+            };
+            if let Some(s) = scan.slots.get_mut(slot) {
+                *s = state;
+            }
+        }
+        self.newest = match (&scan.best, &scan.error) {
+            (Some((slot, seq, _)), _) => Newest::Slot {
+                slot: *slot,
+                seq: *seq,
+            },
+            (None, Some(_)) => Newest::Unknown,
+            (None, None) => Newest::NoGoodSlot,
+        };
+        scan
     }
 
     /// Reads both slots and returns the newest good configuration, or the
-    /// defaults when neither is good.
+    /// defaults when neither is good. Only reads (two slots, a CRC each);
+    /// a save under way goes on.
     pub fn load(&mut self) -> Loaded {
-        let (s0, c0) = self.read_slot(0);
-        let (s1, c1) = self.read_slot(1);
-        let pick = match (s0, s1) {
-            (SlotState::Good(a), SlotState::Good(b)) => {
-                if seq_newer(b, a) {
-                    Some((1, b, c1))
-                } else {
-                    Some((0, a, c0))
-                }
-            }
-            (SlotState::Good(a), _) => Some((0, a, c0)),
-            (_, SlotState::Good(b)) => Some((1, b, c1)),
-            _ => None,
-        };
-        match pick {
-            Some((slot, seq, Some(cfg))) => {
-                self.newest = Some((slot, seq));
-                Loaded {
-                    config: cfg,
-                    defaults: false,
-                    slots: [s0, s1],
-                }
-            }
-            _ => {
-                self.newest = None;
-                Loaded {
-                    config: Config::default(),
-                    defaults: true,
-                    slots: [s0, s1],
-                }
-            }
+        let scan = self.scan();
+        match scan.best {
+            Some((_, _, config)) => Loaded {
+                config,
+                defaults: false,
+                slots: scan.slots,
+            },
+            None => Loaded {
+                config: Config::default(),
+                defaults: true,
+                slots: scan.slots,
+            },
         }
     }
 
-    /// Writes `cfg` into the slot not holding the newest good copy.
-    pub fn save(&mut self, cfg: &Config) -> Result<(), SaveError<S::Error>> {
+    /// The slot and sequence number the next save writes: the slot not
+    /// holding the newest good copy. Reads the slots when that is not known;
+    /// refuses to write when a slot cannot be read (it might be the only
+    /// good copy).
+    fn target(&mut self) -> Result<(usize, u32), SaveError<S::Error>> {
+        if self.newest == Newest::Unknown {
+            if let Some(e) = self.scan().error {
+                return Err(SaveError::Storage(e));
+            }
+        }
+        Ok(match self.newest {
+            Newest::Slot { slot, seq } => (if slot == 0 { 1 } else { 0 }, seq.wrapping_add(1)),
+            Newest::NoGoodSlot | Newest::Unknown => (0, 1),
+        })
+    }
+
+    /// Encodes `cfg` with sequence `seq` into the staged record; its
+    /// length, or `None` when it does not fit.
+    fn stage(&mut self, cfg: &Config, seq: u32) -> Option<usize> {
+        let buf: &mut [u8] = &mut self.staged;
+        let n = cfg.encode(buf.get_mut(HEADER_LEN..)?)?;
+        let crc_at = HEADER_LEN.checked_add(n)?;
+        let mut w = Writer {
+            buf: &mut *buf,
+            pos: 0,
+            overflow: false,
+        };
+        w.bytes(&MAGIC);
+        w.u16(LAYOUT_VERSION);
+        w.u16(u16::try_from(n).ok()?);
+        w.u32(seq);
+        if w.overflow {
+            return None;
+        }
+        let crc = !crc32_update(!0, buf.get(..crc_at)?);
+        let mut w = Writer {
+            buf,
+            pos: crc_at,
+            overflow: false,
+        };
+        w.u32(crc);
+        if w.overflow {
+            return None;
+        }
+        crc_at.checked_add(CRC_LEN)
+    }
+
+    /// Starts saving `cfg`: checks it, picks the slot (reading the slots
+    /// first if the store has not), encodes the record into RAM. Writes
+    /// nothing: [`ConfigStore::poll`] does, step by step. A save already
+    /// under way is replaced by this one (its slot is written again from
+    /// the start). A refused request (an error) leaves a save under way
+    /// going on.
+    pub fn begin_save(&mut self, cfg: &Config) -> Result<(), SaveError<S::Error>> {
         if !cfg.is_valid() {
             return Err(SaveError::Invalid);
         }
         if self.storage.capacity() < 2 * SLOT_LEN {
             return Err(SaveError::TooSmall);
         }
-        if self.newest.is_none() {
-            // Find out which slot is newest before overwriting anything.
-            self.load();
-        }
-        let (slot, seq) = match self.newest {
-            Some((s, q)) => (1 - s, q.wrapping_add(1)),
-            None => (0, 1),
-        };
-        let mut buf = [0u8; SLOT_LEN];
-        let n = {
-            let payload = buf.get_mut(HEADER_LEN..).ok_or(SaveError::TooSmall)?;
-            cfg.encode(payload).ok_or(SaveError::TooSmall)?
-        };
-        let len = u16::try_from(n).map_err(|_| SaveError::TooSmall)?;
-        let mut w = Writer {
-            buf: &mut buf,
-            pos: 0,
-            overflow: false,
-        };
-        w.bytes(&MAGIC);
-        w.u16(LAYOUT_VERSION);
-        w.u16(len);
-        w.u32(seq);
-        let end = HEADER_LEN + n;
-        let crc = crc32(buf.get(..end).ok_or(SaveError::TooSmall)?);
-        let mut w = Writer {
-            buf: &mut buf,
-            pos: end,
-            overflow: false,
-        };
-        w.u32(crc);
-        if w.overflow {
-            return Err(SaveError::TooSmall);
-        }
-        let data = buf.get(..end + 4).ok_or(SaveError::TooSmall)?;
-        self.storage
-            .write(slot * SLOT_LEN, data)
-            .map_err(SaveError::Storage)?;
-        self.newest = Some((slot, seq));
+        let (slot, seq) = self.target()?;
+        // The staged record is overwritten now: drop the old job first (an
+        // encoding failure, which the fixed layout rules out, leaves none).
+        self.job = None;
+        let len = self.stage(cfg, seq).ok_or(SaveError::TooSmall)?;
+        self.job = Some(Job {
+            slot,
+            seq,
+            len,
+            phase: Phase::Erase { done: 0 },
+        });
         Ok(())
+    }
+
+    /// Advances a staged save by one storage step, without waiting:
+    /// [`SaveStatus::Busy`] while it goes on, [`SaveStatus::Done`] once at
+    /// its end, [`SaveStatus::Idle`] when no save is staged.
+    pub fn poll(&mut self) -> SaveStatus<S::Error> {
+        let Some(job) = self.job else {
+            return SaveStatus::Idle;
+        };
+        match self.step(job) {
+            Ok(Some(phase)) => {
+                self.job = Some(Job { phase, ..job });
+                SaveStatus::Busy
+            }
+            Ok(None) => {
+                self.job = None;
+                self.newest = Newest::Slot {
+                    slot: job.slot,
+                    seq: job.seq,
+                };
+                SaveStatus::Done(Ok(()))
+            }
+            Err(e) => {
+                self.job = None;
+                SaveStatus::Done(Err(e))
+            }
+        }
+    }
+
+    /// One storage step of `job`: the next phase, or `None` when done.
+    fn step(&mut self, job: Job) -> Result<Option<Phase>, SaveError<S::Error>> {
+        let offset = |at: usize| slot_offset(job.slot, at).ok_or(SaveError::TooSmall);
+        match job.phase {
+            Phase::Erase { done } => {
+                let left = SLOT_LEN.saturating_sub(done);
+                let n = self
+                    .storage
+                    .erase_step(offset(done)?, left)
+                    .map_err(SaveError::Storage)?;
+                let done = done.saturating_add(n.min(left));
+                Ok(Some(if done >= SLOT_LEN {
+                    Phase::Write { pos: 0 }
+                } else {
+                    Phase::Erase { done }
+                }))
+            }
+            Phase::Write { pos } => {
+                let data = self.staged.get(pos..job.len).ok_or(SaveError::TooSmall)?;
+                let n = self
+                    .storage
+                    .write_step(offset(pos)?, data)
+                    .map_err(SaveError::Storage)?;
+                let pos = pos.saturating_add(n.min(data.len()));
+                Ok(Some(if pos >= job.len {
+                    Phase::Flush
+                } else {
+                    Phase::Write { pos }
+                }))
+            }
+            Phase::Flush => {
+                if self.storage.flush_step().map_err(SaveError::Storage)? {
+                    Ok(None)
+                } else {
+                    Ok(Some(Phase::Flush))
+                }
+            }
+        }
+    }
+
+    /// Writes `cfg` into the slot not holding the newest good copy and
+    /// returns when it is done: [`ConfigStore::begin_save`], then
+    /// [`ConfigStore::poll`] until done (a storage that stays busy keeps it
+    /// waiting). For hosts and tests; a firmware loop polls instead.
+    pub fn save(&mut self, cfg: &Config) -> Result<(), SaveError<S::Error>> {
+        self.begin_save(cfg)?;
+        loop {
+            match self.poll() {
+                SaveStatus::Busy => {}
+                SaveStatus::Done(result) => return result,
+                // Not reached: `begin_save` staged a job, and only `Done`
+                // ends it.
+                SaveStatus::Idle => return Ok(()),
+            }
+        }
     }
 }
 
@@ -1147,17 +1492,16 @@ impl<const N: usize> Storage for MemStorage<N> {
         N
     }
     fn read(&mut self, offset: usize, buf: &mut [u8]) -> Result<(), MemError> {
-        let src = self
-            .bytes
-            .get(offset..offset + buf.len())
-            .ok_or(MemError::OutOfRange)?;
+        let end = offset.checked_add(buf.len()).ok_or(MemError::OutOfRange)?;
+        let src = self.bytes.get(offset..end).ok_or(MemError::OutOfRange)?;
         buf.copy_from_slice(src);
         Ok(())
     }
     fn write(&mut self, offset: usize, data: &[u8]) -> Result<(), MemError> {
+        let end = offset.checked_add(data.len()).ok_or(MemError::OutOfRange)?;
         let dst = self
             .bytes
-            .get_mut(offset..offset + data.len())
+            .get_mut(offset..end)
             .ok_or(MemError::OutOfRange)?;
         match self.tear_after.take() {
             Some(k) if k < data.len() => {

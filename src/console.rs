@@ -86,6 +86,7 @@
 //! | `calibration.heading_offset_deg` | ° | −180…180 |
 //! | `calibration.tilt_x_offset_deg` | ° | −45…45 |
 //! | `calibration.tilt_y_offset_deg` | ° | −45…45 |
+//! | `log.status_min` | min | 0…1,440 (0: no periodic `status` line) |
 //!
 //! Rules between fields (home switch near `min_deg`, deadband below the
 //! largest deviation, the derived counts per degree) can need two fields
@@ -161,21 +162,22 @@ use crate::log::{Sink, SiteSource, TimeSource};
 use crate::safety::{AxisId, Fault, FaultManager, Mode, MAX_ACTIVE};
 use crate::site::key::MAX_CODE_LEN;
 use crate::site::{lookup, PostalEntry, PostalError};
+use crate::text::FlashStr;
 use sun_algos::UtcTime;
 
 /// A line length for [`LineBuffer`] that holds every command of the
 /// language with room to spare (`set site.postal_code GB:SW1A 1AA` is 32
-/// characters, two key-value pairs about 50).
-pub const LINE_LEN: usize = 80;
+/// characters, `set site.lat_deg -33.8688 site.lon_deg 151.2093` 48).
+pub const LINE_LEN: usize = 64;
 
 /// The lines `help` prints, each after `ok `.
-pub const HELP: &[&str] = &[
-    "status | faults | clear",
-    "get [KEY] | set KEY VALUE [KEY VALUE ...]",
-    "set site.postal_code CC:CODE",
-    "save | load | defaults",
-    "time set YYYY-MM-DDTHH:MM:SSZ",
-    "stow | resume | home | jog c|a DEG | manual off",
+pub const HELP: &[FlashStr] = &[
+    crate::flash_str!("status | faults | clear"),
+    crate::flash_str!("get [KEY] | set KEY VALUE [KEY VALUE ...]"),
+    crate::flash_str!("set site.postal_code CC:CODE"),
+    crate::flash_str!("save | load | defaults"),
+    crate::flash_str!("time set YYYY-MM-DDTHH:MM:SSZ"),
+    crate::flash_str!("stow | resume | home | jog c|a DEG | manual off"),
 ];
 
 /// A configuration key: a field of [`Config`] by its dotted name with unit
@@ -183,7 +185,7 @@ pub const HELP: &[&str] = &[
 pub type Key = Field;
 
 /// The postal-code pseudo-key: `set` only, sets latitude and longitude.
-pub const POSTAL_CODE_KEY: &str = "site.postal_code";
+pub const POSTAL_CODE_KEY: FlashStr = crate::flash_str!("site.postal_code");
 
 // ---------------------------------------------------------------------------
 // Line buffer
@@ -202,11 +204,11 @@ pub enum LineError {
 
 impl LineError {
     /// The reply text after `error `.
-    pub fn text(self) -> &'static str {
+    pub fn text(self) -> FlashStr {
         match self {
-            LineError::TooLong => "line too long",
-            LineError::NonAscii => "non-ASCII input",
-            LineError::Control => "control character",
+            LineError::TooLong => crate::flash_str!("line too long"),
+            LineError::NonAscii => crate::flash_str!("non-ASCII input"),
+            LineError::Control => crate::flash_str!("control character"),
         }
     }
 }
@@ -319,10 +321,10 @@ pub enum NumberError {
 
 impl NumberError {
     /// The reply text.
-    pub fn text(self) -> &'static str {
+    pub fn text(self) -> FlashStr {
         match self {
-            NumberError::Invalid => "not a number",
-            NumberError::TooLarge => "number too large",
+            NumberError::Invalid => crate::flash_str!("not a number"),
+            NumberError::TooLarge => crate::flash_str!("number too large"),
         }
     }
 }
@@ -640,11 +642,12 @@ key_table! { c;
     CalibrationHeadingOffsetDeg F32 c.calibration.heading_offset_deg;
     CalibrationTiltXOffsetDeg F32 c.calibration.tilt_x_offset_deg;
     CalibrationTiltYOffsetDeg F32 c.calibration.tilt_y_offset_deg;
+    LogStatusMin U16 c.log.status_every_min;
 }
 
 /// The key named `name` (ASCII case-insensitive).
 pub fn key_from_name(name: &str) -> Option<Key> {
-    KEYS.iter().copied().find(|k| same_word(k.name(), name))
+    KEYS.iter().copied().find(|k| same_word(name, k.name()))
 }
 
 /// Stores `v` in `key` of `c`, unchecked; `Ok(true)` when it had to be
@@ -826,23 +829,25 @@ pub enum Command<'a> {
 impl Command<'_> {
     /// The command's words, for its `ok` reply (`stow`, `manual off`,
     /// `time set`, …).
-    pub fn name(&self) -> &'static str {
+    pub fn name(&self) -> FlashStr {
         match self {
-            Command::Help => "help",
-            Command::Status => "status",
-            Command::GetAll | Command::Get(_) => "get",
-            Command::Set(..) | Command::SetMany(_) | Command::SetPostalCode(_) => "set",
-            Command::Save => "save",
-            Command::Load => "load",
-            Command::Defaults => "defaults",
-            Command::TimeSet(_) => "time set",
-            Command::Stow => "stow",
-            Command::Resume => "resume",
-            Command::Home => "home",
-            Command::Jog(..) => "jog",
-            Command::ManualOff => "manual off",
-            Command::Faults => "faults",
-            Command::Clear => "clear",
+            Command::Help => crate::flash_str!("help"),
+            Command::Status => crate::flash_str!("status"),
+            Command::GetAll | Command::Get(_) => crate::flash_str!("get"),
+            Command::Set(..) | Command::SetMany(_) | Command::SetPostalCode(_) => {
+                crate::flash_str!("set")
+            }
+            Command::Save => crate::flash_str!("save"),
+            Command::Load => crate::flash_str!("load"),
+            Command::Defaults => crate::flash_str!("defaults"),
+            Command::TimeSet(_) => crate::flash_str!("time set"),
+            Command::Stow => crate::flash_str!("stow"),
+            Command::Resume => crate::flash_str!("resume"),
+            Command::Home => crate::flash_str!("home"),
+            Command::Jog(..) => crate::flash_str!("jog"),
+            Command::ManualOff => crate::flash_str!("manual off"),
+            Command::Faults => crate::flash_str!("faults"),
+            Command::Clear => crate::flash_str!("clear"),
         }
     }
 }
@@ -941,7 +946,7 @@ fn next_pair(s: &str) -> Result<Option<(&str, &str, &str)>, ParseError> {
 }
 
 /// `s` without a leading `prefix` (ASCII case-insensitive).
-fn strip_prefix_ignore_case<'a>(s: &'a str, prefix: &str) -> Option<&'a str> {
+fn strip_prefix_ignore_case(s: &str, prefix: FlashStr) -> Option<&str> {
     s.get(..prefix.len())
         .filter(|p| same_word(p, prefix))
         .and_then(|_| s.get(prefix.len()..))
@@ -1046,32 +1051,37 @@ enum Verb {
 }
 
 /// The command words.
-const VERBS: [(&str, Verb); 15] = [
-    ("help", Verb::Help),
-    ("status", Verb::Status),
-    ("get", Verb::Get),
-    ("set", Verb::Set),
-    ("save", Verb::Save),
-    ("load", Verb::Load),
-    ("defaults", Verb::Defaults),
-    ("time", Verb::Time),
-    ("stow", Verb::Stow),
-    ("resume", Verb::Resume),
-    ("home", Verb::Home),
-    ("jog", Verb::Jog),
-    ("manual", Verb::Manual),
-    ("faults", Verb::Faults),
-    ("clear", Verb::Clear),
+// In program memory on AVR (the table's pointers and lengths too), read
+// one entry at a time.
+#[allow(unsafe_code)]
+#[cfg_attr(target_arch = "avr", link_section = ".progmem.data")]
+static VERBS: [(FlashStr, Verb); 15] = [
+    (crate::flash_str!("help"), Verb::Help),
+    (crate::flash_str!("status"), Verb::Status),
+    (crate::flash_str!("get"), Verb::Get),
+    (crate::flash_str!("set"), Verb::Set),
+    (crate::flash_str!("save"), Verb::Save),
+    (crate::flash_str!("load"), Verb::Load),
+    (crate::flash_str!("defaults"), Verb::Defaults),
+    (crate::flash_str!("time"), Verb::Time),
+    (crate::flash_str!("stow"), Verb::Stow),
+    (crate::flash_str!("resume"), Verb::Resume),
+    (crate::flash_str!("home"), Verb::Home),
+    (crate::flash_str!("jog"), Verb::Jog),
+    (crate::flash_str!("manual"), Verb::Manual),
+    (crate::flash_str!("faults"), Verb::Faults),
+    (crate::flash_str!("clear"), Verb::Clear),
 ];
 
 /// ASCII case-insensitive equality (one copy, not inlined at every use).
 #[inline(never)]
-fn same_word(a: &str, b: &str) -> bool {
-    a.eq_ignore_ascii_case(b)
+fn same_word(a: &str, b: FlashStr) -> bool {
+    b.eq_ignore_ascii_case(a)
 }
 
 /// Parses one command line (see the module docs for the language).
 #[inline(never)]
+#[allow(unsafe_code)] // the read of VERBS from program memory
 pub fn parse(line: &str) -> Result<Command<'_>, ParseError> {
     let (cmd, rest) = word(line);
     if cmd.is_empty() {
@@ -1079,8 +1089,10 @@ pub fn parse(line: &str) -> Result<Command<'_>, ParseError> {
     }
     let Some(verb) = VERBS
         .iter()
-        .find(|(w, _)| same_word(cmd, w))
-        .map(|(_, v)| *v)
+        // SAFETY: VERBS is in `.progmem.data` on AVR (its attribute above).
+        .map(|entry| unsafe { crate::text::read_flash(entry) })
+        .find(|(w, _)| same_word(cmd, *w))
+        .map(|(_, v)| v)
     else {
         return Err(ParseError::UnknownCommand);
     };
@@ -1117,7 +1129,7 @@ pub fn parse(line: &str) -> Result<Command<'_>, ParseError> {
         }
         Verb::Set => parse_set(rest),
         Verb::Time => {
-            if !same_word(arg, "set") {
+            if !same_word(arg, crate::flash_str!("set")) {
                 return Err(ParseError::UnknownCommand);
             }
             let (t, after) = word(after);
@@ -1130,7 +1142,7 @@ pub fn parse(line: &str) -> Result<Command<'_>, ParseError> {
                 .ok_or(ParseError::BadTime)
         }
         Verb::Manual => {
-            if !same_word(arg, "off") {
+            if !same_word(arg, crate::flash_str!("off")) {
                 return Err(ParseError::UnknownCommand);
             }
             no_more(after).map(|()| Command::ManualOff)
@@ -1141,9 +1153,9 @@ pub fn parse(line: &str) -> Result<Command<'_>, ParseError> {
                 return Err(ParseError::MissingArgument);
             }
             no_more(after)?;
-            let axis = if same_word(arg, "c") {
+            let axis = if same_word(arg, crate::flash_str!("c")) {
                 AxisId::C
-            } else if same_word(arg, "a") {
+            } else if same_word(arg, crate::flash_str!("a")) {
                 AxisId::A
             } else {
                 return Err(ParseError::BadAxis);
@@ -1208,12 +1220,12 @@ pub fn run_config<'a>(out: &mut dyn Sink, config: &mut Config, cmd: Command<'a>)
             let r = apply_assignments(config, &a);
             match r {
                 Ok(()) => {
-                    out.text("ok");
+                    out.flash(crate::flash_str!("ok"));
                     for (k, _) in a.iter() {
-                        out.text(" ");
+                        out.flash(crate::flash_str!(" "));
                         write_key_value(out, config, k);
                     }
-                    out.text("\n");
+                    out.flash(crate::flash_str!("\n"));
                 }
                 Err(e) => write_set_error(out, &e),
             }
@@ -1223,11 +1235,11 @@ pub fn run_config<'a>(out: &mut dyn Sink, config: &mut Config, cmd: Command<'a>)
             let r = apply_postal_code(config, text);
             match r {
                 Ok(_) => {
-                    out.text("ok ");
+                    out.flash(crate::flash_str!("ok "));
                     write_key_value(out, config, Field::SiteLatDeg);
-                    out.text(" ");
+                    out.flash(crate::flash_str!(" "));
                     write_key_value(out, config, Field::SiteLonDeg);
-                    out.text("\n");
+                    out.flash(crate::flash_str!("\n"));
                 }
                 Err(e) => write_set_error(out, &e),
             }
@@ -1235,7 +1247,7 @@ pub fn run_config<'a>(out: &mut dyn Sink, config: &mut Config, cmd: Command<'a>)
         }
         Command::Defaults => {
             *config = Config::default();
-            write_ok(out, "defaults");
+            write_ok(out, crate::flash_str!("defaults"));
             Outcome::Changed
         }
         other => Outcome::Pass(other),
@@ -1246,33 +1258,33 @@ pub fn run_config<'a>(out: &mut dyn Sink, config: &mut Config, cmd: Command<'a>)
 // Replies
 
 /// `ok WHAT` (`ok` alone for an empty `what`).
-pub fn write_ok(out: &mut dyn Sink, what: &str) {
-    out.text("ok");
+pub fn write_ok(out: &mut dyn Sink, what: FlashStr) {
+    out.flash(crate::flash_str!("ok"));
     if !what.is_empty() {
-        out.text(" ");
-        out.text(what);
+        out.flash(crate::flash_str!(" "));
+        out.flash(what);
     }
-    out.text("\n");
+    out.flash(crate::flash_str!("\n"));
 }
 
 /// `error WHAT`.
-pub fn write_error(out: &mut dyn Sink, what: &str) {
-    out.text("error ");
-    out.text(what);
-    out.text("\n");
+pub fn write_error(out: &mut dyn Sink, what: FlashStr) {
+    out.flash(crate::flash_str!("error "));
+    out.flash(what);
+    out.flash(crate::flash_str!("\n"));
 }
 
 /// `ok LINE` for every line of [`HELP`].
 pub fn write_help(out: &mut dyn Sink) {
     for line in HELP {
-        write_ok(out, line);
+        write_ok(out, *line);
     }
 }
 
 /// `KEY=VALUE`, without `ok` or end of line.
 pub fn write_key_value(out: &mut dyn Sink, config: &Config, key: Key) {
-    out.text(key.name());
-    out.text("=");
+    out.flash(key.name());
+    out.flash(crate::flash_str!("="));
     match get(config, key) {
         Value::F32(v) => write_number(out, v),
         Value::U32(v) => out.u32(v),
@@ -1281,9 +1293,9 @@ pub fn write_key_value(out: &mut dyn Sink, config: &Config, key: Key) {
 
 /// `ok KEY=VALUE`: the reply to `get KEY` and to a successful `set`.
 pub fn format_get(out: &mut dyn Sink, config: &Config, key: Key) {
-    out.text("ok ");
+    out.flash(crate::flash_str!("ok "));
     write_key_value(out, config, key);
-    out.text("\n");
+    out.flash(crate::flash_str!("\n"));
 }
 
 /// The reply to a line the [`LineBuffer`] refused: `error line too long`, …
@@ -1295,33 +1307,35 @@ pub fn write_line_error(out: &mut dyn Sink, e: LineError) {
 pub fn write_parse_error(out: &mut dyn Sink, e: &ParseError) {
     let text = match e {
         ParseError::Empty => return,
-        ParseError::UnknownCommand => "unknown command",
-        ParseError::UnknownKey => "unknown key",
-        ParseError::MissingArgument => "missing argument",
-        ParseError::UnexpectedArgument => "unexpected argument",
+        ParseError::UnknownCommand => crate::flash_str!("unknown command"),
+        ParseError::UnknownKey => crate::flash_str!("unknown key"),
+        ParseError::MissingArgument => crate::flash_str!("missing argument"),
+        ParseError::UnexpectedArgument => crate::flash_str!("unexpected argument"),
         ParseError::BadValue(k, n) => {
-            out.text("error ");
-            out.text(k.name());
-            out.text(": ");
-            out.text(n.text());
-            out.text("\n");
+            out.flash(crate::flash_str!("error "));
+            out.flash(k.name());
+            out.flash(crate::flash_str!(": "));
+            out.flash(n.text());
+            out.flash(crate::flash_str!("\n"));
             return;
         }
         ParseError::BadNumber(n) => n.text(),
-        ParseError::BadAxis => "axis must be c or a",
-        ParseError::BadTime => "time must be YYYY-MM-DDTHH:MM:SSZ",
-        ParseError::SetOnly => "site.postal_code: set only",
+        ParseError::BadAxis => crate::flash_str!("axis must be c or a"),
+        ParseError::BadTime => crate::flash_str!("time must be YYYY-MM-DDTHH:MM:SSZ"),
+        ParseError::SetOnly => crate::flash_str!("site.postal_code: set only"),
     };
     write_error(out, text);
 }
 
 /// The reply text of a postal-code error (after `site.postal_code: `).
-pub fn postal_error_text(e: PostalError) -> &'static str {
+pub fn postal_error_text(e: PostalError) -> FlashStr {
     match e {
-        PostalError::BadCountry => "country must be two letters",
-        PostalError::BadPostalCode => "postal code must be 1-10 of 0-9, A-Z, space, -",
-        PostalError::BadFormat => "expected CC:CODE, e.g. DZ:16000",
-        PostalError::UnknownPostalCode => "not in the table",
+        PostalError::BadCountry => crate::flash_str!("country must be two letters"),
+        PostalError::BadPostalCode => {
+            crate::flash_str!("postal code must be 1-10 of 0-9, A-Z, space, -")
+        }
+        PostalError::BadFormat => crate::flash_str!("expected CC:CODE, e.g. DZ:16000"),
+        PostalError::UnknownPostalCode => crate::flash_str!("not in the table"),
     }
 }
 
@@ -1329,18 +1343,18 @@ pub fn postal_error_text(e: PostalError) -> &'static str {
 /// number expected`, `error KEY: read only`, `error KEY: out of range`,
 /// `error site.postal_code: …`.
 pub fn write_set_error(out: &mut dyn Sink, e: &SetError) {
-    out.text("error ");
+    out.flash(crate::flash_str!("error "));
     let (name, reason) = match *e {
         SetError::Invalid(ConfigError { field, reason }) => (field.name(), reason.text()),
-        SetError::NotWhole(k) => (k.name(), "whole number expected"),
-        SetError::ReadOnly(k) => (k.name(), "read only"),
-        SetError::OutOfRange(k) => (k.name(), "out of range"),
+        SetError::NotWhole(k) => (k.name(), crate::flash_str!("whole number expected")),
+        SetError::ReadOnly(k) => (k.name(), crate::flash_str!("read only")),
+        SetError::OutOfRange(k) => (k.name(), crate::flash_str!("out of range")),
         SetError::Postal(p) => (POSTAL_CODE_KEY, postal_error_text(p)),
     };
-    out.text(name);
-    out.text(": ");
-    out.text(reason);
-    out.text("\n");
+    out.flash(name);
+    out.flash(crate::flash_str!(": "));
+    out.flash(reason);
+    out.flash(crate::flash_str!("\n"));
 }
 
 /// A plain snapshot of what `status` reports, filled by the firmware.
@@ -1381,7 +1395,7 @@ impl StatusView {
 fn write_opt_number(out: &mut dyn Sink, v: Option<f32>, decimals: u8) {
     match v {
         Some(v) => out.fixed(v, decimals),
-        None => out.text("none"),
+        None => out.flash(crate::flash_str!("none")),
     }
 }
 
@@ -1392,46 +1406,53 @@ fn write_opt_number(out: &mut dyn Sink, v: Option<f32>, decimals: u8) {
 /// log; `none` for what is unknown; faults by [`Fault::name`], separated
 /// by commas).
 pub fn write_status(out: &mut dyn Sink, s: &StatusView) {
-    out.text("ok mode=");
-    out.text(s.mode.name());
+    out.flash(crate::flash_str!("ok "));
+    write_status_fields(out, s);
+}
+
+/// The fields of `status` from `mode=` to the end of the line (the
+/// periodic log line is `status ` and these fields).
+pub fn write_status_fields(out: &mut dyn Sink, s: &StatusView) {
+    out.flash(crate::flash_str!("mode="));
+    out.flash(s.mode.name());
     match &s.time {
         Some((t, source)) => {
-            out.text(" utc=");
+            out.flash(crate::flash_str!(" utc="));
             out.utc(t);
-            out.text(match source {
-                TimeSource::Gps => " time=gps",
-                TimeSource::Rtc => " time=rtc",
+            out.flash(match source {
+                TimeSource::Gps => crate::flash_str!(" time=gps"),
+                TimeSource::Rtc => crate::flash_str!(" time=rtc"),
             });
         }
-        None => out.text(" utc=none time=none"),
+        None => out.flash(crate::flash_str!(" utc=none time=none")),
     }
-    out.text(" lat=");
+    out.flash(crate::flash_str!(" lat="));
     out.fixed(s.lat_deg, 4);
-    out.text(" lon=");
+    out.flash(crate::flash_str!(" lon="));
     out.fixed(s.lon_deg, 4);
-    out.text(match s.site_source {
-        SiteSource::Gps => " site=gps",
-        SiteSource::Config => " site=config",
+    out.flash(match s.site_source {
+        SiteSource::Gps => crate::flash_str!(" site=gps"),
+        SiteSource::Config => crate::flash_str!(" site=config"),
     });
-    out.text(" c=");
+    out.flash(crate::flash_str!(" c="));
     write_opt_number(out, s.c_deg, 2);
-    out.text(" a=");
+    out.flash(crate::flash_str!(" a="));
     write_opt_number(out, s.a_deg, 2);
-    out.text(" faults=");
+    out.flash(crate::flash_str!(" faults="));
     let mut any = false;
     for f in s.faults.iter().flatten() {
         if any {
-            out.text(",");
+            out.flash(crate::flash_str!(","));
         }
-        out.text(f.name());
+        out.flash(f.name());
         any = true;
     }
     if !any {
-        out.text("none");
+        out.flash(crate::flash_str!("none"));
     }
-    out.text(" wind_hz=");
+    out.flash(crate::flash_str!(" wind_hz="));
     write_opt_number(out, s.wind_hz, 2);
-    out.text("\n");
+    out.flash(crate::flash_str!("\n"));
 }
 
 /// The reply to `faults`: `ok fault=<name> attempts=<n>` per active fault,
@@ -1439,39 +1460,39 @@ pub fn write_status(out: &mut dyn Sink, s: &StatusView) {
 pub fn write_faults(out: &mut dyn Sink, m: &FaultManager) {
     let mut any = false;
     for a in m.active() {
-        out.text("ok fault=");
-        out.text(a.fault.name());
-        out.text(" attempts=");
+        out.flash(crate::flash_str!("ok fault="));
+        out.flash(a.fault.name());
+        out.flash(crate::flash_str!(" attempts="));
         out.u32(a.attempts);
-        out.text("\n");
+        out.flash(crate::flash_str!("\n"));
         any = true;
     }
     if !any {
-        write_ok(out, "faults=none");
+        write_ok(out, crate::flash_str!("faults=none"));
     }
 }
 
 /// The reply to `time set` once the clock is set: `ok utc=…`.
 pub fn write_time_set(out: &mut dyn Sink, t: &UtcTime) {
-    out.text("ok utc=");
+    out.flash(crate::flash_str!("ok utc="));
     out.utc(t);
-    out.text("\n");
+    out.flash(crate::flash_str!("\n"));
 }
 
 /// The reply to `time set` while GPS time is trusted:
 /// `error time set: GPS time is in force`.
 pub fn write_time_refused(out: &mut dyn Sink) {
-    write_error(out, "time set: GPS time is in force");
+    write_error(out, crate::flash_str!("time set: GPS time is in force"));
 }
 
 /// The reply to `save`: `ok save`, or `error save: config invalid`,
 /// `… storage too small`, `… storage failed`.
 pub fn write_saved<E>(out: &mut dyn Sink, r: &Result<(), SaveError<E>>) {
     match r {
-        Ok(()) => write_ok(out, "save"),
-        Err(SaveError::Invalid) => write_error(out, "save: config invalid"),
-        Err(SaveError::TooSmall) => write_error(out, "save: storage too small"),
-        Err(SaveError::Storage(_)) => write_error(out, "save: storage failed"),
+        Ok(()) => write_ok(out, crate::flash_str!("save")),
+        Err(SaveError::Invalid) => write_error(out, crate::flash_str!("save: config invalid")),
+        Err(SaveError::TooSmall) => write_error(out, crate::flash_str!("save: storage too small")),
+        Err(SaveError::Storage(_)) => write_error(out, crate::flash_str!("save: storage failed")),
     }
 }
 
@@ -1480,8 +1501,208 @@ pub fn write_saved<E>(out: &mut dyn Sink, r: &Result<(), SaveError<E>>) {
 /// configuration in force; `defaults` gives the defaults).
 pub fn write_loaded(out: &mut dyn Sink, l: &Loaded) {
     if l.defaults {
-        write_error(out, "load: no valid stored config");
+        write_error(out, crate::flash_str!("load: no valid stored config"));
     } else {
-        write_ok(out, "load");
+        write_ok(out, crate::flash_str!("load"));
     }
+}
+
+// ---------------------------------------------------------------------------
+// Carrying out commands on a running tracker
+
+/// Why `time set` was refused.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum TimeSetError {
+    /// GPS time is trusted: `error time set: GPS time is in force`.
+    GpsInForce,
+    /// The RTC did not take it: `error time set: the RTC did not answer`.
+    RtcFailed,
+    /// Outside what the RTC holds: `error time set: outside the RTC's range`.
+    OutOfRange,
+}
+
+/// The result of a `jog`: the manual pose now commanded, and whether the
+/// soft limits cut the move short.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Jogged {
+    /// C-axis angle commanded, degrees.
+    pub c_deg: f32,
+    /// A-axis angle commanded, degrees.
+    pub a_deg: f32,
+    /// The move was held at a soft limit.
+    pub limited: bool,
+}
+
+/// What a board's tracker lets the console do besides editing the
+/// configuration: [`execute`] answers every command through it, so every
+/// board speaks the same language with the same replies.
+pub trait Operator {
+    /// Where replies go (the log port).
+    fn out(&mut self) -> &mut dyn Sink;
+    /// The configuration in force.
+    fn config(&self) -> Config;
+    /// The board's own configuration, which `defaults` restores (its
+    /// mechanics, not [`Config::default`]'s generic ones).
+    fn defaults(&self) -> Config;
+    /// Puts a changed (valid) configuration into effect; false when the
+    /// tracker refused it (then nothing changed).
+    fn apply(&mut self, config: Config) -> bool;
+    /// What `status` reports.
+    fn status(&self) -> StatusView;
+    /// Writes the `faults` reply ([`write_faults`] or the same shape).
+    fn write_faults(&mut self);
+    /// Starts storing `config`: `None` when the board has no storage; the
+    /// reply to a started save comes when it ends (the caller polls it).
+    fn begin_save(&mut self, config: &Config) -> Option<Result<(), SaveError<()>>>;
+    /// Reads the stored configuration: `None` when the board has no
+    /// storage.
+    fn load(&mut self) -> Option<Loaded>;
+    /// Sets the RTC.
+    fn set_time(&mut self, t: &UtcTime) -> Result<(), TimeSetError>;
+    /// An operator's stow (true) or its release (false).
+    fn stow(&mut self, on: bool);
+    /// Homes both axes again; false on a board without home switches.
+    fn home(&mut self) -> bool;
+    /// Manual mode: moves `axis` by `deg`, within the soft limits.
+    fn jog(&mut self, axis: AxisId, deg: f32) -> Jogged;
+    /// Leaves manual mode.
+    fn manual_off(&mut self);
+    /// The operator's reset of a safe stop: faults cleared.
+    fn clear(&mut self);
+}
+
+/// What [`execute`] left for the caller.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Executed {
+    /// Answered (or a blank line).
+    Done,
+    /// A save was started: poll it and answer with [`write_saved`] when it
+    /// ends.
+    SaveStarted,
+}
+
+/// Parses `line`, carries it out through `op` and answers on
+/// [`Operator::out`]. Not inlined: a command's temporaries (a copy of the
+/// configuration, the status view) are on the stack only while it runs.
+#[inline(never)]
+pub fn execute(op: &mut dyn Operator, line: &str) -> Executed {
+    let cmd = match parse(line) {
+        Ok(c) => c,
+        Err(ParseError::Empty) => return Executed::Done,
+        Err(e) => {
+            write_parse_error(op.out(), &e);
+            return Executed::Done;
+        }
+    };
+    let mut config = op.config();
+    if cmd == Command::Defaults {
+        if op.apply(op.defaults()) {
+            write_ok(op.out(), cmd.name());
+        } else {
+            write_error(
+                op.out(),
+                crate::flash_str!("config refused by the tracker: not in effect"),
+            );
+        }
+        return Executed::Done;
+    }
+    let cmd = match run_config(op.out(), &mut config, cmd) {
+        Outcome::Answered => return Executed::Done,
+        Outcome::Changed => {
+            if !op.apply(config) {
+                write_error(
+                    op.out(),
+                    crate::flash_str!("config refused by the tracker: not in effect"),
+                );
+            }
+            return Executed::Done;
+        }
+        Outcome::Pass(cmd) => cmd,
+    };
+    match cmd {
+        Command::Status => {
+            let view = op.status();
+            write_status(op.out(), &view);
+        }
+        Command::Faults => op.write_faults(),
+        Command::Save => match op.begin_save(&config) {
+            Some(Ok(())) => return Executed::SaveStarted,
+            Some(Err(e)) => write_saved(op.out(), &Err(e)),
+            None => write_error(
+                op.out(),
+                crate::flash_str!("save: no storage on this board"),
+            ),
+        },
+        Command::Load => match op.load() {
+            Some(loaded) => {
+                write_loaded(op.out(), &loaded);
+                if !loaded.defaults && !op.apply(loaded.config) {
+                    write_error(
+                        op.out(),
+                        crate::flash_str!("config refused by the tracker: not in effect"),
+                    );
+                }
+            }
+            None => write_error(
+                op.out(),
+                crate::flash_str!("load: no storage on this board"),
+            ),
+        },
+        Command::TimeSet(t) => match op.set_time(&t) {
+            Ok(()) => write_time_set(op.out(), &t),
+            Err(TimeSetError::GpsInForce) => write_time_refused(op.out()),
+            Err(TimeSetError::RtcFailed) => write_error(
+                op.out(),
+                crate::flash_str!("time set: the RTC did not answer"),
+            ),
+            Err(TimeSetError::OutOfRange) => write_error(
+                op.out(),
+                crate::flash_str!("time set: outside the RTC's range"),
+            ),
+        },
+        Command::Stow | Command::Resume => {
+            op.stow(matches!(cmd, Command::Stow));
+            write_ok(op.out(), cmd.name());
+        }
+        Command::Home => {
+            if op.home() {
+                write_ok(op.out(), cmd.name());
+            } else {
+                write_error(
+                    op.out(),
+                    crate::flash_str!("home: no home switches on this board"),
+                );
+            }
+        }
+        Command::ManualOff => {
+            op.manual_off();
+            write_ok(op.out(), cmd.name());
+        }
+        Command::Clear => {
+            op.clear();
+            write_ok(op.out(), cmd.name());
+        }
+        Command::Jog(axis, deg) => {
+            let j = op.jog(axis, deg);
+            let out = op.out();
+            out.flash(crate::flash_str!("ok jog c="));
+            out.fixed(j.c_deg, 2);
+            out.flash(crate::flash_str!(" a="));
+            out.fixed(j.a_deg, 2);
+            out.flash(if j.limited {
+                crate::flash_str!(" limited\n")
+            } else {
+                crate::flash_str!("\n")
+            });
+        }
+        // Carried out by `run_config`.
+        Command::Help
+        | Command::GetAll
+        | Command::Get(_)
+        | Command::Set(..)
+        | Command::SetMany(_)
+        | Command::SetPostalCode(_)
+        | Command::Defaults => {}
+    }
+    Executed::Done
 }

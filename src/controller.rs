@@ -268,6 +268,34 @@ where
         }
     }
 
+    /// The configuration in force.
+    pub fn config(&self) -> &Config {
+        &self.config
+    }
+
+    /// Puts `config` into effect while running (an operator's `set`,
+    /// `load` or `defaults`): checked as [`Controller::new`] checks it, and
+    /// a refused configuration changes nothing. The day is planned again
+    /// when the scheduler's intervals changed; an axis whose count-to-degree scale changed homes again
+    /// ([`AxisController::set_config`]); active faults keep their attempts
+    /// under the new retry rules; the wind thresholds apply from the next
+    /// reading. The site is the position source's (the firmware sets it).
+    pub fn reconfigure(&mut self, config: Config) -> Result<(), ControllerError> {
+        Self::check(&config)?;
+        if config.schedule != self.config.schedule {
+            self.scheduler
+                .set_config(config.schedule)
+                .map_err(ControllerError::Schedule)?;
+        }
+        for (ax, c) in self.axes.iter_mut().zip(config.axes.iter()) {
+            ax.set_config(*c);
+        }
+        self.faults.set_config(config.safety);
+        self.wind.set_config(config.wind);
+        self.config = config;
+        Ok(())
+    }
+
     /// The faults.
     pub fn faults(&self) -> &FaultManager {
         &self.faults
@@ -307,6 +335,10 @@ where
     /// Stow on an operator's command (true) or release it.
     pub fn command_stow(&mut self, on: bool) {
         self.command_stow = on;
+    }
+    /// The manual pose in force, if any.
+    pub fn manual_pose(&self) -> Option<Pose<T>> {
+        self.manual
     }
     /// Manual override to a pose, or back to automatic with `None`.
     pub fn manual(&mut self, pose: Option<Pose<T>>) {

@@ -3,6 +3,8 @@
 //! This library is `no_std`: it runs on the tracker's microcontroller
 //! (Cortex-M4F, 8-bit AVR) and on a PC for tests, simulations and tools.
 #![no_std]
+// `LPM` for text kept in flash (src/text.rs).
+#![cfg_attr(target_arch = "avr", feature(asm_experimental_arch))]
 // No unsafe code, except in the AVR board layer (src/board/avr), which
 // allows it for raw register writes and its interrupt handlers' register
 // access, each with a SAFETY comment.
@@ -28,4 +30,6 @@ pub mod scheduler;
 pub mod sim;
 pub mod site;
 pub mod sources;
+pub mod storage;
+pub mod text;
 pub mod traits;

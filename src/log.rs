@@ -19,6 +19,7 @@
 //! simulator's trace.
 
 use crate::safety::{Fault, FaultManager, Mode, MAX_ACTIVE};
+use crate::text::FlashStr;
 use sun_algos::UtcTime;
 
 /// Where formatted text goes: a UART, semihosting, or a buffer in tests.
@@ -29,6 +30,11 @@ pub trait Sink {
     /// Writes a string.
     fn text(&mut self, s: &str) {
         self.put(s.as_bytes());
+    }
+
+    /// Writes a constant text kept in flash on AVR ([`FlashStr`]).
+    fn flash(&mut self, s: FlashStr) {
+        s.for_each_chunk(|t| self.text(t));
     }
 
     /// Writes an unsigned integer in decimal.
@@ -134,11 +140,11 @@ pub enum SiteSource {
 
 /// `boot suntracker <version> board=<name>`
 pub fn boot(out: &mut dyn Sink, board: &str) {
-    out.text("boot ");
+    out.flash(crate::flash_str!("boot "));
     out.text(crate::BANNER);
-    out.text(" board=");
+    out.flash(crate::flash_str!(" board="));
     out.text(board);
-    out.text("\n");
+    out.flash(crate::flash_str!("\n"));
 }
 
 /// `time source=gps|rtc utc=…`, when the time is first trusted or its
@@ -149,7 +155,7 @@ pub fn time(out: &mut dyn Sink, source: TimeSource, utc: &UtcTime) {
         TimeSource::Rtc => "time source=rtc utc=",
     });
     out.utc(utc);
-    out.text("\n");
+    out.flash(crate::flash_str!("\n"));
 }
 
 /// `site source=gps|config lat=… lon=…`, when the site is taken or changes.
@@ -159,9 +165,9 @@ pub fn site(out: &mut dyn Sink, source: SiteSource, lat_deg: f32, lon_deg: f32) 
         SiteSource::Config => "site source=config lat=",
     });
     out.fixed(lat_deg, 4);
-    out.text(" lon=");
+    out.flash(crate::flash_str!(" lon="));
     out.fixed(lon_deg, 4);
-    out.text("\n");
+    out.flash(crate::flash_str!("\n"));
 }
 
 /// `setpoint utc=… zenith=… azimuth=… c=… a=…`: the sun's topocentric
@@ -176,7 +182,7 @@ pub fn setpoint(
     a_deg: f32,
 ) {
     setpoint_fields(out, utc, zenith_deg, azimuth_deg, c_deg, a_deg);
-    out.text("\n");
+    out.flash(crate::flash_str!("\n"));
 }
 
 /// [`setpoint`] with the panel voltage read with it appended:
@@ -192,9 +198,9 @@ pub fn setpoint_with_panel(
     panel_mv: u32,
 ) {
     setpoint_fields(out, utc, zenith_deg, azimuth_deg, c_deg, a_deg);
-    out.text(" panel_mv=");
+    out.flash(crate::flash_str!(" panel_mv="));
     out.u32(panel_mv);
-    out.text("\n");
+    out.flash(crate::flash_str!("\n"));
 }
 
 fn setpoint_fields(
@@ -205,29 +211,29 @@ fn setpoint_fields(
     c_deg: f32,
     a_deg: f32,
 ) {
-    out.text("setpoint utc=");
+    out.flash(crate::flash_str!("setpoint utc="));
     out.utc(utc);
-    out.text(" zenith=");
+    out.flash(crate::flash_str!(" zenith="));
     out.fixed(zenith_deg, 3);
-    out.text(" azimuth=");
+    out.flash(crate::flash_str!(" azimuth="));
     out.fixed(azimuth_deg, 3);
-    out.text(" c=");
+    out.flash(crate::flash_str!(" c="));
     out.fixed(c_deg, 2);
-    out.text(" a=");
+    out.flash(crate::flash_str!(" a="));
     out.fixed(a_deg, 2);
 }
 
 /// `mode <name>`, on each mode change.
 pub fn mode(out: &mut dyn Sink, mode: Mode) {
-    out.text("mode ");
-    out.text(mode.name());
-    out.text("\n");
+    out.flash(crate::flash_str!("mode "));
+    out.flash(mode.name());
+    out.flash(crate::flash_str!("\n"));
 }
 
 /// `fault <name> raised|cleared`.
 pub fn fault(out: &mut dyn Sink, fault: Fault, raised: bool) {
-    out.text("fault ");
-    out.text(fault.name());
+    out.flash(crate::flash_str!("fault "));
+    out.flash(fault.name());
     out.text(if raised { " raised\n" } else { " cleared\n" });
 }
 

@@ -124,12 +124,12 @@ impl DayEnergy {
 /// `day_energy vh=<V·h, 3 decimals>`: the day's area, at its end.
 pub fn log_day_energy(out: &mut dyn Sink, energy: &DayEnergy) {
     let mvh = energy.mvh();
-    out.text("day_energy vh=");
+    out.flash(crate::flash_str!("day_energy vh="));
     let whole = u32::try_from(mvh / 1000).unwrap_or(u32::MAX);
     out.u32(whole);
-    out.text(".");
+    out.flash(crate::flash_str!("."));
     out.u32_padded((mvh % 1000) as u32, 3);
-    out.text("\n");
+    out.flash(crate::flash_str!("\n"));
 }
 
 #[cfg(test)]

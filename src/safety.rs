@@ -12,6 +12,7 @@
 //! delays nor hastens a stow or a retry.
 
 use crate::config::{SafetyConfig, WindConfig};
+use crate::text::FlashStr;
 
 /// The two axes: C (vertical at home, azimuth-like) and A (tilt).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord)]
@@ -78,36 +79,36 @@ pub enum Fault {
 
 impl Fault {
     /// A short name for logs and traces (`motor_stalled_c`, `gps_lost`, …).
-    pub fn name(self) -> &'static str {
+    pub fn name(self) -> FlashStr {
         use AxisId::{A, C};
         match self {
             Fault::SensorTimeout(s) => match s {
-                Sensor::Inclinometer => "timeout_inclinometer",
-                Sensor::Compass => "timeout_compass",
-                Sensor::Encoder(C) => "timeout_encoder_c",
-                Sensor::Encoder(A) => "timeout_encoder_a",
-                Sensor::Rtc => "timeout_rtc",
-                Sensor::Gps => "timeout_gps",
+                Sensor::Inclinometer => crate::flash_str!("timeout_inclinometer"),
+                Sensor::Compass => crate::flash_str!("timeout_compass"),
+                Sensor::Encoder(C) => crate::flash_str!("timeout_encoder_c"),
+                Sensor::Encoder(A) => crate::flash_str!("timeout_encoder_a"),
+                Sensor::Rtc => crate::flash_str!("timeout_rtc"),
+                Sensor::Gps => crate::flash_str!("timeout_gps"),
             },
             Fault::I2cError(s) => match s {
-                Sensor::Inclinometer => "bus_inclinometer",
-                Sensor::Compass => "bus_compass",
-                Sensor::Encoder(C) => "bus_encoder_c",
-                Sensor::Encoder(A) => "bus_encoder_a",
-                Sensor::Rtc => "bus_rtc",
-                Sensor::Gps => "bus_gps",
+                Sensor::Inclinometer => crate::flash_str!("bus_inclinometer"),
+                Sensor::Compass => crate::flash_str!("bus_compass"),
+                Sensor::Encoder(C) => crate::flash_str!("bus_encoder_c"),
+                Sensor::Encoder(A) => crate::flash_str!("bus_encoder_a"),
+                Sensor::Rtc => crate::flash_str!("bus_rtc"),
+                Sensor::Gps => crate::flash_str!("bus_gps"),
             },
-            Fault::GpsLost => "gps_lost",
-            Fault::RtcInvalid => "rtc_invalid",
-            Fault::MotorStalled(C) => "motor_stalled_c",
-            Fault::MotorStalled(A) => "motor_stalled_a",
-            Fault::SetPointDeviation(C) => "deviation_c",
-            Fault::SetPointDeviation(A) => "deviation_a",
-            Fault::LimitSwitchHit(C) => "limit_switch_c",
-            Fault::LimitSwitchHit(A) => "limit_switch_a",
-            Fault::GpsTimeImplausible => "gps_time_implausible",
-            Fault::TimeOutOfRange => "time_out_of_range",
-            Fault::ScheduleFailed => "schedule_failed",
+            Fault::GpsLost => crate::flash_str!("gps_lost"),
+            Fault::RtcInvalid => crate::flash_str!("rtc_invalid"),
+            Fault::MotorStalled(C) => crate::flash_str!("motor_stalled_c"),
+            Fault::MotorStalled(A) => crate::flash_str!("motor_stalled_a"),
+            Fault::SetPointDeviation(C) => crate::flash_str!("deviation_c"),
+            Fault::SetPointDeviation(A) => crate::flash_str!("deviation_a"),
+            Fault::LimitSwitchHit(C) => crate::flash_str!("limit_switch_c"),
+            Fault::LimitSwitchHit(A) => crate::flash_str!("limit_switch_a"),
+            Fault::GpsTimeImplausible => crate::flash_str!("gps_time_implausible"),
+            Fault::TimeOutOfRange => crate::flash_str!("time_out_of_range"),
+            Fault::ScheduleFailed => crate::flash_str!("schedule_failed"),
         }
     }
 }
@@ -259,6 +260,12 @@ impl FaultManager {
             recovered: 0,
             dropped: 0,
         }
+    }
+
+    /// Takes new retry rules (an operator changed the configuration); the
+    /// active faults keep their attempts and back-off.
+    pub fn set_config(&mut self, config: SafetyConfig) {
+        self.config = config;
     }
 
     /// Reports a fault (again) at monotonic time `now_ms`; returns the
@@ -432,6 +439,13 @@ impl WindMonitor {
         }
     }
 
+    /// Takes new thresholds (an operator changed the configuration); the
+    /// hold and release timers go on, judged by the new values from the
+    /// next reading.
+    pub fn set_config(&mut self, config: WindConfig) {
+        self.config = config;
+    }
+
     /// Feeds `pulses` counted over the `interval_ms` milliseconds (of the
     /// monotonic clock) that end at monotonic time `now_ms`; returns true
     /// while stowed. A zero interval keeps the state.
@@ -503,16 +517,16 @@ pub enum Mode {
 
 impl Mode {
     /// The name used in logs and traces (`safe_stop`, `wind_stow`, …).
-    pub fn name(self) -> &'static str {
+    pub fn name(self) -> FlashStr {
         match self {
-            Mode::SafeStop => "safe_stop",
-            Mode::WindStow => "wind_stow",
-            Mode::CommandStow => "command_stow",
-            Mode::Manual => "manual",
-            Mode::WaitForTime => "wait_for_time",
-            Mode::Night => "night",
-            Mode::Homing => "homing",
-            Mode::Tracking => "tracking",
+            Mode::SafeStop => crate::flash_str!("safe_stop"),
+            Mode::WindStow => crate::flash_str!("wind_stow"),
+            Mode::CommandStow => crate::flash_str!("command_stow"),
+            Mode::Manual => crate::flash_str!("manual"),
+            Mode::WaitForTime => crate::flash_str!("wait_for_time"),
+            Mode::Night => crate::flash_str!("night"),
+            Mode::Homing => crate::flash_str!("homing"),
+            Mode::Tracking => crate::flash_str!("tracking"),
         }
     }
 }

@@ -498,6 +498,14 @@ impl<T: Float, P: PositionSource<T>, const N: usize> Scheduler<T, P, N> {
     pub fn config(&self) -> &ScheduleConfig {
         &self.config
     }
+    /// Takes new intervals (checked by [`Scheduler::check`]) and plans the
+    /// day again.
+    pub fn set_config(&mut self, config: ScheduleConfig) -> Result<(), ScheduleError> {
+        Self::check(&config)?;
+        self.config = config;
+        self.replan();
+        Ok(())
+    }
     /// The position source.
     pub fn source_mut(&mut self) -> &mut P {
         &mut self.source

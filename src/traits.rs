@@ -40,6 +40,20 @@ pub trait Clock {
 }
 
 /// Byte storage for the configuration (EEPROM, flash, a file or memory).
+///
+/// Two ways to write. [`Storage::write`] does the whole write before it
+/// returns (hosts, tests, RAM). The stepped methods — [`Storage::erase_step`],
+/// [`Storage::write_step`], [`Storage::flush_step`] — never wait: each does
+/// what the storage can do now (at most one bounded operation) and says how
+/// far it got, so that a main loop that must not stop longer than one tick
+/// calls one of them per pass ([`crate::config::ConfigStore::poll`] does).
+/// Their defaults suit storage that is always ready and needs no erase
+/// (RAM): nothing to erase, the whole write at once, nothing pending.
+///
+/// Implementations: [`crate::config::MemStorage`] (RAM),
+/// [`crate::storage::EepromStorage`] (byte EEPROM such as the AVR's, over
+/// [`crate::storage::EepromCells`]), [`crate::storage::NorFlashStorage`]
+/// (NOR flash through `embedded-storage`).
 pub trait Storage {
     /// Why an access failed.
     type Error;
@@ -47,8 +61,33 @@ pub trait Storage {
     fn capacity(&self) -> usize;
     /// Reads `buf.len()` bytes from `offset`.
     fn read(&mut self, offset: usize, buf: &mut [u8]) -> Result<(), Self::Error>;
-    /// Writes `data` at `offset`.
+    /// Writes `data` at `offset`, waiting until it is done. On storage that
+    /// must be erased before it is written (NOR flash) the range must have
+    /// been prepared by [`Storage::erase_step`] since it was last written.
     fn write(&mut self, offset: usize, data: &[u8]) -> Result<(), Self::Error>;
+    /// Prepares the first bytes of `offset..offset + len` for writing
+    /// without waiting (a NOR flash erases one erase unit): returns how many
+    /// bytes from `offset` are ready now, 0 when the storage is busy (call
+    /// again), `len` when all are. The default: nothing to prepare.
+    fn erase_step(&mut self, offset: usize, len: usize) -> Result<usize, Self::Error> {
+        let _ = offset;
+        Ok(len)
+    }
+    /// Writes the first bytes of `data` at `offset` without waiting: returns
+    /// how many bytes of `data` it took, 0 when the storage is busy (call
+    /// again). Bytes taken may still be on their way into the storage until
+    /// [`Storage::flush_step`] says that nothing is pending. The default:
+    /// [`Storage::write`] of all of `data`.
+    fn write_step(&mut self, offset: usize, data: &[u8]) -> Result<usize, Self::Error> {
+        self.write(offset, data).map(|()| data.len())
+    }
+    /// Without waiting: `Ok(true)` when every byte taken by
+    /// [`Storage::write_step`] is in the storage (and, where the storage
+    /// checks, reads back as written), `Ok(false)` while a write is still in
+    /// progress. The default: nothing is ever pending.
+    fn flush_step(&mut self) -> Result<bool, Self::Error> {
+        Ok(true)
+    }
 }
 
 /// One reading of the mount's attitude sensors (seed portable-tracker §III).

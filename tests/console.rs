@@ -110,6 +110,7 @@ const DOC_RANGES: &[(&str, &str)] = &[
     ("calibration.heading_offset_deg", "−180…180"),
     ("calibration.tilt_x_offset_deg", "−45…45"),
     ("calibration.tilt_y_offset_deg", "−45…45"),
+    ("log.status_min", "0…1,440"),
 ];
 
 /// The home switch's range is relative to `min_deg` (documented as
@@ -192,7 +193,7 @@ fn base_for(key: &str, value: f64) -> Config {
 /// range's ends, unless a rule between fields excludes them, and some in
 /// between).
 fn valid_values(docs: &str, key: Key) -> Vec<f64> {
-    let name = key.name();
+    let name = key.name().as_str();
     let defaults = Config::default();
     if name.ends_with(".home_deg") {
         assert!(
@@ -253,16 +254,16 @@ fn typed(value: f64, integer: bool) -> String {
 
 #[test]
 fn key_table_names_every_field_once_and_the_docs_list_them() {
-    let mut names: Vec<&str> = KEYS.iter().map(|k| k.name()).collect();
-    assert_eq!(names.len(), 39);
+    let mut names: Vec<&str> = KEYS.iter().map(|k| k.name().as_str()).collect();
+    assert_eq!(names.len(), 40);
     names.sort_unstable();
     names.dedup();
-    assert_eq!(names.len(), 39, "duplicate keys");
+    assert_eq!(names.len(), 40, "duplicate keys");
     let docs = config_docs();
     let module = std::fs::read_to_string(concat!(env!("CARGO_MANIFEST_DIR"), "/src/console.rs"))
         .expect("src/console.rs");
     for k in KEYS {
-        let name = k.name();
+        let name = k.name().as_str();
         // Every key is a field key of src/config.rs's docs…
         let c_name = name.replace("axis.a.", "axis.c.");
         assert!(docs.contains(&format!("`{c_name}`")) || name.ends_with("counts_per_deg"));
@@ -283,7 +284,7 @@ fn key_table_names_every_field_once_and_the_docs_list_them() {
 fn every_key_round_trips_get_set_get() {
     let docs = config_docs();
     for &key in KEYS {
-        let name = key.name();
+        let name = key.name().as_str();
         if is_read_only(key) {
             let mut c = Config::default();
             let v = get_text(&c, key);
@@ -352,7 +353,7 @@ fn every_out_of_range_value_is_refused_naming_the_field() {
     let docs = config_docs();
     let mut checked = 0;
     for &key in KEYS {
-        let name = key.name();
+        let name = key.name().as_str();
         if is_read_only(key) {
             continue;
         }
@@ -408,15 +409,15 @@ fn integer_keys_take_whole_numbers_only() {
     );
     assert_eq!(
         run(&mut c, "set safety.max_retries 300"),
-        "error safety.max_retries: 0…20\n"
+        "error safety.max_retries: 0...20\n"
     );
     assert_eq!(
         run(&mut c, "set axis.a.microsteps 70000"),
-        "error axis.a.microsteps: 1…256 microsteps per full step\n"
+        "error axis.a.microsteps: 1...256 microsteps per full step\n"
     );
     assert_eq!(
         run(&mut c, "set wind.hold_s -1"),
-        "error wind.hold_s: 0…600 s\n"
+        "error wind.hold_s: 0...600 s\n"
     );
     assert_eq!(run(&mut c, "set wind.hold_s -0"), "ok wind.hold_s=0\n");
     assert_eq!(
@@ -436,7 +437,7 @@ fn rules_between_fields_name_the_field_and_two_keys_change_together() {
     // The home switch must stay near min_deg: neither alone can go to −360.
     assert_eq!(
         run(&mut c, "set axis.c.min_deg -360"),
-        "error axis.c.home_deg: min_deg − 5° … min_deg + 10° and at most max_deg: the switch is at the low end of the travel\n"
+        "error axis.c.home_deg: min_deg - 5 deg ... min_deg + 10 deg and at most max_deg: the switch is at the low end of the travel\n"
     );
     assert!(run(&mut c, "set axis.c.home_deg -360").starts_with("error axis.c.home_deg: "));
     assert_eq!(
@@ -445,7 +446,7 @@ fn rules_between_fields_name_the_field_and_two_keys_change_together() {
     );
     assert_eq!(
         run(&mut c, "set axis.c.gear_ratio 10000 axis.c.microsteps 256"),
-        "error axis.c.counts_per_deg: counts × microsteps × gear / 360 must be 1…1,000,000 counts per degree\n"
+        "error axis.c.counts_per_deg: counts * microsteps * gear / 360 must be 1...1,000,000 counts per degree\n"
     );
     assert_eq!(
         run(
@@ -465,7 +466,7 @@ fn rules_between_fields_name_the_field_and_two_keys_change_together() {
     let before = c;
     assert_eq!(
         run(&mut c, "set wind.stow_hz 30 axis.a.max_deg 400"),
-        "error axis.a.max_deg: −360…360°\n"
+        "error axis.a.max_deg: -360...360 deg\n"
     );
     assert_eq!(
         run(&mut c, "set wind.stow_hz 30 axis.a.counts_per_deg 4"),
@@ -1025,7 +1026,7 @@ fn help_get_all_and_defaults() {
         console::run_config(&mut out, &mut c, bad),
         Outcome::Answered
     );
-    assert_eq!(out.take(), "error site.lat_deg: −90…90°\n");
+    assert_eq!(out.take(), "error site.lat_deg: -90...90 deg\n");
 }
 
 // ---------------------------------------------------------------------------
@@ -1119,7 +1120,7 @@ fn fault_time_save_and_load_replies() {
     console::write_loaded(&mut out, &loaded(false));
     console::write_loaded(&mut out, &loaded(true));
     assert_eq!(out.take(), "ok load\nerror load: no valid stored config\n");
-    console::write_ok(&mut out, "");
-    console::write_error(&mut out, "busy");
+    console::write_ok(&mut out, suntracker::flash_str!(""));
+    console::write_error(&mut out, suntracker::flash_str!("busy"));
     assert_eq!(out.take(), "ok\nerror busy\n");
 }

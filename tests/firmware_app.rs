@@ -15,57 +15,19 @@
 
 mod tracker_hw_common;
 
-use std::cell::RefCell;
-use std::collections::VecDeque;
-use std::convert::Infallible;
-use std::rc::Rc;
-
 use sun_algos::{Algorithm, Float, Options, Site, UtcTime};
 use suntracker::app::{AppConfig, Firmware, Platform};
 use suntracker::controller::ControllerOptions;
-use suntracker::log::Sink;
 use suntracker::sim::gps::GpsReceiverModel;
 use suntracker::sim::rtc::SimRtc;
 use suntracker::sim::sensors::MountSensors;
+use tracker_hw_common::host_io::{Log, Uart};
 use tracker_hw_common::motor::{
     angle_deg, normal_xyz, stepper_axis, sun_xyz, Motor, COUNTS_PER_DEG,
 };
 
 const LAT: f64 = 11.9683;
 const LON: f64 = 8.4261;
-
-/// The GPS UART: bytes the receiver model sent, read by the firmware.
-#[derive(Default, Clone)]
-struct Uart(Rc<RefCell<VecDeque<u8>>>);
-
-impl embedded_io::ErrorType for Uart {
-    type Error = Infallible;
-}
-impl embedded_io::Read for Uart {
-    fn read(&mut self, buf: &mut [u8]) -> Result<usize, Infallible> {
-        let mut q = self.0.borrow_mut();
-        let n = buf.len().min(q.len());
-        for b in buf.iter_mut().take(n) {
-            *b = q.pop_front().unwrap_or(0);
-        }
-        Ok(n)
-    }
-}
-impl embedded_io::ReadReady for Uart {
-    fn read_ready(&mut self) -> Result<bool, Infallible> {
-        Ok(!self.0.borrow().is_empty())
-    }
-}
-
-/// The log serial.
-#[derive(Default, Clone)]
-struct Log(Rc<RefCell<Vec<u8>>>);
-
-impl Sink for Log {
-    fn put(&mut self, bytes: &[u8]) {
-        self.0.borrow_mut().extend_from_slice(bytes);
-    }
-}
 
 struct HostPlatform {
     now_ms: u64,

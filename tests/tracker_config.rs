@@ -1,7 +1,8 @@
 //! Configuration storage: CRC, versions, two slots, torn writes.
 
 use suntracker::config::{
-    crc32, Config, ConfigStore, MemStorage, SlotState, LAYOUT_VERSION, PAYLOAD_LEN, SLOT_LEN,
+    crc32, Config, ConfigStore, MemError, MemStorage, SaveError, SaveStatus, SlotState,
+    LAYOUT_VERSION, PAYLOAD_LEN, RECORD_LEN, SLOT_LEN,
 };
 use suntracker::traits::Storage;
 
@@ -202,4 +203,117 @@ fn sequence_wraps_around() {
 
 fn clone(m: &MemStorage<1024>) -> MemStorage<1024> {
     m.clone()
+}
+
+#[test]
+fn record_is_header_payload_and_crc() {
+    // Layout table of src/config.rs: 12 header bytes, the payload, 4 CRC
+    // bytes; it fits a slot.
+    assert_eq!(RECORD_LEN, 12 + PAYLOAD_LEN + 4);
+    const { assert!(RECORD_LEN <= SLOT_LEN) };
+}
+
+#[test]
+fn stepped_save_takes_one_storage_step_per_poll() {
+    let mut st = ConfigStore::new(MemStorage::<1024>::new());
+    assert_eq!(st.poll(), SaveStatus::Idle);
+    st.begin_save(&tromso()).unwrap();
+    assert!(st.is_saving());
+    // RAM: nothing to erase, the whole record in one write, nothing
+    // pending: erase step, write step, flush step.
+    assert_eq!(st.poll(), SaveStatus::Busy);
+    assert_eq!(st.poll(), SaveStatus::Busy);
+    assert_eq!(st.poll(), SaveStatus::Done(Ok(())));
+    // Reported once.
+    assert_eq!(st.poll(), SaveStatus::Idle);
+    assert!(!st.is_saving());
+    let l = st.load();
+    assert_eq!(l.config, tromso());
+    assert_eq!(l.slots, [SlotState::Good(1), SlotState::Empty]);
+}
+
+#[test]
+fn nothing_is_written_before_the_first_poll() {
+    let mut st = ConfigStore::new(MemStorage::<1024>::new());
+    st.begin_save(&tromso()).unwrap();
+    assert!(st.storage().bytes.iter().all(|b| *b == 0xFF));
+}
+
+#[test]
+fn begin_save_refuses_an_invalid_config_and_stages_nothing() {
+    let mut st = ConfigStore::new(MemStorage::<1024>::new());
+    let mut bad = tromso();
+    bad.safety.max_deviation_deg = 90.0;
+    assert_eq!(st.begin_save(&bad), Err(SaveError::Invalid));
+    assert_eq!(st.poll(), SaveStatus::Idle);
+    // A refused request leaves a save under way going on.
+    st.begin_save(&tromso()).unwrap();
+    assert_eq!(st.begin_save(&bad), Err(SaveError::Invalid));
+    assert!(st.is_saving());
+    assert_eq!(st.save(&tromso()), Ok(()));
+}
+
+#[test]
+fn a_failed_write_keeps_the_newest_copy_and_the_next_save_retries_the_slot() {
+    let mut st = ConfigStore::new(MemStorage::<1024>::new());
+    let a = tromso();
+    st.save(&a).unwrap(); // slot 0, seq 1
+    let mut mem = st.release();
+    mem.tear_after = Some(20);
+    let mut st = ConfigStore::new(mem);
+    let mut b = a;
+    b.wind.hold_s = 9;
+    assert_eq!(st.save(&b), Err(SaveError::Storage(MemError::Torn)));
+    assert_eq!(st.load().config, a);
+    // The same slot again, the same sequence number.
+    st.save(&b).unwrap();
+    assert_eq!(st.load().slots, [SlotState::Good(1), SlotState::Good(2)]);
+}
+
+/// RAM storage whose reads fail inside `bad`.
+struct FailingReads {
+    mem: MemStorage<1024>,
+    bad: core::ops::Range<usize>,
+}
+
+impl Storage for FailingReads {
+    type Error = MemError;
+    fn capacity(&self) -> usize {
+        self.mem.capacity()
+    }
+    fn read(&mut self, offset: usize, buf: &mut [u8]) -> Result<(), MemError> {
+        if offset < self.bad.end && offset + buf.len() > self.bad.start {
+            return Err(MemError::OutOfRange);
+        }
+        self.mem.read(offset, buf)
+    }
+    fn write(&mut self, offset: usize, data: &[u8]) -> Result<(), MemError> {
+        self.mem.write(offset, data)
+    }
+}
+
+#[test]
+fn no_save_while_a_slot_cannot_be_read() {
+    // Slot 0 holds the only good copy but cannot be read just now: a save
+    // must not guess a slot (it could overwrite that copy).
+    let mut st = ConfigStore::new(MemStorage::<1024>::new());
+    st.save(&tromso()).unwrap();
+    let mem = st.release();
+    let mut st = ConfigStore::new(FailingReads {
+        mem,
+        bad: 0..SLOT_LEN,
+    });
+    let l = st.load();
+    assert!(l.defaults);
+    assert_eq!(l.slots, [SlotState::Unreadable, SlotState::Empty]);
+    let mut c = tromso();
+    c.site.elevation_m = 99.0;
+    assert_eq!(
+        st.begin_save(&c),
+        Err(SaveError::Storage(MemError::OutOfRange))
+    );
+    assert_eq!(st.poll(), SaveStatus::Idle);
+    // Readable again: the copy is there.
+    let FailingReads { mem, .. } = st.release();
+    assert_eq!(ConfigStore::new(mem).load().config, tromso());
 }

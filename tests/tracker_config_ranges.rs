@@ -3,7 +3,9 @@
 use suntracker::config::{ranges, Config, ConfigError};
 
 fn field_of(c: &Config) -> Option<&'static str> {
-    c.validate().err().map(|e: ConfigError| e.field.name())
+    c.validate()
+        .err()
+        .map(|e: ConfigError| e.field.name().as_str())
 }
 
 #[test]

@@ -206,6 +206,28 @@ impl Run {
     }
 }
 
+/// Prints a log line (`echo`) and writes it to the log file, each as
+/// `<utc> c=<deg> a=<deg> | <text>`.
+fn show_line(line: &LogLine, echo: bool, file: Option<&mut std::fs::File>) {
+    if !echo && file.is_none() {
+        return;
+    }
+    let s = format!(
+        "{} c={:.3} a={:.3} | {}",
+        crate::log::format_utc(line.utc_s.floor() as i64),
+        line.c_deg,
+        line.a_deg,
+        line.text
+    );
+    if echo {
+        println!("{s}");
+    }
+    if let Some(f) = file {
+        use std::io::Write as _;
+        let _ = writeln!(f, "{s}");
+    }
+}
+
 /// Builder and runner.
 #[derive(Debug, Clone)]
 pub struct Bench {
@@ -220,6 +242,11 @@ pub struct Bench {
     echo: bool,
     log_file: Option<PathBuf>,
     timescale: f64,
+    /// Bytes typed on the console (USART0): (emulated minute, bytes, what
+    /// the harness log shows).
+    typed: Vec<(f64, Vec<u8>, String)>,
+    /// Power cuts: emulated minutes at which the chip is power-cycled.
+    resets: Vec<f64>,
 }
 
 /// The byte the free RAM is painted with before a run.
@@ -247,7 +274,38 @@ impl Bench {
             echo: false,
             log_file: None,
             timescale: DEFAULT_TIMESCALE,
+            typed: Vec::new(),
+            resets: Vec::new(),
         }
+    }
+
+    /// Types `line` (and an end of line) on the console, USART0, at
+    /// emulated `minute`; the harness log shows it as `> line`.
+    pub fn type_at(mut self, minute: f64, line: &str) -> Self {
+        let mut bytes = line.as_bytes().to_vec();
+        bytes.push(b'\n');
+        self.typed.push((minute, bytes, format!("> {line}")));
+        self.typed.sort_by(|a, b| a.0.total_cmp(&b.0));
+        self
+    }
+
+    /// Sends `bytes` as they are on the console at emulated `minute` (noise,
+    /// a flood); the harness log shows `> (N bytes)`.
+    pub fn bytes_at(mut self, minute: f64, bytes: Vec<u8>) -> Self {
+        let shown = format!("> ({} bytes)", bytes.len());
+        self.typed.push((minute, bytes, shown));
+        self.typed.sort_by(|a, b| a.0.total_cmp(&b.0));
+        self
+    }
+
+    /// Cuts the power at emulated `minute` and turns it on again
+    /// ([`Sim::power_cycle`]: the EEPROM keeps its contents, the DS3231
+    /// runs on its battery, the axes stay where they are); the harness
+    /// log shows `# power cut`.
+    pub fn reset_at(mut self, minute: f64) -> Self {
+        self.resets.push(minute);
+        self.resets.sort_by(|a, b| a.total_cmp(b));
+        self
     }
 
     /// Emulated UTC at power-on, Unix seconds.
@@ -277,6 +335,14 @@ impl Bench {
     /// The mount (see [`Mount::tilted`]).
     pub fn mount(mut self, tilt_deg: f64, heading_deg: f64) -> Self {
         self.mount = Mount::tilted(tilt_deg, heading_deg);
+        self
+    }
+
+    /// The Earth's field at the tracker (the compass model's input; Kano's
+    /// by default): where the tracker physically stands, whatever site its
+    /// configuration names.
+    pub fn field(mut self, field: Field) -> Self {
+        self.field = field;
         self
     }
 
@@ -380,6 +446,11 @@ impl Bench {
         let mut last_trace_min = -1i64;
         let mut min_angles = (c_axis.angle_deg(), a_axis.angle_deg());
         let mut cpu = CpuState::Running;
+        let mut typed = self.typed.iter().peekable();
+        let mut resets = self.resets.iter().peekable();
+        // Lines of the harness itself (typed input, power cuts), shown in
+        // the log in order with the image's.
+        let mut harness_lines: Vec<String> = Vec::new();
         loop {
             let now_cycle = sim.cycle();
             let now_emu = segments[segments.len() - 1].emu_s_at(now_cycle);
@@ -388,6 +459,29 @@ impl Bench {
             }
             clock.set_s(now_emu);
             let utc = self.start_unix_s as f64 + now_emu;
+            while let Some((_, bytes, shown)) = typed.next_if(|(m, ..)| now_emu >= m * 60.0) {
+                sim.uart_send('0', bytes);
+                harness_lines.push(shown.clone());
+            }
+            if resets.next_if(|m| now_emu >= **m * 60.0).is_some() {
+                sim.power_cycle(RAM_START, PAINT);
+                log = LineAssembler::default();
+                line_start = None;
+                harness_lines.push("# power cut".to_string());
+            }
+            for text in harness_lines.drain(..) {
+                let line = LogLine {
+                    utc_s: utc,
+                    event: parse_line(&text),
+                    text,
+                    c_deg: c_axis.angle_deg(),
+                    a_deg: a_axis.angle_deg(),
+                    c_start_deg: c_axis.angle_deg(),
+                    a_start_deg: a_axis.angle_deg(),
+                };
+                show_line(&line, self.echo, log_file.as_mut());
+                lines.push(line);
+            }
 
             // Switches from the decoded angles: PC0 C home, PC1 A home,
             // PC2 C max, PC3 A max; active low.
@@ -537,22 +631,7 @@ impl Bench {
                         c_start_deg: st.0,
                         a_start_deg: st.1,
                     };
-                    if self.echo || log_file.is_some() {
-                        let s = format!(
-                            "{} c={:.3} a={:.3} | {}",
-                            crate::log::format_utc(line.utc_s.floor() as i64),
-                            line.c_deg,
-                            line.a_deg,
-                            line.text
-                        );
-                        if self.echo {
-                            println!("{s}");
-                        }
-                        if let Some(f) = log_file.as_mut() {
-                            use std::io::Write as _;
-                            let _ = writeln!(f, "{s}");
-                        }
-                    }
+                    show_line(&line, self.echo, log_file.as_mut());
                     lines.push(line);
                 }
                 // A partial line is left: it started in this batch.
@@ -574,7 +653,11 @@ impl Bench {
             .collect();
         if std::env::var_os("SUNTRACKER_EMU_PC").is_some() {
             let (pc, sp) = sim.pc_sp();
-            eprintln!("suntracker-emu: pc {pc:#x} sp {sp:#x}");
+            eprintln!(
+                "suntracker-emu: pc {pc:#x} sp {sp:#x}; lowest sp {:#x} at pc {:#x}",
+                sim.min_sp(),
+                sim.min_sp_pc()
+            );
         }
         if let Some(p) = sim.profile() {
             // Top addresses by cycles, for `avr-addr2line -f -e ELF`.

@@ -15,6 +15,6 @@ pub mod twi;
 pub mod uno;
 
 pub use bench::{Bench, LogLine, Rtc, Run};
-pub use models::mount::Mount;
+pub use models::mount::{Field, Mount};
 pub use models::nmea::{GpsFeed, GpsSite};
 pub use models::wind::WindProfile;

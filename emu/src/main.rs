@@ -39,6 +39,13 @@ OPTIONS:
                         the image sent them, each set-point followed by an
                         `axes utc=… c=… a=…` line: the pose decoded from
                         the servo pins)
+  --type MINUTE:LINE    type LINE on the console (USART0, 115200 baud) at
+                        emulated MINUTE (a decimal); repeatable. The log
+                        shows `> LINE` and the console's replies
+  --reset-at MINUTE     cut the power at emulated MINUTE and turn it on
+                        again: the chip resets, its RAM is lost, its EEPROM
+                        is kept, the DS3231 runs on, the axes stay put; the
+                        log shows `# power cut`. Repeatable
   --quiet               do not print the log lines
   -h, --help            this text
 
@@ -69,6 +76,8 @@ fn run() -> Result<ExitCode, String> {
     let mut quiet = false;
     let mut rtc = Rtc::Valid;
     let mut gale = None::<i64>;
+    let mut typed: Vec<(f64, String)> = Vec::new();
+    let mut resets: Vec<f64> = Vec::new();
     let mut p = lexopt::Parser::from_env();
     let err = |e: lexopt::Error| e.to_string();
     let utc = |s: String| parse_utc(&s).ok_or(format!("bad time {s}, want YYYY-MM-DDTHH:MM:SSZ"));
@@ -84,6 +93,27 @@ fn run() -> Result<ExitCode, String> {
             Long("heading-deg") => heading = p.value().map_err(err)?.parse().map_err(err)?,
             Long("log") => log = Some(p.value().map_err(err)?.into()),
             Long("quiet") => quiet = true,
+            Long("type") => {
+                let v = p.value().map_err(err)?.string().map_err(err)?;
+                let (minute, line) = v
+                    .split_once(':')
+                    .ok_or(format!("--type {v}: want MINUTE:LINE"))?;
+                let minute: f64 = minute
+                    .parse()
+                    .ok()
+                    .filter(|m: &f64| m.is_finite() && *m >= 0.0)
+                    .ok_or(format!("--type {v}: MINUTE must be a number >= 0"))?;
+                typed.push((minute, line.to_string()));
+            }
+            Long("reset-at") => {
+                let v = p.value().map_err(err)?.string().map_err(err)?;
+                let minute: f64 = v
+                    .parse()
+                    .ok()
+                    .filter(|m: &f64| m.is_finite() && *m >= 0.0)
+                    .ok_or(format!("--reset-at {v}: want a minute >= 0"))?;
+                resets.push(minute);
+            }
             Long("gale-at") => gale = Some(utc(p.value().map_err(err)?.string().map_err(err)?)?),
             Long("rtc") => {
                 rtc = match p.value().map_err(err)?.string().map_err(err)?.as_str() {
@@ -122,6 +152,9 @@ fn run() -> Result<ExitCode, String> {
             "mega-emu/avr-none/release/avr_mega_tracker.elf"
         })
     });
+    if uno && (!typed.is_empty() || !resets.is_empty()) {
+        return Err("--type and --reset-at: the uno image reads no console".into());
+    }
     if uno {
         let start = start.unwrap_or(suntracker_emu::bench::DEFAULT_START);
         let run = UnoBench::new(&elf)
@@ -165,7 +198,14 @@ fn run() -> Result<ExitCode, String> {
     };
     let start = start.or(first).unwrap_or(default_start);
     let wind = gale.map_or_else(WindProfile::calm, |t| WindProfile::gust(t, 10, 40.0));
-    let run = Bench::mega(&elf)
+    let mut bench = Bench::mega(&elf);
+    for (minute, line) in &typed {
+        bench = bench.type_at(*minute, line);
+    }
+    for minute in &resets {
+        bench = bench.reset_at(*minute);
+    }
+    let run = bench
         .start(start)
         .rtc(rtc)
         .gps(feed)

@@ -64,6 +64,8 @@ struct PortWatch {
     /// return at once so that switches follow the motion without delay.
     flag: std::rc::Rc<std::cell::Cell<bool>>,
     avr: NonNull<ffi::avr_t>,
+    /// Cycles before the last power cycle ([`Sim::power_cycle`]).
+    base: Rc<std::cell::Cell<u64>>,
 }
 
 /// Level changes of one pin (a timer's compare output drives the pin's own
@@ -71,6 +73,7 @@ struct PortWatch {
 struct PinWatch {
     changes: RefCell<Vec<(u64, bool)>>,
     avr: NonNull<ffi::avr_t>,
+    base: Rc<std::cell::Cell<u64>>,
 }
 
 struct TwiHandle {
@@ -89,6 +92,11 @@ pub struct Sim {
     tx_pending: bool,
     /// The lowest stack pointer seen after an instruction.
     min_sp: u16,
+    /// The program counter (byte address) when it was seen.
+    min_sp_pc: u32,
+    /// Cycles run before the last power cycle: [`Sim::cycle`] counts on
+    /// across it (simavr's own count restarts at 0).
+    cycle_base: Rc<std::cell::Cell<u64>>,
     /// Cycles spent per program-counter address (byte address), when
     /// profiling ([`Sim::enable_profile`]).
     profile: Option<std::collections::HashMap<u32, u64>>,
@@ -134,14 +142,14 @@ unsafe extern "C" fn on_uart_xoff(_: *mut ffi::avr_irq_t, _: u32, param: *mut st
 
 unsafe extern "C" fn on_port_all(_: *mut ffi::avr_irq_t, value: u32, param: *mut std::ffi::c_void) {
     let watch = unsafe { &*(param as *const PortWatch) };
-    let cycle = unsafe { watch.avr.as_ref().cycle };
+    let cycle = watch.base.get() + unsafe { watch.avr.as_ref().cycle };
     watch.changes.borrow_mut().push((cycle, value as u8));
     watch.flag.set(true);
 }
 
 unsafe extern "C" fn on_pin(_: *mut ffi::avr_irq_t, value: u32, param: *mut std::ffi::c_void) {
     let watch = unsafe { &*(param as *const PinWatch) };
-    let cycle = unsafe { watch.avr.as_ref().cycle };
+    let cycle = watch.base.get() + unsafe { watch.avr.as_ref().cycle };
     watch.changes.borrow_mut().push((cycle, value & 1 != 0));
 }
 
@@ -196,6 +204,8 @@ impl Sim {
             port_flag: Default::default(),
             tx_pending: false,
             min_sp: u16::MAX,
+            min_sp_pc: 0,
+            cycle_base: Rc::new(std::cell::Cell::new(0)),
             profile: None,
             _firmware: firmware,
         })
@@ -312,6 +322,7 @@ impl Sim {
             changes: RefCell::new(Vec::new()),
             flag: self.port_flag.clone(),
             avr: self.avr,
+            base: self.cycle_base.clone(),
         });
         let p = &*watch as *const PortWatch as *mut std::ffi::c_void;
         unsafe { ffi::avr_irq_register_notify(irq.as_ptr(), Some(on_port_all), p) };
@@ -329,6 +340,7 @@ impl Sim {
         let watch = Box::new(PinWatch {
             changes: RefCell::new(Vec::new()),
             avr: self.avr,
+            base: self.cycle_base.clone(),
         });
         let p = &*watch as *const PinWatch as *mut std::ffi::c_void;
         unsafe { ffi::avr_irq_register_notify(irq.as_ptr(), Some(on_pin), p) };
@@ -415,6 +427,25 @@ impl Sim {
         n
     }
 
+    /// Cuts the power and turns it on again, as a supply that drops out
+    /// would: the CPU and every peripheral reset, RAM is filled with
+    /// `ram_pattern` (its contents after a power cut are undefined; the
+    /// start-up code must not rely on them), bytes queued for the USARTs
+    /// are lost; the EEPROM (and the flash) keep their contents, and the
+    /// models outside the chip keep their state. [`Sim::cycle`] counts on.
+    /// `ram_start` is the part's first RAM address (after its I/O space).
+    pub fn power_cycle(&mut self, ram_start: u16, ram_pattern: u8) {
+        let raw = unsafe { self.avr.as_ref().cycle };
+        self.cycle_base.set(self.cycle_base.get() + raw);
+        unsafe { ffi::avr_reset(self.avr.as_ptr()) };
+        let top = self.ramend() + 1;
+        self.paint_ram(ram_start, top, ram_pattern);
+        for (_, u) in &self.uarts {
+            u.state.borrow_mut().to_avr.clear();
+        }
+        self.tx_pending = false;
+    }
+
     /// Program counter (byte address) and stack pointer now.
     pub fn pc_sp(&self) -> (u32, u16) {
         let avr = unsafe { self.avr.as_ref() };
@@ -434,6 +465,12 @@ impl Sim {
         self.min_sp
     }
 
+    /// The program counter (byte address) at [`Sim::min_sp`]: where the
+    /// stack peaked (`avr-addr2line -f -e ELF 0x…`).
+    pub fn min_sp_pc(&self) -> u32 {
+        self.min_sp_pc
+    }
+
     /// RAMEND of the MCU (data-space address of the last RAM byte).
     pub fn ramend(&self) -> u16 {
         unsafe { self.avr.as_ref().ramend }
@@ -450,9 +487,10 @@ impl Sim {
         self.profile.as_ref()
     }
 
-    /// CPU cycles since reset.
+    /// CPU cycles since the emulation started (counting on across
+    /// [`Sim::power_cycle`]).
     pub fn cycle(&self) -> u64 {
-        unsafe { self.avr.as_ref().cycle }
+        self.cycle_base.get() + unsafe { self.avr.as_ref().cycle }
     }
 
     /// Runs instructions until the cycle counter reaches `cycle`, a watched
@@ -474,8 +512,11 @@ impl Sim {
             if let Some(p) = self.profile.as_mut() {
                 *p.entry(pc_before).or_insert(0) += spent;
             }
-            let (_, sp) = self.pc_sp();
-            self.min_sp = self.min_sp.min(sp);
+            let (pc, sp) = self.pc_sp();
+            if sp < self.min_sp {
+                self.min_sp = sp;
+                self.min_sp_pc = pc;
+            }
             match state {
                 ffi::cpu_Running | ffi::cpu_Sleeping | ffi::cpu_Step | ffi::cpu_StepDone => {}
                 ffi::cpu_Crashed => return CpuState::Crashed,

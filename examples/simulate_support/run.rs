@@ -703,12 +703,16 @@ fn simulate(args: &Args, out: &mut dyn Write, err: &mut dyn Write) -> Result<(),
                 m,
                 report.mode,
                 pointing,
-                ctl.faults().active().map(|a| a.fault.name()),
+                ctl.faults().active().map(|a| a.fault.name().as_str()),
             );
         }
         if let Some(w) = trace.as_mut() {
             row.clear();
-            let names: Vec<&str> = ctl.faults().active().map(|a| a.fault.name()).collect();
+            let names: Vec<&str> = ctl
+                .faults()
+                .active()
+                .map(|a| a.fault.name().as_str())
+                .collect();
             let opt = |v: Option<f64>| v.map(|x| format!("{x:.4}")).unwrap_or_default();
             let _ = write!(
                 row,

@@ -8,9 +8,9 @@
 
 use suntracker::board::avr::chip;
 
-// Timer0 millisecond clock, log USART0, GPS USART1, anemometer on INT4.
-// The log USART0 only sends (`Usart0::new_tx_only`): no RX vector.
-suntracker::avr_board_interrupts!(timer0, usart1, int4);
+// Timer0 millisecond clock, log and console USART0, GPS USART1, anemometer
+// on INT4.
+suntracker::avr_board_interrupts!(timer0, usart0, usart1, int4);
 
 #[avr_device::entry]
 fn main() -> ! {

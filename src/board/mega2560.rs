@@ -13,7 +13,7 @@
 //!
 //! | function | pin | Mega header |
 //! |---|---|---|
-//! | log, 115200 8N1 | USART0 TXD0/RXD0 (PE1/PE0) | D1/D0 (USB) |
+//! | log and console, 115200 8N1 | USART0 TXD0/RXD0 (PE1/PE0) | D1/D0 (USB) |
 //! | GPS NMEA in, 9600 8N1 | USART1 RXD1/TXD1 (PD2/PD3) | D19/D18 |
 //! | I²C 100 kHz: DS3231 0x68, QMC5883L 0x0D, ADXL345 0x53 | SDA/SCL (PD1/PD0) | D20/D21 |
 //! | C axis (azimuth rotation γ) H-bridge IN1–IN4 | PA0–PA3 | D22–D25 |
@@ -55,15 +55,18 @@ use drivers::stepper::hbridge::{BridgePins, HBridgeStepper};
 use drivers::stepper::LimitSwitches;
 use drivers::tilt::adxl345::Adxl345;
 
+use super::avr::eeprom::Eeprom;
 use super::avr::{
     chip, millis, sleep_until_interrupt, Anemometer, ExtInt, I2c, InputPin, Millis, OutputPin,
     SharedI2c, Usart0, Usart1, Watchdog, MS_PER_TICK,
 };
 use super::li2022::{self, bridge_config};
-use crate::app::{AppConfig, Firmware, Platform, StartError};
+use crate::app::{AppConfig, ConfigPersist, Firmware, Platform, StartError};
+use crate::config::{Config, ConfigStore};
 use crate::controller::{ControllerError, ControllerOptions};
 use crate::hw::{MountSensorsHw, StepperAxis};
 use crate::log::Sink;
+use crate::storage::EepromStorage;
 
 /// Board name in the boot line.
 pub const BOARD: &str = "mega2560";
@@ -83,15 +86,23 @@ pub const PLAN_POSITIONS_PER_TICK: u16 = 4;
 /// Attitude sensors read every this many ms (see `run`).
 pub const ATTITUDE_EVERY_MS: u32 = 10_000;
 
-/// Monotonic clock, anemometer, watchdog and sleep of the board.
+/// Monotonic clock, anemometer, watchdog, sleep, console input and the
+/// configuration's EEPROM of the board.
 struct MegaPlatform {
     _millis: Millis,
     anemometer: Anemometer,
     watchdog: Watchdog,
     cpu: chip::CPU,
+    store: ConfigStore<EepromStorage<Eeprom>>,
 }
 
 impl Platform for MegaPlatform {
+    fn console_read(&mut self, buf: &mut [u8]) -> usize {
+        Usart0::take_received(buf)
+    }
+    fn config_store(&mut self) -> Option<&mut dyn ConfigPersist> {
+        Some(&mut self.store)
+    }
     fn now_ms(&mut self) -> u64 {
         millis()
     }
@@ -111,22 +122,86 @@ impl Platform for MegaPlatform {
 /// reported on the log and the board then only feeds nothing: the watchdog
 /// resets it.
 pub fn run(dp: chip::Peripherals) -> ! {
-    // Nothing is read from the log port: no receive ring (its vector is
-    // not bound either).
-    let mut log = Usart0::new_tx_only(dp.USART0, LOG_BAUD_HZ);
-    let gps = Usart1::new(dp.USART1, GPS_BAUD_HZ);
-    let millis_clock = Millis::start(dp.TC0);
+    let chip::Peripherals {
+        USART0,
+        USART1,
+        TC0,
+        WDT,
+        CPU,
+        PORTA,
+        PORTC,
+        PORTE,
+        EXINT,
+        TWI,
+        EEPROM,
+        ..
+    } = dp;
+    run_tracker(Parts {
+        usart0: USART0,
+        usart1: USART1,
+        tc0: TC0,
+        wdt: WDT,
+        cpu: CPU,
+        porta: PORTA,
+        portc: PORTC,
+        porte: PORTE,
+        exint: EXINT,
+        twi: TWI,
+        eeprom: EEPROM,
+    })
+}
+
+/// The peripherals the tracker uses besides the EEPROM.
+struct Parts {
+    usart0: chip::USART0,
+    usart1: chip::USART1,
+    tc0: chip::TC0,
+    wdt: chip::WDT,
+    cpu: chip::CPU,
+    porta: chip::PORTA,
+    portc: chip::PORTC,
+    porte: chip::PORTE,
+    exint: chip::EXINT,
+    twi: chip::TWI,
+    eeprom: chip::EEPROM,
+}
+
+/// The configuration at power-on: the copy saved in the EEPROM (console
+/// `save`), else the board's own (seed li-2022's mechanics, Kano); the log
+/// says which. Not inlined: the slots read (two 256-byte buffers) leave
+/// the stack before the loop starts.
+#[inline(never)]
+fn stored_config(store: &mut ConfigStore<EepromStorage<Eeprom>>, log: &mut Usart0) -> Config {
+    let loaded = store.load();
+    if loaded.defaults {
+        log.flash(crate::flash_str!("config source=defaults\n"));
+        li2022::config()
+    } else {
+        log.flash(crate::flash_str!("config source=stored\n"));
+        loaded.config
+    }
+}
+
+// Not inlined into `run`, whose frame would otherwise hold the moved-from
+// peripherals' place (nothing: they are zero-sized) and any temporaries.
+#[inline(never)]
+fn run_tracker(dp: Parts) -> ! {
+    // The log port is also the console: its receive ring is read by the
+    // platform (`console_read`), the log writes through the port's value.
+    let mut log = Usart0::new(dp.usart0, LOG_BAUD_HZ);
+    let gps = Usart1::new(dp.usart1, GPS_BAUD_HZ);
+    let millis_clock = Millis::start(dp.tc0);
     if MS_PER_TICK != 1 {
         // Emulator builds only: the harness reads the time scale here.
-        log.text("timescale ");
+        log.flash(crate::flash_str!("timescale "));
         log.u32(MS_PER_TICK as u32);
-        log.text("\n");
+        log.flash(crate::flash_str!("\n"));
     }
-    let watchdog = Watchdog::enable(dp.WDT, &dp.CPU);
+    let watchdog = Watchdog::enable(dp.wdt, &dp.cpu);
 
     // Motors and switches.
-    let porta = dp.PORTA;
-    let portc = dp.PORTC;
+    let porta = dp.porta;
+    let portc = dp.portc;
     let bridge = |p0, p1, p2, p3| BridgePins {
         in1: p0,
         in2: p1,
@@ -157,9 +232,9 @@ pub fn run(dp: chip::Peripherals) -> ! {
     };
     let c_home = InputPin::<_, 0>::new(&portc, true).erase();
     let a_home = InputPin::<_, 1>::new(&portc, true).erase();
-    let anemometer = Anemometer::new(dp.EXINT, ExtInt::Int4);
+    let anemometer = Anemometer::new(dp.exint, ExtInt::Int4);
     // The reed contact to ground needs the pull-up of PE4.
-    let porte = dp.PORTE;
+    let porte = dp.porte;
     let _wind_pin = InputPin::<_, 4>::new(&porte, true);
 
     // Interrupts on before any bus or port traffic that waits for them.
@@ -178,7 +253,7 @@ pub fn run(dp: chip::Peripherals) -> ! {
     };
 
     // The I²C devices.
-    let bus = RefCell::new(I2c::new(dp.TWI));
+    let bus = RefCell::new(I2c::new(dp.twi));
     let rtc = Ds3231::new(SharedI2c::new(&bus));
     let compass = Qmc5883l::new(SharedI2c::new(&bus), QmcConfig::default());
     let mut tilt = Adxl345::new(SharedI2c::new(&bus), ADXL345_ADDRESS);
@@ -190,12 +265,15 @@ pub fn run(dp: chip::Peripherals) -> ! {
             0.0,
         )),
         _ => {
-            log.text("attitude sensors absent: level mount facing north\n");
+            log.flash(crate::flash_str!(
+                "attitude sensors absent: level mount facing north\n"
+            ));
             None
         }
     };
 
-    let config = li2022::config();
+    let mut store = ConfigStore::new(Eeprom::storage(dp.eeprom));
+    let config = stored_config(&mut store, &mut log);
     if config.validate().is_err() {
         halt(&mut log, "configuration refused");
     }
@@ -215,10 +293,14 @@ pub fn run(dp: chip::Peripherals) -> ! {
         _millis: millis_clock,
         anemometer,
         watchdog,
-        cpu: dp.CPU,
+        cpu: dp.cpu,
+        store,
     };
     let mut firmware = Firmware::<f32, _, _, _, _, _, TABLE_LEN>::new(
-        AppConfig::new(BOARD),
+        AppConfig {
+            defaults: li2022::config,
+            ..AppConfig::new(BOARD)
+        },
         config,
         options,
         rtc,
@@ -251,9 +333,9 @@ pub fn run(dp: chip::Peripherals) -> ! {
 
 /// Says why and stops: the watchdog, no longer fed, resets the board.
 fn halt(log: &mut Usart0, why: &str) -> ! {
-    log.text("halt: ");
+    log.flash(crate::flash_str!("halt: "));
     log.text(why);
-    log.text("\n");
+    log.flash(crate::flash_str!("\n"));
     log.flush_all();
     loop {
         avr_device::asm::sleep();

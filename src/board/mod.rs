@@ -28,3 +28,7 @@ pub mod mps2_an386;
 // builds).
 #[cfg(all(feature = "stm32f411", target_arch = "arm", target_os = "none"))]
 pub mod stm32f411;
+
+// The log over defmt (feature `defmt`) of the Cortex-M images.
+#[cfg(all(feature = "defmt", target_arch = "arm", target_os = "none"))]
+pub mod defmt_log;

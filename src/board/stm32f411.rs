@@ -2,12 +2,12 @@
 //! everything about this board in one place — clocks, pins, devices,
 //! configuration — turned into the parts of [`crate::app::Firmware`]. The
 //! image (`src/bin/blackpill_tracker.rs`) takes the peripherals and calls
-//! [`run`]; the interrupt handlers (`SysTick`, `USART1`, `EXTI9_5`) are
-//! bound here.
+//! [`run`]; the interrupt handlers (`SysTick`, `USART1`, `USART6`,
+//! `EXTI9_5`) are bound here.
 //!
 //! | function | peripheral | Black Pill pin |
 //! |---|---|---|
-//! | log, 115200 8N1 (TX only) | USART6 TX | A11 |
+//! | log and console, 115200 8N1 (log out on TX; console lines in on RX, interrupt-driven) | USART6 TX, RX | A11 TX, A12 RX |
 //! | GPS NMEA in, 9600 8N1 (receiver TX → A10) | USART1 RX, interrupt-driven | A10 |
 //! | I²C 100 kHz: DS3231 0x68, QMC5883L 0x0D, ADXL345 0x53 (one bus, shared with `embedded_hal_bus::i2c::AtomicDevice`) | I2C1 | B6 SCL, B7 SDA |
 //! | WitMotion RS-485 inclinometer, Modbus RTU 9600 8N1 | USART2 + MAX485 DE/RE | A2 TX (DI), A3 RX (RO), A1 DE+/RE |
@@ -34,8 +34,16 @@
 //!  A2 ─ DI ┐                    ┌ A ─ inclinometer A (RS-485 +)
 //!  A3 ─ RO ├ MAX485 (3.3 V part)┤
 //!  A1 ─ DE+/RE (tied together)  └ B ─ inclinometer B (RS-485 −)
-//!  A11 ─ log RX of a USB-serial adapter (115200)
+//!  A11 ─ RX ┐ USB-serial adapter (3.3 V, 115200 8N1):
+//!  A12 ─ TX ├ log out on A11, console lines in on A12
+//!  GND ─ GND┘
 //! ```
+//!
+//! A11 and A12 are also the F411's USB OTG FS pins (DM, DP), wired to the
+//! board's USB-C socket: while the adapter is on them, power the board
+//! from a USB charger or the 5V pin, not from a computer's USB port (whose
+//! data lines would load the serial lines). USART6 has no other pins on
+//! the 48-pin part (its PC6/PC7 are not bonded out).
 //!
 //! Clocks: the 25 MHz HSE through the PLL to a 100 MHz system clock (the
 //! part's maximum; APB1 50 MHz). SysTick interrupts every millisecond: the
@@ -44,6 +52,29 @@
 //! watchdog (LSI, about 2 s; stopped while a debugger halts the core) is
 //! fed only through [`Platform::feed_watchdog`], which the loop calls only
 //! while its ticks come on time.
+//!
+//! Console: the configuration console of [`crate::console`] on the log's
+//! port. The USART6 RXNE interrupt moves each byte typed into a
+//! [`CONSOLE_RING_LEN`]-byte ring, which [`Platform::console_read`] hands
+//! the loop (16 bytes a pass, a pass at least every millisecond: faster
+//! than 115200 baud brings them); the replies go out on the log. Bytes the
+//! ring had no room for, or the USART lost, are counted.
+//!
+//! Configuration storage: flash sectors 1 and 2 (16 KiB each at
+//! 0x0800_4000 and 0x0800_8000), one slot each, through
+//! [`crate::storage::stm32f411::ConfigSectors`]; boards/stm32f411/memory.x
+//! keeps code out of them (`.text` from sector 3), and this module links
+//! against that map's `_config_flash_start` / `_config_flash_end` and
+//! checks them against the sectors' addresses at boot (storage off, with
+//! a log line, should they differ). At boot the stored configuration is
+//! loaded: a good copy the controller takes is used (`config
+//! source=stored`), else the board's own ([`li2022::config`], `config
+//! source=defaults`). A `save` erases one sector, which stalls the CPU for
+//! up to 800 ms (see [`crate::storage`]): save while the axes are at rest.
+//!
+//! With the `defmt` feature the log lines go out over RTT through defmt
+//! (`board::defmt_log::DefmtLog`, a debug probe reads them) instead of
+//! USART6 TX; the console still reads USART6 RX (A12).
 //!
 //! GPS reception is interrupt-driven: the USART1 RXNE interrupt moves each
 //! byte into a 512-byte ring (half a second of NMEA at 9600 baud, several
@@ -99,14 +130,22 @@ use hal::i2c::{I2c, Mode as I2cMode};
 use hal::pac::{self, interrupt, Interrupt};
 use hal::prelude::*;
 use hal::rcc::Config as RccConfig;
-use hal::serial::{Rx, RxListen, Serial, Tx};
+#[cfg(not(feature = "defmt"))]
+use hal::serial::Tx;
+use hal::serial::{Rx, RxListen, Serial};
 use hal::timer::DelayUs;
 use hal::watchdog::IndependentWatchdog;
 
 use super::li2022::{self, bridge_config};
-use crate::app::{AppConfig, Firmware, Platform};
+use crate::app::{AppConfig, ConfigPersist, Firmware, Platform, SiteSource};
+use crate::axis::AxisDrive;
+use crate::config::{Config, ConfigStore};
+use crate::controller::Controller;
 use crate::hw::{EitherTilt, MountSensorsHw, StepperAxis};
 use crate::log::Sink;
+use crate::storage::stm32f411::{ConfigSectors, SECTOR_LEN, WINDOW_OFFSET};
+use crate::storage::NorFlashStorage;
+use crate::traits::AttitudeSensor;
 
 /// Board name in the boot line.
 pub const BOARD: &str = "stm32f411";
@@ -128,6 +167,13 @@ pub const WATCHDOG_MS: u32 = 2_000;
 pub const TABLE_LEN: usize = 360;
 /// GPS receive ring, bytes.
 pub const GPS_RING_LEN: usize = 512;
+/// Console receive ring, bytes: three lines of the longest
+/// ([`crate::console::LINE_LEN`]) pasted at once, or 22 ms at 115200 baud
+/// while a long pass (a day plan's step) keeps the loop away.
+pub const CONSOLE_RING_LEN: usize = 256;
+/// Start of the flash (RM0383 §2.3 "Memory map"; the configuration
+/// sectors are at offsets from it).
+const FLASH_BASE: usize = 0x0800_0000;
 
 // ---------------------------------------------------------------------------
 // Interrupt-side state: each static is shared with one handler only.
@@ -141,23 +187,30 @@ static WIND_PIN: Mutex<RefCell<Option<PA8<Input>>>> = Mutex::new(RefCell::new(No
 /// The GPS receiver, owned by its interrupt handler once set up.
 static GPS_RX: Mutex<RefCell<Option<Rx<pac::USART1>>>> = Mutex::new(RefCell::new(None));
 /// Received GPS bytes not yet read by the loop.
-static GPS_RING: Mutex<RefCell<RxRing>> = Mutex::new(RefCell::new(RxRing::new()));
+static GPS_RING: Mutex<RefCell<RxRing<GPS_RING_LEN>>> = Mutex::new(RefCell::new(RxRing::new()));
+/// The console's receiver (USART6 RX), owned by its interrupt handler once
+/// set up.
+static CONSOLE_RX: Mutex<RefCell<Option<Rx<pac::USART6>>>> = Mutex::new(RefCell::new(None));
+/// Bytes typed on the console not yet read by the loop.
+static CONSOLE_RING: Mutex<RefCell<RxRing<CONSOLE_RING_LEN>>> =
+    Mutex::new(RefCell::new(RxRing::new()));
 
-/// A single-producer (interrupt) single-consumer (main loop) byte ring.
-struct RxRing {
-    bytes: [u8; GPS_RING_LEN],
+/// A single-producer (interrupt) single-consumer (main loop) byte ring of
+/// `N` bytes.
+struct RxRing<const N: usize> {
+    bytes: [u8; N],
     /// Next slot the interrupt writes.
     head: usize,
-    /// Bytes stored (0..=GPS_RING_LEN), the oldest at `head - len`.
+    /// Bytes stored (0..=N), the oldest at `head - len`.
     len: usize,
     /// Bytes lost: ring full, or a receive error.
     dropped: u32,
 }
 
-impl RxRing {
+impl<const N: usize> RxRing<N> {
     const fn new() -> Self {
         RxRing {
-            bytes: [0; GPS_RING_LEN],
+            bytes: [0; N],
             head: 0,
             len: 0,
             dropped: 0,
@@ -165,14 +218,14 @@ impl RxRing {
     }
 
     fn push(&mut self, byte: u8) {
-        if self.len >= GPS_RING_LEN {
+        if self.len >= N {
             self.dropped = self.dropped.saturating_add(1);
             return;
         }
         if let Some(slot) = self.bytes.get_mut(self.head) {
             *slot = byte;
         }
-        self.head = (self.head + 1) % GPS_RING_LEN;
+        self.head = (self.head + 1) % N;
         self.len += 1;
     }
 
@@ -180,28 +233,42 @@ impl RxRing {
         if self.len == 0 {
             return None;
         }
-        let tail = (self.head + GPS_RING_LEN - self.len) % GPS_RING_LEN;
+        let tail = (self.head + N - self.len) % N;
         self.len -= 1;
         self.bytes.get(tail).copied()
     }
+
+    /// Moves the oldest bytes into `buf`; how many.
+    fn pop_into(&mut self, buf: &mut [u8]) -> usize {
+        let mut n = 0;
+        for slot in buf.iter_mut() {
+            match self.pop() {
+                Some(b) => {
+                    *slot = b;
+                    n += 1;
+                }
+                None => break,
+            }
+        }
+        n
+    }
 }
 
-/// Most bytes one USART1 interrupt takes (the USART holds one; a few more
+/// Most bytes one receive interrupt takes (the USART holds one; a few more
 /// may arrive while the handler runs).
 const RX_BURST: u32 = 8;
 
-/// Moves the received GPS bytes into the ring.
-// The vector binding of `#[interrupt]` is an `#[export_name]` item, which
-// the `unsafe_code` lint counts; the handler itself has no unsafe code.
-#[allow(unsafe_code)]
-#[interrupt]
-fn USART1() {
+/// Moves what a USART has received into its ring.
+fn receive<R, const N: usize>(rx: &Mutex<RefCell<Option<R>>>, ring: &Mutex<RefCell<RxRing<N>>>)
+where
+    R: hal::prelude::_embedded_hal_serial_nb_Read<u8>,
+{
     free(|cs| {
         // Never borrowed elsewhere inside a critical section: the
         // `try_` forms only keep the panicking paths out.
         let (Ok(mut rx), Ok(mut ring)) = (
-            GPS_RX.borrow(cs).try_borrow_mut(),
-            GPS_RING.borrow(cs).try_borrow_mut(),
+            rx.borrow(cs).try_borrow_mut(),
+            ring.borrow(cs).try_borrow_mut(),
         ) else {
             return;
         };
@@ -218,6 +285,23 @@ fn USART1() {
             }
         }
     });
+}
+
+/// Moves the received GPS bytes into the ring.
+// The vector binding of `#[interrupt]` is an `#[export_name]` item, which
+// the `unsafe_code` lint counts; the handler itself has no unsafe code.
+#[allow(unsafe_code)]
+#[interrupt]
+fn USART1() {
+    receive(&GPS_RX, &GPS_RING);
+}
+
+/// Moves the bytes typed on the console into its ring.
+// `#[export_name]` binding, as for `USART1`.
+#[allow(unsafe_code)]
+#[interrupt]
+fn USART6() {
+    receive(&CONSOLE_RX, &CONSOLE_RING);
 }
 
 /// Counts an anemometer pulse.
@@ -247,6 +331,10 @@ fn SysTick() {
         ms.set(ms.get().wrapping_add(1));
     });
 }
+
+// defmt frames carry the millisecond clock (with the `defmt` feature).
+#[cfg(feature = "defmt")]
+defmt::timestamp!("{=u64:ms}", free(|cs| MILLIS.borrow(cs).get()));
 
 // ---------------------------------------------------------------------------
 // The loop's parts.
@@ -294,20 +382,10 @@ impl embedded_io::Read for GpsUart {
         }
         loop {
             let n = free(|cs| {
-                let Ok(mut ring) = GPS_RING.borrow(cs).try_borrow_mut() else {
-                    return 0;
-                };
-                let mut n = 0;
-                for slot in buf.iter_mut() {
-                    match ring.pop() {
-                        Some(b) => {
-                            *slot = b;
-                            n += 1;
-                        }
-                        None => break,
-                    }
-                }
-                n
+                GPS_RING
+                    .borrow(cs)
+                    .try_borrow_mut()
+                    .map_or(0, |mut ring| ring.pop_into(buf))
             });
             if n > 0 {
                 return Ok(n);
@@ -317,10 +395,32 @@ impl embedded_io::Read for GpsUart {
     }
 }
 
-/// The log: USART6, transmit only, blocking byte by byte (87 µs a byte at
+/// Bytes typed on the console that were lost so far: ring full, or a
+/// receive error (overrun, framing, noise, parity).
+pub fn console_dropped() -> u32 {
+    free(|cs| {
+        CONSOLE_RING
+            .borrow(cs)
+            .try_borrow()
+            .map_or(0, |ring| ring.dropped)
+    })
+}
+
+/// The log: USART6's transmit side, blocking byte by byte (87 µs a byte at
 /// 115200 baud).
+#[cfg(not(feature = "defmt"))]
 pub struct LogUart(Tx<pac::USART6>);
 
+/// The log sink of this build: USART6 TX, or defmt over RTT with the
+/// `defmt` feature.
+#[cfg(not(feature = "defmt"))]
+pub type Log = LogUart;
+/// The log sink of this build: USART6 TX, or defmt over RTT with the
+/// `defmt` feature.
+#[cfg(feature = "defmt")]
+pub type Log = super::defmt_log::DefmtLog;
+
+#[cfg(not(feature = "defmt"))]
 impl Sink for LogUart {
     fn put(&mut self, bytes: &[u8]) {
         for &b in bytes {
@@ -406,12 +506,28 @@ type Inclinometer = WitInclinometer<Rs485, PA1<Output>, DelayUs<pac::TIM5>>;
 /// Whichever tilt sensor answered.
 type Tilt<'a> = EitherTilt<Inclinometer, Adxl345<Bus<'a>>>;
 
-/// Monotonic clock, anemometer, watchdog and sleep of the board.
+/// The configuration's storage: flash sectors 1 and 2.
+type Store = ConfigStore<NorFlashStorage<ConfigSectors>>;
+
+/// Monotonic clock, anemometer, watchdog, sleep, console and configuration
+/// storage of the board.
 struct BlackPillPlatform {
     watchdog: IndependentWatchdog,
+    store: Option<Store>,
 }
 
 impl Platform for BlackPillPlatform {
+    fn console_read(&mut self, buf: &mut [u8]) -> usize {
+        free(|cs| {
+            CONSOLE_RING
+                .borrow(cs)
+                .try_borrow_mut()
+                .map_or(0, |mut ring| ring.pop_into(buf))
+        })
+    }
+    fn config_store(&mut self) -> Option<&mut dyn ConfigPersist> {
+        self.store.as_mut().map(|s| s as &mut dyn ConfigPersist)
+    }
     fn now_ms(&mut self) -> u64 {
         free(|cs| MILLIS.borrow(cs).get())
     }
@@ -445,13 +561,32 @@ pub fn run(dp: pac::Peripherals, cp: cortex_m::Peripherals) -> ! {
     syst.enable_counter();
     syst.enable_interrupt();
 
-    let mut log = match dp.USART6.tx(gpioa.pa11, LOG_BAUD_HZ.bps(), &mut rcc) {
-        Ok(tx) => LogUart(tx),
-        // 115200 baud from a 100 MHz APB2 is always valid.
-        Err(_) => loop {
-            cortex_m::asm::wfi();
-        },
-    };
+    // USART6: the log out on TX, the console in on RX (its interrupt
+    // filling the console ring).
+    let (log_tx, mut console_rx) =
+        match dp
+            .USART6
+            .serial((gpioa.pa11, gpioa.pa12), LOG_BAUD_HZ.bps(), &mut rcc)
+        {
+            Ok(serial) => serial.split(),
+            // 115200 baud from a 100 MHz APB2 is always valid.
+            Err(_) => loop {
+                cortex_m::asm::wfi();
+            },
+        };
+    #[cfg(not(feature = "defmt"))]
+    let mut log: Log = LogUart(log_tx);
+    // The log goes over RTT; USART6 TX stays idle (high).
+    #[cfg(feature = "defmt")]
+    let _ = log_tx;
+    #[cfg(feature = "defmt")]
+    let mut log: Log = super::defmt_log::DefmtLog::new();
+    console_rx.listen();
+    free(|cs| {
+        if let Ok(mut slot) = CONSOLE_RX.borrow(cs).try_borrow_mut() {
+            *slot = Some(console_rx);
+        }
+    });
 
     // From here on a hang (a stuck bus) resets the board.
     let mut watchdog = IndependentWatchdog::new(dp.IWDG);
@@ -485,11 +620,12 @@ pub fn run(dp: pac::Peripherals, cp: cortex_m::Peripherals) -> ! {
     });
 
     // SAFETY: unmasking cannot break a critical section (they disable all
-    // interrupts with PRIMASK, not NVIC masks); both handlers touch only
-    // their statics above, through `free`, and those are set.
+    // interrupts with PRIMASK, not NVIC masks); the three handlers touch
+    // only their statics above, through `free`, and those are set.
     #[allow(unsafe_code)]
     unsafe {
         NVIC::unmask(Interrupt::USART1);
+        NVIC::unmask(Interrupt::USART6);
         NVIC::unmask(Interrupt::EXTI9_5);
     }
 
@@ -577,14 +713,27 @@ pub fn run(dp: pac::Peripherals, cp: cortex_m::Peripherals) -> ! {
         }
     };
 
-    let config = li2022::config();
+    // The configuration: the stored copy when it is good and the
+    // controller takes it, else the board's own.
+    let mut store = config_store(dp.FLASH, &mut log);
+    let stored = store
+        .as_mut()
+        .map(|s| s.load())
+        .filter(|loaded| !loaded.defaults)
+        .map(|loaded| loaded.config)
+        .filter(|config| controller_takes(&axes, &sensors, config));
+    let from_store = stored.is_some();
+    let config = stored.unwrap_or_else(li2022::config);
     if config.validate().is_err() {
         halt(&mut log, "configuration refused");
     }
     let options = li2022::controller_options();
-    let mut platform = BlackPillPlatform { watchdog };
+    let mut platform = BlackPillPlatform { watchdog, store };
     let mut firmware = Firmware::<f32, _, _, _, _, _, TABLE_LEN>::new(
-        AppConfig::new(BOARD),
+        AppConfig {
+            defaults: li2022::config,
+            ..AppConfig::new(BOARD)
+        },
         config,
         options,
         rtc,
@@ -596,7 +745,14 @@ pub fn run(dp: pac::Peripherals, cp: cortex_m::Peripherals) -> ! {
     // Run it where it is, inside the result: moving it out would copy its
     // kilobytes on the stack.
     match &mut firmware {
-        Ok(fw) => fw.run(&mut platform),
+        Ok(fw) => {
+            fw.log_mut().text(if from_store {
+                "config source=stored\n"
+            } else {
+                "config source=defaults\n"
+            });
+            fw.run(&mut platform)
+        }
         // The board's own configuration was checked above. Nothing is
         // driven; the watchdog, no longer fed, resets the board.
         Err(_) => loop {
@@ -605,8 +761,50 @@ pub fn run(dp: pac::Peripherals, cp: cortex_m::Peripherals) -> ! {
     }
 }
 
+extern "C" {
+    /// boards/stm32f411/memory.x: the first byte of the configuration
+    /// sectors (an image without that map does not link).
+    static _config_flash_start: u8;
+    /// boards/stm32f411/memory.x: the first byte after them.
+    static _config_flash_end: u8;
+    /// cortex-m-rt (`link.x`): the start of `.text` (`.rodata` and the
+    /// `.data` image follow it).
+    static __stext: u8;
+}
+
+/// The configuration store on flash sectors 1 and 2, when the memory map
+/// reserves exactly those sectors and the code lies after them (module
+/// docs); `None`, said on the log, otherwise.
+fn config_store(flash: pac::FLASH, log: &mut dyn Sink) -> Option<Store> {
+    let start = core::ptr::addr_of!(_config_flash_start) as usize;
+    let end = core::ptr::addr_of!(_config_flash_end) as usize;
+    let text = core::ptr::addr_of!(__stext) as usize;
+    let sectors = FLASH_BASE + WINDOW_OFFSET;
+    if start != sectors || end != sectors + 2 * SECTOR_LEN || text < end {
+        log.text("config storage off: the memory map does not keep flash sectors 1-2 free\n");
+        return None;
+    }
+    match ConfigSectors::storage(flash) {
+        Ok(storage) => Some(ConfigStore::new(storage)),
+        Err(_) => {
+            log.text("config storage off: flash sectors 1-2 refused\n");
+            None
+        }
+    }
+}
+
+/// Whether the controller over these axes and sensors accepts `config`
+/// (the types are the board's; the values only name them).
+fn controller_takes<D: AxisDrive, S: AttitudeSensor<f32>>(
+    _axes: &[D; 2],
+    _sensors: &Option<S>,
+    config: &Config,
+) -> bool {
+    Controller::<f32, SiteSource<f32>, D, S, TABLE_LEN>::check(config).is_ok()
+}
+
 /// Says why and stops: the watchdog, no longer fed, resets the board.
-fn halt(log: &mut LogUart, why: &str) -> ! {
+fn halt(log: &mut dyn Sink, why: &str) -> ! {
     log.text("halt: ");
     log.text(why);
     log.text("\n");

@@ -243,9 +243,9 @@ pub fn run(dp: chip::Peripherals) -> ! {
     log::boot(&mut out, BOARD);
     if MS_PER_TICK != 1 {
         // Emulator builds only: the harness reads the time scale here.
-        out.text("timescale ");
+        out.flash(crate::flash_str!("timescale "));
         out.u32(MS_PER_TICK as u32);
-        out.text("\n");
+        out.flash(crate::flash_str!("\n"));
     }
     let site = match Site::new(SITE_LAT_DEG, SITE_LON_DEG) {
         Ok(site) => site,
@@ -254,13 +254,13 @@ pub fn run(dp: chip::Peripherals) -> ! {
         Err(_) => halt(&mut out, "site refused"),
     };
     log::site(&mut out, SiteSource::Config, SITE_LAT_DEG, SITE_LON_DEG);
-    out.text("config step_s=");
+    out.flash(crate::flash_str!("config step_s="));
     out.u32(STEP_S);
-    out.text(" tick_ms=");
+    out.flash(crate::flash_str!(" tick_ms="));
     out.u32(TICK_MS as u32);
-    out.text(" axis_step_deg=");
+    out.flash(crate::flash_str!(" axis_step_deg="));
     out.fixed(AXIS_STEP_DEG, 3);
-    out.text("\n");
+    out.flash(crate::flash_str!("\n"));
     let mut time = TimeKeeper::new(Ds3231::new(I2c::new(dp.TWI)), TimeConfig::default());
     let mut tracker = Tracker {
         mode: None,
@@ -282,9 +282,9 @@ pub fn run(dp: chip::Peripherals) -> ! {
 
 /// Says why and stops: the watchdog, no longer fed, resets the board.
 fn halt(out: &mut Usart0, why: &str) -> ! {
-    out.text("halt: ");
+    out.flash(crate::flash_str!("halt: "));
     out.text(why);
-    out.text("\n");
+    out.flash(crate::flash_str!("\n"));
     out.flush_all();
     loop {
         avr_device::asm::sleep();

@@ -13,6 +13,9 @@
 //! place names are a separate array the linker keeps only when
 //! [`PostalEntry::place`] is used.
 
+// Reads of the table in flash (`crate::text::read_flash`).
+#![allow(unsafe_code)]
+
 use sun_algos::{Float, Site};
 
 use super::key::{self, KeyError};
@@ -110,34 +113,49 @@ fn i24(b: &[u8]) -> i32 {
 
 /// The entry of `country` (alpha-2) and `code`.
 pub fn lookup(country: &str, code: &str) -> Result<PostalEntry, PostalError> {
-    let k = key::pack(country.as_bytes(), code.trim().as_bytes())?;
-    let index = table::KEYS
-        .binary_search(&k)
-        .map_err(|_| PostalError::UnknownPostalCode)?;
-    let c = table::COORDS
-        .get(index)
-        .ok_or(PostalError::UnknownPostalCode)?;
-    Ok(PostalEntry {
+    let k = key::pack(country.as_bytes(), code.trim_ascii().as_bytes())?;
+    // Binary search over the keys in flash (read one at a time on AVR).
+    let (mut lo, mut hi) = (0usize, table::LEN);
+    while lo < hi {
+        let mid = lo + (hi - lo) / 2;
+        let Some(slot) = table::KEYS.get(mid) else {
+            break;
+        };
+        // SAFETY: KEYS is in `.progmem.data` on AVR (build.rs).
+        let key = unsafe { crate::text::read_flash(slot) };
+        match key.cmp(&k) {
+            core::cmp::Ordering::Less => lo = mid + 1,
+            core::cmp::Ordering::Greater => hi = mid,
+            core::cmp::Ordering::Equal => return Ok(entry(mid)),
+        }
+    }
+    Err(PostalError::UnknownPostalCode)
+}
+
+/// Row `index` (coordinates read from flash on AVR).
+fn entry(index: usize) -> PostalEntry {
+    let c = match table::COORDS.get(index) {
+        // SAFETY: COORDS is in `.progmem.data` on AVR (build.rs).
+        Some(slot) => unsafe { crate::text::read_flash(slot) },
+        None => [0; 6],
+    };
+    PostalEntry {
         index,
         lat_e4: i24(c.get(0..3).unwrap_or(&[])),
         lon_e4: i24(c.get(3..6).unwrap_or(&[])),
-    })
+    }
 }
 
 /// The entry of `COUNTRY:CODE`, e.g. `DZ:16000`.
 pub fn lookup_str(s: &str) -> Result<PostalEntry, PostalError> {
-    let (country, code) = s.trim().split_once(':').ok_or(PostalError::BadFormat)?;
-    lookup(country.trim(), code)
+    let (country, code) = s
+        .trim_ascii()
+        .split_once(':')
+        .ok_or(PostalError::BadFormat)?;
+    lookup(country.trim_ascii(), code)
 }
 
 /// Every entry, in key order (country, then code).
 pub fn entries() -> impl Iterator<Item = PostalEntry> {
-    table::COORDS
-        .iter()
-        .enumerate()
-        .map(|(index, c)| PostalEntry {
-            index,
-            lat_e4: i24(c.get(0..3).unwrap_or(&[])),
-            lon_e4: i24(c.get(3..6).unwrap_or(&[])),
-        })
+    (0..table::LEN).map(entry)
 }

@@ -153,5 +153,6 @@ impl embedded_io::ReadReady for MemSerial {
     }
 }
 
+pub mod host_io;
 pub mod motor;
 pub mod mount;

@@ -36,6 +36,7 @@
 mod anemometer;
 mod clock;
 mod delay;
+pub mod eeprom;
 mod gpio;
 mod serial;
 mod twi;

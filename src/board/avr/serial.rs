@@ -3,8 +3,8 @@
 //! Complete Flag and Interrupt", "Data Reception", register description of
 //! UDRn, UCSRnA/B/C, UBRRn).
 //!
-//! Reception: the RX-complete interrupt moves each byte into a 128-byte ring
-//! buffer; when it is full the byte is dropped and counted
+//! Reception: the RX-complete interrupt moves each byte into a ring buffer
+//! (128 bytes for the GPS port, 64 for the log and console port); when it is full the byte is dropped and counted
 //! ([`Usart0::rx_dropped`]), as are bytes the hardware lost before the
 //! interrupt ran (data overrun, DORn) and bytes with a framing error (FEn,
 //! dropped too). `Read` takes what is waiting without blocking; with
@@ -24,26 +24,32 @@ use embedded_io::{ErrorKind, ErrorType};
 
 use super::{chip, CPU_HZ};
 
-/// Receive ring size (a power of two).
-const RX_LEN: usize = 128;
+/// Receive ring of the GPS port (USART1): a whole NMEA sentence (at most
+/// 82 bytes) with room to spare.
+#[cfg(avr_atmega2560)]
+const RX_LEN_GPS: usize = 128;
+/// Receive ring of the log and console port (USART0): a whole console
+/// line (`crate::console::LINE_LEN`).
+const RX_LEN_CONSOLE: usize = 64;
 
-/// A single-producer (interrupt) single-consumer (main) byte ring.
-struct RxRing {
-    bytes: [Cell<u8>; RX_LEN],
+/// A single-producer (interrupt) single-consumer (main) ring of `N` bytes
+/// (`N` ≤ 255).
+struct RxRing<const N: usize> {
+    bytes: [Cell<u8>; N],
     /// Next slot the interrupt writes.
     head: Cell<u8>,
     /// Next slot the reader takes.
     tail: Cell<u8>,
-    /// Count of bytes stored (0..=RX_LEN).
+    /// Count of bytes stored (0..=N).
     len: Cell<u8>,
     /// Bytes lost: ring full, hardware overrun or framing error.
     dropped: Cell<u16>,
 }
 
-impl RxRing {
+impl<const N: usize> RxRing<N> {
     const fn new() -> Self {
         RxRing {
-            bytes: [const { Cell::new(0) }; RX_LEN],
+            bytes: [const { Cell::new(0) }; N],
             head: Cell::new(0),
             tail: Cell::new(0),
             len: Cell::new(0),
@@ -56,7 +62,7 @@ impl RxRing {
     }
 
     fn push(&self, byte: u8) {
-        if usize::from(self.len.get()) >= RX_LEN {
+        if usize::from(self.len.get()) >= N {
             self.drop_one();
             return;
         }
@@ -64,7 +70,7 @@ impl RxRing {
         if let Some(slot) = self.bytes.get(usize::from(head)) {
             slot.set(byte);
         }
-        self.head.set(next(head));
+        self.head.set(Self::next(head));
         self.len.set(self.len.get() + 1);
     }
 
@@ -74,7 +80,7 @@ impl RxRing {
         }
         let tail = self.tail.get();
         let byte = self.bytes.get(usize::from(tail)).map(Cell::get);
-        self.tail.set(next(tail));
+        self.tail.set(Self::next(tail));
         self.len.set(self.len.get() - 1);
         byte
     }
@@ -85,10 +91,10 @@ impl RxRing {
         self.len.set(0);
         self.dropped.set(0);
     }
-}
 
-fn next(index: u8) -> u8 {
-    ((usize::from(index) + 1) % RX_LEN) as u8
+    fn next(index: u8) -> u8 {
+        ((usize::from(index) + 1) % N) as u8
+    }
 }
 
 /// Bytes moved per critical section by `read` (bounds the time interrupts
@@ -122,12 +128,12 @@ impl embedded_io::Error for SerialError {
 
 macro_rules! usart {
     (
-        $(#[$doc:meta])* $name:ident, $periph:ident, $ring:ident, $isr:ident,
+        $(#[$doc:meta])* $name:ident, $periph:ident, $ring:ident, $len:ident, $isr:ident,
         $ucsra:ident, $ucsrb:ident, $ucsrc:ident, $ubrr:ident, $udr:ident,
         $u2x:ident, $txc:ident, $rxen:ident, $txen:ident, $rxcie:ident, $ucsz:ident,
         $rxc:ident, $udre:ident, $fe:ident, $dor:ident
     ) => {
-        static $ring: Mutex<RxRing> = Mutex::new(RxRing::new());
+        static $ring: Mutex<RxRing<$len>> = Mutex::new(RxRing::new());
 
         $(#[$doc])*
         pub struct $name {
@@ -173,6 +179,24 @@ macro_rules! usart {
             /// Bytes waiting in the ring.
             pub fn rx_waiting(&self) -> usize {
                 interrupt::free(|cs| usize::from($ring.borrow(cs).len.get()))
+            }
+
+            /// Moves up to `buf.len()` received bytes out of the ring
+            /// without waiting; 0 when none. For a port whose value is
+            /// busy elsewhere (the log writes through it while the main
+            /// loop reads the console typed on it): only the main loop
+            /// takes from the ring, through this or through `Read`.
+            pub fn take_received(buf: &mut [u8]) -> usize {
+                let mut n = 0;
+                while n < buf.len() {
+                    let Some(rest) = buf.get_mut(n..) else { break };
+                    let got = interrupt::free(|cs| Self::take(rest, cs));
+                    if got == 0 {
+                        break;
+                    }
+                    n += got;
+                }
+                n
             }
 
             /// Waits until every written byte has left the shift register
@@ -259,15 +283,7 @@ macro_rules! usart {
                     return Ok(0);
                 }
                 loop {
-                    let mut n = 0;
-                    while n < buf.len() {
-                        let Some(rest) = buf.get_mut(n..) else { break };
-                        let got = interrupt::free(|cs| Self::take(rest, cs));
-                        if got == 0 {
-                            break;
-                        }
-                        n += got;
-                    }
+                    let n = Self::take_received(buf);
                     if n > 0 {
                         return Ok(n);
                     }
@@ -310,7 +326,7 @@ macro_rules! usart {
 
 usart!(
     /// USART0 (TXD0/RXD0: Uno D1/D0, Mega D1/D0, the USB bridge).
-    Usart0, USART0, RX0, on_usart0_rx,
+    Usart0, USART0, RX0, RX_LEN_CONSOLE, on_usart0_rx,
     ucsr0a, ucsr0b, ucsr0c, ubrr0, udr0,
     u2x0, txc0, rxen0, txen0, rxcie0, ucsz0,
     rxc0, udre0, fe0, dor0
@@ -319,7 +335,7 @@ usart!(
 #[cfg(avr_atmega2560)]
 usart!(
     /// USART1 of the ATmega2560 (TXD1/RXD1: Mega D18/D19, the GPS).
-    Usart1, USART1, RX1, on_usart1_rx,
+    Usart1, USART1, RX1, RX_LEN_GPS, on_usart1_rx,
     ucsr1a, ucsr1b, ucsr1c, ubrr1, udr1,
     u2x1, txc1, rxen1, txen1, rxcie1, ucsz1,
     rxc1, udre1, fe1, dor1

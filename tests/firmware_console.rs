@@ -1,0 +1,483 @@
+//! The configuration console of the firmware loop (`suntracker::app`) on a
+//! host "board": the same parts as `firmware_app.rs` (simulated DS3231,
+//! H-bridge steppers into the motor model, a millisecond clock the test
+//! advances, no GPS unless a test sends it), plus console bytes the test
+//! types and a configuration store in RAM with the two-slot layout.
+//!
+//! What is checked, each against something the firmware did not compute:
+//! - `set site.lat_deg -33.8688` and `set site.lon_deg 151.2093` (Sydney)
+//!   make the next `setpoint` lines Sydney's: their sun agrees with NREL
+//!   SPA (Reda & Andreas 2004) for Sydney within 0.02°, and after `save`
+//!   and a power cycle the stored site is used from boot;
+//! - a value out of range (`set axis.c.gear_ratio 1e30`, `… 20000`) is
+//!   refused naming the field, and `get` shows the old value;
+//! - 10 KB of random bytes typed while tracking delay no set-point: every
+//!   set-point of the undisturbed run is logged at the same monotonic
+//!   second;
+//! - `time set` is refused while GPS time is in force and sets an RTC that
+//!   lost power otherwise (then tracking starts);
+//! - `stow`, `resume`, `jog`, `manual off`, `status`, `faults`, `clear`,
+//!   and the periodic `status` line every `log.status_min` minutes.
+
+mod tracker_hw_common;
+
+use std::cell::RefCell;
+use std::collections::VecDeque;
+use std::rc::Rc;
+
+use sun_algos::{Algorithm, Options, Site, UtcTime};
+use suntracker::app::{AppConfig, ConfigPersist, Firmware, Platform};
+use suntracker::config::{Config, ConfigStore, MemStorage};
+use suntracker::controller::ControllerOptions;
+use suntracker::sim::gps::GpsReceiverModel;
+use suntracker::sim::rtc::SimRtc;
+use suntracker::sim::sensors::MountSensors;
+use tracker_hw_common::host_io::{Log, Uart};
+use tracker_hw_common::motor::{stepper_axis, Motor};
+
+type Store = ConfigStore<MemStorage<1024>>;
+
+struct HostPlatform {
+    now_ms: u64,
+    /// Bytes "received" on the console, waiting for the firmware.
+    console: VecDeque<u8>,
+    /// A receive ring as small as a board's: what does not fit is dropped.
+    ring_len: usize,
+    dropped: usize,
+    store: Store,
+}
+
+impl Platform for HostPlatform {
+    fn now_ms(&mut self) -> u64 {
+        self.now_ms
+    }
+    fn take_wind_pulses(&mut self) -> u32 {
+        0
+    }
+    fn feed_watchdog(&mut self) {}
+    fn wait_for_interrupt(&mut self) {}
+    fn console_read(&mut self, buf: &mut [u8]) -> usize {
+        let n = buf.len().min(self.console.len());
+        for b in buf.iter_mut().take(n) {
+            *b = self.console.pop_front().unwrap_or(0);
+        }
+        n
+    }
+    fn config_store(&mut self) -> Option<&mut dyn ConfigPersist> {
+        Some(&mut self.store)
+    }
+}
+
+const KANO: (f64, f64) = (11.9683, 8.4261);
+const SYDNEY: (f64, f64) = (-33.8688, 151.2093);
+
+struct Bench {
+    fw: Firmware<f32, SimRtc, Uart, tracker_hw_common::motor::Axis, MountSensors, Log, 0>,
+    platform: HostPlatform,
+    c: Rc<RefCell<Motor>>,
+    a: Rc<RefCell<Motor>>,
+    log: Log,
+    gps_uart: Uart,
+    gps: Option<GpsReceiverModel>,
+    start: UtcTime,
+    /// Monotonic ms at which each log line was first seen.
+    stamps: Vec<(u64, String)>,
+    seen: usize,
+}
+
+fn start_utc() -> UtcTime {
+    // 2026-03-20 06:00 UTC: morning at Kano, afternoon in Sydney.
+    UtcTime::from_ymd_hms(2026, 3, 20, 6, 0, 0).unwrap()
+}
+
+impl Bench {
+    fn new(config: Config, store: Store, rtc_lost_power: bool) -> Bench {
+        let options = ControllerOptions::<f32> {
+            feedback: suntracker::axis::FeedbackMode::OpenLoop,
+            homing_chunk_deg: 0.45,
+            ..Default::default()
+        };
+        let c = Motor::new(30.0, config.axes[0].home_deg as f64);
+        let a = Motor::new(20.0, config.axes[1].home_deg as f64);
+        let start = start_utc();
+        let mut rtc = SimRtc::new(start);
+        if rtc_lost_power {
+            rtc.power_loss();
+        }
+        let log = Log::default();
+        let gps_uart = Uart::default();
+        let fw = Firmware::new(
+            AppConfig::new("host"),
+            config,
+            options,
+            rtc,
+            gps_uart.clone(),
+            [stepper_axis(&c), stepper_axis(&a)],
+            None,
+            log.clone(),
+        )
+        .expect("valid configuration");
+        Bench {
+            fw,
+            platform: HostPlatform {
+                now_ms: 0,
+                console: VecDeque::new(),
+                ring_len: 128,
+                dropped: 0,
+                store,
+            },
+            c,
+            a,
+            log,
+            gps_uart,
+            gps: None,
+            start,
+            stamps: Vec::new(),
+            seen: 0,
+        }
+    }
+
+    /// Types `bytes` as a UART would deliver them: into a ring of the
+    /// board's size, dropping what does not fit.
+    fn receive(&mut self, bytes: &[u8]) {
+        for &b in bytes {
+            if self.platform.console.len() < self.platform.ring_len {
+                self.platform.console.push_back(b);
+            } else {
+                self.platform.dropped += 1;
+            }
+        }
+    }
+
+    fn type_line(&mut self, line: &str) {
+        self.receive(line.as_bytes());
+        self.receive(b"\r\n");
+    }
+
+    /// Runs the loop until monotonic `end_ms`; `feed` is called every
+    /// millisecond (bytes arriving at line speed).
+    fn run_until(&mut self, end_ms: u64, mut feed: impl FnMut(&mut Bench)) {
+        let mut buf = [0u8; 256];
+        let mut next_epoch_ms = self.platform.now_ms - self.platform.now_ms % 1000;
+        while self.platform.now_ms < end_ms {
+            let now = self.start.add_millis(self.platform.now_ms as i64).unwrap();
+            self.fw.time_keeper_mut().rtc_mut().advance(now);
+            if self.platform.now_ms >= next_epoch_ms {
+                if let Some(g) = &self.gps {
+                    let n = g.epoch(now, &mut buf).unwrap();
+                    self.gps_uart.0.borrow_mut().extend(&buf[..n]);
+                }
+                next_epoch_ms += 1000;
+            }
+            feed(self);
+            self.fw.poll(&mut self.platform);
+            for m in [&self.c, &self.a] {
+                m.borrow_mut().settle();
+            }
+            let text = String::from_utf8(self.log.0.borrow().clone()).unwrap();
+            let lines: Vec<&str> = text.lines().collect();
+            for line in lines.iter().skip(self.seen) {
+                if std::env::var_os("FW_DEBUG").is_some() {
+                    println!("{} ms: {line}", self.platform.now_ms);
+                }
+                self.stamps.push((self.platform.now_ms, line.to_string()));
+            }
+            self.seen = lines.len();
+            self.platform.now_ms += 1;
+        }
+    }
+
+    fn lines_since(&self, from: usize) -> Vec<String> {
+        self.stamps[from..].iter().map(|(_, l)| l.clone()).collect()
+    }
+
+    fn reply_to(&mut self, line: &str) -> Vec<String> {
+        let from = self.stamps.len();
+        self.type_line(line);
+        let end = self.platform.now_ms + 200;
+        self.run_until(end, |_| {});
+        self.lines_since(from)
+            .into_iter()
+            .filter(|l| l.starts_with("ok") || l.starts_with("error"))
+            .collect()
+    }
+}
+
+fn store() -> Store {
+    ConfigStore::new(MemStorage::new())
+}
+
+fn field(line: &str, key: &str) -> f64 {
+    let k = format!("{key}=");
+    let start = line.find(&k).unwrap_or_else(|| panic!("{key} in {line}")) + k.len();
+    let rest = &line[start..];
+    let end = rest.find(' ').unwrap_or(rest.len());
+    rest[..end].parse().unwrap()
+}
+
+fn utc_field(line: &str) -> UtcTime {
+    let start = line.find("utc=").unwrap() + 4;
+    let t = &line[start..start + 20];
+    let n = |a: usize, b: usize| t[a..b].parse::<u32>().unwrap();
+    UtcTime::from_ymd_hms(
+        n(0, 4) as i32,
+        n(5, 7) as u8,
+        n(8, 10) as u8,
+        n(11, 13) as u8,
+        n(14, 16) as u8,
+        n(17, 19) as u8,
+    )
+    .unwrap()
+}
+
+/// Largest difference between a set-point line's sun and SPA for the site.
+fn worst_vs_spa(lines: &[String], (lat, lon): (f64, f64)) -> (usize, f64) {
+    let site = Site::<f64>::with_elevation(lat, lon, 0.0).unwrap();
+    let opts = Options {
+        delta_t_s: Some(69.0),
+        ..Options::default()
+    };
+    let mut worst = 0.0f64;
+    let mut n = 0;
+    for l in lines.iter().filter(|l| l.starts_with("setpoint ")) {
+        let t = utc_field(l);
+        let spa = Algorithm::Spa.position(&t, &site, &opts).unwrap();
+        let dz = (field(l, "zenith") - spa.zenith_deg).abs();
+        let mut da = (field(l, "azimuth") - spa.azimuth_deg).abs() % 360.0;
+        if da > 180.0 {
+            da = 360.0 - da;
+        }
+        // The azimuth's weight on the sky is sin(zenith).
+        let da = da * spa.zenith_deg.to_radians().sin();
+        worst = worst.max(dz).max(da);
+        n += 1;
+    }
+    (n, worst)
+}
+
+/// Kano's configuration with the elevation SPA is given (0 m).
+fn kano_config() -> Config {
+    let (mut config, _) = tracker_hw_common::motor::tracker_config();
+    config.site.latitude_deg = KANO.0 as f32;
+    config.site.longitude_deg = KANO.1 as f32;
+    config.site.elevation_m = 0.0;
+    config
+}
+
+#[test]
+fn sydney_typed_saved_and_kept_over_a_power_cycle() {
+    let mut b = Bench::new(kano_config(), store(), false);
+    b.run_until(20 * 60_000, |_| {});
+    let (n, worst) = worst_vs_spa(&b.lines_since(0), KANO);
+    assert!(n >= 3, "Kano set-points before the change: {n}");
+    assert!(worst < 0.02, "Kano vs SPA {worst}°");
+
+    assert_eq!(
+        b.reply_to("set site.lat_deg -33.8688"),
+        ["ok site.lat_deg=-33.8688"]
+    );
+    assert_eq!(
+        b.reply_to("set site.lon_deg 151.2093"),
+        ["ok site.lon_deg=151.2093"]
+    );
+    let from = b.stamps.len();
+    b.run_until(45 * 60_000, |_| {});
+    let after = b.lines_since(from);
+    assert!(
+        b.lines_since(0)
+            .iter()
+            .any(|l| l == "site source=config lat=-33.8688 lon=151.2093"),
+        "{after:?}"
+    );
+    let (n, worst) = worst_vs_spa(&after, SYDNEY);
+    assert!(n >= 3, "Sydney set-points after the change: {n}");
+    assert!(worst < 0.02, "Sydney vs SPA {worst}°");
+
+    assert_eq!(b.reply_to("save"), ["ok save"]);
+    // Power cycle: the storage survives, nothing else.
+    let kept = std::mem::replace(&mut b.platform.store, store()).release();
+    let mut store2: Store = ConfigStore::new(kept);
+    let loaded = store2.load();
+    assert!(!loaded.defaults, "{:?}", loaded.slots);
+    let mut b2 = Bench::new(loaded.config, store2, false);
+    b2.run_until(20 * 60_000, |_| {});
+    let lines = b2.lines_since(0);
+    assert!(
+        lines
+            .iter()
+            .any(|l| l == "site source=config lat=-33.8688 lon=151.2093"),
+        "{lines:?}"
+    );
+    let (n, worst) = worst_vs_spa(&lines, SYDNEY);
+    assert!(n >= 3 && worst < 0.02, "{n} set-points, {worst}°");
+}
+
+#[test]
+fn values_out_of_range_are_refused_and_change_nothing() {
+    let mut b = Bench::new(kano_config(), store(), false);
+    b.run_until(2_000, |_| {});
+    let before = b.reply_to("get axis.c.gear_ratio");
+    assert_eq!(before.len(), 1);
+    assert!(before[0].starts_with("ok axis.c.gear_ratio="), "{before:?}");
+    // No exponents: not a number at all.
+    assert_eq!(
+        b.reply_to("set axis.c.gear_ratio 1e30"),
+        ["error axis.c.gear_ratio: not a number"]
+    );
+    let r = b.reply_to("set axis.c.gear_ratio 20000");
+    assert_eq!(r.len(), 1);
+    assert!(r[0].starts_with("error axis.c.gear_ratio: "), "{r:?}");
+    assert_eq!(b.reply_to("get axis.c.gear_ratio"), before);
+    let r = b.reply_to("set site.lat_deg 91");
+    assert!(r[0].starts_with("error site.lat_deg: "), "{r:?}");
+    let r = b.reply_to("set log.status_min 1441");
+    assert!(r[0].starts_with("error log.status_min: "), "{r:?}");
+    assert_eq!(b.fw.controller().config(), &kano_config());
+    assert_eq!(b.reply_to("frobnicate"), ["error unknown command"]);
+    assert_eq!(b.reply_to("get no.such_key"), ["error unknown key"]);
+}
+
+#[test]
+fn ten_kilobytes_of_noise_delay_no_setpoint() {
+    fn setpoints(b: &Bench) -> Vec<(u64, String)> {
+        b.stamps
+            .iter()
+            .filter(|(_, l)| l.starts_with("setpoint "))
+            .cloned()
+            .collect()
+    }
+    let end_ms = 40 * 60_000;
+    let mut quiet = Bench::new(kano_config(), store(), false);
+    quiet.run_until(end_ms, |_| {});
+    let mut noisy = Bench::new(kano_config(), store(), false);
+    // xorshift32: 10,240 bytes at 115,200 baud (11.5 bytes a ms) from the
+    // 10th minute, while tracking.
+    let mut x = 0x1234_5678u32;
+    let mut sent = 0usize;
+    noisy.run_until(end_ms, |b| {
+        if b.platform.now_ms >= 10 * 60_000 && sent < 10_240 {
+            let mut chunk = [0u8; 11];
+            for byte in chunk.iter_mut() {
+                x ^= x << 13;
+                x ^= x >> 17;
+                x ^= x << 5;
+                *byte = x as u8;
+            }
+            b.receive(&chunk);
+            sent += chunk.len();
+        }
+    });
+    assert!(sent >= 10_240);
+    let (q, n) = (setpoints(&quiet), setpoints(&noisy));
+    assert!(q.len() >= 8, "{} set-points", q.len());
+    assert_eq!(q, n, "the same set-points at the same monotonic ms");
+    let errors = noisy
+        .stamps
+        .iter()
+        .filter(|(_, l)| l.starts_with("error "))
+        .count();
+    assert!(errors > 0, "the noise was answered");
+}
+
+#[test]
+fn time_set_refused_under_gps_and_sets_an_rtc_that_lost_power() {
+    // RTC lost power, no GPS: waits; `time set` starts tracking.
+    let mut b = Bench::new(kano_config(), store(), true);
+    b.run_until(5_000, |_| {});
+    assert!(b.lines_since(0).iter().any(|l| l == "mode wait_for_time"));
+    let r = b.reply_to("time set 2026-03-20T06:00:05Z");
+    assert_eq!(r, ["ok utc=2026-03-20T06:00:05Z"]);
+    b.run_until(15 * 60_000, |_| {});
+    let (n, worst) = worst_vs_spa(&b.lines_since(0), KANO);
+    assert!(n >= 2 && worst < 0.02, "{n} set-points, {worst}°");
+
+    // GPS in force: refused.
+    let mut g = Bench::new(kano_config(), store(), false);
+    g.gps = Some(GpsReceiverModel::new(KANO.0, KANO.1, 0.0));
+    g.run_until(5_000, |_| {});
+    assert!(g
+        .lines_since(0)
+        .iter()
+        .any(|l| l.starts_with("time source=gps")));
+    assert_eq!(
+        g.reply_to("time set 2027-01-01T00:00:00Z"),
+        ["error time set: GPS time is in force"]
+    );
+}
+
+#[test]
+fn operator_commands_and_the_periodic_status_line() {
+    let mut config = kano_config();
+    config.log.status_every_min = 2;
+    let mut b = Bench::new(config, store(), false);
+    b.run_until(10 * 60_000, |_| {});
+    let status: Vec<(u64, String)> = b
+        .stamps
+        .iter()
+        .filter(|(_, l)| l.starts_with("status "))
+        .cloned()
+        .collect();
+    assert_eq!(status.len(), 4, "{status:?}");
+    for (i, (ms, l)) in status.iter().enumerate() {
+        // Every 2 minutes of the monotonic clock, within one tick.
+        let due = (i as u64 + 1) * 120_000;
+        assert!(*ms >= due && *ms < due + 1_000, "{ms} {l}");
+        assert!(l.contains(" lat=11.9683 lon=8.4261 site=config "), "{l}");
+    }
+    let r = b.reply_to("status");
+    assert_eq!(r.len(), 1);
+    // The last tick's time: 10 minutes after the start, within a tick.
+    let t = utc_field(&r[0]).unix_seconds() - start_utc().unix_seconds();
+    assert!((599..=601).contains(&t), "{r:?}");
+    assert!(r[0].starts_with("ok mode=tracking utc="), "{r:?}");
+    assert!(r[0].contains(" time=rtc "), "{r:?}");
+    // No GPS on this bench: its loss is the one fault.
+    assert!(r[0].ends_with(" faults=gps_lost wind_hz=0.00"), "{r:?}");
+
+    assert_eq!(b.reply_to("stow"), ["ok stow"]);
+    b.run_until(b.platform.now_ms + 3_000, |_| {});
+    assert!(b.stamps.iter().any(|(_, l)| l == "mode command_stow"));
+    assert_eq!(b.reply_to("resume"), ["ok resume"]);
+    let r = b.reply_to("jog a 5");
+    assert_eq!(r.len(), 1);
+    assert!(r[0].starts_with("ok jog c="), "{r:?}");
+    let a_jog = field(&r[0], "a");
+    b.run_until(b.platform.now_ms + 60_000, |_| {});
+    assert!(b.stamps.iter().any(|(_, l)| l == "mode manual"));
+    // The motor went there (open loop: one half-step).
+    let a_motor = b.a.borrow().angle_deg();
+    assert!((a_motor - a_jog).abs() < 0.02, "{a_motor} vs {a_jog}");
+    // Beyond the soft limit: held at it.
+    let r = b.reply_to("jog a 500");
+    assert!(r[0].ends_with(" a=90.00 limited"), "{r:?}");
+    assert_eq!(b.reply_to("manual off"), ["ok manual off"]);
+    let r = b.reply_to("faults");
+    assert_eq!(r.len(), 1);
+    assert!(r[0].starts_with("ok fault=gps_lost attempts="), "{r:?}");
+    assert_eq!(b.reply_to("clear"), ["ok clear"]);
+    assert_eq!(b.reply_to("faults"), ["ok faults=none"]);
+    b.run_until(b.platform.now_ms + 5 * 60_000, |_| {});
+    assert_eq!(
+        b.stamps
+            .iter()
+            .rev()
+            .find(|(_, l)| l.starts_with("mode "))
+            .map(|(_, l)| l.as_str()),
+        Some("mode tracking")
+    );
+}
+
+#[test]
+fn load_and_defaults() {
+    let mut b = Bench::new(kano_config(), store(), false);
+    b.run_until(2_000, |_| {});
+    assert_eq!(b.reply_to("load"), ["error load: no valid stored config"]);
+    assert_eq!(b.reply_to("set wind.stow_hz 30"), ["ok wind.stow_hz=30"]);
+    assert_eq!(b.reply_to("save"), ["ok save"]);
+    assert_eq!(b.reply_to("defaults"), ["ok defaults"]);
+    assert_eq!(b.fw.controller().config(), &Config::default());
+    assert_eq!(b.reply_to("load"), ["ok load"]);
+    let mut expected = kano_config();
+    expected.wind.threshold_hz = 30.0;
+    assert_eq!(b.fw.controller().config(), &expected);
+}
