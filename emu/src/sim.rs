@@ -115,6 +115,15 @@ unsafe extern "C" fn quiet_logger(
 /// step with wall time; the harness wants it as fast as possible.
 unsafe extern "C" fn no_sleep(_: *mut ffi::avr_t, _: ffi::avr_cycle_count_t) {}
 
+/// A simavr cycle timer that does nothing: [`Sim::stop_at`].
+unsafe extern "C" fn stop_timer(
+    _: *mut ffi::avr_t,
+    _: ffi::avr_cycle_count_t,
+    _: *mut std::ffi::c_void,
+) -> ffi::avr_cycle_count_t {
+    0
+}
+
 unsafe extern "C" fn on_uart_output(
     _: *mut ffi::avr_irq_t,
     value: u32,
@@ -371,6 +380,29 @@ impl Sim {
         let ctl = ioctl_code(b'i', b'o', b'g', port as u8);
         if let Some(irq) = self.getirq(ctl, u32::from(pin)) {
             unsafe { ffi::avr_raise_irq(irq.as_ptr(), u32::from(high)) };
+        }
+    }
+
+    /// Makes the run stop at `cycle` even while the CPU sleeps: simavr
+    /// moves a sleeping CPU straight to its next timer event (a Timer0 tick
+    /// can be 1 ms away), so `run_until(cycle)` alone may return well past
+    /// `cycle`. This registers a simavr cycle timer that does nothing at
+    /// `cycle` (`avr_cycle_timer_register`), which the sleep stops at (one
+    /// cycle after it, as simavr counts a sleep). For inputs that must change
+    /// at a given cycle: `stop_at(c)`, `run_until(c)`, then
+    /// [`Sim::set_pin`]. One stop is pending at a time (a new call replaces
+    /// it); a cycle not in the future is ignored.
+    pub fn stop_at(&mut self, cycle: u64) {
+        let now = self.cycle();
+        if cycle > now {
+            unsafe {
+                ffi::avr_cycle_timer_register(
+                    self.avr.as_ptr(),
+                    cycle - now,
+                    Some(stop_timer),
+                    std::ptr::null_mut(),
+                )
+            };
         }
     }
 

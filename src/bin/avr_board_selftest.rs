@@ -8,9 +8,21 @@
 //! interrupts fire on output pins too, datasheet "External Interrupts"), and
 //! the watchdog fed for 2.5 s.
 //!
+//! On the ATmega328P it also tests the Uno servo tracker's parts, before the
+//! watchdog: the Timer1 servo PWM (OC1A = PB1 at 1,500 µs and OC1B = PB2 at
+//! 1,750 µs through `drivers::servo::ContinuousServo`, left running to the
+//! end), one ADC0 conversion (its code logged), and the two pin-change
+//! encoders: first fed by driving their own pins (pin-change interrupts
+//! fire on output pins too, ATmega328P §12 "External Interrupts"), then
+//! inputs for 1 s, their counts logged. `emu/tests/uno_board_smoke.rs`
+//! measures the pulses, puts a voltage on ADC0 and drives the encoder pins
+//! during that second.
+//!
 //! Build and run (ATmega2560):
 //! `RUSTFLAGS="$AVR_MEGA_RUSTFLAGS" cargo +nightly build --release --target avr-none -Z build-std=core --features mega2560 --bin avr_board_selftest --target-dir target/mega`,
 //! then `simavr -m atmega2560 -f 16000000 target/mega/avr-none/release/avr_board_selftest.elf`.
+//! ATmega328P: `cargo +nightly build --release --target avr-none -Z build-std=core --features uno --bin avr_board_selftest`
+//! (`target/avr-none/release/avr_board_selftest.elf`, `simavr -m atmega328p -f 16000000 …`).
 #![no_std]
 #![no_main]
 // Interrupt handlers (`avr_board_interrupts!`) use the avr-interrupt ABI,
@@ -31,7 +43,7 @@ mod firmware {
     #[cfg(avr_atmega2560)]
     suntracker::avr_board_interrupts!(timer0, usart0, int4);
     #[cfg(not(avr_atmega2560))]
-    suntracker::avr_board_interrupts!(timer0, usart0, int0);
+    suntracker::avr_board_interrupts!(timer0, usart0, int0, pcint2);
 
     #[cfg(avr_atmega2560)]
     const CHIP: &str = "atmega2560";
@@ -229,6 +241,20 @@ mod firmware {
             pulses == u16::from(ANEMOMETER_PULSES) && after == 0,
         );
 
+        // The Uno servo tracker's parts; the PWM runs on to the end.
+        #[cfg(not(avr_atmega2560))]
+        let _pwm = uno_parts::pwm(&mut out, dp.TC1, &portb);
+        #[cfg(not(avr_atmega2560))]
+        uno_parts::adc(&mut out, dp.ADC);
+        #[cfg(not(avr_atmega2560))]
+        uno_parts::encoders(
+            &mut out,
+            anemometer.release(),
+            &pulse_port,
+            &mut delay,
+            &dp.CPU,
+        );
+
         // The watchdog, fed every 0.5 s for 2.5 s (a reset would restart
         // the log from the banner).
         let mut watchdog = Watchdog::enable(dp.WDT, &dp.CPU);
@@ -256,6 +282,192 @@ mod firmware {
         out.text("selftest done\n");
         out.flush_all();
         halt()
+    }
+
+    /// ATmega328P: the Uno servo tracker's board parts.
+    #[cfg(not(avr_atmega2560))]
+    mod uno_parts {
+        use drivers::encoder::SharedEncoder;
+        use drivers::servo::{ContinuousServo, ServoConfig};
+        use embedded_hal::delay::DelayNs;
+        use embedded_hal::pwm::SetDutyCycle;
+        use suntracker::board::avr::{
+            chip, millis, sleep_until_interrupt, Adc, AdcError, Delay, PinChangeEncoders, Port,
+            PulseWidth, PwmError, Timer1Pwm, Usart0, ADC_CHANNELS, FRAME_TOP, FRAME_US, MAX_DUTY,
+        };
+        use suntracker::log::Sink;
+
+        use super::check;
+
+        /// The FS5106R's pulses (FEETECH's control range): 700 / 1,500 /
+        /// 2,300 µs, 50 Hz.
+        const FS5106R: ServoConfig = ServoConfig {
+            period_us: FRAME_US,
+            min_pulse_us: 700,
+            neutral_us: 1_500,
+            max_pulse_us: 2_300,
+        };
+        /// OC1B's pulse after the start: 1,750 µs (half speed forward).
+        const OC1B_PULSE_US: u32 = 1_750;
+        /// The ADC input the harness feeds.
+        const ADC_CHANNEL: u8 = 0;
+        /// Polls before the self-test gives up on a conversion (one takes
+        /// 25 ADC clocks at most, 3,200 CPU cycles; a poll takes more than
+        /// 4).
+        const ADC_MAX_POLLS: u32 = 10_000;
+        /// Edges the self-test drives on its own pins: C forward, A
+        /// backward (multiples of 4: both end at levels 00, where they
+        /// started).
+        const OWN_EDGES_C: u8 = 12;
+        const OWN_EDGES_A: u8 = 8;
+        /// The encoders' bits in PORTD: C on PD4/PD5, A on PD6/PD7.
+        const C_A: u8 = 1 << 4;
+        const C_B: u8 = 1 << 5;
+        const A_A: u8 = 1 << 6;
+        const A_B: u8 = 1 << 7;
+        /// How long the encoders count external edges.
+        const COUNT_WINDOW_MS: u64 = 1_000;
+
+        /// Starts the 50 Hz frames at neutral on both channels, then
+        /// OC1B at 1,750 µs, through the servo driver.
+        pub fn pwm(out: &mut Usart0, tc1: chip::TC1, portb: &chip::PORTB) -> Timer1Pwm {
+            let mut pwm = Timer1Pwm::start(
+                tc1,
+                portb,
+                PulseWidth::NEUTRAL_1500_US,
+                PulseWidth::NEUTRAL_1500_US,
+            );
+            let refused_pulses = PulseWidth::from_us(0) == Err(PwmError::PulseOutOfRange)
+                && PulseWidth::from_us(FRAME_US + 1) == Err(PwmError::PulseOutOfRange);
+            let (mut oc1a, oc1b) = pwm.channels();
+            let refused_duty = oc1a.set_duty_cycle(MAX_DUTY + 1) == Err(PwmError::DutyOutOfRange);
+            let max_duty = oc1a.max_duty_cycle();
+            let servo_a = ContinuousServo::new(oc1a, FS5106R);
+            let servo_b = ContinuousServo::new(oc1b, FS5106R)
+                .and_then(|mut s| s.set_pulse_us(OC1B_PULSE_US).map(|()| s));
+            let pulse_a = servo_a.as_ref().map_or(0, |s| s.pulse_us());
+            let pulse_b = servo_b.as_ref().map_or(0, |s| s.pulse_us());
+            out.text("pwm: Timer1 TOP=");
+            out.u32(u32::from(FRAME_TOP));
+            out.text(" max_duty=");
+            out.u32(u32::from(max_duty));
+            out.text(" OC1A(PB1)=");
+            out.u32(pulse_a);
+            out.text(" us OC1B(PB2)=");
+            out.u32(pulse_b);
+            out.text(" us, out of range refused");
+            check(
+                out,
+                refused_pulses
+                    && refused_duty
+                    && max_duty == MAX_DUTY
+                    && pulse_a == FS5106R.neutral_us
+                    && pulse_b == OC1B_PULSE_US,
+            );
+            pwm
+        }
+
+        /// One conversion of ADC0, its code logged; a channel out of range
+        /// and a start while busy refused.
+        pub fn adc(out: &mut Usart0, adc: chip::ADC) {
+            let mut adc = Adc::new(adc);
+            let refused = adc.start(ADC_CHANNELS) == Err(AdcError::NoSuchChannel(ADC_CHANNELS));
+            let started = adc.start(ADC_CHANNEL).is_ok();
+            let busy = adc.start(ADC_CHANNEL) == Err(AdcError::Busy) && adc.is_busy();
+            let mut code = None;
+            let mut polls = 0u32;
+            while code.is_none() && polls < ADC_MAX_POLLS {
+                code = adc.poll();
+                polls += 1;
+            }
+            let once = adc.poll().is_none();
+            out.text("adc: ADC0 code=");
+            match code {
+                Some(c) => out.u32(u32::from(c)),
+                None => out.text("none"),
+            }
+            out.text(", channel 8 refused, start while busy refused");
+            check(out, refused && started && busy && code.is_some() && once);
+            let _ = adc.release();
+        }
+
+        fn counts(out: &mut Usart0, c: &SharedEncoder, a: &SharedEncoder) {
+            out.text("C count=");
+            out.i32(c.count());
+            out.text(" errors=");
+            out.u32(c.errors());
+            out.text(", A count=");
+            out.i32(a.count());
+            out.text(" errors=");
+            out.u32(a.errors());
+        }
+
+        /// The pin of encoder channel pair (`a_bit`, `b_bit`) that one step
+        /// from Gray state `k` (0..3: 00, 10, 11, 01) toggles: forward, A
+        /// from an even state, B from an odd one; backward the other.
+        fn step_bit(k: u8, forward: bool, a_bit: u8, b_bit: u8) -> u8 {
+            if (k % 2 == 0) == forward {
+                a_bit
+            } else {
+                b_bit
+            }
+        }
+
+        /// Feeds both encoders from their own pins, then counts external
+        /// edges for [`COUNT_WINDOW_MS`].
+        pub fn encoders(
+            out: &mut Usart0,
+            exint: chip::EXINT,
+            portd: &chip::PORTD,
+            delay: &mut Delay,
+            cpu: &chip::CPU,
+        ) {
+            let encoders = PinChangeEncoders::start(&exint, portd, false);
+            let (c, a) = (encoders.encoder_c(), encoders.encoder_a());
+            let pins = C_A | C_B | A_A | A_B;
+            // Outputs at the present (input) levels, 00 after reset.
+            portd.set_port(pins, false);
+            portd.set_ddr(pins, true);
+            for step in 0..OWN_EDGES_C.max(OWN_EDGES_A) {
+                let mut toggle = 0u8;
+                if step < OWN_EDGES_C {
+                    toggle |= step_bit(step % 4, true, C_A, C_B);
+                }
+                if step < OWN_EDGES_A {
+                    // Backward from state 0 - step.
+                    toggle |= step_bit((4 - step % 4) % 4, false, A_A, A_B);
+                }
+                // One write: both encoders' edges in one interrupt.
+                portd.toggle(toggle);
+                delay.delay_us(20);
+            }
+            let own_ok = c.count() == i32::from(OWN_EDGES_C)
+                && a.count() == -i32::from(OWN_EDGES_A)
+                && c.errors() == 0
+                && a.errors() == 0
+                && portd.pin() & pins == 0;
+            out.text("encoders: own pins PD4/PD5 +");
+            out.u32(u32::from(OWN_EDGES_C));
+            out.text(", PD6/PD7 -");
+            out.u32(u32::from(OWN_EDGES_A));
+            out.text(" -> ");
+            counts(out, c, a);
+            check(out, own_ok);
+            // Inputs again (no pull-up: the harness drives the levels),
+            // counts from zero.
+            portd.set_ddr(pins, false);
+            c.set_count(0);
+            a.set_count(0);
+            out.text("encoders: inputs, counting for 1000 ms\n");
+            let start_ms = millis();
+            while millis().saturating_sub(start_ms) < COUNT_WINDOW_MS {
+                sleep_until_interrupt(cpu);
+            }
+            out.text("encoders: after 1000 ms ");
+            counts(out, c, a);
+            out.text("\n");
+            encoders.stop(&exint);
+        }
     }
 
     /// Interrupts off, sleep: simavr ends the simulation there.

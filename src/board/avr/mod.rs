@@ -13,6 +13,9 @@
 //! | Timer0 | [`Millis`] | 1 kHz tick, [`millis`] |
 //! | INTn | [`Anemometer`] | falling-edge pulse count |
 //! | WDT | [`Watchdog`] | ~2 s, [`Watchdog::feed`] |
+//! | Timer1, fast PWM mode 14, 50 Hz | [`Timer1Pwm`]: [`Oc1a`], [`Oc1b`] | `embedded_hal::pwm::SetDutyCycle` (max duty 40,000 = one 0.5 µs count per duty step) |
+//! | PCINT23:16 (PD4–PD7; PK4–PK7 on the 2560) | [`PinChangeEncoders`] | two `drivers::encoder::SharedEncoder`s (`crate::hw::EncoderCount`) |
+//! | ADC, AVcc reference, 125 kHz | [`Adc`] | [`Adc::start`] / [`Adc::poll`], no waiting |
 //!
 //! Interrupts: the layer defines no interrupt vector itself (an image that
 //! does not use a part keeps its vector and its flash); an image binds the
@@ -21,23 +24,53 @@
 //! in the image, after every part is set up).
 //!
 //! `unsafe` in this module: only raw register writes (`W::bits`) to
-//! registers whose every bit pattern is valid, and the receive interrupts'
+//! registers whose every bit pattern is valid, the receive interrupts'
 //! access to the data register of a USART that the interrupt's owner
-//! configured; each block carries a SAFETY comment.
+//! configured, and the pin-change handler's read of the encoder port's
+//! input register; each block carries a SAFETY comment.
 //!
-//! RAM: the layer's statics are 143 B (USART0 ring 133 B, plus 133 B for
-//! USART1's when used; millis 8 B; anemometer 2 B). avr-gcc keeps constant
+//! The encoder handler ([`on_encoder_pin_change`], vector PCINT2), counted
+//! by hand from the disassembly of the ATmega328P self-test
+//! (`avr-objdump -d`, `__vector_5` and `SharedEncoder::update`; cycles per
+//! instruction from the AVR Instruction Set Manual): 203 cycles from its
+//! first instruction to RETI for one encoder's edge (202–204 by direction;
+//! 314–315 when both encoders changed, 345 at worst with two illegal
+//! transitions, 92 for a change that went away), plus 7 to enter it (4 for
+//! the interrupt response, 3 for the vector's JMP; 4 more out of sleep):
+//! 210 cycles, 13.1 µs, per edge. simavr, stepping the handler one
+//! instruction at a time, agrees: 203 and 314 (`emu/tests/uno_board_smoke.rs`).
+//! The pins are read 44 cycles (2.75 µs) after the interrupt is taken. So:
+//!
+//! * throughput: 16 MHz / 210 = 76,000 edges/s over both encoders with the
+//!   CPU doing nothing else (38,000 edges/s at half the CPU);
+//! * spacing: two edges of one encoder must be further apart than the time
+//!   to that read — 44 cycles plus the longest stretch with interrupts off
+//!   elsewhere (the Timer0 tick's handler: 105 cycles; 150 in all, 9.4 µs),
+//!   or the decoder sees both channels changed (an error, no count);
+//! * the seed's servo at 95 rpm with a 300-line encoder on its shaft gives
+//!   4 · 300 · 95 / 60 = 1,900 edges/s per axis: 3,800 edges/s, 5 % of the
+//!   CPU, edges 526 µs apart. `emu/tests/uno_board_smoke.rs` drives both
+//!   encoders at that rate and at ten times it (19,000 edges/s each) and
+//!   every edge is counted.
+//!
+//! RAM: the layer's statics are 162 B (USART0 ring 133 B, plus 133 B for
+//! USART1's when used; millis 8 B; anemometer 2 B; the two encoders 18 B
+//! and their last pin levels 1 B, plus `drivers::encoder`'s 16-byte
+//! transition table when they are used; `avr-nm -S`). avr-gcc keeps constant
 //! data in RAM (`.data`), so a driver's tables cost RAM, not only flash:
 //! `drivers::compass::wmm`'s WMM2025 coefficients in `f64` take 3 KB, and
 //! `drivers::gps` through the `nmea` crate brings core's float-parsing
 //! tables (12 KB) — more than the 2560's 8 KiB.
 #![allow(unsafe_code)]
 
+mod adc;
 mod anemometer;
 mod clock;
 mod delay;
 pub mod eeprom;
 mod gpio;
+mod pcint;
+mod pwm;
 mod serial;
 mod twi;
 mod watchdog;
@@ -47,10 +80,15 @@ pub use avr_device::atmega2560 as chip;
 #[cfg(not(avr_atmega2560))]
 pub use avr_device::atmega328p as chip;
 
+pub use adc::{Adc, AdcError, ADC_CHANNELS, ADC_MAX_CODE};
 pub use anemometer::{on_anemometer_edge, Anemometer, ExtInt};
 pub use clock::{millis, on_timer0_compare, sleep_until_interrupt, Millis, MS_PER_TICK};
 pub use delay::Delay;
 pub use gpio::{InputPin, OpenDrainPin, OutputPin, Port, PortInputPin, PortOutputPin};
+pub use pcint::{on_encoder_pin_change, EncoderPort, PinChangeEncoders};
+pub use pwm::{
+    Oc1a, Oc1b, PulseWidth, PwmError, Timer1Pwm, COUNTS_PER_US, FRAME_TOP, FRAME_US, MAX_DUTY,
+};
 pub use serial::{on_usart0_rx, SerialError, Usart0};
 #[cfg(avr_atmega2560)]
 pub use serial::{on_usart1_rx, Usart1};
@@ -67,7 +105,8 @@ pub const CPU_HZ: u32 = 16_000_000;
 /// * `usart0` — USART0 RX complete (vector `USART_RX` on the 328P) → [`Usart0`];
 /// * `usart1` — USART1 RX complete (2560 only) → [`Usart1`];
 /// * `int0` … `int7` — the external interrupt the [`Anemometer`] listens on
-///   (`int0`, `int1` on the 328P).
+///   (`int0`, `int1` on the 328P);
+/// * `pcint2` — PCINT2 (pins PCINT23:16) → [`PinChangeEncoders`].
 ///
 /// ```ignore
 /// suntracker::avr_board_interrupts!(timer0, usart0);
@@ -115,6 +154,14 @@ macro_rules! __avr_board_isr {
         #[allow(non_snake_case)]
         fn USART1_RX() {
             $crate::board::avr::on_usart1_rx();
+        }
+    };
+    (pcint2) => {
+        #[cfg_attr(avr_atmega2560, avr_device::interrupt(atmega2560))]
+        #[cfg_attr(not(avr_atmega2560), avr_device::interrupt(atmega328p))]
+        #[allow(non_snake_case)]
+        fn PCINT2() {
+            $crate::board::avr::on_encoder_pin_change();
         }
     };
     (int0) => { $crate::__avr_board_isr!(@ext INT0); };
