@@ -2,7 +2,14 @@
 //! - puts the selected board's memory map where the root `memory.x` (which
 //!   `link.x` of cortex-m-rt includes) looks for it;
 //! - turns `data/postal_codes.csv` into the sorted no_std postal-code table
-//!   `$OUT_DIR/postal_table.rs` (format in `src/site/postal.rs`).
+//!   `$OUT_DIR/postal_table.rs` (format in `src/site/postal.rs`);
+//! - on AVR, links avr-gcc's assembler 32-bit division (libgcc's
+//!   `__udivmodsi4`, 68 B, and `__divmodsi4`) in place of compiler_builtins'
+//!   generic Rust one (weak symbols, 1.2 KB): LLVM's AVR back end calls
+//!   these with libgcc's own register convention, which compiler_builtins
+//!   copies. Linking all of libgcc with `--whole-archive` (as avr-libc's
+//!   libm is) fails on libgcc's duplicate fixed-point aliases, so only the
+//!   two members are taken out of it.
 
 use std::env;
 use std::fmt::Write as _;
@@ -33,6 +40,9 @@ fn main() {
         fs::copy("memory.x", out.join("memory.x")).expect("copy memory.x to OUT_DIR");
         println!("cargo:rustc-link-search={}", out.display());
     }
+    if target.starts_with("avr") {
+        link_libgcc_division(&out);
+    }
     println!("cargo:rerun-if-changed=boards");
     println!("cargo:rerun-if-changed=memory.x");
     println!("cargo:rerun-if-changed=build.rs");
@@ -41,6 +51,56 @@ fn main() {
     let csv = fs::read_to_string(POSTAL_CSV).expect("read data/postal_codes.csv");
     let table = postal_table(&csv).unwrap_or_else(|e| panic!("{POSTAL_CSV}: {e}"));
     fs::write(out.join("postal_table.rs"), table).expect("write postal_table.rs");
+}
+
+/// The `-C target-cpu=` of this build (the AVR part: its libgcc multilib);
+/// the last one given wins, as for rustc (boards/mega2560's config adds its
+/// own after the root's).
+fn target_cpu() -> Option<String> {
+    let flags = env::var("CARGO_ENCODED_RUSTFLAGS").unwrap_or_default();
+    let mut args = flags.split('\x1f');
+    let mut cpu = None;
+    while let Some(a) = args.next() {
+        let value = match a.strip_prefix("-C") {
+            Some("") => args.next().unwrap_or_default(),
+            Some(rest) => rest,
+            None => continue,
+        };
+        if let Some(c) = value.strip_prefix("target-cpu=") {
+            cpu = Some(c.to_string());
+        }
+    }
+    cpu
+}
+
+/// Extracts libgcc's 32-bit division members for this part into `out` and
+/// links them as objects (strong symbols over compiler_builtins' weak ones).
+fn link_libgcc_division(out: &std::path::Path) {
+    use std::process::Command;
+    let cpu = target_cpu().unwrap_or_else(|| "atmega328p".to_string());
+    let libgcc = Command::new("avr-gcc")
+        .arg(format!("-mmcu={cpu}"))
+        .arg("-print-libgcc-file-name")
+        .output()
+        .expect("avr-gcc (Debian gcc-avr) links the AVR images: run it to find libgcc");
+    let libgcc = String::from_utf8(libgcc.stdout).expect("libgcc path is UTF-8");
+    let libgcc = libgcc.trim();
+    let dir = out.join(format!("libgcc-{cpu}"));
+    fs::create_dir_all(&dir).expect("create the libgcc member directory");
+    // `__divmodsi4` negates through `__negsi2`: objects come after `-lgcc`
+    // on the link line, so it is taken out too.
+    let members = ["_udivmodsi4.o", "_divmodsi4.o", "_negsi2.o"];
+    let status = Command::new("avr-ar")
+        .current_dir(&dir)
+        .arg("x")
+        .arg(libgcc)
+        .args(members)
+        .status()
+        .expect("avr-ar (Debian binutils-avr) extracts libgcc's division");
+    assert!(status.success(), "avr-ar x {libgcc} {members:?} failed");
+    for m in members {
+        println!("cargo:rustc-link-arg={}", dir.join(m).display());
+    }
 }
 
 /// Coordinate in units of 1e-4 degree, checked to fit 24 bits.

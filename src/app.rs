@@ -130,6 +130,20 @@ where
     }
 }
 
+/// A servo axis closes its loop on the encoder once per pass (the
+/// drivers' proportional controller; the servo takes the new pulse width
+/// at its next 20 ms frame).
+impl<P, E, H> Motion for crate::hw::ServoAxis<'_, P, E, H>
+where
+    P: embedded_hal::pwm::SetDutyCycle,
+    E: crate::hw::EncoderCount,
+    H: embedded_hal::digital::InputPin,
+{
+    fn service(&mut self, _now_us: u64) -> bool {
+        self.poll().is_ok()
+    }
+}
+
 /// Longest pass after which a GPS fix decoded in the next pass keeps its
 /// stamp (the moment it was decoded): 50 ms, a few ticks of a loop that
 /// wakes every millisecond. After a longer pass (a day plan's step, the

@@ -121,7 +121,8 @@ impl FlashStr {
     }
 
     /// Copies the text into `buf` `CHUNK` bytes at a time and hands each
-    /// piece to `f` (every piece is ASCII, so valid UTF-8).
+    /// piece to `f` (every piece is ASCII, so valid UTF-8; a byte that is
+    /// not, which `flash_str!`'s texts never have, becomes `?`).
     pub fn for_each_chunk(self, mut f: impl FnMut(&str)) {
         #[cfg(target_arch = "avr")]
         {
@@ -131,11 +132,17 @@ impl FlashStr {
             while at < self.len() {
                 let n = (self.len() - at).min(CHUNK);
                 for (k, slot) in buf.iter_mut().take(n).enumerate() {
-                    *slot = self.byte(at + k).unwrap_or(b'?');
+                    *slot = match self.byte(at + k) {
+                        Some(b) if b.is_ascii() => b,
+                        _ => b'?',
+                    };
                 }
-                if let Ok(s) = core::str::from_utf8(buf.get(..n).unwrap_or(&[])) {
-                    f(s);
-                }
+                let piece = buf.get(..n).unwrap_or(&[]);
+                // SAFETY: every byte is ASCII (below 0x80, just checked),
+                // and ASCII is valid UTF-8. (`core::str::from_utf8` would
+                // check it again and bring its 256-byte UTF-8 width table,
+                // which avr-gcc keeps in RAM.)
+                f(unsafe { core::str::from_utf8_unchecked(piece) });
                 at += n;
             }
         }

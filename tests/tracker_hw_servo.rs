@@ -3,7 +3,8 @@
 //! would feed) and `drivers::servo::PositionController`, through
 //! `hw::ServoAxis`, closed loop in the whole controller over a Kano day.
 //!
-//! The PWM channel and the encoder lines are a small servo model: the pulse
+//! The PWM channel and the encoder lines are the servo model of
+//! `tracker_hw_common::servo`: the pulse
 //! width sets the motor speed (FS5106R class, seed chowdhury-2019: 1.5 ms
 //! stop, ±0.5 ms full speed, taken here as 400°/s at the motor, ±8 µs
 //! dead zone), the motor turns a 300-line encoder (YMT22 class; ×4 = 1200
@@ -14,13 +15,10 @@
 mod tracker_hw_common;
 
 use std::cell::RefCell;
-use std::convert::Infallible;
 use std::rc::Rc;
 
 use drivers::encoder::SharedEncoder;
 use drivers::servo::{ContinuousServo, PositionController, ServoConfig};
-use embedded_hal::digital::{ErrorType as PinErrorType, InputPin};
-use embedded_hal::pwm::{ErrorType as PwmErrorType, SetDutyCycle};
 use sun_algos::{Algorithm, Options, Site};
 use suntracker::axis::{AxisController, AxisDrive, FeedbackMode, HomeState};
 use suntracker::config::{AxisConfig, Config};
@@ -31,98 +29,25 @@ use suntracker::scheduler::Phase;
 use suntracker::sim::sensors::MountSensors;
 use suntracker::traits::AlgorithmSource;
 use tracker_hw_common::motor::{angle_deg, below_reach_deg, normal_xyz, sun_xyz, utc_at, TOL_DEG};
+use tracker_hw_common::servo::{Pwm, ServoModel, ServoSpec, Switch};
 
 const EDGES_PER_MOTOR_REV: u32 = 1200;
 const GEAR: f64 = 100.0;
 const MOTOR_DEG_PER_EDGE: f64 = 360.0 / EDGES_PER_MOTOR_REV as f64;
-const MOTOR_TOP_SPEED_DEG_S: f64 = 400.0;
-/// Forward Gray sequence (A leads B): 00, 10, 11, 01.
-const GRAY: [(bool, bool); 4] = [(false, false), (true, false), (true, true), (false, true)];
 
-#[derive(Debug)]
-struct ServoModel {
-    pulse_us: u32,
-    min_pulse_us: u32,
-    max_pulse_us: u32,
-    motor_deg: f64,
-    start_deg: f64,
-    switch_deg: f64,
-}
-
-impl ServoModel {
-    fn new(start_deg: f64, switch_deg: f64) -> Rc<RefCell<ServoModel>> {
-        Rc::new(RefCell::new(ServoModel {
-            pulse_us: 1500,
-            min_pulse_us: u32::MAX,
-            max_pulse_us: 0,
-            motor_deg: 0.0,
-            start_deg,
-            switch_deg,
-        }))
-    }
-
-    fn output_deg(&self) -> f64 {
-        self.start_deg + self.motor_deg / GEAR
-    }
-
-    /// Runs `dt_s` at the commanded speed, feeding every encoder edge.
-    fn advance(&mut self, dt_s: f64, encoder: &SharedEncoder) {
-        let off = f64::from(self.pulse_us) - 1500.0;
-        let speed = if off.abs() <= 8.0 {
-            0.0
-        } else {
-            (off / 500.0).clamp(-1.0, 1.0) * MOTOR_TOP_SPEED_DEG_S
-        };
-        // Hard stop 1° past the switch.
-        let lowest_motor = (self.switch_deg - 1.0 - self.start_deg) * GEAR;
-        let new = (self.motor_deg + speed * dt_s).max(lowest_motor);
-        let mut n = (self.motor_deg / MOTOR_DEG_PER_EDGE).floor() as i64;
-        let n_new = (new / MOTOR_DEG_PER_EDGE).floor() as i64;
-        while n != n_new {
-            n += (n_new - n).signum();
-            let (a, b) = GRAY[n.rem_euclid(4) as usize];
-            encoder.update(a, b);
-        }
-        self.motor_deg = new;
-    }
-}
-
-/// A PWM channel at 50 Hz with 1 µs per duty step.
-struct Pwm(Rc<RefCell<ServoModel>>);
-
-impl PwmErrorType for Pwm {
-    type Error = Infallible;
-}
-
-impl SetDutyCycle for Pwm {
-    fn max_duty_cycle(&self) -> u16 {
-        20_000
-    }
-    fn set_duty_cycle(&mut self, duty: u16) -> Result<(), Infallible> {
-        let mut m = self.0.borrow_mut();
-        m.pulse_us = u32::from(duty);
-        m.min_pulse_us = m.min_pulse_us.min(m.pulse_us);
-        m.max_pulse_us = m.max_pulse_us.max(m.pulse_us);
-        Ok(())
-    }
-}
-
-/// The home switch, closed = high.
-struct Switch(Rc<RefCell<ServoModel>>);
-
-impl PinErrorType for Switch {
-    type Error = Infallible;
-}
-
-impl InputPin for Switch {
-    fn is_high(&mut self) -> Result<bool, Infallible> {
-        let m = self.0.borrow();
-        Ok(m.output_deg() <= m.switch_deg)
-    }
-    fn is_low(&mut self) -> Result<bool, Infallible> {
-        self.is_high().map(|h| !h)
-    }
-}
+/// An FS5106R-class servo as these tests take it: ±0.5 ms full speed,
+/// 400°/s at the motor, ±8 µs dead zone, a 300-line encoder on the motor
+/// and a 100:1 gear; the pulse acts at once; 1 µs per duty step.
+const SPEC: ServoSpec = ServoSpec {
+    neutral_us: 1_500.0,
+    dead_us: 8.0,
+    full_us: 500.0,
+    top_speed_deg_s: 400.0,
+    gear: GEAR,
+    edges_per_rev: EDGES_PER_MOTOR_REV,
+    frame_s: None,
+    duty_per_us: 1.0,
+};
 
 type Axis<'a> = ServoAxis<'a, Pwm, SharedEncoder, Switch>;
 
@@ -155,14 +80,11 @@ fn servo_axis<'a>(
     cfg: &AxisConfig,
 ) -> Axis<'a> {
     let servo = ContinuousServo::new(Pwm(Rc::clone(model)), ServoConfig::STANDARD_50HZ).unwrap();
-    ServoAxis::new(
-        servo,
-        encoder,
-        Switch(Rc::clone(model)),
-        false,
-        control(),
-        cfg,
-    )
+    let switch = Switch {
+        model: Rc::clone(model),
+        active_low: false,
+    };
+    ServoAxis::new(servo, encoder, switch, false, control(), cfg)
 }
 
 /// Polls every millisecond until the axis is on target (speed 0, nothing
@@ -182,7 +104,7 @@ fn run(axis: &mut Axis, model: &Rc<RefCell<ServoModel>>, enc: &SharedEncoder, ma
 
 #[test]
 fn a_move_settles_within_one_count() {
-    let model = ServoModel::new(0.0, -180.0);
+    let model = ServoModel::new(SPEC, 0.0, -180.0);
     let enc = SharedEncoder::new();
     let cfg = axis_config(-180.0, 180.0);
     let mut axis = servo_axis(&model, &enc, &cfg);
@@ -202,12 +124,12 @@ fn a_move_settles_within_one_count() {
     assert_eq!(enc.errors(), 0);
     let m = model.borrow();
     assert!((m.output_deg() - 10.0).abs() <= 2.0 * MOTOR_DEG_PER_EDGE / GEAR);
-    assert!(m.min_pulse_us >= 1000 && m.max_pulse_us <= 2000);
+    assert!(m.min_pulse_us >= 1000.0 && m.max_pulse_us <= 2000.0);
 }
 
 #[test]
 fn homing_gives_the_encoder_its_reference() {
-    let model = ServoModel::new(-150.0, -180.0);
+    let model = ServoModel::new(SPEC, -150.0, -180.0);
     let enc = SharedEncoder::new();
     let cfg = axis_config(-180.0, 180.0);
     let mut ax = AxisController::new(servo_axis(&model, &enc, &cfg), cfg);
@@ -242,8 +164,8 @@ fn homing_gives_the_encoder_its_reference() {
 
 #[test]
 fn closed_loop_day_on_servo_axes() {
-    let c_model = ServoModel::new(0.0, -180.0);
-    let a_model = ServoModel::new(30.0, -90.0);
+    let c_model = ServoModel::new(SPEC, 0.0, -180.0);
+    let a_model = ServoModel::new(SPEC, 30.0, -90.0);
     let (c_enc, a_enc) = (SharedEncoder::new(), SharedEncoder::new());
     let config = Config {
         axes: [axis_config(-180.0, 180.0), axis_config(-90.0, 90.0)],

@@ -66,13 +66,17 @@ impl<E: core::fmt::Debug> core::error::Error for Error<E> {}
 /// let bad = ServoConfig { neutral_us: 1_000, ..ServoConfig::STANDARD_50HZ };
 /// let mut pwm = Mock::new(&[]);
 /// assert!(matches!(ContinuousServo::new(pwm.clone(), bad), Err(Error::InvalidConfig)));
+/// // So is a period over MAX_PERIOD_US (65,535 µs).
+/// let slow = ServoConfig { period_us: 70_000, ..ServoConfig::STANDARD_50HZ };
+/// assert!(matches!(ContinuousServo::new(pwm.clone(), slow), Err(Error::InvalidConfig)));
 /// pwm.done();
 /// ```
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 #[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
 pub struct ServoConfig {
-    /// PWM period, µs (20 000 at 50 Hz). The PWM channel must run at this period.
+    /// PWM period, µs (20 000 at 50 Hz), at most [`MAX_PERIOD_US`]. The PWM
+    /// channel must run at this period.
     pub period_us: u32,
     /// Pulse for full speed backward, µs.
     pub min_pulse_us: u32,
@@ -103,8 +107,15 @@ impl ServoConfig {
             && self.min_pulse_us < self.neutral_us
             && self.neutral_us < self.max_pulse_us
             && self.max_pulse_us <= self.period_us
+            && self.period_us <= MAX_PERIOD_US
     }
 }
+
+/// Longest PWM period accepted, µs (65.5 ms; hobby servos take 20 ms
+/// frames). It keeps the pulse-to-duty arithmetic in 32 bits: pulse ≤
+/// period ≤ 65,535 and duty ≤ 65,535 give a product under 2³², and an
+/// 8-bit MCU needs no 64-bit division routine for it.
+pub const MAX_PERIOD_US: u32 = u16::MAX as u32;
 
 /// A continuous-rotation servo on one PWM channel.
 ///
@@ -230,9 +241,12 @@ impl<P: SetDutyCycle> ContinuousServo<P> {
         if pulse_us < self.config.min_pulse_us || pulse_us > self.config.max_pulse_us {
             return Err(Error::PulseOutOfRange);
         }
-        let num =
-            u64::from(pulse_us) * u64::from(self.max_duty) + u64::from(self.config.period_us / 2);
-        let duty = num / u64::from(self.config.period_us.max(1));
+        // pulse ≤ period ≤ MAX_PERIOD_US (checked by `new`) and max duty ≤
+        // 65,535: the sum stays under 2³² (see MAX_PERIOD_US).
+        let num = pulse_us
+            .saturating_mul(u32::from(self.max_duty))
+            .saturating_add(self.config.period_us / 2);
+        let duty = num / self.config.period_us.max(1);
         let duty = u16::try_from(duty)
             .unwrap_or(self.max_duty)
             .min(self.max_duty);
@@ -266,17 +280,20 @@ impl<P: SetDutyCycle> ContinuousServo<P> {
         if !speed.is_finite() {
             return Err(Error::InvalidSpeed);
         }
+        // Constant bounds: clamp's bound check folds away.
         let s = speed.clamp(-1.0, 1.0);
         let c = self.config;
+        // min < neutral < max ≤ period ≤ MAX_PERIOD_US (checked by `new`):
+        // spans and pulses fit an i32.
         let span = if s >= 0.0 {
-            c.max_pulse_us - c.neutral_us
+            c.max_pulse_us.saturating_sub(c.neutral_us)
         } else {
-            c.neutral_us - c.min_pulse_us
+            c.neutral_us.saturating_sub(c.min_pulse_us)
         };
-        let offset = libm::roundf(s * span as f32) as i64;
-        let pulse = (i64::from(c.neutral_us) + offset)
-            .clamp(i64::from(c.min_pulse_us), i64::from(c.max_pulse_us));
-        self.set_pulse_us(u32::try_from(pulse).unwrap_or(c.neutral_us))
+        let offset = libm::roundf(s * span as f32) as i32;
+        let neutral = i32::try_from(c.neutral_us).unwrap_or(i32::MAX);
+        let pulse = u32::try_from(neutral.saturating_add(offset)).unwrap_or(c.neutral_us);
+        self.set_pulse_us(pulse.max(c.min_pulse_us).min(c.max_pulse_us))
     }
 
     /// Outputs the neutral pulse.
@@ -401,11 +418,16 @@ impl PositionController {
         if !self.is_valid() {
             return 0.0;
         }
-        let e = i64::from(target_counts) - i64::from(measured_counts);
-        if e.unsigned_abs() <= u64::from(self.deadband_counts) {
+        // Saturating: an error beyond the i32 range commands full speed all
+        // the same.
+        let e = target_counts.saturating_sub(measured_counts);
+        if e.unsigned_abs() <= self.deadband_counts {
             return 0.0;
         }
-        let raw = (self.kp_per_count * e as f32).clamp(-self.max_speed, self.max_speed);
+        // max/min, not clamp: no panic path (valid gains: max_speed ≥ 0).
+        let raw = (self.kp_per_count * e as f32)
+            .max(-self.max_speed)
+            .min(self.max_speed);
         if raw.abs() < self.min_speed {
             self.min_speed.copysign(raw)
         } else {

@@ -62,7 +62,8 @@ pub struct ServoAxis<'a, P, E, H> {
     home: H,
     home_active_low: bool,
     control: PositionController,
-    target: i64,
+    /// Target encoder count (saturating at the `i32` range, as the count).
+    target: i32,
     count_at_switch: Option<i32>,
     home_deg: f32,
     counts_per_deg: f32,
@@ -91,7 +92,7 @@ where
             home,
             home_active_low,
             control,
-            target: i64::from(encoder.count()),
+            target: encoder.count(),
             count_at_switch: None,
             home_deg: axis.home_deg,
             counts_per_deg: if cpd.is_finite() && cpd > 0.0 {
@@ -116,11 +117,9 @@ where
     /// input does). Returns the speed commanded, −1..1.
     pub fn poll(&mut self) -> Result<f32, ServoAxisError<P::Error, H::Error>> {
         let count = self.encoder.count();
-        let target = i32::try_from(self.target.clamp(i64::from(i32::MIN), i64::from(i32::MAX)))
-            .unwrap_or(count);
-        let mut speed = self.control.update(target, count);
+        let mut speed = self.control.update(self.target, count);
         if speed < 0.0 && self.switch_closed()? {
-            self.target = i64::from(count);
+            self.target = count;
             speed = 0.0;
         }
         self.servo.set_speed(speed).map_err(ServoAxisError::Servo)?;
@@ -133,7 +132,7 @@ where
     }
 
     /// The target count.
-    pub fn target(&self) -> i64 {
+    pub fn target(&self) -> i32 {
         self.target
     }
 
@@ -157,22 +156,23 @@ where
     type Error = ServoAxisError<P::Error, H::Error>;
 
     fn move_counts(&mut self, counts: i32) -> Result<(), Self::Error> {
-        self.target = self.target.saturating_add(i64::from(counts));
+        self.target = self.target.saturating_add(counts);
         Ok(())
     }
 
     /// Counts to go, 0 once inside the controller's deadband.
     fn pending(&self) -> i32 {
-        let e = self.target - i64::from(self.encoder.count());
-        if e.unsigned_abs() <= u64::from(self.control.deadband_counts) {
+        // Saturating: both ends of the i32 range give the largest move.
+        let e = self.target.saturating_sub(self.encoder.count());
+        if e.unsigned_abs() <= self.control.deadband_counts {
             0
         } else {
-            i32::try_from(e).unwrap_or(if e > 0 { i32::MAX } else { i32::MIN })
+            e
         }
     }
 
     fn stop(&mut self) -> Result<(), Self::Error> {
-        self.target = i64::from(self.encoder.count());
+        self.target = self.encoder.count();
         self.servo.stop().map_err(ServoAxisError::Servo)
     }
 

@@ -156,3 +156,4 @@ impl embedded_io::ReadReady for MemSerial {
 pub mod host_io;
 pub mod motor;
 pub mod mount;
+pub mod servo;
