@@ -20,6 +20,8 @@ ELF_AVR_BENCH="$FW_TARGET_DIR/avr-none/release/avr_bench.elf"
 ELF_AVR_MEGA="$FW_TARGET_DIR/mega/avr-none/release/avr_mega_tracker.elf"
 ELF_AVR_MEGA_EMU="$FW_TARGET_DIR/mega-emu/avr-none/release/avr_mega_tracker.elf"
 ELF_AVR_UNO_EMU="$FW_TARGET_DIR/uno-emu/avr-none/release/avr_tracker.elf"
+ELF_AVR_UNO_PSA2020="$FW_TARGET_DIR/uno-psa2020/avr-none/release/avr_tracker.elf"
+ELF_AVR_SELFTEST_UNO="$FW_TARGET_DIR/avr-none/release/avr_board_selftest.elf"
 ELF_AVR_SELFTEST="$FW_TARGET_DIR/mega/avr-none/release/avr_board_selftest.elf"
 
 # The ATmega2560 flags: the same as .cargo/config.toml's avr-none flags but
@@ -43,7 +45,13 @@ build_blackpill_defmt() {
 }
 build_avr_uno() {
   cargo +nightly build --release --target avr-none -Z build-std=core --features uno \
-    --bin avr_tracker --bin avr_bench
+    --bin avr_tracker --bin avr_bench --bin avr_board_selftest
+}
+# The Uno image with psa-2020 instead of the seed's michalsky (a build
+# option): built and held to the same budget.
+build_avr_uno_psa2020() {
+  cargo +nightly build --release --target avr-none -Z build-std=core --features uno,psa2020 \
+    --bin avr_tracker --target-dir "$FW_TARGET_DIR/uno-psa2020"
 }
 build_avr_mega() {
   RUSTFLAGS="$AVR_MEGA_RUSTFLAGS" \
@@ -70,6 +78,7 @@ build_all_firmware() {
   build_blackpill
   build_blackpill_defmt
   build_avr_uno
+  build_avr_uno_psa2020
   build_avr_mega
   build_avr_mega_emu
   build_avr_uno_emu

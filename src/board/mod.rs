@@ -5,6 +5,7 @@
 #[cfg(target_arch = "avr")]
 pub mod avr;
 
+pub mod chowdhury2019;
 pub mod li2022;
 
 // The Arduino Mega 2560 tracker (ATmega2560 builds: `--cfg avr_atmega2560`).
