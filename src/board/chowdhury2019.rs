@@ -1,7 +1,7 @@
 //! Seed chowdhury-2019's closed-loop tracker, board-independent: its
 //! mechanics (two FEETECH FS5106R continuous-rotation servos, a YMT22
 //! optical encoder on each shaft) and its loop, over any RTC and any pair of
-//! closed-loop [`AxisDrive`]s. The Arduino Uno image ([`super::uno`]) runs
+//! closed-loop [`AxisDrive`]s. The Arduino Uno image (`board::uno`, AVR builds) runs
 //! it on the ATmega328P's peripherals; the host tests run it on models.
 //!
 //! The loop is the seed's (its §2 and flowchart), built from the library's
