@@ -60,7 +60,12 @@ impl PanelAdc {
         let total_ohm = u64::from(self.divider.r_top_ohm) + u64::from(self.divider.r_bottom_ohm);
         let num =
             (u64::from(code) * u64::from(self.vref_mv)).saturating_mul(total_ohm) >> self.bits;
-        let (mv, _) = div_rem(num, self.divider.r_bottom_ohm);
+        // In 32 bits when it fits (an Uno's: under 2^27), a few hundred
+        // cycles instead of the long division's 65,000 on an 8-bit part.
+        let mv = match u32::try_from(num) {
+            Ok(n) => u64::from(n / self.divider.r_bottom_ohm),
+            Err(_) => div_rem(num, self.divider.r_bottom_ohm).0,
+        };
         Ok(u32::try_from(mv).unwrap_or(u32::MAX))
     }
 }

@@ -17,7 +17,7 @@ use drivers::servo::ContinuousServo;
 use sun_algos::{Algorithm, Options, Site, UtcTime};
 use suntracker::board::chowdhury2019::{
     axis_configs, Branch, SeedTracker, ALGORITHM, ALGORITHM_NAME, COUNTS_PER_TURN, POSITION_LOOP,
-    SERVO, STALL_RETRY_MS,
+    SERVO, STALL_RETRY_MS, STALL_TIMEOUT_MS,
 };
 use suntracker::hw::ServoAxis;
 use suntracker::safety::Mode;
@@ -109,6 +109,18 @@ impl<'e> Bench<'e> {
                     break;
                 }
             }
+            self.now_ms += 1000;
+        }
+    }
+
+    /// Ticks `seconds` times, one a second, with no loop pass between
+    /// them: the servos get no pulse and turn nothing.
+    fn ticks_only(&mut self, seconds: u64) {
+        for _ in 0..seconds {
+            let utc = self.utc();
+            self.tracker.rtc_mut().advance(utc);
+            let mut out = self.log.clone();
+            self.tracker.tick(&mut out, self.now_ms, Some(0));
             self.now_ms += 1000;
         }
     }
@@ -334,6 +346,22 @@ fn a_servo_stalled_for_ten_minutes_raises_and_recovers() {
         "C at {} for {line}",
         b.decoded(0)
     );
+}
+
+#[test]
+fn a_move_from_rest_is_timed_from_its_command() {
+    // Settled at 09:00; then the next slot's move gets no loop pass for
+    // three ticks (under the stall timeout). The last motion was minutes
+    // before: timed from it, the move would count as stalled.
+    let encoders = [SharedEncoder::new(), SharedEncoder::new()];
+    let mut b = Bench::new(&encoders, "2026-03-20T08:50:00Z");
+    b.run(600, ramp_mv);
+    assert_eq!(b.tracker.mode(), Some(Mode::Tracking));
+    let to_slot = 240 - (b.utc().ms_of_day() / 1000) % 240;
+    b.run(u64::from(to_slot) - 1, ramp_mv);
+    b.ticks_only(STALL_TIMEOUT_MS / 1000 - 1);
+    b.run(10, ramp_mv);
+    assert!(!b.text().contains("motor_stalled"), "{}", b.text());
 }
 
 #[test]

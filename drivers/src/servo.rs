@@ -111,6 +111,32 @@ impl ServoConfig {
     }
 }
 
+/// `x` limited to `lo..=hi` (`lo ≤ hi`, `x` finite) by two comparisons:
+/// `f32::clamp` asserts its bounds (a panic path), and it, `max` and `min`
+/// call NaN-aware library routines on a part without an FPU (280 B on an
+/// AVR).
+#[allow(clippy::manual_clamp)]
+fn limit(x: f32, lo: f32, hi: f32) -> f32 {
+    if x < lo {
+        lo
+    } else if x > hi {
+        hi
+    } else {
+        x
+    }
+}
+
+/// `x` to the nearest integer, halves away from zero (as `roundf`, for the
+/// |x| ≤ 65,535 of a pulse offset), without libm's `roundf` (about 1,000
+/// cycles a call on an AVR).
+fn round_half_away(x: f32) -> i32 {
+    if x >= 0.0 {
+        (x + 0.5) as i32
+    } else {
+        (x - 0.5) as i32
+    }
+}
+
 /// Longest PWM period accepted, µs (65.5 ms; hobby servos take 20 ms
 /// frames). It keeps the pulse-to-duty arithmetic in 32 bits: pulse ≤
 /// period ≤ 65,535 and duty ≤ 65,535 give a product under 2³², and an
@@ -280,8 +306,7 @@ impl<P: SetDutyCycle> ContinuousServo<P> {
         if !speed.is_finite() {
             return Err(Error::InvalidSpeed);
         }
-        // Constant bounds: clamp's bound check folds away.
-        let s = speed.clamp(-1.0, 1.0);
+        let s = limit(speed, -1.0, 1.0);
         let c = self.config;
         // min < neutral < max ≤ period ≤ MAX_PERIOD_US (checked by `new`):
         // spans and pulses fit an i32.
@@ -290,7 +315,7 @@ impl<P: SetDutyCycle> ContinuousServo<P> {
         } else {
             c.neutral_us.saturating_sub(c.min_pulse_us)
         };
-        let offset = libm::roundf(s * span as f32) as i32;
+        let offset = round_half_away(s * span as f32);
         let neutral = i32::try_from(c.neutral_us).unwrap_or(i32::MAX);
         let pulse = u32::try_from(neutral.saturating_add(offset)).unwrap_or(c.neutral_us);
         self.set_pulse_us(pulse.max(c.min_pulse_us).min(c.max_pulse_us))
@@ -424,10 +449,12 @@ impl PositionController {
         if e.unsigned_abs() <= self.deadband_counts {
             return 0.0;
         }
-        // max/min, not clamp: no panic path (valid gains: max_speed ≥ 0).
-        let raw = (self.kp_per_count * e as f32)
-            .max(-self.max_speed)
-            .min(self.max_speed);
+        // Valid gains: max_speed ≥ 0.
+        let raw = limit(
+            self.kp_per_count * e as f32,
+            -self.max_speed,
+            self.max_speed,
+        );
         if raw.abs() < self.min_speed {
             self.min_speed.copysign(raw)
         } else {

@@ -8,8 +8,9 @@
 
 use suntracker::board::avr::chip;
 
-// The Timer0 millisecond clock; the log USART0 only sends.
-suntracker::avr_board_interrupts!(timer0);
+// The Timer0 millisecond clock and the encoders' pin changes; the log
+// USART0 only sends.
+suntracker::avr_board_interrupts!(timer0, pcint2);
 
 #[avr_device::entry]
 fn main() -> ! {

@@ -17,7 +17,7 @@
 //! The library's [`crate::controller::Controller`] (its scheduler, axis
 //! controllers, fault manager and inverse kinematics) does not fit this
 //! part: built for the ATmega328P with its GPS, console and `f64` paths
-//! compiled out it links to about 75 KB.
+//! compiled out it links to 80–94 KB, by what is inlined.
 //!
 //! **Homing.** At power-on each axis seeks its home switch (at its lowest
 //! angle) in [`HOMING_CHUNK_DEG`] moves (the drive stops as the switch
@@ -308,11 +308,16 @@ impl<D: AxisDrive> SeedAxis<D> {
         }
     }
 
-    /// Counts from the switch to `deg` (clamped to the limits).
+    /// Counts from the switch to `deg` (held to the limits).
     fn counts_to(&self, deg: f32) -> i32 {
-        let d = deg.max(self.min_deg).min(self.max_deg) - self.home_deg;
-        // Within ±360° × counts per degree: `as` saturates anyway.
-        libm::roundf(d * self.counts_per_deg) as i32
+        let d = if deg < self.min_deg {
+            self.min_deg
+        } else if deg > self.max_deg {
+            self.max_deg
+        } else {
+            deg
+        };
+        nearest(d - self.home_deg, self.counts_per_deg)
     }
 
     /// One homing step; true while homing goes on. Seek toward the switch
@@ -328,7 +333,7 @@ impl<D: AxisDrive> SeedAxis<D> {
         let closed = self.drive.at_limit().unwrap_or(false);
         let settled = self.drive.pending() == 0;
         let cpd = self.counts_per_deg;
-        let counts = |deg: f32| (libm::roundf(deg * cpd) as i32).max(1);
+        let counts = |deg: f32| nearest(deg, cpd).max(1);
         let backoff = counts(HOMING_BACKOFF_DEG);
         let stayed = self.phase == HomePhase::Fine && settled && self.stayed();
         let step = match self.phase {
@@ -425,7 +430,7 @@ impl<D: AxisDrive> SeedAxis<D> {
                 let _ = self.drive.stop();
                 // The drive now holds where it is: count from there.
                 if let Some(e) = enc {
-                    self.commanded = libm::roundf((e - self.home_deg) * self.counts_per_deg) as i32;
+                    self.commanded = nearest(e - self.home_deg, self.counts_per_deg);
                 }
                 self.stalled_until = Some(now_ms.saturating_add(STALL_RETRY_MS));
                 if !self.stall_raised {
@@ -437,8 +442,15 @@ impl<D: AxisDrive> SeedAxis<D> {
         }
         let goal = self.counts_to(deg);
         let delta = goal.saturating_sub(self.commanded);
-        if delta != 0 && self.drive.move_counts(delta).is_ok() {
-            self.commanded = goal;
+        if delta != 0 {
+            // A move from rest: the stall watch times it from now, not from
+            // the motion that ended the last one (minutes ago).
+            if self.drive.pending() == 0 {
+                self.moved = enc.map(|e| (e, now_ms));
+            }
+            if self.drive.move_counts(delta).is_ok() {
+                self.commanded = goal;
+            }
         }
         change
     }
@@ -700,6 +712,19 @@ impl<R: RtcDriver, D: AxisDrive + Motion> SeedTracker<R, D> {
             a_deg,
             panel_mv.unwrap_or(0),
         );
+    }
+}
+
+/// `deg × counts_per_deg` to the nearest count (halves away from zero;
+/// `as` saturates beyond the i32 range). Not libm's `roundf` (about 1,000
+/// cycles on an AVR), nor `f32::max`/`min` for the limits above (library
+/// calls there too).
+fn nearest(deg: f32, counts_per_deg: f32) -> i32 {
+    let x = deg * counts_per_deg;
+    if x >= 0.0 {
+        (x + 0.5) as i32
+    } else {
+        (x - 0.5) as i32
     }
 }
 

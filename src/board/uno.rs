@@ -1,55 +1,57 @@
 //! The Arduino Uno tracker (ATmega328P; seed chowdhury-2019's build):
 //! everything about this board in one place — pins, devices, the loop —
-//! over the AVR board layer ([`super::avr`]). An image binds the Timer0
-//! vector (`avr_board_interrupts!(timer0)`) and calls [`run`], as
+//! over the AVR board layer ([`super::avr`]). The loop is
+//! [`super::chowdhury2019::SeedTracker`]; an image binds the vectors
+//! (`avr_board_interrupts!(timer0, pcint2)`) and calls [`run`], as
 //! `avr_tracker` does.
 //!
 //! | function | pin | Uno header |
 //! |---|---|---|
 //! | log, 115200 8N1 | USART0 TXD (PD1) | D1 (USB) |
 //! | I²C 100 kHz: DS3231 0x68 | SDA/SCL (PC4/PC5) | A4/A5 |
-//! | servo A (tilt: the panel's slope), 50 Hz PWM | OC1A (PB1) | D9 |
-//! | servo C (azimuth), 50 Hz PWM | OC1B (PB2) | D10 |
+//! | servo A (tilt) FS5106R, 50 Hz PWM | OC1A (PB1) | D9 |
+//! | servo C (azimuth) FS5106R, 50 Hz PWM | OC1B (PB2) | D10 |
+//! | encoder C (YMT22) A/B, pin-change interrupt | PD4/PD5 | D4/D5 |
+//! | encoder A (YMT22) A/B, pin-change interrupt | PD6/PD7 | D6/D7 |
+//! | C home switch (closed at −180°, to GND, pull-up) | PB0 | D8 |
+//! | A home switch (closed at −90°, to GND, pull-up) | PB4 | D12 |
+//! | panel voltage through a 10 kΩ/10 kΩ divider | ADC0 (PC0) | A0 |
+//! | feature `ds1302`: DS1302 CE / I/O (10 kΩ pull-up) / SCLK, instead of the DS3231 | PC1 / PC2 / PC3 | A1 / A2 / A3 |
 //!
 //! Wiring sketch:
 //!
 //! ```text
-//!  Uno D9  ─ signal ┐ tilt servo (+5 V from its own supply, common GND)
-//!  Uno D10 ─ signal ┘ azimuth servo
-//!  Uno A4/A5 ─ SDA/SCL ─ DS3231 (CR2032 backup)
-//!  Uno D0/D1 ─ USB serial: the log
+//!  Uno D9  ─ signal ┐ FS5106R tilt servo    (+6 V from its own supply, common GND)
+//!  Uno D10 ─ signal ┘ FS5106R azimuth servo
+//!  Uno D4/D5 ─ A/B ─ YMT22 on the azimuth shaft (+5 V)
+//!  Uno D6/D7 ─ A/B ─ YMT22 on the tilt shaft (+5 V)
+//!  Uno D8  ─ azimuth home switch ─ GND      Uno D12 ─ tilt home switch ─ GND
+//!  Uno A0 ─┬─ 10 kΩ ─ panel +               Uno A4/A5 ─ SDA/SCL ─ DS3231 (CR2032)
+//!          └─ 10 kΩ ─ GND                   Uno D0/D1 ─ USB serial: the log
 //! ```
 //!
-//! The loop is the seed's: every [`STEP_S`] seconds (on whole multiples
-//! from UTC midnight) it computes the sun's position (`psa-2020` in `f32`)
-//! and, with the sun up, drives both servos to face it; no day table is
-//! stored (the part has 2 KB of RAM). The time comes from the DS3231
-//! through [`drivers::rtc`] and the trust rules of
-//! [`crate::sources::TimeKeeper`]: an RTC that lost power, reads a date
-//! outside the firmware's window or does not answer gives no time, and the
-//! tracker then waits with the panel stowed flat (`mode wait_for_time`,
-//! `fault rtc_invalid raised`); there is no simulated clock. At night the
-//! panel also lies flat.
-//!
-//! The servos are positional here (500–2,500 µs for 0–180°), so the
-//! azimuth covers the half circle east–south–west (azimuth 90°–270°) and
-//! poses beyond it are clamped. The pose in the log uses the convention of
-//! every board (the attitude module's level mount facing north): `c` =
-//! 180° − azimuth (−90…+90° here), `a` = −slope (−90…0°). Servo C's 0° is
-//! east (c = 90°), servo A's 0° is flat.
-//!
-//! The loop never blocks: one pass serves the tick when it is due (an RTC
-//! read over I²C, at most one sun position, about 3 ms), feeds the
-//! watchdog, and sleeps until the next Timer0 interrupt.
+//! Each pass of the loop (every Timer0 millisecond) closes both servo
+//! loops on their encoder counts; once a second a tick reads the DS3231,
+//! runs the seed's schedule (a sun position at each 4-minute slot, no day
+//! table: the part has 2 KB of RAM), commands the axes, takes the ADC
+//! conversion started at the previous tick and starts the next; then the
+//! watchdog is fed and the CPU sleeps until the next interrupt. There is no
+//! simulated clock: an RTC that lost power or does not answer leaves the
+//! panel flat, `mode wait_for_time`.
 
-use drivers::gps::GpsFix;
-use drivers::rtc::Ds3231;
-use sun_algos::{Algorithm, Options, Site};
+use drivers::servo::ContinuousServo;
+use embedded_hal::pwm::{ErrorType, SetDutyCycle};
+use sun_algos::Site;
 
-use super::avr::{chip, millis, sleep_until_interrupt, I2c, Millis, Usart0, Watchdog, MS_PER_TICK};
-use crate::log::{self, Sink, SiteSource, TimeSource};
-use crate::safety::{Fault, Mode, Sensor};
-use crate::sources::{TimeConfig, TimeKeeper};
+use super::avr::{
+    chip, millis, sleep_until_interrupt, Adc, InputPin, Millis, Oc1a, Oc1b, PinChangeEncoders,
+    PulseWidth, PwmError, Timer1Pwm, Usart0, Watchdog, MAX_DUTY, MS_PER_TICK,
+};
+use super::chowdhury2019::{self as seed, SeedTracker, POSITION_LOOP, SERVO};
+use crate::hw::ServoAxis;
+use crate::log::{self, Sink, SiteSource};
+use crate::panel::{Divider, PanelAdc};
+use crate::text::FlashStr;
 
 /// Board name in the boot line.
 pub const BOARD: &str = "uno";
@@ -59,185 +61,101 @@ pub const LOG_BAUD_HZ: u32 = 115_200;
 pub const SITE_LAT_DEG: f32 = 11.9683;
 /// The stored site's longitude, degrees east.
 pub const SITE_LON_DEG: f32 = 8.4261;
-/// ΔT (TT − UT1) for the sun algorithm, seconds (2026, IERS Bulletin A
-/// order of magnitude).
-pub const DELTA_T_S: f32 = 69.0;
-/// Set-point interval: the seed's 4 minutes.
-pub const STEP_S: u32 = 240;
-/// Monotonic milliseconds between two ticks (an RTC read each).
-pub const TICK_MS: u64 = 1_000;
+/// The panel's ADC input: AVcc (5 V) reference, 10 bits, a 10 kΩ/10 kΩ
+/// divider (the seed's 6 V panel, open circuit up to about 7.5 V, stays
+/// under the 5 V reference at the pin).
+pub const PANEL: PanelAdc = PanelAdc {
+    vref_mv: 5_000,
+    bits: 10,
+    divider: Divider {
+        r_top_ohm: 10_000,
+        r_bottom_ohm: 10_000,
+    },
+};
+/// ADC channel of the panel voltage (A0).
+const PANEL_CHANNEL: u8 = 0;
 
-/// Servo pulse at 0°, µs (common hobby servos: 500–2,500 µs for 0–180°).
-const PULSE_MIN_US: f32 = 500.0;
-/// Pulse per degree of servo angle, µs.
-const PULSE_PER_DEG_US: f32 = 2_000.0 / 180.0;
-/// Timer1 counts per µs (16 MHz / 8).
-const COUNTS_PER_US: f32 = 2.0;
-/// 20 ms frame (50 Hz): TOP = 20,000 µs × 2 − 1 (ATmega328P §15.9.3 "Fast
-/// PWM Mode", mode 14 with TOP = ICR1).
-const FRAME_TOP: u16 = 39_999;
-/// The pose's resolution: one Timer1 count of a pulse, in servo degrees
-/// (0.5 µs / (2,000 µs / 180°) = 0.045°).
-pub const AXIS_STEP_DEG: f32 = 1.0 / (COUNTS_PER_US * PULSE_PER_DEG_US);
-/// Pose range of the servos' half circle: c −90…+90°, a −90…0°.
-const C_RANGE_DEG: (f32, f32) = (-90.0, 90.0);
-/// Pose range of the tilt servo.
-const A_RANGE_DEG: (f32, f32) = (-90.0, 0.0);
-/// The stow pose: flat (a = 0°), servo C at south (c = 0°).
-const STOW_POSE_DEG: (f32, f32) = (0.0, 0.0);
-
-/// The two servos on Timer1's compare outputs.
-struct Servos {
-    tc1: chip::TC1,
+/// Either Timer1 channel, so that both axes have one drive type.
+enum ServoPwm<'t> {
+    /// OC1A (D9): the tilt servo.
+    A(Oc1a<'t>),
+    /// OC1B (D10): the azimuth servo.
+    B(Oc1b<'t>),
 }
 
-impl Servos {
-    /// Timer1 in fast PWM mode 14 (TOP = ICR1) at clk/8, OC1A/OC1B cleared
-    /// on compare match, both pins outputs; the first pulses are the stow
-    /// pose's.
-    fn start(tc1: chip::TC1, portb: &chip::PORTB) -> Self {
-        // SAFETY: DDRB bits only select pin directions (PB1, PB2 out).
-        portb
-            .ddrb()
-            .modify(|r, w| unsafe { w.bits(r.bits() | 0b0000_0110) });
-        tc1.icr1().write(|w| w.set(FRAME_TOP));
-        let mut servos = Servos { tc1 };
-        servos.set(STOW_POSE_DEG.0, STOW_POSE_DEG.1);
-        servos.tc1.tccr1a().write(|w| {
-            w.wgm1()
-                .set(0b10)
-                .com1a()
-                .match_clear()
-                .com1b()
-                .match_clear()
-        });
-        servos
-            .tc1
-            .tccr1b()
-            .write(|w| w.wgm1().set(0b11).cs1().prescale_8());
-        servos
-    }
+impl ErrorType for ServoPwm<'_> {
+    type Error = PwmError;
+}
 
-    /// Commands pose (`c_deg`, `a_deg`), clamped to the servos' range;
-    /// returns the pose commanded.
-    fn set(&mut self, c_deg: f32, a_deg: f32) -> (f32, f32) {
-        let c = c_deg.clamp(C_RANGE_DEG.0, C_RANGE_DEG.1);
-        let a = a_deg.clamp(A_RANGE_DEG.0, A_RANGE_DEG.1);
-        // Servo C: 0° east (c = 90°) … 180° west (c = −90°); servo A: the
-        // slope, 0° flat.
-        self.tc1.ocr1b().write(|w| w.set(counts(90.0 - c)));
-        self.tc1.ocr1a().write(|w| w.set(counts(-a)));
-        (c, a)
+impl SetDutyCycle for ServoPwm<'_> {
+    fn max_duty_cycle(&self) -> u16 {
+        MAX_DUTY
+    }
+    fn set_duty_cycle(&mut self, duty: u16) -> Result<(), PwmError> {
+        match self {
+            ServoPwm::A(ch) => ch.set_duty_cycle(duty),
+            ServoPwm::B(ch) => ch.set_duty_cycle(duty),
+        }
     }
 }
 
-/// Timer1 compare value of a servo angle (0–180°, in range by the callers'
-/// clamps; `as` saturates anyway): the pulse to the nearest count, less
-/// one, since fast PWM holds the pin high for OCR1x + 1 counts
-/// (ATmega328P §15.9.3: the output is set at BOTTOM and cleared at the
-/// match that follows count OCR1x).
-fn counts(servo_deg: f32) -> u16 {
-    let pulse = (PULSE_MIN_US + servo_deg * PULSE_PER_DEG_US) * COUNTS_PER_US + 0.5;
-    (pulse as u16).saturating_sub(1)
+/// The clock chip: the DS3231 on the I²C bus, or with the `ds1302` feature
+/// the DS1302 the seed's text also names, on three port C pins (its I/O
+/// line open-drain with an external 10 kΩ pull-up: see
+/// `drivers::rtc::ds1302`).
+#[cfg(not(feature = "ds1302"))]
+fn rtc(portc: &chip::PORTC, twi: chip::TWI) -> drivers::rtc::Ds3231<super::avr::I2c> {
+    let _ = portc;
+    drivers::rtc::Ds3231::new(super::avr::I2c::new(twi))
 }
 
-/// What the loop remembers between ticks.
-struct Tracker {
-    mode: Option<Mode>,
-    fault: Option<Fault>,
-    time_logged: bool,
-    /// The last 4-minute slot served (days since 2000 × slots per day +
-    /// slot of the day).
-    last_slot: Option<i64>,
-}
-
-impl Tracker {
-    fn set_mode(&mut self, out: &mut Usart0, mode: Mode) {
-        if self.mode != Some(mode) {
-            log::mode(out, mode);
-            self.mode = Some(mode);
-        }
-    }
-
-    fn set_fault(&mut self, out: &mut Usart0, fault: Option<Fault>) {
-        if self.fault != fault {
-            if let Some(old) = self.fault {
-                log::fault(out, old, false);
-            }
-            if let Some(new) = fault {
-                log::fault(out, new, true);
-            }
-            self.fault = fault;
-        }
-    }
-
-    /// One tick: the time, then the set-point of a new slot.
-    fn tick(
-        &mut self,
-        out: &mut Usart0,
-        time: &mut TimeKeeper<Ds3231<I2c>>,
-        servos: &mut Servos,
-        site: &Site<f32>,
-        now_ms: u64,
-    ) {
-        let status = time.update(&GpsFix::NONE, now_ms);
-        let Some(now) = status.now else {
-            // No trusted time: stowed, waiting; say why.
-            let why = if status.rtc_error {
-                Fault::I2cError(Sensor::Rtc)
-            } else {
-                Fault::RtcInvalid
-            };
-            self.set_fault(out, Some(why));
-            servos.set(STOW_POSE_DEG.0, STOW_POSE_DEG.1);
-            self.set_mode(out, Mode::WaitForTime);
-            self.time_logged = false;
-            self.last_slot = None;
-            return;
-        };
-        if !self.time_logged {
-            log::time(out, TimeSource::Rtc, &now);
-            self.time_logged = true;
-        }
-        let slot = i64::from(now.days_since_2000()) * i64::from(86_400 / STEP_S)
-            + i64::from(now.ms_of_day() / 1_000 / STEP_S);
-        if self.last_slot == Some(slot) {
-            return;
-        }
-        self.last_slot = Some(slot);
-        let options = Options {
-            delta_t_s: Some(DELTA_T_S),
-            ..Options::default()
-        };
-        match Algorithm::Psa2020.position(&now, site, &options) {
-            Ok(sun) if sun.zenith_deg < 90.0 => {
-                self.set_fault(out, None);
-                let (c, a) = servos.set(180.0 - sun.azimuth_deg, -sun.zenith_deg);
-                self.set_mode(out, Mode::Tracking);
-                log::setpoint(out, &now, sun.zenith_deg, sun.azimuth_deg, c, a);
-            }
-            Ok(_) => {
-                self.set_fault(out, None);
-                servos.set(STOW_POSE_DEG.0, STOW_POSE_DEG.1);
-                self.set_mode(out, Mode::Night);
-            }
-            Err(_) => {
-                // A trusted time the algorithm does not cover: stowed.
-                self.set_fault(out, Some(Fault::TimeOutOfRange));
-                servos.set(STOW_POSE_DEG.0, STOW_POSE_DEG.1);
-                self.set_mode(out, Mode::WaitForTime);
-            }
-        }
-    }
+/// The DS1302 variant of [`rtc`].
+#[cfg(feature = "ds1302")]
+fn rtc(
+    portc: &chip::PORTC,
+    twi: chip::TWI,
+) -> drivers::rtc::Ds1302<
+    super::avr::OutputPin<'_, chip::PORTC, 1>,
+    super::avr::OutputPin<'_, chip::PORTC, 3>,
+    super::avr::OpenDrainPin<'_, chip::PORTC, 2>,
+    super::avr::Delay,
+> {
+    let _ = twi;
+    drivers::rtc::Ds1302::new(
+        super::avr::OutputPin::new(portc, false),
+        super::avr::OutputPin::new(portc, false),
+        super::avr::OpenDrainPin::new(portc, false),
+        super::avr::Delay::new(),
+    )
 }
 
 /// Starts the tracker on the board's peripherals; never returns.
 pub fn run(dp: chip::Peripherals) -> ! {
-    let mut out = Usart0::new_tx_only(dp.USART0, LOG_BAUD_HZ);
-    let _millis = Millis::start(dp.TC0);
-    let mut watchdog = Watchdog::enable(dp.WDT, &dp.CPU);
-    let mut servos = Servos::start(dp.TC1, &dp.PORTB);
-    // SAFETY: the Timer0 tick, the only vector, is set up above.
+    let chip::Peripherals {
+        USART0,
+        TC0,
+        TC1,
+        WDT,
+        CPU,
+        PORTB,
+        PORTC,
+        PORTD,
+        EXINT,
+        ADC,
+        TWI,
+        ..
+    } = dp;
+    let mut out = Usart0::new_tx_only(USART0, LOG_BAUD_HZ);
+    let _millis = Millis::start(TC0);
+    let mut watchdog = Watchdog::enable(WDT, &CPU);
+    let neutral = PulseWidth::NEUTRAL_1500_US;
+    let mut pwm = Timer1Pwm::start(TC1, &PORTB, neutral, neutral);
+    let encoders = PinChangeEncoders::start(&EXINT, &PORTD, true);
+    let home_c = InputPin::<_, 0>::new(&PORTB, true).erase();
+    let home_a = InputPin::<_, 4>::new(&PORTB, true).erase();
+    let mut adc = Adc::new(ADC);
+    // SAFETY: the Timer0 tick and the encoders' pin-change vector, the
+    // only two, are set up above.
     unsafe { avr_device::interrupt::enable() };
 
     log::boot(&mut out, BOARD);
@@ -247,43 +165,72 @@ pub fn run(dp: chip::Peripherals) -> ! {
         out.u32(MS_PER_TICK as u32);
         out.flash(crate::flash_str!("\n"));
     }
-    let site = match Site::new(SITE_LAT_DEG, SITE_LON_DEG) {
-        Ok(site) => site,
-        // The board's own constants: cannot happen. Nothing is driven
-        // but the stow pose; the watchdog, no longer fed, resets the chip.
-        Err(_) => halt(&mut out, "site refused"),
+    let Ok(site) = Site::new(SITE_LAT_DEG, SITE_LON_DEG) else {
+        // The board's own constants: cannot happen. The watchdog, no
+        // longer fed, resets the chip.
+        halt(&mut out, crate::flash_str!("site refused"))
     };
     log::site(&mut out, SiteSource::Config, SITE_LAT_DEG, SITE_LON_DEG);
     out.flash(crate::flash_str!("config step_s="));
-    out.u32(STEP_S);
+    out.u32(seed::STEP_S);
     out.flash(crate::flash_str!(" tick_ms="));
-    out.u32(TICK_MS as u32);
+    out.u32(seed::TICK_MS);
+    // One encoder count of axis, the pose's resolution.
     out.flash(crate::flash_str!(" axis_step_deg="));
-    out.fixed(AXIS_STEP_DEG, 3);
+    out.fixed(360.0 / seed::COUNTS_PER_TURN as f32, 3);
+    out.flash(crate::flash_str!(" algorithm="));
+    out.flash(seed::ALGORITHM_NAME);
     out.flash(crate::flash_str!("\n"));
-    let mut time = TimeKeeper::new(Ds3231::new(I2c::new(dp.TWI)), TimeConfig::default());
-    let mut tracker = Tracker {
-        mode: None,
-        fault: None,
-        time_logged: false,
-        last_slot: None,
+
+    let [config_c, config_a] = seed::axis_configs();
+    let (oc1a, oc1b) = pwm.channels();
+    let (Ok(servo_c), Ok(servo_a)) = (
+        ContinuousServo::new(ServoPwm::B(oc1b), SERVO),
+        ContinuousServo::new(ServoPwm::A(oc1a), SERVO),
+    ) else {
+        halt(&mut out, crate::flash_str!("servo configuration refused"))
     };
+    let axes = [
+        ServoAxis::new(
+            servo_c,
+            encoders.encoder_c(),
+            home_c,
+            true,
+            POSITION_LOOP,
+            &config_c,
+        ),
+        ServoAxis::new(
+            servo_a,
+            encoders.encoder_a(),
+            home_a,
+            true,
+            POSITION_LOOP,
+            &config_a,
+        ),
+    ];
+    let rtc = rtc(&PORTC, TWI);
+    let mut tracker = SeedTracker::new(rtc, site, axes);
+    let tick_ms = u64::from(seed::TICK_MS);
     let mut next_tick_ms = 0u64;
     loop {
         let now_ms = millis();
+        tracker.service(now_ms.saturating_mul(1000));
         if now_ms >= next_tick_ms {
-            tracker.tick(&mut out, &mut time, &mut servos, &site, now_ms);
-            next_tick_ms = now_ms.saturating_add(TICK_MS);
+            // The conversion started at the previous tick (104 µs) is done.
+            let panel_mv = adc.poll().and_then(|code| PANEL.panel_mv(code).ok());
+            tracker.tick(&mut out, now_ms, panel_mv);
+            let _ = adc.start(PANEL_CHANNEL);
+            next_tick_ms = now_ms.saturating_add(tick_ms);
         }
         watchdog.feed();
-        sleep_until_interrupt(&dp.CPU);
+        sleep_until_interrupt(&CPU);
     }
 }
 
 /// Says why and stops: the watchdog, no longer fed, resets the board.
-fn halt(out: &mut Usart0, why: &str) -> ! {
+fn halt(out: &mut Usart0, why: FlashStr) -> ! {
     out.flash(crate::flash_str!("halt: "));
-    out.text(why);
+    out.flash(why);
     out.flash(crate::flash_str!("\n"));
     out.flush_all();
     loop {

@@ -64,6 +64,8 @@ pub struct ServoAxis<'a, P, E, H> {
     control: PositionController,
     /// Target encoder count (saturating at the `i32` range, as the count).
     target: i32,
+    /// Target and count of the last pass that left the servo stopped.
+    resting: Option<(i32, i32)>,
     count_at_switch: Option<i32>,
     home_deg: f32,
     counts_per_deg: f32,
@@ -93,6 +95,7 @@ where
             home_active_low,
             control,
             target: encoder.count(),
+            resting: None,
             count_at_switch: None,
             home_deg: axis.home_deg,
             counts_per_deg: if cpd.is_finite() && cpd > 0.0 {
@@ -115,14 +118,26 @@ where
     /// Closes the loop once: speed from the position error. Motion toward
     /// the switch stops when it is closed (as the stepper driver's limit
     /// input does). Returns the speed commanded, −1..1.
+    ///
+    /// At rest (stopped on the target, and neither the target nor the count
+    /// changed since) nothing is computed or written: the servo already
+    /// has its neutral pulse. An 8-bit part then spends its loop passes
+    /// asleep, not in soft-float arithmetic.
     pub fn poll(&mut self) -> Result<f32, ServoAxisError<P::Error, H::Error>> {
         let count = self.encoder.count();
+        if self.resting == Some((self.target, count)) {
+            return Ok(0.0);
+        }
         let mut speed = self.control.update(self.target, count);
         if speed < 0.0 && self.switch_closed()? {
             self.target = count;
             speed = 0.0;
         }
+        self.resting = None;
         self.servo.set_speed(speed).map_err(ServoAxisError::Servo)?;
+        if speed == 0.0 {
+            self.resting = Some((self.target, count));
+        }
         Ok(speed)
     }
 
