@@ -4,7 +4,8 @@
 //! accelerometer on the TWI, two H-bridge steppers on PORTA with their home
 //! and max-end switches on PORTC, a GPS on USART1, a cup anemometer on
 //! INT4 — and a reader of the log on USART0; and the ATmega328P (Uno)
-//! image with a DS3231 and its two servo signals decoded ([`uno`]). See
+//! image with a DS3231, two FS5106R servos turning YMT22 encoders on its
+//! pins, home switches and the panel voltage on ADC0 ([`uno`]). See
 //! `emu/README.md`.
 
 pub mod bench;

@@ -6,7 +6,7 @@ use std::process::ExitCode;
 
 use suntracker_emu::log::{format_utc, parse_utc};
 use suntracker_emu::models::nmea::{parse_log, GpsFeed};
-use suntracker_emu::uno::UnoBench;
+use suntracker_emu::uno::{Axis, UnoBench};
 use suntracker_emu::{Bench, Rtc, WindProfile};
 
 const HELP: &str = "\
@@ -18,10 +18,11 @@ USAGE:
   suntracker-emu --image mega|uno|qemu [OPTIONS]
 
 OPTIONS:
-  --image NAME          mega (ATmega2560) or uno (ATmega328P: DS3231 and the
-                        two servo signals only; the GPS, mount and wind
-                        options do not apply); qemu runs in QEMU, not here:
-                        python3 .ci/qemu_gps.py ELF
+  --image NAME          mega (ATmega2560) or uno (ATmega328P: DS3231, two
+                        FS5106R servos turning YMT22 encoders, home
+                        switches, the panel voltage on ADC0; the GPS, mount
+                        and wind options do not apply); qemu runs in QEMU,
+                        not here: python3 .ci/qemu_gps.py ELF
   --elf PATH            the ELF (default: $CARGO_TARGET_DIR or target, then
                         /mega-emu/avr-none/release/avr_mega_tracker.elf or
                         /uno-emu/avr-none/release/avr_tracker.elf)
@@ -38,7 +39,10 @@ OPTIONS:
   --log OUT             also write the log lines to OUT (uno: at the end, as
                         the image sent them, each set-point followed by an
                         `axes utc=… c=… a=…` line: the pose decoded from
-                        the servo pins)
+                        the encoder models at the end of its slot)
+  --stall c|a:UTC:MIN   uno: hold that axis's shaft from UTC for MIN
+                        emulated minutes (a jammed servo); repeatable
+  --start-deg C,A       uno: shaft angles at power-on (default 0,20)
   --type MINUTE:LINE    type LINE on the console (USART0, 115200 baud) at
                         emulated MINUTE (a decimal); repeatable. The log
                         shows `> LINE` and the console's replies
@@ -78,6 +82,8 @@ fn run() -> Result<ExitCode, String> {
     let mut gale = None::<i64>;
     let mut typed: Vec<(f64, String)> = Vec::new();
     let mut resets: Vec<f64> = Vec::new();
+    let mut stalls: Vec<(Axis, i64, f64)> = Vec::new();
+    let mut start_deg = None::<(f64, f64)>;
     let mut p = lexopt::Parser::from_env();
     let err = |e: lexopt::Error| e.to_string();
     let utc = |s: String| parse_utc(&s).ok_or(format!("bad time {s}, want YYYY-MM-DDTHH:MM:SSZ"));
@@ -113,6 +119,33 @@ fn run() -> Result<ExitCode, String> {
                     .filter(|m: &f64| m.is_finite() && *m >= 0.0)
                     .ok_or(format!("--reset-at {v}: want a minute >= 0"))?;
                 resets.push(minute);
+            }
+            Long("stall") => {
+                let v = p.value().map_err(err)?.string().map_err(err)?;
+                let bad = || format!("--stall {v}: want c|a:YYYY-MM-DDTHH:MM:SSZ:MINUTES");
+                let (axis, rest) = v.split_once(':').ok_or_else(bad)?;
+                let (at, minutes) = rest.rsplit_once(':').ok_or_else(bad)?;
+                let axis = match axis {
+                    "c" | "C" => Axis::C,
+                    "a" | "A" => Axis::A,
+                    _ => return Err(bad()),
+                };
+                let at = parse_utc(at).ok_or_else(bad)?;
+                let minutes: f64 = minutes
+                    .parse()
+                    .ok()
+                    .filter(|m: &f64| m.is_finite() && *m > 0.0)
+                    .ok_or_else(bad)?;
+                stalls.push((axis, at, minutes));
+            }
+            Long("start-deg") => {
+                let v = p.value().map_err(err)?.string().map_err(err)?;
+                let pair = v.split_once(',').and_then(|(c, a)| {
+                    let c: f64 = c.trim().parse().ok()?;
+                    let a: f64 = a.trim().parse().ok()?;
+                    (c.is_finite() && a.is_finite()).then_some((c, a))
+                });
+                start_deg = Some(pair.ok_or(format!("--start-deg {v}: want C,A in degrees"))?);
             }
             Long("gale-at") => gale = Some(utc(p.value().map_err(err)?.string().map_err(err)?)?),
             Long("rtc") => {
@@ -153,19 +186,35 @@ fn run() -> Result<ExitCode, String> {
         })
     });
     if uno && (!typed.is_empty() || !resets.is_empty()) {
-        return Err("--type and --reset-at: the uno image reads no console".into());
+        return Err(
+            "--type and --reset-at: not for --image uno (the Uno image reads no console, \
+             and its bench does not cut the power)"
+                .into(),
+        );
+    }
+    if !uno && (!stalls.is_empty() || start_deg.is_some()) {
+        return Err("--stall and --start-deg: --image uno only".into());
     }
     if uno {
         let start = start.unwrap_or(suntracker_emu::bench::DEFAULT_START);
-        let run = UnoBench::new(&elf)
+        let mut bench = UnoBench::new(&elf)
             .start(start)
             .rtc(rtc)
             .echo(!quiet)
-            .log_to(log)
-            .run_minutes(minutes)?;
+            .log_to(log);
+        if let Some((c, a)) = start_deg {
+            bench = bench.start_angles(c, a);
+        }
+        for (axis, at, minutes) in stalls {
+            bench = bench.stall(axis, at as f64, minutes * 60.0);
+        }
+        let run = bench.run_minutes(minutes)?;
+        let [c, a] = &run.axes;
         eprintln!(
             "suntracker-emu: {} from {}: {:.1} emulated min ({} cycles, timescale {}) in {:.2} s wall; \
-             {} log lines; servo pulses C {} A {}; cpu {:?}",
+             {} log lines; decoded C {:.2}° A {:.2}° (shafts {:.3}° {:.3}°); encoder edges C {} A {}, \
+             illegal transitions C {} A {}; hard-stop hits C {} A {}; servo pulses C {} A {} \
+             (on the pins {} {}, unlike the datasheet's {} {}); cpu {:?}",
             elf.display(),
             format_utc(start),
             run.emulated_s / 60.0,
@@ -173,10 +222,36 @@ fn run() -> Result<ExitCode, String> {
             run.timescale,
             run.wall.as_secs_f64(),
             run.lines.len(),
-            run.pulses_c.len(),
-            run.pulses_a.len(),
+            c.decoded_deg,
+            a.decoded_deg,
+            c.final_deg,
+            a.final_deg,
+            c.edges,
+            a.edges,
+            c.illegal_transitions + c.decoder_mismatches,
+            a.illegal_transitions + a.decoder_mismatches,
+            c.hard_stop_hits,
+            a.hard_stop_hits,
+            c.pulses.len(),
+            a.pulses.len(),
+            run.pin_pulses.0,
+            run.pin_pulses.1,
+            run.pin_pulses_unlike_datasheet.0,
+            run.pin_pulses_unlike_datasheet.1,
             run.cpu
         );
+        if let Some(e) = run.energy_check() {
+            eprintln!(
+                "suntracker-emu: day_energy {:.3} V·h logged, {:.3} V·h by the panel model's \
+                 trapezoid {} to {} ({} samples): {:+.3} %",
+                e.logged_vh,
+                e.model_vh,
+                format_utc(e.from_utc_s),
+                format_utc(e.to_utc_s),
+                e.samples,
+                100.0 * e.relative_error()
+            );
+        }
         eprintln!("suntracker-emu: {}", run.ram.summary());
         return Ok(if run.cpu == suntracker_emu::sim::CpuState::Running {
             ExitCode::SUCCESS

@@ -7,7 +7,8 @@ prints), ΔT = 69.2 s, sea level.
 
 A file is a firmware log (`suntracker::log`: the QEMU image's, and the
 Uno image's from the emulator harness); its `setpoint utc=YYYY-MM-DDTHH:MM:SSZ
-zenith= azimuth= c= a=` lines are each checked at their utc (to the second):
+zenith= azimuth= c= a=` lines (the Uno's end with ` panel_mv=<whole mV>`) are
+each checked at their utc (to the second):
 
   (zenith, azimuth) = pvlib's sun within 0.02° of angular distance
            (psa-2020's f32 bound 0.011° plus the 0.0005° print rounding)
@@ -17,9 +18,10 @@ zenith= azimuth= c= a=` lines are each checked at their utc (to the second):
            0.005° print rounding of each angle)
   axes     = the one `axes utc=<that utc> c= a=` line (QEMU: where the
            simulated axes were when the set-point ended; Uno: the pose the
-           servo pulses command, decoded by the harness) holds c and a
-           within one axis step (`axis_step_deg=` of the file) plus 0.005°
-           rounding
+           emulator harness decodes from its encoder models' counts at the
+           end of the set-point's slot) holds c and a within one axis step
+           (`axis_step_deg=` of the file: the Uno's encoder count, 0.300°)
+           plus 0.005° rounding
 
 and the day is that of a `time source=… utc=` line.
 
@@ -58,8 +60,10 @@ STEP = re.compile(r"step_s=(\d+)\b")
 # The firmware loop's log (src/log.rs) and the QEMU board's `axes` lines.
 UTC = r"(\d{4}-\d\d-\d\dT\d\d:\d\d:\d\dZ)"
 LOG_CANDIDATE = re.compile(r"\bsetpoint\b|zenith=|^axes")
+# The Uno image (seed chowdhury-2019) ends each set-point with the panel
+# voltage it read, ` panel_mv=<whole mV>` (`suntracker::log::setpoint_with_panel`).
 LOG_SETPOINT = re.compile(rf"^setpoint utc={UTC} zenith=(-?\d+\.\d{{3}}) azimuth=(-?\d+\.\d{{3}}) "
-                          r"c=(-?\d+\.\d\d) a=(-?\d+\.\d\d)$")
+                          r"c=(-?\d+\.\d\d) a=(-?\d+\.\d\d)(?: panel_mv=(?:0|[1-9]\d*))?$")
 LOG_AXES = re.compile(rf"^axes utc={UTC} c=(-?\d+\.\d{{4}}) a=(-?\d+\.\d{{4}})$")
 LOG_DAY = re.compile(rf"^time source=(?:gps|rtc) utc={DAY}T")
 AXIS_STEP = re.compile(r"axis_step_deg=(\d+\.\d+)\b")
@@ -207,6 +211,12 @@ def check(path):
     return check_log(path, text)
 
 
+def axis_step_of(text):
+    """The `axis_step_deg=` a file states (0 when it states none)."""
+    m = AXIS_STEP.search(text)
+    return float(m.group(1)) if m else 0.0
+
+
 def self_test(paths):
     """Doctored copies of good files must each fail; the files must pass."""
     import os
@@ -220,15 +230,21 @@ def self_test(paths):
         "format change: 'zenith=' became 'zenith:' on one line": sub_first(r"zenith=", "zenith:"),
         "garbled number on one line": sub_first(r"(^setpoint .*) azimuth=\d+\.\d+", r"\1 azimuth=1.2.3"),
         "unknown field on one line": sub_first(r"^(setpoint .*)$", r"\1 speed=3"),
+        "fields out of order on one line": sub_first(r"^setpoint (utc=\S+) (zenith=\S+)", r"setpoint \2 \1"),
+        "panel voltage not a whole number on one line": sub_first(
+            r"^(setpoint .*?)(?: panel_mv=\d+)?$", r"\1 panel_mv=7.5"),
         "azimuth 1° off on one line": lambda t: re.sub(
             r"^(setpoint utc=\S+T12:00:00Z zenith=\S+ azimuth=)(\d+)",
             lambda m: m.group(1) + str(int(m.group(2)) + 1), t, count=1, flags=re.M),
         "commanded c 0.1° off on one line": lambda t: re.sub(
             r"^(setpoint utc=\S+T12:00:00Z .* c=-?\d+\.)(\d)",
             lambda m: m.group(1) + str((int(m.group(2)) + 1) % 10), t, count=1, flags=re.M),
-        "axes 0.1° from the pose on one line": lambda t: re.sub(
-            r"^(axes utc=\S+T12:00:00Z c=-?\d+\.)(\d)",
-            lambda m: m.group(1) + str((int(m.group(2)) + 1) % 10), t, count=1, flags=re.M),
+        # One axis step (the file's) and 0.1° more: out of tolerance
+        # whatever the step (QEMU 0.018°, Uno 0.300°).
+        "axes one axis step + 0.1° from the pose on one line": lambda t: re.sub(
+            r"^(axes utc=\S+T12:00:00Z c=)(-?\d+\.\d+)",
+            lambda m: m.group(1) + f"{float(m.group(2)) + axis_step_of(t) + 0.1:.4f}",
+            t, count=1, flags=re.M),
         "one axes line dropped": sub_first(r"^axes utc=\S+T12:00:00Z .*\n", ""),
         "every other setpoint line dropped": lambda t: "\n".join(
             l for i, l in enumerate(t.splitlines())
