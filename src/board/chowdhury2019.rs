@@ -461,24 +461,12 @@ impl<D: AxisDrive> SeedAxis<D> {
     }
 }
 
-/// Counters of one run.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
-pub struct Stats {
-    /// Ticks run.
-    pub ticks: u32,
-    /// `setpoint` lines written.
-    pub setpoints: u32,
-    /// Drive service calls that failed.
-    pub drive_errors: u32,
-}
-
 /// The tracker: seed chowdhury-2019's loop over RTC `R` and drives `D`.
 pub struct SeedTracker<R, D> {
     time: TimeKeeper<R>,
     source: SunSource,
     axes: [SeedAxis<D>; 2],
     energy: DayEnergy,
-    stats: Stats,
     mode: Option<Mode>,
     /// The time fault in force (`rtc_invalid`, `bus_rtc`,
     /// `time_out_of_range`).
@@ -509,7 +497,6 @@ impl<R: RtcDriver, D: AxisDrive + Motion> SeedTracker<R, D> {
             source: SunSource::new(site),
             axes: [SeedAxis::new(c, &cc), SeedAxis::new(a, &ac)],
             energy: DayEnergy::new(),
-            stats: Stats::default(),
             mode: None,
             time_fault: None,
             limit_logged: [false; 2],
@@ -519,11 +506,6 @@ impl<R: RtcDriver, D: AxisDrive + Motion> SeedTracker<R, D> {
             branch: None,
             last_logged: None,
         }
-    }
-
-    /// Counters.
-    pub fn stats(&self) -> Stats {
-        self.stats
     }
 
     /// The mode after the last tick.
@@ -536,24 +518,14 @@ impl<R: RtcDriver, D: AxisDrive + Motion> SeedTracker<R, D> {
         self.time.rtc_mut()
     }
 
-    /// The drive of axis `i` (0 = C, 1 = A).
-    pub fn drive(&self, i: usize) -> Option<&D> {
-        self.axes.get(i).map(|a| &a.drive)
-    }
-
-    /// The drive of axis `i`, mutable.
-    pub fn drive_mut(&mut self, i: usize) -> Option<&mut D> {
-        self.axes.get_mut(i).map(|a| &mut a.drive)
-    }
-
     /// Every pass of the main loop (about every millisecond): each drive
     /// closes its loop once.
     #[inline(never)]
     pub fn service(&mut self, now_us: u64) {
+        // A failed PWM write is retried at the next pass: the servo axis
+        // only records a pass that reached the servo.
         for ax in self.axes.iter_mut() {
-            if !ax.drive.service(now_us) {
-                self.stats.drive_errors = self.stats.drive_errors.saturating_add(1);
-            }
+            let _ = ax.drive.service(now_us);
         }
     }
 
@@ -563,7 +535,6 @@ impl<R: RtcDriver, D: AxisDrive + Motion> SeedTracker<R, D> {
     /// commands.
     #[inline(never)]
     pub fn tick(&mut self, out: &mut dyn Sink, now_ms: u64, panel_mv: Option<u32>) {
-        self.stats.ticks = self.stats.ticks.saturating_add(1);
         let status = self.time.update(&GpsFix::NONE, now_ms);
         let time_fault = match status.now {
             Some(now) => {
@@ -702,7 +673,6 @@ impl<R: RtcDriver, D: AxisDrive + Motion> SeedTracker<R, D> {
             return;
         }
         self.last_logged = Some(*time);
-        self.stats.setpoints = self.stats.setpoints.saturating_add(1);
         log::setpoint_with_panel(
             out,
             time,
