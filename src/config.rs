@@ -970,11 +970,53 @@ pub enum SlotState {
     Unreadable,
 }
 
+/// What a [`ConfigStore`] keeps in its two slots: the tracker's
+/// [`Config`], or a board's smaller record (the Arduino Uno's settings),
+/// each with its own magic and layout version so that one is never read
+/// as the other.
+pub trait Record: Copy {
+    /// The slot's first four bytes.
+    const MAGIC: [u8; 4];
+    /// The layout version written; a slot of another version is reported
+    /// as [`SlotState::OldVersion`] and not used.
+    const VERSION: u16;
+    /// Payload bytes of this version.
+    const PAYLOAD_LEN: usize;
+    /// Serialises into `buf` (at least [`Record::PAYLOAD_LEN`] bytes);
+    /// the length written, or `None` when `buf` is too small.
+    fn encode(&self, buf: &mut [u8]) -> Option<usize>;
+    /// Parses a payload and checks every value; `None` for a wrong length
+    /// or a value out of range.
+    fn decode(buf: &[u8]) -> Option<Self>;
+    /// Every value inside its range.
+    fn is_valid(&self) -> bool;
+    /// The record used when no slot is good.
+    fn defaults() -> Self;
+}
+
+impl Record for Config {
+    const MAGIC: [u8; 4] = MAGIC;
+    const VERSION: u16 = LAYOUT_VERSION;
+    const PAYLOAD_LEN: usize = PAYLOAD_LEN;
+    fn encode(&self, buf: &mut [u8]) -> Option<usize> {
+        Config::encode(self, buf)
+    }
+    fn decode(buf: &[u8]) -> Option<Self> {
+        Config::decode(buf)
+    }
+    fn is_valid(&self) -> bool {
+        Config::is_valid(self)
+    }
+    fn defaults() -> Self {
+        Config::default()
+    }
+}
+
 /// The result of [`ConfigStore::load`].
 #[derive(Debug, Clone, Copy, PartialEq)]
-pub struct Loaded {
+pub struct Loaded<R = Config> {
     /// The configuration in force (defaults when no slot was good).
-    pub config: Config,
+    pub config: R,
     /// True when `config` are the defaults because no slot was good.
     pub defaults: bool,
     /// What each slot held.
@@ -1013,14 +1055,16 @@ const CRC_LEN: usize = 4;
 /// Bytes one stored copy takes at the start of its slot: header, payload
 /// and CRC-32 (12 + [`PAYLOAD_LEN`] + 4). The rest of the slot is never
 /// written; [`ConfigStore`] keeps this many bytes in RAM for a save.
-pub const RECORD_LEN: usize = HEADER_LEN + PAYLOAD_LEN + CRC_LEN;
+pub const RECORD_LEN: usize = record_len(PAYLOAD_LEN);
 
 // The record fits in its slot (checked when compiling).
 const _: () = assert!(RECORD_LEN <= SLOT_LEN);
 
 /// The CRC-32 of [`crc32`] over pieces: the register after `data`, without
 /// the initial and final inversion, so that
-/// `!crc32_update(crc32_update(!0, a), b) == crc32(a ‖ b)`.
+/// `!crc32_update(crc32_update(!0, a), b) == crc32(a ‖ b)`. Not inlined:
+/// one copy of the bit loop for the header, payload and staging.
+#[inline(never)]
 fn crc32_update(mut crc: u32, data: &[u8]) -> u32 {
     for &b in data {
         crc ^= u32::from(b);
@@ -1065,10 +1109,10 @@ struct Job {
 }
 
 /// The result of reading both slots.
-struct Scan<E> {
+struct Scan<E, R> {
     slots: [SlotState; 2],
     /// The newest good slot: its index, sequence number and configuration.
-    best: Option<(usize, u32, Config)>,
+    best: Option<(usize, u32, R)>,
     /// The first read error, if a slot could not be read.
     error: Option<E>,
 }
@@ -1110,14 +1154,26 @@ struct Scan<E> {
 /// sector erase of the STM32F411's flash stalls every flash read, and so
 /// the CPU, for the whole erase ([`crate::storage`]).
 ///
-/// RAM: the store keeps the staged record ([`RECORD_LEN`] bytes) and a few
-/// words; [`ConfigStore::load`] uses a payload buffer on the stack.
+/// RAM: the store keeps the staged record (`N` bytes: [`RECORD_LEN`] for
+/// the [`Config`]) and a few words; [`ConfigStore::load`] uses a buffer of
+/// `N` bytes on the stack.
+///
+/// The store keeps any [`Record`] `R` in records of `N` bytes (header,
+/// payload, CRC-32: [`record_len`]); [`ConfigStore::new`] makes the
+/// [`Config`]'s, [`ConfigStore::for_record`] another record's.
 #[derive(Debug)]
-pub struct ConfigStore<S> {
+pub struct ConfigStore<S, R = Config, const N: usize = RECORD_LEN> {
     storage: S,
     newest: Newest,
     job: Option<Job>,
-    staged: [u8; RECORD_LEN],
+    staged: [u8; N],
+    record: core::marker::PhantomData<R>,
+}
+
+/// Bytes one stored copy of a record with `payload_len` bytes of payload
+/// takes: header, payload and CRC-32 (the `N` of a [`ConfigStore`]).
+pub const fn record_len(payload_len: usize) -> usize {
+    HEADER_LEN + payload_len + CRC_LEN
 }
 
 fn seq_newer(a: u32, b: u32) -> bool {
@@ -1131,14 +1187,28 @@ fn slot_offset(slot: usize, at: usize) -> Option<usize> {
 }
 
 impl<S: Storage> ConfigStore<S> {
-    /// A store over `storage`; nothing is read until [`ConfigStore::load`]
-    /// or a save.
+    /// A store of the tracker's [`Config`] over `storage`; nothing is read
+    /// until [`ConfigStore::load`] or a save.
     pub fn new(storage: S) -> Self {
+        Self::for_record(storage)
+    }
+}
+
+impl<S: Storage, R: Record, const N: usize> ConfigStore<S, R, N> {
+    /// `N` holds a record of `R` and a slot holds `N` (checked when
+    /// compiling each store type).
+    const FITS: () = assert!(N == record_len(R::PAYLOAD_LEN) && N <= SLOT_LEN);
+
+    /// A store of record `R` over `storage`; nothing is read until
+    /// [`ConfigStore::load`] or a save.
+    pub fn for_record(storage: S) -> Self {
+        let () = Self::FITS;
         ConfigStore {
             storage,
             newest: Newest::Unknown,
             job: None,
-            staged: [0; RECORD_LEN],
+            staged: [0; N],
+            record: core::marker::PhantomData,
         }
     }
 
@@ -1163,7 +1233,9 @@ impl<S: Storage> ConfigStore<S> {
     // The good copy goes into `out` (the slot state alone is returned: a
     // returned `(SlotState, Option<Config>)` made the compiler keep a
     // 149-byte constant of it in an AVR's RAM).
-    fn read_slot(&mut self, slot: usize, out: &mut Option<Config>) -> Result<SlotState, S::Error> {
+    // Not inlined: one copy for both slots.
+    #[inline(never)]
+    fn read_slot(&mut self, slot: usize, out: &mut Option<R>) -> Result<SlotState, S::Error> {
         const CORRUPT: SlotState = SlotState::Corrupt;
         let Some(base) = slot_offset(slot, 0) else {
             return Ok(CORRUPT);
@@ -1171,7 +1243,7 @@ impl<S: Storage> ConfigStore<S> {
         let mut header = [0u8; HEADER_LEN];
         self.storage.read(base, &mut header)?;
         let [m0, m1, m2, m3, v0, v1, l0, l1, s0, s1, s2, s3] = header;
-        if [m0, m1, m2, m3] != MAGIC {
+        if [m0, m1, m2, m3] != R::MAGIC {
             return Ok(SlotState::Empty);
         }
         let version = u16::from_le_bytes([v0, v1]);
@@ -1183,28 +1255,25 @@ impl<S: Storage> ConfigStore<S> {
             _ => return Ok(CORRUPT),
         };
         let mut crc = crc32_update(!0, &header);
-        let mut payload = [0u8; PAYLOAD_LEN];
-        let current = version == LAYOUT_VERSION && len == PAYLOAD_LEN;
-        if current {
-            let Some(at) = slot_offset(slot, HEADER_LEN) else {
+        // The payload, in small pieces into the CRC; kept when it has this
+        // layout's version and length (another one only decides between
+        // `OldVersion` and `Corrupt`).
+        let current = version == R::VERSION && len == R::PAYLOAD_LEN;
+        let mut payload = [0u8; N];
+        let mut chunk = [0u8; 16];
+        let mut at = HEADER_LEN;
+        while at < crc_at {
+            let n = (crc_at - at).min(chunk.len());
+            let (Some(part), Some(from)) = (chunk.get_mut(..n), slot_offset(slot, at)) else {
                 return Ok(CORRUPT);
             };
-            self.storage.read(at, &mut payload)?;
-            crc = crc32_update(crc, &payload);
-        } else {
-            // Another layout or length: the CRC decides between
-            // `OldVersion` and `Corrupt`; read in small pieces.
-            let mut chunk = [0u8; 16];
-            let mut at = HEADER_LEN;
-            while at < crc_at {
-                let n = (crc_at - at).min(chunk.len());
-                let (Some(part), Some(from)) = (chunk.get_mut(..n), slot_offset(slot, at)) else {
-                    return Ok(CORRUPT);
-                };
-                self.storage.read(from, part)?;
-                crc = crc32_update(crc, part);
-                at = at.saturating_add(n);
+            self.storage.read(from, part)?;
+            crc = crc32_update(crc, part);
+            let into = at - HEADER_LEN;
+            if let (true, Some(keep)) = (current, payload.get_mut(into..into + n)) {
+                keep.copy_from_slice(part);
             }
+            at += n;
         }
         let mut stored = [0u8; CRC_LEN];
         let Some(at) = slot_offset(slot, crc_at) else {
@@ -1214,13 +1283,13 @@ impl<S: Storage> ConfigStore<S> {
         if !crc != u32::from_le_bytes(stored) {
             return Ok(CORRUPT);
         }
-        if version != LAYOUT_VERSION {
+        if version != R::VERSION {
             return Ok(SlotState::OldVersion(version));
         }
         if !current {
             return Ok(CORRUPT);
         }
-        match Config::decode(&payload) {
+        match payload.get(..R::PAYLOAD_LEN).and_then(R::decode) {
             Some(cfg) => {
                 *out = Some(cfg);
                 Ok(SlotState::Good(seq))
@@ -1230,7 +1299,7 @@ impl<S: Storage> ConfigStore<S> {
     }
 
     /// Reads both slots; remembers which holds the newest good copy.
-    fn scan(&mut self) -> Scan<S::Error> {
+    fn scan(&mut self) -> Scan<S::Error, R> {
         let mut scan = Scan {
             slots: [SlotState::Unreadable; 2],
             best: None,
@@ -1276,7 +1345,7 @@ impl<S: Storage> ConfigStore<S> {
     /// Reads both slots and returns the newest good configuration, or the
     /// defaults when neither is good. Only reads (two slots, a CRC each);
     /// a save under way goes on.
-    pub fn load(&mut self) -> Loaded {
+    pub fn load(&mut self) -> Loaded<R> {
         let scan = self.scan();
         match scan.best {
             Some((_, _, config)) => Loaded {
@@ -1285,7 +1354,7 @@ impl<S: Storage> ConfigStore<S> {
                 slots: scan.slots,
             },
             None => Loaded {
-                config: Config::default(),
+                config: R::defaults(),
                 defaults: true,
                 slots: scan.slots,
             },
@@ -1310,7 +1379,7 @@ impl<S: Storage> ConfigStore<S> {
 
     /// Encodes `cfg` with sequence `seq` into the staged record; its
     /// length, or `None` when it does not fit.
-    fn stage(&mut self, cfg: &Config, seq: u32) -> Option<usize> {
+    fn stage(&mut self, cfg: &R, seq: u32) -> Option<usize> {
         let buf: &mut [u8] = &mut self.staged;
         let n = cfg.encode(buf.get_mut(HEADER_LEN..)?)?;
         let crc_at = HEADER_LEN.checked_add(n)?;
@@ -1319,8 +1388,8 @@ impl<S: Storage> ConfigStore<S> {
             pos: 0,
             overflow: false,
         };
-        w.bytes(&MAGIC);
-        w.u16(LAYOUT_VERSION);
+        w.bytes(&R::MAGIC);
+        w.u16(R::VERSION);
         w.u16(u16::try_from(n).ok()?);
         w.u32(seq);
         if w.overflow {
@@ -1345,7 +1414,7 @@ impl<S: Storage> ConfigStore<S> {
     /// under way is replaced by this one (its slot is written again from
     /// the start). A refused request (an error) leaves a save under way
     /// going on.
-    pub fn begin_save(&mut self, cfg: &Config) -> Result<(), SaveError<S::Error>> {
+    pub fn begin_save(&mut self, cfg: &R) -> Result<(), SaveError<S::Error>> {
         if !cfg.is_valid() {
             return Err(SaveError::Invalid);
         }
@@ -1437,7 +1506,7 @@ impl<S: Storage> ConfigStore<S> {
     /// returns when it is done: [`ConfigStore::begin_save`], then
     /// [`ConfigStore::poll`] until done (a storage that stays busy keeps it
     /// waiting). For hosts and tests; a firmware loop polls instead.
-    pub fn save(&mut self, cfg: &Config) -> Result<(), SaveError<S::Error>> {
+    pub fn save(&mut self, cfg: &R) -> Result<(), SaveError<S::Error>> {
         self.begin_save(cfg)?;
         loop {
             match self.poll() {
