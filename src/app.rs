@@ -621,7 +621,7 @@ where
                 }
             };
             // The line buffer passes printable ASCII only.
-            if let Ok(text) = core::str::from_utf8(line.get(..len).unwrap_or(&[])) {
+            if let Some(text) = crate::text::ascii_str(line.get(..len).unwrap_or(&[])) {
                 self.run_command(text, platform);
             }
         }

@@ -303,7 +303,7 @@ impl<const N: usize> LineBuffer<N> {
             return None;
         }
         let bytes = self.buf.get(..len)?;
-        Some(core::str::from_utf8(bytes).map_err(|_| LineError::NonAscii))
+        Some(crate::text::ascii_str(bytes).ok_or(LineError::NonAscii))
     }
 }
 
@@ -647,7 +647,12 @@ key_table! { c;
 
 /// The key named `name` (ASCII case-insensitive).
 pub fn key_from_name(name: &str) -> Option<Key> {
-    KEYS.iter().copied().find(|k| same_word(name, k.name()))
+    key_in(KEYS, name)
+}
+
+/// The key of `keys` named `name` (ASCII case-insensitive).
+fn key_in(keys: &[Key], name: &str) -> Option<Key> {
+    keys.iter().copied().find(|k| same_word(name, k.name()))
 }
 
 /// Stores `v` in `key` of `c`, unchecked; `Ok(true)` when it had to be
@@ -768,16 +773,18 @@ pub fn find_postal(text: &str) -> Result<PostalEntry, PostalError> {
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub struct Assignments<'a> {
     text: &'a str,
+    /// The keys the line was parsed against.
+    keys: &'a [Key],
 }
 
 impl<'a> Assignments<'a> {
     /// The pairs, in the order typed.
     pub fn iter(&self) -> impl Iterator<Item = (Key, Decimal)> + 'a {
-        let mut rest = self.text;
+        let (mut rest, keys) = (self.text, self.keys);
         core::iter::from_fn(move || loop {
             let (key, value, tail) = next_pair(rest).ok()??;
             rest = tail;
-            if let (Some(k), Ok(v)) = (key_from_name(key), Decimal::parse(value)) {
+            if let (Some(k), Ok(v)) = (key_in(keys, key), Decimal::parse(value)) {
                 return Some((k, v));
             }
         })
@@ -952,8 +959,8 @@ fn strip_prefix_ignore_case(s: &str, prefix: FlashStr) -> Option<&str> {
         .and_then(|_| s.get(prefix.len()..))
 }
 
-/// Parses `set`'s arguments.
-fn parse_set(args: &str) -> Result<Command<'_>, ParseError> {
+/// Parses `set`'s arguments against `keys`.
+fn parse_set<'a>(args: &'a str, keys: &'a [Key]) -> Result<Command<'a>, ParseError> {
     let trimmed = trim_start_blank(args);
     if let Some(after) = strip_prefix_ignore_case(trimmed, POSTAL_CODE_KEY) {
         let value = after.strip_prefix('=').or_else(|| {
@@ -978,7 +985,7 @@ fn parse_set(args: &str) -> Result<Command<'_>, ParseError> {
         if same_word(key, POSTAL_CODE_KEY) {
             return Err(ParseError::UnexpectedArgument);
         }
-        let k = key_from_name(key).ok_or(ParseError::UnknownKey)?;
+        let k = key_in(keys, key).ok_or(ParseError::UnknownKey)?;
         let v = Decimal::parse(value).map_err(|e| ParseError::BadValue(k, e))?;
         single = Some((k, v));
         count = count.saturating_add(1);
@@ -987,7 +994,7 @@ fn parse_set(args: &str) -> Result<Command<'_>, ParseError> {
     match single {
         None => Err(ParseError::MissingArgument),
         Some((k, v)) if count == 1 => Ok(Command::Set(k, v)),
-        Some(_) => Ok(Command::SetMany(Assignments { text: args })),
+        Some(_) => Ok(Command::SetMany(Assignments { text: args, keys })),
     }
 }
 
@@ -1080,9 +1087,16 @@ fn same_word(a: &str, b: FlashStr) -> bool {
 }
 
 /// Parses one command line (see the module docs for the language).
+pub fn parse(line: &str) -> Result<Command<'_>, ParseError> {
+    parse_in(line, KEYS)
+}
+
+/// Parses one command line whose keys are those of `keys`: the language of
+/// [`parse`] on a board that offers a part of the configuration (the
+/// Arduino Uno's settings); any other key is `error unknown key`.
 #[inline(never)]
 #[allow(unsafe_code)] // the read of VERBS from program memory
-pub fn parse(line: &str) -> Result<Command<'_>, ParseError> {
+pub fn parse_in<'a>(line: &'a str, keys: &'a [Key]) -> Result<Command<'a>, ParseError> {
     let (cmd, rest) = word(line);
     if cmd.is_empty() {
         return Err(ParseError::Empty);
@@ -1123,11 +1137,11 @@ pub fn parse(line: &str) -> Result<Command<'_>, ParseError> {
             if same_word(arg, POSTAL_CODE_KEY) {
                 return Err(ParseError::SetOnly);
             }
-            key_from_name(arg)
+            key_in(keys, arg)
                 .map(Command::Get)
                 .ok_or(ParseError::UnknownKey)
         }
-        Verb::Set => parse_set(rest),
+        Verb::Set => parse_set(rest, keys),
         Verb::Time => {
             if !same_word(arg, crate::flash_str!("set")) {
                 return Err(ParseError::UnknownCommand);
@@ -1485,6 +1499,20 @@ pub fn write_time_refused(out: &mut dyn Sink) {
     write_error(out, crate::flash_str!("time set: GPS time is in force"));
 }
 
+/// The reply to a refused `time set`: `error time set: GPS time is in
+/// force`, `… the RTC did not answer`, `… outside the RTC's range`.
+pub fn write_time_error(out: &mut dyn Sink, e: TimeSetError) {
+    match e {
+        TimeSetError::GpsInForce => write_time_refused(out),
+        TimeSetError::RtcFailed => {
+            write_error(out, crate::flash_str!("time set: the RTC did not answer"))
+        }
+        TimeSetError::OutOfRange => {
+            write_error(out, crate::flash_str!("time set: outside the RTC's range"))
+        }
+    }
+}
+
 /// The reply to `save`: `ok save`, or `error save: config invalid`,
 /// `… storage too small`, `… storage failed`.
 pub fn write_saved<E>(out: &mut dyn Sink, r: &Result<(), SaveError<E>>) {
@@ -1499,7 +1527,7 @@ pub fn write_saved<E>(out: &mut dyn Sink, r: &Result<(), SaveError<E>>) {
 /// The reply to `load`: `ok load` when a stored copy was good, else
 /// `error load: no valid stored config` (the firmware then keeps the
 /// configuration in force; `defaults` gives the defaults).
-pub fn write_loaded(out: &mut dyn Sink, l: &Loaded) {
+pub fn write_loaded<R>(out: &mut dyn Sink, l: &Loaded<R>) {
     if l.defaults {
         write_error(out, crate::flash_str!("load: no valid stored config"));
     } else {
@@ -1650,15 +1678,7 @@ pub fn execute(op: &mut dyn Operator, line: &str) -> Executed {
         },
         Command::TimeSet(t) => match op.set_time(&t) {
             Ok(()) => write_time_set(op.out(), &t),
-            Err(TimeSetError::GpsInForce) => write_time_refused(op.out()),
-            Err(TimeSetError::RtcFailed) => write_error(
-                op.out(),
-                crate::flash_str!("time set: the RTC did not answer"),
-            ),
-            Err(TimeSetError::OutOfRange) => write_error(
-                op.out(),
-                crate::flash_str!("time set: outside the RTC's range"),
-            ),
+            Err(e) => write_time_error(op.out(), e),
         },
         Command::Stow | Command::Resume => {
             op.stow(matches!(cmd, Command::Stow));

@@ -34,6 +34,19 @@ pub struct FlashStr {
 unsafe impl Sync for FlashStr {}
 unsafe impl Send for FlashStr {}
 
+/// `bytes` as text when every byte is ASCII, else `None`. Not
+/// `core::str::from_utf8`: its 256-byte UTF-8 width table is kept in RAM
+/// by avr-gcc, a quarter of what an ATmega328P's tracker has.
+pub fn ascii_str(bytes: &[u8]) -> Option<&str> {
+    if bytes.is_ascii() {
+        // SAFETY: ASCII (every byte below 0x80, just checked) is valid
+        // UTF-8.
+        Some(unsafe { core::str::from_utf8_unchecked(bytes) })
+    } else {
+        None
+    }
+}
+
 /// `s` as a byte array of its length, for [`flash_str!`](crate::flash_str);
 /// fails to compile for a text that is not ASCII.
 pub const fn to_array<const N: usize>(s: &str) -> [u8; N] {
