@@ -22,6 +22,9 @@ ELF_AVR_MEGA_EMU="$FW_TARGET_DIR/mega-emu/avr-none/release/avr_mega_tracker.elf"
 ELF_AVR_UNO_EMU="$FW_TARGET_DIR/uno-emu/avr-none/release/avr_tracker.elf"
 ELF_AVR_UNO_PSA2020="$FW_TARGET_DIR/uno-psa2020/avr-none/release/avr_tracker.elf"
 ELF_AVR_UNO_DS1302="$FW_TARGET_DIR/uno-ds1302/avr-none/release/avr_tracker.elf"
+ELF_AVR_SETTINGS="$FW_TARGET_DIR/avr-none/release/avr_settings.elf"
+ELF_AVR_SETTINGS_DS1302="$FW_TARGET_DIR/uno-ds1302/avr-none/release/avr_settings.elf"
+ELF_AVR_SETTINGS_EMU="$FW_TARGET_DIR/uno-emu/avr-none/release/avr_settings.elf"
 ELF_AVR_SELFTEST_UNO="$FW_TARGET_DIR/avr-none/release/avr_board_selftest.elf"
 ELF_AVR_SELFTEST="$FW_TARGET_DIR/mega/avr-none/release/avr_board_selftest.elf"
 
@@ -46,17 +49,18 @@ build_blackpill_defmt() {
 }
 build_avr_uno() {
   cargo +nightly build --release --target avr-none -Z build-std=core --features uno \
-    --bin avr_tracker --bin avr_bench --bin avr_board_selftest
+    --bin avr_tracker --bin avr_settings --bin avr_bench --bin avr_board_selftest
 }
 # The Uno image's build options: psa-2020 instead of the seed's michalsky,
-# a DS1302 instead of the DS3231; built and held to the same budget.
+# a DS1302 instead of the DS3231 (the settings image too: its `time set`
+# sets that clock); built and held to the same budget.
 build_avr_uno_psa2020() {
   cargo +nightly build --release --target avr-none -Z build-std=core --features uno,psa2020 \
     --bin avr_tracker --target-dir "$FW_TARGET_DIR/uno-psa2020"
 }
 build_avr_uno_ds1302() {
   cargo +nightly build --release --target avr-none -Z build-std=core --features uno,ds1302 \
-    --bin avr_tracker --target-dir "$FW_TARGET_DIR/uno-ds1302"
+    --bin avr_tracker --bin avr_settings --target-dir "$FW_TARGET_DIR/uno-ds1302"
 }
 build_avr_mega() {
   RUSTFLAGS="$AVR_MEGA_RUSTFLAGS" \
@@ -72,11 +76,11 @@ build_avr_mega_emu() {
     cargo +nightly build --release --target avr-none -Z build-std=core --features mega2560 \
     --bin avr_mega_tracker --target-dir "$FW_TARGET_DIR/mega-emu"
 }
-# The Uno image for the emulator harness, the same way.
+# The Uno images for the emulator harness, the same way.
 build_avr_uno_emu() {
   SUNTRACKER_EMU_MS_PER_TICK=$EMU_MS_PER_TICK \
     cargo +nightly build --release --target avr-none -Z build-std=core --features uno \
-    --bin avr_tracker --target-dir "$FW_TARGET_DIR/uno-emu"
+    --bin avr_tracker --bin avr_settings --target-dir "$FW_TARGET_DIR/uno-emu"
 }
 build_all_firmware() {
   build_qemu

@@ -189,6 +189,7 @@ fi
 load_allow
 
 check avr_tracker "$ELF_AVR_UNO"
+check avr_settings "$ELF_AVR_SETTINGS"
 check avr_mega_tracker "$ELF_AVR_MEGA"
 check qemu_tracker "$ELF_QEMU"
 check blackpill_tracker "$ELF_BLACKPILL"

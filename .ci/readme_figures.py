@@ -136,6 +136,8 @@ for name, label, ram_fmt in [
     ("avr_tracker", "avr_tracker, ATmega328P", "{ram}"),
     ("avr_tracker_psa2020", "avr_tracker with `psa2020`, ATmega328P", "{ram}"),
     ("avr_tracker_ds1302", "avr_tracker with `ds1302`, ATmega328P", "{ram}"),
+    ("avr_settings", "avr_settings, ATmega328P", "{ram}"),
+    ("avr_settings_ds1302", "avr_settings with `ds1302`, ATmega328P", "{ram}"),
     ("avr_mega_tracker", "avr_mega_tracker, ATmega2560", "{ram}"),
     ("qemu_tracker", "qemu_tracker, Cortex-M4F", "{ram} + stack"),
     ("blackpill_tracker", "blackpill_tracker, STM32F411", "{ram} + stack"),

@@ -20,12 +20,21 @@
 //! builds itself (layout of `src/config.rs`: magic, version, length,
 //! sequence, payload, CRC-32 by `crc32`, whose check value
 //! `tests/tracker_config.rs` verifies) and the storage's contents.
+//!
+//! The EEPROM helpers are generic over the record kept ([`Record`]): the
+//! same three EEPROM sweeps run on the Arduino Uno's settings
+//! (`board::chowdhury2019_settings::Settings`, magic "STUN", version 1,
+//! latitude, longitude and two gear ratios as `f32` little-endian), whose
+//! record this test also builds from that module's documentation.
+
+use std::fmt::Debug;
 
 use embedded_storage::nor_flash::{
     check_erase, check_read, check_write, ErrorType, NorFlash, NorFlashErrorKind, ReadNorFlash,
 };
+use suntracker::board::chowdhury2019_settings::{self as settings, Settings};
 use suntracker::config::{
-    crc32, Config, ConfigStore, Loaded, SaveError, SaveStatus, SlotState, LAYOUT_VERSION,
+    crc32, Config, ConfigStore, Loaded, Record, SaveError, SaveStatus, SlotState, LAYOUT_VERSION,
     RECORD_LEN, SLOT_LEN,
 };
 use suntracker::storage::{EepromCells, EepromError, EepromStorage, NorError, NorFlashStorage};
@@ -59,36 +68,107 @@ fn config_new() -> Config {
     c
 }
 
-/// The stored record of `cfg` with sequence `seq`: magic "STCF", layout
-/// version, payload length, sequence (little-endian), payload, CRC-32 of
-/// all before it.
-fn record(cfg: &Config, seq: u32) -> Vec<u8> {
-    let mut payload = [0u8; 512];
-    let n = cfg.encode(&mut payload).expect("payload fits");
+/// Settings of a board never set: Kano (the module's defaults).
+fn settings_a() -> Settings {
+    settings::DEFAULTS
+}
+
+/// Sydney, the seed's direct drives.
+fn settings_b() -> Settings {
+    Settings {
+        lat_deg: -33.8688,
+        lon_deg: 151.2093,
+        ..settings::DEFAULTS
+    }
+}
+
+/// Sydney with gears 2 (C) and 3 (A).
+fn settings_new() -> Settings {
+    Settings {
+        gear_ratio: [2.0, 3.0],
+        ..settings_b()
+    }
+}
+
+/// A record kept by the store, with its stored layout as documented: what
+/// [`record`] builds without the store.
+trait Documented: Record + PartialEq + Debug {
+    /// The slot's first four bytes.
+    const DOC_MAGIC: [u8; 4];
+    /// The layout version.
+    const DOC_VERSION: u16;
+    /// The payload.
+    fn payload(&self) -> Vec<u8>;
+}
+
+impl Documented for Config {
+    const DOC_MAGIC: [u8; 4] = *b"STCF";
+    const DOC_VERSION: u16 = LAYOUT_VERSION;
+    fn payload(&self) -> Vec<u8> {
+        let mut payload = [0u8; 512];
+        let n = self.encode(&mut payload).expect("payload fits");
+        payload[..n].to_vec()
+    }
+}
+
+/// Module docs of `src/board/chowdhury2019_settings.rs`: magic "STUN",
+/// version 1, latitude, longitude, gear C, gear A as `f32` little-endian.
+impl Documented for Settings {
+    const DOC_MAGIC: [u8; 4] = *b"STUN";
+    const DOC_VERSION: u16 = 1;
+    fn payload(&self) -> Vec<u8> {
+        [
+            self.lat_deg,
+            self.lon_deg,
+            self.gear_ratio[0],
+            self.gear_ratio[1],
+        ]
+        .iter()
+        .flat_map(|v| v.to_le_bytes())
+        .collect()
+    }
+}
+
+/// The stored record of `rec` with sequence `seq`: magic ("STCF" for the
+/// configuration), layout version, payload length, sequence
+/// (little-endian), payload, CRC-32 of all before it.
+fn record<R: Documented>(rec: &R, seq: u32) -> Vec<u8> {
+    let payload = rec.payload();
     let mut r = Vec::new();
-    r.extend_from_slice(b"STCF");
-    r.extend_from_slice(&LAYOUT_VERSION.to_le_bytes());
-    r.extend_from_slice(&u16::try_from(n).expect("short payload").to_le_bytes());
+    r.extend_from_slice(&R::DOC_MAGIC);
+    r.extend_from_slice(&R::DOC_VERSION.to_le_bytes());
+    r.extend_from_slice(
+        &u16::try_from(payload.len())
+            .expect("short payload")
+            .to_le_bytes(),
+    );
     r.extend_from_slice(&seq.to_le_bytes());
-    r.extend_from_slice(&payload[..n]);
+    r.extend_from_slice(&payload);
     let crc = crc32(&r);
     r.extend_from_slice(&crc.to_le_bytes());
     r
 }
 
 /// What a load after a cut may return.
-fn check_after_cut(l: &Loaded, old: Option<&Config>, new: &Config, what: &str) {
+fn check_after_cut<R: Record + PartialEq + Debug>(
+    l: &Loaded<R>,
+    old: Option<&R>,
+    new: &R,
+    what: &str,
+) {
     match old {
         Some(old) => {
             assert!(!l.defaults, "{what}: defaults while a good copy existed");
             assert!(
                 l.config == *old || l.config == *new,
-                "{what}: neither the old nor the new configuration"
+                "{what}: neither the old nor the new configuration: {:?}",
+                l.config
             );
         }
         None => assert!(
-            (l.defaults && l.config == Config::default()) || (!l.defaults && l.config == *new),
-            "{what}: from empty storage only the defaults or the new configuration"
+            (l.defaults && l.config == R::defaults()) || (!l.defaults && l.config == *new),
+            "{what}: from empty storage only the defaults or the new configuration: {:?}",
+            l.config
         ),
     }
 }
@@ -207,15 +287,19 @@ impl EepromCells for CutEeprom {
     }
 }
 
-type EepromStore = ConfigStore<EepromStorage<CutEeprom>>;
+/// A store of record `R` (`N` bytes a copy) on the EEPROM model.
+type EepromStore<R, const N: usize> = ConfigStore<EepromStorage<CutEeprom>, R, N>;
 
-fn eeprom_store(bytes: &[u8], cut: Option<(usize, ByteCut)>) -> EepromStore {
-    ConfigStore::new(EepromStorage::new(CutEeprom::new(bytes.to_vec(), cut)))
+fn eeprom_store<R: Record + PartialEq + Debug, const N: usize>(
+    bytes: &[u8],
+    cut: Option<(usize, ByteCut)>,
+) -> EepromStore<R, N> {
+    ConfigStore::<_, R, N>::for_record(EepromStorage::new(CutEeprom::new(bytes.to_vec(), cut)))
 }
 
 /// Power-up and load, on an intact EEPROM holding `bytes`.
-fn eeprom_load(bytes: &[u8]) -> Loaded {
-    eeprom_store(bytes, None).load()
+fn eeprom_load<R: Record + PartialEq + Debug, const N: usize>(bytes: &[u8]) -> Loaded<R> {
+    eeprom_store::<R, N>(bytes, None).load()
 }
 
 /// How a save ended: the cut fired, or it finished with a result.
@@ -228,12 +312,12 @@ enum End<E> {
 /// Boots on `bytes` (load), saves `new` polling as a firmware loop does,
 /// with a power cut during byte write `cut`: the bytes left and how it
 /// ended. Checks that no poll starts more than one byte write.
-fn eeprom_save(
+fn eeprom_save<R: Record + PartialEq + Debug, const N: usize>(
     bytes: &[u8],
-    new: &Config,
+    new: &R,
     cut: Option<(usize, ByteCut)>,
 ) -> (Vec<u8>, End<EepromError>) {
-    let mut store = eeprom_store(bytes, cut);
+    let mut store = eeprom_store::<R, N>(bytes, cut);
     store.load();
     store.begin_save(new).expect("save staged");
     let mut polls = 0u32;
@@ -261,10 +345,10 @@ fn eeprom_save(
 }
 
 /// An EEPROM image after saving `configs` one after the other (uncut).
-fn eeprom_image(configs: &[Config]) -> Vec<u8> {
+fn eeprom_image<R: Record + PartialEq + Debug, const N: usize>(configs: &[R]) -> Vec<u8> {
     let mut bytes = vec![0xFF; EEPROM_LEN];
     for c in configs {
-        let (b, end) = eeprom_save(&bytes, c, None);
+        let (b, end) = eeprom_save::<R, N>(&bytes, c, None);
         assert_eq!(end, End::Done(Ok(())));
         bytes = b;
     }
@@ -275,9 +359,16 @@ fn eeprom_image(configs: &[Config]) -> Vec<u8> {
 /// each leaving the byte old, new or garbage; `old` is the configuration
 /// in force before, `slot`/`seq` where the save goes. Returns the cut
 /// points tried.
-fn eeprom_sweep(image: &[u8], old: Option<&Config>, slot: usize, seq: u32) -> usize {
-    let new = config_new();
+fn eeprom_sweep<R: Documented, const N: usize>(
+    image: &[u8],
+    old: Option<&R>,
+    new: &R,
+    slot: usize,
+    seq: u32,
+) -> usize {
+    let new = *new;
     let rec = record(&new, seq);
+    assert_eq!(rec.len(), N, "the record as documented is N bytes");
     let base = slot * SLOT_LEN;
     let other = (1 - slot) * SLOT_LEN;
     // Bytes that differ between the record and what the slot holds: the
@@ -291,7 +382,7 @@ fn eeprom_sweep(image: &[u8], old: Option<&Config>, slot: usize, seq: u32) -> us
 
     // Uncut: exactly those writes, the slot holds the record, the other
     // slot is untouched, and a load gives the new configuration.
-    let mut store = eeprom_store(image, None);
+    let mut store = eeprom_store::<R, N>(image, None);
     store.load();
     store.save(&new).expect("uncut save");
     assert_eq!(store.storage().cells().writes, writes);
@@ -301,21 +392,21 @@ fn eeprom_sweep(image: &[u8], old: Option<&Config>, slot: usize, seq: u32) -> us
         &after[other..other + SLOT_LEN],
         &image[other..other + SLOT_LEN]
     );
-    assert_eq!(eeprom_load(&after).config, new);
+    assert_eq!(eeprom_load::<R, N>(&after).config, new);
 
     let mut tried = 0;
     let (mut saw_old, mut saw_new) = (false, false);
     for k in 0..writes {
         for how in BYTE_CUTS {
             let what = format!("slot {slot}, write {k} of {writes}, {how:?}");
-            let (left, end) = eeprom_save(image, &new, Some((k, how)));
+            let (left, end) = eeprom_save::<R, N>(image, &new, Some((k, how)));
             assert_eq!(end, End::Cut, "{what}");
             assert_eq!(
                 &left[other..other + SLOT_LEN],
                 &image[other..other + SLOT_LEN],
                 "{what}: the other slot changed"
             );
-            let l = eeprom_load(&left);
+            let l = eeprom_load::<R, N>(&left);
             check_after_cut(&l, old, &new, &what);
             if k + 1 == writes && how == ByteCut::New {
                 assert_eq!(l.config, new, "{what}: the record is complete");
@@ -334,7 +425,7 @@ fn eeprom_sweep(image: &[u8], old: Option<&Config>, slot: usize, seq: u32) -> us
 fn eeprom_cut_at_every_byte_from_empty() {
     let image = vec![0xFF; EEPROM_LEN];
     let rec = record(&config_new(), 1);
-    let tried = eeprom_sweep(&image, None, 0, 1);
+    let tried = eeprom_sweep::<Config, RECORD_LEN>(&image, None, &config_new(), 0, 1);
     // Erased bytes (0xFF) of the record are skipped.
     let expected = 3 * rec.iter().filter(|b| **b != 0xFF).count();
     assert_eq!(tried, expected);
@@ -343,12 +434,12 @@ fn eeprom_cut_at_every_byte_from_empty() {
 
 #[test]
 fn eeprom_cut_at_every_byte_with_one_good_slot() {
-    let image = eeprom_image(&[config_a()]);
+    let image = eeprom_image::<Config, RECORD_LEN>(&[config_a()]);
     assert_eq!(
-        eeprom_load(&image).slots,
+        eeprom_load::<Config, RECORD_LEN>(&image).slots,
         [SlotState::Good(1), SlotState::Empty]
     );
-    let tried = eeprom_sweep(&image, Some(&config_a()), 1, 2);
+    let tried = eeprom_sweep::<Config, RECORD_LEN>(&image, Some(&config_a()), &config_new(), 1, 2);
     let rec = record(&config_new(), 2);
     assert_eq!(tried, 3 * rec.iter().filter(|b| **b != 0xFF).count());
     println!("EEPROM, one good slot: {tried} cut points");
@@ -356,14 +447,14 @@ fn eeprom_cut_at_every_byte_with_one_good_slot() {
 
 #[test]
 fn eeprom_cut_at_every_byte_with_two_good_slots() {
-    let image = eeprom_image(&[config_a(), config_b()]);
+    let image = eeprom_image::<Config, RECORD_LEN>(&[config_a(), config_b()]);
     assert_eq!(
-        eeprom_load(&image).slots,
+        eeprom_load::<Config, RECORD_LEN>(&image).slots,
         [SlotState::Good(1), SlotState::Good(2)]
     );
     // Slot 0 (sequence 1, config A) is overwritten with sequence 3; only
     // B or the new configuration may come back, never A.
-    let tried = eeprom_sweep(&image, Some(&config_b()), 0, 3);
+    let tried = eeprom_sweep::<Config, RECORD_LEN>(&image, Some(&config_b()), &config_new(), 0, 3);
     let rec = record(&config_new(), 3);
     let differing = rec
         .iter()
@@ -376,10 +467,80 @@ fn eeprom_cut_at_every_byte_with_two_good_slots() {
     println!("EEPROM, two good slots: {tried} cut points");
 }
 
+// ---------------------------------------------------------------------------
+// The Arduino Uno's settings (`board::chowdhury2019_settings`), same sweeps.
+
+/// Bytes of one stored copy of the settings.
+const SETTINGS_LEN: usize = settings::RECORD_LEN;
+
+#[test]
+fn settings_record_is_as_documented() {
+    // Header 12, payload four f32s, CRC-32 4.
+    assert_eq!(record(&settings_new(), 1).len(), 12 + 16 + 4);
+    assert_eq!(SETTINGS_LEN, 12 + 16 + 4);
+    assert_eq!(settings::EEPROM_LEN, EEPROM_LEN);
+    // The store writes exactly the record built here.
+    let image = eeprom_image::<Settings, SETTINGS_LEN>(&[settings_b()]);
+    let rec = record(&settings_b(), 1);
+    assert_eq!(&image[..rec.len()], &rec[..]);
+    assert!(image[rec.len()..].iter().all(|b| *b == 0xFF));
+    // The settings are distinct and valid.
+    let all = [settings_a(), settings_b(), settings_new()];
+    for (i, s) in all.iter().enumerate() {
+        assert_eq!(s.validate(), Ok(()), "{s:?}");
+        assert!(all[..i].iter().all(|t| t != s), "{s:?} twice");
+    }
+}
+
+#[test]
+fn settings_eeprom_cut_at_every_byte_from_empty() {
+    let image = vec![0xFF; EEPROM_LEN];
+    let rec = record(&settings_new(), 1);
+    let tried = eeprom_sweep::<Settings, SETTINGS_LEN>(&image, None, &settings_new(), 0, 1);
+    assert_eq!(tried, 3 * rec.iter().filter(|b| **b != 0xFF).count());
+    println!("EEPROM settings, empty storage: {tried} cut points");
+}
+
+#[test]
+fn settings_eeprom_cut_at_every_byte_with_one_good_slot() {
+    let image = eeprom_image::<Settings, SETTINGS_LEN>(&[settings_a()]);
+    assert_eq!(
+        eeprom_load::<Settings, SETTINGS_LEN>(&image).slots,
+        [SlotState::Good(1), SlotState::Empty]
+    );
+    let tried =
+        eeprom_sweep::<Settings, SETTINGS_LEN>(&image, Some(&settings_a()), &settings_new(), 1, 2);
+    let rec = record(&settings_new(), 2);
+    assert_eq!(tried, 3 * rec.iter().filter(|b| **b != 0xFF).count());
+    println!("EEPROM settings, one good slot: {tried} cut points");
+}
+
+#[test]
+fn settings_eeprom_cut_at_every_byte_with_two_good_slots() {
+    let image = eeprom_image::<Settings, SETTINGS_LEN>(&[settings_a(), settings_b()]);
+    let l = eeprom_load::<Settings, SETTINGS_LEN>(&image);
+    assert_eq!(l.slots, [SlotState::Good(1), SlotState::Good(2)]);
+    assert_eq!(l.config, settings_b());
+    // Slot 0 (sequence 1, Kano) is overwritten with sequence 3; only
+    // Sydney or the new gears may come back, never Kano.
+    let tried =
+        eeprom_sweep::<Settings, SETTINGS_LEN>(&image, Some(&settings_b()), &settings_new(), 0, 3);
+    let rec = record(&settings_new(), 3);
+    let differing = rec
+        .iter()
+        .zip(&image[..rec.len()])
+        .filter(|(r, i)| r != i)
+        .count();
+    assert_eq!(tried, 3 * differing);
+    // The header's magic, version and length are equal: skipped.
+    assert!(differing <= rec.len() - 8);
+    println!("EEPROM settings, two good slots: {tried} cut points");
+}
+
 #[test]
 fn eeprom_repeated_cut_saves_then_a_whole_one() {
     let mut rng = Rng(0x9E37_79B9_7F4A_7C15);
-    let mut bytes = eeprom_image(&[config_a()]);
+    let mut bytes = eeprom_image::<Config, RECORD_LEN>(&[config_a()]);
     let mut good = config_a();
     for i in 0..12u32 {
         let mut next = config_new();
@@ -388,8 +549,8 @@ fn eeprom_repeated_cut_saves_then_a_whole_one() {
         // most the record's length).
         let k = rng.below(RECORD_LEN);
         let how = BYTE_CUTS[rng.below(3)];
-        let (left, end) = eeprom_save(&bytes, &next, Some((k, how)));
-        let l = eeprom_load(&left);
+        let (left, end) = eeprom_save::<Config, RECORD_LEN>(&bytes, &next, Some((k, how)));
+        let l = eeprom_load::<Config, RECORD_LEN>(&left);
         check_after_cut(&l, Some(&good), &next, &format!("attempt {i}"));
         if end != End::Cut {
             // The save had fewer writes than k: it completed.
@@ -400,15 +561,15 @@ fn eeprom_repeated_cut_saves_then_a_whole_one() {
         bytes = left;
     }
     let last = config_b();
-    let (after, end) = eeprom_save(&bytes, &last, None);
+    let (after, end) = eeprom_save::<Config, RECORD_LEN>(&bytes, &last, None);
     assert_eq!(end, End::Done(Ok(())));
-    assert_eq!(eeprom_load(&after).config, last);
+    assert_eq!(eeprom_load::<Config, RECORD_LEN>(&after).config, last);
 }
 
 #[test]
 fn eeprom_load_during_a_save_gives_the_old_copy() {
-    let image = eeprom_image(&[config_a()]);
-    let mut store = eeprom_store(&image, None);
+    let image = eeprom_image::<Config, RECORD_LEN>(&[config_a()]);
+    let mut store = eeprom_store::<Config, RECORD_LEN>(&image, None);
     store.load();
     store.begin_save(&config_new()).unwrap();
     for _ in 0..20 {
@@ -430,12 +591,12 @@ fn eeprom_load_during_a_save_gives_the_old_copy() {
 
 #[test]
 fn eeprom_worn_cell_fails_the_save_and_keeps_the_old_copy() {
-    let image = eeprom_image(&[config_a()]);
+    let image = eeprom_image::<Config, RECORD_LEN>(&[config_a()]);
     let rec = record(&config_new(), 2);
     // A byte of slot 1's payload that must take a zero bit it cannot hold.
     let i = (12..rec.len()).find(|&i| rec[i] != 0xFF).unwrap();
     let address = u16::try_from(SLOT_LEN + i).unwrap();
-    let mut store = eeprom_store(&image, None);
+    let mut store = eeprom_store::<Config, RECORD_LEN>(&image, None);
     store.load();
     let mut cells = store.release().release();
     cells.worn = Some((address, 0xFF));
@@ -463,7 +624,7 @@ fn eeprom_worn_cell_fails_the_save_and_keeps_the_old_copy() {
     };
     assert_eq!(r, Err(SaveError::Storage(EepromError::Verify { address })));
     let bytes = store.release().release().bytes;
-    assert_eq!(eeprom_load(&bytes).config, config_a());
+    assert_eq!(eeprom_load::<Config, RECORD_LEN>(&bytes).config, config_a());
 }
 
 #[test]
@@ -966,15 +1127,15 @@ fn sequence_numbers_roll_over_the_wrap() {
     let mut bytes = vec![0xFF; EEPROM_LEN];
     put(&mut bytes, 0, &config_a(), start);
     assert_eq!(
-        eeprom_load(&bytes).slots,
+        eeprom_load::<Config, RECORD_LEN>(&bytes).slots,
         [SlotState::Good(start), SlotState::Empty]
     );
     for i in 1..=6u32 {
         let mut c = config_new();
         c.wind.release_s = 1000 + i;
-        let (after, end) = eeprom_save(&bytes, &c, None);
+        let (after, end) = eeprom_save::<Config, RECORD_LEN>(&bytes, &c, None);
         assert_eq!(end, End::Done(Ok(())));
-        let l = eeprom_load(&after);
+        let l = eeprom_load::<Config, RECORD_LEN>(&after);
         assert_eq!(l.config, c, "save {i}");
         // Save i writes slot i mod 2 with sequence start + i (wrapping):
         // u32::MAX − 1, u32::MAX, 0, 1, 2, 3.
@@ -997,8 +1158,8 @@ fn cut_at_every_byte_of_the_save_that_wraps() {
     let mut image = vec![0xFF; EEPROM_LEN];
     put(&mut image, 0, &config_a(), u32::MAX - 1);
     put(&mut image, 1, &config_b(), u32::MAX);
-    assert_eq!(eeprom_load(&image).config, config_b());
-    let tried = eeprom_sweep(&image, Some(&config_b()), 0, 0);
+    assert_eq!(eeprom_load::<Config, RECORD_LEN>(&image).config, config_b());
+    let tried = eeprom_sweep::<Config, RECORD_LEN>(&image, Some(&config_b()), &config_new(), 0, 0);
     let rec = record(&config_new(), 0);
     let differing = rec
         .iter()
@@ -1007,9 +1168,9 @@ fn cut_at_every_byte_of_the_save_that_wraps() {
         .count();
     assert_eq!(tried, 3 * differing);
     println!("EEPROM, the save that wraps to sequence 0: {tried} cut points");
-    let (after, _) = eeprom_save(&image, &config_new(), None);
+    let (after, _) = eeprom_save::<Config, RECORD_LEN>(&image, &config_new(), None);
     assert_eq!(
-        eeprom_load(&after).slots,
+        eeprom_load::<Config, RECORD_LEN>(&after).slots,
         [SlotState::Good(0), SlotState::Good(u32::MAX)]
     );
 }

@@ -57,7 +57,8 @@ impl<'e> Bench<'e> {
             ServoModel::new(ServoSpec::FS5106R, 0.0, -180.0),
             ServoModel::new(ServoSpec::FS5106R, 20.0, -90.0),
         ];
-        let [cc, ac] = axis_configs();
+        let configs = axis_configs();
+        let [cc, ac] = &configs;
         let axis = |m: &Rc<RefCell<ServoModel>>, e: &'e SharedEncoder, cfg| {
             let servo = ContinuousServo::new(Pwm(Rc::clone(m)), SERVO).unwrap();
             let switch = Switch {
@@ -67,12 +68,12 @@ impl<'e> Bench<'e> {
             ServoAxis::new(servo, e, switch, true, POSITION_LOOP, cfg)
         };
         let axes = [
-            axis(&models[0], &encoders[0], &cc),
-            axis(&models[1], &encoders[1], &ac),
+            axis(&models[0], &encoders[0], cc),
+            axis(&models[1], &encoders[1], ac),
         ];
         let site = Site::new(LAT_DEG, LON_DEG).unwrap();
         Bench {
-            tracker: SeedTracker::new(SimRtc::new(t), site, axes),
+            tracker: SeedTracker::new(SimRtc::new(t), site, axes, &configs),
             models,
             encoders,
             log: Log::default(),

@@ -98,25 +98,30 @@ const MS_PER_DAY: u32 = 86_400_000;
 /// The axes (C then A): C turns −180…+180° from its home switch at −180°,
 /// A tilts −90…+90° from its home at −90°; one encoder count is 0.3°.
 pub fn axis_configs() -> [AxisConfig; 2] {
-    let c = AxisConfig {
+    axis_configs_geared([GEAR_RATIO; 2])
+}
+
+/// The axes of [`axis_configs`] with a gear of `gear_ratio` (C, A) servo
+/// turns per axis turn between each servo and its axis (the encoder on the
+/// servo's shaft): a count is `0.3° / gear` of axis, the speed `570 °/s /
+/// gear`.
+pub fn axis_configs_geared(gear_ratio: [f32; 2]) -> [AxisConfig; 2] {
+    let [gear_c, gear_a] = gear_ratio;
+    // The home switch at the lowest angle; 95 rpm = 570 °/s of servo at the
+    // ends of its range, through the gear (a ratio below 1, outside the
+    // configuration's range, counts as 1).
+    let axis = |gear: f32, min_deg: f32, max_deg: f32| AxisConfig {
         counts_per_motor_rev: COUNTS_PER_TURN,
         microsteps: 1,
-        gear_ratio: GEAR_RATIO,
-        min_deg: -180.0,
-        max_deg: 180.0,
-        home_deg: -180.0,
+        gear_ratio: gear,
+        min_deg,
+        max_deg,
+        home_deg: min_deg,
         backlash_deg: 0.0,
-        // 95 rpm = 570 °/s at the ends of the servo's range.
-        max_speed_deg_s: 570.0,
+        max_speed_deg_s: 570.0 / if gear >= 1.0 { gear } else { 1.0 },
         deadband_deg: 0.0,
     };
-    let a = AxisConfig {
-        min_deg: -90.0,
-        max_deg: 90.0,
-        home_deg: -90.0,
-        ..c
-    };
-    [c, a]
+    [axis(gear_c, -180.0, 180.0), axis(gear_a, -90.0, 90.0)]
 }
 
 /// The FS5106R's pulses: 1,500 µs stop, 700 µs and 2,300 µs full speed
@@ -485,17 +490,18 @@ pub struct SeedTracker<R, D> {
 
 impl<R: RtcDriver, D: AxisDrive + Motion> SeedTracker<R, D> {
     /// The tracker at power-on: nothing homed, no time yet. `axes` are C
-    /// then A, with their [`axis_configs`].
+    /// then A, built with `configs` ([`axis_configs`] or
+    /// [`axis_configs_geared`]).
     // Not inlined: built in place once, not copied field by field into the
     // caller's frame (1.4 KB of loads and stores on an AVR).
     #[inline(never)]
-    pub fn new(rtc: R, site: Site<f32>, axes: [D; 2]) -> Self {
+    pub fn new(rtc: R, site: Site<f32>, axes: [D; 2], configs: &[AxisConfig; 2]) -> Self {
         let [c, a] = axes;
-        let [cc, ac] = axis_configs();
+        let [cc, ac] = configs;
         SeedTracker {
             time: TimeKeeper::new(rtc, TimeConfig::default()),
             source: SunSource::new(site),
-            axes: [SeedAxis::new(c, &cc), SeedAxis::new(a, &ac)],
+            axes: [SeedAxis::new(c, cc), SeedAxis::new(a, ac)],
             energy: DayEnergy::new(),
             mode: None,
             time_fault: None,

@@ -6,6 +6,7 @@
 pub mod avr;
 
 pub mod chowdhury2019;
+pub mod chowdhury2019_settings;
 pub mod li2022;
 
 // The Arduino Mega 2560 tracker (ATmega2560 builds: `--cfg avr_atmega2560`).

@@ -7,7 +7,7 @@
 //!
 //! | function | pin | Uno header |
 //! |---|---|---|
-//! | log, 115200 8N1 | USART0 TXD (PD1) | D1 (USB) |
+//! | log, 115200 8N1 (the settings image: its console) | USART0 TXD/RXD (PD1/PD0) | D1/D0 (USB) |
 //! | I²C 100 kHz: DS3231 0x68 | SDA/SCL (PC4/PC5) | A4/A5 |
 //! | servo A (tilt) FS5106R, 50 Hz PWM | OC1A (PB1) | D9 |
 //! | servo C (azimuth) FS5106R, 50 Hz PWM | OC1B (PB2) | D10 |
@@ -38,29 +38,32 @@
 //! watchdog is fed and the CPU sleeps until the next interrupt. There is no
 //! simulated clock: an RTC that lost power or does not answer leaves the
 //! panel flat, `mode wait_for_time`.
+//!
+//! The site and the gears come from the EEPROM at power-on
+//! ([`super::chowdhury2019_settings`]), where the settings image
+//! ([`run_settings`], bin `avr_settings`) saved them from its console:
+//! there is no room for a console beside the tracker.
 
-use drivers::servo::ContinuousServo;
-use embedded_hal::pwm::{ErrorType, SetDutyCycle};
-use sun_algos::Site;
-
+use super::avr::eeprom::Eeprom;
 use super::avr::{
     chip, millis, sleep_until_interrupt, Adc, InputPin, Millis, Oc1a, Oc1b, PinChangeEncoders,
     PulseWidth, PwmError, Timer1Pwm, Usart0, Watchdog, MAX_DUTY, MS_PER_TICK,
 };
 use super::chowdhury2019::{self as seed, SeedTracker, POSITION_LOOP, SERVO};
+use super::chowdhury2019_settings::{self as settings, SettingsConsole};
 use crate::hw::ServoAxis;
 use crate::log::{self, Sink, SiteSource};
 use crate::panel::{Divider, PanelAdc};
 use crate::text::FlashStr;
+use drivers::servo::ContinuousServo;
+use embedded_hal::pwm::{ErrorType, SetDutyCycle};
 
 /// Board name in the boot line.
 pub const BOARD: &str = "uno";
+/// Board name in the settings image's boot line.
+pub const SETTINGS_BOARD: &str = "uno-settings";
 /// Log serial.
 pub const LOG_BAUD_HZ: u32 = 115_200;
-/// The stored site: Kano, Nigeria (seed jimoh-2019's site), degrees.
-pub const SITE_LAT_DEG: f32 = 11.9683;
-/// The stored site's longitude, degrees east.
-pub const SITE_LON_DEG: f32 = 8.4261;
 /// The panel's ADC input: AVcc (5 V) reference, 10 bits, a 10 kΩ/10 kΩ
 /// divider (the seed's 6 V panel, open circuit up to about 7.5 V, stays
 /// under the 5 V reference at the pin).
@@ -143,6 +146,7 @@ pub fn run(dp: chip::Peripherals) -> ! {
         EXINT,
         ADC,
         TWI,
+        EEPROM,
         ..
     } = dp;
     let mut out = Usart0::new_tx_only(USART0, LOG_BAUD_HZ);
@@ -165,24 +169,34 @@ pub fn run(dp: chip::Peripherals) -> ! {
         out.u32(MS_PER_TICK as u32);
         out.flash(crate::flash_str!("\n"));
     }
-    let Ok(site) = Site::new(SITE_LAT_DEG, SITE_LON_DEG) else {
-        // The board's own constants: cannot happen. The watchdog, no
+    let settings = settings::load(Eeprom::storage(EEPROM), &mut out);
+    let Ok(site) = settings.site() else {
+        // Loaded settings are validated: cannot happen. The watchdog, no
         // longer fed, resets the chip.
         halt(&mut out, crate::flash_str!("site refused"))
     };
-    log::site(&mut out, SiteSource::Config, SITE_LAT_DEG, SITE_LON_DEG);
+    log::site(
+        &mut out,
+        SiteSource::Config,
+        settings.lat_deg,
+        settings.lon_deg,
+    );
+    let configs = settings.axis_configs();
+    let [config_c, config_a] = &configs;
     out.flash(crate::flash_str!("config step_s="));
     out.u32(seed::STEP_S);
     out.flash(crate::flash_str!(" tick_ms="));
     out.u32(seed::TICK_MS);
-    // One encoder count of axis, the pose's resolution.
+    // One encoder count of axis, the pose's resolution: the coarser axis's
+    // (0.3° through a direct drive).
+    let (c, a) = (config_c.counts_per_deg(), config_a.counts_per_deg());
+    let counts_per_deg = if c < a { c } else { a };
     out.flash(crate::flash_str!(" axis_step_deg="));
-    out.fixed(360.0 / seed::COUNTS_PER_TURN as f32, 3);
+    out.fixed(1.0 / counts_per_deg, 3);
     out.flash(crate::flash_str!(" algorithm="));
     out.flash(seed::ALGORITHM_NAME);
     out.flash(crate::flash_str!("\n"));
 
-    let [config_c, config_a] = seed::axis_configs();
     let (oc1a, oc1b) = pwm.channels();
     let (Ok(servo_c), Ok(servo_a)) = (
         ContinuousServo::new(ServoPwm::B(oc1b), SERVO),
@@ -197,7 +211,7 @@ pub fn run(dp: chip::Peripherals) -> ! {
             home_c,
             true,
             POSITION_LOOP,
-            &config_c,
+            config_c,
         ),
         ServoAxis::new(
             servo_a,
@@ -205,11 +219,11 @@ pub fn run(dp: chip::Peripherals) -> ! {
             home_a,
             true,
             POSITION_LOOP,
-            &config_a,
+            config_a,
         ),
     ];
     let rtc = rtc(&PORTC, TWI);
-    let mut tracker = SeedTracker::new(rtc, site, axes);
+    let mut tracker = SeedTracker::new(rtc, site, axes, &configs);
     let tick_ms = u64::from(seed::TICK_MS);
     let mut next_tick_ms = 0u64;
     loop {
@@ -222,6 +236,47 @@ pub fn run(dp: chip::Peripherals) -> ! {
             let _ = adc.start(PANEL_CHANNEL);
             next_tick_ms = now_ms.saturating_add(tick_ms);
         }
+        watchdog.feed();
+        sleep_until_interrupt(&CPU);
+    }
+}
+
+/// Console bytes taken from the receive ring per pass of the settings
+/// image's loop (115200 baud brings 11.5 bytes a millisecond; a pass ends
+/// at each Timer0 millisecond or byte received).
+const CONSOLE_BURST: usize = 16;
+
+/// The settings image: the console of
+/// [`super::chowdhury2019_settings`] on the log port (115200 8N1), the
+/// EEPROM and the RTC (for `time set`); nothing else is driven (the servo
+/// pins stay inputs, so the servos get no pulse and stay still). Flash it,
+/// type the settings, `save`, then flash the tracker image back: the
+/// bootloader leaves the EEPROM as it is. Never returns.
+pub fn run_settings(dp: chip::Peripherals) -> ! {
+    let chip::Peripherals {
+        USART0,
+        TC0,
+        WDT,
+        CPU,
+        PORTC,
+        TWI,
+        EEPROM,
+        ..
+    } = dp;
+    let mut out = Usart0::new(USART0, LOG_BAUD_HZ);
+    let _millis = Millis::start(TC0);
+    let mut watchdog = Watchdog::enable(WDT, &CPU);
+    // SAFETY: the Timer0 tick and the USART0 receiver, the only two, are
+    // set up above.
+    unsafe { avr_device::interrupt::enable() };
+    log::boot(&mut out, SETTINGS_BOARD);
+    let mut console = SettingsConsole::boot(Eeprom::storage(EEPROM), &mut out);
+    let mut rtc = rtc(&PORTC, TWI);
+    loop {
+        let mut rx = [0u8; CONSOLE_BURST];
+        let n = Usart0::take_received(&mut rx);
+        console.input(rx.get(..n).unwrap_or_default(), &mut rtc, &mut out);
+        console.poll(&mut out);
         watchdog.feed();
         sleep_until_interrupt(&CPU);
     }
