@@ -38,6 +38,7 @@ use crate::models::nmea::{GpsFeed, NmeaFeeder};
 use crate::models::qmc5883l::Qmc5883l;
 use crate::models::stepper::{AxisGeometry, IllegalStep, StepperDecoder};
 use crate::models::wind::{Anemometer, WindProfile};
+use crate::script::Script;
 use crate::sim::{CpuState, RamUse, Sim};
 use crate::twi::{EmuClock, TwiBus};
 
@@ -242,11 +243,8 @@ pub struct Bench {
     echo: bool,
     log_file: Option<PathBuf>,
     timescale: f64,
-    /// Bytes typed on the console (USART0): (emulated minute, bytes, what
-    /// the harness log shows).
-    typed: Vec<(f64, Vec<u8>, String)>,
-    /// Power cuts: emulated minutes at which the chip is power-cycled.
-    resets: Vec<f64>,
+    /// Console input (USART0) and power cuts.
+    script: Script,
 }
 
 /// The byte the free RAM is painted with before a run.
@@ -274,37 +272,32 @@ impl Bench {
             echo: false,
             log_file: None,
             timescale: DEFAULT_TIMESCALE,
-            typed: Vec::new(),
-            resets: Vec::new(),
+            script: Script::default(),
         }
     }
 
     /// Types `line` (and an end of line) on the console, USART0, at
-    /// emulated `minute`; the harness log shows it as `> line`.
+    /// emulated `minute`; the harness log shows it as `> line` (see
+    /// [`crate::script`] for the pacing).
     pub fn type_at(mut self, minute: f64, line: &str) -> Self {
-        let mut bytes = line.as_bytes().to_vec();
-        bytes.push(b'\n');
-        self.typed.push((minute, bytes, format!("> {line}")));
-        self.typed.sort_by(|a, b| a.0.total_cmp(&b.0));
+        self.script.type_line(minute, line);
         self
     }
 
     /// Sends `bytes` as they are on the console at emulated `minute` (noise,
     /// a flood); the harness log shows `> (N bytes)`.
     pub fn bytes_at(mut self, minute: f64, bytes: Vec<u8>) -> Self {
-        let shown = format!("> ({} bytes)", bytes.len());
-        self.typed.push((minute, bytes, shown));
-        self.typed.sort_by(|a, b| a.0.total_cmp(&b.0));
+        self.script.bytes(minute, bytes);
         self
     }
 
     /// Cuts the power at emulated `minute` and turns it on again
     /// ([`Sim::power_cycle`]: the EEPROM keeps its contents, the DS3231
-    /// runs on its battery, the axes stay where they are); the harness
-    /// log shows `# power cut`.
+    /// runs on its battery, the axes stay where they are, the switches and
+    /// the anemometer input are driven again); the harness log shows
+    /// `# power cut`.
     pub fn reset_at(mut self, minute: f64) -> Self {
-        self.resets.push(minute);
-        self.resets.sort_by(|a, b| a.total_cmp(b));
+        self.script.reset(minute);
         self
     }
 
@@ -446,11 +439,7 @@ impl Bench {
         let mut last_trace_min = -1i64;
         let mut min_angles = (c_axis.angle_deg(), a_axis.angle_deg());
         let mut cpu = CpuState::Running;
-        let mut typed = self.typed.iter().peekable();
-        let mut resets = self.resets.iter().peekable();
-        // Lines of the harness itself (typed input, power cuts), shown in
-        // the log in order with the image's.
-        let mut harness_lines: Vec<String> = Vec::new();
+        let mut script = self.script.player();
         loop {
             let now_cycle = sim.cycle();
             let now_emu = segments[segments.len() - 1].emu_s_at(now_cycle);
@@ -459,17 +448,21 @@ impl Bench {
             }
             clock.set_s(now_emu);
             let utc = self.start_unix_s as f64 + now_emu;
-            while let Some((_, bytes, shown)) = typed.next_if(|(m, ..)| now_emu >= m * 60.0) {
-                sim.uart_send('0', bytes);
-                harness_lines.push(shown.clone());
-            }
-            if resets.next_if(|m| now_emu >= **m * 60.0).is_some() {
-                sim.power_cycle(RAM_START, PAINT);
+            // Lines of the harness itself (typed input, power cuts), shown
+            // in the log in order with the image's.
+            let due = script.service(&mut sim, now_emu, RAM_START, PAINT);
+            if due.power_cut {
                 log = LineAssembler::default();
                 line_start = None;
-                harness_lines.push("# power cut".to_string());
+                // The reset cleared the PINx registers: drive the switch,
+                // anemometer and real-time levels again.
+                switches = [None; 4];
+                sim.set_pin('L', 0, real_time);
+                if let Some(l) = wind_level {
+                    sim.set_pin('E', 4, l);
+                }
             }
-            for text in harness_lines.drain(..) {
+            for text in due.lines {
                 let line = LogLine {
                     utc_s: utc,
                     event: parse_line(&text),

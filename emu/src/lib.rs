@@ -5,12 +5,15 @@
 //! and max-end switches on PORTC, a GPS on USART1, a cup anemometer on
 //! INT4 — and a reader of the log on USART0; and the ATmega328P (Uno)
 //! image with a DS3231, two FS5106R servos turning YMT22 encoders on its
-//! pins, home switches and the panel voltage on ADC0 ([`uno`]). See
-//! `emu/README.md`.
+//! pins, home switches and the panel voltage on ADC0 ([`uno`]). On both,
+//! lines typed on the console (USART0) and power cuts at given emulated
+//! minutes ([`script`]). See `emu/README.md`.
 
 pub mod bench;
+pub mod ihex;
 pub mod log;
 pub mod models;
+pub mod script;
 pub mod sim;
 pub mod twi;
 pub mod uno;

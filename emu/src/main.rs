@@ -15,24 +15,29 @@ its peripherals (DS3231, QMC5883L, ADXL345, two H-bridge steppers with end
 switches, GPS on USART1, anemometer on INT4) and print the board's log.
 
 USAGE:
-  suntracker-emu --image mega|uno|qemu [OPTIONS]
+  suntracker-emu --image mega|uno|uno-settings|qemu [OPTIONS]
 
 OPTIONS:
   --image NAME          mega (ATmega2560) or uno (ATmega328P: DS3231, two
                         FS5106R servos turning YMT22 encoders, home
                         switches, the panel voltage on ADC0; the GPS, mount
-                        and wind options do not apply); qemu runs in QEMU,
-                        not here: python3 .ci/qemu_gps.py ELF
+                        and wind options do not apply); uno-settings: the
+                        Uno's settings image (its configuration console on
+                        USART0, the DS3231, the EEPROM; clock 1:1, emulated
+                        time = CPU time); qemu runs in QEMU, not here:
+                        python3 .ci/qemu_gps.py ELF
   --elf PATH            the ELF (default: $CARGO_TARGET_DIR or target, then
-                        /mega-emu/avr-none/release/avr_mega_tracker.elf or
-                        /uno-emu/avr-none/release/avr_tracker.elf)
+                        /mega-emu/avr-none/release/avr_mega_tracker.elf,
+                        /uno-emu/avr-none/release/avr_tracker.elf or
+                        /uno-emu/avr-none/release/avr_settings.elf)
   --nmea FILE           feed this recorded NMEA log on USART1 (default: a
                         generated Kano fix, 11.9683 N 8.4261 E, 480 m)
   --no-gps              keep USART1 silent
   --start UTC           power-on time, YYYY-MM-DDTHH:MM:SSZ (default: the
                         first NMEA time, else 2026-06-21T05:00:00Z)
   --rtc valid|lost|absent   DS3231 state at power-on (default valid)
-  --minutes N           emulated minutes to run (default 1440)
+  --minutes N           emulated minutes to run (default 1440; uno-settings
+                        5)
   --tilt-deg X          mount tilt about the tracker's x axis (default 0)
   --heading-deg Y       azimuth the mount faces, east of north (default 0)
   --gale-at UTC         40 Hz anemometer pulses for 10 minutes from UTC
@@ -43,18 +48,41 @@ OPTIONS:
   --stall c|a:UTC:MIN   uno: hold that axis's shaft from UTC for MIN
                         emulated minutes (a jammed servo); repeatable
   --start-deg C,A       uno: shaft angles at power-on (default 0,20)
-  --type MINUTE:LINE    type LINE on the console (USART0, 115200 baud) at
-                        emulated MINUTE (a decimal); repeatable. The log
-                        shows `> LINE` and the console's replies
+  --site LAT,LON        uno: where the bench stands, degrees north, east: the
+                        sun its panel model sees (default Kano, 11.9683,
+                        8.4261), whatever site the image is set for
+  --type MINUTE:LINE    mega, uno-settings: type LINE on the console
+                        (USART0, 115200 baud) at emulated MINUTE (a
+                        decimal); repeatable. The log shows `> LINE` and
+                        the console's replies (refused for uno: the
+                        tracker image reads no console)
   --reset-at MINUTE     cut the power at emulated MINUTE and turn it on
                         again: the chip resets, its RAM is lost, its EEPROM
-                        is kept, the DS3231 runs on, the axes stay put; the
-                        log shows `# power cut`. Repeatable
+                        is kept, the DS3231 runs on, the axes stay put (uno:
+                        the servos, encoders and switches keep their state;
+                        the image homes again); the log shows `# power
+                        cut`. Repeatable
+  --eeprom FILE         uno, uno-settings: the EEPROM at power-on, an Intel
+                        HEX file (as for avrdude -U eeprom:w:FILE:i;
+                        records 00 and 01); default all erased (0xFF)
+  --eeprom-out FILE     uno, uno-settings: write the EEPROM at the end of
+                        the run to FILE, Intel HEX (1,024 bytes)
   --quiet               do not print the log lines
   -h, --help            this text
 
 Exit status: 0 if the image ran for the whole span, 1 if it stopped or
 crashed early, 2 for usage errors or an unsupported image.";
+
+/// The images the harness runs.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+enum Image {
+    /// The ATmega2560 tracker (`avr_mega_tracker`).
+    Mega,
+    /// The ATmega328P tracker (`avr_tracker`).
+    Uno,
+    /// The ATmega328P settings image (`avr_settings`).
+    UnoSettings,
+}
 
 fn main() -> ExitCode {
     match run() {
@@ -73,7 +101,7 @@ fn run() -> Result<ExitCode, String> {
     let mut nmea = None::<PathBuf>;
     let mut no_gps = false;
     let mut start = None::<i64>;
-    let mut minutes = 1440.0;
+    let mut minutes = None::<f64>;
     let mut tilt = 0.0;
     let mut heading = 0.0;
     let mut log = None::<PathBuf>;
@@ -84,6 +112,9 @@ fn run() -> Result<ExitCode, String> {
     let mut resets: Vec<f64> = Vec::new();
     let mut stalls: Vec<(Axis, i64, f64)> = Vec::new();
     let mut start_deg = None::<(f64, f64)>;
+    let mut eeprom = None::<PathBuf>;
+    let mut eeprom_out = None::<PathBuf>;
+    let mut site = None::<(f64, f64)>;
     let mut p = lexopt::Parser::from_env();
     let err = |e: lexopt::Error| e.to_string();
     let utc = |s: String| parse_utc(&s).ok_or(format!("bad time {s}, want YYYY-MM-DDTHH:MM:SSZ"));
@@ -94,7 +125,7 @@ fn run() -> Result<ExitCode, String> {
             Long("nmea") => nmea = Some(p.value().map_err(err)?.into()),
             Long("no-gps") => no_gps = true,
             Long("start") => start = Some(utc(p.value().map_err(err)?.string().map_err(err)?)?),
-            Long("minutes") => minutes = p.value().map_err(err)?.parse().map_err(err)?,
+            Long("minutes") => minutes = Some(p.value().map_err(err)?.parse().map_err(err)?),
             Long("tilt-deg") => tilt = p.value().map_err(err)?.parse().map_err(err)?,
             Long("heading-deg") => heading = p.value().map_err(err)?.parse().map_err(err)?,
             Long("log") => log = Some(p.value().map_err(err)?.into()),
@@ -147,6 +178,19 @@ fn run() -> Result<ExitCode, String> {
                 });
                 start_deg = Some(pair.ok_or(format!("--start-deg {v}: want C,A in degrees"))?);
             }
+            Long("eeprom") => eeprom = Some(p.value().map_err(err)?.into()),
+            Long("eeprom-out") => eeprom_out = Some(p.value().map_err(err)?.into()),
+            Long("site") => {
+                let v = p.value().map_err(err)?.string().map_err(err)?;
+                let pair = v.split_once(',').and_then(|(lat, lon)| {
+                    let lat: f64 = lat.trim().parse().ok()?;
+                    let lon: f64 = lon.trim().parse().ok()?;
+                    ((-90.0..=90.0).contains(&lat) && (-180.0..=180.0).contains(&lon))
+                        .then_some((lat, lon))
+                });
+                site =
+                    Some(pair.ok_or(format!("--site {v}: want LAT,LON in degrees (north, east)"))?);
+            }
             Long("gale-at") => gale = Some(utc(p.value().map_err(err)?.string().map_err(err)?)?),
             Long("rtc") => {
                 rtc = match p.value().map_err(err)?.string().map_err(err)?.as_str() {
@@ -163,9 +207,10 @@ fn run() -> Result<ExitCode, String> {
             _ => return Err(arg.unexpected().to_string()),
         }
     }
-    let uno = match image.as_deref() {
-        Some("mega") => false,
-        Some("uno") => true,
+    let image = match image.as_deref() {
+        Some("mega") => Image::Mega,
+        Some("uno") => Image::Uno,
+        Some("uno-settings") => Image::UnoSettings,
         Some("qemu") => {
             eprintln!(
                 "suntracker-emu: --image qemu: the QEMU image runs under QEMU, fed by \
@@ -173,42 +218,106 @@ fn run() -> Result<ExitCode, String> {
             );
             return Ok(ExitCode::from(2));
         }
-        Some(other) => return Err(format!("--image {other}: want mega, uno or qemu")),
+        Some(other) => {
+            return Err(format!(
+                "--image {other}: want mega, uno, uno-settings or qemu"
+            ))
+        }
         None => return Err("--image is required (see --help)".into()),
     };
     let elf = elf.unwrap_or_else(|| {
         let target = std::env::var_os("CARGO_TARGET_DIR")
             .map_or_else(|| PathBuf::from("target"), PathBuf::from);
-        target.join(if uno {
-            "uno-emu/avr-none/release/avr_tracker.elf"
-        } else {
-            "mega-emu/avr-none/release/avr_mega_tracker.elf"
+        target.join(match image {
+            Image::Mega => "mega-emu/avr-none/release/avr_mega_tracker.elf",
+            Image::Uno => "uno-emu/avr-none/release/avr_tracker.elf",
+            Image::UnoSettings => "uno-emu/avr-none/release/avr_settings.elf",
         })
     });
-    if uno && (!typed.is_empty() || !resets.is_empty()) {
+    let minutes = minutes.unwrap_or(match image {
+        Image::UnoSettings => 5.0,
+        _ => 1440.0,
+    });
+    if image != Image::Uno && (!stalls.is_empty() || start_deg.is_some() || site.is_some()) {
+        return Err("--stall, --start-deg and --site: --image uno only".into());
+    }
+    if image == Image::Mega && (eeprom.is_some() || eeprom_out.is_some()) {
+        return Err("--eeprom and --eeprom-out: --image uno or uno-settings only".into());
+    }
+    if image == Image::Uno && !typed.is_empty() {
         return Err(
-            "--type and --reset-at: not for --image uno (the Uno image reads no console, \
-             and its bench does not cut the power)"
+            "--type: not for --image uno (the tracker image reads no console; its settings \
+             come from the EEPROM: --image uno-settings types them)"
                 .into(),
         );
     }
-    if !uno && (!stalls.is_empty() || start_deg.is_some()) {
-        return Err("--stall and --start-deg: --image uno only".into());
-    }
-    if uno {
+    if image != Image::Mega {
+        let settings = image == Image::UnoSettings;
         let start = start.unwrap_or(suntracker_emu::bench::DEFAULT_START);
-        let mut bench = UnoBench::new(&elf)
-            .start(start)
-            .rtc(rtc)
-            .echo(!quiet)
-            .log_to(log);
+        let mut bench = if settings {
+            UnoBench::settings(&elf)
+        } else {
+            UnoBench::new(&elf)
+        }
+        .start(start)
+        .rtc(rtc)
+        .echo(!quiet)
+        .log_to(log);
         if let Some((c, a)) = start_deg {
             bench = bench.start_angles(c, a);
+        }
+        if let Some((lat, lon)) = site {
+            bench = bench.site(lat, lon);
         }
         for (axis, at, minutes) in stalls {
             bench = bench.stall(axis, at as f64, minutes * 60.0);
         }
+        for (minute, line) in &typed {
+            bench = bench.type_at(*minute, line);
+        }
+        for minute in &resets {
+            bench = bench.reset_at(*minute);
+        }
+        if let Some(path) = &eeprom {
+            let text =
+                std::fs::read_to_string(path).map_err(|e| format!("{}: {e}", path.display()))?;
+            let bytes = suntracker_emu::ihex::parse(&text)
+                .map_err(|e| format!("--eeprom {}: {e}", path.display()))?;
+            bench = bench.eeprom(bytes);
+        }
         let run = bench.run_minutes(minutes)?;
+        if let Some(path) = &eeprom_out {
+            std::fs::write(path, suntracker_emu::ihex::encode(&run.eeprom))
+                .map_err(|e| format!("{}: {e}", path.display()))?;
+        }
+        if let Some(r) = &run.rtc {
+            eprintln!(
+                "suntracker-emu: DS3231 at the end: {} (oscillator-stop flag {}), time set {} times",
+                format_utc(r.unix_s),
+                if r.osf { "set" } else { "clear" },
+                r.time_writes
+            );
+        }
+        let ok = if run.cpu == suntracker_emu::sim::CpuState::Running {
+            ExitCode::SUCCESS
+        } else {
+            ExitCode::from(1)
+        };
+        if settings {
+            eprintln!(
+                "suntracker-emu: {} from {}: {:.2} emulated min at 1:1 ({} cycles) in {:.2} s wall; \
+                 {} log lines; cpu {:?}",
+                elf.display(),
+                format_utc(start),
+                run.emulated_s / 60.0,
+                run.cycles,
+                run.wall.as_secs_f64(),
+                run.lines.len(),
+                run.cpu
+            );
+            eprintln!("suntracker-emu: {}", run.ram.summary());
+            return Ok(ok);
+        }
         let [c, a] = &run.axes;
         eprintln!(
             "suntracker-emu: {} from {}: {:.1} emulated min ({} cycles, timescale {}) in {:.2} s wall; \
@@ -253,11 +362,7 @@ fn run() -> Result<ExitCode, String> {
             );
         }
         eprintln!("suntracker-emu: {}", run.ram.summary());
-        return Ok(if run.cpu == suntracker_emu::sim::CpuState::Running {
-            ExitCode::SUCCESS
-        } else {
-            ExitCode::from(1)
-        });
+        return Ok(ok);
     }
     let default_start = suntracker_emu::bench::DEFAULT_START;
     let (feed, first) = match (&nmea, no_gps) {

@@ -459,6 +459,62 @@ impl Sim {
         n
     }
 
+    /// Writes `bytes` into the EEPROM from address `offset` (simavr's
+    /// `AVR_IOCTL_EEPROM_SET`), e.g. before the first instruction, as a
+    /// programmer would (`avrdude -U eeprom:w:…`). A fresh part's EEPROM is
+    /// erased (every byte 0xFF, simavr's `avr_eeprom_init`). Errors when the
+    /// part has no EEPROM or the bytes do not fit.
+    pub fn write_eeprom(&mut self, offset: u16, bytes: &[u8]) -> Result<(), String> {
+        if bytes.is_empty() {
+            return Ok(());
+        }
+        let size = u32::try_from(bytes.len()).map_err(|e| e.to_string())?;
+        let mut copy = bytes.to_vec();
+        let mut desc = ffi::avr_eeprom_desc_t {
+            ee: copy.as_mut_ptr(),
+            offset,
+            size,
+        };
+        let ctl = ioctl_code(b'e', b'e', b's', b'p');
+        let r = unsafe {
+            ffi::avr_ioctl(
+                self.avr.as_ptr(),
+                ctl,
+                &mut desc as *mut ffi::avr_eeprom_desc_t as *mut _,
+            )
+        };
+        if r != 0 {
+            return Err(format!(
+                "EEPROM: {} bytes at {offset} do not fit (or no EEPROM)",
+                bytes.len()
+            ));
+        }
+        Ok(())
+    }
+
+    /// `len` bytes of the EEPROM from address `offset` (simavr's
+    /// `AVR_IOCTL_EEPROM_GET`); `None` beyond its end or without one.
+    pub fn read_eeprom(&self, offset: u16, len: usize) -> Option<Vec<u8>> {
+        let mut out = vec![0u8; len];
+        if len == 0 {
+            return Some(out);
+        }
+        let mut desc = ffi::avr_eeprom_desc_t {
+            ee: out.as_mut_ptr(),
+            offset,
+            size: u32::try_from(len).ok()?,
+        };
+        let ctl = ioctl_code(b'e', b'e', b'g', b'p');
+        let r = unsafe {
+            ffi::avr_ioctl(
+                self.avr.as_ptr(),
+                ctl,
+                &mut desc as *mut ffi::avr_eeprom_desc_t as *mut _,
+            )
+        };
+        (r == 0).then_some(out)
+    }
+
     /// Cuts the power and turns it on again, as a supply that drops out
     /// would: the CPU and every peripheral reset, RAM is filled with
     /// `ram_pattern` (its contents after a power cut are undefined; the

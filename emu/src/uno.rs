@@ -16,10 +16,30 @@
 //!   shaft;
 //! - the panel voltage on ADC0 (PC0): the open-circuit voltage of the
 //!   panel facing where the MODEL's shafts point ([`crate::models::panel`])
-//!   against SPA's sun at the emulated UTC, through the 10 kΩ/10 kΩ
+//!   against SPA's sun at the emulated UTC where the bench stands
+//!   ([`UnoBench::site`], Kano by default), through the 10 kΩ/10 kΩ
 //!   divider, AVcc 5,000 mV; set at every service step (at most 1 ms of CPU
 //!   time, 60 emulated ms apart);
-//! - the log read from USART0.
+//! - the log read from USART0; bytes can be typed on its RX too
+//!   ([`UnoBench::type_at`], [`UnoBench::bytes_at`]) for an image that
+//!   reads a console there (`avr_tracker` reads none: its settings come
+//!   from the EEPROM);
+//! - the EEPROM loaded before the first instruction ([`UnoBench::eeprom`],
+//!   as a programmer would; erased by default) and read back at the end
+//!   ([`UnoRun::eeprom`]);
+//! - power cuts ([`UnoBench::reset_at`]): the chip restarts with its RAM
+//!   repainted and its EEPROM kept; the servos, encoders, switches and the
+//!   DS3231 are outside the chip and keep their state (a shaft coasts out
+//!   the last pulse's command, as the servo model does whenever its pulses
+//!   stop, and the encoder counts it).
+//!
+//! The Uno's settings image (`avr_settings`: the configuration console
+//! that writes the tracker's settings into the EEPROM) runs on the same
+//! bench ([`UnoBench::settings`]), its clock at 1:1.
+//!
+//! Typing and power cuts are the Mega bench's ([`crate::script`]): same
+//! pacing (simavr's USART at the baud rate the image set, never faster),
+//! same lines in the run (`> LINE`, `> (N bytes)`, `# power cut`).
 //!
 //! **Two clocks.** The emulation build advances its millisecond clock by
 //! the `timescale <N>` it logs at boot per 1 ms of CPU time
@@ -83,6 +103,7 @@ use crate::models::ds3231::Ds3231;
 use crate::models::fs5106r::{Fs5106r, Segment};
 use crate::models::panel::{self, Divider, PvPanel, Sky};
 use crate::models::quadrature::QuadratureEncoder;
+use crate::script::Script;
 use crate::sim::{CpuState, RamUse, Sim};
 use crate::twi::{EmuClock, TwiBus};
 
@@ -94,7 +115,8 @@ pub const RAM_START: u16 = 0x100;
 pub const SERVICE_CYCLES: u64 = 16_000;
 /// One Timer1 count at clk/8, µs: the servo signal's resolution.
 pub const PULSE_STEP_US: f64 = 0.5;
-/// Kano, Nigeria (the image's stored site), degrees north.
+/// Kano, Nigeria (the image's stored site, and where the bench stands by
+/// default), degrees north.
 pub const SITE_LAT_DEG: f64 = 11.9683;
 /// The stored site's longitude, degrees east.
 pub const SITE_LON_DEG: f64 = 8.4261;
@@ -113,6 +135,8 @@ pub const DEFAULT_START_DEG: (f64, f64) = (0.0, 20.0);
 /// Default phase of each encoder disc at shaft angle 0: half a count of
 /// the YMT22 (0.15°), so that each switch angle lies mid-count.
 pub const DEFAULT_ENCODER_PHASE_DEG: f64 = 0.15;
+/// The ATmega328P's EEPROM, bytes (datasheet §8.4).
+pub const EEPROM_LEN: usize = 1024;
 /// Set-point slot when the image's `config step_s=` line is not seen, s.
 pub const DEFAULT_STEP_S: i64 = 240;
 
@@ -229,6 +253,16 @@ pub struct UnoBench {
     encoder_phase_deg: f64,
     /// (axis, from emulated UTC, for emulated seconds).
     stalls: Vec<(Axis, f64, f64)>,
+    /// Where the bench stands (the panel model's sun): latitude, longitude.
+    site: (f64, f64),
+    /// Console input (USART0) and power cuts.
+    script: Script,
+    /// EEPROM contents from address 0 before the first instruction.
+    eeprom: Option<Vec<u8>>,
+    /// Emulated ms per CPU ms until the image logs `timescale <N>`.
+    timescale: f64,
+    /// Echo the decoded pose with each line (not for the settings image).
+    show_pose: bool,
 }
 
 /// The outcome of a Uno run.
@@ -265,6 +299,21 @@ pub struct UnoRun {
     pub cpu: CpuState,
     /// RAM: static, the stack's peak (painted and lowest SP), untouched.
     pub ram: RamUse,
+    /// The EEPROM at the end of the run ([`EEPROM_LEN`] bytes).
+    pub eeprom: Vec<u8>,
+    /// The DS3231 model at the end of the run (`None` when absent).
+    pub rtc: Option<RtcEnd>,
+}
+
+/// The DS3231 model at the end of a run.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct RtcEnd {
+    /// The time it shows, Unix seconds.
+    pub unix_s: i64,
+    /// Its oscillator-stop flag (set: lost power and not set since).
+    pub osf: bool,
+    /// Times the image wrote its seconds register (set the time).
+    pub time_writes: u32,
 }
 
 /// The image's `day_energy` against the bench's own integral.
@@ -373,10 +422,17 @@ pub fn sun_direction(zenith_deg: f64, azimuth_deg: f64) -> [f64; 3] {
     [-z.sin() * az.sin(), -z.sin() * az.cos(), z.cos()]
 }
 
-/// SPA (sun_algos, `f64`, geometric) at the image's site: (zenith,
-/// azimuth), degrees.
+/// SPA (sun_algos, `f64`, geometric) at the image's default site, Kano:
+/// (zenith, azimuth), degrees.
 pub fn kano_spa(unix_s: f64) -> Option<(f64, f64)> {
-    let site = Site::new(SITE_LAT_DEG, SITE_LON_DEG).ok()?;
+    spa(SITE_LAT_DEG, SITE_LON_DEG, unix_s)
+}
+
+/// SPA (sun_algos, `f64`, geometric, no elevation) at `lat_deg` north,
+/// `lon_deg` east, at the whole second of `unix_s`: (zenith, azimuth),
+/// degrees. `None` for a site or time SPA refuses.
+pub fn spa(lat_deg: f64, lon_deg: f64, unix_s: f64) -> Option<(f64, f64)> {
+    let site = Site::new(lat_deg, lon_deg).ok()?;
     let whole = unix_s.floor();
     let t = UtcTime::from_unix_seconds(whole as i64).ok()?;
     let p = Algorithm::Spa
@@ -589,6 +645,15 @@ impl AxisModel {
         self.servo.advance_to(to_s);
     }
 
+    /// No pulse follows (Timer1 stopped: a power cut, or the image turned
+    /// it off): the servo runs out the last pulse's command and stops
+    /// (`Fs5106r`'s signal timeout). Plans the motion to that end.
+    fn signal_lost(&mut self) {
+        if let Some(end) = self.servo.command_end_s() {
+            self.advance_plan(end);
+        }
+    }
+
     /// Puts one event on the pins.
     fn apply(&mut self, sim: &mut Sim, ev: PinEvent, utc_s: f64) {
         match ev.kind {
@@ -623,6 +688,20 @@ impl AxisModel {
     }
 }
 
+/// Prints a line of the run as `<utc> c=<deg> a=<deg> | <text>`, or
+/// `<utc> | <text>` without the pose.
+fn show(line: &LogLine, pose: bool) {
+    let utc = crate::log::format_utc(line.utc_s.floor() as i64);
+    if pose {
+        println!(
+            "{utc} c={:.3} a={:.3} | {}",
+            line.c_deg, line.a_deg, line.text
+        );
+    } else {
+        println!("{utc} | {}", line.text);
+    }
+}
+
 /// Rising/falling edges of one servo pin into pulses.
 #[derive(Debug, Default)]
 struct PulseDecoder {
@@ -639,6 +718,12 @@ impl PulseDecoder {
         } else if let Some(r) = self.rise.take() {
             self.pulses.push((r, cycle - r));
         }
+    }
+
+    /// The chip reset: a pulse in progress ended unseen (simavr drops
+    /// the pin's level without telling its watchers).
+    fn cut(&mut self) {
+        self.rise = None;
     }
 }
 
@@ -711,7 +796,7 @@ fn read_frame(sim: &Sim) -> Option<Frame> {
 impl UnoBench {
     /// The ATmega328P image at `elf`; defaults: start 2026-06-21T05:00Z,
     /// RTC valid, shafts at C 0°, A 20°, encoder phase half a count, no
-    /// stall.
+    /// stall, standing at Kano, nothing typed, no power cut.
     pub fn new(elf: impl AsRef<Path>) -> Self {
         UnoBench {
             elf: elf.as_ref().to_path_buf(),
@@ -722,7 +807,32 @@ impl UnoBench {
             start_deg: DEFAULT_START_DEG,
             encoder_phase_deg: DEFAULT_ENCODER_PHASE_DEG,
             stalls: Vec::new(),
+            site: (SITE_LAT_DEG, SITE_LON_DEG),
+            script: Script::default(),
+            eeprom: None,
+            timescale: DEFAULT_TIMESCALE,
+            show_pose: true,
         }
+    }
+
+    /// The Uno's settings image (`avr_settings`: the configuration console
+    /// on USART0 that writes the settings into the EEPROM) at `elf`: the
+    /// same bench, with the clock at 1:1 (the image logs no `timescale`:
+    /// emulated time is CPU time). It drives no servo; the models stand
+    /// still.
+    pub fn settings(elf: impl AsRef<Path>) -> Self {
+        UnoBench {
+            show_pose: false,
+            ..Self::new(elf).timescale(1.0)
+        }
+    }
+
+    /// Timescale to assume until the image logs `timescale <N>` (60 by
+    /// default, as the tracker's emulation build; 1 for an image without
+    /// time compression).
+    pub fn timescale(mut self, n: f64) -> Self {
+        self.timescale = n;
+        self
     }
 
     /// Emulated UTC at power-on, Unix seconds.
@@ -770,6 +880,48 @@ impl UnoBench {
         self
     }
 
+    /// Where the bench stands: the sun the panel model sees is SPA's at
+    /// `lat_deg` north, `lon_deg` east (Kano by default), whatever site the
+    /// image is configured for.
+    pub fn site(mut self, lat_deg: f64, lon_deg: f64) -> Self {
+        self.site = (lat_deg, lon_deg);
+        self
+    }
+
+    /// Types `line` (and an end of line, `\n`) on the console, USART0, at
+    /// emulated `minute`; the run's lines show it as `> line` (see
+    /// [`crate::script`] for the pacing).
+    pub fn type_at(mut self, minute: f64, line: &str) -> Self {
+        self.script.type_line(minute, line);
+        self
+    }
+
+    /// Sends `bytes` as they are on the console at emulated `minute` (noise,
+    /// a flood); the run's lines show `> (N bytes)`.
+    pub fn bytes_at(mut self, minute: f64, bytes: Vec<u8>) -> Self {
+        self.script.bytes(minute, bytes);
+        self
+    }
+
+    /// Cuts the power at emulated `minute` and turns it on again
+    /// ([`Sim::power_cycle`]: RAM repainted, EEPROM kept); the servos,
+    /// encoders and switches keep their state, the DS3231 runs on its
+    /// battery; the run's lines show `# power cut`. The image boots (and
+    /// homes) again.
+    pub fn reset_at(mut self, minute: f64) -> Self {
+        self.script.reset(minute);
+        self
+    }
+
+    /// The EEPROM holds `bytes` from address 0 at power-on (at most
+    /// [`EEPROM_LEN`]; the rest erased, 0xFF), as after `avrdude -U
+    /// eeprom:w:…` ([`crate::ihex::parse`] reads such a file). By default
+    /// it is all erased. A power cut keeps what the image wrote since.
+    pub fn eeprom(mut self, bytes: Vec<u8>) -> Self {
+        self.eeprom = Some(bytes);
+        self
+    }
+
     /// Runs for `minutes` of emulated time.
     pub fn run_minutes(&self, minutes: f64) -> Result<UnoRun, String> {
         let wall_start = Instant::now();
@@ -777,6 +929,15 @@ impl UnoBench {
         let (_, static_end) = crate::sim::static_ram(&self.elf)?;
         let ram_top = sim.ramend() + 1;
         sim.paint_ram(static_end, ram_top, PAINT);
+        if let Some(bytes) = &self.eeprom {
+            if bytes.len() > EEPROM_LEN {
+                return Err(format!(
+                    "EEPROM image of {} bytes: the ATmega328P has {EEPROM_LEN}",
+                    bytes.len()
+                ));
+            }
+            sim.write_eeprom(0, bytes)?;
+        }
         sim.attach_uart('0')?;
         sim.watch_pin('B', 1)?;
         sim.watch_pin('B', 2)?;
@@ -794,9 +955,10 @@ impl UnoBench {
             Rtc::Valid => Some(Ds3231::running(self.start_unix_s)),
             Rtc::LostPower => Some(Ds3231::lost_power()),
             Rtc::Absent => None,
-        };
-        if let Some(r) = rtc {
-            bus.borrow_mut().attach(Box::new(Rc::new(RefCell::new(r))));
+        }
+        .map(|d| Rc::new(RefCell::new(d)));
+        if let Some(r) = &rtc {
+            bus.borrow_mut().attach(Box::new(r.clone()));
         }
         sim.attach_twi(bus.clone())?;
 
@@ -817,7 +979,7 @@ impl UnoBench {
         // Emulated seconds = base_s + (cycle − base_cycle) / F_CPU × scale;
         // the scale changes once, when the image logs it.
         let f = f64::from(F_CPU);
-        let mut scale = DEFAULT_TIMESCALE;
+        let mut scale = self.timescale;
         let (mut base_cycle, mut base_s) = (0u64, 0.0f64);
         let end_emu_s = minutes * 60.0;
         let mut step_s = DEFAULT_STEP_S;
@@ -835,6 +997,8 @@ impl UnoBench {
         let panel_model = PvPanel::UXCELL_6V_065W;
         let divider = Divider::TEN_K_TEN_K;
         let mut cpu = CpuState::Running;
+        let mut script = self.script.player();
+        let site = self.site;
         loop {
             let now = sim.cycle();
             let map = TimeMap {
@@ -896,7 +1060,12 @@ impl UnoBench {
                     }
                     // Timer1 stopped or set up otherwise: no pulses until
                     // a pin rises again.
-                    None => next_bottom = None,
+                    None => {
+                        next_bottom = None;
+                        for ax in &mut axes {
+                            ax.signal_lost();
+                        }
+                    }
                 }
             }
             // The pin events that are due.
@@ -949,17 +1118,42 @@ impl UnoBench {
                         a_start_deg: line_start_pose.1,
                     };
                     if self.echo {
-                        println!(
-                            "{} c={:.3} a={:.3} | {}",
-                            crate::log::format_utc(line.utc_s.floor() as i64),
-                            pose.0,
-                            pose.1,
-                            line.text
-                        );
+                        show(&line, self.show_pose);
                     }
                     lines.push(line);
                     line_start_pose = pose;
                 }
+            }
+
+            // Typed input and power cuts, after the image's lines so far.
+            let due = script.service(&mut sim, now_emu, RAM_START, PAINT);
+            if due.power_cut {
+                log = LineAssembler::default();
+                next_bottom = None;
+                seen_c.cut();
+                seen_a.cut();
+                for ax in &mut axes {
+                    ax.signal_lost();
+                    // The reset cleared PINB and PIND.
+                    ax.drive_port(&mut sim, 'B');
+                    ax.drive_port(&mut sim, 'D');
+                }
+            }
+            for text in due.lines {
+                let pose = (axes[0].decoded_deg(), axes[1].decoded_deg());
+                let line = LogLine {
+                    utc_s: now_utc,
+                    event: parse_line(&text),
+                    text,
+                    c_deg: pose.0,
+                    a_deg: pose.1,
+                    c_start_deg: pose.0,
+                    a_start_deg: pose.1,
+                };
+                if self.echo {
+                    show(&line, self.show_pose);
+                }
+                lines.push(line);
             }
 
             // Slot ends: the decoded pose before the RTC shows the next
@@ -980,7 +1174,7 @@ impl UnoBench {
             let sun_now = match sun {
                 Some((s, z)) if s == utc_whole => z,
                 _ => {
-                    let z = kano_spa(utc_whole as f64);
+                    let z = spa(site.0, site.1, utc_whole as f64);
                     sun = Some((utc_whole, z));
                     z
                 }
@@ -1064,6 +1258,15 @@ impl UnoBench {
             wall: wall_start.elapsed(),
             cpu,
             ram: RamUse::measure(&sim, RAM_START, static_end, PAINT),
+            eeprom: sim.read_eeprom(0, EEPROM_LEN).unwrap_or_default(),
+            rtc: rtc.map(|r| {
+                let r = r.borrow();
+                RtcEnd {
+                    unix_s: r.unix_at(emulated_s),
+                    osf: r.osf(),
+                    time_writes: r.time_writes,
+                }
+            }),
         };
         if let Some(p) = &self.log_file {
             std::fs::write(p, run.log_with_axes()).map_err(|e| format!("{}: {e}", p.display()))?;

@@ -203,22 +203,16 @@ impl Record for Settings {
     }
 
     fn decode(buf: &[u8]) -> Option<Self> {
-        if buf.len() != PAYLOAD_LEN {
-            return None;
-        }
-        let mut v = [0f32; 4];
-        for (x, chunk) in v.iter_mut().zip(buf.chunks_exact(4)) {
-            let mut b = [0u8; 4];
-            b.copy_from_slice(chunk);
-            *x = f32::from_le_bytes(b);
-        }
-        let [lat_deg, lon_deg, gear_c, gear_a] = v;
-        let s = Settings {
-            lat_deg,
-            lon_deg,
-            gear_ratio: [gear_c, gear_a],
+        let f = |at: usize| -> Option<f32> {
+            let b: [u8; 4] = buf.get(at..at + 4)?.try_into().ok()?;
+            Some(f32::from_le_bytes(b))
         };
-        s.is_valid().then_some(s)
+        let s = Settings {
+            lat_deg: f(0)?,
+            lon_deg: f(4)?,
+            gear_ratio: [f(8)?, f(12)?],
+        };
+        (buf.len() == PAYLOAD_LEN && s.is_valid()).then_some(s)
     }
 
     fn is_valid(&self) -> bool {

@@ -229,6 +229,13 @@ impl Fs5106r {
         }
     }
 
+    /// When the last pulse's command runs out (its time plus
+    /// [`ServoSpec::signal_timeout_s`]) if no pulse follows; `None` before
+    /// the first pulse.
+    pub fn command_end_s(&self) -> Option<f64> {
+        self.command.map(|(t0, _)| t0 + self.spec.signal_timeout_s)
+    }
+
     /// The command's speed at `t_s` without stalls: 0 before the first
     /// pulse and after the hold of the last one.
     fn commanded_deg_s(&self, t_s: f64) -> f64 {

@@ -1,0 +1,486 @@
+//! The Arduino Uno's settings, on the harness's Uno bench
+//! (`suntracker_emu::uno`): the settings image (`avr_settings`, the
+//! configuration console on USART0) writes them into the ATmega328P's
+//! EEPROM, and the tracker image (`avr_tracker`, no console) loads the
+//! newest good copy of the two-slot store at power-on.
+//!
+//! Gated: the tracker's tests run only when `SUNTRACKER_EMU_ELF_UNO` names
+//! its ELF, the settings image's only when `SUNTRACKER_EMU_ELF_UNO_SETTINGS`
+//! names its ELF (both from `build_avr_uno_emu` in `.ci/firmware_env.sh`);
+//! otherwise each prints "skipped: … not set" and passes.
+//!
+//! The settings image runs at 1:1 (it logs no timescale: emulated time is
+//! CPU time), its typed lines at 115,200 baud. EEPROM contents the tests
+//! make themselves come from the library's own store
+//! (`suntracker::board::chowdhury2019_settings::SettingsStore` over
+//! `suntracker::config::MemStorage`), as a host tool would make them.
+//! References, as in `uno_scenarios.rs`: the sun is the harness's SPA
+//! (`suntracker_emu::uno::spa`: sun_algos, `f64`, geometric) at the stored
+//! site and the set-point's UTC; the panel normal of a pose is
+//! `suntracker::attitude`'s `MountAttitude::normal_xyz` for the level mount
+//! (either branch of the Uno's convention, `c = 180° − azimuth, a =
+//! −zenith` or `c = −azimuth, a = +zenith`, faces the sun); the pose the
+//! axes reached is the one decoded from the encoder models' counts at the
+//! end of each set-point's slot.
+
+use std::path::PathBuf;
+
+use suntracker::attitude::{angle_between_deg, sun_vector_xyz, MountAttitude, Pose};
+use suntracker::board::chowdhury2019_settings::{Settings, SettingsStore, DEFAULTS, EEPROM_LEN};
+use suntracker::config::{MemStorage, SLOT_LEN};
+use suntracker_emu::log::{format_utc, parse_utc, Event};
+use suntracker_emu::sim::CpuState;
+use suntracker_emu::uno::{spa, UnoBench, UnoRun};
+use suntracker_emu::Rtc;
+
+/// One encoder count of axis: 360° / (4 × 300 lines).
+const COUNT_DEG: f64 = 0.3;
+/// The log prints c and a to 2 decimals.
+const PRINT_DEG: f64 = 0.005;
+/// Reached: the decoded pose within one count of the logged one (plus its
+/// print rounding), as `uno_scenarios.rs` checks.
+const REACH_TOL_DEG: f64 = COUNT_DEG + PRINT_DEG;
+/// The commanded panel normal against SPA, as `uno_scenarios.rs` checks.
+const NORMAL_TOL_DEG: f64 = 0.03;
+/// The tracker: the ATmega328P's 2,048 B of RAM less 256 B kept free, as
+/// `uno_scenarios.rs` checks.
+const TRACKER_RAM_BUDGET_B: u16 = 1_792;
+/// The settings image: static RAM and the deepest stack within the part's
+/// RAM.
+const SETTINGS_RAM_BUDGET_B: u16 = 2_048;
+/// Sydney, the site typed and stored.
+const SYDNEY: (f64, f64) = (-33.8688, 151.2093);
+/// A slot's header: magic, version, length, then the sequence number at
+/// bytes 8..12 (`src/config.rs`, "Layout").
+const HEADER_LEN: usize = 12;
+const SEQ_AT: usize = 8;
+
+fn tracker_elf() -> Option<PathBuf> {
+    std::env::var_os("SUNTRACKER_EMU_ELF_UNO").map(PathBuf::from)
+}
+
+fn settings_elf() -> Option<PathBuf> {
+    std::env::var_os("SUNTRACKER_EMU_ELF_UNO_SETTINGS").map(PathBuf::from)
+}
+
+macro_rules! elf_or_skip {
+    ($elf:expr, $var:literal) => {
+        match $elf {
+            Some(p) => p,
+            None => {
+                println!(concat!("skipped: ", $var, " not set"));
+                return;
+            }
+        }
+    };
+}
+
+fn t(s: &str) -> i64 {
+    parse_utc(s).unwrap()
+}
+
+/// Emulated minutes of `s` seconds (the settings image's clock is 1:1).
+fn min(s: f64) -> f64 {
+    s / 60.0
+}
+
+/// The EEPROM after saving each of `saves` in turn through the library's
+/// store, from erased.
+fn eeprom_after(saves: &[Settings]) -> Vec<u8> {
+    let mut store = SettingsStore::for_record(MemStorage::<EEPROM_LEN>::new());
+    for s in saves {
+        store.save(s).unwrap();
+    }
+    store.release().bytes.to_vec()
+}
+
+/// The settings the library's store loads from `eeprom`, and whether they
+/// are the defaults (no good copy).
+fn library_load(eeprom: &[u8]) -> (Settings, bool) {
+    let mut storage = MemStorage::<EEPROM_LEN>::new();
+    storage.bytes.copy_from_slice(eeprom);
+    let loaded = SettingsStore::for_record(storage).load();
+    (loaded.config, loaded.defaults)
+}
+
+fn sydney() -> Settings {
+    Settings {
+        lat_deg: SYDNEY.0 as f32,
+        lon_deg: SYDNEY.1 as f32,
+        ..DEFAULTS
+    }
+}
+
+/// The sequence number in slot `slot`'s header.
+fn seq_of(eeprom: &[u8], slot: usize) -> u32 {
+    let at = slot * SLOT_LEN + SEQ_AT;
+    u32::from_le_bytes(eeprom[at..at + 4].try_into().unwrap())
+}
+
+/// The lines of the run, the models' figures and the RAM; asserts the CPU
+/// ran the whole span (a watchdog reset stops the run) and the encoders'
+/// edges were all legal.
+fn report(name: &str, run: &UnoRun) {
+    println!(
+        "{name}: {} lines, {:.2} emulated min, {} cycles, timescale {}, wall {:.1} s",
+        run.lines.len(),
+        run.emulated_s / 60.0,
+        run.cycles,
+        run.timescale,
+        run.wall.as_secs_f64()
+    );
+    for l in &run.lines {
+        println!(
+            "  {} c={:.2} a={:.2} | {}",
+            format_utc(l.utc_s as i64),
+            l.c_deg,
+            l.a_deg,
+            l.text
+        );
+    }
+    for (axis, r) in ["C", "A"].iter().zip(&run.axes) {
+        println!(
+            "{name}: axis {axis}: shaft {:.3}°, decoded {:.2}°, {} edges, {} illegal, {} decoder \
+             mismatches, {} hard-stop hits, {} switch changes",
+            r.final_deg,
+            r.decoded_deg,
+            r.edges,
+            r.illegal_transitions,
+            r.decoder_mismatches,
+            r.hard_stop_hits,
+            r.switch_changes.len()
+        );
+        assert_eq!(
+            (r.illegal_transitions, r.decoder_mismatches),
+            (0, 0),
+            "{name}: axis {axis}: encoder edges not one channel at a time"
+        );
+    }
+    println!("{name}: {}", run.ram.summary());
+    assert_eq!(run.cpu, CpuState::Running, "{name}: the CPU stopped");
+}
+
+/// Static RAM + the deepest stack, printed and held to `budget`.
+fn assert_ram(name: &str, run: &UnoRun, budget: u16) {
+    let used = run.ram.static_bytes + run.ram.stack_sp_bytes;
+    println!(
+        "{name}: static {} B + peak stack {} B (lowest SP; {} B painted) = {used} B of {} B",
+        run.ram.static_bytes,
+        run.ram.stack_sp_bytes,
+        run.ram.stack_painted_bytes,
+        run.ram.total_bytes
+    );
+    assert!(
+        used <= budget,
+        "{name}: static {} B + peak stack {} B = {used} B > {budget} B",
+        run.ram.static_bytes,
+        run.ram.stack_sp_bytes
+    );
+}
+
+/// The lines of the run as text.
+fn texts(run: &UnoRun) -> Vec<&str> {
+    run.lines.iter().map(|l| l.text.as_str()).collect()
+}
+
+/// The replies to the line typed as `> typed`: the `ok …` and `error …`
+/// lines after it, up to the next typed line.
+fn replies_to<'a>(run: &'a UnoRun, typed: &str) -> Vec<&'a str> {
+    let shown = format!("> {typed}");
+    let Some(at) = run.lines.iter().position(|l| l.text == shown) else {
+        return Vec::new();
+    };
+    run.lines[at + 1..]
+        .iter()
+        .map(|l| l.text.as_str())
+        .take_while(|l| !l.starts_with("> "))
+        .filter(|l| l.starts_with("ok ") || l.starts_with("error "))
+        .collect()
+}
+
+/// The settings image from an erased EEPROM: Sydney typed, two refusals,
+/// the gear unchanged, saved; the RTC set. The EEPROM it leaves.
+fn settings_run(elf: &PathBuf) -> UnoRun {
+    let run = UnoBench::settings(elf)
+        .start(t("2026-03-20T03:00:00Z"))
+        .rtc(Rtc::LostPower)
+        .type_at(min(1.0), "set site.lat_deg -33.8688")
+        .type_at(min(1.5), "set site.lon_deg 151.2093")
+        .type_at(min(2.0), "set axis.c.gear_ratio 20000")
+        .type_at(min(2.5), "set axis.c.gear_ratio 1e30")
+        .type_at(min(3.0), "get axis.c.gear_ratio")
+        .type_at(min(3.5), "save")
+        .type_at(min(5.0), "time set 2026-03-20T04:00:00Z")
+        .run_minutes(min(10.0))
+        .unwrap();
+    report("uno settings", &run);
+    run
+}
+
+/// The settings image: exact replies, the EEPROM it writes (read back by
+/// the library's own store as Sydney), the RTC it sets, its RAM.
+#[test]
+fn uno_settings_image_saves_the_site_typed() {
+    let elf = elf_or_skip!(settings_elf(), "SUNTRACKER_EMU_ELF_UNO_SETTINGS");
+    let run = settings_run(&elf);
+    let texts = texts(&run);
+    assert!(texts.contains(&"config source=defaults"), "{texts:?}");
+    for (typed, want) in [
+        ("set site.lat_deg -33.8688", "ok site.lat_deg=-33.8688"),
+        ("set site.lon_deg 151.2093", "ok site.lon_deg=151.2093"),
+        (
+            "set axis.c.gear_ratio 20000",
+            "error axis.c.gear_ratio: 1...10,000 motor revolutions per axis revolution",
+        ),
+        ("get axis.c.gear_ratio", "ok axis.c.gear_ratio=1"),
+        ("save", "ok save"),
+        (
+            "time set 2026-03-20T04:00:00Z",
+            "ok utc=2026-03-20T04:00:00Z",
+        ),
+    ] {
+        assert_eq!(replies_to(&run, typed), [want], "replies to {typed:?}");
+    }
+    let huge = replies_to(&run, "set axis.c.gear_ratio 1e30");
+    assert!(
+        huge.len() == 1 && huge[0].starts_with("error axis.c.gear_ratio: "),
+        "replies to 1e30: {huge:?}"
+    );
+    assert_eq!(
+        texts.iter().filter(|l| l.starts_with("boot ")).count(),
+        1,
+        "restarted"
+    );
+
+    // The EEPROM: the library's store loads Sydney from it, and it holds
+    // what the library's own save of those settings writes.
+    let (loaded, defaults) = library_load(&run.eeprom);
+    assert!(!defaults, "no good copy in the EEPROM the image saved");
+    assert_eq!(loaded, sydney(), "the settings the library loads");
+    let same = run.eeprom == eeprom_after(&[sydney()]);
+    println!("uno settings: EEPROM byte for byte the library's save of the same settings: {same}");
+    assert!(same, "the image's save differs from the library's");
+
+    // The RTC: set to 04:00:00 at 5 s (lost power before), 5 s before the
+    // end.
+    let rtc = run.rtc.expect("a DS3231");
+    println!(
+        "uno settings: DS3231 at the end {} (OSF {}), {} time writes",
+        format_utc(rtc.unix_s),
+        rtc.osf,
+        rtc.time_writes
+    );
+    assert!(!rtc.osf, "the oscillator-stop flag is still set");
+    let end = t("2026-03-20T04:00:00Z") + 5;
+    assert!(
+        (rtc.unix_s - end).abs() <= 1,
+        "the DS3231 shows {}",
+        format_utc(rtc.unix_s)
+    );
+    assert_ram("uno settings", &run, SETTINGS_RAM_BUDGET_B);
+}
+
+/// 10 KB of noise into the settings image: the lines it ends are answered
+/// with errors, nothing is saved, no watchdog reset, and a command after
+/// it is answered.
+#[test]
+fn uno_settings_image_survives_noise() {
+    let elf = elf_or_skip!(settings_elf(), "SUNTRACKER_EMU_ELF_UNO_SETTINGS");
+    // xorshift32 noise (the Mega scenario's): lines of garbage, some
+    // ended by the 0x0A bytes among them, and a last partial one.
+    let mut x = 0x2545_f491u32;
+    let noise: Vec<u8> = (0..10_240)
+        .map(|_| {
+            x ^= x << 13;
+            x ^= x >> 17;
+            x ^= x << 5;
+            x as u8
+        })
+        .collect();
+    let eeprom = eeprom_after(&[sydney()]);
+    let run = UnoBench::settings(&elf)
+        .start(t("2026-03-20T03:00:00Z"))
+        .eeprom(eeprom.clone())
+        // 10,240 bytes take 0.87–0.92 s at 115,200 baud.
+        .bytes_at(min(1.0), noise)
+        // An end of line closes the noise's last partial line, then a
+        // command is read as usual.
+        .type_at(min(3.0), "")
+        .type_at(min(3.5), "get site.lat_deg")
+        .run_minutes(min(5.0))
+        .unwrap();
+    report("uno settings noise", &run);
+    let texts = texts(&run);
+    assert!(texts.contains(&"config source=stored"), "{texts:?}");
+    assert_eq!(
+        texts.iter().filter(|l| l.starts_with("boot ")).count(),
+        1,
+        "the watchdog reset the image"
+    );
+    let noise_at = texts
+        .iter()
+        .position(|l| l.starts_with("> (") && l.ends_with(" bytes)"))
+        .expect("noise sent");
+    let errors = texts[noise_at..]
+        .iter()
+        .filter(|l| l.starts_with("error "))
+        .count();
+    println!("uno settings noise: {errors} error replies after the noise");
+    assert!(errors > 0, "the noise's lines were not answered");
+    assert_eq!(
+        replies_to(&run, "get site.lat_deg"),
+        ["ok site.lat_deg=-33.8688"],
+        "the console after the noise"
+    );
+    assert_eq!(run.eeprom, eeprom, "the noise changed the EEPROM");
+    assert_ram("uno settings noise", &run, SETTINGS_RAM_BUDGET_B);
+}
+
+/// The tracker from the EEPROM the settings image saved: Sydney at boot
+/// and again after a power cut (the EEPROM kept), every set-point on
+/// Sydney's sun and reached.
+#[test]
+fn uno_tracks_sydney_from_the_saved_eeprom_over_a_power_cut() {
+    let settings = elf_or_skip!(settings_elf(), "SUNTRACKER_EMU_ELF_UNO_SETTINGS");
+    let elf = elf_or_skip!(tracker_elf(), "SUNTRACKER_EMU_ELF_UNO");
+    let eeprom = settings_run(&settings).eeprom;
+    assert_eq!(eeprom.len(), EEPROM_LEN);
+    // 2026-03-20 04:00Z is 15:00 in Sydney: the sun is up until about
+    // 07:10Z. The bench stands in Sydney (its panel sees Sydney's sun).
+    let cut_min = 20.0;
+    let run = UnoBench::new(&elf)
+        .start(t("2026-03-20T04:00:00Z"))
+        .rtc(Rtc::Valid)
+        .site(SYDNEY.0, SYDNEY.1)
+        .eeprom(eeprom.clone())
+        .reset_at(cut_min)
+        .run_minutes(45.0)
+        .unwrap();
+    report("uno sydney", &run);
+
+    let texts = texts(&run);
+    let cut = texts
+        .iter()
+        .position(|l| *l == "# power cut")
+        .expect("power cut");
+    let (before, after) = texts.split_at(cut);
+    for (part, lines) in [("at power-on", before), ("after the cut", after)] {
+        for want in [
+            "config source=stored",
+            "site source=config lat=-33.8688 lon=151.2093",
+        ] {
+            assert!(lines.contains(&want), "{part}: no {want:?}: {lines:?}");
+        }
+    }
+    assert_eq!(run.eeprom, eeprom, "the tracker changed the EEPROM");
+
+    // Every set-point, before and after the cut: its commanded normal on
+    // Sydney's sun, reached by the end of its slot.
+    let cut_s = run.lines[cut].utc_s;
+    let mut worst_normal: f64 = 0.0;
+    let mut worst_reach: f64 = 0.0;
+    let (mut n_before, mut n_after, mut reached) = (0, 0, 0);
+    for l in &run.lines {
+        let Event::SetPoint {
+            unix_s,
+            c_deg,
+            a_deg,
+            ..
+        } = l.event
+        else {
+            continue;
+        };
+        if l.utc_s < cut_s {
+            n_before += 1;
+        } else {
+            n_after += 1;
+        }
+        let (z, az) = spa(SYDNEY.0, SYDNEY.1, unix_s as f64).expect("SPA");
+        let normal = MountAttitude::<f64>::level().normal_xyz(&Pose {
+            gamma_deg: c_deg,
+            alpha_deg: a_deg,
+        });
+        let err = angle_between_deg(&normal, &sun_vector_xyz(90.0 - z, az));
+        worst_normal = worst_normal.max(err);
+        assert!(
+            err <= NORMAL_TOL_DEG,
+            "{}: panel normal {err:.4}° from Sydney's sun (SPA zenith {z:.3} azimuth {az:.3})",
+            l.text
+        );
+        // The slot the power cut interrupts cannot be finished.
+        let cut_in_slot = (unix_s as f64) < cut_s && cut_s < (unix_s + run.step_s) as f64;
+        if let (Some((dc, da)), false) = (run.pose_at_slot_end(unix_s), cut_in_slot) {
+            let e = (dc - c_deg).abs().max((da - a_deg).abs());
+            worst_reach = worst_reach.max(e / COUNT_DEG);
+            assert!(
+                e <= REACH_TOL_DEG,
+                "{} not reached by the end of its slot: decoded c {dc:.2} a {da:.2}",
+                l.text
+            );
+            reached += 1;
+        }
+    }
+    println!(
+        "uno sydney: {n_before} set-points before the cut, {n_after} after ({reached} checked \
+         at the end of their slot): commanded normal within {worst_normal:.4}° of SPA's sun \
+         at Sydney, reached within {worst_reach:.2} counts"
+    );
+    assert!(
+        n_before >= 3 && n_after >= 3,
+        "{n_before} set-points before the cut, {n_after} after"
+    );
+    // All but the slot the cut interrupted and the last, unfinished one.
+    assert!(reached + 2 >= n_before + n_after, "slots not checked");
+    assert_ram("uno sydney", &run, TRACKER_RAM_BUDGET_B);
+}
+
+/// An erased EEPROM (no good copy): the defaults, Kano.
+#[test]
+fn uno_with_an_erased_eeprom_takes_the_defaults() {
+    let elf = elf_or_skip!(tracker_elf(), "SUNTRACKER_EMU_ELF_UNO");
+    let run = UnoBench::new(&elf)
+        .start(t("2026-03-20T10:00:00Z"))
+        .run_minutes(3.0)
+        .unwrap();
+    report("uno erased", &run);
+    let texts = texts(&run);
+    for want in [
+        "config source=defaults",
+        "site source=config lat=11.9683 lon=8.4261",
+    ] {
+        assert!(texts.contains(&want), "no {want:?}: {texts:?}");
+    }
+    assert!(run.eeprom.iter().all(|&b| b == 0xFF), "the image wrote");
+}
+
+/// A save torn by a power cut (Kano saved, then Sydney, then a byte of the
+/// newest copy's payload changed): the older good copy, Kano, stored.
+#[test]
+fn uno_with_a_torn_save_keeps_the_older_copy() {
+    let elf = elf_or_skip!(tracker_elf(), "SUNTRACKER_EMU_ELF_UNO");
+    let mut eeprom = eeprom_after(&[DEFAULTS, sydney()]);
+    let newest = (0..2)
+        .find(|&s| seq_of(&eeprom, s) == 2)
+        .expect("a slot holding seq 2");
+    assert_eq!(seq_of(&eeprom, 1 - newest), 1, "the older copy");
+    // A byte of the payload: the latitude's low byte.
+    eeprom[newest * SLOT_LEN + HEADER_LEN] ^= 0x5A;
+    assert_eq!(
+        library_load(&eeprom),
+        (DEFAULTS, false),
+        "the test's EEPROM"
+    );
+    let run = UnoBench::new(&elf)
+        .start(t("2026-03-20T10:00:00Z"))
+        .eeprom(eeprom)
+        .run_minutes(3.0)
+        .unwrap();
+    report("uno torn", &run);
+    let texts = texts(&run);
+    for want in [
+        "config source=stored",
+        "site source=config lat=11.9683 lon=8.4261",
+    ] {
+        assert!(texts.contains(&want), "no {want:?}: {texts:?}");
+    }
+}
