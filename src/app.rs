@@ -569,17 +569,9 @@ where
             target.alpha_deg.to_f32(),
         );
     }
-}
 
-impl<T, R, G, D, S, L, const N: usize> Firmware<T, R, G, D, S, L, N>
-where
-    T: Float,
-    R: RtcDriver,
-    G: Read + ReadReady,
-    D: AxisDrive + Motion,
-    S: AttitudeSensor<T>,
-    L: Sink,
-{
+    // The console and the configuration.
+
     /// The console: takes at most [`CONSOLE_BYTES_PER_PASS`] bytes, runs
     /// each complete line, and goes on with a `save` in progress. Not
     /// inlined: its buffers are then not in the frame of every pass.
