@@ -756,7 +756,7 @@ pub fn find_postal(text: &str) -> Result<PostalEntry, PostalError> {
         for (d, s) in buf.iter_mut().skip(zeros).zip(code.bytes()) {
             *d = s;
         }
-        if let Some(Ok(padded)) = buf.get(..total).map(core::str::from_utf8) {
+        if let Some(padded) = buf.get(..total).and_then(crate::text::ascii_str) {
             if let found @ Ok(_) = lookup(country, padded) {
                 return found;
             }

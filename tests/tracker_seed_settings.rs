@@ -554,10 +554,6 @@ fn tracker_commands_are_not_on_this_image() {
             "{line}"
         );
     }
-    assert_eq!(
-        rig.send("set site.postal_code DZ:16000"),
-        "error site.postal_code: not on this image\n"
-    );
     assert_eq!(rig.send("set wind.stow_hz 30"), "error unknown key\n");
     assert_eq!(rig.send("get wind.stow_hz"), "error unknown key\n");
     assert_eq!(rig.send("get site.elevation_m"), "error unknown key\n");
@@ -570,6 +566,35 @@ fn tracker_commands_are_not_on_this_image() {
     assert_eq!(rig.send("save now"), "error unexpected argument\n");
     assert_eq!(rig.settings(), settings::DEFAULTS);
     assert_eq!(rig.rtc.sets, 0);
+}
+
+/// The postal-code table (`data/postal_codes.csv`, stored at 1e-4°):
+/// `DZ,16000,Alger Gare,36.779443,3.061738`, `DZ,09000,Blida,36.473571,
+/// 2.832315` typed without its leading zero (the paper prints "9000").
+#[test]
+fn postal_code_sets_the_site_with_or_without_leading_zero() {
+    let mut rig = mem_rig();
+    assert_eq!(
+        rig.send("set site.postal_code DZ:16000"),
+        "ok site.lat_deg=36.7794 site.lon_deg=3.0617\n"
+    );
+    assert_eq!(
+        rig.send("set site.postal_code DZ:9000"),
+        "ok site.lat_deg=36.4736 site.lon_deg=2.8323\n"
+    );
+    let s = rig.settings();
+    assert!((s.lat_deg - 36.4736).abs() < 1e-5 && (s.lon_deg - 2.8323).abs() < 1e-5);
+    assert_eq!(s.gear_ratio, settings::DEFAULTS.gear_ratio);
+    // Not in the table, or not a code: refused, the site unchanged.
+    assert_eq!(
+        rig.send("set site.postal_code DZ:99999"),
+        "error site.postal_code: not in the table\n"
+    );
+    assert_eq!(
+        rig.send("set site.postal_code 16000"),
+        "error site.postal_code: expected CC:CODE, e.g. DZ:16000\n"
+    );
+    assert_eq!(rig.settings(), s);
 }
 
 #[test]
@@ -586,6 +611,7 @@ fn help_lists_the_commands_and_keys() {
         "save",
         "load",
         "defaults",
+        "set site.postal_code CC:CODE",
         "time set YYYY-MM-DDTHH:MM:SSZ",
     ] {
         assert!(reply.contains(word), "{word} in {reply:?}");

@@ -23,8 +23,9 @@
 //! | `help` | the commands and keys |
 //! | `get`, `get KEY`, `set KEY VALUE`, `set K1 V1 K2 V2 …` | the keys below; any other key is `error unknown key` |
 //! | `save`, `load`, `defaults` | the [`Settings`] record, through the library's two-slot CRC-32 store ([`ConfigStore`]) |
+//! | `set site.postal_code CC:CODE` | the site from the library's postal-code table ([`crate::site::postal`], seed dahli-2023), a numeric code also without its leading zeros: `ok site.lat_deg=<deg> site.lon_deg=<deg>` |
 //! | `time set YYYY-MM-DDTHH:MM:SSZ` | sets the RTC (and clears its lost-power flag): the tracker image has no other way to be told the time |
-//! | `set site.postal_code …`, `status`, `stow`, `resume`, `home`, `jog`, `manual off`, `faults`, `clear` | `error <command>: not on this image` (no postal table; the others act on a running tracker) |
+//! | `status`, `stow`, `resume`, `home`, `jog`, `manual off`, `faults`, `clear` | `error <command>: not on this image` (they act on a running tracker) |
 //!
 //! | key | unit | range |
 //! |---|---|---|
@@ -67,7 +68,7 @@ pub const KEYS: &[Field] = &[
 /// `help`'s lines.
 const HELP: &[FlashStr] = &[
     crate::flash_str!("get [KEY] | set KEY VALUE [KEY VALUE] | save | load | defaults"),
-    crate::flash_str!("time set YYYY-MM-DDTHH:MM:SSZ"),
+    crate::flash_str!("set site.postal_code CC:CODE | time set YYYY-MM-DDTHH:MM:SSZ"),
     crate::flash_str!("keys: site.lat_deg site.lon_deg axis.c.gear_ratio axis.a.gear_ratio"),
 ];
 
@@ -383,6 +384,29 @@ fn execute<S: Storage, R: RtcDriver>(
                 console::write_saved(out, &Err(e));
             }
         }
+        Command::SetPostalCode(text) => {
+            // The table's site, validated as a `set` of both keys is.
+            let set = console::find_postal(text)
+                .map_err(SetError::Postal)
+                .and_then(|entry| {
+                    let mut copy = *settings;
+                    copy.lat_deg = entry.latitude_deg::<f32>();
+                    copy.lon_deg = entry.longitude_deg::<f32>();
+                    copy.validate().map_err(SetError::Invalid)?;
+                    *settings = copy;
+                    Ok(())
+                });
+            match set {
+                Ok(()) => {
+                    out.flash(crate::flash_str!("ok "));
+                    write_key_value(out, settings, Field::SiteLatDeg);
+                    out.flash(crate::flash_str!(" "));
+                    write_key_value(out, settings, Field::SiteLonDeg);
+                    out.flash(crate::flash_str!("\n"));
+                }
+                Err(e) => console::write_set_error(out, &e),
+            }
+        }
         Command::TimeSet(t) => {
             let set = datetime_from_utc(&t)
                 .map_err(|_| TimeSetError::OutOfRange)
@@ -394,10 +418,7 @@ fn execute<S: Storage, R: RtcDriver>(
         }
         other => {
             out.flash(crate::flash_str!("error "));
-            out.flash(match other {
-                Command::SetPostalCode(_) => console::POSTAL_CODE_KEY,
-                _ => other.name(),
-            });
+            out.flash(other.name());
             out.flash(crate::flash_str!(": not on this image\n"));
         }
     }
