@@ -35,7 +35,6 @@ use crate::axis::AxisDrive;
 use crate::config::{Config, Loaded, SaveError, SaveStatus};
 use crate::console::{self, Executed, Jogged, LineBuffer, Operator, StatusView, TimeSetError};
 use crate::controller::{Controller, ControllerError, ControllerOptions, TickReport};
-use crate::hw::datetime_from_utc;
 use crate::hw::GpsPort;
 use crate::log::{self, ChangeLog, Sink, SiteSource as LogSite, TimeSource};
 use crate::safety::{AxisId, Mode};
@@ -750,12 +749,7 @@ where
         if self.fw.time_origin == Some(TimeOrigin::Gps) {
             return Err(TimeSetError::GpsInForce);
         }
-        let d = datetime_from_utc(t).map_err(|_| TimeSetError::OutOfRange)?;
-        self.fw
-            .time
-            .rtc_mut()
-            .set_datetime(&d)
-            .map_err(|_| TimeSetError::RtcFailed)
+        console::set_rtc_time(self.fw.time.rtc_mut(), t)
     }
     fn stow(&mut self, on: bool) {
         self.fw.controller.command_stow(on);

@@ -158,11 +158,13 @@
 //! they made the AVR code 2 KB larger).
 
 use crate::config::{Config, ConfigError, Field, Loaded, SaveError};
+use crate::hw::datetime_from_utc;
 use crate::log::{Sink, SiteSource, TimeSource};
 use crate::safety::{AxisId, Fault, FaultManager, Mode, MAX_ACTIVE};
 use crate::site::key::MAX_CODE_LEN;
 use crate::site::{lookup, PostalEntry, PostalError};
 use crate::text::FlashStr;
+use drivers::rtc::Clock as RtcDriver;
 use sun_algos::UtcTime;
 
 /// A line length for [`LineBuffer`] that holds every command of the
@@ -1497,6 +1499,14 @@ pub fn write_time_set(out: &mut dyn Sink, t: &UtcTime) {
 /// `error time set: GPS time is in force`.
 pub fn write_time_refused(out: &mut dyn Sink) {
     write_error(out, crate::flash_str!("time set: GPS time is in force"));
+}
+
+/// Sets `rtc` to `t` (the console's `time set` once the firmware has
+/// allowed it): `OutOfRange` for an instant the RTC's calendar cannot
+/// hold, `RtcFailed` when the chip did not take it.
+pub fn set_rtc_time<R: RtcDriver>(rtc: &mut R, t: &UtcTime) -> Result<(), TimeSetError> {
+    let d = datetime_from_utc(t).map_err(|_| TimeSetError::OutOfRange)?;
+    rtc.set_datetime(&d).map_err(|_| TimeSetError::RtcFailed)
 }
 
 /// The reply to a refused `time set`: `error time set: GPS time is in

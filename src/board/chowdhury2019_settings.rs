@@ -47,11 +47,10 @@
 use sun_algos::Site;
 
 use crate::config::{
-    ranges, record_len, AxisConfig, ConfigError, ConfigStore, Field, Loaded, Reason, Record,
-    SaveStatus,
+    check_f32, ranges, record_len, AxisConfig, ConfigError, ConfigStore, Field, Loaded, Reason,
+    Record, SaveStatus,
 };
-use crate::console::{self, Command, Decimal, LineBuffer, SetError, TimeSetError};
-use crate::hw::datetime_from_utc;
+use crate::console::{self, Command, Decimal, LineBuffer, SetError};
 use crate::log::Sink;
 use crate::text::FlashStr;
 use crate::traits::Storage;
@@ -105,39 +104,30 @@ pub const RECORD_LEN: usize = record_len(PAYLOAD_LEN);
 /// The settings' store.
 pub type SettingsStore<S> = ConfigStore<S, Settings, RECORD_LEN>;
 
-#[inline(never)]
-fn within(v: f32, (lo, hi): (f32, f32), field: Field, reason: Reason) -> Result<(), ConfigError> {
-    if v.is_finite() && v >= lo && v <= hi {
-        Ok(())
-    } else {
-        Err(ConfigError { field, reason })
-    }
-}
-
 impl Settings {
     /// Checks every field against the configuration's range for it; the
     /// first out of range is named.
     pub fn validate(&self) -> Result<(), ConfigError> {
-        within(
+        check_f32(
             self.lat_deg,
             ranges::LAT_DEG,
             Field::SiteLatDeg,
             Reason::Latitude,
         )?;
-        within(
+        check_f32(
             self.lon_deg,
             ranges::LON_DEG,
             Field::SiteLonDeg,
             Reason::Deg180,
         )?;
         let [gear_c, gear_a] = self.gear_ratio;
-        within(
+        check_f32(
             gear_c,
             ranges::GEAR_RATIO,
             Field::AxisCGearRatio,
             Reason::GearRatio,
         )?;
-        within(
+        check_f32(
             gear_a,
             ranges::GEAR_RATIO,
             Field::AxisAGearRatio,
@@ -407,15 +397,10 @@ fn execute<S: Storage, R: RtcDriver>(
                 Err(e) => console::write_set_error(out, &e),
             }
         }
-        Command::TimeSet(t) => {
-            let set = datetime_from_utc(&t)
-                .map_err(|_| TimeSetError::OutOfRange)
-                .and_then(|d| rtc.set_datetime(&d).map_err(|_| TimeSetError::RtcFailed));
-            match set {
-                Ok(()) => console::write_time_set(out, &t),
-                Err(e) => console::write_time_error(out, e),
-            }
-        }
+        Command::TimeSet(t) => match console::set_rtc_time(rtc, &t) {
+            Ok(()) => console::write_time_set(out, &t),
+            Err(e) => console::write_time_error(out, e),
+        },
         other => {
             out.flash(crate::flash_str!("error "));
             out.flash(other.name());
