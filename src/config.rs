@@ -372,10 +372,7 @@ const AXIS_KEYS: [AxisKeys; 2] = [
     },
 ];
 
-/// `Err` naming `field` unless `v` is finite and inside `lo..=hi`. Not
-/// inlined: one copy of the float compares for every range (smaller on an
-/// AVR, where each compare is a library call).
-#[inline(never)]
+/// `Err` naming `field` unless `v` is finite and inside `lo..=hi`.
 pub(crate) fn check_f32(
     v: f32,
     (lo, hi): (f32, f32),
