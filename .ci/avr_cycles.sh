@@ -12,7 +12,7 @@
 #   SELF_TEST=1 AVR_BENCH_OUT=f QEMU_BENCH_OUT=g bash .ci/avr_cycles.sh
 #                                          # ... doctored copies of captured outputs
 #
-# Method (see src/bin/avr_bench.rs): Timer1 free-running at clk/1, overflow
+# Method (see boards/avr/src/bin/avr_bench.rs): Timer1 free-running at clk/1, overflow
 # interrupt extends it to 32 bits; empty-measurement overhead subtracted.
 # The day table is seed jimoh-2019's step 7: the set-points from sunrise to
 # sunset (Kano, 2026-06-21); the whole 24-hour sweep of 360 positions is
@@ -258,13 +258,13 @@ case "$chip" in
   atmega328p)
     elf=$ELF_AVR_BENCH
     [ "${NO_BUILD:-0}" = 1 ] || cargo +nightly build --release --target avr-none \
-      -Z build-std=core --features uno --bin avr_bench >&2
+      -Z build-std=core -p suntracker-avr --bin avr_bench >&2
     ;;
   atmega2560)
     elf="$FW_TARGET_DIR/mega/avr-none/release/avr_bench.elf"
     [ "${NO_BUILD:-0}" = 1 ] || RUSTFLAGS="$AVR_MEGA_RUSTFLAGS" \
       cargo +nightly build --release --target avr-none -Z build-std=core \
-      --features mega2560 --bin avr_bench --target-dir "$FW_TARGET_DIR/mega" >&2
+      -p suntracker-avr --bin avr_bench --target-dir "$FW_TARGET_DIR/mega" >&2
     ;;
   *) err "unknown AVR_BENCH_CHIP $chip"; exit 2 ;;
 esac
@@ -285,7 +285,7 @@ fi
 # virtual nanosecond per instruction); the bench reads the 25 MHz SysTick,
 # i.e. one tick per 40 instructions, over many positions.
 if [ "${SKIP_QEMU:-0}" != 1 ]; then
-  [ "${NO_BUILD:-0}" = 1 ] || cargo build --release --target thumbv7em-none-eabihf --features mps2-an386 --bin qemu_bench >&2
+  [ "${NO_BUILD:-0}" = 1 ] || cargo build --release --target thumbv7em-none-eabihf -p suntracker-mps2-an386 --bin qemu_bench >&2
   [ -f "$ELF_QEMU_BENCH" ] || { err "missing ELF $ELF_QEMU_BENCH"; exit 1; }
   echo
   qout=$(mktemp)

@@ -33,53 +33,53 @@ ELF_AVR_SELFTEST="$FW_TARGET_DIR/mega/avr-none/release/avr_board_selftest.elf"
 AVR_MEGA_RUSTFLAGS="-C target-cpu=atmega2560 --cfg avr_atmega2560 -C link-arg=-Wl,--whole-archive -C link-arg=-lm -C link-arg=-Wl,--no-whole-archive"
 
 build_qemu() {
-  cargo build --release --target thumbv7em-none-eabihf --features mps2-an386 \
+  cargo build --release --target thumbv7em-none-eabihf -p suntracker-mps2-an386 \
     --bin qemu_tracker --bin qemu_bench
 }
 build_blackpill() {
-  cargo build --release --target thumbv7em-none-eabihf --features stm32f411 \
+  cargo build --release --target thumbv7em-none-eabihf -p suntracker-stm32f411 \
     --bin blackpill_tracker --target-dir "$FW_TARGET_DIR/blackpill"
 }
 # The Black Pill with its log over defmt/RTT: defmt's linker script joins
 # the root config's -Tlink.x (cargo joins rustflags lists across configs).
 build_blackpill_defmt() {
-  cargo build --release --target thumbv7em-none-eabihf --features stm32f411,defmt \
+  cargo build --release --target thumbv7em-none-eabihf -p suntracker-stm32f411 --features defmt \
     --bin blackpill_tracker --target-dir "$FW_TARGET_DIR/blackpill-defmt" \
     --config 'target.thumbv7em-none-eabihf.rustflags=["-C", "link-arg=-Tdefmt.x"]'
 }
 build_avr_uno() {
-  cargo +nightly build --release --target avr-none -Z build-std=core --features uno \
-    --bin avr_tracker --bin avr_settings --bin avr_bench --bin avr_board_selftest
+  cargo +nightly build --release --target avr-none -Z build-std=core \
+    -p suntracker-uno --bin avr_tracker --bin avr_settings -p suntracker-avr --bin avr_bench --bin avr_board_selftest
 }
 # The Uno image's build options: psa-2020 instead of the seed's michalsky,
 # a DS1302 instead of the DS3231 (the settings image too: its `time set`
 # sets that clock); built and held to the same budget.
 build_avr_uno_psa2020() {
-  cargo +nightly build --release --target avr-none -Z build-std=core --features uno,psa2020 \
+  cargo +nightly build --release --target avr-none -Z build-std=core -p suntracker-uno --features psa2020 \
     --bin avr_tracker --target-dir "$FW_TARGET_DIR/uno-psa2020"
 }
 build_avr_uno_ds1302() {
-  cargo +nightly build --release --target avr-none -Z build-std=core --features uno,ds1302 \
+  cargo +nightly build --release --target avr-none -Z build-std=core -p suntracker-uno --features ds1302 \
     --bin avr_tracker --bin avr_settings --target-dir "$FW_TARGET_DIR/uno-ds1302"
 }
 build_avr_mega() {
   RUSTFLAGS="$AVR_MEGA_RUSTFLAGS" \
-    cargo +nightly build --release --target avr-none -Z build-std=core --features mega2560 \
-    --bin avr_mega_tracker --bin avr_board_selftest --target-dir "$FW_TARGET_DIR/mega"
+    cargo +nightly build --release --target avr-none -Z build-std=core \
+    -p suntracker-mega2560 --bin avr_mega_tracker -p suntracker-avr --bin avr_board_selftest --target-dir "$FW_TARGET_DIR/mega"
 }
 # The same image for the emulator harness (emu/): its Timer0 clock advances
-# EMU_MS_PER_TICK ms per 1 ms tick (src/board/avr/clock.rs); nothing else
+# EMU_MS_PER_TICK ms per 1 ms tick (boards/avr/src/clock.rs); nothing else
 # differs.
 EMU_MS_PER_TICK=60
 build_avr_mega_emu() {
   SUNTRACKER_EMU_MS_PER_TICK=$EMU_MS_PER_TICK RUSTFLAGS="$AVR_MEGA_RUSTFLAGS" \
-    cargo +nightly build --release --target avr-none -Z build-std=core --features mega2560 \
+    cargo +nightly build --release --target avr-none -Z build-std=core -p suntracker-mega2560 \
     --bin avr_mega_tracker --target-dir "$FW_TARGET_DIR/mega-emu"
 }
 # The Uno images for the emulator harness, the same way.
 build_avr_uno_emu() {
   SUNTRACKER_EMU_MS_PER_TICK=$EMU_MS_PER_TICK \
-    cargo +nightly build --release --target avr-none -Z build-std=core --features uno \
+    cargo +nightly build --release --target avr-none -Z build-std=core -p suntracker-uno \
     --bin avr_tracker --bin avr_settings --target-dir "$FW_TARGET_DIR/uno-emu"
 }
 build_all_firmware() {

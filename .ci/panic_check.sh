@@ -151,7 +151,7 @@ self_test() {
   echo "panic_check self-test: building qemu_tracker with --cfg suntracker_panic_canary in $dir" >&2
   # RUSTFLAGS replaces .cargo/config.toml's rustflags: keep its link script.
   RUSTFLAGS="-C link-arg=-Tlink.x --cfg suntracker_panic_canary" \
-    cargo build --release --target thumbv7em-none-eabihf --features mps2-an386 --bin qemu_tracker \
+    cargo build --release --target thumbv7em-none-eabihf -p suntracker-mps2-an386 --bin qemu_tracker \
     --target-dir "$dir" >&2
   load_allow
   out=$(

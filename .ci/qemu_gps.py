@@ -6,7 +6,7 @@ QEMU runs with `-icount shift=5,sleep=off`: 32 ns of emulated time per
 instruction (about the an386's 25 MHz), and idle time (`wfi`) skipped, so an
 emulated day passes in a minute or two of wall time, decoupled from the host.
 The host cannot see when the guest's clock moves, so the image asks
-(src/board/mps2_an386.rs, "the gate"): once per controller tick (10 emulated
+(boards/mps2_an386/src/lib.rs, "the gate"): once per controller tick (10 emulated
 seconds) it stops its clocks, writes `T<monotonic ms>` on UART1 and waits for
 an answer there. This script then writes the NMEA epoch of that instant
 (UTC = the stream's first time + ms) into UART0, and the console lines due
@@ -63,10 +63,10 @@ import time
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 DEFAULT_NMEA = os.path.join(ROOT, "tests", "firmware", "gps_kano_2026-03-20.nmea")
 # The image's console receive ring (CONSOLE_RING_LEN in
-# src/board/mps2_an386.rs): the most bytes typed at one gate.
+# boards/mps2_an386/src/lib.rs): the most bytes typed at one gate.
 CONSOLE_RING_LEN = 256
 # The image's configuration file, in QEMU's working directory (CONFIG_FILE
-# in src/board/mps2_an386.rs).
+# in boards/mps2_an386/src/lib.rs).
 CONFIG_FILE = "suntracker-config.bin"
 
 

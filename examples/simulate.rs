@@ -1,5 +1,5 @@
 //! A day or a year of the whole tracker at 1-minute resolution, against the
-//! plant and sensor models of `suntracker::sim`, optionally replaying a
+//! plant and sensor models of `sim`, optionally replaying a
 //! scenario of field incidents and writing a per-minute trace.
 //!
 //! ```text
@@ -14,7 +14,7 @@
 //! time; the bytes go through the GPS decoder and the time keeper (over a
 //! simulated RTC) to the controller, and the site follows GPS from the
 //! stored configuration's site. A scenario file (format in
-//! `suntracker::sim::scenario`) steps clocks, breaks GPS, the RTC, switches,
+//! `sim::scenario`) steps clocks, breaks GPS, the RTC, switches,
 //! motors, encoders and the attitude sensor, cycles power and sends
 //! operator commands at given minutes.
 //!

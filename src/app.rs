@@ -1,6 +1,6 @@
 //! The board-independent firmware loop: what every image runs.
 //!
-//! A board (one module per board under [`crate::board`]) turns its chip's
+//! A board (one crate per board under `boards/` in the repository) turns its chip's
 //! peripherals into the parts this loop takes, and its image is a few
 //! lines: build the parts, [`Firmware::new`], then [`Firmware::run`].
 //!

@@ -1059,28 +1059,27 @@ enum Verb {
     Clear,
 }
 
-/// The command words.
-// In program memory on AVR (the table's pointers and lengths too), read
-// one entry at a time.
-#[allow(unsafe_code)]
-#[cfg_attr(target_arch = "avr", link_section = ".progmem.data")]
-static VERBS: [(FlashStr, Verb); 15] = [
-    (crate::flash_str!("help"), Verb::Help),
-    (crate::flash_str!("status"), Verb::Status),
-    (crate::flash_str!("get"), Verb::Get),
-    (crate::flash_str!("set"), Verb::Set),
-    (crate::flash_str!("save"), Verb::Save),
-    (crate::flash_str!("load"), Verb::Load),
-    (crate::flash_str!("defaults"), Verb::Defaults),
-    (crate::flash_str!("time"), Verb::Time),
-    (crate::flash_str!("stow"), Verb::Stow),
-    (crate::flash_str!("resume"), Verb::Resume),
-    (crate::flash_str!("home"), Verb::Home),
-    (crate::flash_str!("jog"), Verb::Jog),
-    (crate::flash_str!("manual"), Verb::Manual),
-    (crate::flash_str!("faults"), Verb::Faults),
-    (crate::flash_str!("clear"), Verb::Clear),
-];
+crate::progmem! {
+    /// The command words (in program memory on AVR, the table's pointers
+    /// and lengths too; read one entry at a time).
+    static VERBS: [(FlashStr, Verb); 15] = [
+        (crate::flash_str!("help"), Verb::Help),
+        (crate::flash_str!("status"), Verb::Status),
+        (crate::flash_str!("get"), Verb::Get),
+        (crate::flash_str!("set"), Verb::Set),
+        (crate::flash_str!("save"), Verb::Save),
+        (crate::flash_str!("load"), Verb::Load),
+        (crate::flash_str!("defaults"), Verb::Defaults),
+        (crate::flash_str!("time"), Verb::Time),
+        (crate::flash_str!("stow"), Verb::Stow),
+        (crate::flash_str!("resume"), Verb::Resume),
+        (crate::flash_str!("home"), Verb::Home),
+        (crate::flash_str!("jog"), Verb::Jog),
+        (crate::flash_str!("manual"), Verb::Manual),
+        (crate::flash_str!("faults"), Verb::Faults),
+        (crate::flash_str!("clear"), Verb::Clear),
+    ];
+}
 
 /// ASCII case-insensitive equality (one copy, not inlined at every use).
 #[inline(never)]
@@ -1097,7 +1096,6 @@ pub fn parse(line: &str) -> Result<Command<'_>, ParseError> {
 /// [`parse`] on a board that offers a part of the configuration (the
 /// Arduino Uno's settings); any other key is `error unknown key`.
 #[inline(never)]
-#[allow(unsafe_code)] // the read of VERBS from program memory
 pub fn parse_in<'a>(line: &'a str, keys: &'a [Key]) -> Result<Command<'a>, ParseError> {
     let (cmd, rest) = word(line);
     if cmd.is_empty() {
@@ -1105,8 +1103,6 @@ pub fn parse_in<'a>(line: &'a str, keys: &'a [Key]) -> Result<Command<'a>, Parse
     }
     let Some(verb) = VERBS
         .iter()
-        // SAFETY: VERBS is in `.progmem.data` on AVR (its attribute above).
-        .map(|entry| unsafe { crate::text::read_flash(entry) })
         .find(|(w, _)| same_word(cmd, *w))
         .map(|(_, v)| v)
     else {

@@ -3,12 +3,9 @@
 //! This library is `no_std`: it runs on the tracker's microcontroller
 //! (Cortex-M4F, 8-bit AVR) and on a PC for tests, simulations and tools.
 #![no_std]
-// `LPM` for text kept in flash (src/text.rs).
-#![cfg_attr(target_arch = "avr", feature(asm_experimental_arch))]
-// No unsafe code, except in the AVR board layer (src/board/avr), which
-// allows it for raw register writes and its interrupt handlers' register
-// access, each with a SAFETY comment.
-#![deny(unsafe_code)]
+// No unsafe code: the chip code is in the board crates (boards/), the one
+// read of program memory in the progmem crate.
+#![forbid(unsafe_code)]
 
 /// Name and version of the firmware, printed by every image at boot.
 pub const BANNER: &str = concat!("suntracker ", env!("CARGO_PKG_VERSION"));
@@ -16,20 +13,26 @@ pub const BANNER: &str = concat!("suntracker ", env!("CARGO_PKG_VERSION"));
 pub mod app;
 pub mod attitude;
 pub mod axis;
-pub mod bench;
-pub mod board;
 pub mod clock;
 pub mod config;
 pub mod console;
 pub mod controller;
 pub mod hw;
 pub mod log;
+pub mod mechanics;
 pub mod panel;
 pub mod safety;
 pub mod scheduler;
-pub mod sim;
+pub mod servo_tracker;
 pub mod site;
 pub mod sources;
 pub mod storage;
-pub mod text;
 pub mod traits;
+
+/// Constant text and tables kept in program memory on AVR (the progmem
+/// crate), so that every module names them in one place.
+pub mod text {
+    pub use progmem::{ascii_str, FlashStr, ProgMem};
+}
+
+pub use progmem::{flash_str, progmem};

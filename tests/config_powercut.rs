@@ -32,11 +32,11 @@ use std::fmt::Debug;
 use embedded_storage::nor_flash::{
     check_erase, check_read, check_write, ErrorType, NorFlash, NorFlashErrorKind, ReadNorFlash,
 };
-use suntracker::board::chowdhury2019_settings::{self as settings, Settings};
 use suntracker::config::{
     crc32, Config, ConfigStore, Loaded, Record, SaveError, SaveStatus, SlotState, LAYOUT_VERSION,
     RECORD_LEN, SLOT_LEN,
 };
+use suntracker::servo_tracker::settings::{self as settings, Settings};
 use suntracker::storage::{EepromCells, EepromError, EepromStorage, NorError, NorFlashStorage};
 use suntracker::traits::Storage;
 
@@ -111,7 +111,7 @@ impl Documented for Config {
     }
 }
 
-/// Module docs of `src/board/chowdhury2019_settings.rs`: magic "STUN",
+/// Module docs of `src/servo_tracker/settings.rs`: magic "STUN",
 /// version 1, latitude, longitude, gear C, gear A as `f32` little-endian.
 impl Documented for Settings {
     const DOC_MAGIC: [u8; 4] = *b"STUN";

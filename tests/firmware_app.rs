@@ -15,12 +15,12 @@
 
 mod tracker_hw_common;
 
+use sim::gps::GpsReceiverModel;
+use sim::rtc::SimRtc;
+use sim::sensors::MountSensors;
 use sun_algos::{Algorithm, Float, Options, Site, UtcTime};
 use suntracker::app::{AppConfig, Firmware, Platform};
 use suntracker::controller::ControllerOptions;
-use suntracker::sim::gps::GpsReceiverModel;
-use suntracker::sim::rtc::SimRtc;
-use suntracker::sim::sensors::MountSensors;
 use tracker_hw_common::host_io::{Log, Uart};
 use tracker_hw_common::motor::{
     angle_deg, normal_xyz, stepper_axis, sun_xyz, Motor, COUNTS_PER_DEG,

@@ -25,13 +25,13 @@ use std::cell::RefCell;
 use std::collections::VecDeque;
 use std::rc::Rc;
 
+use sim::gps::GpsReceiverModel;
+use sim::rtc::SimRtc;
+use sim::sensors::MountSensors;
 use sun_algos::{Algorithm, Options, Site, UtcTime};
 use suntracker::app::{AppConfig, ConfigPersist, Firmware, Platform};
 use suntracker::config::{Config, ConfigStore, MemStorage};
 use suntracker::controller::ControllerOptions;
-use suntracker::sim::gps::GpsReceiverModel;
-use suntracker::sim::rtc::SimRtc;
-use suntracker::sim::sensors::MountSensors;
 use tracker_hw_common::host_io::{Log, Uart};
 use tracker_hw_common::motor::{stepper_axis, Motor};
 

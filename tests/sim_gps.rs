@@ -4,8 +4,8 @@
 
 use drivers::gps::{nmea_checksum, FixQuality, GpsDecoder, GpsFix};
 use drivers::time::DateTime;
+use sim::gps::{GpsModelError, GpsReceiverModel, EPOCH_BUF_LEN};
 use sun_algos::UtcTime;
-use suntracker::sim::gps::{GpsModelError, GpsReceiverModel, EPOCH_BUF_LEN};
 
 /// Kano, Nigeria, and a south-western site, to exercise both hemispheres.
 const KANO: (f64, f64, f64) = (11.968_3, 8.426_1, 480.0);

@@ -3,8 +3,8 @@
 
 use drivers::rtc::{sync_from_gps, Clock};
 use drivers::time::DateTime;
+use sim::rtc::{SimRtc, SimRtcError, POWER_LOSS_RESET_UNIX_S};
 use sun_algos::UtcTime;
-use suntracker::sim::rtc::{SimRtc, SimRtcError, POWER_LOSS_RESET_UNIX_S};
 
 fn utc(y: i32, mo: u8, d: u8, h: u8, mi: u8, s: u8) -> UtcTime {
     UtcTime::from_ymd_hms(y, mo, d, h, mi, s).unwrap()

@@ -1,11 +1,11 @@
 //! `sim::scenario`: every event, every error kind, comments, CRLF, spacing,
 //! line numbers and the order of minutes.
 
-use suntracker::safety::AxisId;
-use suntracker::sim::scenario::{
+use sim::scenario::{
     parse_all, parse_line, Command, Event, RtcState, ScenarioError, ScenarioErrorKind,
     ScenarioLine, ScenarioParser, SwitchState, Token, MAX_TOKEN_LEN,
 };
+use suntracker::safety::AxisId;
 
 fn event(line: &str) -> Event {
     match parse_line(line) {

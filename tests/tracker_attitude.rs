@@ -1,9 +1,9 @@
 //! Mount attitude and pose selection (seed portable-tracker, eq. 12–21).
 
+use sim::rng::SplitMix64;
 use suntracker::attitude::{
     angle_between_deg, sun_vector_xyz, Choice, MountAttitude, Pose, PoseLimits,
 };
-use suntracker::sim::rng::SplitMix64;
 
 /// Seed Table IV, Case 1, as a round trip: mount aligned with the
 /// horizontal frame (α0 = β0 = γ0 = 0, tilt sensor θx = θy = 90°, +y axis

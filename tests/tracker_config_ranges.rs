@@ -236,9 +236,9 @@ fn ends_of_every_range_validate() {
 
 #[test]
 fn the_controller_refuses_a_configuration_out_of_range() {
+    use sim::plant::MotorPlant;
+    use sim::sensors::MountSensors;
     use suntracker::controller::{Controller, ControllerError, ControllerOptions};
-    use suntracker::sim::plant::MotorPlant;
-    use suntracker::sim::sensors::MountSensors;
     use suntracker::traits::AlgorithmSource;
     let mut config = Config::default();
     config.axes[0].gear_ratio = 1e30;

@@ -1,14 +1,14 @@
 //! The whole controller over the simulated plants and sensors: a full day,
 //! faults with their recoveries, stow, manual override.
 
+use sim::plant::MotorPlant;
+use sim::sensors::{MountSensors, SensorAccuracy};
 use sun_algos::{Algorithm, Options, Site, UtcTime};
 use suntracker::attitude::{angle_between_deg, sun_vector_xyz, MountAttitude, Pose};
 use suntracker::axis::{AxisDrive, FeedbackMode};
 use suntracker::config::Config;
 use suntracker::controller::{AttitudeSource, Controller, ControllerOptions, TickInputs};
 use suntracker::safety::{AxisId, Fault, Mode, Sensor};
-use suntracker::sim::plant::MotorPlant;
-use suntracker::sim::sensors::{MountSensors, SensorAccuracy};
 use suntracker::traits::{AlgorithmSource, PositionSource};
 
 type Ctl = Controller<f64, AlgorithmSource<f64>, MotorPlant, MountSensors, 1441>;

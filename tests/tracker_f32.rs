@@ -10,14 +10,14 @@
 //! under 0.001°, and the rest is the set-point being the table entry's
 //! minute while the check uses the same minute).
 
+use sim::plant::MotorPlant;
+use sim::sensors::{MountSensors, SensorAccuracy};
 use sun_algos::{Algorithm, Float, Options, Site, UtcTime};
 use suntracker::attitude::{angle_between_deg, sun_vector_xyz, MountAttitude, Pose};
 use suntracker::axis::FeedbackMode;
 use suntracker::config::Config;
 use suntracker::controller::{AttitudeSource, Controller, ControllerOptions, TickInputs};
 use suntracker::safety::Mode;
-use suntracker::sim::plant::MotorPlant;
-use suntracker::sim::sensors::{MountSensors, SensorAccuracy};
 use suntracker::traits::AlgorithmSource;
 
 const LAT: f64 = 11.9683;

@@ -18,15 +18,15 @@
 //! clear). `cargo test --release --test tracker_fuzz -- --ignored
 //! --nocapture` runs the long version.
 
+use sim::plant::MotorPlant;
+use sim::rng::SplitMix64;
+use sim::sensors::{MountSensors, SensorAccuracy};
 use sun_algos::{Algorithm, Options, Site, UtcTime};
 use suntracker::attitude::{MountAttitude, Pose};
 use suntracker::axis::{FeedbackMode, HomeState};
 use suntracker::config::Config;
 use suntracker::controller::{AttitudeSource, Controller, ControllerOptions, TickInputs};
 use suntracker::safety::Mode;
-use suntracker::sim::plant::MotorPlant;
-use suntracker::sim::rng::SplitMix64;
-use suntracker::sim::sensors::{MountSensors, SensorAccuracy};
 use suntracker::traits::AlgorithmSource;
 
 /// The controller under test; `N` = 361 (a table for any day), or 0 (no

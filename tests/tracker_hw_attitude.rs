@@ -16,13 +16,13 @@ use drivers::compass::calibration::Calibration;
 use drivers::compass::qmc5883l::{Config as QmcConfig, Qmc5883l};
 use embedded_hal::i2c::{ErrorKind, NoAcknowledgeSource};
 use embedded_hal_mock::eh1::i2c::{Mock as I2cMock, Transaction as I2c};
+use sim::plant::MotorPlant;
 use sun_algos::{Algorithm, Options, Site, UtcTime};
 use suntracker::attitude::MountAttitude;
 use suntracker::config::Config;
 use suntracker::controller::{AttitudeSource, Controller, ControllerOptions, TickInputs};
 use suntracker::hw::{MountSensorError, MountSensorsHw};
 use suntracker::safety::{Fault, Sensor};
-use suntracker::sim::plant::MotorPlant;
 use suntracker::traits::{AlgorithmSource, AttitudeReading, AttitudeSensor};
 
 use std::collections::VecDeque;

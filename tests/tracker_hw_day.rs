@@ -27,13 +27,13 @@ use std::cell::Cell;
 
 use drivers::rtc::Ds3231;
 use embedded_hal_mock::eh1::i2c::{Mock as I2cMock, Transaction as I2c};
+use sim::sensors::MountSensors;
 use sun_algos::{Algorithm, Options, Site};
 use suntracker::config::Config;
 use suntracker::controller::{Controller, TickInputs};
 use suntracker::hw::GpsPort;
 use suntracker::safety::Mode;
 use suntracker::scheduler::Phase;
-use suntracker::sim::sensors::MountSensors;
 use suntracker::sources::{resolve_site, SharedSiteSource, SiteOrigin, TimeConfig, TimeKeeper};
 use tracker_hw_common::motor::*;
 use tracker_hw_common::*;

@@ -22,13 +22,13 @@ use std::cell::Cell;
 use drivers::rtc::Ds3231;
 use embedded_hal::i2c::{ErrorKind, NoAcknowledgeSource};
 use embedded_hal_mock::eh1::i2c::{Mock as I2cMock, Transaction as I2c};
+use sim::sensors::MountSensors;
 use sun_algos::{Algorithm, Options, Site};
 use suntracker::config::Config;
 use suntracker::controller::Controller;
 use suntracker::hw::GpsPort;
 use suntracker::safety::{Fault, Mode};
 use suntracker::scheduler::Phase;
-use suntracker::sim::sensors::MountSensors;
 use suntracker::sources::{
     follow_gps_site, resolve_site, SharedSiteSource, SiteOrigin, TimeConfig, TimeKeeper,
 };

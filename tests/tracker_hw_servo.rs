@@ -19,6 +19,7 @@ use std::rc::Rc;
 
 use drivers::encoder::SharedEncoder;
 use drivers::servo::{ContinuousServo, PositionController, ServoConfig};
+use sim::sensors::MountSensors;
 use sun_algos::{Algorithm, Options, Site};
 use suntracker::axis::{AxisController, AxisDrive, FeedbackMode, HomeState};
 use suntracker::config::{AxisConfig, Config};
@@ -26,7 +27,6 @@ use suntracker::controller::{Controller, ControllerOptions, TickInputs};
 use suntracker::hw::ServoAxis;
 use suntracker::safety::Mode;
 use suntracker::scheduler::Phase;
-use suntracker::sim::sensors::MountSensors;
 use suntracker::traits::AlgorithmSource;
 use tracker_hw_common::motor::{angle_deg, below_reach_deg, normal_xyz, sun_xyz, utc_at, TOL_DEG};
 use tracker_hw_common::servo::{Pwm, ServoModel, ServoSpec, Switch};

@@ -7,11 +7,11 @@
 //! `src/config.rs` (`Reason`).
 
 use drivers::rtc::Clock;
+use sim::rtc::SimRtc;
 use sun_algos::UtcTime;
-use suntracker::board::chowdhury2019_settings::{self as settings, Settings, SettingsConsole};
 use suntracker::config::{MemStorage, SlotState};
 use suntracker::log::Sink;
-use suntracker::sim::rtc::SimRtc;
+use suntracker::servo_tracker::settings::{self as settings, Settings, SettingsConsole};
 use suntracker::storage::{EepromCells, EepromStorage};
 use suntracker::traits::Storage;
 

@@ -14,14 +14,14 @@ use std::rc::Rc;
 
 use drivers::encoder::SharedEncoder;
 use drivers::servo::ContinuousServo;
+use sim::rtc::SimRtc;
 use sun_algos::{Algorithm, Options, Site, UtcTime};
-use suntracker::board::chowdhury2019::{
+use suntracker::hw::ServoAxis;
+use suntracker::safety::Mode;
+use suntracker::servo_tracker::{
     axis_configs, Branch, SeedTracker, ALGORITHM, ALGORITHM_NAME, COUNTS_PER_TURN, POSITION_LOOP,
     SERVO, STALL_RETRY_MS, STALL_TIMEOUT_MS,
 };
-use suntracker::hw::ServoAxis;
-use suntracker::safety::Mode;
-use suntracker::sim::rtc::SimRtc;
 use tracker_hw_common::host_io::Log;
 use tracker_hw_common::motor::{angle_deg, normal_xyz, sun_xyz};
 use tracker_hw_common::servo::{Pwm, ServoModel, ServoSpec, Switch};

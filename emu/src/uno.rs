@@ -1,5 +1,5 @@
 //! The Arduino Uno bench: the ATmega328P image (`avr_tracker`, board
-//! module `src/board/uno.rs`, loop `src/board/chowdhury2019.rs`: seed
+//! module `boards/uno/src/lib.rs`, loop `src/servo_tracker/mod.rs`: seed
 //! chowdhury-2019's closed-loop tracker) under simavr, with
 //!
 //! - a DS3231 model on the TWI (valid, lost power, or absent);
@@ -43,7 +43,7 @@
 //!
 //! **Two clocks.** The emulation build advances its millisecond clock by
 //! the `timescale <N>` it logs at boot per 1 ms of CPU time
-//! (`src/board/avr/clock.rs`): emulated time = N × CPU time. The RTC
+//! (`boards/avr/src/clock.rs`): emulated time = N × CPU time. The RTC
 //! model, the sun, the panel, the schedule, the stall injection's start
 //! and length, and every UTC in a run are emulated time. The servo physics
 //! run in CPU time: the pulses are timed in CPU cycles by Timer1 (16 per
@@ -409,7 +409,7 @@ impl UnoRun {
 /// The panel normal of pose (c, a) on the firmware's level mount, in
 /// (west, south, up): `(sin c·sin a, −cos c·sin a, cos a)` (seed
 /// portable-tracker eq. 15–17 with the identity attitude, as
-/// `src/board/chowdhury2019.rs` states it).
+/// `src/servo_tracker/mod.rs` states it).
 pub fn panel_normal(c_deg: f64, a_deg: f64) -> [f64; 3] {
     let (c, a) = (c_deg.to_radians(), a_deg.to_radians());
     [c.sin() * a.sin(), -c.cos() * a.sin(), a.cos()]

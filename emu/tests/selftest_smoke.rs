@@ -1,5 +1,5 @@
 //! Smoke test of the harness against the ATmega2560 board self-test
-//! (`src/bin/avr_board_selftest.rs`, built by `.ci/firmware_env.sh`'s
+//! (`boards/avr/src/bin/avr_board_selftest.rs`, built by `.ci/firmware_env.sh`'s
 //! `build_avr_mega`). Without a TWI device the self-test expects a NACK
 //! from the DS3231 address (tests/expected/avr_board_selftest.txt); with the
 //! DS3231 model attached the read is answered, so that line changes from

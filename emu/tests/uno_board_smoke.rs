@@ -1,6 +1,6 @@
-//! The ATmega328P board self-test (`src/bin/avr_board_selftest.rs` built
-//! with `--features uno`) in simavr: the Uno servo tracker's board parts
-//! (`src/board/avr/{pwm,adc,pcint}.rs`) measured from outside.
+//! The ATmega328P board self-test (`boards/avr/src/bin/avr_board_selftest.rs` built
+//! with `-p suntracker-uno`) in simavr: the Uno servo tracker's board parts
+//! (`boards/avr/src/{pwm,adc,pcint}.rs`) measured from outside.
 //!
 //! - Servo PWM: both Timer1 outputs' pulses decoded from their pins (PB1 =
 //!   OC1A, PB2 = OC1B), widths and period in CPU cycles, against the
@@ -26,7 +26,7 @@
 //! The ELF: `$SUNTRACKER_EMU_ELF_SELFTEST_UNO`, else
 //! `$CARGO_TARGET_DIR/avr-none/release/avr_board_selftest.elf` (or
 //! `target/…` at the repository root), built by
-//! `cargo +nightly build --release --target avr-none -Z build-std=core --features uno --bin avr_board_selftest`.
+//! `cargo +nightly build --release --target avr-none -Z build-std=core -p suntracker-avr --bin avr_board_selftest`.
 //! Skipped when absent.
 
 use std::path::{Path, PathBuf};
@@ -458,7 +458,7 @@ fn encoder_handler_cycles_in_simavr() {
     let a = handler_cycles(&mut sim, &[(7, true)]);
     let both = handler_cycles(&mut sim, &[(5, true), (6, true)]);
     println!("PCINT2 handler in simavr: C edge {c} cycles, A edge {a}, both at once {both} (first instruction to return)");
-    // The board layer's notes (src/board/avr/mod.rs), counted by hand from
+    // The board layer's notes (boards/avr/src/lib.rs), counted by hand from
     // the disassembly: 202–204 cycles for one encoder's edge, 314–315 for
     // both; simavr charges the instruction set manual's cycles.
     assert!(c <= 204 && a <= 204, "one edge: C {c}, A {a} cycles");

@@ -12,7 +12,7 @@
 //! The settings image runs at 1:1 (it logs no timescale: emulated time is
 //! CPU time), its typed lines at 115,200 baud. EEPROM contents the tests
 //! make themselves come from the library's own store
-//! (`suntracker::board::chowdhury2019_settings::SettingsStore` over
+//! (`suntracker::servo_tracker::settings::SettingsStore` over
 //! `suntracker::config::MemStorage`), as a host tool would make them.
 //! References, as in `uno_scenarios.rs`: the sun is the harness's SPA
 //! (`suntracker_emu::uno::spa`: sun_algos, `f64`, geometric) at the stored
@@ -26,8 +26,8 @@
 use std::path::PathBuf;
 
 use suntracker::attitude::{angle_between_deg, sun_vector_xyz, MountAttitude, Pose};
-use suntracker::board::chowdhury2019_settings::{Settings, SettingsStore, DEFAULTS, EEPROM_LEN};
 use suntracker::config::{MemStorage, SLOT_LEN};
+use suntracker::servo_tracker::settings::{Settings, SettingsStore, DEFAULTS, EEPROM_LEN};
 use suntracker_emu::log::{format_utc, parse_utc, Event};
 use suntracker_emu::sim::CpuState;
 use suntracker_emu::uno::{spa, UnoBench, UnoRun};

@@ -38,7 +38,7 @@
 //! `src/app.rs` (Mega, Black Pill, QEMU) log the set-point first and the
 //! tick's fault and mode changes after it (`log_setpoint`, then
 //! `ChangeLog::update`: cleared faults, raised faults, the mode); the Uno
-//! (`src/board/uno.rs`, `Tracker::tick`) logs the fault and mode changes
+//! (`boards/uno/src/lib.rs`, `Tracker::tick`) logs the fault and mode changes
 //! first and the set-point last. Both log set-points in tracking mode only.
 //! So a set-point is given the mode and faults in force when it arrives
 //! (right for the Uno's order, and for the app's when nothing changed),

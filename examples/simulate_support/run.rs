@@ -9,6 +9,12 @@ use std::fs::File;
 use std::io::{BufWriter, Write};
 
 use drivers::gps::GpsDecoder;
+use sim::gps::{GpsReceiverModel, EPOCH_BUF_LEN};
+use sim::plant::MotorPlant;
+use sim::rng::SplitMix64;
+use sim::rtc::SimRtc;
+use sim::scenario::{parse_all, Command, Event, RtcState, SwitchState};
+use sim::sensors::{Anemometer, MountSensors, SensorAccuracy};
 use sun_algos::geometry::irradiance::clear_sky_beam_normal_w_m2;
 use sun_algos::{Algorithm, Options, Site, UtcTime};
 use suntracker::attitude::{angle_between_deg, sun_vector_xyz, MountAttitude, Pose};
@@ -17,12 +23,6 @@ use suntracker::clock::DateWindow;
 use suntracker::config::{Config, ConfigStore, MemStorage};
 use suntracker::controller::{AttitudeSource, Controller, ControllerOptions};
 use suntracker::safety::Mode;
-use suntracker::sim::gps::{GpsReceiverModel, EPOCH_BUF_LEN};
-use suntracker::sim::plant::MotorPlant;
-use suntracker::sim::rng::SplitMix64;
-use suntracker::sim::rtc::SimRtc;
-use suntracker::sim::scenario::{parse_all, Command, Event, RtcState, SwitchState};
-use suntracker::sim::sensors::{Anemometer, MountSensors, SensorAccuracy};
 use suntracker::sources::{
     follow_gps_site, site_from_config, SharedSiteSource, TimeConfig, TimeKeeper,
 };
@@ -56,7 +56,7 @@ pub fn help() -> cli::Help {
         synopsis: USAGE,
         about: "\
 Runs the whole tracker (controller, axes, safety, time keeper) minute by minute against the plant
-and sensor models of suntracker::sim. Every minute the GPS receiver model writes an NMEA epoch that
+and sensor models of sim. Every minute the GPS receiver model writes an NMEA epoch that
 goes through the GPS decoder and the time keeper (over a simulated RTC) to the controller. Prints a
 summary: pointing error while tracking, clear-sky energy against ideal and fixed panels, faults,
 stow times; its last line holds the figures as key=value.",
@@ -85,7 +85,7 @@ stow times; its last line holds the figures as key=value.",
             opt("--seed N", "seed of the random sensor errors and faults", "1"),
             opt(
                 "--scenario FILE",
-                "replay the timed events of FILE (format: suntracker::sim::scenario; examples in \
+                "replay the timed events of FILE (format: sim::scenario; examples in \
                  tests/scenarios/)",
                 "none",
             ),

@@ -2,9 +2,9 @@
 //! conditions (wind, bus errors, stalls, ...) and, per year, field incidents
 //! of the time and site chain written as scenario events.
 
+use sim::rng::SplitMix64;
+use sim::scenario::{Event, RtcState, SwitchState};
 use suntracker::safety::AxisId;
-use suntracker::sim::rng::SplitMix64;
-use suntracker::sim::scenario::{Event, RtcState, SwitchState};
 
 /// One injected condition, active for minutes `from..until` of the run.
 #[derive(Debug, Clone, Copy)]

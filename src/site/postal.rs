@@ -13,9 +13,6 @@
 //! place names are a separate array the linker keeps only when
 //! [`PostalEntry::place`] is used.
 
-// Reads of the table in flash (`crate::text::read_flash`).
-#![allow(unsafe_code)]
-
 use sun_algos::{Float, Site};
 
 use super::key::{self, KeyError};
@@ -118,11 +115,9 @@ pub fn lookup(country: &str, code: &str) -> Result<PostalEntry, PostalError> {
     let (mut lo, mut hi) = (0usize, table::LEN);
     while lo < hi {
         let mid = lo + (hi - lo) / 2;
-        let Some(slot) = table::KEYS.get(mid) else {
+        let Some(key) = table::KEYS.get(mid) else {
             break;
         };
-        // SAFETY: KEYS is in `.progmem.data` on AVR (build.rs).
-        let key = unsafe { crate::text::read_flash(slot) };
         match key.cmp(&k) {
             core::cmp::Ordering::Less => lo = mid + 1,
             core::cmp::Ordering::Greater => hi = mid,
@@ -134,11 +129,7 @@ pub fn lookup(country: &str, code: &str) -> Result<PostalEntry, PostalError> {
 
 /// Row `index` (coordinates read from flash on AVR).
 fn entry(index: usize) -> PostalEntry {
-    let c = match table::COORDS.get(index) {
-        // SAFETY: COORDS is in `.progmem.data` on AVR (build.rs).
-        Some(slot) => unsafe { crate::text::read_flash(slot) },
-        None => [0; 6],
-    };
+    let c = table::COORDS.get(index).unwrap_or([0; 6]);
     PostalEntry {
         index,
         lat_e4: i24(c.get(0..3).unwrap_or(&[])),

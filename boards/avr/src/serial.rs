@@ -1,0 +1,342 @@
+//! Interrupt-driven USARTs (ATmega2560 datasheet §22 / ATmega328P §20
+//! "USART": "Clock Generation" (double speed, UBRR formula), "Receive
+//! Complete Flag and Interrupt", "Data Reception", register description of
+//! UDRn, UCSRnA/B/C, UBRRn).
+//!
+//! Reception: the RX-complete interrupt moves each byte into a ring buffer
+//! (128 bytes for the GPS port, 64 for the log and console port); when it is full the byte is dropped and counted
+//! ([`Usart0::rx_dropped`]), as are bytes the hardware lost before the
+//! interrupt ran (data overrun, DORn) and bytes with a framing error (FEn,
+//! dropped too). `Read` takes what is waiting without blocking; with
+//! nothing waiting it sleeps (idle mode) until a byte arrives, as
+//! `embedded_io::Read` asks — the `drivers` GPS reader's `poll_if_ready`
+//! first asks `ReadReady` and only reads when a byte is there, so a main
+//! loop never waits. With interrupts disabled an empty `Read` would never
+//! end; it returns [`SerialError::WouldBlockForever`] instead.
+//!
+//! Transmission is blocking, byte by byte on UDREn (one byte is 87 µs at
+//! 115200 baud, the log's rate; no transmit buffer, no TX interrupt).
+
+use core::cell::Cell;
+
+use avr_device::interrupt::{self, CriticalSection, Mutex};
+use embedded_io::{ErrorKind, ErrorType};
+
+use super::{chip, CPU_HZ};
+
+/// Receive ring of the GPS port (USART1): a whole NMEA sentence (at most
+/// 82 bytes) with room to spare.
+#[cfg(avr_atmega2560)]
+const RX_LEN_GPS: usize = 128;
+/// Receive ring of the log and console port (USART0): a whole console
+/// line (`suntracker::console::LINE_LEN`).
+const RX_LEN_CONSOLE: usize = 64;
+
+/// A single-producer (interrupt) single-consumer (main) ring of `N` bytes
+/// (`N` ≤ 255).
+struct RxRing<const N: usize> {
+    bytes: [Cell<u8>; N],
+    /// Next slot the interrupt writes.
+    head: Cell<u8>,
+    /// Next slot the reader takes.
+    tail: Cell<u8>,
+    /// Count of bytes stored (0..=N).
+    len: Cell<u8>,
+    /// Bytes lost: ring full, hardware overrun or framing error.
+    dropped: Cell<u16>,
+}
+
+impl<const N: usize> RxRing<N> {
+    const fn new() -> Self {
+        RxRing {
+            bytes: [const { Cell::new(0) }; N],
+            head: Cell::new(0),
+            tail: Cell::new(0),
+            len: Cell::new(0),
+            dropped: Cell::new(0),
+        }
+    }
+
+    fn drop_one(&self) {
+        self.dropped.set(self.dropped.get().saturating_add(1));
+    }
+
+    fn push(&self, byte: u8) {
+        if usize::from(self.len.get()) >= N {
+            self.drop_one();
+            return;
+        }
+        let head = self.head.get();
+        if let Some(slot) = self.bytes.get(usize::from(head)) {
+            slot.set(byte);
+        }
+        self.head.set(Self::next(head));
+        self.len.set(self.len.get() + 1);
+    }
+
+    fn pop(&self) -> Option<u8> {
+        if self.len.get() == 0 {
+            return None;
+        }
+        let tail = self.tail.get();
+        let byte = self.bytes.get(usize::from(tail)).map(Cell::get);
+        self.tail.set(Self::next(tail));
+        self.len.set(self.len.get() - 1);
+        byte
+    }
+
+    fn clear(&self) {
+        self.head.set(0);
+        self.tail.set(0);
+        self.len.set(0);
+        self.dropped.set(0);
+    }
+
+    fn next(index: u8) -> u8 {
+        ((usize::from(index) + 1) % N) as u8
+    }
+}
+
+/// Bytes moved per critical section by `read` (bounds the time interrupts
+/// are off to about 150 cycles).
+const READ_BURST: usize = 8;
+
+/// UBRR for `baud_hz` in double-speed mode (U2Xn = 1), rounded to nearest:
+/// UBRR = CPU / (8 · baud) − 1 (115200 → 16, 2.1 % error as on every
+/// Arduino; 9600 → 207, 0.2 %). Clamped to the 12-bit register.
+fn ubrr_u2x(baud_hz: u32) -> u16 {
+    let divisor = baud_hz.saturating_mul(8);
+    let ratio = (CPU_HZ + divisor / 2)
+        .checked_div(divisor)
+        .unwrap_or(u32::MAX);
+    ratio.saturating_sub(1).min(0x0FFF) as u16
+}
+
+/// Errors of the serial ports.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum SerialError {
+    /// `read` found no byte while interrupts are disabled: waiting would
+    /// never end.
+    WouldBlockForever,
+}
+
+impl embedded_io::Error for SerialError {
+    fn kind(&self) -> ErrorKind {
+        ErrorKind::Other
+    }
+}
+
+macro_rules! usart {
+    (
+        $(#[$doc:meta])* $name:ident, $periph:ident, $ring:ident, $len:ident, $isr:ident,
+        $ucsra:ident, $ucsrb:ident, $ucsrc:ident, $ubrr:ident, $udr:ident,
+        $u2x:ident, $txc:ident, $rxen:ident, $txen:ident, $rxcie:ident, $ucsz:ident,
+        $rxc:ident, $udre:ident, $fe:ident, $dor:ident
+    ) => {
+        static $ring: Mutex<RxRing<$len>> = Mutex::new(RxRing::new());
+
+        $(#[$doc])*
+        pub struct $name {
+            usart: chip::$periph,
+            /// A byte was written since the last flush (TXC is meaningful).
+            sent: bool,
+        }
+
+        impl $name {
+            /// Takes the USART: 8 data bits, no parity, 1 stop bit at
+            /// `baud_hz` (double speed), receiver with its interrupt and
+            /// transmitter on, ring emptied.
+            pub fn new(usart: chip::$periph, baud_hz: u32) -> Self {
+                interrupt::free(|cs| $ring.borrow(cs).clear());
+                usart.$ubrr().write(|w| w.set(ubrr_u2x(baud_hz)));
+                usart.$ucsra().write(|w| w.$u2x().set_bit());
+                usart.$ucsrc().write(|w| w.$ucsz().chr8());
+                usart.$ucsrb().write(|w| {
+                    w.$txen().set_bit().$rxen().set_bit().$rxcie().set_bit()
+                });
+                $name { usart, sent: false }
+            }
+
+            /// Takes the USART for sending only (a log): 8N1 at `baud_hz`,
+            /// transmitter on, receiver and its interrupt off. Its receive
+            /// ring is then not linked (when nothing else uses it) and its
+            /// RX vector need not be bound: 134 B of RAM on an 8-bit board.
+            /// Reading such a port finds nothing.
+            pub fn new_tx_only(usart: chip::$periph, baud_hz: u32) -> Self {
+                usart.$ubrr().write(|w| w.set(ubrr_u2x(baud_hz)));
+                usart.$ucsra().write(|w| w.$u2x().set_bit());
+                usart.$ucsrc().write(|w| w.$ucsz().chr8());
+                usart.$ucsrb().write(|w| w.$txen().set_bit());
+                $name { usart, sent: false }
+            }
+
+            /// Bytes received and lost so far (ring full, hardware overrun,
+            /// framing error); saturates at 65,535.
+            pub fn rx_dropped(&self) -> u16 {
+                interrupt::free(|cs| $ring.borrow(cs).dropped.get())
+            }
+
+            /// Bytes waiting in the ring.
+            pub fn rx_waiting(&self) -> usize {
+                interrupt::free(|cs| usize::from($ring.borrow(cs).len.get()))
+            }
+
+            /// Moves up to `buf.len()` received bytes out of the ring
+            /// without waiting; 0 when none. For a port whose value is
+            /// busy elsewhere (the log writes through it while the main
+            /// loop reads the console typed on it): only the main loop
+            /// takes from the ring, through this or through `Read`.
+            pub fn take_received(buf: &mut [u8]) -> usize {
+                let mut n = 0;
+                while n < buf.len() {
+                    let Some(rest) = buf.get_mut(n..) else { break };
+                    let got = interrupt::free(|cs| Self::take(rest, cs));
+                    if got == 0 {
+                        break;
+                    }
+                    n += got;
+                }
+                n
+            }
+
+            /// Waits until every written byte has left the shift register
+            /// (then the pins may change or the CPU may stop).
+            pub fn flush_all(&mut self) {
+                while self.usart.$ucsra().read().$udre().bit_is_clear() {}
+                if self.sent {
+                    while self.usart.$ucsra().read().$txc().bit_is_clear() {}
+                    self.sent = false;
+                }
+            }
+
+            /// Gives the USART back, receiver interrupt off.
+            pub fn release(mut self) -> chip::$periph {
+                self.flush_all();
+                self.usart.$ucsrb().write(|w| w.$txen().set_bit().$rxen().set_bit());
+                self.usart
+            }
+
+            fn put_byte(&mut self, byte: u8) {
+                while self.usart.$ucsra().read().$udre().bit_is_clear() {}
+                // Clear TXC (write 1) with the data, keeping double speed.
+                self.usart
+                    .$ucsra()
+                    .write(|w| w.$u2x().set_bit().$txc().set_bit());
+                self.usart.$udr().write(|w| w.set(byte));
+                self.sent = true;
+            }
+
+            fn take(buf: &mut [u8], cs: CriticalSection<'_>) -> usize {
+                let ring = $ring.borrow(cs);
+                let mut n = 0;
+                for slot in buf.iter_mut().take(READ_BURST) {
+                    match ring.pop() {
+                        Some(byte) => {
+                            *slot = byte;
+                            n += 1;
+                        }
+                        None => break,
+                    }
+                }
+                n
+            }
+        }
+
+        /// The RX-complete handler's work; bound by `avr_board_interrupts!`.
+        #[inline(always)]
+        pub fn $isr() {
+            // SAFETY: only status and data registers are read here (UCSRnA,
+            // UDRn); reading UDRn is what acknowledges the interrupt. The
+            // interrupt is enabled only by the constructor, whose value
+            // owns the USART and never reads UDRn itself.
+            let usart = unsafe { chip::$periph::steal() };
+            let status = usart.$ucsra().read();
+            let byte = usart.$udr().read().bits();
+            interrupt::free(|cs| {
+                let ring = $ring.borrow(cs);
+                if status.$dor().bit_is_set() {
+                    ring.drop_one();
+                }
+                if status.$rxc().bit_is_set() && status.$fe().bit_is_clear() {
+                    ring.push(byte);
+                } else {
+                    ring.drop_one();
+                }
+            });
+        }
+
+        impl ErrorType for $name {
+            type Error = SerialError;
+        }
+
+        impl embedded_io::ReadReady for $name {
+            fn read_ready(&mut self) -> Result<bool, SerialError> {
+                Ok(self.rx_waiting() > 0)
+            }
+        }
+
+        impl embedded_io::Read for $name {
+            /// Up to `buf.len()` waiting bytes; sleeps until the first one
+            /// if none is waiting (see the module text).
+            fn read(&mut self, buf: &mut [u8]) -> Result<usize, SerialError> {
+                if buf.is_empty() {
+                    return Ok(0);
+                }
+                loop {
+                    let n = Self::take_received(buf);
+                    if n > 0 {
+                        return Ok(n);
+                    }
+                    if !interrupt::is_enabled() {
+                        return Err(SerialError::WouldBlockForever);
+                    }
+                    // SAFETY: SMCR only selects the sleep mode; CPU is
+                    // touched here and in `sleep_until_interrupt` only, to
+                    // set idle mode and the sleep enable bit around SLEEP.
+                    let cpu = unsafe { chip::CPU::steal() };
+                    super::sleep_until_interrupt(&cpu);
+                }
+            }
+        }
+
+        impl embedded_io::Write for $name {
+            /// Writes all of `buf`, blocking on UDREn for each byte.
+            fn write(&mut self, buf: &[u8]) -> Result<usize, SerialError> {
+                for &byte in buf {
+                    self.put_byte(byte);
+                }
+                Ok(buf.len())
+            }
+
+            fn flush(&mut self) -> Result<(), SerialError> {
+                self.flush_all();
+                Ok(())
+            }
+        }
+
+        impl suntracker::log::Sink for $name {
+            fn put(&mut self, bytes: &[u8]) {
+                for &byte in bytes {
+                    self.put_byte(byte);
+                }
+            }
+        }
+    };
+}
+
+usart!(
+    /// USART0 (TXD0/RXD0: Uno D1/D0, Mega D1/D0, the USB bridge).
+    Usart0, USART0, RX0, RX_LEN_CONSOLE, on_usart0_rx,
+    ucsr0a, ucsr0b, ucsr0c, ubrr0, udr0,
+    u2x0, txc0, rxen0, txen0, rxcie0, ucsz0,
+    rxc0, udre0, fe0, dor0
+);
+
+#[cfg(avr_atmega2560)]
+usart!(
+    /// USART1 of the ATmega2560 (TXD1/RXD1: Mega D18/D19, the GPS).
+    Usart1, USART1, RX1, RX_LEN_GPS, on_usart1_rx,
+    ucsr1a, ucsr1b, ucsr1c, ubrr1, udr1,
+    u2x1, txc1, rxen1, txen1, rxcie1, ucsz1,
+    rxc1, udre1, fe1, dor1
+);

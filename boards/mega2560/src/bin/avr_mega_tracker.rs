@@ -1,0 +1,35 @@
+//! The Arduino Mega 2560 tracker image (seed li-2022's build). Everything
+//! about the board — pins, devices, configuration — is in
+//! `suntracker_mega2560`; this file binds its interrupt vectors and
+//! starts it. Build, flash and emulate: see the README ("Arduino Mega 2560").
+#![no_std]
+#![no_main]
+#![feature(abi_avr_interrupt)]
+
+use suntracker_avr::chip;
+
+// Timer0 millisecond clock, log and console USART0, GPS USART1, anemometer
+// on INT4.
+suntracker_avr::avr_board_interrupts!(timer0, usart0, usart1, int4);
+
+#[avr_device::entry]
+fn main() -> ! {
+    match chip::Peripherals::take() {
+        Some(dp) => suntracker_mega2560::run(dp),
+        // Taken twice: cannot happen at reset; sleep until the watchdog.
+        None => loop {
+            avr_device::asm::sleep();
+        },
+    }
+}
+
+/// No panic path is expected in this image (`.ci/panic_check.sh`); should
+/// one be reached, the board stops driving and sleeps until the watchdog
+/// resets it.
+#[panic_handler]
+fn panic(_info: &core::panic::PanicInfo) -> ! {
+    avr_device::interrupt::disable();
+    loop {
+        avr_device::asm::sleep();
+    }
+}

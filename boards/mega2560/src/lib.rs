@@ -1,0 +1,344 @@
+//! The Arduino Mega 2560 tracker (seed li-2022's build): everything about
+//! this board in one place — pins, devices, configuration — turned into the
+//! parts of [`suntracker::app::Firmware`]. An image binds the interrupt vectors
+//! (`timer0, usart1, int4`; the log's USART0 only sends) and calls [`run`],
+//! as `avr_mega_tracker` does. LLVM reads stack-passed arguments one byte
+//! low on this 3-byte-PC chip: a function whose arguments do not all fit
+//! the registers (r8–r25) gets garbage (`Site::<f64>::with_elevation` did,
+//! and start-up was refused: `halt: site refused`); such functions are
+//! inlined. `.ci/avr_codegen_check.py` scans every image for a function
+//! reading its stack arguments (only libm's `k_sin` is left, harmless: see
+//! the script) and for the other pattern found here, r0 overwritten between
+//! a MUL and the read of its product.
+//!
+//! | function | pin | Mega header |
+//! |---|---|---|
+//! | log and console, 115200 8N1 | USART0 TXD0/RXD0 (PE1/PE0) | D1/D0 (USB) |
+//! | GPS NMEA in, 9600 8N1 | USART1 RXD1/TXD1 (PD2/PD3) | D19/D18 |
+//! | I²C 100 kHz: DS3231 0x68, QMC5883L 0x0D, ADXL345 0x53 | SDA/SCL (PD1/PD0) | D20/D21 |
+//! | C axis (azimuth rotation γ) H-bridge IN1–IN4 | PA0–PA3 | D22–D25 |
+//! | A axis (tilt α) H-bridge IN1–IN4 | PA4–PA7 | D26–D29 |
+//! | C home switch (low end, to GND, pull-up) | PC0 | D37 |
+//! | A home switch (low end, to GND, pull-up) | PC1 | D36 |
+//! | C high-end limit switch (to GND, pull-up) | PC2 | D35 |
+//! | A high-end limit switch (to GND, pull-up) | PC3 | D34 |
+//! | anemometer reed contact (to GND, pull-up; falling edge) | INT4 (PE4) | D2 |
+//!
+//! Wiring sketch (one axis; the other is the same on the next four pins):
+//!
+//! ```text
+//!  Mega D22 ─ IN1 ┐                ┌ OUT1 ─ coil A+
+//!  Mega D23 ─ IN2 ├ L298N H-bridge ┤ OUT2 ─ coil A−      200-step motor
+//!  Mega D24 ─ IN3 │  (+12 V motor) │ OUT3 ─ coil B+      → 50:1 worm → C axis
+//!  Mega D25 ─ IN4 ┘                └ OUT4 ─ coil B−
+//!  Mega D37 ─┬─ home switch (closed at the low stop) ─ GND
+//!  Mega D35 ─┴─ limit switch (closed at the high stop) ─ GND
+//!  Mega D20/D21 ─ SDA/SCL ─ DS3231 · QMC5883L · ADXL345 (3.3 V modules with level shifters)
+//!  Mega D19 ─ GPS TX      Mega D2 ─ anemometer reed ─ GND
+//! ```
+//!
+//! Drives and axes: seed li-2022's mechanics, [`suntracker::mechanics`] (200-step
+//! motors, full step, 50:1 worms, 0.036° a step, C −180…+180°, A −90…+90°,
+//! homed at the low ends, open loop).
+//!
+//! The QMC5883L and the ADXL345 are probed at power-on; when both answer,
+//! the mount's attitude is measured every 10 s (seed portable-tracker)
+//! with the WMM2025 declination of the site; else a level mount facing
+//! north is assumed and fault `timeout_inclinometer` says so.
+#![no_std]
+
+use core::cell::RefCell;
+
+use drivers::compass::calibration::Calibration;
+use drivers::compass::qmc5883l::{Config as QmcConfig, Qmc5883l};
+use drivers::rtc::Ds3231;
+use drivers::stepper::hbridge::{BridgePins, HBridgeStepper};
+use drivers::stepper::LimitSwitches;
+use drivers::tilt::adxl345::Adxl345;
+
+use suntracker::app::{AppConfig, ConfigPersist, Firmware, Platform, StartError};
+use suntracker::config::{Config, ConfigStore};
+use suntracker::controller::{ControllerError, ControllerOptions};
+use suntracker::hw::{MountSensorsHw, StepperAxis};
+use suntracker::log::Sink;
+use suntracker::mechanics::{self, bridge_config};
+use suntracker::storage::EepromStorage;
+use suntracker_avr::eeprom::Eeprom;
+use suntracker_avr::{
+    chip, millis, sleep_until_interrupt, Anemometer, ExtInt, I2c, InputPin, Millis, OutputPin,
+    SharedI2c, Usart0, Usart1, Watchdog, MS_PER_TICK,
+};
+
+/// Board name in the boot line.
+pub const BOARD: &str = "mega2560";
+/// Log serial.
+pub const LOG_BAUD_HZ: u32 = 115_200;
+/// GPS receivers' default rate (NEO-6M and kin).
+pub const GPS_BAUD_HZ: u32 = 9_600;
+/// ADXL345 address with SDO low (datasheet "Serial Communications", I²C).
+pub const ADXL345_ADDRESS: u8 = 0x53;
+/// Day-table capacity: the seed's 4-minute table of a day of up to 16 h
+/// (latitudes within about ±48°; a longer day is refused with the
+/// scheduler's `schedule_failed`, never truncated). A polar day's 360
+/// entries would take 480 B more of the 8 KB RAM.
+pub const TABLE_LEN: usize = 240;
+/// Sun positions computed per tick while a day is planned (see `run`).
+pub const PLAN_POSITIONS_PER_TICK: u16 = 4;
+/// Attitude sensors read every this many ms (see `run`).
+pub const ATTITUDE_EVERY_MS: u32 = 10_000;
+
+/// Monotonic clock, anemometer, watchdog, sleep, console input and the
+/// configuration's EEPROM of the board.
+struct MegaPlatform {
+    _millis: Millis,
+    anemometer: Anemometer,
+    watchdog: Watchdog,
+    cpu: chip::CPU,
+    store: ConfigStore<EepromStorage<Eeprom>>,
+}
+
+impl Platform for MegaPlatform {
+    fn console_read(&mut self, buf: &mut [u8]) -> usize {
+        Usart0::take_received(buf)
+    }
+    fn config_store(&mut self) -> Option<&mut dyn ConfigPersist> {
+        Some(&mut self.store)
+    }
+    fn now_ms(&mut self) -> u64 {
+        millis()
+    }
+    fn take_wind_pulses(&mut self) -> u32 {
+        u32::from(self.anemometer.take_pulses())
+    }
+    fn feed_watchdog(&mut self) {
+        self.watchdog.feed();
+    }
+    fn wait_for_interrupt(&mut self) {
+        sleep_until_interrupt(&self.cpu);
+    }
+}
+
+/// Starts the tracker on the board's peripherals; never returns. A
+/// configuration the controller refuses (none: it is the board's own) is
+/// reported on the log and the board then only feeds nothing: the watchdog
+/// resets it.
+pub fn run(dp: chip::Peripherals) -> ! {
+    let chip::Peripherals {
+        USART0,
+        USART1,
+        TC0,
+        WDT,
+        CPU,
+        PORTA,
+        PORTC,
+        PORTE,
+        EXINT,
+        TWI,
+        EEPROM,
+        ..
+    } = dp;
+    run_tracker(Parts {
+        usart0: USART0,
+        usart1: USART1,
+        tc0: TC0,
+        wdt: WDT,
+        cpu: CPU,
+        porta: PORTA,
+        portc: PORTC,
+        porte: PORTE,
+        exint: EXINT,
+        twi: TWI,
+        eeprom: EEPROM,
+    })
+}
+
+/// The peripherals the tracker uses besides the EEPROM.
+struct Parts {
+    usart0: chip::USART0,
+    usart1: chip::USART1,
+    tc0: chip::TC0,
+    wdt: chip::WDT,
+    cpu: chip::CPU,
+    porta: chip::PORTA,
+    portc: chip::PORTC,
+    porte: chip::PORTE,
+    exint: chip::EXINT,
+    twi: chip::TWI,
+    eeprom: chip::EEPROM,
+}
+
+/// The configuration at power-on: the copy saved in the EEPROM (console
+/// `save`), else the board's own (seed li-2022's mechanics, Kano); the log
+/// says which. Not inlined: the slots read (two 256-byte buffers) leave
+/// the stack before the loop starts.
+#[inline(never)]
+fn stored_config(store: &mut ConfigStore<EepromStorage<Eeprom>>, log: &mut Usart0) -> Config {
+    let loaded = store.load();
+    if loaded.defaults {
+        log.flash(suntracker::flash_str!("config source=defaults\n"));
+        mechanics::config()
+    } else {
+        log.flash(suntracker::flash_str!("config source=stored\n"));
+        loaded.config
+    }
+}
+
+// Not inlined into `run`, whose frame would otherwise hold the moved-from
+// peripherals' place (nothing: they are zero-sized) and any temporaries.
+#[inline(never)]
+fn run_tracker(dp: Parts) -> ! {
+    // The log port is also the console: its receive ring is read by the
+    // platform (`console_read`), the log writes through the port's value.
+    let mut log = Usart0::new(dp.usart0, LOG_BAUD_HZ);
+    let gps = Usart1::new(dp.usart1, GPS_BAUD_HZ);
+    let millis_clock = Millis::start(dp.tc0);
+    if MS_PER_TICK != 1 {
+        // Emulator builds only: the harness reads the time scale here.
+        log.flash(suntracker::flash_str!("timescale "));
+        log.u32(MS_PER_TICK as u32);
+        log.flash(suntracker::flash_str!("\n"));
+    }
+    let watchdog = Watchdog::enable(dp.wdt, &dp.cpu);
+
+    // Motors and switches.
+    let porta = dp.porta;
+    let portc = dp.portc;
+    let bridge = |p0, p1, p2, p3| BridgePins {
+        in1: p0,
+        in2: p1,
+        in3: p2,
+        in4: p3,
+    };
+    let c_pins = bridge(
+        OutputPin::<_, 0>::new(&porta, false).erase(),
+        OutputPin::<_, 1>::new(&porta, false).erase(),
+        OutputPin::<_, 2>::new(&porta, false).erase(),
+        OutputPin::<_, 3>::new(&porta, false).erase(),
+    );
+    let a_pins = bridge(
+        OutputPin::<_, 4>::new(&porta, false).erase(),
+        OutputPin::<_, 5>::new(&porta, false).erase(),
+        OutputPin::<_, 6>::new(&porta, false).erase(),
+        OutputPin::<_, 7>::new(&porta, false).erase(),
+    );
+    let c_limits = LimitSwitches {
+        min: Some(InputPin::<_, 0>::new(&portc, true).erase()),
+        max: Some(InputPin::<_, 2>::new(&portc, true).erase()),
+        active_low: true,
+    };
+    let a_limits = LimitSwitches {
+        min: Some(InputPin::<_, 1>::new(&portc, true).erase()),
+        max: Some(InputPin::<_, 3>::new(&portc, true).erase()),
+        active_low: true,
+    };
+    let c_home = InputPin::<_, 0>::new(&portc, true).erase();
+    let a_home = InputPin::<_, 1>::new(&portc, true).erase();
+    let anemometer = Anemometer::new(dp.exint, ExtInt::Int4);
+    // The reed contact to ground needs the pull-up of PE4.
+    let porte = dp.porte;
+    let _wind_pin = InputPin::<_, 4>::new(&porte, true);
+
+    // Interrupts on before any bus or port traffic that waits for them.
+    // SAFETY: every part the vectors touch is set up above.
+    unsafe { avr_device::interrupt::enable() };
+
+    let axes = match (
+        HBridgeStepper::new(c_pins, c_limits, bridge_config()),
+        HBridgeStepper::new(a_pins, a_limits, bridge_config()),
+    ) {
+        (Ok(c), Ok(a)) => [
+            StepperAxis::new(c, c_home, true),
+            StepperAxis::new(a, a_home, true),
+        ],
+        _ => halt(&mut log, "stepper configuration refused"),
+    };
+
+    // The I²C devices.
+    let bus = RefCell::new(I2c::new(dp.twi));
+    let rtc = Ds3231::new(SharedI2c::new(&bus));
+    let compass = Qmc5883l::new(SharedI2c::new(&bus), QmcConfig::default());
+    let mut tilt = Adxl345::new(SharedI2c::new(&bus), ADXL345_ADDRESS);
+    let sensors = match (compass, tilt.init()) {
+        (Ok(compass), Ok(())) => Some(MountSensorsHw::new(
+            tilt,
+            compass,
+            Calibration::IDENTITY,
+            0.0,
+        )),
+        _ => {
+            log.flash(suntracker::flash_str!(
+                "attitude sensors absent: level mount facing north\n"
+            ));
+            None
+        }
+    };
+
+    let mut store = ConfigStore::new(Eeprom::storage(dp.eeprom));
+    let config = stored_config(&mut store, &mut log);
+    if config.validate().is_err() {
+        halt(&mut log, "configuration refused");
+    }
+    // A sun position costs about 45,000 cycles here (psa-2020 in f32):
+    // planning a day (some 370 positions, about a second) is spread over
+    // ticks, four positions (11 ms) per tick, so that the loop keeps serving
+    // the motors, the GPS ring and the watchdog; tracking starts about 90 s
+    // after the time is trusted. The attitude (four readings of each sensor
+    // and their trigonometry, about 10 ms) is read every 10 s, not every
+    // tick: the mount does not move in between.
+    let options = ControllerOptions {
+        plan_positions_per_tick: PLAN_POSITIONS_PER_TICK,
+        attitude_every_ms: ATTITUDE_EVERY_MS,
+        ..mechanics::controller_options()
+    };
+    let mut platform = MegaPlatform {
+        _millis: millis_clock,
+        anemometer,
+        watchdog,
+        cpu: dp.cpu,
+        store,
+    };
+    let mut firmware = Firmware::<f32, _, _, _, _, _, TABLE_LEN>::new(
+        AppConfig {
+            defaults: mechanics::config,
+            ..AppConfig::new(BOARD)
+        },
+        config,
+        options,
+        rtc,
+        gps,
+        axes,
+        sensors,
+        log,
+    );
+    // Run it where it is, inside the result: moving it out would put a
+    // second copy of its kilobytes on the stack.
+    match &mut firmware {
+        Ok(fw) => fw.run(&mut platform),
+        // The board's own configuration was checked above; the scheduler's
+        // intervals are the defaults. Nothing is driven; the watchdog,
+        // no longer fed, resets the board.
+        Err(e) => {
+            // The log port went into the firmware that was not made: take
+            // it again to say why.
+            // SAFETY: the `Usart0` that owned it was dropped with the error.
+            let mut log = Usart0::new_tx_only(unsafe { chip::USART0::steal() }, LOG_BAUD_HZ);
+            let why = match e {
+                StartError::Site(_) => "site refused",
+                StartError::Controller(ControllerError::Config(_)) => "configuration refused",
+                StartError::Controller(ControllerError::Schedule(_)) => "schedule refused",
+            };
+            halt(&mut log, why)
+        }
+    }
+}
+
+/// Says why and stops: the watchdog, no longer fed, resets the board.
+fn halt(log: &mut Usart0, why: &str) -> ! {
+    log.flash(suntracker::flash_str!("halt: "));
+    log.text(why);
+    log.flash(suntracker::flash_str!("\n"));
+    log.flush_all();
+    loop {
+        avr_device::asm::sleep();
+    }
+}

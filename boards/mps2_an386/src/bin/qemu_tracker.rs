@@ -1,0 +1,37 @@
+//! The tracker image for QEMU's `mps2-an386` (Cortex-M4F): the
+//! board-independent firmware loop (`suntracker::app`) on the board module
+//! `suntracker_mps2_an386` (GPS on UART0, log over semihosting,
+//! simulated axes). Built only for `thumbv7em-none-eabihf` with feature
+//! `mps2-an386`; run it with `.ci/qemu_gps.py` (see the README):
+//!
+//! `cargo run --release --target thumbv7em-none-eabihf -p suntracker-mps2-an386 --bin qemu_tracker`
+#![no_std]
+#![no_main]
+
+use cortex_m_rt::{entry, exception, ExceptionFrame};
+use suntracker_mps2_an386 as board;
+
+#[entry]
+fn main() -> ! {
+    board::run()
+}
+
+#[exception]
+fn SysTick() {
+    board::on_systick();
+}
+
+#[exception]
+unsafe fn DefaultHandler(irqn: i16) {
+    board::on_interrupt(irqn);
+}
+
+#[exception]
+unsafe fn HardFault(_frame: &ExceptionFrame) -> ! {
+    board::on_panic()
+}
+
+#[panic_handler]
+fn panic(_info: &core::panic::PanicInfo) -> ! {
+    board::on_panic()
+}

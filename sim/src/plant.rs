@@ -1,0 +1,249 @@
+//! Plant models of one axis: a stepper through a gear with backlash, or a
+//! servo positioning on its output encoder; limit switch, hard stops, and
+//! injectable faults (stall, lost steps, stuck switch, encoder timeout).
+//!
+//! Time advances in ticks: [`MotorPlant::begin_tick`] gives the axis
+//! `dt` seconds of motion at its top speed; moves beyond that wait for the
+//! next tick.
+
+use suntracker::app::Motion;
+use suntracker::axis::AxisDrive;
+
+/// Errors of the simulated drive.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum SimError {
+    /// The sensor did not answer.
+    Timeout,
+}
+
+/// Kind of drive.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum DriveKind {
+    /// Stepper motor, gear with backlash, optional output encoder.
+    Stepper,
+    /// Servo closing its own loop on the output encoder (no backlash seen).
+    Servo,
+}
+
+/// One simulated axis.
+#[derive(Debug, Clone)]
+pub struct MotorPlant {
+    kind: DriveKind,
+    /// True motor counts per output degree.
+    counts_per_deg: f64,
+    /// True backlash, degrees (stepper only).
+    backlash_deg: f64,
+    /// Top speed, output degrees per second.
+    speed_deg_s: f64,
+    /// Output encoder counts per revolution (None: no encoder).
+    encoder_cpr: Option<u32>,
+    /// Limit switch closes at or below this output angle.
+    switch_deg: f64,
+    /// Mechanical end stops.
+    hard_min_deg: f64,
+    hard_max_deg: f64,
+    /// Motor angle expressed in output degrees.
+    motor_deg: f64,
+    /// Output (panel) angle, degrees.
+    output_deg: f64,
+    pending: i64,
+    budget_s: f64,
+    /// Injected: steps are lost (motor stalled).
+    pub stalled: bool,
+    /// Injected: the limit switch reads closed.
+    pub switch_stuck: bool,
+    /// Injected: the limit switch never closes (broken wire).
+    pub switch_stuck_open: bool,
+    /// Injected: the encoder does not answer.
+    pub encoder_timeout: bool,
+    /// Output travel, degrees.
+    pub travel_deg: f64,
+    /// Monotonic time of the last [`Motion::service`], µs.
+    last_service_us: Option<u64>,
+}
+
+impl MotorPlant {
+    /// A stepper of `step_angle_deg` (1.8° → 200 steps/rev) with
+    /// `microsteps`, `gear_ratio`, true `backlash_deg`, top speed, optional
+    /// encoder, starting at `start_deg`; switch at `switch_deg`, hard stops
+    /// 1° beyond it and at `max_deg` + 1°.
+    #[allow(clippy::too_many_arguments)]
+    pub fn stepper(
+        step_angle_deg: f64,
+        microsteps: u32,
+        gear_ratio: f64,
+        backlash_deg: f64,
+        speed_deg_s: f64,
+        encoder_cpr: Option<u32>,
+        switch_deg: f64,
+        max_deg: f64,
+        start_deg: f64,
+    ) -> Self {
+        let steps_per_rev = 360.0 / step_angle_deg;
+        MotorPlant {
+            kind: DriveKind::Stepper,
+            counts_per_deg: steps_per_rev * f64::from(microsteps) * gear_ratio / 360.0,
+            backlash_deg,
+            speed_deg_s,
+            encoder_cpr,
+            switch_deg,
+            hard_min_deg: switch_deg - 1.0,
+            hard_max_deg: max_deg + 1.0,
+            motor_deg: start_deg,
+            output_deg: start_deg,
+            pending: 0,
+            budget_s: 0.0,
+            stalled: false,
+            switch_stuck: false,
+            switch_stuck_open: false,
+            encoder_timeout: false,
+            travel_deg: 0.0,
+            last_service_us: None,
+        }
+    }
+
+    /// A servo positioning on an output encoder of `encoder_cpr` counts per
+    /// revolution (commands are in encoder counts).
+    pub fn servo(
+        encoder_cpr: u32,
+        speed_deg_s: f64,
+        switch_deg: f64,
+        max_deg: f64,
+        start_deg: f64,
+    ) -> Self {
+        MotorPlant {
+            kind: DriveKind::Servo,
+            counts_per_deg: f64::from(encoder_cpr) / 360.0,
+            backlash_deg: 0.0,
+            speed_deg_s,
+            encoder_cpr: Some(encoder_cpr),
+            switch_deg,
+            hard_min_deg: switch_deg - 1.0,
+            hard_max_deg: max_deg + 1.0,
+            motor_deg: start_deg,
+            output_deg: start_deg,
+            pending: 0,
+            budget_s: 0.0,
+            stalled: false,
+            switch_stuck: false,
+            switch_stuck_open: false,
+            encoder_timeout: false,
+            travel_deg: 0.0,
+            last_service_us: None,
+        }
+    }
+
+    /// The true output angle, degrees.
+    pub fn output_deg(&self) -> f64 {
+        self.output_deg
+    }
+
+    /// The drive kind.
+    pub fn kind(&self) -> DriveKind {
+        self.kind
+    }
+
+    /// Lost steps: the motor slips by `deg` without the count knowing.
+    pub fn slip(&mut self, deg: f64) {
+        self.motor_deg += deg;
+        self.follow();
+    }
+
+    /// Starts a tick of `dt_s` seconds and runs pending counts.
+    pub fn begin_tick(&mut self, dt_s: f64) {
+        self.budget_s = dt_s.max(0.0);
+        self.run();
+    }
+
+    fn follow(&mut self) {
+        let half = self.backlash_deg / 2.0;
+        let before = self.output_deg;
+        if self.motor_deg - self.output_deg > half {
+            self.output_deg = self.motor_deg - half;
+        } else if self.output_deg - self.motor_deg > half {
+            self.output_deg = self.motor_deg + half;
+        }
+        // End stops hold the output, and the motor against it.
+        if self.output_deg < self.hard_min_deg {
+            self.output_deg = self.hard_min_deg;
+            self.motor_deg = self.motor_deg.max(self.hard_min_deg - half);
+        }
+        if self.output_deg > self.hard_max_deg {
+            self.output_deg = self.hard_max_deg;
+            self.motor_deg = self.motor_deg.min(self.hard_max_deg + half);
+        }
+        self.travel_deg += (self.output_deg - before).abs();
+    }
+
+    fn run(&mut self) {
+        if self.pending == 0 {
+            return;
+        }
+        let max_counts = (self.speed_deg_s * self.budget_s * self.counts_per_deg) as i64;
+        // max/min, not clamp: no panic path in the firmware image.
+        let n = self.pending.max(-max_counts).min(max_counts);
+        if n == 0 {
+            return;
+        }
+        self.pending -= n;
+        self.budget_s -= (n.abs() as f64) / self.counts_per_deg / self.speed_deg_s;
+        if self.stalled {
+            return; // the steps are issued but nothing turns
+        }
+        match self.kind {
+            DriveKind::Stepper => {
+                self.motor_deg += n as f64 / self.counts_per_deg;
+                self.follow();
+            }
+            DriveKind::Servo => {
+                // The servo loop lands on a whole encoder count.
+                let target = self.output_deg + n as f64 / self.counts_per_deg;
+                let q = libm::round(target * self.counts_per_deg) / self.counts_per_deg;
+                self.motor_deg = q;
+                self.follow();
+            }
+        }
+    }
+}
+
+impl AxisDrive for MotorPlant {
+    type Error = SimError;
+    fn move_counts(&mut self, counts: i32) -> Result<(), SimError> {
+        self.pending = self.pending.saturating_add(i64::from(counts));
+        self.run();
+        Ok(())
+    }
+    fn pending(&self) -> i32 {
+        i32::try_from(self.pending).unwrap_or(i32::MAX)
+    }
+    fn stop(&mut self) -> Result<(), SimError> {
+        self.pending = 0;
+        Ok(())
+    }
+    fn at_limit(&mut self) -> Result<bool, SimError> {
+        Ok(self.switch_stuck || (!self.switch_stuck_open && self.output_deg <= self.switch_deg))
+    }
+    fn encoder_deg(&mut self) -> Result<Option<f32>, SimError> {
+        if self.encoder_timeout {
+            return Err(SimError::Timeout);
+        }
+        Ok(self.encoder_cpr.map(|cpr| {
+            let cpd = f64::from(cpr) / 360.0;
+            (libm::floor(self.output_deg * cpd) / cpd) as f32
+        }))
+    }
+}
+
+/// A plant driven by the firmware loop's clock (boards without motors, e.g.
+/// QEMU's): each service gives the axis the monotonic time elapsed since
+/// the previous one, then ends the tick, so a move commanded afterwards
+/// starts at the next service (no motion before the command).
+impl Motion for MotorPlant {
+    fn service(&mut self, now_us: u64) -> bool {
+        let dt_us = self.last_service_us.map_or(0, |t| now_us.saturating_sub(t));
+        self.last_service_us = Some(now_us);
+        self.begin_tick(dt_us as f64 * 1e-6);
+        self.begin_tick(0.0);
+        true
+    }
+}

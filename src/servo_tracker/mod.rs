@@ -1,0 +1,728 @@
+//! Seed chowdhury-2019's closed-loop tracker, board-independent: its
+//! mechanics (two FEETECH FS5106R continuous-rotation servos, a YMT22
+//! optical encoder on each shaft) and its loop, over any RTC and any pair of
+//! closed-loop [`AxisDrive`]s. The Arduino Uno image (the `suntracker-uno` board crate) runs
+//! it on the ATmega328P's peripherals; the host tests run it on models.
+//!
+//! The loop is the seed's (its §2 and flowchart), built from the library's
+//! parts that fit the ATmega328P's 32 KB next to the sun algorithm:
+//!
+//! | seed | here |
+//! |---|---|
+//! | DS3231 / DS1302 clock | [`TimeKeeper`] and [`drivers::rtc`]: lost power, no answer or a date outside the window → no time: panel flat, `mode wait_for_time`, `fault rtc_invalid` (or `bus_rtc`) |
+//! | the Astronomical Almanac's algorithm every 4 minutes, no table | one sun position at the start of each 4-minute slot ([`STEP_S`]) from [`SunSource`] (`michalsky`, or `psa-2020` with the `psa2020` feature), in `f32`; the sun below the horizon: night, panel flat |
+//! | servos to the computed angles; encoders so that "if any deviation occurred, the controller would fix that" | per axis a closed-loop [`AxisDrive`] (on the Uno [`crate::hw::ServoAxis`]: the drivers' proportional controller on the encoder count, every loop pass), commanded in encoder counts from its home switch |
+//! | panel voltage on the ADC, area under the curve (V·h) | [`crate::panel`]: `panel_mv=` on each `setpoint` line, `day_energy vh=` at sunset |
+//!
+//! The library's [`crate::controller::Controller`] (its scheduler, axis
+//! controllers, fault manager and inverse kinematics) does not fit this
+//! part: built for the ATmega328P with its GPS, console and `f64` paths
+//! compiled out it links to 80–94 KB, by what is inlined.
+//!
+//! **Homing.** At power-on each axis seeks its home switch (at its lowest
+//! angle) in [`HOMING_CHUNK_DEG`] moves (the drive stops as the switch
+//! closes), backs off [`HOMING_BACKOFF_DEG`] and comes back one encoder
+//! count a tick, so that the count where the switch closes is taken at the
+//! slowest speed: that count is the switch angle. A switch not found within
+//! the axis travel plus [`HOMING_MARGIN_DEG`] (stuck open, unplugged), or
+//! one that does not open backing off (stuck closed), raises
+//! `limit_switch_c|a` and the axis stays stopped: a person checks it (a
+//! reset homes again).
+//!
+//! **Stall.** A drive with a move pending whose encoder shows no count of
+//! motion for [`STALL_TIMEOUT_MS`] is stopped and raises
+//! `motor_stalled_c|a`; it is commanded again every [`STALL_RETRY_MS`], and
+//! the first count of motion clears the fault. The durations run on the
+//! monotonic clock: an RTC step never delays them.
+//!
+//! **Pose.** The mount is level with its C axis vertical and its y axis
+//! toward south, so the attitude module's inverse kinematics
+//! ([`crate::attitude::MountAttitude::solutions`], seed portable-tracker
+//! eq. 18–21, with the identity attitude) reduce to two closed forms with
+//! the same panel normal: `c = 180° − azimuth, a = −zenith` and `c =
+//! −azimuth, a = +zenith`. Which one serves the whole day is chosen from
+//! the side the sun transits on (its azimuth at local mean noon): south,
+//! the first (the azimuth never crosses north, so `c` never wraps); north,
+//! the second (it never crosses south). The C axis then turns continuously
+//! all day within −180…+180°, at the cost of one sun position a day. At
+//! night and while waiting for time the panel lies flat (`a = 0`), C where
+//! it is.
+
+pub mod settings;
+
+use drivers::gps::GpsFix;
+use drivers::rtc::Clock as RtcDriver;
+use drivers::servo::{PositionController, ServoConfig};
+use sun_algos::{Algorithm, Error as SunError, Options, Site, SunPosition, UtcTime};
+
+use crate::app::Motion;
+use crate::axis::AxisDrive;
+use crate::config::AxisConfig;
+use crate::log::{self, Sink, TimeSource};
+use crate::panel::{self, DayEnergy};
+use crate::safety::{AxisId, Fault, Mode, Sensor};
+use crate::sources::{TimeConfig, TimeKeeper};
+use crate::text::FlashStr;
+
+/// Encoder lines per revolution: the YMT22's "up to 300 ppr" (seed Table
+/// 1), read in quadrature: 4 counts a line.
+pub const ENCODER_LINES: u32 = 300;
+/// Encoder counts per shaft turn (4 × 300 = 1,200: 0.3° a count).
+pub const COUNTS_PER_TURN: u32 = 4 * ENCODER_LINES;
+/// The encoder sits on the servo's output shaft, which turns the axis
+/// directly (seed §2: "optical encoders were attached to the shaft of each
+/// motor").
+pub const GEAR_RATIO: f32 = 1.0;
+/// Set-point interval: the seed's 4 minutes.
+pub const STEP_S: u32 = 240;
+/// Monotonic milliseconds between two ticks (an RTC read each).
+pub const TICK_MS: u32 = 1_000;
+/// Homing seek step, degrees of axis.
+pub const HOMING_CHUNK_DEG: f32 = 10.0;
+/// Homing backs off this far from the switch before its slow approach,
+/// degrees (10 counts: 10 ticks of one count back).
+pub const HOMING_BACKOFF_DEG: f32 = 3.0;
+/// Seeking goes this far past the axis travel before the switch counts as
+/// not found, degrees.
+pub const HOMING_MARGIN_DEG: f32 = 20.0;
+/// A pending move without a count of motion for this long is a stall
+/// (monotonic ms): at the slowest approach speed the shaft passes a count
+/// in well under a second.
+pub const STALL_TIMEOUT_MS: u64 = 5_000;
+/// A stalled axis is commanded again this often (monotonic ms).
+pub const STALL_RETRY_MS: u64 = 60_000;
+/// ΔT (TT − UT1) for the sun algorithm, seconds (2026, IERS Bulletin A
+/// order of magnitude).
+pub const DELTA_T_S: f32 = 69.0;
+/// Milliseconds in a day.
+const MS_PER_DAY: u32 = 86_400_000;
+
+/// The axes (C then A): C turns −180…+180° from its home switch at −180°,
+/// A tilts −90…+90° from its home at −90°; one encoder count is 0.3°.
+pub fn axis_configs() -> [AxisConfig; 2] {
+    axis_configs_geared([GEAR_RATIO; 2])
+}
+
+/// The axes of [`axis_configs`] with a gear of `gear_ratio` (C, A) servo
+/// turns per axis turn between each servo and its axis (the encoder on the
+/// servo's shaft): a count is `0.3° / gear` of axis, the speed `570 °/s /
+/// gear`.
+pub fn axis_configs_geared(gear_ratio: [f32; 2]) -> [AxisConfig; 2] {
+    let [gear_c, gear_a] = gear_ratio;
+    // The home switch at the lowest angle; 95 rpm = 570 °/s of servo at the
+    // ends of its range, through the gear (a ratio below 1, outside the
+    // configuration's range, counts as 1).
+    let axis = |gear: f32, min_deg: f32, max_deg: f32| AxisConfig {
+        counts_per_motor_rev: COUNTS_PER_TURN,
+        microsteps: 1,
+        gear_ratio: gear,
+        min_deg,
+        max_deg,
+        home_deg: min_deg,
+        backlash_deg: 0.0,
+        max_speed_deg_s: 570.0 / if gear >= 1.0 { gear } else { 1.0 },
+        deadband_deg: 0.0,
+    };
+    [axis(gear_c, -180.0, 180.0), axis(gear_a, -90.0, 90.0)]
+}
+
+/// The FS5106R's pulses: 1,500 µs stop, 700 µs and 2,300 µs full speed
+/// either way (FEETECH's control range), 50 Hz.
+pub const SERVO: ServoConfig = ServoConfig {
+    period_us: 20_000,
+    min_pulse_us: 700,
+    neutral_us: 1_500,
+    max_pulse_us: 2_300,
+};
+
+/// The position loop on the encoder count. The servo takes a new pulse
+/// every 20 ms frame, so the last counts are approached slowly enough to
+/// stop within one: at the minimum speed (0.02 of full = 16 µs from
+/// neutral, about 8 °/s past the FS5106R's ±4 µs dead band) the shaft turns
+/// 0.16° a frame, half a count; full speed from 50 counts (15°) out.
+pub const POSITION_LOOP: PositionController = PositionController {
+    kp_per_count: 0.02,
+    deadband_counts: 0,
+    max_speed: 1.0,
+    min_speed: 0.02,
+};
+
+/// The algorithm this build computes with: the seed's.
+#[cfg(not(feature = "psa2020"))]
+pub const ALGORITHM: Algorithm = Algorithm::Michalsky;
+/// The algorithm this build computes with (feature `psa2020`).
+#[cfg(feature = "psa2020")]
+pub const ALGORITHM: Algorithm = Algorithm::Psa2020;
+/// [`ALGORITHM`]'s name (`Algorithm::name`), kept in flash on AVR.
+#[cfg(not(feature = "psa2020"))]
+pub const ALGORITHM_NAME: FlashStr = crate::flash_str!("michalsky");
+/// [`ALGORITHM`]'s name (`Algorithm::name`), kept in flash on AVR.
+#[cfg(feature = "psa2020")]
+pub const ALGORITHM_NAME: FlashStr = crate::flash_str!("psa-2020");
+
+/// The sun at one site in `f32` with [`ALGORITHM`] and ΔT [`DELTA_T_S`].
+#[derive(Debug, Clone, Copy)]
+pub struct SunSource {
+    site: Site<f32>,
+}
+
+impl SunSource {
+    /// The source for `site`.
+    pub fn new(site: Site<f32>) -> Self {
+        SunSource { site }
+    }
+
+    /// The topocentric sun at `time`.
+    #[inline(never)]
+    pub fn position(&self, time: &UtcTime) -> Result<SunPosition<f32>, SunError> {
+        // Built here, constant: the ΔT estimate's code (taken when no ΔT is
+        // given) is not linked.
+        let options = Options {
+            delta_t_s: Some(DELTA_T_S),
+            ..Options::default()
+        };
+        ALGORITHM.position(time, &self.site, &options)
+    }
+
+    /// Local mean time's offset from UTC, ms: 240 s per degree east.
+    fn offset_ms(&self) -> i32 {
+        // |longitude| ≤ 180° (Site::new): at most 43,200,000 ms.
+        (self.site.longitude_deg() * 240_000.0) as i32
+    }
+
+    /// The local mean solar day `time` falls in (days since 2000).
+    pub fn solar_day(&self, time: &UtcTime) -> i32 {
+        let local_ms = i64::from(time.ms_of_day()) + i64::from(self.offset_ms());
+        let shift = if local_ms < 0 {
+            -1
+        } else if local_ms >= i64::from(MS_PER_DAY) {
+            1
+        } else {
+            0
+        };
+        time.days_since_2000().saturating_add(shift)
+    }
+
+    /// Local mean noon of solar day `day`, UTC.
+    pub fn noon(&self, day: i32) -> Result<UtcTime, SunError> {
+        let ms = 43_200_000 - self.offset_ms();
+        // 43.2 M ± 43.2 M ms: within one day either side.
+        let (day, ms) = if ms < 0 {
+            (day.saturating_sub(1), ms + MS_PER_DAY as i32)
+        } else if ms >= MS_PER_DAY as i32 {
+            (day.saturating_add(1), ms - MS_PER_DAY as i32)
+        } else {
+            (day, ms)
+        };
+        UtcTime::from_days_ms(day, ms.unsigned_abs())
+    }
+}
+
+/// Which closed form of the level mount's pose serves the day (see the
+/// module documentation).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Branch {
+    /// The sun transits south: `c = 180° − azimuth`, `a = −zenith`.
+    South,
+    /// The sun transits north: `c = −azimuth`, `a = +zenith`.
+    North,
+}
+
+impl Branch {
+    /// The branch for a day whose noon sun is at `noon_azimuth_deg`.
+    pub fn for_noon(noon_azimuth_deg: f32) -> Branch {
+        // South of the east–west line: cos(azimuth) < 0.
+        if (90.0..270.0).contains(&noon_azimuth_deg) {
+            Branch::South
+        } else {
+            Branch::North
+        }
+    }
+
+    /// The pose `(c, a)` in degrees facing the sun at `zenith_deg`,
+    /// `azimuth_deg` (in [0°, 360°)); `c` in (−180°, 180°].
+    pub fn pose_deg(self, zenith_deg: f32, azimuth_deg: f32) -> (f32, f32) {
+        let (c, a) = match self {
+            Branch::South => (180.0 - azimuth_deg, -zenith_deg),
+            Branch::North => (-azimuth_deg, zenith_deg),
+        };
+        // c in (−360°, 180°]: one turn brings it in range.
+        (if c <= -180.0 { c + 360.0 } else { c }, a)
+    }
+}
+
+/// The phases of homing (see `SeedAxis::home_step`).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+enum HomePhase {
+    /// Toward the switch in large moves.
+    Seek,
+    /// Away from the closed switch.
+    BackOff,
+    /// Toward it again, a count at a time.
+    Fine,
+}
+
+/// One axis: a closed-loop drive commanded in counts from its home switch.
+#[derive(Debug)]
+struct SeedAxis<D> {
+    drive: D,
+    home_deg: f32,
+    min_deg: f32,
+    max_deg: f32,
+    counts_per_deg: f32,
+    /// The switch was found: `commanded` counts from it.
+    homed: bool,
+    /// Homing found no switch within the travel (`limit_switch_*`).
+    lost: bool,
+    /// Where homing is.
+    phase: HomePhase,
+    /// Counts moved in the present homing phase.
+    sought: i32,
+    /// Encoder angle where the last homing step started.
+    step_from: Option<f32>,
+    /// Counts from the switch commanded so far.
+    commanded: i32,
+    /// Encoder angle and monotonic ms when motion was last seen.
+    moved: Option<(f32, u64)>,
+    /// Stopped for a stall: monotonic ms of the next retry.
+    stalled_until: Option<u64>,
+    /// `motor_stalled_*` is raised (until motion is seen).
+    stall_raised: bool,
+}
+
+impl<D: AxisDrive> SeedAxis<D> {
+    fn new(drive: D, c: &AxisConfig) -> Self {
+        let cpd = c.counts_per_deg();
+        SeedAxis {
+            drive,
+            home_deg: c.home_deg,
+            min_deg: c.min_deg,
+            max_deg: c.max_deg,
+            counts_per_deg: if cpd.is_finite() && cpd > 0.0 {
+                cpd
+            } else {
+                1.0
+            },
+            homed: false,
+            lost: false,
+            phase: HomePhase::Seek,
+            sought: 0,
+            step_from: None,
+            commanded: 0,
+            moved: None,
+            stalled_until: None,
+            stall_raised: false,
+        }
+    }
+
+    /// Counts from the switch to `deg` (held to the limits).
+    fn counts_to(&self, deg: f32) -> i32 {
+        let d = if deg < self.min_deg {
+            self.min_deg
+        } else if deg > self.max_deg {
+            self.max_deg
+        } else {
+            deg
+        };
+        nearest(d - self.home_deg, self.counts_per_deg)
+    }
+
+    /// One homing step; true while homing goes on. Seek toward the switch
+    /// in [`HOMING_CHUNK_DEG`] moves (the drive stops as it closes), back
+    /// off [`HOMING_BACKOFF_DEG`], then approach again one encoder count a
+    /// step: the switch is met at the slowest speed, so the count taken
+    /// there is the switch's to a fraction of a count.
+    #[inline(never)]
+    fn home_step(&mut self) -> bool {
+        if self.homed || self.lost {
+            return false;
+        }
+        let closed = self.drive.at_limit().unwrap_or(false);
+        let settled = self.drive.pending() == 0;
+        let cpd = self.counts_per_deg;
+        let counts = |deg: f32| nearest(deg, cpd).max(1);
+        let backoff = counts(HOMING_BACKOFF_DEG);
+        let stayed = self.phase == HomePhase::Fine && settled && self.stayed();
+        let step = match self.phase {
+            HomePhase::Seek if closed => {
+                let _ = self.drive.stop();
+                self.phase = HomePhase::BackOff;
+                self.sought = 0;
+                return true;
+            }
+            HomePhase::BackOff if !closed && settled => {
+                self.phase = HomePhase::Fine;
+                self.sought = 0;
+                self.step_from = None;
+                return true;
+            }
+            HomePhase::BackOff => backoff,
+            // Closed, or the last one-count step ended where it began: the
+            // drive stopped it as the switch closed, and the switch may
+            // have opened again as the servo came back to that count (no
+            // hysteresis is assumed).
+            HomePhase::Fine if closed || stayed => {
+                let _ = self.drive.stop();
+                self.homed = true;
+                self.commanded = 0;
+                return false;
+            }
+            HomePhase::Seek => -counts(HOMING_CHUNK_DEG),
+            HomePhase::Fine => -1,
+        };
+        if !settled {
+            return true;
+        }
+        // Bounds: the whole travel and a margin seeking, twice the back-off
+        // for each of the other phases; else the switch is not there.
+        let room = match self.phase {
+            HomePhase::Seek => self
+                .counts_to(self.max_deg)
+                .saturating_add(counts(HOMING_MARGIN_DEG)),
+            _ => backoff.saturating_mul(2),
+        };
+        if self.sought >= room {
+            let _ = self.drive.stop();
+            self.lost = true;
+            return false;
+        }
+        self.step_from = self.drive.encoder_deg().ok().flatten();
+        if self.drive.move_counts(step).is_ok() {
+            self.sought = self.sought.saturating_add(step.saturating_abs());
+        }
+        true
+    }
+
+    /// True when the encoder is within half a count of where the last
+    /// homing step started.
+    fn stayed(&mut self) -> bool {
+        match (self.step_from, self.drive.encoder_deg().ok().flatten()) {
+            (Some(from), Some(now)) => (now - from).abs() * self.counts_per_deg < 0.5,
+            _ => false,
+        }
+    }
+
+    /// Commands `deg`, watching for a stall; returns the stall flag's
+    /// change (`Some(true)` raised, `Some(false)` cleared).
+    #[inline(never)]
+    fn drive_to(&mut self, deg: f32, now_ms: u64) -> Option<bool> {
+        if !self.homed {
+            return None;
+        }
+        let enc = self.drive.encoder_deg().ok().flatten();
+        let mut change = None;
+        if let Some(e) = enc {
+            let moved = match self.moved {
+                Some((was, _)) => (e - was).abs() * self.counts_per_deg >= 0.5,
+                None => true,
+            };
+            if moved {
+                self.moved = Some((e, now_ms));
+                if self.stall_raised {
+                    self.stall_raised = false;
+                    change = Some(false);
+                }
+            }
+        }
+        if let Some(retry_ms) = self.stalled_until {
+            if now_ms < retry_ms {
+                return change;
+            }
+            // Commanded again: the watch starts over.
+            self.stalled_until = None;
+            self.moved = enc.map(|e| (e, now_ms));
+        } else if self.drive.pending() != 0 {
+            let still_ms = self.moved.map_or(0, |(_, t)| now_ms.saturating_sub(t));
+            if still_ms >= STALL_TIMEOUT_MS {
+                let _ = self.drive.stop();
+                // The drive now holds where it is: count from there.
+                if let Some(e) = enc {
+                    self.commanded = nearest(e - self.home_deg, self.counts_per_deg);
+                }
+                self.stalled_until = Some(now_ms.saturating_add(STALL_RETRY_MS));
+                if !self.stall_raised {
+                    self.stall_raised = true;
+                    change = Some(true);
+                }
+                return change;
+            }
+        }
+        let goal = self.counts_to(deg);
+        let delta = goal.saturating_sub(self.commanded);
+        if delta != 0 {
+            // A move from rest: the stall watch times it from now, not from
+            // the motion that ended the last one (minutes ago).
+            if self.drive.pending() == 0 {
+                self.moved = enc.map(|e| (e, now_ms));
+            }
+            if self.drive.move_counts(delta).is_ok() {
+                self.commanded = goal;
+            }
+        }
+        change
+    }
+
+    /// The commanded angle, degrees.
+    fn commanded_deg(&self) -> f32 {
+        self.home_deg + self.commanded as f32 / self.counts_per_deg
+    }
+}
+
+/// The tracker: seed chowdhury-2019's loop over RTC `R` and drives `D`.
+pub struct SeedTracker<R, D> {
+    time: TimeKeeper<R>,
+    source: SunSource,
+    axes: [SeedAxis<D>; 2],
+    energy: DayEnergy,
+    mode: Option<Mode>,
+    /// The time fault in force (`rtc_invalid`, `bus_rtc`,
+    /// `time_out_of_range`).
+    time_fault: Option<Fault>,
+    limit_logged: [bool; 2],
+    time_logged: bool,
+    /// The slot served last (days since 2000, slot of the day).
+    last_slot: Option<(i32, u32)>,
+    /// The slot's sun: zenith, azimuth, and its time.
+    sun: Option<(UtcTime, f32, f32)>,
+    /// The day's branch and its solar day.
+    branch: Option<(i32, Branch)>,
+    /// The slot of the last `setpoint` line.
+    last_logged: Option<UtcTime>,
+}
+
+impl<R: RtcDriver, D: AxisDrive + Motion> SeedTracker<R, D> {
+    /// The tracker at power-on: nothing homed, no time yet. `axes` are C
+    /// then A, built with `configs` ([`axis_configs`] or
+    /// [`axis_configs_geared`]).
+    // Not inlined: built in place once, not copied field by field into the
+    // caller's frame (1.4 KB of loads and stores on an AVR).
+    #[inline(never)]
+    pub fn new(rtc: R, site: Site<f32>, axes: [D; 2], configs: &[AxisConfig; 2]) -> Self {
+        let [c, a] = axes;
+        let [cc, ac] = configs;
+        SeedTracker {
+            time: TimeKeeper::new(rtc, TimeConfig::default()),
+            source: SunSource::new(site),
+            axes: [SeedAxis::new(c, cc), SeedAxis::new(a, ac)],
+            energy: DayEnergy::new(),
+            mode: None,
+            time_fault: None,
+            limit_logged: [false; 2],
+            time_logged: false,
+            last_slot: None,
+            sun: None,
+            branch: None,
+            last_logged: None,
+        }
+    }
+
+    /// The mode after the last tick.
+    pub fn mode(&self) -> Option<Mode> {
+        self.mode
+    }
+
+    /// The RTC (tests move a simulated one on).
+    pub fn rtc_mut(&mut self) -> &mut R {
+        self.time.rtc_mut()
+    }
+
+    /// Every pass of the main loop (about every millisecond): each drive
+    /// closes its loop once.
+    #[inline(never)]
+    pub fn service(&mut self, now_us: u64) {
+        // A failed PWM write is retried at the next pass: the servo axis
+        // only records a pass that reached the servo.
+        for ax in self.axes.iter_mut() {
+            let _ = ax.drive.service(now_us);
+        }
+    }
+
+    /// One tick at monotonic `now_ms`, with the latest panel voltage
+    /// (`None`: no reading). Never blocks: an RTC read, at most two sun
+    /// positions (a new slot's and, once a day, the noon one), the drive
+    /// commands.
+    #[inline(never)]
+    pub fn tick(&mut self, out: &mut dyn Sink, now_ms: u64, panel_mv: Option<u32>) {
+        let status = self.time.update(&GpsFix::NONE, now_ms);
+        let time_fault = match status.now {
+            Some(now) => {
+                if !self.time_logged {
+                    log::time(out, TimeSource::Rtc, &now);
+                    self.time_logged = true;
+                }
+                self.schedule(out, &now)
+            }
+            None => {
+                self.time_logged = false;
+                self.sun = None;
+                self.last_slot = None;
+                Some(if status.rtc_error {
+                    Fault::I2cError(Sensor::Rtc)
+                } else {
+                    Fault::RtcInvalid
+                })
+            }
+        };
+        if time_fault != self.time_fault {
+            if let Some(old) = self.time_fault {
+                fault_line(out, old, false);
+            }
+            if let Some(new) = time_fault {
+                fault_line(out, new, true);
+            }
+            self.time_fault = time_fault;
+        }
+        let mut homing = false;
+        for ((i, ax), logged) in self.axes.iter_mut().enumerate().zip(&mut self.limit_logged) {
+            homing |= ax.home_step();
+            if ax.lost && !*logged {
+                *logged = true;
+                fault_line(out, Fault::LimitSwitchHit(axis_id(i)), true);
+            }
+        }
+        let daylight = self.sun.filter(|_| time_fault.is_none());
+        let mode = if time_fault.is_some() {
+            Mode::WaitForTime
+        } else if daylight.is_none() {
+            Mode::Night
+        } else if homing {
+            Mode::Homing
+        } else {
+            Mode::Tracking
+        };
+        if self.mode != Some(mode) {
+            mode_line(out, mode);
+            self.mode = Some(mode);
+        }
+        let pose = match daylight {
+            Some((_, zenith, azimuth)) if !homing => {
+                let branch = self.branch.map_or(Branch::South, |(_, b)| b);
+                Some(branch.pose_deg(zenith, azimuth))
+            }
+            // Flat, C where it was commanded.
+            _ if !homing => {
+                let [c, _] = &self.axes;
+                Some((c.commanded_deg(), 0.0))
+            }
+            _ => None,
+        };
+        if let Some((c, a)) = pose {
+            for ((i, ax), deg) in self.axes.iter_mut().enumerate().zip([c, a]) {
+                if let Some(raised) = ax.drive_to(deg, now_ms) {
+                    fault_line(out, Fault::MotorStalled(axis_id(i)), raised);
+                }
+            }
+        }
+        if let (Some(mv), Some(_)) = (panel_mv, daylight) {
+            self.energy.add(now_ms, mv);
+        }
+        if let (Some((time, zenith, azimuth)), Some((c, a)), Mode::Tracking) =
+            (daylight, pose, mode)
+        {
+            self.log_setpoint(out, &time, zenith, azimuth, c, a, panel_mv);
+        }
+    }
+
+    /// A new slot's sun; returns the time fault (`time_out_of_range` when
+    /// the algorithm does not cover the time).
+    #[inline(never)]
+    fn schedule(&mut self, out: &mut dyn Sink, now: &UtcTime) -> Option<Fault> {
+        let slot = (now.days_since_2000(), now.ms_of_day() / (STEP_S * 1000));
+        if self.last_slot == Some(slot) {
+            return None;
+        }
+        self.last_slot = Some(slot);
+        let Ok(start) = UtcTime::from_days_ms(slot.0, slot.1 * STEP_S * 1000) else {
+            return Some(Fault::TimeOutOfRange);
+        };
+        let day = self.source.solar_day(&start);
+        if self.branch.map(|(d, _)| d) != Some(day) {
+            if let Ok(sun) = self.source.noon(day).and_then(|t| self.source.position(&t)) {
+                self.branch = Some((day, Branch::for_noon(sun.azimuth_deg)));
+            }
+        }
+        let was_day = self.sun.is_some();
+        match self.source.position(&start) {
+            Ok(sun) if sun.zenith_deg < 90.0 => {
+                if !was_day {
+                    // Sunrise: a new day's area.
+                    self.energy.reset();
+                }
+                self.sun = Some((start, sun.zenith_deg, sun.azimuth_deg));
+                None
+            }
+            Ok(_) => {
+                if was_day {
+                    panel::log_day_energy(out, &self.energy);
+                }
+                self.sun = None;
+                None
+            }
+            Err(_) => {
+                self.sun = None;
+                Some(Fault::TimeOutOfRange)
+            }
+        }
+    }
+
+    /// `setpoint … panel_mv=…` once per slot tracked.
+    #[allow(clippy::too_many_arguments)]
+    fn log_setpoint(
+        &mut self,
+        out: &mut dyn Sink,
+        time: &UtcTime,
+        zenith_deg: f32,
+        azimuth_deg: f32,
+        c_deg: f32,
+        a_deg: f32,
+        panel_mv: Option<u32>,
+    ) {
+        if self.last_logged == Some(*time) {
+            return;
+        }
+        self.last_logged = Some(*time);
+        log::setpoint_with_panel(
+            out,
+            time,
+            zenith_deg,
+            azimuth_deg,
+            c_deg,
+            a_deg,
+            panel_mv.unwrap_or(0),
+        );
+    }
+}
+
+/// `deg × counts_per_deg` to the nearest count (halves away from zero;
+/// `as` saturates beyond the i32 range). Not libm's `roundf` (about 1,000
+/// cycles on an AVR), nor `f32::max`/`min` for the limits above (library
+/// calls there too).
+fn nearest(deg: f32, counts_per_deg: f32) -> i32 {
+    let x = deg * counts_per_deg;
+    if x >= 0.0 {
+        (x + 0.5) as i32
+    } else {
+        (x - 0.5) as i32
+    }
+}
+
+/// `fault … raised|cleared`, from one place (inlined at each site it
+/// would take some 200 B of flash each).
+#[inline(never)]
+fn fault_line(out: &mut dyn Sink, fault: Fault, raised: bool) {
+    log::fault(out, fault, raised);
+}
+
+/// `mode …`, from one place.
+#[inline(never)]
+fn mode_line(out: &mut dyn Sink, mode: Mode) {
+    log::mode(out, mode);
+}
+
+fn axis_id(i: usize) -> AxisId {
+    if i == 0 {
+        AxisId::C
+    } else {
+        AxisId::A
+    }
+}
