@@ -1,6 +1,7 @@
 #!/usr/bin/env python3
-"""Every deterministic figure of README.md, re-measured by the command that
-produces it and compared with the README text.
+"""Every deterministic figure of the documentation (the book's chapters,
+docs/src/*.md, and README.md), re-measured by the command that produces it
+and compared with the text.
 
     python3 .ci/readme_figures.py              # check: exit 1 on any mismatch
     python3 .ci/readme_figures.py --print      # print the figures, check nothing
@@ -9,18 +10,21 @@ produces it and compared with the README text.
     FIGURES_LOG_DIR=/tmp/f python3 .ci/readme_figures.py   # keep each command's output
 
 Each figure is (id, group, how to read it from the group's command output,
-the text that must then appear in README.md). A group is one command, run
+the text that must then appear in the documentation: README.md and every
+docs/src/*.md, joined, so that a figure is found in whichever chapter holds
+it). A group is one command, run
 once for all its figures (the slow ones are shared). Output: one line per
 figure, `ok|MISMATCH id value readme-text`. A figure that cannot be read
 from its command's output (the command failed or its format changed) is a
-MISMATCH too, never a silent pass. README whitespace (line wrapping) is
-collapsed before comparing.
+MISMATCH too, never a silent pass. Whitespace (line wrapping) is collapsed
+before comparing.
 
 Assumes the firmware images are built (`.ci/budgets.sh` and
 `.ci/avr_cycles.sh` run with NO_BUILD=1); host tests and examples are
 built by cargo as needed. Timing figures (criterion ns per position, wall
-times) are not deterministic and not checked here: the README names the
-run that produced them. Python 3 standard library only.
+times) are not deterministic and not checked here: the text names the run
+that produced them. Host tools run with `--profile host` (the release
+profile is the firmware's, size-optimised), as the text's commands say. Python 3 standard library only.
 """
 
 import concurrent.futures
@@ -32,12 +36,21 @@ import time
 
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 README = os.path.join(ROOT, "README.md")
+BOOK_SRC = os.path.join(ROOT, "docs", "src")
+
+
+def documentation():
+    """README.md and the book's chapters (docs/src/*.md, sorted), joined."""
+    paths = [README] + sorted(
+        os.path.join(BOOK_SRC, n) for n in os.listdir(BOOK_SRC) if n.endswith(".md")
+    )
+    return "\n".join(open(p, encoding="utf-8").read() for p in paths)
 
 # ---------------------------------------------------------------- commands
 
 KANO = "--lat 11.9683 --lon 8.4261"
 TROMSO = "--lat 69.65 --lon 18.96"
-SIM = "cargo run -q --release --example simulate -- --start 2026-01-01 --days 365"
+SIM = "cargo run -q --profile host --example simulate -- --start 2026-01-01 --days 365"
 SIM_RUNS = {
     # id: (site, options)
     "kano_stepper_encoder": (KANO, "--drive stepper --feedback encoder --mount level"),
@@ -59,15 +72,15 @@ COMMANDS = {
     "events": "cargo test -q -p sun_algos --release --test spa_nrel -- --nocapture --test-threads=1",
     "kano": "cargo test -q -p sun_algos --release --test geometry_kano --test geometry_kano_algorithms"
     " -- --nocapture --test-threads=1",
-    "setpoints": "cargo run -q --release --example daily_setpoints -- --date 2018-10-19",
-    "setpoints_csv": "cargo run -q --release --example daily_setpoints -- --date 2018-10-19 --format csv",
+    "setpoints": "cargo run -q --profile host --example daily_setpoints -- --date 2018-10-19",
+    "setpoints_csv": "cargo run -q --profile host --example daily_setpoints -- --date 2018-10-19 --format csv",
     "energy": "for d in 2016-03-21 2016-07-10 2016-12-15; do"
-    " cargo run -q --release --example energy_gain -- --period day --date $d || exit 1; done;"
-    " cargo run -q --release --example energy_gain -- --period year --date 2016-01-01",
+    " cargo run -q --profile host --example energy_gain -- --period day --date $d || exit 1; done;"
+    " cargo run -q --profile host --example energy_gain -- --period year --date 2016-01-01",
     # A day of qemu_tracker (or the log CI already has: QEMU_DAY_LOG), its set-points
     # checked against pvlib (SUNTRACKER_PYTHON: a Python with pvlib).
     "qemu": "if [ -n \"${QEMU_DAY_LOG:-}\" ]; then T=$QEMU_DAY_LOG; else T=$(mktemp) &&"
-    " timeout 900 cargo run -q --release --target thumbv7em-none-eabihf --features mps2-an386"
+    " timeout 900 cargo run -q --release --target thumbv7em-none-eabihf -p suntracker-mps2-an386"
     " --bin qemu_tracker -- --quiet --log \"$T\" || exit 1; fi;"
     " grep '^end ' \"$T\" && ${SUNTRACKER_PYTHON:-python3} tests/expected/check_setpoints.py \"$T\"",
     "gps_fuzz": "cargo test -q -p suntracker-drivers --release --test gps_fuzz -- --ignored --nocapture",
@@ -109,7 +122,7 @@ def thousands(n):
 
 # ---------------------------------------------------------------- figures
 # A figure: (id, group, reader, template). reader(out) returns a dict of
-# values; template.format(**values) must appear in README.md.
+# values; template.format(**values) must appear in the documentation.
 
 FIGURES = []
 
@@ -291,7 +304,7 @@ figure(
 
 # --- Kano geometry (seed's equations and SPA at 10:00 / 14:00 solar time)
 def minus(v):
-    """The README's minus sign (U+2212) for a printed '-'."""
+    """The text's minus sign (U+2212) for a printed '-'."""
     return v.replace("-", "\u2212")
 
 
@@ -321,7 +334,7 @@ def kano_spa(out):
 figure("kano.spa", "kano", kano_spa, "SPA (at its transit ∓ 2 h) gives β {b10}°, γ {g10}° / β {b14}°, γ {g14}°")
 
 
-# --- daily_setpoints: the README's example lines appear in its output
+# --- daily_setpoints: the book's example lines appear in its output
 def out_line(pattern):
     return lambda out: {"line": rx(out, pattern).group(0).rstrip()}
 
@@ -516,7 +529,7 @@ figure(
 
 
 def compact(out):
-    # a bound: the README's "within 2 ulp" holds while sin and cos stay <= 2
+    # a bound: the book's "within 2 ulp" holds while sin and cos stay <= 2
     m = rx(out, r"^\|x\| <= 6\.3: sin ([0-9.]+) ulp, cos ([0-9.]+) ulp")
     worst = max(float(m.group(1)), float(m.group(2)))
     return {"ulp": "2" if worst <= 2.0 else f"{worst:.2f}"}
@@ -526,7 +539,7 @@ figure("compact.sin_cos", "compact", compact, "routines (within {ulp} ulp on |x|
 
 
 def servo(out):
-    # a bound: the README's "within one count" holds while every error is <= 1
+    # a bound: the book's "within one count" holds while every error is <= 1
     m = rx(out, r"^300 ppr final errors \(counts\): \[([-0-9, ]+)\]")
     worst = max(abs(int(v)) for v in m.group(1).split(","))
     return {"n": "one" if worst <= 1 else str(worst)}
@@ -621,7 +634,7 @@ def main(argv):
                 with open(os.path.join(os.environ["FIGURES_LOG_DIR"], group + ".txt"), "w", encoding="utf-8") as f:
                     f.write(out)
             print(f"# {group}: exit {rc}, {secs:.1f} s: {COMMANDS[group]}", file=sys.stderr)
-    readme = collapse(open(README, encoding="utf-8").read())
+    readme = collapse(documentation())
     bad = 0
     for fid, group, reader, template in figs:
         gs = groups_of((fid, group))

@@ -1,7 +1,7 @@
 //! SVG plots of the sun's path and the set-points.
 //!
 //! ```text
-//! cargo run --example sun_path            # writes docs/sun_path_kano.svg and docs/psa_tianjin.svg
+//! cargo run --example sun_path            # writes docs/src/figures/sun_path_kano.svg and docs/src/figures/psa_tianjin.svg
 //! cargo run --example sun_path -- --lat 52.52 --lon 13.40 --date 2026-06-21 --out /tmp/berlin.svg
 //! ```
 //! 1. Like seed jimoh-2019 Fig. 7: for a site and day (default Kano,
@@ -52,8 +52,8 @@ pub const TOOL: &str = "sun_path";
 /// Default site and day: Kano on seed jimoh-2019's example day.
 const KANO: (f64, f64) = (11.9683, 8.4261);
 const KANO_DATE: (i32, u8, u8) = (2018, 10, 19);
-const DEFAULT_OUT: &str = "docs/sun_path_kano.svg";
-const DEFAULT_TIANJIN_OUT: &str = "docs/psa_tianjin.svg";
+const DEFAULT_OUT: &str = "docs/src/figures/sun_path_kano.svg";
+const DEFAULT_TIANJIN_OUT: &str = "docs/src/figures/psa_tianjin.svg";
 
 /// Minutes between set-points of the plotted day table.
 const TABLE_MIN: u16 = 4;
@@ -110,7 +110,7 @@ hemisphere, north in the southern), west positive.",
             opt(
                 "--out FILE.svg",
                 "write the sun path there and skip the Tianjin figure",
-                "docs/sun_path_kano.svg, and docs/psa_tianjin.svg",
+                "docs/src/figures/sun_path_kano.svg, and docs/src/figures/psa_tianjin.svg",
             ),
         ],
         algorithms: false,
