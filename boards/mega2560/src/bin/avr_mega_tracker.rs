@@ -1,7 +1,7 @@
 //! The Arduino Mega 2560 tracker image (seed li-2022's build). Everything
 //! about the board — pins, devices, configuration — is in
 //! `suntracker_mega2560`; this file binds its interrupt vectors and
-//! starts it. Build, flash and emulate: see the README ("Arduino Mega 2560").
+//! starts it. Build, flash and emulate: see the book's firmware chapter (docs/src/firmware.md).
 #![no_std]
 #![no_main]
 #![feature(abi_avr_interrupt)]

@@ -1,10 +1,9 @@
 //! The tracker image for QEMU's `mps2-an386` (Cortex-M4F): the
 //! board-independent firmware loop (`suntracker::app`) on the board module
 //! `suntracker_mps2_an386` (GPS on UART0, log over semihosting,
-//! simulated axes). Built only for `thumbv7em-none-eabihf` with feature
-//! `mps2-an386`; run it with `.ci/qemu_gps.py` (see the README):
-//!
-//! `cargo run --release --target thumbv7em-none-eabihf -p suntracker-mps2-an386 --bin qemu_tracker`
+//! simulated axes). Built only for `thumbv7em-none-eabihf`; `cargo run
+//! --release` in boards/mps2_an386 runs it under `.ci/qemu_gps.py` (the
+//! book's emulators chapter, docs/src/emulators.md).
 #![no_std]
 #![no_main]
 

@@ -1,6 +1,6 @@
 //! STM32F411CEU6 "Black Pill" tracker image: the board module
 //! (`suntracker_stm32f411`: pins, wiring, clocks, devices) on the
-//! board-independent firmware loop. Build and flash: README, "Firmware".
+//! board-independent firmware loop. Build and flash: the book's firmware chapter (docs/src/firmware.md).
 //! With the feature `defmt` the log goes out over RTT (defmt-rtt) and a
 //! panic's message too (panic-probe), for `probe-rs run` to print.
 #![no_std]

@@ -2,7 +2,7 @@
 //! whose settings the tracker image (`avr_tracker`) reads from the EEPROM.
 //! Everything about the board is in `suntracker_uno`
 //! (`run_settings`); this file binds its interrupt vectors and starts it.
-//! Use: see the README ("Arduino Uno").
+//! Use: see the book's firmware chapter (docs/src/firmware.md).
 #![no_std]
 #![no_main]
 #![feature(abi_avr_interrupt)]

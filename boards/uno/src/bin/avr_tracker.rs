@@ -1,7 +1,7 @@
 //! The Arduino Uno tracker image (ATmega328P, seed chowdhury-2019's build).
 //! Everything about the board — pins, devices, the loop — is in
 //! `suntracker_uno`; this file binds its interrupt vector and
-//! starts it. Build, flash and emulate: see the README ("Arduino Uno").
+//! starts it. Build, flash and emulate: see the book's firmware chapter (docs/src/firmware.md).
 #![no_std]
 #![no_main]
 #![feature(abi_avr_interrupt)]
