@@ -20,9 +20,9 @@
 //! wrong length or values out of range make a slot bad as a whole. With no
 //! good slot the defaults are used. Nothing is ever applied in part.
 
-use crate::scheduler::ScheduleConfig;
+use crate::plan::ScheduleConfig;
+use crate::ports::Storage;
 use crate::text::FlashStr;
-use crate::traits::Storage;
 
 /// Layout version written by this firmware: 2 added `log.status_min`; a
 /// slot of version 1 is reported as [`SlotState::OldVersion`] and not used.
@@ -1152,7 +1152,7 @@ struct Scan<E, R> {
 /// started and left to the hardware; a NOR flash write step programs a few
 /// words). What the hardware itself stalls is the storage's to document: a
 /// sector erase of the STM32F411's flash stalls every flash read, and so
-/// the CPU, for the whole erase ([`crate::storage`]).
+/// the CPU, for the whole erase ([`crate::persist`]).
 ///
 /// RAM: the store keeps the staged record (`N` bytes: [`RECORD_LEN`] for
 /// the [`Config`]) and a few words; [`ConfigStore::load`] uses a buffer of

@@ -158,12 +158,13 @@
 //! they made the AVR code 2 KB larger).
 
 use crate::config::{Config, ConfigError, Field, Loaded, SaveError};
-use crate::hw::datetime_from_utc;
-use crate::log::{Sink, SiteSource, TimeSource};
+use crate::log::{Sink, SiteSource};
 use crate::safety::{AxisId, Fault, FaultManager, Mode, MAX_ACTIVE};
 use crate::site::key::MAX_CODE_LEN;
 use crate::site::{lookup, PostalEntry, PostalError};
 use crate::text::FlashStr;
+use crate::time::datetime_from_utc;
+use crate::time::TimeOrigin;
 use drivers::rtc::Clock as RtcDriver;
 use sun_algos::UtcTime;
 
@@ -1375,7 +1376,7 @@ pub struct StatusView {
     /// The mode in force.
     pub mode: Mode,
     /// The UTC time and its source, `None` while no time is trusted.
-    pub time: Option<(UtcTime, TimeSource)>,
+    pub time: Option<(UtcTime, TimeOrigin)>,
     /// Latitude of the site in use, degrees north.
     pub lat_deg: f32,
     /// Longitude of the site in use, degrees east.
@@ -1432,8 +1433,8 @@ pub fn write_status_fields(out: &mut dyn Sink, s: &StatusView) {
             out.flash(crate::flash_str!(" utc="));
             out.utc(t);
             out.flash(match source {
-                TimeSource::Gps => crate::flash_str!(" time=gps"),
-                TimeSource::Rtc => crate::flash_str!(" time=rtc"),
+                TimeOrigin::Gps => crate::flash_str!(" time=gps"),
+                TimeOrigin::Rtc => crate::flash_str!(" time=rtc"),
             });
         }
         None => out.flash(crate::flash_str!(" utc=none time=none")),

@@ -10,24 +10,24 @@
 /// Name and version of the firmware, printed by every image at boot.
 pub const BANNER: &str = concat!("suntracker ", env!("CARGO_PKG_VERSION"));
 
-pub mod app;
 pub mod attitude;
-pub mod axis;
-pub mod clock;
 pub mod config;
 pub mod console;
 pub mod controller;
+pub mod firmware;
 pub mod hw;
 pub mod log;
 pub mod mechanics;
+pub mod motion;
 pub mod panel;
+pub mod persist;
+pub mod plan;
+pub mod ports;
 pub mod safety;
-pub mod scheduler;
 pub mod servo_tracker;
 pub mod site;
-pub mod sources;
-pub mod storage;
-pub mod traits;
+pub mod sun;
+pub mod time;
 
 /// Constant text and tables kept in program memory on AVR (the progmem
 /// crate), so that every module names them in one place.

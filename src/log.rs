@@ -20,6 +20,7 @@
 
 use crate::safety::{Fault, FaultManager, Mode, MAX_ACTIVE};
 use crate::text::FlashStr;
+use crate::time::TimeOrigin;
 use sun_algos::UtcTime;
 
 /// Where formatted text goes: a UART, semihosting, or a buffer in tests.
@@ -120,15 +121,6 @@ pub trait Sink {
     }
 }
 
-/// Where the time in force came from.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub enum TimeSource {
-    /// A GPS fix.
-    Gps,
-    /// The real-time clock.
-    Rtc,
-}
-
 /// Where the site in use came from.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum SiteSource {
@@ -149,10 +141,10 @@ pub fn boot(out: &mut dyn Sink, board: &str) {
 
 /// `time source=gps|rtc utc=…`, when the time is first trusted or its
 /// source changes.
-pub fn time(out: &mut dyn Sink, source: TimeSource, utc: &UtcTime) {
+pub fn time(out: &mut dyn Sink, source: TimeOrigin, utc: &UtcTime) {
     out.text(match source {
-        TimeSource::Gps => "time source=gps utc=",
-        TimeSource::Rtc => "time source=rtc utc=",
+        TimeOrigin::Gps => "time source=gps utc=",
+        TimeOrigin::Rtc => "time source=rtc utc=",
     });
     out.utc(utc);
     out.flash(crate::flash_str!("\n"));

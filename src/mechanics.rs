@@ -10,9 +10,9 @@
 use drivers::stepper::hbridge::{Config as BridgeConfig, StepMode};
 use drivers::stepper::ramp::Ramp;
 
-use crate::axis::FeedbackMode;
 use crate::config::{AxisConfig, Config};
 use crate::controller::{AttitudeSource, ControllerOptions};
+use crate::motion::FeedbackMode;
 use sun_algos::Float;
 
 /// Full steps per motor turn.

@@ -36,9 +36,9 @@ use suntracker::config::{
     crc32, Config, ConfigStore, Loaded, Record, SaveError, SaveStatus, SlotState, LAYOUT_VERSION,
     RECORD_LEN, SLOT_LEN,
 };
+use suntracker::persist::{EepromCells, EepromError, EepromStorage, NorError, NorFlashStorage};
+use suntracker::ports::Storage;
 use suntracker::servo_tracker::settings::{self as settings, Settings};
-use suntracker::storage::{EepromCells, EepromError, EepromStorage, NorError, NorFlashStorage};
-use suntracker::traits::Storage;
 
 // ---------------------------------------------------------------------------
 // Configurations and the record, built here independently of the store.

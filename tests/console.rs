@@ -8,9 +8,10 @@ use suntracker::console::{
     self, apply_set, Command, Decimal, Key, LineBuffer, LineError, NumberError, Outcome,
     ParseError, SetError, StatusView, Value, KEYS, LINE_LEN,
 };
-use suntracker::log::{Sink, SiteSource, TimeSource};
+use suntracker::log::{Sink, SiteSource};
 use suntracker::safety::{AxisId, Fault, FaultManager, Mode, MAX_ACTIVE};
 use suntracker::site::PostalError;
+use suntracker::time::TimeOrigin;
 
 #[derive(Default)]
 struct Buf(Vec<u8>);
@@ -1041,7 +1042,7 @@ fn status_line() {
         mode: Mode::Tracking,
         time: Some((
             UtcTime::from_ymd_hms(2026, 3, 20, 12, 0, 0).unwrap(),
-            TimeSource::Rtc,
+            TimeOrigin::Rtc,
         )),
         lat_deg: 11.9683,
         lon_deg: 8.4261,

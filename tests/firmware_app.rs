@@ -1,4 +1,4 @@
-//! The board-independent firmware loop (`suntracker::app::Firmware`) on a
+//! The board-independent firmware loop (`suntracker::firmware::Firmware`) on a
 //! host "board": the real GPS reader on an in-memory UART fed by the GPS
 //! receiver model once a second, a simulated DS3231 (`sim::SimRtc`), the
 //! real H-bridge stepper driver through `hw::StepperAxis` into the motor
@@ -19,8 +19,8 @@ use sim::gps::GpsReceiverModel;
 use sim::rtc::SimRtc;
 use sim::sensors::MountSensors;
 use sun_algos::{Algorithm, Float, Options, Site, UtcTime};
-use suntracker::app::{AppConfig, Firmware, Platform};
 use suntracker::controller::ControllerOptions;
+use suntracker::firmware::{AppConfig, Firmware, Platform};
 use tracker_hw_common::host_io::{Log, Uart};
 use tracker_hw_common::motor::{
     angle_deg, normal_xyz, stepper_axis, sun_xyz, Motor, COUNTS_PER_DEG,
@@ -67,7 +67,7 @@ enum Gps {
 
 fn run_day<T: Float>(start: UtcTime, seconds: u32, gps: Gps, rtc_lost_power: bool) -> Run
 where
-    MountSensors: suntracker::traits::AttitudeSensor<T>,
+    MountSensors: suntracker::ports::AttitudeSensor<T>,
 {
     let (mut config, _) = tracker_hw_common::motor::tracker_config();
     // The stored site differs from the GPS one, so that taking it shows.
@@ -79,7 +79,7 @@ where
         ax.deadband_deg = 0.0;
     }
     let options = ControllerOptions::<T> {
-        feedback: suntracker::axis::FeedbackMode::OpenLoop,
+        feedback: suntracker::motion::FeedbackMode::OpenLoop,
         // The fine homing approach moves chunk/50: one half-step (0.009°),
         // so the switch is found to one step, as the Mega's 1° chunk finds
         // it to one of its 0.036° full steps.
@@ -164,7 +164,7 @@ where
         // Moving (or steps still to take): the next pass 1 ms later, as a
         // board's loop wakes on every millisecond tick; idle: the next second.
         let pending = {
-            use suntracker::axis::AxisDrive;
+            use suntracker::motion::AxisDrive;
             fw.controller()
                 .axes()
                 .iter()

@@ -1,4 +1,4 @@
-//! The configuration console of the firmware loop (`suntracker::app`) on a
+//! The configuration console of the firmware loop (`suntracker::firmware`) on a
 //! host "board": the same parts as `firmware_app.rs` (simulated DS3231,
 //! H-bridge steppers into the motor model, a millisecond clock the test
 //! advances, no GPS unless a test sends it), plus console bytes the test
@@ -29,9 +29,9 @@ use sim::gps::GpsReceiverModel;
 use sim::rtc::SimRtc;
 use sim::sensors::MountSensors;
 use sun_algos::{Algorithm, Options, Site, UtcTime};
-use suntracker::app::{AppConfig, ConfigPersist, Firmware, Platform};
 use suntracker::config::{Config, ConfigStore, MemStorage};
 use suntracker::controller::ControllerOptions;
+use suntracker::firmware::{AppConfig, ConfigPersist, Firmware, Platform};
 use tracker_hw_common::host_io::{Log, Uart};
 use tracker_hw_common::motor::{stepper_axis, Motor};
 
@@ -93,7 +93,7 @@ fn start_utc() -> UtcTime {
 impl Bench {
     fn new(config: Config, store: Store, rtc_lost_power: bool) -> Bench {
         let options = ControllerOptions::<f32> {
-            feedback: suntracker::axis::FeedbackMode::OpenLoop,
+            feedback: suntracker::motion::FeedbackMode::OpenLoop,
             homing_chunk_deg: 0.45,
             ..Default::default()
         };

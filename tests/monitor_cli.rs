@@ -13,7 +13,7 @@
 //!   2026-03-20T00:00:00Z --log FILE` (the image's lines, each set-point
 //!   followed by the harness's `axes` line);
 //! - `mixed.log`: written by hand, every line shape of `src/log.rs`,
-//!   `src/console.rs`, `src/panel.rs` and `src/app.rs` with lines of no
+//!   `src/console.rs`, `src/panel.rs` and `src/firmware.rs` with lines of no
 //!   known shape and one cut short.
 
 #[path = "../examples/monitor_support/run.rs"]
@@ -177,7 +177,7 @@ fn mega_day_csv_rows_are_the_setpoint_lines() {
     let rows = csv_matches_log("mega_day.log");
     // A day at Kano (11.97 N): set-points from about sunrise to sunset.
     assert!(rows.len() > 100, "{} rows", rows.len());
-    // Every image logs set-points in tracking mode only (src/app.rs,
+    // Every image logs set-points in tracking mode only (src/firmware.rs,
     // `log_setpoint`), so every row is in tracking mode, the first of each
     // morning too (its `mode tracking` line comes after it).
     for r in &rows {
@@ -350,7 +350,7 @@ fn panel_voltage_axis() {
 }
 
 /// The hand-written log: the mode and faults of each set-point follow the
-/// tick order of src/app.rs (a set-point, then the tick's fault lines, then
+/// tick order of src/firmware.rs (a set-point, then the tick's fault lines, then
 /// its mode line), worked out here line by line.
 #[test]
 fn mode_and_faults_of_each_setpoint() {

@@ -1,8 +1,8 @@
 //! Axis control over the simulated plants.
 
 use sim::plant::MotorPlant;
-use suntracker::axis::{AxisController, AxisDrive, FeedbackMode, HomeState};
 use suntracker::config::{AxisConfig, Config};
+use suntracker::motion::{AxisController, AxisDrive, FeedbackMode, HomeState};
 
 fn cfg() -> AxisConfig {
     // 1.8° stepper, 16 microsteps, 100:1 → 200·16·100/360 = 888.9 counts/°;
@@ -151,11 +151,11 @@ fn servo_lands_on_encoder_counts_and_speed_limits_a_tick() {
 // Homing bounds and overflow-free arithmetic, over a mock drive in counts.
 
 use sim::rng::SplitMix64;
-use suntracker::axis::{
+use suntracker::config::ranges;
+use suntracker::motion::{
     AxisError, FEEDBACK_MARGIN_DEG, HOMING_BACKOFF_MAX_DEG, HOMING_SEEK_EXTRA_DEG,
     HOMING_SEEK_MARGIN_DEG,
 };
-use suntracker::config::ranges;
 
 #[derive(Debug, Clone, Copy, PartialEq)]
 enum Switch {

@@ -4,7 +4,7 @@ use suntracker::config::{
     crc32, Config, ConfigStore, MemError, MemStorage, SaveError, SaveStatus, SlotState,
     LAYOUT_VERSION, PAYLOAD_LEN, RECORD_LEN, SLOT_LEN,
 };
-use suntracker::traits::Storage;
+use suntracker::ports::Storage;
 
 #[test]
 fn crc32_check_value() {

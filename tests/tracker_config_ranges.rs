@@ -239,7 +239,7 @@ fn the_controller_refuses_a_configuration_out_of_range() {
     use sim::plant::MotorPlant;
     use sim::sensors::MountSensors;
     use suntracker::controller::{Controller, ControllerError, ControllerOptions};
-    use suntracker::traits::AlgorithmSource;
+    use suntracker::sun::AlgorithmSource;
     let mut config = Config::default();
     config.axes[0].gear_ratio = 1e30;
     let source = AlgorithmSource {

@@ -5,11 +5,11 @@ use sim::plant::MotorPlant;
 use sim::sensors::{MountSensors, SensorAccuracy};
 use sun_algos::{Algorithm, Options, Site, UtcTime};
 use suntracker::attitude::{angle_between_deg, sun_vector_xyz, MountAttitude, Pose};
-use suntracker::axis::{AxisDrive, FeedbackMode};
 use suntracker::config::Config;
 use suntracker::controller::{AttitudeSource, Controller, ControllerOptions, TickInputs};
+use suntracker::motion::{AxisDrive, FeedbackMode};
 use suntracker::safety::{AxisId, Fault, Mode, Sensor};
-use suntracker::traits::{AlgorithmSource, PositionSource};
+use suntracker::sun::{AlgorithmSource, PositionSource};
 
 type Ctl = Controller<f64, AlgorithmSource<f64>, MotorPlant, MountSensors, 1441>;
 
@@ -399,7 +399,7 @@ fn a_limit_switch_stuck_closed_ends_in_a_safe_stop_within_soft_limits() {
         let unhomed = ctl
             .axes()
             .iter()
-            .any(|a| a.home_state() != suntracker::axis::HomeState::Done);
+            .any(|a| a.home_state() != suntracker::motion::HomeState::Done);
         assert!(!(unhomed && r.mode == Mode::Tracking), "minute {m}");
         if r.mode == Mode::SafeStop {
             stop_at.get_or_insert(m);

@@ -14,11 +14,11 @@ use sim::plant::MotorPlant;
 use sim::sensors::{MountSensors, SensorAccuracy};
 use sun_algos::{Algorithm, Float, Options, Site, UtcTime};
 use suntracker::attitude::{angle_between_deg, sun_vector_xyz, MountAttitude, Pose};
-use suntracker::axis::FeedbackMode;
 use suntracker::config::Config;
 use suntracker::controller::{AttitudeSource, Controller, ControllerOptions, TickInputs};
+use suntracker::motion::FeedbackMode;
 use suntracker::safety::Mode;
-use suntracker::traits::AlgorithmSource;
+use suntracker::sun::AlgorithmSource;
 
 const LAT: f64 = 11.9683;
 const LON: f64 = 8.4261;
@@ -46,7 +46,7 @@ fn plants() -> [MotorPlant; 2] {
 /// tracking minutes.
 fn day<T: Float, const N: usize>(truth: MountAttitude<f64>, sensors: bool) -> (f64, u32)
 where
-    MountSensors: suntracker::traits::AttitudeSensor<T>,
+    MountSensors: suntracker::ports::AttitudeSensor<T>,
 {
     let source = AlgorithmSource {
         algorithm: Algorithm::Psa2020,

@@ -23,11 +23,11 @@ use sim::rng::SplitMix64;
 use sim::sensors::{MountSensors, SensorAccuracy};
 use sun_algos::{Algorithm, Options, Site, UtcTime};
 use suntracker::attitude::{MountAttitude, Pose};
-use suntracker::axis::{FeedbackMode, HomeState};
 use suntracker::config::Config;
 use suntracker::controller::{AttitudeSource, Controller, ControllerOptions, TickInputs};
+use suntracker::motion::{FeedbackMode, HomeState};
 use suntracker::safety::Mode;
-use suntracker::traits::AlgorithmSource;
+use suntracker::sun::AlgorithmSource;
 
 /// The controller under test; `N` = 361 (a table for any day), or 0 (no
 /// table: the scheduler's real-time mode of the 2 KB boards).

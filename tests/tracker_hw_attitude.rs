@@ -22,8 +22,9 @@ use suntracker::attitude::MountAttitude;
 use suntracker::config::Config;
 use suntracker::controller::{AttitudeSource, Controller, ControllerOptions, TickInputs};
 use suntracker::hw::{MountSensorError, MountSensorsHw};
+use suntracker::ports::{AttitudeReading, AttitudeSensor};
 use suntracker::safety::{Fault, Sensor};
-use suntracker::traits::{AlgorithmSource, AttitudeReading, AttitudeSensor};
+use suntracker::sun::AlgorithmSource;
 
 use std::collections::VecDeque;
 

@@ -32,9 +32,11 @@ use sun_algos::{Algorithm, Options, Site};
 use suntracker::config::Config;
 use suntracker::controller::{Controller, TickInputs};
 use suntracker::hw::GpsPort;
+use suntracker::plan::Phase;
 use suntracker::safety::Mode;
-use suntracker::scheduler::Phase;
-use suntracker::sources::{resolve_site, SharedSiteSource, SiteOrigin, TimeConfig, TimeKeeper};
+use suntracker::site::{resolve_site, SiteOrigin};
+use suntracker::sun::SharedSiteSource;
+use suntracker::time::{TimeConfig, TimeKeeper};
 use tracker_hw_common::motor::*;
 use tracker_hw_common::*;
 

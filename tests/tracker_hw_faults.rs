@@ -27,11 +27,11 @@ use sun_algos::{Algorithm, Options, Site};
 use suntracker::config::Config;
 use suntracker::controller::Controller;
 use suntracker::hw::GpsPort;
+use suntracker::plan::Phase;
 use suntracker::safety::{Fault, Mode};
-use suntracker::scheduler::Phase;
-use suntracker::sources::{
-    follow_gps_site, resolve_site, SharedSiteSource, SiteOrigin, TimeConfig, TimeKeeper,
-};
+use suntracker::site::{follow_gps_site, resolve_site, SiteOrigin};
+use suntracker::sun::SharedSiteSource;
+use suntracker::time::{TimeConfig, TimeKeeper};
 use tracker_hw_common::motor::*;
 use tracker_hw_common::*;
 

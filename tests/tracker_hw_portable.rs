@@ -17,9 +17,9 @@ mod tracker_hw_common;
 use embedded_hal_mock::eh1::i2c::{Mock as I2cMock, Transaction as I2c};
 use sun_algos::{Algorithm, Options, Site};
 use suntracker::controller::{AttitudeSource, Controller, TickInputs};
+use suntracker::plan::Phase;
 use suntracker::safety::Mode;
-use suntracker::scheduler::Phase;
-use suntracker::traits::AlgorithmSource;
+use suntracker::sun::AlgorithmSource;
 use tracker_hw_common::motor::*;
 use tracker_hw_common::mount::*;
 

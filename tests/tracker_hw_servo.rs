@@ -21,13 +21,13 @@ use drivers::encoder::SharedEncoder;
 use drivers::servo::{ContinuousServo, PositionController, ServoConfig};
 use sim::sensors::MountSensors;
 use sun_algos::{Algorithm, Options, Site};
-use suntracker::axis::{AxisController, AxisDrive, FeedbackMode, HomeState};
 use suntracker::config::{AxisConfig, Config};
 use suntracker::controller::{Controller, ControllerOptions, TickInputs};
 use suntracker::hw::ServoAxis;
+use suntracker::motion::{AxisController, AxisDrive, FeedbackMode, HomeState};
+use suntracker::plan::Phase;
 use suntracker::safety::Mode;
-use suntracker::scheduler::Phase;
-use suntracker::traits::AlgorithmSource;
+use suntracker::sun::AlgorithmSource;
 use tracker_hw_common::motor::{angle_deg, below_reach_deg, normal_xyz, sun_xyz, utc_at, TOL_DEG};
 use tracker_hw_common::servo::{Pwm, ServoModel, ServoSpec, Switch};
 

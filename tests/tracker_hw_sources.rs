@@ -13,12 +13,10 @@ use embedded_hal_mock::eh1::i2c::{Mock as I2cMock, Transaction as I2c};
 use sun_algos::{Site, UtcTime};
 use suntracker::config::SiteConfig;
 use suntracker::hw::{GpsPort, RtcClock};
+use suntracker::ports::Clock;
 use suntracker::site::PostalError;
-use suntracker::sources::{
-    follow_gps_site, gps_time, resolve_site, GpsTime, SiteError, SiteOrigin, TimeConfig,
-    TimeKeeper, TimeOrigin,
-};
-use suntracker::traits::Clock;
+use suntracker::site::{follow_gps_site, resolve_site, SiteError, SiteOrigin};
+use suntracker::time::{gps_time, GpsTime, TimeConfig, TimeKeeper, TimeOrigin};
 use tracker_hw_common::*;
 
 fn nack() -> ErrorKind {
@@ -294,7 +292,7 @@ fn wmm_declination_for_the_site_matches_noaa_test_values() {
     let site = Site::new(80.0, 0.0).unwrap();
     let t = UtcTime::from_ymd_hms(2027, 7, 2, 12, 0, 0).unwrap();
     // In f64 (hosts) and in f32 (the 8-bit board's synthesis).
-    use suntracker::sources::wmm_declination_deg as wmm;
+    use suntracker::site::wmm_declination_deg as wmm;
     for d in [
         wmm::<f64>(&site, &t).unwrap(),
         wmm::<f32>(&site, &t).unwrap(),

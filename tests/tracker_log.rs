@@ -2,8 +2,9 @@
 
 use sun_algos::UtcTime;
 use suntracker::config::Config;
-use suntracker::log::{self, ChangeLog, Sink, SiteSource, TimeSource};
+use suntracker::log::{self, ChangeLog, Sink, SiteSource};
 use suntracker::safety::{AxisId, Fault, FaultManager, Mode};
+use suntracker::time::TimeOrigin;
 
 #[derive(Default)]
 struct Buf(Vec<u8>);
@@ -32,9 +33,9 @@ fn every_line_shape() {
         b.take(),
         format!("boot suntracker {} board=mega\n", env!("CARGO_PKG_VERSION"))
     );
-    log::time(&mut b, TimeSource::Gps, &t("2026-03-20T06:30:05Z"));
+    log::time(&mut b, TimeOrigin::Gps, &t("2026-03-20T06:30:05Z"));
     assert_eq!(b.take(), "time source=gps utc=2026-03-20T06:30:05Z\n");
-    log::time(&mut b, TimeSource::Rtc, &t("2031-01-02T23:59:59Z"));
+    log::time(&mut b, TimeOrigin::Rtc, &t("2031-01-02T23:59:59Z"));
     assert_eq!(b.take(), "time source=rtc utc=2031-01-02T23:59:59Z\n");
     log::site(&mut b, SiteSource::Config, 11.9683, 8.4261);
     assert_eq!(b.take(), "site source=config lat=11.9683 lon=8.4261\n");

@@ -7,10 +7,10 @@
 
 use sun_algos::geometry::GeometryError;
 use sun_algos::{Error, Site, SunPosition, UtcTime};
-use suntracker::scheduler::{
+use suntracker::plan::{
     Action, Daylight, Phase, ScheduleConfig, ScheduleError, Scheduler, SetPoint,
 };
-use suntracker::traits::PositionSource;
+use suntracker::sun::PositionSource;
 
 #[derive(Clone, Copy)]
 struct Textbook {

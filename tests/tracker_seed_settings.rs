@@ -11,9 +11,9 @@ use sim::rtc::SimRtc;
 use sun_algos::UtcTime;
 use suntracker::config::{MemStorage, SlotState};
 use suntracker::log::Sink;
+use suntracker::persist::{EepromCells, EepromStorage};
+use suntracker::ports::Storage;
 use suntracker::servo_tracker::settings::{self as settings, Settings, SettingsConsole};
-use suntracker::storage::{EepromCells, EepromStorage};
-use suntracker::traits::Storage;
 
 /// Collects everything written.
 #[derive(Default)]

@@ -13,7 +13,7 @@
 //! | `mode <name>` | `suntracker::log::mode` |
 //! | `fault <name> raised\|cleared` | `suntracker::log::fault` |
 //! | `day_energy vh=<V·h>` | `suntracker::panel::log_day_energy` |
-//! | `clock jump from=[utc] to=<utc> source=gps\|rtc\|none: …` | the application's tick (`src/app.rs`) |
+//! | `clock jump from=[utc] to=<utc> source=gps\|rtc\|none: …` | the application's tick (`src/firmware.rs`) |
 //! | `ok …`, `error …` | the console's replies (`src/console.rs`) |
 //! | `ok mode=… utc=… time=… lat=… lon=… site=… c=… a=… faults=… wind_hz=…` | `suntracker::console::write_status` |
 //! | `status mode=…` with the same fields | the periodic status line |
@@ -35,7 +35,7 @@
 //! # Which mode and faults a set-point belongs to
 //!
 //! The images log a tick's lines in one of two orders. The ones built on
-//! `src/app.rs` (Mega, Black Pill, QEMU) log the set-point first and the
+//! `src/firmware.rs` (Mega, Black Pill, QEMU) log the set-point first and the
 //! tick's fault and mode changes after it (`log_setpoint`, then
 //! `ChangeLog::update`: cleared faults, raised faults, the mode); the Uno
 //! (`boards/uno/src/lib.rs`, `Tracker::tick`) logs the fault and mode changes

@@ -18,15 +18,15 @@ use sim::sensors::{Anemometer, MountSensors, SensorAccuracy};
 use sun_algos::geometry::irradiance::clear_sky_beam_normal_w_m2;
 use sun_algos::{Algorithm, Options, Site, UtcTime};
 use suntracker::attitude::{angle_between_deg, sun_vector_xyz, MountAttitude, Pose};
-use suntracker::axis::FeedbackMode;
-use suntracker::clock::DateWindow;
 use suntracker::config::{Config, ConfigStore, MemStorage};
 use suntracker::controller::{AttitudeSource, Controller, ControllerOptions};
+use suntracker::motion::FeedbackMode;
 use suntracker::safety::Mode;
-use suntracker::sources::{
-    follow_gps_site, site_from_config, SharedSiteSource, TimeConfig, TimeKeeper,
-};
-use suntracker::traits::{AlgorithmSource, PositionSource};
+use suntracker::site::{follow_gps_site, site_from_config};
+use suntracker::sun::SharedSiteSource;
+use suntracker::sun::{AlgorithmSource, PositionSource};
+use suntracker::time::window::DateWindow;
+use suntracker::time::{TimeConfig, TimeKeeper};
 
 use super::schedule::{self, Action, Kind, Timed, Window};
 

@@ -6,8 +6,8 @@
 //! `dt` seconds of motion at its top speed; moves beyond that wait for the
 //! next tick.
 
-use suntracker::app::Motion;
-use suntracker::axis::AxisDrive;
+use suntracker::firmware::Motion;
+use suntracker::motion::AxisDrive;
 
 /// Errors of the simulated drive.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]

@@ -5,7 +5,7 @@
 use crate::rng::SplitMix64;
 use sun_algos::Float;
 use suntracker::attitude::MountAttitude;
-use suntracker::traits::{AttitudeReading, AttitudeSensor};
+use suntracker::ports::{AttitudeReading, AttitudeSensor};
 
 /// Errors of the simulated sensors.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]

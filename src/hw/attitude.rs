@@ -18,7 +18,7 @@ use embedded_io::{Read, ReadReady, Write};
 
 use sun_algos::Float;
 
-use crate::traits::{AttitudeReading, AttitudeSensor};
+use crate::ports::{AttitudeReading, AttitudeSensor};
 
 /// A sensor giving the angles between the vertical and the tracker's x and
 /// y axes, degrees (θx, θy of seed portable-tracker eq. 6; both 90° on a

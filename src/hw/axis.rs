@@ -10,7 +10,7 @@ use drivers::stepper::hbridge::HBridgeStepper;
 use drivers::stepper::{Error as StepperError, Event, Limit};
 use embedded_hal::digital::{InputPin, OutputPin};
 
-use crate::axis::AxisDrive;
+use crate::motion::AxisDrive;
 
 /// Errors of a stepper axis.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]

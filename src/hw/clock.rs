@@ -1,10 +1,10 @@
-//! [`crate::traits::Clock`] over a battery-backed RTC driver.
+//! [`crate::ports::Clock`] over a battery-backed RTC driver.
 
 use drivers::rtc::Clock as RtcDriver;
 use sun_algos::UtcTime;
 
-use super::time::utc_from_datetime;
-use crate::traits::Clock;
+use crate::ports::Clock;
+use crate::time::utc_from_datetime;
 
 /// Why the RTC's time is not available.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]

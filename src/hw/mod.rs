@@ -4,21 +4,20 @@
 //!
 //! | adapter | tracker trait | driver |
 //! |---|---|---|
-//! | [`RtcClock`] | [`crate::traits::Clock`] | any [`drivers::rtc::Clock`] (DS3231, DS1302) |
-//! | [`GpsPort`] | — (feeds [`crate::sources`]) | [`drivers::gps::GpsReader`] |
-//! | [`MountSensorsHw`] | [`crate::traits::AttitudeSensor`] | a tilt sensor ([`AxisAngles`]: ADXL345, WitMotion inclinometer) + any [`drivers::compass::Magnetometer`] |
-//! | [`ServoAxis`] | [`crate::axis::AxisDrive`] | [`drivers::servo::ContinuousServo`] + a quadrature encoder ([`EncoderCount`]) + home switch |
-//! | [`StepperAxis`] | [`crate::axis::AxisDrive`] | [`drivers::stepper::hbridge::HBridgeStepper`] + home switch |
+//! | [`RtcClock`] | [`crate::ports::Clock`] | any [`drivers::rtc::Clock`] (DS3231, DS1302) |
+//! | [`GpsPort`] | — (feeds [`crate::time`]) | [`drivers::gps::GpsReader`] |
+//! | [`MountSensorsHw`] | [`crate::ports::AttitudeSensor`] | a tilt sensor ([`AxisAngles`]: ADXL345, WitMotion inclinometer) + any [`drivers::compass::Magnetometer`] |
+//! | [`ServoAxis`] | [`crate::motion::AxisDrive`] | [`drivers::servo::ContinuousServo`] + a quadrature encoder ([`EncoderCount`]) + home switch |
+//! | [`StepperAxis`] | [`crate::motion::AxisDrive`] | [`drivers::stepper::hbridge::HBridgeStepper`] + home switch |
 //!
 //! Time and site fallbacks (GPS, then RTC, then the stored site or a postal
-//! code) are in [`crate::sources`].
+//! code) are in [`crate::time`].
 
 mod attitude;
 mod axis;
 mod clock;
 mod gps;
 mod servo_axis;
-mod time;
 
 pub use attitude::{
     AccelTiltError, AxisAngles, EitherTilt, EitherTiltError, MountSensorError, MountSensorsHw,
@@ -27,4 +26,3 @@ pub use axis::{StepperAxis, StepperAxisError};
 pub use clock::{ClockError, RtcClock};
 pub use gps::GpsPort;
 pub use servo_axis::{EncoderCount, ServoAxis, ServoAxisError};
-pub use time::{datetime_from_utc, utc_from_datetime, TimeConversionError};

@@ -12,7 +12,7 @@
 //! finds it closed takes the count there as the switch angle (the homing's
 //! last, slow approach is the last such reading), so
 //! [`AxisDrive::encoder_deg`] is `home_deg + (count − count_at_switch) /
-//! counts_per_deg`, the same reference [`crate::axis::AxisController`]
+//! counts_per_deg`, the same reference [`crate::motion::AxisController`]
 //! takes when homing ends.
 
 use drivers::encoder::SharedEncoder;
@@ -20,8 +20,8 @@ use drivers::servo::{ContinuousServo, Error as ServoError, PositionController};
 use embedded_hal::digital::InputPin;
 use embedded_hal::pwm::SetDutyCycle;
 
-use crate::axis::AxisDrive;
 use crate::config::AxisConfig;
+use crate::motion::AxisDrive;
 
 /// Something that counts encoder edges (usually updated by an interrupt).
 pub trait EncoderCount {

@@ -55,14 +55,15 @@ use drivers::rtc::Clock as RtcDriver;
 use drivers::servo::{PositionController, ServoConfig};
 use sun_algos::{Algorithm, Error as SunError, Options, Site, SunPosition, UtcTime};
 
-use crate::app::Motion;
-use crate::axis::AxisDrive;
 use crate::config::AxisConfig;
-use crate::log::{self, Sink, TimeSource};
+use crate::firmware::Motion;
+use crate::log::{self, Sink};
+use crate::motion::AxisDrive;
 use crate::panel::{self, DayEnergy};
 use crate::safety::{AxisId, Fault, Mode, Sensor};
-use crate::sources::{TimeConfig, TimeKeeper};
 use crate::text::FlashStr;
+use crate::time::TimeOrigin;
+use crate::time::{TimeConfig, TimeKeeper};
 
 /// Encoder lines per revolution: the YMT22's "up to 300 ppr" (seed Table
 /// 1), read in quadrature: 4 counts a line.
@@ -547,7 +548,7 @@ impl<R: RtcDriver, D: AxisDrive + Motion> SeedTracker<R, D> {
         let time_fault = match status.now {
             Some(now) => {
                 if !self.time_logged {
-                    log::time(out, TimeSource::Rtc, &now);
+                    log::time(out, TimeOrigin::Rtc, &now);
                     self.time_logged = true;
                 }
                 self.schedule(out, &now)

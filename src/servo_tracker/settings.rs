@@ -52,8 +52,8 @@ use crate::config::{
 };
 use crate::console::{self, Command, Decimal, LineBuffer, SetError};
 use crate::log::Sink;
+use crate::ports::Storage;
 use crate::text::FlashStr;
-use crate::traits::Storage;
 use drivers::rtc::Clock as RtcDriver;
 
 /// The keys of the settings, in `get`'s order.

@@ -1,9 +1,14 @@
-//! Where the tracker stands: a site from a postal code (seed dahli-2023).
-//!
-//! The table is generated at build time from `data/postal_codes.csv`; see
+//! Where the tracker stands: the site in force ([`resolve`]: GPS, the
+//! stored site or a postal code) and the postal-code table (seed
+//! dahli-2023), generated at build time from `data/postal_codes.csv`; see
 //! [`postal`] for its format and flash cost.
 
 pub mod key;
 pub mod postal;
+pub mod resolve;
 
 pub use postal::{lookup, lookup_str, PostalEntry, PostalError};
+pub use resolve::{
+    follow_gps_site, resolve_site, site_from_config, site_from_fix, wmm_declination_deg, SiteError,
+    SiteOrigin,
+};

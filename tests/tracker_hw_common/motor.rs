@@ -251,7 +251,7 @@ pub fn tracker_config() -> (
         ax.backlash_deg = 0.0;
     }
     let options = suntracker::controller::ControllerOptions {
-        feedback: suntracker::axis::FeedbackMode::OpenLoop,
+        feedback: suntracker::motion::FeedbackMode::OpenLoop,
         ..Default::default()
     };
     (config, options)
@@ -266,10 +266,10 @@ pub fn pump<P, S, const N: usize>(
     from_s: u32,
     to_s: u32,
 ) where
-    P: suntracker::traits::PositionSource<f64>,
-    S: suntracker::traits::AttitudeSensor<f64>,
+    P: suntracker::sun::PositionSource<f64>,
+    S: suntracker::ports::AttitudeSensor<f64>,
 {
-    use suntracker::axis::AxisDrive;
+    use suntracker::motion::AxisDrive;
     let mut now_us = u64::from(from_s) * 1_000_000;
     let stop_us = u64::from(to_s) * 1_000_000;
     loop {

@@ -31,7 +31,7 @@
 use avr_device::interrupt;
 
 use super::chip;
-use suntracker::storage::{EepromCells, EepromStorage};
+use suntracker::persist::{EepromCells, EepromStorage};
 
 /// Bytes of EEPROM: 4 KiB on the ATmega2560.
 #[cfg(avr_atmega2560)]

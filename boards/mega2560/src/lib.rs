@@ -1,6 +1,6 @@
 //! The Arduino Mega 2560 tracker (seed li-2022's build): everything about
 //! this board in one place — pins, devices, configuration — turned into the
-//! parts of [`suntracker::app::Firmware`]. An image binds the interrupt vectors
+//! parts of [`suntracker::firmware::Firmware`]. An image binds the interrupt vectors
 //! (`timer0, usart1, int4`; the log's USART0 only sends) and calls [`run`],
 //! as `avr_mega_tracker` does. LLVM reads stack-passed arguments one byte
 //! low on this 3-byte-PC chip: a function whose arguments do not all fit
@@ -56,13 +56,13 @@ use drivers::stepper::hbridge::{BridgePins, HBridgeStepper};
 use drivers::stepper::LimitSwitches;
 use drivers::tilt::adxl345::Adxl345;
 
-use suntracker::app::{AppConfig, ConfigPersist, Firmware, Platform, StartError};
 use suntracker::config::{Config, ConfigStore};
 use suntracker::controller::{ControllerError, ControllerOptions};
+use suntracker::firmware::{AppConfig, ConfigPersist, Firmware, Platform, StartError};
 use suntracker::hw::{MountSensorsHw, StepperAxis};
 use suntracker::log::Sink;
 use suntracker::mechanics::{self, bridge_config};
-use suntracker::storage::EepromStorage;
+use suntracker::persist::EepromStorage;
 use suntracker_avr::eeprom::Eeprom;
 use suntracker_avr::{
     chip, millis, sleep_until_interrupt, Anemometer, ExtInt, I2c, InputPin, Millis, OutputPin,

@@ -1,5 +1,5 @@
 //! QEMU's `mps2-an386` board (Cortex-M4F, 25 MHz): everything about this
-//! board in one place, turned into the parts of [`suntracker::app::Firmware`].
+//! board in one place, turned into the parts of [`suntracker::firmware::Firmware`].
 //! The image (`boards/mps2_an386/src/bin/qemu_tracker.rs`) binds the SysTick and interrupt
 //! vectors to [`on_systick`] and [`on_interrupt`] and calls [`run`].
 //!
@@ -12,7 +12,7 @@
 //! | configuration storage | a host file through semihosting, [`CONFIG_FILE`] in QEMU's working directory ([`SemihostingFile`]; why: below) |
 //! | monotonic ms | SysTick (ARMv7-M ARM B3.3) on the 25 MHz core clock, one interrupt every 500 ms, the count in between |
 //! | UTC clock | no RTC chip: [`SoftRtc`], a clock on the monotonic clock that reports lost power until GPS or the console's `time set` sets it, and loses the time at every restart |
-//! | axis drives | [`MotorPlant`] steppers (QEMU has no motors), advanced by the elapsed monotonic time in [`suntracker::app::Motion::service`] |
+//! | axis drives | [`MotorPlant`] steppers (QEMU has no motors), advanced by the elapsed monotonic time in [`suntracker::firmware::Motion::service`] |
 //! | attitude | none: a level mount facing north |
 //! | anemometer | none: zero pulses (calm) |
 //! | watchdog | CMSDK APB watchdog at 0x4000_8000, 10 s (QEMU models it on the an386, but resets at the first timeout, with the NMI: run QEMU with `-no-reboot`, and a reset ends the run) |
@@ -95,14 +95,14 @@ use sun_algos::UtcTime;
 
 use sim::plant::MotorPlant;
 use sim::sensors::MountSensors;
-use suntracker::app::{AppConfig, ConfigPersist, Firmware, Platform};
-use suntracker::axis::FeedbackMode;
 use suntracker::config::{Config, ConfigStore, SLOT_LEN};
 use suntracker::controller::{AttitudeSource, Controller, ControllerOptions};
-use suntracker::hw::{datetime_from_utc, utc_from_datetime};
+use suntracker::firmware::{AppConfig, ConfigPersist, Firmware, Platform};
+use suntracker::time::{datetime_from_utc, utc_from_datetime};
 use suntracker::log::Sink;
+use suntracker::motion::FeedbackMode;
+use suntracker::ports::Storage;
 use suntracker::safety::Mode;
-use suntracker::traits::Storage;
 
 /// Board name in the boot line.
 pub const BOARD: &str = "mps2-an386";
@@ -802,9 +802,13 @@ fn boot_config(store: &mut Store) -> (Config, ConfigSource) {
     let loaded = store.load();
     if loaded.defaults {
         (board_config(), ConfigSource::Defaults)
-    } else if Controller::<f32, suntracker::app::SiteSource<f32>, MotorPlant, MountSensors, TABLE_LEN>::check(
-        &loaded.config,
-    )
+    } else if Controller::<
+        f32,
+        suntracker::sun::BoardSource<f32>,
+        MotorPlant,
+        MountSensors,
+        TABLE_LEN,
+    >::check(&loaded.config)
     .is_ok()
     {
         (loaded.config, ConfigSource::Stored)

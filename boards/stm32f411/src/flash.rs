@@ -15,7 +15,7 @@ use embedded_storage::nor_flash::{
 use stm32f4xx_hal::flash::{Error as HalError, FlashExt};
 use stm32f4xx_hal::pac::FLASH;
 
-use suntracker::storage::{NorError, NorFlashStorage};
+use suntracker::persist::{NorError, NorFlashStorage};
 
 /// Offset of sector 1 from the start of the flash (0x0800_4000).
 pub const WINDOW_OFFSET: usize = 0x4000;

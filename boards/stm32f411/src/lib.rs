@@ -1,6 +1,6 @@
 //! The STM32F411CEU6 "Black Pill" tracker (WeAct v3 board, 25 MHz crystal):
 //! everything about this board in one place — clocks, pins, devices,
-//! configuration — turned into the parts of [`suntracker::app::Firmware`]. The
+//! configuration — turned into the parts of [`suntracker::firmware::Firmware`]. The
 //! image (`boards/stm32f411/src/bin/blackpill_tracker.rs`) takes the peripherals and calls
 //! [`run`]; the interrupt handlers (`SysTick`, `USART1`, `USART6`,
 //! `EXTI9_5`) are bound here.
@@ -70,7 +70,7 @@
 //! loaded: a good copy the controller takes is used (`config
 //! source=stored`), else the board's own ([`mechanics::config`], `config
 //! source=defaults`). A `save` erases one sector, which stalls the CPU for
-//! up to 800 ms (see [`suntracker::storage`]): save while the axes are at rest.
+//! up to 800 ms (see [`suntracker::persist`]): save while the axes are at rest.
 //!
 //! With the `defmt` feature the log lines go out over RTT through defmt
 //! (`defmt_log::DefmtLog`, a debug probe reads them) instead of
@@ -142,15 +142,16 @@ use hal::timer::DelayUs;
 use hal::watchdog::IndependentWatchdog;
 
 use crate::flash::{ConfigSectors, SECTOR_LEN, WINDOW_OFFSET};
-use suntracker::app::{AppConfig, ConfigPersist, Firmware, Platform, SiteSource};
-use suntracker::axis::AxisDrive;
 use suntracker::config::{Config, ConfigStore};
 use suntracker::controller::Controller;
+use suntracker::firmware::{AppConfig, ConfigPersist, Firmware, Platform};
 use suntracker::hw::{EitherTilt, MountSensorsHw, StepperAxis};
 use suntracker::log::Sink;
 use suntracker::mechanics::{self, bridge_config};
-use suntracker::storage::NorFlashStorage;
-use suntracker::traits::AttitudeSensor;
+use suntracker::motion::AxisDrive;
+use suntracker::persist::NorFlashStorage;
+use suntracker::ports::AttitudeSensor;
+use suntracker::sun::BoardSource;
 
 /// Board name in the boot line.
 pub const BOARD: &str = "stm32f411";
@@ -805,7 +806,7 @@ fn controller_takes<D: AxisDrive, S: AttitudeSensor<f32>>(
     _sensors: &Option<S>,
     config: &Config,
 ) -> bool {
-    Controller::<f32, SiteSource<f32>, D, S, TABLE_LEN>::check(config).is_ok()
+    Controller::<f32, BoardSource<f32>, D, S, TABLE_LEN>::check(config).is_ok()
 }
 
 /// Says why and stops: the watchdog, no longer fed, resets the board.

@@ -110,7 +110,7 @@ mod tests {
     use std::rc::Rc;
     use suntracker::attitude::MountAttitude;
     use suntracker::hw::{AxisAngles, MountSensorsHw};
-    use suntracker::traits::AttitudeSensor;
+    use suntracker::ports::AttitudeSensor;
 
     fn bus_with(mount: &Mount, field: &Field) -> (HostI2c, EmuClock) {
         let clock = EmuClock::new();
@@ -180,7 +180,7 @@ mod tests {
             drivers::compass::calibration::Calibration::IDENTITY,
             field.declination_deg as f32,
         );
-        let r: suntracker::traits::AttitudeReading<f64> = sensors.read().unwrap();
+        let r: suntracker::ports::AttitudeReading<f64> = sensors.read().unwrap();
         let back =
             MountAttitude::from_sensors(r.theta_x_deg, r.theta_y_deg, r.heading_deg).unwrap();
         assert!((back.alpha0_deg - tilt_deg).abs() < 0.1, "{back:?}");

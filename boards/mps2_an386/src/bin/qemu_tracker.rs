@@ -1,5 +1,5 @@
 //! The tracker image for QEMU's `mps2-an386` (Cortex-M4F): the
-//! board-independent firmware loop (`suntracker::app`) on the board module
+//! board-independent firmware loop (`suntracker::firmware`) on the board module
 //! `suntracker_mps2_an386` (GPS on UART0, log over semihosting,
 //! simulated axes). Built only for `thumbv7em-none-eabihf`; `cargo run
 //! --release` in boards/mps2_an386 runs it under `.ci/qemu_gps.py` (the

@@ -112,7 +112,7 @@
 use embedded_storage::nor_flash::NorFlash;
 
 use crate::config::SLOT_LEN;
-use crate::traits::Storage;
+use crate::ports::Storage;
 
 /// The cells of a byte-writable EEPROM: what [`EepromStorage`] needs from
 /// the hardware. Implemented by `suntracker_avr::eeprom::Eeprom`

@@ -1,35 +1,7 @@
 //! The small traits that join the tracker to the outside world, so that the
 //! same controller runs against mocks, the simulator and real boards.
 
-use sun_algos::{Algorithm, Error as SunError, Float, Options, Site, SunPosition, UtcTime};
-
-/// Where the sun is at an instant, for one site.
-pub trait PositionSource<T> {
-    /// The site the positions are for (seed jimoh-2019 step 1 reads it).
-    fn site(&self) -> Site<T>;
-    /// Topocentric sun position at `time`.
-    fn position(&mut self, time: &UtcTime) -> Result<SunPosition<T>, SunError>;
-}
-
-/// A [`PositionSource`] computing with one of `sun_algos`' algorithms.
-#[derive(Debug, Clone, Copy)]
-pub struct AlgorithmSource<T> {
-    /// The algorithm (`psa-2020` on boards, any on hosts).
-    pub algorithm: Algorithm,
-    /// The site.
-    pub site: Site<T>,
-    /// ΔT, refraction and validity options.
-    pub options: Options<T>,
-}
-
-impl<T: Float> PositionSource<T> for AlgorithmSource<T> {
-    fn site(&self) -> Site<T> {
-        self.site
-    }
-    fn position(&mut self, time: &UtcTime) -> Result<SunPosition<T>, SunError> {
-        self.algorithm.position(time, &self.site, &self.options)
-    }
-}
+use sun_algos::UtcTime;
 
 /// A clock giving UTC (an RTC disciplined by GPS on boards).
 pub trait Clock {
@@ -51,8 +23,8 @@ pub trait Clock {
 /// (RAM): nothing to erase, the whole write at once, nothing pending.
 ///
 /// Implementations: [`crate::config::MemStorage`] (RAM),
-/// [`crate::storage::EepromStorage`] (byte EEPROM such as the AVR's, over
-/// [`crate::storage::EepromCells`]), [`crate::storage::NorFlashStorage`]
+/// [`crate::persist::EepromStorage`] (byte EEPROM such as the AVR's, over
+/// [`crate::persist::EepromCells`]), [`crate::persist::NorFlashStorage`]
 /// (NOR flash through `embedded-storage`).
 pub trait Storage {
     /// Why an access failed.

@@ -38,7 +38,7 @@
 //! the geometric horizon (seed eq. 9), and the table is
 //! `sun_algos::geometry::day_table::DayTable` (4-byte entries in 0.01°).
 
-use crate::traits::PositionSource;
+use crate::sun::PositionSource;
 use sun_algos::geometry::day_table::DayTable;
 use sun_algos::geometry::events::{self, DayKind, EventSearch, Events};
 use sun_algos::geometry::{GeometryError, Limits};

@@ -28,19 +28,21 @@
 use drivers::gps::GpsFix;
 use drivers::rtc::Clock as RtcDriver;
 use embedded_io::{Read, ReadReady};
-use sun_algos::{Algorithm, Error as SunError, Float, Options, Site, SunPosition, UtcTime};
+use sun_algos::{Error as SunError, Float, Site, UtcTime};
 
 use crate::attitude::Pose;
-use crate::axis::AxisDrive;
 use crate::config::{Config, Loaded, SaveError, SaveStatus};
 use crate::console::{self, Executed, Jogged, LineBuffer, Operator, StatusView, TimeSetError};
 use crate::controller::{Controller, ControllerError, ControllerOptions, TickReport};
 use crate::hw::GpsPort;
-use crate::log::{self, ChangeLog, Sink, SiteSource as LogSite, TimeSource};
+use crate::log::{self, ChangeLog, Sink, SiteSource as LogSite};
+use crate::motion::AxisDrive;
+use crate::ports::AttitudeSensor;
 use crate::safety::{AxisId, Mode};
-use crate::sources::{site_from_config, site_from_fix, wmm_declination_deg, TimeConfig};
-use crate::sources::{TimeKeeper, TimeOrigin};
-use crate::traits::{AttitudeSensor, PositionSource};
+use crate::site::{site_from_config, site_from_fix, wmm_declination_deg};
+use crate::sun::BoardSource;
+use crate::time::TimeConfig;
+use crate::time::{TimeKeeper, TimeOrigin};
 
 /// What a board gives the loop besides its devices.
 pub trait Platform {
@@ -80,7 +82,7 @@ pub trait ConfigPersist {
 }
 
 /// The two-slot store over any storage, stepped from the loop.
-impl<S: crate::traits::Storage> ConfigPersist for crate::config::ConfigStore<S> {
+impl<S: crate::ports::Storage> ConfigPersist for crate::config::ConfigStore<S> {
     fn load(&mut self) -> Loaded {
         crate::config::ConfigStore::load(self)
     }
@@ -195,41 +197,6 @@ impl AppConfig {
     }
 }
 
-/// The position source of the images: `psa-2020` (seed blanco-2020, valid
-/// 2020–2050) for a site the loop may replace.
-#[derive(Debug, Clone, Copy)]
-pub struct SiteSource<T> {
-    site: Site<T>,
-    options: Options<T>,
-}
-
-impl<T: Float> SiteSource<T> {
-    /// The source for `site` with ΔT `delta_t_s`.
-    pub fn new(site: Site<T>, delta_t_s: f32) -> Self {
-        SiteSource {
-            site,
-            options: Options {
-                delta_t_s: Some(T::from_f32(delta_t_s)),
-                ..Options::default()
-            },
-        }
-    }
-    /// Replaces the site.
-    pub fn set_site(&mut self, site: Site<T>) {
-        self.site = site;
-    }
-}
-
-impl<T: Float> PositionSource<T> for SiteSource<T> {
-    fn site(&self) -> Site<T> {
-        self.site
-    }
-    #[inline(never)]
-    fn position(&mut self, time: &UtcTime) -> Result<SunPosition<T>, SunError> {
-        Algorithm::Psa2020.position(time, &self.site, &self.options)
-    }
-}
-
 /// Why the firmware could not start.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum StartError {
@@ -256,7 +223,7 @@ pub struct Stats {
 
 /// The tracker firmware over one board's parts.
 pub struct Firmware<T, R, G, D, S, L, const N: usize> {
-    controller: Controller<T, SiteSource<T>, D, S, N>,
+    controller: Controller<T, BoardSource<T>, D, S, N>,
     time: TimeKeeper<R>,
     gps: GpsPort<G>,
     log: L,
@@ -282,7 +249,7 @@ pub struct Firmware<T, R, G, D, S, L, const N: usize> {
     /// A `save` in progress (its reply is due when it ends).
     saving: bool,
     /// The trusted time at the last tick and where it came from.
-    last_time: Option<(UtcTime, TimeSource)>,
+    last_time: Option<(UtcTime, TimeOrigin)>,
     /// Anemometer pulse rate over the last tick, Hz.
     last_wind_hz: Option<f32>,
     /// Monotonic ms of the next periodic `status` line.
@@ -320,8 +287,8 @@ where
         let boot_fallback = UtcTime::from_days_ms(0, 0).map_err(StartError::Site)?;
         let site_f64 = site_from_config(&config.site).map_err(StartError::Site)?;
         let site = convert_site::<T>(&site_f64).map_err(StartError::Site)?;
-        let source = SiteSource::new(site, app.delta_t_s);
-        Controller::<T, SiteSource<T>, D, S, N>::check(&config).map_err(StartError::Controller)?;
+        let source = BoardSource::new(site, app.delta_t_s);
+        Controller::<T, BoardSource<T>, D, S, N>::check(&config).map_err(StartError::Controller)?;
         Ok(Firmware {
             // Built in place (no temporary copy of the controller).
             controller: Controller::new_checked(config, options, source, axes, sensors),
@@ -353,11 +320,11 @@ where
     }
 
     /// The controller (tests and host tools look inside).
-    pub fn controller(&self) -> &Controller<T, SiteSource<T>, D, S, N> {
+    pub fn controller(&self) -> &Controller<T, BoardSource<T>, D, S, N> {
         &self.controller
     }
     /// The controller, mutable (an operator's console).
-    pub fn controller_mut(&mut self) -> &mut Controller<T, SiteSource<T>, D, S, N> {
+    pub fn controller_mut(&mut self) -> &mut Controller<T, BoardSource<T>, D, S, N> {
         &mut self.controller
     }
     /// The log sink.
@@ -457,17 +424,12 @@ where
         // Time: logged when first trusted and when its source changes.
         if origin != self.time_origin {
             if let (Some(origin), Some(now)) = (origin, status.now) {
-                let source = match origin {
-                    TimeOrigin::Gps => TimeSource::Gps,
-                    TimeOrigin::Rtc => TimeSource::Rtc,
-                };
-                log::time(&mut self.log, source, &now);
+                log::time(&mut self.log, origin, &now);
             }
             self.time_origin = origin;
         }
         self.last_time = match (origin, status.now) {
-            (Some(TimeOrigin::Gps), Some(t)) => Some((t, TimeSource::Gps)),
-            (Some(TimeOrigin::Rtc), Some(t)) => Some((t, TimeSource::Rtc)),
+            (Some(origin), Some(t)) => Some((t, origin)),
             _ => None,
         };
         // Site: the GPS position when a fix gives one, else the stored one.
