@@ -168,6 +168,20 @@ for name, label, ram_fmt in [
         ),
         f"| {label} | {{flash}} ({{fb}}) | {ram_fmt} ({{rb}}) |",
     )
+    # The README's table of boards: the images a user flashes.
+    if name in ("avr_tracker", "avr_settings", "avr_mega_tracker", "blackpill_tracker", "qemu_tracker"):
+        figure(
+            f"readme.size.{name}",
+            "sizes",
+            regex_reader(
+                rf"^{name}\s.*\s(?P<flash>\d+)\s+(?P<fb>\d+)\s+(?P<ram>\d+)\s+(?P<rb>\d+)\s+ok\s*$",
+                flash=lambda s: thousands(int(s)),
+                fb=lambda s: thousands(int(s)),
+                ram=lambda s: thousands(int(s)),
+                rb=lambda s: thousands(int(s)),
+            ),
+            f"| `{name}` | {{flash}} ({{fb}}) / {ram_fmt} ({{rb}}) |",
+        )
 
 
 # --- cycles (.ci/avr_cycles.sh): the AVR table and QEMU's raw lines
