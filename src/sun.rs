@@ -5,9 +5,10 @@
 //! |---|---|---|
 //! | [`AlgorithmSource`] | any | fixed |
 //! | [`SharedSiteSource`] | any | in a shared [`Cell`], replaced by whoever owns it |
-//! | [`BoardSource`] | `psa-2020` (the firmware loop of every board) | replaced by the loop |
+//! | [`BoardSource`] | built in: `psa-2020` (the firmware loop of every board), `michalsky` (the Uno's servo tracker) | replaced by the loop |
 
 use core::cell::Cell;
+use core::marker::PhantomData;
 
 use sun_algos::{Algorithm, Error as SunError, Float, Options, Site, SunPosition, UtcTime};
 
@@ -61,37 +62,74 @@ impl<T: Float> PositionSource<T> for SharedSiteSource<'_, T> {
     }
 }
 
-/// The position source of the images: `psa-2020` (seed blanco-2020, valid
-/// 2020–2050) for a site the loop may replace.
-#[derive(Debug, Clone, Copy)]
-pub struct BoardSource<T> {
-    site: Site<T>,
-    options: Options<T>,
+/// A `sun_algos` algorithm chosen when the image is built, so that the
+/// image links that algorithm's code only (a runtime [`Algorithm`] links
+/// every one of them).
+pub trait BuiltInAlgorithm {
+    /// The algorithm.
+    const ALGORITHM: Algorithm;
 }
 
-impl<T: Float> BoardSource<T> {
+/// `psa-2020` (Blanco, Milidonis & Bonanos 2020, valid 2020–2050): the
+/// firmware loop of every board.
+#[derive(Debug, Clone, Copy)]
+pub struct Psa2020;
+
+impl BuiltInAlgorithm for Psa2020 {
+    const ALGORITHM: Algorithm = Algorithm::Psa2020;
+}
+
+/// `michalsky` (Michalsky 1988, the Astronomical Almanac's algorithm,
+/// 1950–2050): the Uno's servo tracker (Chowdhury et al. 2019 call it "AA").
+#[derive(Debug, Clone, Copy)]
+pub struct Michalsky;
+
+impl BuiltInAlgorithm for Michalsky {
+    const ALGORITHM: Algorithm = Algorithm::Michalsky;
+}
+
+/// The position source of the images: a built-in algorithm `A` with a
+/// fixed ΔT, for a site the loop may replace.
+#[derive(Debug, Clone, Copy)]
+pub struct BoardSource<T, A = Psa2020> {
+    site: Site<T>,
+    delta_t_s: T,
+    algorithm: PhantomData<A>,
+}
+
+impl<T: Float, A: BuiltInAlgorithm> BoardSource<T, A> {
     /// The source for `site` with ΔT `delta_t_s`.
     pub fn new(site: Site<T>, delta_t_s: f32) -> Self {
         BoardSource {
             site,
-            options: Options {
-                delta_t_s: Some(T::from_f32(delta_t_s)),
-                ..Options::default()
-            },
+            delta_t_s: T::from_f32(delta_t_s),
+            algorithm: PhantomData,
         }
     }
+
     /// Replaces the site.
     pub fn set_site(&mut self, site: Site<T>) {
         self.site = site;
     }
+
+    /// The topocentric sun at `time`.
+    #[inline(never)]
+    pub fn at(&self, time: &UtcTime) -> Result<SunPosition<T>, SunError> {
+        // Options built here with ΔT given: the ΔT model's code (taken
+        // when none is given) is not linked.
+        let options = Options {
+            delta_t_s: Some(self.delta_t_s),
+            ..Options::default()
+        };
+        A::ALGORITHM.position(time, &self.site, &options)
+    }
 }
 
-impl<T: Float> PositionSource<T> for BoardSource<T> {
+impl<T: Float, A: BuiltInAlgorithm> PositionSource<T> for BoardSource<T, A> {
     fn site(&self) -> Site<T> {
         self.site
     }
-    #[inline(never)]
     fn position(&mut self, time: &UtcTime) -> Result<SunPosition<T>, SunError> {
-        Algorithm::Psa2020.position(time, &self.site, &self.options)
+        self.at(time)
     }
 }

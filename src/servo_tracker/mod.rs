@@ -53,14 +53,15 @@ pub mod settings;
 use drivers::gps::GpsFix;
 use drivers::rtc::Clock as RtcDriver;
 use drivers::servo::{PositionController, ServoConfig};
-use sun_algos::{Algorithm, Error as SunError, Options, Site, SunPosition, UtcTime};
+use sun_algos::{Algorithm, Error as SunError, Site, UtcTime};
 
 use crate::config::AxisConfig;
 use crate::firmware::Motion;
 use crate::log::{self, Sink};
 use crate::motion::AxisDrive;
 use crate::panel::{self, DayEnergy};
-use crate::safety::{AxisId, Fault, Mode, Sensor};
+use crate::safety::{select_mode, AxisId, Fault, Mode, ModeInputs, Sensor};
+use crate::sun::{BoardSource, BuiltInAlgorithm, PositionSource};
 use crate::text::FlashStr;
 use crate::time::TimeOrigin;
 use crate::time::{TimeConfig, TimeKeeper};
@@ -148,12 +149,14 @@ pub const POSITION_LOOP: PositionController = PositionController {
     min_speed: 0.02,
 };
 
-/// The algorithm this build computes with: the seed's.
+/// The algorithm this build computes with: Chowdhury et al.'s (2019).
 #[cfg(not(feature = "psa2020"))]
-pub const ALGORITHM: Algorithm = Algorithm::Michalsky;
+pub type BuildAlgorithm = crate::sun::Michalsky;
 /// The algorithm this build computes with (feature `psa2020`).
 #[cfg(feature = "psa2020")]
-pub const ALGORITHM: Algorithm = Algorithm::Psa2020;
+pub type BuildAlgorithm = crate::sun::Psa2020;
+/// [`BuildAlgorithm`]'s algorithm.
+pub const ALGORITHM: Algorithm = <BuildAlgorithm as BuiltInAlgorithm>::ALGORITHM;
 /// [`ALGORITHM`]'s name (`Algorithm::name`), kept in flash on AVR.
 #[cfg(not(feature = "psa2020"))]
 pub const ALGORITHM_NAME: FlashStr = crate::flash_str!("michalsky");
@@ -161,62 +164,42 @@ pub const ALGORITHM_NAME: FlashStr = crate::flash_str!("michalsky");
 #[cfg(feature = "psa2020")]
 pub const ALGORITHM_NAME: FlashStr = crate::flash_str!("psa-2020");
 
-/// The sun at one site in `f32` with [`ALGORITHM`] and ΔT [`DELTA_T_S`].
-#[derive(Debug, Clone, Copy)]
-pub struct SunSource {
-    site: Site<f32>,
+/// The sun at one site in `f32` with [`ALGORITHM`] and ΔT [`DELTA_T_S`]:
+/// the source every board's loop uses.
+pub type SunSource = BoardSource<f32, BuildAlgorithm>;
+
+/// Local mean time's offset from UTC at `site`, ms: 240 s per degree east.
+fn offset_ms(site: &Site<f32>) -> i32 {
+    // |longitude| ≤ 180° (Site::new): at most 43,200,000 ms.
+    (site.longitude_deg() * 240_000.0) as i32
 }
 
-impl SunSource {
-    /// The source for `site`.
-    pub fn new(site: Site<f32>) -> Self {
-        SunSource { site }
-    }
+/// The local mean solar day at `site` that `time` falls in (days since
+/// 2000).
+pub fn solar_day(site: &Site<f32>, time: &UtcTime) -> i32 {
+    let local_ms = i64::from(time.ms_of_day()) + i64::from(offset_ms(site));
+    let shift = if local_ms < 0 {
+        -1
+    } else if local_ms >= i64::from(MS_PER_DAY) {
+        1
+    } else {
+        0
+    };
+    time.days_since_2000().saturating_add(shift)
+}
 
-    /// The topocentric sun at `time`.
-    #[inline(never)]
-    pub fn position(&self, time: &UtcTime) -> Result<SunPosition<f32>, SunError> {
-        // Built here, constant: the ΔT estimate's code (taken when no ΔT is
-        // given) is not linked.
-        let options = Options {
-            delta_t_s: Some(DELTA_T_S),
-            ..Options::default()
-        };
-        ALGORITHM.position(time, &self.site, &options)
-    }
-
-    /// Local mean time's offset from UTC, ms: 240 s per degree east.
-    fn offset_ms(&self) -> i32 {
-        // |longitude| ≤ 180° (Site::new): at most 43,200,000 ms.
-        (self.site.longitude_deg() * 240_000.0) as i32
-    }
-
-    /// The local mean solar day `time` falls in (days since 2000).
-    pub fn solar_day(&self, time: &UtcTime) -> i32 {
-        let local_ms = i64::from(time.ms_of_day()) + i64::from(self.offset_ms());
-        let shift = if local_ms < 0 {
-            -1
-        } else if local_ms >= i64::from(MS_PER_DAY) {
-            1
-        } else {
-            0
-        };
-        time.days_since_2000().saturating_add(shift)
-    }
-
-    /// Local mean noon of solar day `day`, UTC.
-    pub fn noon(&self, day: i32) -> Result<UtcTime, SunError> {
-        let ms = 43_200_000 - self.offset_ms();
-        // 43.2 M ± 43.2 M ms: within one day either side.
-        let (day, ms) = if ms < 0 {
-            (day.saturating_sub(1), ms + MS_PER_DAY as i32)
-        } else if ms >= MS_PER_DAY as i32 {
-            (day.saturating_add(1), ms - MS_PER_DAY as i32)
-        } else {
-            (day, ms)
-        };
-        UtcTime::from_days_ms(day, ms.unsigned_abs())
-    }
+/// Local mean noon at `site` of solar day `day`, UTC.
+pub fn noon(site: &Site<f32>, day: i32) -> Result<UtcTime, SunError> {
+    let ms = 43_200_000 - offset_ms(site);
+    // 43.2 M ± 43.2 M ms: within one day either side.
+    let (day, ms) = if ms < 0 {
+        (day.saturating_sub(1), ms + MS_PER_DAY as i32)
+    } else if ms >= MS_PER_DAY as i32 {
+        (day.saturating_add(1), ms - MS_PER_DAY as i32)
+    } else {
+        (day, ms)
+    };
+    UtcTime::from_days_ms(day, ms.unsigned_abs())
 }
 
 /// Which closed form of the level mount's pose serves the day (see the
@@ -503,7 +486,7 @@ impl<R: RtcDriver, D: AxisDrive + Motion> SeedTracker<R, D> {
         let [cc, ac] = configs;
         SeedTracker {
             time: TimeKeeper::new(rtc, TimeConfig::default()),
-            source: SunSource::new(site),
+            source: SunSource::new(site, DELTA_T_S),
             axes: [SeedAxis::new(c, cc), SeedAxis::new(a, ac)],
             energy: DayEnergy::new(),
             mode: None,
@@ -582,15 +565,17 @@ impl<R: RtcDriver, D: AxisDrive + Motion> SeedTracker<R, D> {
             }
         }
         let daylight = self.sun.filter(|_| time_fault.is_none());
-        let mode = if time_fault.is_some() {
-            Mode::WaitForTime
-        } else if daylight.is_none() {
-            Mode::Night
-        } else if homing {
-            Mode::Homing
-        } else {
-            Mode::Tracking
-        };
+        // The mode choice every board makes; this loop has no fault stop,
+        // wind, operator or manual inputs.
+        let mode = select_mode(&ModeInputs {
+            must_stop: false,
+            wind_stow: false,
+            command_stow: false,
+            manual: false,
+            time_unknown: time_fault.is_some(),
+            night: daylight.is_none(),
+            unhomed: homing,
+        });
         if self.mode != Some(mode) {
             mode_line(out, mode);
             self.mode = Some(mode);
@@ -636,14 +621,15 @@ impl<R: RtcDriver, D: AxisDrive + Motion> SeedTracker<R, D> {
         let Ok(start) = UtcTime::from_days_ms(slot.0, slot.1 * STEP_S * 1000) else {
             return Some(Fault::TimeOutOfRange);
         };
-        let day = self.source.solar_day(&start);
+        let site = self.source.site();
+        let day = solar_day(&site, &start);
         if self.branch.map(|(d, _)| d) != Some(day) {
-            if let Ok(sun) = self.source.noon(day).and_then(|t| self.source.position(&t)) {
+            if let Ok(sun) = noon(&site, day).and_then(|t| self.source.at(&t)) {
                 self.branch = Some((day, Branch::for_noon(sun.azimuth_deg)));
             }
         }
         let was_day = self.sun.is_some();
-        match self.source.position(&start) {
+        match self.source.at(&start) {
             Ok(sun) if sun.zenith_deg < 90.0 => {
                 if !was_day {
                     // Sunrise: a new day's area.
