@@ -15,7 +15,7 @@
 
 mod attitude;
 mod axis;
-mod clock;
+mod rtc;
 mod gps;
 mod servo_axis;
 
@@ -23,6 +23,6 @@ pub use attitude::{
     AccelTiltError, AxisAngles, EitherTilt, EitherTiltError, MountSensorError, MountSensorsHw,
 };
 pub use axis::{StepperAxis, StepperAxisError};
-pub use clock::{ClockError, RtcClock};
+pub use rtc::{ClockError, RtcClock};
 pub use gps::GpsPort;
 pub use servo_axis::{EncoderCount, ServoAxis, ServoAxisError};

@@ -65,7 +65,7 @@
 
 mod adc;
 mod anemometer;
-mod clock;
+mod millis;
 mod delay;
 pub mod eeprom;
 mod gpio;
@@ -82,7 +82,7 @@ pub use avr_device::atmega328p as chip;
 
 pub use adc::{Adc, AdcError, ADC_CHANNELS, ADC_MAX_CODE};
 pub use anemometer::{on_anemometer_edge, Anemometer, ExtInt};
-pub use clock::{millis, on_timer0_compare, sleep_until_interrupt, Millis, MS_PER_TICK};
+pub use millis::{millis, on_timer0_compare, sleep_until_interrupt, Millis, MS_PER_TICK};
 pub use delay::Delay;
 pub use gpio::{InputPin, OpenDrainPin, OutputPin, Port, PortInputPin, PortOutputPin};
 pub use pcint::{on_encoder_pin_change, EncoderPort, PinChangeEncoders};
