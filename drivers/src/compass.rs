@@ -5,7 +5,8 @@
 //! * [`calibration`]: hard- and soft-iron correction from a rotation sweep
 //!   (per-axis min/max: offset = centre, scale = mean radius / axis radius).
 //! * [`heading`]: tilt compensation from the mount tilts α₀, β₀ (roll and pitch) and the declination
-//!   correction, seed *portable-tracker-tilt-magnetic-compensation* Expressions (8)–(11).
+//!   correction, Expressions (8)–(11) of Choi et al., "Portable sun tracking
+//!   system with tilt and magnetic compensation".
 //! * [`wmm`]: a `no_std`, heap-free World Magnetic Model (WMM2025) giving the
 //!   declination for a GPS position and date.
 //!
@@ -23,7 +24,7 @@ mod wmm2025_coefficients;
 /// A three-axis vector in the sensor frame. The unit is whatever the producer
 /// says: gauss from [`Magnetometer::read_gauss`], raw counts elsewhere.
 ///
-/// For [`heading`] the axes are the tracker's (seed *portable-tracker*): at the
+/// For [`heading`] the axes are the tracker's (as in Choi et al.): at the
 /// home pose of a level mount x west, y south, z up.
 ///
 /// ```

@@ -1,5 +1,5 @@
 //! Quadrature encoder decoding (YMT22 class optical encoder, up to 300 pulses
-//! per revolution per channel, seed *chowdhury-2019*), ×4: one count per edge.
+//! per revolution per channel, Chowdhury et al. 2019), ×4: one count per edge.
 //!
 //! The two channels form a 2-bit Gray code `s = (A << 1) | B`. Forward (A leads
 //! B) runs `00 → 10 → 11 → 01 → 00`, backward the reverse. A transition table

@@ -1,4 +1,4 @@
-//! Continuous-rotation servo (FEETECH FS5106R class, seed *chowdhury-2019*)
+//! Continuous-rotation servo (FEETECH FS5106R class, Chowdhury et al. 2019)
 //! through `embedded_hal::pwm::SetDutyCycle`, and a closed-loop position
 //! controller fed by a quadrature encoder ([`crate::encoder`]).
 //!

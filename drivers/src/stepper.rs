@@ -1,7 +1,7 @@
 //! Stepper motors, non-blocking: one `poll(now_us)` per main-loop pass per axis.
 //!
 //! * [`hbridge`]: a bipolar stepper driven through an H-bridge from four
-//!   `OutputPin`s (seed *li-2022*: two bipolar steppers behind optocouplers
+//!   `OutputPin`s (Li et al. 2022: two bipolar steppers behind optocouplers
 //!   and an H-bridge). Wave, full-step and half-step sequences; coils released
 //!   when idle.
 //! * [`step_dir`]: STEP/DIR(/ENABLE) driver chips of the A4988 / DRV8825 class.

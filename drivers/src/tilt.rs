@@ -4,8 +4,9 @@
 //!   over RS-485 Modbus RTU ([`modbus`] is our own small master: function
 //!   0x03, CRC-16/MODBUS, timeouts, exceptions, DE pin);
 //! - [`Adxl345`]: accelerometer over I2C, the cheap alternative;
-//! - [`mount_tilt`]: the seed portable-tracker's Expressions (6)–(7), from the
-//!   two axis angles to the mount's α0, β0.
+//! - [`mount_tilt`]: Expressions (6)–(7) of Choi et al., "Portable sun
+//!   tracking system with tilt and magnetic compensation", from the two axis
+//!   angles to the mount's α0, β0.
 
 pub mod adxl345;
 pub mod modbus;

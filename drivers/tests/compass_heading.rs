@@ -1,8 +1,9 @@
-//! Tilt compensation (seed portable-tracker Expressions (8)–(11)) and min/max
-//! hard/soft-iron calibration, against an independent forward model: the test
-//! builds the sensor reading from a known mount attitude with its own rotation
-//! matrices, `h = Tᵀ·B` with `T = R_Z(γ₀)·R_X(α₀)·R_Y(β₀)` (seed Expression (12))
-//! and the earth field `B` in the horizontal frame (X west, Y south, Z up):
+//! Tilt compensation (Choi et al., "Portable sun tracking system with tilt and
+//! magnetic compensation", Expressions (8)–(11)) and min/max hard/soft-iron
+//! calibration, against an independent forward model: the test builds the
+//! sensor reading from a known mount attitude with its own rotation matrices,
+//! `h = Tᵀ·B` with `T = R_Z(γ₀)·R_X(α₀)·R_Y(β₀)` (the paper's Expression
+//! (12)) and the earth field `B` in the horizontal frame (X west, Y south, Z up):
 //! north component H·cos D, east H·sin D, down H·tan I  ->  B = (−H sin D, −H cos D, −H tan I).
 
 use drivers::compass::calibration::{Calibration, CalibrationError, CalibrationSweep};
@@ -107,7 +108,7 @@ fn declination_gives_true_heading() {
     let d = WmmModel::wmm2025()
         .declination_deg(39.1, 117.2, 0.0, 2026.5)
         .unwrap();
-    assert!(d < -6.0 && d > -9.0, "Tianjin declination {d}"); // seed: 6-8 deg west in Korea
+    assert!(d < -6.0 && d > -9.0, "Tianjin declination {d}"); // the paper: 6-8 deg west in Korea
     let mut worst = 0.0f32;
     for gamma0 in (-180..180).step_by(20) {
         let h = v(sensor(gamma0 as f64, 10.0, -5.0, 30.0, 58.0, d));

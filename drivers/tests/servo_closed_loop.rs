@@ -1,5 +1,5 @@
 //! Closed-loop position control on a simulated FS5106R + YMT22 plant
-//! (seed chowdhury-2019: 95 rpm at 6 V, encoder up to 300 pulses/rev).
+//! (Chowdhury et al. 2019: 95 rpm at 6 V, encoder up to 300 pulses/rev).
 //!
 //! Plant (written here, independent of the driver): the servo reads the pulse
 //! width back from the PWM duty; a neutral deadband of ±20 µs around its own

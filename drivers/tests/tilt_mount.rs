@@ -1,7 +1,8 @@
-//! Seed portable-tracker Expressions (6)–(7) (see drivers/src/tilt/mount.rs
-//! for the reconstruction, T = Rz(γ0)·Rx(α0)·Ry(β0) as in the tracker's
-//! attitude module). Numbers from the seed's Table IV: Case 1 is the level
-//! mount (α0 = β0 = 0), Case 2 has α0 = 35.26°, β0 = 30°. By hand (checked
+//! Expressions (6)–(7) of Choi et al., "Portable sun tracking system with
+//! tilt and magnetic compensation" (see drivers/src/tilt/mount.rs for the
+//! reconstruction, T = Rz(γ0)·Rx(α0)·Ry(β0) as in the tracker's attitude
+//! module). Numbers from the paper's Table IV: Case 1 is the level mount
+//! (α0 = β0 = 0), Case 2 has α0 = 35.26°, β0 = 30°. By hand (checked
 //! with Python's math module), Case 2 gives cos θy = sin 35.26° = 0.577288
 //! (θy = 54.740°) and cos θx = −cos 35.26° · sin 30° = −0.408270
 //! (θx = 114.096°).
@@ -14,13 +15,13 @@ use drivers::tilt::{
 use drivers::tilt::{axis_angles_from_inclination, Inclination};
 
 #[test]
-fn seed_case_1_level() {
+fn table_iv_case_1_level() {
     let t = mount_tilt(90.0, 90.0).unwrap();
     assert!(t.alpha0_deg.abs() < 1e-5 && t.beta0_deg.abs() < 1e-5);
 }
 
 #[test]
-fn seed_case_2() {
+fn table_iv_case_2() {
     let t = mount_tilt(114.096, 54.740).unwrap();
     assert!((t.alpha0_deg - 35.26).abs() < 0.01, "{t:?}");
     assert!((t.beta0_deg - 30.0).abs() < 0.01, "{t:?}");

@@ -34,7 +34,7 @@ use crate::time::UtcTime;
 #[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
 pub enum Algorithm {
-    /// PSA, Blanco-Muriel et al. 2001 (seed li-2022 Table 2, left column).
+    /// PSA, Blanco-Muriel et al. 2001 (Li et al. 2022, Table 2, left column).
     ///
     /// ```
     /// use sun_algos::{Algorithm, Options, Site, SunPosition, UtcTime};
@@ -48,7 +48,7 @@ pub enum Algorithm {
     /// let opts = Options { delta_t_s: Some(64.886), ..Options::default() };
     /// let truth = SunPosition::new(47.2182225, 149.2139858, false);
     /// let p = Algorithm::Psa2001.position(&t, &site, &opts)?;
-    /// // PSA's declared maximum error: 0.5 arc minute, 0.008° (seed li-2022,
+    /// // PSA's declared maximum error: 0.5 arc minute, 0.008° (Li et al. 2022,
     /// // after Blanco-Muriel et al. 2001 and Grena 2012).
     /// assert!(p.angular_distance_deg(&truth) < 0.008);
     /// # Ok::<(), sun_algos::Error>(())
@@ -76,7 +76,7 @@ pub enum Algorithm {
     /// ```
     #[cfg_attr(feature = "serde", serde(rename = "psa-2020"))]
     Psa2020,
-    /// Modified PSA of seed li-2022 (corrected Table 1, parallax, refraction).
+    /// Modified PSA of Li et al. 2022 (corrected Table 1, parallax, refraction).
     ///
     /// ```
     /// use sun_algos::{Algorithm, Options, Site, SunPosition, UtcTime};
@@ -97,7 +97,7 @@ pub enum Algorithm {
     /// ```
     #[cfg_attr(feature = "serde", serde(rename = "psa-modified"))]
     PsaModified,
-    /// Seed li-2022's Table 1 exactly as printed (documented, not a default).
+    /// Table 1 of Li et al. 2022 exactly as printed (documented, not a default).
     ///
     /// ```
     /// use sun_algos::{Algorithm, Options, Site, SunPosition, UtcTime};
@@ -153,7 +153,7 @@ pub enum Algorithm {
     /// let opts = Options { delta_t_s: Some(64.757), ..Options::default() };
     /// let truth = SunPosition::new(18.5379338, 230.6523814, false);
     /// let p = Algorithm::Grena2008.position(&t, &site, &opts)?;
-    /// // ENEA's declared maximum error: 0.0027° over 2003–2023 (seed li-2022,
+    /// // ENEA's declared maximum error: 0.0027° over 2003–2023 (Li et al. 2022,
     /// // after Grena 2012).
     /// assert!(p.angular_distance_deg(&truth) < 0.0027);
     /// # Ok::<(), sun_algos::Error>(())
@@ -391,7 +391,7 @@ impl Algorithm {
     /// ```
     pub const fn validity_years(self) -> (i32, i32) {
         match self {
-            // Stated 1999–2015 by its authors; seed li-2022 and the
+            // Stated 1999–2015 by its authors; Li et al. (2022) and the
             // reference data show it usable with slowly growing error later.
             Algorithm::Psa2001 => (1999, 2022),
             Algorithm::Psa2020 | Algorithm::PsaModified | Algorithm::PsaModifiedAsPrinted => {

@@ -5,7 +5,7 @@
 //! approximate solar position (1950–2050)", Solar Energy 40(3) 227–235,
 //! 1988; errata Solar Energy 41(1) 113 (1988) and 43(5) 323 (1989);
 //! J. W. Spencer, "Comments on …", Solar Energy 42(4) 353 (1989).
-//! Called "AA" in seed chowdhury-2019.
+//! Called "AA" by Chowdhury et al. (2019).
 //!
 //! With `n` the days since JD 2451545.0 and `h` the UT hour (degrees):
 //! mean longitude `L = 280.460 + 0.9856474·n`, mean anomaly

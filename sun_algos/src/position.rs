@@ -76,8 +76,8 @@ impl<T: Float> SunPosition<T> {
     }
 
     /// Azimuth measured from south, positive toward west, in `(−180, 180]`:
-    /// the convention of seed jimoh-2019 (solar azimuth γs zero due south,
-    /// negative before noon, positive after).
+    /// the convention of Jimoh & Aliyu (2019): solar azimuth γs zero due
+    /// south, negative before noon, positive after.
     ///
     /// ```
     /// use sun_algos::SunPosition;
@@ -86,7 +86,7 @@ impl<T: Float> SunPosition<T> {
     /// // topocentric astronomers' azimuth Γ = 14.340241° west of south (eq. 45).
     /// let p = SunPosition::new(50.111_622f64, 194.340_241, true);
     /// assert!((p.azimuth_from_south_deg() - 14.340_241).abs() < 1e-9);
-    /// // Morning sun in the east: negative (seed jimoh-2019's convention).
+    /// // Morning sun in the east: negative (the convention of Jimoh & Aliyu).
     /// assert_eq!(SunPosition::new(60.0f64, 90.0, false).azimuth_from_south_deg(), -90.0);
     /// ```
     pub fn azimuth_from_south_deg(&self) -> T {

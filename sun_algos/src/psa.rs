@@ -4,13 +4,13 @@
 //! Sources:
 //! - Blanco-Muriel, Alarcón-Padilla, López-Moratalla & Lara-Coira 2001,
 //!   "Computing the solar vector", Solar Energy 70(5) 431–441 (the
-//!   algorithm; its coefficients are printed again in seed li-2022,
-//!   Table 2, left column);
+//!   algorithm; its coefficients are printed again in Li et al.
+//!   2022, Table 2, left column);
 //! - Blanco, Milidonis & Bonanos 2020, "Updating the PSA sun position
 //!   algorithm", Solar Energy 212 339–341 ("PSA+": the same 15-coefficient
 //!   form refitted for 2020–2050);
 //! - Li, Wang & Munochiveyi 2022, "Experimental verification of the
-//!   modified PSA algorithm", IEEE Access (seed li-2022): Table 1, eqs. 2–17.
+//!   modified PSA algorithm", IEEE Access: Table 1, eqs. 2–17.
 //!
 //! The algorithm, with `n` the days since JD 2451545.0 and `h` the UT hour:
 //! node `Ω = p0 + p1·n`, mean longitude `L = p2 + p3·n`, mean anomaly
@@ -80,14 +80,14 @@ use crate::time::UtcTime;
 #[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
 pub enum Variant {
-    /// Blanco-Muriel et al. 2001, stated for 1999–2015 (seed li-2022 Table 2,
+    /// Blanco-Muriel et al. 2001, stated for 1999–2015 (Li et al. 2022, Table 2,
     /// left column, with the nutation/aberration terms in `sin Ω`/`cos Ω` of
-    /// the original paper, where `Ω = 2.1429 − 0.0010394594·n`; the seed
-    /// prints `sin(g)`/`cos(g)` there).
+    /// the original paper, where `Ω = 2.1429 − 0.0010394594·n`; Li et al.
+    /// print `sin(g)`/`cos(g)` there).
     Psa2001,
     /// "PSA+", Blanco, Milidonis & Bonanos 2020, stated for 2020–2050.
     Psa2020,
-    /// The modified PSA of seed li-2022 with its printing errors corrected:
+    /// The modified PSA of Li et al. 2022 with its printing errors corrected:
     /// `E1 = 0.033423055`; sidereal time `G1 + G2·n + G3·h` read as the
     /// complete IAU 1982 formula its `G3 = 1.00273790935` comes from
     /// (`G1 = 6.697374558`, `G2 = 24·(G3 − 1)`, `n` at 0 h UT; the printed
@@ -113,8 +113,8 @@ pub enum Variant {
     /// - eq. 10 with PSA 2001's sidereal constants (`G1 = 6.6974243242`,
     ///   `G2 = 0.0657098283`, hour factor 1): 0.0094° (file), 0.0100° (dense);
     ///   the IAU 1982 constant with the printed `G2`: 0.0088° / 0.0093°;
-    /// - `cos Ω` (2001 node) for eq. 6's `cos g`, as in PSA 2001 (the seed
-    ///   prints `g` for `Ω` in its 2001 column too): no change of the max.
+    /// - `cos Ω` (2001 node) for eq. 6's `cos g`, as in PSA 2001 (Li et al.
+    ///   print `g` for `Ω` in their 2001 column too): no change of the max.
     ///
     /// What limits it (diagnostic: one physical term of Meeus, Astronomical
     /// Algorithms ch. 22/25, added to this model; dense maxima):
@@ -136,7 +136,7 @@ pub enum Variant {
     /// block: 2020 0.0093°, 2025 0.0093°, 2030 0.0080°, 2035 0.0087°, 2040
     /// 0.0086°, 2045 0.0100°, 2050 0.0095°.
     Modified,
-    /// Seed li-2022's Table 1 and eqs. 10, 15–17 exactly as printed:
+    /// Table 1 and eqs. 10, 15–17 of Li et al. 2022 exactly as printed:
     /// `E1 = 0.33423055`, `gmst = 6.6208844 + G2·n + G3·h` with `n` at the
     /// instant, parallax `−4.26e−5·cos(h)`, refraction with the pressure in
     /// millibars and the zenith angle as argument. Kept so the paper can be
@@ -179,7 +179,7 @@ pub const ASTRONOMICAL_UNIT_KM: f64 = 149_597_890.0;
 /// ```
 pub const PARALLAX_RAD: f64 = EARTH_MEAN_RADIUS_KM / ASTRONOMICAL_UNIT_KM;
 
-/// The 15 coefficients of PSA plus the few switches the li-2022 variants need.
+/// The 15 coefficients of PSA plus the few switches the variants of Li et al. 2022 need.
 struct Coefficients {
     /// `Ω = node[0] + node[1]·n` (rad).
     node: [f64; 2],
@@ -196,17 +196,17 @@ struct Coefficients {
     /// `sin obliquity[0]` and `cos obliquity[0]` (Python `math.sin`/`math.cos`
     /// in f64; checked against libm by a test).
     obliquity0_sin_cos: [f64; 2],
-    /// li-2022 eq. 6 takes `cos g` where PSA takes `cos Ω`.
+    /// Eq. 6 of Li et al. 2022 takes `cos g` where PSA takes `cos Ω`.
     obliquity_cos_of_anomaly: bool,
     /// `gmst = gmst_h[0] + gmst_h[1]·n + hour_factor·h` (hours).
     gmst_h: [f64; 2],
-    /// 1 for PSA; li-2022's `G3` in the printed set.
+    /// 1 for PSA; the `G3` of Li et al. 2022 in the printed set.
     hour_factor: f64,
-    /// Sign of the parallax term (−1 only as printed in li-2022 eq. 15).
+    /// Sign of the parallax term (−1 only as printed in Li et al. 2022, eq. 15).
     parallax_sign: f64,
 }
 
-/// Blanco-Muriel et al. 2001 (seed li-2022 Table 2, left column).
+/// Blanco-Muriel et al. 2001 (Li et al. 2022, Table 2, left column).
 const PSA_2001: Coefficients = Coefficients {
     node: [2.1429, -0.001_039_459_4],
     mean_longitude: [4.895_063_0, 0.017_202_791_698],
@@ -236,7 +236,7 @@ const PSA_2020: Coefficients = Coefficients {
     parallax_sign: 1.0,
 };
 
-/// Seed li-2022 Table 1, corrected (see [`Variant::Modified`]).
+/// Li et al. 2022, Table 1, corrected (see [`Variant::Modified`]).
 const MODIFIED: Coefficients = Coefficients {
     node: [0.0, 0.0],
     mean_longitude: [4.894_932_9, 0.017_202_791_698],
@@ -246,7 +246,8 @@ const MODIFIED: Coefficients = Coefficients {
     obliquity: [0.409_092_8, -6.2140e-9, 0.000_039_6],
     obliquity0_sin_cos: [0.397_777_152_058_002_6, 0.917_482_063_748_727_9],
     obliquity_cos_of_anomaly: true,
-    // IAU 1982 GMST, whose hour factor is li-2022's G3 = 1.00273790935:
+    // IAU 1982 GMST, whose hour factor is the G3 = 1.00273790935 of
+    // Li et al. 2022:
     // 6.697374558 h + G2·n₀ + G3·h with G2 = 24·(G3 − 1) and n₀ at 0 h UT,
     // which is this structure's `G1 + G2·n + h` with n at the instant.
     gmst_h: [6.697_374_558, 0.065_709_824_4],
@@ -254,7 +255,7 @@ const MODIFIED: Coefficients = Coefficients {
     parallax_sign: 1.0,
 };
 
-/// Seed li-2022 Table 1 as printed (see [`Variant::ModifiedAsPrinted`]).
+/// Li et al. 2022, Table 1, as printed (see [`Variant::ModifiedAsPrinted`]).
 const MODIFIED_AS_PRINTED: Coefficients = Coefficients {
     centre: [0.334_230_55, 0.000_349_06],
     gmst_h: [6.620_884_4, 0.065_709_828_3],
@@ -293,7 +294,7 @@ pub(crate) fn turns_to_rad<T: Float>(turns: T) -> T {
 /// angle, given as `sin δ`, `cos δ·cos H` and `cos δ·sin H`.
 ///
 /// The standard spherical-astronomy relations (e.g. Blanco-Muriel et al.
-/// 2001 eqs. for θz and γ; seed li-2022 eqs. 13–14) written for the unit
+/// 2001 eqs. for θz and γ; Li et al. 2022, eqs. 13–14) written for the unit
 /// vector: east `= −cos δ sin H`, north `= sin δ cos φ − cos δ cos H sin φ`,
 /// up `= sin δ sin φ + cos δ cos H cos φ`; zenith `= atan2(√(e²+n²), up)`,
 /// azimuth `= atan2(e, n)` east of north. Returns `(zenith, azimuth,
@@ -368,7 +369,7 @@ fn position_with<T: Float>(inp: &Inputs<'_, T>, v: Variant, c: &Coefficients) ->
     // n = days + frac, with frac = (hour / 24) − 0.5 in [−0.5, 0.5).
     let n = T::from_i32(days) + frac;
 
-    // Ecliptic coordinates (Blanco-Muriel et al. 2001; li-2022 eqs. 3–6).
+    // Ecliptic coordinates (Blanco-Muriel et al. 2001; Li et al. 2022, eqs. 3–6).
     let node = T::from_f64(c.node[0]) + T::from_f64(c.node[1]) * n;
     let mean_longitude = daily_angle(c.mean_longitude, days, frac);
     let mean_anomaly = daily_angle(c.mean_anomaly, days, frac);
@@ -389,13 +390,14 @@ fn position_with<T: Float>(inp: &Inputs<'_, T>, v: Variant, c: &Coefficients) ->
     let (sin_eps, cos_eps) = obliquity_sin_cos(c, obliquity_change);
 
     // Equatorial unit vector: cos δ cos α = cos l, cos δ sin α = cos ε sin l,
-    // sin δ = sin ε sin l (2001 paper; li-2022 eqs. 7–8 without forming α).
+    // sin δ = sin ε sin l (2001 paper; Li et al. 2022, eqs. 7–8, without
+    // forming α).
     let (sin_l, cos_l) = ecliptic_longitude.sin_cos();
     let x = cos_l;
     let y = cos_eps * sin_l;
     let sin_dec = sin_eps * sin_l;
 
-    // Local mean sidereal time (li-2022 eqs. 9–10): in turns, whole days
+    // Local mean sidereal time (Li et al. 2022, eqs. 9–10): in turns, whole days
     // exactly, then the part of the day and the longitude.
     let gmst_rate = c.gmst_h[1] / 24.0;
     let gmst_turns = T::from_f64(c.gmst_h[0] / 24.0)
@@ -409,7 +411,8 @@ fn position_with<T: Float>(inp: &Inputs<'_, T>, v: Variant, c: &Coefficients) ->
     let cos_dec_sin_h = x * sin_t - y * cos_t;
 
     let (zenith, azimuth, sin_zenith) = horizontal(sin_dec, cos_dec_cos_h, cos_dec_sin_h, inp.site);
-    // Parallax (2001 paper; li-2022 eqs. 15–16, sign corrected unless printed).
+    // Parallax (2001 paper; Li et al. 2022, eqs. 15–16, sign corrected
+    // unless printed).
     let zenith = zenith + T::from_f64(c.parallax_sign * PARALLAX_RAD) * sin_zenith;
 
     let geometric = SunPosition::new(zenith.to_degrees(), azimuth.to_degrees(), false);
@@ -477,7 +480,7 @@ fn fixed(turns_per_day: f64) -> u64 {
     turns_per_day_fixed(turns_per_day)
 }
 
-/// Refraction of seed li-2022 eq. 17 in radians, to subtract from the
+/// Refraction of Li et al. 2022, eq. 17, in radians, to subtract from the
 /// zenith angle.
 ///
 /// Corrected: `R = I1·P / ((273 + T)·tan(e + I2 / (e + I3)))` with `P` in

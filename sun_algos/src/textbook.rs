@@ -1,25 +1,26 @@
 //! The textbook method: Cooper's declination, Spencer's equation of time and
 //! the hour angle from solar time, as in the tracker papers.
 //!
-//! Sources: seed jimoh-2019 eqs. 2–7 (after Duffie & Beckman; Spencer 1971,
-//! "Fourier series representation of the position of the sun"), seed
-//! dahli-2023 eqs. 1–7.
+//! Sources: Jimoh & Aliyu (2019), eqs. 2–7 (after Duffie & Beckman; Spencer
+//! 1971, "Fourier series representation of the position of the sun"), and
+//! Dahli & Cheggaga (2023), eqs. 1–7.
 //!
-//! - Declination (Cooper 1969; jimoh-2019 eq. 2):
+//! - Declination (Cooper 1969; Jimoh & Aliyu 2019, eq. 2):
 //!   `δ = 23.45° · sin(360°/365 · (284 + n))`, `n` the day of the year
-//!   (1 on 1 January). Jimoh prints 365.25 in the ratio; Cooper's original
-//!   and dahli-2023 eq. 4 use 365, which we follow.
-//! - Equation of time (Spencer 1971; jimoh-2019 eqs. 5–6), minutes:
+//!   (1 on 1 January). Jimoh & Aliyu print 365.25 in the ratio; Cooper's
+//!   original and Dahli & Cheggaga's eq. 4 use 365, which we follow.
+//! - Equation of time (Spencer 1971; Jimoh & Aliyu 2019, eqs. 5–6),
+//!   minutes:
 //!   `E = 229.2·(0.000075 + 0.001868 cos B − 0.032077 sin B − 0.014615 cos 2B
 //!   − 0.04089 sin 2B)`, `B = 360°·(n − 1)/365`.
-//! - Solar time (jimoh-2019 eq. 4 with UTC as the standard time of
-//!   longitude 0): `ST = UTC + lon/15° + E/60` hours; hour angle
+//! - Solar time (Jimoh & Aliyu 2019, eq. 4, with UTC as the standard time
+//!   of longitude 0): `ST = UTC + lon/15° + E/60` hours; hour angle
 //!   `ω = 15°·(ST − 12)` (eq. 3).
 //! - Zenith `cos θz = sin δ sin φ + cos δ cos φ cos ω` (eq. 7); azimuth from
 //!   eq. 8 with the sign of ω, computed as in [`crate::psa`]'s `horizontal`
 //!   (same result, no sign ambiguity).
 //!
-//! `n` is the whole day number, as in the seeds, so the declination steps
+//! `n` is the whole day number, as in the papers, so the declination steps
 //! once a day. Accuracy: about 1° (max 1.38°, mean 0.44° on sun_2020_2050;
 //! see `tests/reference.rs`) — enough for a coarse tracker, far from the
 //! others. No parallax, no ΔT. Refraction, when asked for, is
@@ -44,7 +45,7 @@ use crate::float::Float;
 use crate::position::SunPosition;
 use crate::psa::horizontal;
 
-/// Cooper's declination in degrees for day of year `n` (jimoh-2019 eq. 2).
+/// Cooper's declination in degrees for day of year `n` (Jimoh & Aliyu 2019, eq. 2).
 ///
 /// ```
 /// use sun_algos::textbook::declination_deg;
@@ -61,8 +62,8 @@ pub fn declination_deg<T: Float>(day_of_year: u16) -> T {
     T::from_f64(23.45) * arg.sin()
 }
 
-/// Spencer's equation of time in minutes for day of year `n` (jimoh-2019
-/// eqs. 5–6; positive when the sundial is ahead of mean time).
+/// Spencer's equation of time in minutes for day of year `n` (Jimoh & Aliyu
+/// 2019, eqs. 5–6; positive when the sundial is ahead of mean time).
 ///
 /// ```
 /// use sun_algos::textbook::equation_of_time_min;

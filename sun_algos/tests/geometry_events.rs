@@ -1,6 +1,6 @@
-//! Events: the seed's simple model (eq 9–12) and the precise finder, and
-//! the property that neither (nor the day table) panics or gives NaN at any
-//! latitude and date.
+//! Events: the simple model of Jimoh & Aliyu (2019, eq 9–12) and the precise
+//! finder, and the property that neither (nor the day table) panics or gives
+//! NaN at any latitude and date.
 
 use sun_algos::geometry::day_table::{capacity_for_interval, DayTable};
 use sun_algos::geometry::events::{find, simple, solar_day_start, DayKind};
@@ -101,8 +101,9 @@ fn simple_events_never_nan_any_latitude_any_day() {
 #[test]
 fn events_and_day_table_never_panic_nor_nan_1950_2100() {
     // Every latitude −90…90 in 2° steps (and ±89.99, ±66.56, ±1), one date per year
-    // 1950–2100 at a pseudo-random day, f64 and f32; positions from the
-    // seed's model so the property is about our code, not an algorithm's.
+    // 1950–2100 at a pseudo-random day, f64 and f32; positions from
+    // Jimoh & Aliyu's model so the property is about our code, not an
+    // algorithm's.
     let mut rng = Rng(0x9E37_79B9_7F4A_7C15);
     let mut lats: Vec<f64> = (-45..=45).map(|l| f64::from(2 * l)).collect();
     lats.extend([-89.99, 89.99, 66.56, -66.56, 1.0, -1.0]);

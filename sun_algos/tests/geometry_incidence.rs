@@ -3,10 +3,10 @@
 //!
 //! Each form is evaluated here as printed, from latitude φ, declination δ,
 //! hour angle ω, slope β and surface azimuth γ (from south, west positive):
-//! seed jimoh-2019 eq (1), its reduced form eq (13) with c1–c3, and seed
-//! dahli-2023 eq (8). The implementation receives the sun's direction from
-//! the seed's eq (7)/(8b) and the surface in the crate's north-referenced
-//! convention, so the test also pins the conventions.
+//! Jimoh & Aliyu (2019), eq (1), its reduced form eq (13) with c1–c3, and
+//! Dahli & Cheggaga (2023), eq (8). The implementation receives the sun's
+//! direction from Jimoh & Aliyu's eq (7)/(8b) and the surface in the crate's
+//! north-referenced convention, so the test also pins the conventions.
 
 use sun_algos::geometry::incidence::{cos_incidence, incidence_deg, Surface};
 use sun_algos::geometry::optimum::eq14_slope_deg;
@@ -30,7 +30,7 @@ fn rad(d: f64) -> f64 {
     d.to_radians()
 }
 
-/// Seed jimoh-2019 eq (1) as printed.
+/// Jimoh & Aliyu (2019), eq (1), as printed.
 fn jimoh_eq1(phi: f64, delta: f64, omega: f64, beta: f64, gamma: f64) -> f64 {
     let (sp, cp) = rad(phi).sin_cos();
     let (sd, cd) = rad(delta).sin_cos();
@@ -41,7 +41,7 @@ fn jimoh_eq1(phi: f64, delta: f64, omega: f64, beta: f64, gamma: f64) -> f64 {
         - sd * cp * sb * cg
 }
 
-/// Seed jimoh-2019 eq (13) with its c1, c2, c3.
+/// Jimoh & Aliyu (2019), eq (13), with its c1, c2, c3.
 fn jimoh_eq13(phi: f64, delta: f64, omega: f64, beta: f64, gamma: f64) -> f64 {
     let (sp, cp) = rad(phi).sin_cos();
     let (sd, cd) = rad(delta).sin_cos();
@@ -54,8 +54,8 @@ fn jimoh_eq13(phi: f64, delta: f64, omega: f64, beta: f64, gamma: f64) -> f64 {
     c1 * cb + c2 * sb * cg + c3 * sb * sg
 }
 
-/// Seed dahli-2023 eq (8) as printed (L latitude, h hour angle, Z_s the
-/// surface azimuth).
+/// Dahli & Cheggaga (2023), eq (8), as printed (L latitude, h hour angle,
+/// Z_s the surface azimuth).
 fn dahli_eq8(l: f64, delta: f64, h: f64, beta: f64, zs: f64) -> f64 {
     let (sl, cl) = rad(l).sin_cos();
     let (sd, cd) = rad(delta).sin_cos();

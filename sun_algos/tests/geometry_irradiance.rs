@@ -1,5 +1,5 @@
 //! Irradiance and daily energy: the integration against a closed form, and
-//! the dual-axis gain of seed chowdhury-2019's Doha site.
+//! the dual-axis gain at the Doha site of Chowdhury et al. (2019).
 
 use sun_algos::geometry::events::solar_day_start;
 use sun_algos::geometry::incidence::Surface;
@@ -14,8 +14,8 @@ use sun_algos::{Algorithm, Options, Site};
 fn trapezoid_matches_daily_extraterrestrial_closed_form() {
     // Duffie & Beckman eq 1.10.3: H0 = (24/π) G_on (cos φ cos δ sin ω_s +
     // (π ω_s/180) sin φ sin δ) Wh/m² on a horizontal plane. Integrating
-    // G_on cos θz of the same sun (seed model: δ fixed over the UT day) by
-    // the trapezoid rule at 1 min must agree within 0.05 %.
+    // G_on cos θz of the same sun (Jimoh & Aliyu's model: δ fixed over the
+    // UT day) by the trapezoid rule at 1 min must agree within 0.05 %.
     let (lat, lon) = (25.37463f64, 0.0f64);
     let start = sun_algos::UtcTime::from_ymd_hms(2016, 3, 21, 0, 0, 0).unwrap();
     let n = start.day_of_year();
@@ -69,14 +69,14 @@ fn dual_axis_beam_is_never_beaten() {
 const PVLIB: &str = include_str!("data/doha_clear_sky_energy_pvlib.csv");
 
 #[test]
-fn doha_gain_on_the_seeds_simulation_days() {
-    // Seed chowdhury-2019 measured +13.9 % (open-circuit voltage-hours, a
+fn doha_gain_on_the_papers_simulation_days() {
+    // Chowdhury et al. (2019) measured +13.9 % (open-circuit voltage-hours, a
     // cloudy-intermittent day, panel fixed at 81° to the zenith) for its
     // dual-axis tracker over the fixed panel in Doha. Our model is a
     // different quantity: the gain is the ratio of clear-sky plane-of-array
     // energies over the 24 h from local mean midnight (ASHRAE clear day,
     // isotropic sky, albedo 0.2), dual axis over a latitude-tilt fixed panel
-    // and over a horizontal north–south single axis, on the seed's three
+    // and over a horizontal north–south single axis, on the paper's three
     // simulation days of 2016. Each energy must match the independent pvlib
     // computation to 1e-6 relative and each gain to 0.0001 percentage point;
     // the old 10–80 % (fixed) and 0–40 % (single) bands let through e.g. a

@@ -1,18 +1,18 @@
-//! Seed jimoh-2019's Kano example, 19 October 2018 (11.9683° N, 8.4261° E).
+//! The Kano example of Jimoh & Aliyu (2019), 19 October 2018 (11.9683° N, 8.4261° E).
 //!
-//! Expected values are a hand calculation of the seed's own equations
+//! Expected values are a hand calculation of the paper's own equations
 //! (Python, double precision): n = 292, eq (2) δ = 23.45 sin(360/365.25 ×
 //! 576) = −10.908°; eq (3) ω = ∓30° at 10:00/14:00 solar time; eq (7)
 //! θz = 37.566°; eq (8a) |γs| = 53.638°, signed like ω. The optimum set-point
 //! is β = θz, γ = γs (eq 14).
 //!
-//! The seed's Fig. 7 reads about β 55°, γ −40° at 10:00 and β 45°, γ 40° at
+//! The paper's Fig. 7 reads about β 55°, γ −40° at 10:00 and β 45°, γ 40° at
 //! 14:00, and β ≈ 0°, γ 35° at 12:00. Those readings cannot come from its
 //! own eq (7): at solar noon θz = |φ − δ| = 22.876°, not 0°, and the
 //! morning/afternoon values must be mirror images (ω = ∓30° gives the same
 //! θz and opposite γs), which 55°/45° are not. Our figures agree with the
-//! seed's Fig. 6 instead (tested below). The precise algorithms
-//! (`geometry_kano_algorithms.rs`) give β 37.04°, γ ∓54.8°: the seed's
+//! paper's Fig. 6 instead (tested below). The precise algorithms
+//! (`geometry_kano_algorithms.rs`) give β 37.04°, γ ∓54.8°: the paper's
 //! eq (2) declination (−10.91°) is ~0.9° off SPA's. What agrees with Fig. 7: the sign
 //! convention (γ negative east of south in the morning, positive after
 //! noon) and the shape of the curves.
@@ -50,7 +50,7 @@ fn set_points_at_ten_and_fourteen_solar_time() {
     assert!((g10 + 53.638).abs() < 0.001, "{g10}");
     assert!((b14 - 37.566).abs() < 0.001, "{b14}");
     assert!((g14 - 53.638).abs() < 0.001, "{g14}");
-    // The seed's sign convention (Fig. 7): negative before noon.
+    // The paper's sign convention (Fig. 7): negative before noon.
     assert!(g10 < 0.0 && g14 > 0.0);
     // Noon: β = |φ − δ| (eq 7 with ω = 0).
     assert!((b12 - 22.876).abs() < 0.001, "{b12}");

@@ -1,5 +1,5 @@
-//! Seed jimoh-2019's Kano day (2018-10-19, 11.9683° N, 8.4261° E) with the
-//! precise algorithms: set-points, events and the day table.
+//! The Kano day of Jimoh & Aliyu (2019), 2018-10-19 at 11.9683° N, 8.4261° E,
+//! with the precise algorithms: set-points, events and the day table.
 
 use sun_algos::geometry::day_table::{capacity_for_interval, DayTable};
 use sun_algos::geometry::events::{self, DayKind};
@@ -45,15 +45,15 @@ fn set_points_at_ten_and_fourteen_apparent_solar_time() {
                 "{alg:?} {s:?} {spa:?}"
             );
         }
-        // SPA vs the seed's simple model (β 37.566°, γ ∓53.638°, hand
+        // SPA vs Jimoh & Aliyu's simple model (β 37.566°, γ ∓53.638°, hand
         // calculation in geometry_kano.rs): about 0.5° and 1.2° apart.
         assert!((spa.slope_deg - 37.566).abs() < 1.0, "{spa:?}");
         assert!(
             (spa.azimuth_from_south_deg() - g_simple).abs() < 1.5,
             "{spa:?}"
         );
-        // The gap is the seed's declination: eq (2) gives −10.908°, SPA
-        // about −10.0° for that day. The seed's own eq (7)/(8) with SPA's
+        // The gap is the paper's declination: eq (2) gives −10.908°, SPA
+        // about −10.0° for that day. The paper's own eq (7)/(8) with SPA's
         // topocentric δ′ and hour angle H′ reproduce SPA's set-point.
         let im = sun_algos::spa::intermediate(&t, &site, &opts()).unwrap();
         assert!(
@@ -61,9 +61,9 @@ fn set_points_at_ten_and_fourteen_apparent_solar_time() {
             "{}",
             im.delta_prime_deg
         );
-        let seed = position_from_angles(site.latitude_deg(), im.delta_prime_deg, im.h_prime_deg);
-        assert!((seed.zenith_deg - spa.slope_deg).abs() < 0.001);
-        assert!((seed.azimuth_deg - spa.azimuth_deg).abs() < 0.001);
+        let paper = position_from_angles(site.latitude_deg(), im.delta_prime_deg, im.h_prime_deg);
+        assert!((paper.zenith_deg - spa.slope_deg).abs() < 0.001);
+        assert!((paper.azimuth_deg - spa.azimuth_deg).abs() < 0.001);
     }
 }
 
@@ -86,7 +86,7 @@ fn spa_events_agree_with_the_bisection_finder() {
     let dt = b.transit.unix_seconds() - a.transit.unix_seconds();
     assert!((-10..=-3).contains(&dt), "{} {}", a.transit, b.transit);
     assert_eq!(a.kind, DayKind::Normal);
-    // Seed eq (9)–(12) on the same day: ω_s = 87.659° → 11.688 h of
+    // Jimoh & Aliyu's eq (9)–(12) on the same day: ω_s = 87.659° → 11.688 h of
     // geometric daylight; with the 0.8333° horizon about 7 min more.
     let hours = f64::from(a.daylight_s) / 3600.0;
     assert!(hours > 11.688 && hours < 11.688 + 0.15, "{hours}");

@@ -28,9 +28,9 @@ const CASES: &[Case] = &[
     case(Algorithm::Spa, "sun_2010_2110.csv", 0.0003, 0.003),
     case(Algorithm::Spa, "sun_2020_2050.csv", 0.0003, 0.003),
     case(Algorithm::Psa2020, "sun_2020_2050.csv", 0.008, 0.011),
-    // The goal was 0.008° in f64; li-2022's Table 1, misprints repaired
-    // (sidereal time read as the IAU 1982 formula of its G3), measures
-    // 0.00874° here and on a dense check; no misprint repair reaches 0.008°
+    // The goal was 0.008° in f64; Table 1 of Li et al. (2022), misprints
+    // repaired (sidereal time read as the IAU 1982 formula of its G3),
+    // measures 0.00874° here and on a dense check; no misprint repair reaches 0.008°
     // (see `psa::Variant::Modified` for the terms that limit it). Asserted
     // at the measured level so that a regression fails; the shortfall is
     // reported, not hidden.
@@ -109,7 +109,7 @@ fn psa_modified() {
     check(Algorithm::PsaModified);
 }
 
-/// The printed constants of seed li-2022 are far off; this measures by how
+/// The printed constants of Li et al. (2022) are far off; this measures by how
 /// much (the figure stated in `psa::Variant::ModifiedAsPrinted`).
 #[test]
 fn psa_modified_as_printed_is_far_off() {

@@ -1,18 +1,18 @@
-//! Tilt-compensated magnetic and true heading, in the frames of seed
-//! *portable-tracker-tilt-magnetic-compensation* (the same frames as the
-//! tracker's `attitude` module).
+//! Tilt-compensated magnetic and true heading, in the frames of Choi et al.,
+//! "Portable sun tracking system with tilt and magnetic compensation" (the
+//! same frames as the tracker's `attitude` module).
 //!
-//! Frames. Horizontal XYZ: X west, Y south, Z up (seed Fig. 3). Tracker xyz:
-//! fixed to the mounting, equal to XYZ at the home pose of a level mount whose
-//! y axis points south. The mount is reached from XYZ by γ₀ about Z, then α₀
-//! about the new x axis, then β₀ about the new y axis:
+//! Frames. Horizontal XYZ: X west, Y south, Z up (the paper's Fig. 3).
+//! Tracker xyz: fixed to the mounting, equal to XYZ at the home pose of a
+//! level mount whose y axis points south. The mount is reached from XYZ by γ₀
+//! about Z, then α₀ about the new x axis, then β₀ about the new y axis:
 //! `T = R_Z(γ₀)·R_X(α₀)·R_Y(β₀)` maps tracker coordinates to horizontal ones
-//! (seed Expression (12); α₀, β₀ from the inclinometer, Expression (7)). The
-//! magnetometer is mounted with its axes along the tracker's x, y, z (the chip
-//! axes may need a fixed swap/sign change to get there).
+//! (the paper's Expression (12); α₀, β₀ from the inclinometer, Expression
+//! (7)). The magnetometer is mounted with its axes along the tracker's x, y, z
+//! (the chip axes may need a fixed swap/sign change to get there).
 //!
-//! The extracted seed text names the equations of section C but not their
-//! bodies; for these frames they are:
+//! The paper's text as we have it names the equations of section C but not
+//! their bodies; for these frames they are:
 //!
 //! * Expression (8): the measured field with the tilt removed,
 //!   `H′ = R_X(α₀)·R_Y(β₀)·h`, i.e.
@@ -67,7 +67,8 @@ impl core::fmt::Display for HeadingError {
 
 impl core::error::Error for HeadingError {}
 
-/// The field with the tilt removed, seed Expression (8): `R_X(α₀)·R_Y(β₀)·h`.
+/// The field with the tilt removed, Choi et al., Expression (8):
+/// `R_X(α₀)·R_Y(β₀)·h`.
 ///
 /// ```
 /// use drivers::compass::heading::detilt;
@@ -97,7 +98,7 @@ pub fn detilt(field: Vector3, alpha0_rad: f32, beta0_rad: f32) -> Vector3 {
 }
 
 /// δ₀, the mount's rotation about Z measured from magnetic north, degrees in
-/// −180..180: seed Expressions (8)–(10).
+/// −180..180: Choi et al., Expressions (8)–(10).
 ///
 /// ```
 /// use drivers::compass::heading::magnetic_rotation_deg;
@@ -135,7 +136,7 @@ pub fn magnetic_rotation_deg(
 }
 
 /// γ₀, the mount's rotation about Z from the true-north frame, degrees in
-/// −180..180: seed Expression (11), `γ₀ = δ₀ − D` (D east positive).
+/// −180..180: Choi et al., Expression (11), `γ₀ = δ₀ − D` (D east positive).
 ///
 /// ```
 /// use drivers::compass::heading::gamma0_deg;

@@ -1,5 +1,5 @@
 //! Bipolar stepper through an H-bridge (L298N class, or discrete bridges behind
-//! optocouplers as in seed *li-2022*), four `OutputPin`s.
+//! optocouplers as in Li et al. 2022), four `OutputPin`s.
 //!
 //! Pins: `IN1` = coil A+, `IN2` = coil A−, `IN3` = coil B+, `IN4` = coil B−
 //! (a high input drives that coil end high). Coil table, half-step phase 0..7

@@ -1,11 +1,11 @@
 //! From the two inclinometer axis angles to the mount's tilt α0, β0
-//! (seed portable-tracker-tilt-magnetic-compensation, Section III.A,
-//! Expressions (4)–(7)). Pure math, `f32`.
+//! (Choi et al., "Portable sun tracking system with tilt and magnetic
+//! compensation", Section III.A, Expressions (4)–(7)). Pure math, `f32`.
 //!
-//! The seed's text lost the typeset equations, so they are rebuilt here from
-//! its definitions, in the same frames and rotation order as the tracker's
-//! `attitude` module and the compass heading (`T = Rz(γ0)·Rx(α0)·Ry(β0)`,
-//! seed Expression (12)):
+//! The paper's text as we have it lost the typeset equations, so they are
+//! rebuilt here from its definitions, in the same frames and rotation order
+//! as the tracker's `attitude` module and the compass heading
+//! (`T = Rz(γ0)·Rx(α0)·Ry(β0)`, the paper's Expression (12)):
 //! - the horizontal frame XYZ has Y to the south, X to the west, Z up;
 //! - the mount is reached from level by α0 about x, then β0 about the new y,
 //!   so its x and y axes in XYZ are the first two columns of Rx(α0)·Ry(β0)
@@ -23,11 +23,11 @@
 //!   α0 = asin(cos θy)
 //!   β0 = asin(−cos θx / cos α0)
 //! ```
-//! Seed Table IV, Case 1 (level): θx = θy = 90° gives α0 = β0 = 0. Case 2
-//! (α0 = 35.26°, β0 = 30°; the seed's text does not keep its sensor outputs)
-//! corresponds, by hand, to cos θy = sin 35.26° = 0.57729 (θy = 54.74°) and
-//! cos θx = −cos 35.26° · sin 30° = −0.40827 (θx = 114.096°); the test runs
-//! these backwards.
+//! The paper's Table IV, Case 1 (level): θx = θy = 90° gives α0 = β0 = 0.
+//! Case 2 (α0 = 35.26°, β0 = 30°; the paper's text as we have it does not
+//! keep its sensor outputs) corresponds, by hand, to cos θy = sin 35.26° =
+//! 0.57729 (θy = 54.74°) and cos θx = −cos 35.26° · sin 30° = −0.40827
+//! (θx = 114.096°); the test runs these backwards.
 //!
 //! Note: the extracted wording ("β0 about the Y-axis after α0 about the
 //! X-axis of the horizontal coordinate system") could also be read as
@@ -108,7 +108,7 @@ impl core::error::Error for MountTiltError {}
 /// ```
 /// use drivers::tilt::mount_tilt;
 ///
-/// // Seed Table IV, Case 1: level, θx = θy = 90°.
+/// // Choi et al., Table IV, Case 1: level, θx = θy = 90°.
 /// let level = mount_tilt(90.0, 90.0)?;
 /// assert!(level.alpha0_deg.abs() < 1e-4 && level.beta0_deg.abs() < 1e-4);
 /// // Case 2, α₀ = 35.26°, β₀ = 30°: cos θy = sin 35.26°, cos θx =
@@ -145,7 +145,7 @@ pub fn mount_tilt(theta_x_deg: f32, theta_y_deg: f32) -> Result<MountTilt, Mount
 /// ```
 /// use drivers::tilt::{axis_angles, mount_tilt, MountTilt};
 ///
-/// // Seed Table IV, Case 2 forwards: θx = 114.096°, θy = 54.74° (by hand).
+/// // Choi et al., Table IV, Case 2 forwards: θx = 114.096°, θy = 54.74° (by hand).
 /// let (tx, ty) = axis_angles(&MountTilt { alpha0_deg: 35.26, beta0_deg: 30.0 });
 /// assert!((tx - 114.096).abs() < 0.01 && (ty - 54.74).abs() < 0.01);
 /// // And back.

@@ -1,5 +1,5 @@
 //! WitMotion RS-485 inclinometers (SINDT02-485 class, the sensor named in
-//! seed li-2022) over Modbus RTU.
+//! Li et al. 2022) over Modbus RTU.
 //!
 //! Register map assumed, from WitMotion's public "WIT standard Modbus
 //! protocol" (the same map across their Modbus sensors): device address 0x50

@@ -1,6 +1,6 @@
 //! The day table: set-points every N minutes from sunrise to sunset.
 //!
-//! Seed jimoh-2019 (§2.2.4, steps 7–8) computes the optimum slope and
+//! Jimoh & Aliyu (2019, §2.2.4, steps 7–8) compute the optimum slope and
 //! azimuth every 4 minutes between sunrise and sunset once a day and keeps
 //! them in the microcontroller; the scheduler then looks the current time up.
 //!

@@ -1,8 +1,9 @@
 //! Sunrise, transit, sunset and daylight hours.
 //!
 //! Two models:
-//! - [`simple()`]: seed jimoh-2019 eq (9)–(12) on the seed's declination and
-//!   equation of time, with polar day and night exactly as the seed states:
+//! - [`simple()`]: Jimoh & Aliyu (2019), eq (9)–(12), on the paper's
+//!   declination and equation of time, with polar day and night exactly as
+//!   the paper states:
 //!   no sunrise when −tan φ tan δ ≥ 1 (ω_sr = ω_ss = 0, both at solar 12 h),
 //!   no sunset when −tan φ tan δ ≤ −1 (ω = ∓180°, solar 0 h and 24 h).
 //! - [`find`]: precise events of any position source (any [`Algorithm`], in
@@ -39,7 +40,7 @@
 //! let want_set: UtcTime = "2003-10-18T00:18:51Z".parse()?;
 //! let set = ev.sunset.expect("a sunset");
 //! assert!((set.unix_seconds() - want_set.unix_seconds()).abs() <= 1);
-//! // The seed's simple model: 12 h of daylight on the equator at the equinox.
+//! // Jimoh & Aliyu's simple model: 12 h of daylight on the equator at the equinox.
 //! assert!((events::simple(0.0f64, 80)?.daylight_h - 12.0).abs() < 1e-9);
 //! # Ok::<(), sun_algos::geometry::GeometryError>(())
 //! ```
@@ -78,7 +79,7 @@ pub enum DayKind {
     PolarNight,
 }
 
-/// The seed's simple events in local apparent solar time (eq 9–12).
+/// Jimoh & Aliyu's simple events in local apparent solar time (eq 9–12).
 ///
 /// ```
 /// use sun_algos::geometry::events::simple;
@@ -132,7 +133,7 @@ impl<T: Float> SimpleEvents<T> {
     }
 }
 
-/// Seed jimoh-2019 eq (9)–(12) for `latitude_deg` on `day_of_year`.
+/// Jimoh & Aliyu (2019), eq (9)–(12), for `latitude_deg` on `day_of_year`.
 /// Never NaN: the acos argument −tan φ tan δ is formed as a ratio only
 /// after the polar cases are taken out.
 ///
@@ -144,7 +145,7 @@ impl<T: Float> SimpleEvents<T> {
 /// let e = simple(0.0f32, 80)?;
 /// assert_eq!(e.kind, DayKind::Normal);
 /// assert!((e.daylight_h - 12.0).abs() < 1e-4);
-/// // North pole in June: polar day, the seed's solar 0 h and 24 h.
+/// // North pole in June: polar day, the paper's solar 0 h and 24 h.
 /// let n = simple(90.0f64, 172)?;
 /// assert_eq!((n.kind, n.sunrise_solar_h, n.sunset_solar_h), (DayKind::PolarDay, 0.0, 24.0));
 /// assert_eq!(simple(f64::NAN, 172), Err(GeometryError::NotFinite));
@@ -776,7 +777,7 @@ mod tests {
     }
 
     #[test]
-    fn poles_follow_the_seed_rules() {
+    fn poles_follow_the_paper_rules() {
         // 21 June: δ ≈ +23.45°. North pole: polar day, solar 0 h and 24 h.
         let n = simple(90.0f64, 172).unwrap();
         assert_eq!(n.kind, DayKind::PolarDay);
@@ -788,7 +789,7 @@ mod tests {
         assert_eq!(s.daylight_h, 0.0);
     }
 
-    /// Kano (seed jimoh-2019's site), Tromsø in polar day and in polar
+    /// Kano (the site of Jimoh & Aliyu 2019), Tromsø in polar day and in polar
     /// night, and 66° N in June (the sun grazes the horizon).
     fn days() -> [(f64, f64, (i32, u8, u8)); 4] {
         [

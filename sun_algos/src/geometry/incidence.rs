@@ -5,11 +5,11 @@
 //!
 //! cos θ = cos θz cos β + sin θz sin β cos(γs − γ)
 //!
-//! This is seed jimoh-2019 eq (1) (Duffie & Beckman) after substituting the
-//! sun's direction from eq (7)/(8), equally its reduced form eq (13) with
-//! c1 = cos θz, c2 = sin θz cos γs, c3 = sin θz sin γs (south-referenced
-//! azimuths), and seed dahli-2023 eq (8) (Kalogirou's form of the same
-//! expression). `tests/geometry_incidence.rs` evaluates the three published
+//! This is eq (1) of Jimoh & Aliyu (2019) (Duffie & Beckman) after
+//! substituting the sun's direction from eq (7)/(8), equally its reduced form
+//! eq (13) with c1 = cos θz, c2 = sin θz cos γs, c3 = sin θz sin γs
+//! (south-referenced azimuths), and eq (8) of Dahli & Cheggaga (2023)
+//! (Kalogirou's form of the same expression). `tests/geometry_incidence.rs` evaluates the three published
 //! forms from latitude, declination and hour angle and checks they agree with
 //! this one.
 //!
@@ -52,8 +52,8 @@ pub struct Surface<T> {
     /// Slope β from horizontal in degrees: 0 faces the zenith, 90 is vertical.
     pub slope_deg: T,
     /// Azimuth of the surface normal's horizontal projection, degrees east of
-    /// north (`[0, 360)`), the crate's convention. Seed jimoh-2019 measures it
-    /// from south, positive west: see [`Surface::azimuth_from_south_deg`].
+    /// north (`[0, 360)`), the crate's convention. Jimoh & Aliyu (2019)
+    /// measure it from south, positive west: see [`Surface::azimuth_from_south_deg`].
     pub azimuth_deg: T,
 }
 
@@ -79,8 +79,8 @@ impl<T: Float> Surface<T> {
         })
     }
 
-    /// A surface from seed jimoh-2019's convention: azimuth from south,
-    /// positive toward west.
+    /// A surface in the convention of Jimoh & Aliyu (2019): azimuth from
+    /// south, positive toward west.
     ///
     /// ```
     /// use sun_algos::geometry::Surface;
@@ -88,7 +88,7 @@ impl<T: Float> Surface<T> {
     /// // NREL SPA worked example: surface azimuth rotation −10° (east of south)
     /// // is 170° east of north.
     /// assert_eq!(Surface::from_south_referenced(30.0f64, -10.0)?.azimuth_deg, 170.0);
-    /// // Seed jimoh-2019: 0 is south, +90 west.
+    /// // Jimoh & Aliyu (2019): 0 is south, +90 west.
     /// assert_eq!(Surface::from_south_referenced(30.0f64, 90.0)?.azimuth_deg, 270.0);
     /// # Ok::<(), sun_algos::geometry::GeometryError>(())
     /// ```
@@ -116,7 +116,7 @@ impl<T: Float> Surface<T> {
     }
 
     /// The surface pointed straight at the sun (zero incidence): β = θz,
-    /// γ = γs (seed jimoh-2019 eq 14, see [`super::optimum::normal_to_sun`]).
+    /// γ = γs (Jimoh & Aliyu 2019, eq 14, see [`super::optimum::normal_to_sun`]).
     ///
     /// ```
     /// use sun_algos::geometry::{incidence::incidence_deg, Surface};
@@ -152,7 +152,8 @@ impl<T: Float> Surface<T> {
     }
 }
 
-/// cos θ of the beam on `surface` (seed jimoh-2019 eq 1/13, dahli-2023 eq 8).
+/// cos θ of the beam on `surface` (Jimoh & Aliyu 2019, eq 1/13; Dahli &
+/// Cheggaga 2023, eq 8).
 /// Negative when the sun is behind the surface.
 ///
 /// ```

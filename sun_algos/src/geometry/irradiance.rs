@@ -3,7 +3,8 @@
 //!
 //! - Extraterrestrial normal irradiance G_on = G_sc (1 + 0.033 cos(360° n /
 //!   365)) with G_sc = 1367 W/m² (Duffie & Beckman, Solar Engineering of
-//!   Thermal Processes, eq 1.4.1a; seed dahli-2023 quotes ≈1370 W/m²).
+//!   Thermal Processes, eq 1.4.1a; Dahli & Cheggaga (2023) quote ≈1370
+//!   W/m²).
 //! - Clear sky: the ASHRAE clear-day model, beam normal I_B = A e^(−k m),
 //!   diffuse horizontal C·I_B, with A, k, C from Masters' sinusoidal fits of
 //!   the ASHRAE monthly table (G. M. Masters, Renewable and Efficient
@@ -11,12 +12,12 @@
 //!   W/m², k = 0.174 + 0.035 sin(360/365 (n − 100)), C = 0.095 + 0.04
 //!   sin(360/365 (n − 100)); air mass m by Kasten & Young (1989) so it stays
 //!   finite at the horizon.
-//! - Tilted plane, seed dahli-2023 eq (8) [second one]: G_T = G_B + G_D + G_R
-//!   with G_B = I_B cos θ (θ from [`super::incidence`]), isotropic sky
-//!   G_D = C I_B (1 + cos β)/2 and ground albedo ρ: G_R = ρ I_B (cos θz + C)
-//!   (1 − cos β)/2.
-//! - Daily energy: the trapezoid rule over the day's samples, seed
-//!   chowdhury-2019's "area under the curve".
+//! - Tilted plane, Dahli & Cheggaga (2023), eq (8) [second one]:
+//!   G_T = G_B + G_D + G_R with G_B = I_B cos θ (θ from
+//!   [`super::incidence`]), isotropic sky G_D = C I_B (1 + cos β)/2 and
+//!   ground albedo ρ: G_R = ρ I_B (cos θz + C) (1 − cos β)/2.
+//! - Daily energy: the trapezoid rule over the day's samples, the
+//!   "area under the curve" of Chowdhury et al. (2019).
 //!
 //! # Example
 //!
@@ -192,7 +193,7 @@ pub struct PlaneIrradiance<T> {
 }
 
 impl<T: Float> PlaneIrradiance<T> {
-    /// G_T = G_B + G_D + G_R (seed dahli-2023).
+    /// G_T = G_B + G_D + G_R (Dahli & Cheggaga 2023).
     ///
     /// ```
     /// use sun_algos::geometry::irradiance::clear_sky_on_plane;
@@ -342,7 +343,7 @@ impl<T: Float> Mount<T> {
 }
 
 /// Trapezoid rule over `(seconds, watts per m²)` samples in time order, in
-/// Wh/m² (seed chowdhury-2019's area under the curve).
+/// Wh/m² (the area under the curve of Chowdhury et al. 2019).
 ///
 /// ```
 /// use sun_algos::geometry::irradiance::trapezoid_wh_m2;

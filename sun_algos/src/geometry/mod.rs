@@ -2,18 +2,18 @@
 //! panel, and the day's set-points.
 //!
 //! Nothing here knows any hardware:
-//! - [`incidence`]: angle between the beam and a surface normal (seed
-//!   jimoh-2019 eq 1/13, seed dahli-2023 eq 8, one implementation).
-//! - [`optimum`]: the set-point that makes the incidence zero (seed
-//!   jimoh-2019 eq 14), and the best one inside mechanical limits.
-//! - [`simple`]: the seed's textbook sun model (jimoh-2019 eq 2–8) used by
-//!   the simple events.
-//! - [`events`]: sunrise, transit, sunset, daylight hours; the seed's simple
-//!   model (eq 9–12) and precise events of any position source.
+//! - [`incidence`]: angle between the beam and a surface normal (Jimoh &
+//!   Aliyu 2019, eq 1/13; Dahli & Cheggaga 2023, eq 8; one implementation).
+//! - [`optimum`]: the set-point that makes the incidence zero (Jimoh & Aliyu
+//!   2019, eq 14), and the best one inside mechanical limits.
+//! - [`simple`]: the textbook sun model of Jimoh & Aliyu (2019, eq 2–8) used
+//!   by the simple events.
+//! - [`events`]: sunrise, transit, sunset, daylight hours; Jimoh & Aliyu's
+//!   simple model (eq 9–12) and precise events of any position source.
 //! - [`day_table`]: set-points every N minutes from sunrise to sunset in a
 //!   fixed-capacity table.
 //! - [`irradiance`]: extraterrestrial and clear-sky irradiance, the tilted
-//!   plane (seed dahli-2023), daily energy (seed chowdhury-2019).
+//!   plane (Dahli & Cheggaga 2023), daily energy (Chowdhury et al. 2019).
 //!
 //! # Example
 //!

@@ -1,13 +1,13 @@
 //! The optimum set-point for an instant, free and within mechanical limits.
 //!
-//! Free: seed jimoh-2019 eq (14), `c6 cos β + c7 sin β − 1 = 0` with the
+//! Free: Jimoh & Aliyu (2019), eq (14), `c6 cos β + c7 sin β − 1 = 0` with the
 //! surface azimuth set to the sun's (γ = γs). With γ = γs the coefficients
 //! are c6 = cos θz and c7 = sin θz (eq 7 and 8b), so the root is β = θz in
 //! closed form — no bisection or `fminbnd` needed: [`normal_to_sun`].
 //!
 //! Limited: the mechanics allow β ∈ [β_min, β_max] and γ on an arc
 //! [γ_min, γ_max]. [`best_within`] maximises cos θ over that box by an exact
-//! reduction rather than a numeric search (the seed suggests a bounded
+//! reduction rather than a numeric search (the paper suggests a bounded
 //! one-dimensional search; the reduction below needs none):
 //!
 //! 1. cos θ = cos β cos θz + sin β sin θz cos(γs − γ). For β ∈ [0°, 180°] and
@@ -263,14 +263,14 @@ pub struct SetPoint<T> {
     pub incidence_deg: T,
 }
 
-/// The zero-incidence set-point (seed jimoh-2019 eq 14 in closed form):
+/// The zero-incidence set-point (Jimoh & Aliyu 2019, eq 14, in closed form):
 /// β = θz, γ = γs.
 ///
 /// ```
 /// use sun_algos::geometry::optimum::normal_to_sun;
 /// use sun_algos::SunPosition;
 ///
-/// // Seed jimoh-2019 eq. 14: slope = zenith, surface azimuth = sun azimuth.
+/// // Jimoh & Aliyu (2019), eq. 14: slope = zenith, surface azimuth = sun azimuth.
 /// let s = normal_to_sun(&SunPosition::new(50.111_622f32, 194.340_241, true));
 /// assert_eq!((s.slope_deg, s.azimuth_deg), (50.111_622, 194.340_241));
 /// ```
@@ -278,9 +278,9 @@ pub fn normal_to_sun<T: Float>(sun: &SunPosition<T>) -> Surface<T> {
     Surface::facing(sun)
 }
 
-/// Root of seed jimoh-2019 eq (14), `c6 cos β + c7 sin β = 1`, in degrees,
-/// for coefficients with c6² + c7² = 1 (as they are when γ = γs): β =
-/// atan2(c7, c6). For other coefficients this is the β that maximises the
+/// Root of eq (14) of Jimoh & Aliyu (2019), `c6 cos β + c7 sin β = 1`, in
+/// degrees, for coefficients with c6² + c7² = 1 (as they are when γ = γs):
+/// β = atan2(c7, c6). For other coefficients this is the β that maximises the
 /// left side, i.e. the closest the equation can come to holding.
 ///
 /// ```

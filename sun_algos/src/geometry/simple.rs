@@ -1,4 +1,4 @@
-//! The seed's textbook sun model (seed jimoh-2019 eq 2–8), used by the
+//! The textbook sun model of Jimoh & Aliyu (2019, eq 2–8), used by the
 //! simple sunrise/sunset model of [`super::events`] and for local solar time.
 //!
 //! Accuracy is that of Cooper's declination and Spencer's equation of time
@@ -13,7 +13,7 @@
 //!
 //! // tests/data/sun_1999_2022.csv (JPL DE421 through skyfield):
 //! // 2006-03-01T13:45:38Z, 34.76767°, −45.58589° → zenith 47.2182225°,
-//! // azimuth 149.2139858°. The seed's model is about 1° off.
+//! // azimuth 149.2139858°. Jimoh & Aliyu's model is about 1° off.
 //! let t: UtcTime = "2006-03-01T13:45:38Z".parse()?;
 //! let p = simple::position(&t, 34.76767f64, -45.58589);
 //! assert!(p.angular_distance_deg(&SunPosition::new(47.218_222_5, 149.213_985_8, false)) < 1.4);
@@ -24,14 +24,14 @@ use crate::float::Float;
 use crate::position::SunPosition;
 use crate::time::UtcTime;
 
-/// Declination δ in degrees for day of year `n` (1 on 1 January): seed
-/// jimoh-2019 eq (2), δ = 23.45° sin[(360/365.25)(284 + n)] as printed there
-/// (Cooper's original divides by 365).
+/// Declination δ in degrees for day of year `n` (1 on 1 January): Jimoh &
+/// Aliyu (2019), eq (2), δ = 23.45° sin[(360/365.25)(284 + n)] as printed
+/// there (Cooper's original divides by 365).
 ///
 /// ```
 /// use sun_algos::geometry::simple::declination_deg;
 ///
-/// // Hand evaluation of the seed's eq. 2 for 21 June (n = 172):
+/// // Hand evaluation of Jimoh & Aliyu's eq. 2 for 21 June (n = 172):
 /// // 23.45 · sin(360/365.25 · 456°) = 23.448902°.
 /// assert!((declination_deg::<f64>(172) - 23.448_902).abs() < 1e-6);
 /// assert!(declination_deg::<f32>(172) > 23.44);
@@ -41,8 +41,8 @@ pub fn declination_deg<T: Float>(day_of_year: u16) -> T {
     T::from_f64(23.45) * arg.to_radians().sin()
 }
 
-/// Equation of time in hours (apparent minus mean solar time): seed
-/// jimoh-2019 eq (5) (Spencer 1971) with B from eq (6).
+/// Equation of time in hours (apparent minus mean solar time): Jimoh
+/// & Aliyu (2019), eq (5) (Spencer 1971), with B from eq (6).
 ///
 /// ```
 /// use sun_algos::geometry::simple::equation_of_time_h;
@@ -64,8 +64,8 @@ pub fn equation_of_time_h<T: Float>(day_of_year: u16) -> T {
 }
 
 /// Local apparent solar time in hours (may leave 0…24) of a UTC instant at
-/// `longitude_deg` (east positive): seed jimoh-2019 eq (4) with the standard
-/// meridian at Greenwich, ST = UTC + λ/15 + ET. (The seed writes
+/// `longitude_deg` (east positive): Jimoh & Aliyu (2019), eq (4), with the
+/// standard meridian at Greenwich, ST = UTC + λ/15 + ET. (The paper writes
 /// −4(ψst − ψa) minutes with west longitudes positive; it is the same.)
 ///
 /// ```
@@ -84,12 +84,12 @@ pub fn solar_time_h<T: Float>(time: &UtcTime, longitude_deg: T) -> T {
     time.hours::<T>() + longitude_deg / T::from_f64(15.0) + equation_of_time_h(time.day_of_year())
 }
 
-/// Hour angle ω in degrees for solar time `st_h`: seed jimoh-2019 eq (3).
+/// Hour angle ω in degrees for solar time `st_h`: Jimoh & Aliyu (2019), eq (3).
 ///
 /// ```
 /// use sun_algos::geometry::simple::hour_angle_deg;
 ///
-/// // Seed jimoh-2019 eq. 3: 15° per hour from solar noon, negative before.
+/// // Jimoh & Aliyu (2019), eq. 3: 15° per hour from solar noon, negative before.
 /// assert_eq!(hour_angle_deg(13.5f64), 22.5);
 /// assert_eq!(hour_angle_deg(6.0f32), -90.0);
 /// ```
@@ -98,8 +98,8 @@ pub fn hour_angle_deg<T: Float>(solar_time_h: T) -> T {
 }
 
 /// Zenith and azimuth from latitude φ, declination δ and hour angle ω
-/// (degrees): seed jimoh-2019 eq (7) for the zenith and eq (8b) for the
-/// azimuth, with the sign of ω as the seed prescribes, written as one
+/// (degrees): Jimoh & Aliyu (2019), eq (7) for the zenith and eq (8b) for
+/// the azimuth, with the sign of ω as the paper prescribes, written as one
 /// `atan2` so it never divides by sin θz.
 ///
 /// ```
@@ -132,7 +132,7 @@ pub fn position_from_angles<T: Float>(
     SunPosition::new(zenith, az_from_south + T::from_f64(180.0), false)
 }
 
-/// The seed's whole simple model at a UTC instant (eq 2–8).
+/// Jimoh & Aliyu's whole simple model at a UTC instant (eq 2–8).
 ///
 /// ```
 /// use sun_algos::geometry::simple;

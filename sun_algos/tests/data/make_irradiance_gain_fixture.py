@@ -28,8 +28,8 @@ documents, recomputed here without this repository's code:
 - energy: the trapezoid rule over 289 samples every 300 s from local mean
   midnight (UTC midnight − longitude × 240 s, rounded to the second), Wh/m².
 
-Site and days: seed chowdhury-2019's Doha site (25.37463 N, 51.49128 E) and
-its three simulation days of 2016. Written with pvlib 0.16.1.
+Site and days: the Doha site of Chowdhury et al. (2019) (25.37463 N,
+51.49128 E) and its three simulation days of 2016. Written with pvlib 0.16.1.
 """
 import sys
 
