@@ -325,7 +325,7 @@ def minus(v):
 def kano_seed(out):
     m = rx(
         out,
-        r"^kano seed eqs: 10:00 beta ([0-9.]+) gamma ([-+][0-9.]+), "
+        r"^kano paper eqs: 10:00 beta ([0-9.]+) gamma ([-+][0-9.]+), "
         r"14:00 beta ([0-9.]+) gamma ([-+][0-9.]+), 12:00 beta ([0-9.]+) deg",
     )
     b10, g10, b14, g14, b12 = m.groups()

@@ -15,14 +15,14 @@
 
 mod attitude;
 mod axis;
-mod rtc;
 mod gps;
+mod rtc;
 mod servo_axis;
 
 pub use attitude::{
     AccelTiltError, AxisAngles, EitherTilt, EitherTiltError, MountSensorError, MountSensorsHw,
 };
 pub use axis::{StepperAxis, StepperAxisError};
-pub use rtc::{ClockError, RtcClock};
 pub use gps::GpsPort;
+pub use rtc::{ClockError, RtcClock};
 pub use servo_axis::{EncoderCount, ServoAxis, ServoAxisError};

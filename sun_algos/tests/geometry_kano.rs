@@ -43,7 +43,7 @@ fn set_points_at_ten_and_fourteen_solar_time() {
     let (b12, _) = optimum_at_solar_hour(12.0);
     // The README quotes this line (.ci/readme_figures.py checks it).
     println!(
-        "kano seed eqs: 10:00 beta {b10:.2} gamma {g10:+.2}, 14:00 beta {b14:.2} gamma {g14:+.2}, \
+        "kano paper eqs: 10:00 beta {b10:.2} gamma {g10:+.2}, 14:00 beta {b14:.2} gamma {g14:+.2}, \
          12:00 beta {b12:.2} deg"
     );
     assert!((b10 - 37.566).abs() < 0.001, "{b10}");

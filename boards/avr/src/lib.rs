@@ -65,10 +65,10 @@
 
 mod adc;
 mod anemometer;
-mod millis;
 mod delay;
 pub mod eeprom;
 mod gpio;
+mod millis;
 mod pcint;
 mod pwm;
 mod serial;
@@ -82,9 +82,9 @@ pub use avr_device::atmega328p as chip;
 
 pub use adc::{Adc, AdcError, ADC_CHANNELS, ADC_MAX_CODE};
 pub use anemometer::{on_anemometer_edge, Anemometer, ExtInt};
-pub use millis::{millis, on_timer0_compare, sleep_until_interrupt, Millis, MS_PER_TICK};
 pub use delay::Delay;
 pub use gpio::{InputPin, OpenDrainPin, OutputPin, Port, PortInputPin, PortOutputPin};
+pub use millis::{millis, on_timer0_compare, sleep_until_interrupt, Millis, MS_PER_TICK};
 pub use pcint::{on_encoder_pin_change, EncoderPort, PinChangeEncoders};
 pub use pwm::{
     Oc1a, Oc1b, PulseWidth, PwmError, Timer1Pwm, COUNTS_PER_US, FRAME_TOP, FRAME_US, MAX_DUTY,
