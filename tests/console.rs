@@ -1,4 +1,4 @@
-//! The configuration console (src/console.rs): the line buffer, the parser,
+//! The configuration console (src/console/): the line buffer, the parser,
 //! every key's get and set against the ranges documented in src/config.rs,
 //! postal codes, and the reply lines.
 
@@ -261,8 +261,9 @@ fn key_table_names_every_field_once_and_the_docs_list_them() {
     names.dedup();
     assert_eq!(names.len(), 40, "duplicate keys");
     let docs = config_docs();
-    let module = std::fs::read_to_string(concat!(env!("CARGO_MANIFEST_DIR"), "/src/console.rs"))
-        .expect("src/console.rs");
+    let module =
+        std::fs::read_to_string(concat!(env!("CARGO_MANIFEST_DIR"), "/src/console/mod.rs"))
+            .expect("src/console/mod.rs");
     for k in KEYS {
         let name = k.name().as_str();
         // Every key is a field key of src/config.rs's docs…
