@@ -46,47 +46,20 @@
 //! # Keys
 //!
 //! Every field of [`Config`], named by [`Field::name`] (the dotted key with
-//! its unit). A `set` is applied to a copy of the configuration, the copy
-//! is checked by [`Config::validate`], and only a valid copy replaces the
-//! configuration: a value out of range changes nothing and is answered
-//! with the field and the reason the validation gives
-//! ([`ConfigError`]: `error FIELD: REASON`). The ranges are those of
-//! `src/config.rs` (the fields' doc comments and [`crate::config::ranges`]);
-//! they are repeated here for the reader only.
+//! its unit); [`KEYS`] lists them in `get`'s order. A `set` is applied to a
+//! copy of the configuration, the copy is checked by [`Config::validate`],
+//! and only a valid copy replaces the configuration: a value out of range
+//! changes nothing and is answered with the field and the reason the
+//! validation gives ([`ConfigError`]: `error FIELD: REASON`).
 //!
-//! | key | unit | range (`src/config.rs`) |
-//! |---|---|---|
-//! | `site.lat_deg` | ° north | −90…90 |
-//! | `site.lon_deg` | ° east | −180…180 |
-//! | `site.elevation_m` | m | −500…10,000 |
-//! | `site.postal_code` | `CC:CODE` | set only: a code of the built-in table ([`crate::site::postal`]) |
-//! | `schedule.table_step_s` | s | 60…43,200, whole minutes dividing 86,400 |
-//! | `schedule.hold_s` | s | 0…3,600 |
-//! | `schedule.recheck_s` | s | 1…3,600 |
-//! | `schedule.max_tick_gap_s` | s | 1…86,400 |
-//! | `schedule.max_backward_s` | s | 0…86,400 |
-//! | `axis.c.counts_per_motor_rev`, `axis.a.counts_per_motor_rev` | counts | 1…16,777,216 |
-//! | `axis.c.microsteps`, `axis.a.microsteps` | per full step | 1…256 |
-//! | `axis.c.gear_ratio`, `axis.a.gear_ratio` | motor rev per axis rev | 1…10,000 |
-//! | `axis.c.counts_per_deg`, `axis.a.counts_per_deg` | counts/° | read only: counts × microsteps × gear / 360, must be 1…1,000,000 |
-//! | `axis.c.min_deg`, `axis.a.min_deg` | ° | −360…360, below `max_deg` |
-//! | `axis.c.max_deg`, `axis.a.max_deg` | ° | −360…360, above `min_deg` |
-//! | `axis.c.home_deg`, `axis.a.home_deg` | ° | `min_deg` − 5 … `min_deg` + 10, at most `max_deg` |
-//! | `axis.c.backlash_deg`, `axis.a.backlash_deg` | ° | 0…5 |
-//! | `axis.c.max_speed_deg_s`, `axis.a.max_speed_deg_s` | °/s | 0.01…30 |
-//! | `axis.c.deadband_deg`, `axis.a.deadband_deg` | ° | 0…5, below `safety.max_deviation_deg` |
-//! | `wind.stow_hz` | Hz | 0.1…1,000 (the anemometer pulse rate that stows) |
-//! | `wind.hold_s` | s | 0…600 |
-//! | `wind.release_s` | s | 0…86,400 |
-//! | `safety.max_deviation_deg` | ° | 0.1…45 |
-//! | `safety.stall_timeout_s` | s | 1…600 |
-//! | `safety.sensor_timeout_s` | s | 1…3,600 |
-//! | `safety.max_retries` | count | 0…20 |
-//! | `calibration.declination_deg` | ° east | −180…180 |
-//! | `calibration.heading_offset_deg` | ° | −180…180 |
-//! | `calibration.tilt_x_offset_deg` | ° | −45…45 |
-//! | `calibration.tilt_y_offset_deg` | ° | −45…45 |
-//! | `log.status_min` | min | 0…1,440 (0: no periodic `status` line) |
+//! Each key's unit and range are written once, in the configuration: the
+//! bounds in [`crate::config::ranges`], the unit and range of each field in
+//! its doc comment ([`Config`] and the structs of its parts, which name the
+//! key of each field). Two kinds of key are not plain fields:
+//! `site.postal_code` (`CC:CODE`, `set` only, not in [`KEYS`]: a code of
+//! the built-in table, [`crate::site::postal`]) and
+//! `axis.c.counts_per_deg`, `axis.a.counts_per_deg` (read only, derived:
+//! [`crate::config::AxisConfig::counts_per_deg`], [`is_read_only`]).
 //!
 //! Rules between fields (home switch near `min_deg`, deadband below the
 //! largest deviation, the derived counts per degree) can need two fields
