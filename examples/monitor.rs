@@ -14,7 +14,7 @@
 //! CSV row per set-point with the mode and faults in force (`--csv`), draws
 //! the day (`--svg`, `monitor_support/svg.rs`: sun elevation and azimuth,
 //! commanded c and a, mode band, fault rows), and types `--send` lines into
-//! the board's console (`src/console.rs`), showing the `ok`/`error`
+//! the board's console (`src/console/`), showing the `ok`/`error`
 //! replies. `--help` lists every option with its default.
 
 use std::process::ExitCode;

@@ -13,7 +13,7 @@
 //!   2026-03-20T00:00:00Z --log FILE` (the image's lines, each set-point
 //!   followed by the harness's `axes` line);
 //! - `mixed.log`: written by hand, every line shape of `src/log.rs`,
-//!   `src/console.rs`, `src/panel.rs` and `src/firmware.rs` with lines of no
+//!   `src/console/`, `src/panel.rs` and `src/firmware.rs` with lines of no
 //!   known shape and one cut short.
 
 #[path = "../examples/monitor_support/run.rs"]

@@ -2,7 +2,7 @@
 //! the `avr_settings` image) on the host: over `MemStorage` or a byte
 //! EEPROM model, with `SimRtc` as its clock and a sink collecting the
 //! replies. The expected replies are the documented ones: the language of
-//! `src/console.rs` (module docs), the settings module's table (keys,
+//! `src/console/mod.rs` (module docs), the settings module's table (keys,
 //! `error <command>: not on this image`) and the refusal texts of
 //! `src/config.rs` (`Reason`).
 
@@ -300,7 +300,7 @@ fn set_of_several_keys_is_all_or_nothing() {
     assert_eq!(rig.settings().lat_deg, settings::DEFAULTS.lat_deg);
 }
 
-/// src/console.rs documents `set K1 V1 K2 V2 …` as answered on one line,
+/// src/console/mod.rs documents `set K1 V1 K2 V2 …` as answered on one line,
 /// `ok K1=V1 K2=V2 …`, and the settings module promises the library's
 /// replies.
 #[test]

@@ -14,7 +14,7 @@
 //! | `fault <name> raised\|cleared` | `suntracker::log::fault` |
 //! | `day_energy vh=<V·h>` | `suntracker::panel::log_day_energy` |
 //! | `clock jump from=[utc] to=<utc> source=gps\|rtc\|none: …` | the application's tick (`src/firmware.rs`) |
-//! | `ok …`, `error …` | the console's replies (`src/console.rs`) |
+//! | `ok …`, `error …` | the console's replies (`src/console/reply.rs`) |
 //! | `ok mode=… utc=… time=… lat=… lon=… site=… c=… a=… faults=… wind_hz=…` | `suntracker::console::write_status` |
 //! | `status mode=…` with the same fields | the periodic status line |
 //!

@@ -27,16 +27,17 @@
 //! | `time set YYYY-MM-DDTHH:MM:SSZ` | sets the RTC (and clears its lost-power flag): the tracker image has no other way to be told the time |
 //! | `status`, `stow`, `resume`, `home`, `jog`, `manual off`, `faults`, `clear` | `error <command>: not on this image` (they act on a running tracker) |
 //!
-//! | key | unit | range |
-//! |---|---|---|
-//! | `site.lat_deg` | ° north | −90…90 |
-//! | `site.lon_deg` | ° east | −180…180 |
-//! | `axis.c.gear_ratio`, `axis.a.gear_ratio` | servo turns per axis turn | 1…10,000 |
+//! | key | unit |
+//! |---|---|
+//! | `site.lat_deg` | ° north |
+//! | `site.lon_deg` | ° east |
+//! | `axis.c.gear_ratio`, `axis.a.gear_ratio` | servo turns per axis turn |
 //!
-//! The ranges and their refusal texts are the configuration's
-//! ([`crate::config::ranges`], [`crate::config::Reason`]): `set
-//! axis.c.gear_ratio 20000` is `error axis.c.gear_ratio: 1...10,000 motor
-//! revolutions per axis revolution`, as on the other boards.
+//! The ranges and their refusal texts are the configuration's, written
+//! there once ([`crate::config::ranges`]: `LAT_DEG`, `LON_DEG` and
+//! `GEAR_RATIO`, which [`Settings::validate`] checks; [`crate::config::Reason`]):
+//! `set axis.c.gear_ratio 20000` is `error axis.c.gear_ratio: 1...10,000
+//! motor revolutions per axis revolution`, as on the other boards.
 //!
 //! A save runs in steps beside the loop (one EEPROM byte a pass, 3.4 ms
 //! each by the hardware); its `ok save` comes when the last byte is
@@ -64,7 +65,9 @@ pub const KEYS: &[Field] = &[
     Field::AxisAGearRatio,
 ];
 
-/// `help`'s lines.
+/// `help`'s lines. The last names [`KEYS`] as text: written from the
+/// table at run time it took 8 B more of the Uno's flash
+/// (`help_lists_the_commands_and_keys` checks that it names each key).
 const HELP: &[FlashStr] = &[
     crate::flash_str!("get [KEY] | set KEY VALUE [KEY VALUE] | save | load | defaults"),
     crate::flash_str!("set site.postal_code CC:CODE | time set YYYY-MM-DDTHH:MM:SSZ"),

@@ -1,0 +1,216 @@
+//! The operator: what a running tracker lets the console do
+//! ([`Operator`]), and [`execute`], which answers every command through it.
+
+use super::config_commands::{run_config, Outcome};
+use super::parse::{parse, Command, ParseError};
+use super::reply::{
+    write_error, write_loaded, write_ok, write_parse_error, write_saved, write_time_error,
+    write_time_set,
+};
+use super::status::{write_status, StatusView};
+use crate::config::{Config, Loaded, SaveError};
+use crate::log::Sink;
+use crate::safety::AxisId;
+use crate::time::datetime_from_utc;
+use drivers::rtc::Clock as RtcDriver;
+use sun_algos::UtcTime;
+
+#[cfg(doc)]
+use super::reply::write_faults;
+
+/// Sets `rtc` to `t` (the console's `time set` once the firmware has
+/// allowed it): `OutOfRange` for an instant the RTC's calendar cannot
+/// hold, `RtcFailed` when the chip did not take it.
+pub fn set_rtc_time<R: RtcDriver>(rtc: &mut R, t: &UtcTime) -> Result<(), TimeSetError> {
+    let d = datetime_from_utc(t).map_err(|_| TimeSetError::OutOfRange)?;
+    rtc.set_datetime(&d).map_err(|_| TimeSetError::RtcFailed)
+}
+
+/// Why `time set` was refused.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum TimeSetError {
+    /// GPS time is trusted: `error time set: GPS time is in force`.
+    GpsInForce,
+    /// The RTC did not take it: `error time set: the RTC did not answer`.
+    RtcFailed,
+    /// Outside what the RTC holds: `error time set: outside the RTC's range`.
+    OutOfRange,
+}
+
+/// The result of a `jog`: the manual pose now commanded, and whether the
+/// soft limits cut the move short.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Jogged {
+    /// C-axis angle commanded, degrees.
+    pub c_deg: f32,
+    /// A-axis angle commanded, degrees.
+    pub a_deg: f32,
+    /// The move was held at a soft limit.
+    pub limited: bool,
+}
+
+/// What a board's tracker lets the console do besides editing the
+/// configuration: [`execute`] answers every command through it, so every
+/// board speaks the same language with the same replies.
+pub trait Operator {
+    /// Where replies go (the log port).
+    fn out(&mut self) -> &mut dyn Sink;
+    /// The configuration in force.
+    fn config(&self) -> Config;
+    /// The board's own configuration, which `defaults` restores (its
+    /// mechanics, not [`Config::default`]'s generic ones).
+    fn defaults(&self) -> Config;
+    /// Puts a changed (valid) configuration into effect; false when the
+    /// tracker refused it (then nothing changed).
+    fn apply(&mut self, config: Config) -> bool;
+    /// What `status` reports.
+    fn status(&self) -> StatusView;
+    /// Writes the `faults` reply ([`write_faults`] or the same shape).
+    fn write_faults(&mut self);
+    /// Starts storing `config`: `None` when the board has no storage; the
+    /// reply to a started save comes when it ends (the caller polls it).
+    fn begin_save(&mut self, config: &Config) -> Option<Result<(), SaveError<()>>>;
+    /// Reads the stored configuration: `None` when the board has no
+    /// storage.
+    fn load(&mut self) -> Option<Loaded>;
+    /// Sets the RTC.
+    fn set_time(&mut self, t: &UtcTime) -> Result<(), TimeSetError>;
+    /// An operator's stow (true) or its release (false).
+    fn stow(&mut self, on: bool);
+    /// Homes both axes again; false on a board without home switches.
+    fn home(&mut self) -> bool;
+    /// Manual mode: moves `axis` by `deg`, within the soft limits.
+    fn jog(&mut self, axis: AxisId, deg: f32) -> Jogged;
+    /// Leaves manual mode.
+    fn manual_off(&mut self);
+    /// The operator's reset of a safe stop: faults cleared.
+    fn clear(&mut self);
+}
+
+/// What [`execute`] left for the caller.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Executed {
+    /// Answered (or a blank line).
+    Done,
+    /// A save was started: poll it and answer with [`write_saved`] when it
+    /// ends.
+    SaveStarted,
+}
+
+/// Parses `line`, carries it out through `op` and answers on
+/// [`Operator::out`]. Not inlined: a command's temporaries (a copy of the
+/// configuration, the status view) are on the stack only while it runs.
+#[inline(never)]
+pub fn execute(op: &mut dyn Operator, line: &str) -> Executed {
+    let cmd = match parse(line) {
+        Ok(c) => c,
+        Err(ParseError::Empty) => return Executed::Done,
+        Err(e) => {
+            write_parse_error(op.out(), &e);
+            return Executed::Done;
+        }
+    };
+    let mut config = op.config();
+    if cmd == Command::Defaults {
+        if op.apply(op.defaults()) {
+            write_ok(op.out(), cmd.name());
+        } else {
+            write_error(
+                op.out(),
+                crate::flash_str!("config refused by the tracker: not in effect"),
+            );
+        }
+        return Executed::Done;
+    }
+    let cmd = match run_config(op.out(), &mut config, cmd) {
+        Outcome::Answered => return Executed::Done,
+        Outcome::Changed => {
+            if !op.apply(config) {
+                write_error(
+                    op.out(),
+                    crate::flash_str!("config refused by the tracker: not in effect"),
+                );
+            }
+            return Executed::Done;
+        }
+        Outcome::Pass(cmd) => cmd,
+    };
+    match cmd {
+        Command::Status => {
+            let view = op.status();
+            write_status(op.out(), &view);
+        }
+        Command::Faults => op.write_faults(),
+        Command::Save => match op.begin_save(&config) {
+            Some(Ok(())) => return Executed::SaveStarted,
+            Some(Err(e)) => write_saved(op.out(), &Err(e)),
+            None => write_error(
+                op.out(),
+                crate::flash_str!("save: no storage on this board"),
+            ),
+        },
+        Command::Load => match op.load() {
+            Some(loaded) => {
+                write_loaded(op.out(), &loaded);
+                if !loaded.defaults && !op.apply(loaded.config) {
+                    write_error(
+                        op.out(),
+                        crate::flash_str!("config refused by the tracker: not in effect"),
+                    );
+                }
+            }
+            None => write_error(
+                op.out(),
+                crate::flash_str!("load: no storage on this board"),
+            ),
+        },
+        Command::TimeSet(t) => match op.set_time(&t) {
+            Ok(()) => write_time_set(op.out(), &t),
+            Err(e) => write_time_error(op.out(), e),
+        },
+        Command::Stow | Command::Resume => {
+            op.stow(matches!(cmd, Command::Stow));
+            write_ok(op.out(), cmd.name());
+        }
+        Command::Home => {
+            if op.home() {
+                write_ok(op.out(), cmd.name());
+            } else {
+                write_error(
+                    op.out(),
+                    crate::flash_str!("home: no home switches on this board"),
+                );
+            }
+        }
+        Command::ManualOff => {
+            op.manual_off();
+            write_ok(op.out(), cmd.name());
+        }
+        Command::Clear => {
+            op.clear();
+            write_ok(op.out(), cmd.name());
+        }
+        Command::Jog(axis, deg) => {
+            let j = op.jog(axis, deg);
+            let out = op.out();
+            out.flash(crate::flash_str!("ok jog c="));
+            out.fixed(j.c_deg, 2);
+            out.flash(crate::flash_str!(" a="));
+            out.fixed(j.a_deg, 2);
+            out.flash(if j.limited {
+                crate::flash_str!(" limited\n")
+            } else {
+                crate::flash_str!("\n")
+            });
+        }
+        // Carried out by `run_config`.
+        Command::Help
+        | Command::GetAll
+        | Command::Get(_)
+        | Command::Set(..)
+        | Command::SetMany(_)
+        | Command::SetPostalCode(_)
+        | Command::Defaults => {}
+    }
+    Executed::Done
+}

@@ -1,0 +1,368 @@
+//! The parser: a command line into a typed [`Command`], or why it is not
+//! one.
+
+use super::keys::{key_in, Key, KEYS, POSTAL_CODE_KEY};
+use super::number::{Decimal, NumberError};
+use super::words::{
+    is_blank, is_blank_byte, same_word, split_at_byte, strip_prefix_ignore_case, trim_blank,
+    trim_start_blank, word,
+};
+use crate::safety::AxisId;
+use crate::text::FlashStr;
+use sun_algos::UtcTime;
+
+/// Several `KEY VALUE` (or `KEY=VALUE`) pairs of one `set`, checked by
+/// [`parse`]: every key known, every value a number.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct Assignments<'a> {
+    text: &'a str,
+    /// The keys the line was parsed against.
+    keys: &'a [Key],
+}
+
+impl<'a> Assignments<'a> {
+    /// The pairs, in the order typed.
+    pub fn iter(&self) -> impl Iterator<Item = (Key, Decimal)> + 'a {
+        let (mut rest, keys) = (self.text, self.keys);
+        core::iter::from_fn(move || loop {
+            let (key, value, tail) = next_pair(rest).ok()??;
+            rest = tail;
+            if let (Some(k), Ok(v)) = (key_in(keys, key), Decimal::parse(value)) {
+                return Some((k, v));
+            }
+        })
+    }
+}
+
+/// A command line, parsed.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum Command<'a> {
+    /// `help`.
+    Help,
+    /// `status`.
+    Status,
+    /// `get`: every key.
+    GetAll,
+    /// `get KEY`.
+    Get(Key),
+    /// `set KEY VALUE` (the value not yet checked against the range).
+    Set(Key, Decimal),
+    /// `set K1 V1 K2 V2 …`: all or nothing.
+    SetMany(Assignments<'a>),
+    /// `set site.postal_code CC:CODE`: the text after the key, trimmed.
+    SetPostalCode(&'a str),
+    /// `save`.
+    Save,
+    /// `load`.
+    Load,
+    /// `defaults`.
+    Defaults,
+    /// `time set YYYY-MM-DDTHH:MM:SSZ`.
+    TimeSet(UtcTime),
+    /// `stow`.
+    Stow,
+    /// `resume`.
+    Resume,
+    /// `home`.
+    Home,
+    /// `jog c|a DEG`: move an axis by DEG degrees (the firmware keeps it
+    /// inside its limits).
+    Jog(AxisId, f32),
+    /// `manual off`.
+    ManualOff,
+    /// `faults`.
+    Faults,
+    /// `clear`.
+    Clear,
+}
+
+impl Command<'_> {
+    /// The command's words, for its `ok` reply (`stow`, `manual off`,
+    /// `time set`, …).
+    pub fn name(&self) -> FlashStr {
+        match self {
+            Command::Help => crate::flash_str!("help"),
+            Command::Status => crate::flash_str!("status"),
+            Command::GetAll | Command::Get(_) => crate::flash_str!("get"),
+            Command::Set(..) | Command::SetMany(_) | Command::SetPostalCode(_) => {
+                crate::flash_str!("set")
+            }
+            Command::Save => crate::flash_str!("save"),
+            Command::Load => crate::flash_str!("load"),
+            Command::Defaults => crate::flash_str!("defaults"),
+            Command::TimeSet(_) => crate::flash_str!("time set"),
+            Command::Stow => crate::flash_str!("stow"),
+            Command::Resume => crate::flash_str!("resume"),
+            Command::Home => crate::flash_str!("home"),
+            Command::Jog(..) => crate::flash_str!("jog"),
+            Command::ManualOff => crate::flash_str!("manual off"),
+            Command::Faults => crate::flash_str!("faults"),
+            Command::Clear => crate::flash_str!("clear"),
+        }
+    }
+}
+
+/// Why a line is not a command.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum ParseError {
+    /// Nothing but blanks: no reply.
+    Empty,
+    /// `error unknown command`.
+    UnknownCommand,
+    /// `error unknown key`.
+    UnknownKey,
+    /// `error missing argument`.
+    MissingArgument,
+    /// `error unexpected argument`.
+    UnexpectedArgument,
+    /// `error KEY: not a number` or `… number too large`.
+    BadValue(Key, NumberError),
+    /// `error not a number` or `error number too large` (`jog`).
+    BadNumber(NumberError),
+    /// `error axis must be c or a`.
+    BadAxis,
+    /// `error time must be YYYY-MM-DDTHH:MM:SSZ` (also for a date that
+    /// does not exist).
+    BadTime,
+    /// `get site.postal_code`: `error site.postal_code: set only`.
+    SetOnly,
+}
+
+fn no_more(rest: &str) -> Result<(), ParseError> {
+    if is_blank(rest) {
+        Ok(())
+    } else {
+        Err(ParseError::UnexpectedArgument)
+    }
+}
+
+/// The next `KEY VALUE` or `KEY=VALUE` pair: (key, value, rest), `None` at
+/// the end.
+fn next_pair(s: &str) -> Result<Option<(&str, &str, &str)>, ParseError> {
+    let (first, rest) = word(s);
+    if first.is_empty() {
+        return Ok(None);
+    }
+    let (key, value, rest) = match split_at_byte(first, b'=') {
+        Some((k, v)) => (k, v, rest),
+        None => {
+            let (v, rest) = word(rest);
+            (first, v, rest)
+        }
+    };
+    if key.is_empty() || value.is_empty() {
+        return Err(ParseError::MissingArgument);
+    }
+    Ok(Some((key, value, rest)))
+}
+
+/// Parses `set`'s arguments against `keys`.
+fn parse_set<'a>(args: &'a str, keys: &'a [Key]) -> Result<Command<'a>, ParseError> {
+    let trimmed = trim_start_blank(args);
+    if let Some(after) = strip_prefix_ignore_case(trimmed, POSTAL_CODE_KEY) {
+        let value = after.strip_prefix('=').or_else(|| {
+            after
+                .bytes()
+                .next()
+                .is_none_or(is_blank_byte)
+                .then_some(after)
+        });
+        if let Some(value) = value {
+            let value = trim_blank(value);
+            if value.is_empty() {
+                return Err(ParseError::MissingArgument);
+            }
+            return Ok(Command::SetPostalCode(value));
+        }
+    }
+    let mut rest = args;
+    let mut count = 0u8;
+    let mut single = None;
+    while let Some((key, value, tail)) = next_pair(rest)? {
+        if same_word(key, POSTAL_CODE_KEY) {
+            return Err(ParseError::UnexpectedArgument);
+        }
+        let k = key_in(keys, key).ok_or(ParseError::UnknownKey)?;
+        let v = Decimal::parse(value).map_err(|e| ParseError::BadValue(k, e))?;
+        single = Some((k, v));
+        count = count.saturating_add(1);
+        rest = tail;
+    }
+    match single {
+        None => Err(ParseError::MissingArgument),
+        Some((k, v)) if count == 1 => Ok(Command::Set(k, v)),
+        Some(_) => Ok(Command::SetMany(Assignments { text: args, keys })),
+    }
+}
+
+/// `YYYY-MM-DDTHH:MM:SSZ` exactly (`T` and `Z` in either case).
+pub fn parse_utc(s: &str) -> Option<UtcTime> {
+    // `0` stands for a digit; the other bytes end a field.
+    const TEMPLATE: &[u8; 20] = b"0000-00-00T00:00:00Z";
+    let b = s.as_bytes();
+    if b.len() != TEMPLATE.len() {
+        return None;
+    }
+    // Year, month, day, hour, minute, second: at most 9999.
+    let mut fields = [0u16; 6];
+    let mut field = 0usize;
+    for (&c, &t) in b.iter().zip(TEMPLATE.iter()) {
+        if t == b'0' {
+            if !c.is_ascii_digit() {
+                return None;
+            }
+            let f = fields.get_mut(field)?;
+            *f = f
+                .wrapping_mul(10)
+                .wrapping_add(u16::from(c.wrapping_sub(b'0')));
+        } else if c.eq_ignore_ascii_case(&t) {
+            field = field.saturating_add(1);
+        } else {
+            return None;
+        }
+    }
+    let [year, month, day, hour, minute, second] = fields;
+    let small = |v: u16| u8::try_from(v).ok();
+    UtcTime::from_ymd_hms(
+        i32::from(year),
+        small(month)?,
+        small(day)?,
+        small(hour)?,
+        small(minute)?,
+        small(second)?,
+    )
+    .ok()
+}
+
+/// The first word of a command line.
+#[derive(Clone, Copy)]
+enum Verb {
+    Help,
+    Status,
+    Get,
+    Set,
+    Save,
+    Load,
+    Defaults,
+    Time,
+    Stow,
+    Resume,
+    Home,
+    Jog,
+    Manual,
+    Faults,
+    Clear,
+}
+
+crate::progmem! {
+    /// The command words (in program memory on AVR, the table's pointers
+    /// and lengths too; read one entry at a time).
+    static VERBS: [(FlashStr, Verb); 15] = [
+        (crate::flash_str!("help"), Verb::Help),
+        (crate::flash_str!("status"), Verb::Status),
+        (crate::flash_str!("get"), Verb::Get),
+        (crate::flash_str!("set"), Verb::Set),
+        (crate::flash_str!("save"), Verb::Save),
+        (crate::flash_str!("load"), Verb::Load),
+        (crate::flash_str!("defaults"), Verb::Defaults),
+        (crate::flash_str!("time"), Verb::Time),
+        (crate::flash_str!("stow"), Verb::Stow),
+        (crate::flash_str!("resume"), Verb::Resume),
+        (crate::flash_str!("home"), Verb::Home),
+        (crate::flash_str!("jog"), Verb::Jog),
+        (crate::flash_str!("manual"), Verb::Manual),
+        (crate::flash_str!("faults"), Verb::Faults),
+        (crate::flash_str!("clear"), Verb::Clear),
+    ];
+}
+
+/// Parses one command line (see the module docs for the language).
+pub fn parse(line: &str) -> Result<Command<'_>, ParseError> {
+    parse_in(line, KEYS)
+}
+
+/// Parses one command line whose keys are those of `keys`: the language of
+/// [`parse`] on a board that offers a part of the configuration (the
+/// Arduino Uno's settings); any other key is `error unknown key`.
+#[inline(never)]
+pub fn parse_in<'a>(line: &'a str, keys: &'a [Key]) -> Result<Command<'a>, ParseError> {
+    let (cmd, rest) = word(line);
+    if cmd.is_empty() {
+        return Err(ParseError::Empty);
+    }
+    let Some(verb) = VERBS
+        .iter()
+        .find(|(w, _)| same_word(cmd, *w))
+        .map(|(_, v)| v)
+    else {
+        return Err(ParseError::UnknownCommand);
+    };
+    let (arg, after) = word(rest);
+    let alone = |c: Command<'static>| {
+        if arg.is_empty() {
+            Ok(c)
+        } else {
+            Err(ParseError::UnexpectedArgument)
+        }
+    };
+    match verb {
+        Verb::Help => alone(Command::Help),
+        Verb::Status => alone(Command::Status),
+        Verb::Save => alone(Command::Save),
+        Verb::Load => alone(Command::Load),
+        Verb::Defaults => alone(Command::Defaults),
+        Verb::Stow => alone(Command::Stow),
+        Verb::Resume => alone(Command::Resume),
+        Verb::Home => alone(Command::Home),
+        Verb::Faults => alone(Command::Faults),
+        Verb::Clear => alone(Command::Clear),
+        Verb::Get => {
+            if arg.is_empty() {
+                return Ok(Command::GetAll);
+            }
+            no_more(after)?;
+            if same_word(arg, POSTAL_CODE_KEY) {
+                return Err(ParseError::SetOnly);
+            }
+            key_in(keys, arg)
+                .map(Command::Get)
+                .ok_or(ParseError::UnknownKey)
+        }
+        Verb::Set => parse_set(rest, keys),
+        Verb::Time => {
+            if !same_word(arg, crate::flash_str!("set")) {
+                return Err(ParseError::UnknownCommand);
+            }
+            let (t, after) = word(after);
+            if t.is_empty() {
+                return Err(ParseError::MissingArgument);
+            }
+            no_more(after)?;
+            parse_utc(t)
+                .map(Command::TimeSet)
+                .ok_or(ParseError::BadTime)
+        }
+        Verb::Manual => {
+            if !same_word(arg, crate::flash_str!("off")) {
+                return Err(ParseError::UnknownCommand);
+            }
+            no_more(after).map(|()| Command::ManualOff)
+        }
+        Verb::Jog => {
+            let (deg, after) = word(after);
+            if deg.is_empty() {
+                return Err(ParseError::MissingArgument);
+            }
+            no_more(after)?;
+            let axis = if same_word(arg, crate::flash_str!("c")) {
+                AxisId::C
+            } else if same_word(arg, crate::flash_str!("a")) {
+                AxisId::A
+            } else {
+                return Err(ParseError::BadAxis);
+            };
+            let deg = Decimal::parse(deg).map_err(ParseError::BadNumber)?;
+            Ok(Command::Jog(axis, deg.to_f32()))
+        }
+    }
+}

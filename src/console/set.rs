@@ -1,0 +1,102 @@
+//! Setting keys: a `set` applied to a copy of the configuration, validated,
+//! and kept only when valid.
+
+use super::keys::{slot, Key, Slot};
+use super::number::Decimal;
+use super::parse::Assignments;
+use crate::config::{Config, ConfigError};
+use crate::site::PostalError;
+
+/// Why a `set` changed nothing.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum SetError {
+    /// The new configuration breaks a range or rule: the field and reason
+    /// from [`Config::validate`] (usually the key that was set; for a rule
+    /// between fields, the field the rule names):
+    /// `error FIELD: REASON`.
+    Invalid(ConfigError),
+    /// A fraction for a whole-number key: `error KEY: whole number expected`.
+    NotWhole(Key),
+    /// A derived value (`axis.*.counts_per_deg`): `error KEY: read only`.
+    ReadOnly(Key),
+    /// A value the field cannot hold that the validation did not refuse
+    /// either (no range allows it today): `error KEY: out of range`.
+    OutOfRange(Key),
+    /// The postal code gave no site: `error site.postal_code: …`.
+    Postal(PostalError),
+}
+
+/// A whole number for a field of at most `max`, and whether it had to be
+/// clipped: `NotWhole` for a fraction; `(max, true)` for a negative number
+/// or one above `max`. No range of [`Config::validate`] includes its
+/// type's maximum, so the validation then refuses the field with its own
+/// reason.
+fn whole(v: &Decimal, key: Key, max: u32) -> Result<(u32, bool), SetError> {
+    if v.has_fraction() {
+        return Err(SetError::NotWhole(key));
+    }
+    Ok(match v.to_u32() {
+        Some(w) if w <= max => (w, false),
+        _ => (max, true),
+    })
+}
+
+/// Stores `v` in `key` of `c`, unchecked; `Ok(true)` when it had to be
+/// clipped to the field's type.
+fn store(c: &mut Config, key: Key, v: &Decimal) -> Result<bool, SetError> {
+    match slot(c, key) {
+        Slot::F32(f) => {
+            *f = v.to_f32();
+            Ok(false)
+        }
+        Slot::U32(f) => {
+            let (w, clipped) = whole(v, key, u32::MAX)?;
+            *f = w;
+            Ok(clipped)
+        }
+        Slot::U16(f) => {
+            let (w, clipped) = whole(v, key, u32::from(u16::MAX))?;
+            *f = u16::try_from(w).unwrap_or(u16::MAX);
+            Ok(clipped)
+        }
+        Slot::U8(f) => {
+            let (w, clipped) = whole(v, key, u32::from(u8::MAX))?;
+            *f = u8::try_from(w).unwrap_or(u8::MAX);
+            Ok(clipped)
+        }
+        Slot::Derived => Err(SetError::ReadOnly(key)),
+    }
+}
+
+/// Sets `key` to `value` in a copy of `config`, validates the copy with
+/// [`Config::validate`] and only then stores it; on error `config` is
+/// unchanged.
+pub fn apply_set(config: &mut Config, key: Key, value: Decimal) -> Result<(), SetError> {
+    let mut copy = *config;
+    let clipped = store(&mut copy, key, &value)?;
+    commit(config, copy, clipped.then_some(key))
+}
+
+/// Sets every pair of `set` in a copy of `config`, validates the copy once
+/// and only then stores it: all or nothing.
+pub fn apply_assignments(config: &mut Config, set: &Assignments<'_>) -> Result<(), SetError> {
+    let mut copy = *config;
+    let mut clipped = None;
+    for (key, value) in set.iter() {
+        if store(&mut copy, key, &value)? {
+            clipped = Some(key);
+        }
+    }
+    commit(config, copy, clipped)
+}
+
+/// Stores `copy` if it is valid and no value had to be clipped to its
+/// field's type (`clipped` names such a key).
+fn commit(config: &mut Config, copy: Config, clipped: Option<Key>) -> Result<(), SetError> {
+    copy.validate().map_err(SetError::Invalid)?;
+    if let Some(key) = clipped {
+        return Err(SetError::OutOfRange(key));
+    }
+    *config = copy;
+    Ok(())
+}
