@@ -31,12 +31,13 @@ use embedded_io::{Read, ReadReady};
 use sun_algos::{Error as SunError, Float, Site, UtcTime};
 
 use crate::attitude::Pose;
-use crate::config::{Config, Loaded, SaveError, SaveStatus};
+use crate::config::Config;
 use crate::console::{self, Executed, Jogged, LineBuffer, Operator, StatusView, TimeSetError};
 use crate::controller::{Controller, ControllerError, ControllerOptions, TickReport};
 use crate::hw::GpsPort;
 use crate::log::{self, ChangeLog, Sink, SiteSource as LogSite};
 use crate::motion::AxisDrive;
+use crate::persist::{Loaded, SaveError, SaveStatus};
 use crate::ports::AttitudeSensor;
 use crate::safety::{AxisId, Mode};
 use crate::site::{site_from_config, site_from_fix, wmm_declination_deg};
@@ -82,12 +83,12 @@ pub trait ConfigPersist {
 }
 
 /// The two-slot store over any storage, stepped from the loop.
-impl<S: crate::ports::Storage> ConfigPersist for crate::config::ConfigStore<S> {
+impl<S: crate::ports::Storage> ConfigPersist for crate::persist::ConfigStore<S> {
     fn load(&mut self) -> Loaded {
-        crate::config::ConfigStore::load(self)
+        crate::persist::ConfigStore::load(self)
     }
     fn begin_save(&mut self, config: &Config) -> Result<(), SaveError<()>> {
-        crate::config::ConfigStore::begin_save(self, config).map_err(drop_storage_error)
+        crate::persist::ConfigStore::begin_save(self, config).map_err(drop_storage_error)
     }
     fn poll_save(&mut self) -> Option<Result<(), SaveError<()>>> {
         match self.poll() {

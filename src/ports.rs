@@ -18,11 +18,11 @@ pub trait Clock {
 /// [`Storage::write_step`], [`Storage::flush_step`] — never wait: each does
 /// what the storage can do now (at most one bounded operation) and says how
 /// far it got, so that a main loop that must not stop longer than one tick
-/// calls one of them per pass ([`crate::config::ConfigStore::poll`] does).
+/// calls one of them per pass ([`crate::persist::ConfigStore::poll`] does).
 /// Their defaults suit storage that is always ready and needs no erase
 /// (RAM): nothing to erase, the whole write at once, nothing pending.
 ///
-/// Implementations: [`crate::config::MemStorage`] (RAM),
+/// Implementations: [`crate::persist::MemStorage`] (RAM),
 /// [`crate::persist::EepromStorage`] (byte EEPROM such as the AVR's, over
 /// [`crate::persist::EepromCells`]), [`crate::persist::NorFlashStorage`]
 /// (NOR flash through `embedded-storage`).

@@ -17,7 +17,7 @@
 //! the storage is powered up again and loaded: the result is exactly the
 //! old or the new configuration, never the defaults while a good copy
 //! existed. The number of cut points is computed from the record this test
-//! builds itself (layout of `src/config.rs`: magic, version, length,
+//! builds itself (layout of `src/persist/store.rs`: magic, version, length,
 //! sequence, payload, CRC-32 by `crc32`, whose check value
 //! `tests/tracker_config.rs` verifies) and the storage's contents.
 //!
@@ -32,11 +32,11 @@ use std::fmt::Debug;
 use embedded_storage::nor_flash::{
     check_erase, check_read, check_write, ErrorType, NorFlash, NorFlashErrorKind, ReadNorFlash,
 };
-use suntracker::config::{
-    crc32, Config, ConfigStore, Loaded, Record, SaveError, SaveStatus, SlotState, LAYOUT_VERSION,
-    RECORD_LEN, SLOT_LEN,
+use suntracker::config::{Config, LAYOUT_VERSION, RECORD_LEN};
+use suntracker::persist::{
+    crc32, ConfigStore, EepromCells, EepromError, EepromStorage, Loaded, NorError, NorFlashStorage,
+    Record, SaveError, SaveStatus, SlotState, SLOT_LEN,
 };
-use suntracker::persist::{EepromCells, EepromError, EepromStorage, NorError, NorFlashStorage};
 use suntracker::ports::Storage;
 use suntracker::servo_tracker::settings::{self as settings, Settings};
 

@@ -1,14 +1,15 @@
 //! The configuration console (src/console/): the line buffer, the parser,
-//! every key's get and set against the ranges documented in src/config.rs,
+//! every key's get and set against the ranges documented in src/config/mod.rs,
 //! postal codes, and the reply lines.
 
 use sun_algos::UtcTime;
-use suntracker::config::{Config, Loaded, MemError, SaveError, SlotState};
+use suntracker::config::Config;
 use suntracker::console::{
     self, apply_set, Command, Decimal, Key, LineBuffer, LineError, NumberError, Outcome,
     ParseError, SetError, StatusView, Value, KEYS, LINE_LEN,
 };
 use suntracker::log::{Sink, SiteSource};
+use suntracker::persist::{Loaded, MemError, SaveError, SlotState};
 use suntracker::safety::{AxisId, Fault, FaultManager, Mode, MAX_ACTIVE};
 use suntracker::site::PostalError;
 use suntracker::time::TimeOrigin;
@@ -67,13 +68,13 @@ fn is_read_only(key: Key) -> bool {
 }
 
 // ---------------------------------------------------------------------------
-// Ranges as documented in src/config.rs
+// Ranges as documented in src/config/mod.rs
 
-/// Doc comments of src/config.rs, one line of text (`///` stripped, lines
+/// Doc comments of src/config/mod.rs, one line of text (`///` stripped, lines
 /// joined by a space).
 fn config_docs() -> String {
-    let src = std::fs::read_to_string(concat!(env!("CARGO_MANIFEST_DIR"), "/src/config.rs"))
-        .expect("src/config.rs");
+    let src = std::fs::read_to_string(concat!(env!("CARGO_MANIFEST_DIR"), "/src/config/mod.rs"))
+        .expect("src/config/mod.rs");
     src.lines()
         .filter_map(|l| l.trim_start().strip_prefix("///"))
         .map(str::trim)
@@ -82,7 +83,7 @@ fn config_docs() -> String {
 }
 
 /// The documented range of each key (the A axis's fields are documented
-/// under their C-axis keys), as written in src/config.rs.
+/// under their C-axis keys), as written in src/config/mod.rs.
 const DOC_RANGES: &[(&str, &str)] = &[
     ("site.lat_deg", "−90…90"),
     ("site.lon_deg", "−180…180"),
@@ -123,7 +124,7 @@ fn doc_number(s: &str) -> f64 {
 }
 
 /// (lo, hi) of a key from [`DOC_RANGES`], after checking that
-/// src/config.rs states that range next to the key.
+/// src/config/mod.rs states that range next to the key.
 fn doc_range(docs: &str, key: &str) -> Option<(f64, f64)> {
     let c_key = key.replace("axis.a.", "axis.c.");
     let (_, range) = DOC_RANGES.iter().find(|(k, _)| *k == c_key)?;
@@ -139,7 +140,7 @@ fn doc_range(docs: &str, key: &str) -> Option<(f64, f64)> {
     });
     assert!(
         near,
-        "src/config.rs does not state {range} next to {needle}"
+        "src/config/mod.rs does not state {range} next to {needle}"
     );
     let (lo, hi) = range.split_once('…').unwrap();
     Some((doc_number(lo), doc_number(hi)))
@@ -199,7 +200,7 @@ fn valid_values(docs: &str, key: Key) -> Vec<f64> {
     if name.ends_with(".home_deg") {
         assert!(
             docs.contains(HOME_DOC),
-            "src/config.rs does not state {HOME_DOC}"
+            "src/config/mod.rs does not state {HOME_DOC}"
         );
         let min = f64::from(defaults.axes[axis_of(name)].min_deg);
         return vec![min - 5.0, min - 1.25, min, min + 3.3, min + 10.0];
@@ -266,8 +267,8 @@ fn key_table_names_every_field_once_and_the_docs_list_them() {
             .expect("src/console/mod.rs");
     for k in KEYS {
         let name = k.name().as_str();
-        // Every key is a field key of src/config.rs's docs (where its unit
-        // and range are written, once), or one the console's docs name.
+        // Every key is a field key of src/config/mod.rs's docs (where its
+        // unit and range are written, once), or one the console's docs name.
         let c_name = name.replace("axis.a.", "axis.c.");
         assert!(
             docs.contains(&format!("`{c_name}`")) || module.contains(&format!("`{name}`")),

@@ -29,9 +29,10 @@ use sim::gps::GpsReceiverModel;
 use sim::rtc::SimRtc;
 use sim::sensors::MountSensors;
 use sun_algos::{Algorithm, Options, Site, UtcTime};
-use suntracker::config::{Config, ConfigStore, MemStorage};
+use suntracker::config::Config;
 use suntracker::controller::ControllerOptions;
 use suntracker::firmware::{AppConfig, ConfigPersist, Firmware, Platform};
+use suntracker::persist::{ConfigStore, MemStorage};
 use tracker_hw_common::host_io::{Log, Uart};
 use tracker_hw_common::motor::{stepper_axis, Motor};
 

@@ -1,8 +1,8 @@
 //! Configuration storage: CRC, versions, two slots, torn writes.
 
-use suntracker::config::{
-    crc32, Config, ConfigStore, MemError, MemStorage, SaveError, SaveStatus, SlotState,
-    LAYOUT_VERSION, PAYLOAD_LEN, RECORD_LEN, SLOT_LEN,
+use suntracker::config::{Config, LAYOUT_VERSION, PAYLOAD_LEN, RECORD_LEN};
+use suntracker::persist::{
+    crc32, ConfigStore, MemError, MemStorage, SaveError, SaveStatus, SlotState, SLOT_LEN,
 };
 use suntracker::ports::Storage;
 
@@ -207,7 +207,7 @@ fn clone(m: &MemStorage<1024>) -> MemStorage<1024> {
 
 #[test]
 fn record_is_header_payload_and_crc() {
-    // Layout table of src/config.rs: 12 header bytes, the payload, 4 CRC
+    // Slot layout table of src/persist/store.rs: 12 header bytes, the payload, 4 CRC
     // bytes; it fits a slot.
     assert_eq!(RECORD_LEN, 12 + PAYLOAD_LEN + 4);
     const { assert!(RECORD_LEN <= SLOT_LEN) };

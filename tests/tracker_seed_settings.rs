@@ -4,14 +4,14 @@
 //! replies. The expected replies are the documented ones: the language of
 //! `src/console/mod.rs` (module docs), the settings module's table (keys,
 //! `error <command>: not on this image`) and the refusal texts of
-//! `src/config.rs` (`Reason`).
+//! `src/config/keys.rs` (`Reason`).
 
 use drivers::rtc::Clock;
 use sim::rtc::SimRtc;
 use sun_algos::UtcTime;
-use suntracker::config::{MemStorage, SlotState};
 use suntracker::log::Sink;
 use suntracker::persist::{EepromCells, EepromStorage};
+use suntracker::persist::{MemStorage, SlotState};
 use suntracker::ports::Storage;
 use suntracker::servo_tracker::settings::{self as settings, Settings, SettingsConsole};
 

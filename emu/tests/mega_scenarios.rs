@@ -27,7 +27,7 @@ const STEP_DEG: f64 = 0.036;
 /// Slack for comparing decoded angles with commanded ones: one step, plus
 /// the firmware's 2-decimal rounding of c and a.
 const ANGLE_TOL_DEG: f64 = STEP_DEG + 0.005;
-/// Config defaults (src/config.rs `WindConfig`): hold before stowing and
+/// Config defaults (src/config/mod.rs `WindConfig`): hold before stowing and
 /// calm before release, seconds.
 const WIND_HOLD_S: f64 = 3.0;
 const WIND_RELEASE_S: f64 = 600.0;

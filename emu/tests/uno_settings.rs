@@ -13,7 +13,7 @@
 //! CPU time), its typed lines at 115,200 baud. EEPROM contents the tests
 //! make themselves come from the library's own store
 //! (`suntracker::servo_tracker::settings::SettingsStore` over
-//! `suntracker::config::MemStorage`), as a host tool would make them.
+//! `suntracker::persist::MemStorage`), as a host tool would make them.
 //! References, as in `uno_scenarios.rs`: the sun is the harness's SPA
 //! (`suntracker_emu::uno::spa`: sun_algos, `f64`, geometric) at the stored
 //! site and the set-point's UTC; the panel normal of a pose is
@@ -26,7 +26,7 @@
 use std::path::PathBuf;
 
 use suntracker::attitude::{angle_between_deg, sun_vector_xyz, MountAttitude, Pose};
-use suntracker::config::{MemStorage, SLOT_LEN};
+use suntracker::persist::{MemStorage, SLOT_LEN};
 use suntracker::servo_tracker::settings::{Settings, SettingsStore, DEFAULTS, EEPROM_LEN};
 use suntracker_emu::log::{format_utc, parse_utc, Event};
 use suntracker_emu::sim::CpuState;
@@ -51,7 +51,7 @@ const SETTINGS_RAM_BUDGET_B: u16 = 2_048;
 /// Sydney, the site typed and stored.
 const SYDNEY: (f64, f64) = (-33.8688, 151.2093);
 /// A slot's header: magic, version, length, then the sequence number at
-/// bytes 8..12 (`src/config.rs`, "Layout").
+/// bytes 8..12 (`src/persist/store.rs`, "Slot layout").
 const HEADER_LEN: usize = 12;
 const SEQ_AT: usize = 8;
 

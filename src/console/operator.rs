@@ -8,8 +8,9 @@ use super::reply::{
     write_time_set,
 };
 use super::status::{write_status, StatusView};
-use crate::config::{Config, Loaded, SaveError};
+use crate::config::Config;
 use crate::log::Sink;
+use crate::persist::{Loaded, SaveError};
 use crate::safety::AxisId;
 use crate::time::datetime_from_utc;
 use drivers::rtc::Clock as RtcDriver;

@@ -1,8 +1,10 @@
-//! The configuration's storage on real boards: byte EEPROM ([`EepromStorage`],
-//! the AVR's through `suntracker_avr::eeprom::Eeprom`) and NOR flash through
-//! `embedded-storage` ([`NorFlashStorage`], the STM32F411's through
-//! `stm32f411::ConfigSectors`), both written in steps that never wait, for
-//! [`ConfigStore`](crate::config::ConfigStore)'s stepped save.
+//! The configuration's storage: the two-slot CRC-32 store ([`ConfigStore`],
+//! its slot layout and records, in `store`), and what it is kept on: byte
+//! EEPROM ([`EepromStorage`], the AVR's through
+//! `suntracker_avr::eeprom::Eeprom`), NOR flash through `embedded-storage`
+//! ([`NorFlashStorage`], the STM32F411's through `stm32f411::ConfigSectors`),
+//! both written in steps that never wait, for [`ConfigStore`]'s stepped save,
+//! and RAM ([`MemStorage`], in `mem`).
 //!
 //! # What is stored where
 //!
@@ -11,10 +13,10 @@
 //! | Arduino Uno (ATmega328P, 1 KiB EEPROM) | EEPROM | bytes 0–255 | bytes 256–511 | the record's changed bytes, one started per step, 3.4 ms each in the background |
 //! | Arduino Mega 2560 (ATmega2560, 4 KiB EEPROM) | EEPROM | bytes 0–255 | bytes 256–511 | as the Uno |
 //! | Black Pill (STM32F411CE, 512 KiB flash) | flash sectors 1 and 2 | 0x0800_4000 (sector 1, 16 KiB) | 0x0800_8000 (sector 2, 16 KiB) | erase the sector (the CPU stalls), then program 16 bytes a step |
-//! | QEMU mps2-an386, hosts | RAM ([`MemStorage`](crate::config::MemStorage)) | bytes 0–255 | bytes 256–511 | one write |
+//! | QEMU mps2-an386, hosts | RAM ([`MemStorage`]) | bytes 0–255 | bytes 256–511 | one write |
 //!
 //! Each slot holds one record of [`RECORD_LEN`](crate::config::RECORD_LEN)
-//! bytes at its start (layout in [`crate::config`]); a save writes the slot
+//! bytes at its start (layout in `store`, [`ConfigStore`]); a save writes the slot
 //! without the newest good copy, so the other one stays good through any
 //! power cut (shown by `tests/config_powercut.rs` on the fault models of an
 //! EEPROM and a NOR flash, through this module's code).
@@ -36,7 +38,7 @@
 //! background time, the loop running all along.
 //!
 //! Reads wait for a write in progress (at most the 3.4 ms of one byte):
-//! [`ConfigStore::load`](crate::config::ConfigStore::load) only reads, and
+//! [`ConfigStore::load`] only reads, and
 //! a load during a save is rare (the console's `load`).
 //!
 //! Endurance (datasheets, features page): 100,000 write/erase cycles per
@@ -111,8 +113,15 @@
 
 use embedded_storage::nor_flash::NorFlash;
 
-use crate::config::SLOT_LEN;
 use crate::ports::Storage;
+
+mod mem;
+mod store;
+
+pub use mem::{MemError, MemStorage};
+pub use store::{
+    crc32, record_len, ConfigStore, Loaded, Record, SaveError, SaveStatus, SlotState, SLOT_LEN,
+};
 
 /// The cells of a byte-writable EEPROM: what [`EepromStorage`] needs from
 /// the hardware. Implemented by `suntracker_avr::eeprom::Eeprom`

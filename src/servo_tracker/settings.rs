@@ -47,12 +47,10 @@
 
 use sun_algos::Site;
 
-use crate::config::{
-    check_f32, ranges, record_len, AxisConfig, ConfigError, ConfigStore, Field, Loaded, Reason,
-    Record, SaveStatus,
-};
+use crate::config::{check_f32, ranges, AxisConfig, ConfigError, Field, Reason};
 use crate::console::{self, Command, Decimal, LineBuffer, SetError};
 use crate::log::Sink;
+use crate::persist::{record_len, ConfigStore, Loaded, Record, SaveStatus};
 use crate::ports::Storage;
 use crate::text::FlashStr;
 use drivers::rtc::Clock as RtcDriver;

@@ -8,7 +8,7 @@
 //!
 //! ```ignore
 //! let storage = suntracker_avr::eeprom::Eeprom::storage(dp.EEPROM);
-//! let mut store = suntracker::config::ConfigStore::new(storage);
+//! let mut store = suntracker::persist::ConfigStore::new(storage);
 //! let loaded = store.load();
 //! ```
 //!

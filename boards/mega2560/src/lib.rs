@@ -56,13 +56,13 @@ use drivers::stepper::hbridge::{BridgePins, HBridgeStepper};
 use drivers::stepper::LimitSwitches;
 use drivers::tilt::adxl345::Adxl345;
 
-use suntracker::config::{Config, ConfigStore};
+use suntracker::config::Config;
 use suntracker::controller::{ControllerError, ControllerOptions};
 use suntracker::firmware::{AppConfig, ConfigPersist, Firmware, Platform, StartError};
 use suntracker::hw::{MountSensorsHw, StepperAxis};
 use suntracker::log::Sink;
 use suntracker::mechanics::{self, bridge_config};
-use suntracker::persist::EepromStorage;
+use suntracker::persist::{ConfigStore, EepromStorage};
 use suntracker_avr::eeprom::Eeprom;
 use suntracker_avr::{
     chip, millis, sleep_until_interrupt, Anemometer, ExtInt, I2c, InputPin, Millis, OutputPin,

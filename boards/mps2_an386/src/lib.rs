@@ -95,11 +95,12 @@ use sun_algos::UtcTime;
 
 use sim::plant::MotorPlant;
 use sim::sensors::MountSensors;
-use suntracker::config::{Config, ConfigStore, SLOT_LEN};
+use suntracker::config::Config;
 use suntracker::controller::{AttitudeSource, Controller, ControllerOptions};
 use suntracker::firmware::{AppConfig, ConfigPersist, Firmware, Platform};
 use suntracker::log::Sink;
 use suntracker::motion::FeedbackMode;
+use suntracker::persist::{ConfigStore, SLOT_LEN};
 use suntracker::ports::Storage;
 use suntracker::safety::Mode;
 use suntracker::time::{datetime_from_utc, utc_from_datetime};

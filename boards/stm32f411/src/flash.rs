@@ -5,7 +5,7 @@
 //!
 //! ```ignore
 //! let storage = suntracker_stm32f411::flash::ConfigSectors::storage(dp.FLASH)?;
-//! let mut store = suntracker::config::ConfigStore::new(storage);
+//! let mut store = suntracker::persist::ConfigStore::new(storage);
 //! ```
 
 use embedded_storage::nor_flash::{

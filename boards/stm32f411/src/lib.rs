@@ -142,14 +142,14 @@ use hal::timer::DelayUs;
 use hal::watchdog::IndependentWatchdog;
 
 use crate::flash::{ConfigSectors, SECTOR_LEN, WINDOW_OFFSET};
-use suntracker::config::{Config, ConfigStore};
+use suntracker::config::Config;
 use suntracker::controller::Controller;
 use suntracker::firmware::{AppConfig, ConfigPersist, Firmware, Platform};
 use suntracker::hw::{EitherTilt, MountSensorsHw, StepperAxis};
 use suntracker::log::Sink;
 use suntracker::mechanics::{self, bridge_config};
 use suntracker::motion::AxisDrive;
-use suntracker::persist::NorFlashStorage;
+use suntracker::persist::{ConfigStore, NorFlashStorage};
 use suntracker::ports::AttitudeSensor;
 use suntracker::sun::BoardSource;
 

@@ -1,0 +1,247 @@
+//! Configuration: site, mechanics, limits, intervals and calibration.
+//!
+//! - this module: the schema, [`Config`] and its parts, with the defaults;
+//! - [`ranges`]: the physical range of each field;
+//! - `keys`: each field's dotted key ([`Field`]) and the text of each range
+//!   or rule ([`Reason`]);
+//! - `validate`: the checks ([`Config::validate`], [`ConfigError`]);
+//! - `codec`: the binary payload ([`Config::encode`], [`Config::decode`],
+//!   [`PAYLOAD_LEN`]);
+//! - `record`: the [`Config`] as a record of the two-slot CRC-32 store
+//!   ([`crate::persist::Record`]; [`LAYOUT_VERSION`], [`RECORD_LEN`] and
+//!   [`crate::persist::ConfigStore::new`]).
+//!
+//! The store itself, its slot layout and its power-cut rules are
+//! [`crate::persist`]'s ([`crate::persist::ConfigStore`]): a slot with a
+//! bad CRC, a wrong magic or version, a payload of the wrong length or
+//! values out of range is bad as a whole; with no good slot the defaults
+//! are used. Nothing is ever applied in part.
+
+use crate::plan::ScheduleConfig;
+
+pub(crate) mod codec;
+mod keys;
+pub mod ranges;
+mod record;
+mod validate;
+
+pub use codec::PAYLOAD_LEN;
+pub use keys::{Field, Reason};
+pub use record::{LAYOUT_VERSION, RECORD_LEN};
+pub(crate) use validate::check_f32;
+pub use validate::ConfigError;
+
+/// The tracker's site.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct SiteConfig {
+    /// Latitude, degrees north: −90…90 (`site.lat_deg`), the geographic
+    /// range.
+    pub latitude_deg: f32,
+    /// Longitude, degrees east: −180…180 (`site.lon_deg`), the geographic
+    /// range.
+    pub longitude_deg: f32,
+    /// Elevation, metres: −500…10,000 (`site.elevation_m`), from below the
+    /// Dead Sea shore (−430 m) to above Everest (8,849 m).
+    pub elevation_m: f32,
+}
+
+/// Mechanics and limits of one axis.
+///
+/// Besides each field's range, the counts per degree derived from the
+/// first three ([`AxisConfig::counts_per_deg`], key `axis.c.counts_per_deg`)
+/// lie in 1…1,000,000: at least a 1° resolution, and the largest move of
+/// the axis (925°, [`ranges::MAX_MOVE_DEG`]) fits in under half of the
+/// `i32` motor counts, so that no axis arithmetic can overflow.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct AxisConfig {
+    /// Motor full steps per motor revolution (stepper) or encoder counts per
+    /// motor revolution (servo): 1…16,777,216 (`axis.c.counts_per_motor_rev`);
+    /// steppers have 200 or 400 full steps, absolute encoders up to 24 bits.
+    pub counts_per_motor_rev: u32,
+    /// Microsteps per full step (1 for a servo): 1…256 (`axis.c.microsteps`),
+    /// what stepper drivers offer.
+    pub microsteps: u16,
+    /// Gear ratio, motor revolutions per axis revolution: 1…10,000
+    /// (`axis.c.gear_ratio`), from direct drive to a worm gear plus a
+    /// planetary stage.
+    pub gear_ratio: f32,
+    /// Soft limit, lowest angle, degrees: −360…360 and below `max_deg`
+    /// (`axis.c.min_deg`); at most one turn either way.
+    pub min_deg: f32,
+    /// Soft limit, highest angle, degrees: −360…360 and above `min_deg`
+    /// (`axis.c.max_deg`).
+    pub max_deg: f32,
+    /// Angle of the homing limit switch, degrees: `min_deg − 5`…`min_deg +
+    /// 10` and at most `max_deg` (`axis.c.home_deg`). The switch is closed at and below this angle
+    /// and homing drives negative onto it, so it sits at the low end of the
+    /// travel; backing off a closed switch is limited to 15° in all, which
+    /// must get an axis resting at its lowest limit off the switch.
+    pub home_deg: f32,
+    /// Backlash of the gear train, degrees: 0…5 (`axis.c.backlash_deg`);
+    /// worm gears and slewing drives have 0.1–1°, beyond 5° counting the
+    /// slack is meaningless.
+    pub backlash_deg: f32,
+    /// Highest axis speed, degrees per second: 0.01…30
+    /// (`axis.c.max_speed_deg_s`), from a slow slewing drive to a sweep of
+    /// 360° in 12 s; a panel's inertia allows no more.
+    pub max_speed_deg_s: f32,
+    /// Closed-loop deadband, degrees: 0…5 (`axis.c.deadband_deg`; cos 5° =
+    /// 0.996, 0.4 % of the direct beam) and below
+    /// `safety.max_deviation_deg`, or a deviation fault would be raised for
+    /// an error the loop does not correct.
+    pub deadband_deg: f32,
+}
+
+impl AxisConfig {
+    /// Motor counts per axis degree: counts × microsteps × gear / 360.
+    pub fn counts_per_deg(&self) -> f32 {
+        self.counts_per_motor_rev as f32 * f32::from(self.microsteps) * self.gear_ratio / 360.0
+    }
+}
+
+/// Wind stow (anemometer pulse rate).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct WindConfig {
+    /// Pulse rate that means "too windy", Hz: 0.1…1,000 (`wind.stow_hz`); a
+    /// cup anemometer gives 1–20 pulses per turn and turns at most ~30
+    /// times a second.
+    pub threshold_hz: f32,
+    /// Seconds above the threshold before stowing: 0…600 (`wind.hold_s`);
+    /// at once up to 10 minutes (a gust front arrives within minutes).
+    pub hold_s: u32,
+    /// Seconds of calm (below the threshold) before leaving stow: 0…86,400
+    /// (`wind.release_s`), at once up to one day.
+    pub release_s: u32,
+}
+
+/// Fault thresholds.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct SafetyConfig {
+    /// Largest allowed difference between set-point and feedback, degrees:
+    /// 0.1…45 (`safety.max_deviation_deg`); above the attitude sensors'
+    /// noise, below the 45° that would let a reversed axis pass.
+    pub max_deviation_deg: f32,
+    /// Seconds a driven axis may show no encoder motion before "stalled":
+    /// 1…600 (`safety.stall_timeout_s`); a slow slewing drive shows motion
+    /// within a second, and 10 minutes of a stalled motor overheats it.
+    pub stall_timeout_s: u32,
+    /// Seconds without a sensor reading before "timeout": 1…3,600
+    /// (`safety.sensor_timeout_s`); sensors answer within a second, and the
+    /// sun moves 15° an hour.
+    pub sensor_timeout_s: u32,
+    /// Retries of a failed operation before degrading: 0…20
+    /// (`safety.max_retries`); more keeps a failing part in use too long.
+    pub max_retries: u8,
+}
+
+/// Sensor calibration offsets.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Calibration {
+    /// Magnetic declination, degrees east (true = magnetic + declination):
+    /// −180…180 (`calibration.declination_deg`); any direction near the
+    /// magnetic poles.
+    pub declination_deg: f32,
+    /// Compass mounting offset, degrees: −180…180
+    /// (`calibration.heading_offset_deg`); the compass may be mounted in any
+    /// direction.
+    pub heading_offset_deg: f32,
+    /// Inclinometer x offset, degrees: −45…45
+    /// (`calibration.tilt_x_offset_deg`); a sensor more than 45° off has its
+    /// axes swapped, not offset.
+    pub tilt_x_offset_deg: f32,
+    /// Inclinometer y offset, degrees: −45…45
+    /// (`calibration.tilt_y_offset_deg`), as x.
+    pub tilt_y_offset_deg: f32,
+}
+
+/// What the log reports unasked.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct LogConfig {
+    /// Minutes between periodic `status` lines on the monotonic clock:
+    /// 0…1,440 (`log.status_min`); 0 turns them off.
+    pub status_every_min: u16,
+}
+
+/// The whole configuration.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Config {
+    /// Site (used until GPS gives one).
+    pub site: SiteConfig,
+    /// Scheduler intervals, with these ranges (checked by
+    /// [`Config::validate`]):
+    ///
+    /// | key | range | why |
+    /// |---|---|---|
+    /// | `schedule.table_step_s` | 60…43,200, whole minutes dividing 86,400 | the table is in whole minutes from UTC midnight; at least two entries a day |
+    /// | `schedule.hold_s` | 0…3,600 | the sun moves 15° an hour |
+    /// | `schedule.recheck_s` | 1…3,600 | zero would never advance; as hold |
+    /// | `schedule.max_tick_gap_s` | 1…86,400 | a gap of a day or more is always a clock jump |
+    /// | `schedule.max_backward_s` | 0…86,400 | as the gap |
+    pub schedule: ScheduleConfig,
+    /// C axis (vertical at home, keys `axis.c.*`), then A axis (`axis.a.*`).
+    pub axes: [AxisConfig; 2],
+    /// Wind stow.
+    pub wind: WindConfig,
+    /// Fault thresholds.
+    pub safety: SafetyConfig,
+    /// Calibration offsets.
+    pub calibration: Calibration,
+    /// Periodic log lines.
+    pub log: LogConfig,
+}
+
+impl Default for Config {
+    /// Kano (seed jimoh-2019's site); 1.8° steppers with 16 microsteps and a
+    /// 100:1 worm gear; the seed's 4-minute table, 2-minute hold, 30-second
+    /// re-check.
+    fn default() -> Self {
+        let axis = AxisConfig {
+            counts_per_motor_rev: 200,
+            microsteps: 16,
+            gear_ratio: 100.0,
+            min_deg: -180.0,
+            max_deg: 180.0,
+            home_deg: -180.0,
+            backlash_deg: 0.2,
+            max_speed_deg_s: 2.0,
+            deadband_deg: 0.05,
+        };
+        Config {
+            site: SiteConfig {
+                latitude_deg: 11.9683,
+                longitude_deg: 8.4261,
+                elevation_m: 480.0,
+            },
+            schedule: ScheduleConfig::default(),
+            axes: [
+                axis,
+                AxisConfig {
+                    min_deg: -90.0,
+                    max_deg: 90.0,
+                    home_deg: -90.0,
+                    ..axis
+                },
+            ],
+            wind: WindConfig {
+                threshold_hz: 25.0,
+                hold_s: 3,
+                release_s: 600,
+            },
+            safety: SafetyConfig {
+                max_deviation_deg: 5.0,
+                stall_timeout_s: 5,
+                sensor_timeout_s: 10,
+                max_retries: 3,
+            },
+            calibration: Calibration {
+                declination_deg: 0.0,
+                heading_offset_deg: 0.0,
+                tilt_x_offset_deg: 0.0,
+                tilt_y_offset_deg: 0.0,
+            },
+            log: LogConfig {
+                status_every_min: 10,
+            },
+        }
+    }
+}

@@ -1,0 +1,49 @@
+//! The [`Config`] as a record of the two-slot CRC-32 store
+//! ([`crate::persist::ConfigStore`]): its magic, layout version and
+//! length, and the store of a [`Config`] ([`ConfigStore::new`]).
+
+use super::{Config, PAYLOAD_LEN};
+use crate::persist::{record_len, ConfigStore, Record, SLOT_LEN};
+use crate::ports::Storage;
+
+/// Layout version written by this firmware: 2 added `log.status_min`; a
+/// slot of version 1 is reported as [`SlotState::OldVersion`](crate::persist::SlotState::OldVersion) and not
+/// used.
+pub const LAYOUT_VERSION: u16 = 2;
+
+/// The first four bytes of a slot holding a [`Config`].
+const MAGIC: [u8; 4] = *b"STCF";
+
+/// Bytes one stored copy takes at the start of its slot: header, payload
+/// and CRC-32 (12 + [`PAYLOAD_LEN`] + 4). The rest of the slot is never
+/// written; [`ConfigStore`] keeps this many bytes in RAM for a save.
+pub const RECORD_LEN: usize = record_len(PAYLOAD_LEN);
+
+// The record fits in its slot (checked when compiling).
+const _: () = assert!(RECORD_LEN <= SLOT_LEN);
+
+impl Record for Config {
+    const MAGIC: [u8; 4] = MAGIC;
+    const VERSION: u16 = LAYOUT_VERSION;
+    const PAYLOAD_LEN: usize = PAYLOAD_LEN;
+    fn encode(&self, buf: &mut [u8]) -> Option<usize> {
+        Config::encode(self, buf)
+    }
+    fn decode(buf: &[u8]) -> Option<Self> {
+        Config::decode(buf)
+    }
+    fn is_valid(&self) -> bool {
+        Config::is_valid(self)
+    }
+    fn defaults() -> Self {
+        Config::default()
+    }
+}
+
+impl<S: Storage> ConfigStore<S> {
+    /// A store of the tracker's [`Config`] over `storage`; nothing is read
+    /// until [`ConfigStore::load`] or a save.
+    pub fn new(storage: S) -> Self {
+        Self::for_record(storage)
+    }
+}

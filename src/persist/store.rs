@@ -1,0 +1,573 @@
+//! The two-slot CRC-32 store: any [`Record`] (the tracker's
+//! [`Config`], the Arduino Uno's settings) kept in two slots of a
+//! [`Storage`], saved in steps beside a main loop.
+//!
+//! # Slot layout (little-endian)
+//! Each slot is [`SLOT_LEN`] bytes at offset `slot × SLOT_LEN`:
+//!
+//! | bytes | field |
+//! |---|---|
+//! | 0..4 | magic ([`Record::MAGIC`]: `b"STCF"` for the [`Config`]) |
+//! | 4..6 | layout version ([`Record::VERSION`]: [`LAYOUT_VERSION`] for the [`Config`]) |
+//! | 6..8 | payload length `n` |
+//! | 8..12 | sequence number (wrapping) |
+//! | 12..12+n | payload ([`Record::encode`]: [`Config::encode`]) |
+//! | 12+n..16+n | CRC-32 ([`crc32`]) of bytes 0..12+n |
+//!
+//! A save writes the slot that does *not* hold the newest good copy, with the
+//! next sequence number; an interrupted write leaves at worst that slot
+//! corrupt and the other one good. A load takes the good slot with the
+//! newest sequence; a bad CRC, a wrong magic or version, a payload of the
+//! wrong length or values out of range make a slot bad as a whole. With no
+//! good slot the defaults are used. Nothing is ever applied in part.
+
+use crate::config::codec::Writer;
+// The store's defaults: `ConfigStore<S>` keeps the tracker's `Config`.
+#[cfg(doc)]
+use crate::config::LAYOUT_VERSION;
+use crate::config::{Config, RECORD_LEN};
+use crate::ports::Storage;
+
+/// Bytes per slot.
+pub const SLOT_LEN: usize = 256;
+/// Header bytes before the payload.
+const HEADER_LEN: usize = 12;
+/// Bytes of the CRC-32 after the payload.
+const CRC_LEN: usize = 4;
+
+/// CRC-32 (IEEE 802.3: reflected, polynomial 0xEDB88320, initial and final
+/// XOR 0xFFFFFFFF) of `data`: `crc32_update` with the inversions.
+pub fn crc32(data: &[u8]) -> u32 {
+    !crc32_update(!0, data)
+}
+
+/// The CRC-32 of [`crc32`] over pieces, bit by bit (small code, no
+/// table): the register after `data`, without the initial and final
+/// inversion, so that `!crc32_update(crc32_update(!0, a), b) == crc32(a ‖ b)`.
+/// The one copy of the bit loop, for [`crc32`] and a slot's header, payload
+/// and staging; not inlined. (The inversions inside it instead, as zlib's
+/// `crc32(crc, buf)` has them, made it 174 B on AVR against 158 B, and the
+/// Uno's `avr_tracker` 2 B larger.)
+#[inline(never)]
+fn crc32_update(mut crc: u32, data: &[u8]) -> u32 {
+    for &b in data {
+        crc ^= u32::from(b);
+        for _ in 0..8 {
+            let mask = (crc & 1).wrapping_neg();
+            crc = (crc >> 1) ^ (0xEDB8_8320 & mask);
+        }
+    }
+    crc
+}
+
+/// Why a slot was not used.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum SlotState {
+    /// Good, with its sequence number.
+    Good(u32),
+    /// Never written (magic missing).
+    Empty,
+    /// Written by another layout version.
+    OldVersion(u16),
+    /// CRC, length or a value is wrong.
+    Corrupt,
+    /// The storage could not be read.
+    Unreadable,
+}
+
+/// What a [`ConfigStore`] keeps in its two slots: the tracker's
+/// [`Config`], or a board's smaller record (the Arduino Uno's settings),
+/// each with its own magic and layout version so that one is never read
+/// as the other.
+pub trait Record: Copy {
+    /// The slot's first four bytes.
+    const MAGIC: [u8; 4];
+    /// The layout version written; a slot of another version is reported
+    /// as [`SlotState::OldVersion`] and not used.
+    const VERSION: u16;
+    /// Payload bytes of this version.
+    const PAYLOAD_LEN: usize;
+    /// Serialises into `buf` (at least [`Record::PAYLOAD_LEN`] bytes);
+    /// the length written, or `None` when `buf` is too small.
+    fn encode(&self, buf: &mut [u8]) -> Option<usize>;
+    /// Parses a payload and checks every value; `None` for a wrong length
+    /// or a value out of range.
+    fn decode(buf: &[u8]) -> Option<Self>;
+    /// Every value inside its range.
+    fn is_valid(&self) -> bool;
+    /// The record used when no slot is good.
+    fn defaults() -> Self;
+}
+
+/// The result of [`ConfigStore::load`].
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Loaded<R = Config> {
+    /// The configuration in force (defaults when no slot was good).
+    pub config: R,
+    /// True when `config` are the defaults because no slot was good.
+    pub defaults: bool,
+    /// What each slot held.
+    pub slots: [SlotState; 2],
+}
+
+/// Errors of [`ConfigStore::save`] and [`ConfigStore::begin_save`], and
+/// the failed end of a stepped save ([`SaveStatus::Done`]).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum SaveError<E> {
+    /// The configuration has a value out of range.
+    Invalid,
+    /// The storage is smaller than two slots.
+    TooSmall,
+    /// The storage failed.
+    Storage(E),
+}
+
+/// Where a stepped save stands: the answer of [`ConfigStore::poll`].
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum SaveStatus<E> {
+    /// No save is staged.
+    Idle,
+    /// A save goes on: poll again (at the next pass of the loop).
+    Busy,
+    /// The save has just ended, with its result; reported once, then
+    /// [`SaveStatus::Idle`]. On `Ok` the new copy is in the storage and is
+    /// what [`ConfigStore::load`] returns; on `Err` the storage holds what it
+    /// held before (the slot written was not the newest good one).
+    Done(Result<(), SaveError<E>>),
+}
+
+/// Which slot holds the newest good copy, as far as the store knows.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+enum Newest {
+    /// Not read yet, or a slot could not be read.
+    Unknown,
+    /// Both slots were read and neither is good.
+    NoGoodSlot,
+    /// This slot, with this sequence number.
+    Slot { slot: usize, seq: u32 },
+}
+
+/// The step a save is at.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+enum Phase {
+    /// Preparing the slot (erasing it on NOR flash); `done` bytes are ready.
+    Erase { done: usize },
+    /// Writing the record; `pos` bytes are taken.
+    Write { pos: usize },
+    /// Waiting until the last bytes are in the storage.
+    Flush,
+}
+
+/// A save under way: the staged record goes to `slot` with `seq`.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+struct Job {
+    slot: usize,
+    seq: u32,
+    /// Bytes of the staged record.
+    len: usize,
+    phase: Phase,
+}
+
+/// The result of reading both slots.
+struct Scan<E, R> {
+    slots: [SlotState; 2],
+    /// The newest good slot: its index, sequence number and configuration.
+    best: Option<(usize, u32, R)>,
+    /// The first read error, if a slot could not be read.
+    error: Option<E>,
+}
+
+/// Two-slot configuration store over a [`Storage`], with a save that runs
+/// in steps beside a main loop.
+///
+/// A save writes the slot that does not hold the newest good copy, with the
+/// next sequence number (wrapping, compared RFC 1982 style); the other slot
+/// is never touched, so a power cut at any point of a save leaves either
+/// the old copy or the new one in force, never the defaults while a good
+/// copy existed and never a mix (a part-written slot fails its CRC-32).
+/// `tests/config_powercut.rs` cuts the power at every byte, word and erase
+/// of a save on fault-injecting EEPROM and NOR flash models to show it.
+///
+/// # In a main loop
+///
+/// ```
+/// use suntracker::persist::{ConfigStore, MemStorage, SaveStatus};
+///
+/// let mut store = ConfigStore::new(MemStorage::<512>::new());
+/// let config = store.load().config; // at boot: reads only
+/// store.begin_save(&config).unwrap(); // console `save`: stages, writes nothing
+/// loop {
+///     // ... step the motors, serve the console ...
+///     match store.poll() {
+///         SaveStatus::Busy => continue,           // at most one storage step per pass
+///         SaveStatus::Done(result) => { result.unwrap(); break }
+///         SaveStatus::Idle => break,
+///     }
+/// }
+/// ```
+///
+/// Each [`ConfigStore::poll`] makes at most one call into the storage: one
+/// [`Storage::erase_step`], [`Storage::write_step`] or
+/// [`Storage::flush_step`], none of which waits (an AVR EEPROM byte is
+/// started and left to the hardware; a NOR flash write step programs a few
+/// words). What the hardware itself stalls is the storage's to document: a
+/// sector erase of the STM32F411's flash stalls every flash read, and so
+/// the CPU, for the whole erase ([`crate::persist`]).
+///
+/// RAM: the store keeps the staged record (`N` bytes: [`RECORD_LEN`] for
+/// the [`Config`]) and a few words; [`ConfigStore::load`] uses a buffer of
+/// `N` bytes on the stack.
+///
+/// The store keeps any [`Record`] `R` in records of `N` bytes (header,
+/// payload, CRC-32: [`record_len`]); [`ConfigStore::new`] makes the
+/// [`Config`]'s, [`ConfigStore::for_record`] another record's.
+#[derive(Debug)]
+pub struct ConfigStore<S, R = Config, const N: usize = RECORD_LEN> {
+    storage: S,
+    newest: Newest,
+    job: Option<Job>,
+    staged: [u8; N],
+    record: core::marker::PhantomData<R>,
+}
+
+/// Bytes one stored copy of a record with `payload_len` bytes of payload
+/// takes: header, payload and CRC-32 (the `N` of a [`ConfigStore`]).
+pub const fn record_len(payload_len: usize) -> usize {
+    HEADER_LEN + payload_len + CRC_LEN
+}
+
+fn seq_newer(a: u32, b: u32) -> bool {
+    // Serial-number arithmetic (RFC 1982 style): a is newer than b.
+    a != b && a.wrapping_sub(b) < 0x8000_0000
+}
+
+/// Offset of byte `at` of slot `slot`, checked.
+fn slot_offset(slot: usize, at: usize) -> Option<usize> {
+    slot.checked_mul(SLOT_LEN)?.checked_add(at)
+}
+
+impl<S: Storage, R: Record, const N: usize> ConfigStore<S, R, N> {
+    /// `N` holds a record of `R` and a slot holds `N` (checked when
+    /// compiling each store type).
+    const FITS: () = assert!(N == record_len(R::PAYLOAD_LEN) && N <= SLOT_LEN);
+
+    /// A store of record `R` over `storage`; nothing is read until
+    /// [`ConfigStore::load`] or a save.
+    pub fn for_record(storage: S) -> Self {
+        let () = Self::FITS;
+        ConfigStore {
+            storage,
+            newest: Newest::Unknown,
+            job: None,
+            staged: [0; N],
+            record: core::marker::PhantomData,
+        }
+    }
+
+    /// Gives the storage back; a save under way is abandoned (the storage
+    /// then holds the old copy, and the slot being written is not good).
+    pub fn release(self) -> S {
+        self.storage
+    }
+
+    /// The storage, to look at (a board's status, tests).
+    pub fn storage(&self) -> &S {
+        &self.storage
+    }
+
+    /// True while a save is staged and not yet done.
+    pub fn is_saving(&self) -> bool {
+        self.job.is_some()
+    }
+
+    /// Reads and checks slot `slot`: its state and, when good, its
+    /// configuration; `Err` when the storage could not be read.
+    // The good copy goes into `out` (the slot state alone is returned: a
+    // returned `(SlotState, Option<Config>)` made the compiler keep a
+    // 149-byte constant of it in an AVR's RAM).
+    // Not inlined: one copy for both slots.
+    #[inline(never)]
+    fn read_slot(&mut self, slot: usize, out: &mut Option<R>) -> Result<SlotState, S::Error> {
+        const CORRUPT: SlotState = SlotState::Corrupt;
+        let Some(base) = slot_offset(slot, 0) else {
+            return Ok(CORRUPT);
+        };
+        let mut header = [0u8; HEADER_LEN];
+        self.storage.read(base, &mut header)?;
+        let [m0, m1, m2, m3, v0, v1, l0, l1, s0, s1, s2, s3] = header;
+        if [m0, m1, m2, m3] != R::MAGIC {
+            return Ok(SlotState::Empty);
+        }
+        let version = u16::from_le_bytes([v0, v1]);
+        let len = usize::from(u16::from_le_bytes([l0, l1]));
+        let seq = u32::from_le_bytes([s0, s1, s2, s3]);
+        // The CRC must lie inside the slot.
+        let crc_at = match HEADER_LEN.checked_add(len) {
+            Some(at) if at.checked_add(CRC_LEN).is_some_and(|end| end <= SLOT_LEN) => at,
+            _ => return Ok(CORRUPT),
+        };
+        let mut crc = crc32_update(!0, &header);
+        // The payload, in small pieces into the CRC; kept when it has this
+        // layout's version and length (another one only decides between
+        // `OldVersion` and `Corrupt`).
+        let current = version == R::VERSION && len == R::PAYLOAD_LEN;
+        let mut payload = [0u8; N];
+        let mut chunk = [0u8; 16];
+        let mut at = HEADER_LEN;
+        while at < crc_at {
+            let n = (crc_at - at).min(chunk.len());
+            let (Some(part), Some(from)) = (chunk.get_mut(..n), slot_offset(slot, at)) else {
+                return Ok(CORRUPT);
+            };
+            self.storage.read(from, part)?;
+            crc = crc32_update(crc, part);
+            let into = at - HEADER_LEN;
+            if let (true, Some(keep)) = (current, payload.get_mut(into..into + n)) {
+                keep.copy_from_slice(part);
+            }
+            at += n;
+        }
+        let mut stored = [0u8; CRC_LEN];
+        let Some(at) = slot_offset(slot, crc_at) else {
+            return Ok(CORRUPT);
+        };
+        self.storage.read(at, &mut stored)?;
+        if !crc != u32::from_le_bytes(stored) {
+            return Ok(CORRUPT);
+        }
+        if version != R::VERSION {
+            return Ok(SlotState::OldVersion(version));
+        }
+        if !current {
+            return Ok(CORRUPT);
+        }
+        match payload.get(..R::PAYLOAD_LEN).and_then(R::decode) {
+            Some(cfg) => {
+                *out = Some(cfg);
+                Ok(SlotState::Good(seq))
+            }
+            None => Ok(CORRUPT),
+        }
+    }
+
+    /// Reads both slots; remembers which holds the newest good copy.
+    fn scan(&mut self) -> Scan<S::Error, R> {
+        let mut scan = Scan {
+            slots: [SlotState::Unreadable; 2],
+            best: None,
+            error: None,
+        };
+        for slot in 0..2 {
+            let mut cfg = None;
+            let state = match self.read_slot(slot, &mut cfg) {
+                Ok(state) => {
+                    if let (SlotState::Good(seq), Some(cfg)) = (state, cfg) {
+                        let newer = match scan.best {
+                            Some((_, best_seq, _)) => seq_newer(seq, best_seq),
+                            None => true,
+                        };
+                        if newer {
+                            scan.best = Some((slot, seq, cfg));
+                        }
+                    }
+                    state
+                }
+                Err(e) => {
+                    if scan.error.is_none() {
+                        scan.error = Some(e);
+                    }
+                    SlotState::Unreadable
+                }
+            };
+            if let Some(s) = scan.slots.get_mut(slot) {
+                *s = state;
+            }
+        }
+        self.newest = match (&scan.best, &scan.error) {
+            (Some((slot, seq, _)), _) => Newest::Slot {
+                slot: *slot,
+                seq: *seq,
+            },
+            (None, Some(_)) => Newest::Unknown,
+            (None, None) => Newest::NoGoodSlot,
+        };
+        scan
+    }
+
+    /// Reads both slots and returns the newest good configuration, or the
+    /// defaults when neither is good. Only reads (two slots, a CRC each);
+    /// a save under way goes on.
+    pub fn load(&mut self) -> Loaded<R> {
+        let scan = self.scan();
+        match scan.best {
+            Some((_, _, config)) => Loaded {
+                config,
+                defaults: false,
+                slots: scan.slots,
+            },
+            None => Loaded {
+                config: R::defaults(),
+                defaults: true,
+                slots: scan.slots,
+            },
+        }
+    }
+
+    /// The slot and sequence number the next save writes: the slot not
+    /// holding the newest good copy. Reads the slots when that is not known;
+    /// refuses to write when a slot cannot be read (it might be the only
+    /// good copy).
+    fn target(&mut self) -> Result<(usize, u32), SaveError<S::Error>> {
+        if self.newest == Newest::Unknown {
+            if let Some(e) = self.scan().error {
+                return Err(SaveError::Storage(e));
+            }
+        }
+        Ok(match self.newest {
+            Newest::Slot { slot, seq } => (if slot == 0 { 1 } else { 0 }, seq.wrapping_add(1)),
+            Newest::NoGoodSlot | Newest::Unknown => (0, 1),
+        })
+    }
+
+    /// Encodes `cfg` with sequence `seq` into the staged record; its
+    /// length, or `None` when it does not fit.
+    fn stage(&mut self, cfg: &R, seq: u32) -> Option<usize> {
+        let buf: &mut [u8] = &mut self.staged;
+        let n = cfg.encode(buf.get_mut(HEADER_LEN..)?)?;
+        let crc_at = HEADER_LEN.checked_add(n)?;
+        let mut w = Writer {
+            buf: &mut *buf,
+            pos: 0,
+            overflow: false,
+        };
+        w.bytes(&R::MAGIC);
+        w.u16(R::VERSION);
+        w.u16(u16::try_from(n).ok()?);
+        w.u32(seq);
+        if w.overflow {
+            return None;
+        }
+        let crc = !crc32_update(!0, buf.get(..crc_at)?);
+        let mut w = Writer {
+            buf,
+            pos: crc_at,
+            overflow: false,
+        };
+        w.u32(crc);
+        if w.overflow {
+            return None;
+        }
+        crc_at.checked_add(CRC_LEN)
+    }
+
+    /// Starts saving `cfg`: checks it, picks the slot (reading the slots
+    /// first if the store has not), encodes the record into RAM. Writes
+    /// nothing: [`ConfigStore::poll`] does, step by step. A save already
+    /// under way is replaced by this one (its slot is written again from
+    /// the start). A refused request (an error) leaves a save under way
+    /// going on.
+    pub fn begin_save(&mut self, cfg: &R) -> Result<(), SaveError<S::Error>> {
+        if !cfg.is_valid() {
+            return Err(SaveError::Invalid);
+        }
+        if self.storage.capacity() < 2 * SLOT_LEN {
+            return Err(SaveError::TooSmall);
+        }
+        let (slot, seq) = self.target()?;
+        // The staged record is overwritten now: drop the old job first (an
+        // encoding failure, which the fixed layout rules out, leaves none).
+        self.job = None;
+        let len = self.stage(cfg, seq).ok_or(SaveError::TooSmall)?;
+        self.job = Some(Job {
+            slot,
+            seq,
+            len,
+            phase: Phase::Erase { done: 0 },
+        });
+        Ok(())
+    }
+
+    /// Advances a staged save by one storage step, without waiting:
+    /// [`SaveStatus::Busy`] while it goes on, [`SaveStatus::Done`] once at
+    /// its end, [`SaveStatus::Idle`] when no save is staged.
+    pub fn poll(&mut self) -> SaveStatus<S::Error> {
+        let Some(job) = self.job else {
+            return SaveStatus::Idle;
+        };
+        match self.step(job) {
+            Ok(Some(phase)) => {
+                self.job = Some(Job { phase, ..job });
+                SaveStatus::Busy
+            }
+            Ok(None) => {
+                self.job = None;
+                self.newest = Newest::Slot {
+                    slot: job.slot,
+                    seq: job.seq,
+                };
+                SaveStatus::Done(Ok(()))
+            }
+            Err(e) => {
+                self.job = None;
+                SaveStatus::Done(Err(e))
+            }
+        }
+    }
+
+    /// One storage step of `job`: the next phase, or `None` when done.
+    fn step(&mut self, job: Job) -> Result<Option<Phase>, SaveError<S::Error>> {
+        let offset = |at: usize| slot_offset(job.slot, at).ok_or(SaveError::TooSmall);
+        match job.phase {
+            Phase::Erase { done } => {
+                let left = SLOT_LEN.saturating_sub(done);
+                let n = self
+                    .storage
+                    .erase_step(offset(done)?, left)
+                    .map_err(SaveError::Storage)?;
+                let done = done.saturating_add(n.min(left));
+                Ok(Some(if done >= SLOT_LEN {
+                    Phase::Write { pos: 0 }
+                } else {
+                    Phase::Erase { done }
+                }))
+            }
+            Phase::Write { pos } => {
+                let data = self.staged.get(pos..job.len).ok_or(SaveError::TooSmall)?;
+                let n = self
+                    .storage
+                    .write_step(offset(pos)?, data)
+                    .map_err(SaveError::Storage)?;
+                let pos = pos.saturating_add(n.min(data.len()));
+                Ok(Some(if pos >= job.len {
+                    Phase::Flush
+                } else {
+                    Phase::Write { pos }
+                }))
+            }
+            Phase::Flush => {
+                if self.storage.flush_step().map_err(SaveError::Storage)? {
+                    Ok(None)
+                } else {
+                    Ok(Some(Phase::Flush))
+                }
+            }
+        }
+    }
+
+    /// Writes `cfg` into the slot not holding the newest good copy and
+    /// returns when it is done: [`ConfigStore::begin_save`], then
+    /// [`ConfigStore::poll`] until done (a storage that stays busy keeps it
+    /// waiting). For hosts and tests; a firmware loop polls instead.
+    pub fn save(&mut self, cfg: &R) -> Result<(), SaveError<S::Error>> {
+        self.begin_save(cfg)?;
+        loop {
+            match self.poll() {
+                SaveStatus::Busy => {}
+                SaveStatus::Done(result) => return result,
+                // Not reached: `begin_save` staged a job, and only `Done`
+                // ends it.
+                SaveStatus::Idle => return Ok(()),
+            }
+        }
+    }
+}
