@@ -68,7 +68,7 @@ build_avr_mega() {
     -p suntracker-mega2560 --bin avr_mega_tracker -p suntracker-avr --bin avr_board_selftest --target-dir "$FW_TARGET_DIR/mega"
 }
 # The same image for the emulator harness (emu/): its Timer0 clock advances
-# EMU_MS_PER_TICK ms per 1 ms tick (boards/avr/src/time/window.rs); nothing else
+# EMU_MS_PER_TICK ms per 1 ms tick (boards/avr/src/millis.rs); nothing else
 # differs.
 EMU_MS_PER_TICK=60
 build_avr_mega_emu() {

@@ -13,10 +13,10 @@
 #
 #   bash .ci/panic_check.sh              build the images (skip: NO_BUILD=1), check
 #   bash .ci/panic_check.sh --self-test  build the QEMU image with a deliberate
-#                                        out-of-bounds index in src/controller.rs
+#                                        out-of-bounds index in src/controller/mod.rs
 #                                        (--cfg suntracker_panic_canary, own
 #                                        target dir) and exit 0 only if the
-#                                        check fails naming src/controller.rs
+#                                        check fails naming src/controller/mod.rs
 #
 # Needs readelf (binutils), arm-none-eabi-objdump/-addr2line (Debian package
 # binutils-arm-none-eabi) and avr-objdump/avr-addr2line (binutils-avr, comes
@@ -163,11 +163,11 @@ self_test() {
     echo "panic_check self-test: FAILED (the check itself broke, exit $rc)" >&2
     return 1
   fi
-  if grep -q '^status=1$' <<<"$out" && grep -q 'src/controller\.rs:[0-9]' <<<"$out"; then
-    echo "panic_check self-test: ok (the canary index in src/controller.rs turned the check red)"
+  if grep -q '^status=1$' <<<"$out" && grep -q 'src/controller/mod\.rs:[0-9]' <<<"$out"; then
+    echo "panic_check self-test: ok (the canary index in src/controller/mod.rs turned the check red)"
     return 0
   fi
-  echo "panic_check self-test: FAILED (the canary out-of-bounds index in src/controller.rs was not reported)" >&2
+  echo "panic_check self-test: FAILED (the canary out-of-bounds index in src/controller/mod.rs was not reported)" >&2
   return 1
 }
 

@@ -11,7 +11,7 @@
 //! step, and under 60× the loop gets 1/60 of the CPU per emulated second
 //! (16.7 Timer0 ticks): the axes would crawl. So the bench holds PL0 high
 //! (the emulation build then advances its clock 1 ms per tick, see
-//! `boards/avr/src/time/window.rs`) while any coil is driven and for
+//! `boards/avr/src/millis.rs`) while any coil is driven and for
 //! [`REAL_TIME_HOLD_S`] after, and while a GPS epoch is on the wire (at 60×
 //! its 145 ms would take 8.7 emulated s, and the image, which stamps a fix
 //! when it decodes it, would see GPS time seconds late), and compresses

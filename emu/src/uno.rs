@@ -43,7 +43,7 @@
 //!
 //! **Two clocks.** The emulation build advances its millisecond clock by
 //! the `timescale <N>` it logs at boot per 1 ms of CPU time
-//! (`boards/avr/src/time/window.rs`): emulated time = N × CPU time. The RTC
+//! (`boards/avr/src/millis.rs`): emulated time = N × CPU time. The RTC
 //! model, the sun, the panel, the schedule, the stall injection's start
 //! and length, and every UTC in a run are emulated time. The servo physics
 //! run in CPU time: the pulses are timed in CPU cycles by Timer1 (16 per
