@@ -23,7 +23,7 @@
 //! range and dead band above are FEETECH's figures as recalled, not
 //! re-read, and are [`ServoSpec`] fields so that a bench can set others
 //! (`drivers/tests/servo_closed_loop.rs` uses ±20 µs and a ±500 µs range,
-//! `tests/tracker_hw_servo.rs` ±8 µs, each for its own plant).
+//! `tests/hw_servo_day.rs` ±8 µs, each for its own plant).
 //!
 //! Speed law: zero for `|w − 1500| ≤ dead band`; beyond it, rising linearly
 //! from 0 at the dead-band edge to the no-load speed at the end of the

@@ -13,12 +13,14 @@
 //!
 //! At every table entry applied while tracking, the panel (the motor
 //! models' decoded pose) points at NREL SPA's sun within the mechanical
-//! tolerance, as in `tracker_hw_day`.
+//! tolerance, as in `hw_stepper_day`.
 
-mod tracker_hw_common;
+mod common;
 
 use std::cell::Cell;
 
+use common::motor::*;
+use common::*;
 use drivers::rtc::Ds3231;
 use embedded_hal::i2c::{ErrorKind, NoAcknowledgeSource};
 use embedded_hal_mock::eh1::i2c::{Mock as I2cMock, Transaction as I2c};
@@ -32,8 +34,6 @@ use suntracker::safety::{Fault, Mode};
 use suntracker::site::{follow_gps_site, resolve_site, SiteOrigin};
 use suntracker::sun::SharedSiteSource;
 use suntracker::time::{TimeConfig, TimeKeeper};
-use tracker_hw_common::motor::*;
-use tracker_hw_common::*;
 
 const H: u32 = 3600;
 const M: u32 = 60;

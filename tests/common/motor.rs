@@ -1,5 +1,5 @@
 //! A bipolar stepper axis seen through its four H-bridge inputs, the
-//! controller configuration of the `tracker_hw_*` tests, and the geometry
+//! controller configuration of the whole-tracker tests, and the geometry
 //! used to check pointing independently of the tracker's code.
 
 use std::cell::RefCell;

@@ -21,10 +21,12 @@
 //! `Algorithm::Psa2020`): a different algorithm and a different code path
 //! for the kinematics.
 
-mod tracker_hw_common;
+mod common;
 
 use std::cell::Cell;
 
+use common::motor::*;
+use common::*;
 use drivers::rtc::Ds3231;
 use embedded_hal_mock::eh1::i2c::{Mock as I2cMock, Transaction as I2c};
 use sim::sensors::MountSensors;
@@ -37,8 +39,6 @@ use suntracker::safety::Mode;
 use suntracker::site::{resolve_site, SiteOrigin};
 use suntracker::sun::SharedSiteSource;
 use suntracker::time::{TimeConfig, TimeKeeper};
-use tracker_hw_common::motor::*;
-use tracker_hw_common::*;
 
 // ---------------------------------------------------------------- the day
 

@@ -1,9 +1,9 @@
 //! A whole Kano day (2026-03-20) of a portable, tilted mount (α0 = 4°,
 //! β0 = −6°, γ0 = 25°) whose attitude the controller measures every tick
 //! through the real ADXL345 and QMC5883L drivers on a mocked I2C bus
-//! (transaction-exact, bytes from the datasheets: `tracker_hw_common::mount`),
+//! (transaction-exact, bytes from the datasheets: `common::mount`),
 //! with the axes on the real H-bridge stepper driver (motor model of
-//! `tracker_hw_common::motor`).
+//! `common::motor`).
 //!
 //! Independent check: the panel normal in the horizontal frame is
 //! `T·n(γ, α)` with `T` and `n` written out in the test helpers and the
@@ -12,16 +12,16 @@
 //! ADXL345's 3.9 mg steps give the tilt to ≈ 0.1°, which moves the
 //! pointing by up to about twice that.
 
-mod tracker_hw_common;
+mod common;
 
+use common::motor::*;
+use common::mount::*;
 use embedded_hal_mock::eh1::i2c::{Mock as I2cMock, Transaction as I2c};
 use sun_algos::{Algorithm, Options, Site};
 use suntracker::controller::{AttitudeSource, Controller, TickInputs};
 use suntracker::plan::Phase;
 use suntracker::safety::Mode;
 use suntracker::sun::AlgorithmSource;
-use tracker_hw_common::motor::*;
-use tracker_hw_common::mount::*;
 
 const SAMPLES: u8 = 4;
 /// Pointing bound of the measured attitude, degrees (measured: 0.086°).
@@ -61,7 +61,7 @@ fn portable_mount_day_with_measured_attitude() {
     let axes = [stepper_axis(&c_motor), stepper_axis(&a_motor)];
     let mut ctrl: Controller<f64, _, Axis, Sensors, 360> =
         Controller::new(config, options, source, axes, Some(sensors)).unwrap();
-    // Boot at midnight: homing and waiting need no stow (see tracker_hw_day).
+    // Boot at midnight: homing and waiting need no stow (see hw_stepper_day).
     let spa = |secs: u32| {
         Algorithm::Spa
             .position(&utc_at(secs), &site, &Options::default())

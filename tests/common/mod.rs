@@ -1,4 +1,5 @@
-//! Shared pieces of the `tracker_hw_*` tests: an in-memory serial port for
+//! Shared pieces of the whole-tracker tests on mocked buses (`hw_*`,
+//! `time_site_*`, `firmware_*`, `servo_tracker`): an in-memory serial port for
 //! NMEA, NMEA sentence builders, and DS3231 transactions written from the
 //! datasheet.
 #![allow(dead_code)]

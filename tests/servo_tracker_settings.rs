@@ -1,4 +1,4 @@
-//! The Arduino Uno's settings console (`board::chowdhury2019_settings`,
+//! The Arduino Uno's settings console (`suntracker::servo_tracker::settings`,
 //! the `avr_settings` image) on the host: over `MemStorage` or a byte
 //! EEPROM model, with `SimRtc` as its clock and a sink collecting the
 //! replies. The expected replies are the documented ones: the language of

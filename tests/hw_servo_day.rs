@@ -4,19 +4,21 @@
 //! `hw::ServoAxis`, closed loop in the whole controller over a Kano day.
 //!
 //! The PWM channel and the encoder lines are the servo model of
-//! `tracker_hw_common::servo`: the pulse
+//! `common::servo`: the pulse
 //! width sets the motor speed (FS5106R class, seed chowdhury-2019: 1.5 ms
 //! stop, ±0.5 ms full speed, taken here as 400°/s at the motor, ±8 µs
 //! dead zone), the motor turns a 300-line encoder (YMT22 class; ×4 = 1200
 //! edges per revolution, each fed to the decoder as its A/B levels) and a
 //! 100:1 gear to the axis. Pointing is checked against NREL SPA as in
-//! `tracker_hw_day`.
+//! `hw_stepper_day`.
 
-mod tracker_hw_common;
+mod common;
 
 use std::cell::RefCell;
 use std::rc::Rc;
 
+use common::motor::{angle_deg, below_reach_deg, normal_xyz, sun_xyz, utc_at, TOL_DEG};
+use common::servo::{Pwm, ServoModel, ServoSpec, Switch};
 use drivers::encoder::SharedEncoder;
 use drivers::servo::{ContinuousServo, PositionController, ServoConfig};
 use sim::sensors::MountSensors;
@@ -28,8 +30,6 @@ use suntracker::motion::{AxisController, AxisDrive, FeedbackMode, HomeState};
 use suntracker::plan::Phase;
 use suntracker::safety::Mode;
 use suntracker::sun::AlgorithmSource;
-use tracker_hw_common::motor::{angle_deg, below_reach_deg, normal_xyz, sun_xyz, utc_at, TOL_DEG};
-use tracker_hw_common::servo::{Pwm, ServoModel, ServoSpec, Switch};
 
 const EDGES_PER_MOTOR_REV: u32 = 1200;
 const GEAR: f64 = 100.0;
@@ -187,7 +187,7 @@ fn closed_loop_day_on_servo_axes() {
     ];
     let mut ctrl: Controller<f64, _, Axis, MountSensors, 360> =
         Controller::new(config, options, source, axes, None).unwrap();
-    // Boot at midnight: homing and waiting need no stow (see tracker_hw_day).
+    // Boot at midnight: homing and waiting need no stow (see hw_stepper_day).
     let spa = |secs: u32| {
         Algorithm::Spa
             .position(&utc_at(secs), &site, &Options::default())
