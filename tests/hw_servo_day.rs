@@ -22,6 +22,7 @@ use common::servo::{Pwm, ServoModel, ServoSpec, Switch};
 use drivers::encoder::SharedEncoder;
 use drivers::servo::{ContinuousServo, PositionController, ServoConfig};
 use sim::sensors::MountSensors;
+use sim::servo::{ServoSpec as SpeedLaw, FRAME_S};
 use sun_algos::{Algorithm, Options, Site};
 use suntracker::config::{AxisConfig, Config};
 use suntracker::controller::{Controller, ControllerOptions, TickInputs};
@@ -39,10 +40,15 @@ const MOTOR_DEG_PER_EDGE: f64 = 360.0 / EDGES_PER_MOTOR_REV as f64;
 /// 400°/s at the motor, ±8 µs dead zone, a 300-line encoder on the motor
 /// and a 100:1 gear; the pulse acts at once; 1 µs per duty step.
 const SPEC: ServoSpec = ServoSpec {
-    neutral_us: 1_500.0,
-    dead_us: 8.0,
-    full_us: 500.0,
-    top_speed_deg_s: 400.0,
+    law: SpeedLaw {
+        neutral_us: 1_500.0,
+        dead_band_us: 8.0,
+        min_pulse_us: 1_000.0,
+        max_pulse_us: 2_000.0,
+        // 400 °/s at the motor.
+        no_load_rpm: 400.0 / 6.0,
+        signal_timeout_s: 3.0 * FRAME_S,
+    },
     gear: GEAR,
     edges_per_rev: EDGES_PER_MOTOR_REV,
     frame_s: None,

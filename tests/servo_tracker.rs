@@ -104,7 +104,8 @@ impl<'e> Bench<'e> {
                 for (m, e) in self.models.iter().zip(self.encoders) {
                     let mut m = m.borrow_mut();
                     m.advance(0.001, e);
-                    busy |= m.acting_us != m.spec.neutral_us || m.pulse_us != m.spec.neutral_us;
+                    busy |=
+                        m.acting_us != m.spec.law.neutral_us || m.pulse_us != m.spec.law.neutral_us;
                 }
                 if !busy {
                     break;
