@@ -17,7 +17,9 @@ mod common;
 use std::cell::RefCell;
 use std::rc::Rc;
 
-use common::motor::{angle_deg, below_reach_deg, normal_xyz, sun_xyz, utc_at, TOL_DEG};
+use common::motor::{
+    angle_deg, below_reach_deg, calm_tick, next_tick, normal_xyz, spa_kano, sun_xyz, TOL_DEG,
+};
 use common::servo::{Pwm, ServoModel, ServoSpec, Switch};
 use drivers::encoder::SharedEncoder;
 use drivers::servo::{ContinuousServo, PositionController, ServoConfig};
@@ -25,7 +27,7 @@ use sim::sensors::MountSensors;
 use sim::servo::{ServoSpec as SpeedLaw, FRAME_S};
 use sun_algos::{Algorithm, Options, Site};
 use suntracker::config::{AxisConfig, Config};
-use suntracker::controller::{Controller, ControllerOptions, TickInputs};
+use suntracker::controller::{Controller, ControllerOptions};
 use suntracker::hw::ServoAxis;
 use suntracker::motion::{AxisController, AxisDrive, FeedbackMode, HomeState};
 use suntracker::plan::Phase;
@@ -194,31 +196,14 @@ fn closed_loop_day_on_servo_axes() {
     let mut ctrl: Controller<f64, _, Axis, MountSensors, 360> =
         Controller::new(config, options, source, axes, None).unwrap();
     // Boot at midnight: homing and waiting need no stow (see hw_stepper_day).
-    let spa = |secs: u32| {
-        Algorithm::Spa
-            .position(&utc_at(secs), &site, &Options::default())
-            .unwrap()
-    };
 
     let mut t: u32 = 5 * 3600;
     let end = 19 * 3600 + 30 * 60;
     let mut last_set_point = None;
     let (mut applied, mut max_err_deg) = (0u32, 0.0f64);
     while t < end {
-        let report = ctrl.tick(&TickInputs {
-            now_ms: u64::from(t) * 1000,
-            now: utc_at(t),
-            time_valid: true,
-            gps_fix: true,
-            gps_time_implausible: false,
-            wind_pulses: 0,
-            wind_interval_ms: 60_000,
-        });
-        let next = if report.homing {
-            t + 1
-        } else {
-            (t / 60 + 1) * 60
-        };
+        let report = ctrl.tick(&calm_tick(t));
+        let next = next_tick(t, report.homing);
         // The main loop: both axes every millisecond until on target.
         let mut s = 0.0;
         while s < f64::from(next - t) {
@@ -241,7 +226,7 @@ fn closed_loop_day_on_servo_axes() {
         let tracking = matches!(ctrl.scheduler().phase(), Phase::Tracking { .. });
         if report.mode == Mode::Tracking && tracking {
             if report.set_point != last_set_point && t % 240 < 30 {
-                let sun = spa(t - t % 240);
+                let sun = spa_kano(t - t % 240);
                 let n = normal_xyz(c_model.borrow().output_deg(), a_model.borrow().output_deg());
                 let err = angle_deg(n, sun_xyz(90.0 - sun.zenith_deg, sun.azimuth_deg))
                     - below_reach_deg(sun.zenith_deg);
@@ -263,7 +248,7 @@ fn closed_loop_day_on_servo_axes() {
     // Home at night: facing the day's first entry again.
     let first = table.get(0).unwrap().time;
     let (h, m, _, _) = first.hms_milli();
-    let sun = spa(u32::from(h) * 3600 + u32::from(m) * 60);
+    let sun = spa_kano(u32::from(h) * 3600 + u32::from(m) * 60);
     let n = normal_xyz(c_model.borrow().output_deg(), a_model.borrow().output_deg());
     let err = angle_deg(n, sun_xyz(90.0 - sun.zenith_deg, sun.azimuth_deg))
         - below_reach_deg(sun.zenith_deg);
