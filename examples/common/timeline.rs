@@ -52,6 +52,9 @@ pub fn titled<'a>(canvas: &Area<'a>, title: &str) -> Result<Area<'a>, Box<dyn Er
     Ok(canvas.margin(px(6), 0, 0, 0).titled(title, font(15))?)
 }
 
+/// A panel of a figure: a chart over time (`X`) and a value (`Y`).
+pub type Panel<'a, 'b, X, Y> = ChartContext<'a, SVGBackend<'b>, Cartesian2d<X, Y>>;
+
 /// A panel in `area` over `x` and `y`: `top` picture pixels above its
 /// frame, `x_labels` below it (the time labels, or a small gap).
 pub fn panel<'a, 'b, X: AsRangedCoord, Y: AsRangedCoord>(
@@ -60,10 +63,7 @@ pub fn panel<'a, 'b, X: AsRangedCoord, Y: AsRangedCoord>(
     x_labels: u32,
     x: X,
     y: Y,
-) -> Result<
-    ChartContext<'a, SVGBackend<'b>, Cartesian2d<X::CoordDescType, Y::CoordDescType>>,
-    Box<dyn Error>,
-> {
+) -> Result<Panel<'a, 'b, X::CoordDescType, Y::CoordDescType>, Box<dyn Error>> {
     Ok(ChartBuilder::on(area)
         .margin_left(px(12))
         .margin_right(px(20))
