@@ -84,13 +84,13 @@ COMMANDS = {
     " --bin qemu_tracker -- --quiet --log \"$T\" || exit 1; fi;"
     " grep '^end ' \"$T\" && ${SUNTRACKER_PYTHON:-python3} tests/expected/check_setpoints.py \"$T\"",
     "gps_fuzz": "cargo test -q -p suntracker-drivers --release --test gps_fuzz -- --ignored --nocapture",
-    "tracker_fuzz": "cargo test -q --release --test tracker_fuzz -- --ignored --nocapture",
-    "hw": "cargo test -q --release --test tracker_hw_day --test tracker_hw_servo --test tracker_hw_portable"
-    " --test tracker_attitude -- --nocapture --test-threads=1",
+    "tracker_fuzz": "cargo test -q --release --test controller_fuzz -- --ignored --nocapture",
+    "hw": "cargo test -q --release --test hw_stepper_day --test hw_servo_day --test hw_portable_day"
+    " --test attitude -- --nocapture --test-threads=1",
     "wmm": "cargo test -q -p suntracker-drivers --release --test compass_wmm -- --nocapture --test-threads=1",
     "compact": "cargo test -q -p sun_algos --features compact-f32 --lib compact -- --nocapture --test-threads=1",
     "servo": "cargo test -q -p suntracker-drivers --release --test servo_closed_loop -- --nocapture --test-threads=1",
-    "axis_property": "cargo test -q --release --test tracker_axis property -- --nocapture --test-threads=1",
+    "axis_property": "cargo test -q --release --test motion property -- --nocapture --test-threads=1",
     "postal": "grep -cE '^DZ,[0-9]{2}000,' data/postal_codes.csv",
     "panic": "NO_BUILD=1 bash .ci/panic_check.sh",
 }

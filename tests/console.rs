@@ -2,32 +2,20 @@
 //! every key's get and set against the ranges documented in src/config/mod.rs,
 //! postal codes, and the reply lines.
 
+mod common;
+
+use common::host_io::Buf;
 use sun_algos::UtcTime;
 use suntracker::config::Config;
 use suntracker::console::{
     self, apply_set, Command, Decimal, Key, LineBuffer, LineError, NumberError, Outcome,
     ParseError, SetError, StatusView, Value, KEYS, LINE_LEN,
 };
-use suntracker::log::{Sink, SiteSource};
+use suntracker::log::SiteSource;
 use suntracker::persist::{Loaded, MemError, SaveError, SlotState};
 use suntracker::safety::{AxisId, Fault, FaultManager, Mode, MAX_ACTIVE};
 use suntracker::site::PostalError;
 use suntracker::time::TimeOrigin;
-
-#[derive(Default)]
-struct Buf(Vec<u8>);
-
-impl Sink for Buf {
-    fn put(&mut self, bytes: &[u8]) {
-        self.0.extend_from_slice(bytes);
-    }
-}
-
-impl Buf {
-    fn take(&mut self) -> String {
-        String::from_utf8(std::mem::take(&mut self.0)).unwrap()
-    }
-}
 
 /// Runs one line as a board would: parse, the configuration commands, the
 /// rest answered with a plain `ok NAME`. Returns the reply.

@@ -2,7 +2,7 @@
 //! host "board": the real GPS reader on an in-memory UART fed by the GPS
 //! receiver model once a second, a simulated DS3231 (`sim::SimRtc`), the
 //! real H-bridge stepper driver through `hw::StepperAxis` into the motor
-//! model of the `tracker_hw_*` tests (the axis angle decoded from what the
+//! model of the whole-tracker tests (`tests/common/motor.rs`) (the axis angle decoded from what the
 //! driver put on the coil pins), and a millisecond clock the test advances.
 //! The log is parsed line by line in the shapes of `suntracker::log`.
 //!
@@ -13,18 +13,16 @@
 //! Andreas 2004) for the set-point's instant — the firmware computes with
 //! PSA+ (Blanco et al. 2020) in `f32` or `f64`.
 
-mod tracker_hw_common;
+mod common;
 
+use common::host_io::{Log, Uart};
+use common::motor::{angle_deg, normal_xyz, stepper_axis, sun_xyz, Motor, COUNTS_PER_DEG};
 use sim::gps::GpsReceiverModel;
 use sim::rtc::SimRtc;
 use sim::sensors::MountSensors;
 use sun_algos::{Algorithm, Float, Options, Site, UtcTime};
 use suntracker::controller::ControllerOptions;
 use suntracker::firmware::{AppConfig, Firmware, Platform};
-use tracker_hw_common::host_io::{Log, Uart};
-use tracker_hw_common::motor::{
-    angle_deg, normal_xyz, stepper_axis, sun_xyz, Motor, COUNTS_PER_DEG,
-};
 
 const LAT: f64 = 11.9683;
 const LON: f64 = 8.4261;
@@ -69,7 +67,7 @@ fn run_day<T: Float>(start: UtcTime, seconds: u32, gps: Gps, rtc_lost_power: boo
 where
     MountSensors: suntracker::ports::AttitudeSensor<T>,
 {
-    let (mut config, _) = tracker_hw_common::motor::tracker_config();
+    let (mut config, _) = common::motor::tracker_config();
     // The stored site differs from the GPS one, so that taking it shows.
     config.site.latitude_deg = 12.0;
     config.site.longitude_deg = 8.5;
@@ -341,7 +339,7 @@ fn no_rtc_and_no_gps_waits_stowed_and_never_tracks() {
 #[test]
 fn a_fix_found_after_a_long_pass_does_not_set_the_clock_back() {
     let start = UtcTime::from_ymd_hms(2026, 6, 21, 9, 0, 0).unwrap();
-    let (config, _) = tracker_hw_common::motor::tracker_config();
+    let (config, _) = common::motor::tracker_config();
     let c = Motor::new(30.0, config.axes[0].home_deg as f64);
     let a = Motor::new(20.0, config.axes[1].home_deg as f64);
     let uart = Uart::default();

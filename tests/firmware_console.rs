@@ -19,12 +19,14 @@
 //! - `stow`, `resume`, `jog`, `manual off`, `status`, `faults`, `clear`,
 //!   and the periodic `status` line every `log.status_min` minutes.
 
-mod tracker_hw_common;
+mod common;
 
 use std::cell::RefCell;
 use std::collections::VecDeque;
 use std::rc::Rc;
 
+use common::host_io::{Log, Uart};
+use common::motor::{stepper_axis, Motor};
 use sim::gps::GpsReceiverModel;
 use sim::rtc::SimRtc;
 use sim::sensors::MountSensors;
@@ -33,8 +35,6 @@ use suntracker::config::Config;
 use suntracker::controller::ControllerOptions;
 use suntracker::firmware::{AppConfig, ConfigPersist, Firmware, Platform};
 use suntracker::persist::{ConfigStore, MemStorage};
-use tracker_hw_common::host_io::{Log, Uart};
-use tracker_hw_common::motor::{stepper_axis, Motor};
 
 type Store = ConfigStore<MemStorage<1024>>;
 
@@ -73,7 +73,7 @@ const KANO: (f64, f64) = (11.9683, 8.4261);
 const SYDNEY: (f64, f64) = (-33.8688, 151.2093);
 
 struct Bench {
-    fw: Firmware<f32, SimRtc, Uart, tracker_hw_common::motor::Axis, MountSensors, Log, 0>,
+    fw: Firmware<f32, SimRtc, Uart, common::motor::Axis, MountSensors, Log, 0>,
     platform: HostPlatform,
     c: Rc<RefCell<Motor>>,
     a: Rc<RefCell<Motor>>,
@@ -258,7 +258,7 @@ fn worst_vs_spa(lines: &[String], (lat, lon): (f64, f64)) -> (usize, f64) {
 
 /// Kano's configuration with the elevation SPA is given (0 m).
 fn kano_config() -> Config {
-    let (mut config, _) = tracker_hw_common::motor::tracker_config();
+    let (mut config, _) = common::motor::tracker_config();
     config.site.latitude_deg = KANO.0 as f32;
     config.site.longitude_deg = KANO.1 as f32;
     config.site.elevation_m = 0.0;

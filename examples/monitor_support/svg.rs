@@ -11,28 +11,18 @@
 use std::error::Error;
 
 use plotters::prelude::*;
-use plotters::style::text_anchor::{HPos, Pos, VPos};
 use sun_algos::UtcTime;
 
 use super::board_log::{Change, Monitor};
 
 #[path = "../common/plot.rs"]
 mod plot;
+#[path = "../common/timeline.rs"]
+mod timeline;
 
 use plot::{font, px, stroke, Swatch};
+use timeline::{FAULT, MODE_COLOURS};
 
-/// The mode colours of `simulate --svg` (`examples/simulate_support/svg.rs`),
-/// by name, so that both figures read alike.
-const MODE_COLOURS: [(&str, RGBColor); 8] = [
-    ("tracking", RGBColor(0x4c, 0xaf, 0x50)),
-    ("homing", RGBColor(0x64, 0xb5, 0xf6)),
-    ("night", RGBColor(0x45, 0x4f, 0x6b)),
-    ("wait_for_time", RGBColor(0xfb, 0xc0, 0x2d)),
-    ("wind_stow", RGBColor(0xff, 0x8f, 0x00)),
-    ("command_stow", RGBColor(0x8e, 0x44, 0xad)),
-    ("manual", RGBColor(0x8d, 0x6e, 0x63)),
-    ("safe_stop", RGBColor(0xef, 0x53, 0x50)),
-];
 /// A mode name the table does not know (a newer image).
 const OTHER_MODE: RGBColor = RGBColor(0xbd, 0xbd, 0xbd);
 
@@ -41,7 +31,6 @@ const AZIMUTH: RGBColor = RGBColor(0x1f, 0x4e, 0xc8);
 const AXIS_C: RGBColor = RGBColor(0x1a, 0x9a, 0x3a);
 const AXIS_A: RGBColor = RGBColor(0x6a, 0x1b, 0x9a);
 const PANEL: RGBColor = RGBColor(0xe6, 0x7e, 0x22);
-const FAULT: RGBColor = RGBColor(0x8e, 0x00, 0x00);
 const BOOT: RGBColor = RGBColor(0x75, 0x75, 0x75);
 
 /// Space kept between the plotted points and the frame (deg).
@@ -264,9 +253,7 @@ pub fn ranges(d: &Day) -> Ranges {
 
 /// Draws the figure; `title` heads it. Returns the SVG.
 pub fn draw(d: &Day, title: &str) -> Result<String, Box<dyn Error>> {
-    // Boxes side by side get their edges snapped to pixels, or the
-    // viewer's anti-aliasing lets the background through between them.
-    Ok(draw_figure(d, title)?.replace("<rect ", "<rect shape-rendering=\"crispEdges\" "))
+    Ok(timeline::crisp_boxes(draw_figure(d, title)?))
 }
 
 fn draw_figure(d: &Day, title: &str) -> Result<String, Box<dyn Error>> {
@@ -275,11 +262,7 @@ fn draw_figure(d: &Day, title: &str) -> Result<String, Box<dyn Error>> {
     // plotters picks round steps for at most this many labels.
     let x_labels = 13;
     let degrees = extent(d.elevation.iter().chain(&d.azimuth).chain(&d.c).chain(&d.a));
-    let fault_rows: Vec<&str> = if d.faults.is_empty() {
-        vec!["(none)"]
-    } else {
-        d.faults.iter().map(|f| f.0.as_str()).collect()
-    };
+    let fault_rows = timeline::fault_rows(d.faults.iter().map(|f| f.0.as_str()));
 
     let mut entries: Vec<(Swatch, String)> = vec![
         (
@@ -330,41 +313,28 @@ fn draw_figure(d: &Day, title: &str) -> Result<String, Box<dyn Error>> {
     let mode_h = 46;
     let fault_h = 50 + 18 * fault_rows.len() as u32;
     let (w, h) = (960, 30 + top_h + panel_h + mode_h + fault_h + legend_h + 10);
-    let y_area = px(130);
     let day0 = UtcTime::from_unix_seconds(d.day0_s).map_err(|e| e.to_string())?;
     let (yy, mo, dd) = day0.ymd();
     let x_desc = format!("UTC (the board's time) from {yy:04}-{mo:02}-{dd:02} 00:00");
-    let mesh_style = |bold: f64| BLACK.mix(bold).stroke_width(px(1));
     let x_fmt = |v: &f64| clock(*v);
     plot::render((w, h), |canvas| {
-        let root = canvas.margin(px(6), 0, 0, 0).titled(title, font(15))?;
+        let root = timeline::titled(canvas, title)?;
         let (top, rest) = root.split_vertically(px(top_h));
         let (mid, rest) = rest.split_vertically(px(panel_h));
         let (band, rest) = rest.split_vertically(px(mode_h));
         let (bottom, legend) = rest.split_vertically(px(fault_h));
 
         // Sun and commanded pose.
-        let mut c = ChartBuilder::on(&top)
-            .margin_left(px(12))
-            .margin_right(px(20))
-            .margin_top(px(8))
-            .x_label_area_size(px(8))
-            .y_label_area_size(y_area)
-            .build_cartesian_2d(x0..x1, y0..y1)?;
-        c.configure_mesh()
-            .y_desc("degrees")
-            .x_labels(x_labels)
-            .y_labels((((y1 - y0) / Y_STEP_DEG) as usize + 1).min(13))
-            .x_label_formatter(&|_| String::new())
-            .y_label_formatter(&|v| format!("{v:.0}"))
-            .label_style(font(12))
-            .axis_desc_style(font(13))
-            .axis_style(stroke(BLACK, 1))
-            .bold_line_style(mesh_style(0.18))
-            .light_line_style(mesh_style(0.05))
-            .max_light_lines(1)
-            .set_all_tick_mark_size(px(4))
-            .draw()?;
+        let mut c = timeline::panel(&top, 8, 8, x0..x1, y0..y1)?;
+        timeline::mesh(
+            c.configure_mesh()
+                .y_desc("degrees")
+                .x_labels(x_labels)
+                .y_labels((((y1 - y0) / Y_STEP_DEG) as usize + 1).min(13))
+                .x_label_formatter(&|_| String::new())
+                .y_label_formatter(&|v| format!("{v:.0}")),
+        )
+        .draw()?;
         if degrees.is_none() {
             c.draw_series(std::iter::once(Text::new(
                 "no set-point in the log",
@@ -389,49 +359,24 @@ fn draw_figure(d: &Day, title: &str) -> Result<String, Box<dyn Error>> {
 
         // Panel voltage.
         if let Some((v0, v1)) = panel {
-            let mut c = ChartBuilder::on(&mid)
-                .margin_left(px(12))
-                .margin_right(px(20))
-                .margin_top(px(6))
-                .x_label_area_size(px(6))
-                .y_label_area_size(y_area)
-                .build_cartesian_2d(x0..x1, v0..v1)?;
-            c.configure_mesh()
-                .y_desc("panel (V)")
-                .x_labels(x_labels)
-                .y_labels(5)
-                .x_label_formatter(&|_| String::new())
-                .y_label_formatter(&|v| format!("{v:.1}"))
-                .label_style(font(12))
-                .axis_desc_style(font(13))
-                .axis_style(stroke(BLACK, 1))
-                .bold_line_style(mesh_style(0.18))
-                .light_line_style(mesh_style(0.05))
-                .max_light_lines(1)
-                .set_all_tick_mark_size(px(4))
-                .draw()?;
+            let mut c = timeline::panel(&mid, 6, 6, x0..x1, v0..v1)?;
+            timeline::mesh(
+                c.configure_mesh()
+                    .y_desc("panel (V)")
+                    .x_labels(x_labels)
+                    .y_labels(5)
+                    .x_label_formatter(&|_| String::new())
+                    .y_label_formatter(&|v| format!("{v:.1}")),
+            )
+            .draw()?;
             for l in &d.panel_v {
                 c.draw_series(LineSeries::new(l.clone(), stroke(PANEL, 2)))?;
             }
         }
 
         // Mode band.
-        let mut c = ChartBuilder::on(&band)
-            .margin_left(px(12))
-            .margin_right(px(20))
-            .margin_top(px(6))
-            .x_label_area_size(px(6))
-            .y_label_area_size(y_area)
-            .build_cartesian_2d(x0..x1, 0f64..1f64)?;
-        c.configure_mesh()
-            .disable_mesh()
-            .y_desc("mode")
-            .y_labels(0)
-            .x_label_formatter(&|_| String::new())
-            .axis_desc_style(font(13))
-            .axis_style(stroke(BLACK, 1))
-            .set_all_tick_mark_size(0)
-            .draw()?;
+        let mut c = timeline::panel(&band, 6, 6, x0..x1, 0f64..1f64)?;
+        timeline::mode_band(&mut c)?;
         // At least 2 pixels wide, so that every mode that occurs shows.
         let min_w = (x1 - x0) * 2.0 / PLOT_W;
         c.draw_series(d.modes.iter().map(|(a, b, m)| {
@@ -443,36 +388,17 @@ fn draw_figure(d: &Day, title: &str) -> Result<String, Box<dyn Error>> {
 
         // Faults: a row each, named left of the axis.
         let rows = fault_rows.len() as f64;
-        let mut c = ChartBuilder::on(&bottom)
-            .margin_left(px(12))
-            .margin_right(px(20))
-            .margin_top(px(6))
-            .x_label_area_size(px(40))
-            .y_label_area_size(y_area)
-            .build_cartesian_2d(x0..x1, 0f64..rows)?;
-        c.configure_mesh()
-            .disable_y_mesh()
-            .x_desc(x_desc.as_str())
-            .x_labels(x_labels)
-            .y_labels(0)
-            .x_label_formatter(&x_fmt)
-            .label_style(font(12))
-            .axis_desc_style(font(13))
-            .axis_style(stroke(BLACK, 1))
-            .bold_line_style(mesh_style(0.18))
-            .light_line_style(mesh_style(0.05))
-            .max_light_lines(1)
-            .set_all_tick_mark_size(px(4))
-            .draw()?;
-        let label = font(12).pos(Pos::new(HPos::Right, VPos::Center));
-        for (row, name) in fault_rows.iter().enumerate() {
-            let (x, y) = c.backend_coord(&(x0, row as f64 + 0.5));
-            canvas.draw(&Text::new(
-                name.to_string(),
-                (x - px(6) as i32, y),
-                label.clone(),
-            ))?;
-        }
+        let mut c = timeline::panel(&bottom, 6, 40, x0..x1, 0f64..rows)?;
+        timeline::mesh(
+            c.configure_mesh()
+                .disable_y_mesh()
+                .x_desc(x_desc.as_str())
+                .x_labels(x_labels)
+                .y_labels(0)
+                .x_label_formatter(&x_fmt),
+        )
+        .draw()?;
+        timeline::fault_names(canvas, &c, x0, &fault_rows)?;
         // At least 2 pixels wide, so that a fault of seconds shows.
         let min_w = (x1 - x0) * 2.0 / PLOT_W;
         for (row, (_, spans, raised)) in d.faults.iter().enumerate() {
@@ -489,7 +415,7 @@ fn draw_figure(d: &Day, title: &str) -> Result<String, Box<dyn Error>> {
                     .map(|&t| Circle::new((t, row + 0.5), px(4), FAULT.filled())),
             )?;
         }
-        plot::legend(&legend.margin(px(4), 0, px(60), px(12)), &entries, columns)?;
+        timeline::legend(&legend, &entries, columns)?;
         Ok(())
     })
 }

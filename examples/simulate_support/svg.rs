@@ -8,16 +8,19 @@
 use std::error::Error;
 
 use plotters::prelude::*;
-use plotters::style::text_anchor::{HPos, Pos, VPos};
 use sun_algos::UtcTime;
 use suntracker::safety::Mode;
 
 #[path = "../common/plot.rs"]
 mod plot;
+#[path = "../common/timeline.rs"]
+mod timeline;
 
 use plot::{font, px, stroke, Swatch};
+use timeline::{FAULT, MODE_COLOURS};
 
-/// Every mode, in the order of the band (bottom up) and the legend.
+/// Every mode, in the order of the band (bottom up) and the legend (that
+/// of [`MODE_COLOURS`]).
 const MODES: [Mode; 8] = [
     Mode::Tracking,
     Mode::Homing,
@@ -29,8 +32,8 @@ const MODES: [Mode; 8] = [
     Mode::SafeStop,
 ];
 
-/// The position of `mode` in [`MODES`] (exhaustive: a new mode must be
-/// given a place and a colour).
+/// The position of `mode` in [`MODES`] and [`MODE_COLOURS`] (exhaustive: a
+/// new mode must be given a place and a colour).
 fn mode_index(mode: Mode) -> usize {
     match mode {
         Mode::Tracking => 0,
@@ -44,21 +47,8 @@ fn mode_index(mode: Mode) -> usize {
     }
 }
 
-/// The colour of each mode of [`MODES`].
-const MODE_COLOURS: [RGBColor; 8] = [
-    RGBColor(0x4c, 0xaf, 0x50), // tracking: green
-    RGBColor(0x64, 0xb5, 0xf6), // homing: light blue
-    RGBColor(0x45, 0x4f, 0x6b), // night: slate
-    RGBColor(0xfb, 0xc0, 0x2d), // wait_for_time: yellow
-    RGBColor(0xff, 0x8f, 0x00), // wind_stow: orange
-    RGBColor(0x8e, 0x44, 0xad), // command_stow: purple
-    RGBColor(0x8d, 0x6e, 0x63), // manual: brown
-    RGBColor(0xef, 0x53, 0x50), // safe_stop: light red
-];
-
 const ERROR_MAX: RGBColor = RGBColor(0x1f, 0x4e, 0xc8);
 const ERROR_MEAN: RGBColor = RGBColor(0x0b, 0x1f, 0x4f);
-const FAULT: RGBColor = RGBColor(0x8e, 0x00, 0x00);
 
 /// Pixel columns of the plots (picture pixels): the bins of a long run.
 const PLOT_COLUMNS: u32 = 800;
@@ -250,10 +240,7 @@ fn error_series(run: &Run, axis: TimeAxis) -> (Polylines, Polylines, bool) {
 
 /// Draws the run; returns the SVG. `start` is the run's first minute.
 pub fn draw(run: &Run, start: &UtcTime, title: &str) -> Result<String, Box<dyn Error>> {
-    // Boxes side by side (the mode band of a long run) get their edges
-    // snapped to pixels, or the viewer's anti-aliasing lets the background
-    // through between them; curves stay anti-aliased.
-    Ok(draw_figure(run, start, title)?.replace("<rect ", "<rect shape-rendering=\"crispEdges\" "))
+    Ok(timeline::crisp_boxes(draw_figure(run, start, title)?))
 }
 
 fn draw_figure(run: &Run, start: &UtcTime, title: &str) -> Result<String, Box<dyn Error>> {
@@ -283,11 +270,7 @@ fn draw_figure(run: &Run, start: &UtcTime, title: &str) -> Result<String, Box<dy
     for &m in &run.modes {
         seen[usize::from(m)] = true;
     }
-    let fault_rows: Vec<&str> = if run.faults.is_empty() {
-        vec!["(none)"]
-    } else {
-        run.faults.iter().map(|f| f.0).collect()
-    };
+    let fault_rows = timeline::fault_rows(run.faults.iter().map(|f| f.0));
 
     let mut entries: Vec<(Swatch, String)> = Vec::new();
     let below = if floored {
@@ -320,7 +303,7 @@ fn draw_figure(run: &Run, start: &UtcTime, title: &str) -> Result<String, Box<dy
     }
     for (i, m) in MODES.iter().enumerate() {
         if seen[i] {
-            entries.push((Swatch::Box(MODE_COLOURS[i]), format!("mode {}", m.name())));
+            entries.push((Swatch::Box(MODE_COLOURS[i].1), format!("mode {}", m.name())));
         }
     }
     entries.push((Swatch::Box(FAULT), "fault active".into()));
@@ -336,37 +319,24 @@ fn draw_figure(run: &Run, start: &UtcTime, title: &str) -> Result<String, Box<dy
     let mode_h = 64;
     let fault_h = 50 + 18 * fault_rows.len() as u32;
     let (w, h) = (960, 30 + error_h + mode_h + fault_h + legend_h + 10);
-    let y_area = px(130);
     let (y0, mo, d) = start.ymd();
     let x_desc = format!("{} since {y0:04}-{mo:02}-{d:02} 00:00 UTC", axis.unit);
 
     plot::render((w, h), |canvas| {
-        let root = canvas.margin(px(6), 0, 0, 0).titled(title, font(15))?;
+        let root = timeline::titled(canvas, title)?;
         let (top, rest) = root.split_vertically(px(error_h));
         let (mid, rest) = rest.split_vertically(px(mode_h));
         let (bottom, legend) = rest.split_vertically(px(fault_h));
-        let mesh_style = |bold: f64| BLACK.mix(bold).stroke_width(px(1));
 
         // Pointing error.
-        let mut c = ChartBuilder::on(&top)
-            .margin_left(px(12))
-            .margin_right(px(20))
-            .margin_top(px(8))
-            .x_label_area_size(px(8))
-            .y_label_area_size(y_area)
-            .build_cartesian_2d(0f64..x_end, (e0..e1).log_scale())?;
-        c.configure_mesh()
-            .y_desc("pointing error (deg)")
-            .x_label_formatter(&|_| String::new())
-            .y_label_formatter(&|v| format!("{v}"))
-            .label_style(font(12))
-            .axis_desc_style(font(13))
-            .axis_style(stroke(BLACK, 1))
-            .bold_line_style(mesh_style(0.18))
-            .light_line_style(mesh_style(0.05))
-            .max_light_lines(1)
-            .set_all_tick_mark_size(px(4))
-            .draw()?;
+        let mut c = timeline::panel(&top, 8, 8, 0f64..x_end, (e0..e1).log_scale())?;
+        timeline::mesh(
+            c.configure_mesh()
+                .y_desc("pointing error (deg)")
+                .x_label_formatter(&|_| String::new())
+                .y_label_formatter(&|v| format!("{v}")),
+        )
+        .draw()?;
         if max.is_empty() {
             c.draw_series(std::iter::once(Text::new(
                 "no minute tracking with the sun up",
@@ -385,22 +355,8 @@ fn draw_figure(run: &Run, start: &UtcTime, title: &str) -> Result<String, Box<dy
         }
 
         // Modes: the share of each in each bin, stacked.
-        let mut c = ChartBuilder::on(&mid)
-            .margin_left(px(12))
-            .margin_right(px(20))
-            .margin_top(px(6))
-            .x_label_area_size(px(6))
-            .y_label_area_size(y_area)
-            .build_cartesian_2d(0f64..x_end, 0f64..1f64)?;
-        c.configure_mesh()
-            .disable_mesh()
-            .y_desc("mode")
-            .y_labels(0)
-            .x_label_formatter(&|_| String::new())
-            .axis_desc_style(font(13))
-            .axis_style(stroke(BLACK, 1))
-            .set_all_tick_mark_size(0)
-            .draw()?;
+        let mut c = timeline::panel(&mid, 6, 6, 0f64..x_end, 0f64..1f64)?;
+        timeline::mode_band(&mut c)?;
         // Runs of bins with the same single mode are one rectangle.
         let mut rects: Vec<(f64, f64, f64, f64, usize)> = Vec::new();
         for (a, b) in bins(run.minutes) {
@@ -429,41 +385,22 @@ fn draw_figure(run: &Run, start: &UtcTime, title: &str) -> Result<String, Box<dy
         c.draw_series(rects.iter().map(|&(x0, x1, y0, y1, i)| {
             Rectangle::new(
                 [(x0, y0), ((x1 + seam).min(x_end), y1)],
-                MODE_COLOURS[i].filled(),
+                MODE_COLOURS[i].1.filled(),
             )
         }))?;
 
         // Faults: a row each, named left of the axis.
         let rows = fault_rows.len() as f64;
-        let mut c = ChartBuilder::on(&bottom)
-            .margin_left(px(12))
-            .margin_right(px(20))
-            .margin_top(px(6))
-            .x_label_area_size(px(40))
-            .y_label_area_size(y_area)
-            .build_cartesian_2d(0f64..x_end, 0f64..rows)?;
-        c.configure_mesh()
-            .disable_y_mesh()
-            .x_desc(x_desc.as_str())
-            .y_labels(0)
-            .x_label_formatter(&|v| format!("{v}"))
-            .label_style(font(12))
-            .axis_desc_style(font(13))
-            .axis_style(stroke(BLACK, 1))
-            .bold_line_style(mesh_style(0.18))
-            .light_line_style(mesh_style(0.05))
-            .max_light_lines(1)
-            .set_all_tick_mark_size(px(4))
-            .draw()?;
-        let label = font(12).pos(Pos::new(HPos::Right, VPos::Center));
-        for (row, name) in fault_rows.iter().enumerate() {
-            let (x, y) = c.backend_coord(&(0.0, row as f64 + 0.5));
-            canvas.draw(&Text::new(
-                name.to_string(),
-                (x - px(6) as i32, y),
-                label.clone(),
-            ))?;
-        }
+        let mut c = timeline::panel(&bottom, 6, 40, 0f64..x_end, 0f64..rows)?;
+        timeline::mesh(
+            c.configure_mesh()
+                .disable_y_mesh()
+                .x_desc(x_desc.as_str())
+                .y_labels(0)
+                .x_label_formatter(&|v| format!("{v}")),
+        )
+        .draw()?;
+        timeline::fault_names(canvas, &c, 0.0, &fault_rows)?;
         // At least 2 pixels wide, so that a one-minute fault shows.
         let min_w = x_end * 2.0 / f64::from(PLOT_COLUMNS);
         for (row, (_, spans)) in run.faults.iter().enumerate() {
@@ -474,7 +411,7 @@ fn draw_figure(run: &Run, start: &UtcTime, title: &str) -> Result<String, Box<dy
                 Rectangle::new([(x0, row + 0.2), (x1, row + 0.8)], FAULT.filled())
             }))?;
         }
-        plot::legend(&legend.margin(px(4), 0, px(60), px(12)), &entries, columns)?;
+        timeline::legend(&legend, &entries, columns)?;
         Ok(())
     })
 }

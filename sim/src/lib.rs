@@ -1,11 +1,19 @@
 //! Simulation of a suntracker's world: the mount and its axes, the
-//! attitude sensors, GPS and RTC streams, weather and operator scenarios,
+//! attitude sensors, a continuous-rotation servo and its quadrature
+//! encoder, GPS and RTC streams, weather and operator scenarios,
 //! and the sun-position workload of the speed benches. `no_std`: the host
 //! tests and tools use it, and so does the QEMU board image, whose emulated
 //! chip has no motors or sensors of its own.
 #![no_std]
 #![forbid(unsafe_code)]
 
+// Lists for the servo bench of the emulator harness (`servo::Fs5106r`,
+// `encoder::QuadratureEncoder::edges_between`).
+#[cfg(feature = "std")]
+extern crate std;
+
+#[cfg(not(target_arch = "avr"))]
+pub mod encoder;
 #[cfg(not(target_arch = "avr"))]
 pub mod gps;
 pub mod plant;
@@ -14,4 +22,6 @@ pub mod rng;
 pub mod rtc;
 pub mod scenario;
 pub mod sensors;
+#[cfg(not(target_arch = "avr"))]
+pub mod servo;
 pub mod sun_workload;

@@ -18,7 +18,7 @@
 //! Each slot holds one record of [`RECORD_LEN`](crate::config::RECORD_LEN)
 //! bytes at its start (layout in `store`, [`ConfigStore`]); a save writes the slot
 //! without the newest good copy, so the other one stays good through any
-//! power cut (shown by `tests/config_powercut.rs` on the fault models of an
+//! power cut (shown by `tests/persist_powercut.rs` on the fault models of an
 //! EEPROM and a NOR flash, through this module's code).
 //!
 //! # EEPROM (AVR)
@@ -125,7 +125,7 @@ pub use store::{
 
 /// The cells of a byte-writable EEPROM: what [`EepromStorage`] needs from
 /// the hardware. Implemented by `suntracker_avr::eeprom::Eeprom`
-/// (EEAR/EEDR/EECR) and by the fault model of `tests/config_powercut.rs`.
+/// (EEAR/EEDR/EECR) and by the fault model of `tests/persist_powercut.rs`.
 pub trait EepromCells {
     /// Bytes of EEPROM.
     fn size_bytes(&self) -> usize;

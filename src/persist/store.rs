@@ -185,7 +185,7 @@ struct Scan<E, R> {
 /// is never touched, so a power cut at any point of a save leaves either
 /// the old copy or the new one in force, never the defaults while a good
 /// copy existed and never a mix (a part-written slot fails its CRC-32).
-/// `tests/config_powercut.rs` cuts the power at every byte, word and erase
+/// `tests/persist_powercut.rs` cuts the power at every byte, word and erase
 /// of a save on fault-injecting EEPROM and NOR flash models to show it.
 ///
 /// # In a main loop

@@ -42,7 +42,7 @@
 //! A save runs in steps beside the loop (one EEPROM byte a pass, 3.4 ms
 //! each by the hardware); its `ok save` comes when the last byte is
 //! written. A power cut during it leaves the old settings or the new ones
-//! ([`ConfigStore`]'s two slots; `tests/config_powercut.rs` cuts at every
+//! ([`ConfigStore`]'s two slots; `tests/persist_powercut.rs` cuts at every
 //! byte of a save of this record too).
 
 use sun_algos::Site;

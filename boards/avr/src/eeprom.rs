@@ -26,7 +26,7 @@
 //! brown-out: the datasheet's "Preventing EEPROM Corruption" asks for the
 //! brown-out detector, which the Arduino boards' fuses enable (BODLEVEL 2.7
 //! V); a byte cut by a power loss is old, new or garbage, which the
-//! two-slot store survives (tests/config_powercut.rs).
+//! two-slot store survives (tests/persist_powercut.rs).
 
 use avr_device::interrupt;
 

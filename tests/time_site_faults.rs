@@ -13,17 +13,19 @@
 //!
 //! At every table entry applied while tracking, the panel (the motor
 //! models' decoded pose) points at NREL SPA's sun within the mechanical
-//! tolerance, as in `tracker_hw_day`.
+//! tolerance, as in `hw_stepper_day`.
 
-mod tracker_hw_common;
+mod common;
 
 use std::cell::Cell;
 
+use common::motor::*;
+use common::*;
 use drivers::rtc::Ds3231;
 use embedded_hal::i2c::{ErrorKind, NoAcknowledgeSource};
 use embedded_hal_mock::eh1::i2c::{Mock as I2cMock, Transaction as I2c};
 use sim::sensors::MountSensors;
-use sun_algos::{Algorithm, Options, Site};
+use sun_algos::{Algorithm, Options};
 use suntracker::config::Config;
 use suntracker::controller::Controller;
 use suntracker::hw::GpsPort;
@@ -32,8 +34,6 @@ use suntracker::safety::{Fault, Mode};
 use suntracker::site::{follow_gps_site, resolve_site, SiteOrigin};
 use suntracker::sun::SharedSiteSource;
 use suntracker::time::{TimeConfig, TimeKeeper};
-use tracker_hw_common::motor::*;
-use tracker_hw_common::*;
 
 const H: u32 = 3600;
 const M: u32 = 60;
@@ -74,13 +74,6 @@ fn lost_power_gps_loss_and_rtc_nack_are_raised_and_recovered() {
     let axes = [stepper_axis(&c_motor), stepper_axis(&a_motor)];
     let mut ctrl: Controller<f64, _, Axis, MountSensors, 360> =
         Controller::new(config, options, source, axes, None).unwrap();
-
-    let spa_site = Site::with_elevation(11.9683, 8.4261, 480.0).unwrap();
-    let spa = |secs: u32| {
-        Algorithm::Spa
-            .position(&utc_at(secs), &spa_site, &Options::default())
-            .unwrap()
-    };
 
     let mut rtc_stopped = true;
     let mut t = BOOT;
@@ -123,11 +116,7 @@ fn lost_power_gps_loss_and_rtc_nack_are_raised_and_recovered() {
         let status = keeper.update(&fix, now_ms);
         let fallback = keeper.last_valid().unwrap_or(utc_at(t));
         let report = ctrl.tick(&status.tick_inputs(now_ms, fallback, 0, 60_000));
-        let next = if report.homing {
-            t + 1
-        } else {
-            (t / 60 + 1) * 60
-        };
+        let next = next_tick(t, report.homing);
         pump(&mut ctrl, [&c_motor, &a_motor], t, next);
 
         let faults = ctrl.faults();
@@ -152,7 +141,7 @@ fn lost_power_gps_loss_and_rtc_nack_are_raised_and_recovered() {
                 resumed_after_nack.get_or_insert(t);
             }
             if report.set_point != last_set_point && t % 240 < 30 {
-                let sun = spa(t - t % 240);
+                let sun = spa_kano(t - t % 240);
                 let err = pointing_error_deg(&c_motor, &a_motor, sun.zenith_deg, sun.azimuth_deg);
                 assert!(err <= TOL_DEG, "pointing error {err}° at t={t}");
                 max_err_deg = max_err_deg.max(err);

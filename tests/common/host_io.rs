@@ -1,6 +1,7 @@
 //! The serial ports of the firmware-loop tests (`firmware_app`,
 //! `firmware_console`): a UART the test fills and the firmware reads, and a
-//! log sink that keeps what the firmware wrote.
+//! log sink that keeps what the firmware wrote; and the sink of the
+//! console and log-line tests.
 
 use std::cell::RefCell;
 use std::collections::VecDeque;
@@ -29,6 +30,24 @@ impl embedded_io::Read for Uart {
 impl embedded_io::ReadReady for Uart {
     fn read_ready(&mut self) -> Result<bool, Infallible> {
         Ok(!self.0.borrow().is_empty())
+    }
+}
+
+/// A sink that keeps what is written until the test takes it (the
+/// console's replies, log lines).
+#[derive(Default)]
+pub struct Buf(pub Vec<u8>);
+
+impl Sink for Buf {
+    fn put(&mut self, bytes: &[u8]) {
+        self.0.extend_from_slice(bytes);
+    }
+}
+
+impl Buf {
+    /// What was written since the last take, as text.
+    pub fn take(&mut self) -> String {
+        String::from_utf8(std::mem::take(&mut self.0)).expect("ASCII output")
     }
 }
 

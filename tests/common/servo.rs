@@ -3,11 +3,14 @@
 //! `drivers::encoder::SharedEncoder` as an interrupt would, one Gray-code
 //! edge at a time) and its home switch: the plant of the servo tests.
 //!
-//! Speed law: zero within `dead_us` of `neutral_us`, then linear from the
-//! dead band's edge to `top_speed_deg_s` (at the motor) `full_us` from
-//! neutral, the sign giving the direction (wider = positive). With
-//! `frame_s` the servo reads a new pulse once per frame, as a hobby servo
-//! does at the start of each 50 Hz period; without it, at once.
+//! Speed law: `sim::servo::ServoSpec` (the emulator's FS5106R model's):
+//! zero within the dead band about neutral, then linear from the dead
+//! band's edge to the no-load speed (at the motor) at the end of the
+//! control range, the sign giving the direction (wider = positive). Its
+//! hold after the last pulse does not come into play: the PWM channel
+//! sends a pulse every frame. With `frame_s` the servo reads a new pulse
+//! once per frame, as a hobby servo does at the start of each 50 Hz
+//! period; without it, at once. Encoder edges: `sim::encoder`.
 
 use std::cell::RefCell;
 use std::convert::Infallible;
@@ -16,24 +19,17 @@ use std::rc::Rc;
 use drivers::encoder::SharedEncoder;
 use embedded_hal::digital::{ErrorType as PinErrorType, InputPin};
 use embedded_hal::pwm::{ErrorType as PwmErrorType, SetDutyCycle};
-
-/// Forward Gray sequence (A leads B): 00, 10, 11, 01.
-const GRAY: [(bool, bool); 4] = [(false, false), (true, false), (true, true), (false, true)];
+use sim::encoder::QuadratureEncoder;
+use sim::servo::{ServoSpec as SpeedLaw, FRAME_S};
 
 /// What a servo and its mechanics are.
 #[derive(Debug, Clone, Copy)]
 pub struct ServoSpec {
-    /// Stop pulse, µs.
-    pub neutral_us: f64,
-    /// Half-width of the dead band around neutral, µs.
-    pub dead_us: f64,
-    /// Offset from neutral of full speed, µs.
-    pub full_us: f64,
-    /// Motor speed at full command, degrees per second.
-    pub top_speed_deg_s: f64,
+    /// Pulse to motor speed.
+    pub law: SpeedLaw,
     /// Motor turns per axis turn.
     pub gear: f64,
-    /// Encoder edges per motor turn.
+    /// Encoder edges per motor turn (four per line).
     pub edges_per_rev: u32,
     /// Pulse read once per frame of this length, seconds.
     pub frame_s: Option<f64>,
@@ -47,22 +43,22 @@ impl ServoSpec {
     /// 300 lines (1,200 edges a turn) on its output shaft, which turns the
     /// axis directly; the channel counts 0.5 µs (Timer1 at clk/8).
     pub const FS5106R: ServoSpec = ServoSpec {
-        neutral_us: 1_500.0,
-        dead_us: 4.0,
-        full_us: 800.0,
-        top_speed_deg_s: 570.0,
+        law: SpeedLaw::FS5106R_6V,
         gear: 1.0,
         edges_per_rev: 1_200,
-        frame_s: Some(0.02),
+        frame_s: Some(FRAME_S),
         duty_per_us: 2.0,
     };
 
     /// Motor speed for a pulse, degrees per second.
     pub fn speed_deg_s(&self, pulse_us: f64) -> f64 {
-        let off = pulse_us - self.neutral_us;
-        let beyond = (off.abs() - self.dead_us).max(0.0);
-        let frac = (beyond / (self.full_us - self.dead_us)).min(1.0);
-        off.signum() * frac * self.top_speed_deg_s
+        self.law.no_load_speed_deg_s(pulse_us)
+    }
+
+    /// The encoder on the motor shaft.
+    pub fn encoder(&self) -> QuadratureEncoder {
+        assert_eq!(self.edges_per_rev % 4, 0, "four edges a line");
+        QuadratureEncoder::new(self.edges_per_rev / 4)
     }
 }
 
@@ -92,8 +88,8 @@ impl ServoModel {
     pub fn new(spec: ServoSpec, start_deg: f64, switch_deg: f64) -> Rc<RefCell<ServoModel>> {
         Rc::new(RefCell::new(ServoModel {
             spec,
-            pulse_us: spec.neutral_us,
-            acting_us: spec.neutral_us,
+            pulse_us: spec.law.neutral_us,
+            acting_us: spec.law.neutral_us,
             frame_left_s: 0.0,
             min_pulse_us: f64::MAX,
             max_pulse_us: 0.0,
@@ -111,7 +107,7 @@ impl ServoModel {
 
     /// The encoder's count: whole edges of motor angle from the start.
     pub fn count(&self) -> i64 {
-        (self.motor_deg * f64::from(self.spec.edges_per_rev) / 360.0).floor() as i64
+        self.spec.encoder().count_at(self.motor_deg)
     }
 
     /// The count the encoder shows as the home switch closes, coming down:
@@ -149,13 +145,8 @@ impl ServoModel {
         };
         let lowest_motor = (self.switch_deg - 1.0 - self.start_deg) * self.spec.gear;
         let new = (self.motor_deg + speed * dt_s).max(lowest_motor);
-        let per_edge = 360.0 / f64::from(self.spec.edges_per_rev);
-        let mut n = (self.motor_deg / per_edge).floor() as i64;
-        let n_new = (new / per_edge).floor() as i64;
-        while n != n_new {
-            n += (n_new - n).signum();
-            let (a, b) = GRAY[n.rem_euclid(4) as usize];
-            encoder.update(a, b);
+        for edge in self.spec.encoder().edges(self.motor_deg, new) {
+            encoder.update(edge.a, edge.b);
         }
         self.motor_deg = new;
     }

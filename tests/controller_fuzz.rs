@@ -15,7 +15,7 @@
 //! week-rollover flag, gusts and gales, motor stalls, encoder timeouts,
 //! limit switches stuck closed or open, attitude sensor failures, and the
 //! operator's commands (stow, manual poses beyond the limits, re-home,
-//! clear). `cargo test --release --test tracker_fuzz -- --ignored
+//! clear). `cargo test --release --test controller_fuzz -- --ignored
 //! --nocapture` runs the long version.
 
 use sim::plant::MotorPlant;

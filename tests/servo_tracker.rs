@@ -1,17 +1,20 @@
-//! Seed chowdhury-2019's tracker loop (`board::chowdhury2019`, the Arduino
+//! Seed chowdhury-2019's tracker loop (`suntracker::servo_tracker`, the Arduino
 //! Uno image's) on the real drivers: two `ContinuousServo`s with the
 //! `POSITION_LOOP` on `SharedEncoder`s through `hw::ServoAxis`, over the
-//! FS5106R model of `tracker_hw_common::servo` (50 Hz frames, ±4 µs dead
+//! FS5106R model of `common::servo` (50 Hz frames, ±4 µs dead
 //! band, 570 °/s), a simulated DS3231 and a log. Pointing is checked
 //! against NREL SPA in `f64` through the geometry of
-//! `tracker_hw_common::motor` (not the tracker's), the axes against the
+//! `common::motor` (not the tracker's), the axes against the
 //! model's shaft angles.
 
-mod tracker_hw_common;
+mod common;
 
 use std::cell::RefCell;
 use std::rc::Rc;
 
+use common::host_io::Log;
+use common::motor::{angle_deg, normal_xyz, sun_xyz};
+use common::servo::{Pwm, ServoModel, ServoSpec, Switch};
 use drivers::encoder::SharedEncoder;
 use drivers::servo::ContinuousServo;
 use sim::rtc::SimRtc;
@@ -22,9 +25,6 @@ use suntracker::servo_tracker::{
     axis_configs, Branch, SeedTracker, ALGORITHM, ALGORITHM_NAME, COUNTS_PER_TURN, POSITION_LOOP,
     SERVO, STALL_RETRY_MS, STALL_TIMEOUT_MS,
 };
-use tracker_hw_common::host_io::Log;
-use tracker_hw_common::motor::{angle_deg, normal_xyz, sun_xyz};
-use tracker_hw_common::servo::{Pwm, ServoModel, ServoSpec, Switch};
 
 const LAT_DEG: f32 = 11.9683;
 const LON_DEG: f32 = 8.4261;
@@ -104,7 +104,8 @@ impl<'e> Bench<'e> {
                 for (m, e) in self.models.iter().zip(self.encoders) {
                     let mut m = m.borrow_mut();
                     m.advance(0.001, e);
-                    busy |= m.acting_us != m.spec.neutral_us || m.pulse_us != m.spec.neutral_us;
+                    busy |=
+                        m.acting_us != m.spec.law.neutral_us || m.pulse_us != m.spec.law.neutral_us;
                 }
                 if !busy {
                     break;

@@ -19,7 +19,7 @@
 //! existed. The number of cut points is computed from the record this test
 //! builds itself (layout of `src/persist/store.rs`: magic, version, length,
 //! sequence, payload, CRC-32 by `crc32`, whose check value
-//! `tests/tracker_config.rs` verifies) and the storage's contents.
+//! `tests/config_store.rs` verifies) and the storage's contents.
 //!
 //! The EEPROM helpers are generic over the record kept ([`Record`]): the
 //! same three EEPROM sweeps run on the Arduino Uno's settings

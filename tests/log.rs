@@ -1,25 +1,13 @@
 //! The log line shapes every image writes (src/log.rs), byte for byte.
 
+mod common;
+
+use common::host_io::Buf;
 use sun_algos::UtcTime;
 use suntracker::config::Config;
 use suntracker::log::{self, ChangeLog, Sink, SiteSource};
 use suntracker::safety::{AxisId, Fault, FaultManager, Mode};
 use suntracker::time::TimeOrigin;
-
-#[derive(Default)]
-struct Buf(Vec<u8>);
-
-impl Sink for Buf {
-    fn put(&mut self, bytes: &[u8]) {
-        self.0.extend_from_slice(bytes);
-    }
-}
-
-impl Buf {
-    fn take(&mut self) -> String {
-        String::from_utf8(std::mem::take(&mut self.0)).unwrap()
-    }
-}
 
 fn t(s: &str) -> UtcTime {
     s.parse().unwrap()

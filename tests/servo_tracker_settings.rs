@@ -1,4 +1,4 @@
-//! The Arduino Uno's settings console (`board::chowdhury2019_settings`,
+//! The Arduino Uno's settings console (`suntracker::servo_tracker::settings`,
 //! the `avr_settings` image) on the host: over `MemStorage` or a byte
 //! EEPROM model, with `SimRtc` as its clock and a sink collecting the
 //! replies. The expected replies are the documented ones: the language of
@@ -6,30 +6,16 @@
 //! `error <command>: not on this image`) and the refusal texts of
 //! `src/config/keys.rs` (`Reason`).
 
+mod common;
+
+use common::host_io::Buf;
 use drivers::rtc::Clock;
 use sim::rtc::SimRtc;
 use sun_algos::UtcTime;
-use suntracker::log::Sink;
 use suntracker::persist::{EepromCells, EepromStorage};
 use suntracker::persist::{MemStorage, SlotState};
 use suntracker::ports::Storage;
 use suntracker::servo_tracker::settings::{self as settings, Settings, SettingsConsole};
-
-/// Collects everything written.
-#[derive(Default)]
-struct Out(Vec<u8>);
-
-impl Sink for Out {
-    fn put(&mut self, bytes: &[u8]) {
-        self.0.extend_from_slice(bytes);
-    }
-}
-
-impl Out {
-    fn take(&mut self) -> String {
-        String::from_utf8(std::mem::take(&mut self.0)).expect("ASCII replies")
-    }
-}
 
 /// The ATmega328P's EEPROM size.
 const EEPROM_LEN: usize = 1024;
@@ -89,13 +75,13 @@ fn utc(s: &str) -> UtcTime {
 struct Rig<S> {
     console: SettingsConsole<S>,
     rtc: SimRtc,
-    out: Out,
+    out: Buf,
 }
 
 impl<S: Storage> Rig<S> {
     /// Power-on on `storage`: the boot line is left in `out`.
     fn boot(storage: S) -> Self {
-        let mut out = Out::default();
+        let mut out = Buf::default();
         let console = SettingsConsole::boot(storage, &mut out);
         Rig {
             console,
@@ -343,12 +329,12 @@ fn save_then_boot_and_load_find_the_settings() {
     );
 
     // The tracker image's power-on read.
-    let mut out = Out::default();
+    let mut out = Buf::default();
     assert_eq!(settings::load(storage, &mut out), sydney());
     assert_eq!(out.take(), "config source=stored\n");
 
     // Erased storage: the defaults, said so.
-    let mut out = Out::default();
+    let mut out = Buf::default();
     assert_eq!(settings::load(Mem::new(), &mut out), settings::DEFAULTS);
     assert_eq!(out.take(), "config source=defaults\n");
 }
@@ -399,7 +385,7 @@ fn save_on_the_eeprom_one_byte_write_a_poll_and_ok_at_the_end() {
         cells.writes,
         "boot only reads"
     );
-    let mut out = Out::default();
+    let mut out = Buf::default();
     assert_eq!(
         settings::load(EepromStorage::new(cells), &mut out),
         sydney()

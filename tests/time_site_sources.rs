@@ -3,8 +3,9 @@
 //! I2C mock (transaction-exact) and the real GPS reader on an in-memory
 //! serial port.
 
-mod tracker_hw_common;
+mod common;
 
+use common::*;
 use drivers::gps::{FixQuality, GpsFix};
 use drivers::rtc::Ds3231;
 use drivers::time::DateTime;
@@ -17,7 +18,6 @@ use suntracker::ports::Clock;
 use suntracker::site::PostalError;
 use suntracker::site::{follow_gps_site, resolve_site, SiteError, SiteOrigin};
 use suntracker::time::{gps_time, GpsTime, TimeConfig, TimeKeeper, TimeOrigin};
-use tracker_hw_common::*;
 
 fn nack() -> ErrorKind {
     ErrorKind::NoAcknowledge(NoAcknowledgeSource::Address)

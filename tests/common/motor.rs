@@ -1,5 +1,5 @@
 //! A bipolar stepper axis seen through its four H-bridge inputs, the
-//! controller configuration of the `tracker_hw_*` tests, and the geometry
+//! controller configuration of the whole-tracker tests, and the geometry
 //! used to check pointing independently of the tracker's code.
 
 use std::cell::RefCell;
@@ -10,7 +10,8 @@ use drivers::stepper::hbridge::{BridgePins, Config as BridgeConfig, HBridgeStepp
 use drivers::stepper::ramp::Ramp;
 use drivers::stepper::LimitSwitches;
 use embedded_hal::digital::{ErrorType, InputPin, OutputPin};
-use sun_algos::UtcTime;
+use sun_algos::{Algorithm, Options, Site, SunPosition, UtcTime};
+use suntracker::controller::TickInputs;
 use suntracker::hw::StepperAxis;
 
 use super::DayTime;
@@ -234,6 +235,40 @@ pub fn angle_deg(u: [f64; 3], v: [f64; 3]) -> f64 {
 pub fn utc_at(secs: u32) -> UtcTime {
     let (h, m, s) = DayTime { secs }.hms();
     UtcTime::from_ymd_hms(2026, 3, 20, h as u8, m as u8, s as u8).unwrap()
+}
+
+/// The sun at Kano (11.9683° N, 8.4261° E, 480 m) `secs` after midnight
+/// UTC of 2026-03-20, by NREL SPA: the independent sun the pointing of the
+/// whole-day tests is checked against (the controller computes PSA+).
+pub fn spa_kano(secs: u32) -> SunPosition<f64> {
+    let site = Site::with_elevation(11.9683, 8.4261, 480.0).unwrap();
+    Algorithm::Spa
+        .position(&utc_at(secs), &site, &Options::default())
+        .unwrap()
+}
+
+/// A tick `t` seconds after midnight UTC of 2026-03-20 with valid time, a
+/// GPS fix and no wind.
+pub fn calm_tick(t: u32) -> TickInputs {
+    TickInputs {
+        now_ms: u64::from(t) * 1000,
+        now: utc_at(t),
+        time_valid: true,
+        gps_fix: true,
+        gps_time_implausible: false,
+        wind_pulses: 0,
+        wind_interval_ms: 60_000,
+    }
+}
+
+/// When the whole-day tests tick after `t`: a second later while an axis
+/// homes, else on the next whole minute.
+pub fn next_tick(t: u32, homing: bool) -> u32 {
+    if homing {
+        t + 1
+    } else {
+        (t / 60 + 1) * 60
+    }
 }
 
 /// The tracker of these tests: `Config::default()` (Kano, seed intervals)

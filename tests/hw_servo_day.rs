@@ -4,32 +4,35 @@
 //! `hw::ServoAxis`, closed loop in the whole controller over a Kano day.
 //!
 //! The PWM channel and the encoder lines are the servo model of
-//! `tracker_hw_common::servo`: the pulse
+//! `common::servo`: the pulse
 //! width sets the motor speed (FS5106R class, seed chowdhury-2019: 1.5 ms
 //! stop, ±0.5 ms full speed, taken here as 400°/s at the motor, ±8 µs
 //! dead zone), the motor turns a 300-line encoder (YMT22 class; ×4 = 1200
 //! edges per revolution, each fed to the decoder as its A/B levels) and a
 //! 100:1 gear to the axis. Pointing is checked against NREL SPA as in
-//! `tracker_hw_day`.
+//! `hw_stepper_day`.
 
-mod tracker_hw_common;
+mod common;
 
 use std::cell::RefCell;
 use std::rc::Rc;
 
+use common::motor::{
+    angle_deg, below_reach_deg, calm_tick, next_tick, normal_xyz, spa_kano, sun_xyz, TOL_DEG,
+};
+use common::servo::{Pwm, ServoModel, ServoSpec, Switch};
 use drivers::encoder::SharedEncoder;
 use drivers::servo::{ContinuousServo, PositionController, ServoConfig};
 use sim::sensors::MountSensors;
+use sim::servo::{ServoSpec as SpeedLaw, FRAME_S};
 use sun_algos::{Algorithm, Options, Site};
 use suntracker::config::{AxisConfig, Config};
-use suntracker::controller::{Controller, ControllerOptions, TickInputs};
+use suntracker::controller::{Controller, ControllerOptions};
 use suntracker::hw::ServoAxis;
 use suntracker::motion::{AxisController, AxisDrive, FeedbackMode, HomeState};
 use suntracker::plan::Phase;
 use suntracker::safety::Mode;
 use suntracker::sun::AlgorithmSource;
-use tracker_hw_common::motor::{angle_deg, below_reach_deg, normal_xyz, sun_xyz, utc_at, TOL_DEG};
-use tracker_hw_common::servo::{Pwm, ServoModel, ServoSpec, Switch};
 
 const EDGES_PER_MOTOR_REV: u32 = 1200;
 const GEAR: f64 = 100.0;
@@ -39,10 +42,15 @@ const MOTOR_DEG_PER_EDGE: f64 = 360.0 / EDGES_PER_MOTOR_REV as f64;
 /// 400°/s at the motor, ±8 µs dead zone, a 300-line encoder on the motor
 /// and a 100:1 gear; the pulse acts at once; 1 µs per duty step.
 const SPEC: ServoSpec = ServoSpec {
-    neutral_us: 1_500.0,
-    dead_us: 8.0,
-    full_us: 500.0,
-    top_speed_deg_s: 400.0,
+    law: SpeedLaw {
+        neutral_us: 1_500.0,
+        dead_band_us: 8.0,
+        min_pulse_us: 1_000.0,
+        max_pulse_us: 2_000.0,
+        // 400 °/s at the motor.
+        no_load_rpm: 400.0 / 6.0,
+        signal_timeout_s: 3.0 * FRAME_S,
+    },
     gear: GEAR,
     edges_per_rev: EDGES_PER_MOTOR_REV,
     frame_s: None,
@@ -187,32 +195,15 @@ fn closed_loop_day_on_servo_axes() {
     ];
     let mut ctrl: Controller<f64, _, Axis, MountSensors, 360> =
         Controller::new(config, options, source, axes, None).unwrap();
-    // Boot at midnight: homing and waiting need no stow (see tracker_hw_day).
-    let spa = |secs: u32| {
-        Algorithm::Spa
-            .position(&utc_at(secs), &site, &Options::default())
-            .unwrap()
-    };
+    // Boot at midnight: homing and waiting need no stow (see hw_stepper_day).
 
     let mut t: u32 = 5 * 3600;
     let end = 19 * 3600 + 30 * 60;
     let mut last_set_point = None;
     let (mut applied, mut max_err_deg) = (0u32, 0.0f64);
     while t < end {
-        let report = ctrl.tick(&TickInputs {
-            now_ms: u64::from(t) * 1000,
-            now: utc_at(t),
-            time_valid: true,
-            gps_fix: true,
-            gps_time_implausible: false,
-            wind_pulses: 0,
-            wind_interval_ms: 60_000,
-        });
-        let next = if report.homing {
-            t + 1
-        } else {
-            (t / 60 + 1) * 60
-        };
+        let report = ctrl.tick(&calm_tick(t));
+        let next = next_tick(t, report.homing);
         // The main loop: both axes every millisecond until on target.
         let mut s = 0.0;
         while s < f64::from(next - t) {
@@ -235,7 +226,7 @@ fn closed_loop_day_on_servo_axes() {
         let tracking = matches!(ctrl.scheduler().phase(), Phase::Tracking { .. });
         if report.mode == Mode::Tracking && tracking {
             if report.set_point != last_set_point && t % 240 < 30 {
-                let sun = spa(t - t % 240);
+                let sun = spa_kano(t - t % 240);
                 let n = normal_xyz(c_model.borrow().output_deg(), a_model.borrow().output_deg());
                 let err = angle_deg(n, sun_xyz(90.0 - sun.zenith_deg, sun.azimuth_deg))
                     - below_reach_deg(sun.zenith_deg);
@@ -257,7 +248,7 @@ fn closed_loop_day_on_servo_axes() {
     // Home at night: facing the day's first entry again.
     let first = table.get(0).unwrap().time;
     let (h, m, _, _) = first.hms_milli();
-    let sun = spa(u32::from(h) * 3600 + u32::from(m) * 60);
+    let sun = spa_kano(u32::from(h) * 3600 + u32::from(m) * 60);
     let n = normal_xyz(c_model.borrow().output_deg(), a_model.borrow().output_deg());
     let err = angle_deg(n, sun_xyz(90.0 - sun.zenith_deg, sun.azimuth_deg))
         - below_reach_deg(sun.zenith_deg);

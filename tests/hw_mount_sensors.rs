@@ -7,10 +7,10 @@
 //! horizontal X west, Y south, Z up): gravity and the Earth's field are
 //! expressed in the tracker frame with `Tᵀ`, then scaled by the datasheets
 //! (ADXL345 full resolution 3.9 mg/LSB; QMC5883L 8 G range 3000 LSB/G) and
-//! rounded to counts (`tracker_hw_common::mount`). The chain must give back
+//! rounded to counts (`common::mount`). The chain must give back
 //! the rotation.
 
-mod tracker_hw_common;
+mod common;
 
 use drivers::compass::calibration::Calibration;
 use drivers::compass::qmc5883l::{Config as QmcConfig, Qmc5883l};
@@ -33,7 +33,7 @@ use drivers::tilt::WitInclinometer;
 use embedded_hal_mock::eh1::delay::NoopDelay;
 use embedded_hal_mock::eh1::digital::{Mock as PinMock, State, Transaction as Pin};
 
-use tracker_hw_common::mount::*;
+use common::mount::*;
 
 fn nack() -> ErrorKind {
     ErrorKind::NoAcknowledge(NoAcknowledgeSource::Address)

@@ -1,6 +1,7 @@
-//! Shared pieces of the `tracker_hw_*` tests: an in-memory serial port for
-//! NMEA, NMEA sentence builders, and DS3231 transactions written from the
-//! datasheet.
+//! Shared pieces of the whole-tracker tests on mocked buses (`hw_*`,
+//! `time_site_*`, `firmware_*`, `servo_tracker`): an in-memory serial port for
+//! NMEA, GPS epochs from the receiver model of the simulations, and DS3231
+//! transactions written from the datasheet.
 #![allow(dead_code)]
 
 use std::cell::RefCell;
@@ -8,6 +9,7 @@ use std::collections::VecDeque;
 use std::rc::Rc;
 
 use embedded_hal_mock::eh1::i2c::Transaction as I2c;
+use sim::gps::{GpsReceiverModel, EPOCH_BUF_LEN};
 
 /// DS3231 (Maxim 19-5170): 7-bit address 0x68; time registers 0x00..=0x06
 /// (seconds, minutes, hours [bit 6 = 12 h mode], day of week 1..7, date,
@@ -82,32 +84,19 @@ pub fn set_time(t: DayTime, status: u8) -> Vec<I2c> {
     tx
 }
 
-/// An NMEA 0183 sentence `$body*HH\r\n`, HH the XOR of the body's bytes.
-pub fn nmea(body: &str) -> String {
-    let cs = body.bytes().fold(0u8, |a, b| a ^ b);
-    format!("${body}*{cs:02X}\r\n")
-}
-
-/// Kano, as a GPS reports it: 11.9683° N = 11° 58.098' N, 8.4261° E =
-/// 8° 25.566' E, 480 m.
-pub const KANO_LAT_NMEA: &str = "1158.09800,N";
-pub const KANO_LON_NMEA: &str = "00825.56600,E";
+/// Kano, where the GPS receiver of these tests is: 11.9683° N, 8.4261° E,
+/// 480 m.
+pub const KANO: (f64, f64, f64) = (11.9683, 8.4261, 480.0);
 
 /// RMC + GGA of one epoch at 2026-03-20 `t`, with a fix (`valid`) or
-/// without (status V, quality 0, no position).
+/// without (status V, quality 0, no position), as the GPS receiver model
+/// of the simulations (`sim::gps`) writes them for Kano.
 pub fn gps_epoch(t: DayTime, valid: bool) -> String {
-    let (h, m, s) = t.hms();
-    let hms = format!("{h:02}{m:02}{s:02}.00");
-    if valid {
-        nmea(&format!(
-            "GPRMC,{hms},A,{KANO_LAT_NMEA},{KANO_LON_NMEA},0.0,,200326,,,A"
-        )) + &nmea(&format!(
-            "GPGGA,{hms},{KANO_LAT_NMEA},{KANO_LON_NMEA},1,08,0.9,480.0,M,0.0,M,,"
-        ))
-    } else {
-        nmea(&format!("GPRMC,{hms},V,,,,,,,200326,,,N"))
-            + &nmea(&format!("GPGGA,{hms},,,,,0,00,99.99,,,,,,"))
-    }
+    let mut gps = GpsReceiverModel::new(KANO.0, KANO.1, KANO.2);
+    gps.fix = valid;
+    let mut buf = [0u8; EPOCH_BUF_LEN];
+    let n = gps.epoch(motor::utc_at(t.secs), &mut buf).unwrap();
+    String::from_utf8(buf[..n].to_vec()).unwrap()
 }
 
 /// A serial port reading from a shared in-memory buffer (the test writes

@@ -1,9 +1,9 @@
 //! A whole Kano day (2026-03-20) of a portable, tilted mount (α0 = 4°,
 //! β0 = −6°, γ0 = 25°) whose attitude the controller measures every tick
 //! through the real ADXL345 and QMC5883L drivers on a mocked I2C bus
-//! (transaction-exact, bytes from the datasheets: `tracker_hw_common::mount`),
+//! (transaction-exact, bytes from the datasheets: `common::mount`),
 //! with the axes on the real H-bridge stepper driver (motor model of
-//! `tracker_hw_common::motor`).
+//! `common::motor`).
 //!
 //! Independent check: the panel normal in the horizontal frame is
 //! `T·n(γ, α)` with `T` and `n` written out in the test helpers and the
@@ -12,16 +12,16 @@
 //! ADXL345's 3.9 mg steps give the tilt to ≈ 0.1°, which moves the
 //! pointing by up to about twice that.
 
-mod tracker_hw_common;
+mod common;
 
+use common::motor::*;
+use common::mount::*;
 use embedded_hal_mock::eh1::i2c::{Mock as I2cMock, Transaction as I2c};
 use sun_algos::{Algorithm, Options, Site};
-use suntracker::controller::{AttitudeSource, Controller, TickInputs};
+use suntracker::controller::{AttitudeSource, Controller};
 use suntracker::plan::Phase;
 use suntracker::safety::Mode;
 use suntracker::sun::AlgorithmSource;
-use tracker_hw_common::motor::*;
-use tracker_hw_common::mount::*;
 
 const SAMPLES: u8 = 4;
 /// Pointing bound of the measured attitude, degrees (measured: 0.086°).
@@ -61,12 +61,7 @@ fn portable_mount_day_with_measured_attitude() {
     let axes = [stepper_axis(&c_motor), stepper_axis(&a_motor)];
     let mut ctrl: Controller<f64, _, Axis, Sensors, 360> =
         Controller::new(config, options, source, axes, Some(sensors)).unwrap();
-    // Boot at midnight: homing and waiting need no stow (see tracker_hw_day).
-    let spa = |secs: u32| {
-        Algorithm::Spa
-            .position(&utc_at(secs), &site, &Options::default())
-            .unwrap()
-    };
+    // Boot at midnight: homing and waiting need no stow (see hw_stepper_day).
     let tick_tx: Vec<I2c> = (0..SAMPLES)
         .flat_map(|_| {
             let mut v = vec![acc_read()];
@@ -80,25 +75,13 @@ fn portable_mount_day_with_measured_attitude() {
     let (mut applied, mut max_err_deg, mut first) = (0usize, 0.0f64, None);
     while t < 23 * 3600 {
         bus.update_expectations(&tick_tx);
-        let report = ctrl.tick(&TickInputs {
-            now_ms: u64::from(t) * 1000,
-            now: utc_at(t),
-            time_valid: true,
-            gps_fix: true,
-            gps_time_implausible: false,
-            wind_pulses: 0,
-            wind_interval_ms: 60_000,
-        });
-        let next = if report.homing {
-            t + 1
-        } else {
-            (t / 60 + 1) * 60
-        };
+        let report = ctrl.tick(&calm_tick(t));
+        let next = next_tick(t, report.homing);
         pump(&mut ctrl, [&c_motor, &a_motor], t, next);
         let tracking = matches!(ctrl.scheduler().phase(), Phase::Tracking { .. });
         if report.mode == Mode::Tracking && tracking {
             if report.set_point != last_set_point && t % 240 < 30 {
-                let sun = spa(t - t % 240);
+                let sun = spa_kano(t - t % 240);
                 let err = portable_error_deg(
                     c_motor.borrow().angle_deg(),
                     a_motor.borrow().angle_deg(),
@@ -130,7 +113,7 @@ fn portable_mount_day_with_measured_attitude() {
     assert!((m.beta0_deg - BETA0).abs() < 0.3);
     assert!((m.gamma0_deg - GAMMA0).abs() < 0.3);
     // Home at night: facing the day's first entry again.
-    let sun = spa(first.expect("tracked"));
+    let sun = spa_kano(first.expect("tracked"));
     let err = portable_error_deg(
         c_motor.borrow().angle_deg(),
         a_motor.borrow().angle_deg(),

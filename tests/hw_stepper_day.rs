@@ -21,14 +21,16 @@
 //! `Algorithm::Psa2020`): a different algorithm and a different code path
 //! for the kinematics.
 
-mod tracker_hw_common;
+mod common;
 
 use std::cell::Cell;
 
+use common::motor::*;
+use common::*;
 use drivers::rtc::Ds3231;
 use embedded_hal_mock::eh1::i2c::{Mock as I2cMock, Transaction as I2c};
 use sim::sensors::MountSensors;
-use sun_algos::{Algorithm, Options, Site};
+use sun_algos::{Algorithm, Options};
 use suntracker::config::Config;
 use suntracker::controller::{Controller, TickInputs};
 use suntracker::hw::GpsPort;
@@ -37,8 +39,6 @@ use suntracker::safety::Mode;
 use suntracker::site::{resolve_site, SiteOrigin};
 use suntracker::sun::SharedSiteSource;
 use suntracker::time::{TimeConfig, TimeKeeper};
-use tracker_hw_common::motor::*;
-use tracker_hw_common::*;
 
 // ---------------------------------------------------------------- the day
 
@@ -90,14 +90,6 @@ fn kano_equinox_day_on_real_drivers() {
     // (the controller never stops an axis that is still homing unless a
     // fault asks for a safe stop) and wait facing the coming sunrise.
 
-    // The independent sun.
-    let spa_site = Site::with_elevation(11.9683, 8.4261, 480.0).unwrap();
-    let spa = |secs: u32| {
-        Algorithm::Spa
-            .position(&utc_at(secs), &spa_site, &Options::default())
-            .unwrap()
-    };
-
     let mut rtc_offset_s: i64 = -7; // the RTC starts 7 s slow
     let mut last_set_point = None;
     let mut applied = 0usize;
@@ -141,11 +133,7 @@ fn kano_equinox_day_on_real_drivers() {
 
         // The main loop runs the drivers until the motion (and the coil
         // settle time) is over, at most until the next minute.
-        let next = if report.homing {
-            t + 1
-        } else {
-            (t / 60 + 1) * 60
-        };
+        let next = next_tick(t, report.homing);
         pump(&mut ctrl, [&c_motor, &a_motor], t, next);
 
         // A new table entry applied: where does the panel point now?
@@ -154,7 +142,7 @@ fn kano_equinox_day_on_real_drivers() {
             let late = t % 240;
             assert!(late < 30, "entry applied {late} s after its time");
             let entry_s = t - late;
-            let sun = spa(entry_s);
+            let sun = spa_kano(entry_s);
             let err = pointing_error_deg(&c_motor, &a_motor, sun.zenith_deg, sun.azimuth_deg)
                 - below_reach_deg(sun.zenith_deg);
             assert!(err <= TOL_DEG, "pointing error {err}° at t={t}");
@@ -188,7 +176,7 @@ fn kano_equinox_day_on_real_drivers() {
     // The daylight span against SPA (geometric): the first and last entries
     // lie between rise/set of the upper limb with refraction (−0.833°) and
     // of the centre, the entries just outside have the sun down.
-    let elev = |s: u32| 90.0 - spa(s).zenith_deg;
+    let elev = |s: u32| 90.0 - spa_kano(s).zenith_deg;
     let last_entry_s = first + 240 * (table.len() as u32 - 1);
     assert!(elev(first) > -0.9 && elev(first - 240) < 0.0, "{first}");
     assert!(elev(last_entry_s) > -0.9 && elev(last_entry_s + 240) < 0.0);
@@ -196,7 +184,7 @@ fn kano_equinox_day_on_real_drivers() {
 
     // Home at day end: the panel faces the day's first entry again (seed
     // li-2022), checked against SPA at that entry's time.
-    let home_sun = spa(first);
+    let home_sun = spa_kano(first);
     let err = pointing_error_deg(
         &c_motor,
         &a_motor,
