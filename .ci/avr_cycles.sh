@@ -14,7 +14,7 @@
 #
 # Method (see boards/avr/src/bin/avr_bench.rs): Timer1 free-running at clk/1, overflow
 # interrupt extends it to 32 bits; empty-measurement overhead subtracted.
-# The day table is seed jimoh-2019's step 7: the set-points from sunrise to
+# The day table is Jimoh & Aliyu's (2019) step 7: the set-points from sunrise to
 # sunset (Kano, 2026-06-21); the whole 24-hour sweep of 360 positions is
 # printed beside it for reference.
 #

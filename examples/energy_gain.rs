@@ -9,7 +9,7 @@
 //! ```
 //! Model (sun_algos::geometry::irradiance): ASHRAE clear sky with Masters'
 //! coefficient fits, isotropic sky, albedo 0.2 (`--albedo`), G_T = G_B +
-//! G_D + G_R (seed dahli-2023), trapezoid rule every 5 min (seed
+//! G_D + G_R (Dahli & Cheggaga 2023), trapezoid rule every 5 min (seed
 //! chowdhury-2019's area under the curve). Fixed: slope = |latitude|,
 //! facing the equator. Single axis: horizontal north–south axis turned
 //! east–west, unlimited. Dual axis: normal to the sun. Default site: seed

@@ -4,7 +4,7 @@
 //! cargo run --example sun_path            # writes docs/src/figures/sun_path_kano.svg and docs/src/figures/psa_tianjin.svg
 //! cargo run --example sun_path -- --lat 52.52 --lon 13.40 --date 2026-06-21 --out /tmp/berlin.svg
 //! ```
-//! 1. Like seed jimoh-2019 Fig. 7: for a site and day (default Kano,
+//! 1. Like Jimoh & Aliyu 2019 Fig. 7: for a site and day (default Kano,
 //!    2018-10-19), the sun's elevation and azimuth against local apparent
 //!    solar time, the optimum slope β and the surface azimuth γ of the day
 //!    table's set-points (4-minute entries; every fourth one marked).
@@ -16,7 +16,7 @@
 //!    from the plotted points ([`axis_ranges`]), for any site: polar day
 //!    (24 h of set-points), polar night (the sun below the horizon, no
 //!    set-points) and both hemispheres.
-//! 2. Like seed li-2022 Fig. 9: the zenith angle in Tianjin (39.13 N,
+//! 2. Like Li et al. 2022 Fig. 9: the zenith angle in Tianjin (39.13 N,
 //!    117.20 E) from 9:00 to 17:00 Beijing time by the original PSA (2001)
 //!    and the modified PSA of li-2022, with NREL SPA as the reference and
 //!    the differences to SPA in a second panel. The seed names no date; its
@@ -49,7 +49,7 @@ use plot::{font, px, stroke, Swatch};
 /// The program name in messages.
 pub const TOOL: &str = "sun_path";
 
-/// Default site and day: Kano on seed jimoh-2019's example day.
+/// Default site and day: Kano on Jimoh & Aliyu's (2019) example day.
 const KANO: (f64, f64) = (11.9683, 8.4261);
 const KANO_DATE: (i32, u8, u8) = (2018, 10, 19);
 const DEFAULT_OUT: &str = "docs/src/figures/sun_path_kano.svg";
@@ -88,8 +88,8 @@ pub fn help() -> cli::Help {
         about: "\
 Draws the sun's elevation and azimuth over a day against local apparent solar time with the
 set-points of the day's table (slope and surface azimuth every 4 min, NREL SPA, apparent
-positions), after seed jimoh-2019 Fig. 7; without --out also the PSA comparison in Tianjin
-after seed li-2022 Fig. 9. Azimuths are from the equator side (south in the northern
+positions), after Jimoh & Aliyu 2019 Fig. 7; without --out also the PSA comparison in Tianjin
+after Li et al. 2022 Fig. 9. Azimuths are from the equator side (south in the northern
 hemisphere, north in the southern), west positive.",
         options: vec![
             opt(

@@ -1,4 +1,4 @@
-//! The mechanics of seed li-2022's tracker, shared by every board that
+//! The mechanics of Li et al.'s (2022) tracker, shared by every board that
 //! drives it (the Arduino Mega and the Black Pill images): two bipolar
 //! steppers of 200 full steps per turn behind H-bridges, full-step
 //! (two-phase-on) drive, each through a 50:1 worm gear — 10,000 steps per

@@ -1,4 +1,4 @@
-//! The panel's voltage and the day's energy figure of seed chowdhury-2019:
+//! The panel's voltage and the day's energy figure of Chowdhury et al. 2019:
 //! the panel voltage is read on the microcontroller's ADC through a
 //! resistor divider, logged with each set-point, and the area under the
 //! voltage curve over the day (the seed's Table 1 and Figs. 7–8, an "area

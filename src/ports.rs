@@ -62,7 +62,7 @@ pub trait Storage {
     }
 }
 
-/// One reading of the mount's attitude sensors (seed portable-tracker §III).
+/// One reading of the mount's attitude sensors (Choi et al. (portable tracker) §III).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct AttitudeReading<T> {
     /// θx: angle between the vertical and the tracker's x axis, degrees.

@@ -14,7 +14,7 @@ use sun_algos::{Algorithm, Error as SunError, Float, Options, Site, SunPosition,
 
 /// Where the sun is at an instant, for one site.
 pub trait PositionSource<T> {
-    /// The site the positions are for (seed jimoh-2019 step 1 reads it).
+    /// The site the positions are for (Jimoh & Aliyu 2019 step 1 reads it).
     fn site(&self) -> Site<T>;
     /// Topocentric sun position at `time`.
     fn position(&mut self, time: &UtcTime) -> Result<SunPosition<T>, SunError>;

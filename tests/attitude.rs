@@ -1,4 +1,4 @@
-//! Mount attitude and pose selection (seed portable-tracker, eq. 12–21).
+//! Mount attitude and pose selection (Choi et al. (portable tracker), eq. 12–21).
 
 use sim::rng::SplitMix64;
 use suntracker::attitude::{
@@ -19,7 +19,7 @@ use suntracker::attitude::{
 /// This only checks that the code is consistent with that reading; the
 /// case below has inputs that do not come from the relation.
 #[test]
-fn seed_table_iv_case_1_round_trip_level_mount() {
+fn choi_table_iv_case_1_round_trip_level_mount() {
     let mount = MountAttitude::from_sensors(90.0f64, 90.0, 180.0).unwrap();
     assert!(mount.alpha0_deg.abs() < 1e-12);
     assert!(mount.beta0_deg.abs() < 1e-12);

@@ -151,7 +151,7 @@ fn wind_and_command_stow_and_manual_override() {
     let mut ctl = controller(true, AttitudeSource::Fixed(truth), truth);
     let now0 = t("2026-03-20T09:00:00Z");
     let at = |m: i64| now0.add_seconds(m * 60).unwrap();
-    // Power-on: set-points zero (seed jimoh-2019 step 1), not yet tracking.
+    // Power-on: set-points zero (Jimoh & Aliyu 2019 step 1), not yet tracking.
     assert_eq!(step(&mut ctl, &inputs(at(-1))).mode, Mode::Night);
     for m in 0..5 {
         assert_eq!(step(&mut ctl, &inputs(at(m))).mode, Mode::Tracking);

@@ -6,7 +6,7 @@
 //! The bound that holds in `f32`: the commanded pose's panel normal points
 //! at SPA's sun within 0.02° at every set-point (psa-2020's own `f32`
 //! accuracy against SPA is 0.011°, see `sun_algos/tests/reference.rs`; the
-//! attitude solution (seed portable-tracker eq. 15–21) in `f32` adds well
+//! attitude solution (Choi et al. (portable tracker) eq. 15–21) in `f32` adds well
 //! under 0.001°, and the rest is the set-point being the table entry's
 //! minute while the check uses the same minute).
 

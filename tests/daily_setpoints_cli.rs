@@ -222,8 +222,8 @@ fn psa_2020_job_matches_pvlib_spa() {
 }
 
 #[test]
-fn sougueur_sunrise_and_sunset_match_seed_dahli() {
-    // Seed dahli-2023: Sougueur (35.18568 N, 1.49612 E) on 26 December 2022,
+fn sougueur_sunrise_and_sunset_match_dahli_cheggaga() {
+    // Dahli & Cheggaga 2023: Sougueur (35.18568 N, 1.49612 E) on 26 December 2022,
     // sunrise 08:01 and sunset 17:49 local time (UTC+1), to the minute.
     let a = parse(
         &args("--lat 35.18568 --lon 1.49612 --date 2022-12-26"),

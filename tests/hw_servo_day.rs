@@ -5,7 +5,7 @@
 //!
 //! The PWM channel and the encoder lines are the servo model of
 //! `common::servo`: the pulse
-//! width sets the motor speed (FS5106R class, seed chowdhury-2019: 1.5 ms
+//! width sets the motor speed (FS5106R class, Chowdhury et al. 2019: 1.5 ms
 //! stop, ±0.5 ms full speed, taken here as 400°/s at the motor, ±8 µs
 //! dead zone), the motor turns a 300-line encoder (YMT22 class; ×4 = 1200
 //! edges per revolution, each fed to the decoder as its A/B levels) and a

@@ -1,4 +1,4 @@
-//! The seed jimoh-2019 scheduler walked through whole days.
+//! The Jimoh & Aliyu 2019 scheduler walked through whole days.
 //!
 //! The sun model here is the seed's own textbook model (jimoh-2019 eq. 2–8:
 //! Cooper declination, Spencer equation of time, hour angle), written out
@@ -186,7 +186,7 @@ fn whole_day_in_kano_follows_the_flowchart() {
 }
 
 #[test]
-fn seed_intervals_hold_and_recheck() {
+fn jimoh_aliyu_intervals_hold_and_recheck() {
     // With 1-second ticks the table is searched every 30 s and, after a
     // match, not before 2 minutes: count ticks that did work.
     let mut s = Sched::new(ScheduleConfig::default(), KANO).unwrap();
@@ -468,7 +468,7 @@ fn late_ticks_skip_no_entry() {
 
 // ---------------------------------------------------------------------
 // Real-time mode (`N = 0`): no table, one position per slot when it falls
-// due (seed chowdhury-2019's 4-minute recomputation).
+// due (Chowdhury et al.'s (2019) 4-minute recomputation).
 
 type RealTime<P> = Scheduler<f64, P, 0>;
 

@@ -1,4 +1,4 @@
-//! Seed chowdhury-2019's tracker loop (`suntracker::servo_tracker`, the Arduino
+//! Chowdhury et al.'s (2019) tracker loop (`suntracker::servo_tracker`, the Arduino
 //! Uno image's) on the real drivers: two `ContinuousServo`s with the
 //! `POSITION_LOOP` on `SharedEncoder`s through `hw::ServoAxis`, over the
 //! FS5106R model of `common::servo` (50 Hz frames, ±4 µs dead
@@ -22,7 +22,7 @@ use sun_algos::{Algorithm, Options, Site, UtcTime};
 use suntracker::hw::ServoAxis;
 use suntracker::safety::Mode;
 use suntracker::servo_tracker::{
-    axis_configs, Branch, SeedTracker, ALGORITHM, ALGORITHM_NAME, COUNTS_PER_TURN, POSITION_LOOP,
+    axis_configs, Branch, ServoTracker, ALGORITHM, ALGORITHM_NAME, COUNTS_PER_TURN, POSITION_LOOP,
     SERVO, STALL_RETRY_MS, STALL_TIMEOUT_MS,
 };
 
@@ -37,7 +37,7 @@ const POINTING_TOL_DEG: f64 = 0.03;
 type Axis<'a> = ServoAxis<'a, Pwm, SharedEncoder, Switch>;
 
 struct Bench<'e> {
-    tracker: SeedTracker<SimRtc, Axis<'e>>,
+    tracker: ServoTracker<SimRtc, Axis<'e>>,
     models: [Rc<RefCell<ServoModel>>; 2],
     encoders: &'e [SharedEncoder; 2],
     log: Log,
@@ -73,7 +73,7 @@ impl<'e> Bench<'e> {
         ];
         let site = Site::new(LAT_DEG, LON_DEG).unwrap();
         Bench {
-            tracker: SeedTracker::new(SimRtc::new(t), site, axes, &configs),
+            tracker: ServoTracker::new(SimRtc::new(t), site, axes, &configs),
             models,
             encoders,
             log: Log::default(),

@@ -3,8 +3,8 @@
 use suntracker::site::postal::{entries, lookup, lookup_str, PostalError, LEN, TABLE_BYTES};
 
 #[test]
-fn seed_dahli_table1_rows() {
-    // Seed dahli-2023 Table 1, coordinates as printed; stored at 1e-4°.
+fn dahli_cheggaga_table1_rows() {
+    // Dahli & Cheggaga 2023 Table 1, coordinates as printed; stored at 1e-4°.
     for (code, lat, lon) in [
         ("09000", 36.473571, 2.832315),
         ("09002", 36.458546, 2.849169),

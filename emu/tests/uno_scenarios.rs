@@ -1,5 +1,5 @@
 //! Scenario tests of the ATmega328P (Arduino Uno) tracker image
-//! (`avr_tracker`, seed chowdhury-2019's closed-loop tracker, the emulation
+//! (`avr_tracker`, Chowdhury et al.'s (2019) closed-loop tracker, the emulation
 //! build with time compression) on the harness's Uno bench
 //! (`suntracker_emu::uno`): a DS3231 on the TWI, two FS5106R servo models
 //! driven by the Timer1 pulses, turning YMT22 encoder models whose edges

@@ -1,8 +1,8 @@
 //! The `daily_setpoints` job, shared by the example and its tests.
 //!
-//! Prints the day's table of tracker set-points (seed jimoh-2019: optimum
+//! Prints the day's table of tracker set-points (Jimoh & Aliyu 2019: optimum
 //! slope and surface azimuth every 4 minutes from sunrise to sunset) for a
-//! site given by latitude/longitude or by postal code (seed dahli-2023).
+//! site given by latitude/longitude or by postal code (Dahli & Cheggaga 2023).
 
 use std::io::Write;
 
@@ -17,7 +17,7 @@ pub mod cli;
 
 use cli::Parsed;
 
-/// Kano, Nigeria: the site of seed jimoh-2019.
+/// Kano, Nigeria: the site of Jimoh & Aliyu 2019.
 pub const KANO: (f64, f64) = (11.9683, 8.4261);
 
 /// Exact CSV header.

@@ -384,7 +384,7 @@ fn simulate(args: &Args, out: &mut dyn Write, err: &mut dyn Write) -> Result<(),
     } else {
         MountAttitude::level()
     };
-    let accuracy = SensorAccuracy::seed_li_2022(&mut rng);
+    let accuracy = SensorAccuracy::li_2022(&mut rng);
     let sensors = MountSensors::new(truth, accuracy, rng.next_u64());
     let use_sensors = args.portable || !args.encoder;
     let options = ControllerOptions {

@@ -4,7 +4,7 @@
 //! decoder counts 4N per revolution.
 //!
 //! Figures: **N = 300 lines per revolution** by default ([`YMT22_LINES`]):
-//! seed chowdhury-2019, Figure 2 ("YMT22 Optical Encoder — resolution up
+//! Chowdhury et al. 2019, Figure 2 ("YMT22 Optical Encoder — resolution up
 //! to 300 pulse per rotation (ppr); max. rotation speed 3000 rpm; supply
 //! DC 5 V ±10 %"), the figure `drivers/src/encoder.rs` is written for.
 //! The servo's 95 rpm is far below the encoder's 3,000 rpm; the same table's
@@ -39,7 +39,7 @@ use std::vec::Vec;
 #[cfg(feature = "std")]
 use crate::servo::Segment;
 
-/// YMT22 lines per revolution (seed chowdhury-2019: "up to 300 ppr").
+/// YMT22 lines per revolution (Chowdhury et al. 2019: "up to 300 ppr").
 pub const YMT22_LINES: u32 = 300;
 
 /// Channel levels `(A, B)` for `count mod 4`, forward order (A leads B).

@@ -1,5 +1,5 @@
 //! Sensor models: the mount's inclinometer and compass with bias and noise
-//! (seed li-2022: compass accurate to 1–2°, tilt sensor resolving under
+//! (Li et al. 2022: compass accurate to 1–2°, tilt sensor resolving under
 //! 1°), an anemometer, and fault injection.
 
 use crate::rng::SplitMix64;
@@ -38,10 +38,10 @@ impl SensorAccuracy {
         }
     }
 
-    /// Seed li-2022's parts: a compass within 1–2° (bias 1.5°, noise 0.5°)
+    /// Li et al.'s (2022) parts: a compass within 1–2° (bias 1.5°, noise 0.5°)
     /// and an inclinometer under 1° (bias up to 0.5°, noise 0.2°); bias signs
     /// drawn from `rng`.
-    pub fn seed_li_2022(rng: &mut SplitMix64) -> Self {
+    pub fn li_2022(rng: &mut SplitMix64) -> Self {
         let sign = |r: &mut SplitMix64| if r.next_u64() & 1 == 0 { 1.0 } else { -1.0 };
         SensorAccuracy {
             compass_bias_deg: 1.5 * sign(rng),

@@ -1,4 +1,4 @@
-//! FEETECH FS5106R continuous-rotation servo (seed chowdhury-2019's axis
+//! FEETECH FS5106R continuous-rotation servo (Chowdhury et al.'s (2019) axis
 //! drive): the pulse width on its signal pin sets the output shaft's SPEED,
 //! not its angle. [`ServoSpec`] is the pulse-to-speed law, `no_std`: the
 //! servo plants of the host tests (`tests/common/servo.rs`) drive their
@@ -8,7 +8,7 @@
 //!
 //! Figures ([`ServoSpec::FS5106R_6V`]):
 //!
-//! - **No-load speed 95 rpm at 6 V** (570 °/s): seed chowdhury-2019, Figure 2
+//! - **No-load speed 95 rpm at 6 V** (570 °/s): Chowdhury et al. 2019, Figure 2
 //!   ("FS5106R FEETECH Continuous Rotation Servo — Speed @ 6 V 95 rpm; stall
 //!   torque @ 6 V 83 oz-in").
 //! - **Neutral (stop) 1,500 µs, control range 700–2,300 µs**: FEETECH's

@@ -21,7 +21,7 @@ pub const CASES: [(i32, u8, u8, u8, u8, f32, f32); 6] = [
 /// ΔT for 2026 (seconds), fixed so that no ΔT model runs inside the timing.
 pub const DELTA_T_S: f32 = 69.2;
 
-/// Minutes between two set-points of a day table (seed jimoh-2019: 4 min).
+/// Minutes between two set-points of a day table (Jimoh & Aliyu 2019: 4 min).
 pub const DAY_TABLE_STEP_MIN: u16 = 4;
 
 /// Number of set-points in a whole 24-hour table at that step.
@@ -116,7 +116,7 @@ fn slot_time(start: &UtcTime, i: u16) -> Option<UtcTime> {
 ///
 /// With `daylight_only == false`: all 360 slots of the 24 hours; marks in
 /// `mask` the slots with the sun above the horizon. With `true`: only the
-/// marked slots, i.e. the table of seed jimoh-2019's step 7 from sunrise to
+/// marked slots, i.e. the table of Jimoh & Aliyu's (2019) step 7 from sunrise to
 /// sunset, which the scheduler stores.
 #[inline(never)]
 pub fn table<A: Measured>(

@@ -21,7 +21,7 @@ use sun_algos::Float;
 use crate::ports::{AttitudeReading, AttitudeSensor};
 
 /// A sensor giving the angles between the vertical and the tracker's x and
-/// y axes, degrees (θx, θy of seed portable-tracker eq. 6; both 90° on a
+/// y axes, degrees (θx, θy of Choi et al. (portable tracker) eq. 6; both 90° on a
 /// level mount).
 pub trait AxisAngles {
     /// Why no reading was obtained.

@@ -135,7 +135,7 @@ where
         Ok(high != self.home_active_low)
     }
 
-    /// The H-bridge axis has no encoder (seed li-2022 runs it open loop).
+    /// The H-bridge axis has no encoder (Li et al. 2022 runs it open loop).
     fn encoder_deg(&mut self) -> Result<Option<f32>, Self::Error> {
         Ok(None)
     }

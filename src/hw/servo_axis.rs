@@ -1,5 +1,5 @@
 //! [`AxisDrive`] over a continuous-rotation servo and a quadrature encoder
-//! (seed chowdhury-2019: FS5106R servo, YMT22 optical encoder), with the
+//! (Chowdhury et al. 2019: FS5106R servo, YMT22 optical encoder), with the
 //! drivers' proportional position controller closing the loop on the
 //! encoder count.
 //!

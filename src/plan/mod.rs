@@ -1,4 +1,4 @@
-//! The set-point scheduler of seed jimoh-2019 (its Figure 5 flowchart, 14
+//! The set-point scheduler of Jimoh & Aliyu 2019 (its Figure 5 flowchart, 14
 //! steps) as an explicit state machine driven by [`Scheduler::tick`].
 //!
 //! | seed step | here |
@@ -12,14 +12,14 @@
 //! | 13 set set-points, 14 wait 2 min | [`Action::SetPoints`], next check after `hold_s` |
 //!
 //! The home position at the end of the day is the day's starting position
-//! (seed li-2022: "the control algorithm resets the panel to the previous
+//! (Li et al. 2022: "the control algorithm resets the panel to the previous
 //! day initial position"): the first entry of the day table.
 //!
-//! **Real-time mode** (`N = 0`, no table; seed chowdhury-2019's way on an
+//! **Real-time mode** (`N = 0`, no table; Chowdhury et al.'s (2019) way on an
 //! ATmega328P, which "recomputes the sun every 4 minutes"): the same
 //! flowchart with the table replaced by one sun position per slot, computed
 //! when the slot falls due. Step 3's daylight is the sun's centre above the
-//! geometric horizon at the slot's time (seed jimoh-2019 eq. 9, the table's
+//! geometric horizon at the slot's time (Jimoh & Aliyu 2019 eq. 9, the table's
 //! own criterion); steps 4–6 wait for the next slot instead of a computed
 //! sunrise; step 10's end of day is the first slot after daylight (at most
 //! one slot after sunset); steps 11–14 match and hold as with a table, and
@@ -45,7 +45,7 @@ use sun_algos::geometry::{GeometryError, Limits};
 use sun_algos::refraction::SUN_RADIUS_PLUS_HORIZON_REFRACTION_DEG;
 use sun_algos::{Error as SunError, Float, SunPosition, UtcTime};
 
-/// Intervals of the scheduler (seed jimoh-2019 defaults).
+/// Intervals of the scheduler (Jimoh & Aliyu 2019 defaults).
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub struct ScheduleConfig {
     /// Set-point table interval, seconds (seed: 4 minutes); whole minutes
@@ -105,7 +105,7 @@ impl From<SunError> for ScheduleError {
     }
 }
 
-/// A set-point: where the panel normal should point (seed jimoh-2019: slope
+/// A set-point: where the panel normal should point (Jimoh & Aliyu 2019: slope
 /// β = solar zenith, surface azimuth γ = solar azimuth, eq. 14).
 #[derive(Debug, Clone, Copy, PartialEq, Default)]
 pub struct SetPoint<T> {
@@ -203,7 +203,7 @@ pub fn find_daylight<T: Float, P: PositionSource<T>>(
     start: UtcTime,
     sun: &mut P,
 ) -> Result<(SolarDay, Events<T>), ScheduleError> {
-    // Seed jimoh-2019 eq. 9: sunrise is where the zenith angle is 90°
+    // Jimoh & Aliyu 2019 eq. 9: sunrise is where the zenith angle is 90°
     // (the sun's centre on the geometric horizon; a set-point below it
     // could not be reached by an A axis limited to ±90°). `events::find`
     // looks for the standard 90.833°, so it is handed zenith + 0.833°.
@@ -365,7 +365,7 @@ pub enum Action<T> {
     /// Drive to this set-point (zero at power-on, seed step 1; a table entry,
     /// seed step 13).
     SetPoints(SetPoint<T>),
-    /// End of day: return to the day's starting position (seed li-2022).
+    /// End of day: return to the day's starting position (Li et al. 2022).
     GoHome(SetPoint<T>),
     /// The day was planned: outside daylight, nothing moves until sunrise.
     Sleep {
@@ -654,7 +654,7 @@ impl<T: Float, P: PositionSource<T>, const N: usize> Scheduler<T, P, N> {
         loop {
             match planner {
                 Planner::Daylight(mut search) => {
-                    // Seed jimoh-2019 eq. 9: sunrise is where the zenith
+                    // Jimoh & Aliyu 2019 eq. 9: sunrise is where the zenith
                     // angle is 90° (see find_daylight).
                     let shift = T::from_f64(SUN_RADIUS_PLUS_HORIZON_REFRACTION_DEG);
                     let src = &mut self.source;
@@ -870,7 +870,7 @@ impl<T: Float, P: PositionSource<T>, const N: usize> Scheduler<T, P, N> {
             });
         }
         let set_point = SetPoint::facing(&sun);
-        // A new solar day: its first daylight slot is home (seed li-2022).
+        // A new solar day: its first daylight slot is home (Li et al. 2022).
         let day_start = solar_day_start(&slot, self.source.site().longitude_deg())?;
         if self.rt_day.map(|(d, _)| d) != Some(day_start) {
             self.rt_day = Some((day_start, slot));

@@ -1,4 +1,4 @@
-//! Seed chowdhury-2019's closed-loop tracker, board-independent: its
+//! Chowdhury et al.'s (2019) closed-loop tracker, board-independent: its
 //! mechanics (two FEETECH FS5106R continuous-rotation servos, a YMT22
 //! optical encoder on each shaft) and its loop, over any RTC and any pair of
 //! closed-loop [`AxisDrive`]s. The Arduino Uno image (the `suntracker-uno` board crate) runs
@@ -37,7 +37,7 @@
 //!
 //! **Pose.** The mount is level with its C axis vertical and its y axis
 //! toward south, so the attitude module's inverse kinematics
-//! ([`crate::attitude::MountAttitude::solutions`], seed portable-tracker
+//! ([`crate::attitude::MountAttitude::solutions`], Choi et al. (portable tracker)
 //! eq. 18–21, with the identity attitude) reduce to two closed forms with
 //! the same panel normal: `c = 180° − azimuth, a = −zenith` and `c =
 //! −azimuth, a = +zenith`. Which one serves the whole day is chosen from
@@ -235,7 +235,7 @@ impl Branch {
     }
 }
 
-/// The phases of homing (see `SeedAxis::home_step`).
+/// The phases of homing (see `ServoLoopAxis::home_step`).
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 enum HomePhase {
     /// Toward the switch in large moves.
@@ -248,7 +248,7 @@ enum HomePhase {
 
 /// One axis: a closed-loop drive commanded in counts from its home switch.
 #[derive(Debug)]
-struct SeedAxis<D> {
+struct ServoLoopAxis<D> {
     drive: D,
     home_deg: f32,
     min_deg: f32,
@@ -274,10 +274,10 @@ struct SeedAxis<D> {
     stall_raised: bool,
 }
 
-impl<D: AxisDrive> SeedAxis<D> {
+impl<D: AxisDrive> ServoLoopAxis<D> {
     fn new(drive: D, c: &AxisConfig) -> Self {
         let cpd = c.counts_per_deg();
-        SeedAxis {
+        ServoLoopAxis {
             drive,
             home_deg: c.home_deg,
             min_deg: c.min_deg,
@@ -452,11 +452,11 @@ impl<D: AxisDrive> SeedAxis<D> {
     }
 }
 
-/// The tracker: seed chowdhury-2019's loop over RTC `R` and drives `D`.
-pub struct SeedTracker<R, D> {
+/// The tracker: Chowdhury et al.'s (2019) loop over RTC `R` and drives `D`.
+pub struct ServoTracker<R, D> {
     time: TimeKeeper<R>,
     source: SunSource,
-    axes: [SeedAxis<D>; 2],
+    axes: [ServoLoopAxis<D>; 2],
     energy: DayEnergy,
     mode: Option<Mode>,
     /// The time fault in force (`rtc_invalid`, `bus_rtc`,
@@ -474,7 +474,7 @@ pub struct SeedTracker<R, D> {
     last_logged: Option<UtcTime>,
 }
 
-impl<R: RtcDriver, D: AxisDrive + Motion> SeedTracker<R, D> {
+impl<R: RtcDriver, D: AxisDrive + Motion> ServoTracker<R, D> {
     /// The tracker at power-on: nothing homed, no time yet. `axes` are C
     /// then A, built with `configs` ([`axis_configs`] or
     /// [`axis_configs_geared`]).
@@ -484,10 +484,10 @@ impl<R: RtcDriver, D: AxisDrive + Motion> SeedTracker<R, D> {
     pub fn new(rtc: R, site: Site<f32>, axes: [D; 2], configs: &[AxisConfig; 2]) -> Self {
         let [c, a] = axes;
         let [cc, ac] = configs;
-        SeedTracker {
+        ServoTracker {
             time: TimeKeeper::new(rtc, TimeConfig::default()),
             source: SunSource::new(site, DELTA_T_S),
-            axes: [SeedAxis::new(c, cc), SeedAxis::new(a, ac)],
+            axes: [ServoLoopAxis::new(c, cc), ServoLoopAxis::new(a, ac)],
             energy: DayEnergy::new(),
             mode: None,
             time_fault: None,

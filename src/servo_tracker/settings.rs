@@ -1,4 +1,4 @@
-//! Settings of seed chowdhury-2019's tracker ([`super`])
+//! Settings of Chowdhury et al.'s (2019) tracker ([`super`])
 //! that an installer enters in the field — the site and the gears — kept in
 //! the EEPROM's two slots, and the console that enters them.
 //!
@@ -23,7 +23,7 @@
 //! | `help` | the commands and keys |
 //! | `get`, `get KEY`, `set KEY VALUE`, `set K1 V1 K2 V2 …` | the keys below; any other key is `error unknown key` |
 //! | `save`, `load`, `defaults` | the [`Settings`] record, through the library's two-slot CRC-32 store ([`ConfigStore`]) |
-//! | `set site.postal_code CC:CODE` | the site from the library's postal-code table ([`crate::site::postal`], seed dahli-2023), a numeric code also without its leading zeros: `ok site.lat_deg=<deg> site.lon_deg=<deg>` |
+//! | `set site.postal_code CC:CODE` | the site from the library's postal-code table ([`crate::site::postal`], Dahli & Cheggaga 2023), a numeric code also without its leading zeros: `ok site.lat_deg=<deg> site.lon_deg=<deg>` |
 //! | `time set YYYY-MM-DDTHH:MM:SSZ` | sets the RTC (and clears its lost-power flag): the tracker image has no other way to be told the time |
 //! | `status`, `stow`, `resume`, `home`, `jog`, `manual off`, `faults`, `clear` | `error <command>: not on this image` (they act on a running tracker) |
 //!
@@ -87,7 +87,7 @@ pub struct Settings {
     pub gear_ratio: [f32; 2],
 }
 
-/// The settings of a board never set: Kano, Nigeria (seed jimoh-2019's
+/// The settings of a board never set: Kano, Nigeria (Jimoh & Aliyu's (2019)
 /// site) and the seed's direct drives.
 pub const DEFAULTS: Settings = Settings {
     lat_deg: 11.9683,

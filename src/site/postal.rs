@@ -1,6 +1,6 @@
 //! Postal code → latitude/longitude, a compact sorted table in flash.
 //!
-//! Seed dahli-2023 replaces the GPS receiver by the postal (ZIP) code of the
+//! Dahli & Cheggaga 2023 replaces the GPS receiver by the postal (ZIP) code of the
 //! installation: the code names a place whose coordinates are in a table.
 //! `build.rs` reads `data/postal_codes.csv` (columns
 //! `country,postal_code,place,latitude,longitude`), packs each row and

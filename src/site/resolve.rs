@@ -1,6 +1,6 @@
 //! The site in force: the GPS position first, then the site stored in the
 //! configuration, then a postal code from the table of [`crate::site`]
-//! (seed dahli-2023 replaces the GPS receiver by the postal code); and the
+//! (Dahli & Cheggaga 2023 replaces the GPS receiver by the postal code); and the
 //! magnetic declination there.
 //!
 //! Nothing here blocks or panics; every error is a value.
@@ -21,7 +21,7 @@ pub enum SiteOrigin {
     Gps,
     /// The site stored in the configuration.
     Stored,
-    /// A postal code (seed dahli-2023).
+    /// A postal code (Dahli & Cheggaga 2023).
     PostalCode,
 }
 

@@ -1,6 +1,6 @@
 //! A tilted mount seen by an ADXL345 (0x53) and a QMC5883L (0x0D) on one
 //! I2C bus: the bus bytes both chips would return, made from a known mount
-//! rotation (seed portable-tracker eq. 12: `T = Rz(γ0)·Rx(α0)·Ry(β0)`,
+//! rotation (Choi et al. (portable tracker) eq. 12: `T = Rz(γ0)·Rx(α0)·Ry(β0)`,
 //! tracker → horizontal; horizontal X west, Y south, Z up). Gravity and the
 //! Earth's field are expressed in the tracker frame with `Tᵀ`, scaled by
 //! the datasheets (ADXL345 full resolution 3.9 mg/LSB; QMC5883L 8 G range

@@ -38,7 +38,7 @@ pub struct ServoSpec {
 }
 
 impl ServoSpec {
-    /// FEETECH FS5106R (seed chowdhury-2019): 1,500 µs stop, ±4 µs dead
+    /// FEETECH FS5106R (Chowdhury et al. 2019): 1,500 µs stop, ±4 µs dead
     /// band, 95 rpm (570 °/s) at 700 / 2,300 µs, 50 Hz frames; a YMT22 of
     /// 300 lines (1,200 edges a turn) on its output shaft, which turns the
     /// axis directly; the channel counts 0.5 µs (Timer1 at clk/8).

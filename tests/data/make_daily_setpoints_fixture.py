@@ -34,7 +34,7 @@ RUNS = [
     # The test's default invocation: Kano (the tool's default site), the
     # tests' "today" 2018-10-19, default algorithm (spa).
     ("kano-2018-10-19-spa", 11.9683, 8.4261, "2018-10-19", 68.97, 69.22),
-    # psa-2020 inside its validity range (2020-2050): Doha, seed chowdhury-2019.
+    # psa-2020 inside its validity range (2020-2050): Doha, Chowdhury et al. 2019.
     ("doha-2022-12-21-psa-2020", 25.37463, 51.49128, "2022-12-21", 69.29, 69.20),
 ]
 

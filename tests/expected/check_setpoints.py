@@ -60,7 +60,7 @@ STEP = re.compile(r"step_s=(\d+)\b")
 # The firmware loop's log (src/log.rs) and the QEMU board's `axes` lines.
 UTC = r"(\d{4}-\d\d-\d\dT\d\d:\d\d:\d\dZ)"
 LOG_CANDIDATE = re.compile(r"\bsetpoint\b|zenith=|^axes")
-# The Uno image (seed chowdhury-2019) ends each set-point with the panel
+# The Uno image (Chowdhury et al. 2019) ends each set-point with the panel
 # voltage it read, ` panel_mv=<whole mV>` (`suntracker::log::setpoint_with_panel`).
 LOG_SETPOINT = re.compile(rf"^setpoint utc={UTC} zenith=(-?\d+\.\d{{3}}) azimuth=(-?\d+\.\d{{3}}) "
                           r"c=(-?\d+\.\d\d) a=(-?\d+\.\d\d)(?: panel_mv=(?:0|[1-9]\d*))?$")
@@ -89,7 +89,7 @@ def angle_deg(z1, a1, z2, a2):
 def level_normal(gamma, alpha):
     """(zenith, azimuth) of the panel normal of a level mount at pose (γ, α).
 
-    Seed portable-tracker eq. 15–17: n = Rz(γ)·Rx(α)·ẑ = (sin γ sin α,
+    Choi et al. (portable tracker) eq. 15–17: n = Rz(γ)·Rx(α)·ẑ = (sin γ sin α,
     −cos γ sin α, cos α) in the horizontal frame (west, south, up); azimuth
     east of north = atan2(east, north) = atan2(−x, −y).
     """

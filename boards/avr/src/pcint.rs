@@ -1,7 +1,7 @@
 //! Two quadrature encoders on pin-change interrupts (ATmega328P datasheet
 //! §12 "External Interrupts": "Pin Change Interrupt Timing", register
 //! description of PCICR, PCIFR, PCMSK2; ATmega2560 §15), counted ×4 by
-//! `drivers::encoder::SharedEncoder` (seed chowdhury-2019: YMT22 optical
+//! `drivers::encoder::SharedEncoder` (Chowdhury et al. 2019: YMT22 optical
 //! encoders on the two servo shafts).
 //!
 //! | encoder | channel | ATmega328P pin | Uno header | ATmega2560 pin | Mega header | PCINT |

@@ -1,4 +1,4 @@
-//! The Arduino Mega 2560 tracker (seed li-2022's build): everything about
+//! The Arduino Mega 2560 tracker (Li et al.'s (2022) build): everything about
 //! this board in one place — pins, devices, configuration — turned into the
 //! parts of [`suntracker::firmware::Firmware`]. An image binds the interrupt vectors
 //! (`timer0, usart1, int4`; the log's USART0 only sends) and calls [`run`],
@@ -37,12 +37,12 @@
 //!  Mega D19 ─ GPS TX      Mega D2 ─ anemometer reed ─ GND
 //! ```
 //!
-//! Drives and axes: seed li-2022's mechanics, [`suntracker::mechanics`] (200-step
+//! Drives and axes: Li et al.'s (2022) mechanics, [`suntracker::mechanics`] (200-step
 //! motors, full step, 50:1 worms, 0.036° a step, C −180…+180°, A −90…+90°,
 //! homed at the low ends, open loop).
 //!
 //! The QMC5883L and the ADXL345 are probed at power-on; when both answer,
-//! the mount's attitude is measured every 10 s (seed portable-tracker)
+//! the mount's attitude is measured every 10 s (Choi et al. (portable tracker))
 //! with the WMM2025 declination of the site; else a level mount facing
 //! north is assumed and fault `timeout_inclinometer` says so.
 #![no_std]
@@ -168,7 +168,7 @@ struct Parts {
 }
 
 /// The configuration at power-on: the copy saved in the EEPROM (console
-/// `save`), else the board's own (seed li-2022's mechanics, Kano); the log
+/// `save`), else the board's own (Li et al.'s (2022) mechanics, Kano); the log
 /// says which. Not inlined: the slots read (two 256-byte buffers) leave
 /// the stack before the loop starts.
 #[inline(never)]

@@ -1,7 +1,7 @@
-//! The Arduino Uno tracker (ATmega328P; seed chowdhury-2019's build):
+//! The Arduino Uno tracker (ATmega328P; Chowdhury et al.'s (2019) build):
 //! everything about this board in one place — pins, devices, the loop —
 //! over the AVR board layer ([`suntracker_avr`]). The loop is
-//! [`suntracker::servo_tracker::SeedTracker`]; an image binds the vectors
+//! [`suntracker::servo_tracker::ServoTracker`]; an image binds the vectors
 //! (`avr_board_interrupts!(timer0, pcint2)`) and calls [`run`], as
 //! `avr_tracker` does.
 //!
@@ -51,7 +51,7 @@ use suntracker::hw::ServoAxis;
 use suntracker::log::{self, Sink, SiteSource};
 use suntracker::panel::{Divider, PanelAdc};
 use suntracker::servo_tracker::settings::{self as settings, SettingsConsole};
-use suntracker::servo_tracker::{self as seed, SeedTracker, POSITION_LOOP, SERVO};
+use suntracker::servo_tracker::{self as seed, ServoTracker, POSITION_LOOP, SERVO};
 use suntracker::text::FlashStr;
 use suntracker_avr::eeprom::Eeprom;
 use suntracker_avr::{
@@ -227,7 +227,7 @@ pub fn run(dp: chip::Peripherals) -> ! {
         ),
     ];
     let rtc = rtc(&PORTC, TWI);
-    let mut tracker = SeedTracker::new(rtc, site, axes, &configs);
+    let mut tracker = ServoTracker::new(rtc, site, axes, &configs);
     let tick_ms = u64::from(seed::TICK_MS);
     let mut next_tick_ms = 0u64;
     loop {

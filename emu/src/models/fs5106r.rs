@@ -1,4 +1,4 @@
-//! FEETECH FS5106R continuous-rotation servo (seed chowdhury-2019's axis
+//! FEETECH FS5106R continuous-rotation servo (Chowdhury et al.'s (2019) axis
 //! drive): the pulse width sets the output shaft's speed. The model, its
 //! figures and their sources are `sim::servo` (the host tests' servo plants
 //! use its pulse-to-speed law too); the Uno bench takes the pulses it
@@ -11,7 +11,7 @@ pub use sim::servo::{Fs5106r, Segment, ServoSpec, FRAME_S};
 mod tests {
     use super::*;
 
-    /// 95 rpm (seed chowdhury-2019, FEETECH) in °/s: 95 × 360 / 60.
+    /// 95 rpm (Chowdhury et al. 2019, FEETECH) in °/s: 95 × 360 / 60.
     const FULL_DEG_S: f64 = 570.0;
 
     /// Drives `servo` with `width_us` pulses every 20 ms over `[from, to)`.

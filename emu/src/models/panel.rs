@@ -23,7 +23,7 @@
 //!
 //! Parameters ([`PvPanel::UXCELL_6V_065W`]):
 //!
-//! - the panel: seed chowdhury-2019, Figure 2: "Uxcell Poly Mini Solar
+//! - the panel: Chowdhury et al. 2019, Figure 2: "Uxcell Poly Mini Solar
 //!   Panel, 6 V, 120 mA, 0.65 W, 120 × 56 mm" (polycrystalline). 0.65 W /
 //!   6 V = 108 mA = 0.9 × 120 mA, the maximum-power to short-circuit
 //!   current ratio of a crystalline cell, so 6 V is read as the voltage at
@@ -79,7 +79,7 @@ pub struct PvPanel {
 }
 
 impl PvPanel {
-    /// Seed chowdhury-2019's uxcell 6 V / 120 mA / 0.65 W poly panel (see
+    /// Chowdhury et al.'s (2019) uxcell 6 V / 120 mA / 0.65 W poly panel (see
     /// the module documentation for each figure).
     pub const UXCELL_6V_065W: PvPanel = PvPanel {
         voc_stc_v: 7.2,
@@ -208,7 +208,7 @@ pub fn simavr_adc_code(pin_mv: u32, vref_mv: u32) -> u16 {
 }
 
 /// Trapezoid rule over `(unix_s, volts)` samples in time order: the area
-/// under the voltage-time curve in V·h (seed chowdhury-2019's AUC).
+/// under the voltage-time curve in V·h (Chowdhury et al.'s (2019) AUC).
 /// Fewer than two samples give 0.
 pub fn trapezoid_vh(samples: &[(f64, f64)]) -> f64 {
     samples

@@ -1,4 +1,4 @@
-//! The Arduino Mega 2560 tracker image (seed li-2022's build). Everything
+//! The Arduino Mega 2560 tracker image (Li et al.'s (2022) build). Everything
 //! about the board — pins, devices, configuration — is in
 //! `suntracker_mega2560`; this file binds its interrupt vectors and
 //! starts it. Build, flash and emulate: see the book's firmware chapter (docs/src/firmware.md).

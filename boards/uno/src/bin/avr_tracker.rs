@@ -1,4 +1,4 @@
-//! The Arduino Uno tracker image (ATmega328P, seed chowdhury-2019's build).
+//! The Arduino Uno tracker image (ATmega328P, Chowdhury et al.'s (2019) build).
 //! Everything about the board — pins, devices, the loop — is in
 //! `suntracker_uno`; this file binds its interrupt vector and
 //! starts it. Build, flash and emulate: see the book's firmware chapter (docs/src/firmware.md).
