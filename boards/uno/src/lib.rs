@@ -32,7 +32,7 @@
 //!
 //! Each pass of the loop (every Timer0 millisecond) closes both servo
 //! loops on their encoder counts; once a second a tick reads the DS3231,
-//! runs the seed's schedule (a sun position at each 4-minute slot, no day
+//! runs Chowdhury et al.'s schedule (a sun position at each 4-minute slot, no day
 //! table: the part has 2 KB of RAM), commands the axes, takes the ADC
 //! conversion started at the previous tick and starts the next; then the
 //! watchdog is fed and the CPU sleeps until the next interrupt. There is no
@@ -51,7 +51,7 @@ use suntracker::hw::ServoAxis;
 use suntracker::log::{self, Sink, SiteSource};
 use suntracker::panel::{Divider, PanelAdc};
 use suntracker::servo_tracker::settings::{self as settings, SettingsConsole};
-use suntracker::servo_tracker::{self as seed, ServoTracker, POSITION_LOOP, SERVO};
+use suntracker::servo_tracker::{self, ServoTracker, POSITION_LOOP, SERVO};
 use suntracker::text::FlashStr;
 use suntracker_avr::eeprom::Eeprom;
 use suntracker_avr::{
@@ -66,7 +66,7 @@ pub const SETTINGS_BOARD: &str = "uno-settings";
 /// Log serial.
 pub const LOG_BAUD_HZ: u32 = 115_200;
 /// The panel's ADC input: AVcc (5 V) reference, 10 bits, a 10 kΩ/10 kΩ
-/// divider (the seed's 6 V panel, open circuit up to about 7.5 V, stays
+/// divider (the paper's 6 V panel, open circuit up to about 7.5 V, stays
 /// under the 5 V reference at the pin).
 pub const PANEL: PanelAdc = PanelAdc {
     vref_mv: 5_000,
@@ -104,7 +104,7 @@ impl SetDutyCycle for ServoPwm<'_> {
 }
 
 /// The clock chip: the DS3231 on the I²C bus, or with the `ds1302` feature
-/// the DS1302 the seed's text also names, on three port C pins (its I/O
+/// the DS1302 the paper also names, on three port C pins (its I/O
 /// line open-drain with an external 10 kΩ pull-up: see
 /// `drivers::rtc::ds1302`).
 #[cfg(not(feature = "ds1302"))]
@@ -185,9 +185,9 @@ pub fn run(dp: chip::Peripherals) -> ! {
     let configs = settings.axis_configs();
     let [config_c, config_a] = &configs;
     out.flash(suntracker::flash_str!("config step_s="));
-    out.u32(seed::STEP_S);
+    out.u32(servo_tracker::STEP_S);
     out.flash(suntracker::flash_str!(" tick_ms="));
-    out.u32(seed::TICK_MS);
+    out.u32(servo_tracker::TICK_MS);
     // One encoder count of axis, the pose's resolution: the coarser axis's
     // (0.3° through a direct drive).
     let (c, a) = (config_c.counts_per_deg(), config_a.counts_per_deg());
@@ -195,7 +195,7 @@ pub fn run(dp: chip::Peripherals) -> ! {
     out.flash(suntracker::flash_str!(" axis_step_deg="));
     out.fixed(1.0 / counts_per_deg, 3);
     out.flash(suntracker::flash_str!(" algorithm="));
-    out.flash(seed::ALGORITHM_NAME);
+    out.flash(servo_tracker::ALGORITHM_NAME);
     out.flash(suntracker::flash_str!("\n"));
 
     let (oc1a, oc1b) = pwm.channels();
@@ -228,7 +228,7 @@ pub fn run(dp: chip::Peripherals) -> ! {
     ];
     let rtc = rtc(&PORTC, TWI);
     let mut tracker = ServoTracker::new(rtc, site, axes, &configs);
-    let tick_ms = u64::from(seed::TICK_MS);
+    let tick_ms = u64::from(servo_tracker::TICK_MS);
     let mut next_tick_ms = 0u64;
     loop {
         let now_ms = millis();
