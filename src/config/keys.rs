@@ -4,15 +4,19 @@
 
 use crate::text::FlashStr;
 
-/// An enum of names: each variant with its text, the text only through a
-/// function (linked where called) and `Debug`/`Display`.
+/// An enum of names: each variant with its text (a constant `&str`
+/// expression), the text only through a function (linked where called) and
+/// `Debug`/`Display`; `ALL` lists the variants.
 macro_rules! named {
-    ($(#[$m:meta])* $vis:vis enum $name:ident fn $f:ident { $($v:ident => $s:literal,)* }) => {
+    ($(#[$m:meta])* $vis:vis enum $name:ident fn $f:ident { $($v:ident => $s:expr,)* }) => {
         $(#[$m])*
         #[derive(Clone, Copy, PartialEq, Eq)]
         #[allow(missing_docs)]
         $vis enum $name { $($v,)* }
         impl $name {
+            /// Every variant, in declaration order.
+            pub const ALL: &'static [$name] = &[$($name::$v,)*];
+
             /// The text (in flash on AVR: [`FlashStr`]).
             pub fn $f(self) -> FlashStr {
                 match self { $($name::$v => crate::flash_str!($s),)* }
