@@ -2,17 +2,24 @@
 //! console and the log name them) and the texts of their ranges and rules
 //! ([`Reason`]): enums, each text linked only where it is printed.
 
+use super::range_text::{f32s, range_text, same_f32, same_u32, u16s, u32s, u8s, Num, Piece};
+use super::ranges as r;
 use crate::text::FlashStr;
+use Piece::{Offset, Str};
 
-/// An enum of names: each variant with its text, the text only through a
-/// function (linked where called) and `Debug`/`Display`.
+/// An enum of names: each variant with its text (a constant `&str`
+/// expression), the text only through a function (linked where called) and
+/// `Debug`/`Display`; `ALL` lists the variants.
 macro_rules! named {
-    ($(#[$m:meta])* $vis:vis enum $name:ident fn $f:ident { $($v:ident => $s:literal,)* }) => {
+    ($(#[$m:meta])* $vis:vis enum $name:ident fn $f:ident { $($v:ident => $s:expr,)* }) => {
         $(#[$m])*
         #[derive(Clone, Copy, PartialEq, Eq)]
         #[allow(missing_docs)]
         $vis enum $name { $($v,)* }
         impl $name {
+            /// Every variant, in declaration order.
+            pub const ALL: &'static [$name] = &[$($name::$v,)*];
+
             /// The text (in flash on AVR: [`FlashStr`]).
             pub fn $f(self) -> FlashStr {
                 match self { $($name::$v => crate::flash_str!($s),)* }
@@ -87,35 +94,66 @@ named! {
     }
 }
 
+// The texts of the ranges are built from `ranges`' constants; a text shared
+// by several ranges is built from the first, and the others must equal it.
+const _: () = assert!(same_f32(r::DEADBAND_DEG, r::BACKLASH_DEG));
+const _: () = assert!(same_f32(r::HEADING_DEG, r::LON_DEG));
+const _: () = assert!(same_u32(r::SENSOR_TIMEOUT_S, r::RECHECK_S));
+const _: () = assert!(same_u32(r::WIND_RELEASE_S, r::MAX_BACKWARD_S));
+
 named! {
-    /// The range or rule a field breaks ([`Reason::text`]).
+    /// The range or rule a field breaks ([`Reason::text`]). A range's text
+    /// is built from its constant in [`ranges`](super::ranges).
     pub enum Reason fn text {
-        CountsPerMotorRev => "1...16,777,216 full steps or encoder counts per motor revolution",
-        Microsteps => "1...256 microsteps per full step",
-        GearRatio => "1...10,000 motor revolutions per axis revolution",
-        CountsPerDeg => "counts * microsteps * gear / 360 must be 1...1,000,000 counts per degree",
-        LimitDeg => "-360...360 deg",
+        CountsPerMotorRev => range_text!(
+            u32s(r::COUNTS_PER_MOTOR_REV),
+            Str(" full steps or encoder counts per motor revolution"),
+        ),
+        Microsteps => range_text!(u16s(r::MICROSTEPS), Str(" microsteps per full step")),
+        GearRatio => range_text!(
+            f32s(r::GEAR_RATIO),
+            Str(" motor revolutions per axis revolution"),
+        ),
+        CountsPerDeg => range_text!(
+            Str("counts * microsteps * gear / 360 must be "),
+            f32s(r::COUNTS_PER_DEG),
+            Str(" counts per degree"),
+        ),
+        LimitDeg => range_text!(f32s(r::LIMIT_DEG), Str(" deg")),
         AboveMinDeg => "must be above min_deg",
-        HomeNearMinDeg => "min_deg - 5 deg ... min_deg + 10 deg and at most max_deg: the switch is at the low end of the travel",
-        Deg0To5 => "0...5 deg",
-        SpeedDegS => "0.01...30 deg/s",
-        Latitude => "-90...90 deg",
-        Deg180 => "-180...180 deg",
-        ElevationM => "-500...10,000 m",
-        TableStepS => "60...43,200 s",
+        HomeNearMinDeg => range_text!(
+            Str("min_deg"),
+            Offset(Num::f32(r::HOME_ABOVE_MIN_DEG.0)),
+            Str(" deg ... min_deg"),
+            Offset(Num::f32(r::HOME_ABOVE_MIN_DEG.1)),
+            Str(" deg and at most max_deg: the switch is at the low end of the travel"),
+        ),
+        // Also `DEADBAND_DEG`.
+        Deg0To5 => range_text!(f32s(r::BACKLASH_DEG), Str(" deg")),
+        SpeedDegS => range_text!(f32s(r::MAX_SPEED_DEG_S), Str(" deg/s")),
+        Latitude => range_text!(f32s(r::LAT_DEG), Str(" deg")),
+        // Also `HEADING_DEG`.
+        Deg180 => range_text!(f32s(r::LON_DEG), Str(" deg")),
+        ElevationM => range_text!(f32s(r::ELEVATION_M), Str(" m")),
+        TableStepS => range_text!(u32s(r::TABLE_STEP_S), Str(" s")),
         WholeMinutesOfDay => "whole minutes dividing a day (86,400 s)",
-        S0To3600 => "0...3,600 s",
-        S1To3600 => "1...3,600 s",
-        S1To86400 => "1...86,400 s",
-        S0To86400 => "0...86,400 s",
-        StowHz => "0.1...1,000 Hz",
-        S0To600 => "0...600 s",
-        MaxDeviationDeg => "0.1...45 deg",
-        S1To600 => "1...600 s",
-        MaxRetries => "0...20",
+        S0To3600 => range_text!(u32s(r::HOLD_S), Str(" s")),
+        // Also `SENSOR_TIMEOUT_S`.
+        S1To3600 => range_text!(u32s(r::RECHECK_S), Str(" s")),
+        S1To86400 => range_text!(u32s(r::MAX_TICK_GAP_S), Str(" s")),
+        // Also `WIND_RELEASE_S`.
+        S0To86400 => range_text!(u32s(r::MAX_BACKWARD_S), Str(" s")),
+        StowHz => range_text!(f32s(r::STOW_HZ), Str(" Hz")),
+        S0To600 => range_text!(u32s(r::WIND_HOLD_S), Str(" s")),
+        MaxDeviationDeg => range_text!(f32s(r::MAX_DEVIATION_DEG), Str(" deg")),
+        S1To600 => range_text!(u32s(r::STALL_TIMEOUT_S), Str(" s")),
+        MaxRetries => range_text!(u8s(r::MAX_RETRIES)),
         BelowMaxDeviation => "must be below safety.max_deviation_deg",
-        TiltOffsetDeg => "-45...45 deg",
-        StatusMin => "0...1,440 min (0: no periodic status line)",
+        TiltOffsetDeg => range_text!(f32s(r::TILT_OFFSET_DEG), Str(" deg")),
+        StatusMin => range_text!(
+            u16s(r::STATUS_MIN),
+            Str(" min (0: no periodic status line)"),
+        ),
     }
 }
 

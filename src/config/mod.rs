@@ -4,6 +4,8 @@
 //! - [`ranges`]: the physical range of each field;
 //! - `keys`: each field's dotted key ([`Field`]) and the text of each range
 //!   or rule ([`Reason`]);
+//! - [`range_text`]: the texts of the ranges, built when compiling from
+//!   [`ranges`]' constants;
 //! - `validate`: the checks ([`Config::validate`], [`ConfigError`]);
 //! - `codec`: the binary payload ([`Config::encode`], [`Config::decode`],
 //!   [`PAYLOAD_LEN`]);
@@ -21,6 +23,7 @@ use crate::plan::ScheduleConfig;
 
 pub(crate) mod codec;
 mod keys;
+pub mod range_text;
 pub mod ranges;
 mod record;
 mod validate;

@@ -1,6 +1,8 @@
 //! The physical ranges of the configuration, as checked by
 //! [`Config::validate`](super::Config::validate); each field's doc comment
-//! gives the reason.
+//! gives the reason. The texts that the console prints for them
+//! ([`Reason::text`](super::Reason::text)) are built from these constants
+//! when compiling ([`super::range_text`]).
 
 /// Latitude, degrees: the geographic range.
 pub const LAT_DEG: (f32, f32) = (-90.0, 90.0);
