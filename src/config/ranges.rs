@@ -35,7 +35,7 @@ pub const GEAR_RATIO: (f32, f32) = (1.0, 10_000.0);
 pub const COUNTS_PER_DEG: (f32, f32) = (1.0, 1_000_000.0);
 /// The largest move of an axis, degrees: the widest soft-limit span
 /// (720°), a home switch 5° below it, feedback believed up to
-/// `axis::FEEDBACK_MARGIN_DEG` (90°) beyond either limit, and the
+/// `motion::FEEDBACK_MARGIN_DEG` (90°) beyond either limit, and the
 /// backlash take-up (5°), rounded up.
 pub const MAX_MOVE_DEG: f32 = 925.0;
 /// Soft limits, degrees: at most one turn either way (720° of cable
@@ -44,7 +44,7 @@ pub const LIMIT_DEG: (f32, f32) = (-360.0, 360.0);
 /// Home switch angle relative to `min_deg`, degrees: from 5° below the
 /// lowest soft limit (a switch just outside the working range) to 10°
 /// above it (inside the range); homing drives negative onto it, and
-/// backs off a closed switch by at most `axis::HOMING_BACKOFF_MAX_DEG`
+/// backs off a closed switch by at most `motion::HOMING_BACKOFF_MAX_DEG`
 /// (15°), which must get an axis resting at its lowest limit off it.
 /// Never above `max_deg` either: homed, the axis is at the switch.
 pub const HOME_ABOVE_MIN_DEG: (f32, f32) = (-5.0, 10.0);
