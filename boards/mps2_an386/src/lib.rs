@@ -98,11 +98,11 @@ use sim::sensors::MountSensors;
 use suntracker::config::{Config, ConfigStore, SLOT_LEN};
 use suntracker::controller::{AttitudeSource, Controller, ControllerOptions};
 use suntracker::firmware::{AppConfig, ConfigPersist, Firmware, Platform};
-use suntracker::time::{datetime_from_utc, utc_from_datetime};
 use suntracker::log::Sink;
 use suntracker::motion::FeedbackMode;
 use suntracker::ports::Storage;
 use suntracker::safety::Mode;
+use suntracker::time::{datetime_from_utc, utc_from_datetime};
 
 /// Board name in the boot line.
 pub const BOARD: &str = "mps2-an386";
