@@ -188,7 +188,7 @@ fn a_drive_slower_than_configured_is_topped_up_not_flooded() {
 fn a_drive_that_runs_past_the_switch_homes_to_one_ticks_slow_move() {
     // Without the driver's own stop at the switch the plant runs on to its
     // hard stop 1° past it: the slow back-off covers that 1° at
-    // speed / 50, and the reference is as good as one tick's slow move.
+    // speed / 50, and the reference is as good as one step's slow move.
     let c = axis_config();
     for tick_ms in [1_000, 10_000] {
         let mut p = plant(&c, f64::from(SPEED_DEG_S), 110.0);
@@ -202,7 +202,9 @@ fn a_drive_that_runs_past_the_switch_homes_to_one_ticks_slow_move() {
             run.elapsed_ms <= bound_ms(110.0, SPEED_DEG_S, tick_ms) + back_off_ms,
             "tick {tick_ms} ms: {run:?}"
         );
-        let slow_move_deg = f64::from(fine_speed_deg_s) * tick_ms as f64 / 1000.0;
+        // A tick at the slow speed plus the slow chunk.
+        let slow_move_deg = f64::from(fine_speed_deg_s) * tick_ms as f64 / 1000.0
+            + f64::from(CHUNK_DEG / HOMING_FINE_DIVISOR);
         let off_deg = f64::from(c.home_deg) - ax.drive().output_deg();
         assert!(
             (0.0..=slow_move_deg + COUNT_DEG).contains(&off_deg),

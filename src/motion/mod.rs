@@ -387,9 +387,11 @@ impl<D: AxisDrive> AxisController<D> {
     /// the axis covers at its homing speed (`max_speed_deg_s`, or
     /// [`HOMING_FINE_DIVISOR`] times slower on the final approach) in the
     /// monotonic time since the previous homing step, at most
-    /// [`HOMING_MAX_INTERVAL_MS`] of it; at least one chunk (`chunk_deg`,
-    /// or `chunk_deg / 50` on the final approach) and one count. The first
-    /// step of an attempt moves one chunk.
+    /// [`HOMING_MAX_INTERVAL_MS`] of it, plus one chunk (`chunk_deg`, or
+    /// `chunk_deg / 50` on the final approach); at least one count. The
+    /// chunk keeps a drive that runs at its speed from running dry just
+    /// before the next step (a ramped drive would slow to a stop and start
+    /// again every tick); the first step of an attempt moves one chunk.
     fn homing_move_counts(&mut self, chunk_deg: f32, now_ms: u64) -> i64 {
         let dt_ms = self
             .homing_last_ms
@@ -406,7 +408,7 @@ impl<D: AxisDrive> AxisController<D> {
         };
         // dt_ms ≤ 30,000: exact in f32; the product ≤ 30 °/s × 30 s.
         let by_time_deg = speed_deg_s * (dt_ms as f32 / 1000.0);
-        self.geo.counts(by_time_deg.max(chunk_deg)).max(1)
+        self.geo.counts(by_time_deg + chunk_deg).max(1)
     }
 
     /// One step of homing at `now_ms` (monotonic): drive toward the switch
@@ -415,19 +417,18 @@ impl<D: AxisDrive> AxisController<D> {
     /// and take the switch angle as the position. Call until it returns
     /// `Done`, once a tick or more often.
     ///
-    /// Speed: the moves of a step keep at most what the axis covers at
-    /// `max_speed_deg_s` (the final approach and the back-off before it at
-    /// a fiftieth of it) in the time since the previous step (see
-    /// [`HOMING_MAX_INTERVAL_MS`]), minus what the drive still has queued,
-    /// so that a drive slower than configured is topped up, never flooded;
-    /// a step always moves at least `chunk_deg` (`chunk_deg / 50` on the
-    /// final approach) when the drive is idle. So homing runs at the
-    /// drive's speed whatever the tick, and steps called in a row at one
-    /// instant move one chunk each. The switch is looked at once a step:
-    /// a drive that does not stop at the switch by itself (the H-bridge
-    /// driver given it as its `min` limit, the servo axis do) runs up to
-    /// one step's move past it, and the final approach's is the precision
-    /// of the reference.
+    /// Speed: the moves of a step keep queued at most what the axis covers
+    /// at `max_speed_deg_s` (the final approach and the back-off before it
+    /// at a fiftieth of it) in the time since the previous step (see
+    /// [`HOMING_MAX_INTERVAL_MS`]) plus `chunk_deg` (`chunk_deg / 50` on
+    /// the final approach), minus what the drive still has queued: a drive
+    /// slower than configured is topped up, never flooded. So homing runs
+    /// at the drive's speed whatever the tick, and steps called in a row at
+    /// one instant move one chunk each. The switch is looked at once a
+    /// step: a drive that does not stop at the switch by itself (the
+    /// H-bridge driver given it as its `min` limit and the servo axis do)
+    /// runs up to one step's move past it, and the final approach's move
+    /// is then the precision of the reference.
     ///
     /// Bounds on the motion:
     /// - a switch closed at the start (or stuck closed) is backed away from
