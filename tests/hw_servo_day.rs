@@ -146,7 +146,7 @@ fn homing_gives_the_encoder_its_reference() {
     loop {
         steps += 1;
         assert!(steps < 10_000, "homing did not finish");
-        match ax.home_step(1.0).unwrap() {
+        match ax.home_step(1.0, 0).unwrap() {
             HomeState::Done => break,
             _ => {
                 let m = Rc::clone(&model);

@@ -16,7 +16,7 @@ fn cfg() -> AxisConfig {
 fn home(ax: &mut AxisController<MotorPlant>) {
     for _ in 0..1_000_000 {
         ax.drive_mut().begin_tick(1.0);
-        if ax.home_step(1.0).unwrap() == HomeState::Done {
+        if ax.home_step(1.0, 0).unwrap() == HomeState::Done {
             return;
         }
     }
@@ -60,7 +60,7 @@ fn stuck_switch_is_backed_off_or_reported() {
     let mut err = false;
     for _ in 0..10_000 {
         ax.drive_mut().begin_tick(1.0);
-        match ax.home_step(1.0) {
+        match ax.home_step(1.0, 0) {
             Ok(HomeState::Done) => panic!("homed on a stuck switch"),
             Ok(_) => {}
             Err(_) => {
@@ -265,7 +265,7 @@ fn mock(c: &AxisConfig, start_deg: f32, switch: Switch) -> Mock {
 fn home_attempts(ax: &mut AxisController<Mock>, chunk_deg: f32, attempts: u32) -> Result<(), u32> {
     let mut errors = 0;
     for _ in 0..10_000_000u32 {
-        match ax.home_step(chunk_deg) {
+        match ax.home_step(chunk_deg, 0) {
             Ok(HomeState::Done) => return Ok(()),
             Ok(_) => ax.drive_mut().tick(),
             Err(AxisError::HomeNotFound) => {
@@ -472,8 +472,8 @@ struct Figures {
     updates: u64,
 }
 
-/// Homing over `d`, checking the bounds after every step; returns whether
-/// it homed.
+/// Homing over `d`, checking the bounds after every step (steps at
+/// random instants); returns whether it homed.
 fn checked_homing(r: &mut SplitMix64, ax: &mut AxisController<Mock>, f: &mut Figures) -> bool {
     let c = *ax.config();
     let cpd = c.counts_per_deg();
@@ -503,8 +503,12 @@ fn checked_homing(r: &mut SplitMix64, ax: &mut AxisController<Mock>, f: &mut Fig
     // higher) nor below the floor (or where it was, if lower).
     let start_deg = ax.counted_deg();
     let (lo_deg, hi_deg) = (start_deg.min(floor_deg), start_deg.max(c.max_deg));
+    // Steps at instants 0 to 40 s apart on the monotonic clock: the moves
+    // cover the speed × the time since the previous step, or a chunk.
+    let mut now_ms = r.next_u64() % 1_000_000;
     for _ in 0..2_000_000u32 {
-        let res = ax.home_step(chunk_deg);
+        let res = ax.home_step(chunk_deg, now_ms);
+        now_ms += [0, 1_000, 10_000, 40_000][(r.next_u64() % 4) as usize];
         f.homing_steps += 1;
         let after = ax.counted_deg();
         // Bounded by the reference while the axis still has one (a seek
@@ -647,7 +651,7 @@ fn invalid_configurations_do_not_panic() {
         d.pos = (r.next_u64() % 2_000_000) as i64 - 1_000_000;
         let mut ax = AxisController::new(d, c);
         for _ in 0..2000 {
-            match ax.home_step(f32::from_bits(r.next_u64() as u32).abs()) {
+            match ax.home_step(f32::from_bits(r.next_u64() as u32).abs(), r.next_u64()) {
                 Ok(HomeState::Done) => break,
                 Ok(_) => ax.drive_mut().tick(),
                 Err(_) => {}

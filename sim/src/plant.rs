@@ -9,6 +9,12 @@
 use suntracker::firmware::Motion;
 use suntracker::motion::AxisDrive;
 
+/// The limit switch reads closed up to this far above its angle, degrees:
+/// an axis stepped onto the switch angle (a whole number of counts from a
+/// start on the step grid) lands there within the rounding of the sums of
+/// its steps, above or below; this closes the switch there either way.
+const SWITCH_TOL_DEG: f64 = 1e-9;
+
 /// Errors of the simulated drive.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum SimError {
@@ -56,6 +62,11 @@ pub struct MotorPlant {
     pub switch_stuck_open: bool,
     /// Injected: the encoder does not answer.
     pub encoder_timeout: bool,
+    /// The drive stops a move toward the switch where the switch closes,
+    /// dropping the rest (as the H-bridge driver given the home switch as
+    /// its `min` limit and the servo axis do); false: it runs on to the
+    /// hard stop 1° past the switch. True unless a test says otherwise.
+    pub stops_at_switch: bool,
     /// Output travel, degrees.
     pub travel_deg: f64,
     /// Monotonic time of the last [`Motion::service`], µs.
@@ -97,6 +108,7 @@ impl MotorPlant {
             switch_stuck: false,
             switch_stuck_open: false,
             encoder_timeout: false,
+            stops_at_switch: true,
             travel_deg: 0.0,
             last_service_us: None,
         }
@@ -128,6 +140,7 @@ impl MotorPlant {
             switch_stuck: false,
             switch_stuck_open: false,
             encoder_timeout: false,
+            stops_at_switch: true,
             travel_deg: 0.0,
             last_service_us: None,
         }
@@ -175,13 +188,51 @@ impl MotorPlant {
         self.travel_deg += (self.output_deg - before).abs();
     }
 
+    /// The limit switch reads closed.
+    fn switch_closed(&self) -> bool {
+        self.switch_stuck
+            || (!self.switch_stuck_open && self.output_deg <= self.switch_deg + SWITCH_TOL_DEG)
+    }
+
+    /// Motor counts down to where the switch reads closed (0 when it does).
+    fn counts_to_switch(&self) -> i64 {
+        if self.switch_closed() {
+            return 0;
+        }
+        // Moving down, the output follows the motor half the backlash
+        // above it (stepper; the servo lands on the encoder count).
+        let half = match self.kind {
+            DriveKind::Stepper => self.backlash_deg / 2.0,
+            DriveKind::Servo => 0.0,
+        };
+        let motor_at_switch = self.switch_deg + SWITCH_TOL_DEG - half;
+        let d = (self.motor_deg - motor_at_switch) * self.counts_per_deg;
+        // At least one count: the motor may sit in the slack above it.
+        (libm::ceil(d) as i64).max(1)
+    }
+
     fn run(&mut self) {
         if self.pending == 0 {
             return;
         }
         let max_counts = (self.speed_deg_s * self.budget_s * self.counts_per_deg) as i64;
         // max/min, not clamp: no panic path in the firmware image.
-        let n = self.pending.max(-max_counts).min(max_counts);
+        let mut n = self.pending.max(-max_counts).min(max_counts);
+        // (A stalled motor does not turn: the switch stays as it is, and
+        // the steps are issued.)
+        if self.pending < 0 && self.stops_at_switch && !self.switch_stuck_open && !self.stalled {
+            // The driver reads the switch before each step toward it and
+            // halts where it closes, dropping the rest of the move.
+            let to_switch = self.counts_to_switch();
+            if to_switch == 0 {
+                self.pending = 0;
+                return;
+            }
+            if to_switch <= -n {
+                n = -to_switch;
+                self.pending = n;
+            }
+        }
         if n == 0 {
             return;
         }
@@ -221,7 +272,7 @@ impl AxisDrive for MotorPlant {
         Ok(())
     }
     fn at_limit(&mut self) -> Result<bool, SimError> {
-        Ok(self.switch_stuck || (!self.switch_stuck_open && self.output_deg <= self.switch_deg))
+        Ok(self.switch_closed())
     }
     fn encoder_deg(&mut self) -> Result<Option<f32>, SimError> {
         if self.encoder_timeout {

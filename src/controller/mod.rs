@@ -59,7 +59,11 @@ pub struct ControllerOptions<T> {
     /// Weight of a new tick's attitude in the running average (1 = none);
     /// a change over 5° (the mount was moved) is taken at once.
     pub attitude_smoothing: f32,
-    /// Homing approach step, degrees.
+    /// Least move of a homing step, degrees (`/ 50` on the final
+    /// approach): the move a step takes when no time has passed since the
+    /// previous one; otherwise homing moves at the axis's
+    /// `max_speed_deg_s` for the time since (see
+    /// [`AxisController::home_step`]).
     pub homing_chunk_deg: f32,
     /// Ticks between probes of an axis stopped by a stall.
     pub probe_every_ticks: u32,
@@ -741,8 +745,10 @@ where
         }
     }
 
-    /// Runs homing steps of axis `i` while its drive has time this tick.
-    /// Returns true while homing.
+    /// Runs homing steps of axis `i` at `now_ms`: the first moves for the
+    /// time since the previous tick at the axis's speed, and more follow
+    /// (one chunk each) while the drive finishes them at once. Returns true
+    /// while homing.
     ///
     /// A homing run that cannot find its switch (stuck closed: the axis
     /// cannot back away from it within the bounded back-off; stuck open:
@@ -770,7 +776,7 @@ where
         }
         // Bounded: a whole travel at the fine step is ≤ 50 × 370 chunks.
         for _ in 0..20_000 {
-            match ax.home_step(chunk) {
+            match ax.home_step(chunk, now_ms) {
                 Ok(HomeState::Done) => {
                     // A reference regained ends the faults that asked for it.
                     self.faults.clear(Fault::LimitSwitchHit(id), now_ms);

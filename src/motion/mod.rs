@@ -99,6 +99,19 @@ pub const HOMING_SEEK_MARGIN_DEG: f32 = 5.0;
 /// min_deg + 10° + backlash_deg` below where it started.
 pub const HOMING_SEEK_EXTRA_DEG: f32 = 10.0;
 
+/// The slow final approach of homing (and the back-off before it) moves
+/// this many times slower than the fast approach: `max_speed_deg_s / 50`
+/// by time, and at least `chunk_deg / 50` a step.
+pub const HOMING_FINE_DIVISOR: f32 = 50.0;
+
+/// Longest monotonic interval one homing step moves for, milliseconds: the
+/// move of a step covers the axis's speed × the time since the previous
+/// step, but never more than this (a step after a pause — a safe stop, a
+/// late tick — does not queue minutes of travel at once). Longer than any
+/// board's controller tick, so homing runs at the drive's speed whatever
+/// the tick.
+pub const HOMING_MAX_INTERVAL_MS: u64 = 30_000;
+
 /// Feedback is believed up to this far outside the soft limits, degrees;
 /// beyond, it is clamped before the count is re-anchored on it (an encoder
 /// glitch of 1e30° must not move the count out of every range).
@@ -113,6 +126,9 @@ const FALLBACK_COUNTS_PER_DEG: f32 = 1.0;
 const COUNTS_PER_DEG_CLAMP: (f32, f32) = (1e-3, 1e6);
 /// Angles of an invalid configuration are clamped to this, degrees.
 const ANGLE_CLAMP_DEG: f32 = 365.0;
+/// Speeds of an invalid configuration are clamped to the configuration's
+/// range, °/s (the lowest when not finite).
+const SPEED_RANGE_DEG_S: (f32, f32) = crate::config::ranges::MAX_SPEED_DEG_S;
 
 /// `v` when finite, else `fallback`; then into `lo..=hi` (max/min, no panic
 /// path).
@@ -132,6 +148,7 @@ struct Geometry {
     home_deg: f32,
     backlash_deg: f32,
     deadband_deg: f32,
+    speed_deg_s: f32,
 }
 
 impl Geometry {
@@ -162,6 +179,12 @@ impl Geometry {
             home_deg: sane(c.home_deg, min_deg, min_deg - 5.0, max_deg + 5.0),
             backlash_deg: sane(c.backlash_deg, 0.0, 0.0, 5.0),
             deadband_deg: sane(c.deadband_deg, 0.0, 0.0, 5.0),
+            speed_deg_s: sane(
+                c.max_speed_deg_s,
+                SPEED_RANGE_DEG_S.0,
+                SPEED_RANGE_DEG_S.0,
+                SPEED_RANGE_DEG_S.1,
+            ),
         }
     }
 
@@ -205,6 +228,9 @@ pub struct AxisController<D> {
     /// (`None` until homing starts); back-off stays within
     /// [`HOMING_BACKOFF_MAX_DEG`] of it.
     homing_low_counts: Option<i64>,
+    /// Monotonic time of the previous homing step of this attempt, ms: the
+    /// next step moves for the time since.
+    homing_last_ms: Option<u64>,
     /// Total counts commanded (motor travel).
     pub travel_counts: u64,
 }
@@ -225,6 +251,7 @@ impl<D: AxisDrive> AxisController<D> {
             fine: false,
             referenced: false,
             homing_low_counts: None,
+            homing_last_ms: None,
             travel_counts: 0,
         }
     }
@@ -356,9 +383,52 @@ impl<D: AxisDrive> AxisController<D> {
         room
     }
 
-    /// One step of homing: drive toward the switch (negative direction) in
-    /// chunks of `chunk_deg`; when the switch closes, stop and take the
-    /// switch angle as the position. Call until it returns `Done`.
+    /// Counts one homing move may keep queued at `now_ms`: the distance
+    /// the axis covers at its homing speed (`max_speed_deg_s`, or
+    /// [`HOMING_FINE_DIVISOR`] times slower on the final approach) in the
+    /// monotonic time since the previous homing step, at most
+    /// [`HOMING_MAX_INTERVAL_MS`] of it, plus one chunk (`chunk_deg`, or
+    /// `chunk_deg / 50` on the final approach); at least one count. The
+    /// chunk keeps a drive that runs at its speed from running dry just
+    /// before the next step (a ramped drive would slow to a stop and start
+    /// again every tick); the first step of an attempt moves one chunk.
+    fn homing_move_counts(&mut self, chunk_deg: f32, now_ms: u64) -> i64 {
+        let dt_ms = self
+            .homing_last_ms
+            .map_or(0, |t| now_ms.saturating_sub(t))
+            .min(HOMING_MAX_INTERVAL_MS);
+        self.homing_last_ms = Some(now_ms);
+        let (speed_deg_s, chunk_deg) = if self.fine {
+            (
+                self.geo.speed_deg_s / HOMING_FINE_DIVISOR,
+                chunk_deg / HOMING_FINE_DIVISOR,
+            )
+        } else {
+            (self.geo.speed_deg_s, chunk_deg)
+        };
+        // dt_ms ≤ 30,000: exact in f32; the product ≤ 30 °/s × 30 s.
+        let by_time_deg = speed_deg_s * (dt_ms as f32 / 1000.0);
+        self.geo.counts(by_time_deg + chunk_deg).max(1)
+    }
+
+    /// One step of homing at `now_ms` (monotonic): drive toward the switch
+    /// (negative direction); when the switch closes, stop, back off at the
+    /// slow speed, approach it again [`HOMING_FINE_DIVISOR`] times slower,
+    /// and take the switch angle as the position. Call until it returns
+    /// `Done`, once a tick or more often.
+    ///
+    /// Speed: the moves of a step keep queued at most what the axis covers
+    /// at `max_speed_deg_s` (the final approach and the back-off before it
+    /// at a fiftieth of it) in the time since the previous step (see
+    /// [`HOMING_MAX_INTERVAL_MS`]) plus `chunk_deg` (`chunk_deg / 50` on
+    /// the final approach), minus what the drive still has queued: a drive
+    /// slower than configured is topped up, never flooded. So homing runs
+    /// at the drive's speed whatever the tick, and steps called in a row at
+    /// one instant move one chunk each. The switch is looked at once a
+    /// step: a drive that does not stop at the switch by itself (the
+    /// H-bridge driver given it as its `min` limit and the servo axis do)
+    /// runs up to one step's move past it, and the final approach's move
+    /// is then the precision of the reference.
     ///
     /// Bounds on the motion:
     /// - a switch closed at the start (or stuck closed) is backed away from
@@ -367,12 +437,16 @@ impl<D: AxisDrive> AxisController<D> {
     ///   after [`AxisError::HomeNotFound`] does not back off again;
     /// - an attempt takes the axis at most `max_deg − min_deg` +
     ///   [`HOMING_SEEK_EXTRA_DEG`] + `backlash_deg` below where it started,
-    ///   then reports [`AxisError::HomeNotFound`];
+    ///   then reports [`AxisError::HomeNotFound`] once the drive has run it;
     /// - once the axis has had a reference, the counted position never goes
     ///   above `max_deg` backing off, nor below the lower of `min_deg` and
     ///   `home_deg` by more than [`HOMING_SEEK_MARGIN_DEG`] + `backlash_deg`
     ///   seeking.
-    pub fn home_step(&mut self, chunk_deg: f32) -> Result<HomeState, AxisError<D::Error>> {
+    pub fn home_step(
+        &mut self,
+        chunk_deg: f32,
+        now_ms: u64,
+    ) -> Result<HomeState, AxisError<D::Error>> {
         if !chunk_deg.is_finite() || chunk_deg <= 0.0 {
             return Err(AxisError::NotFinite);
         }
@@ -380,21 +454,15 @@ impl<D: AxisDrive> AxisController<D> {
             return Ok(HomeState::Done);
         }
         let closed = self.drive.at_limit().map_err(AxisError::Drive)?;
-        let settled = self.drive.pending() == 0;
+        let pending = i64::from(self.drive.pending());
+        let settled = pending == 0;
         if settled && self.home != HomeState::BackingOff {
             self.note_low();
         }
-        // Fast approach in `chunk_deg` steps, then back off and approach
-        // again 50 times slower: the switch angle is known to chunk/50.
-        let step_deg = if self.fine {
-            chunk_deg / 50.0
-        } else {
-            chunk_deg
-        };
-        let step_counts = self.geo.counts(step_deg).max(1);
         if self.home == HomeState::Idle {
             self.attempt_start_counts = self.position_counts;
             self.fine = false;
+            self.homing_last_ms = None;
             self.note_low();
             // Approach the switch from the open side: a switch already
             // closed (or stuck) is first backed away from.
@@ -410,17 +478,26 @@ impl<D: AxisDrive> AxisController<D> {
                 self.home = HomeState::Seeking;
                 return Ok(HomeState::Seeking);
             }
-            if !settled {
+            // Still running down (the tail of a ramped stop): wait.
+            if pending < 0 {
                 return Ok(HomeState::BackingOff);
             }
             let room = self.backoff_room_counts();
             if room <= 0 {
+                if !settled {
+                    return Ok(HomeState::BackingOff);
+                }
                 self.home = HomeState::Idle;
                 return Err(AxisError::HomeNotFound);
             }
-            let c = self.command(step_counts.min(room))?;
-            self.position_counts = self.position_counts.saturating_add(i64::from(c));
-            self.last_dir = 1;
+            let want = self
+                .homing_move_counts(chunk_deg, now_ms)
+                .saturating_sub(pending);
+            if want > 0 {
+                let c = self.command(want.min(room))?;
+                self.position_counts = self.position_counts.saturating_add(i64::from(c));
+                self.last_dir = 1;
+            }
             return Ok(HomeState::BackingOff);
         }
         if closed && !self.fine {
@@ -437,14 +514,19 @@ impl<D: AxisDrive> AxisController<D> {
             self.last_dir = -1;
             self.referenced = true;
             self.homing_low_counts = None;
+            self.homing_last_ms = None;
             self.home = HomeState::Done;
             return Ok(HomeState::Done);
         }
-        if !settled {
+        // Still running up (the tail of a ramped stop): wait.
+        if pending > 0 {
             return Ok(HomeState::Seeking);
         }
         let room = self.seek_room_counts();
         if room <= 0 {
+            if !settled {
+                return Ok(HomeState::Seeking); // the last moves still run
+            }
             // A referenced axis that reaches its floor without closing the
             // switch was not where it counted (steps lost while stalled):
             // the count is no reference any more, and the next attempt runs
@@ -454,9 +536,15 @@ impl<D: AxisDrive> AxisController<D> {
             self.home = HomeState::Idle;
             return Err(AxisError::HomeNotFound);
         }
-        let c = self.command(-step_counts.min(room))?;
-        self.position_counts = self.position_counts.saturating_add(i64::from(c));
-        self.last_dir = -1;
+        // `pending` ≤ 0 here: what is queued downward.
+        let want = self
+            .homing_move_counts(chunk_deg, now_ms)
+            .saturating_add(pending);
+        if want > 0 {
+            let c = self.command(-want.min(room))?;
+            self.position_counts = self.position_counts.saturating_add(i64::from(c));
+            self.last_dir = -1;
+        }
         Ok(HomeState::Seeking)
     }
 
