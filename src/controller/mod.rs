@@ -14,18 +14,15 @@
 //!    unexpected limit switches.
 
 mod look_ahead;
+mod phases;
 
 use crate::attitude::{sun_vector_xyz, MountAttitude, Pose, PoseLimits};
 use crate::config::{Config, ConfigError};
 use crate::motion::{AxisController, AxisDrive, AxisError, FeedbackMode, HomeState};
-use crate::plan::{Action, Phase, ScheduleError, Scheduler, SetPoint, TableEntry};
+use crate::plan::{ScheduleError, Scheduler, SetPoint};
 use crate::ports::{AttitudeReading, AttitudeSensor};
-use crate::safety::{
-    select_mode, AxisId, Fault, FaultManager, Mode, ModeInputs, Recovery, Sensor, WindMonitor,
-};
+use crate::safety::{AxisId, Fault, FaultManager, Mode, Recovery, Sensor, WindMonitor};
 use crate::sun::PositionSource;
-use sun_algos::geometry::GeometryError;
-use sun_algos::Error as SunError;
 use sun_algos::{Float, UtcTime};
 
 /// Where the mount attitude comes from.
@@ -377,6 +374,8 @@ where
     }
 
     /// One pass of the main loop.
+    /// One pass of the main loop, phase by phase (the module docs list
+    /// them); never blocks.
     pub fn tick(&mut self, inp: &TickInputs) -> TickReport<T> {
         self.ticks = self.ticks.wrapping_add(1);
         // Self-test of .ci/panic_check.sh only (built with `--cfg
@@ -384,234 +383,26 @@ where
         // range puts a panic call site in this file, which the check must name.
         #[cfg(suntracker_panic_canary)]
         let _ = core::hint::black_box(self.home_retry_ms[self.ticks as usize]);
-        let now = inp.now;
-        let now_ms = inp.now_ms;
         // 1. Time and site health.
-        if inp.time_valid {
-            self.faults.clear(Fault::RtcInvalid, now_ms);
-        } else {
-            self.faults.raise(Fault::RtcInvalid, now_ms);
-        }
-        if inp.gps_fix {
-            self.faults.clear(Fault::GpsLost, now_ms);
-        } else {
-            self.faults.raise(Fault::GpsLost, now_ms);
-        }
-        if inp.gps_time_implausible {
-            self.faults.raise(Fault::GpsTimeImplausible, now_ms);
-        } else {
-            self.faults.clear(Fault::GpsTimeImplausible, now_ms);
-        }
+        self.time_health(inp);
         // 2. Wind (monotonic clock only).
         let wind_stow = self
             .wind
-            .update_pulses(now_ms, inp.wind_pulses, inp.wind_interval_ms);
-        // 3. Scheduler (only with a trusted clock).
-        let mut clock_jump = false;
-        let mut schedule_error = None;
-        if inp.time_valid {
-            let out = self.scheduler.tick(now);
-            clock_jump = out.clock_jump;
-            match out.action {
-                Action::SetPoints(sp) => {
-                    self.set_point = Some(sp);
-                    // The power-on zero set-point (seed step 1) is not
-                    // daylight yet: only table set-points are.
-                    self.night = !matches!(self.scheduler.phase(), Phase::Tracking { .. });
-                }
-                Action::GoHome(sp) => {
-                    self.home_set_point = Some(sp);
-                    self.night = true;
-                    if self.options.rehome_nightly {
-                        for ax in self.axes.iter_mut() {
-                            ax.unhome();
-                        }
-                        self.rehomed_tonight = true;
-                    }
-                }
-                Action::Sleep { .. } => self.night = true,
-                Action::Error(e) => {
-                    // No set-point for this time: the last one is not used
-                    // again, and the tracker waits stowed while the
-                    // scheduler retries.
-                    schedule_error = Some(e);
-                    self.set_point = None;
-                    self.night = true;
-                    let fault = match e {
-                        ScheduleError::TimeRange
-                        | ScheduleError::Position(SunError::OutOfValidityRange { .. })
-                        | ScheduleError::Position(SunError::InvalidDate)
-                        | ScheduleError::Geometry(GeometryError::Position(
-                            SunError::OutOfValidityRange { .. },
-                        )) => Fault::TimeOutOfRange,
-                        _ => Fault::ScheduleFailed,
-                    };
-                    self.faults.raise(fault, now_ms);
-                }
-                Action::Idle => {}
-            }
-            if !matches!(out.action, Action::Error(_) | Action::Idle) {
-                self.faults.clear(Fault::TimeOutOfRange, now_ms);
-                self.faults.clear(Fault::ScheduleFailed, now_ms);
-            }
-        }
-        // Daylight only with a set-point computed for the present minute:
-        // the table entry applied last must be the one for now (a frozen
-        // set-point from an earlier time is never tracked).
-        if !self.night {
-            let step_s = i64::from(self.scheduler.config().table_step_s);
-            let slack_s = i64::from(self.scheduler.config().recheck_s);
-            let age_s = |e: &TableEntry<T>| now.unix_seconds() - e.time.unix_seconds();
-            let fresh = self
-                .scheduler
-                .applied()
-                .is_some_and(|e| (-60..step_s + slack_s).contains(&age_s(&e)));
-            if !fresh {
-                // Ticks were missed (time unknown for a while, a slow
-                // loop): the entry of the present slot, if the day has
-                // one, else nothing is tracked.
-                match self.scheduler.current(&now) {
-                    Some(e) if inp.time_valid => self.set_point = Some(e.set_point),
-                    _ => self.night = true,
-                }
-            }
-        }
-        // A new day without a night before it (polar day): open-loop axes
-        // are re-homed all the same, or lost steps would stay for weeks.
-        let table_day = self.scheduler.day_key();
-        if table_day != self.rehome_day {
-            if self.rehome_day.is_some()
-                && !self.rehomed_tonight
-                && self.options.rehome_nightly
-                && self.options.feedback == FeedbackMode::OpenLoop
-            {
-                for ax in self.axes.iter_mut() {
-                    ax.unhome();
-                }
-            }
-            self.rehome_day = table_day;
-            self.rehomed_tonight = false;
-        }
+            .update_pulses(inp.now_ms, inp.wind_pulses, inp.wind_interval_ms);
+        // 3. Scheduler (only with a trusted clock), daylight only with a
+        // set-point for the present slot, the re-homing of a new day.
+        let (clock_jump, schedule_error) = self.schedule(inp);
+        self.keep_set_point_current(inp);
+        self.rehome_on_new_day();
         // 4. Attitude (at the configured cadence; the first tick always).
-        let attitude_due = self
-            .last_attitude_ms
-            .is_none_or(|t| now_ms.saturating_sub(t) >= u64::from(self.options.attitude_every_ms));
-        if self.options.attitude == AttitudeSource::Sensors && attitude_due {
-            self.last_attitude_ms = Some(now_ms);
-            self.update_attitude(now_ms);
-        }
+        self.attitude_if_due(inp.now_ms);
         // 5. Homing (never during a safe stop: nothing moves then).
-        let mut homing = false;
-        if !self.faults.must_stop() {
-            for i in 0..2 {
-                homing |= self.home_axis(i, now_ms);
-            }
-        }
-        let unhomed = self.axes.iter().any(|a| a.home_state() != HomeState::Done);
+        let homing = self.homing(inp.now_ms);
         // 6. Mode and target.
-        let mode = select_mode(&ModeInputs {
-            must_stop: self.faults.must_stop(),
-            wind_stow,
-            command_stow: self.command_stow,
-            manual: self.manual.is_some(),
-            time_unknown: self.faults.time_unknown(),
-            night: self.night,
-            unhomed,
-        });
-        // Stow: the panel flat (α = 0), the C axis at the last commanded
-        // azimuth; before any pose was commanded (just homed, no trusted
-        // time yet), where the C axis is: no 180° swing from the home
-        // switch to an azimuth nobody asked for.
-        let gamma_now = match self.axes.first() {
-            Some(c) if !self.pose_commanded && c.home_state() == HomeState::Done => {
-                T::from_f32(c.counted_deg())
-            }
-            _ => self.pose.gamma_deg,
-        };
-        let stow = Pose {
-            gamma_deg: gamma_now,
-            alpha_deg: T::ZERO,
-        };
-        // Entering tracking, or a new day table: pick the branch of the
-        // two solutions that serves the rest of the day with least travel.
-        let table_day = self.scheduler.day_key();
-        if mode == Mode::Tracking
-            && (self.last_mode != Some(Mode::Tracking) || table_day != self.branch_day)
-        {
-            let new_day = table_day != self.branch_day;
-            self.branch_day = table_day;
-            self.branch_anchor = self.look_ahead(now);
-            if new_day {
-                self.day_start_pose = None;
-            }
-        }
-        self.last_mode = Some(mode);
-        let target = match mode {
-            Mode::SafeStop | Mode::Homing => None,
-            Mode::WindStow | Mode::CommandStow | Mode::WaitForTime => Some(stow),
-            Mode::Manual => self.manual,
-            Mode::Night => {
-                if self.options.night_stow {
-                    Some(stow)
-                } else {
-                    // The day's starting pose, on the branch the day used
-                    // (seed li-2022). Before any day: facing the coming
-                    // sunrise; failing that the power-on zero set-point
-                    // (seed jimoh-2019 step 1).
-                    let next_rise = self.scheduler.next_sunrise();
-                    match (self.day_start_pose, next_rise) {
-                        (Some(p), _) => Some(p),
-                        (None, Some(rise)) => self
-                            .pre_position(rise)
-                            .or_else(|| self.set_point.and_then(|sp| self.pose_for(&sp))),
-                        (None, None) => self.set_point.and_then(|sp| self.pose_for(&sp)),
-                    }
-                }
-            }
-            Mode::Tracking => {
-                let p = self.set_point.and_then(|sp| self.pose_for(&sp));
-                if self.day_start_pose.is_none() {
-                    self.day_start_pose = p;
-                }
-                p
-            }
-        };
-        let target = target.map(|p| self.limits().clamp(&p));
+        let (mode, target) = self.mode_and_target(wind_stow, inp.now);
         // 7. Drive.
-        match target {
-            Some(p) => {
-                self.pose = p;
-                // Counts once the axes can follow it (they ignore targets
-                // while homing).
-                self.pose_commanded |= self.axes.iter().all(|a| a.home_state() == HomeState::Done);
-                self.drive_axis(0, p.gamma_deg, now_ms);
-                self.drive_axis(1, p.alpha_deg, now_ms);
-            }
-            None => {
-                // With no target the axes hold still; an axis still homing
-                // goes on homing (non-blocking drives would otherwise never
-                // finish it before sunrise), unless a fault asks to stop.
-                let stop_all = mode == Mode::SafeStop;
-                for ax in self.axes.iter_mut() {
-                    if stop_all || ax.home_state() == HomeState::Done {
-                        // A stop that fails leaves nothing better to do.
-                        // Through the axis: the counts the drive drops are
-                        // taken off its position.
-                        let _ = ax.stop();
-                    }
-                }
-            }
-        }
-        // A fault found while driving (a deviation, a limit switch) may
-        // have taken an axis's reference: that tick is no longer tracking.
-        let mode = if mode == Mode::Tracking
-            && self.axes.iter().any(|a| a.home_state() != HomeState::Done)
-        {
-            self.last_mode = Some(Mode::Homing);
-            Mode::Homing
-        } else {
-            mode
-        };
+        self.drive(target, mode, inp.now_ms);
+        let mode = self.mode_after_drive(mode);
         TickReport {
             mode,
             target,
