@@ -9,16 +9,16 @@
 //! lines typed on the console (USART0) and power cuts at given emulated
 //! minutes ([`script`]). See `emu/README.md`.
 
-pub mod bench;
 pub mod ihex;
 pub mod log;
+pub mod mega;
 pub mod models;
 pub mod script;
 pub mod sim;
 pub mod twi;
 pub mod uno;
 
-pub use bench::{Bench, LogLine, Rtc, Run};
+pub use mega::{LogLine, MegaBench, Rtc, Run};
 pub use models::mount::{Field, Mount};
 pub use models::nmea::{GpsFeed, GpsSite};
 pub use models::wind::WindProfile;

@@ -7,7 +7,7 @@ use std::process::ExitCode;
 use suntracker_emu::log::{format_utc, parse_utc};
 use suntracker_emu::models::nmea::{parse_log, GpsFeed};
 use suntracker_emu::uno::{Axis, UnoBench};
-use suntracker_emu::{Bench, Rtc, WindProfile};
+use suntracker_emu::{MegaBench, Rtc, WindProfile};
 
 const HELP: &str = "\
 suntracker-emu: run a suntracker firmware image under simavr with models of
@@ -253,7 +253,7 @@ fn run() -> Result<ExitCode, String> {
     }
     if image != Image::Mega {
         let settings = image == Image::UnoSettings;
-        let start = start.unwrap_or(suntracker_emu::bench::DEFAULT_START);
+        let start = start.unwrap_or(suntracker_emu::mega::DEFAULT_START);
         let mut bench = if settings {
             UnoBench::settings(&elf)
         } else {
@@ -364,7 +364,7 @@ fn run() -> Result<ExitCode, String> {
         eprintln!("suntracker-emu: {}", run.ram.summary());
         return Ok(ok);
     }
-    let default_start = suntracker_emu::bench::DEFAULT_START;
+    let default_start = suntracker_emu::mega::DEFAULT_START;
     let (feed, first) = match (&nmea, no_gps) {
         (_, true) => (GpsFeed::Silent, None),
         (Some(path), false) => {
@@ -378,7 +378,7 @@ fn run() -> Result<ExitCode, String> {
     };
     let start = start.or(first).unwrap_or(default_start);
     let wind = gale.map_or_else(WindProfile::calm, |t| WindProfile::gust(t, 10, 40.0));
-    let mut bench = Bench::mega(&elf);
+    let mut bench = MegaBench::mega(&elf);
     for (minute, line) in &typed {
         bench = bench.type_at(*minute, line);
     }

@@ -1,7 +1,7 @@
 //! What an operator does to the board from outside during a run, by
 //! emulated minute: bytes typed on the console (USART0) and power cuts.
 //! One script and one player, shared by the Mega bench
-//! ([`crate::bench::Bench`]) and the Uno bench ([`crate::uno::UnoBench`]),
+//! ([`crate::mega::MegaBench`]) and the Uno bench ([`crate::uno::UnoBench`]),
 //! so that both type, pace and cut alike and show it alike in the run's
 //! lines.
 //!

@@ -97,8 +97,8 @@ use std::time::{Duration, Instant};
 use drivers::encoder::QuadratureDecoder;
 use sun_algos::{Algorithm, Options, Site, UtcTime};
 
-use crate::bench::{LogLine, Rtc, DEFAULT_TIMESCALE, F_CPU, PAINT};
 use crate::log::{parse_line, Event, LineAssembler};
+use crate::mega::{LogLine, Rtc, DEFAULT_TIMESCALE, F_CPU, PAINT};
 use crate::models::ds3231::Ds3231;
 use crate::models::fs5106r::{Fs5106r, Segment};
 use crate::models::panel::{self, Divider, PvPanel, Sky};
@@ -800,7 +800,7 @@ impl UnoBench {
     pub fn new(elf: impl AsRef<Path>) -> Self {
         UnoBench {
             elf: elf.as_ref().to_path_buf(),
-            start_unix_s: crate::bench::DEFAULT_START,
+            start_unix_s: crate::mega::DEFAULT_START,
             rtc: Rtc::Valid,
             echo: false,
             log_file: None,

@@ -15,9 +15,9 @@ use std::path::PathBuf;
 
 use sun_algos::{Algorithm, Options, Site, UtcTime};
 use suntracker::attitude::{angle_between_deg, sun_vector_xyz, MountAttitude, Pose};
-use suntracker_emu::bench::SwitchEvent;
 use suntracker_emu::log::{format_utc, parse_utc, Event};
-use suntracker_emu::{Bench, Field, GpsFeed, LogLine, Mount, Rtc, Run, WindProfile};
+use suntracker_emu::mega::SwitchEvent;
+use suntracker_emu::{Field, GpsFeed, LogLine, MegaBench, Mount, Rtc, Run, WindProfile};
 
 /// RAM that must stay free under the deepest stack a scenario reaches
 /// (interrupts nesting on a path the scenarios did not take).
@@ -187,7 +187,7 @@ fn check_set_points(run: &Run, mount: &MountAttitude<f64>, pointing_tol_deg: f64
 fn a_kano_whole_day_with_gps() {
     let elf = elf_or_skip!();
     let start = t("2026-06-21T05:00:00Z");
-    let run = Bench::mega(&elf)
+    let run = MegaBench::mega(&elf)
         .start(start)
         .rtc(Rtc::Valid)
         .gps(GpsFeed::kano())
@@ -224,7 +224,7 @@ fn a_kano_whole_day_with_gps() {
 #[test]
 fn b_rtc_only_tracks() {
     let elf = elf_or_skip!();
-    let run = Bench::mega(&elf)
+    let run = MegaBench::mega(&elf)
         .start(t("2026-06-21T08:00:00Z"))
         .rtc(Rtc::Valid)
         .gps(GpsFeed::Silent)
@@ -248,7 +248,7 @@ fn b_rtc_only_tracks() {
 #[test]
 fn c_no_time_waits_after_homing() {
     let elf = elf_or_skip!();
-    let run = Bench::mega(&elf)
+    let run = MegaBench::mega(&elf)
         .start(t("2026-06-21T08:00:00Z"))
         .rtc(Rtc::LostPower)
         .gps(GpsFeed::Silent)
@@ -286,7 +286,7 @@ fn c_no_time_waits_after_homing() {
 fn d_gale_at_noon_stows_and_releases() {
     let elf = elf_or_skip!();
     let gale = t("2026-06-21T12:00:00Z");
-    let run = Bench::mega(&elf)
+    let run = MegaBench::mega(&elf)
         .start(t("2026-06-21T11:30:00Z"))
         .rtc(Rtc::Valid)
         .gps(GpsFeed::kano())
@@ -358,7 +358,7 @@ fn d_gale_at_noon_stows_and_releases() {
 #[test]
 fn e_tilted_mount_is_compensated() {
     let elf = elf_or_skip!();
-    let run = Bench::mega(&elf)
+    let run = MegaBench::mega(&elf)
         .start(t("2026-06-21T08:00:00Z"))
         .rtc(Rtc::Valid)
         .gps(GpsFeed::kano())
@@ -407,7 +407,7 @@ fn f_console_site_saved_across_a_power_cut() {
     // The tracker stands in Sydney (its compass sees Sydney's field, WMM2025:
     // declination about 12.8° E) and is configured for Kano until the
     // operator types the site.
-    let run = Bench::mega(&elf)
+    let run = MegaBench::mega(&elf)
         .field(Field::wmm2025(-33.8688, 151.2093, 0.48, (2026, 3, 20)))
         .start(t("2026-03-20T04:00:00Z"))
         .rtc(Rtc::Valid)
@@ -524,7 +524,7 @@ fn g_daylight_power_on_homes_at_speed() {
     let elf = elf_or_skip!();
     let start = t("2026-06-21T10:00:00Z");
     let (c0_deg, a0_deg) = (170.0, 80.0);
-    let run = Bench::mega(&elf)
+    let run = MegaBench::mega(&elf)
         .start(start)
         .rtc(Rtc::Valid)
         .gps(GpsFeed::kano())

@@ -13,7 +13,7 @@
 
 use std::path::PathBuf;
 
-use suntracker_emu::{Bench, Rtc};
+use suntracker_emu::{MegaBench, Rtc};
 
 fn selftest_elf() -> Option<PathBuf> {
     if let Some(p) = std::env::var_os("SUNTRACKER_EMU_ELF_SELFTEST") {
@@ -44,7 +44,7 @@ fn selftest_with_ds3231_model() {
         return;
     };
     // The self-test has no time compression: 1 emulated s = 1 CPU s.
-    let run = Bench::mega(&elf)
+    let run = MegaBench::mega(&elf)
         .timescale(1.0)
         .rtc(Rtc::Valid)
         .run_minutes(5.0 / 60.0)
@@ -89,7 +89,7 @@ fn selftest_without_rtc_still_nacks() {
         println!("skipped: avr_board_selftest.elf not built");
         return;
     };
-    let run = Bench::mega(&elf)
+    let run = MegaBench::mega(&elf)
         .timescale(1.0)
         .rtc(Rtc::Absent)
         .run_minutes(5.0 / 60.0)

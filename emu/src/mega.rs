@@ -231,7 +231,7 @@ fn show_line(line: &LogLine, echo: bool, file: Option<&mut std::fs::File>) {
 
 /// Builder and runner.
 #[derive(Debug, Clone)]
-pub struct Bench {
+pub struct MegaBench {
     elf: PathBuf,
     start_unix_s: i64,
     rtc: Rtc,
@@ -255,12 +255,12 @@ pub const RAM_START: u16 = 0x200;
 /// Default start: 2026-06-21T05:00:00Z.
 pub const DEFAULT_START: i64 = 1_782_018_000;
 
-impl Bench {
+impl MegaBench {
     /// The ATmega2560 image at `elf`, defaults: start 2026-06-21T05:00Z,
     /// RTC valid, GPS silent, calm, level north-facing mount, Kano field,
     /// power-on angles C = 30°, A = 20°.
     pub fn mega(elf: impl AsRef<Path>) -> Self {
-        Bench {
+        MegaBench {
             elf: elf.as_ref().to_path_buf(),
             start_unix_s: DEFAULT_START,
             rtc: Rtc::Valid,
