@@ -1,9 +1,9 @@
 //! The PC monitor of a tracker's serial log.
 //!
 //! ```text
-//! cargo run --release --example monitor -- --port /dev/ttyUSB0 [--baud 115200]
-//! cargo run --release --example monitor -- --port /dev/ttyACM0 --send status --send faults
-//! cargo run --release --example monitor -- --file day.log --csv day.csv --svg day.svg
+//! cargo run --profile host --example monitor -- --port /dev/ttyUSB0 [--baud 115200]
+//! cargo run --profile host --example monitor -- --port /dev/ttyACM0 --send status --send faults
+//! cargo run --profile host --example monitor -- --file day.log --csv day.csv --svg day.svg
 //! ```
 //!
 //! Reads the log every image writes (`src/log.rs`; the line shapes and how

@@ -3,7 +3,7 @@
 //! scenario of field incidents and writing a per-minute trace.
 //!
 //! ```text
-//! cargo run --release --example simulate -- --lat 11.9683 --lon 8.4261 \
+//! cargo run --profile host --example simulate -- --lat 11.9683 --lon 8.4261 \
 //!     --start 2026-01-01 --days 365 --drive stepper|servo \
 //!     --feedback encoder|sensors --mount level|portable [--faults] [--seed N] \
 //!     [--scenario tests/scenarios/wind_clock_step_back.csv] [--trace OUT.csv] \
