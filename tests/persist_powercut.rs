@@ -23,7 +23,7 @@
 //!
 //! The EEPROM helpers are generic over the record kept ([`Record`]): the
 //! same three EEPROM sweeps run on the Arduino Uno's settings
-//! (`board::chowdhury2019_settings::Settings`, magic "STUN", version 1,
+//! (`servo_tracker::settings::Settings`, magic "STUN", version 1,
 //! latitude, longitude and two gear ratios as `f32` little-endian), whose
 //! record this test also builds from that module's documentation.
 
@@ -468,7 +468,7 @@ fn eeprom_cut_at_every_byte_with_two_good_slots() {
 }
 
 // ---------------------------------------------------------------------------
-// The Arduino Uno's settings (`board::chowdhury2019_settings`), same sweeps.
+// The Arduino Uno's settings (`servo_tracker::settings`), same sweeps.
 
 /// Bytes of one stored copy of the settings.
 const SETTINGS_LEN: usize = settings::RECORD_LEN;
