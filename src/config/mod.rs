@@ -194,7 +194,7 @@ pub struct Config {
 }
 
 impl Default for Config {
-    /// Kano (seed jimoh-2019's site); 1.8° steppers with 16 microsteps and a
+    /// Kano (Jimoh & Aliyu's (2019) site); 1.8° steppers with 16 microsteps and a
     /// 100:1 worm gear; the seed's 4-minute table, 2-minute hold, 30-second
     /// re-check.
     fn default() -> Self {

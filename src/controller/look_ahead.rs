@@ -1,6 +1,6 @@
 //! The pose look-ahead: which of the mount's two solutions (and which turn
 //! of the C axis) a day starts on, so that the day's path travels least
-//! and no axis runs into its limit at noon (seed portable-tracker eq. 13–21
+//! and no axis runs into its limit at noon (Choi et al. (portable tracker) eq. 13–21
 //! for the solutions).
 
 use sun_algos::{Float, UtcTime};

@@ -5,9 +5,9 @@
 //!
 //! 1. time and site health (RTC valid? GPS fix?) → faults;
 //! 2. wind monitor → wind stow;
-//! 3. the seed jimoh-2019 scheduler → set-point, night, home;
+//! 3. the Jimoh & Aliyu 2019 scheduler → set-point, night, home;
 //! 4. mount attitude: fixed (a level mount is the identity) or measured by
-//!    the inclinometer and compass (seed portable-tracker);
+//!    the inclinometer and compass (Choi et al. (portable tracker));
 //! 5. homing of axes that need it (boot, a fault, every night);
 //! 6. the mode ([`crate::safety::select_mode`]) and its target pose;
 //! 7. both axes driven, feedback checked for stall, deviation and
@@ -173,7 +173,7 @@ pub struct Controller<T, P, D, S, const N: usize> {
     branch_day: Option<UtcTime>,
     /// Starting pose of the branch chosen by look-ahead, used once.
     branch_anchor: Option<Pose<T>>,
-    /// The first tracking pose of the day (seed li-2022's home).
+    /// The first tracking pose of the day (Li et al.'s (2022) home).
     day_start_pose: Option<Pose<T>>,
     /// Smoothed attitude readings (θx, θy, heading sin, heading cos).
     smoothed: Option<[T; 4]>,

@@ -219,9 +219,9 @@ where
                     Some(stow)
                 } else {
                     // The day's starting pose, on the branch the day used
-                    // (seed li-2022). Before any day: facing the coming
+                    // (Li et al. 2022). Before any day: facing the coming
                     // sunrise; failing that the power-on zero set-point
-                    // (seed jimoh-2019 step 1).
+                    // (Jimoh & Aliyu 2019 step 1).
                     let next_rise = self.scheduler.next_sunrise();
                     match (self.day_start_pose, next_rise) {
                         (Some(p), _) => Some(p),

@@ -8,7 +8,7 @@
 //! backlash compensation, and three [`FeedbackMode`]s:
 //!
 //! - open loop: counted steps only;
-//! - pseudo-closed loop (seed jimoh-2019 §2.1): set-points applied open loop,
+//! - pseudo-closed loop (Jimoh & Aliyu 2019 §2.1): set-points applied open loop,
 //!   the feedback only observed and its deviation reported;
 //! - closed loop: correct toward the set-point from feedback until inside the
 //!   deadband.
