@@ -25,9 +25,9 @@
 //! crosses a multiple of `360° / 4N`. `ratio` is the encoder's revolutions
 //! per revolution of the input shaft (a gear between them; 1 when the
 //! encoder sits on the servo's output shaft). The edges between two angles
-//! ([`QuadratureEncoder::edges_between`]) change one channel at a time, so
+//! (`QuadratureEncoder::edges_between`) change one channel at a time, so
 //! a decoder fed each of them in turn never sees an illegal (two-bit)
-//! transition; [`QuadratureEncoder::timed_edges`] times them on a piece of
+//! transition; `QuadratureEncoder::timed_edges` times them on a piece of
 //! servo motion ([`crate::servo::Segment`]). `no_std` but for those two
 //! (feature `std`, lists): [`QuadratureEncoder::edges`] gives the same
 //! edges one at a time, as the servo plants of the host tests

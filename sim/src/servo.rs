@@ -2,7 +2,7 @@
 //! drive): the pulse width on its signal pin sets the output shaft's SPEED,
 //! not its angle. [`ServoSpec`] is the pulse-to-speed law, `no_std`: the
 //! servo plants of the host tests (`tests/common/servo.rs`) drive their
-//! shafts by it. [`Fs5106r`] (feature `std`) takes the pulses a bench
+//! shafts by it. `Fs5106r` (feature `std`) takes the pulses a bench
 //! decodes from the pin (width, time) and gives the shaft angle over time:
 //! the emulator harness's Uno bench (`emu/src/uno.rs`) runs it.
 //!
@@ -54,7 +54,7 @@
 //! Integration is exact for this law: between events (a pulse, the end of a
 //! command's hold, the start or end of a stall, a load change) the speed is
 //! constant, and the angle advances by speed × Δt over each such piece
-//! ([`Fs5106r::segments_to`] lists them, so a bench can time encoder edges
+//! (`Fs5106r::segments_to` lists them, so a bench can time encoder edges
 //! from them). No inertia is modelled: the speed steps at each event.
 
 #[cfg(feature = "std")]

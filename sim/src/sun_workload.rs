@@ -49,25 +49,18 @@ pub fn options() -> Options<f32> {
     }
 }
 
-/// An algorithm chosen at compile time: each measured algorithm gets one
-/// out-of-line copy, and no other algorithm is linked.
-pub trait Measured {
-    /// The algorithm.
-    const ALGORITHM: Algorithm;
-}
+/// The measured algorithms, chosen at compile time as the firmware
+/// chooses its own (`suntracker::sun::BuiltInAlgorithm`): each gets one out-of-line copy,
+/// and no other algorithm is linked.
+pub use suntracker::sun::{BuiltInAlgorithm as Measured, Michalsky, Psa2020};
 
-macro_rules! measured {
-    ($name:ident, $algorithm:expr) => {
-        /// Marker of one measured algorithm.
-        pub struct $name;
-        impl Measured for $name {
-            const ALGORITHM: Algorithm = $algorithm;
-        }
-    };
+/// `grena-2012-3` (Grena 2012, algorithm 3), the third algorithm the
+/// speed benches measure.
+pub struct Grena2012No3;
+
+impl Measured for Grena2012No3 {
+    const ALGORITHM: Algorithm = Algorithm::Grena2012No3;
 }
-measured!(Psa2020, Algorithm::Psa2020);
-measured!(Michalsky, Algorithm::Michalsky);
-measured!(Grena2012No3, Algorithm::Grena2012No3);
 
 /// One position with `A`'s algorithm; the zenith, or NaN on an error.
 #[inline(never)]
