@@ -83,21 +83,25 @@ pub struct DayEnergy {
 const MS_PER_HOUR: u32 = 3_600_000;
 
 /// `(n / d, n % d)` for `d > 0` (`(0, 0)` for `d = 0`), by binary long
-/// division in 64 steps of shifts and subtractions. On an 8-bit AVR the
-/// compiler's 64-bit division routine takes 2.8 KB of flash, more than
-/// tenth of the Uno's room for the tracker; this takes about 150 B and
-/// some 3,000 cycles, run once a tick at most. Not inlined: one copy.
+/// division in 64 steps of shifts and subtractions: each step moves the
+/// top bit of the dividend into the remainder and the quotient's next bit
+/// into the freed low bit (shifts by one place only: a shift by a variable
+/// count is a loop of its own on an 8-bit AVR). The compiler's 64-bit
+/// division routine takes 2.8 KB of flash there, a tenth of the Uno's
+/// room for the tracker; this is a few hundred bytes, run once a tick at
+/// most. Not inlined: one copy.
 #[inline(never)]
 fn div_rem(n: u64, d: u32) -> (u64, u32) {
     if d == 0 {
         return (0, 0);
     }
     let d = u64::from(d);
-    let mut q = 0u64;
+    // Dividend bits still to go in the high end, quotient bits in the low.
+    let mut q = n;
     // Invariant: rem < d ≤ u32::MAX, so `rem << 1 | bit` fits a u64.
     let mut rem = 0u64;
-    for i in (0..64).rev() {
-        rem = (rem << 1) | ((n >> i) & 1);
+    for _ in 0..64 {
+        rem = (rem << 1) | (q >> 63);
         q <<= 1;
         if rem >= d {
             rem -= d;

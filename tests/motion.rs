@@ -498,7 +498,8 @@ fn checked_homing(r: &mut SplitMix64, ax: &mut AxisController<Mock>, f: &mut Fig
     ax.drive_mut().speed = i64::MAX;
     ax.drive_mut().tick();
     ax.drive_mut().speed = speed;
-    let mut attempt_start = ax.position_counts();
+    // An attempt without a reference counts from where it starts.
+    let mut attempt_start = if referenced { ax.position_counts() } else { 0 };
     // Homing moves never take the count above max_deg (or where it was, if
     // higher) nor below the floor (or where it was, if lower).
     let start_deg = ax.counted_deg();
@@ -524,14 +525,21 @@ fn checked_homing(r: &mut SplitMix64, ax: &mut AxisController<Mock>, f: &mut Fig
         if res != Ok(HomeState::Done) {
             // (Done re-zeroes the count at the switch: no motion.)
             let seek = attempt_start - ax.position_counts();
-            assert!(seek <= travel + 1, "{c:?}: seek {seek} > {travel}");
+            assert!(
+                i64::from(seek) <= travel + 1,
+                "{c:?}: seek {seek} > {travel}"
+            );
         }
         match res {
             Ok(HomeState::Done) => return true,
             Ok(_) => ax.drive_mut().tick(),
             Err(AxisError::HomeNotFound) => {
                 errors += 1;
-                attempt_start = ax.position_counts();
+                attempt_start = if ax.has_had_reference() {
+                    ax.position_counts()
+                } else {
+                    0
+                };
                 if errors == attempts {
                     return false;
                 }

@@ -235,7 +235,7 @@ fn a_switch_that_never_closes_is_reported_after_the_travel_at_speed() {
         let seek_counts = start - ax.position_counts();
         assert_eq!(
             seek_counts,
-            (f64::from(seek_deg) / COUNT_DEG).round() as i64
+            (f64::from(seek_deg) / COUNT_DEG).round() as i32
         );
     }
 }

@@ -18,7 +18,9 @@ mod phases;
 
 use crate::attitude::{sun_vector_xyz, MountAttitude, Pose, PoseLimits};
 use crate::config::{Config, ConfigError};
-use crate::motion::{AxisController, AxisDrive, AxisError, FeedbackMode, HomeState};
+use crate::motion::{
+    AxisController, AxisDrive, AxisError, FeedbackMode, HomeState, StallVerdict, StallWatch,
+};
 use crate::plan::{ScheduleError, Scheduler, SetPoint};
 use crate::ports::{AttitudeReading, AttitudeSensor};
 use crate::safety::{AxisId, Fault, FaultManager, Mode, Recovery, Sensor, WindMonitor};
@@ -39,6 +41,14 @@ pub enum AttitudeSource<T> {
 /// the compass counts as stalled (`timeout_compass`): a part measuring at
 /// 10 Hz has a sample for every reading one tick apart.
 pub const ATTITUDE_NOT_READY_LIMIT: u8 = 5;
+
+/// A command of at least this many degrees arms the axis's stall watch
+/// ([`StallWatch`]); smaller ones may end inside the feedback's noise.
+pub const STALL_MIN_COMMAND_DEG: f32 = 0.5;
+
+/// Motion that proves a commanded axis is not stalled, degrees of
+/// feedback, seen at the next tick.
+pub const STALL_MIN_MOTION_DEG: f32 = 0.05;
 
 /// Choices of a tracker build.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -177,8 +187,9 @@ pub struct Controller<T, P, D, S, const N: usize> {
     day_start_pose: Option<Pose<T>>,
     /// Smoothed attitude readings (θx, θy, heading sin, heading cos).
     smoothed: Option<[T; 4]>,
-    /// Per axis: encoder angle before the last command, and its size.
-    last_drive: [Option<(f32, f32)>; 2],
+    /// Per axis: the stall watch, armed by a command of at least
+    /// [`STALL_MIN_COMMAND_DEG`] and decided at the next tick.
+    stall_watch: [StallWatch; 2],
     /// When the attitude sensors were last read (monotonic ms).
     last_attitude_ms: Option<u64>,
     /// Attitude readings in a row that found no new compass sample.
@@ -263,7 +274,7 @@ where
             branch_anchor: None,
             day_start_pose: None,
             smoothed: None,
-            last_drive: [None; 2],
+            stall_watch: [StallWatch::new(); 2],
             last_attitude_ms: None,
             attitude_not_ready: 0,
             night_pose: None,
@@ -559,8 +570,8 @@ where
         }
         // Homing moves the axis on its own: the last tracking command says
         // nothing about a stall any more.
-        if let Some(d) = self.last_drive.get_mut(i) {
-            *d = None;
+        if let Some(w) = self.stall_watch.get_mut(i) {
+            w.disarm();
         }
         if now_ms < wait_until {
             return true; // waiting before another attempt
@@ -676,17 +687,23 @@ where
         // Stall: the previous command was long enough to be seen, but the
         // encoder has not moved since (one tick later, whatever the speed).
         let first = read(ax, &mut self.faults);
-        let previous = self.last_drive.get_mut(i).and_then(|d| d.take());
-        if let (Some(now_deg), Some((was_deg, cmd_deg))) = (first, previous) {
-            if cmd_deg.abs() >= 0.5 {
-                if (now_deg - was_deg).abs() < 0.05 {
-                    // Retry is simply commanding again below.
+        let watch = match self.stall_watch.get_mut(i) {
+            Some(w) => w,
+            None => return,
+        };
+        if let Some(now_deg) = first {
+            match watch.check(now_deg, now_ms, STALL_MIN_MOTION_DEG, 0) {
+                // Retry is simply commanding again below.
+                Some(StallVerdict::Stalled) => {
                     self.faults.raise(stall, now_ms);
-                } else {
+                }
+                Some(StallVerdict::Moving) => {
                     self.faults.clear(stall, now_ms);
                 }
+                Some(StallVerdict::Waiting) | None => {}
             }
         }
+        watch.disarm();
         for pass in 0..passes {
             let before = if pass == 0 {
                 first
@@ -710,8 +727,11 @@ where
                 // Counts are at most 10^9 (configuration ranges): f32
                 // keeps them to 7 digits, plenty for "was it ≥ 0.5°".
                 let cmd_deg = report.commanded_counts as f32 / ax.config().counts_per_deg();
-                if let (Some(b), Some(slot)) = (before, self.last_drive.get_mut(i)) {
-                    *slot = Some((b, cmd_deg));
+                if let (Some(b), Some(w)) = (
+                    before.filter(|_| cmd_deg.abs() >= STALL_MIN_COMMAND_DEG),
+                    self.stall_watch.get_mut(i),
+                ) {
+                    w.arm(b, now_ms);
                 }
             }
             if let Some(a) = read(ax, &mut self.faults) {

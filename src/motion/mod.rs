@@ -15,6 +15,10 @@
 
 use crate::config::AxisConfig;
 
+mod stall;
+
+pub use stall::{StallVerdict, StallWatch};
+
 /// The motor side of an axis.
 pub trait AxisDrive {
     /// Bus or driver error.
@@ -130,11 +134,23 @@ const ANGLE_CLAMP_DEG: f32 = 365.0;
 /// range, °/s (the lowest when not finite).
 const SPEED_RANGE_DEG_S: (f32, f32) = crate::config::ranges::MAX_SPEED_DEG_S;
 
-/// `v` when finite, else `fallback`; then into `lo..=hi` (max/min, no panic
-/// path).
+/// `v` into `lo..=hi` by comparisons (`f32::max`/`min` and `clamp` are
+/// library calls on an AVR, and `clamp` has a panic path); NaN stays NaN.
+fn within(v: f32, lo: f32, hi: f32) -> f32 {
+    if v < lo {
+        lo
+    } else if v > hi {
+        hi
+    } else {
+        v
+    }
+}
+
+/// `v` when finite, else `fallback`; then [`within`] `lo..=hi`. Not
+/// inlined: seven calls build a [`Geometry`].
+#[inline(never)]
 fn sane(v: f32, fallback: f32, lo: f32, hi: f32) -> f32 {
-    let v = if v.is_finite() { v } else { fallback };
-    v.max(lo).min(hi)
+    within(if v.is_finite() { v } else { fallback }, lo, hi)
 }
 
 /// Angles and scale of an axis, made safe for the arithmetic whatever the
@@ -154,8 +170,14 @@ struct Geometry {
 impl Geometry {
     fn of(c: &AxisConfig) -> Self {
         let cpd = c.counts_per_deg();
-        let counts_per_deg = if cpd.is_finite() && cpd > 0.0 {
-            cpd.max(COUNTS_PER_DEG_CLAMP.0).min(COUNTS_PER_DEG_CLAMP.1)
+        let counts_per_deg = if cpd > 0.0 {
+            // An infinite scale takes the fallback too.
+            sane(
+                cpd,
+                FALLBACK_COUNTS_PER_DEG,
+                COUNTS_PER_DEG_CLAMP.0,
+                COUNTS_PER_DEG_CLAMP.1,
+            )
         } else {
             FALLBACK_COUNTS_PER_DEG
         };
@@ -188,20 +210,29 @@ impl Geometry {
         }
     }
 
-    /// `deg` in motor counts, truncated toward zero. `deg` is clamped to
+    /// `deg` in motor counts, to the nearest count. `deg` is clamped to
     /// ±4 × 365°, which no move of a sane geometry exceeds, so the result
-    /// is within ±1.5 × 10^9 counts; NaN gives 0.
-    fn counts(&self, deg: f32) -> i64 {
+    /// is within ±1.5 × 10^9 counts (`counts_per_deg` ≤ 10^6), inside the
+    /// `i32` range; NaN gives 0.
+    // Not inlined: called from eight places of homing and moves; an
+    // inlined copy (clamp, product, rounding, conversion) is some 150 B on
+    // an AVR.
+    #[inline(never)]
+    fn counts(&self, deg: f32) -> i32 {
         const LIMIT_DEG: f32 = 4.0 * ANGLE_CLAMP_DEG;
         if deg.is_nan() {
             return 0;
         }
-        let c = deg.clamp(-LIMIT_DEG, LIMIT_DEG) * self.counts_per_deg;
-        // Constant bounds: clamp cannot panic. To the nearest count (a
-        // truncated move ends up to a whole count short of its target, and
-        // the counts of successive moves would always fall short the same
-        // way). In range of i64 by the clamps; `as` saturates anyway.
-        libm::roundf(c) as i64
+        let c = within(deg, -LIMIT_DEG, LIMIT_DEG) * self.counts_per_deg;
+        // To the nearest count, halves away from zero (a truncated move
+        // ends up to a whole count short of its target, and the counts of
+        // successive moves would always fall short the same way). By ±0.5
+        // and truncation, not libm's `roundf` (some 200 B of bit handling
+        // inlined on an AVR): the sum rounds to f32, so a value less than
+        // one unit in the last place below a half may round up, a count
+        // off in a case no configuration meets on purpose. In range of i32
+        // by the clamps; `as` saturates anyway.
+        (if c < 0.0 { c - 0.5 } else { c + 0.5 }) as i32
     }
 }
 
@@ -213,12 +244,16 @@ pub struct AxisController<D> {
     geo: Geometry,
     /// Position in counts relative to the home switch, as commanded; while
     /// not homed, counted on from the last reference (or from power-on).
-    position_counts: i64,
+    /// 32 bits: every position homing or a move reaches is within the
+    /// soft limits' span plus the homing margins, a few times 365° ×
+    /// `counts_per_deg` ≤ 10^6 (see `Geometry::counts`); the arithmetic
+    /// saturates beyond.
+    position_counts: i32,
     /// Direction of the last move: +1, −1 or 0 (unknown).
     last_dir: i8,
     home: HomeState,
     /// Counted position at the start of this homing attempt.
-    attempt_start_counts: i64,
+    attempt_start_counts: i32,
     /// Second, slow approach of homing.
     fine: bool,
     /// The axis has been homed at least once: the counted position is an
@@ -227,7 +262,7 @@ pub struct AxisController<D> {
     /// Lowest counted position homing reached since the last reference
     /// (`None` until homing starts); back-off stays within
     /// [`HOMING_BACKOFF_MAX_DEG`] of it.
-    homing_low_counts: Option<i64>,
+    homing_low_counts: Option<i32>,
     /// Monotonic time of the previous homing step of this attempt, ms: the
     /// next step moves for the time since.
     homing_last_ms: Option<u64>,
@@ -317,15 +352,13 @@ impl<D: AxisDrive> AxisController<D> {
     }
 
     /// The counted position, motor counts from the home switch.
-    pub fn position_counts(&self) -> i64 {
+    pub fn position_counts(&self) -> i32 {
         self.position_counts
     }
 
-    /// Commands `counts` (clamped to the `i32` range) and returns what was
-    /// commanded; the caller accounts the position.
-    fn command(&mut self, counts: i64) -> Result<i32, AxisError<D::Error>> {
-        let c =
-            i32::try_from(counts.max(i64::from(i32::MIN)).min(i64::from(i32::MAX))).unwrap_or(0);
+    /// Commands `c` counts and returns them; the caller accounts the
+    /// position.
+    fn command(&mut self, c: i32) -> Result<i32, AxisError<D::Error>> {
         if c != 0 {
             self.drive.move_counts(c).map_err(AxisError::Drive)?;
             self.travel_counts = self
@@ -333,6 +366,24 @@ impl<D: AxisDrive> AxisController<D> {
                 .saturating_add(u64::from(c.unsigned_abs()));
         }
         Ok(c)
+    }
+
+    /// Takes `feedback_deg` (an encoder's or the attitude sensors' angle
+    /// of the axis) as the counted position: after a stall the drive
+    /// stopped where it was held, and the count follows the measurement
+    /// rather than the commands. Non-finite feedback is ignored; feedback
+    /// beyond the soft limits by more than [`FEEDBACK_MARGIN_DEG`] is
+    /// clamped first.
+    pub fn reanchor(&mut self, feedback_deg: f32) {
+        if feedback_deg.is_finite() {
+            let g = &self.geo;
+            let fb = within(
+                feedback_deg,
+                g.min_deg - FEEDBACK_MARGIN_DEG,
+                g.max_deg + FEEDBACK_MARGIN_DEG,
+            );
+            self.position_counts = g.counts(fb - g.home_deg);
+        }
     }
 
     /// Stops the drive and takes the counts it drops off the position.
@@ -343,7 +394,7 @@ impl<D: AxisDrive> AxisController<D> {
         self.drive.stop().map_err(AxisError::Drive)?;
         // A ramped stop still runs `after` counts; the rest never will.
         let after = self.drive.pending();
-        let dropped = i64::from(before).saturating_sub(i64::from(after));
+        let dropped = before.saturating_sub(after);
         self.position_counts = self.position_counts.saturating_sub(dropped);
         Ok(())
     }
@@ -356,7 +407,7 @@ impl<D: AxisDrive> AxisController<D> {
     /// Counts a back-off may still move up: within
     /// [`HOMING_BACKOFF_MAX_DEG`] of the lowest point of homing and, with a
     /// reference, not beyond `max_deg`.
-    fn backoff_room_counts(&self) -> i64 {
+    fn backoff_room_counts(&self) -> i32 {
         let low = self.homing_low_counts.unwrap_or(self.position_counts);
         let mut ceiling = low.saturating_add(self.geo.counts(HOMING_BACKOFF_MAX_DEG));
         if self.referenced {
@@ -368,7 +419,7 @@ impl<D: AxisDrive> AxisController<D> {
     /// Counts a seek may still move down: the documented travel below the
     /// position where the attempt started and, with a reference, not below the lower limit or home angle by
     /// more than [`HOMING_SEEK_MARGIN_DEG`] + backlash.
-    fn seek_room_counts(&self) -> i64 {
+    fn seek_room_counts(&self) -> i32 {
         let g = &self.geo;
         let travel_deg = (g.max_deg - g.min_deg) + HOMING_SEEK_EXTRA_DEG + g.backlash_deg;
         let below_start = self
@@ -376,7 +427,12 @@ impl<D: AxisDrive> AxisController<D> {
             .saturating_sub(self.position_counts);
         let mut room = g.counts(travel_deg).saturating_sub(below_start);
         if self.referenced {
-            let floor_deg = g.min_deg.min(g.home_deg) - HOMING_SEEK_MARGIN_DEG - g.backlash_deg;
+            let lowest_deg = if g.home_deg < g.min_deg {
+                g.home_deg
+            } else {
+                g.min_deg
+            };
+            let floor_deg = lowest_deg - HOMING_SEEK_MARGIN_DEG - g.backlash_deg;
             let floor = g.counts(floor_deg - g.home_deg);
             room = room.min(self.position_counts.saturating_sub(floor));
         }
@@ -392,7 +448,7 @@ impl<D: AxisDrive> AxisController<D> {
     /// chunk keeps a drive that runs at its speed from running dry just
     /// before the next step (a ramped drive would slow to a stop and start
     /// again every tick); the first step of an attempt moves one chunk.
-    fn homing_move_counts(&mut self, chunk_deg: f32, now_ms: u64) -> i64 {
+    fn homing_move_counts(&mut self, chunk_deg: f32, now_ms: u64) -> i32 {
         let dt_ms = self
             .homing_last_ms
             .map_or(0, |t| now_ms.saturating_sub(t))
@@ -454,12 +510,22 @@ impl<D: AxisDrive> AxisController<D> {
             return Ok(HomeState::Done);
         }
         let closed = self.drive.at_limit().map_err(AxisError::Drive)?;
-        let pending = i64::from(self.drive.pending());
+        let pending = self.drive.pending();
         let settled = pending == 0;
         if settled && self.home != HomeState::BackingOff {
             self.note_low();
         }
         if self.home == HomeState::Idle {
+            if !self.referenced {
+                // Without a reference the count only bounds the moves:
+                // each attempt counts from where it starts, so that
+                // attempts repeated for days (a switch stuck open at a
+                // hard stop) never run the count out of its 32 bits. The
+                // lowest point of homing moves with it.
+                let shift = self.position_counts;
+                self.position_counts = 0;
+                self.homing_low_counts = self.homing_low_counts.map(|l| l.saturating_sub(shift));
+            }
             self.attempt_start_counts = self.position_counts;
             self.fine = false;
             self.homing_last_ms = None;
@@ -495,7 +561,7 @@ impl<D: AxisDrive> AxisController<D> {
                 .saturating_sub(pending);
             if want > 0 {
                 let c = self.command(want.min(room))?;
-                self.position_counts = self.position_counts.saturating_add(i64::from(c));
+                self.position_counts = self.position_counts.saturating_add(c);
                 self.last_dir = 1;
             }
             return Ok(HomeState::BackingOff);
@@ -542,7 +608,7 @@ impl<D: AxisDrive> AxisController<D> {
             .saturating_add(pending);
         if want > 0 {
             let c = self.command(-want.min(room))?;
-            self.position_counts = self.position_counts.saturating_add(i64::from(c));
+            self.position_counts = self.position_counts.saturating_add(c);
             self.last_dir = -1;
         }
         Ok(HomeState::Seeking)
@@ -566,15 +632,11 @@ impl<D: AxisDrive> AxisController<D> {
             return Err(AxisError::NotFinite);
         }
         let g = self.geo;
-        // max/min, not clamp: no panic path.
-        let t = target_deg.max(g.min_deg).min(g.max_deg);
+        let t = within(target_deg, g.min_deg, g.max_deg);
         let clamped = t != target_deg;
         let deviation = feedback_deg.map(|f| f - t);
         let goal_counts = g.counts(t - g.home_deg);
         if let (FeedbackMode::ClosedLoop, Some(fb)) = (mode, feedback_deg) {
-            let fb = fb
-                .max(g.min_deg - FEEDBACK_MARGIN_DEG)
-                .min(g.max_deg + FEEDBACK_MARGIN_DEG);
             if (t - fb).abs() > g.deadband_deg {
                 // Re-anchor the count on the measurement and correct; a
                 // move still under way is dropped first, or its counts
@@ -582,7 +644,7 @@ impl<D: AxisDrive> AxisController<D> {
                 if self.drive.pending() != 0 {
                     self.drive.stop().map_err(AxisError::Drive)?;
                 }
-                self.position_counts = g.counts(fb - g.home_deg);
+                self.reanchor(fb);
             } else {
                 // Inside the deadband: trust the counted position.
                 return Ok(AxisReport {
@@ -599,14 +661,20 @@ impl<D: AxisDrive> AxisController<D> {
             let dir: i8 = if delta > 0 { 1 } else { -1 };
             // Backlash compensation: on reversal, take up the slack first.
             let take_up = if self.last_dir != 0 && dir != self.last_dir {
-                g.counts(g.backlash_deg).saturating_mul(i64::from(dir))
+                // ≥ 0 (backlash ≥ 0) and ≤ 5 × 10^6: negation is exact.
+                let slack = g.counts(g.backlash_deg);
+                if dir > 0 {
+                    slack
+                } else {
+                    -slack
+                }
             } else {
                 0
             };
             commanded = self.command(delta.saturating_add(take_up))?;
             // The take-up only closes the slack; the rest moves the axis.
             // Equal to `goal_counts` unless the command was clamped.
-            let moved = i64::from(commanded).saturating_sub(take_up);
+            let moved = commanded.saturating_sub(take_up);
             self.position_counts = self.position_counts.saturating_add(moved);
             self.last_dir = dir;
         }
