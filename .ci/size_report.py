@@ -10,8 +10,9 @@ docs/src/sizes.md, between its two `size_report` marker lines.
                                                  # (needs the images built)
 
 Each image's flash figure, budget and section list come from one run of
-`SECTIONS=1 NO_BUILD=1 bash .ci/budgets.sh` (without NO_BUILD with
---build), so the report and the budget check count the same bytes. The
+`SECTIONS=1 NO_BUILD=1 bash .ci/budgets.sh` (--build first builds the
+images as budgets.sh does), so the report and the budget check count the
+same bytes. The
 symbols come from `readelf -h -s -W` (binutils; any architecture) and are
 demangled by binutils' `c++filt` (Rust's legacy and v0 manglings; checked
 at start). Each byte of a flash section goes to at most one symbol: where
@@ -53,13 +54,12 @@ def run(cmd, stdin=None, env=None):
 # ------------------------------------------------------------ budgets.sh
 
 
-def budget_rows(build=False, env=None):
+def budget_rows(env=None):
     """[(image, part, elf, flash, budget, [(ndx, section, bytes)])] from
     budgets.sh's table; ReportError on a missing or unreadable ELF."""
     e = dict(env or os.environ)
     e["SECTIONS"] = "1"
-    if not build:
-        e["NO_BUILD"] = "1"
+    e["NO_BUILD"] = "1"
     rc, out, err = run(["bash", ".ci/budgets.sh"], env=e)
     rows, problems = [], []
     row_re = re.compile(r"^(\S+)\s+(.*?)\s+(\d+)\s+(\d+)\s+(\d+)\s+(\d+)\s+(ok|OVER)\s*$")
@@ -394,8 +394,14 @@ def self_test():
 def main(argv):
     if "--self-test" in argv:
         return self_test()
+    if "--build" in argv:
+        # every image, as .ci/budgets.sh builds them; cargo's output shown
+        build = "source .ci/firmware_env.sh && build_all_firmware"
+        if subprocess.run(["bash", "-c", build], cwd=ROOT, stdout=sys.stderr).returncode != 0:
+            print("size_report: building the images failed", file=sys.stderr)
+            return 1
     try:
-        tables = report(budget_rows(build="--build" in argv))
+        tables = report(budget_rows())
         if "--write" in argv:
             with open(CHAPTER, encoding="utf-8") as f:
                 old = f.read()
