@@ -6,6 +6,9 @@
 #   bash .ci/budgets.sh
 #   SELF_TEST=1 bash .ci/budgets.sh   # a missing, unreadable or over-budget
 #                                      # input must each fail the check
+#   SECTIONS=1 bash .ci/budgets.sh    # each row followed by its ELF's path and
+#                                      # the sections its flash figure adds up
+#                                      # (.ci/size_report.py reads them)
 #
 # Sizes are read from the ELF section headers with `readelf` (binutils; any
 # architecture), so no cross `size` tool is needed. Flash = every allocated
@@ -19,12 +22,17 @@ source .ci/firmware_env.sh
 
 err() { echo "budgets: $*" >&2; }
 
-# "flash ram" from `readelf -S -W` output on stdin; fails on a section row
-# that does not parse, or when there is no allocated section at all.
-sizes_from_readelf() {
-  local flash=0 ram=0 line name type size flags rows=0
+# One line "KIND NR NAME BYTES" per allocated section of `readelf -S -W`
+# output on stdin, KIND where it counts: flash, ram, flash+ram (.data: its
+# initial values are in flash, its variables in RAM) or none. Fails on a
+# section row that does not parse.
+sections_from_readelf() {
+  local line nr name type size flags kind
   while read -r line; do
     # "[Nr] Name Type Address Off Size ES Flg Lk Inf Al", Nr may hold spaces
+    nr=${line%%]*}
+    nr=${nr##*[}
+    nr=${nr// /}
     line=${line#*]}
     read -r name type _ _ size _ flags _ <<<"$line"
     if ! [[ "$size" =~ ^[0-9a-fA-F]{1,16}$ ]]; then
@@ -33,14 +41,30 @@ sizes_from_readelf() {
     fi
     size=$((16#$size))
     case "$flags" in *A*) ;; *) continue ;; esac
-    rows=$((rows + 1))
     case "$name" in
-      .data) flash=$((flash + size)); ram=$((ram + size)) ;;
-      .bss | .uninit | .noinit) ram=$((ram + size)) ;;
-      .stack | .heap | .eeprom | .fuse | .lock | .signature) ;;
-      *) if [ "$type" = NOBITS ]; then ram=$((ram + size)); else flash=$((flash + size)); fi ;;
+      .data) kind=flash+ram ;;
+      .bss | .uninit | .noinit) kind=ram ;;
+      .stack | .heap | .eeprom | .fuse | .lock | .signature) kind=none ;;
+      *) if [ "$type" = NOBITS ]; then kind=ram; else kind=flash; fi ;;
     esac
+    echo "$kind $nr $name $size"
   done < <(grep -E '^ *\[ *[0-9]+\]' | grep -v '^ *\[ *0\]')
+}
+
+# "flash ram" from `readelf -S -W` output on stdin; fails on a section row
+# that does not parse, or when there is no allocated section at all.
+sizes_from_readelf() {
+  local sections kind name size flash=0 ram=0 rows=0
+  sections=$(sections_from_readelf) || return 1
+  while read -r kind _ name size; do
+    [ -n "$kind" ] || continue
+    rows=$((rows + 1))
+    case "$kind" in
+      flash) flash=$((flash + size)) ;;
+      ram) ram=$((ram + size)) ;;
+      flash+ram) flash=$((flash + size)); ram=$((ram + size)) ;;
+    esac
+  done <<<"$sections"
   if [ "$rows" -eq 0 ] || [ "$flash" -eq 0 ]; then
     err "no allocated sections with flash contents"
     return 1
@@ -77,6 +101,10 @@ check() { # name part elf flash_budget ram_budget
   fi
   printf '%-20s %-26s %10d %10d %10d %10d  %s\n' "$name" "$part" "$flash" "$flash_budget" \
     "$ram" "$ram_budget" "$verdict"
+  if [ "${SECTIONS:-0}" = 1 ]; then
+    echo "  elf $elf"
+    readelf -S -W "$elf" | sections_from_readelf | awk '$1 ~ /^flash/ { print "  flash_section", $2, $3, $4 }'
+  fi
   [ "$verdict" = ok ]
 }
 

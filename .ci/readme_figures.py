@@ -67,6 +67,8 @@ SIM_RUNS = {
 # group -> shell command (run from the repository root, stdout + stderr).
 COMMANDS = {
     "sizes": "NO_BUILD=1 bash .ci/budgets.sh",
+    # The tables of docs/src/sizes.md (flash by crate, largest functions).
+    "sizes_report": "python3 .ci/size_report.py",
     "cycles": "NO_BUILD=1 bash .ci/avr_cycles.sh",
     "accuracy": "cargo test -q -p sun_algos --release --test reference -- --nocapture --test-threads=1",
     "events": "cargo test -q -p sun_algos --release --test spa_nrel -- --nocapture --test-threads=1",
@@ -96,6 +98,10 @@ COMMANDS = {
 }
 for _id, (_site, _opts) in SIM_RUNS.items():
     COMMANDS["sim_" + _id] = f"{SIM} {_site} {_opts}"
+
+# What rewrites a group's figures in the documentation, where a command does
+# (the others are edited by hand): said beside each mismatch.
+REGENERATE = {"sizes_report": "python3 .ci/size_report.py --write"}
 
 # FIGURES_ONLY names groups; a name stands for every group that starts with
 # it (`sim` = the nine simulation runs, `setpoints` = both set-point runs).
@@ -145,6 +151,7 @@ def regex_reader(pattern, **conv):
 
 
 # --- sizes (.ci/budgets.sh): "image part flash budget ram budget verdict"
+SIZE_IMAGES = []
 for name, label, ram_fmt in [
     ("avr_tracker", "avr_tracker, ATmega328P", "{ram}"),
     ("avr_tracker_psa2020", "avr_tracker with `psa2020`, ATmega328P", "{ram}"),
@@ -156,6 +163,7 @@ for name, label, ram_fmt in [
     ("blackpill_tracker", "blackpill_tracker, STM32F411", "{ram} + stack"),
     ("blackpill_tracker_defmt", "blackpill_tracker with `defmt`, STM32F411", "{ram} + stack"),
 ]:
+    SIZE_IMAGES.append(name)
     figure(
         f"size.{name}",
         "sizes",
@@ -182,6 +190,28 @@ for name, label, ram_fmt in [
             ),
             f"| `{name}` | {{flash}} ({{fb}}) / {ram_fmt} ({{rb}}) |",
         )
+
+
+
+
+# --- sizes_report (.ci/size_report.py): the summary table, then one
+# "### image" section per image, each a figure of its own
+def report_part(name):
+    def read(out):
+        parts = re.split(r"^(?=### )", out, flags=re.M)
+        if name is None:
+            return {"part": parts[0].strip()}
+        mine = [p for p in parts if p.startswith(f"### {name}\n")]
+        if len(mine) != 1:
+            raise Unreadable(f"{len(mine)} sections '### {name}' in the report")
+        return {"part": mine[0].strip()}
+
+    return read
+
+
+figure("sizes_report.summary", "sizes_report", report_part(None), "{part}")
+for name in SIZE_IMAGES:
+    figure(f"sizes_report.{name}", "sizes_report", report_part(name), "{part}")
 
 
 # --- cycles (.ci/avr_cycles.sh): the AVR table and QEMU's raw lines
@@ -594,6 +624,11 @@ def collapse(text):
     return re.sub(r"\s+", " ", text)
 
 
+def brief(text, limit=240):
+    """A long figure (a whole table) cut for the log."""
+    return text if len(text) <= limit else text[:limit] + f" … ({len(text)} characters)"
+
+
 def run(group):
     t0 = time.time()
     p = subprocess.run(
@@ -671,7 +706,8 @@ def main(argv):
                     tail = "\n".join(o.splitlines()[-15:])
                     print(f"  last lines of `{COMMANDS[g]}`:\n{tail}", file=sys.stderr)
             continue
-        shown = collapse(text).strip()
+        shown = brief(collapse(text).strip())
+        value = brief(collapse(value))
         if print_only:
             print(f"{fid} {value} {shown}", flush=True)
             continue
@@ -680,6 +716,14 @@ def main(argv):
         else:
             bad += 1
             print(f"MISMATCH {fid} {value} {shown}", flush=True)
+            # a figure of several lines (a table): the lines the text lacks
+            lines = [ln for ln in text.splitlines() if ln.strip()]
+            if len(lines) > 1:
+                for ln in [ln for ln in lines if collapse(ln).strip() not in readme][:5]:
+                    print(f"  not in the documentation: {ln}", flush=True)
+            for g in gs:
+                if g in REGENERATE:
+                    print(f"  regenerate with: {REGENERATE[g]}", flush=True)
     print(
         f"readme_figures: {len(figs)} figures from {len(groups)} commands, "
         f"{bad} mismatched or unreadable, {time.time() - t0:.0f} s",
