@@ -15,6 +15,10 @@ use crate::sun::PositionSource;
 /// Set-points of the day's remainder the look-ahead follows, at most.
 const LOOK_AHEAD_POINTS: usize = 48;
 
+/// A path of set-points as `best_start` walks it: handed a visitor, it
+/// calls it once per set-point, in order.
+type SetPointPath<'a, T> = &'a dyn Fn(&mut dyn FnMut(SetPoint<T>));
+
 impl<T, P, D, S, const N: usize> Controller<T, P, D, S, N>
 where
     T: Float,
@@ -38,8 +42,8 @@ where
                 alpha_deg: T::from_f32(self.axes[1].counted_deg()),
             };
             let (samples, n) = self.sample_day(first.time, first.set_point);
-            return self.best_start(first.set_point, Some(here), || {
-                samples.iter().take(n).copied()
+            return self.best_start(&first.set_point, Some(&here), &|visit| {
+                samples.iter().take(n).for_each(|&sp| visit(sp))
             });
         }
         let table = self.scheduler.table();
@@ -60,27 +64,29 @@ where
             .count();
         let stride = rest.div_ceil(LOOK_AHEAD_POINTS).max(1);
         let skip = table.len() - rest;
-        self.best_start(first.set_point, Some(here), || {
+        self.best_start(&first.set_point, Some(&here), &|visit| {
             (skip..table.len())
-                .filter(move |i| (i - skip).is_multiple_of(stride) || *i + 1 == table.len())
-                .filter_map(move |i| table.get(i))
-                .map(|e| e.set_point)
+                .filter(|i| (i - skip).is_multiple_of(stride) || *i + 1 == table.len())
+                .filter_map(|i| table.get(i))
+                .for_each(|e| visit(e.set_point))
         })
     }
 
     /// Of the poses facing `first`, the one whose path through the
-    /// set-points `path()` (least motion at each step) travels least, plus
-    /// the move from `from` when given.
-    fn best_start<I, F>(
+    /// set-points `path` hands its visitor (least motion at each step)
+    /// travels least, plus the move from `from` when given. The path is a
+    /// visitor, not a generic iterator: one copy of this search serves
+    /// both callers (each generic copy took about 3 KB of an 8-bit
+    /// board's flash).
+    /// (Arguments by reference: on the ATmega2560 by value they would not
+    /// all fit the registers, and LLVM reads stack arguments one byte off
+    /// there.)
+    fn best_start(
         &self,
-        first: SetPoint<T>,
-        from: Option<Pose<T>>,
-        path: F,
-    ) -> Option<Pose<T>>
-    where
-        I: Iterator<Item = SetPoint<T>>,
-        F: Fn() -> I,
-    {
+        first: &SetPoint<T>,
+        from: Option<&Pose<T>>,
+        path: SetPointPath<'_, T>,
+    ) -> Option<Pose<T>> {
         let limits = self.limits();
         let sun0 = sun_vector_xyz(first.elevation_deg(), first.azimuth_deg);
         let sols = self.attitude.solutions(&sun0, self.pose.gamma_deg).ok()?;
@@ -98,16 +104,15 @@ where
                     continue;
                 }
                 let mut prev = start;
-                let mut travel = from.map_or(T::ZERO, |f| dist(&f, &start));
-                for sp in path() {
+                let mut travel = from.map_or(T::ZERO, |f| dist(f, &start));
+                path(&mut |sp| {
                     let s = sun_vector_xyz(sp.elevation_deg(), sp.azimuth_deg);
-                    let Ok(c) = self.attitude.choose(&s, &prev, &limits) else {
-                        continue;
-                    };
-                    let p = c.pose();
-                    travel += dist(&p, &prev);
-                    prev = p;
-                }
+                    if let Ok(c) = self.attitude.choose(&s, &prev, &limits) {
+                        let p = c.pose();
+                        travel += dist(&p, &prev);
+                        prev = p;
+                    }
+                });
                 if best.is_none_or(|(t, _)| travel < t) {
                     best = Some((travel, start));
                 }
@@ -132,7 +137,9 @@ where
             .ok()
             .map(|p| SetPoint::facing(&p))?;
         let (samples, n) = self.sample_day(sunrise, first);
-        let pose = self.best_start(first, None, || samples.iter().take(n).copied())?;
+        let pose = self.best_start(&first, None, &|visit| {
+            samples.iter().take(n).for_each(|&sp| visit(sp))
+        })?;
         self.night_pose = Some((sunrise, pose));
         Some(pose)
     }

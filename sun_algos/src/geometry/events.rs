@@ -439,28 +439,90 @@ impl<T: Float> EventSearch<T> {
         F: FnMut(&UtcTime) -> Result<SunPosition<T>, crate::Error>,
     {
         let limit = T::from_f64(90.0 + SUN_RADIUS_PLUS_HORIZON_REFRACTION_DEG);
-        // Height above the limit; positive when the sun is up.
-        let mut up = |t: &UtcTime| -> Result<T, GeometryError> {
-            let p = sun(t)?;
-            if !p.zenith_deg.is_finite() {
-                return Err(GeometryError::NotFinite);
-            }
-            Ok(limit - p.zenith_deg)
-        };
         let w0 = self.window_start;
-        let at = |s: i64| w0.add_seconds(s);
+        // Each pass samples one position (the first of the transit search
+        // none): first the instant it needs, then the one call of the
+        // position source, then the stage updated in place. (One call site
+        // and no rebuilt stage: on an 8-bit board each inlined call and
+        // each copy of the stage cost hundreds of bytes.)
         for _ in 0..budget {
-            self.stage = match self.stage {
+            if let Stage::Golden {
+                a,
+                b,
+                c,
+                d,
+                fc: Some(fc),
+                fd: Some(fd),
+            } = self.stage
+            {
+                // Narrow the bracket; the new interior point is sampled
+                // below.
+                if b - a > 1.0 {
+                    self.stage = if fc >= fd {
+                        // [a, d] with c as its upper point.
+                        Stage::Golden {
+                            a,
+                            b: d,
+                            c: d - INV_PHI * (d - a),
+                            d: c,
+                            fc: None,
+                            fd: Some(fc),
+                        }
+                    } else {
+                        // [c, b] with d as its lower point.
+                        Stage::Golden {
+                            a: c,
+                            b,
+                            c: d,
+                            d: c + INV_PHI * (b - c),
+                            fc: Some(fd),
+                            fd: None,
+                        }
+                    };
+                }
+            }
+            // The instant sampled: `s` seconds after `base`.
+            let (base, s) = match self.stage {
+                Stage::Start => (w0, 0),
+                Stage::Sample { i } if i < SAMPLES => (w0, i * STEP_S),
+                Stage::Sample { .. } => {
+                    // Transit: golden-section search on the height over
+                    // ±1 step around the highest sample, to 1 s.
+                    let lo = (self.best_i - 1).max(0) * STEP_S;
+                    let hi = ((self.best_i + 1) * STEP_S).min(86_400);
+                    let (a, b) = (lo as f64, hi as f64);
+                    self.stage = Stage::Golden {
+                        a,
+                        b,
+                        c: b - INV_PHI * (b - a),
+                        d: a + INV_PHI * (b - a),
+                        fc: None,
+                        fd: None,
+                    };
+                    continue;
+                }
+                Stage::Bisect { t0, a, b, va, .. } => match va {
+                    _ if b - a > 1 => (t0, (a + b) / 2),
+                    // Then the two ends, to take the nearer whole second.
+                    None => (t0, a),
+                    Some(_) => (t0, b),
+                },
+                Stage::Golden { c, fc: None, .. } => (w0, libm::round(c) as i64),
+                Stage::Golden { d, fd: None, .. } => (w0, libm::round(d) as i64),
+                Stage::Golden { a, b, .. } => (w0, libm::round((a + b) / 2.0) as i64),
+            };
+            // Height above the limit; positive when the sun is up.
+            let v = height_at(sun, &base.add_seconds(s)?)?;
+            match &mut self.stage {
                 Stage::Start => {
-                    let v = up(&w0)?;
                     self.prev = v;
                     self.any_up = v > T::ZERO;
                     self.best_i = 0;
                     self.best_v = v;
-                    Stage::Sample { i: 1 }
+                    self.stage = Stage::Sample { i: 1 };
                 }
-                Stage::Sample { i } if i < SAMPLES => {
-                    let v = up(&at(i * STEP_S)?)?;
+                Stage::Sample { i } => {
+                    let i = *i;
                     if v > self.best_v {
                         self.best_v = v;
                         self.best_i = i;
@@ -470,9 +532,9 @@ impl<T: Float> EventSearch<T> {
                     let crossed_down = prev > T::ZERO && v <= T::ZERO;
                     self.any_up |= v > T::ZERO;
                     self.prev = v;
-                    if (crossed_up && self.sunrise.is_none()) || crossed_down {
+                    self.stage = if (crossed_up && self.sunrise.is_none()) || crossed_down {
                         Stage::Bisect {
-                            t0: at((i - 1) * STEP_S)?,
+                            t0: w0.add_seconds((i - 1) * STEP_S)?,
                             rising: crossed_up,
                             a: 0,
                             b: STEP_S,
@@ -481,22 +543,7 @@ impl<T: Float> EventSearch<T> {
                         }
                     } else {
                         Stage::Sample { i: i + 1 }
-                    }
-                }
-                Stage::Sample { .. } => {
-                    // Transit: golden-section search on the height over
-                    // ±1 step around the highest sample, to 1 s.
-                    let lo = (self.best_i - 1).max(0) * STEP_S;
-                    let hi = ((self.best_i + 1) * STEP_S).min(86_400);
-                    let (a, b) = (lo as f64, hi as f64);
-                    Stage::Golden {
-                        a,
-                        b,
-                        c: b - INV_PHI * (b - a),
-                        d: a + INV_PHI * (b - a),
-                        fc: None,
-                        fd: None,
-                    }
+                    };
                 }
                 Stage::Bisect {
                     t0,
@@ -506,93 +553,29 @@ impl<T: Float> EventSearch<T> {
                     va,
                     resume,
                 } => {
-                    if b - a > 1 {
-                        let m = (a + b) / 2;
-                        let above = up(&t0.add_seconds(m)?)? > T::ZERO;
-                        let (a, b) = if above == rising { (a, m) } else { (m, b) };
-                        Stage::Bisect {
-                            t0,
-                            rising,
-                            a,
-                            b,
-                            va,
-                            resume,
+                    if *b - *a > 1 {
+                        if (v > T::ZERO) == *rising {
+                            *b = s;
+                        } else {
+                            *a = s;
                         }
-                    } else if let Some(va) = va {
+                    } else if let Some(va) = *va {
                         // The nearer whole second to the crossing.
-                        let vb = up(&t0.add_seconds(b)?)?.abs();
-                        let t = t0.add_seconds(if va < vb { a } else { b })?;
-                        if rising {
+                        let t = t0.add_seconds(if va < v.abs() { *a } else { *b })?;
+                        if *rising {
                             self.sunrise = Some(t);
                         } else {
                             self.sunset = Some(t);
                         }
-                        Stage::Sample { i: resume }
+                        self.stage = Stage::Sample { i: *resume };
                     } else {
-                        Stage::Bisect {
-                            t0,
-                            rising,
-                            a,
-                            b,
-                            va: Some(up(&t0.add_seconds(a)?)?.abs()),
-                            resume,
-                        }
+                        *va = Some(v.abs());
                     }
                 }
-                Stage::Golden { a, b, c, d, fc, fd } => {
-                    let f = |up: &mut dyn FnMut(&UtcTime) -> Result<T, GeometryError>, s: f64| {
-                        up(&w0.add_seconds(libm::round(s) as i64)?)
-                    };
-                    match (fc, fd) {
-                        (None, _) => Stage::Golden {
-                            a,
-                            b,
-                            c,
-                            d,
-                            fc: Some(f(&mut up, c)?),
-                            fd,
-                        },
-                        (Some(fc), None) => Stage::Golden {
-                            a,
-                            b,
-                            c,
-                            d,
-                            fc: Some(fc),
-                            fd: Some(f(&mut up, d)?),
-                        },
-                        (Some(fc), Some(fd)) if b - a > 1.0 => {
-                            if fc >= fd {
-                                let (a, b, d, fd) = (a, d, c, fc);
-                                let c = b - INV_PHI * (b - a);
-                                Stage::Golden {
-                                    a,
-                                    b,
-                                    c,
-                                    d,
-                                    fc: Some(f(&mut up, c)?),
-                                    fd: Some(fd),
-                                }
-                            } else {
-                                let (a, b, c, fc) = (c, b, d, fd);
-                                let d = a + INV_PHI * (b - a);
-                                Stage::Golden {
-                                    a,
-                                    b,
-                                    c,
-                                    d,
-                                    fc: Some(fc),
-                                    fd: Some(f(&mut up, d)?),
-                                }
-                            }
-                        }
-                        (Some(_), Some(_)) => {
-                            let s = libm::round((a + b) / 2.0) as i64;
-                            let v = f(&mut up, s as f64)?;
-                            return Ok(Some(self.finish(s, v, limit)?));
-                        }
-                    }
-                }
-            };
+                Stage::Golden { fc: fc @ None, .. } => *fc = Some(v),
+                Stage::Golden { fd: fd @ None, .. } => *fd = Some(v),
+                Stage::Golden { .. } => return Ok(Some(self.finish(s, v, limit)?)),
+            }
         }
         Ok(None)
     }
@@ -632,6 +615,21 @@ impl<T: Float> EventSearch<T> {
             daylight_s: daylight_s.clamp(0, end_s) as u32,
         })
     }
+}
+
+/// The sun's height above the event limit (90.833° of zenith; degrees,
+/// positive when it is up) at `t`. Not inlined: the one call of the
+/// position source in [`EventSearch`]'s loop.
+#[inline(never)]
+fn height_at<T: Float, F>(sun: &mut F, t: &UtcTime) -> Result<T, GeometryError>
+where
+    F: FnMut(&UtcTime) -> Result<SunPosition<T>, crate::Error>,
+{
+    let p = sun(t)?;
+    if !p.zenith_deg.is_finite() {
+        return Err(GeometryError::NotFinite);
+    }
+    Ok(T::from_f64(90.0 + SUN_RADIUS_PLUS_HORIZON_REFRACTION_DEG) - p.zenith_deg)
 }
 
 /// 1/φ, the golden-section ratio.
