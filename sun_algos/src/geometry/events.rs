@@ -319,12 +319,13 @@ enum Stage<T> {
         resume: i64,
     },
     /// Golden-section search for the transit on `[a, b]` seconds with the
-    /// interior points `c`, `d` (their heights once known).
+    /// interior points `c`, `d` (their heights once known), in the float
+    /// type of the positions (no software `f64` on an 8-bit board).
     Golden {
-        a: f64,
-        b: f64,
-        c: f64,
-        d: f64,
+        a: T,
+        b: T,
+        c: T,
+        d: T,
         fc: Option<T>,
         fd: Option<T>,
     },
@@ -488,12 +489,14 @@ impl<T: Float> EventSearch<T> {
                     // ±1 step around the highest sample, to 1 s.
                     let lo = (self.best_i - 1).max(0) * STEP_S;
                     let hi = ((self.best_i + 1) * STEP_S).min(86_400);
-                    let (a, b) = (lo as f64, hi as f64);
+                    // 0 ≤ lo < hi ≤ 86 400: exact as i32 and in T.
+                    let (a, b) = (T::from_i32(lo as i32), T::from_i32(hi as i32));
+                    let inv_phi = T::from_f64(INV_PHI);
                     Stage::Golden {
                         a,
                         b,
-                        c: b - INV_PHI * (b - a),
-                        d: a + INV_PHI * (b - a),
+                        c: b - inv_phi * (b - a),
+                        d: a + inv_phi * (b - a),
                         fc: None,
                         fd: None,
                     }
@@ -540,8 +543,9 @@ impl<T: Float> EventSearch<T> {
                     }
                 }
                 Stage::Golden { a, b, c, d, fc, fd } => {
-                    let f = |up: &mut dyn FnMut(&UtcTime) -> Result<T, GeometryError>, s: f64| {
-                        up(&w0.add_seconds(libm::round(s) as i64)?)
+                    let inv_phi = T::from_f64(INV_PHI);
+                    let f = |up: &mut dyn FnMut(&UtcTime) -> Result<T, GeometryError>, s: T| {
+                        up(&w0.add_seconds(round_s(s))?)
                     };
                     match (fc, fd) {
                         (None, _) => Stage::Golden {
@@ -560,10 +564,10 @@ impl<T: Float> EventSearch<T> {
                             fc: Some(fc),
                             fd: Some(f(&mut up, d)?),
                         },
-                        (Some(fc), Some(fd)) if b - a > 1.0 => {
+                        (Some(fc), Some(fd)) if b - a > T::ONE => {
                             if fc >= fd {
                                 let (a, b, d, fd) = (a, d, c, fc);
-                                let c = b - INV_PHI * (b - a);
+                                let c = b - inv_phi * (b - a);
                                 Stage::Golden {
                                     a,
                                     b,
@@ -574,7 +578,7 @@ impl<T: Float> EventSearch<T> {
                                 }
                             } else {
                                 let (a, b, c, fc) = (c, b, d, fd);
-                                let d = a + INV_PHI * (b - a);
+                                let d = a + inv_phi * (b - a);
                                 Stage::Golden {
                                     a,
                                     b,
@@ -586,8 +590,9 @@ impl<T: Float> EventSearch<T> {
                             }
                         }
                         (Some(_), Some(_)) => {
-                            let s = libm::round((a + b) / 2.0) as i64;
-                            let v = f(&mut up, s as f64)?;
+                            let s = round_s((a + b) / T::from_f64(2.0));
+                            // 0 ≤ s ≤ 86 400.
+                            let v = f(&mut up, T::from_i32(s as i32))?;
                             return Ok(Some(self.finish(s, v, limit)?));
                         }
                     }
@@ -636,6 +641,12 @@ impl<T: Float> EventSearch<T> {
 
 /// 1/φ, the golden-section ratio.
 const INV_PHI: f64 = 0.618_033_988_749_895;
+
+/// A second of the window, `0 ≤ s ≤ 86 400`, rounded to the nearest whole
+/// one (halves up), through `f32` (exact for these whole numbers).
+fn round_s<T: Float>(s: T) -> i64 {
+    i64::from((s + T::from_f64(0.5)).floor().to_f32() as i32)
+}
 
 /// Precise events of the local solar day of date `(y, m, d)` at `site` with
 /// `algorithm`. Positions are geometric (any atmosphere in `options` is
