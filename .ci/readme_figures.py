@@ -570,6 +570,12 @@ figure(
     regex_reader(r"^WMM2025 worst \|D - official\| = (?P<d>[0-9.]+) deg"),
     "within {d}° of NOAA's published test values",
 )
+figure(
+    "wmm.f32",
+    "wmm",
+    regex_reader(r"^WMM2025 in f32: worst component error [0-9.]+ nT, \|D - official\| (?P<d>[0-9.]+) deg"),
+    "in `f32`, as the 8-bit boards run it, within {d}°",
+)
 
 
 def compact(out):

@@ -40,7 +40,7 @@ use crate::motion::AxisDrive;
 use crate::persist::{Loaded, SaveError, SaveStatus};
 use crate::ports::AttitudeSensor;
 use crate::safety::{AxisId, Mode};
-use crate::site::{site_from_config, site_from_fix, wmm_declination_deg};
+use crate::site::{site_from_config, site_from_fix, site_moved, wmm_declination_deg};
 use crate::sun::BoardSource;
 use crate::time::TimeConfig;
 use crate::time::{TimeKeeper, TimeOrigin};
@@ -164,7 +164,7 @@ pub struct AppConfig {
     /// A GPS position moving less than this (degrees of latitude or
     /// longitude) from the site in use does not change it: fix noise of a
     /// few metres does not re-plan the day.
-    pub site_min_move_deg: f64,
+    pub site_min_move_deg: f32,
     /// Take the magnetic declination from WMM2025 for the site in use
     /// (instead of the configuration's `calibration.declination_deg`).
     pub wmm_declination: bool,
@@ -240,8 +240,11 @@ pub struct Firmware<T, R, G, D, S, L, const N: usize> {
     last_pass_ms: Option<u64>,
     time_origin: Option<TimeOrigin>,
     site_origin: Option<LogSite>,
-    site_f64: Site<f64>,
-    declination_for: Option<(Site<f64>, i32)>,
+    /// The site in use, in the controller's precision (`f32` on a board
+    /// without an FPU: about a metre, and no software `f64`).
+    site: Site<T>,
+    /// The site and day (since 2000) the declination was computed for.
+    declination_for: Option<(Site<T>, i32)>,
     last_setpoint: Option<UtcTime>,
     last_report: Option<TickReport<T>>,
     last_gps_ms: Option<u64>,
@@ -286,8 +289,7 @@ where
         // The instant handed to the controller's timers before any time is
         // known (it neither tracks nor plans then).
         let boot_fallback = UtcTime::from_days_ms(0, 0).map_err(StartError::Site)?;
-        let site_f64 = site_from_config(&config.site).map_err(StartError::Site)?;
-        let site = convert_site::<T>(&site_f64).map_err(StartError::Site)?;
+        let site = site_from_config(&config.site).map_err(StartError::Site)?;
         let source = BoardSource::new(site, app.delta_t_s);
         Controller::<T, BoardSource<T>, D, S, N>::check(&config).map_err(StartError::Controller)?;
         Ok(Firmware {
@@ -306,7 +308,7 @@ where
             last_pass_ms: None,
             time_origin: None,
             site_origin: None,
-            site_f64,
+            site,
             declination_for: None,
             last_setpoint: None,
             last_report: None,
@@ -461,16 +463,14 @@ where
         self.last_report = Some(report);
     }
 
-    // Not inlined: the WMM synthesis's rows (about 1 KB of f64) are then on
+    // Not inlined: the WMM synthesis's rows (four of 13 floats) are then on
     // the stack only during this call, not under the controller's tick.
     #[inline(never)]
     fn update_site(&mut self, now: Option<UtcTime>) {
-        match site_from_fix(&self.fix) {
+        match site_from_fix::<T>(&self.fix) {
             Some(s) => {
-                let moved = (s.latitude_deg() - self.site_f64.latitude_deg()).abs()
-                    > self.app.site_min_move_deg
-                    || (s.longitude_deg() - self.site_f64.longitude_deg()).abs()
-                        > self.app.site_min_move_deg;
+                let min_move_deg = T::from_f32(self.app.site_min_move_deg);
+                let moved = site_moved(&s, &self.site, min_move_deg);
                 if self.site_origin != Some(LogSite::Gps) || moved {
                     self.use_site(s, LogSite::Gps);
                 }
@@ -481,8 +481,8 @@ where
                     log::site(
                         &mut self.log,
                         LogSite::Config,
-                        self.site_f64.latitude_deg() as f32,
-                        self.site_f64.longitude_deg() as f32,
+                        self.site.latitude_deg().to_f32(),
+                        self.site.longitude_deg().to_f32(),
                     );
                 }
             }
@@ -491,14 +491,12 @@ where
         // day (it changes by about 0.1° a year).
         if self.app.wmm_declination {
             if let Some(now) = now {
-                let day = now.unix_seconds().div_euclid(86_400);
-                let day = i32::try_from(day).unwrap_or(i32::MAX);
-                let key = (self.site_f64, day);
+                let key = (self.site, now.days_since_2000());
                 if self.declination_for != Some(key) {
                     self.declination_for = Some(key);
                     // In the controller's precision: f32 on a board
                     // without an FPU (software f64 takes ten times longer).
-                    if let Ok(d) = wmm_declination_deg::<T>(&self.site_f64, &now) {
+                    if let Ok(d) = wmm_declination_deg(&self.site, &now) {
                         if let Some(s) = self.controller.sensors_mut() {
                             s.set_declination_deg(d);
                         }
@@ -597,31 +595,29 @@ where
         if self.site_origin == Some(LogSite::Gps) {
             return true;
         }
-        let Ok(site_f64) = site_from_config(&config.site) else {
+        let Ok(site) = site_from_config(&config.site) else {
             return true;
         };
-        if site_f64 == self.site_f64 {
+        if site == self.site {
             return true;
         }
-        self.use_site(site_f64, LogSite::Config);
+        self.use_site(site, LogSite::Config);
         true
     }
 
     /// Tracks for `site` from now on (the day is planned again) and logs
-    /// where it came from; a site the float type cannot hold is ignored.
-    fn use_site(&mut self, site_f64: Site<f64>, origin: LogSite) {
-        if let Ok(site) = convert_site::<T>(&site_f64) {
-            self.site_f64 = site_f64;
-            self.controller.position_source_mut().set_site(site);
-            self.controller.replan();
-            self.site_origin = Some(origin);
-            log::site(
-                &mut self.log,
-                origin,
-                site_f64.latitude_deg() as f32,
-                site_f64.longitude_deg() as f32,
-            );
-        }
+    /// where it came from.
+    fn use_site(&mut self, site: Site<T>, origin: LogSite) {
+        self.site = site;
+        self.controller.position_source_mut().set_site(site);
+        self.controller.replan();
+        self.site_origin = Some(origin);
+        log::site(
+            &mut self.log,
+            origin,
+            site.latitude_deg().to_f32(),
+            site.longitude_deg().to_f32(),
+        );
     }
 
     fn status_view(&self) -> StatusView {
@@ -634,8 +630,8 @@ where
         StatusView {
             mode: self.last_report.map_or(Mode::WaitForTime, |r| r.mode),
             time: self.last_time,
-            lat_deg: self.site_f64.latitude_deg() as f32,
-            lon_deg: self.site_f64.longitude_deg() as f32,
+            lat_deg: self.site.latitude_deg().to_f32(),
+            lon_deg: self.site.longitude_deg().to_f32(),
             site_source: match self.site_origin {
                 Some(LogSite::Gps) => LogSite::Gps,
                 _ => LogSite::Config,
@@ -750,12 +746,4 @@ where
     fn clear(&mut self) {
         self.fw.controller.reset_faults();
     }
-}
-
-fn convert_site<T: Float>(s: &Site<f64>) -> Result<Site<T>, SunError> {
-    Site::with_elevation(
-        T::from_f64(s.latitude_deg()),
-        T::from_f64(s.longitude_deg()),
-        T::from_f64(s.elevation_m()),
-    )
 }

@@ -8,7 +8,7 @@
 use sun_algos::geometry::GeometryError;
 use sun_algos::{Error, Site, SunPosition, UtcTime};
 use suntracker::plan::{
-    Action, Daylight, Phase, ScheduleConfig, ScheduleError, Scheduler, SetPoint,
+    solar_day_start, Action, Daylight, Phase, ScheduleConfig, ScheduleError, Scheduler, SetPoint,
 };
 use suntracker::sun::PositionSource;
 
@@ -639,4 +639,51 @@ fn real_time_clock_jumps_set_the_new_slot_at_once() {
             until: t("2018-10-18T02:04:00Z")
         }
     );
+}
+
+/// The solar midnight as it was computed before the firmware dropped `f64`
+/// and 64-bit division: `s = lon·240` widened to `f64` and truncated, then
+/// `div_euclid` on the seconds. The reference for the integer version.
+fn solar_day_start_in_f64<T: sun_algos::Float>(now: &UtcTime, lon: T) -> Option<UtcTime> {
+    let s = (lon * T::from_f64(240.0)).to_f64();
+    let off = if s.is_finite() { s as i64 } else { 0 };
+    let local = now.unix_seconds() + off;
+    UtcTime::from_unix_seconds(local.div_euclid(86_400) * 86_400 - off).ok()
+}
+
+#[test]
+fn solar_day_start_agrees_with_the_f64_version() {
+    // Longitudes every 0.37° and at the whole degrees and seconds of time
+    // (1/240°) around each, where truncation decides; instants around
+    // midnights and the ends of the calendar.
+    let nows = [
+        t("2026-03-20T00:00:00Z"),
+        t("2026-03-20T23:59:59.999Z"),
+        t("2026-06-21T11:59:59Z"),
+        t("1999-12-31T12:00:00Z"),
+        UtcTime::from_days_ms(-2_191_000, 43_200_000).unwrap(),
+    ];
+    let mut lons = vec![
+        f64::NAN,
+        f64::INFINITY,
+        -180.0,
+        180.0,
+        0.0,
+        -0.0,
+        1e-300,
+        -1e-300,
+    ];
+    for k in -500..=500 {
+        let lon = f64::from(k) * 0.37 - 0.25;
+        lons.extend([lon, (lon * 240.0).round() / 240.0, lon.round()]);
+    }
+    for now in &nows {
+        for &lon in &lons {
+            let want = solar_day_start_in_f64(now, lon).ok_or(ScheduleError::TimeRange);
+            assert_eq!(solar_day_start(now, lon), want, "{now} {lon}");
+            let lon = lon as f32;
+            let want = solar_day_start_in_f64(now, lon).ok_or(ScheduleError::TimeRange);
+            assert_eq!(solar_day_start(now, lon), want, "{now} {lon}");
+        }
+    }
 }

@@ -68,8 +68,14 @@ fn good_epoch_gives_position_time_and_altitude() {
         let text = epoch_text(&model, now);
         let fix = decode_one(&text);
         assert_eq!(fix.quality, FixQuality::Gps);
-        assert!((fix.latitude_deg.unwrap() - lat).abs() < 1e-6, "{text}");
-        assert!((fix.longitude_deg.unwrap() - lon).abs() < 1e-6, "{text}");
+        assert!(
+            (fix.latitude_deg.unwrap().deg::<f64>() - lat).abs() < 1e-6,
+            "{text}"
+        );
+        assert!(
+            (fix.longitude_deg.unwrap().deg::<f64>() - lon).abs() < 1e-6,
+            "{text}"
+        );
         assert!((f64::from(fix.altitude_m.unwrap()) - alt).abs() < 0.05);
         assert_eq!(fix.satellites, Some(8));
         let expected = DateTime::new(2025, 12, 1, 13, 14, 15)
@@ -116,8 +122,14 @@ fn whole_day_of_epochs_decodes_within_1e_6_degrees() {
         model.position_override = Some((lat, lon));
         let now = start.add_seconds(minute * 60).unwrap();
         let fix = decode_one(&epoch_text(&model, now));
-        assert!((fix.latitude_deg.unwrap() - lat).abs() < 1e-6, "{lat}");
-        assert!((fix.longitude_deg.unwrap() - lon).abs() < 1e-6, "{lon}");
+        assert!(
+            (fix.latitude_deg.unwrap().deg::<f64>() - lat).abs() < 1e-6,
+            "{lat}"
+        );
+        assert!(
+            (fix.longitude_deg.unwrap().deg::<f64>() - lon).abs() < 1e-6,
+            "{lon}"
+        );
         let (h, mi, s, _) = now.hms_milli();
         assert_eq!(fix.utc, Some(DateTime::new(2026, 6, 21, h, mi, s).unwrap()));
     }

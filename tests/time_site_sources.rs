@@ -6,7 +6,7 @@
 mod common;
 
 use common::*;
-use drivers::gps::{FixQuality, GpsFix};
+use drivers::gps::{Coordinate, FixQuality, GpsFix};
 use drivers::rtc::Ds3231;
 use drivers::time::DateTime;
 use embedded_hal::i2c::{ErrorKind, NoAcknowledgeSource};
@@ -37,8 +37,8 @@ fn kano_fix(secs: u32) -> GpsFix {
     let (h, m, s) = at(secs).hms();
     GpsFix {
         utc: Some(DateTime::new(2026, 3, 20, h as u8, m as u8, s as u8).unwrap()),
-        latitude_deg: Some(11.9683),
-        longitude_deg: Some(8.4261),
+        latitude_deg: Coordinate::from_deg(11.9683),
+        longitude_deg: Coordinate::from_deg(8.4261),
         altitude_m: Some(480.0),
         quality: FixQuality::Gps,
         satellites: Some(8),
@@ -236,28 +236,28 @@ fn site_from_gps_then_stored_then_postal_code() {
         longitude_deg: 3.06,
         elevation_m: 10.0,
     };
-    let (s, o) = resolve_site(&kano_fix(T0), Some(&stored), Some("DZ:16000")).unwrap();
+    let (s, o) = resolve_site::<f64>(&kano_fix(T0), Some(&stored), Some("DZ:16000")).unwrap();
     assert_eq!(o, SiteOrigin::Gps);
     assert_eq!((s.latitude_deg(), s.longitude_deg()), (11.9683, 8.4261));
     assert_eq!(s.elevation_m(), 480.0);
 
-    let (s, o) = resolve_site(&GpsFix::NONE, Some(&stored), Some("DZ:16000")).unwrap();
+    let (s, o) = resolve_site::<f64>(&GpsFix::NONE, Some(&stored), Some("DZ:16000")).unwrap();
     assert_eq!(o, SiteOrigin::Stored);
     assert!((s.latitude_deg() - 36.75).abs() < 1e-6);
 
     // DZ:16000 is "Alger Gare" (36.779443, 3.061738) in data/postal_codes.csv.
-    let (s, o) = resolve_site(&GpsFix::NONE, None, Some("DZ:16000")).unwrap();
+    let (s, o) = resolve_site::<f64>(&GpsFix::NONE, None, Some("DZ:16000")).unwrap();
     assert_eq!(o, SiteOrigin::PostalCode);
     let entry = suntracker::site::lookup_str("DZ:16000").unwrap();
     assert_eq!(s.latitude_deg(), entry.latitude_deg::<f64>());
     assert_eq!(s.longitude_deg(), entry.longitude_deg::<f64>());
 
     assert_eq!(
-        resolve_site(&GpsFix::NONE, None, Some("DZ:99999")),
+        resolve_site::<f64>(&GpsFix::NONE, None, Some("DZ:99999")),
         Err(SiteError::Postal(PostalError::UnknownPostalCode))
     );
     assert_eq!(
-        resolve_site(&GpsFix::NONE, None, None),
+        resolve_site::<f64>(&GpsFix::NONE, None, None),
         Err(SiteError::NoSource)
     );
     // A stored site that is out of range is an error, never applied.
@@ -266,7 +266,7 @@ fn site_from_gps_then_stored_then_postal_code() {
         ..stored
     };
     assert!(matches!(
-        resolve_site(&GpsFix::NONE, Some(&bad), None),
+        resolve_site::<f64>(&GpsFix::NONE, Some(&bad), None),
         Err(SiteError::Invalid(_))
     ));
 }
@@ -278,7 +278,7 @@ fn shared_site_follows_a_moved_gps_only() {
     assert_eq!(cell.get().latitude_deg(), 11.9683);
     // 0.00005° of fix noise: no change.
     let mut noisy = kano_fix(T0);
-    noisy.latitude_deg = Some(11.96835);
+    noisy.latitude_deg = Coordinate::from_deg(11.96835);
     assert!(!follow_gps_site(&cell, &noisy, 0.01));
     assert!(!follow_gps_site(&cell, &GpsFix::NONE, 0.01));
 }
@@ -289,28 +289,27 @@ fn wmm_declination_for_the_site_matches_noaa_test_values() {
     // decimals): 2027.5 at 80° N 0° E, 0 km: D = 2.59° (2.594134°);
     // 2025.0 at 0° N 120° E: D = −0.16° (−0.158274°). 2027.5 is
     // 2027-07-02 12:00 UTC (182.5 days into a 365-day year).
-    let site = Site::new(80.0, 0.0).unwrap();
-    let t = UtcTime::from_ymd_hms(2027, 7, 2, 12, 0, 0).unwrap();
-    // In f64 (hosts) and in f32 (the 8-bit board's synthesis).
+    // In f64 (hosts) and in f32 (the 8-bit board's site and synthesis).
     use suntracker::site::wmm_declination_deg as wmm;
+    let t = UtcTime::from_ymd_hms(2027, 7, 2, 12, 0, 0).unwrap();
     for d in [
-        wmm::<f64>(&site, &t).unwrap(),
-        wmm::<f32>(&site, &t).unwrap(),
+        wmm(&Site::<f64>::new(80.0, 0.0).unwrap(), &t).unwrap(),
+        wmm(&Site::<f32>::new(80.0, 0.0).unwrap(), &t).unwrap(),
     ] {
         assert!((f64::from(d) - 2.594134).abs() < 0.005, "{d}");
     }
-    let site = Site::new(0.0, 120.0).unwrap();
+    let (site, site32) = (
+        Site::new(0.0, 120.0).unwrap(),
+        Site::<f32>::new(0.0, 120.0).unwrap(),
+    );
     let t = UtcTime::from_ymd_hms(2025, 1, 1, 0, 0, 0).unwrap();
-    for d in [
-        wmm::<f64>(&site, &t).unwrap(),
-        wmm::<f32>(&site, &t).unwrap(),
-    ] {
+    for d in [wmm::<f64>(&site, &t).unwrap(), wmm(&site32, &t).unwrap()] {
         assert!((f64::from(d) + 0.158274).abs() < 0.005, "{d}");
     }
     // Outside the model's life span: an error, not a guess.
     let t = UtcTime::from_ymd_hms(2031, 1, 1, 0, 0, 0).unwrap();
     assert!(wmm::<f64>(&site, &t).is_err());
-    assert!(wmm::<f32>(&site, &t).is_err());
+    assert!(wmm(&site32, &t).is_err());
 }
 
 #[test]
@@ -419,8 +418,8 @@ fn a_fix_with_an_impossible_position_gives_neither_site_nor_time() {
     // tracker does not rely on the parser alone.
     for (lat, lon) in [(91.0, 8.0), (12.0, 200.0), (f64::NAN, 8.0)] {
         let bad = GpsFix {
-            latitude_deg: Some(lat),
-            longitude_deg: Some(lon),
+            latitude_deg: Coordinate::from_deg(lat),
+            longitude_deg: Coordinate::from_deg(lon),
             ..kano_fix(T0)
         };
         assert_eq!(
@@ -432,7 +431,7 @@ fn a_fix_with_an_impossible_position_gives_neither_site_nor_time() {
             longitude_deg: 8.4261,
             elevation_m: 480.0,
         };
-        let (_, origin) = resolve_site(&bad, Some(&stored), None).unwrap();
+        let (_, origin) = resolve_site::<f64>(&bad, Some(&stored), None).unwrap();
         assert_eq!(origin, SiteOrigin::Stored);
     }
 }

@@ -89,8 +89,8 @@ fn csv(fix: &GpsFix) -> String {
     format!(
         "{},{},{},{},{},{}",
         opt(fix.utc),
-        opt(fix.latitude_deg.map(|v| format!("{v:.7}"))),
-        opt(fix.longitude_deg.map(|v| format!("{v:.7}"))),
+        opt(fix.latitude_deg.map(|v| format!("{:.7}", v.deg::<f64>()))),
+        opt(fix.longitude_deg.map(|v| format!("{:.7}", v.deg::<f64>()))),
         opt(fix.altitude_m.map(|v| format!("{v:.1}"))),
         fix.quality.code(),
         opt(fix.satellites),

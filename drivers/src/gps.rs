@@ -16,12 +16,14 @@
 //! [`GpsDecoder`] takes them one at a time from anywhere else.
 
 mod assembler;
+mod coordinate;
 mod fix;
 mod parse;
 mod plausible;
 mod reader;
 
 pub use assembler::{nmea_checksum, AssemblerStats, Reject, SentenceAssembler, MAX_SENTENCE_LEN};
+pub use coordinate::Coordinate;
 pub use fix::{FixFusion, GpsFix};
 pub use parse::{parse_sentence, FixQuality, Gga, ParseError, Rmc, Sentence, TimeOfDayMs};
 pub use reader::{Error, GpsDecoder, GpsReader, GpsStats};

@@ -121,32 +121,30 @@ fn wmm2025_in_f32_matches_noaa_test_values() {
     );
 }
 
-fn parse_cof(text: &str) -> (f64, Vec<WmmCoefficient>) {
+/// A `WMM.COF` file: the epoch and the rows, each value read as its digits
+/// without the point (the files give every coefficient to 0.1 nT).
+fn parse_cof(text: &str) -> (u16, Vec<WmmCoefficient>) {
     let mut lines = text.lines();
-    let epoch: f64 = lines
-        .next()
-        .unwrap()
-        .split_whitespace()
-        .next()
-        .unwrap()
-        .parse()
-        .unwrap();
+    let epoch = lines.next().unwrap().split_whitespace().next().unwrap();
+    let epoch: u16 = epoch.strip_suffix(".0").unwrap().parse().unwrap();
+    let tenths = |s: &str| -> i32 {
+        let (whole, tenth) = s.split_once('.').unwrap();
+        assert_eq!(tenth.len(), 1, "{s}");
+        format!("{whole}{tenth}").parse().unwrap()
+    };
     let mut rows = Vec::new();
     for line in lines {
         if line.starts_with("9999") {
             break;
         }
-        let f: Vec<f64> = line
-            .split_whitespace()
-            .map(|s| s.parse().unwrap())
-            .collect();
+        let f: Vec<&str> = line.split_whitespace().collect();
         rows.push(WmmCoefficient {
-            n: f[0] as u8,
-            m: f[1] as u8,
-            g_nt: f[2],
-            h_nt: f[3],
-            g_dot_nt_per_yr: f[4],
-            h_dot_nt_per_yr: f[5],
+            n: f[0].parse().unwrap(),
+            m: f[1].parse().unwrap(),
+            g_tenth_nt: tenths(f[2]),
+            h_tenth_nt: tenths(f[3]),
+            g_dot_tenth_nt_per_yr: tenths(f[4]),
+            h_dot_tenth_nt_per_yr: tenths(f[5]),
         });
     }
     (epoch, rows)
@@ -266,7 +264,7 @@ fn bad_inputs_are_errors() {
         m.field(90.0, 0.0, 0.0, 2026.0),
         Err(WmmError::AtGeographicPole)
     );
-    let short = WmmModel::from_table(2025.0, &[]);
+    let short = WmmModel::from_table(2025, &[]);
     assert_eq!(
         short.field(0.0, 0.0, 0.0, 2026.0),
         Err(WmmError::BadCoefficientTable)
@@ -276,15 +274,27 @@ fn bad_inputs_are_errors() {
 #[test]
 fn decimal_year_by_hand() {
     // 2025-01-01 00:00 -> 2025.0; 2027-07-02 12:00 is day 183.5 of 365 -> 2027 + 182.5/365.
-    assert_eq!(decimal_year(2025, 1, 1, 0), Ok(2025.0));
-    let y = decimal_year(2027, 7, 2, 43_200).unwrap();
+    assert_eq!(decimal_year::<f64>(2025, 1, 1, 0), Ok(2025.0));
+    let y: f64 = decimal_year(2027, 7, 2, 43_200).unwrap();
     assert!((y - (2027.0 + 182.5 / 365.0)).abs() < 1e-12);
     // 2028 is leap: 1 March is day 61 -> 2028 + 60/366.
-    assert!((decimal_year(2028, 3, 1, 0).unwrap() - (2028.0 + 60.0 / 366.0)).abs() < 1e-12);
-    assert_eq!(decimal_year(2027, 2, 29, 0), Err(WmmError::InvalidDate));
-    assert_eq!(decimal_year(2027, 13, 1, 0), Err(WmmError::InvalidDate));
-    assert_eq!(decimal_year(2027, 0, 1, 0), Err(WmmError::InvalidDate));
-    assert_eq!(decimal_year(2027, 1, 1, 86_400), Err(WmmError::InvalidDate));
+    assert!((decimal_year::<f64>(2028, 3, 1, 0).unwrap() - (2028.0 + 60.0 / 366.0)).abs() < 1e-12);
+    assert_eq!(
+        decimal_year::<f64>(2027, 2, 29, 0),
+        Err(WmmError::InvalidDate)
+    );
+    assert_eq!(
+        decimal_year::<f64>(2027, 13, 1, 0),
+        Err(WmmError::InvalidDate)
+    );
+    assert_eq!(
+        decimal_year::<f64>(2027, 0, 1, 0),
+        Err(WmmError::InvalidDate)
+    );
+    assert_eq!(
+        decimal_year::<f64>(2027, 1, 1, 86_400),
+        Err(WmmError::InvalidDate)
+    );
 }
 
 #[test]

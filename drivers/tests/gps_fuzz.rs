@@ -346,12 +346,12 @@ fn fix_is_wrong(fix: &GpsFix) -> Option<&'static str> {
     if fix.latitude_deg.is_some() != fix.longitude_deg.is_some() {
         return Some("half a position");
     }
-    if let Some(lat) = fix.latitude_deg {
+    if let Some(lat) = fix.latitude_deg.map(|c| c.deg::<f64>()) {
         if !lat.is_finite() || lat.abs() > 90.0 {
             return Some("latitude");
         }
     }
-    if let Some(lon) = fix.longitude_deg {
+    if let Some(lon) = fix.longitude_deg.map(|c| c.deg::<f64>()) {
         if !lon.is_finite() || lon.abs() > 180.0 {
             return Some("longitude");
         }

@@ -15,7 +15,7 @@ fn utc(h: u8, m: u8, s: u8) -> Option<DateTime> {
 }
 
 fn pos(fix: &GpsFix) -> Option<(f64, f64)> {
-    Some((fix.latitude_deg?, fix.longitude_deg?))
+    Some((fix.latitude_deg?.deg(), fix.longitude_deg?.deg()))
 }
 
 fn close(a: Option<(f64, f64)>, b: (f64, f64)) -> bool {

@@ -191,10 +191,10 @@ fn readings_round_trip() {
     round_trip(&WmmCoefficient {
         n: 1,
         m: 0,
-        g_nt: -29_351.8,
-        h_nt: 0.0,
-        g_dot_nt_per_yr: 12.0,
-        h_dot_nt_per_yr: 0.0,
+        g_tenth_nt: -293_518,
+        h_tenth_nt: 0,
+        g_dot_tenth_nt_per_yr: 120,
+        h_dot_tenth_nt_per_yr: 0,
     });
     let mut decoder = QuadratureDecoder::new(false, false);
     decoder.update(true, false);

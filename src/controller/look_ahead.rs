@@ -95,9 +95,11 @@ where
         };
         let mut best: Option<(T, Pose<T>)> = None;
         for sol in sols {
-            for turn in [-360.0, 0.0, 360.0] {
+            // Whole turns as integers: an array of f64 read in the loop
+            // would be converted by software f64 on an 8-bit board.
+            for turn in [-360, 0, 360] {
                 let start = Pose {
-                    gamma_deg: sol.gamma_deg + T::from_f64(turn),
+                    gamma_deg: sol.gamma_deg + T::from_i32(turn),
                     alpha_deg: sol.alpha_deg,
                 };
                 if !limits.contains(&start) {

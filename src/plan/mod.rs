@@ -43,6 +43,7 @@ use sun_algos::geometry::day_table::DayTable;
 use sun_algos::geometry::events::{self, DayKind, EventSearch, Events};
 use sun_algos::geometry::{GeometryError, Limits};
 use sun_algos::refraction::SUN_RADIUS_PLUS_HORIZON_REFRACTION_DEG;
+use sun_algos::time::{div_rem_euclid_i64, div_rem_u64};
 use sun_algos::{Error as SunError, Float, SunPosition, UtcTime};
 
 /// Intervals of the scheduler (Jimoh & Aliyu 2019 defaults).
@@ -172,14 +173,28 @@ impl SolarDay {
     }
 }
 
-/// Seconds of longitude time: 240 s per degree.
+/// Seconds of longitude time: 240 s per degree, truncated towards zero
+/// (exactly, from the value's bits: no `f64` on an 8-bit board); 0 for a
+/// NaN or infinite longitude, saturated far beyond ±180°.
 fn longitude_offset_s<T: Float>(longitude_deg: T) -> i64 {
-    let s = (longitude_deg * T::from_f64(240.0)).to_f64();
-    if s.is_finite() {
-        // |s| ≤ 43 200 after validation of the site.
-        s as i64
+    let Some((m, e)) = (longitude_deg * T::from_f64(240.0)).to_mantissa_exp2() else {
+        return 0;
+    };
+    // |s| = |m|·2^e with |m| < 2^53.
+    let magnitude = match e {
+        0.. => {
+            let (a, e) = (m.unsigned_abs(), e.unsigned_abs());
+            // Only while bit 63 stays clear.
+            (a.leading_zeros() > e).then(|| a << e)
+        }
+        -63..0 => Some(m.unsigned_abs() >> e.unsigned_abs()),
+        _ => Some(0),
+    };
+    let magnitude = magnitude.map_or(i64::MAX, |v| v as i64);
+    if m < 0 {
+        -magnitude
     } else {
-        0
+        magnitude
     }
 }
 
@@ -189,9 +204,16 @@ pub fn solar_day_start<T: Float>(
     longitude_deg: T,
 ) -> Result<UtcTime, ScheduleError> {
     let off = longitude_offset_s(longitude_deg);
-    let local = now.unix_seconds() + off;
-    let midnight_local = local.div_euclid(86_400) * 86_400;
-    UtcTime::from_unix_seconds(midnight_local - off).map_err(|_| ScheduleError::TimeRange)
+    let local = now
+        .unix_seconds()
+        .checked_add(off)
+        .ok_or(ScheduleError::TimeRange)?;
+    let (local_day, _) = div_rem_euclid_i64(local, 86_400).ok_or(ScheduleError::TimeRange)?;
+    // |local_day| < 2^47: the product fits.
+    (local_day * 86_400)
+        .checked_sub(off)
+        .and_then(|s| UtcTime::from_unix_seconds(s).ok())
+        .ok_or(ScheduleError::TimeRange)
 }
 
 /// Sunrise and sunset (sun centre on the geometric horizon, seed
@@ -284,11 +306,14 @@ pub fn match_at<T: Float, const N: usize>(
 /// `None` before the table or without one.
 fn slot_of<const N: usize>(table: &DayTable<N>, now: &UtcTime) -> Option<i64> {
     let since = now.unix_seconds() - table.first_time().unix_seconds();
-    let step = i64::from(table.interval_min()) * 60;
-    if since < 0 || step <= 0 || table.is_empty() {
+    let since = u64::try_from(since).ok()?;
+    if table.is_empty() {
         return None;
     }
-    Some(since / step)
+    // No step (an empty table's interval is 0): None.
+    let (slot, _) = div_rem_u64(since, u32::from(table.interval_min()) * 60)?;
+    // slot ≤ since < 2^63.
+    i64::try_from(slot).ok()
 }
 
 /// The start of the table slot after the one `now` is in: the instant the
@@ -827,10 +852,12 @@ impl<T: Float, P: PositionSource<T>, const N: usize> Scheduler<T, P, N> {
     /// (whole multiples of the step from UTC midnight, as the table's),
     /// the sun at the slot's time, and what follows from it.
     fn rt_check(&mut self, now: UtcTime) -> Result<Action<T>, ScheduleError> {
-        let step_s = i64::from(self.config.table_step_s.max(60));
-        let now_s = now.unix_seconds();
+        let step_s = self.config.table_step_s.max(60);
         // The Unix epoch is a UTC midnight and the step divides a day.
-        let slot_s = now_s.div_euclid(step_s) * step_s;
+        let (slot_k, _) =
+            div_rem_euclid_i64(now.unix_seconds(), step_s).ok_or(ScheduleError::TimeRange)?;
+        let step_s = i64::from(step_s);
+        let slot_s = slot_k * step_s;
         let slot = UtcTime::from_unix_seconds(slot_s).map_err(|_| ScheduleError::TimeRange)?;
         let next_slot = slot
             .add_seconds(step_s)

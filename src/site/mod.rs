@@ -9,6 +9,6 @@ pub mod resolve;
 
 pub use postal::{lookup, lookup_str, PostalEntry, PostalError};
 pub use resolve::{
-    follow_gps_site, resolve_site, site_from_config, site_from_fix, wmm_declination_deg, SiteError,
-    SiteOrigin,
+    follow_gps_site, resolve_site, site_from_config, site_from_fix, site_moved,
+    wmm_declination_deg, SiteError, SiteOrigin,
 };

@@ -37,35 +37,37 @@ pub enum SiteError {
 }
 
 /// The site from a GPS fix with a position (altitude from GGA, else sea
-/// level; an altitude outside −500…10 000 m is dropped).
-pub fn site_from_fix(fix: &GpsFix) -> Option<Site<f64>> {
+/// level; an altitude outside −500…10 000 m is dropped), in the float type
+/// `T`: the fix's exact coordinates rounded once (`f32` on a board without
+/// an FPU, about a metre: no `f64` arithmetic).
+pub fn site_from_fix<T: Float>(fix: &GpsFix) -> Option<Site<T>> {
     if fix.quality == FixQuality::Invalid {
         return None;
     }
-    let (lat, lon) = (fix.latitude_deg?, fix.longitude_deg?);
-    let alt = fix.altitude_m.map(f64::from).unwrap_or(0.0);
+    let (lat, lon) = (fix.latitude_deg?.deg(), fix.longitude_deg?.deg());
+    let alt = fix.altitude_m.map_or(T::ZERO, T::from_f32);
     Site::with_elevation(lat, lon, alt)
         .or_else(|_| Site::new(lat, lon))
         .ok()
 }
 
 /// The site from the stored configuration.
-pub fn site_from_config(s: &SiteConfig) -> Result<Site<f64>, SunError> {
+pub fn site_from_config<T: Float>(s: &SiteConfig) -> Result<Site<T>, SunError> {
     Site::with_elevation(
-        f64::from(s.latitude_deg),
-        f64::from(s.longitude_deg),
-        f64::from(s.elevation_m),
+        T::from_f32(s.latitude_deg),
+        T::from_f32(s.longitude_deg),
+        T::from_f32(s.elevation_m),
     )
 }
 
 /// Chooses the site: the GPS position, else `stored` (pass it only when
 /// the configuration was loaded from storage, not defaulted), else
 /// `postal_code` (`COUNTRY:CODE`, e.g. `DZ:16000`).
-pub fn resolve_site(
+pub fn resolve_site<T: Float>(
     gps: &GpsFix,
     stored: Option<&SiteConfig>,
     postal_code: Option<&str>,
-) -> Result<(Site<f64>, SiteOrigin), SiteError> {
+) -> Result<(Site<T>, SiteOrigin), SiteError> {
     if let Some(s) = site_from_fix(gps) {
         return Ok((s, SiteOrigin::Gps));
     }
@@ -88,17 +90,22 @@ pub fn resolve_site(
     Err(stored_error.map_or(SiteError::NoSource, SiteError::Invalid))
 }
 
+/// Whether `a` lies more than `min_move_deg` from `b` in latitude or
+/// longitude.
+pub fn site_moved<T: Float>(a: &Site<T>, b: &Site<T>, min_move_deg: T) -> bool {
+    (a.latitude_deg() - b.latitude_deg()).abs() > min_move_deg
+        || (a.longitude_deg() - b.longitude_deg()).abs() > min_move_deg
+}
+
 /// Replaces the shared site by the GPS position when the fix is valid and
 /// the position moved more than `min_move_deg` in latitude or longitude
 /// from the site in use. Returns whether it replaced it. (A portable
 /// tracker carried to a new place; fix noise of a few metres is ignored.)
-pub fn follow_gps_site(cell: &Cell<Site<f64>>, fix: &GpsFix, min_move_deg: f64) -> bool {
+pub fn follow_gps_site<T: Float>(cell: &Cell<Site<T>>, fix: &GpsFix, min_move_deg: T) -> bool {
     let Some(s) = site_from_fix(fix) else {
         return false;
     };
-    let cur = cell.get();
-    let moved = (s.latitude_deg() - cur.latitude_deg()).abs() > min_move_deg
-        || (s.longitude_deg() - cur.longitude_deg()).abs() > min_move_deg;
+    let moved = site_moved(&s, &cell.get(), min_move_deg);
     if moved {
         cell.set(s);
     }
@@ -111,18 +118,19 @@ pub fn follow_gps_site(cell: &Cell<Site<f64>>, fix: &GpsFix, min_move_deg: f64) 
 /// The site's elevation is taken as the height above the ellipsoid (the
 /// geoid difference, tens of metres, changes D by far less than 0.01°).
 /// Errors outside the model's 2025–2030 span or at a pole. The synthesis
-/// runs in `F`: `f32` on a board without an FPU (about a tenth of the
-/// software-`f64` time, within 0.01° of it), `f64` on hosts.
-pub fn wmm_declination_deg<F: Float>(site: &Site<f64>, now: &UtcTime) -> Result<f32, WmmError> {
+/// runs in the site's float type `T`: `f32` on a board without an FPU
+/// (about a tenth of the software-`f64` time, within 0.005° of NOAA's
+/// WMM2025 test values; no `f64` arithmetic), `f64` on hosts.
+pub fn wmm_declination_deg<T: Float>(site: &Site<T>, now: &UtcTime) -> Result<f32, WmmError> {
     let (y, mo, d) = now.ymd();
     let seconds_of_day = now.ms_of_day() / 1000;
-    let year = decimal_year(y, mo, d, seconds_of_day)?;
+    let year = decimal_year::<T>(y, mo, d, seconds_of_day)?;
     WmmModel::wmm2025()
         .declination_deg(
-            F::from_f64(site.latitude_deg()),
-            F::from_f64(site.longitude_deg()),
-            F::from_f64(site.elevation_m() / 1000.0),
-            F::from_f64(year),
+            site.latitude_deg(),
+            site.longitude_deg(),
+            site.elevation_m() / T::from_f64(1000.0),
+            year,
         )
         .map(Float::to_f32)
 }

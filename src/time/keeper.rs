@@ -26,7 +26,6 @@ use sun_algos::UtcTime;
 use super::window::DateWindow;
 use super::{datetime_from_utc, utc_from_datetime};
 use crate::controller::TickInputs;
-use crate::site::site_from_fix;
 
 /// Where the time came from.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -80,7 +79,13 @@ pub enum GpsTime {
 /// What `fix` says about the time at monotonic `now_ms` (see the module
 /// documentation for the rules).
 pub fn gps_time(fix: &GpsFix, now_ms: u64, config: &TimeConfig) -> GpsTime {
-    if fix.quality == FixQuality::Invalid || site_from_fix(fix).is_none() {
+    // A position a site can be made of (the exact coordinates' range,
+    // checked without floats).
+    let position = matches!(
+        (fix.latitude_deg, fix.longitude_deg),
+        (Some(lat), Some(lon)) if lat.within_deg(90) && lon.within_deg(180)
+    );
+    if fix.quality == FixQuality::Invalid || !position {
         return GpsTime::NoFix;
     }
     let (Some(dt), Some(age_ms)) = (fix.utc, fix.utc_age_ms(now_ms)) else {

@@ -44,10 +44,11 @@ use crate::time::UtcTime;
 
 /// First year of the observed table.
 const TABLE_FIRST_YEAR: i32 = 2005;
-/// ΔT on 1 January of 2005, 2006, … 2024, seconds (IERS / USNO).
-const OBSERVED_S: [f64; 20] = [
-    64.69, 64.85, 65.15, 65.46, 65.78, 66.07, 66.32, 66.60, 66.91, 67.28, 67.64, 68.10, 68.59,
-    68.97, 69.22, 69.36, 69.36, 69.29, 69.20, 69.18,
+/// ΔT on 1 January of 2005, 2006, … 2024, centiseconds (IERS / USNO, given
+/// to 0.01 s): whole numbers, so that no `f64` is read at run time.
+const OBSERVED_CS: [i16; 20] = [
+    6469, 6485, 6515, 6546, 6578, 6607, 6632, 6660, 6691, 6728, 6764, 6810, 6859, 6897, 6922, 6936,
+    6936, 6929, 6920, 6918,
 ];
 /// Makes the long-term model continuous at the table's last value:
 /// `69.18 − (31.4115·1.99² + 284.8436·cos(2π·2.74/14))` (hand/Python check,
@@ -80,6 +81,22 @@ pub fn estimate_s<T: Float>(time: &UtcTime) -> T {
     estimate_for_year(year, frac)
 }
 
+/// `c0 + c1·t + c2·t² + …` by Horner's rule, each coefficient a constant
+/// of `T` folded at compile time (a slice of `f64` read at run time would
+/// be converted by software `f64` routines on an 8-bit board).
+macro_rules! poly {
+    ($t:expr; $($c:expr),+) => {{
+        let t: T = $t;
+        poly!(@horner t; $($c),+)
+    }};
+    (@horner $t:ident; $c0:expr) => {
+        T::from_f64($c0)
+    };
+    (@horner $t:ident; $c0:expr, $($c:expr),+) => {
+        T::from_f64($c0) + $t * poly!(@horner $t; $($c),+)
+    };
+}
+
 /// ΔT for the decimal year `year + frac` (`0 ≤ frac < 1`).
 ///
 /// ```
@@ -96,115 +113,80 @@ pub fn estimate_s<T: Float>(time: &UtcTime) -> T {
 pub fn estimate_for_year<T: Float>(year: i32, frac: T) -> T {
     // Years since `base`, formed exactly from the integer year.
     let since = |base: i32| T::from_i32(year - base) + frac;
-    let poly = |t: T, c: &[f64]| {
-        c.iter()
-            .rev()
-            .fold(T::ZERO, |acc, &k| acc * t + T::from_f64(k))
-    };
-    let last_table_year = TABLE_FIRST_YEAR + OBSERVED_S.len() as i32 - 1;
+    let last_table_year = TABLE_FIRST_YEAR + OBSERVED_CS.len() as i32 - 1;
     if year < -500 {
         let u = since(1820) / T::from_f64(100.0);
         return T::from_f64(-20.0) + T::from_f64(32.0) * u * u;
     }
     if year < 500 {
         let u = since(0) / T::from_f64(100.0);
-        return poly(
-            u,
-            &[
-                10583.6,
+        return poly!(u; 10583.6,
                 -1014.41,
                 33.78311,
                 -5.952053,
                 -0.1798452,
                 0.022174192,
-                0.0090316521,
-            ],
-        );
+                0.0090316521);
     }
     if year < 1600 {
         let u = since(1000) / T::from_f64(100.0);
-        return poly(
-            u,
-            &[
-                1574.2,
+        return poly!(u; 1574.2,
                 -556.01,
                 71.23472,
                 0.319781,
                 -0.8503463,
                 -0.005050998,
-                0.0083572073,
-            ],
-        );
+                0.0083572073);
     }
     if year < 1700 {
-        return poly(since(1600), &[120.0, -0.9808, -0.01532, 1.0 / 7129.0]);
+        return poly!(since(1600); 120.0, -0.9808, -0.01532, 1.0 / 7129.0);
     }
     if year < 1800 {
-        return poly(
-            since(1700),
-            &[8.83, 0.1603, -0.0059285, 0.00013336, -1.0 / 1_174_000.0],
-        );
+        return poly!(since(1700); 8.83, 0.1603, -0.0059285, 0.00013336, -1.0 / 1_174_000.0);
     }
     if year < 1860 {
-        return poly(
-            since(1800),
-            &[
-                13.72,
+        return poly!(since(1800); 13.72,
                 -0.332447,
                 0.0068612,
                 0.0041116,
                 -0.00037436,
                 0.0000121272,
                 -0.0000001699,
-                0.000000000875,
-            ],
-        );
+                0.000000000875);
     }
     if year < 1900 {
-        return poly(
-            since(1860),
-            &[
-                7.62,
+        return poly!(since(1860); 7.62,
                 0.5737,
                 -0.251754,
                 0.01680668,
                 -0.0004473624,
-                1.0 / 233_174.0,
-            ],
-        );
+                1.0 / 233_174.0);
     }
     if year < 1920 {
-        return poly(
-            since(1900),
-            &[-2.79, 1.494119, -0.0598939, 0.0061966, -0.000197],
-        );
+        return poly!(since(1900); -2.79, 1.494119, -0.0598939, 0.0061966, -0.000197);
     }
     if year < 1941 {
-        return poly(since(1920), &[21.20, 0.84493, -0.076100, 0.0020936]);
+        return poly!(since(1920); 21.20, 0.84493, -0.076100, 0.0020936);
     }
     if year < 1961 {
-        return poly(since(1950), &[29.07, 0.407, -1.0 / 233.0, 1.0 / 2547.0]);
+        return poly!(since(1950); 29.07, 0.407, -1.0 / 233.0, 1.0 / 2547.0);
     }
     if year < 1986 {
-        return poly(since(1975), &[45.45, 1.067, -1.0 / 260.0, -1.0 / 718.0]);
+        return poly!(since(1975); 45.45, 1.067, -1.0 / 260.0, -1.0 / 718.0);
     }
     if year < TABLE_FIRST_YEAR {
-        return poly(
-            since(2000),
-            &[
-                63.86,
+        return poly!(since(2000); 63.86,
                 0.3345,
                 -0.060374,
                 0.0017275,
                 0.000651814,
-                0.00002373599,
-            ],
-        );
+                0.00002373599);
     }
     if year < last_table_year {
         let i = (year - TABLE_FIRST_YEAR) as usize;
-        if let (Some(&a), Some(&b)) = (OBSERVED_S.get(i), OBSERVED_S.get(i + 1)) {
-            return T::from_f64(a) + T::from_f64(b - a) * frac;
+        if let (Some(&a), Some(&b)) = (OBSERVED_CS.get(i), OBSERVED_CS.get(i + 1)) {
+            let (a, b) = (i32::from(a), i32::from(b));
+            return (T::from_i32(a) + T::from_i32(b - a) * frac) / T::from_f64(100.0);
         }
     }
     // Long-term length-of-day model, t in centuries since 1825.

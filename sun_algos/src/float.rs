@@ -69,6 +69,40 @@ pub trait Float:
     fn from_f32(v: f32) -> Self;
     /// Narrows to `f32` (axis set-points; free for `f32`).
     fn to_f32(self) -> f32;
+    /// The value nearest `num / den` (halves to even), rounded once from
+    /// the integers themselves: exact decimal readings such as a GPS
+    /// latitude `ddmm.mmmmm` (`f32` never goes through `f64`). `den = 0`
+    /// gives ±∞, or NaN for `0 / 0`.
+    ///
+    /// ```
+    /// use sun_algos::Float;
+    ///
+    /// // 47°17.11399' = 283 711 399 / 6 000 000° (u-blox's GGA example).
+    /// let (num, den) = (283_711_399, 6_000_000);
+    /// assert_eq!(f64::from_ratio(num, den), num as f64 / den as f64);
+    /// assert_eq!(f32::from_ratio(num, den), 47.285_233_f32);
+    /// // 2^24 + 1 is no f32: the halfway case goes to the even neighbour.
+    /// assert_eq!(f32::from_ratio((1 << 24) + 1, 1), 16_777_216.0);
+    /// assert_eq!(f32::from_ratio(-1, 0), f32::NEG_INFINITY);
+    /// ```
+    #[inline]
+    fn from_ratio(num: i64, den: u64) -> Self {
+        Self::from_f64(f64::from_ratio(num, den))
+    }
+    /// `self` as an integer times a power of two, exactly: `Some((m, e))`
+    /// with `self = m · 2^e`; `None` for NaN and ±∞.
+    ///
+    /// ```
+    /// use sun_algos::Float;
+    ///
+    /// let (m, e) = Float::to_mantissa_exp2(-0.375f32).unwrap();
+    /// assert_eq!(m as f64 * 2f64.powi(e), -0.375);
+    /// assert_eq!(Float::to_mantissa_exp2(f64::NAN), None);
+    /// ```
+    #[inline]
+    fn to_mantissa_exp2(self) -> Option<(i64, i32)> {
+        self.to_f64().to_mantissa_exp2()
+    }
 
     /// Sine of an angle in radians.
     fn sin(self) -> Self;
@@ -181,6 +215,12 @@ impl Float for f64 {
     fn to_f32(self) -> f32 {
         self as f32
     }
+    fn from_ratio(num: i64, den: u64) -> Self {
+        f64::from_bits(ratio_bits(num, den, F64_FORMAT))
+    }
+    fn to_mantissa_exp2(self) -> Option<(i64, i32)> {
+        mantissa_exp2(self.to_bits(), F64_FORMAT)
+    }
     #[inline]
     fn sin(self) -> Self {
         libm::sin(self)
@@ -274,6 +314,13 @@ impl Float for f32 {
     fn to_f32(self) -> f32 {
         self
     }
+    fn from_ratio(num: i64, den: u64) -> Self {
+        // The bits of an f32 fill the low half of the u64.
+        f32::from_bits(ratio_bits(num, den, F32_FORMAT) as u32)
+    }
+    fn to_mantissa_exp2(self) -> Option<(i64, i32)> {
+        mantissa_exp2(u64::from(self.to_bits()), F32_FORMAT)
+    }
     #[inline]
     fn sin(self) -> Self {
         backend32::sin(self)
@@ -336,6 +383,122 @@ impl Float for f32 {
     }
 }
 
+/// An IEEE 754 binary format: significand bits (the hidden one counted)
+/// and exponent field width.
+#[derive(Clone, Copy)]
+struct Format {
+    digits: u32,
+    exponent_bits: u32,
+}
+
+const F32_FORMAT: Format = Format {
+    digits: 24,
+    exponent_bits: 8,
+};
+const F64_FORMAT: Format = Format {
+    digits: 53,
+    exponent_bits: 11,
+};
+
+impl Format {
+    /// Exponent bias: 127 (f32), 1023 (f64).
+    const fn bias(self) -> i32 {
+        (1 << (self.exponent_bits - 1)) - 1
+    }
+    /// Bit position of the sign: 31 (f32), 63 (f64).
+    const fn sign_shift(self) -> u32 {
+        self.digits - 1 + self.exponent_bits
+    }
+}
+
+/// The bits of the value nearest `num / den` in `format` (see
+/// [`Float::from_ratio`]).
+///
+/// Restoring division (Knuth, *TAOCP* vol. 2, §4.3.1) on the operands
+/// shifted up to their top bit, one quotient bit per step: `digits + 1`
+/// bits, the last being the rounding bit, and the remainder's non-zero-ness
+/// as the sticky bit (IEEE 754 round to nearest, ties to even). Any `i64`
+/// over any `u64` lies within 2^±64, a normal number of both formats, so
+/// no subnormal or overflowing result arises.
+fn ratio_bits(num: i64, den: u64, format: Format) -> u64 {
+    let sign = u64::from(num < 0) << format.sign_shift();
+    let n = num.unsigned_abs();
+    let all_ones_exponent = ((1u64 << format.exponent_bits) - 1) << (format.digits - 1);
+    if den == 0 {
+        // ±∞, or a quiet NaN for 0 / 0.
+        let quiet = if n == 0 { 1 << (format.digits - 2) } else { 0 };
+        return sign | all_ones_exponent | quiet;
+    }
+    if n == 0 {
+        return 0;
+    }
+    let (ln, ld) = (n.leading_zeros(), den.leading_zeros());
+    // n / den = (r / d) · 2^e with r, d in [2^63, 2^64).
+    let (mut r, d) = (n << ln, den << ld);
+    let mut e = ld as i32 - ln as i32;
+    // The remainder has a 65th bit, `carry`, once doubled.
+    let mut carry = false;
+    if r < d {
+        // r ≥ 2^63, so 2r ≥ 2^64 > d: now r / d lies in [1, 2).
+        carry = true;
+        r <<= 1;
+        e -= 1;
+    }
+    let mut q: u64 = 0;
+    for _ in 0..=format.digits {
+        q <<= 1;
+        if carry || r >= d {
+            // With the carry the true remainder is 2^64 + r; the wrapped
+            // difference is exact, below d.
+            r = r.wrapping_sub(d);
+            q |= 1;
+        }
+        carry = r >> 63 != 0;
+        r <<= 1;
+    }
+    // q = ⌊(n / den) · 2^(digits − e)⌋ in [2^digits, 2^(digits + 1)).
+    let sticky = carry || r != 0;
+    let mut m = q >> 1;
+    if q & 1 != 0 && (sticky || m & 1 != 0) {
+        m += 1;
+        if m >> format.digits != 0 {
+            // Rounded up to the next power of two.
+            m >>= 1;
+            e += 1;
+        }
+    }
+    // m in [2^(digits − 1), 2^digits): the hidden bit is dropped.
+    let hidden = 1u64 << (format.digits - 1);
+    let biased = (e + format.bias()) as u64;
+    sign | (biased << (format.digits - 1)) | (m & (hidden - 1))
+}
+
+/// `(m, e)` with `value = m · 2^e` from the bits of a value in `format`;
+/// `None` for NaN and ±∞.
+fn mantissa_exp2(bits: u64, format: Format) -> Option<(i64, i32)> {
+    let fraction_bits = format.digits - 1;
+    let field_mask = (1u64 << format.exponent_bits) - 1;
+    let field = (bits >> fraction_bits) & field_mask;
+    if field == field_mask {
+        return None;
+    }
+    let fraction = bits & ((1u64 << fraction_bits) - 1);
+    // Subnormals (field 0) have no hidden bit and the exponent of field 1.
+    let (m, field) = if field == 0 {
+        (fraction, 1)
+    } else {
+        (fraction | 1 << fraction_bits, field)
+    };
+    let e = field as i32 - format.bias() - fraction_bits as i32;
+    // m < 2^53.
+    let m = m as i64;
+    Some(if bits >> format.sign_shift() & 1 != 0 {
+        (-m, e)
+    } else {
+        (m, e)
+    })
+}
+
 /// The f32 trigonometry in use: libm by default.
 #[cfg(not(feature = "compact-f32"))]
 mod backend32 {
@@ -363,4 +526,112 @@ mod backend32 {
 #[cfg(all(target_arch = "avr", feature = "avr-libc-math"))]
 mod backend32 {
     pub use crate::avr_libc::{acos, asin, atan, atan2, cos, floor, sin, sin_cos, sqrt, tan};
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// xorshift64 (Marsaglia 2003).
+    fn xorshift(state: &mut u64) -> u64 {
+        *state ^= *state << 13;
+        *state ^= *state >> 7;
+        *state ^= *state << 17;
+        *state
+    }
+
+    /// Whether `x` is the nearest value of its format to `n / d` (`n`, `d`
+    /// in 1..2^60), ties to even, decided in exact integer arithmetic: with
+    /// `x = m · 2^−k`, `m` of `digits` bits, compare `n·2^k − m·d` with half
+    /// the spacing of the neighbours, `d/2` (`d/4` below a power of two),
+    /// all times 4 (and times 2^−k when k < 0). Every term stays below
+    /// 2^116 (n·2^k ≈ m·d < 2^113).
+    fn is_nearest(n: u64, d: u64, x: f64, digits: u32) -> bool {
+        let (m, e) = x.to_mantissa_exp2().unwrap();
+        let (m, n, d) = (m as i128, n as i128, d as i128);
+        // Normalise m to `digits` bits so that its neighbours are m ± 1.
+        // (An f32 widened to f64 has zeros below its 24 bits.)
+        let shift = digits as i32 - (128 - m.leading_zeros() as i32);
+        let m = if shift >= 0 { m << shift } else { m >> -shift };
+        assert_eq!(m.leading_zeros(), 128 - digits);
+        let k = shift - e;
+        let (target, d) = if k >= 0 { (n << k, d) } else { (n, d << -k) };
+        let err = 4 * (target - m * d);
+        let half_up = 2 * d;
+        let half_down = if m == 1 << (digits - 1) { d } else { half_up };
+        let even = m & 1 == 0;
+        if err >= 0 {
+            err < half_up || (err == half_up && even)
+        } else {
+            -err < half_down || (-err == half_down && even)
+        }
+    }
+
+    #[test]
+    fn from_ratio_is_correctly_rounded() {
+        let mut state = 0x9e37_79b9_7f4a_7c15;
+        for i in 0..300_000u32 {
+            let n = xorshift(&mut state) >> (4 + xorshift(&mut state) % 60);
+            let d = xorshift(&mut state) >> (4 + xorshift(&mut state) % 60);
+            // Every fourth: a GPS reading over its 60·10^k.
+            let (n, d) = if i % 4 == 0 {
+                (n >> 10, 60 * 10u64.pow(i % 12))
+            } else {
+                (n, d)
+            };
+            if n == 0 || d == 0 {
+                continue;
+            }
+            let x32 = f32::from_ratio(n as i64, d);
+            assert!(is_nearest(n, d, f64::from(x32), 24), "{n} / {d}: {x32}");
+            assert_eq!(f32::from_ratio(-(n as i64), d), -x32);
+            let x64 = f64::from_ratio(n as i64, d);
+            assert!(is_nearest(n, d, x64, 53), "{n} / {d}: {x64}");
+            if n < 1 << 53 && d < 1 << 53 {
+                // Both exact in an f64: its division rounds once as well.
+                assert_eq!(x64, n as f64 / d as f64);
+            }
+        }
+    }
+
+    #[test]
+    fn from_ratio_at_halfway_and_the_ends() {
+        // 2^24 + 1 and 2^24 + 3 lie halfway between f32s: to the even one.
+        assert_eq!(f32::from_ratio((1 << 24) + 1, 1), 16_777_216.0);
+        assert_eq!(f32::from_ratio((1 << 24) + 3, 1), 16_777_220.0);
+        assert_eq!(f32::from_ratio((1 << 25) - 1, 2), 16_777_216.0);
+        assert_eq!(f64::from_ratio(i64::MIN, 1), -(2f64.powi(63)));
+        assert_eq!(f32::from_ratio(1, u64::MAX), 2f32.powi(-64));
+        assert_eq!(f32::from_ratio(i64::MAX, 1), 2f32.powi(63));
+        assert_eq!(f32::from_ratio(0, 7), 0.0);
+        assert_eq!(f64::from_ratio(3, 0), f64::INFINITY);
+        assert!(f32::from_ratio(0, 0).is_nan() && f64::from_ratio(0, 0).is_nan());
+    }
+
+    #[test]
+    fn mantissa_exp2_is_exact() {
+        for x in [
+            0.0f32,
+            -0.0,
+            1.0,
+            -1.5,
+            0.1,
+            359.99,
+            f32::MAX,
+            f32::MIN_POSITIVE,
+            1e-45,
+        ] {
+            let (m, e) = x.to_mantissa_exp2().unwrap();
+            assert_eq!(m as f64 * 2f64.powi(e), f64::from(x), "{x}");
+        }
+        for x in [0.1f64, -123.456, f64::MAX, f64::MIN_POSITIVE, 5e-324] {
+            let (m, e) = x.to_mantissa_exp2().unwrap();
+            // Split the power so that neither factor over- or underflows.
+            assert_eq!(m as f64 * 2f64.powi(e / 2) * 2f64.powi(e - e / 2), x, "{x}");
+        }
+        for x in [f32::NAN, f32::INFINITY, f32::NEG_INFINITY] {
+            assert_eq!(x.to_mantissa_exp2(), None);
+        }
+        assert_eq!(f64::NEG_INFINITY.to_mantissa_exp2(), None);
+    }
 }

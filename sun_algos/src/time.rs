@@ -14,11 +14,17 @@
 //! [`UtcTime::from_date_ms`] exchange a [`Date`] with any other user of that
 //! crate (such as the clock drivers of `suntracker-drivers`) without going
 //! through calendar fields again.
+//!
+//! Counts of seconds and milliseconds are split into days with
+//! [`div_rem_euclid_i64`] (also re-exported from that crate): 32-bit steps
+//! only, so an 8-bit AVR image links no 64-bit division routine.
 
 use crate::error::Error;
 use crate::float::Float;
 
-pub use suntracker_time::{days_in_month, is_leap_year, Date, DateError};
+pub use suntracker_time::{
+    days_in_month, div_rem_euclid_i64, div_rem_u64, is_leap_year, Date, DateError,
+};
 
 /// Milliseconds in a day.
 ///
@@ -89,7 +95,7 @@ pub struct UtcTime {
 /// Days from 1970-01-01 to 2000-01-01 (946 684 800 s of POSIX time / 86 400).
 const UNIX_TO_2000_DAYS: i32 = 10_957;
 /// Seconds in a day (no leap seconds: the time scale is read as UT1).
-const SECONDS_PER_DAY: i64 = 86_400;
+const SECONDS_PER_DAY: u32 = 86_400;
 
 /// Days since 2000-01-01 of the first day of [`MIN_YEAR`] and the last day
 /// of [`MAX_YEAR`] (both years lie inside a [`Date`]'s −9999…9999; a
@@ -258,15 +264,14 @@ impl UtcTime {
     /// # Ok::<(), sun_algos::Error>(())
     /// ```
     pub fn from_unix_seconds(secs: i64) -> Result<Self, Error> {
-        // Division by a positive constant cannot overflow; the subtraction can
-        // only in theory, and is checked anyway.
-        let days = secs
-            .div_euclid(SECONDS_PER_DAY)
+        let (days, second_of_day) =
+            div_rem_euclid_i64(secs, SECONDS_PER_DAY).ok_or(Error::InvalidDate)?;
+        // The subtraction can only overflow in theory, and is checked anyway.
+        let days = days
             .checked_sub(i64::from(UNIX_TO_2000_DAYS))
             .ok_or(Error::InvalidDate)?;
         let days = i32::try_from(days).map_err(|_| Error::InvalidDate)?;
-        let second_of_day =
-            u32::try_from(secs.rem_euclid(SECONDS_PER_DAY)).map_err(|_| Error::InvalidTime)?;
+        // second_of_day < 86 400, so at most 86 399 000 ms.
         let ms_of_day = second_of_day.checked_mul(1000).ok_or(Error::InvalidTime)?;
         Self::from_days_ms(days, ms_of_day)
     }
@@ -284,7 +289,7 @@ impl UtcTime {
     pub fn unix_seconds(&self) -> i64 {
         // `days` is within the ±4.4 million days of MIN_YEAR..=MAX_YEAR (checked
         // by every constructor), so this is far from the i64 limits.
-        (i64::from(self.days) + i64::from(UNIX_TO_2000_DAYS)) * SECONDS_PER_DAY
+        (i64::from(self.days) + i64::from(UNIX_TO_2000_DAYS)) * i64::from(SECONDS_PER_DAY)
             + i64::from(self.ms_of_day / 1000)
     }
 
@@ -304,11 +309,10 @@ impl UtcTime {
     /// # Ok::<(), sun_algos::Error>(())
     /// ```
     pub fn add_seconds(&self, secs: i64) -> Result<Self, Error> {
-        // 0..86_400 s, so at most 86_399_000 ms: fits a u32.
-        let rest_s =
-            u32::try_from(secs.rem_euclid(SECONDS_PER_DAY)).map_err(|_| Error::InvalidTime)?;
+        let (days, rest_s) = div_rem_euclid_i64(secs, SECONDS_PER_DAY).ok_or(Error::InvalidDate)?;
+        // rest_s < 86 400, so at most 86 399 000 ms: fits a u32.
         let rest_ms = rest_s.checked_mul(1000).ok_or(Error::InvalidTime)?;
-        self.add_days_ms(secs.div_euclid(SECONDS_PER_DAY), rest_ms)
+        self.add_days_ms(days, rest_ms)
     }
 
     /// This instant moved by `ms` milliseconds (either sign); like
@@ -325,9 +329,8 @@ impl UtcTime {
     /// # Ok::<(), sun_algos::Error>(())
     /// ```
     pub fn add_millis(&self, ms: i64) -> Result<Self, Error> {
-        let per_day = i64::from(MS_PER_DAY);
-        let rest_ms = u32::try_from(ms.rem_euclid(per_day)).map_err(|_| Error::InvalidTime)?;
-        self.add_days_ms(ms.div_euclid(per_day), rest_ms)
+        let (days, rest_ms) = div_rem_euclid_i64(ms, MS_PER_DAY).ok_or(Error::InvalidDate)?;
+        self.add_days_ms(days, rest_ms)
     }
 
     /// This instant plus whole days and `ms` (below one day) milliseconds.

@@ -88,6 +88,68 @@ fn entries_round_to_centidegrees() {
     assert_eq!((e.slope_cdeg(), e.azimuth_cdeg()), (0, 27_000));
 }
 
+/// The rounding as it was done in `f64` (exact there for an `f32`
+/// surface: its hundredfold needs 31 bits): the reference for the integer
+/// rounding that replaced it.
+fn rounded_in_f64(slope_deg: f32, azimuth_deg: f32) -> (i16, u16) {
+    let round = |v: f64| {
+        if !v.is_finite() {
+            0
+        } else if v >= 0.0 {
+            (v + 0.5) as i64
+        } else {
+            (v - 0.5) as i64
+        }
+    };
+    let s = f64::from(slope_deg).clamp(-180.0, 180.0) * 100.0;
+    let a = round(f64::from(azimuth_deg).rem_euclid(360.0) * 100.0);
+    (round(s) as i16, if a >= 36_000 { 0 } else { a as u16 })
+}
+
+#[test]
+fn f32_surfaces_round_as_in_f64() {
+    // xorshift32 (Marsaglia 2003) over degrees of every size, with the
+    // halfway cases (odd eighths: j/8 · 100 = 12.5 j) and the ends.
+    let mut state = 0x1234_5678u32;
+    let mut next = || {
+        state ^= state << 13;
+        state ^= state >> 17;
+        state ^= state << 5;
+        state
+    };
+    let mut values = vec![
+        0.0f32, -0.0, 180.0, -180.0, 360.0, -360.0, 359.995, -1e-30, 1e30, -3e38,
+    ];
+    values.extend([
+        f32::NAN,
+        f32::INFINITY,
+        f32::NEG_INFINITY,
+        f32::MIN_POSITIVE,
+        -1e-45,
+    ]);
+    for _ in 0..200_000 {
+        let r = next();
+        values.push(match r % 4 {
+            0 => (r >> 2) as i32 as f32 / 8.0 / 2f32.powi((r % 7) as i32 * 8),
+            1 => ((r >> 8) as f32 / 16_777_216.0 - 0.5) * 1440.0,
+            2 => f32::from_bits(next()),
+            _ => (r as i32 % 5_760) as f32 / 8.0,
+        });
+    }
+    for pair in values.windows(2) {
+        let (slope_deg, azimuth_deg) = (pair[0], pair[1]);
+        let e = Entry::from_surface(&Surface {
+            slope_deg,
+            azimuth_deg,
+        });
+        assert_eq!(
+            (e.slope_cdeg(), e.azimuth_cdeg()),
+            rounded_in_f64(slope_deg, azimuth_deg),
+            "{slope_deg} {azimuth_deg}"
+        );
+    }
+}
+
 #[test]
 fn filling_a_few_entries_at_a_time_gives_the_same_table() {
     // Kano, 20 March 2026, psa-2020 in f32: the whole table at once and

@@ -35,6 +35,10 @@
 //! same arithmetic without validation, total over their argument types, for
 //! tools that must accept any input (such as device models in an emulator).
 //!
+//! Seconds and milliseconds counted in 64 bits are split into days (or any
+//! 32-bit unit) by [`div_rem_u64`] and [`div_rem_euclid_i64`], in 32-bit
+//! steps: an AVR image that uses them links no 64-bit division routine.
+//!
 //! # Source
 //!
 //! The conversions are H. Hinnant's `days_from_civil` and `civil_from_days`
@@ -88,6 +92,9 @@
 struct ReadmeDoctests;
 
 use core::fmt;
+
+mod div64;
+pub use div64::{div_rem_euclid_i64, div_rem_u64};
 
 #[cfg(feature = "chrono")]
 mod with_chrono;

@@ -17,13 +17,18 @@
 //! The synthesis runs in `f64` or in `f32` (any `sun_algos::Float`): an 8-bit board
 //! without an FPU does it in `f32`, about ten times faster than in software
 //! `f64` (a whole synthesis in `f64` takes about a second on a 16 MHz
-//! ATmega). In `f32` the declination stays within 0.01° of the `f64` one
-//! (tested on NOAA's test values), far inside the model's own uncertainty
-//! (about 0.5°, report section 4).
+//! ATmega). In `f32` the declination stays within 0.01° of NOAA's published
+//! test values (`tests/compass_wmm.rs`), far inside the model's own
+//! uncertainty (about 0.5°, report section 4), and no `f64` arithmetic is
+//! linked: the coefficients are whole tenths of a nanotesla, the epoch a
+//! whole year.
 //!
 //! Coefficients: NOAA NCEI's official `WMM.COF` for WMM2025 (public domain),
 //! committed as `WMM2025.COF` and turned into a const table by
-//! `gen_wmm_coefficients.py` (see `wmm2025_coefficients.rs`).
+//! `gen_wmm_coefficients.py` (see `wmm2025_coefficients.rs`). The file gives
+//! every coefficient to 0.1 nT (0.1 nT/year), so a row holds them exactly as
+//! `i32` tenths; the synthesis sums in tenths of a nanotesla (the field is
+//! linear in the coefficients) and scales X, Y and Z once at the end.
 //!
 //! The declinations in the examples are NOAA's WMM2025 test values (WMM2025
 //! technical report, test-value table), given there to 0.01°.
@@ -36,7 +41,7 @@
 //! assert!((d - 68.49).abs() < 0.005);
 //! // The date as the model wants it: 2027-07-02T12:00Z is half way
 //! // through 2027 (day 183 of 365, at noon).
-//! assert_eq!(decimal_year(2027, 7, 2, 43_200)?, 2027.5);
+//! assert_eq!(decimal_year::<f64>(2027, 7, 2, 43_200)?, 2027.5);
 //! # Ok::<(), drivers::compass::wmm::WmmError>(())
 //! ```
 
@@ -54,7 +59,8 @@ const WGS84_F: f64 = 1.0 / 298.257_223_563;
 /// Years a WMM stays valid after its epoch.
 const LIFESPAN_YEARS: f64 = 5.0;
 
-/// One row of a WMM coefficient file.
+/// One row of a WMM coefficient file, in the file's own resolution of
+/// 0.1 nT (nT/year).
 ///
 /// ```
 /// use drivers::compass::wmm::WmmCoefficient;
@@ -64,10 +70,10 @@ const LIFESPAN_YEARS: f64 = 5.0;
 /// let row = WmmCoefficient {
 ///     n: 1,
 ///     m: 0,
-///     g_nt: -29_351.8,
-///     h_nt: 0.0,
-///     g_dot_nt_per_yr: 12.0,
-///     h_dot_nt_per_yr: 0.0,
+///     g_tenth_nt: -293_518,
+///     h_tenth_nt: 0,
+///     g_dot_tenth_nt_per_yr: 120,
+///     h_dot_tenth_nt_per_yr: 0,
 /// };
 /// assert_eq!((row.n, row.m), (1, 0));
 /// ```
@@ -79,14 +85,14 @@ pub struct WmmCoefficient {
     pub n: u8,
     /// Order m.
     pub m: u8,
-    /// Main-field coefficient gₙᵐ at the epoch, nT.
-    pub g_nt: f64,
-    /// Main-field coefficient hₙᵐ at the epoch, nT.
-    pub h_nt: f64,
-    /// Secular variation of gₙᵐ, nT/year.
-    pub g_dot_nt_per_yr: f64,
-    /// Secular variation of hₙᵐ, nT/year.
-    pub h_dot_nt_per_yr: f64,
+    /// Main-field coefficient gₙᵐ at the epoch, 0.1 nT.
+    pub g_tenth_nt: i32,
+    /// Main-field coefficient hₙᵐ at the epoch, 0.1 nT.
+    pub h_tenth_nt: i32,
+    /// Secular variation of gₙᵐ, 0.1 nT/year.
+    pub g_dot_tenth_nt_per_yr: i32,
+    /// Secular variation of hₙᵐ, 0.1 nT/year.
+    pub h_dot_tenth_nt_per_yr: i32,
 }
 
 /// Why the model could not be evaluated.
@@ -232,7 +238,7 @@ static COEFFICIENTS_STATIC: [WmmCoefficient; 90] = COEFFICIENTS;
 #[derive(Debug, Clone, Copy)]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
 pub struct WmmModel {
-    epoch_year: f64,
+    epoch_year: u16,
     coefficients: Table,
 }
 
@@ -243,7 +249,7 @@ impl WmmModel {
     /// use drivers::compass::wmm::WmmModel;
     ///
     /// const WMM: WmmModel = WmmModel::wmm2025();
-    /// assert_eq!(WMM.epoch_year(), 2025.0);
+    /// assert_eq!(WMM.epoch_year(), 2025);
     /// // NOAA's WMM2025 test values: 2027.5, 100 km, 80° N, 0° E: D = 2.16°.
     /// let d: f64 = WMM.declination_deg(80.0, 0.0, 100.0, 2027.5)?;
     /// assert!((d - 2.16).abs() < 0.005);
@@ -257,8 +263,9 @@ impl WmmModel {
     }
 
     /// A model from another WMM coefficient table (same layout as `WMM.COF`:
-    /// rows n = 1..=12, m = 0..=n). Used by the tests to check the synthesis
-    /// against NOAA's WMM2020 test values.
+    /// rows n = 1..=12, m = 0..=n) and its epoch, a whole year as every
+    /// WMM's. Used by the tests to check the synthesis against NOAA's
+    /// WMM2020 test values.
     ///
     /// ```
     /// use drivers::compass::wmm::{WmmCoefficient, WmmError, WmmModel};
@@ -270,13 +277,13 @@ impl WmmModel {
     ///     .map(|(n, m)| WmmCoefficient {
     ///         n,
     ///         m,
-    ///         g_nt: if (n, m) == (1, 0) { -30_000.0 } else { 0.0 },
-    ///         h_nt: 0.0,
-    ///         g_dot_nt_per_yr: 0.0,
-    ///         h_dot_nt_per_yr: 0.0,
+    ///         g_tenth_nt: if (n, m) == (1, 0) { -300_000 } else { 0 },
+    ///         h_tenth_nt: 0,
+    ///         g_dot_tenth_nt_per_yr: 0,
+    ///         h_dot_tenth_nt_per_yr: 0,
     ///     })
     ///     .collect();
-    /// let dipole = WmmModel::from_table(2025.0, Vec::leak(rows));
+    /// let dipole = WmmModel::from_table(2025, Vec::leak(rows));
     /// // On the equator at 0° E a dipole field points due north, level, with
     /// // X = −g₁⁰ (a/r)³ = 30 000 × (6371.2 / 6378.137)³ = 29 902.22 nT
     /// // (reference radius a, WGS-84 equatorial radius r).
@@ -284,26 +291,26 @@ impl WmmModel {
     /// assert!((e.north_nt - 29_902.22).abs() < 0.01);
     /// assert!(e.east_nt.abs() < 1e-9 && e.down_nt.abs() < 1e-9);
     /// // A table without all rows n = 1..=12 is refused when used.
-    /// let short = WmmModel::from_table(2025.0, Vec::leak(Vec::new()));
+    /// let short = WmmModel::from_table(2025, Vec::leak(Vec::new()));
     /// assert_eq!(short.field(0.0_f64, 0.0, 0.0, 2026.0), Err(WmmError::BadCoefficientTable));
     /// # Ok::<(), WmmError>(())
     /// ```
-    pub const fn from_table(epoch_year: f64, coefficients: &'static [WmmCoefficient]) -> Self {
+    pub const fn from_table(epoch_year: u16, coefficients: &'static [WmmCoefficient]) -> Self {
         Self {
             epoch_year,
             coefficients: Table::Slice(coefficients),
         }
     }
 
-    /// Epoch of the model, decimal year.
+    /// Epoch of the model, a whole year (its 1 January, 0 h).
     ///
     /// ```
     /// use drivers::compass::wmm::WmmModel;
     ///
-    /// assert_eq!(WmmModel::wmm2025().epoch_year(), 2025.0);
-    /// assert_eq!(WmmModel::from_table(2020.0, &[]).epoch_year(), 2020.0);
+    /// assert_eq!(WmmModel::wmm2025().epoch_year(), 2025);
+    /// assert_eq!(WmmModel::from_table(2020, &[]).epoch_year(), 2020);
     /// ```
-    pub fn epoch_year(&self) -> f64 {
+    pub fn epoch_year(&self) -> u16 {
         self.epoch_year
     }
 
@@ -374,7 +381,7 @@ impl WmmModel {
         if !(c(-10.0)..=c(850.0)).contains(&height_km) {
             return Err(WmmError::HeightOutOfRange);
         }
-        let dt_years = decimal_year - c(self.epoch_year);
+        let dt_years = decimal_year - F::from_u32(u32::from(self.epoch_year));
         if !(c(0.0)..=c(LIFESPAN_YEARS)).contains(&dt_years) {
             return Err(WmmError::DateOutsideModel);
         }
@@ -461,9 +468,12 @@ impl WmmModel {
                 if usize::from(coef.n) != n || usize::from(coef.m) != m {
                     return Err(WmmError::BadCoefficientTable);
                 }
-                // Report eq. 9: coefficients at the requested date.
-                let g = c(coef.g_nt) + dt_years * c(coef.g_dot_nt_per_yr);
-                let h = c(coef.h_nt) + dt_years * c(coef.h_dot_nt_per_yr);
+                // Report eq. 9: coefficients at the requested date, in
+                // tenths of a nanotesla (whole numbers, exact in f32).
+                let g = F::from_i32(coef.g_tenth_nt)
+                    + dt_years * F::from_i32(coef.g_dot_tenth_nt_per_yr);
+                let h = F::from_i32(coef.h_tenth_nt)
+                    + dt_years * F::from_i32(coef.h_dot_tenth_nt_per_yr);
                 let gc_hs = g * cm + h * sm;
                 sum_x += gc_hs * dp;
                 sum_y += mf * (g * sm - h * cm) * p;
@@ -479,6 +489,9 @@ impl WmmModel {
             core::mem::swap(&mut prev, &mut prev2);
         }
         y_gc /= cos_gc;
+        // The sums are in tenths of a nanotesla.
+        let tenths = c(10.0);
+        let (x_gc, y_gc, z_gc) = (x_gc / tenths, y_gc / tenths, z_gc / tenths);
 
         // Report eq. 11: rotate from geocentric to ellipsoidal components.
         let (sin_d, cos_d) = (lat_gc_rad - lat_rad).sin_cos();
@@ -503,19 +516,26 @@ fn get<F: Float>(row: &[F; MAX_DEGREE + 1], i: usize) -> F {
 }
 
 /// Decimal year of a UTC calendar date and time of day, as the WMM uses it:
-/// `year + (day_of_year − 1 + seconds_of_day / 86400) / days_in_year`.
+/// `year + (day_of_year − 1 + seconds_of_day / 86400) / days_in_year`, in
+/// the float type of the synthesis (`f32` needs no `f64` on the way).
 ///
 /// ```
 /// use drivers::compass::wmm::{decimal_year, WmmError};
 ///
-/// assert_eq!(decimal_year(2025, 1, 1, 0)?, 2025.0);
+/// assert_eq!(decimal_year::<f64>(2025, 1, 1, 0)?, 2025.0);
 /// // 2028 is a leap year: 2028-07-02 starts day 184 of 366, (184 − 1)/366 = 0.5.
-/// assert_eq!(decimal_year(2028, 7, 2, 0)?, 2028.5);
-/// assert_eq!(decimal_year(2027, 2, 29, 0), Err(WmmError::InvalidDate));
-/// assert_eq!(decimal_year(2027, 1, 1, 86_400), Err(WmmError::InvalidDate));
+/// assert_eq!(decimal_year::<f64>(2028, 7, 2, 0)?, 2028.5);
+/// assert_eq!(decimal_year::<f32>(2028, 7, 2, 0)?, 2028.5);
+/// assert_eq!(decimal_year::<f64>(2027, 2, 29, 0), Err(WmmError::InvalidDate));
+/// assert_eq!(decimal_year::<f64>(2027, 1, 1, 86_400), Err(WmmError::InvalidDate));
 /// # Ok::<(), WmmError>(())
 /// ```
-pub fn decimal_year(year: i32, month: u8, day: u8, seconds_of_day: u32) -> Result<f64, WmmError> {
+pub fn decimal_year<F: Float>(
+    year: i32,
+    month: u8,
+    day: u8,
+    seconds_of_day: u32,
+) -> Result<F, WmmError> {
     let leap = (year % 4 == 0 && year % 100 != 0) || year % 400 == 0;
     const CUMULATIVE: [u16; 12] = [0, 31, 59, 90, 120, 151, 181, 212, 243, 273, 304, 334];
     const LENGTH: [u8; 12] = [31, 28, 31, 30, 31, 30, 31, 31, 30, 31, 30, 31];
@@ -529,7 +549,7 @@ pub fn decimal_year(year: i32, month: u8, day: u8, seconds_of_day: u32) -> Resul
     }
     let extra = u16::from(leap && month > 2);
     let day_of_year = start + extra + u16::from(day);
-    let days_in_year = if leap { 366.0 } else { 365.0 };
-    Ok(f64::from(year)
-        + (f64::from(day_of_year - 1) + f64::from(seconds_of_day) / 86_400.0) / days_in_year)
+    let days_in_year = F::from_u32(if leap { 366 } else { 365 });
+    let day_fraction = F::from_u32(seconds_of_day) / F::from_u32(86_400);
+    Ok(F::from_i32(year) + (F::from_u32(u32::from(day_of_year - 1)) + day_fraction) / days_in_year)
 }

@@ -27,6 +27,7 @@
 //! - after `stale_after_ms` of the caller's monotonic clock without any
 //!   GGA/RMC, [`FixFusion::current`] reports no fix and no time.
 
+use super::coordinate::Coordinate;
 use super::parse::{sentence_is_plausible, FixQuality, Gga, Rmc, Sentence, TimeOfDayMs};
 use crate::time::DateTime;
 
@@ -64,10 +65,11 @@ pub struct GpsFix {
     /// completed; `None` exactly when `utc` is `None`. The instant `utc` names
     /// is that old at `utc_received_ms`, plus the receiver's output delay.
     pub utc_received_ms: Option<u64>,
-    /// Latitude, degrees north positive (only with a valid fix).
-    pub latitude_deg: Option<f64>,
+    /// Latitude, degrees north positive (only with a valid fix), exactly as
+    /// the receiver wrote it (`.deg::<f32>()` or `.deg::<f64>()`).
+    pub latitude_deg: Option<Coordinate>,
     /// Longitude, degrees east positive (only with a valid fix).
-    pub longitude_deg: Option<f64>,
+    pub longitude_deg: Option<Coordinate>,
     /// Altitude above mean sea level, metres (only with GGA quality > 0).
     pub altitude_m: Option<f32>,
     /// Fix quality.
@@ -243,7 +245,7 @@ impl FixFusion {
     /// epoch is complete. A sentence with impossible values is ignored.
     ///
     /// ```
-    /// use drivers::gps::{parse_sentence, FixFusion, Gga, Sentence};
+    /// use drivers::gps::{parse_sentence, Coordinate, FixFusion, Gga, Sentence};
     ///
     /// let mut fusion = FixFusion::new(2_000);
     /// // u-blox's GGA example: the epoch 09:27:25 starts.
@@ -252,8 +254,8 @@ impl FixFusion {
     /// // A hand-built GGA of a later epoch with a latitude of 95°: ignored.
     /// let bad = Sentence::Gga(Gga {
     ///     time_of_day_ms: Some(34_046_000),
-    ///     latitude_deg: Some(95.0),
-    ///     longitude_deg: Some(8.0),
+    ///     latitude_deg: Coordinate::from_deg(95.0),
+    ///     longitude_deg: Coordinate::from_deg(8.0),
     ///     ..Gga::default()
     /// });
     /// assert_eq!(fusion.update(&bad, 1_000), None);

@@ -17,10 +17,11 @@
 //! ```
 //!
 //! Numbers are read as decimal digits into an integer mantissa with a scale
-//! (no text-to-float parsing, no `core::fmt`), then converted: a latitude
-//! `ddmm.mmmm` is `(dd·60·10^k + mm·10^k + mmmm) / (60·10^k)` in one
-//! division, exact in the numerator up to [`MINUTE_DECIMALS`] minute decimals,
-//! so the result is the correctly rounded `f64` of the value written. Integer
+//! (no text-to-float parsing, no `core::fmt`): a latitude `ddmm.mmmm` is kept
+//! exactly, as `(dd·60 + mm)·10¹¹ + mmmm·10^(11−k)` 10⁻¹¹ arc-minutes
+//! ([`Coordinate`], up to [`MINUTE_DECIMALS`] minute decimals), which each
+//! float type rounds once; an altitude `a.aaa` is the `f32` nearest
+//! `aaaa / 10^k`, rounded once from the integers (no `f64`). Integer
 //! parts and counts are accumulated with checked arithmetic: one that
 //! overflows is a [`ParseError`]; decimals past [`MINUTE_DECIMALS`],
 //! [`ALTITUDE_DECIMALS`] or (for the time of day) the tenth are checked to be
@@ -46,7 +47,10 @@
 //! (ranges, minutes < 60, calendar dates, no leap second, no `nan`/`inf`) are
 //! in the `plausible` module's documentation and in the README.
 
+use sun_algos::Float;
+
 use super::assembler::{check as check_framing, MAX_SENTENCE_LEN};
+use super::coordinate::Coordinate;
 use super::plausible::{check_fields, gga_is_plausible, rmc_is_plausible, Kind};
 use crate::time::{days_in_month, DateTime};
 
@@ -138,7 +142,7 @@ pub type TimeOfDayMs = u32;
 /// assert_eq!(gga.satellites, Some(8));
 /// assert_eq!(gga.altitude_m, Some(499.6));
 /// // 47°17.11399' N = 47 + 17.11399/60 degrees.
-/// assert!((gga.latitude_deg.unwrap() - 47.285_233_166_666_67).abs() < 1e-12);
+/// assert!((gga.latitude_deg.unwrap().deg::<f64>() - 47.285_233_166_666_67).abs() < 1e-12);
 /// # Ok::<(), drivers::gps::ParseError>(())
 /// ```
 #[derive(Debug, Clone, Copy, PartialEq, Default)]
@@ -150,9 +154,9 @@ pub struct Gga {
     /// Fix quality (field 6).
     pub quality: FixQuality,
     /// Latitude, degrees north positive.
-    pub latitude_deg: Option<f64>,
+    pub latitude_deg: Option<Coordinate>,
     /// Longitude, degrees east positive.
-    pub longitude_deg: Option<f64>,
+    pub longitude_deg: Option<Coordinate>,
     /// Altitude above mean sea level, metres.
     pub altitude_m: Option<f32>,
     /// Satellites used.
@@ -171,7 +175,7 @@ pub struct Gga {
 /// let Sentence::Rmc(rmc) = s else { unreachable!() };
 /// assert!(rmc.valid);
 /// assert_eq!(rmc.utc, Some(DateTime::new(2002, 12, 9, 8, 35, 59)?));
-/// assert!((rmc.longitude_deg.unwrap() - (8.0 + 33.91522 / 60.0)).abs() < 1e-12);
+/// assert!((rmc.longitude_deg.unwrap().deg::<f64>() - (8.0 + 33.91522 / 60.0)).abs() < 1e-12);
 /// # Ok::<(), Box<dyn core::error::Error>>(())
 /// ```
 #[derive(Debug, Clone, Copy, PartialEq, Default)]
@@ -185,9 +189,9 @@ pub struct Rmc {
     /// Status `A` (or `D`, differential) rather than `V`.
     pub valid: bool,
     /// Latitude, degrees north positive.
-    pub latitude_deg: Option<f64>,
+    pub latitude_deg: Option<Coordinate>,
     /// Longitude, degrees east positive.
-    pub longitude_deg: Option<f64>,
+    pub longitude_deg: Option<Coordinate>,
 }
 
 /// A checksum-verified sentence, classified.
@@ -239,8 +243,8 @@ impl core::fmt::Display for ParseError {
 impl core::error::Error for ParseError {}
 
 /// Minute decimals of a latitude or longitude that are read; more are checked
-/// to be digits and dropped (10⁻¹¹ minute is below 2·10⁻¹³°). With 11, the
-/// numerator `(180·60 + 59)·10¹¹ + …` stays below 2⁵³, exact in an `f64`.
+/// to be digits and dropped (10⁻¹¹ minute is below 2·10⁻¹³°): a
+/// [`Coordinate`]'s unit.
 pub(crate) const MINUTE_DECIMALS: usize = 11;
 
 /// Altitude decimals that are read (a nanometre); more are dropped.
@@ -495,7 +499,7 @@ fn parse_position(
     north_south: &str,
     lon: &str,
     east_west: &str,
-) -> Result<(Option<f64>, Option<f64>), ParseError> {
+) -> Result<(Option<Coordinate>, Option<Coordinate>), ParseError> {
     if lat.is_empty() && north_south.is_empty() && lon.is_empty() && east_west.is_empty() {
         return Ok((None, None));
     }
@@ -511,13 +515,17 @@ fn parse_position(
         "W" => -longitude,
         _ => return Err(ParseError),
     };
-    Ok((Some(latitude), Some(longitude)))
+    Ok((
+        Some(Coordinate::from_e11_min(latitude)),
+        Some(Coordinate::from_e11_min(longitude)),
+    ))
 }
 
 /// Degrees and minutes `d…dmm[.m…]` with exactly `degree_digits` degree
-/// digits and minutes below 60, in degrees. The degree range is left to the
-/// value check (90°00.0' is a latitude, 90°00.1' is not).
-fn parse_angle(text: &str, degree_digits: usize) -> Result<f64, ParseError> {
+/// digits and minutes below 60, in 10⁻¹¹ arc-minutes (exact: at most
+/// 999·60·10¹¹ < 2⁶³). The degree range is left to the value check
+/// (90°00.0' is a latitude, 90°00.1' is not).
+fn parse_angle(text: &str, degree_digits: usize) -> Result<i64, ParseError> {
     let (int, frac) = split_decimal(text)?;
     if int.len() != degree_digits + 2 {
         return Err(ParseError);
@@ -534,19 +542,18 @@ fn parse_angle(text: &str, degree_digits: usize) -> Result<f64, ParseError> {
         return Err(ParseError);
     }
     let decimals = leading(frac, MINUTE_DECIMALS);
-    let scale = u32::try_from(decimals.len())
+    // The decimals' place: 10^(11 − k) for k of them.
+    let unit = u32::try_from(MINUTE_DECIMALS - decimals.len())
         .ok()
         .and_then(|k| 10u64.checked_pow(k))
         .ok_or(ParseError)?;
-    let numerator = degrees
+    let e11_min = degrees
         .checked_mul(60)
         .and_then(|m| m.checked_add(minutes))
-        .and_then(|m| m.checked_mul(scale))
-        .and_then(|m| m.checked_add(digits_value(decimals)?))
+        .and_then(|m| m.checked_mul(10u64.pow(MINUTE_DECIMALS as u32)))
+        .and_then(|m| m.checked_add(digits_value(decimals)?.checked_mul(unit)?))
         .ok_or(ParseError)?;
-    let denominator = scale.checked_mul(60).ok_or(ParseError)?;
-    // Both below 2^53 here, so exact; the division rounds once.
-    Ok(numerator as f64 / denominator as f64)
+    i64::try_from(e11_min).map_err(|_| ParseError)
 }
 
 /// `[+-]digits[.digits]`, metres.
@@ -564,15 +571,10 @@ fn parse_altitude(text: &str) -> Result<f32, ParseError> {
     let mantissa = digits_value(int)
         .and_then(|i| i.checked_mul(scale))
         .and_then(|m| m.checked_add(digits_value(decimals)?))
+        .and_then(|m| i64::try_from(m).ok())
         .ok_or(ParseError)?;
-    // Mantissa and scale exact in an f32 (10^9 = 2^9·5^9, 5^9 < 2^24): one rounding,
-    // the correctly rounded f32. Else through an f64 (the value is out of the
-    // plausible range or has more than 7 significant digits).
-    let value = if mantissa <= 1 << 24 {
-        mantissa as f32 / scale as f32
-    } else {
-        (mantissa as f64 / scale as f64) as f32
-    };
+    // The f32 nearest mantissa / scale, rounded once from the integers.
+    let value = f32::from_ratio(mantissa, scale);
     Ok(if negative { -value } else { value })
 }
 
@@ -673,7 +675,10 @@ mod tests {
         let g = gga(&format!(
             "120000,{lat},{ns},{lon},{ew},1,08,0.9,10.0,M,0.0,M,,"
         ))?;
-        Ok((g.latitude_deg.unwrap(), g.longitude_deg.unwrap()))
+        Ok((
+            g.latitude_deg.unwrap().deg(),
+            g.longitude_deg.unwrap().deg(),
+        ))
     }
 
     #[test]
@@ -686,8 +691,14 @@ mod tests {
         assert_eq!(g.quality, FixQuality::Dgps);
         assert_eq!(g.satellites, Some(7));
         assert_eq!(g.altitude_m, Some(-101.2));
-        assert_eq!(g.latitude_deg, Some(56.0 + 50.82344 / 60.0));
-        assert_eq!(g.longitude_deg, Some(-(35.0 + 48.9778 / 60.0)));
+        assert_eq!(
+            g.latitude_deg.map(|c| c.deg::<f64>()),
+            Some(56.0 + 50.82344 / 60.0)
+        );
+        assert_eq!(
+            g.longitude_deg.map(|c| c.deg::<f64>()),
+            Some(-(35.0 + 48.9778 / 60.0))
+        );
     }
 
     #[test]
@@ -703,8 +714,14 @@ mod tests {
             .with_millis(330)
             .unwrap();
         assert_eq!(r.utc, Some(utc));
-        assert_eq!(r.latitude_deg, Some(-(49.0 + 16.45 / 60.0)));
-        assert_eq!(r.longitude_deg, Some(123.0 + 11.12 / 60.0));
+        assert_eq!(
+            r.latitude_deg.map(|c| c.deg::<f64>()),
+            Some(-(49.0 + 16.45 / 60.0))
+        );
+        assert_eq!(
+            r.longitude_deg.map(|c| c.deg::<f64>()),
+            Some(123.0 + 11.12 / 60.0)
+        );
         // NMEA 2.0 (no mode) and 2.3 (mode, no navigational status) lengths.
         assert!(rmc("225446,A,4916.45,N,12311.12,W,0.5,54.7,191194,,").is_ok());
         assert!(rmc("225446,V,,,,,,,191194,,,N").is_ok_and(|r| !r.valid));

@@ -30,10 +30,12 @@
 //!      a sign only on altitude and geoid separation;
 //!    - any field at all, also past the ones listed: never a spelling of a
 //!      non-finite number (`nan`, `inf`, `infinity`, any case, any sign).
-//! 2. The parsed values ([`gga_is_plausible`], [`rmc_is_plausible`]): finite,
-//!    latitude within ±90°, longitude within ±180°, altitude within
+//! 2. The parsed values ([`gga_is_plausible`], [`rmc_is_plausible`]):
+//!    latitude within ±90°, longitude within ±180° (exact coordinates, always
+//!    finite), altitude finite and within
 //!    [`MIN_ALTITUDE_M`]..=[`MAX_ALTITUDE_M`], time of day below 24 h.
 
+use super::coordinate::Coordinate;
 use super::parse::{Gga, Rmc, TimeOfDayMs};
 use crate::time::days_in_month;
 
@@ -254,12 +256,12 @@ fn date_ok(text: &str) -> bool {
     text.len() == 6 && day >= 1 && day <= u16::from(days_in_month(year, month))
 }
 
-fn latitude_ok(lat_deg: Option<f64>) -> bool {
-    lat_deg.is_none_or(|v| v.is_finite() && (-90.0..=90.0).contains(&v))
+fn latitude_ok(lat: Option<Coordinate>) -> bool {
+    lat.is_none_or(|v| v.within_deg(90))
 }
 
-fn longitude_ok(lon_deg: Option<f64>) -> bool {
-    lon_deg.is_none_or(|v| v.is_finite() && (-180.0..=180.0).contains(&v))
+fn longitude_ok(lon: Option<Coordinate>) -> bool {
+    lon.is_none_or(|v| v.within_deg(180))
 }
 
 fn time_of_day_ok(ms: Option<TimeOfDayMs>) -> bool {

@@ -118,8 +118,8 @@ impl GpsDecoder {
     /// }
     /// let fix = fix.unwrap();
     /// // 47°17.11399' N, 8°33.91590' E, 499.6 m, 8 satellites, 2002-12-09.
-    /// assert!((fix.latitude_deg.unwrap() - (47.0 + 17.11399 / 60.0)).abs() < 1e-12);
-    /// assert!((fix.longitude_deg.unwrap() - (8.0 + 33.91590 / 60.0)).abs() < 1e-12);
+    /// assert!((fix.latitude_deg.unwrap().deg::<f64>() - (47.0 + 17.11399 / 60.0)).abs() < 1e-12);
+    /// assert!((fix.longitude_deg.unwrap().deg::<f64>() - (8.0 + 33.91590 / 60.0)).abs() < 1e-12);
     /// assert_eq!(fix.altitude_m, Some(499.6));
     /// assert_eq!(fix.satellites, Some(8));
     /// assert_eq!(fix.utc, Some(DateTime::new(2002, 12, 9, 9, 27, 25)?));
@@ -369,7 +369,7 @@ impl<R: Read> GpsReader<R> {
     /// }
     /// assert_eq!(fixes.len(), 1);
     /// assert_eq!(fixes[0].utc, Some(DateTime::new(2002, 12, 9, 8, 35, 59)?));
-    /// assert!((fixes[0].latitude_deg.unwrap() - (47.0 + 17.11437 / 60.0)).abs() < 1e-12);
+    /// assert!((fixes[0].latitude_deg.unwrap().deg::<f64>() - (47.0 + 17.11437 / 60.0)).abs() < 1e-12);
     /// # Ok::<(), drivers::time::DateTimeError>(())
     /// ```
     pub fn poll(&mut self, now_ms: u64) -> Result<Option<GpsFix>, Error<R::Error>> {

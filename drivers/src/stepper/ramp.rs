@@ -12,6 +12,8 @@
 //! The expected values in the examples are the formula above evaluated
 //! independently (Python, `math.isqrt`).
 
+use suntracker_time::div_rem_u64;
+
 /// Why a ramp configuration was refused.
 ///
 /// ```
@@ -171,8 +173,11 @@ impl Ramp {
     pub fn cruise_level(&self) -> u32 {
         let vmax = u64::from(self.max_speed_sps);
         let v0 = u64::from(self.start_speed_sps);
-        let a2 = 2 * u64::from(self.accel_sps2.max(1));
-        let k = (vmax * vmax).saturating_sub(v0 * v0).div_ceil(a2);
+        // ⌈n / 2a⌉ = ⌈⌈n / 2⌉ / a⌉, the division by a 32-bit a in 32-bit
+        // steps (no 64-bit division routine on an 8-bit board).
+        let half = (vmax * vmax).saturating_sub(v0 * v0).div_ceil(2);
+        let (q, r) = div_rem_u64(half, self.accel_sps2.max(1)).unwrap_or((u64::MAX, 0));
+        let k = q.saturating_add(u64::from(r != 0));
         u32::try_from(k).unwrap_or(u32::MAX)
     }
 }
@@ -230,3 +235,41 @@ bitwise_isqrt!(
     isqrt,
     u64
 );
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn cruise_level_is_the_ceiling_of_the_exact_quotient() {
+        // ⌈(v_max² − v₀²) / 2a⌉ in 128-bit arithmetic, over the extremes
+        // of every field (v_max up to the 10⁶ steps/s `validate` allows).
+        let speeds = [1, 2, 99, 100, 1_000, 65_535, 65_536, 999_999, 1_000_000];
+        let accels = [
+            1,
+            2,
+            3,
+            7,
+            10_000,
+            65_537,
+            u32::MAX / 3,
+            u32::MAX - 1,
+            u32::MAX,
+        ];
+        for &max_speed_sps in &speeds {
+            for &start_speed_sps in speeds.iter().filter(|&&v| v <= max_speed_sps) {
+                for &accel_sps2 in &accels {
+                    let ramp = Ramp {
+                        start_speed_sps,
+                        max_speed_sps,
+                        accel_sps2,
+                    };
+                    let n = u128::from(max_speed_sps).pow(2) - u128::from(start_speed_sps).pow(2);
+                    // Saturated to a u32.
+                    let want = n.div_ceil(2 * u128::from(accel_sps2)).min(u32::MAX.into());
+                    assert_eq!(u128::from(ramp.cruise_level()), want, "{ramp:?}");
+                }
+            }
+        }
+    }
+}

@@ -47,7 +47,7 @@ use heapless::Vec;
 
 use crate::float::Float;
 use crate::position::SunPosition;
-use crate::time::UtcTime;
+use crate::time::{div_rem_euclid_i64, div_rem_u64, UtcTime};
 
 use super::events::{DayKind, Events};
 use super::incidence::Surface;
@@ -86,11 +86,26 @@ impl Entry {
     /// assert_eq!((e.slope_cdeg(), e.azimuth_cdeg()), (0, 0));
     /// ```
     pub fn from_surface<T: Float>(surface: &Surface<T>) -> Self {
-        let s = surface.slope_deg.to_f64().clamp(-180.0, 180.0) * 100.0;
-        let a = surface.azimuth_deg.to_f64().rem_euclid(360.0) * 100.0;
-        let slope_cdeg = round_i64(s) as i16;
-        let az = round_i64(a);
-        let azimuth_cdeg = if az >= 36_000 { 0 } else { az as u16 };
+        // Rounded exactly from the value's own bits (in T, never through
+        // f64): ⌊|s|·100 + ½⌋ with the sign put back, halves away from 0.
+        let s = surface
+            .slope_deg
+            .clamp(T::from_f64(-180.0), T::from_f64(180.0));
+        let slope_cdeg = s.to_mantissa_exp2().map_or(0, |(m, e)| {
+            // |s| ≤ 180°: at most 18 000, below the turn it is reduced by.
+            let c = centi_round_mod_turn(m.abs(), e) as i16;
+            if m < 0 {
+                -c
+            } else {
+                c
+            }
+        });
+        // ⌊a·100 + ½⌋ taken modulo a turn equals folding a into 0…360°
+        // first and rounding its hundredfold halves up.
+        let azimuth_cdeg = surface
+            .azimuth_deg
+            .to_mantissa_exp2()
+            .map_or(0, |(m, e)| centi_round_mod_turn(m, e) as u16);
         Entry {
             slope_cdeg,
             azimuth_cdeg,
@@ -151,14 +166,26 @@ impl Entry {
     }
 }
 
-fn round_i64(v: f64) -> i64 {
-    if !v.is_finite() {
-        return 0;
-    }
-    if v >= 0.0 {
-        (v + 0.5) as i64
+/// Centidegrees in a turn.
+const TURN_CDEG: u32 = 36_000;
+
+/// `⌊x·100 + ½⌋` modulo [`TURN_CDEG`] (in `0..36 000`) for `x = m·2^e`, in
+/// integer arithmetic, exactly (`|m| < 2^53`, as a float's significand).
+fn centi_round_mod_turn(m: i64, e: i32) -> u32 {
+    let turn_rem = |v: i64| div_rem_euclid_i64(v, TURN_CDEG).map_or(0, |(_, r)| r);
+    // |m| < 2^53: below 2^60.
+    let y = m * 100;
+    if e >= 0 {
+        // A whole number y·2^e: doubled e times modulo the turn.
+        (0..e).fold(turn_rem(y), |r, _| r * 2 % TURN_CDEG)
+    } else if e < -62 {
+        // |y·2^e| < 2^−2: rounds to 0.
+        0
     } else {
-        (v - 0.5) as i64
+        // ⌊(y + 2^(s−1)) / 2^s⌋ for s = −e, the shift rounding towards −∞
+        // (no overflow: |y| + 2^61 < 2^63).
+        let s = e.unsigned_abs();
+        turn_rem((y + (1 << (s - 1))) >> s)
     }
 }
 
@@ -376,7 +403,7 @@ impl<const N: usize> DayTable<N> {
         if !interval_is_valid(interval_min) {
             return Err(GeometryError::InvalidInterval);
         }
-        let step = i64::from(interval_min) * 60;
+        let step = u32::from(interval_min) * 60;
         let w0 = events.window_start.unix_seconds();
         let w1 = w0 + 86_400;
         let (from, to) = match (events.kind, events.sunrise, events.sunset) {
@@ -387,14 +414,19 @@ impl<const N: usize> DayTable<N> {
             (_, None, Some(s)) => (w0, s.unix_seconds()),
             _ => (w0, w1),
         };
-        let first_s =
-            from.div_euclid(step) * step + if from.rem_euclid(step) == 0 { 0 } else { step };
-        let last_s = to.div_euclid(step) * step;
-        let needed = if last_s >= first_s {
-            ((last_s - first_s) / step + 1) as usize
+        // Whole steps of the Unix time scale (a step divides a day).
+        let steps = |t: i64| div_rem_euclid_i64(t, step).ok_or(GeometryError::InvalidInterval);
+        let (first_k, from_rest) = steps(from)?;
+        let first_k = first_k + i64::from(from_rest != 0);
+        let (last_k, _) = steps(to)?;
+        // Steps from the first to the last, both included (none if negative).
+        let count = last_k - first_k + 1;
+        let needed = if count > 0 {
+            usize::try_from(count).unwrap_or(usize::MAX)
         } else {
             0
         };
+        let first_s = first_k * i64::from(step);
         if needed > N {
             return Err(GeometryError::CapacityExceeded {
                 needed,
@@ -646,12 +678,9 @@ impl<const N: usize> DayTable<N> {
     /// ```
     pub fn at(&self, time: &UtcTime) -> Option<(UtcTime, Entry)> {
         let dt = time.unix_seconds() - self.first.unix_seconds();
-        if dt < 0 {
-            return None;
-        }
-        let step = i64::from(self.interval_min) * 60;
-        let i = usize::try_from(dt / step).ok()?;
-        self.get(i)
+        let dt = u64::try_from(dt).ok()?;
+        let (i, _) = div_rem_u64(dt, u32::from(self.interval_min) * 60)?;
+        self.get(usize::try_from(i).ok()?)
     }
 
     /// The stored fields: first instant, interval, entries needed, entries.

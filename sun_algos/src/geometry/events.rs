@@ -319,12 +319,13 @@ enum Stage<T> {
         resume: i64,
     },
     /// Golden-section search for the transit on `[a, b]` seconds with the
-    /// interior points `c`, `d` (their heights once known).
+    /// interior points `c`, `d` (their heights once known), in the float
+    /// type of the positions (no software `f64` on an 8-bit board).
     Golden {
-        a: f64,
-        b: f64,
-        c: f64,
-        d: f64,
+        a: T,
+        b: T,
+        c: T,
+        d: T,
         fc: Option<T>,
         fd: Option<T>,
     },
@@ -440,6 +441,7 @@ impl<T: Float> EventSearch<T> {
     {
         let limit = T::from_f64(90.0 + SUN_RADIUS_PLUS_HORIZON_REFRACTION_DEG);
         let w0 = self.window_start;
+        let inv_phi = T::from_f64(INV_PHI);
         // Each pass samples one position (the first of the transit search
         // none): first the instant it needs, then the one call of the
         // position source, then the stage updated in place. (One call site
@@ -457,13 +459,13 @@ impl<T: Float> EventSearch<T> {
             {
                 // Narrow the bracket; the new interior point is sampled
                 // below.
-                if b - a > 1.0 {
+                if b - a > T::ONE {
                     self.stage = if fc >= fd {
                         // [a, d] with c as its upper point.
                         Stage::Golden {
                             a,
                             b: d,
-                            c: d - INV_PHI * (d - a),
+                            c: d - inv_phi * (d - a),
                             d: c,
                             fc: None,
                             fd: Some(fc),
@@ -474,7 +476,7 @@ impl<T: Float> EventSearch<T> {
                             a: c,
                             b,
                             c: d,
-                            d: c + INV_PHI * (b - c),
+                            d: c + inv_phi * (b - c),
                             fc: Some(fd),
                             fd: None,
                         }
@@ -490,12 +492,13 @@ impl<T: Float> EventSearch<T> {
                     // ±1 step around the highest sample, to 1 s.
                     let lo = (self.best_i - 1).max(0) * STEP_S;
                     let hi = ((self.best_i + 1) * STEP_S).min(86_400);
-                    let (a, b) = (lo as f64, hi as f64);
+                    // 0 ≤ lo < hi ≤ 86 400: exact as i32 and in T.
+                    let (a, b) = (T::from_i32(lo as i32), T::from_i32(hi as i32));
                     self.stage = Stage::Golden {
                         a,
                         b,
-                        c: b - INV_PHI * (b - a),
-                        d: a + INV_PHI * (b - a),
+                        c: b - inv_phi * (b - a),
+                        d: a + inv_phi * (b - a),
                         fc: None,
                         fd: None,
                     };
@@ -507,9 +510,9 @@ impl<T: Float> EventSearch<T> {
                     None => (t0, a),
                     Some(_) => (t0, b),
                 },
-                Stage::Golden { c, fc: None, .. } => (w0, libm::round(c) as i64),
-                Stage::Golden { d, fd: None, .. } => (w0, libm::round(d) as i64),
-                Stage::Golden { a, b, .. } => (w0, libm::round((a + b) / 2.0) as i64),
+                Stage::Golden { c, fc: None, .. } => (w0, round_s(c)),
+                Stage::Golden { d, fd: None, .. } => (w0, round_s(d)),
+                Stage::Golden { a, b, .. } => (w0, round_s((a + b) / T::from_f64(2.0))),
             };
             // Height above the limit; positive when the sun is up.
             let v = height_at(sun, &base.add_seconds(s)?)?;
@@ -634,6 +637,12 @@ where
 
 /// 1/φ, the golden-section ratio.
 const INV_PHI: f64 = 0.618_033_988_749_895;
+
+/// A second of the window, `0 ≤ s ≤ 86 400`, rounded to the nearest whole
+/// one (halves up), through `f32` (exact for these whole numbers).
+fn round_s<T: Float>(s: T) -> i64 {
+    i64::from((s + T::from_f64(0.5)).floor().to_f32() as i32)
+}
 
 /// Precise events of the local solar day of date `(y, m, d)` at `site` with
 /// `algorithm`. Positions are geometric (any atmosphere in `options` is

@@ -71,8 +71,8 @@ fn old_parse_sentence(sentence: &str) -> Result<Sentence, ParseError> {
         Ok(ParseResult::GGA(g)) => Ok(Sentence::Gga(Gga {
             time_of_day_ms: g.fix_time.as_ref().map(old_time_of_day_ms),
             quality: g.fix_type.map(FixQuality::from).unwrap_or_default(),
-            latitude_deg: g.latitude,
-            longitude_deg: g.longitude,
+            latitude_deg: g.latitude.and_then(Coordinate::from_deg),
+            longitude_deg: g.longitude.and_then(Coordinate::from_deg),
             altitude_m: g.altitude,
             satellites: g.fix_satellites.map(|n| u8::try_from(n).unwrap_or(u8::MAX)),
         })),
@@ -86,8 +86,8 @@ fn old_parse_sentence(sentence: &str) -> Result<Sentence, ParseError> {
                 r.status_of_fix,
                 RmcStatusOfFix::Autonomous | RmcStatusOfFix::Differential
             ),
-            latitude_deg: r.lat,
-            longitude_deg: r.lon,
+            latitude_deg: r.lat.and_then(Coordinate::from_deg),
+            longitude_deg: r.lon.and_then(Coordinate::from_deg),
         })),
         _ => Err(ParseError),
     }?;
@@ -101,11 +101,11 @@ fn old_parse_sentence(sentence: &str) -> Result<Sentence, ParseError> {
 /// Largest latitude/longitude difference allowed between the two.
 const ANGLE_TOLERANCE_DEG: f64 = 1e-12;
 
-fn angle_same(a: Option<f64>, b: Option<f64>, max_diff: &mut f64) -> bool {
+fn angle_same(a: Option<Coordinate>, b: Option<Coordinate>, max_diff: &mut f64) -> bool {
     match (a, b) {
         (None, None) => true,
         (Some(x), Some(y)) => {
-            let d = (x - y).abs();
+            let d = (x.deg::<f64>() - y.deg::<f64>()).abs();
             *max_diff = max_diff.max(d);
             d <= ANGLE_TOLERANCE_DEG
         }
