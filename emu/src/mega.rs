@@ -489,6 +489,14 @@ impl MegaBench {
             if due.power_cut {
                 log = LineAssembler::default();
                 line_start = None;
+                // The bridges' inputs fall with the chip, and the image
+                // that boots knows nothing of the rotors' phases.
+                c_axis.power_cut(now_cycle);
+                a_axis.power_cut(now_cycle);
+                if coils != 0 {
+                    coils = 0;
+                    coils_off_emu = now_emu;
+                }
                 // The reset cleared the PINx registers: drive the switch,
                 // anemometer and real-time levels again.
                 switches = [None; 4];
