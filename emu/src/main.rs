@@ -29,7 +29,12 @@ OPTIONS:
   --elf PATH            the ELF (default: $CARGO_TARGET_DIR or target, then
                         /mega-emu/avr-none/release/avr_mega_tracker.elf,
                         /uno-emu/avr-none/release/avr_tracker.elf or
-                        /uno-emu/avr-none/release/avr_settings.elf)
+                        /uno-emu/avr-none/release/avr_settings.elf). An
+                        emulation build (it holds the text `timescale `)
+                        runs at 60x until it logs its timescale; a board
+                        build, the ELF a user flashes (e.g.
+                        /mega/avr-none/release/avr_mega_tracker.elf), at
+                        1:1: emulated time = CPU time
   --nmea FILE           feed this recorded NMEA log on USART1 (default: a
                         generated Kano fix, 11.9683 N 8.4261 E, 480 m)
   --no-gps              keep USART1 silent

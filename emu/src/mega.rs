@@ -4,8 +4,10 @@
 //! Time compression: the emulation build of the image advances its Timer0
 //! millisecond clock by `EMU_MS_PER_TICK` ms per Timer0 interrupt (one per
 //! ms of CPU time) and logs `timescale <N>` at boot; emulated time =
-//! N × CPU time (N = 60 until the line is seen). Every model runs on
-//! emulated time.
+//! N × CPU time (N = 60 until the line is seen). The board build (the ELF a
+//! user flashes) advances it 1 ms per tick and logs no timescale: emulated
+//! time is CPU time ([`timescale_of`] tells the two apart). Every model
+//! runs on emulated time.
 //!
 //! Real time during motion: the image's 56 steps/s take one loop pass per
 //! step, and under 60× the loop gets 1/60 of the CPU per emulated second
@@ -54,8 +56,36 @@ pub const GPS_END_MARGIN_S: f64 = 0.05;
 /// CPU cycles between two services of the slow models at real time (one
 /// emulated ms; at 60× [`SERVICE_CYCLES`] is 3.84 emulated ms).
 pub const REAL_TIME_SERVICE_CYCLES: u64 = 16_000;
-/// Default timescale before the image says otherwise.
+/// Default timescale of an emulation build before the image says
+/// otherwise.
 pub const DEFAULT_TIMESCALE: f64 = 60.0;
+
+/// The text an emulation build logs its timescale with
+/// (`boards/mega2560/src/lib.rs`, `boards/uno/src/lib.rs`: `timescale <N>`,
+/// behind `if MS_PER_TICK != 1`, a constant, so a board build's flash holds
+/// no trace of it).
+const TIMESCALE_TEXT: &[u8] = b"timescale ";
+
+/// The timescale to assume for the image at `elf` until it logs one:
+/// [`DEFAULT_TIMESCALE`] when the file holds the text `timescale ` (an
+/// emulation build, `SUNTRACKER_EMU_MS_PER_TICK` set), else 1 (a board
+/// build: 1 ms per Timer0 tick, emulated time = CPU time).
+pub fn timescale_of(elf: &Path) -> Result<f64, String> {
+    let bytes = std::fs::read(elf).map_err(|e| format!("{}: {e}", elf.display()))?;
+    Ok(timescale_of_bytes(&bytes))
+}
+
+/// [`timescale_of`] an ELF's bytes.
+pub fn timescale_of_bytes(elf: &[u8]) -> f64 {
+    if elf
+        .windows(TIMESCALE_TEXT.len())
+        .any(|w| w == TIMESCALE_TEXT)
+    {
+        DEFAULT_TIMESCALE
+    } else {
+        1.0
+    }
+}
 /// Emulated seconds the bench stays at real time after the last coil is
 /// released (the tracker's moves come in bursts: homing, back-off, the
 /// next set-point).
@@ -242,7 +272,8 @@ pub struct MegaBench {
     power_on: (f64, f64),
     echo: bool,
     log_file: Option<PathBuf>,
-    timescale: f64,
+    /// Timescale until the image logs one; `None`: [`timescale_of`] the ELF.
+    timescale: Option<f64>,
     /// Console input (USART0) and power cuts.
     script: Script,
 }
@@ -271,7 +302,7 @@ impl MegaBench {
             power_on: (30.0, 20.0),
             echo: false,
             log_file: None,
-            timescale: DEFAULT_TIMESCALE,
+            timescale: None,
             script: Script::default(),
         }
     }
@@ -345,10 +376,11 @@ impl MegaBench {
         self
     }
 
-    /// Timescale to assume until the image logs `timescale <N>` (60 by
-    /// default; 1 for images without time compression, e.g. the selftest).
+    /// Timescale to assume until the image logs `timescale <N>` (by
+    /// default [`timescale_of`] the ELF: 60 for an emulation build, 1 for a
+    /// board build or the self-test).
     pub fn timescale(mut self, n: f64) -> Self {
-        self.timescale = n;
+        self.timescale = Some(n);
         self
     }
 
@@ -398,7 +430,10 @@ impl MegaBench {
 
         let mut c_axis = StepperDecoder::new(AxisGeometry::c_axis(), self.power_on.0);
         let mut a_axis = StepperDecoder::new(AxisGeometry::a_axis(), self.power_on.1);
-        let mut timescale = self.timescale;
+        let mut timescale = match self.timescale {
+            Some(n) => n,
+            None => timescale_of(&self.elf)?,
+        };
         let mut gps = NmeaFeeder::new(self.gps.clone(), self.start_unix_s, GPS_BYTE_S);
         let mut wind = Anemometer::new(self.wind.clone());
         let mut log = LineAssembler::default();
@@ -454,6 +489,14 @@ impl MegaBench {
             if due.power_cut {
                 log = LineAssembler::default();
                 line_start = None;
+                // The bridges' inputs fall with the chip, and the image
+                // that boots knows nothing of the rotors' phases.
+                c_axis.power_cut(now_cycle);
+                a_axis.power_cut(now_cycle);
+                if coils != 0 {
+                    coils = 0;
+                    coils_off_emu = now_emu;
+                }
                 // The reset cleared the PINx registers: drive the switch,
                 // anemometer and real-time levels again.
                 switches = [None; 4];

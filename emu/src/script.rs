@@ -80,6 +80,23 @@ impl Script {
     }
 }
 
+/// `len` bytes of line noise for [`Script::bytes`]: the low byte of each
+/// state of Marsaglia's (2003) xorshift32 (shifts 13, 17, 5) from `seed`
+/// (not 0), so the same seed gives the same noise on every run and bench.
+/// About one byte in 256 is a line end (0x0A): lines of garbage, and a last
+/// partial one.
+pub fn xorshift32_noise(seed: u32, len: usize) -> Vec<u8> {
+    let mut x = seed;
+    (0..len)
+        .map(|_| {
+            x ^= x << 13;
+            x ^= x >> 17;
+            x ^= x << 5;
+            x as u8
+        })
+        .collect()
+}
+
 /// What [`Player::service`] did.
 #[derive(Debug, Clone, Default, PartialEq)]
 pub struct Due {
@@ -135,6 +152,23 @@ impl Player<'_> {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn xorshift32_is_marsaglias() {
+        // Marsaglia (2003), "Xorshift RNGs", the 32-bit generator with
+        // shifts 13, 17, 5: from 1 the states are 270369, 67634689,
+        // 2647435461 (the three shifts on 32-bit words, worked out
+        // independently in Python).
+        assert_eq!(
+            xorshift32_noise(1, 3),
+            [
+                270_369u32 as u8,
+                67_634_689u32 as u8,
+                2_647_435_461u32 as u8
+            ]
+        );
+        assert_eq!(xorshift32_noise(0x2545_f491, 10_240).len(), 10_240);
+    }
 
     #[test]
     fn lines_in_time_order_and_as_shown() {

@@ -730,3 +730,103 @@ impl Drop for Sim {
         unsafe { ffi::avr_terminate(self.avr.as_ptr()) };
     }
 }
+
+/// An ELF file as a scenario ran it: what a user compares with the file
+/// they flash (`sha256sum`), and whether it is the board build.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct ElfIdentity {
+    /// The path it was read from.
+    pub path: std::path::PathBuf,
+    /// Its length, bytes.
+    pub len: usize,
+    /// SHA-256 of the whole file, lowercase hex (as `sha256sum` prints it).
+    pub sha256_hex: String,
+    /// No emulation-build time scale in it ([`crate::mega::timescale_of`]
+    /// is 1): the build a user flashes, not a `SUNTRACKER_EMU_MS_PER_TICK`
+    /// one.
+    pub board_build: bool,
+}
+
+impl ElfIdentity {
+    /// Reads the file at `path`.
+    pub fn of(path: &Path) -> Result<Self, String> {
+        use sha2::{Digest, Sha256};
+        let bytes = std::fs::read(path).map_err(|e| format!("{}: {e}", path.display()))?;
+        let sha256_hex = Sha256::digest(&bytes)
+            .iter()
+            .map(|b| format!("{b:02x}"))
+            .collect();
+        Ok(ElfIdentity {
+            path: path.to_path_buf(),
+            len: bytes.len(),
+            sha256_hex,
+            board_build: crate::mega::timescale_of_bytes(&bytes) == 1.0,
+        })
+    }
+}
+
+impl ElfIdentity {
+    /// [`ElfIdentity::of`] the file at `path`, which must be a board build:
+    /// an error for an emulation build.
+    pub fn of_board_build(path: &Path) -> Result<Self, String> {
+        let id = Self::of(path)?;
+        if id.board_build {
+            Ok(id)
+        } else {
+            Err(format!(
+                "{}: an emulation build (it holds the text `timescale `), not the ELF a user flashes",
+                path.display()
+            ))
+        }
+    }
+}
+
+impl std::fmt::Display for ElfIdentity {
+    /// `flashed ELF sha256=<hex> bytes=<len> path=<path>`: the line
+    /// `.ci/run` compares with `sha256sum` of the release ELF.
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        write!(
+            f,
+            "flashed ELF sha256={} bytes={} path={}",
+            self.sha256_hex,
+            self.len,
+            self.path.display()
+        )
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn elf_identity_is_sha256_and_tells_the_builds_apart() {
+        let dir = std::env::temp_dir().join(format!("suntracker-emu-id-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        // FIPS 180-2, Appendix B.1: SHA-256("abc").
+        let board = dir.join("board.elf");
+        std::fs::write(&board, b"abc").unwrap();
+        let id = ElfIdentity::of_board_build(&board).unwrap();
+        assert_eq!(
+            id.sha256_hex,
+            "ba7816bf8f01cfea414140de5dae2223b00361a396177a9cb410ff61f20015ad"
+        );
+        assert_eq!((id.len, id.board_build), (3, true));
+        assert_eq!(
+            id.to_string(),
+            format!(
+                "flashed ELF sha256={} bytes=3 path={}",
+                id.sha256_hex,
+                board.display()
+            )
+        );
+        // The text only an emulation build logs, anywhere in the file.
+        let emu = dir.join("emu.elf");
+        std::fs::write(&emu, b"\x7fELF..timescale \x00").unwrap();
+        assert!(!ElfIdentity::of(&emu).unwrap().board_build);
+        assert!(ElfIdentity::of_board_build(&emu).is_err());
+        assert_eq!(crate::mega::timescale_of(&emu).unwrap(), 60.0);
+        assert_eq!(crate::mega::timescale_of(&board).unwrap(), 1.0);
+        std::fs::remove_dir_all(&dir).unwrap();
+    }
+}

@@ -53,7 +53,10 @@
 //! is N times faster than on a board (the FS5106R's 570 °/s is 34,200
 //! emulated °/s at 60×), and the firmware's monotonic durations (the 5 s
 //! stall timeout, the 60 s retry) are N times shorter in servo time; the
-//! loop's behaviour per frame, per count and per pulse is the board's.
+//! loop's behaviour per frame, per count and per pulse is the board's. The
+//! board build (the ELF a user flashes) logs no timescale and runs at N = 1
+//! ([`crate::mega::timescale_of`] tells the builds apart by their flash):
+//! there the two clocks are one, and every duration is the board's.
 //!
 //! **Pulses.** ATmega328P §15.9.3 ("Fast PWM Mode") and Table 15-5: in
 //! mode 14 (TOP = ICR1) OCR1x is double-buffered and updated at BOTTOM, so
@@ -98,7 +101,7 @@ use drivers::encoder::QuadratureDecoder;
 use sun_algos::{Algorithm, Options, Site, UtcTime};
 
 use crate::log::{parse_line, Event, LineAssembler};
-use crate::mega::{LogLine, Rtc, DEFAULT_TIMESCALE, F_CPU, PAINT};
+use crate::mega::{timescale_of, LogLine, Rtc, F_CPU, PAINT};
 use crate::models::ds3231::Ds3231;
 use crate::models::fs5106r::{Fs5106r, Segment};
 use crate::models::panel::{self, Divider, PvPanel, Sky};
@@ -259,8 +262,9 @@ pub struct UnoBench {
     script: Script,
     /// EEPROM contents from address 0 before the first instruction.
     eeprom: Option<Vec<u8>>,
-    /// Emulated ms per CPU ms until the image logs `timescale <N>`.
-    timescale: f64,
+    /// Emulated ms per CPU ms until the image logs `timescale <N>`;
+    /// `None`: [`timescale_of`] the ELF.
+    timescale: Option<f64>,
     /// Echo the decoded pose with each line (not for the settings image).
     show_pose: bool,
 }
@@ -810,7 +814,7 @@ impl UnoBench {
             site: (SITE_LAT_DEG, SITE_LON_DEG),
             script: Script::default(),
             eeprom: None,
-            timescale: DEFAULT_TIMESCALE,
+            timescale: None,
             show_pose: true,
         }
     }
@@ -827,11 +831,11 @@ impl UnoBench {
         }
     }
 
-    /// Timescale to assume until the image logs `timescale <N>` (60 by
-    /// default, as the tracker's emulation build; 1 for an image without
-    /// time compression).
+    /// Timescale to assume until the image logs `timescale <N>` (by
+    /// default [`timescale_of`] the ELF: 60 for the tracker's emulation
+    /// build, 1 for a board build).
     pub fn timescale(mut self, n: f64) -> Self {
-        self.timescale = n;
+        self.timescale = Some(n);
         self
     }
 
@@ -979,7 +983,10 @@ impl UnoBench {
         // Emulated seconds = base_s + (cycle − base_cycle) / F_CPU × scale;
         // the scale changes once, when the image logs it.
         let f = f64::from(F_CPU);
-        let mut scale = self.timescale;
+        let mut scale = match self.timescale {
+            Some(n) => n,
+            None => timescale_of(&self.elf)?,
+        };
         let (mut base_cycle, mut base_s) = (0u64, 0.0f64);
         let end_emu_s = minutes * 60.0;
         let mut step_s = DEFAULT_STEP_S;

@@ -1,22 +1,27 @@
 //! Scenario tests of the ATmega2560 tracker image (`avr_mega_tracker`, the
-//! emulation build with time compression) under the harness.
+//! emulation build with time compression) under the harness, and (h) of
+//! the board build, the ELF a user flashes, at real time.
 //!
-//! Gated: they run only when `SUNTRACKER_EMU_ELF_MEGA` names the ELF;
-//! otherwise each prints "skipped: SUNTRACKER_EMU_ELF_MEGA not set" and
-//! passes. What the image must do for them is listed in `emu/README.md`
-//! ("What the image must do").
+//! Gated: (a)–(g) run only when `SUNTRACKER_EMU_ELF_MEGA` names the
+//! emulation build's ELF (`build_avr_mega_emu`), (h) only when
+//! `SUNTRACKER_EMU_ELF_MEGA_RELEASE` names the board build's
+//! (`build_avr_mega`, `$ELF_AVR_MEGA` in `.ci/firmware_env.sh`); otherwise
+//! each prints "skipped: … not set" and passes. What the image must do for
+//! them is listed in `emu/README.md` ("What the image must do").
 //!
 //! Conventions checked against (see `emu/src/models/mount.rs`): the panel
 //! normal of a pose (γ = C, α = A) is `suntracker::attitude`'s forward
 //! function `MountAttitude::normal_xyz`; the sun is SPA (sun_algos, f64,
 //! geometric, Kano 11.9683 N 8.4261 E 480 m) at the set-point's UTC.
 
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 
 use sun_algos::{Algorithm, Options, Site, UtcTime};
 use suntracker::attitude::{angle_between_deg, sun_vector_xyz, MountAttitude, Pose};
 use suntracker_emu::log::{format_utc, parse_utc, Event};
 use suntracker_emu::mega::SwitchEvent;
+use suntracker_emu::script::xorshift32_noise;
+use suntracker_emu::sim::{CpuState, ElfIdentity};
 use suntracker_emu::{Field, GpsFeed, LogLine, MegaBench, Mount, Rtc, Run, WindProfile};
 
 /// RAM that must stay free under the deepest stack a scenario reaches
@@ -37,16 +42,18 @@ const WIND_RELEASE_S: f64 = 600.0;
 /// steps/s at 100 steps/s², 0.036° a step) reaches 2°/s within 0.4 s.
 const MIN_AXIS_DEG_S: f64 = 1.8;
 
-fn elf() -> Option<PathBuf> {
-    std::env::var_os("SUNTRACKER_EMU_ELF_MEGA").map(PathBuf::from)
-}
+/// Sydney, the site typed on the console and saved in (f) and (h).
+const SYDNEY: (f64, f64) = (-33.8688, 151.2093);
 
 macro_rules! elf_or_skip {
     () => {
-        match elf() {
-            Some(p) => p,
+        elf_or_skip!("SUNTRACKER_EMU_ELF_MEGA")
+    };
+    ($var:literal) => {
+        match std::env::var_os($var) {
+            Some(p) => PathBuf::from(p),
             None => {
-                println!("skipped: SUNTRACKER_EMU_ELF_MEGA not set");
+                println!(concat!("skipped: ", $var, " not set"));
                 return;
             }
         }
@@ -109,7 +116,10 @@ fn assert_no_illegal_steps(run: &Run) {
     );
 }
 
-fn set_points(run: &Run) -> Vec<(&LogLine, i64, f64, f64)> {
+/// A `setpoint` line, its UTC (Unix s) and its pose (c, a), degrees.
+type SetPoint<'a> = (&'a LogLine, i64, f64, f64);
+
+fn set_points(run: &Run) -> Vec<SetPoint<'_>> {
     run.lines
         .iter()
         .filter_map(|l| match l.event {
@@ -141,9 +151,19 @@ fn has_line(run: &Run, pred: impl Fn(&Event) -> bool) -> bool {
 
 /// For each set-point but the last: the decoded angles just before the
 /// next set-point line started equal (c, a) within a step; the panel
-/// normal of (c, a) through `mount` is within `pointing_tol_deg` of the sun.
+/// normal of (c, a) through `mount` is within `pointing_tol_deg` of Kano's
+/// sun.
 fn check_set_points(run: &Run, mount: &MountAttitude<f64>, pointing_tol_deg: f64) -> usize {
-    let sps = set_points(run);
+    check_set_points_of(&set_points(run), mount, kano_sun, pointing_tol_deg)
+}
+
+/// [`check_set_points`] on the set-points `sps` (in order), against `sun`.
+fn check_set_points_of(
+    sps: &[SetPoint],
+    mount: &MountAttitude<f64>,
+    sun: impl Fn(i64) -> [f64; 3],
+    pointing_tol_deg: f64,
+) -> usize {
     assert!(!sps.is_empty(), "no setpoint line");
     let mut worst_angle: f64 = 0.0;
     let mut worst_pointing: f64 = 0.0;
@@ -164,7 +184,7 @@ fn check_set_points(run: &Run, mount: &MountAttitude<f64>, pointing_tol_deg: f64
             gamma_deg: c,
             alpha_deg: a,
         };
-        let err = angle_between_deg(&mount.normal_xyz(&pose), &kano_sun(utc));
+        let err = angle_between_deg(&mount.normal_xyz(&pose), &sun(utc));
         worst_pointing = worst_pointing.max(err);
         assert!(
             err <= pointing_tol_deg,
@@ -381,34 +401,15 @@ fn e_tilted_mount_is_compensated() {
     assert_no_illegal_steps(&run);
 }
 
-/// (f) The console over a power cut: on the RTC and the stored site (no
-/// GPS), `set site.lat_deg -33.8688`, `set site.lon_deg 151.2093`, a value
-/// out of range refused (`set axis.c.gear_ratio 20000`), `save`; 10 KB of
-/// random bytes while tracking; the power is cut and comes back: the
-/// configuration comes from the EEPROM and every set-point after the cut is
-/// Sydney's (normal within 0.03° of SPA's sun there; the compass sees
-/// Sydney's field), and the noise delays none by more than a tick beyond
-/// what the quiet ones (no input coming in) show.
-#[test]
-fn f_console_site_saved_across_a_power_cut() {
-    let elf = elf_or_skip!();
-    // xorshift32 noise without line ends (a flood that never completes a
-    // line) and with them (lines of garbage answered by errors).
-    let mut x = 0x2545_f491u32;
-    let noise: Vec<u8> = (0..10_240)
-        .map(|_| {
-            x ^= x << 13;
-            x ^= x >> 17;
-            x ^= x << 5;
-            x as u8
-        })
-        .collect();
-    // 2026-03-20 04:00Z is 15:00 in Sydney: the sun is up until about 07:10Z.
-    // The tracker stands in Sydney (its compass sees Sydney's field, WMM2025:
-    // declination about 12.8° E) and is configured for Kano until the
-    // operator types the site.
-    let run = MegaBench::mega(&elf)
-        .field(Field::wmm2025(-33.8688, 151.2093, 0.48, (2026, 3, 20)))
+/// The console over a power cut, as (f) and (h) run it: the tracker stands
+/// in Sydney (its compass sees Sydney's field, WMM2025: declination about
+/// 12.8° E) from 2026-03-20T04:00Z (15:00 there: the sun is up until about
+/// 07:10Z), on the RTC (no GPS), configured for Kano until the operator
+/// types Sydney's site (minutes 1 and 1.5), a gear ratio out of range (2),
+/// reads the gear back (2.5) and saves (3); the power is cut at minute 6.
+fn sydney_console_bench(elf: &Path) -> MegaBench {
+    MegaBench::mega(elf)
+        .field(Field::wmm2025(SYDNEY.0, SYDNEY.1, 0.48, (2026, 3, 20)))
         .start(t("2026-03-20T04:00:00Z"))
         .rtc(Rtc::Valid)
         .gps(GpsFeed::Silent)
@@ -418,13 +419,16 @@ fn f_console_site_saved_across_a_power_cut() {
         .type_at(2.5, "get axis.c.gear_ratio")
         .type_at(3.0, "save")
         .reset_at(6.0)
-        .bytes_at(20.0, noise)
-        // An end of line closes the noise's last partial line (answered
-        // with an error), then a command is read as usual.
-        .type_at(29.5, "")
-        .type_at(30.0, "get site.lat_deg")
-        .run_minutes(45.0)
-        .unwrap();
+}
+
+/// What (f) and (h) assert of a [`sydney_console_bench`] run: each typed
+/// line's reply before the power cut (the gear refused with its range's
+/// text and unchanged), the stored configuration and Sydney's site at the
+/// boot after it, and at least `min_after` set-points after it, each
+/// reached (the axes within a step of it before the next one) and its
+/// panel normal within 0.03° of SPA's sun at Sydney. Returns the lines'
+/// texts after the cut and the set-points after it.
+fn assert_site_saved_over_cut(run: &Run, min_after: usize) -> (Vec<&str>, Vec<SetPoint<'_>>) {
     let texts: Vec<&str> = run.lines.iter().map(|l| l.text.as_str()).collect();
     let cut = texts
         .iter()
@@ -447,35 +451,61 @@ fn f_console_site_saved_across_a_power_cut() {
     for want in [
         "config source=stored",
         "site source=config lat=-33.8688 lon=151.2093",
-        "ok site.lat_deg=-33.8688",
     ] {
         assert!(after.contains(&want), "{want}: {after:?}");
     }
     let after_s = run.lines[cut].utc_s;
-    let sps: Vec<_> = set_points(&run)
+    let sps: Vec<_> = set_points(run)
         .into_iter()
         .filter(|(l, ..)| l.utc_s > after_s)
         .collect();
-    assert!(sps.len() >= 5, "{} set-points after the cut", sps.len());
+    assert!(
+        sps.len() >= min_after,
+        "{} set-points after the cut",
+        sps.len()
+    );
+    // 0.03°, not Kano's 0.02°: the mount's heading comes from the compass,
+    // and Sydney's horizontal field (about 24 µT against Kano's 33 µT,
+    // WMM2025) gives the QMC5883L's counts a third less resolution in
+    // heading.
+    check_set_points_of(
+        &sps,
+        &MountAttitude::level(),
+        |utc| sun_at(SYDNEY.0, SYDNEY.1, utc),
+        0.03,
+    );
+    (after.to_vec(), sps)
+}
+
+/// (f) The console over a power cut ([`sydney_console_bench`]): the site
+/// typed and saved is in force after the cut, every set-point after it is
+/// Sydney's (see [`assert_site_saved_over_cut`]); 10 KB of random bytes
+/// while tracking, after the cut, are answered with errors, a command after
+/// them is answered, and the noise delays no set-point by more than a tick
+/// beyond what the quiet ones (no input coming in) show.
+#[test]
+fn f_console_site_saved_across_a_power_cut() {
+    let elf = elf_or_skip!();
+    // Noise without line ends (a flood that never completes a line) and
+    // with them (lines of garbage answered by errors).
+    let noise = xorshift32_noise(0x2545_f491, 10_240);
+    let run = sydney_console_bench(&elf)
+        .bytes_at(20.0, noise)
+        // An end of line closes the noise's last partial line (answered
+        // with an error), then a command is read as usual.
+        .type_at(29.5, "")
+        .type_at(30.0, "get site.lat_deg")
+        .run_minutes(45.0)
+        .unwrap();
+    let (after, sps) = assert_site_saved_over_cut(&run, 5);
+    assert!(
+        after.contains(&"ok site.lat_deg=-33.8688"),
+        "no reply after the noise: {after:?}"
+    );
     let start_s = t("2026-03-20T04:00:00Z") as f64;
-    let mut worst: f64 = 0.0;
     let mut worst_late: f64 = 0.0;
     let mut quiet_late: f64 = 0.0;
-    for (line, utc, c, a) in &sps {
-        let pose = Pose {
-            gamma_deg: *c,
-            alpha_deg: *a,
-        };
-        let err = angle_between_deg(
-            &MountAttitude::level().normal_xyz(&pose),
-            &sun_at(-33.8688, 151.2093, *utc),
-        );
-        worst = worst.max(err);
-        // 0.03°, not Kano's 0.02°: the mount's heading comes from the
-        // compass, and Sydney's horizontal field (about 24 µT against
-        // Kano's 33 µT, WMM2025) gives the QMC5883L's counts a third less
-        // resolution in heading.
-        assert!(err <= 0.03, "{}: {err:.4}° from Sydney's sun", line.text);
+    for (line, utc, ..) in &sps {
         // How long after its slot each was logged: while the noise and
         // the lines after it come in (minute 20 to the last typed line at
         // minute 30, + 1 minute), and while nothing comes in (before and
@@ -492,8 +522,8 @@ fn f_console_site_saved_across_a_power_cut() {
         }
     }
     println!(
-        "{} Sydney set-points after the cut, worst pointing {worst:.4}°; logged at most \
-         {quiet_late:.1} s after the slot with no input, {worst_late:.1} s with the noise",
+        "{} Sydney set-points after the cut; logged at most {quiet_late:.1} s after the slot \
+         with no input, {worst_late:.1} s with the noise",
         sps.len()
     );
     // The noise delays no set-point by more than one tick (1 s) beyond
@@ -504,10 +534,55 @@ fn f_console_site_saved_across_a_power_cut() {
         "the noise delayed a set-point: {worst_late:.1} s against {quiet_late:.1} s"
     );
     assert!(
-        texts.iter().any(|l| l.starts_with("error ")),
+        after.iter().any(|l| l.starts_with("error ")),
         "the noise's lines were answered"
     );
     report("f", &run);
+}
+
+/// (h) The board build, the ELF a user flashes (`build_avr_mega`, not the
+/// emulation build `build_avr_mega_emu`, whose Timer0 clock runs 60× fast):
+/// the very file, its SHA-256 printed (`.ci/run` compares it with the
+/// release ELF's), no time scale in it or in its log: its clock runs 1 ms a
+/// tick as on a board, and the harness's 1:1 with the CPU's (every emulated
+/// second is a CPU second, the moves and the GPS included). (f)'s console
+/// session over a power cut ([`sydney_console_bench`]), 30 emulated
+/// minutes: `save` at minute 3, the cut at 6, the stored site in force
+/// after it, every set-point after it reached and within 0.03° of SPA's
+/// sun at Sydney; no illegal coil sequence; the RAM as the others.
+#[test]
+fn h_flashed_elf_saves_over_a_power_cut_at_real_time() {
+    let elf = elf_or_skip!("SUNTRACKER_EMU_ELF_MEGA_RELEASE");
+    let id = ElfIdentity::of_board_build(&elf).unwrap();
+    println!("h: {id}");
+    let minutes = 30.0;
+    let run = sydney_console_bench(&elf).run_minutes(minutes).unwrap();
+    report("h", &run);
+    assert_eq!(run.cpu, CpuState::Running, "the CPU stopped");
+    assert!(run.emulated_s >= minutes * 60.0);
+    assert!(
+        !run.lines
+            .iter()
+            .any(|l| matches!(l.event, Event::Timescale(_))),
+        "a timescale line from the board build"
+    );
+    // 1:1 all along: one segment, emulated seconds = CPU cycles / 16 MHz.
+    assert_eq!(run.time_segments.len(), 1, "{:?}", run.time_segments);
+    assert_eq!(run.time_segments[0].timescale, 1.0);
+    let (_, sps) = assert_site_saved_over_cut(&run, 5);
+    println!(
+        "h: {} set-points after the cut, {:.0} emulated s in {} cycles, wall {:.1} s",
+        sps.len(),
+        run.emulated_s,
+        run.cycles,
+        run.wall.as_secs_f64()
+    );
+    assert_no_illegal_steps(&run);
+    assert_eq!(
+        ElfIdentity::of(&elf).unwrap(),
+        id,
+        "the ELF changed during the run"
+    );
 }
 
 /// (g) Powered on in daylight (Kano, 10:00Z, GPS) with the axes far from

@@ -7,6 +7,9 @@
 //! Gated: the tracker's tests run only when `SUNTRACKER_EMU_ELF_UNO` names
 //! its ELF, the settings image's only when `SUNTRACKER_EMU_ELF_UNO_SETTINGS`
 //! names its ELF (both from `build_avr_uno_emu` in `.ci/firmware_env.sh`);
+//! the test of the board builds, the ELFs a user flashes, only when
+//! `SUNTRACKER_EMU_ELF_UNO_RELEASE` and `SUNTRACKER_EMU_ELF_UNO_SETTINGS_RELEASE`
+//! name them (`build_avr_uno`: `$ELF_AVR_UNO`, `$ELF_AVR_SETTINGS`);
 //! otherwise each prints "skipped: … not set" and passes.
 //!
 //! The settings image runs at 1:1 (it logs no timescale: emulated time is
@@ -23,13 +26,14 @@
 //! axes reached is the one decoded from the encoder models' counts at the
 //! end of each set-point's slot.
 
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 
 use suntracker::attitude::{angle_between_deg, sun_vector_xyz, MountAttitude, Pose};
 use suntracker::persist::{MemStorage, SLOT_LEN};
 use suntracker::servo_tracker::settings::{Settings, SettingsStore, DEFAULTS, EEPROM_LEN};
 use suntracker_emu::log::{format_utc, parse_utc, Event};
-use suntracker_emu::sim::CpuState;
+use suntracker_emu::script::xorshift32_noise;
+use suntracker_emu::sim::{CpuState, ElfIdentity};
 use suntracker_emu::uno::{spa, UnoBench, UnoRun};
 use suntracker_emu::Rtc;
 
@@ -61,6 +65,16 @@ fn tracker_elf() -> Option<PathBuf> {
 
 fn settings_elf() -> Option<PathBuf> {
     std::env::var_os("SUNTRACKER_EMU_ELF_UNO_SETTINGS").map(PathBuf::from)
+}
+
+/// The board build of an image named by `var`, the ELF a user flashes, if
+/// set: its identity printed (`.ci/run` compares the SHA-256 with the
+/// release ELF's) and asserted to be no emulation build.
+fn flashed_elf(var: &str) -> Option<(PathBuf, ElfIdentity)> {
+    let elf = PathBuf::from(std::env::var_os(var)?);
+    let id = ElfIdentity::of_board_build(&elf).unwrap();
+    println!("{id}");
+    Some((elf, id))
 }
 
 macro_rules! elf_or_skip {
@@ -200,7 +214,7 @@ fn replies_to<'a>(run: &'a UnoRun, typed: &str) -> Vec<&'a str> {
 
 /// The settings image from an erased EEPROM: Sydney typed, two refusals,
 /// the gear unchanged, saved; the RTC set. The EEPROM it leaves.
-fn settings_run(elf: &PathBuf) -> UnoRun {
+fn settings_run(elf: &Path) -> UnoRun {
     let run = UnoBench::settings(elf)
         .start(t("2026-03-20T03:00:00Z"))
         .rtc(Rtc::LostPower)
@@ -222,8 +236,14 @@ fn settings_run(elf: &PathBuf) -> UnoRun {
 #[test]
 fn uno_settings_image_saves_the_site_typed() {
     let elf = elf_or_skip!(settings_elf(), "SUNTRACKER_EMU_ELF_UNO_SETTINGS");
-    let run = settings_run(&elf);
-    let texts = texts(&run);
+    assert_settings_saved(&settings_run(&elf));
+}
+
+/// What the settings image did in [`settings_run`]: each reply exact, the
+/// EEPROM it leaves loads as Sydney through the library's store and is the
+/// library's own save of those settings, the DS3231 set, the RAM in budget.
+fn assert_settings_saved(run: &UnoRun) {
+    let texts = texts(run);
     assert!(texts.contains(&"config source=defaults"), "{texts:?}");
     for (typed, want) in [
         ("set site.lat_deg -33.8688", "ok site.lat_deg=-33.8688"),
@@ -239,9 +259,9 @@ fn uno_settings_image_saves_the_site_typed() {
             "ok utc=2026-03-20T04:00:00Z",
         ),
     ] {
-        assert_eq!(replies_to(&run, typed), [want], "replies to {typed:?}");
+        assert_eq!(replies_to(run, typed), [want], "replies to {typed:?}");
     }
-    let huge = replies_to(&run, "set axis.c.gear_ratio 1e30");
+    let huge = replies_to(run, "set axis.c.gear_ratio 1e30");
     assert!(
         huge.len() == 1 && huge[0].starts_with("error axis.c.gear_ratio: "),
         "replies to 1e30: {huge:?}"
@@ -263,7 +283,7 @@ fn uno_settings_image_saves_the_site_typed() {
 
     // The RTC: set to 04:00:00 at 5 s (lost power before), 5 s before the
     // end.
-    let rtc = run.rtc.expect("a DS3231");
+    let rtc = run.rtc.as_ref().expect("a DS3231");
     println!(
         "uno settings: DS3231 at the end {} (OSF {}), {} time writes",
         format_utc(rtc.unix_s),
@@ -277,7 +297,7 @@ fn uno_settings_image_saves_the_site_typed() {
         "the DS3231 shows {}",
         format_utc(rtc.unix_s)
     );
-    assert_ram("uno settings", &run, SETTINGS_RAM_BUDGET_B);
+    assert_ram("uno settings", run, SETTINGS_RAM_BUDGET_B);
 }
 
 /// 10 KB of noise into the settings image: the lines it ends are answered
@@ -286,17 +306,9 @@ fn uno_settings_image_saves_the_site_typed() {
 #[test]
 fn uno_settings_image_survives_noise() {
     let elf = elf_or_skip!(settings_elf(), "SUNTRACKER_EMU_ELF_UNO_SETTINGS");
-    // xorshift32 noise (the Mega scenario's): lines of garbage, some
-    // ended by the 0x0A bytes among them, and a last partial one.
-    let mut x = 0x2545_f491u32;
-    let noise: Vec<u8> = (0..10_240)
-        .map(|_| {
-            x ^= x << 13;
-            x ^= x >> 17;
-            x ^= x << 5;
-            x as u8
-        })
-        .collect();
+    // The Mega scenario's noise: lines of garbage, some ended by the 0x0A
+    // bytes among them, and a last partial one.
+    let noise = xorshift32_noise(0x2545_f491, 10_240);
     let eeprom = eeprom_after(&[sydney()]);
     let run = UnoBench::settings(&elf)
         .start(t("2026-03-20T03:00:00Z"))
@@ -344,20 +356,76 @@ fn uno_tracks_sydney_from_the_saved_eeprom_over_a_power_cut() {
     let settings = elf_or_skip!(settings_elf(), "SUNTRACKER_EMU_ELF_UNO_SETTINGS");
     let elf = elf_or_skip!(tracker_elf(), "SUNTRACKER_EMU_ELF_UNO");
     let eeprom = settings_run(&settings).eeprom;
+    tracks_sydney_over_a_cut("uno sydney", &elf, &eeprom, 20.0, 45.0);
+}
+
+/// The board builds, the ELFs a user flashes (`build_avr_uno`, not the
+/// emulation builds of `build_avr_uno_emu`, whose Timer0 clocks run 60×
+/// fast): the very files, their SHA-256 printed (`.ci/run` compares them
+/// with the release ELFs'), no time scale in them or in their logs. The
+/// settings image saves Sydney as in [`settings_run`] (`save` on its
+/// console: the tracker image has none); the tracker reads those settings
+/// from the EEPROM at power-on and again after a power cut at minute 14,
+/// 30 emulated minutes at real time (its clock 1 ms a tick as on a board,
+/// the harness's 1:1 with the CPU's: the servos, the stall watch and the
+/// set-point slots on one clock), every set-point on Sydney's sun within
+/// 0.03° and reached within a count by the end of its slot.
+#[test]
+fn uno_flashed_elfs_save_then_track_sydney_over_a_power_cut() {
+    let Some((settings, settings_id)) = flashed_elf("SUNTRACKER_EMU_ELF_UNO_SETTINGS_RELEASE")
+    else {
+        println!("skipped: SUNTRACKER_EMU_ELF_UNO_SETTINGS_RELEASE not set");
+        return;
+    };
+    let Some((elf, id)) = flashed_elf("SUNTRACKER_EMU_ELF_UNO_RELEASE") else {
+        println!("skipped: SUNTRACKER_EMU_ELF_UNO_RELEASE not set");
+        return;
+    };
+    let saved = settings_run(&settings);
+    assert_settings_saved(&saved);
+    let run = tracks_sydney_over_a_cut("uno flashed", &elf, &saved.eeprom, 14.0, 30.0);
+    for r in [&saved, &run] {
+        assert!(
+            !r.lines
+                .iter()
+                .any(|l| matches!(l.event, Event::Timescale(_))),
+            "a timescale line from a board build"
+        );
+        assert_eq!(r.timescale, 1.0);
+    }
+    assert_eq!(
+        ElfIdentity::of(&settings).unwrap(),
+        settings_id,
+        "the ELF changed"
+    );
+    assert_eq!(ElfIdentity::of(&elf).unwrap(), id, "the ELF changed");
+}
+
+/// The tracker at `elf` from `eeprom` (Sydney saved), from
+/// 2026-03-20T04:00Z (15:00 in Sydney: the sun is up until about 07:10Z)
+/// with the bench standing in Sydney (its panel sees Sydney's sun), the
+/// power cut at emulated minute `cut_min`, for `minutes`: the stored
+/// configuration and Sydney's site at both boots, the EEPROM unchanged,
+/// every set-point's commanded normal on Sydney's sun and each reached by
+/// the end of its slot (but the slot the cut interrupts and the last), at
+/// least 3 set-points on each side of the cut, the RAM in budget.
+fn tracks_sydney_over_a_cut(
+    name: &str,
+    elf: &Path,
+    eeprom: &[u8],
+    cut_min: f64,
+    minutes: f64,
+) -> UnoRun {
     assert_eq!(eeprom.len(), EEPROM_LEN);
-    // 2026-03-20 04:00Z is 15:00 in Sydney: the sun is up until about
-    // 07:10Z. The bench stands in Sydney (its panel sees Sydney's sun).
-    let cut_min = 20.0;
-    let run = UnoBench::new(&elf)
+    let run = UnoBench::new(elf)
         .start(t("2026-03-20T04:00:00Z"))
         .rtc(Rtc::Valid)
         .site(SYDNEY.0, SYDNEY.1)
-        .eeprom(eeprom.clone())
+        .eeprom(eeprom.to_vec())
         .reset_at(cut_min)
-        .run_minutes(45.0)
+        .run_minutes(minutes)
         .unwrap();
-    report("uno sydney", &run);
-
+    report(name, &run);
     let texts = texts(&run);
     let cut = texts
         .iter()
@@ -380,6 +448,8 @@ fn uno_tracks_sydney_from_the_saved_eeprom_over_a_power_cut() {
     let mut worst_normal: f64 = 0.0;
     let mut worst_reach: f64 = 0.0;
     let (mut n_before, mut n_after, mut reached) = (0, 0, 0);
+    let mut unchecked = Vec::new();
+    let mut last_slot_s = i64::MIN;
     for l in &run.lines {
         let Event::SetPoint {
             unix_s,
@@ -390,6 +460,7 @@ fn uno_tracks_sydney_from_the_saved_eeprom_over_a_power_cut() {
         else {
             continue;
         };
+        last_slot_s = last_slot_s.max(unix_s);
         if l.utc_s < cut_s {
             n_before += 1;
         } else {
@@ -418,10 +489,12 @@ fn uno_tracks_sydney_from_the_saved_eeprom_over_a_power_cut() {
                 l.text
             );
             reached += 1;
+        } else {
+            unchecked.push((unix_s, cut_in_slot, l.text.as_str()));
         }
     }
     println!(
-        "uno sydney: {n_before} set-points before the cut, {n_after} after ({reached} checked \
+        "{name}: {n_before} set-points before the cut, {n_after} after ({reached} checked \
          at the end of their slot): commanded normal within {worst_normal:.4}° of SPA's sun \
          at Sydney, reached within {worst_reach:.2} counts"
     );
@@ -429,9 +502,17 @@ fn uno_tracks_sydney_from_the_saved_eeprom_over_a_power_cut() {
         n_before >= 3 && n_after >= 3,
         "{n_before} set-points before the cut, {n_after} after"
     );
-    // All but the slot the cut interrupted and the last, unfinished one.
-    assert!(reached + 2 >= n_before + n_after, "slots not checked");
-    assert_ram("uno sydney", &run, TRACKER_RAM_BUDGET_B);
+    // All but the slot the cut interrupted (logged before the cut and
+    // again after the boot when the boot comes within it) and the last,
+    // unfinished one.
+    assert!(
+        unchecked
+            .iter()
+            .all(|&(slot_s, in_cut, _)| in_cut || slot_s == last_slot_s),
+        "set-points not checked at the end of their slot: {unchecked:?}"
+    );
+    assert_ram(name, &run, TRACKER_RAM_BUDGET_B);
+    run
 }
 
 /// An erased EEPROM (no good copy): the defaults, Kano.

@@ -20,6 +20,12 @@
 //! between consecutive observed patterns — is an illegal sequence and is
 //! recorded (the rotor position is then unknown; the decoder keeps counting
 //! from the new phase, taking the shortest way).
+//!
+//! A power cut ([`StepperDecoder::power_cut`]) drops the coils and the
+//! driver's memory of its phase (`drivers::stepper::hbridge`: the rotor's
+//! phase is unknown until the first energising after power-on, which starts
+//! at the step mode's first phase): the first pattern after it is a first
+//! energising again, as at power-on, not a jump.
 
 /// Half-step coil table, IN1 as bit 0 … IN4 as bit 3.
 const PHASES: [u8; 8] = [
@@ -145,6 +151,18 @@ impl StepperDecoder {
         self.angle_deg() >= self.geometry.max_deg - 1e-9
     }
 
+    /// The power was cut at CPU cycle `cycle`: the bridge inputs fall
+    /// (released), and the image that boots next knows nothing of the
+    /// rotor's phase, so its first energising snaps the rotor to the
+    /// nearest position with that phase (as at power-on) instead of
+    /// counting as a jump. The position is kept.
+    pub fn power_cut(&mut self, cycle: u64) {
+        self.last_bits = 0;
+        self.last_change = cycle;
+        self.phase = None;
+        self.settled = None;
+    }
+
     /// One observed pattern of IN1..IN4 (IN1 = bit 0).
     pub fn observe(&mut self, cycle: u64, bits: u8) {
         let bits = bits & 0x0F;
@@ -242,6 +260,38 @@ mod tests {
         assert_eq!(d.half_steps(), 1);
         assert!(d.illegal.is_empty(), "{:?}", d.illegal);
         assert_eq!(d.travelled, 2 + 2 + 2);
+    }
+
+    #[test]
+    fn after_a_power_cut_the_first_energising_snaps_and_is_legal() {
+        let mut d = StepperDecoder::new(AxisGeometry::a_axis(), 0.0);
+        // Held at phase 5 (0101 as IN1..IN4): position 5.
+        d.observe(0, bits(1, 0, 1, 0));
+        for (i, b) in [
+            bits(0, 0, 1, 0),
+            bits(0, 1, 1, 0),
+            bits(0, 1, 0, 0),
+            bits(0, 1, 0, 1),
+        ]
+        .into_iter()
+        .enumerate()
+        {
+            d.observe(1 + i as u64, b);
+        }
+        assert_eq!(d.half_steps(), 5);
+        // Without a power cut, phase 0 after phase 5 is a jump of three.
+        let mut jumped = d.clone();
+        jumped.observe(10_000, bits(1, 0, 0, 0));
+        assert_eq!(jumped.illegal.len(), 1);
+        // After one, the booted driver's first pattern (phase 0, on its way
+        // to phase 1) snaps the rotor to the nearest phase-0 position, 8,
+        // and the step to phase 1 counts on from there.
+        d.power_cut(10_000);
+        assert!(!d.energised());
+        d.observe(20_000, bits(1, 0, 0, 0));
+        d.observe(20_001, bits(1, 0, 1, 0));
+        assert!(d.illegal.is_empty(), "{:?}", d.illegal);
+        assert_eq!(d.half_steps(), 9);
     }
 
     #[test]
