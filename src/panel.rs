@@ -9,6 +9,7 @@
 //! can overflow it: products are formed in `u64` and saturate.
 
 use crate::log::Sink;
+use sun_algos::time::div_rem_u64;
 
 /// A resistor divider between the panel and the ADC pin: the pin sees
 /// `V_panel · r_bottom / (r_top + r_bottom)`.
@@ -64,7 +65,7 @@ impl PanelAdc {
         // cycles instead of the long division's 65,000 on an 8-bit part.
         let mv = match u32::try_from(num) {
             Ok(n) => u64::from(n / self.divider.r_bottom_ohm),
-            Err(_) => div_rem(num, self.divider.r_bottom_ohm).0,
+            Err(_) => div_rem_u64(num, self.divider.r_bottom_ohm).map_or(0, |(q, _)| q),
         };
         Ok(u32::try_from(mv).unwrap_or(u32::MAX))
     }
@@ -81,36 +82,6 @@ pub struct DayEnergy {
 
 /// Milliseconds in an hour.
 const MS_PER_HOUR: u32 = 3_600_000;
-
-/// `(n / d, n % d)` for `d > 0` (`(0, 0)` for `d = 0`), by binary long
-/// division in 64 steps of shifts and subtractions: each step moves the
-/// top bit of the dividend into the remainder and the quotient's next bit
-/// into the freed low bit (shifts by one place only: a shift by a variable
-/// count is a loop of its own on an 8-bit AVR). The compiler's 64-bit
-/// division routine takes 2.8 KB of flash there, a tenth of the Uno's
-/// room for the tracker; this is a few hundred bytes, run once a tick at
-/// most. Not inlined: one copy.
-#[inline(never)]
-fn div_rem(n: u64, d: u32) -> (u64, u32) {
-    if d == 0 {
-        return (0, 0);
-    }
-    let d = u64::from(d);
-    // Dividend bits still to go in the high end, quotient bits in the low.
-    let mut q = n;
-    // Invariant: rem < d ≤ u32::MAX, so `rem << 1 | bit` fits a u64.
-    let mut rem = 0u64;
-    for _ in 0..64 {
-        rem = (rem << 1) | (q >> 63);
-        q <<= 1;
-        if rem >= d {
-            rem -= d;
-            q |= 1;
-        }
-    }
-    // rem < d ≤ u32::MAX.
-    (q, u32::try_from(rem).unwrap_or(0))
-}
 
 impl DayEnergy {
     /// Nothing summed.
@@ -147,7 +118,7 @@ impl DayEnergy {
 
     /// The area so far, millivolt-hours (V·h × 1000), rounded to nearest.
     pub fn mvh(&self) -> u64 {
-        let (q, r) = div_rem(self.sum_mv_ms, MS_PER_HOUR);
+        let (q, r) = div_rem_u64(self.sum_mv_ms, MS_PER_HOUR).unwrap_or((0, 0));
         q + u64::from(r >= MS_PER_HOUR / 2)
     }
 
@@ -159,7 +130,7 @@ impl DayEnergy {
 
 /// `day_energy vh=<V·h, 3 decimals>`: the day's area, at its end.
 pub fn log_day_energy(out: &mut dyn Sink, energy: &DayEnergy) {
-    let (whole, thousandths) = div_rem(energy.mvh(), 1000);
+    let (whole, thousandths) = div_rem_u64(energy.mvh(), 1000).unwrap_or((0, 0));
     out.flash(crate::flash_str!("day_energy vh="));
     out.u32(u32::try_from(whole).unwrap_or(u32::MAX));
     out.flash(crate::flash_str!("."));
@@ -265,31 +236,6 @@ mod tests {
         let mut out = Text::new();
         log_day_energy(&mut out, &e);
         assert_eq!(out.as_str(), "day_energy vh=1.551\n");
-    }
-
-    #[test]
-    fn long_division_matches_the_native_one() {
-        // A 64-bit LCG's values, and the edges, against the `/` and `%` of
-        // the host's 64-bit division.
-        let mut x = 0x9E37_79B9_7F4A_7C15u64;
-        let edges = [0, 1, 2, u64::from(u32::MAX), u64::MAX - 1, u64::MAX];
-        let divisors = [1, 2, 3, 1000, MS_PER_HOUR, u32::MAX - 1, u32::MAX];
-        for i in 0..2_000 {
-            x = x
-                .wrapping_mul(6_364_136_223_846_793_005)
-                .wrapping_add(1_442_695_040_888_963_407);
-            let n = edges.get(i).copied().unwrap_or(x >> (i % 64));
-            let d = divisors
-                .get(i % 11)
-                .copied()
-                .unwrap_or((x >> 32) as u32 | 1);
-            assert_eq!(
-                div_rem(n, d),
-                (n / u64::from(d), (n % u64::from(d)) as u32),
-                "{n} / {d}"
-            );
-        }
-        assert_eq!(div_rem(5, 0), (0, 0));
     }
 
     #[test]
