@@ -332,7 +332,7 @@ fn a_servo_stalled_for_ten_minutes_raises_and_recovers() {
     assert!(!text.contains("fault motor_stalled_c cleared"));
     b.models[0].borrow_mut().stalled = false;
     // Commanded again at the next retry, then the motion clears it.
-    b.run(STALL_RETRY_MS / 1000 + 60, ramp_mv);
+    b.run(u64::from(STALL_RETRY_MS / 1000 + 60), ramp_mv);
     let text = b.text();
     let raised = text.find("fault motor_stalled_c raised").unwrap();
     let cleared = text.find("fault motor_stalled_c cleared").expect("cleared");

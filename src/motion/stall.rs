@@ -4,11 +4,13 @@
 //!
 //! The watch keeps one thing: the feedback angle and the monotonic time
 //! where it was armed (a move started) or where motion was last seen. Its
-//! caller chooses the two thresholds: the library
+//! callers choose the two thresholds: the library
 //! [`Controller`](crate::controller::Controller) decides one tick after a
 //! command of at least half a degree, with 0.05° of motion as the proof
-//! (a timeout of 0: the next look decides). The time runs on the monotonic
-//! clock, so a step of the wall clock never delays the verdict.
+//! (a timeout of 0: the next look decides); the servo loop of the Uno
+//! waits [`STALL_TIMEOUT_MS`](crate::servo_tracker::STALL_TIMEOUT_MS) for
+//! half an encoder count. Both run on the monotonic clock, so a step of
+//! the wall clock never delays the verdict.
 
 /// What a look at the feedback found.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
