@@ -361,7 +361,7 @@ fn a_move_from_rest_is_timed_from_its_command() {
     assert_eq!(b.tracker.mode(), Some(Mode::Tracking));
     let to_slot = 240 - (b.utc().ms_of_day() / 1000) % 240;
     b.run(u64::from(to_slot) - 1, ramp_mv);
-    b.ticks_only(STALL_TIMEOUT_MS / 1000 - 1);
+    b.ticks_only(u64::from(STALL_TIMEOUT_MS / 1000 - 1));
     b.run(10, ramp_mv);
     assert!(!b.text().contains("motor_stalled"), "{}", b.text());
 }

@@ -27,9 +27,11 @@ pub enum StallVerdict {
 /// A stall watch over one axis (see the module documentation).
 #[derive(Debug, Clone, Copy, Default, PartialEq)]
 pub struct StallWatch {
-    /// Feedback angle, degrees, and monotonic ms where the watch started
-    /// or motion was last seen; `None` while disarmed.
-    origin: Option<(f32, u64)>,
+    /// Feedback angle, degrees, and the low 32 bits of the monotonic ms
+    /// where the watch started or motion was last seen; `None` while
+    /// disarmed. The time since wraps correctly below 49.7 days; a watch is
+    /// looked at every tick, so a verdict never waits that long.
+    origin: Option<(f32, u32)>,
 }
 
 impl StallWatch {
@@ -41,7 +43,7 @@ impl StallWatch {
     /// A move starts with the feedback at `feedback_deg`, at monotonic
     /// `now_ms`.
     pub fn arm(&mut self, feedback_deg: f32, now_ms: u64) {
-        self.origin = Some((feedback_deg, now_ms));
+        self.origin = Some((feedback_deg, now_ms as u32));
     }
 
     /// Nothing to watch (the axis rests, homes, or was stopped).
@@ -65,15 +67,15 @@ impl StallWatch {
         feedback_deg: f32,
         now_ms: u64,
         min_motion_deg: f32,
-        timeout_ms: u64,
+        timeout_ms: u32,
     ) -> Option<StallVerdict> {
         let (from_deg, since_ms) = self.origin?;
         let still = (feedback_deg - from_deg).abs() < min_motion_deg || !feedback_deg.is_finite();
         if !still {
-            self.origin = Some((feedback_deg, now_ms));
+            self.origin = Some((feedback_deg, now_ms as u32));
             return Some(StallVerdict::Moving);
         }
-        if now_ms.saturating_sub(since_ms) >= timeout_ms {
+        if (now_ms as u32).wrapping_sub(since_ms) >= timeout_ms {
             Some(StallVerdict::Stalled)
         } else {
             Some(StallVerdict::Waiting)

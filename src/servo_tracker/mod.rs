@@ -105,7 +105,7 @@ pub const HOMING_SPEED_DEG_S: f32 = 0.5;
 /// A pending move without a count of motion for this long is a stall
 /// (monotonic ms): at the slowest approach speed the shaft passes a count
 /// in well under a second.
-pub const STALL_TIMEOUT_MS: u64 = 5_000;
+pub const STALL_TIMEOUT_MS: u32 = 5_000;
 /// A stalled axis is commanded again this often (monotonic ms).
 pub const STALL_RETRY_MS: u32 = 60_000;
 /// ΔT (TT − UT1) for the sun algorithm, seconds (2026, IERS Bulletin A
