@@ -484,7 +484,7 @@ fn checked_homing(
     let eps_deg = 2.0 / cpd + 1e-3;
     let floor_deg = c.min_deg.min(c.home_deg) - HOMING_SEEK_MARGIN_DEG - c.backlash_deg;
     let travel = counts(
-        &c,
+        c,
         c.max_deg - c.min_deg + HOMING_SEEK_EXTRA_DEG + c.backlash_deg,
     );
     let chunk_deg = match r.next_u64() % 8 {
@@ -524,7 +524,7 @@ fn checked_homing(
         }
         let d = ax.drive();
         if d.switch == Switch::StuckClosed {
-            assert!(d.up_counts - up0 <= counts(&c, HOMING_BACKOFF_MAX_DEG) as u64 + 1);
+            assert!(d.up_counts - up0 <= counts(c, HOMING_BACKOFF_MAX_DEG) as u64 + 1);
         }
         if res != Ok(HomeState::Done) {
             // (Done re-zeroes the count at the switch: no motion.)
