@@ -332,7 +332,7 @@ fn a_servo_stalled_for_ten_minutes_raises_and_recovers() {
     assert!(!text.contains("fault motor_stalled_c cleared"));
     b.models[0].borrow_mut().stalled = false;
     // Commanded again at the next retry, then the motion clears it.
-    b.run(STALL_RETRY_MS / 1000 + 60, ramp_mv);
+    b.run(u64::from(STALL_RETRY_MS / 1000 + 60), ramp_mv);
     let text = b.text();
     let raised = text.find("fault motor_stalled_c raised").unwrap();
     let cleared = text.find("fault motor_stalled_c cleared").expect("cleared");
@@ -361,7 +361,7 @@ fn a_move_from_rest_is_timed_from_its_command() {
     assert_eq!(b.tracker.mode(), Some(Mode::Tracking));
     let to_slot = 240 - (b.utc().ms_of_day() / 1000) % 240;
     b.run(u64::from(to_slot) - 1, ramp_mv);
-    b.ticks_only(STALL_TIMEOUT_MS / 1000 - 1);
+    b.ticks_only(u64::from(STALL_TIMEOUT_MS / 1000 - 1));
     b.run(10, ramp_mv);
     assert!(!b.text().contains("motor_stalled"), "{}", b.text());
 }

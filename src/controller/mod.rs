@@ -638,7 +638,7 @@ where
         }
         // Unexpected limit switch: closed far from the home angle.
         let counted = ax.counted_deg();
-        let home = ax.config().home_deg;
+        let home = ax.home_deg();
         match ax.drive_mut().at_limit() {
             Ok(true) if counted > home + 2.0 => {
                 let _ = ax.stop();
@@ -726,7 +726,7 @@ where
             if pass == 0 {
                 // Counts are at most 10^9 (configuration ranges): f32
                 // keeps them to 7 digits, plenty for "was it ≥ 0.5°".
-                let cmd_deg = report.commanded_counts as f32 / ax.config().counts_per_deg();
+                let cmd_deg = report.commanded_counts as f32 / ax.counts_per_deg();
                 if let (Some(b), Some(w)) = (
                     before.filter(|_| cmd_deg.abs() >= STALL_MIN_COMMAND_DEG),
                     self.stall_watch.get_mut(i),

@@ -176,6 +176,7 @@ where
     }
 
     /// Counts to go, 0 once inside the controller's deadband.
+    #[inline(never)]
     fn pending(&self) -> i32 {
         // Saturating: both ends of the i32 range give the largest move.
         let e = self.target.saturating_sub(self.encoder.count());
@@ -186,18 +187,23 @@ where
         }
     }
 
+    #[inline(never)]
     fn stop(&mut self) -> Result<(), Self::Error> {
         self.target = self.encoder.count();
         self.servo.stop().map_err(ServoAxisError::Servo)
     }
 
+    #[inline(never)]
     fn at_limit(&mut self) -> Result<bool, Self::Error> {
         self.switch_closed()
     }
 
+    #[inline(never)]
     fn encoder_deg(&mut self) -> Result<Option<f32>, Self::Error> {
         Ok(self.count_at_switch.map(|c0| {
-            let d = i64::from(self.encoder.count()) - i64::from(c0);
+            // 32 bits: an axis turns a few times 1,200 counts from its
+            // switch; saturating beyond.
+            let d = self.encoder.count().saturating_sub(c0);
             self.home_deg + d as f32 / self.counts_per_deg
         }))
     }

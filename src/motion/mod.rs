@@ -114,7 +114,7 @@ pub const HOMING_FINE_DIVISOR: f32 = 50.0;
 /// late tick — does not queue minutes of travel at once). Longer than any
 /// board's controller tick, so homing runs at the drive's speed whatever
 /// the tick.
-pub const HOMING_MAX_INTERVAL_MS: u64 = 30_000;
+pub const HOMING_MAX_INTERVAL_MS: u32 = 30_000;
 
 /// Feedback is believed up to this far outside the soft limits, degrees;
 /// beyond, it is clamped before the count is re-anchored on it (an encoder
@@ -240,7 +240,8 @@ impl Geometry {
 #[derive(Debug)]
 pub struct AxisController<D> {
     drive: D,
-    config: AxisConfig,
+    /// The configuration as the arithmetic uses it (the configuration
+    /// itself is not kept: its owner holds it).
     geo: Geometry,
     /// Position in counts relative to the home switch, as commanded; while
     /// not homed, counted on from the last reference (or from power-on).
@@ -265,9 +266,10 @@ pub struct AxisController<D> {
     homing_low_counts: Option<i32>,
     /// Monotonic time of the previous homing step of this attempt, ms: the
     /// next step moves for the time since.
-    homing_last_ms: Option<u64>,
-    /// Total counts commanded (motor travel).
-    pub travel_counts: u64,
+    /// Kept in 32 bits: a step more than 49.7 days after the previous one
+    /// takes the wrapped interval, and every interval is capped at
+    /// [`HOMING_MAX_INTERVAL_MS`] anyway.
+    homing_last_ms: Option<u32>,
 }
 
 impl<D: AxisDrive> AxisController<D> {
@@ -277,7 +279,6 @@ impl<D: AxisDrive> AxisController<D> {
     pub fn new(drive: D, config: AxisConfig) -> Self {
         AxisController {
             drive,
-            config,
             geo: Geometry::of(&config),
             position_counts: 0,
             last_dir: 0,
@@ -287,7 +288,6 @@ impl<D: AxisDrive> AxisController<D> {
             referenced: false,
             homing_low_counts: None,
             homing_last_ms: None,
-            travel_counts: 0,
         }
     }
 
@@ -301,25 +301,28 @@ impl<D: AxisDrive> AxisController<D> {
         &self.drive
     }
 
-    /// The configuration.
-    pub fn config(&self) -> &AxisConfig {
-        &self.config
+    /// The home switch's angle, degrees.
+    pub fn home_deg(&self) -> f32 {
+        self.geo.home_deg
+    }
+
+    /// The soft limits `(min_deg, max_deg)`, ordered.
+    pub fn limits_deg(&self) -> (f32, f32) {
+        (self.geo.min_deg, self.geo.max_deg)
     }
 
     /// Takes a new configuration (an operator changed it). When what turns
-    /// counts into degrees changed (counts per motor revolution,
-    /// microsteps, gear ratio, the home switch's angle), the counted
-    /// position no longer means the same angle: the axis forgets its
-    /// reference and homes again as at power-on. New limits, speed, dead
-    /// band or backlash apply from the next move.
+    /// counts into degrees changed (counts per degree of axis, from the
+    /// counts per motor revolution, microsteps and gear ratio; the home
+    /// switch's angle), the counted position no longer means the same
+    /// angle: the axis forgets its reference and homes again as at
+    /// power-on. New limits, speed, dead band or backlash apply from the
+    /// next move.
     pub fn set_config(&mut self, config: AxisConfig) {
-        let old = &self.config;
-        let scale_same = old.counts_per_motor_rev == config.counts_per_motor_rev
-            && old.microsteps == config.microsteps
-            && old.gear_ratio == config.gear_ratio
-            && old.home_deg == config.home_deg;
-        self.config = config;
-        self.geo = Geometry::of(&config);
+        let new = Geometry::of(&config);
+        let scale_same =
+            new.counts_per_deg == self.geo.counts_per_deg && new.home_deg == self.geo.home_deg;
+        self.geo = new;
         if !scale_same {
             self.home = HomeState::Idle;
             self.referenced = false;
@@ -348,7 +351,25 @@ impl<D: AxisDrive> AxisController<D> {
 
     /// The angle the step count says, degrees.
     pub fn counted_deg(&self) -> f32 {
-        self.geo.home_deg + self.position_counts as f32 / self.geo.counts_per_deg
+        self.deg_from_home(self.position_counts)
+    }
+
+    /// The axis angle `counts` motor counts from the home switch, degrees.
+    pub fn deg_from_home(&self, counts: i32) -> f32 {
+        self.geo.home_deg + counts as f32 / self.geo.counts_per_deg
+    }
+
+    /// Motor counts from the home switch to the axis angle `deg`, to the
+    /// nearest count (see `Geometry::counts` for the range); not held to
+    /// the soft limits.
+    pub fn counts_from_home(&self, deg: f32) -> i32 {
+        self.geo.counts(deg - self.geo.home_deg)
+    }
+
+    /// Motor counts per degree of axis, as this controller computes with
+    /// (the configuration's, made safe as [`AxisController::new`] says).
+    pub fn counts_per_deg(&self) -> f32 {
+        self.geo.counts_per_deg
     }
 
     /// The counted position, motor counts from the home switch.
@@ -361,9 +382,6 @@ impl<D: AxisDrive> AxisController<D> {
     fn command(&mut self, c: i32) -> Result<i32, AxisError<D::Error>> {
         if c != 0 {
             self.drive.move_counts(c).map_err(AxisError::Drive)?;
-            self.travel_counts = self
-                .travel_counts
-                .saturating_add(u64::from(c.unsigned_abs()));
         }
         Ok(c)
     }
@@ -449,11 +467,13 @@ impl<D: AxisDrive> AxisController<D> {
     /// before the next step (a ramped drive would slow to a stop and start
     /// again every tick); the first step of an attempt moves one chunk.
     fn homing_move_counts(&mut self, chunk_deg: f32, now_ms: u64) -> i32 {
+        // The low 32 bits: the interval wraps correctly below 49.7 days.
+        let now = now_ms as u32;
         let dt_ms = self
             .homing_last_ms
-            .map_or(0, |t| now_ms.saturating_sub(t))
+            .map_or(0, |t| now.wrapping_sub(t))
             .min(HOMING_MAX_INTERVAL_MS);
-        self.homing_last_ms = Some(now_ms);
+        self.homing_last_ms = Some(now);
         let (speed_deg_s, chunk_deg) = if self.fine {
             (
                 self.geo.speed_deg_s / HOMING_FINE_DIVISOR,

@@ -4,11 +4,13 @@
 //!
 //! The watch keeps one thing: the feedback angle and the monotonic time
 //! where it was armed (a move started) or where motion was last seen. Its
-//! caller chooses the two thresholds: the library
+//! callers choose the two thresholds: the library
 //! [`Controller`](crate::controller::Controller) decides one tick after a
 //! command of at least half a degree, with 0.05° of motion as the proof
-//! (a timeout of 0: the next look decides). The time runs on the monotonic
-//! clock, so a step of the wall clock never delays the verdict.
+//! (a timeout of 0: the next look decides); the servo loop of the Uno
+//! waits [`STALL_TIMEOUT_MS`](crate::servo_tracker::STALL_TIMEOUT_MS) for
+//! half an encoder count. Both run on the monotonic clock, so a step of
+//! the wall clock never delays the verdict.
 
 /// What a look at the feedback found.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -25,9 +27,11 @@ pub enum StallVerdict {
 /// A stall watch over one axis (see the module documentation).
 #[derive(Debug, Clone, Copy, Default, PartialEq)]
 pub struct StallWatch {
-    /// Feedback angle, degrees, and monotonic ms where the watch started
-    /// or motion was last seen; `None` while disarmed.
-    origin: Option<(f32, u64)>,
+    /// Feedback angle, degrees, and the low 32 bits of the monotonic ms
+    /// where the watch started or motion was last seen; `None` while
+    /// disarmed. The time since wraps correctly below 49.7 days; a watch is
+    /// looked at every tick, so a verdict never waits that long.
+    origin: Option<(f32, u32)>,
 }
 
 impl StallWatch {
@@ -39,7 +43,7 @@ impl StallWatch {
     /// A move starts with the feedback at `feedback_deg`, at monotonic
     /// `now_ms`.
     pub fn arm(&mut self, feedback_deg: f32, now_ms: u64) {
-        self.origin = Some((feedback_deg, now_ms));
+        self.origin = Some((feedback_deg, now_ms as u32));
     }
 
     /// Nothing to watch (the axis rests, homes, or was stopped).
@@ -63,15 +67,15 @@ impl StallWatch {
         feedback_deg: f32,
         now_ms: u64,
         min_motion_deg: f32,
-        timeout_ms: u64,
+        timeout_ms: u32,
     ) -> Option<StallVerdict> {
         let (from_deg, since_ms) = self.origin?;
         let still = (feedback_deg - from_deg).abs() < min_motion_deg || !feedback_deg.is_finite();
         if !still {
-            self.origin = Some((feedback_deg, now_ms));
+            self.origin = Some((feedback_deg, now_ms as u32));
             return Some(StallVerdict::Moving);
         }
-        if now_ms.saturating_sub(since_ms) >= timeout_ms {
+        if (now_ms as u32).wrapping_sub(since_ms) >= timeout_ms {
             Some(StallVerdict::Stalled)
         } else {
             Some(StallVerdict::Waiting)

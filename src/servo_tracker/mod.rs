@@ -4,10 +4,14 @@
 //! closed-loop [`AxisDrive`]s. The Arduino Uno image (the `suntracker-uno` board crate) runs
 //! it on the ATmega328P's peripherals; the host tests run it on models.
 //!
-//! The loop is the seed's (its §2 and flowchart), built from the library's
-//! parts that fit the ATmega328P's 32 KB next to the sun algorithm:
+//! The loop is the paper's (its §2 and flowchart), built from the library's
+//! parts that fit the ATmega328P's 32 KB next to the sun algorithm: the
+//! homing and the counted position of [`AxisController`], the stall watch
+//! [`StallWatch`], the mode choice [`select_mode`], the sun source
+//! [`BoardSource`], the time keeper [`TimeKeeper`]: the same code as every
+//! other board's.
 //!
-//! | seed | here |
+//! | the paper | here |
 //! |---|---|
 //! | DS3231 / DS1302 clock | [`TimeKeeper`] and [`drivers::rtc`]: lost power, no answer or a date outside the window → no time: panel flat, `mode wait_for_time`, `fault rtc_invalid` (or `bus_rtc`) |
 //! | the Astronomical Almanac's algorithm every 4 minutes, no table | one sun position at the start of each 4-minute slot ([`STEP_S`]) from [`SunSource`] (`michalsky`, or `psa-2020` with the `psa2020` feature), in `f32`; the sun below the horizon: night, panel flat |
@@ -19,21 +23,23 @@
 //! part: built for the ATmega328P with its GPS, console and `f64` paths
 //! compiled out it links to 80–94 KB, by what is inlined.
 //!
-//! **Homing.** At power-on each axis seeks its home switch (at its lowest
-//! angle) in [`HOMING_CHUNK_DEG`] moves (the drive stops as the switch
-//! closes), backs off [`HOMING_BACKOFF_DEG`] and comes back one encoder
-//! count a tick, so that the count where the switch closes is taken at the
-//! slowest speed: that count is the switch angle. A switch not found within
-//! the axis travel plus [`HOMING_MARGIN_DEG`] (stuck open, unplugged), or
-//! one that does not open backing off (stuck closed), raises
-//! `limit_switch_c|a` and the axis stays stopped: a person checks it (a
-//! reset homes again).
+//! **Homing.** At power-on each axis homes with
+//! [`AxisController::home_step`], once a tick: it seeks its home switch
+//! (at its lowest angle) at the axis's speed plus a [`HOMING_CHUNK_DEG`]
+//! lead (the drive stops as the switch closes), backs off and comes back
+//! [`crate::motion::HOMING_FINE_DIVISOR`] times slower, so that the count
+//! where the switch closes is taken at the slowest speed: that count is the
+//! switch angle. A switch not found within the axis travel plus
+//! [`crate::motion::HOMING_SEEK_EXTRA_DEG`] (stuck open, unplugged), or one
+//! that does not open within [`crate::motion::HOMING_BACKOFF_MAX_DEG`]
+//! backing off (stuck closed), raises `limit_switch_c|a` and the axis stays
+//! stopped: a person checks it (a reset homes again).
 //!
-//! **Stall.** A drive with a move pending whose encoder shows no count of
-//! motion for [`STALL_TIMEOUT_MS`] is stopped and raises
-//! `motor_stalled_c|a`; it is commanded again every [`STALL_RETRY_MS`], and
-//! the first count of motion clears the fault. The durations run on the
-//! monotonic clock: an RTC step never delays them.
+//! **Stall.** A drive with a move pending whose encoder shows no half count
+//! of motion for [`STALL_TIMEOUT_MS`] ([`StallWatch`]) is stopped and
+//! raises `motor_stalled_c|a`; it is commanded again every
+//! [`STALL_RETRY_MS`], and the first count of motion clears the fault. The
+//! durations run on the monotonic clock: an RTC step never delays them.
 //!
 //! **Pose.** The mount is level with its C axis vertical and its y axis
 //! toward south, so the attitude module's inverse kinematics
@@ -58,7 +64,7 @@ use sun_algos::{Algorithm, Error as SunError, Site, UtcTime};
 use crate::config::AxisConfig;
 use crate::firmware::Motion;
 use crate::log::{self, Sink};
-use crate::motion::AxisDrive;
+use crate::motion::{AxisController, AxisDrive, AxisError, HomeState, StallVerdict, StallWatch};
 use crate::panel::{self, DayEnergy};
 use crate::safety::{select_mode, AxisId, Fault, Mode, ModeInputs, Sensor};
 use crate::sun::{BoardSource, BuiltInAlgorithm, PositionSource};
@@ -66,33 +72,42 @@ use crate::text::FlashStr;
 use crate::time::TimeOrigin;
 use crate::time::{TimeConfig, TimeKeeper};
 
-/// Encoder lines per revolution: the YMT22's "up to 300 ppr" (seed Table
+/// Encoder lines per revolution: the YMT22's "up to 300 ppr" (Chowdhury et al. 2019, Table
 /// 1), read in quadrature: 4 counts a line.
 pub const ENCODER_LINES: u32 = 300;
 /// Encoder counts per shaft turn (4 × 300 = 1,200: 0.3° a count).
 pub const COUNTS_PER_TURN: u32 = 4 * ENCODER_LINES;
 /// The encoder sits on the servo's output shaft, which turns the axis
-/// directly (seed §2: "optical encoders were attached to the shaft of each
+/// directly (Chowdhury et al. 2019, §2: "optical encoders were attached to the shaft of each
 /// motor").
 pub const GEAR_RATIO: f32 = 1.0;
-/// Set-point interval: the seed's 4 minutes.
+/// Set-point interval: Chowdhury et al.'s (2019) 4 minutes.
 pub const STEP_S: u32 = 240;
 /// Monotonic milliseconds between two ticks (an RTC read each).
 pub const TICK_MS: u32 = 1_000;
-/// Homing seek step, degrees of axis.
+/// Homing's lead, degrees of servo shaft (divided by the gear for the
+/// axis): each homing step keeps this much more than a tick's travel at
+/// the homing speed queued (see [`AxisController::home_step`]).
 pub const HOMING_CHUNK_DEG: f32 = 10.0;
-/// Homing backs off this far from the switch before its slow approach,
-/// degrees (10 counts: 10 ticks of one count back).
-pub const HOMING_BACKOFF_DEG: f32 = 3.0;
-/// Seeking goes this far past the axis travel before the switch counts as
-/// not found, degrees.
-pub const HOMING_MARGIN_DEG: f32 = 20.0;
+/// Homing speed, degrees of servo shaft a second (divided by the gear for
+/// the axis; the `max_speed_deg_s` of [`axis_configs_geared`]). The
+/// FS5106R turns 570 °/s, far faster than this: homing here is paced by
+/// the [`HOMING_CHUNK_DEG`] lead queued each 1 s tick (10.5° a tick
+/// seeking: a whole turn in 35 ticks), and the speed term only matters on
+/// the final approach, which moves a fiftieth of both a step:
+/// (0.5 × dt + 10) / 50 degrees, one encoder count (0.3°) for any interval
+/// dt up to 25 s between two steps. The position loop drives a one-count
+/// error at its minimum speed (0.02 of full, some 8 °/s) and stops at the
+/// switch within the 20 ms servo frame; a two-count step (a by-time term
+/// of 7.5 °/s and a step 1.7 s after the last) ran the servo a count past
+/// the switch in the emulator, and every set-point after it a count low.
+pub const HOMING_SPEED_DEG_S: f32 = 0.5;
 /// A pending move without a count of motion for this long is a stall
 /// (monotonic ms): at the slowest approach speed the shaft passes a count
 /// in well under a second.
-pub const STALL_TIMEOUT_MS: u64 = 5_000;
+pub const STALL_TIMEOUT_MS: u32 = 5_000;
 /// A stalled axis is commanded again this often (monotonic ms).
-pub const STALL_RETRY_MS: u64 = 60_000;
+pub const STALL_RETRY_MS: u32 = 60_000;
 /// ΔT (TT − UT1) for the sun algorithm, seconds (2026, IERS Bulletin A
 /// order of magnitude).
 pub const DELTA_T_S: f32 = 69.0;
@@ -107,13 +122,12 @@ pub fn axis_configs() -> [AxisConfig; 2] {
 
 /// The axes of [`axis_configs`] with a gear of `gear_ratio` (C, A) servo
 /// turns per axis turn between each servo and its axis (the encoder on the
-/// servo's shaft): a count is `0.3° / gear` of axis, the speed `570 °/s /
-/// gear`.
+/// servo's shaft): a count is `0.3° / gear` of axis; homing runs at
+/// [`HOMING_SPEED_DEG_S`]` / gear`.
 pub fn axis_configs_geared(gear_ratio: [f32; 2]) -> [AxisConfig; 2] {
     let [gear_c, gear_a] = gear_ratio;
-    // The home switch at the lowest angle; 95 rpm = 570 °/s of servo at the
-    // ends of its range, through the gear (a ratio below 1, outside the
-    // configuration's range, counts as 1).
+    // The home switch at the lowest angle; a ratio below 1, outside the
+    // configuration's range, counts as 1.
     let axis = |gear: f32, min_deg: f32, max_deg: f32| AxisConfig {
         counts_per_motor_rev: COUNTS_PER_TURN,
         microsteps: 1,
@@ -122,7 +136,7 @@ pub fn axis_configs_geared(gear_ratio: [f32; 2]) -> [AxisConfig; 2] {
         max_deg,
         home_deg: min_deg,
         backlash_deg: 0.0,
-        max_speed_deg_s: 570.0 / if gear >= 1.0 { gear } else { 1.0 },
+        max_speed_deg_s: HOMING_SPEED_DEG_S / if gear >= 1.0 { gear } else { 1.0 },
         deadband_deg: 0.0,
     };
     [axis(gear_c, -180.0, 180.0), axis(gear_a, -90.0, 90.0)]
@@ -235,220 +249,151 @@ impl Branch {
     }
 }
 
-/// The phases of homing (see `ServoLoopAxis::home_step`).
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-enum HomePhase {
-    /// Toward the switch in large moves.
-    Seek,
-    /// Away from the closed switch.
-    BackOff,
-    /// Toward it again, a count at a time.
-    Fine,
-}
-
-/// One axis: a closed-loop drive commanded in counts from its home switch.
+/// One axis: the library's [`AxisController`] (homing, soft limits, the
+/// counted position) over a closed-loop drive, and the shared
+/// [`StallWatch`].
 #[derive(Debug)]
 struct ServoLoopAxis<D> {
-    drive: D,
-    home_deg: f32,
-    min_deg: f32,
-    max_deg: f32,
-    counts_per_deg: f32,
-    /// The switch was found: `commanded` counts from it.
-    homed: bool,
-    /// Homing found no switch within the travel (`limit_switch_*`).
-    lost: bool,
-    /// Where homing is.
-    phase: HomePhase,
-    /// Counts moved in the present homing phase.
-    sought: i32,
-    /// Encoder angle where the last homing step started.
-    step_from: Option<f32>,
-    /// Counts from the switch commanded so far.
+    axis: AxisController<D>,
+    /// Counts from the switch commanded since homing.
     commanded: i32,
-    /// Encoder angle and monotonic ms when motion was last seen.
-    moved: Option<(f32, u64)>,
-    /// Stopped for a stall: monotonic ms of the next retry.
-    stalled_until: Option<u64>,
+    /// [`HOMING_CHUNK_DEG`] through the gear, degrees of axis.
+    homing_chunk_deg: f32,
+    /// Homing found no switch within the travel, or one that stayed
+    /// closed (`limit_switch_*`): the axis stays stopped.
+    lost: bool,
+    /// Armed while a move is under way.
+    stall: StallWatch,
+    /// Stopped for a stall: the low 32 bits of the monotonic ms when it
+    /// stopped (the retry's wait wraps correctly below 49.7 days).
+    stalled_at: Option<u32>,
     /// `motor_stalled_*` is raised (until motion is seen).
     stall_raised: bool,
 }
 
 impl<D: AxisDrive> ServoLoopAxis<D> {
     fn new(drive: D, c: &AxisConfig) -> Self {
-        let cpd = c.counts_per_deg();
         ServoLoopAxis {
-            drive,
-            home_deg: c.home_deg,
-            min_deg: c.min_deg,
-            max_deg: c.max_deg,
-            counts_per_deg: if cpd.is_finite() && cpd > 0.0 {
-                cpd
-            } else {
-                1.0
-            },
-            homed: false,
-            lost: false,
-            phase: HomePhase::Seek,
-            sought: 0,
-            step_from: None,
+            axis: AxisController::new(drive, *c),
             commanded: 0,
-            moved: None,
-            stalled_until: None,
+            homing_chunk_deg: HOMING_CHUNK_DEG
+                / if c.gear_ratio >= 1.0 {
+                    c.gear_ratio
+                } else {
+                    1.0
+                },
+            lost: false,
+            stall: StallWatch::new(),
+            stalled_at: None,
             stall_raised: false,
         }
     }
 
-    /// Counts from the switch to `deg` (held to the limits).
-    fn counts_to(&self, deg: f32) -> i32 {
-        let d = if deg < self.min_deg {
-            self.min_deg
-        } else if deg > self.max_deg {
-            self.max_deg
-        } else {
-            deg
-        };
-        nearest(d - self.home_deg, self.counts_per_deg)
-    }
-
-    /// One homing step; true while homing goes on. Seek toward the switch
-    /// in [`HOMING_CHUNK_DEG`] moves (the drive stops as it closes), back
-    /// off [`HOMING_BACKOFF_DEG`], then approach again one encoder count a
-    /// step: the switch is met at the slowest speed, so the count taken
-    /// there is the switch's to a fraction of a count.
+    /// One step of the library's homing ([`AxisController::home_step`]:
+    /// seek at the axis's speed, back off and come back
+    /// [`crate::motion::HOMING_FINE_DIVISOR`] times slower; the drive
+    /// stops as the switch closes); true while homing goes on. A switch
+    /// not found within the travel, or one that does not open backing off,
+    /// leaves the axis stopped and `lost`.
     #[inline(never)]
-    fn home_step(&mut self) -> bool {
-        if self.homed || self.lost {
+    fn home_step(&mut self, now_ms: u64) -> bool {
+        if self.lost || self.axis.home_state() == HomeState::Done {
             return false;
         }
-        let closed = self.drive.at_limit().unwrap_or(false);
-        let settled = self.drive.pending() == 0;
-        let cpd = self.counts_per_deg;
-        let counts = |deg: f32| nearest(deg, cpd).max(1);
-        let backoff = counts(HOMING_BACKOFF_DEG);
-        let stayed = self.phase == HomePhase::Fine && settled && self.stayed();
-        let step = match self.phase {
-            HomePhase::Seek if closed => {
-                let _ = self.drive.stop();
-                self.phase = HomePhase::BackOff;
-                self.sought = 0;
-                return true;
+        match self.axis.home_step(self.homing_chunk_deg, now_ms) {
+            Ok(HomeState::Done) => {
+                // Counted from the switch as the encoder counts: the
+                // count where it last read closed.
+                self.commanded = match self.axis.drive_mut().encoder_deg() {
+                    Ok(Some(e)) => self.axis.counts_from_home(e),
+                    _ => 0,
+                };
+                false
             }
-            HomePhase::BackOff if !closed && settled => {
-                self.phase = HomePhase::Fine;
-                self.sought = 0;
-                self.step_from = None;
-                return true;
+            Ok(_) => true,
+            Err(AxisError::HomeNotFound) => {
+                let _ = self.axis.stop();
+                self.lost = true;
+                false
             }
-            HomePhase::BackOff => backoff,
-            // Closed, or the last one-count step ended where it began: the
-            // drive stopped it as the switch closed, and the switch may
-            // have opened again as the servo came back to that count (no
-            // hysteresis is assumed).
-            HomePhase::Fine if closed || stayed => {
-                let _ = self.drive.stop();
-                self.homed = true;
-                self.commanded = 0;
-                return false;
-            }
-            HomePhase::Seek => -counts(HOMING_CHUNK_DEG),
-            HomePhase::Fine => -1,
-        };
-        if !settled {
-            return true;
-        }
-        // Bounds: the whole travel and a margin seeking, twice the back-off
-        // for each of the other phases; else the switch is not there.
-        let room = match self.phase {
-            HomePhase::Seek => self
-                .counts_to(self.max_deg)
-                .saturating_add(counts(HOMING_MARGIN_DEG)),
-            _ => backoff.saturating_mul(2),
-        };
-        if self.sought >= room {
-            let _ = self.drive.stop();
-            self.lost = true;
-            return false;
-        }
-        self.step_from = self.drive.encoder_deg().ok().flatten();
-        if self.drive.move_counts(step).is_ok() {
-            self.sought = self.sought.saturating_add(step.saturating_abs());
-        }
-        true
-    }
-
-    /// True when the encoder is within half a count of where the last
-    /// homing step started.
-    fn stayed(&mut self) -> bool {
-        match (self.step_from, self.drive.encoder_deg().ok().flatten()) {
-            (Some(from), Some(now)) => (now - from).abs() * self.counts_per_deg < 0.5,
-            _ => false,
+            // The drive did not answer: the next tick tries again.
+            Err(_) => true,
         }
     }
 
     /// Commands `deg`, watching for a stall; returns the stall flag's
-    /// change (`Some(true)` raised, `Some(false)` cleared).
+    /// change (`Some(true)` raised, `Some(false)` cleared). A drive with a
+    /// move pending whose encoder shows no half count of motion for
+    /// [`STALL_TIMEOUT_MS`] is stopped and commanded again after
+    /// [`STALL_RETRY_MS`].
     #[inline(never)]
     fn drive_to(&mut self, deg: f32, now_ms: u64) -> Option<bool> {
-        if !self.homed {
+        if self.axis.home_state() != HomeState::Done {
             return None;
         }
-        let enc = self.drive.encoder_deg().ok().flatten();
+        if let Some(at) = self.stalled_at {
+            if (now_ms as u32).wrapping_sub(at) < STALL_RETRY_MS {
+                return None;
+            }
+            self.stalled_at = None;
+        }
         let mut change = None;
-        if let Some(e) = enc {
-            let moved = match self.moved {
-                Some((was, _)) => (e - was).abs() * self.counts_per_deg >= 0.5,
-                None => true,
-            };
-            if moved {
-                self.moved = Some((e, now_ms));
-                if self.stall_raised {
-                    self.stall_raised = false;
-                    change = Some(false);
+        match self.axis.drive_mut().encoder_deg().ok().flatten() {
+            Some(e) => {
+                let moving = self.axis.drive().pending() != 0;
+                let half_count_deg = 0.5 / self.axis.counts_per_deg();
+                match self
+                    .stall
+                    .check(e, now_ms, half_count_deg, STALL_TIMEOUT_MS)
+                {
+                    // Motion clears the fault, even a move that ended
+                    // within the tick.
+                    Some(StallVerdict::Moving) if self.stall_raised => {
+                        self.stall_raised = false;
+                        change = Some(false);
+                    }
+                    Some(StallVerdict::Stalled) if moving => {
+                        // The drive now holds where it is: count from the
+                        // encoder, as after homing.
+                        let _ = self.axis.drive_mut().stop();
+                        self.commanded = self.axis.counts_from_home(e);
+                        self.stall.disarm();
+                        self.stalled_at = Some(now_ms as u32);
+                        if self.stall_raised {
+                            return None;
+                        }
+                        self.stall_raised = true;
+                        return Some(true);
+                    }
+                    _ => {}
+                }
+                // At rest (or not watched yet): the next move is timed
+                // from here and now.
+                if !moving || !self.stall.is_armed() {
+                    self.stall.arm(e, now_ms);
                 }
             }
+            None => self.stall.disarm(),
         }
-        if let Some(retry_ms) = self.stalled_until {
-            if now_ms < retry_ms {
-                return change;
-            }
-            // Commanded again: the watch starts over.
-            self.stalled_until = None;
-            self.moved = enc.map(|e| (e, now_ms));
-        } else if self.drive.pending() != 0 {
-            let still_ms = self.moved.map_or(0, |(_, t)| now_ms.saturating_sub(t));
-            if still_ms >= STALL_TIMEOUT_MS {
-                let _ = self.drive.stop();
-                // The drive now holds where it is: count from there.
-                if let Some(e) = enc {
-                    self.commanded = nearest(e - self.home_deg, self.counts_per_deg);
-                }
-                self.stalled_until = Some(now_ms.saturating_add(STALL_RETRY_MS));
-                if !self.stall_raised {
-                    self.stall_raised = true;
-                    change = Some(true);
-                }
-                return change;
-            }
-        }
-        let goal = self.counts_to(deg);
+        let (min_deg, max_deg) = self.axis.limits_deg();
+        let held = if deg < min_deg {
+            min_deg
+        } else if deg > max_deg {
+            max_deg
+        } else {
+            deg
+        };
+        let goal = self.axis.counts_from_home(held);
         let delta = goal.saturating_sub(self.commanded);
-        if delta != 0 {
-            // A move from rest: the stall watch times it from now, not from
-            // the motion that ended the last one (minutes ago).
-            if self.drive.pending() == 0 {
-                self.moved = enc.map(|e| (e, now_ms));
-            }
-            if self.drive.move_counts(delta).is_ok() {
-                self.commanded = goal;
-            }
+        if delta != 0 && self.axis.drive_mut().move_counts(delta).is_ok() {
+            self.commanded = goal;
         }
         change
     }
 
     /// The commanded angle, degrees.
     fn commanded_deg(&self) -> f32 {
-        self.home_deg + self.commanded as f32 / self.counts_per_deg
+        self.axis.deg_from_home(self.commanded)
     }
 }
 
@@ -517,7 +462,7 @@ impl<R: RtcDriver, D: AxisDrive + Motion> ServoTracker<R, D> {
         // A failed PWM write is retried at the next pass: the servo axis
         // only records a pass that reached the servo.
         for ax in self.axes.iter_mut() {
-            let _ = ax.drive.service(now_us);
+            let _ = ax.axis.drive_mut().service(now_us);
         }
     }
 
@@ -558,7 +503,7 @@ impl<R: RtcDriver, D: AxisDrive + Motion> ServoTracker<R, D> {
         }
         let mut homing = false;
         for ((i, ax), logged) in self.axes.iter_mut().enumerate().zip(&mut self.limit_logged) {
-            homing |= ax.home_step();
+            homing |= ax.home_step(now_ms);
             if ax.lost && !*logged {
                 *logged = true;
                 fault_line(out, Fault::LimitSwitchHit(axis_id(i)), true);
@@ -677,19 +622,6 @@ impl<R: RtcDriver, D: AxisDrive + Motion> ServoTracker<R, D> {
             a_deg,
             panel_mv.unwrap_or(0),
         );
-    }
-}
-
-/// `deg × counts_per_deg` to the nearest count (halves away from zero;
-/// `as` saturates beyond the i32 range). Not libm's `roundf` (about 1,000
-/// cycles on an AVR), nor `f32::max`/`min` for the limits above (library
-/// calls there too).
-fn nearest(deg: f32, counts_per_deg: f32) -> i32 {
-    let x = deg * counts_per_deg;
-    if x >= 0.0 {
-        (x + 0.5) as i32
-    } else {
-        (x - 0.5) as i32
     }
 }
 

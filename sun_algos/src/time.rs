@@ -23,7 +23,7 @@ use crate::error::Error;
 use crate::float::Float;
 
 pub use suntracker_time::{
-    days_in_month, div_rem_euclid_i64, div_rem_u64, is_leap_year, Date, DateError,
+    days_in_month, div_rem_euclid_i64, div_rem_u64, div_rem_u64_u16, is_leap_year, Date, DateError,
 };
 
 /// Milliseconds in a day.

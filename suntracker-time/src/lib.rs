@@ -94,7 +94,7 @@ struct ReadmeDoctests;
 use core::fmt;
 
 mod div64;
-pub use div64::{div_rem_euclid_i64, div_rem_u64};
+pub use div64::{div_rem_euclid_i64, div_rem_u64, div_rem_u64_u16};
 
 #[cfg(feature = "chrono")]
 mod with_chrono;
