@@ -375,7 +375,7 @@ where
             Ok(fix) => self.fix = fix,
             Err(_) => self.stats.gps_errors = self.stats.gps_errors.saturating_add(1),
         }
-        let now_us = now_ms.saturating_mul(1000);
+        let now_us = us_from_ms(now_ms);
         for ax in self.controller.axes_mut().iter_mut() {
             if !ax.drive_mut().service(now_us) {
                 self.stats.drive_errors = self.stats.drive_errors.saturating_add(1);
@@ -397,7 +397,10 @@ where
         }
         // Fed only while ticks come on time: a pass that hangs, or ticks
         // that stop, let the watchdog reset the chip.
-        if now_ms.saturating_sub(self.last_tick_ms) <= tick_ms.saturating_mul(3) {
+        // Three ticks, in 32 bits (the u64 product is a library call on an
+        // AVR, every pass).
+        let watchdog_ms = u64::from(self.app.tick_ms.max(1).saturating_mul(3));
+        if now_ms.saturating_sub(self.last_tick_ms) <= watchdog_ms {
             platform.feed_watchdog();
         }
         due
@@ -745,5 +748,43 @@ where
     }
     fn clear(&mut self) {
         self.fw.controller.reset_faults();
+    }
+}
+
+/// `ms × 1000`, saturating: by shifts, an addition and a subtraction,
+/// `1000 = (128 − 4 + 1) · 8`. On an 8-bit AVR a 64-bit product is a library call of some 1,500
+/// cycles, and the main loop converts its clock once a pass (every
+/// millisecond); shifts by constants are register moves.
+fn us_from_ms(ms: u64) -> u64 {
+    if ms > u64::MAX / 1000 {
+        return u64::MAX;
+    }
+    // ms ≤ (2^64 − 1) / 1000 < 2^55: ms·128 fits, ms·125 ≤ ms·128, and
+    // ms·125·8 = ms·1000 fits by the test above.
+    ((ms << 7) - (ms << 2) + ms) << 3
+}
+
+#[cfg(test)]
+mod tests {
+    use super::us_from_ms;
+
+    #[test]
+    fn microseconds_are_the_product_saturated() {
+        let limit = u64::MAX / 1000;
+        for ms in [0, 1, 999, 1_000, 86_400_000, 1 << 32, limit - 1, limit] {
+            assert_eq!(us_from_ms(ms), ms * 1000, "{ms}");
+        }
+        for ms in [limit + 1, 1 << 60, u64::MAX] {
+            assert_eq!(us_from_ms(ms), u64::MAX, "{ms}");
+        }
+        // xorshift64 (Marsaglia 2003) over every magnitude.
+        let mut x: u64 = 0x9e37_79b9_7f4a_7c15;
+        for _ in 0..100_000 {
+            x ^= x << 13;
+            x ^= x >> 7;
+            x ^= x << 17;
+            let ms = x >> (x % 64);
+            assert_eq!(us_from_ms(ms), ms.saturating_mul(1000), "{ms}");
+        }
     }
 }
