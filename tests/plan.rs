@@ -468,7 +468,7 @@ fn late_ticks_skip_no_entry() {
 
 // ---------------------------------------------------------------------
 // Real-time mode (`N = 0`): no table, one position per slot when it falls
-// due (Chowdhury et al.'s (2019) 4-minute recomputation).
+// due (Chowdhury et al.'s (2019) way, on 4-minute slots).
 
 type RealTime<P> = Scheduler<f64, P, 0>;
 
