@@ -51,7 +51,7 @@ build_avr_uno() {
   cargo +nightly build --release --target avr-none -Z build-std=core \
     -p suntracker-uno --bin avr_tracker --bin avr_settings -p suntracker-avr --bin avr_bench --bin avr_board_selftest
 }
-# The Uno image's build options: psa-2020 instead of the seed's michalsky,
+# The Uno image's build options: psa-2020 instead of Chowdhury et al.'s (2019) michalsky,
 # a DS1302 instead of the DS3231 (the settings image too: its `time set`
 # sets that clock); built and held to the same budget.
 build_avr_uno_psa2020() {

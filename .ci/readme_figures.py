@@ -346,7 +346,7 @@ figure(
     "sunrise {r} s, transit {t} s, sunset {s} s of the printed times",
 )
 
-# --- Kano geometry (seed's equations and SPA at 10:00 / 14:00 solar time)
+# --- Kano geometry (Jimoh & Aliyu's (2019) equations and SPA at 10:00 / 14:00 solar time)
 def minus(v):
     """The text's minus sign (U+2212) for a printed '-'."""
     return v.replace("-", "\u2212")

@@ -9,11 +9,11 @@
 //! ```
 //! Model (sun_algos::geometry::irradiance): ASHRAE clear sky with Masters'
 //! coefficient fits, isotropic sky, albedo 0.2 (`--albedo`), G_T = G_B +
-//! G_D + G_R (Dahli & Cheggaga 2023), trapezoid rule every 5 min (seed
-//! chowdhury-2019's area under the curve). Fixed: slope = |latitude|,
+//! G_D + G_R (Dahli & Cheggaga 2023), trapezoid rule every 5 min (Chowdhury
+//! et al.'s (2019) area under the curve). Fixed: slope = |latitude|,
 //! facing the equator. Single axis: horizontal north–south axis turned
-//! east–west, unlimited. Dual axis: normal to the sun. Default site: seed
-//! chowdhury-2019's Qatar University, Doha (25.37463 N, 51.49128 E).
+//! east–west, unlimited. Dual axis: normal to the sun. Default site:
+//! Chowdhury et al.'s (2019) Qatar University, Doha (25.37463 N, 51.49128 E).
 //!
 //! `--format table` (the default) prints a heading and a table in kWh/m²
 //! with the dual-axis gains in percent; `--format csv` prints the same rows

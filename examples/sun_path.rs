@@ -9,7 +9,7 @@
 //!    solar time, the optimum slope β and the surface azimuth γ of the day
 //!    table's set-points (4-minute entries; every fourth one marked).
 //!    Azimuths are measured from the equator side, west positive: from
-//!    south (the seed's convention) north of the equator, from north south
+//!    south (Jimoh & Aliyu's convention) north of the equator, from north south
 //!    of it, so that the curve rises through the day in both hemispheres; a
 //!    curve is broken where it wraps through ±180° (a tropical sun passing
 //!    the pole side of the zenith, the midnight sun). Both axes are scaled
@@ -18,8 +18,8 @@
 //!    set-points) and both hemispheres.
 //! 2. Like Li et al. 2022 Fig. 9: the zenith angle in Tianjin (39.13 N,
 //!    117.20 E) from 9:00 to 17:00 Beijing time by the original PSA (2001)
-//!    and the modified PSA of li-2022, with NREL SPA as the reference and
-//!    the differences to SPA in a second panel. The seed names no date; its
+//!    and the modified PSA of Li et al., with NREL SPA as the reference and
+//!    the differences to SPA in a second panel. Li et al. name no date; their
 //!    declination 0.07016 rad (4.02°) is the sun's on about 31 March, so
 //!    2021-03-31 is used. Written only when `--out` is not given.
 //!

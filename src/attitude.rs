@@ -1,21 +1,23 @@
 //! Mount attitude and the two-axis (C-axis γ, A-axis α) pose that points the
-//! panel at the sun, after seed *portable-tracker* (Choi et al., "Portable
-//! sun tracking system with tilt and magnetic compensation").
+//! panel at the sun, after J. Choi, I. Choy, S. Song, J. An, D. Lee and J. Kim,
+//! "Portable sun tracking system with tilt and magnetic compensation"
+//! (Choi et al., portable tracker; its text gives no year, and the work was
+//! funded by a grant of 2013).
 //!
-//! # Frames (seed Fig. 3)
+//! # Frames (the paper's Fig. 3)
 //! The horizontal frame XYZ has X toward **west**, Y toward **south** and Z
 //! toward the **sky** (right-handed). The tracker frame xyz is fixed to the
 //! mounting; at the home pose (α = γ = 0) the panel normal is the tracker's
 //! z axis.
 //!
 //! The mount is reached from XYZ by a rotation γ0 about Z, then α0 about the
-//! (new) x axis, then β0 about the (new) y axis (seed eq. 12):
+//! (new) x axis, then β0 about the (new) y axis (the paper's eq. 12):
 //! `T = Rz(γ0)·Rx(α0)·Ry(β0)`, which maps tracker coordinates to horizontal
 //! ones. A level mount with its y axis pointing south is the identity.
 //!
 //! The panel normal after turning the C axis by γ and then the A axis by α is
 //! `n(γ, α) = Rz(γ)·Rx(α)·ẑ = (sin γ sin α, −cos γ sin α, cos α)` in tracker
-//! coordinates (seed eq. 15–17).
+//! coordinates (the paper's eq. 15–17).
 
 use sun_algos::Float;
 
@@ -35,7 +37,8 @@ pub enum AttitudeError {
     ZeroVector,
 }
 
-/// The rotation of the mounting relative to the horizontal frame (seed eq. 12).
+/// The rotation of the mounting relative to the horizontal frame (Choi et al.
+/// eq. 12).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct MountAttitude<T> {
     /// α0: rotation about the X axis, degrees.
@@ -148,7 +151,7 @@ pub fn mat_vec<T: Float>(m: &Mat3<T>, v: &Vec3<T>) -> Vec3<T> {
     [dot(&m[0], v), dot(&m[1], v), dot(&m[2], v)]
 }
 
-/// `mᵀ·v` (the inverse of a rotation, seed eq. 14).
+/// `mᵀ·v` (the inverse of a rotation, its transpose: Choi et al. eq. 14).
 pub fn mat_t_vec<T: Float>(m: &Mat3<T>, v: &Vec3<T>) -> Vec3<T> {
     [
         m[0][0] * v[0] + m[1][0] * v[1] + m[2][0] * v[2],
@@ -176,7 +179,8 @@ pub fn wrap180<T: Float>(a_deg: T) -> T {
 }
 
 /// Unit vector toward the sun in the horizontal frame XYZ (west, south, up)
-/// from its elevation θ and azimuth (degrees east of north) — seed eq. 13.
+/// from its elevation θ and azimuth (degrees east of north) — Choi et al.
+/// eq. 13.
 pub fn sun_vector_xyz<T: Float>(elevation_deg: T, azimuth_deg: T) -> Vec3<T> {
     let (se, ce) = elevation_deg.to_radians().sin_cos();
     let (sa, ca) = azimuth_deg.to_radians().sin_cos();
@@ -184,7 +188,8 @@ pub fn sun_vector_xyz<T: Float>(elevation_deg: T, azimuth_deg: T) -> Vec3<T> {
     [-ce * sa, -ce * ca, se]
 }
 
-/// Panel normal of a pose in tracker coordinates: `Rz(γ)·Rx(α)·ẑ` (seed eq. 15–17).
+/// Panel normal of a pose in tracker coordinates: `Rz(γ)·Rx(α)·ẑ` (Choi et
+/// al. eq. 15–17).
 pub fn panel_normal<T: Float>(pose: &Pose<T>) -> Vec3<T> {
     let (sg, cg) = pose.gamma_deg.to_radians().sin_cos();
     let (sa, ca) = pose.alpha_deg.to_radians().sin_cos();
@@ -203,16 +208,16 @@ impl<T: Float> MountAttitude<T> {
 
     /// From the inclinometer's two angles and the tilt-compensated true heading.
     ///
-    /// `theta_x_deg`, `theta_y_deg` are the seed's tilt outputs θx, θy: the
-    /// angles between the vertical Z and the tracker's x and y axes, 0…180°
-    /// (90° each when level; seed eq. 4). With `T` above, `cos θx = −cos α0
-    /// sin β0` and `cos θy = sin α0` (seed eq. 5–6), so (eq. 7)
+    /// `theta_x_deg`, `theta_y_deg` are Choi et al.'s tilt outputs θx, θy:
+    /// the angles between the vertical Z and the tracker's x and y axes,
+    /// 0…180° (90° each when level; their eq. 4). With `T` above, `cos θx =
+    /// −cos α0 sin β0` and `cos θy = sin α0` (eq. 5–6), so (eq. 7)
     /// `α0 = asin(cos θy)`, `β0 = asin(−cos θx / cos α0)`, both in ±90°.
     ///
     /// `heading_deg` is the true azimuth (east of north; magnetic heading
-    /// plus declination, seed eq. 11) of the horizontal projection of the
-    /// tracker's +y axis. That projection is `Rz(γ0)·(0, cos α0, ·)`, so its
-    /// azimuth is exactly `180° − γ0` whatever the tilt (seed eq. 10–11).
+    /// plus declination, Choi et al. eq. 11) of the horizontal projection of
+    /// the tracker's +y axis. That projection is `Rz(γ0)·(0, cos α0, ·)`, so
+    /// its azimuth is exactly `180° − γ0` whatever the tilt (eq. 10–11).
     pub fn from_sensors(
         theta_x_deg: T,
         theta_y_deg: T,
@@ -257,7 +262,8 @@ impl<T: Float> MountAttitude<T> {
         (tx, ty, heading)
     }
 
-    /// `T = Rz(γ0)·Rx(α0)·Ry(β0)`: tracker coordinates → horizontal (seed eq. 12).
+    /// `T = Rz(γ0)·Rx(α0)·Ry(β0)`: tracker coordinates → horizontal (Choi et
+    /// al. eq. 12).
     pub fn matrix(&self) -> Mat3<T> {
         mat_mul(
             &mat_mul(&rot_z(self.gamma0_deg), &rot_x(self.alpha0_deg)),
@@ -265,7 +271,8 @@ impl<T: Float> MountAttitude<T> {
         )
     }
 
-    /// The sun vector seen from the tracker frame, `Tᵀ·S` (seed eq. 14).
+    /// The sun vector seen from the tracker frame, `Tᵀ·S` (Choi et al.
+    /// eq. 14).
     pub fn sun_in_tracker(&self, sun_xyz: &Vec3<T>) -> Vec3<T> {
         mat_t_vec(&self.matrix(), sun_xyz)
     }
@@ -276,7 +283,7 @@ impl<T: Float> MountAttitude<T> {
     }
 
     /// Both poses `(γ1, α1)`, `(γ2, α2)` that point the panel normal along
-    /// `sun_xyz` (seed eq. 18–21): `cos α = S_z`, `tan γ = S_x / (−S_y)` for
+    /// `sun_xyz` (Choi et al. eq. 18–21): `cos α = S_z`, `tan γ = S_x / (−S_y)` for
     /// α ≥ 0, and the same normal with `γ + 180°`, `−α`. When the sun lies on
     /// the tracker's z axis γ is free: `current_gamma_deg` is kept.
     pub fn solutions(
@@ -313,8 +320,9 @@ impl<T: Float> MountAttitude<T> {
     }
 
     /// The pose to drive to: of both solutions (and their ±360° turns on the C
-    /// axis) the one inside `limits` that moves least from `current`
-    /// (sum of both axes' travel; seed §IV, last paragraph).
+    /// axis) the one inside `limits` that moves least from `current`, as in
+    /// the last paragraph of Choi et al. §IV; they do not say how they
+    /// measure the movement, here it is the sum of both axes' travel.
     pub fn choose(
         &self,
         sun_xyz: &Vec3<T>,

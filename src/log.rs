@@ -178,8 +178,8 @@ pub fn setpoint(
 }
 
 /// [`setpoint`] with the panel voltage read with it appended:
-/// `setpoint utc=… zenith=… azimuth=… c=… a=… panel_mv=<int>` (seed
-/// chowdhury-2019 logs the panel voltage; see [`crate::panel`]).
+/// `setpoint utc=… zenith=… azimuth=… c=… a=… panel_mv=<int>` (Chowdhury et
+/// al. 2019 read the panel voltage on the ADC; see [`crate::panel`]).
 pub fn setpoint_with_panel(
     out: &mut dyn Sink,
     utc: &UtcTime,

@@ -1,8 +1,10 @@
-//! The panel's voltage and the day's energy figure of Chowdhury et al. 2019:
-//! the panel voltage is read on the microcontroller's ADC through a
-//! resistor divider, logged with each set-point, and the area under the
-//! voltage curve over the day (the seed's Table 1 and Figs. 7–8, an "area
-//! under the curve" in V·h) is summed by the trapezoid rule.
+//! The panel's voltage and the day's energy figure of M. E. H. Chowdhury,
+//! A. Khandakar, B. Hossain and R. Abouhasera (2019), "A Low-Cost Closed-Loop
+//! Solar Tracking System Based on the Sun Position Algorithm": the panel
+//! voltage is read on the microcontroller's ADC through a resistor divider,
+//! logged with each set-point, and the area under the voltage curve over the
+//! day (the paper's Table 1 and Fig. 8, an "area under the curve" in V·h) is
+//! summed by the trapezoid rule (its §2.5).
 //!
 //! Everything is integer arithmetic (millivolts, milliseconds of the
 //! monotonic clock), so an 8-bit part needs no float for it, and no input
@@ -72,7 +74,8 @@ impl PanelAdc {
 }
 
 /// The day's area under the panel voltage, by the trapezoid rule over the
-/// samples given (the seed samples at each set-point).
+/// samples given (the servo tracker samples at each set-point; Chowdhury et al.
+/// do not say how often they sampled).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
 pub struct DayEnergy {
     last: Option<(u64, u32)>,

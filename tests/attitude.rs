@@ -5,19 +5,19 @@ use suntracker::attitude::{
     angle_between_deg, sun_vector_xyz, Choice, MountAttitude, Pose, PoseLimits,
 };
 
-/// Seed Table IV, Case 1, as a round trip: mount aligned with the
+/// Choi et al.'s Table IV, Case 1, as a round trip: mount aligned with the
 /// horizontal frame (α0 = β0 = γ0 = 0, tilt sensor θx = θy = 90°, +y axis
 /// toward south).
 ///
-/// The seed's Table III (the sun's position) is missing from the text, so
-/// the sun below is worked back from the seed's own outputs for a level
-/// mount ("γ is either 38.39° or 141.11°, α should be ±59.09°") through the
+/// The paper's Table III (the sun's position) is missing from its text, so the
+/// sun below is worked back from the paper's own outputs for a level mount
+/// ("either 38.39° or 141.11° for γ, and α should be ±59.09°") through the
 /// level-mount case of the relation under test: α = ±(90° − θ) gives the
-/// elevation θ = 30.91°, and the two C-axis solutions 180° − A and −A give
-/// A = 180° − 38.39° = 141.61° (reading "141.11°" as a misprint; the other
-/// reading, A = 141.11° and "38.39°" a misprint of 38.89°, fits as well).
-/// This only checks that the code is consistent with that reading; the
-/// case below has inputs that do not come from the relation.
+/// elevation θ = 30.91°, and the two C-axis solutions 180° − A and −A give A =
+/// 180° − 38.39° = 141.61° (reading "141.11°" as a misprint; the other reading,
+/// A = 141.11° and "38.39°" a misprint of 38.89°, fits as well). This only
+/// checks that the code is consistent with that reading; the case below has
+/// inputs that do not come from the relation.
 #[test]
 fn choi_table_iv_case_1_round_trip_level_mount() {
     let mount = MountAttitude::from_sensors(90.0f64, 90.0, 180.0).unwrap();
@@ -35,7 +35,7 @@ fn choi_table_iv_case_1_round_trip_level_mount() {
     assert!((a.alpha_deg.abs() - 59.09).abs() < 0.005, "{a:?}");
     assert!((b.gamma_deg.abs() - 141.61).abs() < 0.005, "{b:?}");
     assert!((b.alpha_deg.abs() - 59.09).abs() < 0.005, "{b:?}");
-    // The two α have opposite signs (the seed's ±59.09°).
+    // The two α have opposite signs (the paper's ±59.09°).
     assert!(a.alpha_deg * b.alpha_deg < 0.0);
     // Both point the panel at the sun.
     assert!(mount.pointing_error_deg(&a, &sun) < 1e-9);
@@ -44,11 +44,11 @@ fn choi_table_iv_case_1_round_trip_level_mount() {
 }
 
 /// A tilted mount and a sun whose inputs owe nothing to the relation under
-/// test: the mount angles printed for the seed's Table IV Case 2 (α0 =
+/// test: the mount angles printed for the paper's Table IV Case 2 (α0 =
 /// 35.26°, β0 = 30°, γ0 = 54.74°) and the sun of the NREL SPA report's worked
 /// example (Reda & Andreas 2004, NREL/TP-560-34302: topocentric zenith
 /// 50.111622°, azimuth 194.340241°; `sun_algos/tests/data/
-/// nrel_spa_test_vector.json`). The seed's own Case 2 outputs (67.08° /
+/// nrel_spa_test_vector.json`). The paper's own Case 2 outputs (67.08° /
 /// 112.92°, ±78.60°) are for its Table III sun, which the text does not
 /// print, so they cannot be used here.
 ///
@@ -159,7 +159,7 @@ fn tilted_mount_from_sensor_readings() {
         gamma0_deg: 30.0,
     };
     let m = truth.matrix();
-    // θx, θy: angles between vertical and tracker x, y axes (seed eq. 4).
+    // θx, θy: angles between vertical and tracker x, y axes (Choi et al. eq. 4).
     let tx = m[2][0].acos().to_degrees();
     let ty = m[2][1].acos().to_degrees();
     let y_axis = [m[0][1], m[1][1]];

@@ -69,16 +69,17 @@ fn kano_table_follows_the_sun_every_four_minutes() {
     }
     for r in &day.rows {
         assert_eq!(r.time.unix_seconds() % 240, 0);
-        // Dual-axis set-point = the sun's direction (seed eq 14), up to the
+        // Dual-axis set-point = the sun's direction (Jimoh & Aliyu eq. 14), up to the
         // 0.01° storage step; the 90° slope limit only binds at the horizon.
         if r.sun_zenith_deg < 90.0 {
             assert!(r.incidence_deg < 0.01, "{r:?}");
         }
     }
-    // Near 10:00 and 14:00 solar time: seed model β 37.57°, γ ∓53.64° from
-    // south (hand calculation, geometry_kano.rs); precise algorithms differ by
-    // up to 1.2° through the seed's declination (geometry_kano_algorithms.rs).
-    // This only ties the table to the seed's model; the set-points' accuracy
+    // Near 10:00 and 14:00 solar time: Jimoh & Aliyu's (2019) model gives β
+    // 37.57°, γ ∓53.64° from south (hand calculation, geometry_kano.rs);
+    // precise algorithms differ by up to 1.2° through that model's declination
+    // (geometry_kano_algorithms.rs). This only ties the table to the paper's
+    // model; the set-points' accuracy
     // is checked to 0.0075° against pvlib in `default_job_matches_pvlib_spa`.
     for (solar_s, gamma_south) in [(36_000, -53.64), (50_400, 53.64)] {
         let r = day

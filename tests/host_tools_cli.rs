@@ -44,7 +44,7 @@ fn daily_setpoints_run(
     out: &mut dyn std::io::Write,
     err: &mut dyn std::io::Write,
 ) -> u8 {
-    // As its main does: the tests' "today" is the seed's example day.
+    // As its main does: the tests' "today" is Jimoh & Aliyu's (2019) example day.
     match daily_setpoints::run(args, (2018, 10, 19), out, err) {
         Ok(()) => 0,
         Err(e) => daily_setpoints::cli::usage_error(daily_setpoints::TOOL, &e, err),

@@ -2,8 +2,8 @@
 //! bus (ADXL345 accelerometer at 0x53, QMC5883L magnetometer at 0x0D),
 //! through `hw::MountSensorsHw`, alone and inside the controller.
 //!
-//! The bus bytes are made here from a known mount rotation (seed
-//! portable-tracker eq. 12: `T = Rz(γ0)·Rx(α0)·Ry(β0)`, tracker → horizontal,
+//! The bus bytes are made here from a known mount rotation (Choi et al.,
+//! portable tracker, eq. 12: `T = Rz(γ0)·Rx(α0)·Ry(β0)`, tracker → horizontal,
 //! horizontal X west, Y south, Z up): gravity and the Earth's field are
 //! expressed in the tracker frame with `Tᵀ`, then scaled by the datasheets
 //! (ADXL345 full resolution 3.9 mg/LSB; QMC5883L 8 G range 3000 LSB/G) and
@@ -47,11 +47,11 @@ fn raw_bus_bytes_give_back_the_mount_rotation() {
     let mut bus = I2cMock::new(&tx);
     let mut s = sensors(&bus);
     let r: AttitudeReading<f64> = s.read().unwrap();
-    // θx, θy: cos θ = the x, y components of "up" (seed eq. 4–6).
+    // θx, θy: cos θ = the x, y components of "up" (Choi et al. eq. 4–6).
     let up = up_tracker();
     assert!((r.theta_x_deg - up[0].acos().to_degrees()).abs() < 0.3);
     assert!((r.theta_y_deg - up[1].acos().to_degrees()).abs() < 0.3);
-    // Heading of the +y axis: 180° − γ0 (seed eq. 10–11).
+    // Heading of the +y axis: 180° − γ0 (Choi et al. eq. 10–11).
     assert!((r.heading_deg - (180.0 - GAMMA0)).abs() < 0.3, "{r:?}");
     let m = MountAttitude::from_sensors(r.theta_x_deg, r.theta_y_deg, r.heading_deg).unwrap();
     assert!((m.alpha0_deg - ALPHA0).abs() < 0.3, "{m:?}");

@@ -80,8 +80,8 @@ fn kano_equinox_day_on_real_drivers() {
         options: Options::default(),
     };
 
-    // The tracker: level mount, open loop on counted half-steps (seed
-    // li-2022's H-bridge steppers have no encoders), re-homed every night.
+    // The tracker: level mount, open loop on counted half-steps (Li et al.'s
+    // (2022) H-bridge steppers have no encoders), re-homed every night.
     let (config, options) = tracker_config();
     let axes = [stepper_axis(&c_motor), stepper_axis(&a_motor)];
     let mut ctrl: Controller<f64, _, Axis, MountSensors, 360> =
@@ -182,8 +182,8 @@ fn kano_equinox_day_on_real_drivers() {
     assert!(elev(last_entry_s) > -0.9 && elev(last_entry_s + 240) < 0.0);
     assert!(home_at > last_entry_s && home_at <= last_entry_s + 300);
 
-    // Home at day end: the panel faces the day's first entry again (seed
-    // li-2022), checked against SPA at that entry's time.
+    // Home at day end: the panel faces the day's first entry again (Li et
+    // al. 2022), checked against SPA at that entry's time.
     let home_sun = spa_kano(first);
     let err = pointing_error_deg(
         &c_motor,

@@ -73,7 +73,7 @@ fn settings_a() -> Settings {
     settings::DEFAULTS
 }
 
-/// Sydney, the seed's direct drives.
+/// Sydney, Chowdhury et al.'s (2019) direct drives.
 fn settings_b() -> Settings {
     Settings {
         lat_deg: -33.8688,

@@ -1,9 +1,9 @@
 //! The Jimoh & Aliyu 2019 scheduler walked through whole days.
 //!
-//! The sun model here is the seed's own textbook model (jimoh-2019 eq. 2–8:
-//! Cooper declination, Spencer equation of time, hour angle), written out
-//! independently of the library, so that sunrise and sunset have the seed's
-//! closed form (eq. 9) to compare with.
+//! The sun model here is the paper's own textbook model (Jimoh & Aliyu 2019
+//! eq. 2–8: Cooper declination, Spencer equation of time, hour angle),
+//! written out independently of the library, so that sunrise and sunset have
+//! the paper's closed form (eq. 9) to compare with.
 
 use sun_algos::geometry::GeometryError;
 use sun_algos::{Error, Site, SunPosition, UtcTime};
@@ -33,7 +33,7 @@ impl Textbook {
                 - 0.04089 * (2.0 * b).sin())
             / 60.0
     }
-    /// Seed eq. 9: sunrise/sunset in UTC hours (None for polar day/night).
+    /// Jimoh & Aliyu eq. 9: sunrise/sunset in UTC hours (None for polar day/night).
     fn rise_set_utc_h(&self, n: f64) -> Option<(f64, f64)> {
         let x = -(self.lat.to_radians().tan()) * Self::decl_deg(n).to_radians().tan();
         if x.abs() >= 1.0 {
@@ -105,7 +105,7 @@ fn run<P: PositionSource<f64>, const N: usize>(
 fn whole_day_in_kano_follows_the_flowchart() {
     let mut s = Sched::new(ScheduleConfig::default(), KANO).unwrap();
     assert_eq!(s.phase(), Phase::PowerOn);
-    // 19 Oct 2018, the seed's example day; start before sunrise.
+    // 19 Oct 2018, the paper's example day; start before sunrise.
     let start = t("2018-10-19T03:00:00Z");
     // Step 1: set-points zero.
     let o = s.tick(start);
@@ -120,7 +120,7 @@ fn whole_day_in_kano_follows_the_flowchart() {
         panic!()
     };
     assert_eq!(until, rise);
-    // Sunrise and sunset agree with the seed's eq. 9 within a minute.
+    // Sunrise and sunset agree with the paper's eq. 9 within a minute.
     let (r_h, s_h) = KANO.rise_set_utc_h(292.0).unwrap();
     let hours = |u: UtcTime| u.hours::<f64>();
     assert!((hours(rise) - r_h).abs() * 60.0 < 1.0, "{rise} vs {r_h}");
@@ -380,7 +380,7 @@ fn planning_in_small_steps_gives_the_same_day() {
             self.sun.position(t)
         }
     }
-    // Noon at Kano on the seed's example day: the whole table is needed.
+    // Noon at Kano on the paper's example day: the whole table is needed.
     let noon = t("2018-10-19T11:30:00Z");
     let mut whole = Sched::new(ScheduleConfig::default(), KANO).unwrap();
     whole.tick(noon);
@@ -390,7 +390,7 @@ fn planning_in_small_steps_gives_the_same_day() {
             _ => None,
         })
     };
-    // The one-tick planner plans at +1 s and re-checks every 30 s (seed
+    // The one-tick planner plans at +1 s and re-checks every 30 s (flowchart
     // step 12), but never past the next entry's time: the 11:32 entry is
     // found at 11:32:00.
     let (k_whole, expected) = first_set_point(&mut whole).unwrap();
@@ -468,7 +468,7 @@ fn late_ticks_skip_no_entry() {
 
 // ---------------------------------------------------------------------
 // Real-time mode (`N = 0`): no table, one position per slot when it falls
-// due (Chowdhury et al.'s (2019) 4-minute recomputation).
+// due (Chowdhury et al.'s (2019) way, on 4-minute slots).
 
 type RealTime<P> = Scheduler<f64, P, 0>;
 
@@ -571,8 +571,8 @@ fn real_time_mode_computes_one_position_per_slot() {
     .unwrap();
     let start = t("2018-10-19T10:00:00Z");
     s.tick(start);
-    // An hour of 1-second ticks: the seed's 15 set-points, the 2-minute
-    // hold, and one sun position per 4-minute slot.
+    // An hour of 1-second ticks: 15 set-points of Jimoh & Aliyu's 4-minute
+    // table, their 2-minute hold, and one sun position per 4-minute slot.
     let acts = run(&mut s, start.add_seconds(1).unwrap(), 3598, 1);
     let sets = acts
         .iter()

@@ -57,7 +57,7 @@ fn unknown_and_malformed_codes_are_errors() {
 
 #[test]
 fn table_is_sorted_and_complete() {
-    // 58 seats + 3 further rows of the seed's Table 1.
+    // 58 seats + 3 further rows of Dahli & Cheggaga's (2023) Table 1.
     assert_eq!(LEN, 61);
     assert_eq!(entries().count(), LEN);
     assert_eq!(TABLE_BYTES, 61 * 14);

@@ -1,6 +1,6 @@
 //! The Arduino Uno bench: the ATmega328P image (`avr_tracker`, board
-//! module `boards/uno/src/lib.rs`, loop `src/servo_tracker/mod.rs`: seed
-//! chowdhury-2019's closed-loop tracker) under simavr, with
+//! module `boards/uno/src/lib.rs`, loop `src/servo_tracker/mod.rs`:
+//! Chowdhury et al.'s (2019) closed-loop tracker) under simavr, with
 //!
 //! - a DS3231 model on the TWI (valid, lost power, or absent);
 //! - per axis a FEETECH FS5106R continuous-rotation servo model
@@ -411,8 +411,8 @@ impl UnoRun {
 }
 
 /// The panel normal of pose (c, a) on the firmware's level mount, in
-/// (west, south, up): `(sin c·sin a, −cos c·sin a, cos a)` (seed
-/// portable-tracker eq. 15–17 with the identity attitude, as
+/// (west, south, up): `(sin c·sin a, −cos c·sin a, cos a)` (Choi et al.,
+/// portable tracker, eq. 15–17 with the identity attitude, as
 /// `src/servo_tracker/mod.rs` states it).
 pub fn panel_normal(c_deg: f64, a_deg: f64) -> [f64; 3] {
     let (c, a) = (c_deg.to_radians(), a_deg.to_radians());

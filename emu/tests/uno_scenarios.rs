@@ -44,7 +44,7 @@ const NORMAL_TOL_DEG: f64 = 0.03;
 const ENERGY_TOL: f64 = 0.01;
 /// The ATmega328P's 2,048 B of RAM less 256 B kept free.
 const RAM_BUDGET_B: u16 = 1_792;
-/// The set-point slot (the seed's 4 minutes).
+/// The set-point slot (4 minutes, the firmware's `servo_tracker::STEP_S`).
 const STEP_S: i64 = 240;
 
 fn elf() -> Option<PathBuf> {

@@ -341,7 +341,7 @@ fn simulate(args: &Args, out: &mut dyn Write, err: &mut dyn Write) -> Result<(),
     let mut config = Config::default();
     config.site.latitude_deg = args.lat as f32;
     config.site.longitude_deg = args.lon as f32;
-    // Set-points every minute; the seed's 2-minute hold would skip them.
+    // Set-points every minute; Jimoh & Aliyu's 2-minute hold would skip them.
     config.schedule.table_step_s = 60;
     config.schedule.hold_s = 30;
     for ax in config.axes.iter_mut() {

@@ -1,5 +1,5 @@
-//! Optical incremental quadrature encoder on a shaft (YMT22 class, seed
-//! chowdhury-2019): a disc of N lines gives two square waves A and B, 90°
+//! Optical incremental quadrature encoder on a shaft (YMT22 class, as in
+//! Chowdhury et al. 2019): a disc of N lines gives two square waves A and B, 90°
 //! (electrical) apart, so each line period holds four states and a ×4
 //! decoder counts 4N per revolution.
 //!

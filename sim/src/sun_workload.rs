@@ -6,8 +6,8 @@
 
 use sun_algos::{Algorithm, Options, Site, UtcTime};
 
-/// Instants and sites of the per-position measurement: Kano (seed
-/// jimoh-2019's site), Tromsø and Sydney over 2026; all inside every
+/// Instants and sites of the per-position measurement: Kano (Jimoh &
+/// Aliyu's (2019) site), Tromsø and Sydney over 2026; all inside every
 /// measured algorithm's validity range.
 pub const CASES: [(i32, u8, u8, u8, u8, f32, f32); 6] = [
     (2026, 3, 20, 12, 0, 11.9683, 8.4261),

@@ -424,8 +424,8 @@ where
         }
     }
 
-    /// The pose for a set-point with the current attitude (seed
-    /// portable-tracker eq. 13–21), least motion from the current pose.
+    /// The pose for a set-point with the current attitude (Choi et al.,
+    /// portable tracker, eq. 13–21), least motion from the current pose.
     fn pose_for(&mut self, sp: &SetPoint<T>) -> Option<Pose<T>> {
         let sun = sun_vector_xyz(sp.elevation_deg(), sp.azimuth_deg);
         let current = match self.branch_anchor.take() {

@@ -54,8 +54,9 @@ where
             match out.action {
                 Action::SetPoints(sp) => {
                     self.set_point = Some(sp);
-                    // The power-on zero set-point (seed step 1) is not
-                    // daylight yet: only table set-points are.
+                    // The power-on zero set-point (Jimoh & Aliyu 2019,
+                    // flowchart step 1) is not daylight yet: only table
+                    // set-points are.
                     self.night = !matches!(self.scheduler.phase(), Phase::Tracking { .. });
                 }
                 Action::GoHome(sp) => {

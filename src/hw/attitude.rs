@@ -1,6 +1,6 @@
-//! [`AttitudeSensor`] over a tilt sensor and a magnetometer (seed
-//! portable-tracker §III): the inclinometer gives the angles θx, θy between
-//! the vertical and the tracker's x and y axes (eq. 6), the mount's tilt α0,
+//! [`AttitudeSensor`] over a tilt sensor and a magnetometer (Choi et al.,
+//! portable tracker, §III): the inclinometer gives the angles θx, θy between
+//! the vertical and the tracker's x and y axes (eq. 4), the mount's tilt α0,
 //! β0 follows (eq. 7), and the magnetometer's field with that tilt removed
 //! gives the heading (eq. 8–11).
 

@@ -1,7 +1,10 @@
-//! The set-point scheduler of Jimoh & Aliyu 2019 (its Figure 5 flowchart, 14
-//! steps) as an explicit state machine driven by [`Scheduler::tick`].
+//! The set-point scheduler of M. T. Jimoh and A. B. Aliyu (2019),
+//! "Development of a Pseudo-Closed Loop Solar Collector Sun Tracking System
+//! with Optimized Set-Point Paths for Flat Plate Payload" (its Figure 5
+//! flowchart, 14 steps), as an explicit state machine driven by
+//! [`Scheduler::tick`].
 //!
-//! | seed step | here |
+//! | flowchart step | here |
 //! |---|---|
 //! | 1 read site, set-points zero | [`Phase::PowerOn`] → [`Action::SetPoints`] of zero |
 //! | 2 read date, 3 sunrise/sunset | [`Phase::ReadDate`]: the solar day around `now` and its [`Daylight`] |
@@ -11,23 +14,29 @@
 //! | 11–12 match? else 30 s | a table entry whose time lies within `recheck_s` before `now` |
 //! | 13 set set-points, 14 wait 2 min | [`Action::SetPoints`], next check after `hold_s` |
 //!
+//! In the paper's text the steps carry no numbers and fill fifteen
+//! paragraphs. The numbers here follow its cross-references (sunrise and
+//! sunset "calculated in step 3", the match "in step 11") and count the
+//! end-of-day check and its td_ed delay as one step 10; the paper's 30-second
+//! retry returns "to step 8 to read the current time", which is step 9 here.
+//!
 //! The home position at the end of the day is the day's starting position
 //! (Li et al. 2022: "the control algorithm resets the panel to the previous
 //! day initial position"): the first entry of the day table.
 //!
-//! **Real-time mode** (`N = 0`, no table; Chowdhury et al.'s (2019) way on an
-//! ATmega328P, which "recomputes the sun every 4 minutes"): the same
-//! flowchart with the table replaced by one sun position per slot, computed
-//! when the slot falls due. Step 3's daylight is the sun's centre above the
-//! geometric horizon at the slot's time (Jimoh & Aliyu 2019 eq. 9, the table's
-//! own criterion); steps 4–6 wait for the next slot instead of a computed
-//! sunrise; step 10's end of day is the first slot after daylight (at most
-//! one slot after sunset); steps 11–14 match and hold as with a table, and
-//! home is the day's first daylight set-point. No sunrise/sunset search
-//! and no table: no 1.4 KB of day table in RAM, and none of the event
-//! search's or table's code in flash.
+//! **Real-time mode** (`N = 0`, no table; Chowdhury et al.'s (2019) way: their
+//! ATmega328P computes the sun's position as it tracks, at an interval the
+//! paper does not give): the same flowchart with the table replaced by one sun
+//! position per slot, computed when the slot falls due. Step 3's daylight is
+//! the sun's centre above the geometric horizon at the slot's time (Jimoh &
+//! Aliyu 2019 eq. 9, the table's own criterion); steps 4–6 wait for the next
+//! slot instead of a computed sunrise; step 10's end of day is the first slot
+//! after daylight (at most one slot after sunset); steps 11–14 match and hold
+//! as with a table, and home is the day's first daylight set-point. No
+//! sunrise/sunset search and no table: no 1.4 KB of day table in RAM, and none
+//! of the event search's or table's code in flash.
 //!
-//! `tick` never blocks: every delay of the seed is a time stored in the
+//! `tick` never blocks: every delay of the flowchart is a time stored in the
 //! state and compared with the `now` of later ticks. A clock that jumps
 //! backward, or forward by more than `max_tick_gap_s`, re-plans from step 2.
 //!
@@ -35,7 +44,7 @@
 //! (`00:00 UTC − longitude/15 h`) to the next, so that a day's daylight is
 //! never split; in a polar day the whole solar day is daylight. Sunrise and
 //! sunset are `sun_algos::geometry::events::find`, for the sun's centre on
-//! the geometric horizon (seed eq. 9), and the table is
+//! the geometric horizon (Jimoh & Aliyu eq. 9), and the table is
 //! `sun_algos::geometry::day_table::DayTable` (4-byte entries in 0.01°).
 
 use crate::sun::PositionSource;
@@ -49,14 +58,14 @@ use sun_algos::{Error as SunError, Float, SunPosition, UtcTime};
 /// Intervals of the scheduler (Jimoh & Aliyu 2019 defaults).
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub struct ScheduleConfig {
-    /// Set-point table interval, seconds (seed: 4 minutes); whole minutes
-    /// dividing a day. Table times are whole multiples of it from UTC
-    /// midnight, so an RTC matches them.
+    /// Set-point table interval, seconds (flowchart step 7: 4 minutes);
+    /// whole minutes dividing a day. Table times are whole multiples of it
+    /// from UTC midnight, so an RTC matches them.
     pub table_step_s: u32,
-    /// Wait after setting a set-point (seed step 14: 2 minutes).
+    /// Wait after setting a set-point (flowchart step 14: 2 minutes).
     pub hold_s: u32,
-    /// Re-check interval when no entry matches (seed step 12: 30 s); an entry
-    /// matches while `now` lies within this long after its time.
+    /// Re-check interval when no entry matches (flowchart step 12: 30 s); an
+    /// entry matches while `now` lies within this long after its time.
     pub recheck_s: u32,
     /// A gap between two ticks longer than this counts as a forward clock
     /// jump and re-plans the day.
@@ -216,8 +225,8 @@ pub fn solar_day_start<T: Float>(
         .ok_or(ScheduleError::TimeRange)
 }
 
-/// Sunrise and sunset (sun centre on the geometric horizon, seed
-/// jimoh-2019 eq. 9) of the solar day starting at `start`
+/// Sunrise and sunset (sun centre on the geometric horizon, Jimoh & Aliyu
+/// (2019) eq. 9) of the solar day starting at `start`
 /// (`sun_algos::geometry::events::find`: 10-minute samples, crossings
 /// bisected to a second, any position source). The returned events are in
 /// that sense too (their `transit_zenith_deg` is 0.833° high).
@@ -288,7 +297,7 @@ pub fn table_entry<T: Float, const N: usize>(
     })
 }
 
-/// The entry whose time lies in `(now − window, now]` (seed step 11).
+/// The entry whose time lies in `(now − window, now]` (flowchart step 11).
 pub fn match_at<T: Float, const N: usize>(
     table: &DayTable<N>,
     now: &UtcTime,
@@ -353,26 +362,26 @@ impl<T: Float, const N: usize> TableView<'_, T, N> {
 /// Where the state machine is.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum Phase {
-    /// Not started (seed step 1 pending).
+    /// Not started (flowchart step 1 pending).
     PowerOn,
-    /// About to read the date and plan the day (seed steps 2–3).
+    /// About to read the date and plan the day (flowchart steps 2–3).
     ReadDate,
-    /// Outside daylight, waiting td_os until `until` (seed step 6).
+    /// Outside daylight, waiting td_os until `until` (flowchart step 6).
     WaitSunrise {
         /// End of the delay.
         until: UtcTime,
     },
-    /// Following the day table (seed steps 9–14).
+    /// Following the day table (flowchart steps 9–14).
     Tracking {
         /// Next time the table is searched.
         next_check: UtcTime,
     },
-    /// After sunset, waiting td_ed until the next solar day (seed step 10).
+    /// After sunset, waiting td_ed until the next solar day (flowchart step 10).
     WaitNextDay {
         /// End of the delay.
         until: UtcTime,
     },
-    /// Planning the day a few positions per tick (seed steps 2–8 spread
+    /// Planning the day a few positions per tick (flowchart steps 2–8 spread
     /// over ticks: see [`Scheduler::set_plan_budget`]).
     Planning,
     /// Planning failed; retried at `retry_at`.
@@ -387,8 +396,8 @@ pub enum Phase {
 pub enum Action<T> {
     /// Nothing new.
     Idle,
-    /// Drive to this set-point (zero at power-on, seed step 1; a table entry,
-    /// seed step 13).
+    /// Drive to this set-point (zero at power-on, flowchart step 1; a table
+    /// entry, step 13).
     SetPoints(SetPoint<T>),
     /// End of day: return to the day's starting position (Li et al. 2022).
     GoHome(SetPoint<T>),
@@ -440,9 +449,9 @@ pub struct Scheduler<T, P, const N: usize> {
 /// A day being planned over several ticks.
 #[derive(Debug, Clone, Copy, PartialEq)]
 enum Planner<T> {
-    /// Finding sunrise and sunset (seed steps 2–4).
+    /// Finding sunrise and sunset (flowchart steps 2–4).
     Daylight(EventSearch<T>),
-    /// Filling the table of this day (seed steps 7–8).
+    /// Filling the table of this day (flowchart steps 7–8).
     Table(SolarDay),
 }
 
@@ -508,7 +517,7 @@ impl<T: Float, P: PositionSource<T>, const N: usize> Scheduler<T, P, N> {
     pub fn day(&self) -> Option<SolarDay> {
         self.day
     }
-    /// The stored day table (seed step 8); empty before the first day.
+    /// The stored day table (flowchart step 8); empty before the first day.
     pub fn table(&self) -> TableView<'_, T, N> {
         TableView {
             table: self.has_table.then_some(&self.table),
@@ -881,7 +890,7 @@ impl<T: Float, P: PositionSource<T>, const N: usize> Scheduler<T, P, N> {
         // (A NaN zenith is not daylight.)
         let up = sun.zenith_deg < T::from_f64(90.0);
         if !up {
-            // Outside daylight (seed eq. 9). After tracking: the day has
+            // Outside daylight (Jimoh & Aliyu eq. 9). After tracking: the day has
             // ended (step 10), go home; else wait for the next slot (steps
             // 4–6), with a Sleep the first time (power-on, clock jump).
             let first = matches!(self.phase, Phase::ReadDate | Phase::Planning);

@@ -4,7 +4,7 @@
 //! closed-loop [`AxisDrive`]s. The Arduino Uno image (the `suntracker-uno` board crate) runs
 //! it on the ATmega328P's peripherals; the host tests run it on models.
 //!
-//! The loop is the paper's (its §2 and flowchart), built from the library's
+//! The loop is the paper's (its §2 and Figure 1(b)), built from the library's
 //! parts that fit the ATmega328P's 32 KB next to the sun algorithm: the
 //! homing and the counted position of [`AxisController`], the stall watch
 //! [`StallWatch`], the mode choice [`select_mode`], the sun source
@@ -14,7 +14,7 @@
 //! | the paper | here |
 //! |---|---|
 //! | DS3231 / DS1302 clock | [`TimeKeeper`] and [`drivers::rtc`]: lost power, no answer or a date outside the window → no time: panel flat, `mode wait_for_time`, `fault rtc_invalid` (or `bus_rtc`) |
-//! | the Astronomical Almanac's algorithm every 4 minutes, no table | one sun position at the start of each 4-minute slot ([`STEP_S`]) from [`SunSource`] (`michalsky`, or `psa-2020` with the `psa2020` feature), in `f32`; the sun below the horizon: night, panel flat |
+//! | the Astronomical Almanac's algorithm on the microcontroller, no table (the paper gives no interval) | one sun position at the start of each 4-minute slot ([`STEP_S`]) from [`SunSource`] (`michalsky`, or `psa-2020` with the `psa2020` feature), in `f32`; the sun below the horizon: night, panel flat |
 //! | servos to the computed angles; encoders so that "if any deviation occurred, the controller would fix that" | per axis a closed-loop [`AxisDrive`] (on the Uno [`crate::hw::ServoAxis`]: the drivers' proportional controller on the encoder count, every loop pass), commanded in encoder counts from its home switch |
 //! | panel voltage on the ADC, area under the curve (V·h) | [`crate::panel`]: `panel_mv=` on each `setpoint` line, `day_energy vh=` at sunset |
 //!
@@ -81,7 +81,8 @@ pub const COUNTS_PER_TURN: u32 = 4 * ENCODER_LINES;
 /// directly (Chowdhury et al. 2019, §2: "optical encoders were attached to the shaft of each
 /// motor").
 pub const GEAR_RATIO: f32 = 1.0;
-/// Set-point interval: Chowdhury et al.'s (2019) 4 minutes.
+/// Set-point interval: 4 minutes, the table step of Jimoh & Aliyu (2019);
+/// Chowdhury et al. (2019) do not say how often they compute the sun.
 pub const STEP_S: u32 = 240;
 /// Monotonic milliseconds between two ticks (an RTC read each).
 pub const TICK_MS: u32 = 1_000;

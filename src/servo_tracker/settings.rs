@@ -88,7 +88,7 @@ pub struct Settings {
 }
 
 /// The settings of a board never set: Kano, Nigeria (Jimoh & Aliyu's (2019)
-/// site) and the seed's direct drives.
+/// site) and the direct drives of Chowdhury et al. (2019).
 pub const DEFAULTS: Settings = Settings {
     lat_deg: 11.9683,
     lon_deg: 8.4261,

@@ -1,6 +1,6 @@
-//! Where the tracker stands: the site in force ([`resolve`]: GPS, the
-//! stored site or a postal code) and the postal-code table (seed
-//! dahli-2023), generated at build time from `data/postal_codes.csv`; see
+//! Where the tracker stands: the site in force ([`resolve`]: GPS, the stored
+//! site or a postal code) and the postal-code table (after Dahli & Cheggaga
+//! 2023, Table 1), generated at build time from `data/postal_codes.csv`; see
 //! [`postal`] for its format and flash cost.
 
 pub mod key;

@@ -113,8 +113,10 @@ pub fn follow_gps_site<T: Float>(cell: &Cell<Site<T>>, fix: &GpsFix, min_move_de
 }
 
 /// Magnetic declination (degrees, east positive) at the site and instant
-/// from the World Magnetic Model 2025 (the drivers' `no_std` synthesis):
-/// the heading correction the portable-tracker seed finds matters most.
+/// from the World Magnetic Model 2025 (the drivers' `no_std` synthesis),
+/// which turns a magnetic heading into a true one: Choi et al. (portable
+/// tracker, §V) find the largest part of their error in the geomagnetic
+/// sensor, which gives magnetic rather than true north.
 /// The site's elevation is taken as the height above the ellipsoid (the
 /// geoid difference, tens of metres, changes D by far less than 0.01°).
 /// Errors outside the model's 2025–2030 span or at a pole. The synthesis

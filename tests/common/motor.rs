@@ -271,7 +271,7 @@ pub fn next_tick(t: u32, homing: bool) -> u32 {
     }
 }
 
-/// The tracker of these tests: `Config::default()` (Kano, seed intervals)
+/// The tracker of these tests: `Config::default()` (Kano, Jimoh & Aliyu's (2019) intervals)
 /// with the axes of the motor model (200 steps, half-stepped, 100:1, no
 /// backlash), open loop (Li et al.'s (2022) H-bridge steppers have no encoder).
 pub fn tracker_config() -> (

@@ -47,7 +47,8 @@
 //!   to that read — 44 cycles plus the longest stretch with interrupts off
 //!   elsewhere (the Timer0 tick's handler: 105 cycles; 150 in all, 9.4 µs),
 //!   or the decoder sees both channels changed (an error, no count);
-//! * the seed's servo at 95 rpm with a 300-line encoder on its shaft gives
+//! * Chowdhury et al.'s (2019) servo at 95 rpm (FS5106R at 6 V) with a
+//!   300-line encoder (YMT22, up to 300 pulses per turn) on its shaft gives
 //!   4 · 300 · 95 / 60 = 1,900 edges/s per axis: 3,800 edges/s, 5 % of the
 //!   CPU, edges 526 µs apart. `emu/tests/uno_board_smoke.rs` drives both
 //!   encoders at that rate and at ten times it (19,000 edges/s each) and

@@ -77,10 +77,10 @@ pub const LOG_BAUD_HZ: u32 = 115_200;
 pub const GPS_BAUD_HZ: u32 = 9_600;
 /// ADXL345 address with SDO low (datasheet "Serial Communications", I²C).
 pub const ADXL345_ADDRESS: u8 = 0x53;
-/// Day-table capacity: the seed's 4-minute table of a day of up to 16 h
-/// (latitudes within about ±48°; a longer day is refused with the
-/// scheduler's `schedule_failed`, never truncated). A polar day's 360
-/// entries would take 480 B more of the 8 KB RAM.
+/// Day-table capacity: Jimoh & Aliyu's (2019) 4-minute table of a day of up to
+/// 16 h (latitudes within about ±48°; a longer day is refused with the
+/// scheduler's `schedule_failed`, never truncated). A polar day's 360 entries
+/// would take 480 B more of the 8 KB RAM.
 pub const TABLE_LEN: usize = 240;
 /// Sun positions computed per tick while a day is planned (see `run`).
 pub const PLAN_POSITIONS_PER_TICK: u16 = 4;

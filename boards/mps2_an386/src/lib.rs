@@ -120,7 +120,7 @@ pub const TICK_MS: u32 = 10_000;
 /// wall second (one per main-loop turn), so a whole 1 Hz day (12 MB of
 /// NMEA) would take twenty minutes; one epoch every 10 s takes two.
 pub const GATE_MS: u64 = TICK_MS as u64;
-/// Day-table capacity: the seed's 4-minute table of a polar day.
+/// Day-table capacity: Jimoh & Aliyu's (2019) 4-minute table of a polar day.
 pub const TABLE_LEN: usize = 360;
 /// GPS baud rate (NEO-6M and kin).
 pub const GPS_BAUD_HZ: u32 = 9_600;

@@ -96,9 +96,9 @@
 //! inclinometer (one Modbus read of roll and pitch at address 0x50 over
 //! RS-485; up to 100 ms when nothing answers), then an ADXL345 on I²C
 //! (device ID 0xE5); the QMC5883L compass (chip ID 0xFF). With a tilt sensor
-//! and the compass the mount's attitude is measured every tick (seed
-//! portable-tracker) with the WMM2025 declination of the site in use; else
-//! a level mount facing north is assumed and fault `timeout_inclinometer`
+//! and the compass the mount's attitude is measured every tick (after Choi
+//! et al., portable tracker) with the WMM2025 declination of the site in use;
+//! else a level mount facing north is assumed and fault `timeout_inclinometer`
 //! says so. The log then says which sensors answered.
 //!
 //! There is no simulated clock: without a trusted time (a DS3231 that lost
@@ -169,7 +169,7 @@ pub const INCLINOMETER_BAUD_HZ: u32 = 9_600;
 pub const ADXL345_ADDRESS: u8 = 0x53;
 /// Independent watchdog timeout.
 pub const WATCHDOG_MS: u32 = 2_000;
-/// Day-table capacity: the seed's 4-minute table of a polar day.
+/// Day-table capacity: Jimoh & Aliyu's (2019) 4-minute table of a polar day.
 pub const TABLE_LEN: usize = 360;
 /// GPS receive ring, bytes.
 pub const GPS_RING_LEN: usize = 512;

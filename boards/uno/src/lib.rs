@@ -30,14 +30,14 @@
 //!          └─ 10 kΩ ─ GND                   Uno D0/D1 ─ USB serial: the log
 //! ```
 //!
-//! Each pass of the loop (every Timer0 millisecond) closes both servo
-//! loops on their encoder counts; once a second a tick reads the DS3231,
-//! runs Chowdhury et al.'s schedule (a sun position at each 4-minute slot, no day
+//! Each pass of the loop (every Timer0 millisecond) closes both servo loops on
+//! their encoder counts; once a second a tick reads the DS3231, runs Chowdhury
+//! et al.'s way of tracking (a sun position at each 4-minute slot, no day
 //! table: the part has 2 KB of RAM), commands the axes, takes the ADC
 //! conversion started at the previous tick and starts the next; then the
 //! watchdog is fed and the CPU sleeps until the next interrupt. There is no
-//! simulated clock: an RTC that lost power or does not answer leaves the
-//! panel flat, `mode wait_for_time`.
+//! simulated clock: an RTC that lost power or does not answer leaves the panel
+//! flat, `mode wait_for_time`.
 //!
 //! The site and the gears come from the EEPROM at power-on
 //! ([`suntracker::servo_tracker::settings`]), where the settings image

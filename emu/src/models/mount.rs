@@ -1,8 +1,8 @@
 //! The mount the attitude sensors sit on, and the local geomagnetic field.
 //!
 //! Frames are the firmware's (`src/attitude.rs`, `drivers/src/tilt/mount.rs`,
-//! `drivers/src/compass/heading.rs`, seed *portable-tracker*): horizontal
-//! XYZ = (west, south, up); the tracker frame xyz is reached by
+//! `drivers/src/compass/heading.rs`, after Choi et al., portable tracker):
+//! horizontal XYZ = (west, south, up); the tracker frame xyz is reached by
 //! `T = Rz(γ0)·Rx(α0)·Ry(β0)`; the ADXL345 and the QMC5883L are mounted with
 //! their axes along the tracker's x, y, z. A sensor therefore reads a world
 //! vector `v` as `Tᵀ·v`: gravity's reaction (+1 g up) for the accelerometer,

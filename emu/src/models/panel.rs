@@ -1,8 +1,8 @@
-//! Panel voltage on ADC0 (PC0): the open-circuit voltage of seed
-//! chowdhury-2019's small PV panel as a function of the angle of incidence
-//! of the sun on it, through a resistor divider into the ATmega328P's
-//! 10-bit ADC; and the trapezoid rule the seed integrates it with
-//! ("area under the voltage-time curve", V·h).
+//! Panel voltage on ADC0 (PC0): the open-circuit voltage of Chowdhury et
+//! al.'s (2019) small PV panel as a function of the angle of incidence of
+//! the sun on it, through a resistor divider into the ATmega328P's 10-bit
+//! ADC; and the trapezoid rule the paper integrates it with ("area under the
+//! voltage-time curve", V·h).
 //!
 //! **Open-circuit voltage.** The single-diode model (Duffie & Beckman,
 //! *Solar Engineering of Thermal Processes*, chapter "Photovoltaic
@@ -40,7 +40,7 @@
 //!   1000 W/m², AM1.5, 25 °C); Voc's temperature coefficient is not
 //!   modelled. kT/q = 25.69 mV with the SI (2019) exact k and q.
 //!
-//! **Divider and ADC.** The seed feeds the panel "through a voltage divider
+//! **Divider and ADC.** The paper feeds the panel "through a voltage divider
 //! network" keeping the pin below 5 V without giving its values;
 //! [`Divider::TEN_K_TEN_K`] (10 kΩ over 10 kΩ) halves the voltage (pin
 //! below AVcc up to a 10 V panel) with a 5 kΩ source impedance, under the

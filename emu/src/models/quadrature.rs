@@ -1,5 +1,5 @@
-//! Optical incremental quadrature encoder on a shaft (YMT22 class, seed
-//! chowdhury-2019): two channels 90° apart, ×4 decoding. The model, its
+//! Optical incremental quadrature encoder on a shaft (YMT22 class, Chowdhury
+//! et al. 2019): two channels 90° apart, ×4 decoding. The model, its
 //! figures and their sources are `sim::encoder` (the host tests' servo
 //! plants feed its edges to `drivers::encoder::SharedEncoder`); the Uno
 //! bench puts [`QuadratureEncoder::timed_edges`] on the encoder pins.
