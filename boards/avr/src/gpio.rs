@@ -9,7 +9,8 @@
 //! toggles only that PORTx bit in one store: no read-modify-write of PORTx,
 //! so pins of one port used in the main loop and in an interrupt never
 //! undo each other's writes. Direction changes (DDRx) are read-modify-write
-//! inside a critical section.
+//! with interrupts off (SREG saved, `cli`, SREG restored, written out rather
+//! than as an `interrupt::free` closure, which opt-level "z" keeps as a call).
 
 use core::convert::Infallible;
 use core::marker::PhantomData;
@@ -60,21 +61,23 @@ macro_rules! port {
             }
             #[inline(always)]
             fn set_ddr(&self, mask: u8, on: bool) {
-                interrupt::free(|_| {
-                    // SAFETY: every DDRx pattern is valid (one direction bit
-                    // per pin).
-                    self.$ddr()
-                        .modify(|r, w| unsafe { w.bits(with_bits(r.bits(), mask, on)) });
-                });
+                let irq = interrupt::disable_save();
+                // SAFETY: every DDRx pattern is valid (one direction bit
+                // per pin).
+                self.$ddr()
+                    .modify(|r, w| unsafe { w.bits(with_bits(r.bits(), mask, on)) });
+                // SAFETY: restores the flag saved just above, nothing nested.
+                unsafe { interrupt::restore(irq) };
             }
             #[inline(always)]
             fn set_port(&self, mask: u8, on: bool) {
-                interrupt::free(|_| {
-                    // SAFETY: every PORTx pattern is valid (one level or
-                    // pull-up bit per pin).
-                    self.$out()
-                        .modify(|r, w| unsafe { w.bits(with_bits(r.bits(), mask, on)) });
-                });
+                let irq = interrupt::disable_save();
+                // SAFETY: every PORTx pattern is valid (one level or pull-up
+                // bit per pin).
+                self.$out()
+                    .modify(|r, w| unsafe { w.bits(with_bits(r.bits(), mask, on)) });
+                // SAFETY: restores the flag saved just above, nothing nested.
+                unsafe { interrupt::restore(irq) };
             }
         }
     )*};

@@ -226,8 +226,11 @@ where
     /// released after the last rising edge so the chip can drive it from the
     /// following falling edge on.
     fn write_byte(&mut self, byte: u8, release_last: bool) -> Result<(), Error<E>> {
-        for bit in 0..8 {
-            if byte & (1 << bit) != 0 {
+        // One bit mask walking from bit 0 to bit 7 (a byte-wide counter: an
+        // 8-bit MCU shifts it in one instruction).
+        let mut mask: u8 = 1;
+        while mask != 0 {
+            if byte & mask != 0 {
                 self.io.set_high().map_err(Error::Comm)?;
             } else {
                 self.io.set_low().map_err(Error::Comm)?;
@@ -235,7 +238,8 @@ where
             self.delay.delay_ns(T_HALF_CLOCK_NS);
             self.clk.set_high().map_err(Error::Comm)?;
             self.delay.delay_ns(T_HALF_CLOCK_NS);
-            if bit == 7 && release_last {
+            mask <<= 1;
+            if mask == 0 && release_last {
                 self.io.set_high().map_err(Error::Comm)?;
             }
             self.clk.set_low().map_err(Error::Comm)?;
@@ -247,14 +251,16 @@ where
     /// falling edge and the clock pulse that follows moves to the next bit.
     fn read_byte(&mut self) -> Result<u8, Error<E>> {
         let mut byte = 0;
-        for bit in 0..8 {
+        let mut mask: u8 = 1;
+        while mask != 0 {
             self.delay.delay_ns(T_HALF_CLOCK_NS);
             if self.io.is_high().map_err(Error::Comm)? {
-                byte |= 1 << bit;
+                byte |= mask;
             }
             self.clk.set_high().map_err(Error::Comm)?;
             self.delay.delay_ns(T_HALF_CLOCK_NS);
             self.clk.set_low().map_err(Error::Comm)?;
+            mask <<= 1;
         }
         Ok(byte)
     }
