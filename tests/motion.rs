@@ -53,6 +53,34 @@ fn homing_finds_the_switch_and_soft_limits_clamp() {
 }
 
 #[test]
+fn move_to_clamps_and_takes_up_backlash_as_update_does() {
+    let mut c = cfg();
+    c.backlash_deg = 0.5;
+    // A plant with 0.5° of slack, switch at −90°, starting at +30°.
+    let plant = MotorPlant::stepper(1.8, 16, 100.0, 0.5, 5.0, None, -90.0, 90.0, 30.0);
+    let mut ax = AxisController::new(plant, c);
+    assert!(ax.move_to(10.0).is_err(), "moved before homing");
+    home(&mut ax);
+    // The plant's output shaft is the reference: each move lands within
+    // the fine approach's 0.02° plus a count, reversals included.
+    for target in [45.0, 20.0, 60.0, -30.0] {
+        ax.drive_mut().begin_tick(1000.0);
+        ax.move_to(target).unwrap();
+        let out = ax.drive().output_deg();
+        assert!((out - f64::from(target)).abs() < 0.03, "{target}: {out}");
+        assert!((ax.counted_deg() - target).abs() < 0.01, "{target}");
+    }
+    // Beyond the soft limit: held at +90°.
+    ax.drive_mut().begin_tick(1000.0);
+    ax.move_to(120.0).unwrap();
+    assert!((ax.drive().output_deg() - 90.0).abs() < 0.03);
+    // NaN is an error, and no motion.
+    let before = ax.position_counts();
+    assert!(ax.move_to(f32::NAN).is_err());
+    assert_eq!(ax.position_counts(), before);
+}
+
+#[test]
 fn stuck_switch_is_backed_off_or_reported() {
     let plant = MotorPlant::stepper(1.8, 16, 100.0, 0.0, 5.0, None, -90.0, 90.0, 0.0);
     let mut ax = AxisController::new(plant, cfg());

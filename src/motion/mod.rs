@@ -675,6 +675,36 @@ impl<D: AxisDrive> AxisController<D> {
                 });
             }
         }
+        let commanded = self.move_counted_to(goal_counts)?;
+        Ok(AxisReport {
+            target_deg: t,
+            clamped,
+            commanded_counts: commanded,
+            deviation_deg: deviation,
+        })
+    }
+
+    /// Moves toward `target_deg` (clamped to the soft limits) on the
+    /// counted position alone: [`AxisController::update`] in
+    /// [`FeedbackMode::OpenLoop`] without its report, for a drive that
+    /// closes the loop on its own encoder (the Uno's servo axes).
+    pub fn move_to(&mut self, target_deg: f32) -> Result<(), AxisError<D::Error>> {
+        if self.home != HomeState::Done {
+            return Err(AxisError::NotHomed);
+        }
+        if !target_deg.is_finite() {
+            return Err(AxisError::NotFinite);
+        }
+        let g = &self.geo;
+        let goal_counts = g.counts(within(target_deg, g.min_deg, g.max_deg) - g.home_deg);
+        self.move_counted_to(goal_counts).map(|_| ())
+    }
+
+    /// Commands the move from the counted position to `goal_counts`, the
+    /// slack taken up first on a reversal (`backlash_deg`), and counts it;
+    /// returns the counts commanded.
+    fn move_counted_to(&mut self, goal_counts: i32) -> Result<i32, AxisError<D::Error>> {
+        let g = self.geo;
         let delta = goal_counts.saturating_sub(self.position_counts);
         let mut commanded = 0;
         if delta != 0 {
@@ -698,11 +728,6 @@ impl<D: AxisDrive> AxisController<D> {
             self.position_counts = self.position_counts.saturating_add(moved);
             self.last_dir = dir;
         }
-        Ok(AxisReport {
-            target_deg: t,
-            clamped,
-            commanded_counts: commanded,
-            deviation_deg: deviation,
-        })
+        Ok(commanded)
     }
 }

@@ -256,8 +256,6 @@ impl Branch {
 #[derive(Debug)]
 struct ServoLoopAxis<D> {
     axis: AxisController<D>,
-    /// Counts from the switch commanded since homing.
-    commanded: i32,
     /// [`HOMING_CHUNK_DEG`] through the gear, degrees of axis.
     homing_chunk_deg: f32,
     /// Homing found no switch within the travel, or one that stayed
@@ -276,7 +274,6 @@ impl<D: AxisDrive> ServoLoopAxis<D> {
     fn new(drive: D, c: &AxisConfig) -> Self {
         ServoLoopAxis {
             axis: AxisController::new(drive, *c),
-            commanded: 0,
             homing_chunk_deg: HOMING_CHUNK_DEG
                 / if c.gear_ratio >= 1.0 {
                     c.gear_ratio
@@ -305,10 +302,9 @@ impl<D: AxisDrive> ServoLoopAxis<D> {
             Ok(HomeState::Done) => {
                 // Counted from the switch as the encoder counts: the
                 // count where it last read closed.
-                self.commanded = match self.axis.drive_mut().encoder_deg() {
-                    Ok(Some(e)) => self.axis.counts_from_home(e),
-                    _ => 0,
-                };
+                if let Ok(Some(e)) = self.axis.drive_mut().encoder_deg() {
+                    self.axis.reanchor(e);
+                }
                 false
             }
             Ok(_) => true,
@@ -356,8 +352,8 @@ impl<D: AxisDrive> ServoLoopAxis<D> {
                     Some(StallVerdict::Stalled) if moving => {
                         // The drive now holds where it is: count from the
                         // encoder, as after homing.
-                        let _ = self.axis.drive_mut().stop();
-                        self.commanded = self.axis.counts_from_home(e);
+                        let _ = self.axis.stop();
+                        self.axis.reanchor(e);
                         self.stall.disarm();
                         self.stalled_at = Some(now_ms as u32);
                         if self.stall_raised {
@@ -376,25 +372,17 @@ impl<D: AxisDrive> ServoLoopAxis<D> {
             }
             None => self.stall.disarm(),
         }
-        let (min_deg, max_deg) = self.axis.limits_deg();
-        let held = if deg < min_deg {
-            min_deg
-        } else if deg > max_deg {
-            max_deg
-        } else {
-            deg
-        };
-        let goal = self.axis.counts_from_home(held);
-        let delta = goal.saturating_sub(self.commanded);
-        if delta != 0 && self.axis.drive_mut().move_counts(delta).is_ok() {
-            self.commanded = goal;
-        }
+        // Within the soft limits, counted from the switch; the encoder
+        // closes the loop inside the drive, so the count is open loop here.
+        // A drive that fails keeps its count and is commanded again next
+        // pass.
+        let _ = self.axis.move_to(deg);
         change
     }
 
     /// The commanded angle, degrees.
     fn commanded_deg(&self) -> f32 {
-        self.axis.deg_from_home(self.commanded)
+        self.axis.counted_deg()
     }
 }
 
