@@ -312,6 +312,7 @@ impl UtcTime {
         let (days, rest_s) = div_rem_euclid_i64(secs, SECONDS_PER_DAY).ok_or(Error::InvalidDate)?;
         // rest_s < 86 400, so at most 86 399 000 ms: fits a u32.
         let rest_ms = rest_s.checked_mul(1000).ok_or(Error::InvalidTime)?;
+        let days = i32::try_from(days).map_err(|_| Error::InvalidDate)?;
         self.add_days_ms(days, rest_ms)
     }
 
@@ -330,20 +331,82 @@ impl UtcTime {
     /// ```
     pub fn add_millis(&self, ms: i64) -> Result<Self, Error> {
         let (days, rest_ms) = div_rem_euclid_i64(ms, MS_PER_DAY).ok_or(Error::InvalidDate)?;
+        let days = i32::try_from(days).map_err(|_| Error::InvalidDate)?;
         self.add_days_ms(days, rest_ms)
+    }
+
+    /// This instant moved by `secs` seconds (either sign, up to ±68 years),
+    /// in 32-bit arithmetic: [`UtcTime::add_seconds`] for the spans a
+    /// day's search or schedule uses, without the 64-bit division an 8-bit
+    /// MCU computes in software. A result outside the calendar range is
+    /// [`Error::InvalidDate`].
+    ///
+    /// ```
+    /// use sun_algos::{Error, UtcTime};
+    ///
+    /// // Python: datetime(2024, 2, 28, 23) + timedelta(seconds=7200) is
+    /// // 2024-02-29 01:00, and - timedelta(seconds=86401) is 2024-02-27 22:59:59.
+    /// let t: UtcTime = "2024-02-28T23:00:00Z".parse()?;
+    /// assert_eq!(t.add_seconds_i32(7_200)?.to_string(), "2024-02-29T01:00:00Z");
+    /// assert_eq!(t.add_seconds_i32(-86_401)?.to_string(), "2024-02-27T22:59:59Z");
+    /// # Ok::<(), sun_algos::Error>(())
+    /// ```
+    pub fn add_seconds_i32(&self, secs: i32) -> Result<Self, Error> {
+        // SECONDS_PER_DAY fits an i32; the Euclidean remainder is
+        // 0..86 400, so at most 86 399 000 ms.
+        let per_day = SECONDS_PER_DAY as i32;
+        let days = secs.div_euclid(per_day);
+        let rest_ms = secs.rem_euclid(per_day).unsigned_abs() * 1000;
+        self.add_days_ms(days, rest_ms)
+    }
+
+    /// Whole seconds from `earlier` to this instant (negative when it is
+    /// earlier), as [`UtcTime::unix_seconds`] differ; `None` when the two
+    /// days are more than 24,854 days (68 years) apart, so that the
+    /// difference always fits an `i32`. In 32-bit arithmetic, as
+    /// [`UtcTime::add_seconds_i32`].
+    ///
+    /// ```
+    /// use sun_algos::UtcTime;
+    ///
+    /// let rise: UtcTime = "2026-06-21T05:12:07.900Z".parse()?;
+    /// let set: UtcTime = "2026-06-21T18:40:59.100Z".parse()?;
+    /// // 18:40:59 − 05:12:07 = 13 h 28 min 52 s = 48 532 s (whole seconds).
+    /// assert_eq!(set.seconds_since(&rise), Some(48_532));
+    /// assert_eq!(rise.seconds_since(&set), Some(-48_532));
+    /// let far: UtcTime = "2100-01-01T00:00:00Z".parse()?;
+    /// assert_eq!(far.seconds_since(&rise), None);
+    /// # Ok::<(), sun_algos::Error>(())
+    /// ```
+    pub fn seconds_since(&self, earlier: &UtcTime) -> Option<i32> {
+        // Up to 24 854 days apart: 24 854 × 86 400 + 86 399 s < 2³¹. A
+        // range test rather than a checked product (the overflow-checked
+        // multiplication is a 500-byte routine on an AVR).
+        const MAX_DAYS: i32 = (i32::MAX / SECONDS_PER_DAY as i32) - 1;
+        let days = self.days.checked_sub(earlier.days)?;
+        if !(-MAX_DAYS..=MAX_DAYS).contains(&days) {
+            return None;
+        }
+        // Both below 86 400: the difference fits.
+        let within_day = (self.ms_of_day / 1000) as i32 - (earlier.ms_of_day / 1000) as i32;
+        Some(days * SECONDS_PER_DAY as i32 + within_day)
     }
 
     /// This instant plus whole days and `ms` (below one day) milliseconds.
     #[inline]
-    fn add_days_ms(&self, whole_days: i64, ms: u32) -> Result<Self, Error> {
+    fn add_days_ms(&self, whole_days: i32, ms: u32) -> Result<Self, Error> {
         let total_ms = ms.checked_add(self.ms_of_day).ok_or(Error::InvalidTime)?; // < 2 × MS_PER_DAY
-        let carry_days = i64::from(total_ms / MS_PER_DAY);
-        let ms_of_day = total_ms % MS_PER_DAY;
-        let days = i64::from(self.days)
+                                                                                  // Below two days: one comparison, not a division.
+        let (carry_days, ms_of_day) = if total_ms >= MS_PER_DAY {
+            (1, total_ms - MS_PER_DAY)
+        } else {
+            (0, total_ms)
+        };
+        let days = self
+            .days
             .checked_add(whole_days)
             .and_then(|d| d.checked_add(carry_days))
             .ok_or(Error::InvalidDate)?;
-        let days = i32::try_from(days).map_err(|_| Error::InvalidDate)?;
         Self::from_days_ms(days, ms_of_day)
     }
 

@@ -280,3 +280,57 @@ fn naive_time_of_day_spans_the_whole_day() {
         assert_eq!(t.ms_of_day(), s * 1000 + nano / 1_000_000);
     }
 }
+
+#[test]
+fn seconds_in_32_bits_match_chronos_arithmetic() {
+    // Instants of 1900–2150 with any millisecond, moved by any i32 number
+    // of seconds (every other one within ±100,000 s), against chrono's
+    // `TimeDelta` arithmetic; and the whole seconds between two of them
+    // against the difference of chrono's (floored) Unix timestamps.
+    let lo = naive(1900, 1, 1, 0, 0, 0, 0).and_utc().timestamp_millis();
+    let hi = naive(2150, 12, 31, 23, 59, 59, 999_000_000)
+        .and_utc()
+        .timestamp_millis();
+    let span = (hi - lo) as u64 + 1;
+    let mut rng = Lcg(0x0032_B175);
+    let instant = |rng: &mut Lcg| {
+        let dt = DateTime::<Utc>::from_timestamp_millis(lo + rng.below(span) as i64).unwrap();
+        (dt, UtcTime::try_from(dt).unwrap())
+    };
+    let (mut near, mut far) = (0, 0);
+    for i in 0..100_000 {
+        let (dt, t) = instant(&mut rng);
+        let s = if i % 2 == 0 {
+            rng.next() as u32 as i32
+        } else {
+            rng.below(200_001) as i32 - 100_000
+        };
+        let want = dt
+            .checked_add_signed(TimeDelta::seconds(i64::from(s)))
+            .and_then(|w| UtcTime::try_from(w).ok());
+        match want {
+            Some(w) => assert_eq!(t.add_seconds_i32(s), Ok(w), "{dt} + {s} s"),
+            None => assert_eq!(
+                t.add_seconds_i32(s),
+                Err(Error::InvalidDate),
+                "{dt} + {s} s"
+            ),
+        }
+        let (dt2, t2) = instant(&mut rng);
+        let apart_days = (t.days_since_2000() - t2.days_since_2000()).abs();
+        if apart_days <= 24_854 {
+            near += 1;
+            let want_s = dt.timestamp() - dt2.timestamp();
+            assert_eq!(
+                t.seconds_since(&t2).map(i64::from),
+                Some(want_s),
+                "{dt} − {dt2}"
+            );
+        } else {
+            far += 1;
+            assert_eq!(t.seconds_since(&t2), None, "{dt} − {dt2}");
+        }
+    }
+    // Both outcomes were exercised.
+    assert!(near > 10_000 && far > 10_000, "{near} {far}");
+}

@@ -47,7 +47,7 @@ use heapless::Vec;
 
 use crate::float::Float;
 use crate::position::SunPosition;
-use crate::time::{div_rem_euclid_i64, div_rem_u64, UtcTime};
+use crate::time::{div_rem_euclid_i64, UtcTime};
 
 use super::events::{DayKind, Events};
 use super::incidence::Surface;
@@ -403,37 +403,38 @@ impl<const N: usize> DayTable<N> {
         if !interval_is_valid(interval_min) {
             return Err(GeometryError::InvalidInterval);
         }
-        let step = u32::from(interval_min) * 60;
-        let w0 = events.window_start.unix_seconds();
+        // A valid interval is at most 720 min: the step fits an i32.
+        let step = i32::from(interval_min) * 60;
+        // Seconds from the UTC midnight the window starts in: whole steps
+        // from there are whole steps of the UTC (and Unix) time scale, as
+        // a step divides a day. In 32-bit arithmetic: the events lie within
+        // two days of it.
+        let midnight = events.window_start.start_of_day();
+        let rel = |t: UtcTime| t.seconds_since(&midnight).ok_or(crate::Error::InvalidDate);
+        let w0 = rel(events.window_start)?;
         let w1 = w0 + 86_400;
         let (from, to) = match (events.kind, events.sunrise, events.sunset) {
             (DayKind::PolarNight, _, _) => (w0, w0 - 1),
             (DayKind::PolarDay, _, _) => (w0, w1),
-            (_, Some(r), Some(s)) if s > r => (r.unix_seconds(), s.unix_seconds()),
-            (_, Some(r), None) => (r.unix_seconds(), w1),
-            (_, None, Some(s)) => (w0, s.unix_seconds()),
+            (_, Some(r), Some(s)) if s > r => (rel(r)?, rel(s)?),
+            (_, Some(r), None) => (rel(r)?, w1),
+            (_, None, Some(s)) => (w0, rel(s)?),
             _ => (w0, w1),
         };
-        // Whole steps of the Unix time scale (a step divides a day).
-        let steps = |t: i64| div_rem_euclid_i64(t, step).ok_or(GeometryError::InvalidInterval);
-        let (first_k, from_rest) = steps(from)?;
-        let first_k = first_k + i64::from(from_rest != 0);
-        let (last_k, _) = steps(to)?;
+        // The first whole step at or after `from`, the last at or before
+        // `to` (|from|, |to| < 2^31 − step: no overflow).
+        let first_k = from.div_euclid(step) + i32::from(from.rem_euclid(step) != 0);
+        let last_k = to.div_euclid(step);
         // Steps from the first to the last, both included (none if negative).
         let count = last_k - first_k + 1;
-        let needed = if count > 0 {
-            usize::try_from(count).unwrap_or(usize::MAX)
-        } else {
-            0
-        };
-        let first_s = first_k * i64::from(step);
+        let needed = usize::try_from(count).unwrap_or(0);
         if needed > N {
             return Err(GeometryError::CapacityExceeded {
                 needed,
                 capacity: N,
             });
         }
-        self.first = UtcTime::from_unix_seconds(first_s)?;
+        self.first = midnight.add_seconds_i32(first_k * step)?;
         self.interval_min = interval_min;
         // needed ≤ N ≤ u16::MAX (the entries' length type).
         self.needed = u16::try_from(needed).unwrap_or(u16::MAX);
@@ -497,14 +498,13 @@ impl<const N: usize> DayTable<N> {
         T: Float,
         F: FnMut(&UtcTime) -> Result<SunPosition<T>, crate::Error>,
     {
-        let step = i64::from(self.interval_min) * 60;
         let needed = usize::from(self.needed);
         for _ in 0..budget {
             let k = self.entries.len();
             if k >= needed {
                 break;
             }
-            let t = self.first.add_seconds(k as i64 * step)?;
+            let t = self.offset(k).ok_or(crate::Error::InvalidDate)?;
             let p = sun(&t)?;
             let sp = best_within(&p, limits)?;
             self.entries
@@ -645,11 +645,19 @@ impl<const N: usize> DayTable<N> {
     /// ```
     pub fn get(&self, i: usize) -> Option<(UtcTime, Entry)> {
         let e = *self.entries.get(i)?;
-        let t = self
-            .first
-            .add_seconds(i as i64 * i64::from(self.interval_min) * 60)
-            .ok()?;
-        Some((t, e))
+        Some((self.offset(i)?, e))
+    }
+
+    /// The time of entry `i`: `i` intervals after the first. `None` when
+    /// that is outside the calendar; an `i` of at most `u16::MAX` (a
+    /// table's length) times a valid interval (≤ 43 200 s) stays below
+    /// 2^32, so the product is computed in 32 bits.
+    fn offset(&self, i: usize) -> Option<UtcTime> {
+        let i = u32::try_from(i)
+            .ok()
+            .filter(|&i| i <= u32::from(u16::MAX))?;
+        let s = i * (u32::from(self.interval_min.min(720)) * 60);
+        self.first.add_seconds_i32(i32::try_from(s).ok()?).ok()
     }
 
     /// The entry in force at `time`: the last one at or before it; `None`
@@ -677,9 +685,8 @@ impl<const N: usize> DayTable<N> {
     /// # Ok::<(), sun_algos::geometry::GeometryError>(())
     /// ```
     pub fn at(&self, time: &UtcTime) -> Option<(UtcTime, Entry)> {
-        let dt = time.unix_seconds() - self.first.unix_seconds();
-        let dt = u64::try_from(dt).ok()?;
-        let (i, _) = div_rem_u64(dt, u32::from(self.interval_min) * 60)?;
+        let dt = u32::try_from(time.seconds_since(&self.first)?).ok()?;
+        let i = dt.checked_div(u32::from(self.interval_min) * 60)?;
         self.get(usize::try_from(i).ok()?)
     }
 

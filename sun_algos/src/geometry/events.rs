@@ -224,9 +224,9 @@ pub struct Events<T> {
 }
 
 /// Sampling step of [`find`], seconds.
-const STEP_S: i64 = 600;
+const STEP_S: i32 = 600;
 /// Samples per window (24 h / 10 min + 1).
-const SAMPLES: i64 = 86_400 / STEP_S + 1;
+const SAMPLES: i32 = 86_400 / STEP_S + 1;
 
 /// Start of the local mean solar day containing local date `(y, m, d)` at
 /// `longitude_deg`: 00:00 UTC − λ/15 h, rounded to the second.
@@ -253,11 +253,11 @@ pub fn solar_day_start<T: Float>(
     let shift_s = -(longitude_deg * T::from_f64(240.0)).to_f64();
     // |shift| ≤ 43 200 s, exact enough as an integer second.
     let shift_s = if shift_s >= 0.0 {
-        (shift_s + 0.5) as i64
+        (shift_s + 0.5) as i32
     } else {
-        (shift_s - 0.5) as i64
+        (shift_s - 0.5) as i32
     };
-    Ok(midnight.add_seconds(shift_s)?)
+    Ok(midnight.add_seconds_i32(shift_s)?)
 }
 
 /// Precise events in the 24 h from `window_start`, from any position
@@ -306,17 +306,17 @@ enum Stage<T> {
     /// The first sample (window start).
     Start,
     /// The 10-minute samples; `i` is the next one.
-    Sample { i: i64 },
+    Sample { i: i32 },
     /// Bisecting a crossing that starts at `t0` (`a`, `b` seconds after it);
     /// then the two ends are compared (`va` once the first is known). The
     /// samples continue at `resume`.
     Bisect {
         t0: UtcTime,
         rising: bool,
-        a: i64,
-        b: i64,
+        a: i32,
+        b: i32,
         va: Option<T>,
-        resume: i64,
+        resume: i32,
     },
     /// Golden-section search for the transit on `[a, b]` seconds with the
     /// interior points `c`, `d` (their heights once known), in the float
@@ -364,7 +364,7 @@ pub struct EventSearch<T> {
     stage: Stage<T>,
     prev: T,
     any_up: bool,
-    best_i: i64,
+    best_i: i32,
     best_v: T,
     sunrise: Option<UtcTime>,
     sunset: Option<UtcTime>,
@@ -492,8 +492,8 @@ impl<T: Float> EventSearch<T> {
                     // ±1 step around the highest sample, to 1 s.
                     let lo = (self.best_i - 1).max(0) * STEP_S;
                     let hi = ((self.best_i + 1) * STEP_S).min(86_400);
-                    // 0 ≤ lo < hi ≤ 86 400: exact as i32 and in T.
-                    let (a, b) = (T::from_i32(lo as i32), T::from_i32(hi as i32));
+                    // 0 ≤ lo < hi ≤ 86 400: exact in T.
+                    let (a, b) = (T::from_i32(lo), T::from_i32(hi));
                     self.stage = Stage::Golden {
                         a,
                         b,
@@ -515,7 +515,7 @@ impl<T: Float> EventSearch<T> {
                 Stage::Golden { a, b, .. } => (w0, round_s((a + b) / T::from_f64(2.0))),
             };
             // Height above the limit; positive when the sun is up.
-            let v = height_at(sun, &base.add_seconds(s)?)?;
+            let v = height_at(sun, &base.add_seconds_i32(s)?)?;
             match &mut self.stage {
                 Stage::Start => {
                     self.prev = v;
@@ -537,7 +537,7 @@ impl<T: Float> EventSearch<T> {
                     self.prev = v;
                     self.stage = if (crossed_up && self.sunrise.is_none()) || crossed_down {
                         Stage::Bisect {
-                            t0: w0.add_seconds((i - 1) * STEP_S)?,
+                            t0: w0.add_seconds_i32((i - 1) * STEP_S)?,
                             rising: crossed_up,
                             a: 0,
                             b: STEP_S,
@@ -564,7 +564,7 @@ impl<T: Float> EventSearch<T> {
                         }
                     } else if let Some(va) = *va {
                         // The nearer whole second to the crossing.
-                        let t = t0.add_seconds(if va < v.abs() { *a } else { *b })?;
+                        let t = t0.add_seconds_i32(if va < v.abs() { *a } else { *b })?;
                         if *rising {
                             self.sunrise = Some(t);
                         } else {
@@ -584,18 +584,19 @@ impl<T: Float> EventSearch<T> {
     }
 
     /// The events once the transit is at `transit_s` with height `transit_v`.
-    fn finish(&self, transit_s: i64, transit_v: T, limit: T) -> Result<Events<T>, GeometryError> {
+    fn finish(&self, transit_s: i32, transit_v: T, limit: T) -> Result<Events<T>, GeometryError> {
         let window_start = self.window_start;
         let (sunrise, sunset) = (self.sunrise, self.sunset);
-        let transit = window_start.add_seconds(transit_s)?;
+        let transit = window_start.add_seconds_i32(transit_s)?;
         let kind = match (sunrise, sunset) {
             (None, None) if self.any_up => DayKind::PolarDay,
             (None, None) => DayKind::PolarNight,
             _ => DayKind::Normal,
         };
-        let end_s: i64 = 86_400;
-        let rise_s = sunrise.map(|t| t.unix_seconds() - window_start.unix_seconds());
-        let set_s = sunset.map(|t| t.unix_seconds() - window_start.unix_seconds());
+        let end_s: i32 = 86_400;
+        // Both within a day of the window start: never `None`.
+        let rise_s = sunrise.and_then(|t| t.seconds_since(&window_start));
+        let set_s = sunset.and_then(|t| t.seconds_since(&window_start));
         let daylight_s = match kind {
             DayKind::PolarDay => end_s,
             DayKind::PolarNight => 0,
@@ -640,8 +641,8 @@ const INV_PHI: f64 = 0.618_033_988_749_895;
 
 /// A second of the window, `0 ≤ s ≤ 86 400`, rounded to the nearest whole
 /// one (halves up), through `f32` (exact for these whole numbers).
-fn round_s<T: Float>(s: T) -> i64 {
-    i64::from((s + T::from_f64(0.5)).floor().to_f32() as i32)
+fn round_s<T: Float>(s: T) -> i32 {
+    (s + T::from_f64(0.5)).floor().to_f32() as i32
 }
 
 /// Precise events of the local solar day of date `(y, m, d)` at `site` with
