@@ -49,7 +49,7 @@ where
         let table = self.scheduler.table();
         let first = (0..table.len())
             .filter_map(|i| table.get(i))
-            .find(|e| e.time.unix_seconds() + 60 >= now.unix_seconds())?;
+            .find(|e| now.seconds_since(&e.time).is_some_and(|late| late <= 60))?;
         let here = Pose {
             gamma_deg: T::from_f32(self.axes[0].counted_deg()),
             alpha_deg: T::from_f32(self.axes[1].counted_deg()),
@@ -152,8 +152,8 @@ where
     fn sample_day(&mut self, from: UtcTime, first: SetPoint<T>) -> ([SetPoint<T>; 48], usize) {
         let mut samples = [first; 48];
         let mut n = 1;
-        for k in 1..48i64 {
-            let Ok(t) = from.add_seconds(k * 1800) else {
+        for k in 1..48i32 {
+            let Ok(t) = from.add_seconds_i32(k * 1800) else {
                 break;
             };
             let Ok(p) = self.scheduler.source_mut().position(&t) else {

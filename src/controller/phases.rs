@@ -6,7 +6,7 @@ use sun_algos::{Error as SunError, Float, UtcTime};
 use super::{Controller, TickInputs};
 use crate::attitude::Pose;
 use crate::motion::{AxisDrive, FeedbackMode, HomeState};
-use crate::plan::{Action, Phase, ScheduleError, TableEntry};
+use crate::plan::{Action, Phase, ScheduleError};
 use crate::ports::AttitudeSensor;
 use crate::safety::{select_mode, Fault, Mode, ModeInputs};
 use crate::sun::PositionSource;
@@ -104,13 +104,13 @@ where
     pub(super) fn keep_set_point_current(&mut self, inp: &TickInputs) {
         let now = inp.now;
         if !self.night {
-            let step_s = i64::from(self.scheduler.config().table_step_s);
-            let slack_s = i64::from(self.scheduler.config().recheck_s);
-            let age_s = |e: &TableEntry<T>| now.unix_seconds() - e.time.unix_seconds();
-            let fresh = self
-                .scheduler
-                .applied()
-                .is_some_and(|e| (-60..step_s + slack_s).contains(&age_s(&e)));
+            let config = self.scheduler.config();
+            let until_s = i64::from(config.table_step_s) + i64::from(config.recheck_s);
+            let until_s = i32::try_from(until_s).unwrap_or(i32::MAX);
+            let fresh = self.scheduler.applied().is_some_and(|e| {
+                now.seconds_since(&e.time)
+                    .is_some_and(|age_s| (-60..until_s).contains(&age_s))
+            });
             if !fresh {
                 // Ticks were missed (time unknown for a while, a slow
                 // loop): the entry of the present slot, if the day has

@@ -52,7 +52,6 @@ use sun_algos::geometry::day_table::DayTable;
 use sun_algos::geometry::events::{self, DayKind, EventSearch, Events};
 use sun_algos::geometry::{GeometryError, Limits};
 use sun_algos::refraction::SUN_RADIUS_PLUS_HORIZON_REFRACTION_DEG;
-use sun_algos::time::{div_rem_euclid_i64, div_rem_u64};
 use sun_algos::{Error as SunError, Float, SunPosition, UtcTime};
 
 /// Intervals of the scheduler (Jimoh & Aliyu 2019 defaults).
@@ -168,7 +167,7 @@ impl SolarDay {
     /// The next solar midnight.
     pub fn end(&self) -> Result<UtcTime, ScheduleError> {
         self.start
-            .add_seconds(86_400)
+            .add_seconds_i32(86_400)
             .map_err(|_| ScheduleError::TimeRange)
     }
 
@@ -212,17 +211,16 @@ pub fn solar_day_start<T: Float>(
     now: &UtcTime,
     longitude_deg: T,
 ) -> Result<UtcTime, ScheduleError> {
-    let off = longitude_offset_s(longitude_deg);
-    let local = now
-        .unix_seconds()
-        .checked_add(off)
-        .ok_or(ScheduleError::TimeRange)?;
-    let (local_day, _) = div_rem_euclid_i64(local, 86_400).ok_or(ScheduleError::TimeRange)?;
-    // |local_day| < 2^47: the product fits.
-    (local_day * 86_400)
-        .checked_sub(off)
-        .and_then(|s| UtcTime::from_unix_seconds(s).ok())
-        .ok_or(ScheduleError::TimeRange)
+    // |off| ≤ 43 200 s for a longitude within ±180°; more is no site.
+    let off =
+        i32::try_from(longitude_offset_s(longitude_deg)).map_err(|_| ScheduleError::TimeRange)?;
+    // The local midnight at or before `now + off`, back in UTC. Days
+    // begin at whole seconds, so keeping `now`'s milliseconds changes no
+    // day.
+    now.add_seconds_i32(off)
+        .map(|local| local.start_of_day())
+        .and_then(|midnight| midnight.add_seconds_i32(-off))
+        .map_err(|_| ScheduleError::TimeRange)
 }
 
 /// Sunrise and sunset (sun centre on the geometric horizon, Jimoh & Aliyu
@@ -253,7 +251,7 @@ pub fn find_daylight<T: Float, P: PositionSource<T>>(
 fn solar_day_of<T: Float>(ev: &Events<T>) -> Result<SolarDay, ScheduleError> {
     let start = ev.window_start;
     let end = start
-        .add_seconds(86_400)
+        .add_seconds_i32(86_400)
         .map_err(|_| ScheduleError::TimeRange)?;
     let daylight = match (ev.kind, ev.sunrise, ev.sunset) {
         (DayKind::PolarNight, _, _) => Daylight::PolarNight,
@@ -305,32 +303,33 @@ pub fn match_at<T: Float, const N: usize>(
 ) -> Option<(usize, TableEntry<T>)> {
     let i = usize::try_from(slot_of(table, now)?).ok()?;
     let e = table_entry(table, i)?;
-    let late = now.unix_seconds() - e.time.unix_seconds();
-    (0..i64::from(window_s.max(1)))
+    let late = now.seconds_since(&e.time)?;
+    (0..i32::try_from(window_s.max(1)).unwrap_or(i32::MAX))
         .contains(&late)
         .then_some((i, e))
 }
 
 /// The table slot `now` is in (entry index, possibly past the last entry);
 /// `None` before the table or without one.
-fn slot_of<const N: usize>(table: &DayTable<N>, now: &UtcTime) -> Option<i64> {
-    let since = now.unix_seconds() - table.first_time().unix_seconds();
-    let since = u64::try_from(since).ok()?;
+fn slot_of<const N: usize>(table: &DayTable<N>, now: &UtcTime) -> Option<u32> {
+    // Before the table, or 68 years after it: None.
+    let since = u32::try_from(now.seconds_since(&table.first_time())?).ok()?;
     if table.is_empty() {
         return None;
     }
     // No step (an empty table's interval is 0): None.
-    let (slot, _) = div_rem_u64(since, u32::from(table.interval_min()) * 60)?;
-    // slot ≤ since < 2^63.
-    i64::try_from(slot).ok()
+    since.checked_div(u32::from(table.interval_min()) * 60)
 }
 
 /// The start of the table slot after the one `now` is in: the instant the
 /// next entry becomes due. `None` before the table or without one.
 fn next_slot_time<const N: usize>(table: &DayTable<N>, now: &UtcTime) -> Option<UtcTime> {
-    let step = i64::from(table.interval_min()) * 60;
+    let step = u32::from(table.interval_min()) * 60;
     let next = slot_of(table, now)?.checked_add(1)?.checked_mul(step)?;
-    table.first_time().add_seconds(next).ok()
+    table
+        .first_time()
+        .add_seconds_i32(i32::try_from(next).ok()?)
+        .ok()
 }
 
 /// A read-only view of the scheduler's day table in degrees.
@@ -575,9 +574,11 @@ impl<T: Float, P: PositionSource<T>, const N: usize> Scheduler<T, P, N> {
     /// table, or in real-time mode the entry applied last if it is that
     /// slot's (ticks were missed: nothing else is known without computing).
     pub fn current(&self, now: &UtcTime) -> Option<TableEntry<T>> {
-        let step_s = i64::from(self.config.table_step_s);
-        let in_slot =
-            |e: &TableEntry<T>| (0..step_s).contains(&(now.unix_seconds() - e.time.unix_seconds()));
+        let step_s = i32::try_from(self.config.table_step_s).unwrap_or(i32::MAX);
+        let in_slot = |e: &TableEntry<T>| {
+            now.seconds_since(&e.time)
+                .is_some_and(|late| (0..step_s).contains(&late))
+        };
         if Self::REAL_TIME {
             return self.applied().filter(in_slot);
         }
@@ -613,9 +614,15 @@ impl<T: Float, P: PositionSource<T>, const N: usize> Scheduler<T, P, N> {
     pub fn tick(&mut self, now: UtcTime) -> Output<T> {
         let mut clock_jump = false;
         if let Some(last) = self.last_now {
-            let dt = now.unix_seconds() - last.unix_seconds();
-            let jumped = dt < -i64::from(self.config.max_backward_s)
-                || dt > i64::from(self.config.max_tick_gap_s);
+            // Beyond ±68 years (no difference in 32 bits) is a jump too.
+            let jumped = now.seconds_since(&last).is_none_or(|dt| {
+                let limit = if dt < 0 {
+                    self.config.max_backward_s
+                } else {
+                    self.config.max_tick_gap_s
+                };
+                dt.unsigned_abs() > limit
+            });
             if jumped && self.phase != Phase::PowerOn {
                 clock_jump = true;
                 self.phase = Phase::ReadDate;
@@ -623,7 +630,7 @@ impl<T: Float, P: PositionSource<T>, const N: usize> Scheduler<T, P, N> {
         }
         self.last_now = Some(now);
         let action = self.step(now).unwrap_or_else(|e| {
-            let retry_at = now.add_seconds(60).unwrap_or(now);
+            let retry_at = now.add_seconds_i32(60).unwrap_or(now);
             self.phase = Phase::Failed { retry_at };
             Action::Error(e)
         });
@@ -798,8 +805,10 @@ impl<T: Float, P: PositionSource<T>, const N: usize> Scheduler<T, P, N> {
             return self.end_of_day(now);
         }
         let add = |s: u32| {
-            now.add_seconds(i64::from(s))
-                .map_err(|_| ScheduleError::TimeRange)
+            i32::try_from(s)
+                .ok()
+                .and_then(|s| now.add_seconds_i32(s).ok())
+                .ok_or(ScheduleError::TimeRange)
         };
         let found = self
             .has_table
@@ -861,21 +870,25 @@ impl<T: Float, P: PositionSource<T>, const N: usize> Scheduler<T, P, N> {
     /// (whole multiples of the step from UTC midnight, as the table's),
     /// the sun at the slot's time, and what follows from it.
     fn rt_check(&mut self, now: UtcTime) -> Result<Action<T>, ScheduleError> {
-        let step_s = self.config.table_step_s.max(60);
-        // The Unix epoch is a UTC midnight and the step divides a day.
-        let (slot_k, _) =
-            div_rem_euclid_i64(now.unix_seconds(), step_s).ok_or(ScheduleError::TimeRange)?;
-        let step_s = i64::from(step_s);
-        let slot_s = slot_k * step_s;
-        let slot = UtcTime::from_unix_seconds(slot_s).map_err(|_| ScheduleError::TimeRange)?;
+        // The step divides a day (`Scheduler::check`; at most 12 h):
+        // slots are whole steps from UTC midnight.
+        let step_s = self.config.table_step_s.clamp(60, 43_200);
+        let of_day_s = now.ms_of_day() / 1000;
+        // Below 86 400: fits an i32.
+        let slot_s = (of_day_s - of_day_s % step_s) as i32;
+        let slot = now
+            .start_of_day()
+            .add_seconds_i32(slot_s)
+            .map_err(|_| ScheduleError::TimeRange)?;
         let next_slot = slot
-            .add_seconds(step_s)
+            .add_seconds_i32(step_s as i32)
             .map_err(|_| ScheduleError::TimeRange)?;
         let tracking = matches!(self.phase, Phase::Tracking { .. });
         let add = |s: u32| -> Result<UtcTime, ScheduleError> {
-            let t = now
-                .add_seconds(i64::from(s))
-                .map_err(|_| ScheduleError::TimeRange)?;
+            let t = i32::try_from(s)
+                .ok()
+                .and_then(|s| now.add_seconds_i32(s).ok())
+                .ok_or(ScheduleError::TimeRange)?;
             // Never after the next slot falls due.
             Ok(if next_slot < t { next_slot } else { t })
         };

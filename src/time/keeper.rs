@@ -229,10 +229,10 @@ impl<C: RtcDriver> TimeKeeper<C> {
         }
         if let Some(g) = gps_time {
             let drifted = match rtc_time {
-                Some(r) => {
-                    (g.unix_seconds() - r.unix_seconds()).unsigned_abs()
-                        > u64::from(self.config.max_drift_s)
-                }
+                // Beyond ±68 years apart: drifted.
+                Some(r) => g
+                    .seconds_since(&r)
+                    .is_none_or(|d| d.unsigned_abs() > self.config.max_drift_s),
                 None => true,
             };
             // A bus that failed to answer the status read is not written.
