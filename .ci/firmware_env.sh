@@ -25,6 +25,8 @@ ELF_AVR_UNO_DS1302="$FW_TARGET_DIR/uno-ds1302/avr-none/release/avr_tracker.elf"
 ELF_AVR_SETTINGS="$FW_TARGET_DIR/avr-none/release/avr_settings.elf"
 ELF_AVR_SETTINGS_DS1302="$FW_TARGET_DIR/uno-ds1302/avr-none/release/avr_settings.elf"
 ELF_AVR_SETTINGS_EMU="$FW_TARGET_DIR/uno-emu/avr-none/release/avr_settings.elf"
+ELF_AVR_UNO_DS1302_EMU="$FW_TARGET_DIR/uno-ds1302-emu/avr-none/release/avr_tracker.elf"
+ELF_AVR_SETTINGS_DS1302_EMU="$FW_TARGET_DIR/uno-ds1302-emu/avr-none/release/avr_settings.elf"
 ELF_AVR_SELFTEST_UNO="$FW_TARGET_DIR/avr-none/release/avr_board_selftest.elf"
 ELF_AVR_SELFTEST="$FW_TARGET_DIR/mega/avr-none/release/avr_board_selftest.elf"
 
@@ -82,6 +84,12 @@ build_avr_uno_emu() {
     cargo +nightly build --release --target avr-none -Z build-std=core -p suntracker-uno \
     --bin avr_tracker --bin avr_settings --target-dir "$FW_TARGET_DIR/uno-emu"
 }
+# The DS1302 build of both Uno images for the harness's DS1302 model.
+build_avr_uno_ds1302_emu() {
+  SUNTRACKER_EMU_MS_PER_TICK=$EMU_MS_PER_TICK \
+    cargo +nightly build --release --target avr-none -Z build-std=core -p suntracker-uno --features ds1302 \
+    --bin avr_tracker --bin avr_settings --target-dir "$FW_TARGET_DIR/uno-ds1302-emu"
+}
 build_all_firmware() {
   build_qemu
   build_blackpill
@@ -92,4 +100,5 @@ build_all_firmware() {
   build_avr_mega
   build_avr_mega_emu
   build_avr_uno_emu
+  build_avr_uno_ds1302_emu
 }

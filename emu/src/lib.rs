@@ -4,8 +4,9 @@
 //! accelerometer on the TWI, two H-bridge steppers on PORTA with their home
 //! and max-end switches on PORTC, a GPS on USART1, a cup anemometer on
 //! INT4 — and a reader of the log on USART0; and the ATmega328P (Uno)
-//! image with a DS3231, two FS5106R servos turning YMT22 encoders on its
-//! pins, home switches and the panel voltage on ADC0 ([`uno`]). On both,
+//! image with a DS3231 (or, for its `ds1302` build, a DS1302 on three port
+//! C pins), two FS5106R servos turning YMT22 encoders on its pins, home
+//! switches and the panel voltage on ADC0 ([`uno`]). On both,
 //! lines typed on the console (USART0) and power cuts at given emulated
 //! minutes ([`script`]). See `emu/README.md`.
 

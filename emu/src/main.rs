@@ -41,6 +41,10 @@ OPTIONS:
   --start UTC           power-on time, YYYY-MM-DDTHH:MM:SSZ (default: the
                         first NMEA time, else 2026-06-21T05:00:00Z)
   --rtc valid|lost|absent   DS3231 state at power-on (default valid)
+  --ds1302              uno, uno-settings: the `ds1302` build (default ELF
+                        /uno-ds1302-emu/avr-none/release/…): a DS1302 on
+                        PC1-PC3 instead of the DS3231, in the --rtc state
+                        (lost: clock halted, 2000-01-01)
   --minutes N           emulated minutes to run (default 1440; uno-settings
                         5)
   --tilt-deg X          mount tilt about the tracker's x axis (default 0)
@@ -118,6 +122,7 @@ fn run() -> Result<ExitCode, String> {
     let mut stalls: Vec<(Axis, i64, f64)> = Vec::new();
     let mut start_deg = None::<(f64, f64)>;
     let mut eeprom = None::<PathBuf>;
+    let mut ds1302 = false;
     let mut eeprom_out = None::<PathBuf>;
     let mut site = None::<(f64, f64)>;
     let mut p = lexopt::Parser::from_env();
@@ -205,6 +210,7 @@ fn run() -> Result<ExitCode, String> {
                     other => return Err(format!("--rtc {other}: want valid, lost or absent")),
                 }
             }
+            Long("ds1302") => ds1302 = true,
             Short('h') | Long("help") => {
                 println!("{HELP}");
                 return Ok(ExitCode::SUCCESS);
@@ -233,10 +239,12 @@ fn run() -> Result<ExitCode, String> {
     let elf = elf.unwrap_or_else(|| {
         let target = std::env::var_os("CARGO_TARGET_DIR")
             .map_or_else(|| PathBuf::from("target"), PathBuf::from);
-        target.join(match image {
-            Image::Mega => "mega-emu/avr-none/release/avr_mega_tracker.elf",
-            Image::Uno => "uno-emu/avr-none/release/avr_tracker.elf",
-            Image::UnoSettings => "uno-emu/avr-none/release/avr_settings.elf",
+        target.join(match (image, ds1302) {
+            (Image::Mega, _) => "mega-emu/avr-none/release/avr_mega_tracker.elf",
+            (Image::Uno, false) => "uno-emu/avr-none/release/avr_tracker.elf",
+            (Image::UnoSettings, false) => "uno-emu/avr-none/release/avr_settings.elf",
+            (Image::Uno, true) => "uno-ds1302-emu/avr-none/release/avr_tracker.elf",
+            (Image::UnoSettings, true) => "uno-ds1302-emu/avr-none/release/avr_settings.elf",
         })
     });
     let minutes = minutes.unwrap_or(match image {
@@ -245,6 +253,9 @@ fn run() -> Result<ExitCode, String> {
     });
     if image != Image::Uno && (!stalls.is_empty() || start_deg.is_some() || site.is_some()) {
         return Err("--stall, --start-deg and --site: --image uno only".into());
+    }
+    if image == Image::Mega && ds1302 {
+        return Err("--ds1302: --image uno or uno-settings only".into());
     }
     if image == Image::Mega && (eeprom.is_some() || eeprom_out.is_some()) {
         return Err("--eeprom and --eeprom-out: --image uno or uno-settings only".into());
@@ -268,6 +279,9 @@ fn run() -> Result<ExitCode, String> {
         .rtc(rtc)
         .echo(!quiet)
         .log_to(log);
+        if ds1302 {
+            bench = bench.ds1302();
+        }
         if let Some((c, a)) = start_deg {
             bench = bench.start_angles(c, a);
         }
@@ -296,11 +310,37 @@ fn run() -> Result<ExitCode, String> {
                 .map_err(|e| format!("{}: {e}", path.display()))?;
         }
         if let Some(r) = &run.rtc {
+            let (chip, flag) = if ds1302 {
+                ("DS1302", "clock halt")
+            } else {
+                ("DS3231", "oscillator-stop flag")
+            };
             eprintln!(
-                "suntracker-emu: DS3231 at the end: {} (oscillator-stop flag {}), time set {} times",
+                "suntracker-emu: {chip} at the end: {} ({flag} {}), time set {} times",
                 format_utc(r.unix_s),
                 if r.osf { "set" } else { "clear" },
                 r.time_writes
+            );
+        }
+        if let Some(d) = &run.ds1302 {
+            eprintln!(
+                "suntracker-emu: DS1302: {} transfers, {} contentions on I/O, {} timing violations ({:?} V column)",
+                d.transfers.len(),
+                d.contentions,
+                d.violation_count,
+                d.supply_column()
+            );
+            for v in d.violations.iter().take(5) {
+                eprintln!(
+                    "suntracker-emu: DS1302: {} {:.1} ns at {:.1} ns CPU time",
+                    v.rule.symbol(),
+                    v.measured_ns,
+                    v.at_ns
+                );
+            }
+            eprintln!(
+                "suntracker-emu: DS1302: shortest times the image gave: {}",
+                d.shortest_summary()
             );
         }
         let ok = if run.cpu == suntracker_emu::sim::CpuState::Running {

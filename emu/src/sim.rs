@@ -57,7 +57,8 @@ struct UartHandle {
     input: NonNull<ffi::avr_irq_t>,
 }
 
-/// Callback state of a port watch: the last PINx-as-driven value per write.
+/// Callback state of a port watch: the value of its IRQ (the port's levels
+/// as driven, or DDRx) at each change.
 struct PortWatch {
     changes: RefCell<Vec<(u64, u8)>>,
     /// Set by every write, cleared by the run loop: lets `run_until`
@@ -85,7 +86,9 @@ struct TwiHandle {
 pub struct Sim {
     avr: NonNull<ffi::avr_t>,
     uarts: Vec<(char, UartHandle)>,
-    ports: Vec<(char, Box<PortWatch>)>,
+    /// Port watches: (port, simavr IRQ: `IOPORT_IRQ_PIN_ALL` or
+    /// `IOPORT_IRQ_DIRECTION_ALL`).
+    ports: Vec<((char, u32), Box<PortWatch>)>,
     pins: Vec<((char, u8), Box<PinWatch>)>,
     twi: Option<Box<TwiHandle>>,
     port_flag: std::rc::Rc<std::cell::Cell<bool>>,
@@ -320,12 +323,29 @@ impl Sim {
         Ok(())
     }
 
-    /// Records every change of the driven value of port `port` ('A', ...):
-    /// one entry per PORTx/DDRx write, with the cycle it happened at.
+    /// Records every change of the levels of port `port` ('A', ...) as the
+    /// port drives them (`(PINx & ~DDRx) | (PORTx & DDRx)`), with the cycle
+    /// it happened at: one entry per PORTx/DDRx/PINx write that changes
+    /// them (simavr filters the IRQ: a write that leaves the levels as they
+    /// were is not reported, nor is a direction change that does not change
+    /// a level; [`Sim::watch_direction`] sees those). `run_until` returns
+    /// right after each.
     pub fn watch_port(&mut self, port: char) -> Result<(), String> {
+        self.watch_port_irq(port, ffi::IOPORT_IRQ_PIN_ALL)
+    }
+
+    /// Records every change of DDRx of port `port`, with the cycle it
+    /// happened at (an open-drain pin drives and releases its line through
+    /// DDRx alone); `run_until` returns right after each, as for
+    /// [`Sim::watch_port`].
+    pub fn watch_direction(&mut self, port: char) -> Result<(), String> {
+        self.watch_port_irq(port, ffi::IOPORT_IRQ_DIRECTION_ALL)
+    }
+
+    fn watch_port_irq(&mut self, port: char, which: u32) -> Result<(), String> {
         let ctl = ioctl_code(b'i', b'o', b'g', port as u8);
         let irq = self
-            .getirq(ctl, ffi::IOPORT_IRQ_PIN_ALL)
+            .getirq(ctl, which)
             .ok_or_else(|| format!("no port {port}"))?;
         let watch = Box::new(PortWatch {
             changes: RefCell::new(Vec::new()),
@@ -335,7 +355,7 @@ impl Sim {
         });
         let p = &*watch as *const PortWatch as *mut std::ffi::c_void;
         unsafe { ffi::avr_irq_register_notify(irq.as_ptr(), Some(on_port_all), p) };
-        self.ports.push((port, watch));
+        self.ports.push(((port, which), watch));
         Ok(())
     }
 
@@ -366,11 +386,22 @@ impl Sim {
             .unwrap_or_default()
     }
 
-    /// Port writes recorded since the last call: (cycle, driven value).
+    /// Port level changes recorded since the last call ([`Sim::watch_port`]):
+    /// (cycle, driven value).
     pub fn port_changes(&mut self, port: char) -> Vec<(u64, u8)> {
+        self.take_port_irq(port, ffi::IOPORT_IRQ_PIN_ALL)
+    }
+
+    /// DDRx changes recorded since the last call ([`Sim::watch_direction`]):
+    /// (cycle, DDRx).
+    pub fn direction_changes(&mut self, port: char) -> Vec<(u64, u8)> {
+        self.take_port_irq(port, ffi::IOPORT_IRQ_DIRECTION_ALL)
+    }
+
+    fn take_port_irq(&mut self, port: char, which: u32) -> Vec<(u64, u8)> {
         self.ports
             .iter()
-            .find(|(p, _)| *p == port)
+            .find(|(k, _)| *k == (port, which))
             .map(|(_, w)| std::mem::take(&mut *w.changes.borrow_mut()))
             .unwrap_or_default()
     }

@@ -2,7 +2,13 @@
 //! module `boards/uno/src/lib.rs`, loop `src/servo_tracker/mod.rs`:
 //! Chowdhury et al.'s (2019) closed-loop tracker) under simavr, with
 //!
-//! - a DS3231 model on the TWI (valid, lost power, or absent);
+//! - a DS3231 model on the TWI (valid, lost power, or absent), or for the
+//!   `ds1302` build ([`UnoBench::ds1302`]) a DS1302 model
+//!   ([`crate::models::ds1302`]) on PC1 (CE), PC2 (I/O, open drain with a
+//!   10 kΩ pull-up) and PC3 (SCLK): PORTC is watched like PORTB and PORTD
+//!   (below), each write goes to the model at its cycle, and the bench drives
+//!   PC2 with the line's level again before the next instruction, and at the
+//!   cycle a data bit the chip outputs appears (tCDD after the falling edge);
 //! - per axis a FEETECH FS5106R continuous-rotation servo model
 //!   ([`crate::models::fs5106r`]) driven by the Timer1 pulses on its pin —
 //!   servo C (azimuth) on OC1B = PB2, servo A (tilt) on OC1A = PB1 — turning
@@ -102,6 +108,7 @@ use sun_algos::{Algorithm, Options, Site, UtcTime};
 
 use crate::log::{parse_line, Event, LineAssembler};
 use crate::mega::{timescale_of, LogLine, Rtc, F_CPU, PAINT};
+use crate::models::ds1302::{self, Ds1302};
 use crate::models::ds3231::Ds3231;
 use crate::models::fs5106r::{Fs5106r, Segment};
 use crate::models::panel::{self, Divider, PvPanel, Sky};
@@ -152,6 +159,12 @@ const OCR1AL: u16 = 0x88;
 const OCR1BL: u16 = 0x8A;
 /// Timer1's prescaler when CS12:0 = 010 (clk/8).
 const TIMER1_PRESCALE: u64 = 8;
+// Port C (datasheet §36): PORTC; the DS1302's pins on it
+// (`boards/uno/src/lib.rs`): CE PC1, I/O PC2, SCLK PC3.
+const PORTC: u16 = 0x28;
+const DS1302_CE: u8 = 1;
+const DS1302_IO: u8 = 2;
+const DS1302_SCLK: u8 = 3;
 
 /// One of the two axes.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -267,6 +280,9 @@ pub struct UnoBench {
     timescale: Option<f64>,
     /// Echo the decoded pose with each line (not for the settings image).
     show_pose: bool,
+    /// A DS1302 on PC1–PC3 instead of the DS3231 (the `ds1302` build),
+    /// held to this column of its AC timing.
+    ds1302: Option<ds1302::Supply>,
 }
 
 /// The outcome of a Uno run.
@@ -305,16 +321,21 @@ pub struct UnoRun {
     pub ram: RamUse,
     /// The EEPROM at the end of the run ([`EEPROM_LEN`] bytes).
     pub eeprom: Vec<u8>,
-    /// The DS3231 model at the end of the run (`None` when absent).
+    /// The clock chip at the end of the run (`None` when absent).
     pub rtc: Option<RtcEnd>,
+    /// The DS1302 model at the end of the run, with every transfer it saw,
+    /// the contentions on I/O and the timing it measured (`None` without
+    /// one).
+    pub ds1302: Option<Ds1302>,
 }
 
-/// The DS3231 model at the end of a run.
+/// The clock chip's model at the end of a run.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub struct RtcEnd {
     /// The time it shows, Unix seconds.
     pub unix_s: i64,
-    /// Its oscillator-stop flag (set: lost power and not set since).
+    /// Its lost-power flag (DS3231: OSF set, lost power and not set since;
+    /// DS1302: CH set, the oscillator stopped).
     pub osf: bool,
     /// Times the image wrote its seconds register (set the time).
     pub time_writes: u32,
@@ -797,6 +818,84 @@ fn read_frame(sim: &Sim) -> Option<Frame> {
     })
 }
 
+/// CPU time of `cycle`, ns.
+fn cycle_ns(cycle: u64) -> f64 {
+    cycle as f64 * (1e9 / f64::from(F_CPU))
+}
+
+/// The first cycle at or after CPU time `t_ns`.
+fn ns_cycle(t_ns: f64) -> u64 {
+    (t_ns * f64::from(F_CPU) / 1e9).ceil().max(0.0) as u64
+}
+
+/// The DS1302's side of port C: the MCU's pins as last seen and the
+/// model (`None`: no chip fitted, the I/O line only pulled up).
+struct Ds1302Port {
+    pins: ds1302::Pins,
+    chip: Option<Ds1302>,
+}
+
+impl Ds1302Port {
+    fn line_high(&self) -> bool {
+        ds1302::line_high(self.pins.io, self.chip.as_ref().and_then(Ds1302::driving))
+    }
+
+    /// What the image did on port C since the last service, in cycle
+    /// order: `levels` (cycle, the port's levels: CE and SCLK are outputs,
+    /// so their bits are the levels driven) and `ddr` (cycle, DDRC: PC2
+    /// driven or released), with PC2's PORTC bit as it is now (0 for an
+    /// open-drain pin; `run_until` returns after each watched change, so
+    /// this is its value after the last one); then the data bit due by
+    /// `now`. Drives PC2 with the line's level again (simavr keeps an
+    /// input's PIN bit as last set, and an output's PORT value after a
+    /// release).
+    fn service(
+        &mut self,
+        sim: &mut Sim,
+        levels: &[(u64, u8)],
+        ddr: &[(u64, u8)],
+        now: u64,
+        emu_at: &dyn Fn(u64) -> f64,
+    ) {
+        let port_high = sim.peek(PORTC) & 1 << DS1302_IO != 0;
+        let mut events: Vec<(u64, bool, u8)> = levels
+            .iter()
+            .map(|&(c, v)| (c, true, v))
+            .chain(ddr.iter().map(|&(c, v)| (c, false, v)))
+            .collect();
+        events.sort_by_key(|e| e.0);
+        for &(cycle, is_levels, value) in &events {
+            if is_levels {
+                self.pins.ce = value & 1 << DS1302_CE != 0;
+                self.pins.sclk = value & 1 << DS1302_SCLK != 0;
+            } else {
+                self.pins.io.output = value & 1 << DS1302_IO != 0;
+            }
+            self.pins.io.high = port_high;
+            if let Some(chip) = self.chip.as_mut() {
+                chip.pins(cycle_ns(cycle), emu_at(cycle), self.pins);
+            }
+        }
+        let before = self.line_high();
+        if let Some(chip) = self.chip.as_mut() {
+            chip.advance(cycle_ns(now));
+        }
+        if !events.is_empty() || self.line_high() != before {
+            sim.set_pin('C', DS1302_IO, self.line_high());
+        }
+    }
+
+    /// The MCU lost power: its pins float (CE and SCLK pulled down by the
+    /// chip's 40 kΩ), the chip runs on its battery.
+    fn mcu_reset(&mut self, sim: &mut Sim, now: u64, emu_s: f64) {
+        self.pins = ds1302::Pins::default();
+        if let Some(chip) = self.chip.as_mut() {
+            chip.mcu_reset(cycle_ns(now), emu_s);
+        }
+        sim.set_pin('C', DS1302_IO, self.line_high());
+    }
+}
+
 impl UnoBench {
     /// The ATmega328P image at `elf`; defaults: start 2026-06-21T05:00Z,
     /// RTC valid, shafts at C 0°, A 20°, encoder phase half a count, no
@@ -816,7 +915,23 @@ impl UnoBench {
             eeprom: None,
             timescale: None,
             show_pose: true,
+            ds1302: None,
         }
+    }
+
+    /// The image is a `ds1302` build (`build_avr_uno_ds1302_emu`): a DS1302
+    /// on PC1–PC3 instead of the DS3231 (none on the TWI), in the state
+    /// [`UnoBench::rtc`] says (valid: running at the start time, WP set;
+    /// lost power: CH and WP set, 2000-01-01; absent: nothing drives I/O,
+    /// which reads high), held to the 5 V column of its AC timing.
+    pub fn ds1302(self) -> Self {
+        self.ds1302_supply(ds1302::Supply::V5_0)
+    }
+
+    /// [`UnoBench::ds1302`] held to `supply`'s column of the AC timing.
+    pub fn ds1302_supply(mut self, supply: ds1302::Supply) -> Self {
+        self.ds1302 = Some(supply);
+        self
     }
 
     /// The Uno's settings image (`avr_settings`: the configuration console
@@ -955,12 +1070,25 @@ impl UnoBench {
 
         let clock = EmuClock::new();
         let bus = Rc::new(RefCell::new(TwiBus::new(clock.clone())));
-        let rtc = match self.rtc {
-            Rtc::Valid => Some(Ds3231::running(self.start_unix_s)),
-            Rtc::LostPower => Some(Ds3231::lost_power()),
-            Rtc::Absent => None,
+        let rtc = match (self.rtc, self.ds1302) {
+            (_, Some(_)) | (Rtc::Absent, None) => None,
+            (Rtc::Valid, None) => Some(Ds3231::running(self.start_unix_s)),
+            (Rtc::LostPower, None) => Some(Ds3231::lost_power()),
         }
         .map(|d| Rc::new(RefCell::new(d)));
+        let mut ds1302 = self.ds1302.map(|v| Ds1302Port {
+            pins: ds1302::Pins::default(),
+            chip: match self.rtc {
+                Rtc::Valid => Some(Ds1302::running(self.start_unix_s).supply(v)),
+                Rtc::LostPower => Some(Ds1302::lost_power().supply(v)),
+                Rtc::Absent => None,
+            },
+        });
+        if self.ds1302.is_some() {
+            sim.watch_port('C')?;
+            sim.watch_direction('C')?;
+            sim.set_pin('C', DS1302_IO, true);
+        }
         if let Some(r) = &rtc {
             bus.borrow_mut().attach(Box::new(r.clone()));
         }
@@ -1090,6 +1218,12 @@ impl UnoBench {
                 let utc = start + emu_at(ev.cycle);
                 axes[i].apply(&mut sim, ev, utc);
             }
+            // The DS1302: the image's writes to PORTC, the bits it outputs.
+            if let Some(ds) = ds1302.as_mut() {
+                let levels = sim.port_changes('C');
+                let ddr = sim.direction_changes('C');
+                ds.service(&mut sim, &levels, &ddr, now, &emu_at);
+            }
 
             // The log.
             let bytes = sim.uart_take('0');
@@ -1135,6 +1269,9 @@ impl UnoBench {
             // Typed input and power cuts, after the image's lines so far.
             let due = script.service(&mut sim, now_emu, RAM_START, PAINT);
             if due.power_cut {
+                if let Some(ds) = ds1302.as_mut() {
+                    ds.mcu_reset(&mut sim, now, now_emu);
+                }
                 log = LineAssembler::default();
                 next_bottom = None;
                 seen_c.cut();
@@ -1217,6 +1354,10 @@ impl UnoBench {
                     target = target.min(e.cycle);
                 }
             }
+            let chip = ds1302.as_ref().and_then(|d| d.chip.as_ref());
+            if let Some(t) = chip.and_then(Ds1302::next_change_ns) {
+                target = target.min(ns_cycle(t));
+            }
             let end_cycle = base_cycle as f64 + (end_emu_s - base_s) / scale * f;
             target = target.min(end_cycle.ceil().max(now as f64 + 1.0) as u64);
             sim.stop_at(target);
@@ -1266,14 +1407,24 @@ impl UnoBench {
             cpu,
             ram: RamUse::measure(&sim, RAM_START, static_end, PAINT),
             eeprom: sim.read_eeprom(0, EEPROM_LEN).unwrap_or_default(),
-            rtc: rtc.map(|r| {
-                let r = r.borrow();
-                RtcEnd {
-                    unix_s: r.unix_at(emulated_s),
-                    osf: r.osf(),
-                    time_writes: r.time_writes,
-                }
-            }),
+            rtc: rtc
+                .map(|r| {
+                    let r = r.borrow();
+                    RtcEnd {
+                        unix_s: r.unix_at(emulated_s),
+                        osf: r.osf(),
+                        time_writes: r.time_writes,
+                    }
+                })
+                .or(ds1302
+                    .as_ref()
+                    .and_then(|d| d.chip.as_ref())
+                    .map(|d| RtcEnd {
+                        unix_s: d.unix_at(emulated_s),
+                        osf: d.halted(),
+                        time_writes: d.time_writes,
+                    })),
+            ds1302: ds1302.and_then(|d| d.chip),
         };
         if let Some(p) = &self.log_file {
             std::fs::write(p, run.log_with_axes()).map_err(|e| format!("{}: {e}", p.display()))?;

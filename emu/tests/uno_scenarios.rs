@@ -10,195 +10,30 @@
 //! (`build_avr_uno_emu` in `.ci/firmware_env.sh`); otherwise each prints
 //! "skipped: SUNTRACKER_EMU_ELF_UNO not set" and passes.
 //!
-//! References: the sun is SPA (sun_algos, `f64`, geometric, Kano 11.9683 N
-//! 8.4261 E) at the set-point's UTC; the panel normal of a pose is
-//! `suntracker::attitude`'s forward function `MountAttitude::normal_xyz`
-//! for the level mount (the firmware's own geometry, `n = (sin c·sin a,
-//! −cos c·sin a, cos a)` in west/south/up); the pose the axes reached is
-//! the one decoded from the encoder models' counts (`home angle + (count −
-//! count at which the switch closes) × 0.3°`), never the firmware's own
-//! idea of it; the day's energy is the trapezoid rule over the bench's
-//! panel model sampled every emulated second (`models::panel`).
+//! References (`uno_common`): the sun is SPA (sun_algos, `f64`, geometric,
+//! Kano 11.9683 N 8.4261 E) at the set-point's UTC; the panel normal of a
+//! pose is `suntracker::attitude`'s `MountAttitude::normal_xyz` for the
+//! level mount; the pose the axes reached is the one decoded from the
+//! encoder models' counts, never the firmware's own idea of it; the day's
+//! energy is the trapezoid rule over the bench's panel model sampled every
+//! emulated second (`models::panel`).
 
 use std::path::PathBuf;
 
-use sun_algos::{Algorithm, Options, Site, UtcTime};
-use suntracker::attitude::{angle_between_deg, sun_vector_xyz, MountAttitude, Pose};
-use suntracker_emu::log::{format_utc, parse_utc, Event};
-use suntracker_emu::sim::CpuState;
-use suntracker_emu::uno::{Axis, UnoBench, UnoRun};
+use suntracker_emu::log::{format_utc, Event};
+use suntracker_emu::uno::{Axis, UnoBench};
 use suntracker_emu::Rtc;
 
-/// One encoder count of axis: 360° / (4 × 300 lines).
-const COUNT_DEG: f64 = 0.3;
-/// The log prints c and a to 2 decimals.
-const PRINT_DEG: f64 = 0.005;
-/// A set-point is reached when the decoded pose is within one encoder
-/// count of the logged pose (plus its print rounding): the check of
-/// `tests/expected/check_setpoints.py`.
-const REACH_TOL_DEG: f64 = COUNT_DEG + PRINT_DEG;
-/// The commanded panel normal against SPA: michalsky's stated 0.01° in
-/// `f32`, plus the 0.005° print rounding of each of c and a.
-const NORMAL_TOL_DEG: f64 = 0.03;
+#[macro_use]
+mod uno_common;
+use uno_common::*;
+
 /// `day_energy` against the bench's trapezoid of the panel model.
 const ENERGY_TOL: f64 = 0.01;
-/// The ATmega328P's 2,048 B of RAM less 256 B kept free.
-const RAM_BUDGET_B: u16 = 1_792;
-/// The set-point slot (4 minutes, the firmware's `servo_tracker::STEP_S`).
-const STEP_S: i64 = 240;
-
-fn elf() -> Option<PathBuf> {
-    std::env::var_os("SUNTRACKER_EMU_ELF_UNO").map(PathBuf::from)
-}
-
-macro_rules! elf_or_skip {
-    () => {
-        match elf() {
-            Some(p) => p,
-            None => {
-                println!("skipped: SUNTRACKER_EMU_ELF_UNO not set");
-                return;
-            }
-        }
-    };
-}
-
-fn t(s: &str) -> i64 {
-    parse_utc(s).unwrap()
-}
-
-fn kano_spa(unix_s: i64) -> (f64, f64) {
-    let site = Site::new(11.9683, 8.4261).unwrap();
-    let p = Algorithm::Spa
-        .position(
-            &UtcTime::from_unix_seconds(unix_s).unwrap(),
-            &site,
-            &Options::default(),
-        )
-        .unwrap();
-    (p.zenith_deg, p.azimuth_deg)
-}
-
-/// The log's lines other than set-points, the models' figures and the
-/// RAM; asserts the CPU ran the whole span and the encoders' edges were
-/// all legal.
-fn report(name: &str, run: &UnoRun) {
-    println!(
-        "{name}: {} lines, {:.1} emulated min, {} cycles, timescale {}, wall {:.1} s",
-        run.lines.len(),
-        run.emulated_s / 60.0,
-        run.cycles,
-        run.timescale,
-        run.wall.as_secs_f64()
-    );
-    for l in run
-        .lines
-        .iter()
-        .filter(|l| !matches!(l.event, Event::SetPoint { .. }))
-    {
-        println!(
-            "  {} c={:.2} a={:.2} | {}",
-            format_utc(l.utc_s as i64),
-            l.c_deg,
-            l.a_deg,
-            l.text
-        );
-    }
-    for (axis, r) in ["C", "A"].iter().zip(&run.axes) {
-        println!(
-            "{name}: axis {axis}: shaft {:.3}°, decoded {:.2}° (count {}, switch count {}), {} edges, \
-             {} illegal, {} decoder mismatches, {} hard-stop hits, {} switch changes, {} pulses",
-            r.final_deg,
-            r.decoded_deg,
-            r.count,
-            r.switch_count,
-            r.edges,
-            r.illegal_transitions,
-            r.decoder_mismatches,
-            r.hard_stop_hits,
-            r.switch_changes.len(),
-            r.pulses.len()
-        );
-        assert_eq!(
-            (r.illegal_transitions, r.decoder_mismatches),
-            (0, 0),
-            "{name}: axis {axis}: encoder edges not one channel at a time"
-        );
-    }
-    println!(
-        "{name}: servo pulses on the pins C {} A {}, of which unlike the datasheet's (simavr's \
-         unbuffered OCR1x) C {} A {}",
-        run.pin_pulses.0,
-        run.pin_pulses.1,
-        run.pin_pulses_unlike_datasheet.0,
-        run.pin_pulses_unlike_datasheet.1
-    );
-    println!("{name}: {}", run.ram.summary());
-    println!(
-        "{name}: static {} B + peak stack {} B (lowest SP; {} B painted) = {} B of {} B",
-        run.ram.static_bytes,
-        run.ram.stack_sp_bytes,
-        run.ram.stack_painted_bytes,
-        run.ram.static_bytes + run.ram.stack_sp_bytes,
-        run.ram.total_bytes
-    );
-    assert_eq!(run.cpu, CpuState::Running, "{name}: the CPU stopped");
-}
-
-fn has(run: &UnoRun, text: &str) -> bool {
-    run.lines.iter().any(|l| l.text == text)
-}
-
-/// A set-point's fields and the decoded pose at the end of its slot.
-struct Reached {
-    unix_s: i64,
-    text: String,
-    c_deg: f64,
-    a_deg: f64,
-    decoded: Option<(f64, f64)>,
-}
-
-impl Reached {
-    /// The larger axis error, in encoder counts.
-    fn error_counts(&self) -> Option<f64> {
-        self.decoded
-            .map(|(c, a)| (c - self.c_deg).abs().max((a - self.a_deg).abs()) / COUNT_DEG)
-    }
-}
-
-fn setpoints(run: &UnoRun) -> Vec<Reached> {
-    run.lines
-        .iter()
-        .filter_map(|l| match l.event {
-            Event::SetPoint {
-                unix_s,
-                c_deg,
-                a_deg,
-                ..
-            } => Some(Reached {
-                unix_s,
-                text: l.text.clone(),
-                c_deg,
-                a_deg,
-                decoded: run.pose_at_slot_end(unix_s),
-            }),
-            _ => None,
-        })
-        .collect()
-}
-
-/// The UTC of the fault lines `name raised|cleared`.
-fn fault_times(run: &UnoRun, name: &str, raised: bool) -> Vec<f64> {
-    run.lines
-        .iter()
-        .filter(|l| matches!(&l.event, Event::Fault { name: n, raised: r } if n == name && *r == raised))
-        .map(|l| l.utc_s)
-        .collect()
-}
 
 #[test]
 fn uno_tracks_a_day_at_kano_from_the_rtc() {
-    let elf = elf_or_skip!();
+    let elf = elf_or_skip!("SUNTRACKER_EMU_ELF_UNO");
     let day = t("2026-03-20T00:00:00Z");
     // CI checks this day's set-points against pvlib from the log written
     // here (`.ci/run`, step uno_day), rather than emulating the day twice.
@@ -209,84 +44,29 @@ fn uno_tracks_a_day_at_kano_from_the_rtc() {
         .run_minutes(1_440.0)
         .unwrap();
     report("uno day", &run);
-    assert!(has(&run, "boot suntracker 0.1.0 board=uno"));
-    assert!(has(&run, "site source=config lat=11.9683 lon=8.4261"));
-    assert!(has(
-        &run,
-        "config step_s=240 tick_ms=1000 axis_step_deg=0.300 algorithm=michalsky"
-    ));
-    assert!(
-        run.lines
-            .iter()
-            .any(|l| matches!(l.event, Event::Time { ref source, .. } if source == "rtc")),
-        "no time line"
-    );
-    assert!(
-        !run.lines.iter().any(|l| l.text == "mode wait_for_time"
-            || l.text.starts_with("fault rtc_")
-            || l.text.starts_with("fault bus_rtc")
-            || l.text.starts_with("fault limit_switch")),
-        "a time or switch fault with a good RTC and working switches"
-    );
-    assert!(has(&run, "mode tracking"));
+    assert_tracks_at_kano_from_the_rtc("uno day", &run);
 
     // Every set-point: on the grid, served within the tick, its commanded
     // normal on SPA's sun, reached by the end of its slot.
-    let sps = setpoints(&run);
-    let mut worst_normal = 0.0f64;
-    let mut worst_reach = 0.0f64;
-    let mut off = Vec::new();
-    let mut histogram = std::collections::BTreeMap::<i64, usize>::new();
-    for (sp, line) in sps.iter().zip(
-        run.lines
-            .iter()
-            .filter(|l| matches!(l.event, Event::SetPoint { .. })),
-    ) {
-        assert_eq!(sp.unix_s % STEP_S, 0, "off the 4-minute grid: {}", sp.text);
-        assert!(
-            line.utc_s - (sp.unix_s as f64) < 3.0,
-            "late set-point: {}",
-            sp.text
-        );
-        let (z, az) = kano_spa(sp.unix_s);
-        let spa = sun_vector_xyz(90.0 - z, az);
-        let normal = MountAttitude::<f64>::level().normal_xyz(&Pose {
-            gamma_deg: sp.c_deg,
-            alpha_deg: sp.a_deg,
-        });
-        let err = angle_between_deg(&normal, &spa);
-        worst_normal = worst_normal.max(err);
-        assert!(
-            err <= NORMAL_TOL_DEG,
-            "{}: panel normal {err:.4}° from SPA",
-            sp.text
-        );
-        let (dc, da) = sp.decoded.expect("the run ends after the last slot");
-        for (d, cmd) in [(dc, sp.c_deg), (da, sp.a_deg)] {
-            *histogram
-                .entry(((d - cmd) / COUNT_DEG).round() as i64)
-                .or_default() += 1;
-        }
-        let e = sp.error_counts().unwrap_or(f64::INFINITY);
-        worst_reach = worst_reach.max(e);
-        if (dc - sp.c_deg).abs() > REACH_TOL_DEG || (da - sp.a_deg).abs() > REACH_TOL_DEG {
-            off.push(format!("{} -> decoded c {dc:.2} a {da:.2}", sp.text));
-        }
-    }
+    let check = check_setpoints(&run);
+    assert_eq!(check.reached, check.n, "the run ends after the last slot");
     // The expected count: every slot start of the day with the sun up by
     // SPA (the firmware decides with michalsky at the same instants).
     let up = (0..86_400 / STEP_S)
-        .filter(|k| kano_spa(day + k * STEP_S).0 < 90.0)
+        .filter(|k| kano(day + k * STEP_S).0 < 90.0)
         .count() as i64;
-    let n = sps.len() as i64;
+    let n = check.n as i64;
     let energy = run.energy_check().expect("a day_energy line after sunset");
     let stalls = fault_times(&run, "motor_stalled_c", true).len()
         + fault_times(&run, "motor_stalled_a", true).len();
+    let off = &check.off;
     println!(
         "uno day: {n} set-points (SPA has the sun up at {up} slot starts), commanded normal \
-         within {worst_normal:.4}° of SPA, reach: worst {worst_reach:.2} counts from the logged \
-         pose, (decoded − logged) in counts per axis {histogram:?}; {} set-points off by more \
-         than one count",
+         within {:.4}° of SPA, reach: worst {:.2} counts from the logged pose, (decoded − \
+         logged) in counts per axis {:?}; {} set-points off by more than one count",
+        check.worst_normal_deg,
+        check.worst_reach_counts,
+        check.histogram,
         off.len()
     );
     println!(
@@ -329,23 +109,18 @@ fn uno_tracks_a_day_at_kano_from_the_rtc() {
         .find(|l| matches!(l.event, Event::Mode(_)))
         .expect("a mode line");
     assert_eq!(last_mode.text, "mode night");
-    assert!(last_mode.utc_s > sps.last().map_or(0.0, |s| s.unix_s as f64));
+    let last_sp = setpoints(&run).last().map_or(0, |s| s.unix_s);
+    assert!(last_mode.utc_s > last_sp as f64);
     let a_end = run.axes[1].decoded_deg;
     assert!(a_end.abs() <= COUNT_DEG, "not flat at night: A {a_end:.2}°");
-    let used = run.ram.static_bytes + run.ram.stack_sp_bytes;
-    assert!(
-        used <= RAM_BUDGET_B,
-        "static {} B + peak stack {} B = {used} B > {RAM_BUDGET_B} B",
-        run.ram.static_bytes,
-        run.ram.stack_sp_bytes
-    );
+    assert_ram("uno day", &run, RAM_BUDGET_B);
 }
 
 /// The stall watch must not fire on shafts that turn freely: a move takes
 /// its first encoder count well inside the 5 s the firmware allows.
 #[test]
 fn uno_free_shafts_raise_no_stall_fault() {
-    let elf = elf_or_skip!();
+    let elf = elf_or_skip!("SUNTRACKER_EMU_ELF_UNO");
     let run = UnoBench::new(&elf)
         .start(t("2026-03-20T05:30:00Z"))
         .run_minutes(40.0)
@@ -368,7 +143,7 @@ fn uno_free_shafts_raise_no_stall_fault() {
 
 #[test]
 fn uno_recovers_from_a_ten_minute_stall() {
-    let elf = elf_or_skip!();
+    let elf = elf_or_skip!("SUNTRACKER_EMU_ELF_UNO");
     let stall_from = t("2026-03-20T10:00:00Z");
     let stall_s = 600.0;
     let run = UnoBench::new(&elf)
@@ -443,32 +218,9 @@ fn uno_recovers_from_a_ten_minute_stall() {
     }
 }
 
-/// Waiting for time: the fault, `mode wait_for_time`, no set-point, no
-/// time, and the panel flat.
-fn assert_waits_flat(name: &str, run: &UnoRun, fault: &str) {
-    report(name, run);
-    assert!(
-        has(run, &format!("fault {fault} raised")),
-        "{name}: no {fault}"
-    );
-    assert!(has(run, "mode wait_for_time"));
-    assert!(
-        !run.lines
-            .iter()
-            .any(|l| matches!(l.event, Event::SetPoint { .. } | Event::Time { .. })),
-        "{name}: a set-point or a time without a valid RTC"
-    );
-    let a = run.axes[1].decoded_deg;
-    println!(
-        "{name}: flat: A decoded {a:.2}° (C {:.2}°)",
-        run.axes[0].decoded_deg
-    );
-    assert!(a.abs() <= COUNT_DEG, "{name}: A at {a:.2}°, not flat");
-}
-
 #[test]
 fn uno_with_an_rtc_that_lost_power_waits_flat() {
-    let elf = elf_or_skip!();
+    let elf = elf_or_skip!("SUNTRACKER_EMU_ELF_UNO");
     let run = UnoBench::new(&elf)
         .start(t("2026-03-20T10:00:00Z"))
         .rtc(Rtc::LostPower)
@@ -479,7 +231,7 @@ fn uno_with_an_rtc_that_lost_power_waits_flat() {
 
 #[test]
 fn uno_without_an_rtc_waits_flat() {
-    let elf = elf_or_skip!();
+    let elf = elf_or_skip!("SUNTRACKER_EMU_ELF_UNO");
     let run = UnoBench::new(&elf)
         .start(t("2026-03-20T10:00:00Z"))
         .rtc(Rtc::Absent)

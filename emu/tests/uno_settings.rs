@@ -31,41 +31,22 @@ use std::path::{Path, PathBuf};
 use suntracker::attitude::{angle_between_deg, sun_vector_xyz, MountAttitude, Pose};
 use suntracker::persist::{MemStorage, SLOT_LEN};
 use suntracker::servo_tracker::settings::{Settings, SettingsStore, DEFAULTS, EEPROM_LEN};
-use suntracker_emu::log::{format_utc, parse_utc, Event};
+use suntracker_emu::log::{format_utc, Event};
 use suntracker_emu::script::xorshift32_noise;
-use suntracker_emu::sim::{CpuState, ElfIdentity};
+use suntracker_emu::sim::ElfIdentity;
 use suntracker_emu::uno::{spa, UnoBench, UnoRun};
 use suntracker_emu::Rtc;
 
-/// One encoder count of axis: 360° / (4 × 300 lines).
-const COUNT_DEG: f64 = 0.3;
-/// The log prints c and a to 2 decimals.
-const PRINT_DEG: f64 = 0.005;
-/// Reached: the decoded pose within one count of the logged one (plus its
-/// print rounding), as `uno_scenarios.rs` checks.
-const REACH_TOL_DEG: f64 = COUNT_DEG + PRINT_DEG;
-/// The commanded panel normal against SPA, as `uno_scenarios.rs` checks.
-const NORMAL_TOL_DEG: f64 = 0.03;
-/// The tracker: the ATmega328P's 2,048 B of RAM less 256 B kept free, as
-/// `uno_scenarios.rs` checks.
-const TRACKER_RAM_BUDGET_B: u16 = 1_792;
-/// The settings image: static RAM and the deepest stack within the part's
-/// RAM.
-const SETTINGS_RAM_BUDGET_B: u16 = 2_048;
+#[macro_use]
+mod uno_common;
+use uno_common::*;
+
 /// Sydney, the site typed and stored.
 const SYDNEY: (f64, f64) = (-33.8688, 151.2093);
 /// A slot's header: magic, version, length, then the sequence number at
 /// bytes 8..12 (`src/persist/store.rs`, "Slot layout").
 const HEADER_LEN: usize = 12;
 const SEQ_AT: usize = 8;
-
-fn tracker_elf() -> Option<PathBuf> {
-    std::env::var_os("SUNTRACKER_EMU_ELF_UNO").map(PathBuf::from)
-}
-
-fn settings_elf() -> Option<PathBuf> {
-    std::env::var_os("SUNTRACKER_EMU_ELF_UNO_SETTINGS").map(PathBuf::from)
-}
 
 /// The board build of an image named by `var`, the ELF a user flashes, if
 /// set: its identity printed (`.ci/run` compares the SHA-256 with the
@@ -75,22 +56,6 @@ fn flashed_elf(var: &str) -> Option<(PathBuf, ElfIdentity)> {
     let id = ElfIdentity::of_board_build(&elf).unwrap();
     println!("{id}");
     Some((elf, id))
-}
-
-macro_rules! elf_or_skip {
-    ($elf:expr, $var:literal) => {
-        match $elf {
-            Some(p) => p,
-            None => {
-                println!(concat!("skipped: ", $var, " not set"));
-                return;
-            }
-        }
-    };
-}
-
-fn t(s: &str) -> i64 {
-    parse_utc(s).unwrap()
 }
 
 /// Emulated minutes of `s` seconds (the settings image's clock is 1:1).
@@ -131,87 +96,6 @@ fn seq_of(eeprom: &[u8], slot: usize) -> u32 {
     u32::from_le_bytes(eeprom[at..at + 4].try_into().unwrap())
 }
 
-/// The lines of the run, the models' figures and the RAM; asserts the CPU
-/// ran the whole span (a watchdog reset stops the run) and the encoders'
-/// edges were all legal.
-fn report(name: &str, run: &UnoRun) {
-    println!(
-        "{name}: {} lines, {:.2} emulated min, {} cycles, timescale {}, wall {:.1} s",
-        run.lines.len(),
-        run.emulated_s / 60.0,
-        run.cycles,
-        run.timescale,
-        run.wall.as_secs_f64()
-    );
-    for l in &run.lines {
-        println!(
-            "  {} c={:.2} a={:.2} | {}",
-            format_utc(l.utc_s as i64),
-            l.c_deg,
-            l.a_deg,
-            l.text
-        );
-    }
-    for (axis, r) in ["C", "A"].iter().zip(&run.axes) {
-        println!(
-            "{name}: axis {axis}: shaft {:.3}°, decoded {:.2}°, {} edges, {} illegal, {} decoder \
-             mismatches, {} hard-stop hits, {} switch changes",
-            r.final_deg,
-            r.decoded_deg,
-            r.edges,
-            r.illegal_transitions,
-            r.decoder_mismatches,
-            r.hard_stop_hits,
-            r.switch_changes.len()
-        );
-        assert_eq!(
-            (r.illegal_transitions, r.decoder_mismatches),
-            (0, 0),
-            "{name}: axis {axis}: encoder edges not one channel at a time"
-        );
-    }
-    println!("{name}: {}", run.ram.summary());
-    assert_eq!(run.cpu, CpuState::Running, "{name}: the CPU stopped");
-}
-
-/// Static RAM + the deepest stack, printed and held to `budget`.
-fn assert_ram(name: &str, run: &UnoRun, budget: u16) {
-    let used = run.ram.static_bytes + run.ram.stack_sp_bytes;
-    println!(
-        "{name}: static {} B + peak stack {} B (lowest SP; {} B painted) = {used} B of {} B",
-        run.ram.static_bytes,
-        run.ram.stack_sp_bytes,
-        run.ram.stack_painted_bytes,
-        run.ram.total_bytes
-    );
-    assert!(
-        used <= budget,
-        "{name}: static {} B + peak stack {} B = {used} B > {budget} B",
-        run.ram.static_bytes,
-        run.ram.stack_sp_bytes
-    );
-}
-
-/// The lines of the run as text.
-fn texts(run: &UnoRun) -> Vec<&str> {
-    run.lines.iter().map(|l| l.text.as_str()).collect()
-}
-
-/// The replies to the line typed as `> typed`: the `ok …` and `error …`
-/// lines after it, up to the next typed line.
-fn replies_to<'a>(run: &'a UnoRun, typed: &str) -> Vec<&'a str> {
-    let shown = format!("> {typed}");
-    let Some(at) = run.lines.iter().position(|l| l.text == shown) else {
-        return Vec::new();
-    };
-    run.lines[at + 1..]
-        .iter()
-        .map(|l| l.text.as_str())
-        .take_while(|l| !l.starts_with("> "))
-        .filter(|l| l.starts_with("ok ") || l.starts_with("error "))
-        .collect()
-}
-
 /// The settings image from an erased EEPROM: Sydney typed, two refusals,
 /// the gear unchanged, saved; the RTC set. The EEPROM it leaves.
 fn settings_run(elf: &Path) -> UnoRun {
@@ -235,7 +119,7 @@ fn settings_run(elf: &Path) -> UnoRun {
 /// the library's own store as Sydney), the RTC it sets, its RAM.
 #[test]
 fn uno_settings_image_saves_the_site_typed() {
-    let elf = elf_or_skip!(settings_elf(), "SUNTRACKER_EMU_ELF_UNO_SETTINGS");
+    let elf = elf_or_skip!("SUNTRACKER_EMU_ELF_UNO_SETTINGS");
     assert_settings_saved(&settings_run(&elf));
 }
 
@@ -305,7 +189,7 @@ fn assert_settings_saved(run: &UnoRun) {
 /// it is answered.
 #[test]
 fn uno_settings_image_survives_noise() {
-    let elf = elf_or_skip!(settings_elf(), "SUNTRACKER_EMU_ELF_UNO_SETTINGS");
+    let elf = elf_or_skip!("SUNTRACKER_EMU_ELF_UNO_SETTINGS");
     // The Mega scenario's noise: lines of garbage, some ended by the 0x0A
     // bytes among them, and a last partial one.
     let noise = xorshift32_noise(0x2545_f491, 10_240);
@@ -353,8 +237,8 @@ fn uno_settings_image_survives_noise() {
 /// Sydney's sun and reached.
 #[test]
 fn uno_tracks_sydney_from_the_saved_eeprom_over_a_power_cut() {
-    let settings = elf_or_skip!(settings_elf(), "SUNTRACKER_EMU_ELF_UNO_SETTINGS");
-    let elf = elf_or_skip!(tracker_elf(), "SUNTRACKER_EMU_ELF_UNO");
+    let settings = elf_or_skip!("SUNTRACKER_EMU_ELF_UNO_SETTINGS");
+    let elf = elf_or_skip!("SUNTRACKER_EMU_ELF_UNO");
     let eeprom = settings_run(&settings).eeprom;
     tracks_sydney_over_a_cut("uno sydney", &elf, &eeprom, 20.0, 45.0);
 }
@@ -511,14 +395,14 @@ fn tracks_sydney_over_a_cut(
             .all(|&(slot_s, in_cut, _)| in_cut || slot_s == last_slot_s),
         "set-points not checked at the end of their slot: {unchecked:?}"
     );
-    assert_ram(name, &run, TRACKER_RAM_BUDGET_B);
+    assert_ram(name, &run, RAM_BUDGET_B);
     run
 }
 
 /// An erased EEPROM (no good copy): the defaults, Kano.
 #[test]
 fn uno_with_an_erased_eeprom_takes_the_defaults() {
-    let elf = elf_or_skip!(tracker_elf(), "SUNTRACKER_EMU_ELF_UNO");
+    let elf = elf_or_skip!("SUNTRACKER_EMU_ELF_UNO");
     let run = UnoBench::new(&elf)
         .start(t("2026-03-20T10:00:00Z"))
         .run_minutes(3.0)
@@ -538,7 +422,7 @@ fn uno_with_an_erased_eeprom_takes_the_defaults() {
 /// newest copy's payload changed): the older good copy, Kano, stored.
 #[test]
 fn uno_with_a_torn_save_keeps_the_older_copy() {
-    let elf = elf_or_skip!(tracker_elf(), "SUNTRACKER_EMU_ELF_UNO");
+    let elf = elf_or_skip!("SUNTRACKER_EMU_ELF_UNO");
     let mut eeprom = eeprom_after(&[DEFAULTS, sydney()]);
     let newest = (0..2)
         .find(|&s| seq_of(&eeprom, s) == 2)

@@ -18,32 +18,22 @@
 //!
 //! The clock runs on emulated time (see [`crate::twi::EmuClock`]).
 
+use crate::models::bcd_clock::{bcd, hour_of_register, hours_register, unbcd, Civil, SecondsClock};
 use crate::twi::{I2cDevice, RegisterPointer};
-use drivers::time::{civil_from_days, days_from_civil};
 
 /// Seven-bit address.
 pub const ADDRESS: u8 = 0x68;
 const LEN: u8 = 0x13;
 /// OSF, status bit 7.
 pub const OSF: u8 = 0x80;
-
-fn bcd(v: u32) -> u8 {
-    ((v / 10) << 4 | (v % 10)) as u8
-}
-
-fn unbcd(b: u8) -> u32 {
-    u32::from(b >> 4) * 10 + u32::from(b & 0x0F)
-}
+/// The hours register's 12-hour flag (bit 6).
+const HOURS_12H: u8 = 0x40;
 
 /// The DS3231 model.
 #[derive(Debug, Clone)]
 pub struct Ds3231 {
-    /// Unix seconds shown at emulated time `base_at_s`.
-    base_unix_s: i64,
-    /// Emulated time at which the countdown chain was last reset.
-    base_at_s: f64,
-    /// Day register offset: day = (days since 1970 + offset) mod 7 + 1.
-    dow_offset: i64,
+    /// The time kept (always running: the oscillator runs on the battery).
+    clock: SecondsClock,
     /// 12-hour mode flag as last written to the hours register.
     mode_12h: bool,
     regs: [u8; LEN as usize],
@@ -57,7 +47,7 @@ impl Ds3231 {
     /// (it kept time on its battery).
     pub fn running(unix_s: i64) -> Self {
         let mut d = Self::lost_power();
-        d.base_unix_s = unix_s;
+        d.clock = SecondsClock::new(unix_s, 0);
         d.regs[0x0F] = 0x08;
         d
     }
@@ -71,9 +61,7 @@ impl Ds3231 {
         regs[0x0F] = OSF | 0x08;
         regs[0x11] = 25; // 25.00 °C
         Ds3231 {
-            base_unix_s: 946_684_800,
-            base_at_s: 0.0,
-            dow_offset: 0,
+            clock: SecondsClock::new(946_684_800, 0),
             mode_12h: false,
             regs,
             ptr: RegisterPointer::default(),
@@ -88,60 +76,39 @@ impl Ds3231 {
 
     /// The time the clock shows at emulated time `now_s`, Unix seconds.
     pub fn unix_at(&self, now_s: f64) -> i64 {
-        self.base_unix_s + (now_s - self.base_at_s).floor() as i64
+        self.clock.unix_at(now_s)
     }
 
     /// Copies the internal time into the user buffer (00h–06h).
     fn sync(&mut self, now_s: f64) {
-        let t = self.unix_at(now_s);
-        let days = t.div_euclid(86_400);
-        let sod = t.rem_euclid(86_400) as u32;
-        let (y, m, d) = civil_from_days(days).unwrap_or((2000, 1, 1));
-        let (h, mi, s) = (sod / 3600, sod / 60 % 60, sod % 60);
-        self.regs[0] = bcd(s);
-        self.regs[1] = bcd(mi);
-        self.regs[2] = if self.mode_12h {
-            let pm = h >= 12;
-            let h12 = match h % 12 {
-                0 => 12,
-                x => x,
-            };
-            0x40 | if pm { 0x20 } else { 0 } | bcd(h12)
-        } else {
-            bcd(h)
-        };
-        self.regs[3] = ((days + self.dow_offset).rem_euclid(7) + 1) as u8;
-        self.regs[4] = bcd(u32::from(d));
-        let century = if y >= 2100 { 0x80 } else { 0 };
-        self.regs[5] = century | bcd(u32::from(m));
-        self.regs[6] = bcd(u32::from(y) % 100);
+        let c = self.clock.civil_at(now_s);
+        self.regs[0] = bcd(c.second);
+        self.regs[1] = bcd(c.minute);
+        self.regs[2] = hours_register(c.hour, self.mode_12h, HOURS_12H);
+        self.regs[3] = c.dow;
+        self.regs[4] = bcd(u32::from(c.day));
+        let century = if c.year >= 2100 { 0x80 } else { 0 };
+        self.regs[5] = century | bcd(u32::from(c.month));
+        self.regs[6] = bcd(u32::from(c.year) % 100);
     }
 
     /// Re-derives the internal time from the user buffer after a write.
     fn load(&mut self, now_s: f64, seconds_written: bool) {
         let r = &self.regs;
-        let s = unbcd(r[0] & 0x7F);
-        let mi = unbcd(r[1] & 0x7F);
-        self.mode_12h = r[2] & 0x40 != 0;
-        let h = if self.mode_12h {
-            let h12 = unbcd(r[2] & 0x1F) % 12;
-            h12 + if r[2] & 0x20 != 0 { 12 } else { 0 }
-        } else {
-            unbcd(r[2] & 0x3F)
+        let (hour, mode_12h) = hour_of_register(r[2], HOURS_12H);
+        self.mode_12h = mode_12h;
+        let civil = Civil {
+            year: 2000 + unbcd(r[6]) as u16 + if r[5] & 0x80 != 0 { 100 } else { 0 },
+            month: unbcd(r[5] & 0x1F) as u8,
+            day: unbcd(r[4] & 0x3F) as u8,
+            hour,
+            minute: unbcd(r[1] & 0x7F),
+            second: unbcd(r[0] & 0x7F),
+            dow: r[3],
         };
-        let d = unbcd(r[4] & 0x3F).clamp(1, 31) as u8;
-        let m = unbcd(r[5] & 0x1F).clamp(1, 12) as u8;
-        let y = 2000 + unbcd(r[6]) as u16 + if r[5] & 0x80 != 0 { 100 } else { 0 };
-        let days = days_from_civil(y, m, d);
-        let dow = i64::from(r[3].clamp(1, 7)) - 1;
-        self.dow_offset = (dow - days).rem_euclid(7);
-        let frac = if seconds_written {
-            0.0
-        } else {
-            (now_s - self.base_at_s).rem_euclid(1.0)
-        };
-        self.base_at_s = now_s - frac;
-        self.base_unix_s = days * 86_400 + i64::from(h * 3600 + mi * 60 + s);
+        // "The countdown chain is reset whenever the seconds register is
+        // written".
+        self.clock.set(&civil, now_s, true, seconds_written);
     }
 
     /// Register read (with the buffer as last synchronised).

@@ -1,6 +1,8 @@
 //! Peripheral models, each after its datasheet.
 
 pub mod adxl345;
+pub mod bcd_clock;
+pub mod ds1302;
 pub mod ds3231;
 pub mod fs5106r;
 pub mod mount;
