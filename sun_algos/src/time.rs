@@ -335,6 +335,26 @@ impl UtcTime {
         self.add_days_ms(days, rest_ms)
     }
 
+    /// This instant `ms` milliseconds later (up to 49.7 days), in 32-bit
+    /// arithmetic: [`UtcTime::add_millis`] for a forward age or interval
+    /// of the monotonic clock, without the 64-bit division an 8-bit MCU
+    /// computes in software. A result past the calendar range is
+    /// [`Error::InvalidDate`].
+    ///
+    /// ```
+    /// use sun_algos::UtcTime;
+    ///
+    /// // Python: datetime(2024, 12, 31, 23, 59, 59, 500000) + timedelta(milliseconds=86_400_700)
+    /// // is 2025-01-02 00:00:00.200.
+    /// let t: UtcTime = "2024-12-31T23:59:59.500Z".parse()?;
+    /// assert_eq!(t.add_millis_u32(86_400_700)?.to_string(), "2025-01-02T00:00:00.200Z");
+    /// # Ok::<(), sun_algos::Error>(())
+    /// ```
+    pub fn add_millis_u32(&self, ms: u32) -> Result<Self, Error> {
+        // At most 49 whole days: fits an i32.
+        self.add_days_ms((ms / MS_PER_DAY) as i32, ms % MS_PER_DAY)
+    }
+
     /// This instant moved by `secs` seconds (either sign, up to ±68 years),
     /// in 32-bit arithmetic: [`UtcTime::add_seconds`] for the spans a
     /// day's search or schedule uses, without the 64-bit division an 8-bit

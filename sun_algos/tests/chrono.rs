@@ -284,7 +284,8 @@ fn naive_time_of_day_spans_the_whole_day() {
 #[test]
 fn seconds_in_32_bits_match_chronos_arithmetic() {
     // Instants of 1900–2150 with any millisecond, moved by any i32 number
-    // of seconds (every other one within ±100,000 s), against chrono's
+    // of seconds (every other one within ±100,000 s) and by any u32 number
+    // of milliseconds, against chrono's
     // `TimeDelta` arithmetic; and the whole seconds between two of them
     // against the difference of chrono's (floored) Unix timestamps.
     let lo = naive(1900, 1, 1, 0, 0, 0, 0).and_utc().timestamp_millis();
@@ -305,17 +306,23 @@ fn seconds_in_32_bits_match_chronos_arithmetic() {
         } else {
             rng.below(200_001) as i32 - 100_000
         };
-        let want = dt
-            .checked_add_signed(TimeDelta::seconds(i64::from(s)))
-            .and_then(|w| UtcTime::try_from(w).ok());
-        match want {
-            Some(w) => assert_eq!(t.add_seconds_i32(s), Ok(w), "{dt} + {s} s"),
-            None => assert_eq!(
-                t.add_seconds_i32(s),
-                Err(Error::InvalidDate),
-                "{dt} + {s} s"
-            ),
-        }
+        // chrono's sum, or InvalidDate where it leaves the calendar.
+        let want = |delta: TimeDelta| {
+            dt.checked_add_signed(delta)
+                .and_then(|w| UtcTime::try_from(w).ok())
+                .ok_or(Error::InvalidDate)
+        };
+        assert_eq!(
+            t.add_seconds_i32(s),
+            want(TimeDelta::seconds(i64::from(s))),
+            "{dt} + {s} s"
+        );
+        let ms = rng.next() as u32;
+        assert_eq!(
+            t.add_millis_u32(ms),
+            want(TimeDelta::milliseconds(i64::from(ms))),
+            "{dt} + {ms} ms"
+        );
         let (dt2, t2) = instant(&mut rng);
         let apart_days = (t.days_since_2000() - t2.days_since_2000()).abs();
         if apart_days <= 24_854 {
