@@ -100,8 +100,8 @@ pub fn gps_time(fix: &GpsFix, now_ms: u64, config: &TimeConfig) -> GpsTime {
     if !config.window.contains(&t) {
         return GpsTime::Implausible(t);
     }
-    // The age is at most max_gps_age_ms (a u32) here: it fits an i64.
-    match t.add_millis(i64::try_from(age_ms).unwrap_or(i64::MAX)) {
+    // The age is at most max_gps_age_ms (a u32) here.
+    match t.add_millis_u32(u32::try_from(age_ms).unwrap_or(u32::MAX)) {
         Ok(now) if config.window.contains(&now) => GpsTime::Trusted(now),
         Ok(now) => GpsTime::Implausible(now),
         Err(_) => GpsTime::NoFix,
