@@ -415,8 +415,8 @@ impl UtcTime {
     /// This instant plus whole days and `ms` (below one day) milliseconds.
     #[inline]
     fn add_days_ms(&self, whole_days: i32, ms: u32) -> Result<Self, Error> {
-        let total_ms = ms.checked_add(self.ms_of_day).ok_or(Error::InvalidTime)?; // < 2 × MS_PER_DAY
-                                                                                  // Below two days: one comparison, not a division.
+        // Below two days (2 × MS_PER_DAY): one comparison, not a division.
+        let total_ms = ms.checked_add(self.ms_of_day).ok_or(Error::InvalidTime)?;
         let (carry_days, ms_of_day) = if total_ms >= MS_PER_DAY {
             (1, total_ms - MS_PER_DAY)
         } else {
