@@ -332,6 +332,15 @@ fn next_slot_time<const N: usize>(table: &DayTable<N>, now: &UtcTime) -> Option<
         .ok()
 }
 
+/// `now` plus `s` seconds of a configured interval (hold, recheck), in
+/// 32-bit arithmetic; past the calendar, [`ScheduleError::TimeRange`].
+fn seconds_after(now: &UtcTime, s: u32) -> Result<UtcTime, ScheduleError> {
+    i32::try_from(s)
+        .ok()
+        .and_then(|s| now.add_seconds_i32(s).ok())
+        .ok_or(ScheduleError::TimeRange)
+}
+
 /// A read-only view of the scheduler's day table in degrees.
 #[derive(Debug, Clone, Copy)]
 pub struct TableView<'a, T, const N: usize> {
@@ -804,12 +813,7 @@ impl<T: Float, P: PositionSource<T>, const N: usize> Scheduler<T, P, N> {
         if self.past_daylight(&now)? {
             return self.end_of_day(now);
         }
-        let add = |s: u32| {
-            i32::try_from(s)
-                .ok()
-                .and_then(|s| now.add_seconds_i32(s).ok())
-                .ok_or(ScheduleError::TimeRange)
-        };
+        let add = |s: u32| seconds_after(&now, s);
         let found = self
             .has_table
             .then_some(&self.table)
@@ -885,10 +889,7 @@ impl<T: Float, P: PositionSource<T>, const N: usize> Scheduler<T, P, N> {
             .map_err(|_| ScheduleError::TimeRange)?;
         let tracking = matches!(self.phase, Phase::Tracking { .. });
         let add = |s: u32| -> Result<UtcTime, ScheduleError> {
-            let t = i32::try_from(s)
-                .ok()
-                .and_then(|s| now.add_seconds_i32(s).ok())
-                .ok_or(ScheduleError::TimeRange)?;
+            let t = seconds_after(&now, s)?;
             // Never after the next slot falls due.
             Ok(if next_slot < t { next_slot } else { t })
         };
