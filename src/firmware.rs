@@ -43,11 +43,13 @@ use crate::safety::{AxisId, Mode};
 use crate::site::{site_from_config, site_from_fix, site_moved, wmm_declination_deg};
 use crate::sun::BoardSource;
 use crate::time::TimeConfig;
-use crate::time::{TimeKeeper, TimeOrigin};
+use crate::time::{monotonic, TimeKeeper, TimeOrigin};
 
 /// What a board gives the loop besides its devices.
 pub trait Platform {
-    /// Monotonic milliseconds since boot; never steps, never goes back.
+    /// Monotonic milliseconds since boot; never steps, never goes back. The
+    /// loop keeps the low 32 bits ([`crate::time::monotonic`]); the drives'
+    /// microseconds come from the whole count.
     fn now_ms(&mut self) -> u64;
     /// Anemometer pulses counted since the last call.
     fn take_wind_pulses(&mut self) -> u32;
@@ -150,7 +152,7 @@ where
 /// stamp (the moment it was decoded): 50 ms, a few ticks of a loop that
 /// wakes every millisecond. After a longer pass (a day plan's step, the
 /// axis branch look-ahead) the stamp is the previous pass's instant.
-pub const GPS_STAMP_SLACK_MS: u64 = 50;
+pub const GPS_STAMP_SLACK_MS: u32 = 50;
 
 /// Settings of the loop itself (the tracker's are in [`Config`]).
 #[derive(Debug, Clone, Copy)]
@@ -232,12 +234,14 @@ pub struct Firmware<T, R, G, D, S, L, const N: usize> {
     changes: ChangeLog,
     stats: Stats,
     fix: GpsFix,
-    next_tick_ms: Option<u64>,
-    last_tick_ms: u64,
+    /// Monotonic ms (the 32-bit clock of [`crate::time::monotonic`], as
+    /// every stamp here) of the next controller tick.
+    next_tick_ms: Option<u32>,
+    last_tick_ms: u32,
     /// UTC handed to the controller at the last tick.
     last_tick_utc: Option<UtcTime>,
     /// Monotonic ms of the last pass.
-    last_pass_ms: Option<u64>,
+    last_pass_ms: Option<u32>,
     time_origin: Option<TimeOrigin>,
     site_origin: Option<LogSite>,
     /// The site in use, in the controller's precision (`f32` on a board
@@ -247,7 +251,7 @@ pub struct Firmware<T, R, G, D, S, L, const N: usize> {
     declination_for: Option<(Site<T>, i32)>,
     last_setpoint: Option<UtcTime>,
     last_report: Option<TickReport<T>>,
-    last_gps_ms: Option<u64>,
+    last_gps_ms: Option<u32>,
     boot_fallback: UtcTime,
     console_line: LineBuffer<{ console::LINE_LEN }>,
     /// A `save` in progress (its reply is due when it ends).
@@ -257,7 +261,7 @@ pub struct Firmware<T, R, G, D, S, L, const N: usize> {
     /// Anemometer pulse rate over the last tick, Hz.
     last_wind_hz: Option<f32>,
     /// Monotonic ms of the next periodic `status` line.
-    next_status_ms: Option<u64>,
+    next_status_ms: Option<u32>,
 }
 
 impl<T, R, G, D, S, L, const N: usize> Firmware<T, R, G, D, S, L, N>
@@ -296,7 +300,7 @@ where
             // Built in place (no temporary copy of the controller).
             controller: Controller::new_checked(config, options, source, axes, sensors),
             time: TimeKeeper::new(rtc, app.time),
-            gps: GpsPort::new(gps, u64::from(app.time.max_gps_age_ms)),
+            gps: GpsPort::new(gps, app.time.max_gps_age_ms),
             log,
             app,
             changes: ChangeLog::new(),
@@ -359,7 +363,8 @@ where
     /// One pass of the main loop; never blocks. Returns true when a
     /// controller tick ran in it.
     pub fn poll<P: Platform>(&mut self, platform: &mut P) -> bool {
-        let now_ms = platform.now_ms();
+        let board_ms = platform.now_ms();
+        let now_ms = monotonic::from_board_ms(board_ms);
         // The reader stamps what it decodes with the instant it is given;
         // the bytes drained now came at any time since the previous pass.
         // After a pass longer than GPS_STAMP_SLACK_MS they are stamped at
@@ -368,47 +373,48 @@ where
         // clock back by the pass's length). The time keeper ages the fix
         // against `now_ms`.
         let stamp_ms = match self.last_pass_ms.replace(now_ms) {
-            Some(prev) if now_ms.saturating_sub(prev) > GPS_STAMP_SLACK_MS => prev,
+            Some(prev) if monotonic::elapsed_ms(now_ms, prev) > GPS_STAMP_SLACK_MS => prev,
             _ => now_ms,
         };
         match self.gps.service(stamp_ms) {
             Ok(fix) => self.fix = fix,
             Err(_) => self.stats.gps_errors = self.stats.gps_errors.saturating_add(1),
         }
-        let now_us = us_from_ms(now_ms);
+        // The drives' microseconds from the board's 64-bit count: they
+        // never wrap.
+        let now_us = us_from_ms(board_ms);
         for ax in self.controller.axes_mut().iter_mut() {
             if !ax.drive_mut().service(now_us) {
                 self.stats.drive_errors = self.stats.drive_errors.saturating_add(1);
             }
         }
         self.service_console(platform);
-        let tick_ms = u64::from(self.app.tick_ms.max(1));
-        let due = self.next_tick_ms.is_none_or(|t| now_ms >= t);
+        let tick_ms = self.app.tick_ms.max(1);
+        let due = self
+            .next_tick_ms
+            .is_none_or(|t| monotonic::reached(now_ms, t));
         if due {
             if let Some(t) = self.next_tick_ms {
-                if now_ms.saturating_sub(t) > tick_ms {
+                if monotonic::elapsed_ms(now_ms, t) > tick_ms {
                     self.stats.late_ticks = self.stats.late_ticks.saturating_add(1);
                 }
             }
             let pulses = platform.take_wind_pulses();
             self.tick(now_ms, pulses);
-            self.next_tick_ms = Some(now_ms.saturating_add(tick_ms));
+            self.next_tick_ms = Some(now_ms.wrapping_add(tick_ms));
             self.periodic_status(now_ms);
         }
         // Fed only while ticks come on time: a pass that hangs, or ticks
         // that stop, let the watchdog reset the chip.
-        // Three ticks, in 32 bits (the u64 product is a library call on an
-        // AVR, every pass).
-        let watchdog_ms = u64::from(self.app.tick_ms.max(1).saturating_mul(3));
-        if now_ms.saturating_sub(self.last_tick_ms) <= watchdog_ms {
+        let watchdog_ms = tick_ms.saturating_mul(3);
+        if monotonic::elapsed_ms(now_ms, self.last_tick_ms) <= watchdog_ms {
             platform.feed_watchdog();
         }
         due
     }
 
-    fn tick(&mut self, now_ms: u64, wind_pulses: u32) {
-        let interval_ms = now_ms.saturating_sub(self.last_tick_ms);
-        let interval_ms = u32::try_from(interval_ms).unwrap_or(u32::MAX);
+    fn tick(&mut self, now_ms: u32, wind_pulses: u32) {
+        let interval_ms = monotonic::elapsed_ms(now_ms, self.last_tick_ms);
         self.last_tick_ms = now_ms;
         self.last_wind_hz = (interval_ms > 0 && self.stats.ticks > 0)
             .then(|| wind_pulses as f32 * 1000.0 / interval_ms as f32);
@@ -417,9 +423,11 @@ where
         if status.origin == Some(TimeOrigin::Gps) {
             self.last_gps_ms = Some(now_ms);
         }
+        let hold_ms = self.app.gps_hold_ms;
         let gps_recent = self
             .last_gps_ms
-            .is_some_and(|t| now_ms.saturating_sub(t) <= u64::from(self.app.gps_hold_ms));
+            .as_mut()
+            .is_some_and(|t| monotonic::age_ms(t, now_ms) <= hold_ms);
         // Between two epochs the RTC that GPS set carries the time: still
         // GPS time as far as the log and the GPS fault are concerned.
         status.gps_fix = gps_recent;
@@ -649,17 +657,19 @@ where
     /// The periodic `status …` line, every `log.status_min` minutes of the
     /// monotonic clock (none when 0).
     #[inline(never)]
-    fn periodic_status(&mut self, now_ms: u64) {
-        let every_ms = u64::from(self.controller.config().log.status_every_min) * 60_000;
+    fn periodic_status(&mut self, now_ms: u32) {
+        // At most 1,440 minutes (the configuration's range): 86,400,000 ms.
+        let every_ms =
+            u32::from(self.controller.config().log.status_every_min).saturating_mul(60_000);
         if every_ms == 0 {
             self.next_status_ms = None;
             return;
         }
         let due = *self
             .next_status_ms
-            .get_or_insert(now_ms.saturating_add(every_ms));
-        if now_ms >= due {
-            self.next_status_ms = Some(now_ms.saturating_add(every_ms));
+            .get_or_insert(now_ms.wrapping_add(every_ms));
+        if monotonic::reached(now_ms, due) {
+            self.next_status_ms = Some(now_ms.wrapping_add(every_ms));
             let view = self.status_view();
             self.log.flash(crate::flash_str!("status "));
             console::write_status_fields(&mut self.log, &view);

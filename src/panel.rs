@@ -78,7 +78,8 @@ impl PanelAdc {
 /// do not say how often they sampled).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
 pub struct DayEnergy {
-    last: Option<(u64, u32)>,
+    /// The previous sample: monotonic ms (32-bit clock) and mV.
+    last: Option<(u32, u32)>,
     sum_mv_ms: u64,
     samples: u32,
 }
@@ -100,18 +101,19 @@ impl DayEnergy {
         }
     }
 
-    /// Adds the sample `panel_mv` taken at `now_ms` of the monotonic clock:
-    /// the trapezoid between it and the previous sample. A sample not after
-    /// the previous one (the same instant, or a clock that went back, which
-    /// a monotonic clock never does) adds no area and replaces it.
-    pub fn add(&mut self, now_ms: u64, panel_mv: u32) {
+    /// Adds the sample `panel_mv` taken at `now_ms` of the monotonic clock
+    /// (its 32 bits, [`crate::time::monotonic`]): the trapezoid between it
+    /// and the previous sample. A sample at the previous one's instant, or
+    /// not after it (a clock that went back, which a monotonic clock never
+    /// does), or more than 24.8 days after it adds no area and replaces it.
+    pub fn add(&mut self, now_ms: u32, panel_mv: u32) {
         if let Some((t0, v0)) = self.last {
-            if now_ms > t0 {
-                let dt_ms = now_ms - t0;
+            let dt_ms = crate::time::monotonic::elapsed_ms(now_ms, t0);
+            if dt_ms <= crate::time::monotonic::MAX_AGE_MS {
                 let twice_mean = u64::from(v0) + u64::from(panel_mv);
                 self.sum_mv_ms = self
                     .sum_mv_ms
-                    .saturating_add(twice_mean.saturating_mul(dt_ms) / 2);
+                    .saturating_add(twice_mean.saturating_mul(u64::from(dt_ms)) / 2);
             }
         }
         self.last = Some((now_ms, panel_mv));
@@ -218,21 +220,23 @@ mod tests {
     fn trapezoids_sum_exactly() {
         // 6 V for 12 hours, sampled every 4 minutes: 72 V·h.
         let mut e = DayEnergy::new();
-        for k in 0..=180u64 {
+        for k in 0..=180u32 {
             e.add(k * 240_000, 6_000);
         }
         assert_eq!(e.mvh(), 72_000);
         // A ramp 0 → 6 V over 2 h: 6 V·h (exact for a line).
         let mut e = DayEnergy::new();
-        for k in 0..=30u64 {
-            e.add(k * 240_000, (k * 200) as u32);
+        for k in 0..=30u32 {
+            e.add(k * 240_000, k * 200);
         }
         assert_eq!(e.mvh(), 6_000);
-        // A sample at the same instant or earlier adds nothing.
+        // A sample at the same instant or earlier adds nothing (nor does
+        // one 2^31 ms or more after the previous one).
         e.add(30 * 240_000, 50_000);
         e.add(0, 50_000);
+        e.add(1 << 31, 50_000);
         assert_eq!(e.mvh(), 6_000);
-        assert_eq!(e.samples(), 33);
+        assert_eq!(e.samples(), 34);
         let mut out = Text::new();
         log_day_energy(&mut out, &e);
         assert_eq!(out.as_str(), "day_energy vh=6.000\n");
@@ -263,20 +267,25 @@ mod tests {
         e.add(0, 1);
         e.add(1_799_999, 1);
         assert_eq!(e.mvh(), 0);
-        // 60 V for 2^40 ms: 60,000 · 1,099,511,627,776 / 3,600,000 =
-        // 18,325,193,796.27 mV·h (Python's integers), down.
+        // 60 V for the longest span counted, 2^31 − 1 ms: 60,000 ·
+        // 2,147,483,647 / 3,600,000 = 35,791,394.1167 mV·h (Python's
+        // fractions), down.
         let mut e = DayEnergy::new();
         e.add(0, 60_000);
-        e.add(1 << 40, 60_000);
-        assert_eq!(e.mvh(), 18_325_193_796);
+        e.add((1 << 31) - 1, 60_000);
+        assert_eq!(e.mvh(), 35_791_394);
     }
 
     #[test]
     fn nothing_overflows() {
+        // The largest trapezoids, across the clock's wrap, until the sum
+        // saturates.
         let mut e = DayEnergy::new();
-        e.add(0, u32::MAX);
-        e.add(u64::MAX, u32::MAX);
-        e.add(u64::MAX, u32::MAX);
+        let mut t = 0u32;
+        for _ in 0..4 {
+            e.add(t, u32::MAX);
+            t = t.wrapping_add((1 << 31) - 1);
+        }
         assert!(e.mvh() > 0);
     }
 }

@@ -13,6 +13,7 @@
 
 use crate::config::{SafetyConfig, WindConfig};
 use crate::text::FlashStr;
+use crate::time::monotonic;
 
 /// The two axes: C (vertical at home, azimuth-like) and A (tilt).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord)]
@@ -186,21 +187,21 @@ pub const MAX_ACTIVE: usize = 8;
 
 /// First retry back-off, milliseconds; each further attempt waits twice as
 /// long as the one before ([`retry_backoff_ms`]).
-pub const RETRY_BACKOFF_BASE_MS: u64 = 10_000;
+pub const RETRY_BACKOFF_BASE_MS: u32 = 10_000;
 /// Longest retry back-off, milliseconds (10 minutes).
-pub const RETRY_BACKOFF_MAX_MS: u64 = 600_000;
+pub const RETRY_BACKOFF_MAX_MS: u32 = 600_000;
 /// A fault raised again within this long after it cleared is the same
 /// fault coming back: its attempts go on counting from where they were
 /// (1 hour).
-pub const RECURRENCE_WINDOW_MS: u64 = 3_600_000;
+pub const RECURRENCE_WINDOW_MS: u32 = 3_600_000;
 
 /// Back-off after the `attempt`-th attempt (1 = first):
 /// [`RETRY_BACKOFF_BASE_MS`] × 2^(attempt − 1), at most
 /// [`RETRY_BACKOFF_MAX_MS`].
-pub fn retry_backoff_ms(attempt: u32) -> u64 {
+pub fn retry_backoff_ms(attempt: u32) -> u32 {
     let shift = attempt.saturating_sub(1).min(16);
     RETRY_BACKOFF_BASE_MS
-        .saturating_mul(1u64 << shift)
+        .saturating_mul(1u32 << shift)
         .min(RETRY_BACKOFF_MAX_MS)
 }
 
@@ -209,21 +210,23 @@ pub fn retry_backoff_ms(attempt: u32) -> u64 {
 pub struct ActiveFault {
     /// The fault.
     pub fault: Fault,
-    /// Monotonic time when first raised, milliseconds.
-    pub since_ms: u64,
+    /// Monotonic time when first raised, milliseconds (the 32-bit clock of
+    /// [`crate::time::monotonic`]).
+    pub since_ms: u32,
     /// Attempts so far (1 = first occurrence); an attempt counts at most
     /// once per back-off interval.
     pub attempts: u32,
-    /// Monotonic time from which the next attempt counts, milliseconds.
-    pub next_attempt_ms: u64,
+    /// Monotonic time from which the next attempt counts, milliseconds; a
+    /// passed one is kept at the present by [`FaultManager::catch_up`].
+    pub next_attempt_ms: u32,
     /// The recovery chosen last.
     pub recovery: Recovery,
 }
 
 impl ActiveFault {
     /// True when a retry of the failed operation is due at `now_ms`.
-    pub fn retry_due(&self, now_ms: u64) -> bool {
-        now_ms >= self.next_attempt_ms
+    pub fn retry_due(&self, now_ms: u32) -> bool {
+        monotonic::reached(now_ms, self.next_attempt_ms)
     }
 }
 
@@ -232,7 +235,7 @@ impl ActiveFault {
 struct Cleared {
     fault: Fault,
     attempts: u32,
-    at_ms: u64,
+    at_ms: u32,
 }
 
 /// Keeps the active faults and counts raised and recovered ones.
@@ -277,12 +280,12 @@ impl FaultManager {
     /// rate. A fault that comes back within [`RECURRENCE_WINDOW_MS`] of
     /// clearing goes on from its earlier attempts: a fault that keeps
     /// coming back escalates to its final recovery.
-    pub fn raise(&mut self, fault: Fault, now_ms: u64) -> Recovery {
+    pub fn raise(&mut self, fault: Fault, now_ms: u32) -> Recovery {
         let max_retries = self.config.max_retries;
         if let Some(a) = self.active.iter_mut().flatten().find(|a| a.fault == fault) {
             if a.retry_due(now_ms) {
                 a.attempts = a.attempts.saturating_add(1);
-                a.next_attempt_ms = now_ms.saturating_add(retry_backoff_ms(a.attempts));
+                a.next_attempt_ms = now_ms.wrapping_add(retry_backoff_ms(a.attempts));
                 a.recovery = fault.recovery(a.attempts, max_retries);
             }
             return a.recovery;
@@ -295,7 +298,7 @@ impl FaultManager {
             .find(|c| c.is_some_and(|c| c.fault == fault))
         {
             if let Some(c) = slot.take() {
-                if now_ms.saturating_sub(c.at_ms) < RECURRENCE_WINDOW_MS {
+                if monotonic::elapsed_ms(now_ms, c.at_ms) < RECURRENCE_WINDOW_MS {
                     attempts = c.attempts.saturating_add(1);
                 }
             }
@@ -307,7 +310,7 @@ impl FaultManager {
                     fault,
                     since_ms: now_ms,
                     attempts,
-                    next_attempt_ms: now_ms.saturating_add(retry_backoff_ms(attempts)),
+                    next_attempt_ms: now_ms.wrapping_add(retry_backoff_ms(attempts)),
                     recovery,
                 });
             }
@@ -318,7 +321,7 @@ impl FaultManager {
 
     /// The fault's condition is gone at monotonic time `now_ms`; returns
     /// true when it was active.
-    pub fn clear(&mut self, fault: Fault, now_ms: u64) -> bool {
+    pub fn clear(&mut self, fault: Fault, now_ms: u32) -> bool {
         for slot in self.active.iter_mut() {
             if let Some(a) = slot.filter(|a| a.fault == fault) {
                 *slot = None;
@@ -330,7 +333,7 @@ impl FaultManager {
         false
     }
 
-    fn remember(&mut self, a: ActiveFault, now_ms: u64) {
+    fn remember(&mut self, a: ActiveFault, now_ms: u32) {
         let entry = Cleared {
             fault: a.fault,
             attempts: a.attempts,
@@ -346,7 +349,9 @@ impl FaultManager {
                 self.recent
                     .iter()
                     .enumerate()
-                    .min_by_key(|(_, c)| c.map_or(0, |c| c.at_ms))
+                    .max_by_key(|(_, c)| {
+                        c.map_or(u32::MAX, |c| monotonic::elapsed_ms(now_ms, c.at_ms))
+                    })
                     .map(|(i, _)| i)
             });
         if let Some(slot) = idx.and_then(|i| self.recent.get_mut(i)) {
@@ -402,6 +407,22 @@ impl FaultManager {
         })
     }
 
+    /// Keeps the 32-bit monotonic stamps true at `now_ms` (call every tick;
+    /// [`crate::time::monotonic`]): a retry that is due stays due however
+    /// long no report of its fault comes, and a cleared fault is forgotten
+    /// once [`RECURRENCE_WINDOW_MS`] have passed.
+    pub fn catch_up(&mut self, now_ms: u32) {
+        for a in self.active.iter_mut().flatten() {
+            monotonic::catch_up(&mut a.next_attempt_ms, now_ms);
+        }
+        for slot in self.recent.iter_mut() {
+            if slot.is_some_and(|c| monotonic::elapsed_ms(now_ms, c.at_ms) >= RECURRENCE_WINDOW_MS)
+            {
+                *slot = None;
+            }
+        }
+    }
+
     /// Clears every fault and forgets their history (an operator's reset
     /// after a safe stop).
     pub fn reset(&mut self) {
@@ -420,8 +441,8 @@ impl FaultManager {
 #[derive(Debug, Clone, Copy)]
 pub struct WindMonitor {
     config: WindConfig,
-    above_since_ms: Option<u64>,
-    calm_since_ms: Option<u64>,
+    above_since_ms: Option<u32>,
+    calm_since_ms: Option<u32>,
     stowed: bool,
     /// Number of stows so far.
     pub stow_count: u32,
@@ -453,7 +474,7 @@ impl WindMonitor {
     /// The rate was above the threshold over the whole interval, so the
     /// hold counts from the interval's start: a gale seen over one interval
     /// at least as long as the hold stows at once.
-    pub fn update_pulses(&mut self, now_ms: u64, pulses: u32, interval_ms: u32) -> bool {
+    pub fn update_pulses(&mut self, now_ms: u32, pulses: u32, interval_ms: u32) -> bool {
         if interval_ms == 0 {
             return self.stowed;
         }
@@ -464,23 +485,23 @@ impl WindMonitor {
     /// Feeds a pulse rate in Hz measured over the `interval_ms` ending at
     /// monotonic `now_ms`; returns true while stowed. A rate that is not a
     /// number counts as windy (fail safe).
-    pub fn update_rate(&mut self, now_ms: u64, interval_ms: u32, rate_hz: f32) -> bool {
+    pub fn update_rate(&mut self, now_ms: u32, interval_ms: u32, rate_hz: f32) -> bool {
         let windy = rate_hz.is_nan() || rate_hz > self.config.threshold_hz;
-        let began = now_ms.saturating_sub(u64::from(interval_ms));
-        let elapsed = |since: u64| now_ms.saturating_sub(since);
+        // An interval longer than the clock's longest age counts as that.
+        let began = now_ms.wrapping_sub(interval_ms.min(monotonic::MAX_AGE_MS));
         if windy {
             self.calm_since_ms = None;
-            let since = *self.above_since_ms.get_or_insert(began);
-            let hold_ms = u64::from(self.config.hold_s).saturating_mul(1000);
-            if !self.stowed && elapsed(since) >= hold_ms {
+            let since = self.above_since_ms.get_or_insert(began);
+            let age_ms = monotonic::age_ms(since, now_ms);
+            if !self.stowed && age_ms >= self.config.hold_s.saturating_mul(1000) {
                 self.stowed = true;
                 self.stow_count = self.stow_count.saturating_add(1);
             }
         } else {
             self.above_since_ms = None;
-            let since = *self.calm_since_ms.get_or_insert(began);
-            let release_ms = u64::from(self.config.release_s).saturating_mul(1000);
-            if self.stowed && elapsed(since) >= release_ms {
+            let since = self.calm_since_ms.get_or_insert(began);
+            let age_ms = monotonic::age_ms(since, now_ms);
+            if self.stowed && age_ms >= self.config.release_s.saturating_mul(1000) {
                 self.stowed = false;
             }
         }

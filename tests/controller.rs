@@ -56,7 +56,9 @@ fn controller(encoder: bool, attitude: AttitudeSource<f64>, truth: MountAttitude
 fn inputs(now: UtcTime) -> TickInputs {
     TickInputs {
         // No clock steps here: the monotonic clock runs with UTC.
-        now_ms: now.unix_seconds().unsigned_abs() * 1000,
+        now_ms: suntracker::time::monotonic::from_board_ms(
+            now.unix_seconds().unsigned_abs() * 1000,
+        ),
         now,
         time_valid: true,
         gps_fix: true,
@@ -275,7 +277,7 @@ fn faults_are_raised_handled_and_cleared() {
 // ------------------------------------------------ field incidents, replayed
 
 /// A tick with its own monotonic time `ms` and wall clock `now`.
-fn at_clock(ms: u64, now: UtcTime) -> TickInputs {
+fn at_clock(ms: u32, now: UtcTime) -> TickInputs {
     TickInputs {
         now_ms: ms,
         ..inputs(now)
@@ -290,7 +292,7 @@ fn a_gale_after_the_clock_steps_back_a_day_stows_within_one_tick() {
     let truth = MountAttitude::level();
     let mut ctl = controller(true, AttitudeSource::Fixed(truth), truth);
     let now0 = t("2026-03-20T09:00:00Z");
-    let mut ms = 0u64;
+    let mut ms = 0u32;
     for m in 0..5 {
         ms += 60_000;
         step(&mut ctl, &at_clock(ms, now0.add_seconds(m * 60).unwrap()));
@@ -303,7 +305,7 @@ fn a_gale_after_the_clock_steps_back_a_day_stows_within_one_tick() {
     gale.wind_interval_ms = 1_000;
     assert_eq!(step(&mut ctl, &gale).mode, Mode::Tracking);
     let stepped = now0.add_seconds(300 - 86_400).unwrap();
-    for k in 2..=3u64 {
+    for k in 2..=3u32 {
         gale.now_ms = ms + k * 1_000;
         gale.now = stepped.add_seconds(k as i64).unwrap();
         let mode = step(&mut ctl, &gale).mode;
@@ -315,7 +317,7 @@ fn a_gale_after_the_clock_steps_back_a_day_stows_within_one_tick() {
     let calm_from = ms + 3_000;
     let jumped = now0.add_seconds(2 * 86_400).unwrap();
     let mut released_after_s = None;
-    for s in 1..=700u64 {
+    for s in 1..=700u32 {
         let inp = TickInputs {
             wind_pulses: 5,
             wind_interval_ms: 1_000,
@@ -390,7 +392,7 @@ fn a_limit_switch_stuck_closed_ends_in_a_safe_stop_within_soft_limits() {
     let mut stop_at = None;
     for m in 0..120i64 {
         let now = now0.add_seconds(m * 60).unwrap();
-        let r = step(&mut ctl, &at_clock((m as u64 + 1) * 60_000, now));
+        let r = step(&mut ctl, &at_clock((m as u32 + 1) * 60_000, now));
         let c = ctl.axes()[0].drive().output_deg();
         assert!(
             c <= f64::from(limits[0].max_deg) && c >= f64::from(limits[0].min_deg) - 1.0,
@@ -417,7 +419,7 @@ fn a_limit_switch_stuck_closed_ends_in_a_safe_stop_within_soft_limits() {
     let mut tracking = None;
     for m in 120..140i64 {
         let now = now0.add_seconds(m * 60).unwrap();
-        if step(&mut ctl, &at_clock((m as u64 + 1) * 60_000, now)).mode == Mode::Tracking {
+        if step(&mut ctl, &at_clock((m as u32 + 1) * 60_000, now)).mode == Mode::Tracking {
             tracking = Some(m);
             break;
         }
@@ -434,7 +436,7 @@ fn without_time_it_homes_then_stows_without_an_azimuth_swing() {
     let mut ctl = controller(true, AttitudeSource::Fixed(truth), truth);
     let now0 = t("2026-03-20T09:00:00Z");
     let mut positions = Vec::new();
-    for m in 0..30u64 {
+    for m in 0..30u32 {
         let inp = TickInputs {
             time_valid: false,
             gps_fix: false,
@@ -464,7 +466,7 @@ fn an_axis_held_still_mid_move_counts_where_it_stopped() {
     let truth = MountAttitude::level();
     let mut ctl = controller(false, AttitudeSource::Fixed(truth), truth);
     let t0 = t("2026-03-20T07:00:00Z");
-    let mut ms = 0u64;
+    let mut ms = 0u32;
     // Minutes with whole moves: homed and tracking.
     let mut r = None;
     for m in 0..30 {
@@ -477,7 +479,7 @@ fn an_axis_held_still_mid_move_counts_where_it_stopped() {
     assert_eq!(r.unwrap().mode, Mode::Tracking);
     // Five hours on (a long move for both axes), with 1 s of motion a tick.
     let later = t("2026-03-20T12:00:00Z");
-    let short_tick = |ctl: &mut Ctl, ms: u64, now: UtcTime| {
+    let short_tick = |ctl: &mut Ctl, ms: u32, now: UtcTime| {
         for ax in ctl.axes_mut().iter_mut() {
             ax.drive_mut().begin_tick(1.0);
         }

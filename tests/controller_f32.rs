@@ -81,7 +81,7 @@ where
             ax.drive_mut().begin_tick(60.0);
         }
         let r = ctl.tick(&TickInputs {
-            now_ms: u64::from(m) * 60_000,
+            now_ms: suntracker::time::monotonic::from_board_ms(u64::from(m) * 60_000),
             now,
             time_valid: true,
             gps_fix: true,

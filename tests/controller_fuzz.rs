@@ -189,7 +189,7 @@ fn run<const N: usize>(seed: u64, ticks: u32, fig: &mut Figures) {
             _ => {}
         }
         let report = ctl.tick(&TickInputs {
-            now_ms,
+            now_ms: suntracker::time::monotonic::from_board_ms(now_ms),
             now,
             time_valid: !time_invalid,
             gps_fix: !gps_lost,

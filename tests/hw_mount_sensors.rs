@@ -133,7 +133,7 @@ fn controller_measures_the_mount_and_recovers_from_a_nack() {
     let now = UtcTime::from_ymd_hms(2026, 3, 20, 10, 0, 0).unwrap();
     let tick = |ctrl: &mut MeasuringController, k: i64| {
         ctrl.tick(&TickInputs {
-            now_ms: (k as u64) * 60_000,
+            now_ms: suntracker::time::monotonic::from_board_ms((k as u64) * 60_000),
             now: now.add_seconds(60 * k).unwrap(),
             time_valid: true,
             gps_fix: true,
@@ -195,7 +195,7 @@ fn a_compass_without_a_new_sample_is_read_again_not_a_fault() {
     // Ticks one second apart.
     let tick = |ctrl: &mut MeasuringController, k: i64| {
         ctrl.tick(&TickInputs {
-            now_ms: (k as u64) * 1_000,
+            now_ms: suntracker::time::monotonic::from_board_ms((k as u64) * 1_000),
             now: now.add_seconds(k).unwrap(),
             time_valid: true,
             gps_fix: true,

@@ -540,7 +540,10 @@ fn checked_homing(
     // cover the speed × the time since the previous step, or a chunk.
     let mut now_ms = r.next_u64() % 1_000_000;
     for _ in 0..2_000_000u32 {
-        let res = ax.home_step(chunk_deg, now_ms);
+        let res = ax.home_step(
+            chunk_deg,
+            suntracker::time::monotonic::from_board_ms(now_ms),
+        );
         now_ms += [0, 1_000, 10_000, 40_000][(r.next_u64() % 4) as usize];
         f.homing_steps += 1;
         let after = ax.counted_deg();
@@ -691,7 +694,10 @@ fn invalid_configurations_do_not_panic() {
         d.pos = (r.next_u64() % 2_000_000) as i64 - 1_000_000;
         let mut ax = AxisController::new(d, c);
         for _ in 0..2000 {
-            match ax.home_step(f32::from_bits(r.next_u64() as u32).abs(), r.next_u64()) {
+            match ax.home_step(
+                f32::from_bits(r.next_u64() as u32).abs(),
+                suntracker::time::monotonic::from_board_ms(r.next_u64()),
+            ) {
                 Ok(HomeState::Done) => break,
                 Ok(_) => ax.drive_mut().tick(),
                 Err(_) => {}

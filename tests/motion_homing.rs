@@ -82,7 +82,10 @@ fn home(ax: &mut AxisController<MotorPlant>, tick_ms: u64) -> Run {
             // As Controller::tick: steps at this instant while the drive
             // finishes their moves at once (bounded).
             for _ in 0..1000 {
-                match ax.home_step(CHUNK_DEG, now_ms) {
+                match ax.home_step(
+                    CHUNK_DEG,
+                    suntracker::time::monotonic::from_board_ms(now_ms),
+                ) {
                     Ok(HomeState::Done) => {
                         return Run {
                             elapsed_ms: now_ms,

@@ -6,9 +6,15 @@ use suntracker::safety::{
     WindMonitor, RECURRENCE_WINDOW_MS,
 };
 
-/// Monotonic milliseconds at `s` seconds after boot.
-fn at(s: u64) -> u64 {
+/// Monotonic milliseconds (the firmware's 32-bit clock) at `s` seconds
+/// after boot.
+fn at(s: u32) -> u32 {
     s * 1000
+}
+
+/// The 32-bit clock `s` seconds after `start_ms`, wrapping as a board's.
+fn after(start_ms: u32, s: u32) -> u32 {
+    start_ms.wrapping_add(s * 1000)
 }
 
 #[test]
@@ -230,4 +236,85 @@ fn wind_hold_and_release_ignore_the_wall_clock() {
     // One interval as long as the hold is enough on its own.
     let mut w = WindMonitor::new(wind());
     assert!(w.update_pulses(at(60), 3000, 60_000));
+}
+
+#[test]
+fn retries_escalate_across_the_clock_wrap_as_anywhere_else() {
+    // The same reports as manager_counts_raised_and_recovered, starting 30 s
+    // before the 32-bit monotonic clock wraps (49.7 days after boot).
+    let start = u32::MAX - 29_999;
+    let mut m = FaultManager::new(Config::default().safety);
+    let f = Fault::MotorStalled(AxisId::A);
+    for k in 0..10 {
+        assert_eq!(m.raise(f, after(start, k)), Recovery::Retry);
+    }
+    assert_eq!(m.get(f).unwrap().attempts, 1);
+    for k in [10, 30] {
+        assert_eq!(m.raise(f, after(start, k)), Recovery::Retry);
+    }
+    assert_eq!(m.raise(f, after(start, 69)), Recovery::Retry);
+    assert_eq!(
+        m.raise(f, after(start, 70)),
+        Recovery::DegradeOneAxis(AxisId::A)
+    );
+}
+
+#[test]
+fn a_due_retry_stays_due_through_a_month_of_silence() {
+    // A fault raised once and then not reported for 30 days (longer than the
+    // 24.8 days after which a wrapping difference turns negative): the
+    // controller catches the manager up every tick (here: hourly), and the
+    // next report counts as the next attempt at once.
+    let mut m = FaultManager::new(Config::default().safety);
+    let f = Fault::LimitSwitchHit(AxisId::C);
+    m.raise(f, at(0));
+    let mut now = 0u32;
+    for _ in 0..30 * 24 {
+        now = now.wrapping_add(3_600_000);
+        m.catch_up(now);
+    }
+    assert!(m.get(f).unwrap().retry_due(now));
+    m.raise(f, now);
+    assert_eq!(m.get(f).unwrap().attempts, 2);
+}
+
+#[test]
+fn a_cleared_fault_does_not_recur_after_the_clock_comes_round() {
+    // Cleared at 0, raised again 2^32 ms later (the clock reads 1 s):
+    // without the hourly catch-up it would look 1 s old and count as a
+    // recurrence.
+    let mut m = FaultManager::new(Config::default().safety);
+    let f = Fault::LimitSwitchHit(AxisId::A);
+    m.raise(f, at(0));
+    assert!(m.clear(f, at(0)));
+    let mut now = 0u32;
+    for _ in 0..=(u32::MAX / 3_600_000) {
+        now = now.wrapping_add(3_600_000);
+        m.catch_up(now);
+    }
+    m.raise(f, at(1));
+    assert_eq!(m.get(f).unwrap().attempts, 1);
+}
+
+#[test]
+fn wind_stow_holds_across_the_clock_wrap() {
+    let mut w = WindMonitor::new(wind());
+    let start = u32::MAX - 1_499;
+    // 1.5 s before the wrap a gale starts: stowed 3 s after it began.
+    assert!(!w.update_pulses(after(start, 1), 30, 1000));
+    assert!(!w.update_pulses(after(start, 2), 30, 1000));
+    assert!(w.update_pulses(after(start, 3), 30, 1000));
+    // Then a gale for 60 days, read every minute: stays stowed; calm for
+    // 600 s releases it.
+    let mut now = after(start, 3);
+    for _ in 0..60 * 1440 {
+        now = now.wrapping_add(60_000);
+        assert!(w.update_pulses(now, 1800, 60_000));
+    }
+    for _ in 0..9 {
+        now = now.wrapping_add(60_000);
+        assert!(w.update_pulses(now, 0, 60_000));
+    }
+    now = now.wrapping_add(60_000);
+    assert!(!w.update_pulses(now, 0, 60_000));
 }

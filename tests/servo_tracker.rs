@@ -97,7 +97,11 @@ impl<'e> Bench<'e> {
             let mv = panel_mv(&utc);
             self.panel.push((self.now_ms, mv));
             let mut out = self.log.clone();
-            self.tracker.tick(&mut out, self.now_ms, Some(mv));
+            self.tracker.tick(
+                &mut out,
+                suntracker::time::monotonic::from_board_ms(self.now_ms),
+                Some(mv),
+            );
             for step in 0..1000 {
                 self.tracker.service((self.now_ms + step) * 1000);
                 let mut busy = false;
@@ -122,7 +126,11 @@ impl<'e> Bench<'e> {
             let utc = self.utc();
             self.tracker.rtc_mut().advance(utc);
             let mut out = self.log.clone();
-            self.tracker.tick(&mut out, self.now_ms, Some(0));
+            self.tracker.tick(
+                &mut out,
+                suntracker::time::monotonic::from_board_ms(self.now_ms),
+                Some(0),
+            );
             self.now_ms += 1000;
         }
     }

@@ -49,8 +49,8 @@ fn kano_fix(secs: u32) -> GpsFix {
 }
 
 /// The monotonic clock (ms) at `secs` after midnight.
-fn ms(secs: u32) -> u64 {
-    u64::from(secs) * 1000
+fn ms(secs: u32) -> u32 {
+    suntracker::time::monotonic::from_board_ms(u64::from(secs) * 1000)
 }
 
 const T0: u32 = 6 * 3600 + 30 * 60; // 06:30:00

@@ -158,7 +158,7 @@ pub fn cli(args: &[String], out: &mut dyn std::io::Write, err: &mut dyn std::io:
 fn run(input: Input, out: &mut dyn std::io::Write) -> std::io::Result<()> {
     // A log replay has no monotonic clock: time is held at 0 and staleness
     // (a matter for live receivers) is switched off.
-    let mut reader = GpsReader::new(input, u64::MAX);
+    let mut reader = GpsReader::new(input, u32::MAX);
     let mut out = std::io::BufWriter::new(out);
     writeln!(out, "utc,latitude,longitude,altitude,quality,satellites")?;
     loop {

@@ -530,7 +530,7 @@ fn run(seed: u64, streams: usize) -> Figures {
         let mut fusion = FixFusion::new(1000);
         let mut decoder = GpsDecoder::new(1000);
         let mut accepted = 0;
-        let mut t = 0u64;
+        let mut t = 0u32;
         for (piece, kind) in &pieces {
             let parse_errors_before = decoder.stats().parse_errors;
             for &b in piece {

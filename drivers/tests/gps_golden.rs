@@ -189,8 +189,31 @@ fn fix_goes_stale_after_silence() {
     assert!(!d.is_stale(11_500));
     assert!(d.is_stale(11_501));
     assert_eq!(d.current(11_501), GpsFix::NONE);
+    // Forgotten once found stale: 2^32 ms later (the 32-bit clock has come
+    // round to the same reading) it does not come back.
+    assert_eq!(
+        d.current(10_000u32.wrapping_add(u32::MAX).wrapping_add(1)),
+        GpsFix::NONE
+    );
+    assert!(d.is_stale(10_000));
     // Before any epoch: stale.
     assert!(GpsDecoder::new(1_500).is_stale(0));
+}
+
+#[test]
+fn ages_and_staleness_run_across_the_32_bit_wrap() {
+    // The epoch is completed 300 ms before the monotonic clock wraps.
+    let rmc = framed("GNRMC,031501.00,A,3734.00200,N,12658.99800,E,0.012,,150624,,,A");
+    let gga = framed("GNGGA,031501.00,3734.00200,N,12658.99800,E,1,08,1.02,38.5,M,18.3,M,,");
+    let before_wrap = u32::MAX - 299;
+    let (fixes, _, mut d) = decode_lines(&[rmc.as_str(), gga.as_str()], &[before_wrap; 2]);
+    let fix = fixes[0];
+    // 1,000 ms later the clock reads 700: the fix is 1,000 ms old and fresh.
+    assert_eq!(fix.utc_age_ms(700), Some(1_000));
+    assert_eq!(d.current(700), fix);
+    // The decoder's 60 s limit, counted across the wrap.
+    assert_eq!(d.current(59_700), fix);
+    assert_eq!(d.current(59_701), GpsFix::NONE);
 }
 
 #[test]
@@ -217,7 +240,7 @@ fn poll_if_ready_does_not_block_on_an_idle_port() {
 /// Feeds `lines` (one sentence each, CR LF added) to a decoder, line `i` at
 /// `now_ms[i]`; returns the fixes (with the end-of-log flush) and, per line,
 /// whether it was rejected as a parse error.
-fn decode_lines(lines: &[&str], now_ms: &[u64]) -> (Vec<GpsFix>, Vec<bool>, GpsDecoder) {
+fn decode_lines(lines: &[&str], now_ms: &[u32]) -> (Vec<GpsFix>, Vec<bool>, GpsDecoder) {
     let mut d = GpsDecoder::new(60_000);
     let mut fixes = Vec::new();
     let mut rejected = Vec::new();
@@ -246,7 +269,7 @@ const IMPOSSIBLE_LINES: std::ops::RangeInclusive<usize> = 1..=28;
 fn impossible_log_rejects_exactly_the_impossible_lines() {
     let lines: Vec<&str> = IMPOSSIBLE_LOG.lines().collect();
     assert_eq!(lines.len(), 35);
-    let now_ms: Vec<u64> = (0..35).map(|i| 1_000 * i).collect();
+    let now_ms: Vec<u32> = (0..35).map(|i| 1_000 * i).collect();
     let (_, rejected, d) = decode_lines(&lines, &now_ms);
     let rejected_lines: Vec<usize> = (0..35).filter(|&i| rejected[i]).collect();
     assert_eq!(rejected_lines, IMPOSSIBLE_LINES.collect::<Vec<_>>());
@@ -261,7 +284,7 @@ fn impossible_log_rejects_exactly_the_impossible_lines() {
 #[test]
 fn impossible_log_gives_positions_only_from_the_possible_lines() {
     let lines: Vec<&str> = IMPOSSIBLE_LOG.lines().collect();
-    let now_ms: Vec<u64> = (0..35).map(|i| 1_000 * i).collect();
+    let now_ms: Vec<u32> = (0..35).map(|i| 1_000 * i).collect();
     let (fixes, _, _) = decode_lines(&lines, &now_ms);
     let lat0 = 37.0 + 34.003 / 60.0;
     let lon0 = 126.0 + 58.995 / 60.0;
@@ -339,7 +362,7 @@ fn utc_received_ms_is_when_the_rmc_was_completed() {
     let gga = framed("GNGGA,031501.00,3734.00200,N,12658.99800,E,1,08,1.02,38.5,M,18.3,M,,");
     let gga_alone = framed("GNGGA,031502.00,3734.00200,N,12658.99800,E,1,08,1.02,38.5,M,18.3,M,,");
     let lines = [rmc.as_str(), gga.as_str(), gga_alone.as_str()];
-    let (fixes, _, d) = decode_lines(&lines, &[10_000, 10_040, 11_000]);
+    let (fixes, _, mut d) = decode_lines(&lines, &[10_000, 10_040, 11_000]);
     assert_eq!(fixes.len(), 2);
     let fix = fixes[0];
     assert!(fix.has_position());
@@ -349,15 +372,15 @@ fn utc_received_ms_is_when_the_rmc_was_completed() {
     // A fix handed on 2.9 s late says it is 2.9 s old.
     assert_eq!(fix.utc_age_ms(12_900), Some(2_900));
     assert_eq!(fix.utc_age_ms(10_000), Some(0));
-    // A clock that went backwards saturates at 0.
-    assert_eq!(fix.utc_age_ms(9_000), Some(0));
+    // A clock that went backwards reads as nearly 2^32 ms old: never fresh.
+    assert_eq!(fix.utc_age_ms(9_000), Some(u32::MAX - 999));
     // GGA alone: a position, but no date-time and so no age.
     assert!(fixes[1].has_position());
     assert_eq!(fixes[1].utc, None);
     assert_eq!(fixes[1].utc_received_ms, None);
     assert_eq!(fixes[1].utc_age_ms(20_000), None);
     assert_eq!(GpsFix::NONE.utc_received_ms, None);
-    assert_eq!(GpsFix::NONE.utc_age_ms(u64::MAX), None);
+    assert_eq!(GpsFix::NONE.utc_age_ms(u32::MAX), None);
     assert_eq!(d.current(11_000), fixes[1]);
 }
 
@@ -368,6 +391,6 @@ fn golden_log_receive_times() {
     for fix in &fixes {
         assert_eq!(fix.utc.is_some(), fix.utc_received_ms.is_some(), "{fix:?}");
     }
-    let times: Vec<u64> = fixes.iter().filter_map(|f| f.utc_received_ms).collect();
+    let times: Vec<u32> = fixes.iter().filter_map(|f| f.utc_received_ms).collect();
     assert!(times.windows(2).all(|w| w[0] < w[1]), "{times:?}");
 }

@@ -27,7 +27,7 @@ use suntracker::site::{follow_gps_site, site_from_config};
 use suntracker::sun::SharedSiteSource;
 use suntracker::sun::{AlgorithmSource, PositionSource};
 use suntracker::time::window::DateWindow;
-use suntracker::time::{TimeConfig, TimeKeeper};
+use suntracker::time::{monotonic, TimeConfig, TimeKeeper};
 
 use super::schedule::{self, Action, Kind, Timed, Window};
 
@@ -109,7 +109,7 @@ algorithm extrapolate. Bad arguments or a malformed scenario exit with code 2.",
 const CALM_M_S: f64 = 4.0;
 const GALE_M_S: f64 = 22.0;
 /// Fix stale after this long in the decoder (as on the Black Pill board).
-const GPS_STALE_MS: u64 = 10_000;
+const GPS_STALE_MS: u32 = 10_000;
 /// The site follows GPS when it moved more than this.
 const SITE_MIN_MOVE_DEG: f64 = 0.01;
 /// Technician visits: at this local solar time (minutes after midnight).
@@ -539,7 +539,9 @@ fn simulate(args: &Args, out: &mut dyn Write, err: &mut dyn Write) -> Result<(),
                 },
             }
         }
-        let now_ms = u64::from(m - boot_minute) * 60_000;
+        // The firmware's 32-bit monotonic clock: a long run wraps it as a
+        // board does every 49.7 days.
+        let now_ms = monotonic::from_board_ms(u64::from(m - boot_minute) * 60_000);
         // Random daily conditions of --faults.
         let active = |k: &dyn Fn(Kind) -> bool| {
             windows

@@ -25,6 +25,7 @@ use crate::plan::{ScheduleError, Scheduler, SetPoint};
 use crate::ports::{AttitudeReading, AttitudeSensor};
 use crate::safety::{AxisId, Fault, FaultManager, Mode, Recovery, Sensor, WindMonitor};
 use crate::sun::PositionSource;
+use crate::time::monotonic;
 use sun_algos::{Float, UtcTime};
 
 /// Where the mount attitude comes from.
@@ -118,9 +119,10 @@ pub enum ControllerError {
 /// a retry is due.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct TickInputs {
-    /// Monotonic time, milliseconds since an arbitrary start (boot); it
-    /// never steps and never goes back.
-    pub now_ms: u64,
+    /// Monotonic time, milliseconds since an arbitrary start (boot), the
+    /// low 32 bits ([`crate::time::monotonic`]); it never steps and never
+    /// goes back (it wraps every 49.7 days).
+    pub now_ms: u32,
     /// The wall clock's time (UTC).
     pub now: UtcTime,
     /// False when no trusted time is known (RTC lost power or holds a date
@@ -175,8 +177,8 @@ pub struct Controller<T, P, D, S, const N: usize> {
     manual: Option<Pose<T>>,
     ticks: u32,
     /// Monotonic time (ms) before which a failed homing is not retried,
-    /// per axis.
-    home_retry_ms: [u64; 2],
+    /// per axis; `None` once it has passed.
+    home_retry_ms: [Option<u32>; 2],
     /// Mode of the previous tick.
     last_mode: Option<Mode>,
     /// First entry time of the day table the branch was chosen for.
@@ -191,7 +193,7 @@ pub struct Controller<T, P, D, S, const N: usize> {
     /// [`STALL_MIN_COMMAND_DEG`] and decided at the next tick.
     stall_watch: [StallWatch; 2],
     /// When the attitude sensors were last read (monotonic ms).
-    last_attitude_ms: Option<u64>,
+    last_attitude_ms: Option<u32>,
     /// Attitude readings in a row that found no new compass sample.
     attitude_not_ready: u8,
     /// Pose chosen to wait for a sunrise (before the first day).
@@ -268,7 +270,7 @@ where
             command_stow: false,
             manual: None,
             ticks: 0,
-            home_retry_ms: [0; 2],
+            home_retry_ms: [None; 2],
             last_mode: None,
             branch_day: None,
             branch_anchor: None,
@@ -363,7 +365,7 @@ where
     /// cleared and failed homing is tried again at once.
     pub fn reset_faults(&mut self) {
         self.faults.reset();
-        self.home_retry_ms = [0; 2];
+        self.home_retry_ms = [None; 2];
     }
 
     /// Operator command: forget both axes' references and home them again.
@@ -371,7 +373,7 @@ where
         for ax in self.axes.iter_mut() {
             ax.unhome();
         }
-        self.home_retry_ms = [0; 2];
+        self.home_retry_ms = [None; 2];
     }
 
     fn limits(&self) -> PoseLimits<T> {
@@ -394,6 +396,14 @@ where
         // range puts a panic call site in this file, which the check must name.
         #[cfg(suntracker_panic_canary)]
         let _ = core::hint::black_box(self.home_retry_ms[self.ticks as usize]);
+        // The monotonic clock's stamps stay true across its 32-bit wrap:
+        // passed deadlines are pulled up to now.
+        self.faults.catch_up(inp.now_ms);
+        for t in self.home_retry_ms.iter_mut() {
+            if t.is_some_and(|t| monotonic::reached(inp.now_ms, t)) {
+                *t = None;
+            }
+        }
         // 1. Time and site health.
         self.time_health(inp);
         // 2. Wind (monotonic clock only).
@@ -441,7 +451,7 @@ where
             .map(|c| c.pose())
     }
 
-    fn update_attitude(&mut self, now_ms: u64) {
+    fn update_attitude(&mut self, now_ms: u32) {
         let Some(sensors) = self.sensors.as_mut() else {
             // Measured attitude asked for but no sensor answered at power-on:
             // the last attitude (level at first) is used, and it is a fault.
@@ -558,10 +568,10 @@ where
     /// failed attempt; the next attempt waits for the fault's back-off on
     /// the monotonic clock, and after the configured retries the fault's
     /// final recovery (a safe stop) ends the attempts.
-    fn home_axis(&mut self, i: usize, now_ms: u64) -> bool {
+    fn home_axis(&mut self, i: usize, now_ms: u32) -> bool {
         let id = Self::axis_id(i);
         let chunk = self.options.homing_chunk_deg;
-        let wait_until = self.home_retry_ms.get(i).copied().unwrap_or(0);
+        let wait_until = self.home_retry_ms.get(i).copied().flatten();
         let Some(ax) = self.axes.get_mut(i) else {
             return false;
         };
@@ -573,7 +583,7 @@ where
         if let Some(w) = self.stall_watch.get_mut(i) {
             w.disarm();
         }
-        if now_ms < wait_until {
+        if wait_until.is_some_and(|t| !monotonic::reached(now_ms, t)) {
             return true; // waiting before another attempt
         }
         // Bounded: a whole travel at the fine step is ≤ 50 × 370 chunks.
@@ -599,7 +609,7 @@ where
                         .get(Fault::LimitSwitchHit(id))
                         .map_or(now_ms, |a| a.next_attempt_ms);
                     if let Some(t) = self.home_retry_ms.get_mut(i) {
-                        *t = next;
+                        *t = Some(next);
                     }
                     return true;
                 }
@@ -613,7 +623,7 @@ where
         true
     }
 
-    fn drive_axis(&mut self, i: usize, target_deg: T, now_ms: u64) {
+    fn drive_axis(&mut self, i: usize, target_deg: T, now_ms: u32) {
         let id = Self::axis_id(i);
         let max_dev = self.config.safety.max_deviation_deg;
         let enc_fault = Fault::SensorTimeout(Sensor::Encoder(id));

@@ -10,6 +10,7 @@ use crate::plan::{Action, Phase, ScheduleError};
 use crate::ports::AttitudeSensor;
 use crate::safety::{select_mode, Fault, Mode, ModeInputs};
 use crate::sun::PositionSource;
+use crate::time::monotonic;
 
 use super::AttitudeSource;
 
@@ -144,10 +145,12 @@ where
 
     /// Phase 4: The mount's attitude from its sensors, at the configured cadence
     /// (the first tick always).
-    pub(super) fn attitude_if_due(&mut self, now_ms: u64) {
+    pub(super) fn attitude_if_due(&mut self, now_ms: u32) {
+        let every_ms = self.options.attitude_every_ms;
         let attitude_due = self
             .last_attitude_ms
-            .is_none_or(|t| now_ms.saturating_sub(t) >= u64::from(self.options.attitude_every_ms));
+            .as_mut()
+            .is_none_or(|t| monotonic::age_ms(t, now_ms) >= every_ms);
         if self.options.attitude == AttitudeSource::Sensors && attitude_due {
             self.last_attitude_ms = Some(now_ms);
             self.update_attitude(now_ms);
@@ -156,7 +159,7 @@ where
 
     /// Phase 5: One homing step of each axis that needs it (none during a safe
     /// stop: nothing moves then). Returns whether an axis is homing.
-    pub(super) fn homing(&mut self, now_ms: u64) -> bool {
+    pub(super) fn homing(&mut self, now_ms: u32) -> bool {
         let mut homing = false;
         if !self.faults.must_stop() {
             for i in 0..2 {
@@ -246,7 +249,7 @@ where
     }
 
     /// Phase 7: The axes driven to the target, or held (stopped in a safe stop).
-    pub(super) fn drive(&mut self, target: Option<Pose<T>>, mode: Mode, now_ms: u64) {
+    pub(super) fn drive(&mut self, target: Option<Pose<T>>, mode: Mode, now_ms: u32) {
         match target {
             Some(p) => {
                 self.pose = p;

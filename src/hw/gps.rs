@@ -17,7 +17,7 @@ pub struct GpsPort<R> {
 
 impl<R: Read + ReadReady> GpsPort<R> {
     /// A port whose fix goes stale `stale_after_ms` after the last epoch.
-    pub fn new(serial: R, stale_after_ms: u64) -> Self {
+    pub fn new(serial: R, stale_after_ms: u32) -> Self {
         GpsPort {
             reader: GpsReader::new(serial, stale_after_ms),
             fixes: 0,
@@ -27,7 +27,7 @@ impl<R: Read + ReadReady> GpsPort<R> {
     /// Reads what the port has ready (bounded) and returns the current fix
     /// ([`GpsFix::NONE`] once stale). `now_ms` is a monotonic millisecond
     /// count of the board.
-    pub fn service(&mut self, now_ms: u64) -> Result<GpsFix, Error<R::Error>> {
+    pub fn service(&mut self, now_ms: u32) -> Result<GpsFix, Error<R::Error>> {
         // A `None` only says that the bytes so far did not finish an epoch;
         // the loop ends as soon as the port is drained: when it is empty
         // the call costs one `read_ready` (a pass of the loop on the

@@ -14,6 +14,7 @@
 //!   deadband.
 
 use crate::config::AxisConfig;
+use crate::time::monotonic;
 
 mod stall;
 
@@ -466,14 +467,12 @@ impl<D: AxisDrive> AxisController<D> {
     /// chunk keeps a drive that runs at its speed from running dry just
     /// before the next step (a ramped drive would slow to a stop and start
     /// again every tick); the first step of an attempt moves one chunk.
-    fn homing_move_counts(&mut self, chunk_deg: f32, now_ms: u64) -> i32 {
-        // The low 32 bits: the interval wraps correctly below 49.7 days.
-        let now = now_ms as u32;
+    fn homing_move_counts(&mut self, chunk_deg: f32, now_ms: u32) -> i32 {
         let dt_ms = self
             .homing_last_ms
-            .map_or(0, |t| now.wrapping_sub(t))
+            .map_or(0, |t| monotonic::elapsed_ms(now_ms, t))
             .min(HOMING_MAX_INTERVAL_MS);
-        self.homing_last_ms = Some(now);
+        self.homing_last_ms = Some(now_ms);
         let (speed_deg_s, chunk_deg) = if self.fine {
             (
                 self.geo.speed_deg_s / HOMING_FINE_DIVISOR,
@@ -521,7 +520,7 @@ impl<D: AxisDrive> AxisController<D> {
     pub fn home_step(
         &mut self,
         chunk_deg: f32,
-        now_ms: u64,
+        now_ms: u32,
     ) -> Result<HomeState, AxisError<D::Error>> {
         if !chunk_deg.is_finite() || chunk_deg <= 0.0 {
             return Err(AxisError::NotFinite);

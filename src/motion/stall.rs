@@ -27,10 +27,11 @@ pub enum StallVerdict {
 /// A stall watch over one axis (see the module documentation).
 #[derive(Debug, Clone, Copy, Default, PartialEq)]
 pub struct StallWatch {
-    /// Feedback angle, degrees, and the low 32 bits of the monotonic ms
-    /// where the watch started or motion was last seen; `None` while
-    /// disarmed. The time since wraps correctly below 49.7 days; a watch is
-    /// looked at every tick, so a verdict never waits that long.
+    /// Feedback angle, degrees, and the monotonic ms (the 32-bit clock of
+    /// [`crate::time::monotonic`]) where the watch started or motion was
+    /// last seen; `None` while disarmed. The time since wraps correctly
+    /// below 49.7 days; a watch is looked at every tick, so a verdict never
+    /// waits that long.
     origin: Option<(f32, u32)>,
 }
 
@@ -42,8 +43,8 @@ impl StallWatch {
 
     /// A move starts with the feedback at `feedback_deg`, at monotonic
     /// `now_ms`.
-    pub fn arm(&mut self, feedback_deg: f32, now_ms: u64) {
-        self.origin = Some((feedback_deg, now_ms as u32));
+    pub fn arm(&mut self, feedback_deg: f32, now_ms: u32) {
+        self.origin = Some((feedback_deg, now_ms));
     }
 
     /// Nothing to watch (the axis rests, homes, or was stopped).
@@ -65,17 +66,17 @@ impl StallWatch {
     pub fn check(
         &mut self,
         feedback_deg: f32,
-        now_ms: u64,
+        now_ms: u32,
         min_motion_deg: f32,
         timeout_ms: u32,
     ) -> Option<StallVerdict> {
         let (from_deg, since_ms) = self.origin?;
         let still = (feedback_deg - from_deg).abs() < min_motion_deg || !feedback_deg.is_finite();
         if !still {
-            self.origin = Some((feedback_deg, now_ms as u32));
+            self.origin = Some((feedback_deg, now_ms));
             return Some(StallVerdict::Moving);
         }
-        if (now_ms as u32).wrapping_sub(since_ms) >= timeout_ms {
+        if crate::time::monotonic::elapsed_ms(now_ms, since_ms) >= timeout_ms {
             Some(StallVerdict::Stalled)
         } else {
             Some(StallVerdict::Waiting)

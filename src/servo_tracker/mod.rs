@@ -69,6 +69,7 @@ use crate::panel::{self, DayEnergy};
 use crate::safety::{select_mode, AxisId, Fault, Mode, ModeInputs, Sensor};
 use crate::sun::{BoardSource, BuiltInAlgorithm, PositionSource};
 use crate::text::FlashStr;
+use crate::time::monotonic;
 use crate::time::TimeOrigin;
 use crate::time::{TimeConfig, TimeKeeper};
 
@@ -294,7 +295,7 @@ impl<D: AxisDrive> ServoLoopAxis<D> {
     /// not found within the travel, or one that does not open backing off,
     /// leaves the axis stopped and `lost`.
     #[inline(never)]
-    fn home_step(&mut self, now_ms: u64) -> bool {
+    fn home_step(&mut self, now_ms: u32) -> bool {
         if self.lost || self.axis.home_state() == HomeState::Done {
             return false;
         }
@@ -324,12 +325,12 @@ impl<D: AxisDrive> ServoLoopAxis<D> {
     /// [`STALL_TIMEOUT_MS`] is stopped and commanded again after
     /// [`STALL_RETRY_MS`].
     #[inline(never)]
-    fn drive_to(&mut self, deg: f32, now_ms: u64) -> Option<bool> {
+    fn drive_to(&mut self, deg: f32, now_ms: u32) -> Option<bool> {
         if self.axis.home_state() != HomeState::Done {
             return None;
         }
         if let Some(at) = self.stalled_at {
-            if (now_ms as u32).wrapping_sub(at) < STALL_RETRY_MS {
+            if monotonic::elapsed_ms(now_ms, at) < STALL_RETRY_MS {
                 return None;
             }
             self.stalled_at = None;
@@ -355,7 +356,7 @@ impl<D: AxisDrive> ServoLoopAxis<D> {
                         let _ = self.axis.stop();
                         self.axis.reanchor(e);
                         self.stall.disarm();
-                        self.stalled_at = Some(now_ms as u32);
+                        self.stalled_at = Some(now_ms);
                         if self.stall_raised {
                             return None;
                         }
@@ -460,7 +461,7 @@ impl<R: RtcDriver, D: AxisDrive + Motion> ServoTracker<R, D> {
     /// positions (a new slot's and, once a day, the noon one), the drive
     /// commands.
     #[inline(never)]
-    pub fn tick(&mut self, out: &mut dyn Sink, now_ms: u64, panel_mv: Option<u32>) {
+    pub fn tick(&mut self, out: &mut dyn Sink, now_ms: u32, panel_mv: Option<u32>) {
         let status = self.time.update(&GpsFix::NONE, now_ms);
         let time_fault = match status.now {
             Some(now) => {

@@ -78,7 +78,7 @@ pub enum GpsTime {
 
 /// What `fix` says about the time at monotonic `now_ms` (see the module
 /// documentation for the rules).
-pub fn gps_time(fix: &GpsFix, now_ms: u64, config: &TimeConfig) -> GpsTime {
+pub fn gps_time(fix: &GpsFix, now_ms: u32, config: &TimeConfig) -> GpsTime {
     // A position a site can be made of (the exact coordinates' range,
     // checked without floats).
     let position = matches!(
@@ -91,7 +91,7 @@ pub fn gps_time(fix: &GpsFix, now_ms: u64, config: &TimeConfig) -> GpsTime {
     let (Some(dt), Some(age_ms)) = (fix.utc, fix.utc_age_ms(now_ms)) else {
         return GpsTime::NoFix;
     };
-    if age_ms > u64::from(config.max_gps_age_ms) {
+    if age_ms > config.max_gps_age_ms {
         return GpsTime::Stale;
     }
     let Ok(t) = utc_from_datetime(&dt) else {
@@ -100,8 +100,7 @@ pub fn gps_time(fix: &GpsFix, now_ms: u64, config: &TimeConfig) -> GpsTime {
     if !config.window.contains(&t) {
         return GpsTime::Implausible(t);
     }
-    // The age is at most max_gps_age_ms (a u32) here.
-    match t.add_millis_u32(u32::try_from(age_ms).unwrap_or(u32::MAX)) {
+    match t.add_millis_u32(age_ms) {
         Ok(now) if config.window.contains(&now) => GpsTime::Trusted(now),
         Ok(now) => GpsTime::Implausible(now),
         Err(_) => GpsTime::NoFix,
@@ -185,7 +184,7 @@ impl<C: RtcDriver> TimeKeeper<C> {
     /// ([`gps_time`]) at monotonic `now_ms`, and decides the time. Bus
     /// traffic per call: one status read and one time read; plus one time
     /// write (and the flag clear) when the RTC is set.
-    pub fn update(&mut self, gps: &GpsFix, now_ms: u64) -> TimeStatus {
+    pub fn update(&mut self, gps: &GpsFix, now_ms: u32) -> TimeStatus {
         let gps_said = gps_time(gps, now_ms, &self.config);
         let gps_time = match gps_said {
             GpsTime::Trusted(t) => Some(t),
@@ -271,7 +270,7 @@ impl TimeStatus {
     /// the last `wind_interval_ms` of the monotonic clock.
     pub fn tick_inputs(
         &self,
-        now_ms: u64,
+        now_ms: u32,
         fallback: UtcTime,
         wind_pulses: u32,
         wind_interval_ms: u32,

@@ -251,7 +251,7 @@ pub fn spa_kano(secs: u32) -> SunPosition<f64> {
 /// GPS fix and no wind.
 pub fn calm_tick(t: u32) -> TickInputs {
     TickInputs {
-        now_ms: u64::from(t) * 1000,
+        now_ms: suntracker::time::monotonic::from_board_ms(u64::from(t) * 1000),
         now: utc_at(t),
         time_valid: true,
         gps_fix: true,

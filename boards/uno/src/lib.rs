@@ -53,6 +53,7 @@ use suntracker::panel::{Divider, PanelAdc};
 use suntracker::servo_tracker::settings::{self as settings, SettingsConsole};
 use suntracker::servo_tracker::{self, ServoTracker, POSITION_LOOP, SERVO};
 use suntracker::text::FlashStr;
+use suntracker::time::monotonic;
 use suntracker_avr::eeprom::Eeprom;
 use suntracker_avr::{
     chip, millis, sleep_until_interrupt, Adc, InputPin, Millis, Oc1a, Oc1b, PinChangeEncoders,
@@ -236,7 +237,7 @@ pub fn run(dp: chip::Peripherals) -> ! {
         if now_ms >= next_tick_ms {
             // The conversion started at the previous tick (104 µs) is done.
             let panel_mv = adc.poll().and_then(|code| PANEL.panel_mv(code).ok());
-            tracker.tick(&mut out, now_ms, panel_mv);
+            tracker.tick(&mut out, monotonic::from_board_ms(now_ms), panel_mv);
             let _ = adc.start(PANEL_CHANNEL);
             next_tick_ms = now_ms.saturating_add(tick_ms);
         }

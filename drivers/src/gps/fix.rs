@@ -25,7 +25,14 @@
 //! - a sentence with impossible values (see `parse_sentence`) is ignored, also
 //!   when it is built by hand and given to [`FixFusion::update`];
 //! - after `stale_after_ms` of the caller's monotonic clock without any
-//!   GGA/RMC, [`FixFusion::current`] reports no fix and no time.
+//!   GGA/RMC, [`FixFusion::current`] reports no fix and no time, and forgets
+//!   the fix.
+//!
+//! The caller's clock is its monotonic milliseconds in 32 bits, wrapping
+//! every 2³² ms (49.7 days); every age and staleness is a wrapping
+//! difference. A fix is forgotten once [`FixFusion::current`] finds it stale,
+//! so a stamp cannot come round to look fresh again as long as the fix is
+//! asked for at least once every 49 days (a main loop asks every pass).
 
 use super::coordinate::Coordinate;
 use super::parse::{sentence_is_plausible, FixQuality, Gga, Rmc, Sentence, TimeOfDayMs};
@@ -64,7 +71,7 @@ pub struct GpsFix {
     /// `push`/`poll`/`update`), when the sentence that carried `utc` was
     /// completed; `None` exactly when `utc` is `None`. The instant `utc` names
     /// is that old at `utc_received_ms`, plus the receiver's output delay.
-    pub utc_received_ms: Option<u64>,
+    pub utc_received_ms: Option<u32>,
     /// Latitude, degrees north positive (only with a valid fix), exactly as
     /// the receiver wrote it (`.deg::<f32>()` or `.deg::<f64>()`).
     pub latitude_deg: Option<Coordinate>,
@@ -117,10 +124,13 @@ impl GpsFix {
         self.latitude_deg.is_some() && self.longitude_deg.is_some()
     }
 
-    /// How long before `now_ms` (the caller's monotonic clock, milliseconds)
-    /// the sentence carrying `utc` was received: add it to `utc` to get the
-    /// present time. `None` without a `utc`; 0 (saturating) if `now_ms` is
-    /// earlier than [`GpsFix::utc_received_ms`].
+    /// How long before `now_ms` (the caller's monotonic clock, milliseconds,
+    /// 32 bits wrapping) the sentence carrying `utc` was received: add it to
+    /// `utc` to get the present time. `None` without a `utc`. Counted modulo
+    /// 2³² ms (49.7 days): exact for any fix the decoder gives out, since it
+    /// forgets a fix once stale ([`FixFusion::current`]). A `now_ms` earlier
+    /// than [`GpsFix::utc_received_ms`] reads as an age near 2³² ms, never
+    /// as a fresh one.
     ///
     /// ```
     /// use drivers::gps::{parse_sentence, FixFusion, GpsFix};
@@ -133,14 +143,14 @@ impl GpsFix {
     /// fusion.update(&rmc, 10_000);
     /// let fix = fusion.flush().unwrap();
     /// assert_eq!(fix.utc_age_ms(10_350), Some(350)); // 08:35:59 was 350 ms ago
-    /// assert_eq!(fix.utc_age_ms(9_000), Some(0)); // saturates
+    /// assert_eq!(fix.utc_age_ms(9_000), Some(u32::MAX - 999)); // before it: not fresh
     /// assert_eq!(GpsFix::NONE.utc_age_ms(10_350), None);
     /// # Ok::<(), drivers::gps::ParseError>(())
     /// ```
-    pub fn utc_age_ms(&self, now_ms: u64) -> Option<u64> {
+    pub fn utc_age_ms(&self, now_ms: u32) -> Option<u32> {
         self.utc?;
         self.utc_received_ms
-            .map(|received_ms| now_ms.saturating_sub(received_ms))
+            .map(|received_ms| now_ms.wrapping_sub(received_ms))
     }
 }
 
@@ -151,9 +161,9 @@ struct Epoch {
     gga: Option<Gga>,
     rmc: Option<Rmc>,
     /// The caller's clock when the RMC was completed.
-    rmc_ms: u64,
+    rmc_ms: u32,
     emitted: bool,
-    last_ms: u64,
+    last_ms: u32,
 }
 
 impl Epoch {
@@ -211,9 +221,9 @@ impl Epoch {
 #[derive(Debug, Clone)]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
 pub struct FixFusion {
-    stale_after_ms: u64,
+    stale_after_ms: u32,
     epoch: Epoch,
-    last: Option<(GpsFix, u64)>,
+    last: Option<(GpsFix, u32)>,
 }
 
 impl FixFusion {
@@ -222,11 +232,11 @@ impl FixFusion {
     /// ```
     /// use drivers::gps::{FixFusion, GpsFix};
     ///
-    /// let fusion = FixFusion::new(2_000);
+    /// let mut fusion = FixFusion::new(2_000);
     /// assert!(fusion.is_stale(0));
     /// assert_eq!(fusion.current(0), GpsFix::NONE);
     /// ```
-    pub const fn new(stale_after_ms: u64) -> Self {
+    pub const fn new(stale_after_ms: u32) -> Self {
         Self {
             stale_after_ms,
             epoch: Epoch {
@@ -267,7 +277,7 @@ impl FixFusion {
     /// assert_eq!(fix.altitude_m, Some(499.6));
     /// # Ok::<(), drivers::gps::ParseError>(())
     /// ```
-    pub fn update(&mut self, sentence: &Sentence, now_ms: u64) -> Option<GpsFix> {
+    pub fn update(&mut self, sentence: &Sentence, now_ms: u32) -> Option<GpsFix> {
         if !sentence_is_plausible(sentence) {
             return None;
         }
@@ -328,7 +338,7 @@ impl FixFusion {
     }
 
     /// Whether nothing (no completed epoch) was heard within `stale_after_ms`
-    /// before `now_ms`.
+    /// before `now_ms` (a wrapping difference of the 32-bit clock).
     ///
     /// ```
     /// use drivers::gps::{parse_sentence, FixFusion};
@@ -340,14 +350,15 @@ impl FixFusion {
     /// assert!(fusion.is_stale(7_101));
     /// # Ok::<(), drivers::gps::ParseError>(())
     /// ```
-    pub fn is_stale(&self, now_ms: u64) -> bool {
+    pub fn is_stale(&self, now_ms: u32) -> bool {
         match self.last {
-            Some((_, at_ms)) => now_ms.saturating_sub(at_ms) > self.stale_after_ms,
+            Some((_, at_ms)) => now_ms.wrapping_sub(at_ms) > self.stale_after_ms,
             None => true,
         }
     }
 
-    /// The latest fix, or [`GpsFix::NONE`] once it is stale.
+    /// The latest fix, or [`GpsFix::NONE`] once it is stale (and from then
+    /// on: the stale fix is forgotten).
     ///
     /// ```
     /// use drivers::gps::{parse_sentence, FixFusion, GpsFix};
@@ -359,10 +370,13 @@ impl FixFusion {
     /// assert_eq!(fusion.current(2_001), GpsFix::NONE);
     /// # Ok::<(), drivers::gps::ParseError>(())
     /// ```
-    pub fn current(&self, now_ms: u64) -> GpsFix {
+    pub fn current(&mut self, now_ms: u32) -> GpsFix {
         match self.last {
             Some((fix, _)) if !self.is_stale(now_ms) => fix,
-            _ => GpsFix::NONE,
+            _ => {
+                self.last = None;
+                GpsFix::NONE
+            }
         }
     }
 }

@@ -84,11 +84,11 @@ impl GpsDecoder {
     ///
     /// // `const`: it can live in a `static` (behind a critical-section mutex).
     /// const DECODER: GpsDecoder = GpsDecoder::new(2_000);
-    /// let gps = DECODER;
+    /// let mut gps = DECODER;
     /// assert_eq!(gps.current(0), GpsFix::NONE);
     /// assert!(gps.is_stale(0));
     /// ```
-    pub const fn new(stale_after_ms: u64) -> Self {
+    pub const fn new(stale_after_ms: u32) -> Self {
         Self {
             assembler: SentenceAssembler::new(),
             fusion: FixFusion::new(stale_after_ms),
@@ -125,7 +125,7 @@ impl GpsDecoder {
     /// assert_eq!(fix.utc, Some(DateTime::new(2002, 12, 9, 9, 27, 25)?));
     /// # Ok::<(), drivers::time::DateTimeError>(())
     /// ```
-    pub fn push(&mut self, byte: u8, now_ms: u64) -> Option<GpsFix> {
+    pub fn push(&mut self, byte: u8, now_ms: u32) -> Option<GpsFix> {
         let sentence = match self.assembler.push(byte)? {
             Ok(text) => parse_sentence(text),
             Err(_) => return None,
@@ -160,7 +160,7 @@ impl GpsDecoder {
         self.fusion.flush()
     }
 
-    /// The latest fix, or [`GpsFix::NONE`] once stale.
+    /// The latest fix, or [`GpsFix::NONE`] once stale (a stale fix is then forgotten).
     ///
     /// ```
     /// use drivers::gps::{GpsDecoder, GpsFix};
@@ -175,7 +175,7 @@ impl GpsDecoder {
     /// assert!(gps.current(12_000).has_position()); // 2 s later: still fresh
     /// assert_eq!(gps.current(12_001), GpsFix::NONE); // stale
     /// ```
-    pub fn current(&self, now_ms: u64) -> GpsFix {
+    pub fn current(&mut self, now_ms: u32) -> GpsFix {
         self.fusion.current(now_ms)
     }
 
@@ -195,7 +195,7 @@ impl GpsDecoder {
     /// assert!(!gps.is_stale(12_000));
     /// assert!(gps.is_stale(12_001));
     /// ```
-    pub fn is_stale(&self, now_ms: u64) -> bool {
+    pub fn is_stale(&self, now_ms: u32) -> bool {
         self.fusion.is_stale(now_ms)
     }
 
@@ -314,11 +314,11 @@ impl<R: Read> GpsReader<R> {
     /// ```
     /// use drivers::gps::{GpsFix, GpsReader};
     ///
-    /// let gps = GpsReader::new(&b"$GPGSV,1,1,00*79\r\n"[..], 2_000);
+    /// let mut gps = GpsReader::new(&b"$GPGSV,1,1,00*79\r\n"[..], 2_000);
     /// assert_eq!(gps.current(0), GpsFix::NONE); // nothing read yet
     /// assert_eq!(gps.stats().sentences, 0);
     /// ```
-    pub fn new(serial: R, stale_after_ms: u64) -> Self {
+    pub fn new(serial: R, stale_after_ms: u32) -> Self {
         Self {
             serial,
             decoder: GpsDecoder::new(stale_after_ms),
@@ -372,7 +372,7 @@ impl<R: Read> GpsReader<R> {
     /// assert!((fixes[0].latitude_deg.unwrap().deg::<f64>() - (47.0 + 17.11437 / 60.0)).abs() < 1e-12);
     /// # Ok::<(), drivers::time::DateTimeError>(())
     /// ```
-    pub fn poll(&mut self, now_ms: u64) -> Result<Option<GpsFix>, Error<R::Error>> {
+    pub fn poll(&mut self, now_ms: u32) -> Result<Option<GpsFix>, Error<R::Error>> {
         if let Some(fix) = self.drain(now_ms) {
             return Ok(Some(fix));
         }
@@ -416,7 +416,7 @@ impl<R: Read> GpsReader<R> {
     /// assert_eq!(gps.destroy().remaining(), 0);
     /// # Ok::<(), drivers::gps::Error<core::convert::Infallible>>(())
     /// ```
-    pub fn poll_if_ready(&mut self, now_ms: u64) -> Result<Option<GpsFix>, Error<R::Error>>
+    pub fn poll_if_ready(&mut self, now_ms: u32) -> Result<Option<GpsFix>, Error<R::Error>>
     where
         R: ReadReady,
     {
@@ -468,7 +468,7 @@ impl<R: Read> GpsReader<R> {
         self.serial.read_ready().map_err(Error::Comm)
     }
 
-    fn drain(&mut self, now_ms: u64) -> Option<GpsFix> {
+    fn drain(&mut self, now_ms: u32) -> Option<GpsFix> {
         while self.start < self.end {
             let byte = *self.buf.get(self.start)?;
             self.start += 1;
@@ -479,7 +479,7 @@ impl<R: Read> GpsReader<R> {
         None
     }
 
-    /// The latest fix, or [`GpsFix::NONE`] once stale.
+    /// The latest fix, or [`GpsFix::NONE`] once stale (a stale fix is then forgotten).
     ///
     /// ```
     /// use drivers::gps::{GpsFix, GpsReader};
@@ -495,7 +495,7 @@ impl<R: Read> GpsReader<R> {
     /// assert_eq!(gps.current(61_001), GpsFix::NONE);
     /// # Ok::<(), drivers::gps::Error<core::convert::Infallible>>(())
     /// ```
-    pub fn current(&self, now_ms: u64) -> GpsFix {
+    pub fn current(&mut self, now_ms: u32) -> GpsFix {
         self.decoder.current(now_ms)
     }
 
