@@ -437,12 +437,28 @@ fn split_decimal(text: &str) -> Result<(&str, &str), ParseError> {
 }
 
 /// Value of a digit string (digits only, may be empty: 0); `None` on a
-/// non-digit or when it does not fit a `u64`.
-fn digits_value(text: &str) -> Option<u64> {
-    text.bytes().try_fold(0u64, |acc, b| {
+/// non-digit or when it does not fit a `u32` (every integer field does; on
+/// an 8-bit core checked 64-bit arithmetic costs several times more code).
+fn digits_value(text: &str) -> Option<u32> {
+    text.bytes().try_fold(0u32, |acc, b| {
         let digit = b.checked_sub(b'0').filter(|d| *d <= 9)?;
-        acc.checked_mul(10)?.checked_add(u64::from(digit))
+        acc.checked_mul(10)?.checked_add(u32::from(digit))
     })
+}
+
+/// Value of the first [`MINUTE_DECIMALS`] (11) characters of a fraction
+/// that [`split_decimal`] checked to be digits: below 10¹¹, so the sum
+/// cannot overflow (a byte that is not a digit, which the caller excludes,
+/// still cannot: 255 · 111,111,111,111 < 2⁶⁴).
+fn fraction_value(digits: &str) -> u64 {
+    leading(digits, MINUTE_DECIMALS)
+        .bytes()
+        .fold(0u64, |acc, b| acc * 10 + u64::from(b.wrapping_sub(b'0')))
+}
+
+/// 10^`k` for `k` ≤ [`MINUTE_DECIMALS`] (a fraction's place value).
+fn pow10(k: usize) -> u64 {
+    (0..k.min(MINUTE_DECIMALS)).fold(1u64, |p, _| p * 10)
 }
 
 /// The first `n` characters of an ASCII digit string (all of it if shorter).
@@ -542,17 +558,12 @@ fn parse_angle(text: &str, degree_digits: usize) -> Result<i64, ParseError> {
         return Err(ParseError);
     }
     let decimals = leading(frac, MINUTE_DECIMALS);
-    // The decimals' place: 10^(11 − k) for k of them.
-    let unit = u32::try_from(MINUTE_DECIMALS - decimals.len())
-        .ok()
-        .and_then(|k| 10u64.checked_pow(k))
-        .ok_or(ParseError)?;
-    let e11_min = degrees
-        .checked_mul(60)
-        .and_then(|m| m.checked_add(minutes))
-        .and_then(|m| m.checked_mul(10u64.pow(MINUTE_DECIMALS as u32)))
-        .and_then(|m| m.checked_add(digits_value(decimals)?.checked_mul(unit)?))
-        .ok_or(ParseError)?;
+    // degrees ≤ 999 (three digits) and minutes < 60: whole minutes ≤ 59,999;
+    // the decimals (k ≤ 11 of them, at 10^(11 − k) each) stay below 10¹¹.
+    let whole_min = u64::from(degrees * 60 + minutes);
+    let e11_min = whole_min * pow10(MINUTE_DECIMALS)
+        + fraction_value(decimals) * pow10(MINUTE_DECIMALS - decimals.len());
+    // Below 6·10¹⁵ < 2⁶³.
     i64::try_from(e11_min).map_err(|_| ParseError)
 }
 
@@ -564,15 +575,12 @@ fn parse_altitude(text: &str) -> Result<f32, ParseError> {
     };
     let (int, frac) = split_decimal(unsigned)?;
     let decimals = leading(frac, ALTITUDE_DECIMALS);
-    let scale = u32::try_from(decimals.len())
-        .ok()
-        .and_then(|k| 10u64.checked_pow(k))
-        .ok_or(ParseError)?;
-    let mantissa = digits_value(int)
-        .and_then(|i| i.checked_mul(scale))
-        .and_then(|m| m.checked_add(digits_value(decimals)?))
-        .and_then(|m| i64::try_from(m).ok())
-        .ok_or(ParseError)?;
+    let scale = pow10(decimals.len());
+    // An integer part beyond u32 is far outside the plausible range; below
+    // it, int · 10⁹ + decimals < 4.3·10¹⁸ < 2⁶³.
+    let int = digits_value(int).ok_or(ParseError)?;
+    let mantissa = u64::from(int) * scale + fraction_value(decimals);
+    let mantissa = i64::try_from(mantissa).map_err(|_| ParseError)?;
     // The f32 nearest mantissa / scale, rounded once from the integers.
     let value = f32::from_ratio(mantissa, scale);
     Ok(if negative { -value } else { value })
@@ -583,9 +591,7 @@ fn parse_count(text: &str) -> Result<u32, ParseError> {
     if text.is_empty() {
         return Err(ParseError);
     }
-    digits_value(text)
-        .and_then(|v| u32::try_from(v).ok())
-        .ok_or(ParseError)
+    digits_value(text).ok_or(ParseError)
 }
 
 /// GGA field 6: exactly one digit 0..=8.
@@ -1017,9 +1023,14 @@ mod tests {
     #[test]
     fn digit_helpers() {
         assert_eq!(digits_value(""), Some(0));
-        assert_eq!(digits_value("18446744073709551615"), Some(u64::MAX));
-        assert_eq!(digits_value("18446744073709551616"), None);
+        assert_eq!(digits_value("4294967295"), Some(u32::MAX));
+        assert_eq!(digits_value("4294967296"), None);
         assert_eq!(digits_value("1a"), None);
+        assert_eq!(fraction_value("99999999999"), 99_999_999_999);
+        // Past the eleventh decimal: not read.
+        assert_eq!(fraction_value("0000000000159"), 1);
+        assert_eq!(fraction_value(""), 0);
+        assert_eq!((pow10(0), pow10(11)), (1, 100_000_000_000));
         assert_eq!(split_decimal("12.50"), Ok(("12", "50")));
         assert_eq!(split_decimal("12"), Ok(("12", "")));
         for bad in ["", ".", "1.", ".1", "1..2", "-1", "1e2", "١٢"] {
