@@ -413,6 +413,10 @@ where
         due
     }
 
+    // Its own frame on the AVR, apart from the pass's (a stack slot more
+    // than 63 bytes from the frame pointer costs six more instructions at
+    // each access there).
+    #[cfg_attr(target_arch = "avr", inline(never))]
     fn tick(&mut self, now_ms: u32, wind_pulses: u32) {
         let interval_ms = monotonic::elapsed_ms(now_ms, self.last_tick_ms);
         self.last_tick_ms = now_ms;
@@ -498,20 +502,26 @@ where
                 }
             }
         }
-        // Declination from WMM2025 for the site in use, once per site and
-        // day (it changes by about 0.1° a year).
         if self.app.wmm_declination {
             if let Some(now) = now {
-                let key = (self.site, now.days_since_2000());
-                if self.declination_for != Some(key) {
-                    self.declination_for = Some(key);
-                    // In the controller's precision: f32 on a board
-                    // without an FPU (software f64 takes ten times longer).
-                    if let Ok(d) = wmm_declination_deg(&self.site, &now) {
-                        if let Some(s) = self.controller.sensors_mut() {
-                            s.set_declination_deg(d);
-                        }
-                    }
+                self.update_declination(&now);
+            }
+        }
+    }
+
+    /// Declination from WMM2025 for the site in use, once per site and day
+    /// (it changes by about 0.1° a year). Its own frame on the AVR: the
+    /// model's sums are the bulk of the site update's temporaries.
+    #[cfg_attr(target_arch = "avr", inline(never))]
+    fn update_declination(&mut self, now: &UtcTime) {
+        let key = (self.site, now.days_since_2000());
+        if self.declination_for != Some(key) {
+            self.declination_for = Some(key);
+            // In the controller's precision: f32 on a board without an
+            // FPU (software f64 takes ten times longer).
+            if let Ok(d) = wmm_declination_deg(&self.site, now) {
+                if let Some(s) = self.controller.sensors_mut() {
+                    s.set_declination_deg(d);
                 }
             }
         }

@@ -389,6 +389,8 @@ where
     /// One pass of the main loop.
     /// One pass of the main loop, phase by phase (the module docs list
     /// them); never blocks.
+    // Its own frame on the AVR (see the phases module).
+    #[cfg_attr(target_arch = "avr", inline(never))]
     pub fn tick(&mut self, inp: &TickInputs) -> TickReport<T> {
         self.ticks = self.ticks.wrapping_add(1);
         // Self-test of .ci/panic_check.sh only (built with `--cfg

@@ -1,4 +1,12 @@
 //! The phases of [`Controller::tick`], in the order it runs them.
+//!
+//! On the 8-bit AVR core each phase is a function of its own (not inlined):
+//! the AVR reaches a stack slot in one instruction only within 63 bytes of
+//! the frame pointer, and every access to a slot farther out costs six more
+//! (moving the frame pointer there and back, with the status register
+//! saved), so one large frame holding every phase's temporaries cost the
+//! ATmega2560 image about 5.8 KB of such sequences; the Cortex-M images
+//! keep the compiler's choice.
 
 use sun_algos::geometry::GeometryError;
 use sun_algos::{Error as SunError, Float, UtcTime};
@@ -23,6 +31,7 @@ where
 {
     /// Phase 1: Time and site health: the faults of an untrusted RTC, a lost GPS
     /// fix and an implausible GPS time.
+    #[cfg_attr(target_arch = "avr", inline(never))]
     pub(super) fn time_health(&mut self, inp: &TickInputs) {
         let now_ms = inp.now_ms;
         if inp.time_valid {
@@ -45,6 +54,7 @@ where
     /// Phase 3: The scheduler's action for this tick (only with a trusted
     /// clock): a set-point, the night's home, sleep, or an error, which
     /// raises its fault. Returns whether the clock jumped and the error.
+    #[cfg_attr(target_arch = "avr", inline(never))]
     pub(super) fn schedule(&mut self, inp: &TickInputs) -> (bool, Option<ScheduleError>) {
         let now_ms = inp.now_ms;
         let mut clock_jump = false;
@@ -102,6 +112,7 @@ where
     /// Phase 3: Daylight only with a set-point computed for the present minute:
     /// the table entry applied last must be the one for now (a frozen
     /// set-point from an earlier time is never tracked).
+    #[cfg_attr(target_arch = "avr", inline(never))]
     pub(super) fn keep_set_point_current(&mut self, inp: &TickInputs) {
         let now = inp.now;
         if !self.night {
@@ -126,6 +137,7 @@ where
 
     /// Phase 3: A new day without a night before it (polar day): open-loop axes
     /// are re-homed all the same, or lost steps would stay for weeks.
+    #[cfg_attr(target_arch = "avr", inline(never))]
     pub(super) fn rehome_on_new_day(&mut self) {
         let table_day = self.scheduler.day_key();
         if table_day != self.rehome_day {
@@ -145,6 +157,7 @@ where
 
     /// Phase 4: The mount's attitude from its sensors, at the configured cadence
     /// (the first tick always).
+    #[cfg_attr(target_arch = "avr", inline(never))]
     pub(super) fn attitude_if_due(&mut self, now_ms: u32) {
         let every_ms = self.options.attitude_every_ms;
         let attitude_due = self
@@ -159,6 +172,7 @@ where
 
     /// Phase 5: One homing step of each axis that needs it (none during a safe
     /// stop: nothing moves then). Returns whether an axis is homing.
+    #[cfg_attr(target_arch = "avr", inline(never))]
     pub(super) fn homing(&mut self, now_ms: u32) -> bool {
         let mut homing = false;
         if !self.faults.must_stop() {
@@ -171,6 +185,7 @@ where
 
     /// Phase 6: The mode ([`select_mode`]) and the pose it asks for, inside the
     /// soft limits.
+    #[cfg_attr(target_arch = "avr", inline(never))]
     pub(super) fn mode_and_target(
         &mut self,
         wind_stow: bool,
@@ -249,6 +264,7 @@ where
     }
 
     /// Phase 7: The axes driven to the target, or held (stopped in a safe stop).
+    #[cfg_attr(target_arch = "avr", inline(never))]
     pub(super) fn drive(&mut self, target: Option<Pose<T>>, mode: Mode, now_ms: u32) {
         match target {
             Some(p) => {
@@ -278,6 +294,7 @@ where
 
     /// A fault found while driving (a deviation, a limit switch) may have
     /// taken an axis's reference: that tick is no longer tracking.
+    #[cfg_attr(target_arch = "avr", inline(never))]
     pub(super) fn mode_after_drive(&mut self, mode: Mode) -> Mode {
         if mode == Mode::Tracking && self.axes.iter().any(|a| a.home_state() != HomeState::Done) {
             self.last_mode = Some(Mode::Homing);

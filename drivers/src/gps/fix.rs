@@ -277,6 +277,8 @@ impl FixFusion {
     /// assert_eq!(fix.altitude_m, Some(499.6));
     /// # Ok::<(), drivers::gps::ParseError>(())
     /// ```
+    // Its own stack frame on the AVR (see `parse_sentence`).
+    #[cfg_attr(target_arch = "avr", inline(never))]
     pub fn update(&mut self, sentence: &Sentence, now_ms: u32) -> Option<GpsFix> {
         if !sentence_is_plausible(sentence) {
             return None;
