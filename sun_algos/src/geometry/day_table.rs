@@ -51,7 +51,7 @@ use crate::time::{div_rem_euclid_i64, UtcTime};
 
 use super::events::{DayKind, Events};
 use super::incidence::Surface;
-use super::optimum::{best_within, Limits};
+use super::optimum::{best_surface_within, Limits};
 use super::GeometryError;
 
 /// One set-point: slope and surface azimuth (east of north) in 0.01°.
@@ -506,9 +506,9 @@ impl<const N: usize> DayTable<N> {
             }
             let t = self.offset(k).ok_or(crate::Error::InvalidDate)?;
             let p = sun(&t)?;
-            let sp = best_within(&p, limits)?;
+            let surface = best_surface_within(&p, limits)?;
             self.entries
-                .push(Entry::from_surface(&sp.surface))
+                .push(Entry::from_surface(&surface))
                 .map_err(|_| GeometryError::CapacityExceeded {
                     needed,
                     capacity: N,
