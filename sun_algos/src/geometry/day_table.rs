@@ -488,6 +488,10 @@ impl<const N: usize> DayTable<N> {
         result
     }
 
+    // Out of line on AVR, as `EventSearch`'s loop (the Mega image is
+    // 112 B smaller alone, 420 B with `best_surface_within`; Cortex-M
+    // images grow).
+    #[cfg_attr(target_arch = "avr", inline(never))]
     fn fill_some<T, F>(
         &mut self,
         limits: &Limits<T>,

@@ -329,7 +329,9 @@ pub fn best_within<T: Float>(
 /// The surface of [`best_within`] without its incidence, for callers that
 /// keep the surface only (the day table): the incidence's own sines,
 /// cosines and arctangent are not computed (an 8-bit board's libm cannot
-/// drop calls whose result is unused).
+/// drop calls whose result is unused). Out of line on AVR, where the day
+/// table's fill is smaller calling it.
+#[cfg_attr(target_arch = "avr", inline(never))]
 pub(crate) fn best_surface_within<T: Float>(
     sun: &SunPosition<T>,
     limits: &Limits<T>,
