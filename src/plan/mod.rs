@@ -50,7 +50,7 @@
 use crate::sun::PositionSource;
 use sun_algos::geometry::day_table::DayTable;
 use sun_algos::geometry::events::{self, DayKind, EventSearch, Events};
-use sun_algos::geometry::{GeometryError, Limits};
+use sun_algos::geometry::GeometryError;
 use sun_algos::refraction::SUN_RADIUS_PLUS_HORIZON_REFRACTION_DEG;
 use sun_algos::{Error as SunError, Float, SunPosition, UtcTime};
 
@@ -755,11 +755,9 @@ impl<T: Float, P: PositionSource<T>, const N: usize> Scheduler<T, P, N> {
                     let src = &mut self.source;
                     let mut sun = |t: &UtcTime| src.position(t);
                     let done = budget > 0
-                        && self.table.fill(
-                            &Limits::unconstrained(),
-                            &mut sun,
-                            usize::try_from(budget).unwrap_or(usize::MAX),
-                        )?;
+                        && self
+                            .table
+                            .fill_facing(&mut sun, usize::try_from(budget).unwrap_or(usize::MAX))?;
                     if !done {
                         self.planner = Some(Planner::Table(day));
                         self.phase = Phase::Planning;
