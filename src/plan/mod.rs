@@ -181,39 +181,37 @@ impl SolarDay {
     }
 }
 
-/// Seconds of longitude time: 240 s per degree, truncated towards zero
-/// (exactly, from the value's bits: no `f64` on an 8-bit board); 0 for a
-/// NaN or infinite longitude, saturated far beyond ±180°.
-fn longitude_offset_s<T: Float>(longitude_deg: T) -> i64 {
-    let Some((m, e)) = (longitude_deg * T::from_f64(240.0)).to_mantissa_exp2() else {
-        return 0;
-    };
-    // |s| = |m|·2^e with |m| < 2^53.
-    let magnitude = match e {
-        0.. => {
-            let (a, e) = (m.unsigned_abs(), e.unsigned_abs());
-            // Only while bit 63 stays clear.
-            (a.leading_zeros() > e).then(|| a << e)
-        }
-        -63..0 => Some(m.unsigned_abs() >> e.unsigned_abs()),
-        _ => Some(0),
-    };
-    let magnitude = magnitude.map_or(i64::MAX, |v| v as i64);
-    if m < 0 {
-        -magnitude
-    } else {
-        magnitude
+/// Seconds of longitude time: 240 s per degree, truncated towards zero,
+/// exactly (no `f64` on an 8-bit board, and no 64-bit shifts: the whole
+/// number is converted in two halves of 16 bits, each exact in `f32`); 0
+/// for a NaN or infinite longitude, `None` from ±2^31 s on (no site).
+fn longitude_offset_s<T: Float>(longitude_deg: T) -> Option<i32> {
+    let s = longitude_deg * T::from_f64(240.0);
+    if !s.is_finite() {
+        return Some(0);
     }
+    let whole = s.abs().floor();
+    if whole >= T::from_f64(2_147_483_648.0) {
+        return None;
+    }
+    // Scaling by a power of two, its floor, product and difference are
+    // exact for a whole number below 2^31: high < 2^15, low < 2^16.
+    let high = (whole * T::from_f64(1.0 / 65_536.0)).floor();
+    let low = whole - high * T::from_f64(65_536.0);
+    let magnitude = ((high.to_f32() as i32) << 16) | low.to_f32() as i32;
+    Some(if s < T::ZERO { -magnitude } else { magnitude })
 }
 
 /// The local mean solar midnight at or before `now` for `longitude_deg`.
+// Out of line on AVR (as `solar_day_of`): inlined into the scheduler's
+// plan they cost the Mega image 176 B.
+#[cfg_attr(target_arch = "avr", inline(never))]
 pub fn solar_day_start<T: Float>(
     now: &UtcTime,
     longitude_deg: T,
 ) -> Result<UtcTime, ScheduleError> {
     // |off| ≤ 43 200 s for a longitude within ±180°; more is no site.
-    let off =
-        i32::try_from(longitude_offset_s(longitude_deg)).map_err(|_| ScheduleError::TimeRange)?;
+    let off = longitude_offset_s(longitude_deg).ok_or(ScheduleError::TimeRange)?;
     // The local midnight at or before `now + off`, back in UTC. Days
     // begin at whole seconds, so keeping `now`'s milliseconds changes no
     // day.
@@ -248,6 +246,7 @@ pub fn find_daylight<T: Float, P: PositionSource<T>>(
 
 /// The solar day whose events (found with the zenith shifted as
 /// [`find_daylight`] does) are `ev`.
+#[cfg_attr(target_arch = "avr", inline(never))]
 fn solar_day_of<T: Float>(ev: &Events<T>) -> Result<SolarDay, ScheduleError> {
     let start = ev.window_start;
     let end = start
