@@ -248,24 +248,16 @@ pub fn find_daylight<T: Float, P: PositionSource<T>>(
 /// [`find_daylight`] does) are `ev`.
 #[cfg_attr(target_arch = "avr", inline(never))]
 fn solar_day_of<T: Float>(ev: &Events<T>) -> Result<SolarDay, ScheduleError> {
-    let start = ev.window_start;
-    let end = start
-        .add_seconds_i32(86_400)
-        .map_err(|_| ScheduleError::TimeRange)?;
-    let daylight = match (ev.kind, ev.sunrise, ev.sunset) {
-        (DayKind::PolarNight, _, _) => Daylight::PolarNight,
-        (DayKind::PolarDay, _, _) => Daylight::PolarDay,
-        (_, Some(rise), Some(set)) if set > rise => Daylight::Normal { rise, set },
-        (_, Some(rise), None) => Daylight::Normal { rise, set: end },
-        (_, None, Some(set)) => Daylight::Normal { rise: start, set },
-        // Set and rose again inside the window (near the polar circles):
-        // the table covers the whole window, so does the daylight.
-        _ => Daylight::Normal {
-            rise: start,
-            set: end,
-        },
+    let span = ev.daylight().map_err(|_| ScheduleError::TimeRange)?;
+    let daylight = match (ev.kind, span) {
+        (DayKind::PolarDay, _) => Daylight::PolarDay,
+        (_, Some((rise, set))) => Daylight::Normal { rise, set },
+        (_, None) => Daylight::PolarNight,
     };
-    Ok(SolarDay { start, daylight })
+    Ok(SolarDay {
+        start: ev.window_start,
+        daylight,
+    })
 }
 
 /// One row of the day table.

@@ -49,7 +49,7 @@ use crate::float::Float;
 use crate::position::SunPosition;
 use crate::time::{div_rem_euclid_i64, UtcTime};
 
-use super::events::{DayKind, Events};
+use super::events::Events;
 use super::incidence::Surface;
 use super::optimum::{best_surface_within, Limits};
 use super::GeometryError;
@@ -415,15 +415,13 @@ impl<const N: usize> DayTable<N> {
         // two days of it.
         let midnight = events.window_start.start_of_day();
         let rel = |t: UtcTime| t.seconds_since(&midnight).ok_or(crate::Error::InvalidDate);
-        let w0 = rel(events.window_start)?;
-        let w1 = w0 + 86_400;
-        let (from, to) = match (events.kind, events.sunrise, events.sunset) {
-            (DayKind::PolarNight, _, _) => (w0, w0 - 1),
-            (DayKind::PolarDay, _, _) => (w0, w1),
-            (_, Some(r), Some(s)) if s > r => (rel(r)?, rel(s)?),
-            (_, Some(r), None) => (rel(r)?, w1),
-            (_, None, Some(s)) => (w0, rel(s)?),
-            _ => (w0, w1),
+        let (from, to) = match events.daylight()? {
+            Some((from, to)) => (rel(from)?, rel(to)?),
+            // Polar night: no step from `from` to `to`.
+            None => {
+                let w0 = rel(events.window_start)?;
+                (w0, w0 - 1)
+            }
         };
         // The first whole step at or after `from`, the last at or before
         // `to` (|from|, |to| < 2^31 − step: no overflow).
