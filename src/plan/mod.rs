@@ -450,8 +450,9 @@ pub struct Scheduler<T, P, const N: usize> {
 enum Planner<T> {
     /// Finding sunrise and sunset (flowchart steps 2–4).
     Daylight(EventSearch<T>),
-    /// Filling the table of this day (flowchart steps 7–8).
-    Table(SolarDay),
+    /// Filling the table of the solar day starting then (flowchart steps
+    /// 7–8).
+    Table(UtcTime),
 }
 
 impl<T: Float, P: PositionSource<T>, const N: usize> Scheduler<T, P, N> {
@@ -677,94 +678,104 @@ impl<T: Float, P: PositionSource<T>, const N: usize> Scheduler<T, P, N> {
     }
 
     /// Steps 2–8: read the date, find daylight, wait or build the table;
-    /// in steps of the plan budget, resumed at the next tick.
+    /// in steps of the plan budget, resumed at the next tick. The plan in
+    /// progress is advanced where it is stored (an 8-bit board copies
+    /// its event search in and out byte by byte otherwise); an error drops
+    /// it.
     fn plan(&mut self, now: UtcTime) -> Result<Action<T>, ScheduleError> {
+        let result = self.plan_in_place(now);
+        if result.is_err() {
+            self.planner = None;
+        }
+        result
+    }
+
+    fn plan_in_place(&mut self, now: UtcTime) -> Result<Action<T>, ScheduleError> {
         let lon = self.source.site().longitude_deg();
         let start = solar_day_start(&now, lon)?;
         // A plan for another solar day (midnight passed while planning) is
         // dropped.
-        let mut planner = match self.planner.take() {
-            Some(Planner::Daylight(s)) if s.window_start() == start => Planner::Daylight(s),
-            Some(Planner::Table(day)) if day.start == start => Planner::Table(day),
-            _ => Planner::Daylight(EventSearch::new(start)),
+        let current = match &self.planner {
+            Some(Planner::Daylight(s)) => s.window_start() == start,
+            Some(Planner::Table(day_start)) => *day_start == start,
+            None => false,
         };
+        if !current {
+            self.planner = Some(Planner::Daylight(EventSearch::new(start)));
+        }
         let mut budget = match self.plan_budget {
             0 => u32::MAX,
             b => u32::from(b),
         };
-        loop {
-            match planner {
-                Planner::Daylight(mut search) => {
-                    // Jimoh & Aliyu 2019 eq. 9: sunrise is where the zenith
-                    // angle is 90° (see find_daylight).
-                    let shift = T::from_f64(SUN_RADIUS_PLUS_HORIZON_REFRACTION_DEG);
-                    let src = &mut self.source;
-                    let mut used = 0u32;
-                    let mut sun = |t: &UtcTime| {
-                        used = used.saturating_add(1);
-                        src.position(t).map(|p| SunPosition {
-                            zenith_deg: p.zenith_deg + shift,
-                            ..p
-                        })
-                    };
-                    let found = search.step(&mut sun, budget)?;
-                    budget = budget.saturating_sub(used);
-                    let Some(ev) = found else {
-                        self.planner = Some(Planner::Daylight(search));
-                        self.phase = Phase::Planning;
-                        return Ok(Action::Idle);
-                    };
-                    let day = solar_day_of(&ev)?;
-                    self.day = Some(day);
-                    self.last_applied = None;
-                    match day.span()? {
-                        Some((from, to)) if now >= from && now < to => {
-                            // Steps 7–8: the table for the whole daylight
-                            // (set-points facing the sun: no slope or
-                            // azimuth limits, the axes' own limits are
-                            // applied by the attitude step).
-                            let interval_min = (self.config.table_step_s / 60) as u16;
-                            self.has_table = false;
-                            self.table.begin(&ev, interval_min)?;
-                            planner = Planner::Table(day);
-                        }
-                        Some((from, _)) if now < from => {
-                            // Steps 5–6: td_os = sunrise − now.
-                            self.phase = Phase::WaitSunrise { until: from };
-                            return Ok(Action::Sleep { until: from });
-                        }
-                        _ => {
-                            // After sunset, or polar night: wait for the
-                            // next solar day.
-                            let until = day.end()?;
-                            self.phase = Phase::WaitSunrise { until };
-                            return Ok(Action::Sleep { until });
-                        }
-                    }
+        if let Some(Planner::Daylight(search)) = &mut self.planner {
+            // Jimoh & Aliyu 2019 eq. 9: sunrise is where the zenith
+            // angle is 90° (see find_daylight).
+            let shift = T::from_f64(SUN_RADIUS_PLUS_HORIZON_REFRACTION_DEG);
+            let src = &mut self.source;
+            let mut used = 0u32;
+            let mut sun = |t: &UtcTime| {
+                used = used.saturating_add(1);
+                src.position(t).map(|p| SunPosition {
+                    zenith_deg: p.zenith_deg + shift,
+                    ..p
+                })
+            };
+            let found = search.step(&mut sun, budget)?;
+            budget = budget.saturating_sub(used);
+            let Some(ev) = found else {
+                self.phase = Phase::Planning;
+                return Ok(Action::Idle);
+            };
+            self.planner = None;
+            let day = solar_day_of(&ev)?;
+            self.day = Some(day);
+            self.last_applied = None;
+            match day.span()? {
+                Some((from, to)) if now >= from && now < to => {
+                    // Steps 7–8: the table for the whole daylight
+                    // (set-points facing the sun: no slope or azimuth
+                    // limits, the axes' own limits are applied by the
+                    // attitude step).
+                    let interval_min = (self.config.table_step_s / 60) as u16;
+                    self.has_table = false;
+                    self.table.begin(&ev, interval_min)?;
+                    self.planner = Some(Planner::Table(start));
                 }
-                Planner::Table(day) => {
-                    let src = &mut self.source;
-                    let mut sun = |t: &UtcTime| src.position(t);
-                    let done = budget > 0
-                        && self
-                            .table
-                            .fill_facing(&mut sun, usize::try_from(budget).unwrap_or(usize::MAX))?;
-                    if !done {
-                        self.planner = Some(Planner::Table(day));
-                        self.phase = Phase::Planning;
-                        return Ok(Action::Idle);
-                    }
-                    self.has_table = true;
-                    if let Some(first) = self.entry(0) {
-                        self.home = first.set_point;
-                    }
-                    // (Daylight may have ended while the table was filled:
-                    // tracking begins with that check.)
-                    self.phase = Phase::Tracking { next_check: now };
-                    return self.track(now);
+                Some((from, _)) if now < from => {
+                    // Steps 5–6: td_os = sunrise − now.
+                    self.phase = Phase::WaitSunrise { until: from };
+                    return Ok(Action::Sleep { until: from });
+                }
+                _ => {
+                    // After sunset, or polar night: wait for the next
+                    // solar day.
+                    let until = day.end()?;
+                    self.phase = Phase::WaitSunrise { until };
+                    return Ok(Action::Sleep { until });
                 }
             }
         }
+        // The table of the day (its planner is `Table`: the search above
+        // either returned or set it).
+        let src = &mut self.source;
+        let mut sun = |t: &UtcTime| src.position(t);
+        let done = budget > 0
+            && self
+                .table
+                .fill_facing(&mut sun, usize::try_from(budget).unwrap_or(usize::MAX))?;
+        if !done {
+            self.phase = Phase::Planning;
+            return Ok(Action::Idle);
+        }
+        self.planner = None;
+        self.has_table = true;
+        if let Some(first) = self.entry(0) {
+            self.home = first.set_point;
+        }
+        // (Daylight may have ended while the table was filled: tracking
+        // begins with that check.)
+        self.phase = Phase::Tracking { next_check: now };
+        self.track(now)
     }
 
     fn past_daylight(&self, now: &UtcTime) -> Result<bool, ScheduleError> {
