@@ -813,7 +813,6 @@ impl<T: Float, P: PositionSource<T>, const N: usize> Scheduler<T, P, N> {
         if self.past_daylight(&now)? {
             return self.end_of_day(now);
         }
-        let add = |s: u32| seconds_after(&now, s);
         let found = self
             .has_table
             .then_some(&self.table)
@@ -826,28 +825,20 @@ impl<T: Float, P: PositionSource<T>, const N: usize> Scheduler<T, P, N> {
             .has_table
             .then(|| next_slot_time(&self.table, &now))
             .flatten();
-        let next_check = |wait_s: u32| -> Result<UtcTime, ScheduleError> {
-            let t = add(wait_s)?;
-            Ok(match next_slot {
-                Some(slot) if slot < t => slot,
-                _ => t,
-            })
-        };
-        match found {
+        let (wait_s, action) = match found {
             Some((i, e)) if self.last_applied != Some(i) => {
                 self.last_applied = Some(i);
-                self.phase = Phase::Tracking {
-                    next_check: next_check(self.config.hold_s)?,
-                };
-                Ok(Action::SetPoints(e.set_point))
+                (self.config.hold_s, Action::SetPoints(e.set_point))
             }
-            _ => {
-                self.phase = Phase::Tracking {
-                    next_check: next_check(self.config.recheck_s)?,
-                };
-                Ok(Action::Idle)
-            }
-        }
+            _ => (self.config.recheck_s, Action::Idle),
+        };
+        let t = seconds_after(&now, wait_s)?;
+        let next_check = match next_slot {
+            Some(slot) if slot < t => slot,
+            _ => t,
+        };
+        self.phase = Phase::Tracking { next_check };
+        Ok(action)
     }
 
     /// Real-time mode: the flowchart with one position per slot.
