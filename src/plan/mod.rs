@@ -50,7 +50,7 @@
 use crate::sun::PositionSource;
 use sun_algos::geometry::day_table::DayTable;
 use sun_algos::geometry::events::{self, DayKind, EventSearch, Events};
-use sun_algos::geometry::{GeometryError, Limits};
+use sun_algos::geometry::GeometryError;
 use sun_algos::refraction::SUN_RADIUS_PLUS_HORIZON_REFRACTION_DEG;
 use sun_algos::{Error as SunError, Float, SunPosition, UtcTime};
 
@@ -181,39 +181,37 @@ impl SolarDay {
     }
 }
 
-/// Seconds of longitude time: 240 s per degree, truncated towards zero
-/// (exactly, from the value's bits: no `f64` on an 8-bit board); 0 for a
-/// NaN or infinite longitude, saturated far beyond ±180°.
-fn longitude_offset_s<T: Float>(longitude_deg: T) -> i64 {
-    let Some((m, e)) = (longitude_deg * T::from_f64(240.0)).to_mantissa_exp2() else {
-        return 0;
-    };
-    // |s| = |m|·2^e with |m| < 2^53.
-    let magnitude = match e {
-        0.. => {
-            let (a, e) = (m.unsigned_abs(), e.unsigned_abs());
-            // Only while bit 63 stays clear.
-            (a.leading_zeros() > e).then(|| a << e)
-        }
-        -63..0 => Some(m.unsigned_abs() >> e.unsigned_abs()),
-        _ => Some(0),
-    };
-    let magnitude = magnitude.map_or(i64::MAX, |v| v as i64);
-    if m < 0 {
-        -magnitude
-    } else {
-        magnitude
+/// Seconds of longitude time: 240 s per degree, truncated towards zero,
+/// exactly (no `f64` on an 8-bit board, and no 64-bit shifts: the whole
+/// number is converted in two halves of 16 bits, each exact in `f32`); 0
+/// for a NaN or infinite longitude, `None` from ±2^31 s on (no site).
+fn longitude_offset_s<T: Float>(longitude_deg: T) -> Option<i32> {
+    let s = longitude_deg * T::from_f64(240.0);
+    if !s.is_finite() {
+        return Some(0);
     }
+    let whole = s.abs().floor();
+    if whole >= T::from_f64(2_147_483_648.0) {
+        return None;
+    }
+    // Scaling by a power of two, its floor, product and difference are
+    // exact for a whole number below 2^31: high < 2^15, low < 2^16.
+    let high = (whole * T::from_f64(1.0 / 65_536.0)).floor();
+    let low = whole - high * T::from_f64(65_536.0);
+    let magnitude = ((high.to_f32() as i32) << 16) | low.to_f32() as i32;
+    Some(if s < T::ZERO { -magnitude } else { magnitude })
 }
 
 /// The local mean solar midnight at or before `now` for `longitude_deg`.
+// Out of line on AVR (as `solar_day_of`): inlined into the scheduler's
+// plan they cost the Mega image 176 B.
+#[cfg_attr(target_arch = "avr", inline(never))]
 pub fn solar_day_start<T: Float>(
     now: &UtcTime,
     longitude_deg: T,
 ) -> Result<UtcTime, ScheduleError> {
     // |off| ≤ 43 200 s for a longitude within ±180°; more is no site.
-    let off =
-        i32::try_from(longitude_offset_s(longitude_deg)).map_err(|_| ScheduleError::TimeRange)?;
+    let off = longitude_offset_s(longitude_deg).ok_or(ScheduleError::TimeRange)?;
     // The local midnight at or before `now + off`, back in UTC. Days
     // begin at whole seconds, so keeping `now`'s milliseconds changes no
     // day.
@@ -248,25 +246,18 @@ pub fn find_daylight<T: Float, P: PositionSource<T>>(
 
 /// The solar day whose events (found with the zenith shifted as
 /// [`find_daylight`] does) are `ev`.
+#[cfg_attr(target_arch = "avr", inline(never))]
 fn solar_day_of<T: Float>(ev: &Events<T>) -> Result<SolarDay, ScheduleError> {
-    let start = ev.window_start;
-    let end = start
-        .add_seconds_i32(86_400)
-        .map_err(|_| ScheduleError::TimeRange)?;
-    let daylight = match (ev.kind, ev.sunrise, ev.sunset) {
-        (DayKind::PolarNight, _, _) => Daylight::PolarNight,
-        (DayKind::PolarDay, _, _) => Daylight::PolarDay,
-        (_, Some(rise), Some(set)) if set > rise => Daylight::Normal { rise, set },
-        (_, Some(rise), None) => Daylight::Normal { rise, set: end },
-        (_, None, Some(set)) => Daylight::Normal { rise: start, set },
-        // Set and rose again inside the window (near the polar circles):
-        // the table covers the whole window, so does the daylight.
-        _ => Daylight::Normal {
-            rise: start,
-            set: end,
-        },
+    let span = ev.daylight().map_err(|_| ScheduleError::TimeRange)?;
+    let daylight = match (ev.kind, span) {
+        (DayKind::PolarDay, _) => Daylight::PolarDay,
+        (_, Some((rise, set))) => Daylight::Normal { rise, set },
+        (_, None) => Daylight::PolarNight,
     };
-    Ok(SolarDay { start, daylight })
+    Ok(SolarDay {
+        start: ev.window_start,
+        daylight,
+    })
 }
 
 /// One row of the day table.
@@ -459,8 +450,9 @@ pub struct Scheduler<T, P, const N: usize> {
 enum Planner<T> {
     /// Finding sunrise and sunset (flowchart steps 2–4).
     Daylight(EventSearch<T>),
-    /// Filling the table of this day (flowchart steps 7–8).
-    Table(SolarDay),
+    /// Filling the table of the solar day starting then (flowchart steps
+    /// 7–8).
+    Table(UtcTime),
 }
 
 impl<T: Float, P: PositionSource<T>, const N: usize> Scheduler<T, P, N> {
@@ -686,96 +678,104 @@ impl<T: Float, P: PositionSource<T>, const N: usize> Scheduler<T, P, N> {
     }
 
     /// Steps 2–8: read the date, find daylight, wait or build the table;
-    /// in steps of the plan budget, resumed at the next tick.
+    /// in steps of the plan budget, resumed at the next tick. The plan in
+    /// progress is advanced where it is stored (an 8-bit board copies
+    /// its event search in and out byte by byte otherwise); an error drops
+    /// it.
     fn plan(&mut self, now: UtcTime) -> Result<Action<T>, ScheduleError> {
+        let result = self.plan_in_place(now);
+        if result.is_err() {
+            self.planner = None;
+        }
+        result
+    }
+
+    fn plan_in_place(&mut self, now: UtcTime) -> Result<Action<T>, ScheduleError> {
         let lon = self.source.site().longitude_deg();
         let start = solar_day_start(&now, lon)?;
         // A plan for another solar day (midnight passed while planning) is
         // dropped.
-        let mut planner = match self.planner.take() {
-            Some(Planner::Daylight(s)) if s.window_start() == start => Planner::Daylight(s),
-            Some(Planner::Table(day)) if day.start == start => Planner::Table(day),
-            _ => Planner::Daylight(EventSearch::new(start)),
+        let current = match &self.planner {
+            Some(Planner::Daylight(s)) => s.window_start() == start,
+            Some(Planner::Table(day_start)) => *day_start == start,
+            None => false,
         };
+        if !current {
+            self.planner = Some(Planner::Daylight(EventSearch::new(start)));
+        }
         let mut budget = match self.plan_budget {
             0 => u32::MAX,
             b => u32::from(b),
         };
-        loop {
-            match planner {
-                Planner::Daylight(mut search) => {
-                    // Jimoh & Aliyu 2019 eq. 9: sunrise is where the zenith
-                    // angle is 90° (see find_daylight).
-                    let shift = T::from_f64(SUN_RADIUS_PLUS_HORIZON_REFRACTION_DEG);
-                    let src = &mut self.source;
-                    let mut used = 0u32;
-                    let mut sun = |t: &UtcTime| {
-                        used = used.saturating_add(1);
-                        src.position(t).map(|p| SunPosition {
-                            zenith_deg: p.zenith_deg + shift,
-                            ..p
-                        })
-                    };
-                    let found = search.step(&mut sun, budget)?;
-                    budget = budget.saturating_sub(used);
-                    let Some(ev) = found else {
-                        self.planner = Some(Planner::Daylight(search));
-                        self.phase = Phase::Planning;
-                        return Ok(Action::Idle);
-                    };
-                    let day = solar_day_of(&ev)?;
-                    self.day = Some(day);
-                    self.last_applied = None;
-                    match day.span()? {
-                        Some((from, to)) if now >= from && now < to => {
-                            // Steps 7–8: the table for the whole daylight
-                            // (set-points facing the sun: no slope or
-                            // azimuth limits, the axes' own limits are
-                            // applied by the attitude step).
-                            let interval_min = (self.config.table_step_s / 60) as u16;
-                            self.has_table = false;
-                            self.table.begin(&ev, interval_min)?;
-                            planner = Planner::Table(day);
-                        }
-                        Some((from, _)) if now < from => {
-                            // Steps 5–6: td_os = sunrise − now.
-                            self.phase = Phase::WaitSunrise { until: from };
-                            return Ok(Action::Sleep { until: from });
-                        }
-                        _ => {
-                            // After sunset, or polar night: wait for the
-                            // next solar day.
-                            let until = day.end()?;
-                            self.phase = Phase::WaitSunrise { until };
-                            return Ok(Action::Sleep { until });
-                        }
-                    }
+        if let Some(Planner::Daylight(search)) = &mut self.planner {
+            // Jimoh & Aliyu 2019 eq. 9: sunrise is where the zenith
+            // angle is 90° (see find_daylight).
+            let shift = T::from_f64(SUN_RADIUS_PLUS_HORIZON_REFRACTION_DEG);
+            let src = &mut self.source;
+            let mut used = 0u32;
+            let mut sun = |t: &UtcTime| {
+                used = used.saturating_add(1);
+                src.position(t).map(|p| SunPosition {
+                    zenith_deg: p.zenith_deg + shift,
+                    ..p
+                })
+            };
+            let found = search.step(&mut sun, budget)?;
+            budget = budget.saturating_sub(used);
+            let Some(ev) = found else {
+                self.phase = Phase::Planning;
+                return Ok(Action::Idle);
+            };
+            self.planner = None;
+            let day = solar_day_of(&ev)?;
+            self.day = Some(day);
+            self.last_applied = None;
+            match day.span()? {
+                Some((from, to)) if now >= from && now < to => {
+                    // Steps 7–8: the table for the whole daylight
+                    // (set-points facing the sun: no slope or azimuth
+                    // limits, the axes' own limits are applied by the
+                    // attitude step).
+                    let interval_min = (self.config.table_step_s / 60) as u16;
+                    self.has_table = false;
+                    self.table.begin(&ev, interval_min)?;
+                    self.planner = Some(Planner::Table(start));
                 }
-                Planner::Table(day) => {
-                    let src = &mut self.source;
-                    let mut sun = |t: &UtcTime| src.position(t);
-                    let done = budget > 0
-                        && self.table.fill(
-                            &Limits::unconstrained(),
-                            &mut sun,
-                            usize::try_from(budget).unwrap_or(usize::MAX),
-                        )?;
-                    if !done {
-                        self.planner = Some(Planner::Table(day));
-                        self.phase = Phase::Planning;
-                        return Ok(Action::Idle);
-                    }
-                    self.has_table = true;
-                    if let Some(first) = self.entry(0) {
-                        self.home = first.set_point;
-                    }
-                    // (Daylight may have ended while the table was filled:
-                    // tracking begins with that check.)
-                    self.phase = Phase::Tracking { next_check: now };
-                    return self.track(now);
+                Some((from, _)) if now < from => {
+                    // Steps 5–6: td_os = sunrise − now.
+                    self.phase = Phase::WaitSunrise { until: from };
+                    return Ok(Action::Sleep { until: from });
+                }
+                _ => {
+                    // After sunset, or polar night: wait for the next
+                    // solar day.
+                    let until = day.end()?;
+                    self.phase = Phase::WaitSunrise { until };
+                    return Ok(Action::Sleep { until });
                 }
             }
         }
+        // The table of the day (its planner is `Table`: the search above
+        // either returned or set it).
+        let src = &mut self.source;
+        let mut sun = |t: &UtcTime| src.position(t);
+        let done = budget > 0
+            && self
+                .table
+                .fill_facing(&mut sun, usize::try_from(budget).unwrap_or(usize::MAX))?;
+        if !done {
+            self.phase = Phase::Planning;
+            return Ok(Action::Idle);
+        }
+        self.planner = None;
+        self.has_table = true;
+        if let Some(first) = self.entry(0) {
+            self.home = first.set_point;
+        }
+        // (Daylight may have ended while the table was filled: tracking
+        // begins with that check.)
+        self.phase = Phase::Tracking { next_check: now };
+        self.track(now)
     }
 
     fn past_daylight(&self, now: &UtcTime) -> Result<bool, ScheduleError> {
@@ -813,7 +813,6 @@ impl<T: Float, P: PositionSource<T>, const N: usize> Scheduler<T, P, N> {
         if self.past_daylight(&now)? {
             return self.end_of_day(now);
         }
-        let add = |s: u32| seconds_after(&now, s);
         let found = self
             .has_table
             .then_some(&self.table)
@@ -826,28 +825,20 @@ impl<T: Float, P: PositionSource<T>, const N: usize> Scheduler<T, P, N> {
             .has_table
             .then(|| next_slot_time(&self.table, &now))
             .flatten();
-        let next_check = |wait_s: u32| -> Result<UtcTime, ScheduleError> {
-            let t = add(wait_s)?;
-            Ok(match next_slot {
-                Some(slot) if slot < t => slot,
-                _ => t,
-            })
-        };
-        match found {
+        let (wait_s, action) = match found {
             Some((i, e)) if self.last_applied != Some(i) => {
                 self.last_applied = Some(i);
-                self.phase = Phase::Tracking {
-                    next_check: next_check(self.config.hold_s)?,
-                };
-                Ok(Action::SetPoints(e.set_point))
+                (self.config.hold_s, Action::SetPoints(e.set_point))
             }
-            _ => {
-                self.phase = Phase::Tracking {
-                    next_check: next_check(self.config.recheck_s)?,
-                };
-                Ok(Action::Idle)
-            }
-        }
+            _ => (self.config.recheck_s, Action::Idle),
+        };
+        let t = seconds_after(&now, wait_s)?;
+        let next_check = match next_slot {
+            Some(slot) if slot < t => slot,
+            _ => t,
+        };
+        self.phase = Phase::Tracking { next_check };
+        Ok(action)
     }
 
     /// Real-time mode: the flowchart with one position per slot.

@@ -398,6 +398,9 @@ impl UtcTime {
     /// assert_eq!(far.seconds_since(&rise), None);
     /// # Ok::<(), sun_algos::Error>(())
     /// ```
+    // Out of line on AVR: inlined, its two divisions by 1000 and its
+    // product were copied into every caller (1,092 B of the Mega image).
+    #[cfg_attr(target_arch = "avr", inline(never))]
     pub fn seconds_since(&self, earlier: &UtcTime) -> Option<i32> {
         // Up to 24 854 days apart: 24 854 × 86 400 + 86 399 s < 2³¹. A
         // range test rather than a checked product (the overflow-checked

@@ -49,9 +49,9 @@ use crate::float::Float;
 use crate::position::SunPosition;
 use crate::time::{div_rem_euclid_i64, UtcTime};
 
-use super::events::{DayKind, Events};
+use super::events::Events;
 use super::incidence::Surface;
-use super::optimum::{best_within, Limits};
+use super::optimum::{best_surface_within, Limits};
 use super::GeometryError;
 
 /// One set-point: slope and surface azimuth (east of north) in 0.01°.
@@ -165,6 +165,10 @@ impl Entry {
         }
     }
 }
+
+/// How [`DayTable::fill`] and [`DayTable::fill_facing`] turn a sun position
+/// into an entry's surface.
+type SurfaceOf<'a, T> = dyn Fn(&SunPosition<T>) -> Result<Surface<T>, GeometryError> + 'a;
 
 /// Centidegrees in a turn.
 const TURN_CDEG: u32 = 36_000;
@@ -411,15 +415,13 @@ impl<const N: usize> DayTable<N> {
         // two days of it.
         let midnight = events.window_start.start_of_day();
         let rel = |t: UtcTime| t.seconds_since(&midnight).ok_or(crate::Error::InvalidDate);
-        let w0 = rel(events.window_start)?;
-        let w1 = w0 + 86_400;
-        let (from, to) = match (events.kind, events.sunrise, events.sunset) {
-            (DayKind::PolarNight, _, _) => (w0, w0 - 1),
-            (DayKind::PolarDay, _, _) => (w0, w1),
-            (_, Some(r), Some(s)) if s > r => (rel(r)?, rel(s)?),
-            (_, Some(r), None) => (rel(r)?, w1),
-            (_, None, Some(s)) => (w0, rel(s)?),
-            _ => (w0, w1),
+        let (from, to) = match events.daylight()? {
+            Some((from, to)) => (rel(from)?, rel(to)?),
+            // Polar night: no step from `from` to `to`.
+            None => {
+                let w0 = rel(events.window_start)?;
+                (w0, w0 - 1)
+            }
         };
         // The first whole step at or after `from`, the last at or before
         // `to` (|from|, |to| < 2^31 − step: no overflow).
@@ -480,41 +482,96 @@ impl<const N: usize> DayTable<N> {
         T: Float,
         F: FnMut(&UtcTime) -> Result<SunPosition<T>, crate::Error>,
     {
-        let result = self.fill_some(limits, sun, budget.max(1));
-        if result.is_err() {
-            self.entries.clear();
-            self.needed = 0;
-        }
-        result
+        self.fill_with(sun, budget, &|p: &SunPosition<T>| {
+            best_surface_within(p, limits)
+        })
     }
 
-    fn fill_some<T, F>(
+    /// [`DayTable::fill`] with set-points facing the sun (slope = zenith,
+    /// surface azimuth = the sun's: Jimoh & Aliyu 2019, eq. 14 with γ = γs,
+    /// whose root is β = θz, see [`super::optimum`]), exactly: what
+    /// `fill` with [`Limits::unconstrained`] approximates by its sines,
+    /// cosines and arctangent. Errors for a non-finite position.
+    ///
+    /// ```
+    /// use sun_algos::geometry::day_table::DayTable;
+    /// use sun_algos::geometry::{events, Limits};
+    /// use sun_algos::{Algorithm, Options, Site, UtcTime};
+    ///
+    /// // The NREL SPA report's site and day (39.742476° N, 105.1786° W, 1830.14 m,
+    /// // ΔT 67 s, 2003-10-17), set-points every 4 minutes.
+    /// let site = Site::with_elevation(39.742476f64, -105.1786, 1830.14)?;
+    /// let opts = Options { delta_t_s: Some(67.0), ..Options::default() };
+    /// let mut sun = |t: &UtcTime| Algorithm::Spa.position(t, &site, &opts);
+    /// let ev = events::for_algorithm(Algorithm::Spa, (2003, 10, 17), &site, &opts)?;
+    /// let mut table = DayTable::<361>::empty(UtcTime::MIDNIGHT_2000);
+    /// table.begin(&ev, 4)?;
+    /// while !table.fill_facing(&mut sun, 10)? {}
+    /// // The entry of 18:44 UT is the sun's direction then: pvlib 0.16.1's
+    /// // spa_python (geometric) gives zenith 49.049237°, azimuth 179.319573°.
+    /// let t: UtcTime = "2003-10-17T18:45:30Z".parse()?;
+    /// let (_, entry) = table.at(&t).expect("in the day");
+    /// assert_eq!((entry.slope_cdeg(), entry.azimuth_cdeg()), (4905, 17932));
+    /// // The same table as the unconstrained optimum's (in f64).
+    /// let free: DayTable<361> = DayTable::compute(&ev, 4, &Limits::unconstrained(), sun)?;
+    /// assert_eq!(table, free);
+    /// # Ok::<(), sun_algos::geometry::GeometryError>(())
+    /// ```
+    pub fn fill_facing<T, F>(&mut self, sun: &mut F, budget: usize) -> Result<bool, GeometryError>
+    where
+        T: Float,
+        F: FnMut(&UtcTime) -> Result<SunPosition<T>, crate::Error>,
+    {
+        self.fill_with(sun, budget, &|p: &SunPosition<T>| {
+            if !p.zenith_deg.is_finite() || !p.azimuth_deg.is_finite() {
+                return Err(GeometryError::NotFinite);
+            }
+            Ok(Surface {
+                slope_deg: p.zenith_deg.clamp(T::ZERO, T::from_f64(180.0)),
+                azimuth_deg: p.azimuth_deg,
+            })
+        })
+    }
+
+    /// `fill` with each entry's surface given by `surface`. Out of line on
+    /// AVR, as `EventSearch`'s loop: inlined into the scheduler's plan it
+    /// cost the Mega image 112 B (420 B with `best_surface_within`), while
+    /// the Cortex-M images are smaller with it inlined.
+    #[cfg_attr(target_arch = "avr", inline(never))]
+    fn fill_with<T, F>(
         &mut self,
-        limits: &Limits<T>,
         sun: &mut F,
         budget: usize,
+        surface: &SurfaceOf<'_, T>,
     ) -> Result<bool, GeometryError>
     where
         T: Float,
         F: FnMut(&UtcTime) -> Result<SunPosition<T>, crate::Error>,
     {
         let needed = usize::from(self.needed);
-        for _ in 0..budget {
-            let k = self.entries.len();
-            if k >= needed {
-                break;
+        let mut fill_some = || {
+            for _ in 0..budget.max(1) {
+                let k = self.entries.len();
+                if k >= needed {
+                    break;
+                }
+                let t = self.offset(k).ok_or(crate::Error::InvalidDate)?;
+                let p = sun(&t)?;
+                self.entries
+                    .push(Entry::from_surface(&surface(&p)?))
+                    .map_err(|_| GeometryError::CapacityExceeded {
+                        needed,
+                        capacity: N,
+                    })?;
             }
-            let t = self.offset(k).ok_or(crate::Error::InvalidDate)?;
-            let p = sun(&t)?;
-            let sp = best_within(&p, limits)?;
-            self.entries
-                .push(Entry::from_surface(&sp.surface))
-                .map_err(|_| GeometryError::CapacityExceeded {
-                    needed,
-                    capacity: N,
-                })?;
+            Ok(self.entries.len() >= needed)
+        };
+        let result = fill_some();
+        if result.is_err() {
+            self.entries.clear();
+            self.needed = 0;
         }
-        Ok(self.entries.len() >= needed)
+        result
     }
 
     /// True once every entry [`DayTable::begin`] set up is computed.

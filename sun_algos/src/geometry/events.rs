@@ -223,6 +223,50 @@ pub struct Events<T> {
     pub daylight_s: u32,
 }
 
+impl<T> Events<T> {
+    /// The daylight of the window, `[from, to]`: sunrise to sunset; the
+    /// window's start or end (24 h on) where one of them is missing; the
+    /// whole window for a polar day, and when the sun sets and rises again
+    /// inside it (only near the polar circles); `None` in a polar night.
+    /// Errors only at the end of the calendar.
+    ///
+    /// ```
+    /// use sun_algos::geometry::events::{find, solar_day_start};
+    /// use sun_algos::{Algorithm, Options, Site};
+    ///
+    /// // 80° N: polar day on the June solstice, polar night in December.
+    /// let site = Site::new(80.0f64, 15.0)?;
+    /// let sun = |t: &_| Algorithm::Spa.position(t, &site, &Options::default());
+    /// let start = solar_day_start(2026, 6, 21, 15.0)?;
+    /// let end = start.add_seconds_i32(86_400)?;
+    /// assert_eq!(find(start, sun)?.daylight()?, Some((start, end)));
+    /// let start = solar_day_start(2026, 12, 21, 15.0)?;
+    /// assert_eq!(find(start, sun)?.daylight()?, None);
+    /// // Kano: sunrise to sunset.
+    /// let site = Site::new(11.9683f64, 8.4261)?;
+    /// let sun = |t: &_| Algorithm::Spa.position(t, &site, &Options::default());
+    /// let ev = find(solar_day_start(2026, 6, 21, 8.4261)?, sun)?;
+    /// assert_eq!(ev.daylight()?, Some((ev.sunrise.unwrap(), ev.sunset.unwrap())));
+    /// # Ok::<(), sun_algos::geometry::GeometryError>(())
+    /// ```
+    pub fn daylight(&self) -> Result<Option<(UtcTime, UtcTime)>, GeometryError> {
+        let start = self.window_start;
+        let end = start.add_seconds_i32(86_400)?;
+        if self.kind == DayKind::PolarNight {
+            return Ok(None);
+        }
+        let mut span = (start, end);
+        if self.kind == DayKind::Normal {
+            match (self.sunrise, self.sunset) {
+                // Set and rose again inside the window: the whole window.
+                (Some(rise), Some(set)) if set <= rise => {}
+                (rise, set) => span = (rise.unwrap_or(start), set.unwrap_or(end)),
+            }
+        }
+        Ok(Some(span))
+    }
+}
+
 /// Sampling step of [`find`], seconds.
 const STEP_S: i32 = 600;
 /// Samples per window (24 h / 10 min + 1).
@@ -435,6 +479,10 @@ impl<T: Float> EventSearch<T> {
         r
     }
 
+    // Out of line on AVR: inlined into its caller (the scheduler's plan)
+    // it costs that caller's frame its registers, and the Mega image
+    // 1,740 B more; the Cortex-M images are 144-168 B smaller inlined.
+    #[cfg_attr(target_arch = "avr", inline(never))]
     fn advance<F>(&mut self, sun: &mut F, budget: u32) -> Result<Option<Events<T>>, GeometryError>
     where
         F: FnMut(&UtcTime) -> Result<SunPosition<T>, crate::Error>,

@@ -317,6 +317,25 @@ pub fn best_within<T: Float>(
     sun: &SunPosition<T>,
     limits: &Limits<T>,
 ) -> Result<SetPoint<T>, GeometryError> {
+    let surface = best_surface_within(sun, limits)?;
+    let zenith = sun.zenith_deg.clamp(T::ZERO, T::from_f64(180.0));
+    let sun_c = SunPosition::new(zenith, sun.azimuth_deg, sun.refracted);
+    Ok(SetPoint {
+        surface,
+        incidence_deg: incidence_deg(&sun_c, &surface),
+    })
+}
+
+/// The surface of [`best_within`] without its incidence, for callers that
+/// keep the surface only (the day table): the incidence's own sines,
+/// cosines and arctangent are not computed (an 8-bit board's libm cannot
+/// drop calls whose result is unused). Out of line on AVR, where the day
+/// table's fill is smaller calling it.
+#[cfg_attr(target_arch = "avr", inline(never))]
+pub(crate) fn best_surface_within<T: Float>(
+    sun: &SunPosition<T>,
+    limits: &Limits<T>,
+) -> Result<Surface<T>, GeometryError> {
     if !sun.zenith_deg.is_finite() || !sun.azimuth_deg.is_finite() {
         return Err(GeometryError::NotFinite);
     }
@@ -343,14 +362,9 @@ pub fn best_within<T: Float>(
     if peak >= limits.slope_min_deg && peak <= limits.slope_max_deg {
         consider(peak);
     }
-    let surface = Surface {
+    Ok(Surface {
         slope_deg: best,
         azimuth_deg: gamma,
-    };
-    let sun_c = SunPosition::new(zenith, sun.azimuth_deg, sun.refracted);
-    Ok(SetPoint {
-        surface,
-        incidence_deg: incidence_deg(&sun_c, &surface),
     })
 }
 
