@@ -574,7 +574,20 @@ where
         let id = Self::axis_id(i);
         let chunk = self.options.homing_chunk_deg;
         let wait_until = self.home_retry_ms.get(i).copied().flatten();
-        let Some(ax) = self.axes.get_mut(i) else {
+        // On the AVR the axis is chosen of the two, not addressed by `i`
+        // times its size: LLVM's AVR backend was seen to let the
+        // status-register save of a far stack access overwrite that product
+        // in r0 before it was read here (.ci/avr_codegen_check.py). The
+        // Cortex-M images keep the index (488 B smaller there).
+        #[cfg(target_arch = "avr")]
+        let axis = match i {
+            0 => self.axes.first_mut(),
+            1 => self.axes.last_mut(),
+            _ => None,
+        };
+        #[cfg(not(target_arch = "avr"))]
+        let axis = self.axes.get_mut(i);
+        let Some(ax) = axis else {
             return false;
         };
         if ax.home_state() == HomeState::Done {
