@@ -61,11 +61,7 @@ fn kano_equinox_day_on_real_drivers() {
     // Power-on: the first GPS epoch gives the site (GPS first, then the stored site).
     let mut t: u32 = 60; // seconds after 2026-03-20 00:00 UTC
     uart.push(&gps_epoch(DayTime { secs: t }, true));
-    let fix = gps
-        .service(suntracker::time::monotonic::from_board_ms(
-            u64::from(t) * 1_000,
-        ))
-        .unwrap();
+    let fix = gps.service(t * 1_000).unwrap();
     let stored = Config::default().site;
     let (site, origin) = resolve_site(&fix, Some(&stored), None).unwrap();
     assert_eq!(origin, SiteOrigin::Gps);
@@ -105,15 +101,13 @@ fn kano_equinox_day_on_real_drivers() {
     let end_s = 23 * 3600;
     while t < end_s {
         ticks += 1;
+        // The monotonic clock runs with UTC here (t < 23 h: no overflow).
+        let now_ms = t * 1_000;
         // GPS epoch of this second, then the exact RTC traffic of the tick.
         if ticks > 1 {
             uart.push(&gps_epoch(DayTime { secs: t }, true));
         }
-        let fix = gps
-            .service(suntracker::time::monotonic::from_board_ms(
-                u64::from(t) * 1_000,
-            ))
-            .unwrap();
+        let fix = gps.service(now_ms).unwrap();
         let rtc_reads = DayTime {
             secs: (i64::from(t) + rtc_offset_s) as u32,
         };
@@ -123,14 +117,11 @@ fn kano_equinox_day_on_real_drivers() {
             rtc_offset_s = 0;
         }
         i2c.update_expectations(&tx);
-        let status = keeper.update(
-            &fix,
-            suntracker::time::monotonic::from_board_ms(u64::from(t) * 1_000),
-        );
+        let status = keeper.update(&fix, now_ms);
         assert_eq!(status.now, Some(utc_at(t)), "GPS time at t={t}");
 
         let report = ctrl.tick(&TickInputs {
-            now_ms: suntracker::time::monotonic::from_board_ms(u64::from(t) * 1000),
+            now_ms,
             now: status.tick_time(utc_at(t)),
             time_valid: status.time_valid(),
             gps_fix: status.gps_fix,

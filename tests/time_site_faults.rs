@@ -60,11 +60,7 @@ fn lost_power_gps_loss_and_rtc_nack_are_raised_and_recovered() {
 
     // Boot: GPS without a fix, so the site is the stored one.
     uart.push(&gps_epoch(DayTime { secs: BOOT }, false));
-    let fix = gps
-        .service(suntracker::time::monotonic::from_board_ms(
-            u64::from(BOOT) * 1_000,
-        ))
-        .unwrap();
+    let fix = gps.service(BOOT * 1_000).unwrap();
     let stored = Config::default().site;
     let (site, origin) = resolve_site(&fix, Some(&stored), Some("DZ:16000")).unwrap();
     assert_eq!(origin, SiteOrigin::Stored);
@@ -95,11 +91,9 @@ fn lost_power_gps_loss_and_rtc_nack_are_raised_and_recovered() {
         if ticks > 1 && gps_talks {
             uart.push(&gps_epoch(DayTime { secs: t }, t >= GPS_FIX));
         }
-        let fix = gps
-            .service(suntracker::time::monotonic::from_board_ms(
-                u64::from(t) * 1_000,
-            ))
-            .unwrap();
+        // The monotonic clock runs with UTC here (t < a day: no overflow).
+        let now_ms = t * 1_000;
+        let fix = gps.service(now_ms).unwrap();
         let gps_valid = gps_talks && t >= GPS_FIX;
         assert_eq!(fix.has_position(), gps_valid, "fix at t={t}");
         // Follows a moved receiver; Kano stays Kano.
@@ -120,7 +114,6 @@ fn lost_power_gps_loss_and_rtc_nack_are_raised_and_recovered() {
             vec![read_status(STATUS_RUNNING), read_time(DayTime { secs: t })]
         };
         i2c.update_expectations(&tx);
-        let now_ms = suntracker::time::monotonic::from_board_ms(u64::from(t) * 1_000);
         let status = keeper.update(&fix, now_ms);
         let fallback = keeper.last_valid().unwrap_or(utc_at(t));
         let report = ctrl.tick(&status.tick_inputs(now_ms, fallback, 0, 60_000));
