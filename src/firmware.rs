@@ -37,9 +37,10 @@ use crate::controller::{Controller, ControllerError, ControllerOptions, TickRepo
 use crate::hw::GpsPort;
 use crate::log::{self, ChangeLog, Sink, SiteSource as LogSite};
 use crate::motion::AxisDrive;
+use crate::motion::HomeState;
 use crate::persist::{Loaded, SaveError, SaveStatus};
 use crate::ports::AttitudeSensor;
-use crate::safety::{AxisId, Mode};
+use crate::safety::{AxisId, Mode, OperatorHold};
 use crate::site::{site_from_config, site_from_fix, site_moved, wmm_declination_deg};
 use crate::sun::BoardSource;
 use crate::time::TimeConfig;
@@ -254,8 +255,8 @@ pub struct Firmware<T, R, G, D, S, L, const N: usize> {
     last_gps_ms: Option<u32>,
     boot_fallback: UtcTime,
     console_line: LineBuffer<{ console::LINE_LEN }>,
-    /// A `save` in progress (its reply is due when it ends).
-    saving: bool,
+    /// A save in progress and the reply due when it ends.
+    saving: Option<Executed>,
     /// The trusted time at the last tick and where it came from.
     last_time: Option<(UtcTime, TimeOrigin)>,
     /// Anemometer pulse rate over the last tick, Hz.
@@ -319,7 +320,7 @@ where
             last_gps_ms: None,
             boot_fallback,
             console_line: LineBuffer::new(),
-            saving: false,
+            saving: None,
             last_time: None,
             last_wind_hz: None,
             next_status_ms: None,
@@ -558,16 +559,22 @@ where
     /// inlined: its buffers are then not in the frame of every pass.
     #[inline(never)]
     fn service_console<P: Platform>(&mut self, platform: &mut P) {
-        if self.saving {
+        if let Some(pending) = self.saving {
             if let Some(store) = platform.config_store() {
                 if let Some(result) = store.poll_save() {
-                    self.saving = false;
-                    console::write_saved(&mut self.log, &result);
+                    self.saving = None;
+                    match pending {
+                        Executed::HoldChanged {
+                            name,
+                            ok_when_saved,
+                        } => console::write_hold_saved(&mut self.log, name, ok_when_saved, &result),
+                        _ => console::write_saved(&mut self.log, &result),
+                    }
                 }
             } else {
-                self.saving = false;
+                self.saving = None;
             }
-            if self.saving {
+            if self.saving.is_some() {
                 // No command while a save is under way (it takes under a
                 // second): typed bytes wait in the receive ring.
                 return;
@@ -601,10 +608,42 @@ where
     }
 
     fn run_command<P: Platform>(&mut self, line: &str, platform: &mut P) {
-        let mut op = FirmwareConsole { fw: self, platform };
-        if console::execute(&mut op, line) == Executed::SaveStarted {
-            self.saving = true;
+        let mut op = FirmwareConsole {
+            fw: self,
+            platform: &mut *platform,
+        };
+        let done = console::execute(&mut op, line);
+        match done {
+            Executed::Done => {}
+            Executed::SaveStarted => self.saving = Some(done),
+            Executed::HoldChanged {
+                name,
+                ok_when_saved,
+            } => match self.begin_hold_save(platform) {
+                Some(Ok(())) => self.saving = Some(done),
+                Some(Err(e)) => console::write_hold_saved(&mut self.log, name, true, &Err(e)),
+                None if ok_when_saved => console::write_ok(&mut self.log, name),
+                None => {}
+            },
         }
+    }
+
+    /// Starts storing the operator's hold in force with the *stored*
+    /// configuration (the board's own when none is good): unsaved `set`s
+    /// stay unsaved. `None` when the board has no storage. Not inlined: the
+    /// copy read is on the stack only here.
+    #[inline(never)]
+    fn begin_hold_save<P: Platform>(
+        &mut self,
+        platform: &mut P,
+    ) -> Option<Result<(), SaveError<()>>> {
+        let store = platform.config_store()?;
+        let mut loaded = store.load();
+        if loaded.defaults {
+            loaded.config = (self.app.defaults)();
+        }
+        loaded.config.hold = self.controller.hold();
+        Some(store.begin_save(&loaded.config))
     }
 
     /// Puts a changed configuration into effect: the controller's, and the
@@ -736,13 +775,37 @@ where
     fn stow(&mut self, on: bool) {
         self.fw.controller.command_stow(on);
     }
+    fn service(&mut self, on: bool) {
+        self.fw.controller.service(on);
+    }
+    fn hold(&self) -> OperatorHold {
+        self.fw.controller.hold()
+    }
     fn home(&mut self) -> bool {
         self.fw.controller.rehome();
         true
     }
     fn jog(&mut self, axis: AxisId, deg: f32) -> Jogged {
         let c = &mut self.fw.controller;
+        let hold = c.hold();
+        let unreferenced = c
+            .axes()
+            .get(axis.index())
+            .is_some_and(|a| a.home_state() != HomeState::Done);
+        // In service, or in a manual mode restored after a power cut,
+        // homing waits: an axis with no reference is jogged from where it
+        // stands.
+        let nudged = unreferenced
+            && (hold.service || (hold.manual && c.manual_pose().is_none()))
+            && c.nudge(axis, deg);
         let axes = c.axes();
+        if nudged {
+            return Jogged {
+                c_deg: axes[0].counted_deg(),
+                a_deg: axes[1].counted_deg(),
+                limited: false,
+            };
+        }
         let counted = Pose {
             gamma_deg: T::from_f32(axes[0].counted_deg()),
             alpha_deg: T::from_f32(axes[1].counted_deg()),

@@ -517,6 +517,10 @@ impl WindMonitor {
 /// What the tracker is doing, highest priority first.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum Mode {
+    /// An operator locked the tracker for work on it (console `service
+    /// on`): nothing moves, not for wind nor for homing, except what the
+    /// operator jogs; kept across power cuts until `service off`.
+    Service,
     /// A fault asked to stop: nothing moves.
     SafeStop,
     /// Stowed for wind.
@@ -540,6 +544,7 @@ impl Mode {
     /// The name used in logs and traces (`safe_stop`, `wind_stow`, …).
     pub fn name(self) -> FlashStr {
         match self {
+            Mode::Service => crate::flash_str!("service"),
             Mode::SafeStop => crate::flash_str!("safe_stop"),
             Mode::WindStow => crate::flash_str!("wind_stow"),
             Mode::CommandStow => crate::flash_str!("command_stow"),
@@ -555,6 +560,8 @@ impl Mode {
 /// Inputs of [`select_mode`].
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
 pub struct ModeInputs {
+    /// An operator's service lock is on.
+    pub service: bool,
     /// A fault requires a safe stop.
     pub must_stop: bool,
     /// The wind monitor is stowed.
@@ -572,10 +579,14 @@ pub struct ModeInputs {
     pub unhomed: bool,
 }
 
-/// The mode for the inputs. Protection of the structure first (fault stop,
-/// wind), then the operator, then the clock, then the sun.
+/// The mode for the inputs. The service lock first (a person may be at the
+/// tracker: it does not move even for wind), then protection of the
+/// structure (fault stop, wind), then the operator, then the clock, then
+/// the sun.
 pub fn select_mode(i: &ModeInputs) -> Mode {
-    if i.must_stop {
+    if i.service {
+        Mode::Service
+    } else if i.must_stop {
         Mode::SafeStop
     } else if i.wind_stow {
         Mode::WindStow
@@ -591,5 +602,49 @@ pub fn select_mode(i: &ModeInputs) -> Mode {
         Mode::Homing
     } else {
         Mode::Tracking
+    }
+}
+
+/// The operator's lasting commands: what the console's `service on`,
+/// `stow` and `jog` (manual) set and `service off`, `resume` and `manual
+/// off` end. Saved with the configuration in the same power-cut-safe
+/// record (one byte of flags, [`OperatorHold::to_bits`]) and restored at
+/// power-on before the first tick, so a tracker an operator stopped stays
+/// stopped through a brown-out, a breaker test or a watchdog reset.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub struct OperatorHold {
+    /// Stowed on the operator's command ([`Mode::CommandStow`]).
+    pub stow: bool,
+    /// Manual mode ([`Mode::Manual`]): after a power cut the axes stay
+    /// where they are until the operator jogs.
+    pub manual: bool,
+    /// The service lock ([`Mode::Service`]).
+    pub service: bool,
+}
+
+impl OperatorHold {
+    const STOW: u8 = 1;
+    const MANUAL: u8 = 2;
+    const SERVICE: u8 = 4;
+
+    /// The stored byte: bit 0 stow, bit 1 manual, bit 2 service.
+    pub fn to_bits(self) -> u8 {
+        let bit = |on: bool, b: u8| if on { b } else { 0 };
+        bit(self.stow, Self::STOW)
+            | bit(self.manual, Self::MANUAL)
+            | bit(self.service, Self::SERVICE)
+    }
+
+    /// The hold of a stored byte; `None` when a bit outside the three is
+    /// set (not written by this firmware: the record is not used).
+    pub fn from_bits(b: u8) -> Option<Self> {
+        if b & !(Self::STOW | Self::MANUAL | Self::SERVICE) != 0 {
+            return None;
+        }
+        Some(OperatorHold {
+            stow: b & Self::STOW != 0,
+            manual: b & Self::MANUAL != 0,
+            service: b & Self::SERVICE != 0,
+        })
     }
 }

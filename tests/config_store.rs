@@ -5,6 +5,7 @@ use suntracker::persist::{
     crc32, ConfigStore, MemError, MemStorage, SaveError, SaveStatus, SlotState, SLOT_LEN,
 };
 use suntracker::ports::Storage;
+use suntracker::safety::OperatorHold;
 
 #[test]
 fn crc32_check_value() {
@@ -36,8 +37,27 @@ fn encode_decode_round_trip() {
     let n = c.encode(&mut buf).unwrap();
     assert_eq!(n, PAYLOAD_LEN);
     assert_eq!(Config::decode(&buf[..n]), Some(c));
-    // Short or long payloads are rejected.
-    assert_eq!(Config::decode(&buf[..n - 1]), None);
+    // The operator's hold is the last byte: bit 0 stow, 1 manual, 2 service.
+    let mut held = c;
+    held.hold = OperatorHold {
+        stow: true,
+        manual: false,
+        service: true,
+    };
+    let mut hb = [0u8; 200];
+    assert_eq!(held.encode(&mut hb), Some(PAYLOAD_LEN));
+    assert_eq!(hb[PAYLOAD_LEN - 1], 0b101);
+    assert_eq!(hb[..PAYLOAD_LEN - 1], buf[..PAYLOAD_LEN - 1]);
+    assert_eq!(Config::decode(&hb[..n]), Some(held));
+    // A flag this firmware does not know: the payload is refused.
+    hb[PAYLOAD_LEN - 1] = 0b1000;
+    assert_eq!(Config::decode(&hb[..n]), None);
+    // Layout version 2's payload (no hold byte, 143 bytes) reads with no
+    // hold in force.
+    assert_eq!(n - 1, 143);
+    assert_eq!(Config::decode(&buf[..n - 1]), Some(c));
+    // Other lengths are rejected.
+    assert_eq!(Config::decode(&buf[..n - 2]), None);
     assert_eq!(Config::decode(&buf[..n + 1]), None);
     // Too small a buffer to encode into.
     assert_eq!(c.encode(&mut [0u8; 10]), None);
@@ -154,6 +174,23 @@ fn old_version_and_bad_values_are_rejected_whole() {
     let l = ConfigStore::new(mem).load();
     assert!(l.defaults);
     assert_eq!(l.slots[0], SlotState::OldVersion(0));
+
+    // Layout version 2 (written before the operator's hold existed: the
+    // same fields without the last byte) is still read, so an update keeps
+    // the saved configuration; version 3 with version 2's length is not.
+    let mut mem = MemStorage::<1024>::new();
+    mem.write(0, &slot(2, &payload[..n - 1])).unwrap();
+    mem.write(SLOT_LEN, &slot(3, &payload[..n - 1])).unwrap();
+    let l = ConfigStore::new(mem).load();
+    assert!(!l.defaults);
+    assert_eq!(l.config, c);
+    assert_eq!(l.slots, [SlotState::Good(9), SlotState::Corrupt]);
+    // Version 2 with version 3's length is not either.
+    let mut mem = MemStorage::<1024>::new();
+    mem.write(0, &slot(2, &payload[..n])).unwrap();
+    let l = ConfigStore::new(mem).load();
+    assert!(l.defaults);
+    assert_eq!(l.slots[0], SlotState::Corrupt);
 
     // Current version, valid CRC, but a latitude of 95°: not applied in part.
     let mut bad = c;

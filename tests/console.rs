@@ -880,6 +880,8 @@ fn every_command_parses() {
         ("jog c 5", Command::Jog(AxisId::C, 5.0)),
         ("jog A -2.25", Command::Jog(AxisId::A, -2.25)),
         ("manual off", Command::ManualOff),
+        ("service on", Command::Service(true)),
+        ("Service OFF", Command::Service(false)),
         ("faults", Command::Faults),
         ("clear", Command::Clear),
         ("  STATUS  ", Command::Status),
@@ -897,6 +899,8 @@ fn every_command_parses() {
     assert_eq!(pairs[1].1.to_u32(), Some(5));
     assert_eq!(Command::ManualOff.name(), "manual off");
     assert_eq!(Command::TimeSet(t).name(), "time set");
+    assert_eq!(Command::Service(true).name(), "service on");
+    assert_eq!(Command::Service(false).name(), "service off");
 }
 
 #[test]
@@ -909,6 +913,7 @@ fn malformed_commands_get_errors() {
         "time get 2026-03-20T06:30:05Z",
         "manual",
         "manual on",
+        "service maybe",
         "helpme",
         "st0w",
         "é",
@@ -921,6 +926,8 @@ fn malformed_commands_get_errors() {
         ("help me", "error unexpected argument\n"),
         ("stow now", "error unexpected argument\n"),
         ("manual off now", "error unexpected argument\n"),
+        ("service", "error missing argument\n"),
+        ("service on now", "error unexpected argument\n"),
         (
             "get site.lat_deg site.lon_deg",
             "error unexpected argument\n",
@@ -985,6 +992,8 @@ fn help_get_all_and_defaults() {
         "time set",
         "jog",
         "manual off",
+        "service on",
+        "service off",
         "clear",
     ] {
         assert!(help.contains(word), "{word}");

@@ -482,3 +482,140 @@ fn load_and_defaults() {
     expected.wind.threshold_hz = 30.0;
     assert_eq!(b.fw.controller().config(), &expected);
 }
+
+/// A power cycle of the bench: the storage survives (the store is read
+/// as a board's start-up reads it), the motors stay where they are, RAM
+/// and the log start over.
+fn power_cycle(b: Bench) -> Bench {
+    let angles = (b.c.borrow().angle_deg(), b.a.borrow().angle_deg());
+    let kept = b.platform.store.release();
+    let mut store2: Store = ConfigStore::new(kept);
+    let loaded = store2.load();
+    assert!(!loaded.defaults, "{:?}", loaded.slots);
+    let b2 = Bench::new(loaded.config, store2, false);
+    b2.c.borrow_mut().start_deg = angles.0;
+    b2.a.borrow_mut().start_deg = angles.1;
+    b2
+}
+
+fn motor_angles(b: &Bench) -> (f64, f64) {
+    (b.c.borrow().angle_deg(), b.a.borrow().angle_deg())
+}
+
+fn modes(b: &Bench) -> Vec<&str> {
+    b.stamps
+        .iter()
+        .filter(|(_, l)| l.starts_with("mode "))
+        .map(|(_, l)| l.as_str())
+        .collect()
+}
+
+/// `service on` is saved with the stored configuration (not with an
+/// unsaved `set`) and survives a power cut: after it no motor moves for
+/// 30 minutes, homing included, the log says `mode service`; a `jog` moves
+/// an axis with no reference from where it stands; `service off` homes and
+/// tracks again.
+#[test]
+fn service_lock_survives_a_power_cycle() {
+    let mut b = Bench::new(kano_config(), store(), false);
+    b.run_until(20 * 60_000, |_| {});
+    assert_eq!(modes(&b).last(), Some(&"mode tracking"));
+    assert_eq!(b.reply_to("save"), ["ok save"]);
+    // Not saved: the service lock must not store it.
+    assert_eq!(b.reply_to("set site.lat_deg 45"), ["ok site.lat_deg=45"]);
+    assert_eq!(b.reply_to("service on"), ["ok service on"]);
+    b.run_until(b.platform.now_ms + 2_000, |_| {});
+    assert_eq!(modes(&b).last(), Some(&"mode service"));
+    let held = motor_angles(&b);
+    b.run_until(b.platform.now_ms + 10 * 60_000, |_| {});
+    assert_eq!(motor_angles(&b), held, "moved in service");
+    let r = b.reply_to("status");
+    assert!(r[0].starts_with("ok mode=service "), "{r:?}");
+    // A jog moves a homed axis to the pose it names; the lock stays.
+    let r = b.reply_to("jog a 3");
+    assert!(r[0].starts_with("ok jog c="), "{r:?}");
+    let a_jog = field(&r[0], "a");
+    b.run_until(b.platform.now_ms + 30_000, |_| {});
+    assert!((b.a.borrow().angle_deg() - a_jog).abs() < 0.02);
+    assert!(
+        (a_jog - held.1 - 3.0).abs() < 0.02,
+        "{a_jog} from {}",
+        held.1
+    );
+    assert_eq!(b.c.borrow().angle_deg(), held.0);
+    assert_eq!(modes(&b).last(), Some(&"mode service"));
+    assert!(b.fw.controller().config().hold.service);
+
+    let mut b = power_cycle(b);
+    assert!(b.fw.controller().config().hold.service);
+    // The stored site, not the unsaved one.
+    assert_eq!(b.fw.controller().config().site.latitude_deg, KANO.0 as f32);
+    let start = motor_angles(&b);
+    b.run_until(30 * 60_000, |_| {});
+    assert_eq!(motor_angles(&b), start, "a motor moved after the cut");
+    assert_eq!(modes(&b), ["mode service"]);
+    assert!(!b.stamps.iter().any(|(_, l)| l.starts_with("setpoint ")));
+    // A jog of an axis with no reference: 2° from where it stands.
+    let r = b.reply_to("jog c 2");
+    assert_eq!(r.len(), 1, "{r:?}");
+    b.run_until(b.platform.now_ms + 5_000, |_| {});
+    let (c, a) = motor_angles(&b);
+    assert!((c - start.0 - 2.0).abs() < 0.02, "{c} from {}", start.0);
+    assert_eq!(a, start.1);
+    assert_eq!(modes(&b), ["mode service"]);
+
+    assert_eq!(b.reply_to("service off"), ["ok service off"]);
+    b.run_until(b.platform.now_ms + 15 * 60_000, |_| {});
+    let m = modes(&b);
+    assert_eq!(m[1..], ["mode homing", "mode tracking"], "{m:?}");
+    let (n, worst) = worst_vs_spa(&b.lines_since(0), KANO);
+    assert!(n >= 2 && worst < 0.02, "{n} set-points, {worst}°");
+    // Off is saved too: the next power-on tracks.
+    let mut b = power_cycle(b);
+    assert_eq!(b.fw.controller().config().hold, Default::default());
+    b.run_until(10 * 60_000, |_| {});
+    assert_eq!(modes(&b).last(), Some(&"mode tracking"));
+}
+
+/// A typed `stow` survives a power cut (the axes home and the stow pose is
+/// driven to again), and so does manual mode (the axes stay still until a
+/// jog); `resume` ends both.
+#[test]
+fn stow_and_manual_survive_a_power_cycle() {
+    let mut b = Bench::new(kano_config(), store(), false);
+    b.run_until(20 * 60_000, |_| {});
+    // The installer saved the bench's mechanics (a hold is saved with the
+    // stored configuration, else with the board's own, `Config::default`).
+    assert_eq!(b.reply_to("save"), ["ok save"]);
+    assert_eq!(b.reply_to("stow"), ["ok stow"]);
+    let mut b = power_cycle(b);
+    assert!(b.fw.controller().config().hold.stow);
+    b.run_until(10 * 60_000, |_| {});
+    let m = modes(&b);
+    assert_eq!(m.last(), Some(&"mode command_stow"), "{m:?}");
+    // The stow pose: the panel flat.
+    assert!(
+        b.a.borrow().angle_deg().abs() < 0.05,
+        "{:?}",
+        motor_angles(&b)
+    );
+    assert_eq!(b.reply_to("resume"), ["ok resume"]);
+    b.run_until(b.platform.now_ms + 5 * 60_000, |_| {});
+    assert_eq!(modes(&b).last(), Some(&"mode tracking"));
+
+    // Manual: a jog starts it (answered at once, saved behind).
+    let r = b.reply_to("jog a 5");
+    assert!(r[0].starts_with("ok jog c="), "{r:?}");
+    b.run_until(b.platform.now_ms + 60_000, |_| {});
+    assert_eq!(modes(&b).last(), Some(&"mode manual"));
+    let mut b = power_cycle(b);
+    assert!(b.fw.controller().config().hold.manual);
+    let start = motor_angles(&b);
+    b.run_until(10 * 60_000, |_| {});
+    assert_eq!(modes(&b), ["mode manual"]);
+    assert_eq!(motor_angles(&b), start, "moved in manual after the cut");
+    assert_eq!(b.reply_to("resume"), ["ok resume"]);
+    b.run_until(b.platform.now_ms + 10 * 60_000, |_| {});
+    let m = modes(&b);
+    assert_eq!(m[1..], ["mode homing", "mode tracking"], "{m:?}");
+}

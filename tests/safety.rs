@@ -146,6 +146,7 @@ fn wind_bad_inputs_fail_safe() {
 #[test]
 fn mode_priorities() {
     let all = ModeInputs {
+        service: true,
         must_stop: true,
         wind_stow: true,
         command_stow: true,
@@ -154,10 +155,16 @@ fn mode_priorities() {
         night: true,
         unhomed: true,
     };
-    assert_eq!(select_mode(&all), Mode::SafeStop);
+    // The service lock above everything, a gale and a fault stop included.
+    assert_eq!(select_mode(&all), Mode::Service);
+    let i = ModeInputs {
+        service: false,
+        ..all
+    };
+    assert_eq!(select_mode(&i), Mode::SafeStop);
     let i = ModeInputs {
         must_stop: false,
-        ..all
+        ..i
     };
     assert_eq!(select_mode(&i), Mode::WindStow);
     let i = ModeInputs {
@@ -317,4 +324,24 @@ fn wind_stow_holds_across_the_clock_wrap() {
     }
     now = now.wrapping_add(60_000);
     assert!(!w.update_pulses(now, 0, 60_000));
+}
+
+#[test]
+fn operator_hold_bits_round_trip_and_unknown_bits_are_refused() {
+    use suntracker::safety::OperatorHold;
+    for b in 0u8..8 {
+        let h = OperatorHold::from_bits(b).expect("three known bits");
+        assert_eq!(h.to_bits(), b);
+    }
+    assert_eq!(
+        OperatorHold::from_bits(4),
+        Some(OperatorHold {
+            stow: false,
+            manual: false,
+            service: true
+        })
+    );
+    for b in 8u8..=255 {
+        assert_eq!(OperatorHold::from_bits(b), None, "{b:#x}");
+    }
 }

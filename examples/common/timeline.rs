@@ -23,7 +23,7 @@ use super::plot::{self, font, px, stroke, Area, Swatch};
 
 /// The controller's modes by name, in the order of the band (bottom up)
 /// and of the legend, with their colours.
-pub const MODE_COLOURS: [(&str, RGBColor); 8] = [
+pub const MODE_COLOURS: [(&str, RGBColor); 9] = [
     ("tracking", RGBColor(0x4c, 0xaf, 0x50)),      // green
     ("homing", RGBColor(0x64, 0xb5, 0xf6)),        // light blue
     ("night", RGBColor(0x45, 0x4f, 0x6b)),         // slate
@@ -32,6 +32,7 @@ pub const MODE_COLOURS: [(&str, RGBColor); 8] = [
     ("command_stow", RGBColor(0x8e, 0x44, 0xad)),  // purple
     ("manual", RGBColor(0x8d, 0x6e, 0x63)),        // brown
     ("safe_stop", RGBColor(0xef, 0x53, 0x50)),     // light red
+    ("service", RGBColor(0x21, 0x21, 0x21)),       // near black
 ];
 
 /// Active faults (bars) and where one was raised (dots).

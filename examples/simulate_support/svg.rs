@@ -21,7 +21,7 @@ use timeline::{FAULT, MODE_COLOURS};
 
 /// Every mode, in the order of the band (bottom up) and the legend (that
 /// of [`MODE_COLOURS`]).
-const MODES: [Mode; 8] = [
+const MODES: [Mode; 9] = [
     Mode::Tracking,
     Mode::Homing,
     Mode::Night,
@@ -30,6 +30,7 @@ const MODES: [Mode; 8] = [
     Mode::CommandStow,
     Mode::Manual,
     Mode::SafeStop,
+    Mode::Service,
 ];
 
 /// The position of `mode` in [`MODES`] and [`MODE_COLOURS`] (exhaustive: a
@@ -44,6 +45,7 @@ fn mode_index(mode: Mode) -> usize {
         Mode::CommandStow => 5,
         Mode::Manual => 6,
         Mode::SafeStop => 7,
+        Mode::Service => 8,
     }
 }
 
@@ -266,7 +268,7 @@ fn draw_figure(run: &Run, start: &UtcTime, title: &str) -> Result<String, Box<dy
     let floored = max.iter().flatten().any(|p| p.1 <= ERROR_FLOOR_DEG);
     let e1 = if e1 <= e0 { e0 * 10.0 } else { e1 };
     // Which modes occurred, and their share in each bin.
-    let mut seen = [false; 8];
+    let mut seen = [false; MODES.len()];
     for &m in &run.modes {
         seen[usize::from(m)] = true;
     }

@@ -1,14 +1,20 @@
-//! The configuration's binary payload, layout version 2
+//! The configuration's binary payload, layout version 3
 //! ([`super::LAYOUT_VERSION`]): every field in declaration order,
-//! little-endian, [`PAYLOAD_LEN`] bytes; and the little-endian cursors
+//! little-endian, [`PAYLOAD_LEN`] bytes (version 2's, without the
+//! operator's hold, [`PAYLOAD_LEN_V2`], is still read); and the little-endian cursors
 //! that write and read it (the store writes its slot header with the same
 //! writer).
 
 use super::{AxisConfig, Calibration, Config, LogConfig, SafetyConfig, SiteConfig, WindConfig};
 use crate::plan::ScheduleConfig;
+use crate::safety::OperatorHold;
 
 /// Payload length of layout version 2 (version 1 had no `log` fields).
-pub const PAYLOAD_LEN: usize = 12 + 20 + 2 * 34 + 12 + 13 + 16 + 2;
+pub const PAYLOAD_LEN_V2: usize = 12 + 20 + 2 * 34 + 12 + 13 + 16 + 2;
+
+/// Payload length of layout version 3: version 2's and the operator's
+/// hold, one byte ([`OperatorHold::to_bits`]).
+pub const PAYLOAD_LEN: usize = PAYLOAD_LEN_V2 + 1;
 
 /// A little-endian writer into `buf` from `pos`; a write past the end
 /// sets `overflow` and writes nothing.
@@ -122,6 +128,7 @@ impl Config {
             w.f32(v);
         }
         w.u16(self.log.status_every_min);
+        w.u8(self.hold.to_bits());
         if w.overflow {
             None
         } else {
@@ -129,8 +136,9 @@ impl Config {
         }
     }
 
-    /// Parses a payload of layout version 2 and checks every value; `None`
-    /// for a short buffer or any value out of range.
+    /// Parses a payload of layout version 3, or of version 2 (which has no
+    /// hold: none is in force), and checks every value; `None` for a
+    /// buffer of another length or any value out of range.
     pub fn decode(buf: &[u8]) -> Option<Config> {
         let mut r = Reader { buf, pos: 0 };
         let site = SiteConfig {
@@ -179,6 +187,11 @@ impl Config {
         let log = LogConfig {
             status_every_min: r.u16()?,
         };
+        let hold = if buf.len() == PAYLOAD_LEN_V2 {
+            OperatorHold::default()
+        } else {
+            OperatorHold::from_bits(r.u8()?)?
+        };
         if r.pos != buf.len() {
             return None;
         }
@@ -190,6 +203,7 @@ impl Config {
             safety,
             calibration,
             log,
+            hold,
         };
         cfg.is_valid().then_some(cfg)
     }

@@ -20,6 +20,7 @@
 //! are used. Nothing is ever applied in part.
 
 use crate::plan::ScheduleConfig;
+use crate::safety::OperatorHold;
 
 pub(crate) mod codec;
 mod keys;
@@ -191,6 +192,10 @@ pub struct Config {
     pub calibration: Calibration,
     /// Periodic log lines.
     pub log: LogConfig,
+    /// Not a setting (no key; `set`, `load` and `defaults` leave the one in
+    /// force): the operator's lasting commands, saved in the same record
+    /// so that one power-cut-safe store keeps both ([`OperatorHold`]).
+    pub hold: OperatorHold,
 }
 
 impl Default for Config {
@@ -245,6 +250,7 @@ impl Default for Config {
             log: LogConfig {
                 status_every_min: 10,
             },
+            hold: OperatorHold::default(),
         }
     }
 }

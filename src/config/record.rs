@@ -2,14 +2,16 @@
 //! ([`crate::persist::ConfigStore`]): its magic, layout version and
 //! length, and the store of a [`Config`] ([`ConfigStore::new`]).
 
+use super::codec::PAYLOAD_LEN_V2;
 use super::{Config, PAYLOAD_LEN};
 use crate::persist::{record_len, ConfigStore, Record, SLOT_LEN};
 use crate::ports::Storage;
 
-/// Layout version written by this firmware: 2 added `log.status_min`; a
-/// slot of version 1 is reported as [`SlotState::OldVersion`](crate::persist::SlotState::OldVersion) and not
-/// used.
-pub const LAYOUT_VERSION: u16 = 2;
+/// Layout version written by this firmware: 2 added `log.status_min`, 3
+/// the operator's hold. A slot of version 2 is read (with no hold in
+/// force), so a configuration saved before survives the update; one of
+/// version 1 is reported as [`SlotState::OldVersion`](crate::persist::SlotState::OldVersion) and not used.
+pub const LAYOUT_VERSION: u16 = 3;
 
 /// The first four bytes of a slot holding a [`Config`].
 const MAGIC: [u8; 4] = *b"STCF";
@@ -26,6 +28,7 @@ impl Record for Config {
     const MAGIC: [u8; 4] = MAGIC;
     const VERSION: u16 = LAYOUT_VERSION;
     const PAYLOAD_LEN: usize = PAYLOAD_LEN;
+    const PREVIOUS: Option<(u16, usize)> = Some((2, PAYLOAD_LEN_V2));
     fn encode(&self, buf: &mut [u8]) -> Option<usize> {
         Config::encode(self, buf)
     }

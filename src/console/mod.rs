@@ -25,7 +25,18 @@
 //! | `save`, `load`, `defaults` | `ok save`, `ok load`, `ok defaults`, or `error save: …`, `error load: …` |
 //! | `time set YYYY-MM-DDTHH:MM:SSZ` | `ok utc=…`, or `error time set: GPS time is in force` |
 //! | `stow`, `resume`, `home`, `manual off`, `clear` | `ok stow`, `ok resume`, … |
-//! | `jog c\|a DEG` | `ok jog` |
+//! | `service on`, `service off` | `ok service on`, `ok service off` |
+//! | `jog c\|a DEG` | `ok jog c=<deg> a=<deg>` (` limited` at a soft limit) |
+//!
+//! `stow`, `resume` (which ends a stow and a manual mode), `manual off`,
+//! `service on|off` and a `jog` that starts a manual mode change the
+//! operator's hold ([`crate::safety::OperatorHold`]): it is in force at
+//! once and saved with the stored configuration, and the `ok` comes when
+//! the save has ended (a `jog` is answered at once); a failed save is
+//! answered `error <command>: in force but not saved`. While the service
+//! lock is on (`mode service`) nothing moves, for wind or homing either,
+//! except what `jog` moves; an axis with no reference (after a power cut)
+//! is jogged from where it stands. `service off` homes both axes again.
 //! | `faults` | `ok fault=<name> attempts=<n>` per active fault, or `ok faults=none` |
 //!
 //! Malformed lines get `error unknown command`, `error unknown key`,
@@ -157,7 +168,9 @@ pub use config_commands::{run_config, Outcome};
 pub use keys::{get, is_read_only, key_from_name, Key, Value, KEYS, POSTAL_CODE_KEY};
 pub use line::{LineBuffer, LineError, LINE_LEN};
 pub use number::{write_number, Decimal, NumberError};
-pub use operator::{execute, set_rtc_time, Executed, Jogged, Operator, TimeSetError};
+pub use operator::{
+    execute, set_rtc_time, write_hold_saved, Executed, Jogged, Operator, TimeSetError,
+};
 pub use parse::{parse, parse_in, parse_utc, Assignments, Command, ParseError};
 pub use postal::{apply_postal_code, find_postal};
 pub use reply::{

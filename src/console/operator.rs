@@ -11,7 +11,8 @@ use super::status::{write_status, StatusView};
 use crate::config::Config;
 use crate::log::Sink;
 use crate::persist::{Loaded, SaveError};
-use crate::safety::AxisId;
+use crate::safety::{AxisId, OperatorHold};
+use crate::text::FlashStr;
 use crate::time::datetime_from_utc;
 use drivers::rtc::Clock as RtcDriver;
 use sun_algos::UtcTime;
@@ -78,6 +79,11 @@ pub trait Operator {
     fn set_time(&mut self, t: &UtcTime) -> Result<(), TimeSetError>;
     /// An operator's stow (true) or its release (false).
     fn stow(&mut self, on: bool);
+    /// The service lock on (true) or off (false).
+    fn service(&mut self, on: bool);
+    /// The operator's hold in force (changed by `stow`, `resume`, `jog`,
+    /// `manual off` and `service`).
+    fn hold(&self) -> OperatorHold;
     /// Homes both axes again; false on a board without home switches.
     fn home(&mut self) -> bool;
     /// Manual mode: moves `axis` by `deg`, within the soft limits.
@@ -96,6 +102,59 @@ pub enum Executed {
     /// A save was started: poll it and answer with [`write_saved`] when it
     /// ends.
     SaveStarted,
+    /// The command changed the operator's hold ([`Operator::hold`]): the
+    /// caller stores it with the *stored* configuration (not the one in
+    /// force, which may hold unsaved `set`s) and, when that save ends,
+    /// answers with [`write_hold_saved`] (`ok NAME` only if
+    /// `ok_when_saved`: a `jog` was answered at once). The save is the
+    /// caller's, after this returns, so that its buffers are not on the
+    /// stack under the command's.
+    HoldChanged {
+        /// The command's name ([`Command::name`]).
+        name: FlashStr,
+        /// Whether success is answered (`ok NAME`).
+        ok_when_saved: bool,
+    },
+}
+
+/// The end of a hold save: `ok NAME` (when asked for), or `error NAME: in
+/// force but not saved` (the hold holds until a power cut, which would end
+/// it: the operator is told).
+pub fn write_hold_saved(
+    out: &mut dyn Sink,
+    name: FlashStr,
+    ok_when_saved: bool,
+    result: &Result<(), SaveError<()>>,
+) {
+    match result {
+        Ok(()) if ok_when_saved => write_ok(out, name),
+        Ok(()) => {}
+        Err(_) => {
+            out.flash(crate::flash_str!("error "));
+            out.flash(name);
+            out.flash(crate::flash_str!(": in force but not saved\n"));
+        }
+    }
+}
+
+/// After a command that may have changed the operator's hold (`before`):
+/// [`Executed::HoldChanged`] when it did, else the answer at once.
+fn save_hold(
+    op: &mut dyn Operator,
+    before: OperatorHold,
+    name: FlashStr,
+    ok_when_saved: bool,
+) -> Executed {
+    if op.hold() != before {
+        return Executed::HoldChanged {
+            name,
+            ok_when_saved,
+        };
+    }
+    if ok_when_saved {
+        write_ok(op.out(), name);
+    }
+    Executed::Done
 }
 
 /// Parses `line`, carries it out through `op` and answers on
@@ -169,9 +228,19 @@ pub fn execute(op: &mut dyn Operator, line: &str) -> Executed {
             Ok(()) => write_time_set(op.out(), &t),
             Err(e) => write_time_error(op.out(), e),
         },
-        Command::Stow | Command::Resume => {
-            op.stow(matches!(cmd, Command::Stow));
-            write_ok(op.out(), cmd.name());
+        Command::Stow | Command::Resume | Command::ManualOff | Command::Service(_) => {
+            let before = op.hold();
+            match cmd {
+                Command::Stow => op.stow(true),
+                Command::Service(on) => op.service(on),
+                // `resume` ends a stow and a manual mode.
+                Command::Resume => {
+                    op.stow(false);
+                    op.manual_off();
+                }
+                _ => op.manual_off(),
+            }
+            return save_hold(op, before, cmd.name(), true);
         }
         Command::Home => {
             if op.home() {
@@ -183,15 +252,12 @@ pub fn execute(op: &mut dyn Operator, line: &str) -> Executed {
                 );
             }
         }
-        Command::ManualOff => {
-            op.manual_off();
-            write_ok(op.out(), cmd.name());
-        }
         Command::Clear => {
             op.clear();
             write_ok(op.out(), cmd.name());
         }
         Command::Jog(axis, deg) => {
+            let before = op.hold();
             let j = op.jog(axis, deg);
             let out = op.out();
             out.flash(crate::flash_str!("ok jog c="));
@@ -203,6 +269,7 @@ pub fn execute(op: &mut dyn Operator, line: &str) -> Executed {
             } else {
                 crate::flash_str!("\n")
             });
+            return save_hold(op, before, cmd.name(), false);
         }
         // Carried out by `run_config`.
         Command::Help

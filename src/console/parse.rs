@@ -70,6 +70,8 @@ pub enum Command<'a> {
     Jog(AxisId, f32),
     /// `manual off`.
     ManualOff,
+    /// `service on` (true) or `service off` (false).
+    Service(bool),
     /// `faults`.
     Faults,
     /// `clear`.
@@ -96,6 +98,8 @@ impl Command<'_> {
             Command::Home => crate::flash_str!("home"),
             Command::Jog(..) => crate::flash_str!("jog"),
             Command::ManualOff => crate::flash_str!("manual off"),
+            Command::Service(true) => crate::flash_str!("service on"),
+            Command::Service(false) => crate::flash_str!("service off"),
             Command::Faults => crate::flash_str!("faults"),
             Command::Clear => crate::flash_str!("clear"),
         }
@@ -250,6 +254,7 @@ enum Verb {
     Home,
     Jog,
     Manual,
+    Service,
     Faults,
     Clear,
 }
@@ -257,7 +262,7 @@ enum Verb {
 crate::progmem! {
     /// The command words (in program memory on AVR, the table's pointers
     /// and lengths too; read one entry at a time).
-    static VERBS: [(FlashStr, Verb); 15] = [
+    static VERBS: [(FlashStr, Verb); 16] = [
         (crate::flash_str!("help"), Verb::Help),
         (crate::flash_str!("status"), Verb::Status),
         (crate::flash_str!("get"), Verb::Get),
@@ -271,6 +276,7 @@ crate::progmem! {
         (crate::flash_str!("home"), Verb::Home),
         (crate::flash_str!("jog"), Verb::Jog),
         (crate::flash_str!("manual"), Verb::Manual),
+        (crate::flash_str!("service"), Verb::Service),
         (crate::flash_str!("faults"), Verb::Faults),
         (crate::flash_str!("clear"), Verb::Clear),
     ];
@@ -347,6 +353,18 @@ pub fn parse_in<'a>(line: &'a str, keys: &'a [Key]) -> Result<Command<'a>, Parse
                 return Err(ParseError::UnknownCommand);
             }
             no_more(after).map(|()| Command::ManualOff)
+        }
+        Verb::Service => {
+            let on = if same_word(arg, crate::flash_str!("on")) {
+                true
+            } else if same_word(arg, crate::flash_str!("off")) {
+                false
+            } else if arg.is_empty() {
+                return Err(ParseError::MissingArgument);
+            } else {
+                return Err(ParseError::UnknownCommand);
+            };
+            no_more(after).map(|()| Command::Service(on))
         }
         Verb::Jog => {
             let (deg, after) = word(after);

@@ -26,6 +26,7 @@ pub const HELP: &[FlashStr] = &[
     crate::flash_str!("save | load | defaults"),
     crate::flash_str!("time set YYYY-MM-DDTHH:MM:SSZ"),
     crate::flash_str!("stow | resume | home | jog c|a DEG | manual off"),
+    crate::flash_str!("service on | service off"),
 ];
 
 /// `ok WHAT` (`ok` alone for an empty `what`).

@@ -23,7 +23,9 @@ use crate::motion::{
 };
 use crate::plan::{ScheduleError, Scheduler, SetPoint};
 use crate::ports::{AttitudeReading, AttitudeSensor};
-use crate::safety::{AxisId, Fault, FaultManager, Mode, Recovery, Sensor, WindMonitor};
+use crate::safety::{
+    AxisId, Fault, FaultManager, Mode, OperatorHold, Recovery, Sensor, WindMonitor,
+};
 use crate::sun::PositionSource;
 use crate::time::monotonic;
 use sun_algos::{Float, UtcTime};
@@ -173,7 +175,8 @@ pub struct Controller<T, P, D, S, const N: usize> {
     pose: Pose<T>,
     /// Whether a target pose was ever driven (`pose` is then its last).
     pose_commanded: bool,
-    command_stow: bool,
+    /// The pose an operator's `jog` asked for (manual mode, or inside the
+    /// service lock); the hold flags themselves are `config.hold`.
     manual: Option<Pose<T>>,
     ticks: u32,
     /// Monotonic time (ms) before which a failed homing is not retried,
@@ -267,7 +270,6 @@ where
             night: true,
             pose: Pose::default(),
             pose_commanded: false,
-            command_stow: false,
             manual: None,
             ticks: 0,
             home_retry_ms: [None; 2],
@@ -297,7 +299,9 @@ where
     /// ([`AxisController::set_config`]); active faults keep their attempts
     /// under the new retry rules; the wind thresholds apply from the next
     /// reading. The site is the position source's (the firmware sets it).
-    pub fn reconfigure(&mut self, config: Config) -> Result<(), ControllerError> {
+    /// The operator's hold in force stays (it is not a setting).
+    pub fn reconfigure(&mut self, mut config: Config) -> Result<(), ControllerError> {
+        config.hold = self.config.hold;
         Self::check(&config)?;
         if config.schedule != self.config.schedule {
             self.scheduler
@@ -351,15 +355,64 @@ where
     }
     /// Stow on an operator's command (true) or release it.
     pub fn command_stow(&mut self, on: bool) {
-        self.command_stow = on;
+        self.config.hold.stow = on;
     }
-    /// The manual pose in force, if any.
+    /// The operator's hold in force (what `config().hold` says).
+    pub fn hold(&self) -> OperatorHold {
+        self.config.hold
+    }
+    /// The pose jogged to in manual mode or in service, if any.
     pub fn manual_pose(&self) -> Option<Pose<T>> {
         self.manual
     }
-    /// Manual override to a pose, or back to automatic with `None`.
+    /// Manual override to a pose, or back to automatic with `None`. Inside
+    /// the service lock a pose is what the operator jogged to, and the lock
+    /// stays.
     pub fn manual(&mut self, pose: Option<Pose<T>>) {
         self.manual = pose;
+        if !self.config.hold.service || pose.is_none() {
+            self.config.hold.manual = pose.is_some();
+        }
+    }
+    /// The service lock on (nothing moves but what is jogged, the axes
+    /// held where they are) or off (the axes home again: hands may have
+    /// moved them, and tracking follows).
+    pub fn service(&mut self, on: bool) {
+        if self.config.hold.service == on {
+            return;
+        }
+        self.config.hold.service = on;
+        self.manual = None;
+        if on {
+            // A homing chunk or a move under way ends now.
+            for ax in self.axes.iter_mut() {
+                let _ = ax.stop();
+            }
+        } else {
+            self.rehome();
+        }
+    }
+    /// An operator's jog of an axis that has no position reference (after
+    /// a power cut in service or manual mode, where homing waits): `deg`
+    /// from where it stands, at most one span of its soft limits either way,
+    /// counted on from there; the drive's limit switches still stop it.
+    /// False when the axis has its reference (jog to a pose then) or the
+    /// drive refused the move.
+    pub fn nudge(&mut self, axis: AxisId, deg: f32) -> bool {
+        let Some(ax) = self.axes.get_mut(axis.index()) else {
+            return false;
+        };
+        if ax.home_state() == HomeState::Done {
+            return false;
+        }
+        ax.nudge(deg).is_ok()
+    }
+    /// Whether homing may move the axes: not inside the service lock, and
+    /// not in a manual mode with no pose jogged yet (restored after a power
+    /// cut: the axes stay where they are).
+    fn homing_allowed(&self) -> bool {
+        let h = self.config.hold;
+        !(h.service || (h.manual && self.manual.is_none()))
     }
     /// Operator reset after a safe stop: faults and their history are
     /// cleared and failed homing is tried again at once.
@@ -419,8 +472,9 @@ where
         self.rehome_on_new_day();
         // 4. Attitude (at the configured cadence; the first tick always).
         self.attitude_if_due(inp.now_ms);
-        // 5. Homing (never during a safe stop: nothing moves then).
-        let homing = self.homing(inp.now_ms);
+        // 5. Homing (never during a safe stop nor in service: nothing
+        // moves then).
+        let homing = self.homing_allowed() && self.homing(inp.now_ms);
         // 6. Mode and target.
         let (mode, target) = self.mode_and_target(wind_stow, inp.now);
         // 7. Drive.

@@ -193,11 +193,13 @@ where
         now: UtcTime,
     ) -> (Mode, Option<Pose<T>>) {
         let unhomed = self.axes.iter().any(|a| a.home_state() != HomeState::Done);
+        let hold = self.config.hold;
         let mode = select_mode(&ModeInputs {
+            service: hold.service,
             must_stop: self.faults.must_stop(),
             wind_stow,
-            command_stow: self.command_stow,
-            manual: self.manual.is_some(),
+            command_stow: hold.stow,
+            manual: hold.manual,
             time_unknown: self.faults.time_unknown(),
             night: self.night,
             unhomed,
@@ -233,7 +235,7 @@ where
         let target = match mode {
             Mode::SafeStop | Mode::Homing => None,
             Mode::WindStow | Mode::CommandStow | Mode::WaitForTime => Some(stow),
-            Mode::Manual => self.manual,
+            Mode::Manual | Mode::Service => self.manual,
             Mode::Night => {
                 if self.options.night_stow {
                     Some(stow)

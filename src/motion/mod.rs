@@ -699,6 +699,22 @@ impl<D: AxisDrive> AxisController<D> {
         self.move_counted_to(goal_counts).map(|_| ())
     }
 
+    /// Moves `deg` from the counted position whether or not the axis is
+    /// homed (an operator's jog of an axis with no reference), at most the
+    /// span of the soft limits either way; the soft limits themselves are
+    /// not applied (without a reference the count does not say where they
+    /// are).
+    pub fn nudge(&mut self, deg: f32) -> Result<(), AxisError<D::Error>> {
+        if !deg.is_finite() {
+            return Err(AxisError::NotFinite);
+        }
+        let g = self.geo;
+        let span = g.max_deg - g.min_deg;
+        let c = g.counts(within(deg, -span, span));
+        self.move_counted_to(self.position_counts.saturating_add(c))
+            .map(|_| ())
+    }
+
     /// Commands the move from the counted position to `goal_counts`, the
     /// slack taken up first on a reversal (`backlash_deg`), and counts it;
     /// returns the counts commanded.

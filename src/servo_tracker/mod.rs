@@ -505,6 +505,7 @@ impl<R: RtcDriver, D: AxisDrive + Motion> ServoTracker<R, D> {
         let mode = select_mode(&ModeInputs {
             must_stop: false,
             wind_stow: false,
+            service: false,
             command_stow: false,
             manual: false,
             time_unknown: time_fault.is_some(),

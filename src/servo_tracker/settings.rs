@@ -25,7 +25,7 @@
 //! | `save`, `load`, `defaults` | the [`Settings`] record, through the library's two-slot CRC-32 store ([`ConfigStore`]) |
 //! | `set site.postal_code CC:CODE` | the site from the library's postal-code table ([`crate::site::postal`], Dahli & Cheggaga 2023), a numeric code also without its leading zeros: `ok site.lat_deg=<deg> site.lon_deg=<deg>` |
 //! | `time set YYYY-MM-DDTHH:MM:SSZ` | sets the RTC (and clears its lost-power flag): the tracker image has no other way to be told the time |
-//! | `status`, `stow`, `resume`, `home`, `jog`, `manual off`, `faults`, `clear` | `error <command>: not on this image` (they act on a running tracker) |
+//! | `status`, `stow`, `resume`, `home`, `jog`, `manual off`, `service on\|off`, `faults`, `clear` | `error <command>: not on this image` (they act on a running tracker) |
 //!
 //! | key | unit |
 //! |---|---|
