@@ -101,6 +101,7 @@ fn run_scenario(name: &str) -> Vec<Row> {
         "minute,utc,mode,homing,faults,target_c_deg,target_a_deg,axis_c_deg,axis_a_deg,sun_zenith_deg,sun_azimuth_deg,pointing_error_deg,wind_hz"
     );
     let modes = [
+        "service",
         "safe_stop",
         "wind_stow",
         "command_stow",
@@ -229,6 +230,30 @@ fn wind_stow_after_a_clock_step_back() {
     }
     assert_ne!(rows[730].mode, "wind_stow", "{:?}", rows[730]);
     tracks_well(name, span(&rows, 745, 1000));
+}
+
+#[test]
+fn service_lock_holds_through_a_power_cycle_and_a_gale() {
+    let name = "service_lock_power_cycle.csv";
+    let rows = run_scenario(name);
+    // Tracking before the lock.
+    tracks_well(name, span(&rows, 480, 540));
+    // The lock from the tick of 09:00 to the tick before 11:00: the mode
+    // says so and the axes stand where they stood at 09:00, through the
+    // power cycle (570) and the gale (600..630; the wind is measured and
+    // traced, the panel not stowed).
+    let (c, a) = (rows[540].axis_c, rows[540].axis_a);
+    for r in span(&rows, 540, 660) {
+        assert_eq!(r.mode, "service", "minute {}", r.minute);
+        assert!(!r.homing, "homing in service at minute {}", r.minute);
+        assert_eq!((r.axis_c, r.axis_a), (c, a), "moved at minute {}", r.minute);
+        assert_eq!(r.target, None, "a target in service at minute {}", r.minute);
+    }
+    assert_eq!(rows[600].wind_hz, 50.0);
+    // After `service off`: homing (the power cycle took the reference),
+    // then tracking again, well, within 20 minutes.
+    assert!(span(&rows, 660, 680).iter().any(|r| r.homing), "no homing");
+    tracks_well(name, span(&rows, 680, 1000));
 }
 
 #[test]

@@ -507,10 +507,29 @@ fn simulate(args: &Args, out: &mut dyn Write, err: &mut dyn Write) -> Result<(),
                     Event::Motor(ax, on) => world.stalled[ax.index()] = on,
                     Event::Encoder(ax, on) => world.encoder_failed[ax.index()] = on,
                     Event::AttitudeSensor(on) => world.attitude_failed = on,
-                    Event::Command(Command::Stow) => ctl.command_stow(true),
-                    Event::Command(Command::Resume) => ctl.command_stow(false),
-                    Event::Command(Command::Home) => ctl.rehome(),
-                    Event::Command(Command::Clear) => ctl.reset_faults(),
+                    Event::Command(c) => {
+                        match c {
+                            Command::Stow => ctl.command_stow(true),
+                            Command::Resume => {
+                                ctl.command_stow(false);
+                                ctl.manual(None);
+                            }
+                            Command::Home => ctl.rehome(),
+                            Command::Clear => ctl.reset_faults(),
+                            Command::ServiceOn => ctl.service(true),
+                            Command::ServiceOff => ctl.service(false),
+                        }
+                        // The operator's hold is saved with the stored
+                        // configuration, as the firmware's console does: a
+                        // power cycle restores it.
+                        let mut stored = store.load().config;
+                        if stored.hold != ctl.hold() {
+                            stored.hold = ctl.hold();
+                            store
+                                .save(&stored)
+                                .map_err(|e| format!("operator hold not stored: {e:?}"))?;
+                        }
+                    }
                     Event::PowerCycle => {
                         // RAM is lost; the axes, the RTC and the receiver
                         // keep their state.

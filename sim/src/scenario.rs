@@ -23,7 +23,7 @@
 //! 150,encoder,C,failed     # encoder,C|A,failed|ok
 //! 160,attitude_sensor,failed        # attitude_sensor,failed|ok
 //! 170,power_cycle
-//! 180,command,stow         # command,stow|resume|home|clear
+//! 180,command,stow         # command,stow|resume|home|clear|service_on|service_off
 //! ```
 //!
 //! Names and keywords are case-sensitive. [`parse_line`] parses one line on
@@ -76,6 +76,11 @@ pub enum Command {
     Home,
     /// Clear latched faults.
     Clear,
+    /// The service lock on: nothing moves until `service_off`, across
+    /// power cycles.
+    ServiceOn,
+    /// The service lock off: the axes home again and tracking follows.
+    ServiceOff,
 }
 
 /// One scenario event.
@@ -123,7 +128,7 @@ pub enum Event {
     AttitudeSensor(bool),
     /// `power_cycle`: the controller restarts.
     PowerCycle,
-    /// `command,stow|resume|home|clear`.
+    /// `command,stow|resume|home|clear|service_on|service_off`.
     Command(Command),
 }
 
@@ -506,9 +511,11 @@ fn parse_event(name: &str, args: &Args<'_>) -> Result<Event, ScenarioErrorKind> 
                     ("resume", Command::Resume),
                     ("home", Command::Home),
                     ("clear", Command::Clear),
+                    ("service_on", Command::ServiceOn),
+                    ("service_off", Command::ServiceOff),
                 ],
                 "command",
-                "stow, resume, home or clear",
+                "stow, resume, home, clear, service_on or service_off",
                 text,
             )?)
         }
@@ -660,6 +667,8 @@ impl fmt::Display for Event {
                 Command::Resume => "command,resume",
                 Command::Home => "command,home",
                 Command::Clear => "command,clear",
+                Command::ServiceOn => "command,service_on",
+                Command::ServiceOff => "command,service_off",
             }),
         }
     }
