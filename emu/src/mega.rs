@@ -173,6 +173,9 @@ pub struct Run {
     pub final_angles: (f64, f64),
     /// Illegal coil sequences, per axis (C, A).
     pub illegal_steps: (Vec<IllegalStep>, Vec<IllegalStep>),
+    /// Emulated UTC (Unix seconds) of every half-step each axis took (C,
+    /// A): a coil change that moved the rotor.
+    pub step_times: (Vec<f64>, Vec<f64>),
     /// Axis angles each time an axis's coil pattern changed after at least
     /// 1 emulated second without change, each time both bridges were
     /// released (a move ended), and every emulated minute.
@@ -439,6 +442,7 @@ impl MegaBench {
         let mut log = LineAssembler::default();
         let mut lines = Vec::new();
         let mut trace = Vec::new();
+        let mut step_times: [Vec<f64>; 2] = [Vec::new(), Vec::new()];
         let mut log_file = match &self.log_file {
             Some(p) => Some(std::fs::File::create(p).map_err(|e| format!("{}: {e}", p.display()))?),
             None => None,
@@ -597,6 +601,7 @@ impl MegaBench {
                     let before = axis.half_steps();
                     axis.observe(cycle, bits);
                     if axis.half_steps() != before {
+                        step_times[k].push(self.start_unix_s as f64 + t);
                         if t - last_change_emu[k] > 1.0 {
                             trace.push(AngleSample {
                                 utc_s: self.start_unix_s as f64 + t,
@@ -708,6 +713,10 @@ impl MegaBench {
             lines,
             final_angles: (c_axis.angle_deg(), a_axis.angle_deg()),
             illegal_steps: (c_axis.illegal.clone(), a_axis.illegal.clone()),
+            step_times: (
+                std::mem::take(&mut step_times[0]),
+                std::mem::take(&mut step_times[1]),
+            ),
             switch_events,
             angle_trace: trace,
             min_angles,

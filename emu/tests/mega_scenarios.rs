@@ -629,3 +629,269 @@ fn g_daylight_power_on_homes_at_speed() {
     check_set_points(&run, &MountAttitude::level(), 0.02);
     assert_no_illegal_steps(&run);
 }
+
+/// Emulated UTC of the first line after `after_s` whose text is `text`.
+fn line_after(run: &Run, after_s: f64, text: &str) -> Option<f64> {
+    run.lines
+        .iter()
+        .find(|l| l.utc_s >= after_s && l.text == text)
+        .map(|l| l.utc_s)
+}
+
+/// Emulated UTC of each `# power cut` line, in order.
+fn power_cuts(run: &Run) -> Vec<f64> {
+    run.lines
+        .iter()
+        .filter(|l| l.text == "# power cut")
+        .map(|l| l.utc_s)
+        .collect()
+}
+
+/// Half-steps either axis took in `from_s..to_s` (emulated UTC).
+fn steps_between(run: &Run, from_s: f64, to_s: f64) -> usize {
+    let (c, a) = &run.step_times;
+    c.iter()
+        .chain(a.iter())
+        .filter(|t| (from_s..to_s).contains(*t))
+        .count()
+}
+
+/// The mode lines' names after `after_s`, in order.
+fn modes_after(run: &Run, after_s: f64) -> Vec<&str> {
+    run.lines
+        .iter()
+        .filter(|l| l.utc_s >= after_s)
+        .filter_map(|l| match &l.event {
+            Event::Mode(m) => Some(m.as_str()),
+            _ => None,
+        })
+        .collect()
+}
+
+/// (i) The service lock over a power cut and a gale: Kano, 2026-06-21 from
+/// 08:00Z, RTC and GPS. `service on` at minute 10 (tracking): `ok service
+/// on` once it is saved, `mode service`, the axes stop (within the drive's
+/// ramp, 2 s); the power is cut at minute 12; after it the stored record is
+/// read (`config source=stored`), the first mode is `service`, and for the
+/// 31 minutes to `service off` (minute 43) neither axis takes a single
+/// step — no homing, and no stow for the 40 Hz gale of minutes 20–30,
+/// which the anemometer counts all the same. `service off`: homing, then
+/// tracking again, every set-point within a step and 0.02° of the sun.
+#[test]
+fn i_service_lock_holds_over_a_power_cut_and_a_gale() {
+    let elf = elf_or_skip!();
+    let start = t("2026-06-21T08:00:00Z");
+    let run = MegaBench::mega(&elf)
+        .start(start)
+        .rtc(Rtc::Valid)
+        .gps(GpsFeed::kano())
+        .wind(WindProfile::gust(start + 20 * 60, 10, 40.0))
+        .type_at(10.0, "service on")
+        .reset_at(12.0)
+        .type_at(43.0, "service off")
+        .run_minutes(60.0)
+        .unwrap();
+    report("i", &run);
+    let start_s = start as f64;
+    let ok_on = line_after(&run, start_s, "ok service on").expect("ok service on");
+    let cut = power_cuts(&run)[0];
+    assert!(ok_on < cut, "the lock was not saved before the cut");
+    assert!(line_after(&run, start_s, "mode service").is_some_and(|t| t < cut));
+    let off_typed = line_after(&run, cut, "> service off").expect("typed");
+    // Stopped within the ramp of the moment the line was answered.
+    let held_from = line_after(&run, start_s, "> service on").expect("typed") + 2.0;
+    let moved = steps_between(&run, held_from, off_typed);
+    println!(
+        "i: service on answered {:.3} s after typing; steps from then + 2 s to `service off` \
+         ({:.0} s, power cut and gale included): {moved}",
+        ok_on - (held_from - 2.0),
+        off_typed - held_from
+    );
+    assert_eq!(moved, 0, "an axis moved under the service lock");
+    assert!(off_typed - cut >= 30.0 * 60.0);
+    assert!(line_after(&run, cut, "config source=stored").is_some());
+    let after_cut = modes_after(&run, cut);
+    assert_eq!(after_cut.first(), Some(&"service"), "{after_cut:?}");
+    assert!(run.wind_pulses > 0, "no gale sent");
+    let during: Vec<&str> = modes_after(&run, held_from)
+        .into_iter()
+        .zip(
+            run.lines
+                .iter()
+                .filter(|l| l.utc_s >= held_from && matches!(&l.event, Event::Mode(_))),
+        )
+        .filter(|(_, l)| l.utc_s < off_typed)
+        .map(|(m, _)| m)
+        .collect();
+    assert!(
+        during.iter().all(|m| *m == "service"),
+        "another mode under the lock: {during:?}"
+    );
+    // After `service off`: homing (the cut took the reference), tracking.
+    assert!(line_after(&run, off_typed, "ok service off").is_some());
+    let after_off = modes_after(&run, off_typed);
+    assert_eq!(after_off.first(), Some(&"homing"), "{after_off:?}");
+    assert!(after_off.contains(&"tracking"), "{after_off:?}");
+    assert!(
+        homed_at(&run.switch_events, off_typed).is_some(),
+        "no homing"
+    );
+    let sps: Vec<_> = set_points(&run)
+        .into_iter()
+        .filter(|s| s.0.utc_s > off_typed)
+        .collect();
+    assert!(
+        sps.len() >= 2,
+        "{} set-points after `service off`",
+        sps.len()
+    );
+    check_set_points_of(&sps, &MountAttitude::level(), kano_sun, 0.02);
+    assert_no_illegal_steps(&run);
+}
+
+/// (j) A typed `stow` and a manual mode over power cuts: Kano, 2026-06-21
+/// from 08:00Z, RTC. `stow` at minute 8, power cut at 10: after it `mode
+/// command_stow`, the axes home and the panel is driven flat (α = 0)
+/// again; `resume` at 20: tracking. `jog a 5` at 26 (manual, answered at
+/// once), power cut at 28: after it `mode manual` and not one step until
+/// `resume` at 40; then homing and tracking.
+#[test]
+fn j_stow_and_manual_are_kept_over_power_cuts() {
+    let elf = elf_or_skip!();
+    let start = t("2026-06-21T08:00:00Z");
+    let run = MegaBench::mega(&elf)
+        .start(start)
+        .rtc(Rtc::Valid)
+        .gps(GpsFeed::Silent)
+        .type_at(8.0, "stow")
+        .reset_at(10.0)
+        .type_at(20.0, "resume")
+        .type_at(26.0, "jog a 5")
+        .reset_at(28.0)
+        .type_at(40.0, "resume")
+        .run_minutes(55.0)
+        .unwrap();
+    report("j", &run);
+    let start_s = start as f64;
+    let cuts = power_cuts(&run);
+    assert_eq!(cuts.len(), 2);
+    assert!(line_after(&run, start_s, "ok stow").is_some_and(|t| t < cuts[0]));
+    let after_first = modes_after(&run, cuts[0]);
+    assert_eq!(
+        after_first.first(),
+        Some(&"command_stow"),
+        "{after_first:?}"
+    );
+    let resumed = line_after(&run, cuts[0], "> resume").expect("typed");
+    // Homed, then flat, before `resume`.
+    assert!(homed_at(&run.switch_events, cuts[0]).is_some_and(|t| t < resumed));
+    let flat = run
+        .angle_trace
+        .iter()
+        .rfind(|s| (cuts[0]..resumed).contains(&s.utc_s))
+        .expect("trace");
+    assert!(
+        flat.a_deg.abs() <= ANGLE_TOL_DEG,
+        "A at {} before resume",
+        flat.a_deg
+    );
+    assert!(line_after(&run, resumed, "mode tracking").is_some_and(|t| t < cuts[1]));
+    // Manual, then the second cut.
+    let jog = run
+        .lines
+        .iter()
+        .find(|l| l.utc_s > resumed && l.text.starts_with("ok jog c="))
+        .expect("jog answered");
+    assert!(jog.utc_s < cuts[1]);
+    assert!(line_after(&run, jog.utc_s, "mode manual").is_some_and(|t| t < cuts[1]));
+    let after_second = modes_after(&run, cuts[1]);
+    assert_eq!(after_second.first(), Some(&"manual"), "{after_second:?}");
+    let resumed2 = line_after(&run, cuts[1], "> resume").expect("typed");
+    let moved = steps_between(&run, cuts[1], resumed2);
+    println!(
+        "j: steps from the second cut to `resume` ({:.0} s in manual): {moved}",
+        resumed2 - cuts[1]
+    );
+    assert_eq!(moved, 0, "an axis moved in manual after the cut");
+    let after_resume = modes_after(&run, resumed2);
+    assert_eq!(after_resume.first(), Some(&"homing"), "{after_resume:?}");
+    assert!(after_resume.contains(&"tracking"), "{after_resume:?}");
+    let sps: Vec<_> = set_points(&run)
+        .into_iter()
+        .filter(|s| s.0.utc_s > resumed2)
+        .collect();
+    assert!(!sps.is_empty(), "no set-point after the last `resume`");
+    check_set_points_of(&sps, &MountAttitude::level(), kano_sun, 0.02);
+    assert_no_illegal_steps(&run);
+}
+
+/// (k) The board build (the ELF a user flashes, at real time): the power
+/// is cut while `service on` is being saved. The configuration is saved
+/// first (minute 1, slot 0), so the lock's record goes to the other, empty
+/// slot: all of its 160 bytes are written, one EEPROM byte started per
+/// pass of the loop (the run prints how long after the typed line `ok
+/// service on` came). For cuts from 5 ms to 1 s after the line is typed:
+/// either the record was complete (`ok service on` came before the cut)
+/// and the image boots in `mode service` with not one step after the cut,
+/// or it was not, and the image boots on the configuration saved before
+/// (no lock, never a lost configuration: `config source=stored`). Never
+/// `ok service on` followed by motion.
+#[test]
+fn k_power_cut_while_the_service_lock_is_saved() {
+    let elf = elf_or_skip!("SUNTRACKER_EMU_ELF_MEGA_RELEASE");
+    let start = t("2026-06-21T08:00:00Z");
+    let typed_min = 2.0;
+    let mut outcomes = Vec::new();
+    let mut save_s: Option<f64> = None;
+    for delay_s in [0.005, 0.02, 0.05, 0.1, 0.15, 0.2, 0.3, 1.0] {
+        let run = MegaBench::mega(&elf)
+            .start(start)
+            .rtc(Rtc::Valid)
+            .gps(GpsFeed::Silent)
+            .type_at(1.0, "save")
+            .type_at(typed_min, "service on")
+            .reset_at(typed_min + delay_s / 60.0)
+            .run_minutes(4.0)
+            .unwrap();
+        let start_s = start as f64;
+        assert!(line_after(&run, start_s, "ok save").is_some(), "save");
+        let cut = power_cuts(&run)[0];
+        let ok_at = line_after(&run, start_s, "ok service on").filter(|t| *t < cut);
+        let saved = ok_at.is_some();
+        if let (Some(ok), Some(typed)) = (ok_at, line_after(&run, start_s, "> service on")) {
+            save_s = Some(save_s.map_or(ok - typed, |s: f64| s.max(ok - typed)));
+        }
+        assert!(
+            line_after(&run, cut, "config source=stored").is_some(),
+            "the configuration was lost (cut {delay_s} s after typing)"
+        );
+        let first = modes_after(&run, cut).first().map(|m| m.to_string());
+        let moved = steps_between(&run, cut, f64::INFINITY);
+        if saved {
+            assert_eq!(first.as_deref(), Some("service"), "cut +{delay_s} s");
+            assert_eq!(moved, 0, "moved after a saved lock (cut +{delay_s} s)");
+        } else {
+            assert!(
+                matches!(first.as_deref(), Some("service" | "night" | "homing")),
+                "cut +{delay_s} s: {first:?}"
+            );
+            if first.as_deref() == Some("service") {
+                assert_eq!(moved, 0, "moved in service (cut +{delay_s} s)");
+            }
+        }
+        outcomes.push(format!(
+            "+{:.0} ms: {} -> {}",
+            delay_s * 1000.0,
+            if saved { "saved" } else { "not saved" },
+            first.unwrap_or_default()
+        ));
+    }
+    println!("k: {}", outcomes.join("; "));
+    println!(
+        "k: `ok service on` {:.0} ms after the typed line",
+        save_s.unwrap_or(f64::NAN) * 1000.0
+    );
+    // Both outcomes were seen: the cuts straddle the save.
+    assert!(outcomes.iter().any(|o| o.contains(": saved")));
+    assert!(outcomes.iter().any(|o| o.contains("not saved")));
+}
