@@ -77,7 +77,9 @@
 //! step_s=… tick_ms=… gate_ms=… axis_step_deg=…` after the boot line,
 //! `axes utc=<set-point utc> c=<deg> a=<deg>` (where the simulated axes
 //! were when the set-point of that utc ended: at the next set-point, or
-//! when tracking stopped), and the closing `end ms=… ticks=… setpoints=…
+//! when tracking stopped), `axes mode=service c=<deg> a=<deg>` (where they
+//! were when the service lock began, when it ended, and at the end of a
+//! run under it), and the closing `end ms=… ticks=… setpoints=…
 //! faults_active=… …`.
 #![no_std]
 
@@ -905,11 +907,15 @@ pub fn run() -> ! {
     board.gate(0);
     board.next_gate_ms = GATE_MS;
     let mut tracking = false;
+    let mut in_service = false;
     loop {
         let applied = fw.controller().scheduler().applied().map(|e| e.time);
         if board.stop {
             if let (true, Some(t)) = (tracking, applied) {
                 axes_line(fw, &mut board.log, &t);
+            }
+            if in_service {
+                held_axes_line(fw, &mut board.log);
             }
             let status = end_line(fw, &mut board);
             debug::exit(status);
@@ -923,6 +929,11 @@ pub fn run() -> ! {
                 axes_line(fw, &mut board.log, &t);
             }
             tracking = now_tracking;
+            let now_service = fw.last_report().is_some_and(|r| r.mode == Mode::Service);
+            if now_service != in_service {
+                held_axes_line(fw, &mut board.log);
+                in_service = now_service;
+            }
         }
         board.wait_for_interrupt();
     }
@@ -934,6 +945,18 @@ fn axes_line(fw: &Tracker, out: &mut Semihosting, t: &UtcTime) {
     out.text("axes utc=");
     out.utc(t);
     out.text(" c=");
+    out.fixed(c.drive().output_deg() as f32, 4);
+    out.text(" a=");
+    out.fixed(a.drive().output_deg() as f32, 4);
+    out.text("\n");
+}
+
+/// `axes mode=service c=<deg> a=<deg>`: where the plants are when the
+/// service lock begins, when it ends and when the run stops under it (the
+/// same angles each time: nothing moved under it).
+fn held_axes_line(fw: &Tracker, out: &mut Semihosting) {
+    let [c, a] = fw.controller().axes();
+    out.text("axes mode=service c=");
     out.fixed(c.drive().output_deg() as f32, 4);
     out.text(" a=");
     out.fixed(a.drive().output_deg() as f32, 4);
