@@ -554,9 +554,11 @@ where
 
     // The console and the configuration.
 
-    /// The console: takes at most [`CONSOLE_BYTES_PER_PASS`] bytes, runs
-    /// each complete line, and goes on with a `save` in progress. Not
-    /// inlined: its buffers are then not in the frame of every pass.
+    /// The console: goes on with a save in progress, takes at most
+    /// [`CONSOLE_BYTES_PER_PASS`] bytes and runs each complete line (while
+    /// a save is under way it answers `error busy`
+    /// instead). Not inlined: its buffers are then not in the frame of
+    /// every pass.
     #[inline(never)]
     fn service_console<P: Platform>(&mut self, platform: &mut P) {
         if let Some(pending) = self.saving {
@@ -573,11 +575,6 @@ where
                 }
             } else {
                 self.saving = None;
-            }
-            if self.saving.is_some() {
-                // No command while a save is under way (it takes under a
-                // second): typed bytes wait in the receive ring.
-                return;
             }
         }
         let mut bytes = [0u8; CONSOLE_BYTES_PER_PASS];
@@ -600,6 +597,14 @@ where
                     len
                 }
             };
+            if self.saving.is_some() {
+                // No command while a save is under way (it takes under a
+                // second; a NOR flash sector erase stalls the CPU anyway):
+                // the line is answered, not run. The console is read all
+                // the same, so that its receive ring never overflows.
+                console::write_error(&mut self.log, crate::flash_str!("busy"));
+                continue;
+            }
             // The line buffer passes printable ASCII only.
             if let Some(text) = crate::text::ascii_str(line.get(..len).unwrap_or(&[])) {
                 self.run_command(text, platform);

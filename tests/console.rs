@@ -779,12 +779,46 @@ fn long_lines_non_ascii_and_control_bytes_are_errors() {
         vec![Err(LineError::TooLong)]
     );
     let mut out = Buf::default();
-    for e in [LineError::TooLong, LineError::NonAscii, LineError::Control] {
+    for e in [
+        LineError::TooLong,
+        LineError::NonAscii,
+        LineError::Control,
+        LineError::Lost,
+    ] {
         console::write_line_error(&mut out, e);
     }
     assert_eq!(
         out.take(),
-        "error line too long\nerror non-ASCII input\nerror control character\n"
+        "error line too long\nerror non-ASCII input\nerror control character\nerror input lost\n"
+    );
+}
+
+#[test]
+fn a_line_with_lost_input_is_never_run() {
+    // A board's ring overflowed inside `set wind.stow_hz 25`: the `2` is
+    // gone and the ring marked the gap. Without the marker the line would
+    // be a valid `set` of 5 Hz.
+    assert_eq!(console::LOST_INPUT, 0x18);
+    let mut lb = LineBuffer::<LINE_LEN>::new();
+    let mut line = b"set wind.stow_hz ".to_vec();
+    line.push(console::LOST_INPUT);
+    line.extend_from_slice(b"5\r\nstatus\r\n");
+    assert_eq!(
+        feed(&mut lb, &line),
+        vec![Err(LineError::Lost), Ok("status".to_string())]
+    );
+    // Lost input is the problem reported, whatever came before it in the
+    // line; a marker that ended a line's end (the newline lost) takes the
+    // next line with it, answered once.
+    let mut lb = LineBuffer::<8>::new();
+    let mut bytes = b"123456789".to_vec();
+    bytes.push(console::LOST_INPUT);
+    bytes.extend_from_slice(b"status\n");
+    assert_eq!(feed(&mut lb, &bytes), vec![Err(LineError::Lost)]);
+    // The marker alone on a line is a line of lost input.
+    assert_eq!(
+        feed(&mut lb, &[console::LOST_INPUT, b'\n']),
+        vec![Err(LineError::Lost)]
     );
 }
 

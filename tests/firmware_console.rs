@@ -468,6 +468,49 @@ fn operator_commands_and_the_periodic_status_line() {
     );
 }
 
+/// `time set` outside this firmware's dates (1024 weeks from 2026-01-01)
+/// is refused with that reason, not sent to the RTC; 30 `save`s typed in a
+/// row at line speed get 30 replies (one save, the others `busy`).
+#[test]
+fn time_set_outside_the_window_and_saves_in_a_row() {
+    let mut b = Bench::new(kano_config(), store(), true);
+    b.run_until(2_000, |_| {});
+    for t in [
+        "1969-07-20T20:17:40Z",
+        "2045-12-31T00:00:00Z",
+        "2025-12-31T23:59:59Z",
+    ] {
+        assert_eq!(
+            b.reply_to(&format!("time set {t}")),
+            ["error time set: outside this firmware's dates"],
+            "{t}"
+        );
+    }
+    assert_eq!(
+        b.reply_to("time set 2026-03-20T06:00:00Z"),
+        ["ok utc=2026-03-20T06:00:00Z"]
+    );
+    // Typed at 115200 baud: 11 bytes a millisecond.
+    let mut typed: VecDeque<u8> = b"save\n".repeat(30).into();
+    let from = b.stamps.len();
+    let end = b.platform.now_ms + 500;
+    b.run_until(end, |b| {
+        let n = typed.len().min(11);
+        let chunk: Vec<u8> = typed.drain(..n).collect();
+        b.receive(&chunk);
+    });
+    assert_eq!(b.platform.dropped, 0, "the ring overflowed");
+    let replies: Vec<String> = b
+        .lines_since(from)
+        .into_iter()
+        .filter(|l| l.starts_with("ok") || l.starts_with("error"))
+        .collect();
+    assert_eq!(replies.len(), 30, "{replies:?}");
+    let saved = replies.iter().filter(|l| *l == "ok save").count();
+    let busy = replies.iter().filter(|l| *l == "error busy").count();
+    assert!(saved >= 1 && saved + busy == 30, "{replies:?}");
+}
+
 #[test]
 fn load_and_defaults() {
     let mut b = Bench::new(kano_config(), store(), false);
@@ -570,6 +613,18 @@ fn service_lock_survives_a_power_cycle() {
     assert_eq!(m[1..], ["mode homing", "mode tracking"], "{m:?}");
     let (n, worst) = worst_vs_spa(&b.lines_since(0), KANO);
     assert!(n >= 2 && worst < 0.02, "{n} set-points, {worst}°");
+    // Two lines in one read: the second comes while the first one's save
+    // goes on, and is answered, not dropped.
+    let from = b.stamps.len();
+    b.receive(b"stow\nresume\n");
+    b.run_until(b.platform.now_ms + 200, |_| {});
+    let r: Vec<String> = b
+        .lines_since(from)
+        .into_iter()
+        .filter(|l| l.starts_with("ok") || l.starts_with("error"))
+        .collect();
+    assert_eq!(r, ["error busy", "ok stow"], "{r:?}");
+    assert_eq!(b.reply_to("resume"), ["ok resume"]);
     // Off is saved too: the next power-on tracks.
     let mut b = power_cycle(b);
     assert_eq!(b.fw.controller().config().hold, Default::default());

@@ -899,3 +899,103 @@ fn k_power_cut_while_the_service_lock_is_saved() {
     assert!(outcomes.iter().any(|o| o.contains(": saved")));
     assert!(outcomes.iter().any(|o| o.contains("not saved")));
 }
+
+/// The replies (`ok …`, `error …`) logged in `from_s..to_s`.
+fn replies_between(run: &Run, from_s: f64, to_s: f64) -> Vec<&str> {
+    run.lines
+        .iter()
+        .filter(|l| (from_s..to_s).contains(&l.utc_s))
+        .map(|l| l.text.as_str())
+        .filter(|t| t.starts_with("ok") || t.starts_with("error"))
+        .collect()
+}
+
+/// (l) Every typed line answered, by day (Kano 08:00Z, RTC, no GPS): 30
+/// `save`s in a row (typed at line speed) get 30 replies, one save and
+/// `error busy` for the lines that came during it; a
+/// 100-character line is answered `error line too long` and the command
+/// after it is answered; `time set` outside this firmware's dates (1969,
+/// 2045) is refused with that reason and the RTC is not written.
+#[test]
+fn l_every_typed_line_is_answered() {
+    let elf = elf_or_skip!();
+    let start = t("2026-06-21T08:00:00Z");
+    let long = "x".repeat(100);
+    let run = MegaBench::mega(&elf)
+        .start(start)
+        .rtc(Rtc::Valid)
+        .gps(GpsFeed::Silent)
+        .bytes_at(2.0, b"save\n".repeat(30))
+        .type_at(4.0, &long)
+        .type_at(4.0, "get site.lat_deg")
+        .type_at(5.0, "time set 1969-07-20T20:17:40Z")
+        .type_at(5.5, "time set 2045-12-31T00:00:00Z")
+        .run_minutes(7.0)
+        .unwrap();
+    report("l", &run);
+    let s = start as f64;
+    let saves = replies_between(&run, s + 120.0, s + 230.0);
+    let ok = saves.iter().filter(|l| **l == "ok save").count();
+    let busy = saves.iter().filter(|l| **l == "error busy").count();
+    println!(
+        "l: 30 saves typed in a row: {ok} ok save, {busy} busy, {} replies",
+        saves.len()
+    );
+    assert_eq!(saves.len(), 30, "{saves:?}");
+    assert!(ok >= 1 && ok + busy == 30, "{saves:?}");
+    assert_eq!(
+        replies_between(&run, s + 240.0, s + 290.0),
+        ["error line too long", "ok site.lat_deg=11.9683"]
+    );
+    assert_eq!(
+        replies_between(&run, s + 300.0, s + 400.0),
+        [
+            "error time set: outside this firmware's dates",
+            "error time set: outside this firmware's dates"
+        ]
+    );
+    assert_eq!(run.rtc_time_writes, 0, "the RTC was written");
+}
+
+/// (m) A flood after sunset (Kano 19:30Z), when a tick can keep the loop
+/// busy for longer than the 64-byte receive ring lasts at 115200 baud: 100
+/// lines `set wind.stow_hz 25` typed back to back. Where the ring
+/// overflowed it marks the gap, and the line is answered `error input
+/// lost`; no line runs with a piece missing (`set wind.stow_hz 5` or `2`
+/// would be valid): the stow threshold read back is 25 Hz.
+#[test]
+fn m_lost_input_is_answered_never_run() {
+    let elf = elf_or_skip!();
+    let start = t("2026-06-21T19:30:00Z");
+    let run = MegaBench::mega(&elf)
+        .start(start)
+        .rtc(Rtc::Valid)
+        .gps(GpsFeed::Silent)
+        .bytes_at(2.0, b"set wind.stow_hz 25\n".repeat(100))
+        .type_at(4.0, "get wind.stow_hz")
+        .run_minutes(5.0)
+        .unwrap();
+    report("m", &run);
+    let s = start as f64;
+    let replies = replies_between(&run, s + 120.0, s + 230.0);
+    let set = replies
+        .iter()
+        .filter(|l| **l == "ok wind.stow_hz=25")
+        .count();
+    let lost = replies.iter().filter(|l| **l == "error input lost").count();
+    println!(
+        "m: 100 lines in a flood after sunset: {set} set, {lost} `error input lost`, {} replies",
+        replies.len()
+    );
+    assert!(
+        replies
+            .iter()
+            .all(|l| *l == "ok wind.stow_hz=25" || l.starts_with("error ")),
+        "{replies:?}"
+    );
+    assert!(lost >= 1, "the ring never overflowed: {replies:?}");
+    assert_eq!(
+        replies_between(&run, s + 240.0, s + 300.0),
+        ["ok wind.stow_hz=25"]
+    );
+}

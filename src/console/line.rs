@@ -8,9 +8,20 @@ use crate::text::FlashStr;
 /// characters, `set site.lat_deg -33.8688 site.lon_deg 151.2093` 48).
 pub const LINE_LEN: usize = 64;
 
+/// The byte a board's receive ring leaves where it had to drop input (its
+/// ring was full): ASCII CAN, "cancel". The ring writes it over its newest
+/// byte, so the gap stays where it was in the stream; the line it falls in
+/// is discarded and answered `error input lost`, never run with a piece
+/// missing (a `set wind.stow_hz 25` that lost its `2` would be a valid
+/// `set` of 5 Hz).
+pub const LOST_INPUT: u8 = 0x18;
+
 /// Why a line was refused before parsing.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum LineError {
+    /// Bytes of it were lost on the way in ([`LOST_INPUT`]): `error input
+    /// lost`.
+    Lost,
     /// More bytes than the buffer holds: `error line too long`.
     TooLong,
     /// A byte above 0x7F: `error non-ASCII input`.
@@ -24,6 +35,7 @@ impl LineError {
     /// The reply text after `error `.
     pub fn text(self) -> FlashStr {
         match self {
+            LineError::Lost => crate::flash_str!("input lost"),
             LineError::TooLong => crate::flash_str!("line too long"),
             LineError::NonAscii => crate::flash_str!("non-ASCII input"),
             LineError::Control => crate::flash_str!("control character"),
@@ -39,6 +51,7 @@ impl LineError {
 /// last character. A line longer than `N`, or with a byte above 0x7F or a
 /// control byte (other than tab), is discarded up to its end of line and
 /// then reported once as a [`LineError`]; the first problem is the one
+/// reported, except lost input ([`LOST_INPUT`]), which is always the one
 /// reported. A flood of bytes without an end of line only keeps the
 /// buffer in that state.
 #[derive(Debug, Clone)]
@@ -99,6 +112,10 @@ impl<const N: usize> LineBuffer<N> {
                         None => self.error = Some(LineError::TooLong),
                     }
                 }
+                None
+            }
+            LOST_INPUT => {
+                self.error = Some(LineError::Lost);
                 None
             }
             0x80..=0xFF => {

@@ -44,7 +44,9 @@
 //! `error KEY: not a number`, `error KEY: number too large`,
 //! `error axis must be c or a`, `error time must be YYYY-MM-DDTHH:MM:SSZ`;
 //! from the [`LineBuffer`]: `error line too long`, `error non-ASCII input`,
-//! `error control character`.
+//! `error control character`, `error input lost` (the board's receive ring
+//! overflowed inside the line: [`LOST_INPUT`]); from the firmware loop,
+//! for a line that comes while a save is under way: `error busy`.
 //!
 //! [`run_config`] carries out `help`, `get`, `set` and `defaults` on a
 //! [`Config`] and answers them; the other commands act on the running
@@ -166,7 +168,7 @@ mod words;
 
 pub use config_commands::{run_config, Outcome};
 pub use keys::{get, is_read_only, key_from_name, Key, Value, KEYS, POSTAL_CODE_KEY};
-pub use line::{LineBuffer, LineError, LINE_LEN};
+pub use line::{LineBuffer, LineError, LINE_LEN, LOST_INPUT};
 pub use number::{write_number, Decimal, NumberError};
 pub use operator::{
     execute, set_rtc_time, write_hold_saved, Executed, Jogged, Operator, TimeSetError,

@@ -13,7 +13,7 @@ use crate::log::Sink;
 use crate::persist::{Loaded, SaveError};
 use crate::safety::{AxisId, OperatorHold};
 use crate::text::FlashStr;
-use crate::time::datetime_from_utc;
+use crate::time::{datetime_from_utc, DateWindow};
 use drivers::rtc::Clock as RtcDriver;
 use sun_algos::UtcTime;
 
@@ -21,9 +21,14 @@ use sun_algos::UtcTime;
 use super::reply::write_faults;
 
 /// Sets `rtc` to `t` (the console's `time set` once the firmware has
-/// allowed it): `OutOfRange` for an instant the RTC's calendar cannot
-/// hold, `RtcFailed` when the chip did not take it.
+/// allowed it): `OutsideWindow` for an instant outside this firmware's
+/// date window (the tracker would not trust the RTC then:
+/// [`DateWindow::firmware`]), `OutOfRange` for one the RTC's calendar
+/// cannot hold, `RtcFailed` when the chip did not take it.
 pub fn set_rtc_time<R: RtcDriver>(rtc: &mut R, t: &UtcTime) -> Result<(), TimeSetError> {
+    if !DateWindow::firmware().contains(t) {
+        return Err(TimeSetError::OutsideWindow);
+    }
     let d = datetime_from_utc(t).map_err(|_| TimeSetError::OutOfRange)?;
     rtc.set_datetime(&d).map_err(|_| TimeSetError::RtcFailed)
 }
@@ -37,6 +42,10 @@ pub enum TimeSetError {
     RtcFailed,
     /// Outside what the RTC holds: `error time set: outside the RTC's range`.
     OutOfRange,
+    /// Outside this firmware's date window (1024 weeks from 2026-01-01),
+    /// where it would not trust the RTC: `error time set: outside this
+    /// firmware's dates`.
+    OutsideWindow,
 }
 
 /// The result of a `jog`: the manual pose now commanded, and whether the

@@ -160,7 +160,8 @@ pub fn write_time_refused(out: &mut dyn Sink) {
 }
 
 /// The reply to a refused `time set`: `error time set: GPS time is in
-/// force`, `… the RTC did not answer`, `… outside the RTC's range`.
+/// force`, `… the RTC did not answer`, `… outside the RTC's range`, `…
+/// outside this firmware's dates`.
 pub fn write_time_error(out: &mut dyn Sink, e: TimeSetError) {
     match e {
         TimeSetError::GpsInForce => write_time_refused(out),
@@ -170,6 +171,10 @@ pub fn write_time_error(out: &mut dyn Sink, e: TimeSetError) {
         TimeSetError::OutOfRange => {
             write_error(out, crate::flash_str!("time set: outside the RTC's range"))
         }
+        TimeSetError::OutsideWindow => write_error(
+            out,
+            crate::flash_str!("time set: outside this firmware's dates"),
+        ),
     }
 }
 

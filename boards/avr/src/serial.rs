@@ -4,8 +4,9 @@
 //! UDRn, UCSRnA/B/C, UBRRn).
 //!
 //! Reception: the RX-complete interrupt moves each byte into a ring buffer
-//! (128 bytes for the GPS port, 64 for the log and console port); when it is full the byte is dropped and counted
-//! ([`Usart0::rx_dropped`]), as are bytes the hardware lost before the
+//! (128 bytes for the GPS port; 255 for the log and console port on the ATmega2560, 64 on the ATmega328P); when it is full the byte is dropped and counted
+//! ([`Usart0::rx_dropped`]) and the ring's newest byte is replaced by `suntracker::console::LOST_INPUT`, which marks
+//! the gap for the reader, as are bytes the hardware lost before the
 //! interrupt ran (data overrun, DORn) and bytes with a framing error (FEn,
 //! dropped too). `Read` takes what is waiting without blocking; with
 //! nothing waiting it sleeps (idle mode) until a byte arrives, as
@@ -22,14 +23,25 @@ use core::cell::Cell;
 use avr_device::interrupt::{self, CriticalSection, Mutex};
 use embedded_io::{ErrorKind, ErrorType};
 
+use suntracker::console::LOST_INPUT;
+
 use super::{chip, CPU_HZ};
 
 /// Receive ring of the GPS port (USART1): a whole NMEA sentence (at most
 /// 82 bytes) with room to spare.
 #[cfg(avr_atmega2560)]
 const RX_LEN_GPS: usize = 128;
-/// Receive ring of the log and console port (USART0): a whole console
-/// line (`suntracker::console::LINE_LEN`).
+/// Receive ring of the log and console port (USART0) on the ATmega2560:
+/// 255 bytes (the most a ring with 8-bit indices holds), 22 ms of input at
+/// 115200 baud, longer than the loop's longest daytime tick, so that lines
+/// typed or pasted back to back wait for the loop instead of overflowing
+/// it (64 bytes lasted 5.6 ms: a tick of 15 ms lost the end of 30 `save`s
+/// pasted at once, `emu/tests/mega_scenarios.rs` (l)).
+#[cfg(avr_atmega2560)]
+const RX_LEN_CONSOLE: usize = 255;
+/// Receive ring of the log and console port (USART0) on the ATmega328P:
+/// a whole console line (`suntracker::console::LINE_LEN`), in 2 KB of RAM.
+#[cfg(not(avr_atmega2560))]
 const RX_LEN_CONSOLE: usize = 64;
 
 /// A single-producer (interrupt) single-consumer (main) ring of `N` bytes
@@ -57,15 +69,33 @@ impl<const N: usize> RxRing<N> {
         }
     }
 
+    /// A byte lost (ring full, hardware overrun, framing error): counted,
+    /// and its place marked for the reader with `LOST_INPUT`
+    /// (`suntracker::console`; an NMEA sentence with it fails its
+    /// checksum): stored when there is room, else written over the newest
+    /// byte, so the gap stays where it was in the stream.
     fn drop_one(&self) {
         self.dropped.set(self.dropped.get().saturating_add(1));
+        if usize::from(self.len.get()) < N {
+            self.store(LOST_INPUT);
+        } else {
+            let newest = usize::from(self.head.get()).checked_sub(1).unwrap_or(N - 1);
+            if let Some(slot) = self.bytes.get(newest) {
+                slot.set(LOST_INPUT);
+            }
+        }
     }
 
     fn push(&self, byte: u8) {
         if usize::from(self.len.get()) >= N {
             self.drop_one();
-            return;
+        } else {
+            self.store(byte);
         }
+    }
+
+    /// Stores `byte`; the caller checked that there is room.
+    fn store(&self, byte: u8) {
         let head = self.head.get();
         if let Some(slot) = self.bytes.get(usize::from(head)) {
             slot.set(byte);

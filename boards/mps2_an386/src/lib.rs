@@ -238,6 +238,12 @@ impl<const N: usize> Ring<N> {
             self.len += 1;
         } else {
             self.overruns = self.overruns.saturating_add(1);
+            // The newest byte becomes the gap's marker for the reader
+            // (`suntracker::console::LOST_INPUT`).
+            let newest = (self.head + N - 1) % N;
+            if let Some(slot) = self.buf.get_mut(newest) {
+                *slot = suntracker::console::LOST_INPUT;
+            }
         }
     }
 

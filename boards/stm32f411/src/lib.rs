@@ -225,7 +225,7 @@ impl<const N: usize> RxRing<N> {
 
     fn push(&mut self, byte: u8) {
         if self.len >= N {
-            self.dropped = self.dropped.saturating_add(1);
+            self.lose();
             return;
         }
         if let Some(slot) = self.bytes.get_mut(self.head) {
@@ -233,6 +233,19 @@ impl<const N: usize> RxRing<N> {
         }
         self.head = (self.head + 1) % N;
         self.len += 1;
+    }
+
+    /// A byte lost (ring full, receive error): counted, and its place
+    /// marked for the reader with `suntracker::console::LOST_INPUT`:
+    /// stored when there is room, else written over the newest byte, so
+    /// the gap stays where it was in the stream.
+    fn lose(&mut self) {
+        self.dropped = self.dropped.saturating_add(1);
+        if self.len < N {
+            self.push(suntracker::console::LOST_INPUT);
+        } else if let Some(slot) = self.bytes.get_mut((self.head + N - 1) % N) {
+            *slot = suntracker::console::LOST_INPUT;
+        }
     }
 
     fn pop(&mut self) -> Option<u8> {
@@ -287,7 +300,7 @@ where
                 Err(hal::nb::Error::WouldBlock) => break,
                 // The HAL read the data register, which clears the error
                 // flag; the byte is lost.
-                Err(hal::nb::Error::Other(_)) => ring.dropped = ring.dropped.saturating_add(1),
+                Err(hal::nb::Error::Other(_)) => ring.lose(),
             }
         }
     });
