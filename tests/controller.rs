@@ -502,3 +502,71 @@ fn an_axis_held_still_mid_move_counts_where_it_stopped() {
         "A counts {counted}° but stands at {real}°"
     );
 }
+
+/// A source that counts the sun positions it computes.
+struct CountingSource {
+    inner: AlgorithmSource<f64>,
+    calls: u32,
+}
+
+impl PositionSource<f64> for CountingSource {
+    fn site(&self) -> Site<f64> {
+        self.inner.site()
+    }
+    fn position(&mut self, t: &UtcTime) -> Result<sun_algos::SunPosition<f64>, sun_algos::Error> {
+        self.calls += 1;
+        self.inner.position(t)
+    }
+}
+
+/// Powered on after sunset (Kano, 19:30 UTC, as the Mega's board runs:
+/// four positions planned a tick): the pose to wait in is searched once
+/// for each instant the scheduler waits for (the sun sampled every 30
+/// minutes over 24 hours: 48 positions, in one tick), then kept, also when
+/// the search finds none; no other tick of the night computes more than
+/// the planning budget. (Each tick of the night recomputed the 48 before: on
+/// an ATmega2560 some 135 ms of every second.)
+#[test]
+fn a_night_after_power_on_searches_its_waiting_pose_once() {
+    let src = CountingSource {
+        inner: source(),
+        calls: 0,
+    };
+    let opts = ControllerOptions {
+        plan_positions_per_tick: 4,
+        ..ControllerOptions::default()
+    };
+    let sensors = MountSensors::new(MountAttitude::level(), SensorAccuracy::exact(), 3);
+    let mut ctl: Controller<f64, CountingSource, MotorPlant, MountSensors, 240> =
+        Controller::new(Config::default(), opts, src, plants(false), Some(sensors)).unwrap();
+    let start = UtcTime::from_ymd_hms(2026, 6, 21, 19, 30, 0).unwrap();
+    let mut per_tick = Vec::new();
+    for s in 0..4 * 3600 {
+        let now = start.add_seconds(s).unwrap();
+        let before = ctl.position_source_mut().calls;
+        let r = ctl.tick(&inputs(now));
+        for ax in ctl.axes_mut().iter_mut() {
+            ax.drive_mut().begin_tick(1.0);
+        }
+        assert_ne!(r.mode, Mode::Tracking, "tracking at {now}");
+        per_tick.push(ctl.position_source_mut().calls - before);
+    }
+    // The searches: one for each wait the scheduler reports (until the
+    // solar day ends at about 23:26 UTC, then until sunrise), each once.
+    let big: Vec<(usize, u32)> = per_tick
+        .iter()
+        .copied()
+        .enumerate()
+        .filter(|(_, n)| *n > 4)
+        .collect();
+    assert!(
+        !big.is_empty() && big.len() <= 2,
+        "ticks over the budget: {big:?}"
+    );
+    assert!(big.iter().all(|(_, n)| (48..=52).contains(n)), "{big:?}");
+    if let [(a, _), (b, _)] = big[..] {
+        assert!(b - a > 3600, "{big:?}");
+    }
+    let total: u32 = per_tick.iter().sum();
+    println!("4 h from 19:30: {total} positions; over the budget: {big:?} (tick, positions)");
+}

@@ -126,12 +126,21 @@ where
     /// Before the first day: where to wait for sunrise. The sun is sampled
     /// every 30 minutes over the 24 hours from `sunrise`, and the pose facing
     /// sunrise on the branch that serves that day with least travel is taken.
+    /// The answer is kept for that sunrise, a failed search too (no pose
+    /// facing it within the limits): the search costs 48 sun positions,
+    /// some 135 ms on an ATmega2560, and the night has a tick a second.
     pub(super) fn pre_position(&mut self, sunrise: UtcTime) -> Option<Pose<T>> {
         if let Some((t, p)) = self.night_pose {
             if t == sunrise {
-                return Some(p);
+                return p;
             }
         }
+        let pose = self.search_pre_position(sunrise);
+        self.night_pose = Some((sunrise, pose));
+        pose
+    }
+
+    fn search_pre_position(&mut self, sunrise: UtcTime) -> Option<Pose<T>> {
         let first = self
             .scheduler
             .source_mut()
@@ -139,11 +148,9 @@ where
             .ok()
             .map(|p| SetPoint::facing(&p))?;
         let (samples, n) = self.sample_day(sunrise, first);
-        let pose = self.best_start(&first, None, &|visit| {
+        self.best_start(&first, None, &|visit| {
             samples.iter().take(n).for_each(|&sp| visit(sp))
-        })?;
-        self.night_pose = Some((sunrise, pose));
-        Some(pose)
+        })
     }
 
     /// Half-hourly samples of the sun over the 24 hours from `from`, the

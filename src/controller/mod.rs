@@ -199,8 +199,9 @@ pub struct Controller<T, P, D, S, const N: usize> {
     last_attitude_ms: Option<u32>,
     /// Attitude readings in a row that found no new compass sample.
     attitude_not_ready: u8,
-    /// Pose chosen to wait for a sunrise (before the first day).
-    night_pose: Option<(UtcTime, Pose<T>)>,
+    /// Pose chosen to wait for a sunrise (before the first day), or none
+    /// found, for that sunrise.
+    night_pose: Option<(UtcTime, Option<Pose<T>>)>,
     /// First entry time of the table seen by the re-homing check.
     rehome_day: Option<UtcTime>,
     /// Re-homed at the last end of day.
