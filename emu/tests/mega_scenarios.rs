@@ -957,21 +957,26 @@ fn l_every_typed_line_is_answered() {
     assert_eq!(run.rtc_time_writes, 0, "the RTC was written");
 }
 
-/// (m) A flood after sunset (Kano 19:30Z), when a tick can keep the loop
-/// busy for longer than the 64-byte receive ring lasts at 115200 baud: 100
-/// lines `set wind.stow_hz 25` typed back to back. Where the ring
-/// overflowed it marks the gap, and the line is answered `error input
-/// lost`; no line runs with a piece missing (`set wind.stow_hz 5` or `2`
-/// would be valid): the stow threshold read back is 25 Hz.
+/// (m) A flood the loop cannot keep up with (Kano 08:00Z, RTC): 40 pairs
+/// of lines `help` and `set wind.stow_hz 25` pasted at once; each `help`
+/// is answered with seven lines (about 280 bytes, 24 ms at 115200 baud,
+/// for its 5), so input comes faster than the replies go out and the
+/// 255-byte receive ring overflows. Where it did it marks the gap, and the
+/// line is answered `error input lost`; no line runs with a piece missing
+/// (`set wind.stow_hz 5` or `2` would be valid): every `set` answered sets
+/// 25 Hz, and the threshold read back is 25 Hz.
 #[test]
 fn m_lost_input_is_answered_never_run() {
     let elf = elf_or_skip!();
-    let start = t("2026-06-21T19:30:00Z");
+    let start = t("2026-06-21T08:00:00Z");
     let run = MegaBench::mega(&elf)
         .start(start)
         .rtc(Rtc::Valid)
         .gps(GpsFeed::Silent)
-        .bytes_at(2.0, b"set wind.stow_hz 25\n".repeat(100))
+        .bytes_at(2.0, b"help\nset wind.stow_hz 25\n".repeat(40))
+        // An end of line closes what is left of the flood (its own end of
+        // line may be what was lost), then the threshold is read back.
+        .type_at(3.9, "")
         .type_at(4.0, "get wind.stow_hz")
         .run_minutes(5.0)
         .unwrap();
@@ -984,18 +989,23 @@ fn m_lost_input_is_answered_never_run() {
         .count();
     let lost = replies.iter().filter(|l| **l == "error input lost").count();
     println!(
-        "m: 100 lines in a flood after sunset: {set} set, {lost} `error input lost`, {} replies",
+        "m: 40 `help` and 40 `set` pasted: {set} set, {lost} `error input lost`, {} reply lines",
         replies.len()
     );
     assert!(
         replies
             .iter()
-            .all(|l| *l == "ok wind.stow_hz=25" || l.starts_with("error ")),
+            .filter(|l| l.starts_with("ok wind."))
+            .all(|l| *l == "ok wind.stow_hz=25"),
         "{replies:?}"
     );
     assert!(lost >= 1, "the ring never overflowed: {replies:?}");
-    assert_eq!(
-        replies_between(&run, s + 240.0, s + 300.0),
-        ["ok wind.stow_hz=25"]
+    let closing = replies_between(&run, s + 230.0, s + 300.0);
+    assert!(
+        matches!(
+            closing[..],
+            ["ok wind.stow_hz=25"] | ["error input lost", "ok wind.stow_hz=25"]
+        ),
+        "{closing:?}"
     );
 }
