@@ -556,9 +556,8 @@ where
 
     /// The console: goes on with a save in progress, takes at most
     /// [`CONSOLE_BYTES_PER_PASS`] bytes and runs each complete line (while
-    /// a save is under way it answers `error busy`
-    /// instead). Not inlined: its buffers are then not in the frame of
-    /// every pass.
+    /// a save is under way it answers `error busy` instead). Not inlined:
+    /// its buffers are then not in the frame of every pass.
     #[inline(never)]
     fn service_console<P: Platform>(&mut self, platform: &mut P) {
         if let Some(pending) = self.saving {
@@ -601,7 +600,8 @@ where
                 // No command while a save is under way (it takes under a
                 // second; a NOR flash sector erase stalls the CPU anyway):
                 // the line is answered, not run. The console is read all
-                // the same, so that its receive ring never overflows.
+                // the same, so that its receive ring does not overflow
+                // behind the save.
                 console::write_error(&mut self.log, crate::flash_str!("busy"));
                 continue;
             }
