@@ -37,7 +37,6 @@ use crate::controller::{Controller, ControllerError, ControllerOptions, TickRepo
 use crate::hw::GpsPort;
 use crate::log::{self, ChangeLog, Sink, SiteSource as LogSite};
 use crate::motion::AxisDrive;
-use crate::motion::HomeState;
 use crate::persist::{Loaded, SaveError, SaveStatus};
 use crate::ports::AttitudeSensor;
 use crate::safety::{AxisId, Mode, OperatorHold};
@@ -792,17 +791,10 @@ where
     }
     fn jog(&mut self, axis: AxisId, deg: f32) -> Jogged {
         let c = &mut self.fw.controller;
-        let hold = c.hold();
-        let unreferenced = c
-            .axes()
-            .get(axis.index())
-            .is_some_and(|a| a.home_state() != HomeState::Done);
         // In service, or in a manual mode restored after a power cut,
         // homing waits: an axis with no reference is jogged from where it
-        // stands.
-        let nudged = unreferenced
-            && (hold.service || (hold.manual && c.manual_pose().is_none()))
-            && c.nudge(axis, deg);
+        // stands (`nudge` refuses an axis that has its reference).
+        let nudged = !c.homing_allowed() && c.nudge(axis, deg);
         let axes = c.axes();
         if nudged {
             return Jogged {

@@ -570,3 +570,32 @@ fn a_night_after_power_on_searches_its_waiting_pose_once() {
     let total: u32 = per_tick.iter().sum();
     println!("4 h from 19:30: {total} positions; over the budget: {big:?} (tick, positions)");
 }
+
+/// The service lock ends a manual mode: after `service off` the axes home
+/// and the tracker tracks, as the console's docs say, not manual with the
+/// axes still.
+#[test]
+fn service_ends_a_manual_mode() {
+    let truth = MountAttitude::level();
+    let mut ctl = controller(true, AttitudeSource::Fixed(truth), truth);
+    let now0 = t("2026-03-20T09:00:00Z");
+    let at = |m: i64| now0.add_seconds(m * 60).unwrap();
+    step(&mut ctl, &inputs(at(-1)));
+    for m in 0..5 {
+        step(&mut ctl, &inputs(at(m)));
+    }
+    ctl.manual(Some(Pose {
+        gamma_deg: 10.0,
+        alpha_deg: 20.0,
+    }));
+    assert_eq!(step(&mut ctl, &inputs(at(5))).mode, Mode::Manual);
+    ctl.service(true);
+    assert_eq!(step(&mut ctl, &inputs(at(6))).mode, Mode::Service);
+    ctl.service(false);
+    assert_eq!(ctl.hold(), Default::default());
+    let modes: Vec<Mode> = (7..20)
+        .map(|m| step(&mut ctl, &inputs(at(m))).mode)
+        .collect();
+    assert!(!modes.contains(&Mode::Manual), "{modes:?}");
+    assert_eq!(modes.last(), Some(&Mode::Tracking), "{modes:?}");
+}

@@ -376,13 +376,15 @@ where
         }
     }
     /// The service lock on (nothing moves but what is jogged, the axes
-    /// held where they are) or off (the axes home again: hands may have
-    /// moved them, and tracking follows).
+    /// held where they are; a manual mode ends) or off (the axes home
+    /// again: hands may have moved them, and tracking follows).
     pub fn service(&mut self, on: bool) {
         if self.config.hold.service == on {
             return;
         }
         self.config.hold.service = on;
+        // The lock ends a manual mode: after it the axes home and track.
+        self.config.hold.manual = false;
         self.manual = None;
         if on {
             // A homing chunk or a move under way ends now.
@@ -410,8 +412,9 @@ where
     }
     /// Whether homing may move the axes: not inside the service lock, and
     /// not in a manual mode with no pose jogged yet (restored after a power
-    /// cut: the axes stay where they are).
-    fn homing_allowed(&self) -> bool {
+    /// cut: the axes stay where they are). While it may not, an axis with
+    /// no reference is jogged from where it stands ([`Controller::nudge`]).
+    pub fn homing_allowed(&self) -> bool {
         let h = self.config.hold;
         !(h.service || (h.manual && self.manual.is_none()))
     }
