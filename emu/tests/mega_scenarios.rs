@@ -713,15 +713,14 @@ fn i_service_lock_holds_over_a_power_cut_and_a_gale() {
     let after_cut = modes_after(&run, cut);
     assert_eq!(after_cut.first(), Some(&"service"), "{after_cut:?}");
     assert!(run.wind_pulses > 0, "no gale sent");
-    let during: Vec<&str> = modes_after(&run, held_from)
-        .into_iter()
-        .zip(
-            run.lines
-                .iter()
-                .filter(|l| l.utc_s >= held_from && matches!(&l.event, Event::Mode(_))),
-        )
-        .filter(|(_, l)| l.utc_s < off_typed)
-        .map(|(m, _)| m)
+    let during: Vec<&str> = run
+        .lines
+        .iter()
+        .filter(|l| (held_from..off_typed).contains(&l.utc_s))
+        .filter_map(|l| match &l.event {
+            Event::Mode(m) => Some(m.as_str()),
+            _ => None,
+        })
         .collect();
     assert!(
         during.iter().all(|m| *m == "service"),
