@@ -5,7 +5,6 @@
 //! written out independently of the library, so that sunrise and sunset have
 //! the paper's closed form (eq. 9) to compare with.
 
-use sun_algos::geometry::GeometryError;
 use sun_algos::{Error, Site, SunPosition, UtcTime};
 use suntracker::plan::{
     solar_day_start, Action, Daylight, Phase, ScheduleConfig, ScheduleError, Scheduler, SetPoint,
@@ -337,21 +336,22 @@ fn invalid_intervals_are_rejected() {
 }
 
 #[test]
-fn a_day_longer_than_the_table_is_an_error_not_a_truncation() {
-    // 24 hours at 4 minutes need 360 or 361 entries; 300 do not hold them.
+fn a_day_longer_than_the_table_is_tracked_slot_by_slot_not_truncated() {
+    // 24 hours at 4 minutes need 360 or 361 entries; 300 do not hold them:
+    // no table (never a truncated one), the sun computed for each slot.
     let mut s = Scheduler::<f64, Textbook, 300>::new(ScheduleConfig::default(), TROMSO).unwrap();
     let start = t("2026-06-21T10:00:00Z");
     s.tick(start);
     let o = s.tick(start.add_seconds(1).unwrap());
-    assert!(
-        matches!(
-            o.action,
-            Action::Error(ScheduleError::Geometry(
-                GeometryError::CapacityExceeded { .. }
-            ))
-        ),
-        "{o:?}"
-    );
+    let Action::SetPoints(sp) = o.action else {
+        panic!("{o:?}");
+    };
+    assert!(s.real_time());
+    assert_eq!(s.table().len(), 0);
+    let mut tromso = TROMSO;
+    let sun = tromso.position(&start).unwrap();
+    assert!((sp.slope_deg - sun.zenith_deg).abs() < 1e-9);
+    assert!((sp.azimuth_deg - sun.azimuth_deg).abs() < 1e-9);
     // Kano's longest day fits the same table.
     let mut s = Scheduler::<f64, Textbook, 300>::new(ScheduleConfig::default(), KANO).unwrap();
     let start = t("2026-06-21T10:00:00Z");
@@ -686,4 +686,127 @@ fn solar_day_start_agrees_with_the_f64_version() {
             assert_eq!(solar_day_start(now, lon), want, "{now} {lon}");
         }
     }
+}
+
+/// The boards' scheduler (`BoardSource<f32>`, psa-2020 in f32, a plan
+/// budget of 4 positions a tick) at and next to both poles, at a
+/// whole-degree longitude (solar midnight on a 4-minute step: the polar day
+/// needs both midnights, 361 entries) and at 8.4° E (360). A polar day plans
+/// and tracks the sun around the clock, a polar night sleeps; no error.
+/// With a table too short for the day, the day is tracked slot by slot.
+#[test]
+fn poles_plan_and_track_in_f32_with_a_polar_day_table() {
+    use sun_algos::geometry::day_table::capacity_for_interval;
+    use suntracker::sun::BoardSource;
+    const N: usize = capacity_for_interval(4);
+
+    fn day<const M: usize>(
+        lat: f32,
+        lon: f32,
+        date: &str,
+    ) -> (Vec<Action<f32>>, Scheduler<f32, BoardSource<f32>, M>) {
+        let src = BoardSource::<f32>::new(Site::new(lat, lon).unwrap(), 69.0);
+        let mut s = Scheduler::<f32, _, M>::new(ScheduleConfig::default(), src).unwrap();
+        s.set_plan_budget(4);
+        let start = t(&format!("{date}T00:00:00Z"));
+        let mut acts = Vec::new();
+        for k in 0..(2 * 8640) {
+            let a = s.tick(start.add_seconds(k * 10).unwrap()).action;
+            if a != Action::Idle {
+                acts.push(a);
+            }
+        }
+        (acts, s)
+    }
+
+    for lat in [90.0f32, 89.9999, 89.99, -90.0, -89.9999] {
+        for lon in [0.0f32, 8.4, -180.0] {
+            for (date, summer_north) in [("2026-06-21", true), ("2026-12-21", false)] {
+                let (acts, mut s) = day::<N>(lat, lon, date);
+                let what = format!("lat {lat} lon {lon} {date}");
+                assert!(
+                    !acts.iter().any(|a| matches!(a, Action::Error(_))),
+                    "{what}: {:?}",
+                    acts.iter().find(|a| matches!(a, Action::Error(_)))
+                );
+                if (lat > 0.0) == summer_north {
+                    assert_eq!(
+                        s.day().map(|d| d.daylight),
+                        Some(Daylight::PolarDay),
+                        "{what}"
+                    );
+                    // One set-point a table step for two days, around the clock.
+                    let sets: Vec<_> = acts
+                        .iter()
+                        .filter_map(|a| match a {
+                            Action::SetPoints(p) => Some(*p),
+                            _ => None,
+                        })
+                        .collect();
+                    assert!(sets.len() > 700, "{what}: {} set-points", sets.len());
+                    // The last one faces the sun of its slot: about 23.4° up.
+                    let now = t(&format!("{date}T00:00:00Z"))
+                        .add_seconds(2 * 86_400 - 10)
+                        .unwrap();
+                    let e = s.current(&now).unwrap();
+                    let sun = s.source_mut().position(&e.time).unwrap();
+                    assert!(
+                        (e.set_point.slope_deg - sun.zenith_deg).abs() < 0.01,
+                        "{what}"
+                    );
+                    assert!((e.set_point.elevation_deg() - 23.4).abs() < 0.3, "{what}");
+                } else {
+                    assert_eq!(
+                        s.day().map(|d| d.daylight),
+                        Some(Daylight::PolarNight),
+                        "{what}"
+                    );
+                    assert!(
+                        acts[1..].iter().all(|a| matches!(a, Action::Sleep { .. })),
+                        "{what}"
+                    );
+                }
+            }
+        }
+    }
+    // A shorter table (the boards' former 360 and the ATmega2560's 240): a
+    // day longer than it is tracked slot by slot (as in real-time mode)
+    // until the sun sets, never refused. Tromsø (69.65° N) has its polar
+    // day in June; at 55° N the day lasts 17.5 h, longer than 240 entries
+    // of 4 minutes (16 h), and the sun sets each night.
+    fn short_table<const M: usize>(lat: f32, lon: f32, min_sets: usize, polar: bool) {
+        let what = format!("{M} entries, lat {lat} lon {lon}");
+        let (acts, mut s) = day::<M>(lat, lon, "2026-06-21");
+        assert!(
+            !acts.iter().any(|a| matches!(a, Action::Error(_))),
+            "{what}: {:?}",
+            acts.iter().find(|a| matches!(a, Action::Error(_)))
+        );
+        let sets = acts
+            .iter()
+            .filter(|a| matches!(a, Action::SetPoints(_)))
+            .count();
+        assert!(sets >= min_sets, "{what}: {sets} set-points");
+        let homes = acts
+            .iter()
+            .filter(|a| matches!(a, Action::GoHome(_)))
+            .count();
+        assert_eq!(homes, if polar { 0 } else { 2 }, "{what}: {homes} nights");
+        if polar {
+            let now = t("2026-06-21T00:00:00Z")
+                .add_seconds(2 * 86_400 - 10)
+                .unwrap();
+            let e = s.current(&now).unwrap();
+            let sun = s.source_mut().position(&e.time).unwrap();
+            assert!(
+                (e.set_point.slope_deg - sun.zenith_deg).abs() < 0.01,
+                "{what}"
+            );
+        }
+    }
+    short_table::<360>(90.0, 0.0, 700, true);
+    short_table::<240>(90.0, 0.0, 700, true);
+    short_table::<240>(69.65, 18.96, 700, true);
+    // Two days of 17.5 h at one set-point per 4 minutes.
+    short_table::<240>(55.0, 8.4, 2 * 17 * 15, false);
 }

@@ -8,7 +8,7 @@ use sun_algos::{Float, UtcTime};
 use super::Controller;
 use crate::attitude::{sun_vector_xyz, Pose};
 use crate::motion::AxisDrive;
-use crate::plan::{Scheduler, SetPoint};
+use crate::plan::SetPoint;
 use crate::ports::AttitudeSensor;
 use crate::sun::PositionSource;
 
@@ -26,6 +26,23 @@ where
     D: AxisDrive,
     S: AttitudeSensor<T>,
 {
+    /// [`Self::look_ahead`] without a table (or on a day too long for
+    /// it): the rest of the day sampled every 30 minutes from the set-point
+    /// in force. Its own frame: the samples are on the stack only here, not
+    /// under the table's look-ahead.
+    #[inline(never)]
+    fn look_ahead_sampled(&mut self) -> Option<Pose<T>> {
+        let first = self.scheduler.applied()?;
+        let here = Pose {
+            gamma_deg: T::from_f32(self.axes[0].counted_deg()),
+            alpha_deg: T::from_f32(self.axes[1].counted_deg()),
+        };
+        let (samples, n) = self.sample_day(first.time, first.set_point);
+        self.best_start(&first.set_point, Some(&here), &|visit| {
+            samples.iter().take(n).for_each(|&sp| visit(sp))
+        })
+    }
+
     /// Follows the rest of the day table from each candidate starting pose
     /// (both solutions of the first entry, and their ±360° turns), each
     /// step taking the least-motion solution, and returns the start whose
@@ -33,18 +50,8 @@ where
     /// included): a C axis that would run into its limit at noon (and swing
     /// half a turn there) is avoided at sunrise.
     pub(super) fn look_ahead(&mut self, now: UtcTime) -> Option<Pose<T>> {
-        if Scheduler::<T, P, N>::REAL_TIME {
-            // No table: the rest of the day sampled every 30 minutes from
-            // the set-point in force.
-            let first = self.scheduler.applied()?;
-            let here = Pose {
-                gamma_deg: T::from_f32(self.axes[0].counted_deg()),
-                alpha_deg: T::from_f32(self.axes[1].counted_deg()),
-            };
-            let (samples, n) = self.sample_day(first.time, first.set_point);
-            return self.best_start(&first.set_point, Some(&here), &|visit| {
-                samples.iter().take(n).for_each(|&sp| visit(sp))
-            });
+        if self.scheduler.real_time() {
+            return self.look_ahead_sampled();
         }
         let table = self.scheduler.table();
         let first = (0..table.len())

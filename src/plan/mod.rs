@@ -438,6 +438,10 @@ pub struct Scheduler<T, P, const N: usize> {
     /// Real-time mode: the solar day being tracked (its start) and its
     /// first daylight slot.
     rt_day: Option<(UtcTime, UtcTime)>,
+    /// This solar day's daylight does not fit the table (a day longer
+    /// than `N` entries: a polar day on a board with a short table): it is
+    /// tracked slot by slot as in real-time mode until the sun sets.
+    overflow: bool,
     home: SetPoint<T>,
     /// Positions computed per tick while planning; 0: all in one tick.
     plan_budget: u16,
@@ -459,6 +463,12 @@ impl<T: Float, P: PositionSource<T>, const N: usize> Scheduler<T, P, N> {
     /// True for a scheduler without a table (`N = 0`): real-time mode, see
     /// the module documentation.
     pub const REAL_TIME: bool = N == 0;
+
+    /// True while set-points are computed slot by slot: real-time mode, or
+    /// a day too long for the table.
+    pub fn real_time(&self) -> bool {
+        Self::REAL_TIME || self.overflow
+    }
 
     /// A scheduler at power-on. Errors for zero intervals or a step that is
     /// not whole minutes dividing a day.
@@ -503,6 +513,7 @@ impl<T: Float, P: PositionSource<T>, const N: usize> Scheduler<T, P, N> {
             last_applied: None,
             last_entry: None,
             rt_day: None,
+            overflow: false,
             home: SetPoint::default(),
             plan_budget: 0,
             planner: None,
@@ -549,6 +560,7 @@ impl<T: Float, P: PositionSource<T>, const N: usize> Scheduler<T, P, N> {
     /// step plans with the new site anyway.
     pub fn replan(&mut self) {
         self.planner = None;
+        self.overflow = false;
         if self.phase != Phase::PowerOn {
             self.phase = Phase::ReadDate;
         }
@@ -566,7 +578,7 @@ impl<T: Float, P: PositionSource<T>, const N: usize> Scheduler<T, P, N> {
     /// The table entry applied last in this day's tracking, if any.
     pub fn applied(&self) -> Option<TableEntry<T>> {
         match self.phase {
-            Phase::Tracking { .. } if Self::REAL_TIME => self.last_entry,
+            Phase::Tracking { .. } if self.real_time() => self.last_entry,
             Phase::Tracking { .. } => self.last_applied.and_then(|i| self.entry(i)),
             _ => None,
         }
@@ -580,7 +592,7 @@ impl<T: Float, P: PositionSource<T>, const N: usize> Scheduler<T, P, N> {
             now.seconds_since(&e.time)
                 .is_some_and(|late| (0..step_s).contains(&late))
         };
-        if Self::REAL_TIME {
+        if self.real_time() {
             return self.applied().filter(in_slot);
         }
         let table = self.table();
@@ -592,7 +604,7 @@ impl<T: Float, P: PositionSource<T>, const N: usize> Scheduler<T, P, N> {
     /// table's first entry; real-time mode: the first daylight slot); it
     /// changes when a new day starts.
     pub fn day_key(&self) -> Option<UtcTime> {
-        if Self::REAL_TIME {
+        if self.real_time() {
             self.rt_day.map(|(_, first)| first)
         } else {
             self.table().get(0).map(|e| e.time)
@@ -602,7 +614,7 @@ impl<T: Float, P: PositionSource<T>, const N: usize> Scheduler<T, P, N> {
     /// mode computes none: `None`).
     pub fn next_sunrise(&self) -> Option<UtcTime> {
         match self.phase {
-            Phase::WaitSunrise { until } if !Self::REAL_TIME => Some(until),
+            Phase::WaitSunrise { until } if !self.real_time() => Some(until),
             _ => None,
         }
     }
@@ -639,7 +651,7 @@ impl<T: Float, P: PositionSource<T>, const N: usize> Scheduler<T, P, N> {
     }
 
     fn step(&mut self, now: UtcTime) -> Result<Action<T>, ScheduleError> {
-        if Self::REAL_TIME {
+        if self.real_time() {
             return self.rt_step(now);
         }
         match self.phase {
@@ -738,8 +750,17 @@ impl<T: Float, P: PositionSource<T>, const N: usize> Scheduler<T, P, N> {
                     // attitude step).
                     let interval_min = (self.config.table_step_s / 60) as u16;
                     self.has_table = false;
-                    self.table.begin(&ev, interval_min)?;
-                    self.planner = Some(Planner::Table(start));
+                    match self.table.begin(&ev, interval_min) {
+                        Ok(()) => self.planner = Some(Planner::Table(start)),
+                        Err(GeometryError::CapacityExceeded { .. }) if N > 0 => {
+                            // Longer than the table (a polar day on a board
+                            // with a short one): slot by slot until sunset.
+                            self.overflow = true;
+                            self.phase = Phase::ReadDate;
+                            return self.rt_check(now);
+                        }
+                        Err(e) => return Err(e.into()),
+                    }
                 }
                 Some((from, _)) if now < from => {
                     // Steps 5–6: td_os = sunrise − now.
@@ -899,6 +920,9 @@ impl<T: Float, P: PositionSource<T>, const N: usize> Scheduler<T, P, N> {
             // ended (step 10), go home; else wait for the next slot (steps
             // 4–6), with a Sleep the first time (power-on, clock jump).
             let first = matches!(self.phase, Phase::ReadDate | Phase::Planning);
+            // A day too long for the table has ended: the next is planned
+            // with the table again.
+            self.overflow = false;
             if tracking {
                 self.phase = Phase::WaitNextDay { until: next_slot };
                 return Ok(Action::GoHome(self.home));

@@ -122,8 +122,12 @@ pub const TICK_MS: u32 = 10_000;
 /// wall second (one per main-loop turn), so a whole 1 Hz day (12 MB of
 /// NMEA) would take twenty minutes; one epoch every 10 s takes two.
 pub const GATE_MS: u64 = TICK_MS as u64;
-/// Day-table capacity: Jimoh & Aliyu's (2019) 4-minute table of a polar day.
-pub const TABLE_LEN: usize = 360;
+/// Day-table capacity: Jimoh & Aliyu's (2019) 4-minute table of a polar day,
+/// both solar midnights included: 1440 / 4 + 1 = 361 entries
+/// (`capacity_for_interval`). 360 refused every polar day whose solar
+/// midnight falls on a 4-minute step (a whole-degree longitude: 90° N 0° E
+/// in June) with `schedule_failed`.
+pub const TABLE_LEN: usize = sun_algos::geometry::day_table::capacity_for_interval(4);
 /// GPS baud rate (NEO-6M and kin).
 pub const GPS_BAUD_HZ: u32 = 9_600;
 /// Console baud rate (QEMU's UART model moves bytes at its own pace; the

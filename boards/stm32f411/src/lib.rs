@@ -169,8 +169,12 @@ pub const INCLINOMETER_BAUD_HZ: u32 = 9_600;
 pub const ADXL345_ADDRESS: u8 = 0x53;
 /// Independent watchdog timeout.
 pub const WATCHDOG_MS: u32 = 2_000;
-/// Day-table capacity: Jimoh & Aliyu's (2019) 4-minute table of a polar day.
-pub const TABLE_LEN: usize = 360;
+/// Day-table capacity: Jimoh & Aliyu's (2019) 4-minute table of a polar day,
+/// both solar midnights included: 1440 / 4 + 1 = 361 entries
+/// (`capacity_for_interval`). 360 refused every polar day whose solar
+/// midnight falls on a 4-minute step (a whole-degree longitude: 90° N 0° E
+/// in June) with `schedule_failed`.
+pub const TABLE_LEN: usize = sun_algos::geometry::day_table::capacity_for_interval(4);
 /// GPS receive ring, bytes.
 pub const GPS_RING_LEN: usize = 512;
 /// Console receive ring, bytes: three lines of the longest
