@@ -40,6 +40,7 @@ use crate::motion::AxisDrive;
 use crate::persist::{Loaded, SaveError, SaveStatus};
 use crate::ports::AttitudeSensor;
 use crate::safety::{AxisId, Mode, OperatorHold};
+use crate::site::filter::{SiteDecision, SiteFilter, SiteFilterConfig};
 use crate::site::{site_from_config, site_from_fix, site_moved, wmm_declination_deg};
 use crate::sun::BoardSource;
 use crate::time::TimeConfig;
@@ -163,10 +164,12 @@ pub struct AppConfig {
     pub tick_ms: u32,
     /// Trust rules for GPS time and the RTC.
     pub time: TimeConfig,
-    /// A GPS position moving less than this (degrees of latitude or
-    /// longitude) from the site in use does not change it: fix noise of a
+    /// A GPS position moving less than this (degrees of a great circle)
+    /// from the site in use does not change it: fix noise of a
     /// few metres does not re-plan the day.
     pub site_min_move_deg: f32,
+    /// When a GPS position far from the site in use becomes the site.
+    pub site_filter: SiteFilterConfig,
     /// Take the magnetic declination from WMM2025 for the site in use
     /// (instead of the configuration's `calibration.declination_deg`).
     pub wmm_declination: bool,
@@ -192,6 +195,7 @@ impl AppConfig {
             tick_ms: 1000,
             time: TimeConfig::default(),
             site_min_move_deg: 0.001,
+            site_filter: SiteFilterConfig::default(),
             wmm_declination: true,
             delta_t_s: 69.0,
             gps_hold_ms: 60_000,
@@ -247,6 +251,8 @@ pub struct Firmware<T, R, G, D, S, L, const N: usize> {
     /// The site in use, in the controller's precision (`f32` on a board
     /// without an FPU: about a metre, and no software `f64`).
     site: Site<T>,
+    /// Which GPS positions become the site.
+    site_filter: SiteFilter<T>,
     /// The site and day (since 2000) the declination was computed for.
     declination_for: Option<(Site<T>, i32)>,
     last_setpoint: Option<UtcTime>,
@@ -313,6 +319,7 @@ where
             time_origin: None,
             site_origin: None,
             site,
+            site_filter: SiteFilter::new(app.site_filter),
             declination_for: None,
             last_setpoint: None,
             last_report: None,
@@ -450,10 +457,12 @@ where
             (Some(origin), Some(t)) => Some((t, origin)),
             _ => None,
         };
-        // Site: the GPS position when a fix gives one, else the stored one.
-        self.update_site(status.now);
+        // Site: the GPS position when a fix gives one (and it is consistent),
+        // else the stored one.
+        self.update_site(now_ms, status.now);
         let fallback = self.time.last_valid().unwrap_or(self.boot_fallback);
-        let inputs = status.tick_inputs(now_ms, fallback, wind_pulses, interval_ms);
+        let mut inputs = status.tick_inputs(now_ms, fallback, wind_pulses, interval_ms);
+        inputs.gps_position_unstable = self.site_filter.unstable();
         let report = self.controller.tick(&inputs);
         if report.clock_jump {
             // The schedule starts over: say why tracking pauses.
@@ -472,7 +481,7 @@ where
                 .flash(crate::flash_str!(": the day is planned again\n"));
         }
         self.last_tick_utc = Some(inputs.now);
-        self.log_setpoint(&report);
+        self.log_setpoint(&inputs.now, &report);
         self.changes
             .update(&mut self.log, self.controller.faults(), report.mode);
         self.last_report = Some(report);
@@ -481,8 +490,16 @@ where
     // Not inlined: the WMM synthesis's rows (four of 13 floats) are then on
     // the stack only during this call, not under the controller's tick.
     #[inline(never)]
-    fn update_site(&mut self, now: Option<UtcTime>) {
-        match site_from_fix::<T>(&self.fix) {
+    fn update_site(&mut self, now_ms: u32, now: Option<UtcTime>) {
+        // A position far from the site in use is taken only once it has
+        // been consistent for a while (a fixed tracker does not travel).
+        let taken = site_from_fix::<T>(&self.fix).and_then(|s| {
+            match self.site_filter.update(s, &self.site, now_ms) {
+                SiteDecision::Take(s) => Some(s),
+                SiteDecision::Keep => None,
+            }
+        });
+        match taken {
             Some(s) => {
                 let min_move_deg = T::from_f32(self.app.site_min_move_deg);
                 let moved = site_moved(&s, &self.site, min_move_deg);
@@ -528,12 +545,16 @@ where
     }
 
     /// `setpoint …` at each new table entry the controller tracks.
-    fn log_setpoint(&mut self, report: &TickReport<T>) {
+    fn log_setpoint(&mut self, now: &UtcTime, report: &TickReport<T>) {
         if report.mode != Mode::Tracking {
             return;
         }
-        let (Some(entry), Some(target)) = (self.controller.scheduler().applied(), report.target)
-        else {
+        // The present slot's entry when the day's table has one (what the
+        // controller tracks: the scheduler's check for a new slot can come
+        // a tick after a stow ends), else the one applied last.
+        let scheduler = self.controller.scheduler();
+        let entry = scheduler.current(now).or_else(|| scheduler.applied());
+        let (Some(entry), Some(target)) = (entry, report.target) else {
             return;
         };
         if self.last_setpoint == Some(entry.time) {

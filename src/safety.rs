@@ -70,6 +70,11 @@ pub enum Fault {
     /// GPS reports a date outside the firmware's 1024-week window (the GPS
     /// week-rollover bug): its time is ignored and never written to the RTC.
     GpsTimeImplausible,
+    /// GPS time disagrees with the monotonic clock between epochs (it
+    /// jumps, runs backwards or alternates): it is not adopted.
+    GpsTimeUnstable,
+    /// The GPS position jumps between places: the site in use is kept.
+    GpsPositionUnstable,
     /// The time lies outside the sun algorithm's validity range: no
     /// set-point can be computed for it.
     TimeOutOfRange,
@@ -108,6 +113,8 @@ impl Fault {
             Fault::LimitSwitchHit(C) => crate::flash_str!("limit_switch_c"),
             Fault::LimitSwitchHit(A) => crate::flash_str!("limit_switch_a"),
             Fault::GpsTimeImplausible => crate::flash_str!("gps_time_implausible"),
+            Fault::GpsTimeUnstable => crate::flash_str!("gps_time_unstable"),
+            Fault::GpsPositionUnstable => crate::flash_str!("gps_position_unstable"),
             Fault::TimeOutOfRange => crate::flash_str!("time_out_of_range"),
             Fault::ScheduleFailed => crate::flash_str!("schedule_failed"),
         }
@@ -145,7 +152,9 @@ impl Fault {
             Fault::SensorTimeout(Sensor::Gps)
             | Fault::I2cError(Sensor::Gps)
             | Fault::GpsLost
-            | Fault::GpsTimeImplausible => Recovery::UseRtcAndStoredSite,
+            | Fault::GpsTimeImplausible
+            | Fault::GpsTimeUnstable
+            | Fault::GpsPositionUnstable => Recovery::UseRtcAndStoredSite,
             Fault::TimeOutOfRange | Fault::ScheduleFailed => Recovery::WaitForValidTime,
             Fault::SensorTimeout(Sensor::Rtc)
             | Fault::I2cError(Sensor::Rtc)

@@ -63,6 +63,8 @@ fn inputs(now: UtcTime) -> TickInputs {
         time_valid: true,
         gps_fix: true,
         gps_time_implausible: false,
+        gps_time_unstable: false,
+        gps_position_unstable: false,
         wind_pulses: 300, // 5 Hz: calm
         wind_interval_ms: 60_000,
     }

@@ -86,6 +86,8 @@ where
             time_valid: true,
             gps_fix: true,
             gps_time_implausible: false,
+            gps_time_unstable: false,
+            gps_position_unstable: false,
             wind_pulses: 0,
             wind_interval_ms: 60_000,
         });

@@ -194,6 +194,8 @@ fn run<const N: usize>(seed: u64, ticks: u32, fig: &mut Figures) {
             time_valid: !time_invalid,
             gps_fix: !gps_lost,
             gps_time_implausible: rollover,
+            gps_time_unstable: false,
+            gps_position_unstable: false,
             wind_pulses: pulses,
             wind_interval_ms: dt_ms as u32,
         });

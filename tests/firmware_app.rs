@@ -26,6 +26,8 @@ use suntracker::firmware::{AppConfig, Firmware, Platform};
 
 const LAT: f64 = 11.9683;
 const LON: f64 = 8.4261;
+/// A gale on the anemometer: the default `wind.stow_hz` is 25.
+const GALE_HZ: u32 = 40;
 
 struct HostPlatform {
     now_ms: u64,
@@ -52,7 +54,10 @@ struct Run {
     lines: Vec<String>,
     /// (set-point line, C and A angle when the next set-point came).
     setpoints: Vec<(String, f64, f64)>,
-    homed_at_switch: bool,
+    /// When each set-point line was logged.
+    logged_at: Vec<UtcTime>,
+    /// Each axis (C, A) reached its home switch at some point.
+    homed_at_switch: [bool; 2],
     lost_sync: u32,
     shoot_through: u32,
 }
@@ -64,6 +69,21 @@ enum Gps {
 }
 
 fn run_day<T: Float>(start: UtcTime, seconds: u32, gps: Gps, rtc_lost_power: bool) -> Run
+where
+    MountSensors: suntracker::ports::AttitudeSensor<T>,
+{
+    run_day_with_wind::<T>(start, seconds, gps, rtc_lost_power, None)
+}
+
+/// [`run_day`] with a gale: `GALE_HZ` anemometer pulses a second from
+/// `gale_s.0` to `gale_s.1` seconds after the start.
+fn run_day_with_wind<T: Float>(
+    start: UtcTime,
+    seconds: u32,
+    gps: Gps,
+    rtc_lost_power: bool,
+    gale_s: Option<(u32, u32)>,
+) -> Run
 where
     MountSensors: suntracker::ports::AttitudeSensor<T>,
 {
@@ -114,13 +134,24 @@ where
         fed: 0,
     };
     let mut setpoints: Vec<(String, f64, f64)> = Vec::new();
+    let mut logged_at = Vec::new();
     let mut seen = 0usize;
-    let mut homed_at_switch = false;
+    let mut homed_at_switch = [false; 2];
     let mut buf = [0u8; 256];
     let end_ms = u64::from(seconds) * 1000;
     let mut next_epoch_ms = 0u64;
+    let mut next_pulse_s = 0u64;
     while platform.now_ms < end_ms {
         let now = start.add_millis(platform.now_ms as i64).unwrap();
+        if let Some((from_s, to_s)) = gale_s {
+            let s = platform.now_ms / 1000;
+            if s >= next_pulse_s {
+                next_pulse_s = s + 1;
+                if (u64::from(from_s)..u64::from(to_s)).contains(&s) {
+                    platform.pulses += GALE_HZ;
+                }
+            }
+        }
         fw.time_keeper_mut().rtc_mut().advance(now);
         if platform.now_ms >= next_epoch_ms {
             if let Gps::Fix = gps {
@@ -133,7 +164,8 @@ where
         for m in [&c, &a] {
             m.borrow_mut().settle();
         }
-        homed_at_switch |= c.borrow().switch_closed() && a.borrow().switch_closed();
+        homed_at_switch[0] |= c.borrow().switch_closed();
+        homed_at_switch[1] |= a.borrow().switch_closed();
         // New log lines: a set-point closes the previous one's motion.
         let text = String::from_utf8(log.0.borrow().clone()).unwrap();
         let lines: Vec<&str> = text.lines().collect();
@@ -156,6 +188,7 @@ where
             }
             if line.starts_with("setpoint ") {
                 setpoints.push((line.to_string(), f64::NAN, f64::NAN));
+                logged_at.push(now);
             }
         }
         seen = lines.len();
@@ -188,6 +221,7 @@ where
     Run {
         lines: text.lines().map(str::to_string).collect(),
         setpoints,
+        logged_at,
         homed_at_switch,
         lost_sync,
         shoot_through,
@@ -222,6 +256,11 @@ fn utc_field(line: &str) -> UtcTime {
 /// Checks every set-point: motors at the logged pose (one half-step,
 /// 0.009°, plus the print rounding), logged pose facing the SPA sun.
 fn check_setpoints(run: &Run, lat: f64, lon: f64) -> f64 {
+    check_setpoints_min(run, lat, lon, 151)
+}
+
+/// [`check_setpoints`] for a run with at least `min` set-points.
+fn check_setpoints_min(run: &Run, lat: f64, lon: f64, min: usize) -> f64 {
     let site = Site::with_elevation(lat, lon, 480.0).unwrap();
     let options = Options {
         delta_t_s: Some(69.0),
@@ -231,7 +270,7 @@ fn check_setpoints(run: &Run, lat: f64, lon: f64) -> f64 {
     let mut worst = 0.0f64;
     let mut worst_axis = 0.0f64;
     assert!(
-        run.setpoints.len() > 150,
+        run.setpoints.len() >= min,
         "{} set-points\n{:#?}",
         run.setpoints.len(),
         run.lines
@@ -295,7 +334,10 @@ fn kano_day_with_gps_f32() {
         .any(|s| s.starts_with("time source=gps utc=2026-03-20T05:00")));
     assert!(l.iter().any(|s| s == "mode tracking"));
     assert!(l.iter().any(|s| s == "mode night"), "end of day");
-    assert!(run.homed_at_switch, "both axes reached their home switches");
+    assert_eq!(
+        run.homed_at_switch, [true; 2],
+        "each axis reached its home switch"
+    );
     assert_eq!(run.lost_sync + run.shoot_through, 0);
     let worst = check_setpoints(&run, LAT, LON);
     println!("f32: {} set-points, worst {worst:.4}°", run.setpoints.len());
@@ -396,4 +438,50 @@ fn a_fix_found_after_a_long_pass_does_not_set_the_clock_back() {
 
 fn now_s(start: UtcTime, ms: u64) -> i64 {
     start.unix_seconds() + (ms / 1000) as i64
+}
+
+/// Kano, 2026-03-20 11:30–12:40Z: a gale 12:00–12:10 stows the panel; after
+/// the default 10 minutes of calm it tracks again. Every set-point logged
+/// is the one of the slot it was logged in (never the slot before the gale:
+/// the table's 4-minute step bounds its age), and the ones after the gale
+/// face SPA's sun within the day test's tolerance.
+#[test]
+fn after_a_gale_only_the_present_slot_is_logged() {
+    let start = UtcTime::from_ymd_hms(2026, 3, 20, 11, 30, 0).unwrap();
+    let run = run_day_with_wind::<f32>(start, 4200, Gps::Fix, false, Some((1800, 2400)));
+    let l = &run.lines;
+    assert!(l.iter().any(|s| s == "mode wind_stow"), "{l:#?}");
+    let step_s = i64::from(suntracker::config::Config::default().schedule.table_step_s);
+    // The calm from 12:10, plus the default 10-minute release.
+    let released = start.unix_seconds() + 2400 + 600;
+    let mut after = 0;
+    for ((line, _, _), at) in run.setpoints.iter().zip(&run.logged_at) {
+        let age_s = at.seconds_since(&utc_field(line)).unwrap();
+        assert!(
+            // A second early: the tick's own clock against the loop's.
+            (-1..step_s as i32).contains(&age_s),
+            "{line} logged at {at:?}: {age_s} s old"
+        );
+        if at.unix_seconds() >= released {
+            after += 1;
+        }
+    }
+    assert!(after >= 3, "{after} set-points after the gale");
+    // The receiver's site (13 km from the stored one) is taken after the
+    // site filter's 10 minutes: the set-points from then on face its sun.
+    let settled = start.unix_seconds() + 600;
+    let (setpoints, logged_at) = run
+        .setpoints
+        .iter()
+        .zip(&run.logged_at)
+        .filter(|(_, at)| at.unix_seconds() > settled)
+        .map(|(s, at)| (s.clone(), *at))
+        .unzip();
+    let later = Run {
+        setpoints,
+        logged_at,
+        lines: run.lines.clone(),
+        ..run
+    };
+    check_setpoints_min(&later, LAT, LON, 10);
 }

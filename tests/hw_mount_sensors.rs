@@ -138,6 +138,8 @@ fn controller_measures_the_mount_and_recovers_from_a_nack() {
             time_valid: true,
             gps_fix: true,
             gps_time_implausible: false,
+            gps_time_unstable: false,
+            gps_position_unstable: false,
             wind_pulses: 0,
             wind_interval_ms: 60_000,
         })
@@ -200,6 +202,8 @@ fn a_compass_without_a_new_sample_is_read_again_not_a_fault() {
             time_valid: true,
             gps_fix: true,
             gps_time_implausible: false,
+            gps_time_unstable: false,
+            gps_position_unstable: false,
             wind_pulses: 0,
             wind_interval_ms: 1_000,
         })

@@ -60,11 +60,14 @@ fn rtc_that_lost_power_waits_for_gps_then_gps_sets_it() {
     let mut tx = vec![
         // 1. No GPS; OSF set: the time registers are not even read.
         read_status(STATUS_OSF),
-        // 2. GPS fix: OSF still set -> the RTC is set to GPS time.
+        // 2. A first GPS epoch: one alone is not trusted.
+        read_status(STATUS_OSF),
+        // 3. The next, agreeing with it: OSF still set -> the RTC is set
+        //    to GPS time.
         read_status(STATUS_OSF),
     ];
     tx.extend(set_time(at(T0 + 60), STATUS_OSF));
-    // 3. GPS gone: the RTC, now running, gives the time.
+    // 4. GPS gone: the RTC, now running, gives the time.
     tx.push(read_status(STATUS_RUNNING));
     tx.push(read_time(at(T0 + 120)));
     let mut keeper = TimeKeeper::new(Ds3231::new(I2cMock::new(&tx)), TimeConfig::default());
@@ -74,6 +77,8 @@ fn rtc_that_lost_power_waits_for_gps_then_gps_sets_it() {
     assert!(s.rtc_lost_power && !s.gps_fix && !s.rtc_set && !s.rtc_error);
     assert_eq!(s.rtc_raw, None);
 
+    let s = keeper.update(&kano_fix(T0 + 59), ms(T0 + 59));
+    assert!(!s.time_valid() && !s.rtc_set);
     let s = keeper.update(&kano_fix(T0 + 60), ms(T0 + 60));
     assert_eq!(s.now, Some(utc(T0 + 60)));
     assert_eq!(s.origin, Some(TimeOrigin::Gps));
@@ -139,18 +144,23 @@ fn gps_time_without_a_fix_is_not_trusted() {
 #[test]
 fn rtc_nack_falls_back_to_gps_and_without_gps_the_time_is_unknown() {
     let tx = [
-        // 1. NACK on the status read, GPS has a fix: GPS time, no write.
+        // 1. NACK on the status read, GPS has a fix: one epoch alone is
+        //    not trusted.
         I2c::write_read(RTC_ADDR, vec![REG_STATUS], vec![0]).with_error(nack()),
-        // 2. NACK again, no GPS: time unknown.
+        // 2. The next epoch agrees with it: GPS time, no write.
         I2c::write_read(RTC_ADDR, vec![REG_STATUS], vec![0]).with_error(nack()),
-        // 3. Status fine, time read NACKed, no GPS: unknown.
+        // 3. NACK again, no GPS: time unknown.
+        I2c::write_read(RTC_ADDR, vec![REG_STATUS], vec![0]).with_error(nack()),
+        // 4. Status fine, time read NACKed, no GPS: unknown.
         read_status(STATUS_RUNNING),
         I2c::write_read(RTC_ADDR, vec![REG_SECONDS], vec![0; 7]).with_error(nack()),
-        // 4. Bus back: RTC time.
+        // 5. Bus back: RTC time.
         read_status(STATUS_RUNNING),
         read_time(at(T0 + 180)),
     ];
     let mut keeper = TimeKeeper::new(Ds3231::new(I2cMock::new(&tx)), TimeConfig::default());
+    let s = keeper.update(&kano_fix(T0 - 1), ms(T0 - 1));
+    assert!(!s.time_valid() && s.rtc_error);
     let s = keeper.update(&kano_fix(T0), ms(T0));
     assert_eq!((s.now, s.origin), (Some(utc(T0)), Some(TimeOrigin::Gps)));
     assert!(s.rtc_error && !s.rtc_set);
@@ -168,13 +178,17 @@ fn rtc_nack_falls_back_to_gps_and_without_gps_the_time_is_unknown() {
 #[test]
 fn garbage_time_registers_are_replaced_by_gps_time() {
     // OSF clear but the date register holds 0 (no such date): the RTC is
-    // rewritten from GPS.
+    // rewritten from GPS at the second epoch (one alone is not trusted).
     let mut tx = vec![
+        read_status(STATUS_RUNNING),
+        I2c::write_read(RTC_ADDR, vec![REG_SECONDS], vec![0; 7]),
         read_status(STATUS_RUNNING),
         I2c::write_read(RTC_ADDR, vec![REG_SECONDS], vec![0; 7]),
     ];
     tx.extend(set_time(at(T0), STATUS_RUNNING));
     let mut keeper = TimeKeeper::new(Ds3231::new(I2cMock::new(&tx)), TimeConfig::default());
+    let s = keeper.update(&kano_fix(T0 - 1), ms(T0 - 1));
+    assert!(s.rtc_error && !s.rtc_set && !s.time_valid());
     let s = keeper.update(&kano_fix(T0), ms(T0));
     assert!(s.rtc_error && s.rtc_set);
     assert_eq!(s.now, Some(utc(T0)));
@@ -205,8 +219,12 @@ fn nmea_on_the_serial_port_sets_a_stopped_rtc() {
     // fusion) -> TimeKeeper -> DS3231 writes.
     let serial = MemSerial::default();
     let mut gps = GpsPort::new(serial.clone(), 3_000);
-    let mut tx = vec![read_status(STATUS_OSF), read_status(STATUS_OSF)];
-    tx.extend(set_time(at(T0 + 1), STATUS_OSF));
+    let mut tx = vec![
+        read_status(STATUS_OSF),
+        read_status(STATUS_OSF),
+        read_status(STATUS_OSF),
+    ];
+    tx.extend(set_time(at(T0 + 2), STATUS_OSF));
     let mut keeper = TimeKeeper::new(Ds3231::new(I2cMock::new(&tx)), TimeConfig::default());
 
     // No fix yet: the receiver reports time without position.
@@ -215,17 +233,23 @@ fn nmea_on_the_serial_port_sets_a_stopped_rtc() {
     assert_eq!(fix.quality, FixQuality::Invalid);
     assert!(!keeper.update(&fix, 1_000).time_valid());
 
+    // The first fix: one epoch alone does not set the clock.
     serial.push(&gps_epoch(at(T0 + 1), true));
     let fix = gps.service(2_000).unwrap();
     assert!(fix.has_position());
-    let s = keeper.update(&fix, 2_000);
-    assert_eq!(s.now, Some(utc(T0 + 1)));
+    assert!(!keeper.update(&fix, 2_000).time_valid());
+
+    // The next agrees with it over the second between them.
+    serial.push(&gps_epoch(at(T0 + 2), true));
+    let fix = gps.service(3_000).unwrap();
+    let s = keeper.update(&fix, 3_000);
+    assert_eq!(s.now, Some(utc(T0 + 2)));
     assert!(s.rtc_set);
-    assert_eq!(gps.fixes(), 2);
-    assert_eq!(gps.stats().accepted, 4);
+    assert_eq!(gps.fixes(), 3);
+    assert_eq!(gps.stats().accepted, 6);
 
     // Silence beyond the stale limit: the fix is gone.
-    assert_eq!(gps.service(10_000).unwrap(), GpsFix::NONE);
+    assert_eq!(gps.service(11_000).unwrap(), GpsFix::NONE);
     keeper.destroy().destroy().done();
 }
 
@@ -386,23 +410,26 @@ fn a_week_rollover_date_is_never_written_to_the_rtc() {
 #[test]
 fn an_rtc_date_outside_the_window_is_not_trusted() {
     // A running RTC that reads 2000-01-01 (never set): not trusted; GPS
-    // sets it.
-    let mut tx = vec![
-        read_status(STATUS_RUNNING),
+    // sets it at its second epoch.
+    let never_set = || {
         I2c::write_read(
             RTC_ADDR,
             vec![REG_SECONDS],
             vec![0x00, 0x00, 0x00, 0x07, 0x01, 0x01, 0x00],
-        ),
+        )
+    };
+    let mut tx = vec![
+        read_status(STATUS_RUNNING),
+        never_set(),
+        read_status(STATUS_RUNNING),
+        never_set(),
     ];
     tx.extend(set_time(at(T0), STATUS_RUNNING));
     tx.push(read_status(STATUS_RUNNING));
-    tx.push(I2c::write_read(
-        RTC_ADDR,
-        vec![REG_SECONDS],
-        vec![0x00, 0x00, 0x00, 0x07, 0x01, 0x01, 0x00],
-    ));
+    tx.push(never_set());
     let mut keeper = TimeKeeper::new(Ds3231::new(I2cMock::new(&tx)), TimeConfig::default());
+    let s = keeper.update(&kano_fix(T0 - 1), ms(T0 - 1));
+    assert!(s.rtc_implausible && !s.rtc_set && !s.time_valid());
     let s = keeper.update(&kano_fix(T0), ms(T0));
     assert!(s.rtc_implausible && s.rtc_set);
     assert_eq!(s.now, Some(utc(T0)));

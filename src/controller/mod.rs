@@ -135,6 +135,12 @@ pub struct TickInputs {
     /// True while GPS reports a date outside the firmware's window (the
     /// week-rollover bug); its time is not used.
     pub gps_time_implausible: bool,
+    /// True while GPS time disagrees with the monotonic clock between
+    /// epochs (it jumps, runs backwards or alternates); not used.
+    pub gps_time_unstable: bool,
+    /// True while the GPS position jumps between places; the site in use
+    /// is kept ([`crate::site::filter`]).
+    pub gps_position_unstable: bool,
     /// Anemometer pulses since the last tick.
     pub wind_pulses: u32,
     /// Milliseconds of the monotonic clock those pulses were counted over.

@@ -31,7 +31,7 @@ where
     S: AttitudeSensor<T>,
 {
     /// Phase 1: Time and site health: the faults of an untrusted RTC, a lost GPS
-    /// fix and an implausible GPS time.
+    /// fix, an implausible or unstable GPS time and an unstable GPS position.
     #[cfg_attr(target_arch = "avr", inline(never))]
     pub(super) fn time_health(&mut self, inp: &TickInputs) {
         let now_ms = inp.now_ms;
@@ -45,10 +45,16 @@ where
         } else {
             self.faults.raise(Fault::GpsLost, now_ms);
         }
-        if inp.gps_time_implausible {
-            self.faults.raise(Fault::GpsTimeImplausible, now_ms);
-        } else {
-            self.faults.clear(Fault::GpsTimeImplausible, now_ms);
+        for (on, fault) in [
+            (inp.gps_time_implausible, Fault::GpsTimeImplausible),
+            (inp.gps_time_unstable, Fault::GpsTimeUnstable),
+            (inp.gps_position_unstable, Fault::GpsPositionUnstable),
+        ] {
+            if on {
+                self.faults.raise(fault, now_ms);
+            } else {
+                self.faults.clear(fault, now_ms);
+            }
         }
     }
 
@@ -118,18 +124,24 @@ where
         let now = inp.now;
         if !self.night {
             let config = self.scheduler.config();
-            let until_s = i64::from(config.table_step_s) + i64::from(config.recheck_s);
-            let until_s = i32::try_from(until_s).unwrap_or(i32::MAX);
-            let fresh = self.scheduler.applied().is_some_and(|e| {
-                now.seconds_since(&e.time)
-                    .is_some_and(|age_s| (-60..until_s).contains(&age_s))
-            });
-            if !fresh {
-                // Ticks were missed (time unknown for a while, a slow
-                // loop): the entry of the present slot, if the day has
-                // one, else nothing is tracked.
+            let step_s = i32::try_from(config.table_step_s).unwrap_or(i32::MAX);
+            let recheck_s = i32::try_from(config.recheck_s).unwrap_or(i32::MAX);
+            let age_s = self
+                .scheduler
+                .applied()
+                .and_then(|e| now.seconds_since(&e.time));
+            let within = |until_s: i32| age_s.is_some_and(|a| (-60..until_s).contains(&a));
+            if !within(step_s) {
+                // The entry applied last is of an earlier slot (ticks were
+                // missed: time unknown for a while, a slow loop, or the
+                // scheduler's check for this slot is still to come): the
+                // entry of the present slot when the day's table has one;
+                // else the one applied last while the scheduler's next
+                // check can still come (real-time mode); else nothing is
+                // tracked.
                 match self.scheduler.current(&now) {
                     Some(e) if inp.time_valid => self.set_point = Some(e.set_point),
+                    _ if within(step_s.saturating_add(recheck_s)) => {}
                     _ => self.night = true,
                 }
             }

@@ -56,7 +56,6 @@
 
 pub mod settings;
 
-use drivers::gps::GpsFix;
 use drivers::rtc::Clock as RtcDriver;
 use drivers::servo::{PositionController, ServoConfig};
 use sun_algos::{Algorithm, Error as SunError, Site, UtcTime};
@@ -462,7 +461,7 @@ impl<R: RtcDriver, D: AxisDrive + Motion> ServoTracker<R, D> {
     /// commands.
     #[inline(never)]
     pub fn tick(&mut self, out: &mut dyn Sink, now_ms: u32, panel_mv: Option<u32>) {
-        let status = self.time.update(&GpsFix::NONE, now_ms);
+        let status = self.time.update_without_gps();
         let time_fault = match status.now {
             Some(now) => {
                 if !self.time_logged {

@@ -3,6 +3,7 @@
 //! 2023, Table 1), generated at build time from `data/postal_codes.csv`; see
 //! [`postal`] for its format and flash cost.
 
+pub mod filter;
 pub mod key;
 pub mod postal;
 pub mod resolve;

@@ -90,11 +90,11 @@ pub fn resolve_site<T: Float>(
     Err(stored_error.map_or(SiteError::NoSource, SiteError::Invalid))
 }
 
-/// Whether `a` lies more than `min_move_deg` from `b` in latitude or
-/// longitude.
+/// Whether `a` lies more than `min_move_deg` (degrees of a great circle)
+/// from `b`, longitudes compared modulo 360°
+/// ([`super::filter::site_distance_deg`]).
 pub fn site_moved<T: Float>(a: &Site<T>, b: &Site<T>, min_move_deg: T) -> bool {
-    (a.latitude_deg() - b.latitude_deg()).abs() > min_move_deg
-        || (a.longitude_deg() - b.longitude_deg()).abs() > min_move_deg
+    super::filter::site_distance_deg(a, b) > min_move_deg
 }
 
 /// Replaces the shared site by the GPS position when the fix is valid and

@@ -15,7 +15,26 @@
 //!   on the monotonic clock, and advanced by that age;
 //! - inside the firmware's [`DateWindow`]: a date outside it is the GPS
 //!   week-rollover bug, reported as implausible, never written to the RTC,
-//!   and the tracker carries on with the RTC.
+//!   and the tracker carries on with the RTC;
+//! - when it is consistent: two consecutive epochs whose times differ by
+//!   the monotonic time between their arrivals, within
+//!   [`TimeConfig::agree_ms`] (or one epoch that agrees with a running RTC
+//!   within [`TimeConfig::max_drift_s`] and does not contradict the epoch
+//!   before it). A receiver whose time jumps, runs
+//!   backwards or alternates is never adopted; after
+//!   [`UNSTABLE_DISAGREEMENTS`] disagreements it is reported unstable (fault
+//!   `gps_time_unstable`) until it has agreed with itself for
+//!   [`TimeConfig::fault_hold_ms`];
+//! - and, when a running RTC reads more than [`TimeConfig::rtc_margin_s`]
+//!   away from it, only after it has been consistent for
+//!   [`TimeConfig::confirm_ms`]: a receiver with a wrong time cannot step a
+//!   good clock by itself. The step, when it comes, is one write to the RTC
+//!   and one `clock jump` line in the log.
+//!
+//! The implausible and unstable reports are held for
+//! [`TimeConfig::fault_hold_ms`] after the last epoch that caused them, so
+//! that a receiver that keeps sending them raises its fault once, not on
+//! every epoch; [`TimeKeeper::rejected_epochs`] counts the epochs refused.
 //!
 //! Nothing here blocks or panics; every device error ends in a status flag.
 
@@ -46,19 +65,42 @@ pub struct TimeConfig {
     pub max_gps_age_ms: u32,
     /// The window a plausible date falls in.
     pub window: DateWindow,
+    /// Two consecutive GPS epochs agree when their times differ from the
+    /// monotonic time between them by at most this, ms.
+    pub agree_ms: u32,
+    /// GPS time farther than this from a running RTC is a step, seconds.
+    pub rtc_margin_s: u32,
+    /// A step is taken only after GPS has been consistent this long, ms.
+    pub confirm_ms: u32,
+    /// An implausible or unstable GPS time stays reported this long after
+    /// the last epoch that showed it, ms.
+    pub fault_hold_ms: u32,
 }
+
+/// Disagreeing GPS epochs (jumps) before the receiver's time counts as
+/// unstable: a single wrong epoch is two (to it and back from it).
+pub const UNSTABLE_DISAGREEMENTS: u8 = 3;
 
 impl Default for TimeConfig {
     /// 2 s drift: a DS3231 (±2 ppm) drifts that much in about 12 days; at
     /// the equator the sun moves 0.0083° in 2 s, far inside any mechanism's
     /// resolution. 1.5 s age: receivers send one epoch a second (NMEA 0183
     /// at 1 Hz), so a fix older than that is a missed epoch. The window is
-    /// the firmware's own.
+    /// the firmware's own. Agreement within 1 s: an epoch's time is
+    /// stamped when its last sentence ends, which moves by the length of a
+    /// sentence at 9600 baud (under 0.1 s) and the loop's pass. A step
+    /// beyond 60 s (a DS3231 drifts that much in a year, a DS1302 on a
+    /// ±20 ppm crystal in five weeks) waits ten minutes of consistent
+    /// epochs. Faults held for a minute.
     fn default() -> Self {
         TimeConfig {
             max_drift_s: 2,
             max_gps_age_ms: 1_500,
             window: DateWindow::firmware(),
+            agree_ms: 1_000,
+            rtc_margin_s: 60,
+            confirm_ms: 600_000,
+            fault_hold_ms: 60_000,
         }
     }
 }
@@ -120,8 +162,13 @@ pub struct TimeStatus {
     /// True while GPS has a valid, fresh fix with a plausible date.
     pub gps_fix: bool,
     /// GPS reports a valid fix whose date is outside the window (the
-    /// week-rollover bug): ignored, not written to the RTC.
+    /// week-rollover bug): ignored, not written to the RTC. Held for
+    /// [`TimeConfig::fault_hold_ms`] after the last such epoch.
     pub gps_time_implausible: bool,
+    /// GPS time disagrees with the monotonic clock between epochs (it
+    /// jumps, runs backwards or alternates): not adopted. Held for
+    /// [`TimeConfig::fault_hold_ms`] after the last disagreement.
+    pub gps_time_unstable: bool,
     /// The RTC reads a date outside the window (not trusted).
     pub rtc_implausible: bool,
     /// The RTC reported lost power (before any setting in this update).
@@ -133,6 +180,20 @@ pub struct TimeStatus {
 }
 
 impl TimeStatus {
+    /// No time, no GPS, no RTC flag.
+    pub const NONE: TimeStatus = TimeStatus {
+        now: None,
+        origin: None,
+        rtc_raw: None,
+        gps_fix: false,
+        gps_time_implausible: false,
+        gps_time_unstable: false,
+        rtc_implausible: false,
+        rtc_lost_power: false,
+        rtc_error: false,
+        rtc_set: false,
+    };
+
     /// True when the time can be used for tracking.
     pub fn time_valid(&self) -> bool {
         self.now.is_some()
@@ -146,6 +207,48 @@ pub struct TimeKeeper<C> {
     config: TimeConfig,
     last_valid: Option<UtcTime>,
     rtc_sets: u32,
+    gps: GpsConsistency,
+}
+
+/// What the keeper remembers of the GPS epochs (monotonic milliseconds).
+#[derive(Debug, Clone, Copy, Default)]
+struct GpsConsistency {
+    /// The last plausible epoch's UTC, advanced to the call that took it,
+    /// and that call's instant.
+    last: Option<(UtcTime, u32)>,
+    /// Arrival of the last epoch taken (plausible or not): an epoch is
+    /// looked at once, however many calls see it.
+    last_arrival_ms: Option<u32>,
+    /// Arrival of the first epoch of the current run of agreeing ones.
+    agree_since_ms: Option<u32>,
+    /// Disagreements since GPS last agreed for the hold time.
+    disagreements: u8,
+    /// The last epoch disagreed with the one before it.
+    last_disagreed: bool,
+    /// When the last disagreement and the last implausible epoch came.
+    last_disagreement_ms: Option<u32>,
+    last_implausible_ms: Option<u32>,
+    /// Epochs not adopted (implausible, inconsistent, or an unconfirmed
+    /// step).
+    rejected: u32,
+}
+
+/// `later − earlier` in milliseconds when they are at most 20 days apart
+/// (32-bit arithmetic), else `None`.
+fn ms_between(later: &UtcTime, earlier: &UtcTime) -> Option<i32> {
+    let days = later
+        .days_since_2000()
+        .checked_sub(earlier.days_since_2000())?;
+    if !(-20..=20).contains(&days) {
+        return None;
+    }
+    // |days| ≤ 20: 20 × 86 400 000 + 86 399 999 < 2³¹.
+    Some(days * 86_400_000 + later.ms_of_day() as i32 - earlier.ms_of_day() as i32)
+}
+
+/// True when `t` (monotonic ms) is set and at most `hold_ms` before `now_ms`.
+fn within(t: Option<u32>, now_ms: u32, hold_ms: u32) -> bool {
+    t.is_some_and(|t| super::monotonic::elapsed_ms(now_ms, t) <= hold_ms)
 }
 
 impl<C: RtcDriver> TimeKeeper<C> {
@@ -156,7 +259,14 @@ impl<C: RtcDriver> TimeKeeper<C> {
             config,
             last_valid: None,
             rtc_sets: 0,
+            gps: GpsConsistency::default(),
         }
+    }
+
+    /// GPS epochs refused so far: implausible dates, times that disagree
+    /// with the monotonic clock, and steps not yet confirmed.
+    pub fn rejected_epochs(&self) -> u32 {
+        self.gps.rejected
     }
 
     /// The RTC driver.
@@ -186,46 +296,70 @@ impl<C: RtcDriver> TimeKeeper<C> {
     /// write (and the flag clear) when the RTC is set.
     pub fn update(&mut self, gps: &GpsFix, now_ms: u32) -> TimeStatus {
         let gps_said = gps_time(gps, now_ms, &self.config);
-        let gps_time = match gps_said {
-            GpsTime::Trusted(t) => Some(t),
-            _ => None,
-        };
-        let mut status = TimeStatus {
-            now: None,
-            origin: None,
-            rtc_raw: None,
-            gps_fix: gps_time.is_some(),
-            gps_time_implausible: matches!(gps_said, GpsTime::Implausible(_)),
-            rtc_implausible: false,
-            rtc_lost_power: false,
-            rtc_error: false,
-            rtc_set: false,
-        };
-        // The RTC: a stopped oscillator makes its registers meaningless, so
-        // they are not read.
-        let mut rtc_time = None;
-        let mut bus_ok = true;
-        match self.rtc.lost_power() {
-            Ok(true) => status.rtc_lost_power = true,
-            Ok(false) => match self.rtc.datetime() {
-                Ok(t) => match utc_from_datetime(&t) {
-                    Ok(u) if self.config.window.contains(&u) => {
-                        rtc_time = Some(u);
-                        status.rtc_raw = Some(u);
-                    }
-                    Ok(u) => {
-                        status.rtc_implausible = true;
-                        status.rtc_raw = Some(u);
-                    }
-                    Err(_) => status.rtc_error = true,
-                },
-                Err(_) => status.rtc_error = true,
-            },
-            Err(_) => {
-                status.rtc_error = true;
-                bus_ok = false;
+        // A new epoch: its arrival differs from the last one seen.
+        let new_epoch = gps
+            .utc_received_ms
+            .filter(|&r| self.gps.last_arrival_ms != Some(r));
+        if !matches!(gps_said, GpsTime::NoFix | GpsTime::Stale) {
+            if let Some(r) = new_epoch {
+                self.gps.last_arrival_ms = Some(r);
             }
         }
+        let mut gps_time = None;
+        match gps_said {
+            GpsTime::Trusted(t) => {
+                if new_epoch.is_some() {
+                    self.gps_epoch(t, now_ms);
+                }
+                gps_time = Some(t);
+            }
+            GpsTime::Implausible(_) => {
+                if new_epoch.is_some() {
+                    self.gps.last_implausible_ms = Some(now_ms);
+                    self.gps.rejected = self.gps.rejected.saturating_add(1);
+                }
+            }
+            GpsTime::NoFix | GpsTime::Stale => {}
+        }
+        let hold_ms = self.config.fault_hold_ms;
+        if !within(self.gps.last_disagreement_ms, now_ms, hold_ms) {
+            self.gps.disagreements = 0;
+        }
+        let mut status = TimeStatus {
+            gps_fix: gps_time.is_some(),
+            gps_time_implausible: within(self.gps.last_implausible_ms, now_ms, hold_ms),
+            gps_time_unstable: self.gps.disagreements >= UNSTABLE_DISAGREEMENTS,
+            ..TimeStatus::NONE
+        };
+        let (rtc_time, bus_ok) = self.read_rtc(&mut status);
+        // GPS time is adopted when it agrees with itself (two epochs), or
+        // with a running RTC; a step beyond the margin from a running RTC
+        // waits until GPS has agreed with itself for the confirm time.
+        let gps_time = gps_time.filter(|g| {
+            let from_rtc_s = rtc_time.and_then(|r| g.seconds_since(&r));
+            let agreed_ms = self
+                .gps
+                .agree_since_ms
+                .map(|t| super::monotonic::elapsed_ms(now_ms, t));
+            let adopt = match (from_rtc_s, agreed_ms) {
+                // One epoch confirmed by the RTC, unless it contradicts the
+                // epoch before it.
+                (Some(d), _) if d.unsigned_abs() <= self.config.max_drift_s => {
+                    !self.gps.last_disagreed
+                }
+                (_, None) => false,
+                (Some(d), Some(a)) if d.unsigned_abs() > self.config.rtc_margin_s => {
+                    a >= self.config.confirm_ms
+                }
+                // No running RTC (or one beyond ±68 years: lost), or
+                // within the margin: two agreeing epochs.
+                (_, Some(_)) => rtc_time.is_none() || from_rtc_s.is_some(),
+            };
+            if !adopt && new_epoch.is_some() {
+                self.gps.rejected = self.gps.rejected.saturating_add(1);
+            }
+            adopt
+        });
         if let Some(g) = gps_time {
             let drifted = match rtc_time {
                 // Beyond ±68 years apart: drifted.
@@ -255,6 +389,72 @@ impl<C: RtcDriver> TimeKeeper<C> {
         }
         status
     }
+
+    /// [`TimeKeeper::update`] for a board without a GPS receiver: the RTC
+    /// alone (the same bus traffic, none of the GPS rules' code).
+    pub fn update_without_gps(&mut self) -> TimeStatus {
+        let mut status = TimeStatus::NONE;
+        let (rtc_time, _) = self.read_rtc(&mut status);
+        if let Some(r) = rtc_time {
+            status.now = Some(r);
+            status.origin = Some(TimeOrigin::Rtc);
+            self.last_valid = Some(r);
+        }
+        status
+    }
+
+    /// Reads the RTC into `status`: its time when it can be trusted, and
+    /// whether the bus answered. A stopped oscillator makes its registers
+    /// meaningless, so they are not read.
+    fn read_rtc(&mut self, status: &mut TimeStatus) -> (Option<UtcTime>, bool) {
+        match self.rtc.lost_power() {
+            Ok(true) => status.rtc_lost_power = true,
+            Ok(false) => match self.rtc.datetime() {
+                Ok(t) => match utc_from_datetime(&t) {
+                    Ok(u) if self.config.window.contains(&u) => {
+                        status.rtc_raw = Some(u);
+                        return (Some(u), true);
+                    }
+                    Ok(u) => {
+                        status.rtc_implausible = true;
+                        status.rtc_raw = Some(u);
+                    }
+                    Err(_) => status.rtc_error = true,
+                },
+                Err(_) => status.rtc_error = true,
+            },
+            Err(_) => {
+                status.rtc_error = true;
+                return (None, false);
+            }
+        }
+        (None, true)
+    }
+
+    /// A new plausible epoch saying `t` (advanced to monotonic `now_ms`):
+    /// does it agree with the last one?
+    fn gps_epoch(&mut self, t: UtcTime, now_ms: u32) {
+        let g = &mut self.gps;
+        if let Some((last_t, last_ms)) = g.last {
+            // Both instants are advanced to the keeper's calls: their UTC
+            // difference should be the monotonic time between the calls.
+            let mono_ms = i32::try_from(super::monotonic::elapsed_ms(now_ms, last_ms)).ok();
+            let agrees = ms_between(&t, &last_t)
+                .zip(mono_ms)
+                .and_then(|(d, m)| d.checked_sub(m))
+                .is_some_and(|e| e.unsigned_abs() <= self.config.agree_ms);
+            g.last_disagreed = !agrees;
+            if agrees {
+                g.agree_since_ms.get_or_insert(last_ms);
+            } else {
+                g.agree_since_ms = None;
+                g.disagreements = g.disagreements.saturating_add(1);
+                g.last_disagreement_ms = Some(now_ms);
+            }
+        }
+        // Remembered at the call's instant (the time is advanced to it).
+        g.last = Some((t, now_ms));
+    }
 }
 
 impl TimeStatus {
@@ -281,6 +481,8 @@ impl TimeStatus {
             time_valid: self.time_valid(),
             gps_fix: self.gps_fix,
             gps_time_implausible: self.gps_time_implausible,
+            gps_time_unstable: self.gps_time_unstable,
+            gps_position_unstable: false,
             wind_pulses,
             wind_interval_ms,
         }

@@ -9,5 +9,7 @@ pub mod monotonic;
 pub mod window;
 
 pub use convert::{datetime_from_utc, utc_from_datetime, TimeConversionError};
-pub use keeper::{gps_time, GpsTime, TimeConfig, TimeKeeper, TimeOrigin, TimeStatus};
+pub use keeper::{
+    gps_time, GpsTime, TimeConfig, TimeKeeper, TimeOrigin, TimeStatus, UNSTABLE_DISAGREEMENTS,
+};
 pub use window::DateWindow;
