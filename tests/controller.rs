@@ -521,56 +521,65 @@ impl PositionSource<f64> for CountingSource {
     }
 }
 
-/// Powered on after sunset (Kano, 19:30 UTC, as the Mega's board runs:
-/// four positions planned a tick): the pose to wait in is searched once
-/// for each instant the scheduler waits for (the sun sampled every 30
-/// minutes over 24 hours: 48 positions, in one tick), then kept, also when
-/// the search finds none; no other tick of the night computes more than
-/// the planning budget. (Each tick of the night recomputed the 48 before: on
-/// an ATmega2560 some 135 ms of every second.)
+/// Powered on after sunset (Kano, 2026-06-21 19:30 UTC) for 4 hours. The
+/// pose to wait for sunrise in is searched by sampling the sun every 30
+/// minutes over 24 hours (48 positions: some 135 ms on an ATmega2560). With
+/// the boards' budget of four positions a tick the search is spread over
+/// ticks: no tick computes more than the scheduler's budget and the
+/// search's (plus the search's first position), where all at once one tick
+/// computes the 48; both find the same pose (the axes end at the same
+/// angles) with the same number of positions in all (each search runs once
+/// for each instant the scheduler waits for, then is kept).
 #[test]
-fn a_night_after_power_on_searches_its_waiting_pose_once() {
-    let src = CountingSource {
-        inner: source(),
-        calls: 0,
-    };
-    let opts = ControllerOptions {
-        plan_positions_per_tick: 4,
-        ..ControllerOptions::default()
-    };
-    let sensors = MountSensors::new(MountAttitude::level(), SensorAccuracy::exact(), 3);
-    let mut ctl: Controller<f64, CountingSource, MotorPlant, MountSensors, 240> =
-        Controller::new(Config::default(), opts, src, plants(false), Some(sensors)).unwrap();
-    let start = UtcTime::from_ymd_hms(2026, 6, 21, 19, 30, 0).unwrap();
-    let mut per_tick = Vec::new();
-    for s in 0..4 * 3600 {
-        let now = start.add_seconds(s).unwrap();
-        let before = ctl.position_source_mut().calls;
-        let r = ctl.tick(&inputs(now));
-        for ax in ctl.axes_mut().iter_mut() {
-            ax.drive_mut().begin_tick(1.0);
+fn a_night_after_power_on_spreads_its_waiting_pose_search_over_ticks() {
+    fn night(budget: u16) -> (Vec<u32>, [f32; 2]) {
+        let src = CountingSource {
+            inner: source(),
+            calls: 0,
+        };
+        let opts = ControllerOptions {
+            plan_positions_per_tick: budget,
+            ..ControllerOptions::default()
+        };
+        let sensors = MountSensors::new(MountAttitude::level(), SensorAccuracy::exact(), 3);
+        let mut ctl: Controller<f64, CountingSource, MotorPlant, MountSensors, 240> =
+            Controller::new(Config::default(), opts, src, plants(false), Some(sensors)).unwrap();
+        let start = UtcTime::from_ymd_hms(2026, 6, 21, 19, 30, 0).unwrap();
+        let mut per_tick = Vec::new();
+        for s in 0..4 * 3600 {
+            let now = start.add_seconds(s).unwrap();
+            let before = ctl.position_source_mut().calls;
+            let r = ctl.tick(&inputs(now));
+            for ax in ctl.axes_mut().iter_mut() {
+                ax.drive_mut().begin_tick(1.0);
+            }
+            assert_ne!(r.mode, Mode::Tracking, "tracking at {now}");
+            per_tick.push(ctl.position_source_mut().calls - before);
         }
-        assert_ne!(r.mode, Mode::Tracking, "tracking at {now}");
-        per_tick.push(ctl.position_source_mut().calls - before);
+        let axes = ctl.axes();
+        (per_tick, [axes[0].counted_deg(), axes[1].counted_deg()])
     }
-    // The searches: one for each wait the scheduler reports (until the
-    // solar day ends at about 23:26 UTC, then until sunrise), each once.
-    let big: Vec<(usize, u32)> = per_tick
-        .iter()
-        .copied()
-        .enumerate()
-        .filter(|(_, n)| *n > 4)
-        .collect();
-    assert!(
-        !big.is_empty() && big.len() <= 2,
-        "ticks over the budget: {big:?}"
+    let (spread, spread_axes) = night(4);
+    let (at_once, at_once_axes) = night(0);
+    let max = |v: &[u32]| v.iter().copied().max().unwrap_or(0);
+    let total = |v: &[u32]| v.iter().sum::<u32>();
+    println!(
+        "4 h from 19:30: budget 4: {} positions, at most {} a tick; all at once: {}, at most {} a tick",
+        total(&spread),
+        max(&spread),
+        total(&at_once),
+        max(&at_once)
     );
-    assert!(big.iter().all(|(_, n)| (48..=52).contains(n)), "{big:?}");
-    if let [(a, _), (b, _)] = big[..] {
-        assert!(b - a > 3600, "{big:?}");
-    }
-    let total: u32 = per_tick.iter().sum();
-    println!("4 h from 19:30: {total} positions; over the budget: {big:?} (tick, positions)");
+    assert!(max(&spread) <= 4 + 4 + 1, "{}", max(&spread));
+    assert!(max(&at_once) >= 48, "{}", max(&at_once));
+    assert_eq!(spread_axes, at_once_axes);
+    // The same searches (the plans in one tick or four positions a tick
+    // compute the same positions too).
+    assert_eq!(total(&spread), total(&at_once));
+    // Each search once: 49 positions (sunrise and 48 samples) for each of
+    // the two instants the scheduler waits for (the solar day's end at
+    // about 23:26 UTC, then sunrise), the plans besides.
+    assert!(total(&spread) < 2 * 49 + 3 * 400, "{}", total(&spread));
 }
 
 /// The service lock ends a manual mode: after `service off` the axes home

@@ -448,12 +448,13 @@ fn now_s(start: UtcTime, ms: u64) -> i64 {
 #[test]
 fn after_a_gale_only_the_present_slot_is_logged() {
     let start = UtcTime::from_ymd_hms(2026, 3, 20, 11, 30, 0).unwrap();
-    let run = run_day_with_wind::<f32>(start, 4200, Gps::Fix, false, Some((1800, 2400)));
+    let run = run_day_with_wind::<f32>(start, 4200, Gps::Fix, false, Some((1800, 2420)));
     let l = &run.lines;
     assert!(l.iter().any(|s| s == "mode wind_stow"), "{l:#?}");
     let step_s = i64::from(suntracker::config::Config::default().schedule.table_step_s);
-    // The calm from 12:10, plus the default 10-minute release.
-    let released = start.unix_seconds() + 2400 + 600;
+    // The calm from 12:10:20, plus the default 10-minute release: the
+    // release comes 20 s into a slot, before the scheduler checks it.
+    let released = start.unix_seconds() + 2420 + 600;
     let mut after = 0;
     for ((line, _, _), at) in run.setpoints.iter().zip(&run.logged_at) {
         let age_s = at.seconds_since(&utc_field(line)).unwrap();

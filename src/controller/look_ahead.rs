@@ -2,22 +2,29 @@
 //! of the C axis) a day starts on, so that the day's path travels least
 //! and no axis runs into its limit at noon (Choi et al. (portable tracker) eq. 13–21
 //! for the solutions).
+//!
+//! Each search follows a path of up to 48 set-points from six candidate
+//! starts (one inverse kinematics each per set-point, plus a sun position
+//! per set-point where no table holds them): about a second on an
+//! ATmega2560. On a board that plans a few positions a tick the searches
+//! advance by half that budget of set-points a tick (at least one), so no
+//! loop pass holds the CPU for long; the axes hold still until the answer
+//! is there (a few tens of seconds).
 
 use sun_algos::{Float, UtcTime};
 
 use super::Controller;
-use crate::attitude::{sun_vector_xyz, Pose};
+use crate::attitude::{sun_vector_xyz, MountAttitude, Pose, PoseLimits};
 use crate::motion::AxisDrive;
-use crate::plan::SetPoint;
+use crate::plan::{Scheduler, SetPoint};
 use crate::ports::AttitudeSensor;
 use crate::sun::PositionSource;
 
 /// Set-points of the day's remainder the look-ahead follows, at most.
 const LOOK_AHEAD_POINTS: usize = 48;
 
-/// A path of set-points as `best_start` walks it: handed a visitor, it
-/// calls it once per set-point, in order.
-type SetPointPath<'a, T> = &'a dyn Fn(&mut dyn FnMut(SetPoint<T>));
+/// Half-hour samples over the 24 hours a day is judged on without a table.
+const DAY_SAMPLES: u16 = 48;
 
 impl<T, P, D, S, const N: usize> Controller<T, P, D, S, N>
 where
@@ -26,81 +33,274 @@ where
     D: AxisDrive,
     S: AttitudeSensor<T>,
 {
-    /// [`Self::look_ahead`] without a table (or on a day too long for
-    /// it): the rest of the day sampled every 30 minutes from the set-point
-    /// in force. Its own frame: the samples are on the stack only here, not
-    /// under the table's look-ahead.
-    #[inline(never)]
-    fn look_ahead_sampled(&mut self) -> Option<Pose<T>> {
-        let first = self.scheduler.applied()?;
-        let here = Pose {
-            gamma_deg: T::from_f32(self.axes[0].counted_deg()),
-            alpha_deg: T::from_f32(self.axes[1].counted_deg()),
-        };
-        let (samples, n) = self.sample_day(first.time, first.set_point);
-        self.best_start(&first.set_point, Some(&here), &|visit| {
-            samples.iter().take(n).for_each(|&sp| visit(sp))
-        })
-    }
-
-    /// Follows the rest of the day table from each candidate starting pose
-    /// (both solutions of the first entry, and their ±360° turns), each
-    /// step taking the least-motion solution, and returns the start whose
-    /// day needs the least travel (the move from where the axes are now
-    /// included): a C axis that would run into its limit at noon (and swing
-    /// half a turn there) is avoided at sunrise.
-    pub(super) fn look_ahead(&mut self, now: UtcTime) -> Option<Pose<T>> {
-        if self.scheduler.real_time() {
-            return self.look_ahead_sampled();
+    /// Set-points a search may follow in one tick: half the scheduler's
+    /// plan budget (each costs six inverse kinematics, and a sun position
+    /// where no table holds it), at least one; all of them when the budget
+    /// is 0 (planning in one tick).
+    fn search_points_per_tick(&self) -> u16 {
+        match self.scheduler.plan_budget() {
+            0 => u16::MAX,
+            b => (b / 2).max(1),
         }
-        let table = self.scheduler.table();
-        let first = (0..table.len())
-            .filter_map(|i| table.get(i))
-            .find(|e| now.seconds_since(&e.time).is_some_and(|late| late <= 60))?;
+    }
+
+    /// Entering tracking, or a new day table: begins the search for the
+    /// branch of the two solutions that serves the rest of the day with
+    /// least travel (the move from where the axes are now included), so
+    /// that a C axis that would run into its limit at noon (and swing half
+    /// a turn there) is avoided at sunrise. The day table's rest is followed
+    /// (at most [`LOOK_AHEAD_POINTS`] entries apart); without a table (or
+    /// on a day too long for it) the sun sampled every 30 minutes.
+    pub(super) fn begin_look_ahead(&mut self, now: UtcTime) {
+        self.branch_anchor = None;
+        self.branch_search = None;
+        let limits = self.limits();
         let here = Pose {
             gamma_deg: T::from_f32(self.axes[0].counted_deg()),
             alpha_deg: T::from_f32(self.axes[1].counted_deg()),
         };
-        // The rest of the day at most LOOK_AHEAD_POINTS set-points apart
-        // (every entry of a short remainder): which branch travels least
-        // shows at that resolution, and on an 8-bit board the whole table
-        // (six starts by ~180 entries of inverse kinematics) would hold
-        // the loop past the watchdog's 2 s.
-        let rest = (0..table.len())
-            .filter(|&i| table.get(i).is_some_and(|e| e.time >= first.time))
-            .count();
-        let stride = rest.div_ceil(LOOK_AHEAD_POINTS).max(1);
-        let skip = table.len() - rest;
-        self.best_start(&first.set_point, Some(&here), &|visit| {
-            (skip..table.len())
-                .filter(|i| (i - skip).is_multiple_of(stride) || *i + 1 == table.len())
-                .filter_map(|i| table.get(i))
-                .for_each(|e| visit(e.set_point))
-        })
+        let sampled = self.scheduler.real_time();
+        let (path, first) = if sampled {
+            let Some(first) = self.scheduler.applied() else {
+                return;
+            };
+            (
+                Path::Sampled {
+                    from: first.time,
+                    next: 1,
+                },
+                first.set_point,
+            )
+        } else {
+            let table = self.scheduler.table();
+            let Some(i) = (0..table.len()).find(|&i| {
+                table
+                    .get(i)
+                    .is_some_and(|e| now.seconds_since(&e.time).is_some_and(|late| late <= 60))
+            }) else {
+                return;
+            };
+            let (Some(entry), Ok(first)) = (table.get(i), u16::try_from(i)) else {
+                return;
+            };
+            // The rest of the day at most LOOK_AHEAD_POINTS set-points
+            // apart (every entry of a short remainder): which branch
+            // travels least shows at that resolution.
+            let stride = (table.len() - i).div_ceil(LOOK_AHEAD_POINTS).max(1);
+            (
+                Path::Table {
+                    next: first,
+                    first,
+                    stride: u16::try_from(stride).unwrap_or(u16::MAX),
+                },
+                entry.set_point,
+            )
+        };
+        // Built where it is stored (a copy on the stack would be some 170
+        // bytes of an 8-bit board's 8 KB).
+        let search = self.branch_search.insert(PathSearch {
+            path,
+            starts: Starts([None; 6]),
+        });
+        let gamma = self.pose.gamma_deg;
+        if !search
+            .starts
+            .fill(&self.attitude, &limits, gamma, &first, Some(&here))
+        {
+            self.branch_search = None;
+        } else if sampled {
+            search.starts.visit(&first, &self.attitude, &limits);
+        }
     }
 
-    /// Of the poses facing `first`, the one whose path through the
-    /// set-points `path` hands its visitor (least motion at each step)
-    /// travels least, plus the move from `from` when given. The path is a
-    /// visitor, not a generic iterator: one copy of this search serves
-    /// both callers (each generic copy took about 3 KB of an 8-bit
-    /// board's flash).
-    /// (Arguments by reference: on the ATmega2560 by value they would not
-    /// all fit the registers, and LLVM reads stack arguments one byte off
-    /// there.)
-    fn best_start(
-        &self,
+    /// Advances the branch search; true while it runs (the anchor is set
+    /// when it ends).
+    pub(super) fn look_ahead_pending(&mut self) -> bool {
+        let points = self.search_points_per_tick();
+        let limits = self.limits();
+        // Advanced where it is stored.
+        let Some(search) = self.branch_search.as_mut() else {
+            return false;
+        };
+        if !advance(&mut self.scheduler, &self.attitude, &limits, search, points) {
+            return true;
+        }
+        self.branch_anchor = search.starts.best();
+        self.branch_search = None;
+        false
+    }
+
+    /// Before the first day: where to wait for sunrise. The sun is sampled
+    /// every 30 minutes over the 24 hours from `sunrise`, and the pose facing
+    /// sunrise on the branch that serves that day with least travel is
+    /// taken. `None` while the search runs (it begins in one tick and goes
+    /// on in the next ones, see the module documentation), then `Some` of
+    /// its answer, kept for that sunrise: a failed search (no pose facing
+    /// sunrise within the limits) too.
+    pub(super) fn pre_position(&mut self, sunrise: UtcTime) -> Option<Option<Pose<T>>> {
+        match self.night_pose {
+            Some(NightPose::Found(t, p)) if t == sunrise => return Some(p),
+            Some(NightPose::Searching(t, _)) if t == sunrise => {}
+            _ => {
+                self.begin_night_search(sunrise);
+                // On a board that spreads its work, the first position and
+                // kinematics are this tick's share.
+                if self.scheduler.plan_budget() != 0 {
+                    return match self.night_pose {
+                        Some(NightPose::Found(_, p)) => Some(p),
+                        _ => None,
+                    };
+                }
+            }
+        }
+        let points = self.search_points_per_tick();
+        let limits = self.limits();
+        // Advanced where it is stored, as the branch search.
+        let Some(NightPose::Searching(_, search)) = self.night_pose.as_mut() else {
+            return match self.night_pose {
+                Some(NightPose::Found(_, p)) => Some(p),
+                _ => Some(None),
+            };
+        };
+        if !advance(&mut self.scheduler, &self.attitude, &limits, search, points) {
+            return None;
+        }
+        let pose = search.starts.best();
+        self.night_pose = Some(NightPose::Found(sunrise, pose));
+        Some(pose)
+    }
+
+    /// The night search's start: the set-point facing sunrise (one sun
+    /// position) and the starts facing it, built where it is stored; found
+    /// with no pose when none faces it.
+    fn begin_night_search(&mut self, sunrise: UtcTime) {
+        let first = self
+            .scheduler
+            .source_mut()
+            .position(&sunrise)
+            .ok()
+            .map(|p| SetPoint::facing(&p));
+        let limits = self.limits();
+        let gamma = self.pose.gamma_deg;
+        let slot = self.night_pose.insert(NightPose::Searching(
+            sunrise,
+            PathSearch {
+                path: Path::Sampled {
+                    from: sunrise,
+                    next: 1,
+                },
+                starts: Starts([None; 6]),
+            },
+        ));
+        let started = match (slot, first) {
+            (NightPose::Searching(_, search), Some(first)) => {
+                let ok = search
+                    .starts
+                    .fill(&self.attitude, &limits, gamma, &first, None);
+                if ok {
+                    search.starts.visit(&first, &self.attitude, &limits);
+                }
+                ok
+            }
+            _ => false,
+        };
+        if !started {
+            self.night_pose = Some(NightPose::Found(sunrise, None));
+        }
+    }
+}
+
+/// Follows up to `points` more set-points of the search's path from each
+/// start; true when the path has ended. Not inlined: one copy serves the
+/// night's and the day's searches.
+#[inline(never)]
+fn advance<T: Float, P: PositionSource<T>, const N: usize>(
+    scheduler: &mut Scheduler<T, P, N>,
+    attitude: &MountAttitude<T>,
+    limits: &PoseLimits<T>,
+    search: &mut PathSearch<T>,
+    points: u16,
+) -> bool {
+    let mut taken = 0u16;
+    loop {
+        let sp = match &mut search.path {
+            Path::Table {
+                next,
+                first,
+                stride,
+            } => {
+                let table = scheduler.table();
+                let len = table.len();
+                // The next entry on the stride, or the day's last.
+                let on_stride = |i: usize| {
+                    (i - usize::from(*first)).is_multiple_of(usize::from(*stride)) || i + 1 == len
+                };
+                let Some(i) = (usize::from(*next)..len).find(|&i| on_stride(i)) else {
+                    return true;
+                };
+                *next = u16::try_from(i + 1).unwrap_or(u16::MAX);
+                table.get(i).map(|e| e.set_point)
+            }
+            Path::Sampled { from, next } => {
+                if *next >= DAY_SAMPLES {
+                    return true;
+                }
+                let t = from.add_seconds_i32(i32::from(*next) * 1800);
+                *next += 1;
+                t.ok()
+                    .and_then(|t| scheduler.source_mut().position(&t).ok())
+                    .filter(|p| p.is_above_horizon())
+                    .map(|p| SetPoint::facing(&p))
+            }
+        };
+        if let Some(sp) = sp {
+            search.starts.visit(&sp, attitude, limits);
+        }
+        taken = taken.saturating_add(1);
+        if taken >= points {
+            return false;
+        }
+    }
+}
+
+/// Travel between two poses: both axes' degrees, summed.
+fn travel_deg<T: Float>(a: &Pose<T>, b: &Pose<T>) -> T {
+    (a.gamma_deg - b.gamma_deg).abs() + (a.alpha_deg - b.alpha_deg).abs()
+}
+
+/// One candidate start and the path followed from it so far.
+#[derive(Debug, Clone, Copy, PartialEq)]
+struct Start<T> {
+    start: Pose<T>,
+    /// The pose reached at the last set-point visited.
+    prev: Pose<T>,
+    /// Degrees travelled to reach it.
+    travel: T,
+}
+
+/// The candidate starts of a search: two solutions, three turns each.
+#[derive(Debug, Clone, Copy, PartialEq)]
+struct Starts<T>([Option<Start<T>>; 6]);
+
+impl<T: Float> Starts<T> {
+    /// The candidate starts for a day beginning at `first`: both poses
+    /// facing it and their ±360° turns, inside the limits, each charged
+    /// the move from `from` when given; false when the sun's direction
+    /// gives no pose (`gamma_deg`: the C angle kept when any would do).
+    fn fill(
+        &mut self,
+        attitude: &MountAttitude<T>,
+        limits: &PoseLimits<T>,
+        gamma_deg: T,
         first: &SetPoint<T>,
         from: Option<&Pose<T>>,
-        path: SetPointPath<'_, T>,
-    ) -> Option<Pose<T>> {
-        let limits = self.limits();
+    ) -> bool {
         let sun0 = sun_vector_xyz(first.elevation_deg(), first.azimuth_deg);
-        let sols = self.attitude.solutions(&sun0, self.pose.gamma_deg).ok()?;
-        let dist = |a: &Pose<T>, b: &Pose<T>| {
-            (a.gamma_deg - b.gamma_deg).abs() + (a.alpha_deg - b.alpha_deg).abs()
+        let Ok(sols) = attitude.solutions(&sun0, gamma_deg) else {
+            return false;
         };
-        let mut best: Option<(T, Pose<T>)> = None;
+        self.0 = [None; 6];
+        let mut slots = self.0.iter_mut();
         for sol in sols {
             // Whole turns as integers: an array of f64 read in the loop
             // would be converted by software f64 on an 8-bit board.
@@ -112,74 +312,63 @@ where
                 if !limits.contains(&start) {
                     continue;
                 }
-                let mut prev = start;
-                let mut travel = from.map_or(T::ZERO, |f| dist(f, &start));
-                path(&mut |sp| {
-                    let s = sun_vector_xyz(sp.elevation_deg(), sp.azimuth_deg);
-                    if let Ok(c) = self.attitude.choose(&s, &prev, &limits) {
-                        let p = c.pose();
-                        travel += dist(&p, &prev);
-                        prev = p;
-                    }
-                });
-                if best.is_none_or(|(t, _)| travel < t) {
-                    best = Some((travel, start));
+                if let Some(slot) = slots.next() {
+                    *slot = Some(Start {
+                        start,
+                        prev: start,
+                        travel: from.map_or(T::ZERO, |f| travel_deg(f, &start)),
+                    });
                 }
+            }
+        }
+        true
+    }
+
+    /// Each start follows `sp` by its least-motion pose.
+    fn visit(&mut self, sp: &SetPoint<T>, attitude: &MountAttitude<T>, limits: &PoseLimits<T>) {
+        let sun = sun_vector_xyz(sp.elevation_deg(), sp.azimuth_deg);
+        for s in self.0.iter_mut().flatten() {
+            if let Ok(c) = attitude.choose(&sun, &s.prev, limits) {
+                let p = c.pose();
+                s.travel += travel_deg(&p, &s.prev);
+                s.prev = p;
+            }
+        }
+    }
+
+    /// The start that travelled least (the first of equals).
+    fn best(&self) -> Option<Pose<T>> {
+        let mut best: Option<(T, Pose<T>)> = None;
+        for s in self.0.iter().flatten() {
+            if best.is_none_or(|(t, _)| s.travel < t) {
+                best = Some((s.travel, s.start));
             }
         }
         best.map(|(_, p)| p)
     }
+}
 
-    /// Before the first day: where to wait for sunrise. The sun is sampled
-    /// every 30 minutes over the 24 hours from `sunrise`, and the pose facing
-    /// sunrise on the branch that serves that day with least travel is taken.
-    /// The answer is kept for that sunrise, a failed search too (no pose
-    /// facing it within the limits): the search costs 48 sun positions,
-    /// some 135 ms on an ATmega2560, and the night has a tick a second.
-    pub(super) fn pre_position(&mut self, sunrise: UtcTime) -> Option<Pose<T>> {
-        if let Some((t, p)) = self.night_pose {
-            if t == sunrise {
-                return p;
-            }
-        }
-        let pose = self.search_pre_position(sunrise);
-        self.night_pose = Some((sunrise, pose));
-        pose
-    }
+/// Where a search's set-points come from.
+#[derive(Debug, Clone, Copy, PartialEq)]
+enum Path {
+    /// The day table's entries from `first`, every `stride`-th and the
+    /// last; `next` is the next index to look at.
+    Table { next: u16, first: u16, stride: u16 },
+    /// The sun every 30 minutes after `from`; `next` is the next sample.
+    Sampled { from: UtcTime, next: u16 },
+}
 
-    fn search_pre_position(&mut self, sunrise: UtcTime) -> Option<Pose<T>> {
-        let first = self
-            .scheduler
-            .source_mut()
-            .position(&sunrise)
-            .ok()
-            .map(|p| SetPoint::facing(&p))?;
-        let (samples, n) = self.sample_day(sunrise, first);
-        self.best_start(&first, None, &|visit| {
-            samples.iter().take(n).for_each(|&sp| visit(sp))
-        })
-    }
+/// A search in progress: its path and its starts.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub(super) struct PathSearch<T> {
+    path: Path,
+    starts: Starts<T>,
+}
 
-    /// Half-hourly samples of the sun over the 24 hours from `from`, the
-    /// daylight ones, after `first` (the set-point at `from`): the path a
-    /// day's branch is judged on when no table holds it.
-    fn sample_day(&mut self, from: UtcTime, first: SetPoint<T>) -> ([SetPoint<T>; 48], usize) {
-        let mut samples = [first; 48];
-        let mut n = 1;
-        for k in 1..48i32 {
-            let Ok(t) = from.add_seconds_i32(k * 1800) else {
-                break;
-            };
-            let Ok(p) = self.scheduler.source_mut().position(&t) else {
-                continue;
-            };
-            if p.is_above_horizon() {
-                if let Some(slot) = samples.get_mut(n) {
-                    *slot = SetPoint::facing(&p);
-                    n += 1;
-                }
-            }
-        }
-        (samples, n)
-    }
+/// Where to wait for a sunrise: being searched, or found (`None`: no pose
+/// faces it within the limits).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub(super) enum NightPose<T> {
+    Searching(UtcTime, PathSearch<T>),
+    Found(UtcTime, Option<Pose<T>>),
 }

@@ -194,6 +194,8 @@ pub struct Controller<T, P, D, S, const N: usize> {
     branch_day: Option<UtcTime>,
     /// Starting pose of the branch chosen by look-ahead, used once.
     branch_anchor: Option<Pose<T>>,
+    /// The branch search in progress (the module `look_ahead`).
+    branch_search: Option<look_ahead::PathSearch<T>>,
     /// The first tracking pose of the day (Li et al.'s (2022) home).
     day_start_pose: Option<Pose<T>>,
     /// Smoothed attitude readings (θx, θy, heading sin, heading cos).
@@ -207,7 +209,7 @@ pub struct Controller<T, P, D, S, const N: usize> {
     attitude_not_ready: u8,
     /// Pose chosen to wait for a sunrise (before the first day), or none
     /// found, for that sunrise.
-    night_pose: Option<(UtcTime, Option<Pose<T>>)>,
+    night_pose: Option<look_ahead::NightPose<T>>,
     /// First entry time of the table seen by the re-homing check.
     rehome_day: Option<UtcTime>,
     /// Re-homed at the last end of day.
@@ -283,6 +285,7 @@ where
             last_mode: None,
             branch_day: None,
             branch_anchor: None,
+            branch_search: None,
             day_start_pose: None,
             smoothed: None,
             stall_watch: [StallWatch::new(); 2],

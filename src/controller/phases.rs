@@ -238,11 +238,14 @@ where
         {
             let new_day = table_day != self.branch_day;
             self.branch_day = table_day;
-            self.branch_anchor = self.look_ahead(now);
+            self.begin_look_ahead(now);
             if new_day {
                 self.day_start_pose = None;
             }
         }
+        // While the day's branch is searched (a few ticks on a slow
+        // board), the axes hold still.
+        let choosing_branch = mode == Mode::Tracking && self.look_ahead_pending();
         self.last_mode = Some(mode);
         let target = match mode {
             Mode::SafeStop | Mode::Homing => None,
@@ -256,16 +259,22 @@ where
                     // (Li et al. 2022). Before any day: facing the coming
                     // sunrise; failing that the power-on zero set-point
                     // (Jimoh & Aliyu 2019 step 1).
+                    // While that search runs (a few ticks), the axes
+                    // wait where they are.
                     let next_rise = self.scheduler.next_sunrise();
                     match (self.day_start_pose, next_rise) {
                         (Some(p), _) => Some(p),
-                        (None, Some(rise)) => self
-                            .pre_position(rise)
-                            .or_else(|| self.set_point.and_then(|sp| self.pose_for(&sp))),
+                        (None, Some(rise)) => match self.pre_position(rise) {
+                            None => None,
+                            Some(p) => {
+                                p.or_else(|| self.set_point.and_then(|sp| self.pose_for(&sp)))
+                            }
+                        },
                         (None, None) => self.set_point.and_then(|sp| self.pose_for(&sp)),
                     }
                 }
             }
+            Mode::Tracking if choosing_branch => None,
             Mode::Tracking => {
                 let p = self.set_point.and_then(|sp| self.pose_for(&sp));
                 if self.day_start_pose.is_none() {

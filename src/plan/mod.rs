@@ -561,6 +561,9 @@ impl<T: Float, P: PositionSource<T>, const N: usize> Scheduler<T, P, N> {
     pub fn replan(&mut self) {
         self.planner = None;
         self.overflow = false;
+        // The table was for the site before: none of its entries is the
+        // present slot's any more.
+        self.has_table = false;
         if self.phase != Phase::PowerOn {
             self.phase = Phase::ReadDate;
         }
@@ -574,6 +577,10 @@ impl<T: Float, P: PositionSource<T>, const N: usize> Scheduler<T, P, N> {
     /// planning, nothing is tracked ([`Phase::Planning`]).
     pub fn set_plan_budget(&mut self, positions: u16) {
         self.plan_budget = positions;
+    }
+    /// Sun positions a tick may compute while planning (0: no limit).
+    pub fn plan_budget(&self) -> u16 {
+        self.plan_budget
     }
     /// The table entry applied last in this day's tracking, if any.
     pub fn applied(&self) -> Option<TableEntry<T>> {
