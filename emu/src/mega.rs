@@ -210,6 +210,13 @@ pub struct Run {
     pub twi_starts: Vec<(u8, u32)>,
     /// RAM: static, the stack's peak (painted and lowest SP), untouched.
     pub ram: RamUse,
+    /// The longest the CPU ran without sleeping (a loop pass with the
+    /// interrupts inside it), CPU seconds at the part's 16 MHz, and the
+    /// emulated UTC (Unix seconds) it ended at.
+    pub longest_awake: Option<(f64, f64)>,
+    /// Every pass awake longer than 10 ms of CPU time, in order: its CPU
+    /// seconds and the emulated UTC it ended at.
+    pub long_passes: Vec<(f64, f64)>,
 }
 
 impl Run {
@@ -708,6 +715,19 @@ impl MegaBench {
                 eprintln!("profile {a:#x} {c}");
             }
         }
+        let pass = |(cycles, end): (u64, u64)| {
+            let at = segments
+                .iter()
+                .rev()
+                .find(|s| s.cycle <= end)
+                .map_or(0.0, |s| s.emu_s_at(end));
+            (
+                cycles as f64 / f64::from(F_CPU),
+                self.start_unix_s as f64 + at,
+            )
+        };
+        let longest_awake = sim.longest_awake().map(pass);
+        let long_passes = sim.long_awake().iter().copied().map(pass).collect();
         Ok(Run {
             ram: RamUse::measure(&sim, RAM_START, static_end, PAINT),
             lines,
@@ -736,6 +756,8 @@ impl MegaBench {
             gps_epochs: gps.epochs_sent,
             rtc_time_writes: rtc.map_or(0, |r| r.borrow().time_writes),
             twi_starts,
+            longest_awake,
+            long_passes,
         })
     }
 }

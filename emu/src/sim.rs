@@ -103,6 +103,13 @@ pub struct Sim {
     /// Cycles spent per program-counter address (byte address), when
     /// profiling ([`Sim::enable_profile`]).
     profile: Option<std::collections::HashMap<u32, u64>>,
+    /// The cycle the CPU last woke at, while it is awake.
+    awake_from: Option<u64>,
+    /// The longest stretch awake: its cycles and the cycle it ended at.
+    longest_awake: Option<(u64, u64)>,
+    /// Every stretch awake longer than [`LONG_AWAKE_CYCLES`] (cycles, end
+    /// cycle), the first [`LONG_AWAKE_KEPT`].
+    long_awake: Vec<(u64, u64)>,
     _firmware: Box<ffi::elf_firmware_t>,
 }
 
@@ -113,6 +120,12 @@ unsafe extern "C" fn quiet_logger(
     _: *mut ffi::__va_list_tag,
 ) {
 }
+
+/// A stretch awake longer than this is listed ([`Sim::long_awake`]):
+/// 160,000 cycles, 10 ms at 16 MHz.
+pub const LONG_AWAKE_CYCLES: u64 = 160_000;
+/// How many such stretches are kept.
+pub const LONG_AWAKE_KEPT: usize = 10_000;
 
 /// simavr's default `sleep` callback usleep()s to keep the simulation in
 /// step with wall time; the harness wants it as fast as possible.
@@ -217,6 +230,9 @@ impl Sim {
             tx_pending: false,
             min_sp: u16::MAX,
             min_sp_pc: 0,
+            awake_from: None,
+            longest_awake: None,
+            long_awake: Vec::new(),
             cycle_base: Rc::new(std::cell::Cell::new(0)),
             profile: None,
             _firmware: firmware,
@@ -612,6 +628,19 @@ impl Sim {
         self.cycle_base.get() + unsafe { self.avr.as_ref().cycle }
     }
 
+    /// The longest stretch the CPU ran without sleeping so far: its length
+    /// in cycles and the cycle it ended at (a firmware that never slept
+    /// has none).
+    pub fn longest_awake(&self) -> Option<(u64, u64)> {
+        self.longest_awake
+    }
+
+    /// The stretches awake longer than [`LONG_AWAKE_CYCLES`], in order:
+    /// (cycles, the cycle each ended at).
+    pub fn long_awake(&self) -> &[(u64, u64)] {
+        &self.long_awake
+    }
+
     /// Runs instructions until the cycle counter reaches `cycle`, a watched
     /// port was written, or the program stops. Sleeping counts as running:
     /// simavr advances the clock to the next timer event.
@@ -630,6 +659,23 @@ impl Sim {
             let spent = self.cycle() - before;
             if let Some(p) = self.profile.as_mut() {
                 *p.entry(pc_before).or_insert(0) += spent;
+            }
+            // Awake stretches: from the call in which the CPU woke to the
+            // one whose instruction put it to sleep (interrupt handlers
+            // inside a stretch count as part of it).
+            match (state == ffi::cpu_Sleeping, self.awake_from) {
+                (true, Some(from)) => {
+                    let len = self.cycle().saturating_sub(from);
+                    if self.longest_awake.is_none_or(|(l, _)| len > l) {
+                        self.longest_awake = Some((len, self.cycle()));
+                    }
+                    if len > LONG_AWAKE_CYCLES && self.long_awake.len() < LONG_AWAKE_KEPT {
+                        self.long_awake.push((len, self.cycle()));
+                    }
+                    self.awake_from = None;
+                }
+                (false, None) => self.awake_from = Some(before),
+                _ => {}
             }
             let (pc, sp) = self.pc_sp();
             if sp < self.min_sp {

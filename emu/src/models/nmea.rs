@@ -111,6 +111,31 @@ pub fn epoch_sentences(site: &GpsSite, unix_s: i64, fix: bool) -> String {
     }
 }
 
+/// The epochs of a receiver that may lie, for [`GpsFeed::Recorded`]: one
+/// every `period_s` seconds of true time from `first_unix_s` up to (not
+/// including) `end_unix_s`, each with a fix and delivered (its last byte)
+/// when emulated UTC reaches its true time; epoch `k`, due at true time
+/// `u`, says the position and the time `say(k, u)` returns (GGA + RMC as
+/// [`epoch_sentences`]).
+pub fn lying_epochs(
+    first_unix_s: i64,
+    end_unix_s: i64,
+    period_s: i64,
+    mut say: impl FnMut(usize, i64) -> (GpsSite, i64),
+) -> Vec<Epoch> {
+    (first_unix_s..end_unix_s)
+        .step_by(period_s.max(1) as usize)
+        .enumerate()
+        .map(|(k, u)| {
+            let (site, said_unix_s) = say(k, u);
+            Epoch {
+                unix_s: u,
+                text: epoch_sentences(&site, said_unix_s, true),
+            }
+        })
+        .collect()
+}
+
 /// One epoch of a recorded log.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Epoch {
@@ -387,5 +412,23 @@ mod tests {
         let stamp = parse_log(&text, 0)[0].unix_s;
         assert!((end - stamp as f64).abs() < 0.02, "end {end} stamp {stamp}");
         assert!(stamp - t0 <= 10, "stamp {stamp}");
+    }
+
+    #[test]
+    fn lying_epochs_say_what_they_are_told_at_their_true_time() {
+        let t0 = 1_782_028_800; // 2026-06-21T08:00:00Z
+        let site = GpsSite {
+            lat_deg: -16.5,
+            lon_deg: -179.99999,
+            elevation_m: 10.0,
+        };
+        let e = lying_epochs(t0, t0 + 90, 30, |k, u| (site, u - 3600 * k as i64));
+        assert_eq!(e.len(), 3);
+        assert_eq!(e[2].unix_s, t0 + 60);
+        // Said one hour earlier per epoch, at their true delivery time.
+        let said = parse_log(&e[2].text, 0)[0].unix_s;
+        assert_eq!(said, t0 + 60 - 7200);
+        assert!(e[2].text.contains(",1630.0000,S,17959.9994,W,"));
+        assert!(e.iter().all(|x| x.text.lines().all(checksum_ok)));
     }
 }
