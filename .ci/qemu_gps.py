@@ -23,6 +23,10 @@ re-stamped: the file's first time plus the emulated time, or `--start` plus
 it. `--no-gps` keeps UART0 silent. A recorded stream with the week-rollover
 bug keeps its wrong date running on the same way.
 
+`--move MINUTE:LAT,LON` (repeatable): from that emulated minute the epochs
+report that position instead of the stream's (a receiver carried away, or
+one whose position jumps).
+
 The console: `--type MINUTE:LINE` (repeatable) types LINE and a newline
 into UART2 (QEMU's third `-serial`, the image's console) at the first gate
 at or after that emulated minute (fractions allowed), lines of one minute
@@ -44,6 +48,7 @@ The log (semihosting output, QEMU's stdout here) is printed and, with
 
   python3 .ci/qemu_gps.py ELF [--nmea FILE | --no-gps] [--start UTC]
                           [--minutes N] [--type MINUTE:LINE]...
+                          [--move MINUTE:LAT,LON]...
                           [--config-file PATH] [--log OUT] [--quiet]
                           [--timeout S]
 
@@ -105,14 +110,46 @@ def parse_template(path):
     return gga, rmc, first
 
 
-def epoch(gga, rmc, when):
+def position_fields(lat, lon):
+    """NMEA 0183 `ddmm.mmmm,N` and `dddmm.mmmm,E` fields of a position."""
+    def field(v, width, pos, neg):
+        a = abs(v)
+        deg = int(a)
+        minutes = round((a - deg) * 60, 4)
+        if minutes >= 60:
+            deg, minutes = deg + 1, 0.0
+        return [f"{deg:0{width}d}{minutes:07.4f}", pos if v >= 0 else neg]
+    return field(lat, 2, "N", "S") + field(lon, 3, "E", "W")
+
+
+def epoch(gga, rmc, when, position=None):
+    """The template's GGA and RMC at `when`, at `position` ((lat, lon)
+    degrees) when given, else at the template's."""
     hms = when.strftime("%H%M%S") + f".{when.microsecond // 10000:02d}"
     g = list(gga)
     r = list(rmc)
     g[1] = hms
     r[1] = hms
     r[9] = when.strftime("%d%m%y")
+    if position is not None:
+        f = position_fields(*position)
+        g[2:6] = f
+        r[3:7] = f
     return (sentence(g) + sentence(r)).encode("ascii")
+
+
+def parse_move(s):
+    """`MINUTE:LAT,LON` -> (ms, (lat, lon)); ValueError saying what is
+    wrong."""
+    minute, sep, rest = s.partition(":")
+    try:
+        ms = round(float(minute) * 60_000)
+        lat, lon = (float(x) for x in rest.split(","))
+    except ValueError:
+        ms = -1
+    if not sep or ms < 0 or not (-90 <= lat <= 90 and -180 <= lon <= 180):
+        raise ValueError(f"bad --move {s!r}, want MINUTE:LAT,LON (degrees north, east)")
+    return ms, (lat, lon)
 
 
 def parse_utc(s):
@@ -161,6 +198,8 @@ def main():
                     help="extra QEMU argument (QEMU runs in a temporary directory)")
     ap.add_argument("--type", action="append", default=[], metavar="MINUTE:LINE",
                     help="type LINE on the console (UART2) at that emulated minute")
+    ap.add_argument("--move", action="append", default=[], metavar="MINUTE:LAT,LON",
+                    help="from that emulated minute the receiver reports this position")
     ap.add_argument("--config-file", metavar="PATH",
                     help="the image's configuration file (default: a new one per run)")
     a = ap.parse_args()
@@ -171,6 +210,7 @@ def main():
     end_ms = int(a.minutes * 60_000)
     try:
         parsed = [parse_type(t) for t in a.type]
+        moves = sorted((parse_move(m) for m in a.move), key=lambda x: x[0])
     except ValueError as e:
         ap.error(str(e))
     late = [t for t, (ms, _) in zip(a.type, parsed) if ms >= end_ms]
@@ -234,7 +274,12 @@ def main():
                 if ms >= end_ms:
                     gate.sendall(b"stop\n")
                     continue
-                nmea = b"" if a.no_gps else epoch(gga, rmc, first + dt.timedelta(milliseconds=ms))
+                position = None
+                for at_ms, p in moves:
+                    if at_ms <= ms:
+                        position = p
+                nmea = b"" if a.no_gps else epoch(gga, rmc, first + dt.timedelta(milliseconds=ms),
+                                                  position)
                 if nmea:
                     gps.sendall(nmea)
                 while typed and typed[0][0] <= ms:

@@ -102,11 +102,12 @@ where
             path,
             starts: Starts([None; 6]),
         });
-        let gamma = self.pose.gamma_deg;
-        if !search
-            .starts
-            .fill(&self.attitude, &limits, gamma, &first, Some(&here))
-        {
+        let frame = Frame {
+            attitude: &self.attitude,
+            limits: &limits,
+            gamma_deg: self.pose.gamma_deg,
+        };
+        if !search.starts.fill(&frame, &first, Some(&here)) {
             self.branch_search = None;
         } else if sampled {
             search.starts.visit(&first, &self.attitude, &limits);
@@ -181,7 +182,11 @@ where
             .ok()
             .map(|p| SetPoint::facing(&p));
         let limits = self.limits();
-        let gamma = self.pose.gamma_deg;
+        let frame = Frame {
+            attitude: &self.attitude,
+            limits: &limits,
+            gamma_deg: self.pose.gamma_deg,
+        };
         let slot = self.night_pose.insert(NightPose::Searching(
             sunrise,
             PathSearch {
@@ -194,9 +199,7 @@ where
         ));
         let started = match (slot, first) {
             (NightPose::Searching(_, search), Some(first)) => {
-                let ok = search
-                    .starts
-                    .fill(&self.attitude, &limits, gamma, &first, None);
+                let ok = search.starts.fill(&frame, &first, None);
                 if ok {
                     search.starts.visit(&first, &self.attitude, &limits);
                 }
@@ -278,6 +281,14 @@ struct Start<T> {
     travel: T,
 }
 
+/// What the starts are chosen in: the mount, the axes' limits, and the C
+/// angle kept when the sun on the tracker's axis leaves it free.
+struct Frame<'a, T> {
+    attitude: &'a MountAttitude<T>,
+    limits: &'a PoseLimits<T>,
+    gamma_deg: T,
+}
+
 /// The candidate starts of a search: two solutions, three turns each.
 #[derive(Debug, Clone, Copy, PartialEq)]
 struct Starts<T>([Option<Start<T>>; 6]);
@@ -286,17 +297,12 @@ impl<T: Float> Starts<T> {
     /// The candidate starts for a day beginning at `first`: both poses
     /// facing it and their ±360° turns, inside the limits, each charged
     /// the move from `from` when given; false when the sun's direction
-    /// gives no pose (`gamma_deg`: the C angle kept when any would do).
-    fn fill(
-        &mut self,
-        attitude: &MountAttitude<T>,
-        limits: &PoseLimits<T>,
-        gamma_deg: T,
-        first: &SetPoint<T>,
-        from: Option<&Pose<T>>,
-    ) -> bool {
+    /// gives no pose.
+    /// (Few arguments: on the ATmega2560 those that do not fit the
+    /// registers go on the stack, which LLVM reads one byte off there.)
+    fn fill(&mut self, frame: &Frame<'_, T>, first: &SetPoint<T>, from: Option<&Pose<T>>) -> bool {
         let sun0 = sun_vector_xyz(first.elevation_deg(), first.azimuth_deg);
-        let Ok(sols) = attitude.solutions(&sun0, gamma_deg) else {
+        let Ok(sols) = frame.attitude.solutions(&sun0, frame.gamma_deg) else {
             return false;
         };
         self.0 = [None; 6];
@@ -309,7 +315,7 @@ impl<T: Float> Starts<T> {
                     gamma_deg: sol.gamma_deg + T::from_i32(turn),
                     alpha_deg: sol.alpha_deg,
                 };
-                if !limits.contains(&start) {
+                if !frame.limits.contains(&start) {
                     continue;
                 }
                 if let Some(slot) = slots.next() {
