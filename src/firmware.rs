@@ -39,7 +39,7 @@ use crate::log::{self, ChangeLog, Sink, SiteSource as LogSite};
 use crate::motion::AxisDrive;
 use crate::persist::{Loaded, SaveError, SaveStatus};
 use crate::ports::AttitudeSensor;
-use crate::safety::{AxisId, Mode, OperatorHold};
+use crate::safety::{AxisId, Fault, Mode, OperatorHold};
 use crate::site::filter::{SiteDecision, SiteFilter, SiteFilterConfig};
 use crate::site::{site_from_config, site_from_fix, site_moved, wmm_declination_deg};
 use crate::sun::BoardSource;
@@ -63,6 +63,14 @@ pub trait Platform {
     /// without a console keeps this default.
     fn console_read(&mut self, buf: &mut [u8]) -> usize {
         let _ = buf;
+        0
+    }
+    /// Lines the console's receive ring lost whole since the last call
+    /// (their line ends dropped where no marker stands for them:
+    /// [`console::RxRing::take_lost_lines`]); each is answered `error input
+    /// lost`. A board without a console, or whose ring marks every gap,
+    /// keeps this default.
+    fn console_lost_lines(&mut self) -> u8 {
         0
     }
     /// Where the configuration is stored (console `save` and `load`);
@@ -154,6 +162,11 @@ where
 /// wakes every millisecond. After a longer pass (a day plan's step, the
 /// axis branch look-ahead) the stamp is the previous pass's instant.
 pub const GPS_STAMP_SLACK_MS: u32 = 50;
+
+/// `error input lost` replies a pass writes for lines the console's ring
+/// lost whole (17 bytes each: 1.5 ms at 115200 baud); the rest follow in
+/// the next passes.
+const LOST_REPLIES_PER_PASS: u8 = 4;
 
 /// Settings of the loop itself (the tracker's are in [`Config`]).
 #[derive(Debug, Clone, Copy)]
@@ -262,6 +275,11 @@ pub struct Firmware<T, R, G, D, S, L, const N: usize> {
     console_line: LineBuffer<{ console::LINE_LEN }>,
     /// A save in progress and the reply due when it ends.
     saving: Option<Executed>,
+    /// Lines the console's ring lost whole, still to answer.
+    lost_lines_due: u8,
+    /// GPS epochs refused before the GPS time faults were raised, while
+    /// they are.
+    rejected_at_fault: Option<u32>,
     /// The trusted time at the last tick and where it came from.
     last_time: Option<(UtcTime, TimeOrigin)>,
     /// Anemometer pulse rate over the last tick, Hz.
@@ -327,6 +345,8 @@ where
             boot_fallback,
             console_line: LineBuffer::new(),
             saving: None,
+            lost_lines_due: 0,
+            rejected_at_fault: None,
             last_time: None,
             last_wind_hz: None,
             next_status_ms: None,
@@ -430,6 +450,7 @@ where
         self.last_wind_hz = (interval_ms > 0 && self.stats.ticks > 0)
             .then(|| wind_pulses as f32 * 1000.0 / interval_ms as f32);
         self.stats.ticks = self.stats.ticks.saturating_add(1);
+        let rejected_before = self.time.rejected_epochs();
         let mut status = self.time.update(&self.fix, now_ms);
         if status.origin == Some(TimeOrigin::Gps) {
             self.last_gps_ms = Some(now_ms);
@@ -484,6 +505,21 @@ where
         self.log_setpoint(&inputs.now, &report);
         self.changes
             .update(&mut self.log, self.controller.faults(), report.mode);
+        // A bad GPS time stream: its fault is logged once, raised and
+        // cleared, and the epochs refused meanwhile summed when it clears.
+        let faults = self.controller.faults();
+        let bad_gps_time =
+            faults.is_active(Fault::GpsTimeImplausible) || faults.is_active(Fault::GpsTimeUnstable);
+        let rejected = self.time.rejected_epochs();
+        match (self.rejected_at_fault, bad_gps_time) {
+            // Counted from the epoch that raised it.
+            (None, true) => self.rejected_at_fault = Some(rejected_before),
+            (Some(before), false) => {
+                log::gps_rejected(&mut self.log, rejected.saturating_sub(before));
+                self.rejected_at_fault = None;
+            }
+            _ => {}
+        }
         self.last_report = Some(report);
     }
 
@@ -493,6 +529,7 @@ where
     fn update_site(&mut self, now_ms: u32, now: Option<UtcTime>) {
         // A position far from the site in use is taken only once it has
         // been consistent for a while (a fixed tracker does not travel).
+        self.site_filter.expire(now_ms);
         let taken = site_from_fix::<T>(&self.fix).and_then(|s| {
             match self.site_filter.update(s, &self.site, now_ms) {
                 SiteDecision::Take(s) => Some(s),
@@ -630,6 +667,16 @@ where
                 self.run_command(text, platform);
             }
         }
+        // Lines lost whole in the ring: one reply each, a few a pass (each
+        // reply takes the log's time).
+        self.lost_lines_due = self
+            .lost_lines_due
+            .saturating_add(platform.console_lost_lines());
+        let now = self.lost_lines_due.min(LOST_REPLIES_PER_PASS);
+        for _ in 0..now {
+            console::write_line_error(&mut self.log, console::LineError::Lost);
+        }
+        self.lost_lines_due -= now;
     }
 
     fn run_command<P: Platform>(&mut self, line: &str, platform: &mut P) {

@@ -13,6 +13,7 @@
 //! setpoint utc=YYYY-MM-DDTHH:MM:SSZ zenith=<deg, 3 decimals> azimuth=<deg, 3 decimals> c=<deg, 2 decimals> a=<deg, 2 decimals>
 //! mode <name>
 //! fault <name> raised|cleared
+//! gps rejected_epochs=<n>
 //! ```
 //!
 //! Mode and fault names are [`Mode::name`] and [`Fault::name`], as in the
@@ -147,6 +148,16 @@ pub fn time(out: &mut dyn Sink, source: TimeOrigin, utc: &UtcTime) {
         TimeOrigin::Rtc => "time source=rtc utc=",
     });
     out.utc(utc);
+    out.flash(crate::flash_str!("\n"));
+}
+
+/// `gps rejected_epochs=N`, when the GPS time faults (`gps_time_implausible`,
+/// `gps_time_unstable`) have cleared: the epochs refused while they were
+/// raised. A receiver that sends bad epochs for an hour raises its fault
+/// once and is summed up here, not logged epoch by epoch.
+pub fn gps_rejected(out: &mut dyn Sink, epochs: u32) {
+    out.flash(crate::flash_str!("gps rejected_epochs="));
+    out.u32(epochs);
     out.flash(crate::flash_str!("\n"));
 }
 

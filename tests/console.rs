@@ -9,7 +9,7 @@ use sun_algos::UtcTime;
 use suntracker::config::Config;
 use suntracker::console::{
     self, apply_set, Command, Decimal, Key, LineBuffer, LineError, NumberError, Outcome,
-    ParseError, SetError, StatusView, Value, KEYS, LINE_LEN,
+    ParseError, RxRing, SetError, StatusView, Value, KEYS, LINE_LEN,
 };
 use suntracker::log::SiteSource;
 use suntracker::persist::{Loaded, MemError, SaveError, SlotState};
@@ -1158,4 +1158,130 @@ fn fault_time_save_and_load_replies() {
     console::write_ok(&mut out, suntracker::flash_str!(""));
     console::write_error(&mut out, suntracker::flash_str!("busy"));
     assert_eq!(out.take(), "ok\nerror busy\n");
+}
+
+// ---------------------------------------------------------------------------
+// The boards' receive ring
+
+/// Lines pasted far faster than the loop reads them (it takes `take` bytes
+/// for every `every` bytes received) into an `N`-byte ring: every line is
+/// answered once, by its own reply or by `error input lost` (the line a gap
+/// falls in, and each line end lost in a gap no marker stands for), and no
+/// line runs with a piece missing.
+fn flood<const N: usize>(lines: &[&str], ending: &str, every: usize, take: usize) -> bool {
+    let mut ring = RxRing::<N>::new();
+    let mut lb = LineBuffer::<LINE_LEN>::new();
+    let mut answered = 0usize;
+    let mut ran = Vec::new();
+    let mut read = |ring: &mut RxRing<N>,
+                    max: usize,
+                    answered: &mut usize,
+                    ran: &mut Vec<String>| {
+        for _ in 0..max {
+            let Some(b) = ring.pop() else {
+                // Drained: the lines lost behind the last one stored.
+                *answered += usize::from(ring.take_lost_lines());
+                break;
+            };
+            match lb.push(b) {
+                None => {}
+                Some(Ok(line)) => {
+                    *answered += 1;
+                    ran.push(line.to_string());
+                }
+                Some(Err(LineError::Lost)) => *answered += 1 + usize::from(ring.take_lost_lines()),
+                Some(Err(e)) => panic!("{e:?}"),
+            }
+        }
+    };
+    let mut received = 0usize;
+    for line in lines {
+        for b in line.bytes().chain(ending.bytes()) {
+            ring.push(b);
+            received += 1;
+            if received.is_multiple_of(every) {
+                read(&mut ring, take, &mut answered, &mut ran);
+            }
+        }
+    }
+    read(&mut ring, usize::MAX, &mut answered, &mut ran);
+    assert_eq!(
+        answered,
+        lines.len(),
+        "{N}-byte ring, {ending:?}, every {every} take {take}: ran {ran:?}"
+    );
+    assert!(ran.iter().all(|l| lines.contains(&l.as_str())), "{ran:?}");
+    // The next line typed after the flood runs whole: a gap is never
+    // charged to the line after it.
+    let next = if N > 3 { "st" } else { "x" };
+    for b in next.bytes().chain(ending.bytes()) {
+        ring.push(b);
+    }
+    let (mut after, mut ran_after) = (0, Vec::new());
+    read(&mut ring, usize::MAX, &mut after, &mut ran_after);
+    assert_eq!(
+        ran_after,
+        [next],
+        "{N}-byte ring, {ending:?}, every {every} take {take}"
+    );
+    assert_eq!(after, 1);
+    // Whether it overflowed.
+    ring.dropped() > 0
+}
+
+#[test]
+fn every_line_pasted_into_a_full_ring_is_answered_once() {
+    let lines: Vec<&str> = [
+        "help",
+        "set wind.stow_hz 25",
+        "status",
+        "get site.lat_deg",
+        "x",
+    ]
+    .iter()
+    .cycle()
+    .take(80)
+    .copied()
+    .collect();
+    let mut overflowed = 0;
+    for ending in ["\n", "\r", "\r\n"] {
+        for (every, take) in [(4, 1), (10, 3), (50, 40), (3, 1), (2, 1), (23, 22)] {
+            for ran_over in [
+                flood::<64>(&lines, ending, every, take),
+                flood::<255>(&lines, ending, every, take),
+                flood::<16>(&lines, ending, every, take),
+                flood::<3>(&lines, ending, every, take),
+            ] {
+                overflowed += usize::from(ran_over);
+            }
+        }
+    }
+    // 72 floods, most of which overflow their ring.
+    assert!(overflowed >= 60, "{overflowed} overflowed");
+}
+
+#[test]
+fn a_ring_with_room_passes_every_byte() {
+    let mut ring = RxRing::<8>::new();
+    for b in b"get\r\n" {
+        ring.push(*b);
+    }
+    let mut out = [0u8; 16];
+    let n = ring.pop_into(&mut out);
+    assert_eq!(&out[..n], b"get\r\n");
+    assert_eq!((ring.dropped(), ring.take_lost_lines()), (0, 0));
+    // Full: the newest byte becomes the marker; a dropped line end makes
+    // it the line-ending marker.
+    for b in b"set a 12\n" {
+        ring.push(*b);
+    }
+    let n = ring.pop_into(&mut out);
+    assert_eq!(&out[..n], b"set a 1\x19");
+    assert_eq!(ring.dropped(), 1);
+    // A receive error: a marker inside the line.
+    ring.push(b'a');
+    ring.lose();
+    ring.push(b'\n');
+    let n = ring.pop_into(&mut out);
+    assert_eq!(&out[..n], b"a\x18\n");
 }

@@ -66,6 +66,9 @@ struct Run {
 enum Gps {
     Fix,
     Silent,
+    /// The week-rollover bug (a date 1024 weeks back) for the first this
+    /// many seconds, then right.
+    RolloverFor(u32),
 }
 
 fn run_day<T: Float>(start: UtcTime, seconds: u32, gps: Gps, rtc_lost_power: bool) -> Run
@@ -127,7 +130,7 @@ where
         log.clone(),
     )
     .expect("valid configuration");
-    let receiver = GpsReceiverModel::new(LAT, LON, 480.0);
+    let mut receiver = GpsReceiverModel::new(LAT, LON, 480.0);
     let mut platform = HostPlatform {
         now_ms: 0,
         pulses: 0,
@@ -154,7 +157,13 @@ where
         }
         fw.time_keeper_mut().rtc_mut().advance(now);
         if platform.now_ms >= next_epoch_ms {
-            if let Gps::Fix = gps {
+            if let Gps::RolloverFor(s) = gps {
+                // 1024 weeks (7,168 days) before the true date.
+                let (y, m, d) = now.add_seconds(-7168 * 86_400).unwrap().ymd();
+                receiver.date_override =
+                    (platform.now_ms < u64::from(s) * 1000).then_some((y as u16, m, d));
+            }
+            if !matches!(gps, Gps::Silent) {
                 let n = receiver.epoch(now, &mut buf).unwrap();
                 uart.0.borrow_mut().extend(&buf[..n]);
             }
@@ -485,4 +494,26 @@ fn after_a_gale_only_the_present_slot_is_logged() {
         ..run
     };
     check_setpoints_min(&later, LAT, LON, 10);
+}
+
+/// A receiver with the week-rollover bug for 15 minutes, then right
+/// (Kano, 2026-03-20 from 10:00Z, RTC valid): `gps_time_implausible` is
+/// raised once (not once per epoch) and cleared once, with the epochs
+/// refused meanwhile summed in one line (900 epochs at one a second); the
+/// tracker tracks on the RTC throughout.
+#[test]
+fn a_rollover_stream_is_logged_once_with_its_count() {
+    let start = UtcTime::from_ymd_hms(2026, 3, 20, 10, 0, 0).unwrap();
+    let run = run_day::<f32>(start, 1800, Gps::RolloverFor(900), false);
+    let l = &run.lines;
+    let count = |line: &str| l.iter().filter(|s| *s == line).count();
+    assert_eq!(count("fault gps_time_implausible raised"), 1, "{l:#?}");
+    assert_eq!(count("fault gps_time_implausible cleared"), 1, "{l:#?}");
+    let summed: Vec<&String> = l
+        .iter()
+        .filter(|s| s.starts_with("gps rejected_epochs="))
+        .collect();
+    assert_eq!(summed, ["gps rejected_epochs=900"], "{l:#?}");
+    assert!(l.iter().any(|s| s == "mode tracking"));
+    assert!(!l.iter().any(|s| s.starts_with("clock jump")), "{l:#?}");
 }

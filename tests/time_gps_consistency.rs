@@ -198,3 +198,25 @@ fn a_rollover_stream_is_reported_once_and_held() {
     }
     assert_eq!(keeper.rejected_epochs(), 150);
 }
+
+#[test]
+fn old_reports_do_not_come_back_when_the_monotonic_clock_wraps() {
+    // One rollover epoch, then a silent receiver, a tick a minute for 50
+    // days: the 32-bit millisecond clock wraps after 49.7 days, where the
+    // epoch's stamp would look a moment old again.
+    let mut keeper = TimeKeeper::new(SimRtc::new(t0()), TimeConfig::default());
+    let rollover = at(-1024 * 7 * 86_400);
+    let st = keeper.update(&fix(rollover, 0), 0);
+    assert!(st.gps_time_implausible);
+    let mut raised_after_hold = Vec::new();
+    for minute in 1..(50 * 1440i64) {
+        let now_ms = (minute * 60_000) as u32;
+        keeper.rtc_mut().advance(at(minute * 60));
+        let st = keeper.update(&GpsFix::NONE, now_ms);
+        if st.gps_time_implausible || st.gps_time_unstable {
+            raised_after_hold.push(minute);
+        }
+    }
+    // Held for the minute after it (60 s), then never again.
+    assert_eq!(raised_after_hold, [1]);
+}

@@ -16,6 +16,11 @@ pub const LINE_LEN: usize = 64;
 /// `set` of 5 Hz).
 pub const LOST_INPUT: u8 = 0x18;
 
+/// The byte a board's receive ring leaves where the input it had to drop
+/// included a line end (ASCII EM, "end of medium"): the line it ends is
+/// answered `error input lost` at once ([`super::RxRing`]).
+pub const LOST_LINE_END: u8 = 0x19;
+
 /// Why a line was refused before parsing.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum LineError {
@@ -117,6 +122,10 @@ impl<const N: usize> LineBuffer<N> {
             LOST_INPUT => {
                 self.error = Some(LineError::Lost);
                 None
+            }
+            LOST_LINE_END => {
+                self.error = Some(LineError::Lost);
+                self.finish()
             }
             0x80..=0xFF => {
                 self.error.get_or_insert(LineError::NonAscii);

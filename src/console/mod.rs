@@ -162,13 +162,14 @@ mod operator;
 mod parse;
 mod postal;
 mod reply;
+mod ring;
 mod set;
 mod status;
 mod words;
 
 pub use config_commands::{run_config, Outcome};
 pub use keys::{get, is_read_only, key_from_name, Key, Value, KEYS, POSTAL_CODE_KEY};
-pub use line::{LineBuffer, LineError, LINE_LEN, LOST_INPUT};
+pub use line::{LineBuffer, LineError, LINE_LEN, LOST_INPUT, LOST_LINE_END};
 pub use number::{write_number, Decimal, NumberError};
 pub use operator::{
     execute, set_rtc_time, write_hold_saved, Executed, Jogged, Operator, TimeSetError,
@@ -180,6 +181,7 @@ pub use reply::{
     write_line_error, write_loaded, write_ok, write_parse_error, write_saved, write_set_error,
     write_time_error, write_time_refused, write_time_set, HELP,
 };
+pub use ring::RxRing;
 pub use set::{apply_assignments, apply_set, SetError};
 pub use status::{write_status, write_status_fields, StatusView};
 

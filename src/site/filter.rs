@@ -104,13 +104,7 @@ impl<T: Float> SiteFilter<T> {
     /// Takes a fresh fix's position `seen` at monotonic `now_ms`, against
     /// the site in use.
     pub fn update(&mut self, seen: Site<T>, in_use: &Site<T>, now_ms: u32) -> SiteDecision<T> {
-        // Consistent for the settle time since the last jump: stable again.
-        if let Some(t) = self.last_jump_ms {
-            if monotonic::elapsed_ms(now_ms, t) >= self.config.settle_ms {
-                self.jumps = 0;
-                self.last_jump_ms = None;
-            }
-        }
+        self.expire(now_ms);
         let radius = T::from_f32(self.config.radius_deg);
         if site_distance_deg(&seen, in_use) <= radius {
             // Back at the site in use: a candidate elsewhere was a glitch
@@ -137,6 +131,27 @@ impl<T: Float> SiteFilter<T> {
                     self.candidate = Some((seen, now_ms));
                     SiteDecision::Keep
                 }
+            }
+        }
+    }
+
+    /// Forgets what is too old to count; the firmware calls it every tick
+    /// (with a fix or without), so that no stamp on the 32-bit monotonic
+    /// clock lives to its wrap (49.7 days), where it would look recent
+    /// again. Consistent for the settle time since the last jump: stable
+    /// again. A candidate not confirmed within an hour after its settle
+    /// time (no fix came) is dropped.
+    pub fn expire(&mut self, now_ms: u32) {
+        let settle_ms = self.config.settle_ms;
+        if let Some(t) = self.last_jump_ms {
+            if monotonic::elapsed_ms(now_ms, t) >= settle_ms {
+                self.jumps = 0;
+                self.last_jump_ms = None;
+            }
+        }
+        if let Some((_, since_ms)) = self.candidate {
+            if monotonic::elapsed_ms(now_ms, since_ms) > settle_ms.saturating_add(3_600_000) {
+                self.candidate = None;
             }
         }
     }

@@ -233,6 +233,33 @@ struct GpsConsistency {
     rejected: u32,
 }
 
+impl GpsConsistency {
+    /// Forgets what is too old to count, every update: a stamp on the
+    /// 32-bit monotonic clock must not live to its wrap (49.7 days), where
+    /// it would look recent again.
+    fn expire(&mut self, now_ms: u32, hold_ms: u32) {
+        if !within(self.last_disagreement_ms, now_ms, hold_ms) {
+            self.last_disagreement_ms = None;
+            self.disagreements = 0;
+        }
+        if !within(self.last_implausible_ms, now_ms, hold_ms) {
+            self.last_implausible_ms = None;
+        }
+        // An hour without a plausible epoch: the next starts a new run.
+        if self
+            .last
+            .is_some_and(|(_, t)| !within(Some(t), now_ms, GPS_RUN_GAP_MS))
+        {
+            self.last = None;
+            self.agree_since_ms = None;
+            self.last_disagreed = false;
+        }
+    }
+}
+
+/// Longest gap between two plausible epochs of one run of agreeing ones.
+const GPS_RUN_GAP_MS: u32 = 3_600_000;
+
 /// `later − earlier` in milliseconds when they are at most 20 days apart
 /// (32-bit arithmetic), else `None`.
 fn ms_between(later: &UtcTime, earlier: &UtcTime) -> Option<i32> {
@@ -322,9 +349,7 @@ impl<C: RtcDriver> TimeKeeper<C> {
             GpsTime::NoFix | GpsTime::Stale => {}
         }
         let hold_ms = self.config.fault_hold_ms;
-        if !within(self.gps.last_disagreement_ms, now_ms, hold_ms) {
-            self.gps.disagreements = 0;
-        }
+        self.gps.expire(now_ms, hold_ms);
         let mut status = TimeStatus {
             gps_fix: gps_time.is_some(),
             gps_time_implausible: within(self.gps.last_implausible_ms, now_ms, hold_ms),

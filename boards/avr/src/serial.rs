@@ -4,11 +4,13 @@
 //! UDRn, UCSRnA/B/C, UBRRn).
 //!
 //! Reception: the RX-complete interrupt moves each byte into a ring buffer
-//! (128 bytes for the GPS port; 255 for the log and console port on the ATmega2560, 64 on the ATmega328P); when it is full the byte is dropped and counted
-//! ([`Usart0::rx_dropped`]) and the ring's newest byte is replaced by `suntracker::console::LOST_INPUT`, which marks
-//! the gap for the reader, as are bytes the hardware lost before the
-//! interrupt ran (data overrun, DORn) and bytes with a framing error (FEn,
-//! dropped too). `Read` takes what is waiting without blocking; with
+//! (`suntracker::console::RxRing`: 128 bytes for the GPS port; 255 for the
+//! log and console port on the ATmega2560, 64 on the ATmega328P); when it
+//! is full the byte is dropped and counted ([`Usart0::rx_dropped`]) and the
+//! gap is marked for the reader (the ring's documentation; every line typed
+//! is still answered, [`Usart0::take_lost_lines`]), as are bytes the
+//! hardware lost before the interrupt ran (data overrun, DORn) and bytes
+//! with a framing error (FEn, dropped too). `Read` takes what is waiting without blocking; with
 //! nothing waiting it sleeps (idle mode) until a byte arrives, as
 //! `embedded_io::Read` asks — the `drivers` GPS reader's `poll_if_ready`
 //! first asks `ReadReady` and only reads when a byte is there, so a main
@@ -18,12 +20,12 @@
 //! Transmission is blocking, byte by byte on UDREn (one byte is 87 µs at
 //! 115200 baud, the log's rate; no transmit buffer, no TX interrupt).
 
-use core::cell::Cell;
+use core::cell::RefCell;
 
 use avr_device::interrupt::{self, CriticalSection, Mutex};
 use embedded_io::{ErrorKind, ErrorType};
 
-use suntracker::console::LOST_INPUT;
+use suntracker::console::RxRing;
 
 use super::{chip, CPU_HZ};
 
@@ -43,89 +45,6 @@ const RX_LEN_CONSOLE: usize = 255;
 /// a whole console line (`suntracker::console::LINE_LEN`), in 2 KB of RAM.
 #[cfg(not(avr_atmega2560))]
 const RX_LEN_CONSOLE: usize = 64;
-
-/// A single-producer (interrupt) single-consumer (main) ring of `N` bytes
-/// (`N` ≤ 255).
-struct RxRing<const N: usize> {
-    bytes: [Cell<u8>; N],
-    /// Next slot the interrupt writes.
-    head: Cell<u8>,
-    /// Next slot the reader takes.
-    tail: Cell<u8>,
-    /// Count of bytes stored (0..=N).
-    len: Cell<u8>,
-    /// Bytes lost: ring full, hardware overrun or framing error.
-    dropped: Cell<u16>,
-}
-
-impl<const N: usize> RxRing<N> {
-    const fn new() -> Self {
-        RxRing {
-            bytes: [const { Cell::new(0) }; N],
-            head: Cell::new(0),
-            tail: Cell::new(0),
-            len: Cell::new(0),
-            dropped: Cell::new(0),
-        }
-    }
-
-    /// A byte lost (ring full, hardware overrun, framing error): counted,
-    /// and its place marked for the reader with `LOST_INPUT`
-    /// (`suntracker::console`; an NMEA sentence with it fails its
-    /// checksum): stored when there is room, else written over the newest
-    /// byte, so the gap stays where it was in the stream.
-    fn drop_one(&self) {
-        self.dropped.set(self.dropped.get().saturating_add(1));
-        if usize::from(self.len.get()) < N {
-            self.store(LOST_INPUT);
-        } else {
-            let newest = usize::from(self.head.get()).checked_sub(1).unwrap_or(N - 1);
-            if let Some(slot) = self.bytes.get(newest) {
-                slot.set(LOST_INPUT);
-            }
-        }
-    }
-
-    fn push(&self, byte: u8) {
-        if usize::from(self.len.get()) >= N {
-            self.drop_one();
-        } else {
-            self.store(byte);
-        }
-    }
-
-    /// Stores `byte`; the caller checked that there is room.
-    fn store(&self, byte: u8) {
-        let head = self.head.get();
-        if let Some(slot) = self.bytes.get(usize::from(head)) {
-            slot.set(byte);
-        }
-        self.head.set(Self::next(head));
-        self.len.set(self.len.get() + 1);
-    }
-
-    fn pop(&self) -> Option<u8> {
-        if self.len.get() == 0 {
-            return None;
-        }
-        let tail = self.tail.get();
-        let byte = self.bytes.get(usize::from(tail)).map(Cell::get);
-        self.tail.set(Self::next(tail));
-        self.len.set(self.len.get() - 1);
-        byte
-    }
-
-    fn clear(&self) {
-        self.head.set(0);
-        self.tail.set(0);
-        self.len.set(0);
-        self.dropped.set(0);
-    }
-
-    fn next(index: u8) -> u8 {
-        ((usize::from(index) + 1) % N) as u8
-    }
-}
 
 /// Bytes moved per critical section by `read` (bounds the time interrupts
 /// are off to about 150 cycles).
@@ -163,7 +82,7 @@ macro_rules! usart {
         $u2x:ident, $txc:ident, $rxen:ident, $txen:ident, $rxcie:ident, $ucsz:ident,
         $rxc:ident, $udre:ident, $fe:ident, $dor:ident
     ) => {
-        static $ring: Mutex<RxRing<$len>> = Mutex::new(RxRing::new());
+        static $ring: Mutex<RefCell<RxRing<$len>>> = Mutex::new(RefCell::new(RxRing::new()));
 
         $(#[$doc])*
         pub struct $name {
@@ -177,7 +96,11 @@ macro_rules! usart {
             /// `baud_hz` (double speed), receiver with its interrupt and
             /// transmitter on, ring emptied.
             pub fn new(usart: chip::$periph, baud_hz: u32) -> Self {
-                interrupt::free(|cs| $ring.borrow(cs).clear());
+                interrupt::free(|cs| {
+                    if let Ok(mut ring) = $ring.borrow(cs).try_borrow_mut() {
+                        ring.clear();
+                    }
+                });
                 usart.$ubrr().write(|w| w.set(ubrr_u2x(baud_hz)));
                 usart.$ucsra().write(|w| w.$u2x().set_bit());
                 usart.$ucsrc().write(|w| w.$ucsz().chr8());
@@ -203,12 +126,23 @@ macro_rules! usart {
             /// Bytes received and lost so far (ring full, hardware overrun,
             /// framing error); saturates at 65,535.
             pub fn rx_dropped(&self) -> u16 {
-                interrupt::free(|cs| $ring.borrow(cs).dropped.get())
+                interrupt::free(|cs| $ring.borrow(cs).try_borrow().map_or(0, |r| r.dropped()))
             }
 
             /// Bytes waiting in the ring.
             pub fn rx_waiting(&self) -> usize {
-                interrupt::free(|cs| usize::from($ring.borrow(cs).len.get()))
+                interrupt::free(|cs| $ring.borrow(cs).try_borrow().map_or(0, |r| r.len()))
+            }
+
+            /// Lines the ring lost whole since the last call
+            /// (`RxRing::take_lost_lines`).
+            pub fn take_lost_lines() -> u8 {
+                interrupt::free(|cs| {
+                    $ring
+                        .borrow(cs)
+                        .try_borrow_mut()
+                        .map_or(0, |mut r| r.take_lost_lines())
+                })
             }
 
             /// Moves up to `buf.len()` received bytes out of the ring
@@ -257,18 +191,11 @@ macro_rules! usart {
             }
 
             fn take(buf: &mut [u8], cs: CriticalSection<'_>) -> usize {
-                let ring = $ring.borrow(cs);
-                let mut n = 0;
-                for slot in buf.iter_mut().take(READ_BURST) {
-                    match ring.pop() {
-                        Some(byte) => {
-                            *slot = byte;
-                            n += 1;
-                        }
-                        None => break,
-                    }
-                }
-                n
+                let Ok(mut ring) = $ring.borrow(cs).try_borrow_mut() else {
+                    return 0;
+                };
+                let n = buf.len().min(READ_BURST);
+                buf.get_mut(..n).map_or(0, |b| ring.pop_into(b))
             }
         }
 
@@ -283,14 +210,16 @@ macro_rules! usart {
             let status = usart.$ucsra().read();
             let byte = usart.$udr().read().bits();
             interrupt::free(|cs| {
-                let ring = $ring.borrow(cs);
+                let Ok(mut ring) = $ring.borrow(cs).try_borrow_mut() else {
+                    return;
+                };
                 if status.$dor().bit_is_set() {
-                    ring.drop_one();
+                    ring.lose();
                 }
                 if status.$rxc().bit_is_set() && status.$fe().bit_is_clear() {
                     ring.push(byte);
                 } else {
-                    ring.drop_one();
+                    ring.lose();
                 }
             });
         }

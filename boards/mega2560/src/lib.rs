@@ -101,6 +101,9 @@ impl Platform for MegaPlatform {
     fn console_read(&mut self, buf: &mut [u8]) -> usize {
         Usart0::take_received(buf)
     }
+    fn console_lost_lines(&mut self) -> u8 {
+        Usart0::take_lost_lines()
+    }
     fn config_store(&mut self) -> Option<&mut dyn ConfigPersist> {
         Some(&mut self.store)
     }

@@ -98,6 +98,7 @@ use sun_algos::UtcTime;
 use sim::plant::MotorPlant;
 use sim::sensors::MountSensors;
 use suntracker::config::Config;
+use suntracker::console::RxRing;
 use suntracker::controller::{AttitudeSource, Controller, ControllerOptions};
 use suntracker::firmware::{AppConfig, ConfigPersist, Firmware, Platform};
 use suntracker::log::Sink;
@@ -210,56 +211,40 @@ unsafe impl InterruptNumber for Irq {
     }
 }
 
-/// Received bytes of one UART, filled by its receive interrupt.
+/// Received bytes of one UART, filled by its receive interrupt
+/// (`suntracker::console::RxRing`: a full ring marks its gaps for the
+/// reader).
 struct Ring<const N: usize> {
-    buf: [u8; N],
-    head: usize,
-    len: usize,
+    ring: RxRing<N>,
     /// Bytes received since boot (the gate counts them).
     received: u32,
-    /// Bytes lost to a full ring.
-    overruns: u32,
 }
 
 impl<const N: usize> Ring<N> {
     const fn new() -> Self {
         Ring {
-            buf: [0; N],
-            head: 0,
-            len: 0,
+            ring: RxRing::new(),
             received: 0,
-            overruns: 0,
         }
     }
 
     fn push(&mut self, b: u8) {
         self.received = self.received.wrapping_add(1);
-        if self.len < N {
-            let at = (self.head + self.len) % N;
-            if let Some(slot) = self.buf.get_mut(at) {
-                *slot = b;
-            }
-            self.len += 1;
-        } else {
-            self.overruns = self.overruns.saturating_add(1);
-            // The newest byte becomes the gap's marker for the reader
-            // (`suntracker::console::LOST_INPUT`).
-            let newest = (self.head + N - 1) % N;
-            if let Some(slot) = self.buf.get_mut(newest) {
-                *slot = suntracker::console::LOST_INPUT;
-            }
-        }
+        self.ring.push(b);
     }
 
     /// Moves the oldest bytes into `out`; how many.
     fn pop_into(&mut self, out: &mut [u8]) -> usize {
-        let n = out.len().min(self.len);
-        for slot in out.iter_mut().take(n) {
-            *slot = self.buf.get(self.head).copied().unwrap_or(0);
-            self.head = (self.head + 1) % N;
-            self.len -= 1;
-        }
-        n
+        self.ring.pop_into(out)
+    }
+
+    /// (bytes received since boot, bytes in the ring, bytes lost).
+    fn counts(&self) -> (u32, usize, u32) {
+        (
+            self.received,
+            self.ring.len(),
+            u32::from(self.ring.dropped()),
+        )
     }
 
     /// Everything the receive data register holds now, into the ring.
@@ -348,7 +333,7 @@ impl embedded_io::Read for GpsUart {
 impl embedded_io::ReadReady for GpsUart {
     fn read_ready(&mut self) -> Result<bool, Infallible> {
         Ok(cortex_m::interrupt::free(|cs| {
-            RX.borrow(cs).try_borrow().is_ok_and(|r| r.len > 0)
+            RX.borrow(cs).try_borrow().is_ok_and(|r| !r.ring.is_empty())
         }))
     }
 }
@@ -365,11 +350,7 @@ fn start_console() {
 /// (bytes received since boot, bytes in the ring, bytes lost) of the GPS
 /// ring.
 fn rx_counts() -> (u32, usize, u32) {
-    cortex_m::interrupt::free(|cs| {
-        RX.borrow(cs)
-            .try_borrow()
-            .map_or((0, 0, 0), |r| (r.received, r.len, r.overruns))
-    })
+    cortex_m::interrupt::free(|cs| RX.borrow(cs).try_borrow().map_or((0, 0, 0), |r| r.counts()))
 }
 
 /// The same for the console ring.
@@ -378,7 +359,7 @@ fn console_counts() -> (u32, usize, u32) {
         CONSOLE_RX
             .borrow(cs)
             .try_borrow()
-            .map_or((0, 0, 0), |r| (r.received, r.len, r.overruns))
+            .map_or((0, 0, 0), |r| r.counts())
     })
 }
 
@@ -701,6 +682,14 @@ impl Platform for Board {
                 .borrow(cs)
                 .try_borrow_mut()
                 .map_or(0, |mut r| r.pop_into(buf))
+        })
+    }
+    fn console_lost_lines(&mut self) -> u8 {
+        cortex_m::interrupt::free(|cs| {
+            CONSOLE_RX
+                .borrow(cs)
+                .try_borrow_mut()
+                .map_or(0, |mut r| r.ring.take_lost_lines())
         })
     }
     fn config_store(&mut self) -> Option<&mut dyn ConfigPersist> {

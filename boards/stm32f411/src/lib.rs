@@ -143,6 +143,7 @@ use hal::watchdog::IndependentWatchdog;
 
 use crate::flash::{ConfigSectors, SECTOR_LEN, WINDOW_OFFSET};
 use suntracker::config::Config;
+use suntracker::console::RxRing;
 use suntracker::controller::Controller;
 use suntracker::firmware::{AppConfig, ConfigPersist, Firmware, Platform};
 use suntracker::hw::{EitherTilt, MountSensorsHw, StepperAxis};
@@ -204,78 +205,6 @@ static CONSOLE_RX: Mutex<RefCell<Option<Rx<pac::USART6>>>> = Mutex::new(RefCell:
 /// Bytes typed on the console not yet read by the loop.
 static CONSOLE_RING: Mutex<RefCell<RxRing<CONSOLE_RING_LEN>>> =
     Mutex::new(RefCell::new(RxRing::new()));
-
-/// A single-producer (interrupt) single-consumer (main loop) byte ring of
-/// `N` bytes.
-struct RxRing<const N: usize> {
-    bytes: [u8; N],
-    /// Next slot the interrupt writes.
-    head: usize,
-    /// Bytes stored (0..=N), the oldest at `head - len`.
-    len: usize,
-    /// Bytes lost: ring full, or a receive error.
-    dropped: u32,
-}
-
-impl<const N: usize> RxRing<N> {
-    const fn new() -> Self {
-        RxRing {
-            bytes: [0; N],
-            head: 0,
-            len: 0,
-            dropped: 0,
-        }
-    }
-
-    fn push(&mut self, byte: u8) {
-        if self.len >= N {
-            self.lose();
-            return;
-        }
-        if let Some(slot) = self.bytes.get_mut(self.head) {
-            *slot = byte;
-        }
-        self.head = (self.head + 1) % N;
-        self.len += 1;
-    }
-
-    /// A byte lost (ring full, receive error): counted, and its place
-    /// marked for the reader with `suntracker::console::LOST_INPUT`:
-    /// stored when there is room, else written over the newest byte, so
-    /// the gap stays where it was in the stream.
-    fn lose(&mut self) {
-        self.dropped = self.dropped.saturating_add(1);
-        if self.len < N {
-            self.push(suntracker::console::LOST_INPUT);
-        } else if let Some(slot) = self.bytes.get_mut((self.head + N - 1) % N) {
-            *slot = suntracker::console::LOST_INPUT;
-        }
-    }
-
-    fn pop(&mut self) -> Option<u8> {
-        if self.len == 0 {
-            return None;
-        }
-        let tail = (self.head + N - self.len) % N;
-        self.len -= 1;
-        self.bytes.get(tail).copied()
-    }
-
-    /// Moves the oldest bytes into `buf`; how many.
-    fn pop_into(&mut self, buf: &mut [u8]) -> usize {
-        let mut n = 0;
-        for slot in buf.iter_mut() {
-            match self.pop() {
-                Some(b) => {
-                    *slot = b;
-                    n += 1;
-                }
-                None => break,
-            }
-        }
-        n
-    }
-}
 
 /// Most bytes one receive interrupt takes (the USART holds one; a few more
 /// may arrive while the handler runs).
@@ -376,7 +305,7 @@ impl GpsUart {
             GPS_RING
                 .borrow(cs)
                 .try_borrow()
-                .map_or(0, |ring| ring.dropped)
+                .map_or(0, |ring| u32::from(ring.dropped()))
         })
     }
 }
@@ -391,7 +320,7 @@ impl embedded_io::ReadReady for GpsUart {
             GPS_RING
                 .borrow(cs)
                 .try_borrow()
-                .is_ok_and(|ring| ring.len > 0)
+                .is_ok_and(|ring| !ring.is_empty())
         }))
     }
 }
@@ -425,7 +354,7 @@ pub fn console_dropped() -> u32 {
         CONSOLE_RING
             .borrow(cs)
             .try_borrow()
-            .map_or(0, |ring| ring.dropped)
+            .map_or(0, |ring| u32::from(ring.dropped()))
     })
 }
 
@@ -546,6 +475,14 @@ impl Platform for BlackPillPlatform {
                 .borrow(cs)
                 .try_borrow_mut()
                 .map_or(0, |mut ring| ring.pop_into(buf))
+        })
+    }
+    fn console_lost_lines(&mut self) -> u8 {
+        free(|cs| {
+            CONSOLE_RING
+                .borrow(cs)
+                .try_borrow_mut()
+                .map_or(0, |mut ring| ring.take_lost_lines())
         })
     }
     fn config_store(&mut self) -> Option<&mut dyn ConfigPersist> {

@@ -47,6 +47,7 @@
 
 use drivers::servo::ContinuousServo;
 use embedded_hal::pwm::{ErrorType, SetDutyCycle};
+use suntracker::console;
 use suntracker::hw::ServoAxis;
 use suntracker::log::{self, Sink, SiteSource};
 use suntracker::panel::{Divider, PanelAdc};
@@ -281,6 +282,10 @@ pub fn run_settings(dp: chip::Peripherals) -> ! {
         let mut rx = [0u8; CONSOLE_BURST];
         let n = Usart0::take_received(&mut rx);
         console.input(rx.get(..n).unwrap_or_default(), &mut rtc, &mut out);
+        // Lines the receive ring lost whole: answered too.
+        for _ in 0..Usart0::take_lost_lines() {
+            console::write_line_error(&mut out, console::LineError::Lost);
+        }
         console.poll(&mut out);
         watchdog.feed();
         sleep_until_interrupt(&CPU);
