@@ -232,6 +232,58 @@ fn uno_settings_image_survives_noise() {
     assert_ram("uno settings noise", &run, SETTINGS_RAM_BUDGET_B);
 }
 
+/// 80 `get site.lat_deg` pasted at once into the settings image: each
+/// reply (25 bytes) takes longer to send than its line (17 bytes) to
+/// arrive, so the 64-byte receive ring overflows; every line is answered
+/// once all the same, by its reply or `error input lost` (the line a gap
+/// falls in, and each line the ring lost whole), and the next line typed
+/// runs whole.
+#[test]
+fn uno_settings_image_answers_every_pasted_line() {
+    let elf = elf_or_skip!("SUNTRACKER_EMU_ELF_UNO_SETTINGS");
+    let eeprom = eeprom_after(&[sydney()]);
+    let run = UnoBench::settings(&elf)
+        .start(t("2026-03-20T03:00:00Z"))
+        .eeprom(eeprom.clone())
+        .bytes_at(min(1.0), b"get site.lat_deg\n".repeat(80))
+        .type_at(min(3.5), "get site.lon_deg")
+        .run_minutes(min(5.0))
+        .unwrap();
+    report("uno settings paste", &run);
+    let texts = texts(&run);
+    let pasted_at = texts
+        .iter()
+        .position(|l| l.starts_with("> (") && l.ends_with(" bytes)"))
+        .expect("lines pasted");
+    let typed_at = texts
+        .iter()
+        .position(|l| *l == "> get site.lon_deg")
+        .expect("line typed");
+    let answers = &texts[pasted_at..typed_at];
+    let ok = answers
+        .iter()
+        .filter(|l| **l == "ok site.lat_deg=-33.8688")
+        .count();
+    let lost = answers.iter().filter(|l| **l == "error input lost").count();
+    println!("uno settings paste: 80 lines, {ok} answered, {lost} `error input lost`");
+    assert!(lost > 0, "the ring never overflowed: {answers:?}");
+    assert_eq!(ok + lost, 80, "{answers:?}");
+    assert_eq!(
+        answers
+            .iter()
+            .filter(|l| l.starts_with("ok ") || l.starts_with("error "))
+            .count(),
+        80,
+        "{answers:?}"
+    );
+    assert_eq!(
+        replies_to(&run, "get site.lon_deg"),
+        ["ok site.lon_deg=151.2093"]
+    );
+    assert_eq!(run.eeprom, eeprom, "the paste changed the EEPROM");
+    assert_ram("uno settings paste", &run, SETTINGS_RAM_BUDGET_B);
+}
+
 /// The tracker from the EEPROM the settings image saved: Sydney at boot
 /// and again after a power cut (the EEPROM kept), every set-point on
 /// Sydney's sun and reached.
