@@ -25,7 +25,9 @@ bug keeps its wrong date running on the same way.
 
 `--move MINUTE:LAT,LON` (repeatable): from that emulated minute the epochs
 report that position instead of the stream's (a receiver carried away, or
-one whose position jumps).
+one whose position jumps). `--time-lie MINUTE:SECONDS`: from that emulated
+minute the epochs' time is off by +SECONDS and -SECONDS in turn (a receiver
+whose time alternates).
 
 The console: `--type MINUTE:LINE` (repeatable) types LINE and a newline
 into UART2 (QEMU's third `-serial`, the image's console) at the first gate
@@ -48,7 +50,7 @@ The log (semihosting output, QEMU's stdout here) is printed and, with
 
   python3 .ci/qemu_gps.py ELF [--nmea FILE | --no-gps] [--start UTC]
                           [--minutes N] [--type MINUTE:LINE]...
-                          [--move MINUTE:LAT,LON]...
+                          [--move MINUTE:LAT,LON]... [--time-lie MINUTE:SECONDS]
                           [--config-file PATH] [--log OUT] [--quiet]
                           [--timeout S]
 
@@ -138,6 +140,19 @@ def epoch(gga, rmc, when, position=None):
     return (sentence(g) + sentence(r)).encode("ascii")
 
 
+def parse_time_lie(s):
+    """`MINUTE:SECONDS` -> (ms, seconds); ValueError saying what is wrong."""
+    minute, sep, rest = s.partition(":")
+    try:
+        ms = round(float(minute) * 60_000)
+        off = int(rest)
+    except ValueError:
+        ms = -1
+    if not sep or ms < 0:
+        raise ValueError(f"bad --time-lie {s!r}, want MINUTE:SECONDS")
+    return ms, off
+
+
 def parse_move(s):
     """`MINUTE:LAT,LON` -> (ms, (lat, lon)); ValueError saying what is
     wrong."""
@@ -198,6 +213,9 @@ def main():
                     help="extra QEMU argument (QEMU runs in a temporary directory)")
     ap.add_argument("--type", action="append", default=[], metavar="MINUTE:LINE",
                     help="type LINE on the console (UART2) at that emulated minute")
+    ap.add_argument("--time-lie", metavar="MINUTE:SECONDS",
+                    help="from that emulated minute the epochs' time is off by +SECONDS and "
+                         "-SECONDS in turn")
     ap.add_argument("--move", action="append", default=[], metavar="MINUTE:LAT,LON",
                     help="from that emulated minute the receiver reports this position")
     ap.add_argument("--config-file", metavar="PATH",
@@ -211,6 +229,7 @@ def main():
     try:
         parsed = [parse_type(t) for t in a.type]
         moves = sorted((parse_move(m) for m in a.move), key=lambda x: x[0])
+        lie = parse_time_lie(a.time_lie) if a.time_lie else None
     except ValueError as e:
         ap.error(str(e))
     late = [t for t, (ms, _) in zip(a.type, parsed) if ms >= end_ms]
@@ -219,6 +238,7 @@ def main():
     # Stable sort: lines of one minute keep their order.
     typed = sorted(parsed, key=lambda x: x[0])
     pending = []
+    lies = 0
 
     tmp = tempfile.mkdtemp(prefix="qemu_gps.")
     if a.config_file:
@@ -278,8 +298,11 @@ def main():
                 for at_ms, p in moves:
                     if at_ms <= ms:
                         position = p
-                nmea = b"" if a.no_gps else epoch(gga, rmc, first + dt.timedelta(milliseconds=ms),
-                                                  position)
+                when = first + dt.timedelta(milliseconds=ms)
+                if lie is not None and ms >= lie[0]:
+                    lies += 1
+                    when += dt.timedelta(seconds=lie[1] if lies % 2 else -lie[1])
+                nmea = b"" if a.no_gps else epoch(gga, rmc, when, position)
                 if nmea:
                     gps.sendall(nmea)
                 while typed and typed[0][0] <= ms:
