@@ -568,6 +568,10 @@ where
     /// model's sums are the bulk of the site update's temporaries.
     #[cfg_attr(target_arch = "avr", inline(never))]
     fn update_declination(&mut self, now: &UtcTime) {
+        // Only for a compass that applies it.
+        if self.controller.sensors_mut().is_none() {
+            return;
+        }
         let key = (self.site, now.days_since_2000());
         if self.declination_for != Some(key) {
             self.declination_for = Some(key);

@@ -94,3 +94,14 @@ pub trait AttitudeSensor<T> {
         let _ = declination_deg;
     }
 }
+
+/// No attitude sensors: the type of a board whose mount attitude is fixed
+/// in the configuration (`Option<Infallible>` is always `None`, so the
+/// code that reads sensors, and the declination computed for them, is not
+/// in its image).
+impl<T> AttitudeSensor<T> for core::convert::Infallible {
+    type Error = core::convert::Infallible;
+    fn read(&mut self) -> Result<AttitudeReading<T>, Self::Error> {
+        match *self {}
+    }
+}

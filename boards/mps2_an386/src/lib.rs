@@ -93,10 +93,10 @@ use cortex_m::peripheral::{NVIC, SYST};
 use cortex_m_semihosting::{debug, hio, syscall};
 use drivers::rtc::Clock as RtcClock;
 use drivers::time::DateTime;
+use sun_algos::time::div_rem_u64;
 use sun_algos::UtcTime;
 
 use sim::plant::MotorPlant;
-use sim::sensors::MountSensors;
 use suntracker::config::Config;
 use suntracker::console::RxRing;
 use suntracker::controller::{AttitudeSource, Controller, ControllerOptions};
@@ -123,6 +123,8 @@ pub const TICK_MS: u32 = 10_000;
 /// wall second (one per main-loop turn), so a whole 1 Hz day (12 MB of
 /// NMEA) would take twenty minutes; one epoch every 10 s takes two.
 pub const GATE_MS: u64 = TICK_MS as u64;
+/// [`GATE_MS`] as the 32-bit divisor of [`div_rem_u64`].
+const GATE_MS_U32: u32 = TICK_MS;
 /// Day-table capacity: Jimoh & Aliyu's (2019) 4-minute table of a polar day,
 /// both solar midnights included: 1440 / 4 + 1 = 361 entries
 /// (`capacity_for_interval`). 360 refused every polar day whose solar
@@ -384,7 +386,10 @@ fn monotonic_ms() -> u64 {
         let cvr = u64::from(SYST::get_current());
         let p2 = PERIODS.load(Ordering::Relaxed);
         if p1 == p2 {
-            let in_period = (reload.saturating_sub(cvr)) * 1000 / u64::from(CORE_HZ);
+            // Below 2^24 counts of CORE_HZ / 1000 each: 32-bit division
+            // (a u64 one links the 64-bit division routine).
+            let counts = u32::try_from(reload.saturating_sub(cvr)).unwrap_or(u32::MAX);
+            let in_period = u64::from(counts / (CORE_HZ / 1000));
             break u64::from(p1) * u64::from(SYSTICK_MS) + in_period;
         }
     }
@@ -673,7 +678,8 @@ impl Platform for Board {
         let now = self.now_ms();
         if now >= self.next_gate_ms {
             self.gate(now);
-            self.next_gate_ms = now - now % GATE_MS + GATE_MS;
+            let into_gate = div_rem_u64(now, GATE_MS_U32).map_or(0, |(_, r)| u64::from(r));
+            self.next_gate_ms = now - into_gate + GATE_MS;
         }
     }
     fn console_read(&mut self, buf: &mut [u8]) -> usize {
@@ -698,8 +704,7 @@ impl Platform for Board {
 }
 
 fn put_u64(out: &mut dyn Sink, v: u64) {
-    let hi = v / 1_000_000_000;
-    let lo = (v % 1_000_000_000) as u32;
+    let (hi, lo) = div_rem_u64(v, 1_000_000_000).unwrap_or((0, 0));
     if hi > 0 {
         out.u32(hi as u32);
         out.u32_padded(lo, 9);
@@ -723,7 +728,9 @@ fn plant(min_deg: f32, max_deg: f32, start_deg: f64) -> MotorPlant {
     )
 }
 
-type Tracker = Firmware<f32, SoftRtc, GpsUart, MotorPlant, MountSensors, Semihosting, TABLE_LEN>;
+/// No attitude sensors (`Infallible`): the mount is level, as configured
+/// (`AttitudeSource::Fixed`).
+type Tracker = Firmware<f32, SoftRtc, GpsUart, MotorPlant, Infallible, Semihosting, TABLE_LEN>;
 
 /// The word the free RAM is painted with at start-up.
 const STACK_PAINT: u32 = 0xA5A5_A5A5;
@@ -808,7 +815,7 @@ fn boot_config(store: &mut Store) -> (Config, ConfigSource) {
         f32,
         suntracker::sun::BoardSource<f32>,
         MotorPlant,
-        MountSensors,
+        Infallible,
         TABLE_LEN,
     >::check(&loaded.config)
     .is_ok()
