@@ -32,13 +32,13 @@ cd "$(dirname "$0")/.."
 #             for one position (any algorithm may be configured on the Uno)
 #   avr_day   cycles of the daylight table: 16,000,000 = 1 s at 16 MHz
 #   cm4_pos   Cortex-M4F instructions per position (QEMU -icount): measured
-#             at commit fc9f61f (psa-2020 1,018; michalsky 974;
-#             grena-2012-3 886) plus 10 %, rounded up, so that a slowdown of
-#             more than 10 % fails
+#             with the board crate at opt-level "z" (Cargo.toml; psa-2020
+#             1,061; michalsky 1,016; grena-2012-3 984) plus 10 %, rounded
+#             up, so that a slowdown of more than 10 % fails
 BUDGETS="
-psa-2020      48000 16000000 1120
-michalsky     48000 16000000 1072
-grena-2012-3  48000 16000000 975
+psa-2020      48000 16000000 1168
+michalsky     48000 16000000 1118
+grena-2012-3  48000 16000000 1083
 "
 # The 24-hour table: 86,400 s / 240 s step = 360 positions.
 DAY_POINTS=360

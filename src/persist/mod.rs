@@ -435,7 +435,11 @@ impl<F: NorFlash, const STEP: usize> NorFlashStorage<F, STEP> {
             else {
                 return Err(NorError::OutOfRange);
             };
-            dst.copy_from_slice(src);
+            // Both n bytes; element-wise (`copy_from_slice` keeps its
+            // length-mismatch panic where it is not inlined).
+            for (d, s) in dst.iter_mut().zip(src) {
+                *d = *s;
+            }
             done += n;
         }
         Ok(())
@@ -527,10 +531,14 @@ impl<F: NorFlash, const STEP: usize> Storage for NorFlashStorage<F, STEP> {
         self.map(offset, unit)?;
         let src = data.get(..take).ok_or(NorError::OutOfRange)?;
         let mut padded = [0xFFu8; STEP];
-        padded
+        for (d, s) in padded
             .get_mut(..take)
             .ok_or(NorError::OutOfRange)?
-            .copy_from_slice(src);
+            .iter_mut()
+            .zip(src)
+        {
+            *d = *s;
+        }
         let piece = padded.get(..unit).ok_or(NorError::NotAligned)?;
         self.flash
             .write(Self::flash_offset(at)?, piece)

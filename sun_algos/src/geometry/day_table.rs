@@ -425,8 +425,17 @@ impl<const N: usize> DayTable<N> {
         };
         // The first whole step at or after `from`, the last at or before
         // `to` (|from|, |to| < 2^31 − step: no overflow).
-        let first_k = from.div_euclid(step) + i32::from(from.rem_euclid(step) != 0);
-        let last_k = to.div_euclid(step);
+        // Checked, though the step is not 0 here: the divisions then carry
+        // no divide-by-zero panic where the optimiser does not see that
+        // (opt-level "z").
+        let (Some(from_k), Some(from_r), Some(last_k)) = (
+            from.checked_div_euclid(step),
+            from.checked_rem_euclid(step),
+            to.checked_div_euclid(step),
+        ) else {
+            return Err(GeometryError::InvalidInterval);
+        };
+        let first_k = from_k + i32::from(from_r != 0);
         // Steps from the first to the last, both included (none if negative).
         let count = last_k - first_k + 1;
         let needed = usize::try_from(count).unwrap_or(0);
