@@ -386,8 +386,9 @@ fn monotonic_ms() -> u64 {
         let cvr = u64::from(SYST::get_current());
         let p2 = PERIODS.load(Ordering::Relaxed);
         if p1 == p2 {
-            // Below 2^24 counts of CORE_HZ / 1000 each: 32-bit division
-            // (a u64 one links the 64-bit division routine).
+            // Under 2^24 counts (SysTick is 24 bits), CORE_HZ / 1000 of
+            // them a millisecond: a 32-bit division (a u64 one would link
+            // the 64-bit division routine).
             let counts = u32::try_from(reload.saturating_sub(cvr)).unwrap_or(u32::MAX);
             let in_period = u64::from(counts / (CORE_HZ / 1000));
             break u64::from(p1) * u64::from(SYSTICK_MS) + in_period;
