@@ -810,3 +810,36 @@ fn poles_plan_and_track_in_f32_with_a_polar_day_table() {
     // Two days of 17.5 h at one set-point per 4 minutes.
     short_table::<240>(55.0, 8.4, 2 * 17 * 15, false);
 }
+
+/// The entry of a table for the slot `now` is in, found by looking at every
+/// entry (what `Scheduler::current` must return).
+fn slot_entry(s: &Sched, now: &UtcTime) -> Option<suntracker::plan::TableEntry<f64>> {
+    let step_s = i64::from(s.config().table_step_s);
+    let table = s.table();
+    (0..table.len())
+        .filter_map(|i| table.get(i))
+        .find(|e| (0..step_s).contains(&now.seconds_since(&e.time).map_or(-1, i64::from)))
+}
+
+#[test]
+fn table_current_is_the_slot_entry_applied_or_not() {
+    let mut s = Sched::new(ScheduleConfig::default(), KANO).unwrap();
+    let start = t("2018-10-19T03:00:00Z");
+    // Tracked with 1-second ticks until 10:00:30.
+    run(&mut s, start, 7 * 3600 + 30, 1);
+    let now = t("2018-10-19T10:00:30Z");
+    let applied = s.applied().unwrap();
+    assert_eq!(applied.time, t("2018-10-19T10:00:00Z"));
+    // The slot's entry is the one applied.
+    assert_eq!(s.current(&now), Some(applied));
+    assert_eq!(s.current(&now), slot_entry(&s, &now));
+    // Ticks missed: 17 minutes later the applied entry is of an earlier
+    // slot; the table's entry of the present one (10:16) is returned.
+    let later = t("2018-10-19T10:17:10Z");
+    let e = s.current(&later).unwrap();
+    assert_eq!(e.time, t("2018-10-19T10:16:00Z"));
+    assert_eq!(Some(e), slot_entry(&s, &later));
+    assert_ne!(Some(e), s.applied());
+    // Before sunrise no slot of the table.
+    assert_eq!(s.current(&t("2018-10-19T04:00:00Z")), None);
+}

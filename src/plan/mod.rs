@@ -599,9 +599,13 @@ impl<T: Float, P: PositionSource<T>, const N: usize> Scheduler<T, P, N> {
             now.seconds_since(&e.time)
                 .is_some_and(|late| (0..step_s).contains(&late))
         };
-        if self.real_time() {
-            return self.applied().filter(in_slot);
+        let applied = self.applied().filter(in_slot);
+        if self.real_time() || applied.is_some() {
+            return applied;
         }
+        // Ticks were missed (or the scheduler's check for this slot is
+        // still to come): the table's entry, one scan of it. Usually the
+        // entry applied last is the slot's, and a tick costs no scan.
         let table = self.table();
         (0..table.len())
             .filter_map(|i| table.get(i))
