@@ -12,7 +12,7 @@
 //! | configuration storage | a host file through semihosting, [`CONFIG_FILE`] in QEMU's working directory ([`SemihostingFile`]; why: below) |
 //! | monotonic ms | SysTick (ARMv7-M ARM B3.3) on the 25 MHz core clock, one interrupt every 500 ms, the count in between |
 //! | UTC clock | no RTC chip: [`SoftRtc`], a clock on the monotonic clock that reports lost power until GPS or the console's `time set` sets it, and loses the time at every restart |
-//! | axis drives | [`MotorPlant`] steppers (QEMU has no motors), advanced by the elapsed monotonic time in [`suntracker::firmware::Motion::service`] |
+//! | axis drives | [`mount::StepperModel`]: ideal steppers in whole steps (QEMU has no motors), advanced by the elapsed monotonic time in [`suntracker::firmware::Motion::service`] |
 //! | attitude | none: a level mount facing north |
 //! | anemometer | none: zero pulses (calm) |
 //! | watchdog | CMSDK APB watchdog at 0x4000_8000, 10 s (QEMU models it on the an386, but resets at the first timeout, with the NMI: run QEMU with `-no-reboot`, and a reset ends the run) |
@@ -83,6 +83,8 @@
 //! faults_active=… …`.
 #![no_std]
 
+pub mod mount;
+
 use core::cell::RefCell;
 use core::convert::Infallible;
 use core::sync::atomic::{AtomicU32, Ordering};
@@ -96,7 +98,7 @@ use drivers::time::DateTime;
 use sun_algos::time::div_rem_u64;
 use sun_algos::UtcTime;
 
-use sim::plant::MotorPlant;
+use mount::StepperModel;
 use suntracker::config::Config;
 use suntracker::console::RxRing;
 use suntracker::controller::{AttitudeSource, Controller, ControllerOptions};
@@ -150,11 +152,6 @@ pub const CONSOLE_RING_LEN: usize = 256;
 pub const CONFIG_FILE: &str = "suntracker-config.bin";
 const CONFIG_FILE_C: &[u8] = b"suntracker-config.bin\0";
 
-/// The simulated axes: 1.8° steppers in full steps through a 100:1 gear
-/// (0.018° a step), no backlash, 2°/s.
-const STEP_ANGLE_DEG: f64 = 1.8;
-const GEAR_RATIO: f64 = 100.0;
-const SPEED_DEG_S: f64 = 2.0;
 /// Homing chunk: the fine approach (chunk/50) is one step.
 const HOMING_CHUNK_DEG: f32 = 0.9;
 
@@ -270,6 +267,25 @@ pub fn on_systick() {
 
 /// NMI's number in cortex-m-rt's `DefaultHandler` argument (IPSR − 16).
 const NMI_IRQN: i16 = -14;
+
+/// Interrupt lines of the an386's NVIC: QEMU builds it with 32
+/// (`hw/arm/mps2.c`, `num-irq` for the AN385 and AN386 images).
+pub const IRQ_LINES: usize = 32;
+
+extern "C" {
+    /// cortex-m-rt's default handler, or the image's `#[exception]
+    /// DefaultHandler`.
+    fn DefaultHandler();
+}
+
+/// The interrupt part of the vector table (cortex-m-rt's `device` feature
+/// places it after the exceptions): the an386's [`IRQ_LINES`] lines, each to
+/// `DefaultHandler`, which passes the line to [`on_interrupt`]. Without it
+/// cortex-m-rt would fill 240 lines (ARMv7-M's most), 832 bytes more.
+#[link_section = ".vector_table.interrupts"]
+#[no_mangle]
+#[used]
+pub static __INTERRUPTS: [unsafe extern "C" fn(); IRQ_LINES] = [DefaultHandler; IRQ_LINES];
 
 /// A device interrupt or an exception without its own handler, `irqn` as
 /// cortex-m-rt's `DefaultHandler` gives it. The watchdog's first timeout
@@ -714,24 +730,9 @@ fn put_u64(out: &mut dyn Sink, v: u64) {
     }
 }
 
-/// One simulated axis (see the constants above).
-fn plant(min_deg: f32, max_deg: f32, start_deg: f64) -> MotorPlant {
-    MotorPlant::stepper(
-        STEP_ANGLE_DEG,
-        1,
-        GEAR_RATIO,
-        0.0,
-        SPEED_DEG_S,
-        None,
-        f64::from(min_deg),
-        f64::from(max_deg),
-        start_deg,
-    )
-}
-
 /// No attitude sensors (`Infallible`): the mount is level, as configured
 /// (`AttitudeSource::Fixed`).
-type Tracker = Firmware<f32, SoftRtc, GpsUart, MotorPlant, Infallible, Semihosting, TABLE_LEN>;
+type Tracker = Firmware<f32, SoftRtc, GpsUart, StepperModel, Infallible, Semihosting, TABLE_LEN>;
 
 /// The word the free RAM is painted with at start-up.
 const STACK_PAINT: u32 = 0xA5A5_A5A5;
@@ -781,11 +782,11 @@ fn stack_peak_bytes() -> u32 {
 fn board_config() -> Config {
     let mut config = Config::default();
     for ax in config.axes.iter_mut() {
-        ax.counts_per_motor_rev = (360.0 / STEP_ANGLE_DEG) as u32;
+        ax.counts_per_motor_rev = mount::STEPS_PER_MOTOR_REV;
         ax.microsteps = 1;
-        ax.gear_ratio = GEAR_RATIO as f32;
+        ax.gear_ratio = mount::GEAR_RATIO as f32;
         ax.backlash_deg = 0.0;
-        ax.max_speed_deg_s = SPEED_DEG_S as f32;
+        ax.max_speed_deg_s = mount::SPEED_DEG_S as f32;
         // Open loop: every set-point is driven to the nearest step.
         ax.deadband_deg = 0.0;
     }
@@ -815,7 +816,7 @@ fn boot_config(store: &mut Store) -> (Config, ConfigSource) {
     } else if Controller::<
         f32,
         suntracker::sun::BoardSource<f32>,
-        MotorPlant,
+        StepperModel,
         Infallible,
         TABLE_LEN,
     >::check(&loaded.config)
@@ -846,12 +847,11 @@ pub fn run() -> ! {
     let gps = GpsUart::start();
     start_console();
     let [c, a] = config.axes;
-    // Power-on angles on the step grid from the home switches (the fine
-    // homing approach then lands on the switch to the step).
-    let on_grid = |home: f32, steps: f64| f64::from(home) + steps * STEP_ANGLE_DEG / GEAR_RATIO;
+    // Power-on angles, steps above the home switches (the fine homing
+    // approach then lands on the switch to the step).
     let plants = [
-        plant(c.home_deg, c.max_deg, on_grid(c.home_deg, 10_556.0)),
-        plant(a.home_deg, a.max_deg, on_grid(a.home_deg, 6_111.0)),
+        StepperModel::new(c.home_deg, c.max_deg, 10_556),
+        StepperModel::new(a.home_deg, a.max_deg, 6_111),
     ];
     let options = ControllerOptions {
         feedback: FeedbackMode::OpenLoop,
@@ -908,7 +908,7 @@ pub fn run() -> ! {
     board.log.text(" gate_ms=");
     put_u64(&mut board.log, GATE_MS);
     board.log.text(" axis_step_deg=");
-    board.log.fixed((STEP_ANGLE_DEG / GEAR_RATIO) as f32, 3);
+    board.log.fixed(mount::STEP_DEG, 3);
     board.log.text("\n");
     // The first epoch before the first pass.
     board.gate(0);
@@ -952,9 +952,9 @@ fn axes_line(fw: &Tracker, out: &mut Semihosting, t: &UtcTime) {
     out.text("axes utc=");
     out.utc(t);
     out.text(" c=");
-    out.fixed(c.drive().output_deg() as f32, 4);
+    out.fixed(c.drive().output_deg(), 4);
     out.text(" a=");
-    out.fixed(a.drive().output_deg() as f32, 4);
+    out.fixed(a.drive().output_deg(), 4);
     out.text("\n");
 }
 
@@ -964,9 +964,9 @@ fn axes_line(fw: &Tracker, out: &mut Semihosting, t: &UtcTime) {
 fn held_axes_line(fw: &Tracker, out: &mut Semihosting) {
     let [c, a] = fw.controller().axes();
     out.text("axes mode=service c=");
-    out.fixed(c.drive().output_deg() as f32, 4);
+    out.fixed(c.drive().output_deg(), 4);
     out.text(" a=");
-    out.fixed(a.drive().output_deg() as f32, 4);
+    out.fixed(a.drive().output_deg(), 4);
     out.text("\n");
 }
 

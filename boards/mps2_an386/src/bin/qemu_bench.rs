@@ -19,6 +19,10 @@
 #![no_std]
 #![no_main]
 
+// The board crate's interrupt vectors (`__INTERRUPTS`): nothing else of it
+// is used here.
+use suntracker_mps2_an386 as _;
+
 mod firmware {
     use cortex_m::peripheral::{syst::SystClkSource, SYST};
     use cortex_m_rt::entry;
