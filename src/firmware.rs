@@ -647,14 +647,7 @@ where
                     console::write_line_error(&mut self.log, e);
                     continue;
                 }
-                Some(Ok(text)) => {
-                    // Byte by byte, not `copy_from_slice`: at opt-level
-                    // "z" that is a call carrying its length-mismatch panic.
-                    for (d, s) in line.iter_mut().zip(text.as_bytes()) {
-                        *d = *s;
-                    }
-                    text.len().min(line.len())
-                }
+                Some(Ok(text)) => crate::bytes::copy_prefix(&mut line, text.as_bytes()),
             };
             if self.saving.is_some() {
                 // No command while a save is under way (it takes under a

@@ -11,6 +11,7 @@
 pub const BANNER: &str = concat!("suntracker ", env!("CARGO_PKG_VERSION"));
 
 pub mod attitude;
+mod bytes;
 pub mod config;
 pub mod console;
 pub mod controller;

@@ -79,6 +79,9 @@ fn state(a: bool, b: bool) -> u8 {
 /// assert_eq!(transition(0b11, 0b11), Transition::None);
 /// assert_eq!(transition(0b01, 0b10), Transition::Illegal); // both changed
 /// ```
+// Inlined into the pin-change interrupt's decoders (as at opt-level "s"
+// without the hint): a call there costs the handler cycles.
+#[inline]
 pub fn transition(prev: u8, curr: u8) -> Transition {
     TABLE
         .get(usize::from(((prev & 3) << 2) | (curr & 3)))
@@ -137,6 +140,7 @@ impl QuadratureDecoder {
     /// assert_eq!(d.update(true, false), Transition::Illegal); // 01 → 10: an edge missed
     /// assert_eq!((d.count(), d.errors()), (-1, 1));
     /// ```
+    #[inline]
     pub fn update(&mut self, a: bool, b: bool) -> Transition {
         let s = state(a, b);
         let t = transition(self.state, s);
@@ -260,6 +264,7 @@ impl SharedEncoder {
     /// assert_eq!(enc.update(true, false), Transition::Illegal); // 01 → 10
     /// assert_eq!((enc.count(), enc.errors()), (-1, 1));
     /// ```
+    #[inline]
     pub fn update(&self, a: bool, b: bool) -> Transition {
         critical_section::with(|cs| {
             let cell = self.inner.borrow(cs);

@@ -25,9 +25,13 @@ pub(crate) struct Writer<'a> {
 }
 
 impl Writer<'_> {
+    /// Not inlined: a record's encoder calls it once for each field.
+    #[inline(never)]
     pub(crate) fn bytes(&mut self, b: &[u8]) {
         match self.buf.get_mut(self.pos..self.pos + b.len()) {
-            Some(dst) => dst.copy_from_slice(b),
+            Some(dst) => {
+                crate::bytes::copy_prefix(dst, b);
+            }
             None => self.overflow = true,
         }
         self.pos += b.len();

@@ -435,11 +435,8 @@ impl<F: NorFlash, const STEP: usize> NorFlashStorage<F, STEP> {
             else {
                 return Err(NorError::OutOfRange);
             };
-            // Both n bytes; element-wise (`copy_from_slice` keeps its
-            // length-mismatch panic where it is not inlined).
-            for (d, s) in dst.iter_mut().zip(src) {
-                *d = *s;
-            }
+            // Both n bytes.
+            crate::bytes::copy_prefix(dst, src);
             done += n;
         }
         Ok(())
@@ -531,14 +528,7 @@ impl<F: NorFlash, const STEP: usize> Storage for NorFlashStorage<F, STEP> {
         self.map(offset, unit)?;
         let src = data.get(..take).ok_or(NorError::OutOfRange)?;
         let mut padded = [0xFFu8; STEP];
-        for (d, s) in padded
-            .get_mut(..take)
-            .ok_or(NorError::OutOfRange)?
-            .iter_mut()
-            .zip(src)
-        {
-            *d = *s;
-        }
+        crate::bytes::copy_prefix(padded.get_mut(..take).ok_or(NorError::OutOfRange)?, src);
         let piece = padded.get(..unit).ok_or(NorError::NotAligned)?;
         self.flash
             .write(Self::flash_offset(at)?, piece)

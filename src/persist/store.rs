@@ -327,13 +327,8 @@ impl<S: Storage, R: Record, const N: usize> ConfigStore<S, R, N> {
             crc = crc32_update(crc, part);
             let into = at - HEADER_LEN;
             if let (true, Some(keep)) = (current, payload.get_mut(into..into + n)) {
-                // Both are n bytes long. Element by element, not
-                // `copy_from_slice`: where the optimiser does not inline
-                // that (the Uno's board crate at opt-level "z") it keeps
-                // its length-mismatch panic in the image.
-                for (k, p) in keep.iter_mut().zip(part.iter()) {
-                    *k = *p;
-                }
+                // Both are n bytes long.
+                crate::bytes::copy_prefix(keep, part);
             }
             at += n;
         }

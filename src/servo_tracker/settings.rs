@@ -189,7 +189,7 @@ impl Record for Settings {
             .chunks_exact_mut(4)
             .zip([self.lat_deg, self.lon_deg, gear_c, gear_a])
         {
-            chunk.copy_from_slice(&v.to_le_bytes());
+            crate::bytes::copy_prefix(chunk, &v.to_le_bytes());
         }
         Some(PAYLOAD_LEN)
     }
