@@ -17,6 +17,7 @@
 
 mod assembler;
 mod coordinate;
+mod fields;
 mod fix;
 mod parse;
 mod plausible;

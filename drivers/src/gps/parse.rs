@@ -51,6 +51,7 @@ use sun_algos::Float;
 
 use super::assembler::{check as check_framing, MAX_SENTENCE_LEN};
 use super::coordinate::Coordinate;
+use super::fields::{split_ascii, split_once_ascii};
 use super::plausible::{check_fields, gga_is_plausible, rmc_is_plausible, Kind};
 use crate::time::{days_in_month, DateTime};
 
@@ -332,8 +333,8 @@ pub fn parse_sentence(sentence: &str) -> Result<Sentence, ParseError> {
     }
     // The framing check leaves exactly one '*', three characters from the end.
     let body = sentence.strip_prefix('$').ok_or(ParseError)?;
-    let (body, _checksum) = body.split_once('*').ok_or(ParseError)?;
-    let mut fields = body.split(',');
+    let (body, _checksum) = split_once_ascii(body, b'*').ok_or(ParseError)?;
+    let mut fields = split_ascii(body, b',');
     // Address: 2-character talker and 3-character type, then the first comma.
     if fields.next().map(str::len) != Some(5) {
         return Err(ParseError);
@@ -428,7 +429,7 @@ fn parse_rmc<'a>(fields: &mut impl Iterator<Item = &'a str>) -> Result<Rmc, Pars
 /// fraction empty without a point). No sign, no exponent, at least one digit
 /// each side of a point.
 fn split_decimal(text: &str) -> Result<(&str, &str), ParseError> {
-    let (int, frac) = match text.split_once('.') {
+    let (int, frac) = match split_once_ascii(text, b'.') {
         Some((int, frac)) if !frac.is_empty() => (int, frac),
         Some(_) => return Err(ParseError),
         None => (text, ""),

@@ -36,6 +36,7 @@
 //!    [`MIN_ALTITUDE_M`]..=[`MAX_ALTITUDE_M`], time of day below 24 h.
 
 use super::coordinate::Coordinate;
+use super::fields::{before_ascii, split_ascii, split_once_ascii};
 use super::parse::{Gga, Rmc, TimeOfDayMs};
 use crate::time::days_in_month;
 
@@ -126,14 +127,14 @@ pub(crate) enum Kind {
 /// assembler gives it out). `false` when any field is impossible.
 pub(crate) fn check_fields(kind: Kind, sentence: &str) -> bool {
     let body = sentence.strip_prefix('$').unwrap_or(sentence);
-    let body = body.split('*').next().unwrap_or(body);
+    let body = before_ascii(body, b'*');
     let table: &[Field] = match kind {
         Kind::Gga => &GGA_FIELDS,
         Kind::Rmc => &RMC_FIELDS,
     };
     let mut position_fields = 0u8;
     let mut position_present = 0u8;
-    for (index, text) in body.split(',').enumerate() {
+    for (index, text) in split_ascii(body, b',').enumerate() {
         if spells_non_finite(text) {
             return false;
         }
@@ -185,7 +186,7 @@ fn all_digits(text: &str) -> bool {
 /// `digits[.digits]`: no sign, no exponent, at least one digit each side of a
 /// decimal point that is present.
 fn decimal_ok(text: &str) -> bool {
-    match text.split_once('.') {
+    match split_once_ascii(text, b'.') {
         Some((int, frac)) => all_digits(int) && all_digits(frac),
         None => all_digits(text),
     }
@@ -206,7 +207,7 @@ fn time_ok(text: &str) -> bool {
     if !decimal_ok(text) {
         return false;
     }
-    let int = text.split('.').next().unwrap_or(text);
+    let int = before_ascii(text, b'.');
     let (Some(hour), Some(minute), Some(second)) = (
         int.get(0..2).and_then(two_digits),
         int.get(2..4).and_then(two_digits),
@@ -224,7 +225,7 @@ fn angle_ok(text: &str, degree_digits: usize, max_deg: u16) -> bool {
     if !decimal_ok(text) {
         return false;
     }
-    let int = text.split('.').next().unwrap_or(text);
+    let int = before_ascii(text, b'.');
     if int.len() != degree_digits + 2 {
         return false;
     }
