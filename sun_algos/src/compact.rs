@@ -298,7 +298,7 @@ pub fn asin(x: f32) -> f32 {
         return f32::NAN;
     }
     let y = if a > 0.5 {
-        let s = libm::sqrtf(0.5 * (1.0 - a));
+        let s = sqrt(0.5 * (1.0 - a));
         (FRAC_PI_2 - 2.0 * asin_kernel(s)) + FRAC_PI_2_LO
     } else {
         asin_kernel(a)
@@ -307,6 +307,54 @@ pub fn asin(x: f32) -> f32 {
         -y
     } else {
         y
+    }
+}
+
+/// Square root, correctly rounded (IEEE 754-2008 §5.4.1 requires it of
+/// every implementation, so the result is the same bits everywhere); NaN
+/// below zero.
+///
+/// On a hard-float ARM target (ABI `eabihf`: every such core has a VFP
+/// unit, and VFPv2 and later execute `VSQRT.F32`, Arm *Architecture
+/// Reference Manual ARMv7-M*, A7.7.256) one instruction; elsewhere libm's
+/// `sqrtf` (software, about 500 bytes of code and tables on a Cortex-M4F).
+///
+/// ```
+/// use sun_algos::compact::sqrt;
+///
+/// assert_eq!(sqrt(2.25), 1.5);
+/// // The f32 nearest √2 (0x3FB504F3), as std's correctly rounded f32 sqrt.
+/// assert_eq!(sqrt(2.0).to_bits(), 0x3FB5_04F3);
+/// assert!(sqrt(-1.0).is_nan());
+/// ```
+#[inline]
+pub fn sqrt(x: f32) -> f32 {
+    #[cfg(all(target_arch = "arm", target_abi = "eabihf"))]
+    {
+        let root_bits: u32;
+        // The value goes through a core register and s0, declared
+        // clobbered: stable Rust offers the `sreg` operand class only with
+        // the `vfp2` target feature, which is unstable to name.
+        // SAFETY: VMOV and VSQRT.F32 touch no memory, no stack and no APSR
+        // flag (VSQRT sets only FPSCR's cumulative exception bits, which
+        // Rust does not model); s0 is declared clobbered.
+        #[allow(unsafe_code)]
+        unsafe {
+            core::arch::asm!(
+                "vmov s0, {x}",
+                "vsqrt.f32 s0, s0",
+                "vmov {root}, s0",
+                x = in(reg) x.to_bits(),
+                root = lateout(reg) root_bits,
+                out("s0") _,
+                options(pure, nomem, nostack, preserves_flags),
+            );
+        }
+        f32::from_bits(root_bits)
+    }
+    #[cfg(not(all(target_arch = "arm", target_abi = "eabihf")))]
+    {
+        libm::sqrtf(x)
     }
 }
 
@@ -328,7 +376,7 @@ pub fn acos(x: f32) -> f32 {
     if a <= 0.5 {
         return (FRAC_PI_2 - asin_kernel(x)) + FRAC_PI_2_LO;
     }
-    let s = libm::sqrtf(0.5 * (1.0 - a));
+    let s = sqrt(0.5 * (1.0 - a));
     let t = 2.0 * asin_kernel(s);
     if x > 0.0 {
         t

@@ -517,8 +517,8 @@ mod backend32 {
     not(all(target_arch = "avr", feature = "avr-libc-math"))
 ))]
 mod backend32 {
-    pub use crate::compact::{acos, asin, atan, atan2, cos, sin, sin_cos, tan};
-    pub use libm::{floorf as floor, sqrtf as sqrt};
+    pub use crate::compact::{acos, asin, atan, atan2, cos, sin, sin_cos, sqrt, tan};
+    pub use libm::floorf as floor;
 }
 
 /// The f32 trigonometry in use on 8-bit AVR with `avr-libc-math`: avr-libc's
