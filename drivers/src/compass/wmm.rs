@@ -193,33 +193,99 @@ pub struct MagneticElements<F = f64> {
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
 enum Table {
     /// The built-in WMM2025 table; on AVR it lives in flash (`.progmem`):
-    /// avr-gcc would otherwise copy its 3 KB into RAM at start-up.
+    /// avr-gcc would otherwise copy its 1 KB into RAM at start-up.
     Wmm2025,
     /// A table given by the caller.
     Slice(&'static [WmmCoefficient]),
 }
 
+/// One row of the built-in table as stored: the row's place gives n and m,
+/// and WMM2025's secular variation fits an `i16` (at most a few hundred
+/// tenths of a nanotesla a year): 12 bytes a row instead of
+/// [`WmmCoefficient`]'s 18 to 20.
+#[derive(Debug, Clone, Copy)]
+struct PackedRow {
+    g_tenth_nt: i32,
+    h_tenth_nt: i32,
+    g_dot_tenth_nt_per_yr: i16,
+    h_dot_tenth_nt_per_yr: i16,
+}
+
+/// The generated table packed, checked at compile time: rows in (n, m)
+/// order for n = 1..=12, m = 0..=n, every rate within `i16` (a table that
+/// breaks either does not build).
+const fn pack(rows: &[WmmCoefficient; ROWS]) -> [PackedRow; ROWS] {
+    let mut packed = [PackedRow {
+        g_tenth_nt: 0,
+        h_tenth_nt: 0,
+        g_dot_tenth_nt_per_yr: 0,
+        h_dot_tenth_nt_per_yr: 0,
+    }; ROWS];
+    let (mut i, mut n, mut m) = (0, 1, 0);
+    while i < ROWS {
+        let row = rows[i];
+        assert!(row.n == n && row.m == m, "WMM table out of (n, m) order");
+        let (g_dot, h_dot) = (row.g_dot_tenth_nt_per_yr, row.h_dot_tenth_nt_per_yr);
+        assert!(g_dot >= i16::MIN as i32 && g_dot <= i16::MAX as i32);
+        assert!(h_dot >= i16::MIN as i32 && h_dot <= i16::MAX as i32);
+        packed[i] = PackedRow {
+            g_tenth_nt: row.g_tenth_nt,
+            h_tenth_nt: row.h_tenth_nt,
+            g_dot_tenth_nt_per_yr: g_dot as i16,
+            h_dot_tenth_nt_per_yr: h_dot as i16,
+        };
+        if m == n {
+            (n, m) = (n + 1, 0);
+        } else {
+            m += 1;
+        }
+        i += 1;
+    }
+    packed
+}
+
+/// Rows of a degree-and-order-12 table: n = 1..=12, m = 0..=n.
+const ROWS: usize = 90;
+
 #[cfg(target_arch = "avr")]
 avr_progmem::progmem! {
     /// WMM2025 in flash, read with `lpm` one row at a time.
-    static progmem WMM2025_FLASH: [WmmCoefficient; 90] = COEFFICIENTS;
-}
-
-impl Table {
-    fn get(&self, i: usize) -> Option<WmmCoefficient> {
-        match self {
-            #[cfg(target_arch = "avr")]
-            Table::Wmm2025 => (i < WMM2025_FLASH.len()).then(|| WMM2025_FLASH.load_at(i)),
-            #[cfg(not(target_arch = "avr"))]
-            Table::Wmm2025 => COEFFICIENTS_STATIC.get(i).copied(),
-            Table::Slice(rows) => rows.get(i).copied(),
-        }
-    }
+    static progmem WMM2025_FLASH: [PackedRow; ROWS] = pack(&COEFFICIENTS);
 }
 
 /// The built-in table as one static (a `const` would be copied per use).
 #[cfg(not(target_arch = "avr"))]
-static COEFFICIENTS_STATIC: [WmmCoefficient; 90] = COEFFICIENTS;
+static WMM2025_PACKED: [PackedRow; ROWS] = pack(&COEFFICIENTS);
+
+impl Table {
+    /// Row `i`, which must be (n, m): the built-in table is in that order
+    /// by construction ([`pack`]), a caller's table is checked.
+    fn get(&self, i: usize, n: usize, m: usize) -> Result<WmmCoefficient, WmmError> {
+        let packed = match self {
+            #[cfg(target_arch = "avr")]
+            Table::Wmm2025 => (i < WMM2025_FLASH.len()).then(|| WMM2025_FLASH.load_at(i)),
+            #[cfg(not(target_arch = "avr"))]
+            Table::Wmm2025 => WMM2025_PACKED.get(i).copied(),
+            Table::Slice(rows) => {
+                let row = rows.get(i).copied().ok_or(WmmError::BadCoefficientTable)?;
+                if usize::from(row.n) != n || usize::from(row.m) != m {
+                    return Err(WmmError::BadCoefficientTable);
+                }
+                return Ok(row);
+            }
+        };
+        let row = packed.ok_or(WmmError::BadCoefficientTable)?;
+        // n, m ≤ 12: they came from the table's own order.
+        Ok(WmmCoefficient {
+            n: n as u8,
+            m: m as u8,
+            g_tenth_nt: row.g_tenth_nt,
+            h_tenth_nt: row.h_tenth_nt,
+            g_dot_tenth_nt_per_yr: i32::from(row.g_dot_tenth_nt_per_yr),
+            h_dot_tenth_nt_per_yr: i32::from(row.h_dot_tenth_nt_per_yr),
+        })
+    }
+}
 
 /// A spherical-harmonic main-field model with secular variation.
 ///
@@ -421,7 +487,7 @@ impl WmmModel {
         let mut y_gc = zero;
         let mut z_gc = zero;
         let table = self.coefficients;
-        let mut coeffs = (0..).map_while(move |i| table.get(i));
+        let mut row_index = 0;
 
         for n in 1..=MAX_DEGREE {
             ratio_pow *= ratio;
@@ -464,10 +530,8 @@ impl WmmModel {
                     *slot = dp;
                 }
 
-                let coef = coeffs.next().ok_or(WmmError::BadCoefficientTable)?;
-                if usize::from(coef.n) != n || usize::from(coef.m) != m {
-                    return Err(WmmError::BadCoefficientTable);
-                }
+                let coef = table.get(row_index, n, m)?;
+                row_index += 1;
                 // Report eq. 9: coefficients at the requested date, in
                 // tenths of a nanotesla (whole numbers, exact in f32).
                 let g = F::from_i32(coef.g_tenth_nt)
