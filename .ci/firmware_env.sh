@@ -38,16 +38,19 @@ build_qemu() {
   cargo build --release --target thumbv7em-none-eabihf -p suntracker-mps2-an386 \
     --bin qemu_tracker --bin qemu_bench
 }
+# Both Black Pill builds run in the board's directory, so that its
+# .cargo/config.toml (the profile this image is built with) holds as it does
+# for `cargo run` there.
 build_blackpill() {
-  cargo build --release --target thumbv7em-none-eabihf -p suntracker-stm32f411 \
-    --bin blackpill_tracker --target-dir "$FW_TARGET_DIR/blackpill"
+  (cd boards/stm32f411 && cargo build --release --target thumbv7em-none-eabihf -p suntracker-stm32f411 \
+    --bin blackpill_tracker --target-dir "$FW_TARGET_DIR/blackpill")
 }
 # The Black Pill with its log over defmt/RTT: defmt's linker script joins
 # the root config's -Tlink.x (cargo joins rustflags lists across configs).
 build_blackpill_defmt() {
-  cargo build --release --target thumbv7em-none-eabihf -p suntracker-stm32f411 --features defmt \
+  (cd boards/stm32f411 && cargo build --release --target thumbv7em-none-eabihf -p suntracker-stm32f411 --features defmt \
     --bin blackpill_tracker --target-dir "$FW_TARGET_DIR/blackpill-defmt" \
-    --config 'target.thumbv7em-none-eabihf.rustflags=["-C", "link-arg=-Tdefmt.x"]'
+    --config 'target.thumbv7em-none-eabihf.rustflags=["-C", "link-arg=-Tdefmt.x"]')
 }
 build_avr_uno() {
   cargo +nightly build --release --target avr-none -Z build-std=core \
