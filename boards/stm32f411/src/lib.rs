@@ -109,6 +109,7 @@
 #[cfg(feature = "defmt")]
 mod defmt_log;
 pub mod flash;
+mod mem;
 
 use core::cell::{Cell, RefCell};
 use core::convert::Infallible;
