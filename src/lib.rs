@@ -33,7 +33,7 @@ pub mod time;
 /// Constant text and tables kept in program memory on AVR (the progmem
 /// crate), so that every module names them in one place.
 pub mod text {
-    pub use progmem::{ascii_str, FlashStr, ProgMem};
+    pub use progmem::{ascii_str, FlashStr, FlashStrs, ProgMem};
 }
 
-pub use progmem::{flash_str, progmem};
+pub use progmem::{flash_str, flash_strs, progmem};

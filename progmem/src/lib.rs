@@ -177,6 +177,125 @@ impl FlashStr {
     }
 }
 
+/// A table of constant ASCII texts read by number, as [`flash_strs!`]
+/// makes it: the texts joined in one static and the end of each as a `u16`
+/// in another (both in program memory on AVR). An entry costs its text and
+/// two bytes, where a table of [`FlashStr`]s, or a `match` returning one,
+/// costs a pointer and a length (four bytes on AVR, eight on a 32-bit
+/// core) and the code to load them.
+#[derive(Clone, Copy)]
+pub struct FlashStrs {
+    bytes: &'static [u8],
+    ends: &'static [u16],
+}
+
+impl FlashStrs {
+    /// The table of `bytes` (the texts joined) and `ends` (the end of
+    /// each); use [`flash_strs!`].
+    ///
+    /// # Safety
+    /// On AVR both must be statics in program memory below 64 KB; the
+    /// ends must rise and every text between two of them be ASCII (as
+    /// [`join`] and [`ends`] make them).
+    #[doc(hidden)]
+    pub const unsafe fn from_static(bytes: &'static [u8], ends: &'static [u16]) -> FlashStrs {
+        FlashStrs { bytes, ends }
+    }
+
+    /// Number of texts.
+    pub const fn len(self) -> usize {
+        self.ends.len()
+    }
+
+    /// True for an empty table.
+    pub const fn is_empty(self) -> bool {
+        self.ends.is_empty()
+    }
+
+    fn end(self, i: usize) -> Option<usize> {
+        let slot = self.ends.get(i)?;
+        // SAFETY: `ends` is a static in program memory on AVR
+        // (`from_static`).
+        Some(usize::from(unsafe { read_flash(slot) }))
+    }
+
+    /// Text `i`, `None` past the end.
+    pub fn get(self, i: usize) -> Option<FlashStr> {
+        let start = match i.checked_sub(1) {
+            Some(before) => self.end(before)?,
+            None => 0,
+        };
+        // Only the slice's address and length are taken here: on AVR its
+        // bytes are read with LPM, by FlashStr.
+        let piece = self.bytes.get(start..self.end(i)?)?;
+        #[cfg(target_arch = "avr")]
+        {
+            // A piece of a static below 64 KB: its length fits.
+            Some(FlashStr {
+                ptr: piece.as_ptr(),
+                len: piece.len() as u16,
+            })
+        }
+        #[cfg(not(target_arch = "avr"))]
+        {
+            // SAFETY: `join` checked every byte ASCII when compiling, and
+            // ASCII is valid UTF-8.
+            Some(FlashStr {
+                text: unsafe { core::str::from_utf8_unchecked(piece) },
+            })
+        }
+    }
+}
+
+/// Total length of `texts`, for [`flash_strs!`].
+#[doc(hidden)]
+pub const fn joined_len(texts: &[&str]) -> usize {
+    let mut n = 0;
+    let mut i = 0;
+    while i < texts.len() {
+        n += texts[i].len();
+        i += 1;
+    }
+    n
+}
+
+/// `texts` joined, for [`flash_strs!`]; fails to compile for a text that is
+/// not ASCII or a table longer than a `u16` can index.
+#[doc(hidden)]
+pub const fn join<const N: usize>(texts: &[&str]) -> [u8; N] {
+    assert!(N <= u16::MAX as usize, "flash_strs! tables end below 64 KB");
+    let mut out = [0u8; N];
+    let (mut at, mut i) = (0, 0);
+    while i < texts.len() {
+        let b = texts[i].as_bytes();
+        let mut k = 0;
+        while k < b.len() {
+            assert!(b[k].is_ascii(), "flash_strs! texts are ASCII");
+            out[at] = b[k];
+            at += 1;
+            k += 1;
+        }
+        i += 1;
+    }
+    assert!(at == N, "length");
+    out
+}
+
+/// The end of each of `texts` in their join, for [`flash_strs!`].
+#[doc(hidden)]
+pub const fn ends<const N: usize>(texts: &[&str]) -> [u16; N] {
+    assert!(texts.len() == N, "count");
+    let mut out = [0u16; N];
+    let (mut at, mut i) = (0, 0);
+    while i < N {
+        at += texts[i].len();
+        // `join` fails to compile past u16::MAX.
+        out[i] = at as u16;
+        i += 1;
+    }
+    out
+}
+
 /// Reads one byte of program memory (`LPM Rd, Z`).
 ///
 /// # Safety
@@ -283,6 +402,33 @@ macro_rules! flash_str {
         // SAFETY: on AVR, BYTES is in `.progmem.data` (attribute above),
         // which the linker places after the vectors, below 64 KB.
         unsafe { $crate::FlashStr::from_static(&BYTES, TEXT) }
+    }};
+}
+
+/// A [`FlashStrs`] table of the texts given, in program memory on AVR; the
+/// texts must be ASCII (checked when compiling).
+///
+/// ```
+/// let words = progmem::flash_strs!("north", "east", "", "south");
+/// assert_eq!(words.len(), 4);
+/// assert_eq!(words.get(0).unwrap(), "north");
+/// assert_eq!(words.get(1).unwrap(), "east");
+/// assert_eq!(words.get(2).unwrap(), "");
+/// assert_eq!(words.get(3).unwrap(), "south");
+/// assert!(words.get(4).is_none());
+/// ```
+#[macro_export]
+macro_rules! flash_strs {
+    ($($text:expr),* $(,)?) => {{
+        const TEXTS: &[&str] = &[$($text),*];
+        #[cfg_attr(target_arch = "avr", link_section = ".progmem.data")]
+        static BYTES: [u8; $crate::joined_len(TEXTS)] =
+            $crate::join::<{ $crate::joined_len(TEXTS) }>(TEXTS);
+        #[cfg_attr(target_arch = "avr", link_section = ".progmem.data")]
+        static ENDS: [u16; TEXTS.len()] = $crate::ends::<{ TEXTS.len() }>(TEXTS);
+        // SAFETY: on AVR both statics are in `.progmem.data` (attributes
+        // above), below 64 KB; `join` and `ends` made them from ASCII texts.
+        unsafe { $crate::FlashStrs::from_static(&BYTES, &ENDS) }
     }};
 }
 

@@ -8,8 +8,9 @@ use crate::text::FlashStr;
 use Piece::{Offset, Str};
 
 /// An enum of names: each variant with its text (a constant `&str`
-/// expression), the text only through a function (linked where called) and
-/// `Debug`/`Display`; `ALL` lists the variants.
+/// expression), the texts in one [`FlashStrs`](crate::text::FlashStrs) table
+/// read through a function (linked where called), and `Debug`/`Display`;
+/// `ALL` lists the variants.
 macro_rules! named {
     ($(#[$m:meta])* $vis:vis enum $name:ident fn $f:ident { $($v:ident => $s:expr,)* }) => {
         $(#[$m])*
@@ -22,7 +23,11 @@ macro_rules! named {
 
             /// The text (in flash on AVR: [`FlashStr`]).
             pub fn $f(self) -> FlashStr {
-                match self { $($name::$v => crate::flash_str!($s),)* }
+                // One table of the texts, by the variant's number (they
+                // are declared in the same order; `ALL` lists them so).
+                crate::flash_strs!($($s),*)
+                    .get(self as usize)
+                    .unwrap_or(crate::flash_str!(""))
             }
         }
         impl core::fmt::Debug for $name {

@@ -259,26 +259,34 @@ enum Verb {
     Clear,
 }
 
+/// The command words, in the order of [`VERB_OF`] (in program memory on
+/// AVR; read one at a time).
+fn verb_words() -> crate::text::FlashStrs {
+    crate::flash_strs!(
+        "help", "status", "get", "set", "save", "load", "defaults", "time", "stow", "resume",
+        "home", "jog", "manual", "service", "faults", "clear",
+    )
+}
+
 crate::progmem! {
-    /// The command words (in program memory on AVR, the table's pointers
-    /// and lengths too; read one entry at a time).
-    static VERBS: [(FlashStr, Verb); 16] = [
-        (crate::flash_str!("help"), Verb::Help),
-        (crate::flash_str!("status"), Verb::Status),
-        (crate::flash_str!("get"), Verb::Get),
-        (crate::flash_str!("set"), Verb::Set),
-        (crate::flash_str!("save"), Verb::Save),
-        (crate::flash_str!("load"), Verb::Load),
-        (crate::flash_str!("defaults"), Verb::Defaults),
-        (crate::flash_str!("time"), Verb::Time),
-        (crate::flash_str!("stow"), Verb::Stow),
-        (crate::flash_str!("resume"), Verb::Resume),
-        (crate::flash_str!("home"), Verb::Home),
-        (crate::flash_str!("jog"), Verb::Jog),
-        (crate::flash_str!("manual"), Verb::Manual),
-        (crate::flash_str!("service"), Verb::Service),
-        (crate::flash_str!("faults"), Verb::Faults),
-        (crate::flash_str!("clear"), Verb::Clear),
+    /// The verb of each of [`verb_words`] (in program memory on AVR).
+    static VERB_OF: [Verb; 16] = [
+        Verb::Help,
+        Verb::Status,
+        Verb::Get,
+        Verb::Set,
+        Verb::Save,
+        Verb::Load,
+        Verb::Defaults,
+        Verb::Time,
+        Verb::Stow,
+        Verb::Resume,
+        Verb::Home,
+        Verb::Jog,
+        Verb::Manual,
+        Verb::Service,
+        Verb::Faults,
+        Verb::Clear,
     ];
 }
 
@@ -296,10 +304,10 @@ pub fn parse_in<'a>(line: &'a str, keys: &'a [Key]) -> Result<Command<'a>, Parse
     if cmd.is_empty() {
         return Err(ParseError::Empty);
     }
-    let Some(verb) = VERBS
-        .iter()
-        .find(|(w, _)| same_word(cmd, *w))
-        .map(|(_, v)| v)
+    let words = verb_words();
+    let Some(verb) = (0..words.len())
+        .find(|&i| words.get(i).is_some_and(|w| same_word(cmd, w)))
+        .and_then(|i| VERB_OF.get(i))
     else {
         return Err(ParseError::UnknownCommand);
     };
