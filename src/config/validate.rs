@@ -30,7 +30,9 @@ impl core::fmt::Display for ConfigError {
     }
 }
 
-/// `Err` naming `field` unless `v` is finite and inside `lo..=hi`.
+/// `Err` naming `field` unless `v` is finite and inside `lo..=hi`. Out of
+/// line: a call is smaller than the comparison it replaces (a dozen callers).
+#[inline(never)]
 pub(crate) fn check_f32(
     v: f32,
     (lo, hi): (f32, f32),

@@ -327,7 +327,10 @@ pub fn asin(x: f32) -> f32 {
 /// assert_eq!(sqrt(2.0).to_bits(), 0x3FB5_04F3);
 /// assert!(sqrt(-1.0).is_nan());
 /// ```
-#[inline]
+// Out of line on ARM: the value's moves to and from s0 beside the VSQRT
+// make each inlined copy larger than a call (15 callers on the Black Pill).
+#[cfg_attr(all(target_arch = "arm", target_abi = "eabihf"), inline(never))]
+#[cfg_attr(not(all(target_arch = "arm", target_abi = "eabihf")), inline)]
 pub fn sqrt(x: f32) -> f32 {
     #[cfg(all(target_arch = "arm", target_abi = "eabihf"))]
     {
