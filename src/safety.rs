@@ -86,37 +86,64 @@ pub enum Fault {
 impl Fault {
     /// A short name for logs and traces (`motor_stalled_c`, `gps_lost`, …).
     pub fn name(self) -> FlashStr {
+        // One table of the names, in the order of `number`.
+        crate::flash_strs!(
+            "timeout_inclinometer",
+            "timeout_compass",
+            "timeout_encoder_c",
+            "timeout_encoder_a",
+            "timeout_rtc",
+            "timeout_gps",
+            "bus_inclinometer",
+            "bus_compass",
+            "bus_encoder_c",
+            "bus_encoder_a",
+            "bus_rtc",
+            "bus_gps",
+            "gps_lost",
+            "rtc_invalid",
+            "motor_stalled_c",
+            "motor_stalled_a",
+            "deviation_c",
+            "deviation_a",
+            "limit_switch_c",
+            "limit_switch_a",
+            "gps_time_implausible",
+            "gps_time_unstable",
+            "gps_position_unstable",
+            "time_out_of_range",
+            "schedule_failed",
+        )
+        .get(self.number())
+        .unwrap_or(crate::flash_str!(""))
+    }
+
+    /// The fault's place in [`Fault::name`]'s table: the sensor faults by
+    /// sensor (inclinometer, compass, encoder C, encoder A, RTC, GPS), the
+    /// axis faults C then A, as the names are listed there.
+    fn number(self) -> usize {
         use AxisId::{A, C};
+        let sensor = |s: Sensor| match s {
+            Sensor::Inclinometer => 0,
+            Sensor::Compass => 1,
+            Sensor::Encoder(C) => 2,
+            Sensor::Encoder(A) => 3,
+            Sensor::Rtc => 4,
+            Sensor::Gps => 5,
+        };
         match self {
-            Fault::SensorTimeout(s) => match s {
-                Sensor::Inclinometer => crate::flash_str!("timeout_inclinometer"),
-                Sensor::Compass => crate::flash_str!("timeout_compass"),
-                Sensor::Encoder(C) => crate::flash_str!("timeout_encoder_c"),
-                Sensor::Encoder(A) => crate::flash_str!("timeout_encoder_a"),
-                Sensor::Rtc => crate::flash_str!("timeout_rtc"),
-                Sensor::Gps => crate::flash_str!("timeout_gps"),
-            },
-            Fault::I2cError(s) => match s {
-                Sensor::Inclinometer => crate::flash_str!("bus_inclinometer"),
-                Sensor::Compass => crate::flash_str!("bus_compass"),
-                Sensor::Encoder(C) => crate::flash_str!("bus_encoder_c"),
-                Sensor::Encoder(A) => crate::flash_str!("bus_encoder_a"),
-                Sensor::Rtc => crate::flash_str!("bus_rtc"),
-                Sensor::Gps => crate::flash_str!("bus_gps"),
-            },
-            Fault::GpsLost => crate::flash_str!("gps_lost"),
-            Fault::RtcInvalid => crate::flash_str!("rtc_invalid"),
-            Fault::MotorStalled(C) => crate::flash_str!("motor_stalled_c"),
-            Fault::MotorStalled(A) => crate::flash_str!("motor_stalled_a"),
-            Fault::SetPointDeviation(C) => crate::flash_str!("deviation_c"),
-            Fault::SetPointDeviation(A) => crate::flash_str!("deviation_a"),
-            Fault::LimitSwitchHit(C) => crate::flash_str!("limit_switch_c"),
-            Fault::LimitSwitchHit(A) => crate::flash_str!("limit_switch_a"),
-            Fault::GpsTimeImplausible => crate::flash_str!("gps_time_implausible"),
-            Fault::GpsTimeUnstable => crate::flash_str!("gps_time_unstable"),
-            Fault::GpsPositionUnstable => crate::flash_str!("gps_position_unstable"),
-            Fault::TimeOutOfRange => crate::flash_str!("time_out_of_range"),
-            Fault::ScheduleFailed => crate::flash_str!("schedule_failed"),
+            Fault::SensorTimeout(s) => sensor(s),
+            Fault::I2cError(s) => 6 + sensor(s),
+            Fault::GpsLost => 12,
+            Fault::RtcInvalid => 13,
+            Fault::MotorStalled(a) => 14 + a.index(),
+            Fault::SetPointDeviation(a) => 16 + a.index(),
+            Fault::LimitSwitchHit(a) => 18 + a.index(),
+            Fault::GpsTimeImplausible => 20,
+            Fault::GpsTimeUnstable => 21,
+            Fault::GpsPositionUnstable => 22,
+            Fault::TimeOutOfRange => 23,
+            Fault::ScheduleFailed => 24,
         }
     }
 }
@@ -552,17 +579,20 @@ pub enum Mode {
 impl Mode {
     /// The name used in logs and traces (`safe_stop`, `wind_stow`, …).
     pub fn name(self) -> FlashStr {
-        match self {
-            Mode::Service => crate::flash_str!("service"),
-            Mode::SafeStop => crate::flash_str!("safe_stop"),
-            Mode::WindStow => crate::flash_str!("wind_stow"),
-            Mode::CommandStow => crate::flash_str!("command_stow"),
-            Mode::Manual => crate::flash_str!("manual"),
-            Mode::WaitForTime => crate::flash_str!("wait_for_time"),
-            Mode::Night => crate::flash_str!("night"),
-            Mode::Homing => crate::flash_str!("homing"),
-            Mode::Tracking => crate::flash_str!("tracking"),
-        }
+        // One table of the names, in the order the variants are declared.
+        crate::flash_strs!(
+            "service",
+            "safe_stop",
+            "wind_stow",
+            "command_stow",
+            "manual",
+            "wait_for_time",
+            "night",
+            "homing",
+            "tracking",
+        )
+        .get(self as usize)
+        .unwrap_or(crate::flash_str!(""))
     }
 }
 

@@ -43,6 +43,60 @@ fn every_fault_has_its_recovery() {
     assert_eq!(lim.recovery(4, r), Recovery::StopSafely);
 }
 
+/// Every fault's log name by the scheme docs/src/reliability.md gives
+/// (`timeout_*`, `bus_*`, `motor_stalled_c/a`, `deviation_c/a`,
+/// `limit_switch_c/a`, the others as listed there), built here from the
+/// parts, and every mode's name as the log documents it (src/log.rs).
+#[test]
+fn every_fault_and_mode_has_its_documented_name() {
+    let sensors = [
+        (Sensor::Inclinometer, "inclinometer"),
+        (Sensor::Compass, "compass"),
+        (Sensor::Encoder(AxisId::C), "encoder_c"),
+        (Sensor::Encoder(AxisId::A), "encoder_a"),
+        (Sensor::Rtc, "rtc"),
+        (Sensor::Gps, "gps"),
+    ];
+    let mut expected: Vec<(Fault, String)> = Vec::new();
+    for (s, word) in sensors {
+        expected.push((Fault::SensorTimeout(s), format!("timeout_{word}")));
+        expected.push((Fault::I2cError(s), format!("bus_{word}")));
+    }
+    for (a, letter) in [(AxisId::C, "c"), (AxisId::A, "a")] {
+        expected.push((Fault::MotorStalled(a), format!("motor_stalled_{letter}")));
+        expected.push((Fault::SetPointDeviation(a), format!("deviation_{letter}")));
+        expected.push((Fault::LimitSwitchHit(a), format!("limit_switch_{letter}")));
+    }
+    for (f, name) in [
+        (Fault::GpsLost, "gps_lost"),
+        (Fault::RtcInvalid, "rtc_invalid"),
+        (Fault::GpsTimeImplausible, "gps_time_implausible"),
+        (Fault::GpsTimeUnstable, "gps_time_unstable"),
+        (Fault::GpsPositionUnstable, "gps_position_unstable"),
+        (Fault::TimeOutOfRange, "time_out_of_range"),
+        (Fault::ScheduleFailed, "schedule_failed"),
+    ] {
+        expected.push((f, name.to_string()));
+    }
+    assert_eq!(expected.len(), 25);
+    for (f, name) in &expected {
+        assert_eq!(f.name(), name.as_str(), "{f:?}");
+    }
+    for (m, name) in [
+        (Mode::Service, "service"),
+        (Mode::SafeStop, "safe_stop"),
+        (Mode::WindStow, "wind_stow"),
+        (Mode::CommandStow, "command_stow"),
+        (Mode::Manual, "manual"),
+        (Mode::WaitForTime, "wait_for_time"),
+        (Mode::Night, "night"),
+        (Mode::Homing, "homing"),
+        (Mode::Tracking, "tracking"),
+    ] {
+        assert_eq!(m.name(), name, "{m:?}");
+    }
+}
+
 #[test]
 fn manager_counts_raised_and_recovered() {
     let mut m = FaultManager::new(Config::default().safety);

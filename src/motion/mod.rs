@@ -137,6 +137,7 @@ const SPEED_RANGE_DEG_S: (f32, f32) = crate::config::ranges::MAX_SPEED_DEG_S;
 
 /// `v` into `lo..=hi` by comparisons (`f32::max`/`min` and `clamp` are
 /// library calls on an AVR, and `clamp` has a panic path); NaN stays NaN.
+#[inline(never)]
 fn within(v: f32, lo: f32, hi: f32) -> f32 {
     if v < lo {
         lo
@@ -356,6 +357,9 @@ impl<D: AxisDrive> AxisController<D> {
     }
 
     /// The axis angle `counts` motor counts from the home switch, degrees.
+    /// Not inlined: a call is smaller than its float load, convert, divide
+    /// and add (a dozen callers).
+    #[inline(never)]
     pub fn deg_from_home(&self, counts: i32) -> f32 {
         self.geo.home_deg + counts as f32 / self.geo.counts_per_deg
     }
