@@ -200,20 +200,38 @@ enum Table {
 }
 
 /// One row of the built-in table as stored: the row's place gives n and m,
-/// and WMM2025's secular variation fits an `i16` (at most a few hundred
-/// tenths of a nanotesla a year): 12 bytes a row instead of
-/// [`WmmCoefficient`]'s 18 to 20.
+/// and every value fits an `i16` but the degree-1 main field (g₁⁰, g₁¹,
+/// h₁¹ reach ±293,518 tenths of a nanotesla), which [`DEGREE_1`] holds:
+/// 8 bytes a row instead of [`WmmCoefficient`]'s 18 to 20.
 #[derive(Debug, Clone, Copy)]
 struct PackedRow {
-    g_tenth_nt: i32,
-    h_tenth_nt: i32,
+    g_tenth_nt: i16,
+    h_tenth_nt: i16,
     g_dot_tenth_nt_per_yr: i16,
     h_dot_tenth_nt_per_yr: i16,
 }
 
+/// Rows of a degree-and-order-12 table: n = 1..=12, m = 0..=n.
+const ROWS: usize = 90;
+
+/// g and h of the degree-1 rows (n = 1, m = 0 and 1), whole.
+const DEGREE_1: [(i32, i32); 2] = [
+    (COEFFICIENTS[0].g_tenth_nt, COEFFICIENTS[0].h_tenth_nt),
+    (COEFFICIENTS[1].g_tenth_nt, COEFFICIENTS[1].h_tenth_nt),
+];
+
+/// `v` as an `i16`; fails to compile (in [`pack`]) when it does not fit.
+const fn narrow(v: i32) -> i16 {
+    assert!(
+        v >= i16::MIN as i32 && v <= i16::MAX as i32,
+        "WMM value beyond i16"
+    );
+    v as i16
+}
+
 /// The generated table packed, checked at compile time: rows in (n, m)
-/// order for n = 1..=12, m = 0..=n, every rate within `i16` (a table that
-/// breaks either does not build).
+/// order for n = 1..=12, m = 0..=n, every value but the degree-1 main
+/// field within `i16` (a table that breaks either does not build).
 const fn pack(rows: &[WmmCoefficient; ROWS]) -> [PackedRow; ROWS] {
     let mut packed = [PackedRow {
         g_tenth_nt: 0,
@@ -225,14 +243,16 @@ const fn pack(rows: &[WmmCoefficient; ROWS]) -> [PackedRow; ROWS] {
     while i < ROWS {
         let row = rows[i];
         assert!(row.n == n && row.m == m, "WMM table out of (n, m) order");
-        let (g_dot, h_dot) = (row.g_dot_tenth_nt_per_yr, row.h_dot_tenth_nt_per_yr);
-        assert!(g_dot >= i16::MIN as i32 && g_dot <= i16::MAX as i32);
-        assert!(h_dot >= i16::MIN as i32 && h_dot <= i16::MAX as i32);
+        let main = if i < DEGREE_1.len() {
+            (0, 0)
+        } else {
+            (narrow(row.g_tenth_nt), narrow(row.h_tenth_nt))
+        };
         packed[i] = PackedRow {
-            g_tenth_nt: row.g_tenth_nt,
-            h_tenth_nt: row.h_tenth_nt,
-            g_dot_tenth_nt_per_yr: g_dot as i16,
-            h_dot_tenth_nt_per_yr: h_dot as i16,
+            g_tenth_nt: main.0,
+            h_tenth_nt: main.1,
+            g_dot_tenth_nt_per_yr: narrow(row.g_dot_tenth_nt_per_yr),
+            h_dot_tenth_nt_per_yr: narrow(row.h_dot_tenth_nt_per_yr),
         };
         if m == n {
             (n, m) = (n + 1, 0);
@@ -243,9 +263,6 @@ const fn pack(rows: &[WmmCoefficient; ROWS]) -> [PackedRow; ROWS] {
     }
     packed
 }
-
-/// Rows of a degree-and-order-12 table: n = 1..=12, m = 0..=n.
-const ROWS: usize = 90;
 
 #[cfg(target_arch = "avr")]
 avr_progmem::progmem! {
@@ -275,12 +292,16 @@ impl Table {
             }
         };
         let row = packed.ok_or(WmmError::BadCoefficientTable)?;
+        let (g_tenth_nt, h_tenth_nt) = match DEGREE_1.get(i) {
+            Some(&whole) => whole,
+            None => (i32::from(row.g_tenth_nt), i32::from(row.h_tenth_nt)),
+        };
         // n, m ≤ 12: they came from the table's own order.
         Ok(WmmCoefficient {
             n: n as u8,
             m: m as u8,
-            g_tenth_nt: row.g_tenth_nt,
-            h_tenth_nt: row.h_tenth_nt,
+            g_tenth_nt,
+            h_tenth_nt,
             g_dot_tenth_nt_per_yr: i32::from(row.g_dot_tenth_nt_per_yr),
             h_dot_tenth_nt_per_yr: i32::from(row.h_dot_tenth_nt_per_yr),
         })
