@@ -70,11 +70,13 @@ impl Reader<'_> {
     fn u16(&mut self) -> Option<u16> {
         self.take().map(u16::from_le_bytes)
     }
+    // Not inlined: some thirty fields call it (through `f32` too).
+    #[inline(never)]
     fn u32(&mut self) -> Option<u32> {
         self.take().map(u32::from_le_bytes)
     }
     fn f32(&mut self) -> Option<f32> {
-        self.take().map(f32::from_le_bytes)
+        self.u32().map(f32::from_bits)
     }
 }
 

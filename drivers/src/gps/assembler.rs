@@ -391,11 +391,25 @@ impl SentenceAssembler {
             Ok(()) => {
                 self.stats.accepted = self.stats.accepted.saturating_add(1);
                 // Only 0x20..=0x7e bytes are ever stored, so this is ASCII.
-                core::str::from_utf8(self.buf.get(..len).unwrap_or(&[]))
-                    .map_err(|_| Reject::NonAscii)
+                ascii_text(self.buf.get(..len).unwrap_or(&[])).ok_or(Reject::NonAscii)
             }
             Err(reason) => Err(self.reject(reason)),
         }
+    }
+}
+
+/// `bytes` as text when every byte is ASCII. Not `core::str::from_utf8`:
+/// for the one case the assembler has (printable ASCII) it would bring its
+/// general UTF-8 validation and 256-byte width table (530 bytes of a
+/// Cortex-M4F image, the table in RAM on an AVR).
+#[allow(unsafe_code)]
+fn ascii_text(bytes: &[u8]) -> Option<&str> {
+    if bytes.is_ascii() {
+        // SAFETY: every byte is below 0x80 (just checked): ASCII, which is
+        // valid UTF-8 byte for byte.
+        Some(unsafe { core::str::from_utf8_unchecked(bytes) })
+    } else {
+        None
     }
 }
 
