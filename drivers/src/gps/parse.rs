@@ -601,16 +601,20 @@ fn parse_count(text: &str) -> Result<u32, ParseError> {
 
 /// GGA field 6: exactly one digit 0..=8.
 fn parse_quality(text: &str) -> Result<FixQuality, ParseError> {
-    Ok(match text {
-        "0" => FixQuality::Invalid,
-        "1" => FixQuality::Gps,
-        "2" => FixQuality::Dgps,
-        "3" => FixQuality::Pps,
-        "4" => FixQuality::Rtk,
-        "5" => FixQuality::FloatRtk,
-        "6" => FixQuality::Estimated,
-        "7" => FixQuality::Manual,
-        "8" => FixQuality::Simulation,
+    let [digit] = text.as_bytes() else {
+        return Err(ParseError);
+    };
+    // By the digit's value, not by string compares: one range check.
+    Ok(match digit.wrapping_sub(b'0') {
+        0 => FixQuality::Invalid,
+        1 => FixQuality::Gps,
+        2 => FixQuality::Dgps,
+        3 => FixQuality::Pps,
+        4 => FixQuality::Rtk,
+        5 => FixQuality::FloatRtk,
+        6 => FixQuality::Estimated,
+        7 => FixQuality::Manual,
+        8 => FixQuality::Simulation,
         _ => return Err(ParseError),
     })
 }
