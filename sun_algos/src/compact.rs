@@ -115,7 +115,13 @@ pub fn sin(x: f32) -> f32 {
         return f32::NAN;
     }
     let (r, q) = reduce(x);
-    match q {
+    sin_in_quadrant(r, q)
+}
+
+/// sin(r + q·π/2) from the kernels (`q` taken mod 4): the sine for the
+/// quadrant `q`, the cosine for `q + 1`.
+fn sin_in_quadrant(r: f32, q: i32) -> f32 {
+    match q & 3 {
         0 => sin_kernel(r),
         1 => cos_kernel(r),
         2 => -sin_kernel(r),
@@ -137,12 +143,8 @@ pub fn cos(x: f32) -> f32 {
         return f32::NAN;
     }
     let (r, q) = reduce(x);
-    match q {
-        0 => cos_kernel(r),
-        1 => -sin_kernel(r),
-        2 => -cos_kernel(r),
-        _ => sin_kernel(r),
-    }
+    // cos(r + q·π/2) = sin(r + (q + 1)·π/2).
+    sin_in_quadrant(r, q.wrapping_add(1))
 }
 
 /// Sine and cosine of `x` radians, sharing one reduction.
