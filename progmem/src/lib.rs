@@ -214,9 +214,19 @@ impl FlashStrs {
 
     fn end(self, i: usize) -> Option<usize> {
         let slot = self.ends.get(i)?;
-        // SAFETY: `ends` is a static in program memory on AVR
-        // (`from_static`).
-        Some(usize::from(unsafe { read_flash(slot) }))
+        #[cfg(target_arch = "avr")]
+        {
+            // Two LPMs, low byte first (AVR is little-endian).
+            let p = (slot as *const u16).cast::<u8>();
+            // SAFETY: `ends` is a static in program memory on AVR
+            // (`from_static`), and both bytes are in `slot`.
+            let (lo, hi) = unsafe { (lpm(p), lpm(p.add(1))) };
+            Some(usize::from(u16::from_le_bytes([lo, hi])))
+        }
+        #[cfg(not(target_arch = "avr"))]
+        {
+            Some(usize::from(*slot))
+        }
     }
 
     /// Text `i`, `None` past the end.
