@@ -63,6 +63,89 @@ fn encode_decode_round_trip() {
     assert_eq!(c.encode(&mut [0u8; 10]), None);
 }
 
+/// The payload of layout version 3 byte by byte, built here field by
+/// field in the order `src/config/codec.rs` documents (the configuration's
+/// declaration order, little-endian, the derived counts per degree left
+/// out, the hold last), so that a change of the key table that would move
+/// a stored field fails here: every field gets a value of its own.
+#[test]
+fn payload_is_the_documented_layout() {
+    let mut c = tromso();
+    c.schedule.hold_s = 30;
+    c.schedule.recheck_s = 7;
+    c.schedule.max_tick_gap_s = 90;
+    c.schedule.max_backward_s = 120;
+    c.axes[0].counts_per_motor_rev = 400;
+    c.axes[0].microsteps = 8;
+    c.axes[1].counts_per_motor_rev = 200;
+    c.axes[1].microsteps = 4;
+    c.wind.hold_s = 3;
+    c.wind.release_s = 600;
+    c.safety.max_retries = 5;
+    c.safety.stall_timeout_s = 11;
+    c.safety.sensor_timeout_s = 13;
+    c.calibration.heading_offset_deg = -1.5;
+    c.calibration.tilt_x_offset_deg = 0.25;
+    c.calibration.tilt_y_offset_deg = -0.75;
+    c.log.status_every_min = 15;
+    c.hold.manual = true;
+    let mut expected = Vec::new();
+    let f = |v: &mut Vec<u8>, x: f32| v.extend_from_slice(&x.to_le_bytes());
+    let u = |v: &mut Vec<u8>, x: u32| v.extend_from_slice(&x.to_le_bytes());
+    f(&mut expected, c.site.latitude_deg);
+    f(&mut expected, c.site.longitude_deg);
+    f(&mut expected, c.site.elevation_m);
+    let s = &c.schedule;
+    for x in [
+        s.table_step_s,
+        s.hold_s,
+        s.recheck_s,
+        s.max_tick_gap_s,
+        s.max_backward_s,
+    ] {
+        u(&mut expected, x);
+    }
+    for a in &c.axes {
+        u(&mut expected, a.counts_per_motor_rev);
+        expected.extend_from_slice(&a.microsteps.to_le_bytes());
+        for x in [
+            a.gear_ratio,
+            a.min_deg,
+            a.max_deg,
+            a.home_deg,
+            a.backlash_deg,
+            a.max_speed_deg_s,
+            a.deadband_deg,
+        ] {
+            f(&mut expected, x);
+        }
+    }
+    f(&mut expected, c.wind.threshold_hz);
+    u(&mut expected, c.wind.hold_s);
+    u(&mut expected, c.wind.release_s);
+    f(&mut expected, c.safety.max_deviation_deg);
+    u(&mut expected, c.safety.stall_timeout_s);
+    u(&mut expected, c.safety.sensor_timeout_s);
+    expected.push(c.safety.max_retries);
+    let k = &c.calibration;
+    for x in [
+        k.declination_deg,
+        k.heading_offset_deg,
+        k.tilt_x_offset_deg,
+        k.tilt_y_offset_deg,
+    ] {
+        f(&mut expected, x);
+    }
+    expected.extend_from_slice(&c.log.status_every_min.to_le_bytes());
+    // The hold: bit 0 stow, 1 manual, 2 service.
+    expected.push(0b010);
+    assert_eq!(expected.len(), PAYLOAD_LEN);
+    let mut buf = [0u8; 200];
+    let n = c.encode(&mut buf).unwrap();
+    assert_eq!(&buf[..n], &expected[..]);
+    assert_eq!(Config::decode(&expected), Some(c));
+}
+
 #[test]
 fn fresh_storage_gives_defaults() {
     let mut st = ConfigStore::new(MemStorage::<1024>::new());

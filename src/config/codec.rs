@@ -1,12 +1,13 @@
 //! The configuration's binary payload, layout version 3
-//! ([`super::LAYOUT_VERSION`]): every field in declaration order,
-//! little-endian, [`PAYLOAD_LEN`] bytes (version 2's, without the
+//! ([`super::LAYOUT_VERSION`]): every field of the key table
+//! ([`super::KEYS`], which lists them in declaration order) but the derived
+//! counts per degree, in its order, then the operator's hold; little-endian,
+//! [`PAYLOAD_LEN`] bytes (version 2's, without the
 //! operator's hold, [`PAYLOAD_LEN_V2`], is still read); and the little-endian cursors
 //! that write and read it (the store writes its slot header with the same
 //! writer).
 
-use super::{AxisConfig, Calibration, Config, LogConfig, SafetyConfig, SiteConfig, WindConfig};
-use crate::plan::ScheduleConfig;
+use super::{slot, Config, Slot, KEYS};
 use crate::safety::OperatorHold;
 
 /// Payload length of layout version 2 (version 1 had no `log` fields).
@@ -89,51 +90,18 @@ impl Config {
             pos: 0,
             overflow: false,
         };
-        w.f32(self.site.latitude_deg);
-        w.f32(self.site.longitude_deg);
-        w.f32(self.site.elevation_m);
-        let s = &self.schedule;
-        for v in [
-            s.table_step_s,
-            s.hold_s,
-            s.recheck_s,
-            s.max_tick_gap_s,
-            s.max_backward_s,
-        ] {
-            w.u32(v);
-        }
-        for a in &self.axes {
-            w.u32(a.counts_per_motor_rev);
-            w.u16(a.microsteps);
-            for v in [
-                a.gear_ratio,
-                a.min_deg,
-                a.max_deg,
-                a.home_deg,
-                a.backlash_deg,
-                a.max_speed_deg_s,
-                a.deadband_deg,
-            ] {
-                w.f32(v);
+        // Each field by its slot in the table (a copy: the slots are
+        // mutable references).
+        let mut fields = *self;
+        for &key in KEYS {
+            match slot(&mut fields, key) {
+                Slot::F32(v) => w.f32(*v),
+                Slot::U32(v) => w.u32(*v),
+                Slot::U16(v) => w.u16(*v),
+                Slot::U8(v) => w.u8(*v),
+                Slot::Derived => {}
             }
         }
-        w.f32(self.wind.threshold_hz);
-        w.u32(self.wind.hold_s);
-        w.u32(self.wind.release_s);
-        w.f32(self.safety.max_deviation_deg);
-        w.u32(self.safety.stall_timeout_s);
-        w.u32(self.safety.sensor_timeout_s);
-        w.u8(self.safety.max_retries);
-        let c = &self.calibration;
-        for v in [
-            c.declination_deg,
-            c.heading_offset_deg,
-            c.tilt_x_offset_deg,
-            c.tilt_y_offset_deg,
-        ] {
-            w.f32(v);
-        }
-        w.u16(self.log.status_every_min);
         w.u8(self.hold.to_bits());
         if w.overflow {
             None
@@ -147,52 +115,17 @@ impl Config {
     /// buffer of another length or any value out of range.
     pub fn decode(buf: &[u8]) -> Option<Config> {
         let mut r = Reader { buf, pos: 0 };
-        let site = SiteConfig {
-            latitude_deg: r.f32()?,
-            longitude_deg: r.f32()?,
-            elevation_m: r.f32()?,
-        };
-        let schedule = ScheduleConfig {
-            table_step_s: r.u32()?,
-            hold_s: r.u32()?,
-            recheck_s: r.u32()?,
-            max_tick_gap_s: r.u32()?,
-            max_backward_s: r.u32()?,
-        };
-        let mut axis = || -> Option<AxisConfig> {
-            Some(AxisConfig {
-                counts_per_motor_rev: r.u32()?,
-                microsteps: r.u16()?,
-                gear_ratio: r.f32()?,
-                min_deg: r.f32()?,
-                max_deg: r.f32()?,
-                home_deg: r.f32()?,
-                backlash_deg: r.f32()?,
-                max_speed_deg_s: r.f32()?,
-                deadband_deg: r.f32()?,
-            })
-        };
-        let axes = [axis()?, axis()?];
-        let wind = WindConfig {
-            threshold_hz: r.f32()?,
-            hold_s: r.u32()?,
-            release_s: r.u32()?,
-        };
-        let safety = SafetyConfig {
-            max_deviation_deg: r.f32()?,
-            stall_timeout_s: r.u32()?,
-            sensor_timeout_s: r.u32()?,
-            max_retries: r.u8()?,
-        };
-        let calibration = Calibration {
-            declination_deg: r.f32()?,
-            heading_offset_deg: r.f32()?,
-            tilt_x_offset_deg: r.f32()?,
-            tilt_y_offset_deg: r.f32()?,
-        };
-        let log = LogConfig {
-            status_every_min: r.u16()?,
-        };
+        // Every field is read; the defaults only give the value its type.
+        let mut cfg = Config::default();
+        for &key in KEYS {
+            match slot(&mut cfg, key) {
+                Slot::F32(v) => *v = r.f32()?,
+                Slot::U32(v) => *v = r.u32()?,
+                Slot::U16(v) => *v = r.u16()?,
+                Slot::U8(v) => *v = r.u8()?,
+                Slot::Derived => {}
+            }
+        }
         let hold = if buf.len() == PAYLOAD_LEN_V2 {
             OperatorHold::default()
         } else {
@@ -201,16 +134,7 @@ impl Config {
         if r.pos != buf.len() {
             return None;
         }
-        let cfg = Config {
-            site,
-            schedule,
-            axes,
-            wind,
-            safety,
-            calibration,
-            log,
-            hold,
-        };
+        cfg.hold = hold;
         cfg.is_valid().then_some(cfg)
     }
 }

@@ -27,11 +27,14 @@ mod keys;
 pub mod range_text;
 pub mod ranges;
 mod record;
+mod table;
 mod validate;
 
 pub use codec::PAYLOAD_LEN;
 pub use keys::{Field, Reason};
 pub use record::{LAYOUT_VERSION, RECORD_LEN};
+pub use table::{get, is_read_only, Value, KEYS};
+pub(crate) use table::{slot, Slot};
 pub(crate) use validate::check_f32;
 pub use validate::ConfigError;
 
