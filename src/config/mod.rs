@@ -205,6 +205,8 @@ impl Default for Config {
     /// Kano (Jimoh & Aliyu's (2019) site); 1.8° steppers with 16 microsteps and a
     /// 100:1 worm gear; Jimoh & Aliyu's 4-minute table, 2-minute hold and
     /// 30-second re-check (their flowchart's steps 7, 14 and 12).
+    // Not inlined: a board's own defaults start from these.
+    #[inline(never)]
     fn default() -> Self {
         let axis = AxisConfig {
             counts_per_motor_rev: 200,
