@@ -20,6 +20,7 @@ macro_rules! key_slot {
     (F32, $e:expr) => {
         Slot::F32(&mut $e)
     };
+    // The expression says what the key shows; `get` computes it.
     (Derived, $e:expr) => {
         Slot::Derived
     };
@@ -34,7 +35,7 @@ macro_rules! key_slot {
     };
 }
 
-/// A field to write.
+/// A field to write, or to read through a copy.
 pub(crate) enum Slot<'a> {
     F32(&'a mut f32),
     U32(&'a mut u32),
@@ -106,7 +107,7 @@ key_table! { c;
     LogStatusMin U16 c.log.status_every_min;
 }
 
-/// The value of `key` in `config`: read through its [`slot`] in a copy
+/// The value of `key` in `config`: read through its slot in a copy
 /// (one table of places, not a second `match` over the keys); the derived
 /// counts per degree computed for the axis of `key`.
 pub fn get(config: &Config, key: Field) -> Value {
