@@ -71,8 +71,6 @@ impl Reader<'_> {
     fn u16(&mut self) -> Option<u16> {
         self.take().map(u16::from_le_bytes)
     }
-    // Not inlined: some thirty fields call it (through `f32` too).
-    #[inline(never)]
     fn u32(&mut self) -> Option<u32> {
         self.take().map(u32::from_le_bytes)
     }

@@ -259,35 +259,39 @@ enum Verb {
     Clear,
 }
 
-/// The command words, in the order of [`VERB_OF`] (in program memory on
-/// AVR; read one at a time).
-fn verb_words() -> crate::text::FlashStrs {
-    crate::flash_strs!(
-        "help", "status", "get", "set", "save", "load", "defaults", "time", "stow", "resume",
-        "home", "jog", "manual", "service", "faults", "clear",
-    )
+/// The command words and their verbs, each pair written once: the words as
+/// one [`FlashStrs`](crate::text::FlashStrs) table, the verbs in a table of
+/// the same order (both in program memory on AVR; read one at a time).
+macro_rules! verbs {
+    ($($word:literal => $verb:ident,)*) => {
+        fn verb_words() -> crate::text::FlashStrs {
+            crate::flash_strs!($($word),*)
+        }
+
+        crate::progmem! {
+            /// The verb of each of [`verb_words`].
+            static VERB_OF: [Verb; [$(Verb::$verb),*].len()] = [$(Verb::$verb),*];
+        }
+    };
 }
 
-crate::progmem! {
-    /// The verb of each of [`verb_words`] (in program memory on AVR).
-    static VERB_OF: [Verb; 16] = [
-        Verb::Help,
-        Verb::Status,
-        Verb::Get,
-        Verb::Set,
-        Verb::Save,
-        Verb::Load,
-        Verb::Defaults,
-        Verb::Time,
-        Verb::Stow,
-        Verb::Resume,
-        Verb::Home,
-        Verb::Jog,
-        Verb::Manual,
-        Verb::Service,
-        Verb::Faults,
-        Verb::Clear,
-    ];
+verbs! {
+    "help" => Help,
+    "status" => Status,
+    "get" => Get,
+    "set" => Set,
+    "save" => Save,
+    "load" => Load,
+    "defaults" => Defaults,
+    "time" => Time,
+    "stow" => Stow,
+    "resume" => Resume,
+    "home" => Home,
+    "jog" => Jog,
+    "manual" => Manual,
+    "service" => Service,
+    "faults" => Faults,
+    "clear" => Clear,
 }
 
 /// Parses one command line (see the module docs for the language).

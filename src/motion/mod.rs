@@ -137,6 +137,8 @@ const SPEED_RANGE_DEG_S: (f32, f32) = crate::config::ranges::MAX_SPEED_DEG_S;
 
 /// `v` into `lo..=hi` by comparisons (`f32::max`/`min` and `clamp` are
 /// library calls on an AVR, and `clamp` has a panic path); NaN stays NaN.
+/// Not inlined: a call is smaller than the compares at each of its callers
+/// (measured on the Black Pill and the Uno alike).
 #[inline(never)]
 fn within(v: f32, lo: f32, hi: f32) -> f32 {
     if v < lo {

@@ -79,6 +79,8 @@ impl Coordinate {
     /// assert!(pole.within_deg(90));
     /// assert!(!Coordinate::from_e11_min(pole.e11_min() + 1).within_deg(90));
     /// ```
+    // Not inlined: its 64-bit product and compare at each caller (the
+    // content checks and the time keeper) are larger than a call.
     #[inline(never)]
     pub fn within_deg(self, max_deg: u8) -> bool {
         self.e11_min.unsigned_abs() <= u64::from(max_deg) * Self::E11_MIN_PER_DEG.unsigned_abs()
