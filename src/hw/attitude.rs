@@ -157,6 +157,7 @@ impl<T: Float, I: AxisAngles, M: Magnetometer> AttitudeSensor<T> for MountSensor
         matches!(error, MountSensorError::Compass(e) if M::is_not_ready(e))
     }
 
+    #[cfg_attr(target_arch = "avr", inline(never))]
     fn read(&mut self) -> Result<AttitudeReading<T>, Self::Error> {
         let (theta_x_deg, theta_y_deg) = self
             .tilt
