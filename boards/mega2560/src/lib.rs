@@ -66,7 +66,7 @@ use suntracker::persist::{ConfigStore, EepromStorage};
 use suntracker_avr::eeprom::Eeprom;
 use suntracker_avr::{
     chip, millis, sleep_until_interrupt, Anemometer, ExtInt, I2c, InputPin, Millis, OutputPin,
-    SharedI2c, Usart0, Usart1, Watchdog, MS_PER_TICK,
+    PortInputPin, PortOutputPin, SharedI2c, Usart0, Usart1, Watchdog, MS_PER_TICK,
 };
 
 /// Board name in the boot line.
@@ -206,36 +206,6 @@ fn run_tracker(dp: Parts) -> ! {
     // Motors and switches.
     let porta = dp.porta;
     let portc = dp.portc;
-    let bridge = |p0, p1, p2, p3| BridgePins {
-        in1: p0,
-        in2: p1,
-        in3: p2,
-        in4: p3,
-    };
-    let c_pins = bridge(
-        OutputPin::<_, 0>::new(&porta, false).erase(),
-        OutputPin::<_, 1>::new(&porta, false).erase(),
-        OutputPin::<_, 2>::new(&porta, false).erase(),
-        OutputPin::<_, 3>::new(&porta, false).erase(),
-    );
-    let a_pins = bridge(
-        OutputPin::<_, 4>::new(&porta, false).erase(),
-        OutputPin::<_, 5>::new(&porta, false).erase(),
-        OutputPin::<_, 6>::new(&porta, false).erase(),
-        OutputPin::<_, 7>::new(&porta, false).erase(),
-    );
-    let c_limits = LimitSwitches {
-        min: Some(InputPin::<_, 0>::new(&portc, true).erase()),
-        max: Some(InputPin::<_, 2>::new(&portc, true).erase()),
-        active_low: true,
-    };
-    let a_limits = LimitSwitches {
-        min: Some(InputPin::<_, 1>::new(&portc, true).erase()),
-        max: Some(InputPin::<_, 3>::new(&portc, true).erase()),
-        active_low: true,
-    };
-    let c_home = InputPin::<_, 0>::new(&portc, true).erase();
-    let a_home = InputPin::<_, 1>::new(&portc, true).erase();
     let anemometer = Anemometer::new(dp.exint, ExtInt::Int4);
     // The reed contact to ground needs the pull-up of PE4.
     let porte = dp.porte;
@@ -245,54 +215,18 @@ fn run_tracker(dp: Parts) -> ! {
     // SAFETY: every part the vectors touch is set up above.
     unsafe { avr_device::interrupt::enable() };
 
-    let axes = match (
-        HBridgeStepper::new(c_pins, c_limits, bridge_config()),
-        HBridgeStepper::new(a_pins, a_limits, bridge_config()),
-    ) {
-        (Ok(c), Ok(a)) => [
-            StepperAxis::new(c, c_home, true),
-            StepperAxis::new(a, a_home, true),
-        ],
-        _ => halt(&mut log, "stepper configuration refused"),
-    };
+    let axes = stepper_axes(&porta, &portc, &mut log);
 
     // The I²C devices.
     let bus = RefCell::new(I2c::new(dp.twi));
     let rtc = Ds3231::new(SharedI2c::new(&bus));
-    let compass = Qmc5883l::new(SharedI2c::new(&bus), QmcConfig::default());
-    let mut tilt = Adxl345::new(SharedI2c::new(&bus), ADXL345_ADDRESS);
-    let sensors = match (compass, tilt.init()) {
-        (Ok(compass), Ok(())) => Some(MountSensorsHw::new(
-            tilt,
-            compass,
-            Calibration::IDENTITY,
-            0.0,
-        )),
-        _ => {
-            log.flash(suntracker::flash_str!(
-                "attitude sensors absent: level mount facing north\n"
-            ));
-            None
-        }
-    };
+    let sensors = attitude_sensors(&bus, &mut log);
 
     let mut store = ConfigStore::new(Eeprom::storage(dp.eeprom));
     let config = stored_config(&mut store, &mut log);
     if config.validate().is_err() {
         halt(&mut log, "configuration refused");
     }
-    // A sun position costs about 45,000 cycles here (psa-2020 in f32):
-    // planning a day (some 370 positions, about a second) is spread over
-    // ticks, four positions (11 ms) per tick, so that the loop keeps serving
-    // the motors, the GPS ring and the watchdog; tracking starts about 90 s
-    // after the time is trusted. The attitude (four readings of each sensor
-    // and their trigonometry, about 10 ms) is read every 10 s, not every
-    // tick: the mount does not move in between.
-    let options = ControllerOptions {
-        plan_positions_per_tick: PLAN_POSITIONS_PER_TICK,
-        attitude_every_ms: ATTITUDE_EVERY_MS,
-        ..mechanics::controller_options()
-    };
     let mut platform = MegaPlatform {
         _millis: millis_clock,
         anemometer,
@@ -301,12 +235,9 @@ fn run_tracker(dp: Parts) -> ! {
         store,
     };
     let mut firmware = Firmware::<f32, _, _, _, _, _, TABLE_LEN>::new(
-        AppConfig {
-            defaults: mechanics::config,
-            ..AppConfig::new(BOARD)
-        },
+        app_config(),
         config,
-        options,
+        controller_options(),
         rtc,
         gps,
         axes,
@@ -331,6 +262,123 @@ fn run_tracker(dp: Parts) -> ! {
                 StartError::Controller(ControllerError::Schedule(_)) => "schedule refused",
             };
             halt(&mut log, why)
+        }
+    }
+}
+
+/// The loop's settings: this board's name and its own configuration.
+/// Not inlined, as [`controller_options`].
+#[inline(never)]
+fn app_config() -> AppConfig {
+    AppConfig {
+        defaults: mechanics::config,
+        ..AppConfig::new(BOARD)
+    }
+}
+
+/// The controller's options for this board. Not inlined: built in
+/// `run_tracker`'s frame of kilobytes, each field would be stored beyond
+/// the 63 bytes `ldd`/`std` reach from the frame pointer, 12 bytes more
+/// each.
+#[inline(never)]
+fn controller_options() -> ControllerOptions<f32> {
+    // A sun position costs about 45,000 cycles here (psa-2020 in f32):
+    // planning a day (some 370 positions, about a second) is spread over
+    // ticks, four positions (11 ms) per tick, so that the loop keeps serving
+    // the motors, the GPS ring and the watchdog; tracking starts about 90 s
+    // after the time is trusted. The attitude (four readings of each sensor
+    // and their trigonometry, about 10 ms) is read every 10 s, not every
+    // tick: the mount does not move in between.
+    ControllerOptions {
+        plan_positions_per_tick: PLAN_POSITIONS_PER_TICK,
+        attitude_every_ms: ATTITUDE_EVERY_MS,
+        ..mechanics::controller_options()
+    }
+}
+
+/// A stepper axis of this board: its bridge on port A, its switches on port C.
+type MegaAxis<'p> = StepperAxis<
+    PortOutputPin<'p, chip::PORTA>,
+    PortInputPin<'p, chip::PORTC>,
+    PortInputPin<'p, chip::PORTC>,
+>;
+
+/// The two stepper axes: the C axis's bridge on PA0–PA3, the A axis's on
+/// PA4–PA7; their limit switches on PC0/PC2 and PC1/PC3, the lower ones
+/// also the home switches (active low, pulled up). Not inlined, as
+/// [`attitude_sensors`].
+#[inline(never)]
+fn stepper_axes<'p>(
+    porta: &'p chip::PORTA,
+    portc: &'p chip::PORTC,
+    log: &mut Usart0,
+) -> [MegaAxis<'p>; 2] {
+    let bridge = |p0, p1, p2, p3| BridgePins {
+        in1: p0,
+        in2: p1,
+        in3: p2,
+        in4: p3,
+    };
+    let c_pins = bridge(
+        OutputPin::<_, 0>::new(porta, false).erase(),
+        OutputPin::<_, 1>::new(porta, false).erase(),
+        OutputPin::<_, 2>::new(porta, false).erase(),
+        OutputPin::<_, 3>::new(porta, false).erase(),
+    );
+    let a_pins = bridge(
+        OutputPin::<_, 4>::new(porta, false).erase(),
+        OutputPin::<_, 5>::new(porta, false).erase(),
+        OutputPin::<_, 6>::new(porta, false).erase(),
+        OutputPin::<_, 7>::new(porta, false).erase(),
+    );
+    let c_limits = LimitSwitches {
+        min: Some(InputPin::<_, 0>::new(portc, true).erase()),
+        max: Some(InputPin::<_, 2>::new(portc, true).erase()),
+        active_low: true,
+    };
+    let a_limits = LimitSwitches {
+        min: Some(InputPin::<_, 1>::new(portc, true).erase()),
+        max: Some(InputPin::<_, 3>::new(portc, true).erase()),
+        active_low: true,
+    };
+    let c_home = InputPin::<_, 0>::new(portc, true).erase();
+    let a_home = InputPin::<_, 1>::new(portc, true).erase();
+    match (
+        HBridgeStepper::new(c_pins, c_limits, bridge_config()),
+        HBridgeStepper::new(a_pins, a_limits, bridge_config()),
+    ) {
+        (Ok(c), Ok(a)) => [
+            StepperAxis::new(c, c_home, true),
+            StepperAxis::new(a, a_home, true),
+        ],
+        _ => halt(log, "stepper configuration refused"),
+    }
+}
+
+/// The mount's attitude sensors on the I²C bus (ADXL345 and QMC5883L), or
+/// none when either does not answer (the log says so). Not inlined: its
+/// temporaries would otherwise sit in `run_tracker`'s frame of kilobytes,
+/// beyond the 63 bytes `ldd`/`std` reach from the frame pointer, where each
+/// use costs 8–12 bytes more.
+#[inline(never)]
+fn attitude_sensors<'b>(
+    bus: &'b RefCell<I2c>,
+    log: &mut Usart0,
+) -> Option<MountSensorsHw<Adxl345<SharedI2c<'b>>, Qmc5883l<SharedI2c<'b>>>> {
+    let compass = Qmc5883l::new(SharedI2c::new(bus), QmcConfig::default());
+    let mut tilt = Adxl345::new(SharedI2c::new(bus), ADXL345_ADDRESS);
+    match (compass, tilt.init()) {
+        (Ok(compass), Ok(())) => Some(MountSensorsHw::new(
+            tilt,
+            compass,
+            Calibration::IDENTITY,
+            0.0,
+        )),
+        _ => {
+            log.flash(suntracker::flash_str!(
+                "attitude sensors absent: level mount facing north\n"
+            ));
+            None
         }
     }
 }
