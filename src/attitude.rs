@@ -117,24 +117,6 @@ impl<T: Copy> Choice<T> {
     }
 }
 
-fn rot_x<T: Float>(a_deg: T) -> Mat3<T> {
-    let (s, c) = a_deg.to_radians().sin_cos();
-    let (o, z) = (T::ONE, T::ZERO);
-    [[o, z, z], [z, c, -s], [z, s, c]]
-}
-
-fn rot_y<T: Float>(a_deg: T) -> Mat3<T> {
-    let (s, c) = a_deg.to_radians().sin_cos();
-    let (o, z) = (T::ONE, T::ZERO);
-    [[c, z, s], [z, o, z], [-s, z, c]]
-}
-
-fn rot_z<T: Float>(a_deg: T) -> Mat3<T> {
-    let (s, c) = a_deg.to_radians().sin_cos();
-    let (o, z) = (T::ONE, T::ZERO);
-    [[c, -s, z], [s, c, z], [z, z, o]]
-}
-
 /// Matrix product `a·b`.
 pub fn mat_mul<T: Float>(a: &Mat3<T>, b: &Mat3<T>) -> Mat3<T> {
     let mut m = [[T::ZERO; 3]; 3];
@@ -273,12 +255,29 @@ impl<T: Float> MountAttitude<T> {
     }
 
     /// `T = Rz(γ0)·Rx(α0)·Ry(β0)`: tracker coordinates → horizontal (Choi et
-    /// al. eq. 12).
+    /// al. eq. 12), multiplied out: with `sγ = sin γ0`, `cγ = cos γ0` and
+    /// so on,
+    ///
+    /// ```text
+    /// ⎡ cγ·cβ − (sγ·sα)·sβ   −sγ·cα   cγ·sβ + (sγ·sα)·cβ ⎤
+    /// ⎢ sγ·cβ + (cγ·sα)·sβ    cγ·cα   sγ·sβ − (cγ·sα)·cβ ⎥
+    /// ⎣ −cα·sβ                 sα      cα·cβ              ⎦
+    /// ```
+    ///
+    /// (the product of the three rotations term for term, without its
+    /// products with 0 and 1). Out of line on the AVR, where three callers
+    /// would each hold a copy.
+    #[cfg_attr(target_arch = "avr", inline(never))]
     pub fn matrix(&self) -> Mat3<T> {
-        mat_mul(
-            &mat_mul(&rot_z(self.gamma0_deg), &rot_x(self.alpha0_deg)),
-            &rot_y(self.beta0_deg),
-        )
+        let (sg, cg) = self.gamma0_deg.to_radians().sin_cos();
+        let (sa, ca) = self.alpha0_deg.to_radians().sin_cos();
+        let (sb, cb) = self.beta0_deg.to_radians().sin_cos();
+        let (sg_sa, cg_sa) = (sg * sa, cg * sa);
+        [
+            [cg * cb - sg_sa * sb, -sg * ca, cg * sb + sg_sa * cb],
+            [sg * cb + cg_sa * sb, cg * ca, sg * sb - cg_sa * cb],
+            [-(ca * sb), sa, ca * cb],
+        ]
     }
 
     /// The sun vector seen from the tracker frame, `Tᵀ·S` (Choi et al.
@@ -404,6 +403,48 @@ impl<T: Float> MountAttitude<T> {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    fn rot_x(a_deg: f64) -> Mat3<f64> {
+        let (s, c) = a_deg.to_radians().sin_cos();
+        [[1.0, 0.0, 0.0], [0.0, c, -s], [0.0, s, c]]
+    }
+
+    fn rot_y(a_deg: f64) -> Mat3<f64> {
+        let (s, c) = a_deg.to_radians().sin_cos();
+        [[c, 0.0, s], [0.0, 1.0, 0.0], [-s, 0.0, c]]
+    }
+
+    fn rot_z(a_deg: f64) -> Mat3<f64> {
+        let (s, c) = a_deg.to_radians().sin_cos();
+        [[c, -s, 0.0], [s, c, 0.0], [0.0, 0.0, 1.0]]
+    }
+
+    #[test]
+    fn matrix_is_the_product_of_the_three_rotations() {
+        // Choi et al. eq. 12, T = Rz(γ0)·Rx(α0)·Ry(β0), by matrix products.
+        for &(alpha0_deg, beta0_deg, gamma0_deg) in &[
+            (0.0, 0.0, 0.0),
+            (12.0, -7.5, 40.0),
+            (-30.0, 25.0, 200.0),
+            (89.0, -60.0, -135.0),
+        ] {
+            let m = MountAttitude {
+                alpha0_deg,
+                beta0_deg,
+                gamma0_deg,
+            };
+            let want = mat_mul(
+                &mat_mul(&rot_z(gamma0_deg), &rot_x(alpha0_deg)),
+                &rot_y(beta0_deg),
+            );
+            let got = m.matrix();
+            for (gr, wr) in got.iter().zip(want.iter()) {
+                for (g, w) in gr.iter().zip(wr.iter()) {
+                    assert!((g - w).abs() < 1e-15, "{got:?} != {want:?}");
+                }
+            }
+        }
+    }
 
     #[test]
     fn tilt_readings_round_trip() {
