@@ -321,6 +321,7 @@ impl<C: RtcDriver> TimeKeeper<C> {
     /// ([`gps_time`]) at monotonic `now_ms`, and decides the time. Bus
     /// traffic per call: one status read and one time read; plus one time
     /// write (and the flag clear) when the RTC is set.
+    #[cfg_attr(target_arch = "avr", inline(never))]
     pub fn update(&mut self, gps: &GpsFix, now_ms: u32) -> TimeStatus {
         let gps_said = gps_time(gps, now_ms, &self.config);
         // A new epoch: its arrival differs from the last one seen.
