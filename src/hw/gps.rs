@@ -27,6 +27,7 @@ impl<R: Read + ReadReady> GpsPort<R> {
     /// Reads what the port has ready (bounded) and returns the current fix
     /// ([`GpsFix::NONE`] once stale). `now_ms` is a monotonic millisecond
     /// count of the board.
+    #[cfg_attr(target_arch = "avr", inline(never))]
     pub fn service(&mut self, now_ms: u32) -> Result<GpsFix, Error<R::Error>> {
         // A `None` only says that the bytes so far did not finish an epoch;
         // the loop ends as soon as the port is drained: when it is empty
