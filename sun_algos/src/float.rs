@@ -432,10 +432,18 @@ fn ratio_bits(num: i64, den: u64, format: Format) -> u64 {
     if n == 0 {
         return 0;
     }
-    let (ln, ld) = (n.leading_zeros(), den.leading_zeros());
-    // n / den = (r / d) · 2^e with r, d in [2^63, 2^64).
-    let (mut r, d) = (n << ln, den << ld);
-    let mut e = ld as i32 - ln as i32;
+    // n / den = (r / d) · 2^e with r, d in [2^63, 2^64), shifted up a bit
+    // at a time: on an 8-bit core a 64-bit leading-zero count and shift by
+    // a variable amount take some 1.5 KB, this loop a few dozen bytes.
+    let (mut r, mut d, mut e) = (n, den, 0i32);
+    while r >> 63 == 0 {
+        r <<= 1;
+        e -= 1;
+    }
+    while d >> 63 == 0 {
+        d <<= 1;
+        e += 1;
+    }
     // The remainder has a 65th bit, `carry`, once doubled.
     let mut carry = false;
     if r < d {
