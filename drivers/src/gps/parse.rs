@@ -370,6 +370,9 @@ fn optional<T>(
 /// GGA fields 1..=12 (field 0, the address, already taken). The HDOP (8)
 /// and geoid separation (11) are not used; their grammar is checked by
 /// [`check_fields`], like that of the fields after 12.
+// Out of line on the AVR, as `parse_rmc`: in `parse_sentence`'s frame
+// their fields lay beyond the 63 bytes `ldd`/`std` reach (324 B more).
+#[cfg_attr(target_arch = "avr", inline(never))]
 fn parse_gga<'a>(fields: &mut impl Iterator<Item = &'a str>) -> Result<Gga, ParseError> {
     let time = optional(next(fields)?, parse_time)?;
     let (latitude_deg, longitude_deg) =
@@ -396,6 +399,7 @@ fn parse_gga<'a>(fields: &mut impl Iterator<Item = &'a str>) -> Result<Gga, Pars
 /// RMC fields 1..=11 (field 0, the address, already taken). Speed (7),
 /// course (8) and magnetic variation (10) are not used; their grammar is
 /// checked by [`check_fields`].
+#[cfg_attr(target_arch = "avr", inline(never))]
 fn parse_rmc<'a>(fields: &mut impl Iterator<Item = &'a str>) -> Result<Rmc, ParseError> {
     let time = optional(next(fields)?, parse_time)?;
     let valid = match next(fields)? {
