@@ -138,6 +138,9 @@ where
     L: embedded_hal::digital::InputPin<Error = E>,
     H: embedded_hal::digital::InputPin<Error = E>,
 {
+    // Out of line on the AVR: the main loop's pass held a copy for each
+    // axis.
+    #[cfg_attr(target_arch = "avr", inline(never))]
     fn service(&mut self, now_us: u64) -> bool {
         self.poll(now_us).is_ok()
     }
