@@ -274,6 +274,9 @@ macro_rules! usart {
         }
 
         impl suntracker::log::Sink for $name {
+            // Not inlined: the log and the console call it at some twenty
+            // places.
+            #[inline(never)]
             fn put(&mut self, bytes: &[u8]) {
                 for &byte in bytes {
                     self.put_byte(byte);
