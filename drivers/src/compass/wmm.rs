@@ -424,8 +424,11 @@ impl WmmModel {
         height_km: F,
         decimal_year: F,
     ) -> Result<F, WmmError> {
-        self.field(latitude_deg, longitude_deg, height_km, decimal_year)
-            .map(|e| e.declination_deg)
+        // The components only: on the AVR the other elements' square roots
+        // and arctangent are library calls the compiler cannot drop.
+        let [north_nt, east_nt, _] =
+            self.components(latitude_deg, longitude_deg, height_km, decimal_year)?;
+        Ok(declination_deg(north_nt, east_nt))
     }
 
     /// All magnetic elements at a geodetic position (WGS-84 latitude and
@@ -451,6 +454,28 @@ impl WmmModel {
         height_km: F,
         decimal_year: F,
     ) -> Result<MagneticElements<F>, WmmError> {
+        let [north_nt, east_nt, down_nt] =
+            self.components(latitude_deg, longitude_deg, height_km, decimal_year)?;
+        let horizontal_nt = (north_nt * north_nt + east_nt * east_nt).sqrt();
+        Ok(MagneticElements {
+            north_nt,
+            east_nt,
+            down_nt,
+            horizontal_nt,
+            total_nt: (horizontal_nt * horizontal_nt + down_nt * down_nt).sqrt(),
+            inclination_deg: down_nt.atan2(horizontal_nt).to_degrees(),
+            declination_deg: declination_deg(north_nt, east_nt),
+        })
+    }
+
+    /// The field's north, east and down components, nT (report eqs. 7–11).
+    fn components<F: Float>(
+        &self,
+        latitude_deg: F,
+        longitude_deg: F,
+        height_km: F,
+        decimal_year: F,
+    ) -> Result<[F; 3], WmmError> {
         let c = F::from_f64;
         if !(latitude_deg.is_finite()
             && longitude_deg.is_finite()
@@ -554,17 +579,13 @@ impl WmmModel {
         let north_nt = x_gc * cos_d - z_gc * sin_d;
         let east_nt = y_gc;
         let down_nt = x_gc * sin_d + z_gc * cos_d;
-        let horizontal_nt = (north_nt * north_nt + east_nt * east_nt).sqrt();
-        Ok(MagneticElements {
-            north_nt,
-            east_nt,
-            down_nt,
-            horizontal_nt,
-            total_nt: (horizontal_nt * horizontal_nt + down_nt * down_nt).sqrt(),
-            inclination_deg: down_nt.atan2(horizontal_nt).to_degrees(),
-            declination_deg: east_nt.atan2(north_nt).to_degrees(),
-        })
+        Ok([north_nt, east_nt, down_nt])
     }
+}
+
+/// D from the north and east components (report eq. 19).
+fn declination_deg<F: Float>(north_nt: F, east_nt: F) -> F {
+    east_nt.atan2(north_nt).to_degrees()
 }
 
 /// One degree n of the Schmidt semi-normalised associated Legendre
