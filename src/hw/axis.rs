@@ -118,8 +118,9 @@ where
     }
 
     fn pending(&self) -> i32 {
-        let d = i64::from(self.stepper.target()) - i64::from(self.stepper.position());
-        i32::try_from(d).unwrap_or(if d > 0 { i32::MAX } else { i32::MIN })
+        // The difference clamped to the i32 range, in 32 bits (no 64-bit
+        // subtraction and compare at each of its callers on the AVR).
+        self.stepper.target().saturating_sub(self.stepper.position())
     }
 
     /// Decelerates to rest along the driver's ramp (a stepper stopped dead
