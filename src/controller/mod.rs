@@ -442,6 +442,9 @@ where
         self.home_retry_ms = [None; 2];
     }
 
+    /// The soft limits as a pose range. Out of line on the AVR, where six
+    /// callers each copied the four limits.
+    #[cfg_attr(target_arch = "avr", inline(never))]
     fn limits(&self) -> PoseLimits<T> {
         let c = &self.config.axes;
         PoseLimits {
