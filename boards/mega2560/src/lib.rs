@@ -343,9 +343,10 @@ fn stepper_axes<'p>(
     };
     let c_home = InputPin::<_, 0>::new(portc, true).erase();
     let a_home = InputPin::<_, 1>::new(portc, true).erase();
+    let config = bridge_config();
     match (
-        HBridgeStepper::new(c_pins, c_limits, bridge_config()),
-        HBridgeStepper::new(a_pins, a_limits, bridge_config()),
+        HBridgeStepper::new(c_pins, c_limits, config),
+        HBridgeStepper::new(a_pins, a_limits, config),
     ) {
         (Ok(c), Ok(a)) => [
             StepperAxis::new(c, c_home, true),
