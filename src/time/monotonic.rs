@@ -98,7 +98,9 @@ pub fn catch_up(deadline_ms: &mut u32, now_ms: u32) {
 ///     assert_eq!(age, (days * 86_400_000 + 60_000).min(MAX_AGE_MS as u64) as u32);
 /// }
 /// ```
-#[inline]
+#[cfg_attr(not(target_arch = "avr"), inline)]
+// Out of line on the AVR: four inlined copies there.
+#[cfg_attr(target_arch = "avr", inline(never))]
 pub fn age_ms(since_ms: &mut u32, now_ms: u32) -> u32 {
     let age = elapsed_ms(now_ms, *since_ms);
     if age > MAX_AGE_MS {
