@@ -435,7 +435,9 @@ impl<S: Storage, R: Record, const N: usize> ConfigStore<S, R, N> {
     }
 
     /// Encodes `cfg` with sequence `seq` into the staged record; its
-    /// length, or `None` when it does not fit.
+    /// length, or `None` when it does not fit. Out of line on the AVR:
+    /// apart from the save's checks its temporaries leave their frame.
+    #[cfg_attr(target_arch = "avr", inline(never))]
     fn stage(&mut self, cfg: &R, seq: u32) -> Option<usize> {
         let buf: &mut [u8] = &mut self.staged;
         let n = cfg.encode(buf.get_mut(HEADER_LEN..)?)?;
