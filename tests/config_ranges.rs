@@ -1,6 +1,6 @@
 //! Configuration ranges: every field is checked and the error names it.
 
-use suntracker::config::{ranges, Config, ConfigError};
+use suntracker::config::{ranges, AxisConfig, Config, ConfigError, Reason};
 
 fn field_of(c: &Config) -> Option<&'static str> {
     c.validate()
@@ -156,6 +156,155 @@ fn every_field_out_of_range_is_named() {
         let n = c.encode(&mut buf).unwrap();
         assert_eq!(Config::decode(&buf[..n]), None, "{key}");
     }
+}
+
+/// One value out of range per key, with the reason its error must give:
+/// the range of the field's doc comment, or the rule between fields.
+const REASONS: &[(&str, Reason, Mutate)] = &[
+    ("site.lat_deg", Reason::Latitude, |c| {
+        c.site.latitude_deg = -91.0
+    }),
+    ("site.lon_deg", Reason::Deg180, |c| {
+        c.site.longitude_deg = 181.0
+    }),
+    ("site.elevation_m", Reason::ElevationM, |c| {
+        c.site.elevation_m = -501.0
+    }),
+    ("schedule.table_step_s", Reason::TableStepS, |c| {
+        c.schedule.table_step_s = 59
+    }),
+    ("schedule.table_step_s", Reason::WholeMinutesOfDay, |c| {
+        c.schedule.table_step_s = 420
+    }),
+    ("schedule.hold_s", Reason::S0To3600, |c| {
+        c.schedule.hold_s = 3_601
+    }),
+    ("schedule.recheck_s", Reason::S1To3600, |c| {
+        c.schedule.recheck_s = 0
+    }),
+    ("schedule.max_tick_gap_s", Reason::S1To86400, |c| {
+        c.schedule.max_tick_gap_s = 0
+    }),
+    ("schedule.max_backward_s", Reason::S0To86400, |c| {
+        c.schedule.max_backward_s = 86_401
+    }),
+    (
+        "axis.c.counts_per_motor_rev",
+        Reason::CountsPerMotorRev,
+        |c| c.axes[0].counts_per_motor_rev = 0,
+    ),
+    ("axis.a.microsteps", Reason::Microsteps, |c| {
+        c.axes[1].microsteps = 257
+    }),
+    ("axis.c.gear_ratio", Reason::GearRatio, |c| {
+        c.axes[0].gear_ratio = 0.5
+    }),
+    ("axis.a.counts_per_deg", Reason::CountsPerDeg, |c| {
+        c.axes[1].counts_per_motor_rev = 200;
+        c.axes[1].microsteps = 1;
+        c.axes[1].gear_ratio = 1.0;
+    }),
+    ("axis.a.min_deg", Reason::LimitDeg, |c| {
+        c.axes[1].min_deg = -361.0
+    }),
+    ("axis.c.max_deg", Reason::LimitDeg, |c| {
+        c.axes[0].max_deg = 361.0
+    }),
+    ("axis.a.max_deg", Reason::AboveMinDeg, |c| {
+        c.axes[1].max_deg = c.axes[1].min_deg
+    }),
+    ("axis.c.home_deg", Reason::HomeNearMinDeg, |c| {
+        c.axes[0].home_deg = c.axes[0].min_deg + 10.5
+    }),
+    ("axis.a.backlash_deg", Reason::Deg0To5, |c| {
+        c.axes[1].backlash_deg = 5.5
+    }),
+    ("axis.c.max_speed_deg_s", Reason::SpeedDegS, |c| {
+        c.axes[0].max_speed_deg_s = 31.0
+    }),
+    ("axis.a.deadband_deg", Reason::Deg0To5, |c| {
+        c.axes[1].deadband_deg = -0.5
+    }),
+    ("axis.a.deadband_deg", Reason::BelowMaxDeviation, |c| {
+        c.axes[1].deadband_deg = 0.5;
+        c.safety.max_deviation_deg = 0.5;
+    }),
+    ("wind.stow_hz", Reason::StowHz, |c| {
+        c.wind.threshold_hz = 0.05
+    }),
+    ("wind.hold_s", Reason::S0To600, |c| c.wind.hold_s = 601),
+    ("wind.release_s", Reason::S0To86400, |c| {
+        c.wind.release_s = 86_401
+    }),
+    ("safety.max_deviation_deg", Reason::MaxDeviationDeg, |c| {
+        c.safety.max_deviation_deg = 45.5
+    }),
+    ("safety.stall_timeout_s", Reason::S1To600, |c| {
+        c.safety.stall_timeout_s = 601
+    }),
+    ("safety.sensor_timeout_s", Reason::S1To3600, |c| {
+        c.safety.sensor_timeout_s = 0
+    }),
+    ("safety.max_retries", Reason::MaxRetries, |c| {
+        c.safety.max_retries = 21
+    }),
+    ("calibration.declination_deg", Reason::Deg180, |c| {
+        c.calibration.declination_deg = -181.0
+    }),
+    ("calibration.heading_offset_deg", Reason::Deg180, |c| {
+        c.calibration.heading_offset_deg = 181.0
+    }),
+    (
+        "calibration.tilt_x_offset_deg",
+        Reason::TiltOffsetDeg,
+        |c| c.calibration.tilt_x_offset_deg = -45.5,
+    ),
+    (
+        "calibration.tilt_y_offset_deg",
+        Reason::TiltOffsetDeg,
+        |c| c.calibration.tilt_y_offset_deg = 45.5,
+    ),
+    ("log.status_min", Reason::StatusMin, |c| {
+        c.log.status_every_min = 1_441
+    }),
+];
+
+#[test]
+fn every_key_gives_the_reason_of_its_range() {
+    for (key, reason, mutate) in REASONS {
+        let mut c = Config::default();
+        mutate(&mut c);
+        assert_eq!(
+            c.validate(),
+            Err(ConfigError {
+                field: c.validate().unwrap_err().field,
+                reason: *reason
+            }),
+            "{key}"
+        );
+        assert_eq!(c.validate().unwrap_err().field, *key);
+    }
+}
+
+#[test]
+fn an_axis_alone_is_checked_under_its_own_keys() {
+    let mut a: AxisConfig = Config::default().axes[1];
+    assert_eq!(a.validate(1), Ok(()));
+    a.backlash_deg = 6.0;
+    let e = a.validate(1).unwrap_err();
+    assert_eq!(
+        (e.field.name().as_str(), e.reason),
+        ("axis.a.backlash_deg", Reason::Deg0To5)
+    );
+    // Any axis but 0 is the A axis; 0 the C axis.
+    assert_eq!(a.validate(7), Err(e));
+    let e = a.validate(0).unwrap_err();
+    assert_eq!(e.field.name().as_str(), "axis.c.backlash_deg");
+    // The deadband's relation to safety.max_deviation_deg is the whole
+    // configuration's rule, not the axis's.
+    let mut a: AxisConfig = Config::default().axes[0];
+    a.deadband_deg = 4.0;
+    assert_eq!(a.validate(0), Ok(()));
 }
 
 /// The ends of every range are valid.

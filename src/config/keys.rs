@@ -162,17 +162,12 @@ named! {
     }
 }
 
-/// Dotted keys of one axis's fields (`axis.c.*` or `axis.a.*`).
+/// Dotted keys of one axis's fields (`axis.c.*` or `axis.a.*`) that the
+/// validation names or bounds its span by: the first and last of the
+/// axis's keys in the key table (the deadband also the rule between it and
+/// `safety.max_deviation_deg` names).
 pub(super) struct AxisKeys {
     pub(super) counts_per_motor_rev: Field,
-    pub(super) microsteps: Field,
-    pub(super) gear_ratio: Field,
-    pub(super) counts_per_deg: Field,
-    pub(super) min_deg: Field,
-    pub(super) max_deg: Field,
-    pub(super) home_deg: Field,
-    pub(super) backlash_deg: Field,
-    pub(super) max_speed_deg_s: Field,
     pub(super) deadband_deg: Field,
 }
 
@@ -180,26 +175,10 @@ pub(super) struct AxisKeys {
 pub(super) const AXIS_KEYS: [AxisKeys; 2] = [
     AxisKeys {
         counts_per_motor_rev: Field::AxisCCountsPerMotorRev,
-        microsteps: Field::AxisCMicrosteps,
-        gear_ratio: Field::AxisCGearRatio,
-        counts_per_deg: Field::AxisCCountsPerDeg,
-        min_deg: Field::AxisCMinDeg,
-        max_deg: Field::AxisCMaxDeg,
-        home_deg: Field::AxisCHomeDeg,
-        backlash_deg: Field::AxisCBacklashDeg,
-        max_speed_deg_s: Field::AxisCMaxSpeedDegS,
         deadband_deg: Field::AxisCDeadbandDeg,
     },
     AxisKeys {
         counts_per_motor_rev: Field::AxisACountsPerMotorRev,
-        microsteps: Field::AxisAMicrosteps,
-        gear_ratio: Field::AxisAGearRatio,
-        counts_per_deg: Field::AxisACountsPerDeg,
-        min_deg: Field::AxisAMinDeg,
-        max_deg: Field::AxisAMaxDeg,
-        home_deg: Field::AxisAHomeDeg,
-        backlash_deg: Field::AxisABacklashDeg,
-        max_speed_deg_s: Field::AxisAMaxSpeedDegS,
         deadband_deg: Field::AxisADeadbandDeg,
     },
 ];

@@ -1,10 +1,11 @@
 //! The key table: every configuration field by its key ([`Field`]), its
-//! kind, and where it lives in a [`Config`]. The console reads and writes
-//! fields through it (`get`, `set`), and the stored payload
-//! ([`super::codec`]) is its fields in its order, so that one table says
-//! both.
+//! kind, where it lives in a [`Config`] and its range ([`super::ranges`]).
+//! The console reads and writes fields through it (`get`, `set`), the
+//! stored payload ([`super::codec`]) is its fields in its order, and
+//! [`Config::validate`] checks its ranges in that order, so that one table
+//! says all three.
 
-use super::{Config, Field};
+use super::{ranges as r, Config, Field, Reason};
 
 /// A key's value.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -35,6 +36,40 @@ macro_rules! key_slot {
     };
 }
 
+/// Where one key's range goes in the range table: the bounds in the
+/// field's own kind, an `f32`'s bits or the whole number.
+macro_rules! key_range {
+    (F32, $range:expr, $why:ident) => {
+        Range {
+            lo: $range.0.to_bits(),
+            hi: $range.1.to_bits(),
+            reason: Reason::$why,
+        }
+    };
+    (Derived, $range:expr, $why:ident) => {
+        key_range!(F32, $range, $why)
+    };
+    // Widening casts (`u32::from` is not `const`).
+    ($int:ident, $range:expr, $why:ident) => {
+        Range {
+            lo: $range.0 as u32,
+            hi: $range.1 as u32,
+            reason: Reason::$why,
+        }
+    };
+}
+
+/// A key's range and the reason its error names. The bounds are in the
+/// field's own kind: an `f32`'s bits ([`f32::to_bits`]) for a real number,
+/// else the whole number. For the home switch angles they are offsets
+/// from the axis's `min_deg` ([`r::HOME_ABOVE_MIN_DEG`]).
+#[derive(Clone, Copy)]
+pub(crate) struct Range {
+    pub(crate) lo: u32,
+    pub(crate) hi: u32,
+    pub(crate) reason: Reason,
+}
+
 /// A field to write, or to read through a copy.
 pub(crate) enum Slot<'a> {
     F32(&'a mut f32),
@@ -49,11 +84,17 @@ pub(crate) enum Slot<'a> {
 /// configuration. The matches are exhaustive over [`Field`]: a field added
 /// to the configuration's keys must be added here.
 macro_rules! key_table {
-    ($c:ident; $( $field:ident $kind:ident $place:expr; )*) => {
+    ($c:ident; $( $field:ident $kind:ident $place:expr, $range:ident $why:ident; )*) => {
         /// Every key, in the order of the configuration's layout (`get`
         /// lists them in this order). `site.postal_code` is not a field and
         /// not in the table.
         pub const KEYS: &[Field] = &[$(Field::$field,)*];
+
+        crate::progmem! {
+            /// The range of each key of [`KEYS`], at the same place.
+            pub(crate) static RANGES: [Range; KEYS.len()] =
+                [$(key_range!($kind, r::$range, $why),)*];
+        }
 
         /// The field of `key`, to write.
         pub(crate) fn slot($c: &mut Config, key: Field) -> Slot<'_> {
@@ -65,46 +106,46 @@ macro_rules! key_table {
 }
 
 key_table! { c;
-    SiteLatDeg F32 c.site.latitude_deg;
-    SiteLonDeg F32 c.site.longitude_deg;
-    SiteElevationM F32 c.site.elevation_m;
-    ScheduleTableStepS U32 c.schedule.table_step_s;
-    ScheduleHoldS U32 c.schedule.hold_s;
-    ScheduleRecheckS U32 c.schedule.recheck_s;
-    ScheduleMaxTickGapS U32 c.schedule.max_tick_gap_s;
-    ScheduleMaxBackwardS U32 c.schedule.max_backward_s;
-    AxisCCountsPerMotorRev U32 c.axes[0].counts_per_motor_rev;
-    AxisCMicrosteps U16 c.axes[0].microsteps;
-    AxisCGearRatio F32 c.axes[0].gear_ratio;
-    AxisCCountsPerDeg Derived c.axes[0].counts_per_deg();
-    AxisCMinDeg F32 c.axes[0].min_deg;
-    AxisCMaxDeg F32 c.axes[0].max_deg;
-    AxisCHomeDeg F32 c.axes[0].home_deg;
-    AxisCBacklashDeg F32 c.axes[0].backlash_deg;
-    AxisCMaxSpeedDegS F32 c.axes[0].max_speed_deg_s;
-    AxisCDeadbandDeg F32 c.axes[0].deadband_deg;
-    AxisACountsPerMotorRev U32 c.axes[1].counts_per_motor_rev;
-    AxisAMicrosteps U16 c.axes[1].microsteps;
-    AxisAGearRatio F32 c.axes[1].gear_ratio;
-    AxisACountsPerDeg Derived c.axes[1].counts_per_deg();
-    AxisAMinDeg F32 c.axes[1].min_deg;
-    AxisAMaxDeg F32 c.axes[1].max_deg;
-    AxisAHomeDeg F32 c.axes[1].home_deg;
-    AxisABacklashDeg F32 c.axes[1].backlash_deg;
-    AxisAMaxSpeedDegS F32 c.axes[1].max_speed_deg_s;
-    AxisADeadbandDeg F32 c.axes[1].deadband_deg;
-    WindStowHz F32 c.wind.threshold_hz;
-    WindHoldS U32 c.wind.hold_s;
-    WindReleaseS U32 c.wind.release_s;
-    SafetyMaxDeviationDeg F32 c.safety.max_deviation_deg;
-    SafetyStallTimeoutS U32 c.safety.stall_timeout_s;
-    SafetySensorTimeoutS U32 c.safety.sensor_timeout_s;
-    SafetyMaxRetries U8 c.safety.max_retries;
-    CalibrationDeclinationDeg F32 c.calibration.declination_deg;
-    CalibrationHeadingOffsetDeg F32 c.calibration.heading_offset_deg;
-    CalibrationTiltXOffsetDeg F32 c.calibration.tilt_x_offset_deg;
-    CalibrationTiltYOffsetDeg F32 c.calibration.tilt_y_offset_deg;
-    LogStatusMin U16 c.log.status_every_min;
+    SiteLatDeg F32 c.site.latitude_deg, LAT_DEG Latitude;
+    SiteLonDeg F32 c.site.longitude_deg, LON_DEG Deg180;
+    SiteElevationM F32 c.site.elevation_m, ELEVATION_M ElevationM;
+    ScheduleTableStepS U32 c.schedule.table_step_s, TABLE_STEP_S TableStepS;
+    ScheduleHoldS U32 c.schedule.hold_s, HOLD_S S0To3600;
+    ScheduleRecheckS U32 c.schedule.recheck_s, RECHECK_S S1To3600;
+    ScheduleMaxTickGapS U32 c.schedule.max_tick_gap_s, MAX_TICK_GAP_S S1To86400;
+    ScheduleMaxBackwardS U32 c.schedule.max_backward_s, MAX_BACKWARD_S S0To86400;
+    AxisCCountsPerMotorRev U32 c.axes[0].counts_per_motor_rev, COUNTS_PER_MOTOR_REV CountsPerMotorRev;
+    AxisCMicrosteps U16 c.axes[0].microsteps, MICROSTEPS Microsteps;
+    AxisCGearRatio F32 c.axes[0].gear_ratio, GEAR_RATIO GearRatio;
+    AxisCCountsPerDeg Derived c.axes[0].counts_per_deg(), COUNTS_PER_DEG CountsPerDeg;
+    AxisCMinDeg F32 c.axes[0].min_deg, LIMIT_DEG LimitDeg;
+    AxisCMaxDeg F32 c.axes[0].max_deg, LIMIT_DEG LimitDeg;
+    AxisCHomeDeg F32 c.axes[0].home_deg, HOME_ABOVE_MIN_DEG HomeNearMinDeg;
+    AxisCBacklashDeg F32 c.axes[0].backlash_deg, BACKLASH_DEG Deg0To5;
+    AxisCMaxSpeedDegS F32 c.axes[0].max_speed_deg_s, MAX_SPEED_DEG_S SpeedDegS;
+    AxisCDeadbandDeg F32 c.axes[0].deadband_deg, DEADBAND_DEG Deg0To5;
+    AxisACountsPerMotorRev U32 c.axes[1].counts_per_motor_rev, COUNTS_PER_MOTOR_REV CountsPerMotorRev;
+    AxisAMicrosteps U16 c.axes[1].microsteps, MICROSTEPS Microsteps;
+    AxisAGearRatio F32 c.axes[1].gear_ratio, GEAR_RATIO GearRatio;
+    AxisACountsPerDeg Derived c.axes[1].counts_per_deg(), COUNTS_PER_DEG CountsPerDeg;
+    AxisAMinDeg F32 c.axes[1].min_deg, LIMIT_DEG LimitDeg;
+    AxisAMaxDeg F32 c.axes[1].max_deg, LIMIT_DEG LimitDeg;
+    AxisAHomeDeg F32 c.axes[1].home_deg, HOME_ABOVE_MIN_DEG HomeNearMinDeg;
+    AxisABacklashDeg F32 c.axes[1].backlash_deg, BACKLASH_DEG Deg0To5;
+    AxisAMaxSpeedDegS F32 c.axes[1].max_speed_deg_s, MAX_SPEED_DEG_S SpeedDegS;
+    AxisADeadbandDeg F32 c.axes[1].deadband_deg, DEADBAND_DEG Deg0To5;
+    WindStowHz F32 c.wind.threshold_hz, STOW_HZ StowHz;
+    WindHoldS U32 c.wind.hold_s, WIND_HOLD_S S0To600;
+    WindReleaseS U32 c.wind.release_s, WIND_RELEASE_S S0To86400;
+    SafetyMaxDeviationDeg F32 c.safety.max_deviation_deg, MAX_DEVIATION_DEG MaxDeviationDeg;
+    SafetyStallTimeoutS U32 c.safety.stall_timeout_s, STALL_TIMEOUT_S S1To600;
+    SafetySensorTimeoutS U32 c.safety.sensor_timeout_s, SENSOR_TIMEOUT_S S1To3600;
+    SafetyMaxRetries U8 c.safety.max_retries, MAX_RETRIES MaxRetries;
+    CalibrationDeclinationDeg F32 c.calibration.declination_deg, HEADING_DEG Deg180;
+    CalibrationHeadingOffsetDeg F32 c.calibration.heading_offset_deg, HEADING_DEG Deg180;
+    CalibrationTiltXOffsetDeg F32 c.calibration.tilt_x_offset_deg, TILT_OFFSET_DEG TiltOffsetDeg;
+    CalibrationTiltYOffsetDeg F32 c.calibration.tilt_y_offset_deg, TILT_OFFSET_DEG TiltOffsetDeg;
+    LogStatusMin U16 c.log.status_every_min, STATUS_MIN StatusMin;
 }
 
 /// The value of `key` in `config`: read through its slot in a copy
@@ -112,7 +153,13 @@ key_table! { c;
 /// counts per degree computed for the axis of `key`.
 pub fn get(config: &Config, key: Field) -> Value {
     let mut copy = *config;
-    match slot(&mut copy, key) {
+    read(&mut copy, key)
+}
+
+/// [`get`] from a configuration the caller lets it borrow mutably (its
+/// slots are references for writing): no copy of it.
+pub(crate) fn read(config: &mut Config, key: Field) -> Value {
+    match slot(config, key) {
         Slot::F32(v) => Value::F32(*v),
         Slot::U32(v) => Value::U32(*v),
         Slot::U16(v) => Value::U32(u32::from(*v)),

@@ -1,10 +1,13 @@
-//! The checks of a configuration against its ranges ([`super::ranges`])
-//! and the rules between fields: [`Config::validate`],
-//! [`AxisConfig::validate`], and the error naming the first field out of
-//! range ([`ConfigError`]).
+//! The checks of a configuration against its ranges ([`super::ranges`],
+//! each key's in the key table, [`super::table`]) and the rules between
+//! fields: [`Config::validate`], [`AxisConfig::validate`], and the error
+//! naming the first field out of range ([`ConfigError`]).
+
+use core::ops::Range;
 
 use super::keys::AXIS_KEYS;
-use super::{ranges, AxisConfig, Config, Field, Reason};
+use super::table::{read, Value, KEYS, RANGES};
+use super::{AxisConfig, Config, Field, Reason};
 
 /// Which field of a [`Config`] is out of its range, and why.
 ///
@@ -30,8 +33,10 @@ impl core::fmt::Display for ConfigError {
     }
 }
 
-/// `Err` naming `field` unless `v` is finite and inside `lo..=hi`. Out of
-/// line: a call is smaller than the comparison it replaces (a dozen callers).
+/// `Err` naming `field` unless `v` is finite and inside `lo..=hi`: the
+/// check [`Config::validate`] makes of a real-valued key, for records that
+/// hold a few of the configuration's fields (the Uno's settings). Out of
+/// line: a call is smaller than the comparison it replaces.
 #[inline(never)]
 pub(crate) fn check_f32(
     v: f32,
@@ -46,19 +51,32 @@ pub(crate) fn check_f32(
     }
 }
 
-/// `Err` naming `field` unless `v` is inside `lo..=hi`.
-fn check_int<T: PartialOrd>(
-    v: T,
-    (lo, hi): (T, T),
-    field: Field,
-    reason: Reason,
-) -> Result<(), ConfigError> {
-    if v >= lo && v <= hi {
-        Ok(())
-    } else {
-        Err(ConfigError { field, reason })
+/// The place of `key` in [`KEYS`] (its length when it is not there).
+const fn key_index(key: Field) -> usize {
+    let mut i = 0;
+    while i < KEYS.len() {
+        if KEYS[i] as usize == key as usize {
+            return i;
+        }
+        i += 1;
     }
+    KEYS.len()
 }
+
+/// The places in [`KEYS`] of each axis's keys, `counts_per_motor_rev`
+/// to `deadband_deg` (the table lists each axis's keys together).
+const AXIS_SPANS: [(usize, usize); 2] = [
+    (
+        key_index(AXIS_KEYS[0].counts_per_motor_rev),
+        key_index(AXIS_KEYS[0].deadband_deg) + 1,
+    ),
+    (
+        key_index(AXIS_KEYS[1].counts_per_motor_rev),
+        key_index(AXIS_KEYS[1].deadband_deg) + 1,
+    ),
+];
+const _: () = assert!(AXIS_SPANS[0].1 - AXIS_SPANS[0].0 == 10);
+const _: () = assert!(AXIS_SPANS[1].1 - AXIS_SPANS[1].0 == 10);
 
 impl AxisConfig {
     /// Checks every field against its range; `axis` 0 is the C axis (keys
@@ -66,69 +84,13 @@ impl AxisConfig {
     /// relation to `safety.max_deviation_deg` is checked by
     /// [`Config::validate`].
     pub fn validate(&self, axis: usize) -> Result<(), ConfigError> {
-        use ranges as r;
-        let [keys_c, keys_a] = &AXIS_KEYS;
-        let k = if axis == 0 { keys_c } else { keys_a };
-        check_int(
-            self.counts_per_motor_rev,
-            r::COUNTS_PER_MOTOR_REV,
-            k.counts_per_motor_rev,
-            Reason::CountsPerMotorRev,
-        )?;
-        check_int(
-            self.microsteps,
-            r::MICROSTEPS,
-            k.microsteps,
-            Reason::Microsteps,
-        )?;
-        check_f32(
-            self.gear_ratio,
-            r::GEAR_RATIO,
-            k.gear_ratio,
-            Reason::GearRatio,
-        )?;
-        check_f32(
-            self.counts_per_deg(),
-            r::COUNTS_PER_DEG,
-            k.counts_per_deg,
-            Reason::CountsPerDeg,
-        )?;
-        check_f32(self.min_deg, r::LIMIT_DEG, k.min_deg, Reason::LimitDeg)?;
-        check_f32(self.max_deg, r::LIMIT_DEG, k.max_deg, Reason::LimitDeg)?;
-        if self.max_deg <= self.min_deg {
-            return Err(ConfigError {
-                field: k.max_deg,
-                reason: Reason::AboveMinDeg,
-            });
-        }
-        let (below, above) = r::HOME_ABOVE_MIN_DEG;
-        check_f32(
-            self.home_deg,
-            (
-                self.min_deg + below,
-                (self.min_deg + above).min(self.max_deg),
-            ),
-            k.home_deg,
-            Reason::HomeNearMinDeg,
-        )?;
-        check_f32(
-            self.backlash_deg,
-            r::BACKLASH_DEG,
-            k.backlash_deg,
-            Reason::Deg0To5,
-        )?;
-        check_f32(
-            self.max_speed_deg_s,
-            r::MAX_SPEED_DEG_S,
-            k.max_speed_deg_s,
-            Reason::SpeedDegS,
-        )?;
-        check_f32(
-            self.deadband_deg,
-            r::DEADBAND_DEG,
-            k.deadband_deg,
-            Reason::Deg0To5,
-        )
+        let i = usize::from(axis != 0);
+        let mut config = Config::default();
+        let (Some(slot), Some(&(from, to))) = (config.axes.get_mut(i), AXIS_SPANS.get(i)) else {
+            return Ok(());
+        };
+        *slot = *self;
+        config.check_keys(from..to)
     }
 }
 
@@ -143,139 +105,78 @@ impl Config {
     /// field out of range is named in the error. For every configuration
     /// that passes, the axis arithmetic cannot overflow (see
     /// [`ranges::COUNTS_PER_DEG`]).
+    ///
+    /// [`ranges`]: super::ranges
+    /// [`ranges::COUNTS_PER_DEG`]: super::ranges::COUNTS_PER_DEG
     pub fn validate(&self) -> Result<(), ConfigError> {
-        use ranges as r;
-        let s = &self.site;
-        check_f32(
-            s.latitude_deg,
-            r::LAT_DEG,
-            Field::SiteLatDeg,
-            Reason::Latitude,
-        )?;
-        check_f32(
-            s.longitude_deg,
-            r::LON_DEG,
-            Field::SiteLonDeg,
-            Reason::Deg180,
-        )?;
-        check_f32(
-            s.elevation_m,
-            r::ELEVATION_M,
-            Field::SiteElevationM,
-            Reason::ElevationM,
-        )?;
-        let sc = &self.schedule;
-        check_int(
-            sc.table_step_s,
-            r::TABLE_STEP_S,
-            Field::ScheduleTableStepS,
-            Reason::TableStepS,
-        )?;
-        if !sc.table_step_s.is_multiple_of(60) || 86_400 % sc.table_step_s != 0 {
-            return Err(ConfigError {
-                field: Field::ScheduleTableStepS,
-                reason: Reason::WholeMinutesOfDay,
-            });
-        }
-        check_int(sc.hold_s, r::HOLD_S, Field::ScheduleHoldS, Reason::S0To3600)?;
-        check_int(
-            sc.recheck_s,
-            r::RECHECK_S,
-            Field::ScheduleRecheckS,
-            Reason::S1To3600,
-        )?;
-        check_int(
-            sc.max_tick_gap_s,
-            r::MAX_TICK_GAP_S,
-            Field::ScheduleMaxTickGapS,
-            Reason::S1To86400,
-        )?;
-        check_int(
-            sc.max_backward_s,
-            r::MAX_BACKWARD_S,
-            Field::ScheduleMaxBackwardS,
-            Reason::S0To86400,
-        )?;
-        for (i, a) in self.axes.iter().enumerate() {
-            a.validate(i)?;
-        }
-        let w = &self.wind;
-        check_f32(
-            w.threshold_hz,
-            r::STOW_HZ,
-            Field::WindStowHz,
-            Reason::StowHz,
-        )?;
-        check_int(w.hold_s, r::WIND_HOLD_S, Field::WindHoldS, Reason::S0To600)?;
-        check_int(
-            w.release_s,
-            r::WIND_RELEASE_S,
-            Field::WindReleaseS,
-            Reason::S0To86400,
-        )?;
-        let sf = &self.safety;
-        check_f32(
-            sf.max_deviation_deg,
-            r::MAX_DEVIATION_DEG,
-            Field::SafetyMaxDeviationDeg,
-            Reason::MaxDeviationDeg,
-        )?;
-        check_int(
-            sf.stall_timeout_s,
-            r::STALL_TIMEOUT_S,
-            Field::SafetyStallTimeoutS,
-            Reason::S1To600,
-        )?;
-        check_int(
-            sf.sensor_timeout_s,
-            r::SENSOR_TIMEOUT_S,
-            Field::SafetySensorTimeoutS,
-            Reason::S1To3600,
-        )?;
-        check_int(
-            sf.max_retries,
-            r::MAX_RETRIES,
-            Field::SafetyMaxRetries,
-            Reason::MaxRetries,
-        )?;
-        for (a, k) in self.axes.iter().zip(AXIS_KEYS.iter()) {
-            if a.deadband_deg >= sf.max_deviation_deg {
+        self.check_keys(0..KEYS.len())
+    }
+
+    /// The keys at `places` of [`KEYS`] in order: each against its range
+    /// ([`RANGES`]), then the rules between fields that end at it.
+    fn check_keys(&self, places: Range<usize>) -> Result<(), ConfigError> {
+        // Read through the table's slots, which borrow for writing.
+        let mut copy = *self;
+        for i in places {
+            let (Some(&key), Some(range)) = (KEYS.get(i), RANGES.get(i)) else {
+                break;
+            };
+            let ok = match read(&mut copy, key) {
+                Value::F32(v) => {
+                    let (mut lo, mut hi) = (f32::from_bits(range.lo), f32::from_bits(range.hi));
+                    // A home switch angle: from its offsets below and above
+                    // `min_deg`, and never above `max_deg`.
+                    let home = match key {
+                        Field::AxisCHomeDeg => self.axes.first(),
+                        Field::AxisAHomeDeg => self.axes.last(),
+                        _ => None,
+                    };
+                    if let Some(a) = home {
+                        (lo, hi) = (a.min_deg + lo, (a.min_deg + hi).min(a.max_deg));
+                    }
+                    v.is_finite() && v >= lo && v <= hi
+                }
+                Value::U32(v) => v >= range.lo && v <= range.hi,
+            };
+            if !ok {
                 return Err(ConfigError {
-                    field: k.deadband_deg,
-                    reason: Reason::BelowMaxDeviation,
+                    field: key,
+                    reason: range.reason,
                 });
             }
+            self.rules_at(key)?;
         }
-        let c = &self.calibration;
-        check_f32(
-            c.declination_deg,
-            r::HEADING_DEG,
-            Field::CalibrationDeclinationDeg,
-            Reason::Deg180,
-        )?;
-        check_f32(
-            c.heading_offset_deg,
-            r::HEADING_DEG,
-            Field::CalibrationHeadingOffsetDeg,
-            Reason::Deg180,
-        )?;
-        check_f32(
-            c.tilt_x_offset_deg,
-            r::TILT_OFFSET_DEG,
-            Field::CalibrationTiltXOffsetDeg,
-            Reason::TiltOffsetDeg,
-        )?;
-        check_f32(
-            c.tilt_y_offset_deg,
-            r::TILT_OFFSET_DEG,
-            Field::CalibrationTiltYOffsetDeg,
-            Reason::TiltOffsetDeg,
-        )?;
-        check_int(
-            self.log.status_every_min,
-            r::STATUS_MIN,
-            Field::LogStatusMin,
-            Reason::StatusMin,
-        )
+        Ok(())
+    }
+
+    /// The rules between fields checked once `key`, the last field they
+    /// read in the table's order, is in range.
+    fn rules_at(&self, key: Field) -> Result<(), ConfigError> {
+        let fail = |field, reason| Err(ConfigError { field, reason });
+        if key == Field::ScheduleTableStepS {
+            let step = self.schedule.table_step_s;
+            // (At least 60 s, its range, checked: never a zero divisor.)
+            if !step.is_multiple_of(60) || 86_400u32.checked_rem(step) != Some(0) {
+                return fail(key, Reason::WholeMinutesOfDay);
+            }
+        }
+        let max = match key {
+            Field::AxisCMaxDeg => self.axes.first(),
+            Field::AxisAMaxDeg => self.axes.last(),
+            _ => None,
+        };
+        if let Some(a) = max {
+            if a.max_deg <= a.min_deg {
+                return fail(key, Reason::AboveMinDeg);
+            }
+        }
+        if key == Field::SafetyMaxRetries {
+            for (a, k) in self.axes.iter().zip(AXIS_KEYS.iter()) {
+                if a.deadband_deg >= self.safety.max_deviation_deg {
+                    return fail(k.deadband_deg, Reason::BelowMaxDeviation);
+                }
+            }
+        }
+        Ok(())
     }
 }
