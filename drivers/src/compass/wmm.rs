@@ -275,6 +275,25 @@ avr_progmem::progmem! {
 static WMM2025_PACKED: [PackedRow; ROWS] = pack(&COEFFICIENTS);
 
 impl Table {
+    /// Report eq. 9: the coefficients g and h of row `i` (n, m) moved
+    /// `dt_years` from the epoch, in tenths of a nanotesla (the epoch's and
+    /// the rates' whole numbers are exact in `f32`). Out of line on the
+    /// AVR: the synthesis's loop then holds fewer values at once.
+    #[cfg_attr(target_arch = "avr", inline(never))]
+    fn at_date<F: Float>(
+        &self,
+        i: usize,
+        n: usize,
+        m: usize,
+        dt_years: F,
+    ) -> Result<(F, F), WmmError> {
+        let coef = self.get(i, n, m)?;
+        Ok((
+            F::from_i32(coef.g_tenth_nt) + dt_years * F::from_i32(coef.g_dot_tenth_nt_per_yr),
+            F::from_i32(coef.h_tenth_nt) + dt_years * F::from_i32(coef.h_dot_tenth_nt_per_yr),
+        ))
+    }
+
     /// Row `i`, which must be (n, m): the built-in table is in that order
     /// by construction ([`pack`]), a caller's table is checked.
     fn get(&self, i: usize, n: usize, m: usize) -> Result<WmmCoefficient, WmmError> {
@@ -547,14 +566,8 @@ impl WmmModel {
                 let mf = F::from_u32(m as u32);
                 let p = get(&prev2.p, m);
                 let dp = get(&prev2.dp, m);
-                let coef = table.get(row_index, n, m)?;
+                let (g, h) = table.at_date(row_index, n, m, dt_years)?;
                 row_index += 1;
-                // Report eq. 9: coefficients at the requested date, in
-                // tenths of a nanotesla (whole numbers, exact in f32).
-                let g = F::from_i32(coef.g_tenth_nt)
-                    + dt_years * F::from_i32(coef.g_dot_tenth_nt_per_yr);
-                let h = F::from_i32(coef.h_tenth_nt)
-                    + dt_years * F::from_i32(coef.h_dot_tenth_nt_per_yr);
                 let gc_hs = g * cm + h * sm;
                 sum_x += gc_hs * dp;
                 sum_y += mf * (g * sm - h * cm) * p;
