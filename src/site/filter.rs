@@ -140,7 +140,9 @@ impl<T: Float> SiteFilter<T> {
     /// clock lives to its wrap (49.7 days), where it would look recent
     /// again. Consistent for the settle time since the last jump: stable
     /// again. A candidate not confirmed within an hour after its settle
-    /// time (no fix came) is dropped.
+    /// time (no fix came) is dropped. Out of line on the AVR, where two
+    /// callers held a copy.
+    #[cfg_attr(target_arch = "avr", inline(never))]
     pub fn expire(&mut self, now_ms: u32) {
         let settle_ms = self.config.settle_ms;
         if let Some(t) = self.last_jump_ms {
