@@ -48,130 +48,33 @@ fn counts_per_degree_product_is_bounded() {
 
 type Mutate = fn(&mut Config);
 
-/// One value just outside each range, and the key that must be named.
-const OUT_OF_RANGE: &[(&str, Mutate)] = &[
-    ("site.lat_deg", |c| c.site.latitude_deg = 90.5),
-    ("site.lat_deg", |c| c.site.latitude_deg = f32::NAN),
-    ("site.lon_deg", |c| c.site.longitude_deg = -180.5),
-    ("site.elevation_m", |c| c.site.elevation_m = 10_001.0),
-    ("site.elevation_m", |c| c.site.elevation_m = -501.0),
-    ("schedule.table_step_s", |c| c.schedule.table_step_s = 0),
-    ("schedule.table_step_s", |c| c.schedule.table_step_s = 90),
-    ("schedule.table_step_s", |c| {
-        c.schedule.table_step_s = 86_400
-    }),
-    ("schedule.table_step_s", |c| c.schedule.table_step_s = 420),
-    ("schedule.hold_s", |c| c.schedule.hold_s = 3_601),
-    ("schedule.recheck_s", |c| c.schedule.recheck_s = 0),
-    ("schedule.recheck_s", |c| c.schedule.recheck_s = 3_601),
-    ("schedule.max_tick_gap_s", |c| c.schedule.max_tick_gap_s = 0),
-    ("schedule.max_tick_gap_s", |c| {
-        c.schedule.max_tick_gap_s = 86_401
-    }),
-    ("schedule.max_backward_s", |c| {
-        c.schedule.max_backward_s = u32::MAX
-    }),
-    ("axis.c.counts_per_motor_rev", |c| {
-        c.axes[0].counts_per_motor_rev = 0
-    }),
-    ("axis.c.counts_per_motor_rev", |c| {
-        c.axes[0].counts_per_motor_rev = 16_777_217
-    }),
-    ("axis.a.microsteps", |c| c.axes[1].microsteps = 0),
-    ("axis.a.microsteps", |c| c.axes[1].microsteps = 257),
-    ("axis.c.gear_ratio", |c| c.axes[0].gear_ratio = 0.5),
-    ("axis.c.gear_ratio", |c| c.axes[0].gear_ratio = 10_001.0),
-    ("axis.c.gear_ratio", |c| {
-        c.axes[0].gear_ratio = f32::INFINITY
-    }),
-    ("axis.c.min_deg", |c| c.axes[0].min_deg = -361.0),
-    ("axis.c.max_deg", |c| c.axes[0].max_deg = 361.0),
-    ("axis.a.max_deg", |c| c.axes[1].max_deg = -90.0),
-    ("axis.a.min_deg", |c| c.axes[1].min_deg = f32::NEG_INFINITY),
-    ("axis.c.home_deg", |c| c.axes[0].home_deg = -185.5),
-    ("axis.c.home_deg", |c| c.axes[0].home_deg = -169.5),
-    ("axis.a.home_deg", |c| c.axes[1].home_deg = 90.0),
-    ("axis.a.home_deg", |c| {
-        c.axes[1].max_deg = -85.0;
-        c.axes[1].home_deg = -84.0;
-    }),
-    ("axis.a.backlash_deg", |c| c.axes[1].backlash_deg = -0.1),
-    ("axis.a.backlash_deg", |c| c.axes[1].backlash_deg = 5.5),
-    ("axis.c.max_speed_deg_s", |c| {
-        c.axes[0].max_speed_deg_s = 0.0
-    }),
-    ("axis.c.max_speed_deg_s", |c| {
-        c.axes[0].max_speed_deg_s = 31.0
-    }),
-    ("axis.a.deadband_deg", |c| c.axes[1].deadband_deg = -0.01),
-    ("axis.a.deadband_deg", |c| c.axes[1].deadband_deg = 5.5),
-    ("axis.c.deadband_deg", |c| {
-        c.axes[0].deadband_deg = 1.0;
-        c.safety.max_deviation_deg = 1.0;
-    }),
-    ("wind.stow_hz", |c| c.wind.threshold_hz = 0.0),
-    ("wind.stow_hz", |c| c.wind.threshold_hz = 1_001.0),
-    ("wind.stow_hz", |c| c.wind.threshold_hz = f32::NAN),
-    ("wind.hold_s", |c| c.wind.hold_s = 601),
-    ("wind.release_s", |c| c.wind.release_s = 86_401),
-    ("safety.max_deviation_deg", |c| {
-        c.safety.max_deviation_deg = 0.05
-    }),
-    ("safety.max_deviation_deg", |c| {
-        c.safety.max_deviation_deg = 46.0
-    }),
-    ("safety.stall_timeout_s", |c| c.safety.stall_timeout_s = 0),
-    ("safety.stall_timeout_s", |c| c.safety.stall_timeout_s = 601),
-    ("safety.sensor_timeout_s", |c| c.safety.sensor_timeout_s = 0),
-    ("safety.sensor_timeout_s", |c| {
-        c.safety.sensor_timeout_s = 3_601
-    }),
-    ("safety.max_retries", |c| c.safety.max_retries = 21),
-    ("calibration.declination_deg", |c| {
-        c.calibration.declination_deg = 181.0
-    }),
-    ("calibration.heading_offset_deg", |c| {
-        c.calibration.heading_offset_deg = -181.0
-    }),
-    ("calibration.tilt_x_offset_deg", |c| {
-        c.calibration.tilt_x_offset_deg = 46.0
-    }),
-    ("calibration.tilt_y_offset_deg", |c| {
-        c.calibration.tilt_y_offset_deg = f32::NAN
-    }),
-];
-
-#[test]
-fn every_field_out_of_range_is_named() {
-    for (key, mutate) in OUT_OF_RANGE {
-        let mut c = Config::default();
-        mutate(&mut c);
-        let e = c.validate().expect_err(key);
-        assert_eq!(e.field, *key, "{e:?}");
-        assert!(!e.reason.text().is_empty());
-        assert_eq!(e.to_string(), format!("{key}: {}", e.reason));
-        assert!(!c.is_valid());
-        // Never stored nor loaded.
-        let mut buf = [0u8; 256];
-        let n = c.encode(&mut buf).unwrap();
-        assert_eq!(Config::decode(&buf[..n]), None, "{key}");
-    }
-}
-
-/// One value out of range per key, with the reason its error must give:
-/// the range of the field's doc comment, or the rule between fields.
-const REASONS: &[(&str, Reason, Mutate)] = &[
+/// One value just outside each range (or breaking a rule between fields),
+/// the key that must be named and the reason its error must give: the range
+/// of the field's doc comment, or the rule.
+const OUT_OF_RANGE: &[(&str, Reason, Mutate)] = &[
     ("site.lat_deg", Reason::Latitude, |c| {
-        c.site.latitude_deg = -91.0
+        c.site.latitude_deg = 90.5
+    }),
+    ("site.lat_deg", Reason::Latitude, |c| {
+        c.site.latitude_deg = f32::NAN
     }),
     ("site.lon_deg", Reason::Deg180, |c| {
-        c.site.longitude_deg = 181.0
+        c.site.longitude_deg = -180.5
+    }),
+    ("site.elevation_m", Reason::ElevationM, |c| {
+        c.site.elevation_m = 10_001.0
     }),
     ("site.elevation_m", Reason::ElevationM, |c| {
         c.site.elevation_m = -501.0
     }),
     ("schedule.table_step_s", Reason::TableStepS, |c| {
-        c.schedule.table_step_s = 59
+        c.schedule.table_step_s = 0
+    }),
+    ("schedule.table_step_s", Reason::WholeMinutesOfDay, |c| {
+        c.schedule.table_step_s = 90
+    }),
+    ("schedule.table_step_s", Reason::TableStepS, |c| {
+        c.schedule.table_step_s = 86_400
     }),
     ("schedule.table_step_s", Reason::WholeMinutesOfDay, |c| {
         c.schedule.table_step_s = 420
@@ -182,62 +85,116 @@ const REASONS: &[(&str, Reason, Mutate)] = &[
     ("schedule.recheck_s", Reason::S1To3600, |c| {
         c.schedule.recheck_s = 0
     }),
+    ("schedule.recheck_s", Reason::S1To3600, |c| {
+        c.schedule.recheck_s = 3_601
+    }),
     ("schedule.max_tick_gap_s", Reason::S1To86400, |c| {
         c.schedule.max_tick_gap_s = 0
     }),
+    ("schedule.max_tick_gap_s", Reason::S1To86400, |c| {
+        c.schedule.max_tick_gap_s = 86_401
+    }),
     ("schedule.max_backward_s", Reason::S0To86400, |c| {
-        c.schedule.max_backward_s = 86_401
+        c.schedule.max_backward_s = u32::MAX
     }),
     (
         "axis.c.counts_per_motor_rev",
         Reason::CountsPerMotorRev,
         |c| c.axes[0].counts_per_motor_rev = 0,
     ),
+    (
+        "axis.c.counts_per_motor_rev",
+        Reason::CountsPerMotorRev,
+        |c| c.axes[0].counts_per_motor_rev = 16_777_217,
+    ),
+    ("axis.a.microsteps", Reason::Microsteps, |c| {
+        c.axes[1].microsteps = 0
+    }),
     ("axis.a.microsteps", Reason::Microsteps, |c| {
         c.axes[1].microsteps = 257
     }),
     ("axis.c.gear_ratio", Reason::GearRatio, |c| {
         c.axes[0].gear_ratio = 0.5
     }),
+    ("axis.c.gear_ratio", Reason::GearRatio, |c| {
+        c.axes[0].gear_ratio = 10_001.0
+    }),
+    ("axis.c.gear_ratio", Reason::GearRatio, |c| {
+        c.axes[0].gear_ratio = f32::INFINITY
+    }),
     ("axis.a.counts_per_deg", Reason::CountsPerDeg, |c| {
         c.axes[1].counts_per_motor_rev = 200;
         c.axes[1].microsteps = 1;
         c.axes[1].gear_ratio = 1.0;
     }),
-    ("axis.a.min_deg", Reason::LimitDeg, |c| {
-        c.axes[1].min_deg = -361.0
+    ("axis.c.min_deg", Reason::LimitDeg, |c| {
+        c.axes[0].min_deg = -361.0
     }),
     ("axis.c.max_deg", Reason::LimitDeg, |c| {
         c.axes[0].max_deg = 361.0
     }),
     ("axis.a.max_deg", Reason::AboveMinDeg, |c| {
-        c.axes[1].max_deg = c.axes[1].min_deg
+        c.axes[1].max_deg = -90.0
+    }),
+    ("axis.a.min_deg", Reason::LimitDeg, |c| {
+        c.axes[1].min_deg = f32::NEG_INFINITY
     }),
     ("axis.c.home_deg", Reason::HomeNearMinDeg, |c| {
-        c.axes[0].home_deg = c.axes[0].min_deg + 10.5
+        c.axes[0].home_deg = -185.5
+    }),
+    ("axis.c.home_deg", Reason::HomeNearMinDeg, |c| {
+        c.axes[0].home_deg = -169.5
+    }),
+    ("axis.a.home_deg", Reason::HomeNearMinDeg, |c| {
+        c.axes[1].home_deg = 90.0
+    }),
+    ("axis.a.home_deg", Reason::HomeNearMinDeg, |c| {
+        c.axes[1].max_deg = -85.0;
+        c.axes[1].home_deg = -84.0;
+    }),
+    ("axis.a.backlash_deg", Reason::Deg0To5, |c| {
+        c.axes[1].backlash_deg = -0.1
     }),
     ("axis.a.backlash_deg", Reason::Deg0To5, |c| {
         c.axes[1].backlash_deg = 5.5
     }),
     ("axis.c.max_speed_deg_s", Reason::SpeedDegS, |c| {
+        c.axes[0].max_speed_deg_s = 0.0
+    }),
+    ("axis.c.max_speed_deg_s", Reason::SpeedDegS, |c| {
         c.axes[0].max_speed_deg_s = 31.0
     }),
     ("axis.a.deadband_deg", Reason::Deg0To5, |c| {
-        c.axes[1].deadband_deg = -0.5
+        c.axes[1].deadband_deg = -0.01
     }),
-    ("axis.a.deadband_deg", Reason::BelowMaxDeviation, |c| {
-        c.axes[1].deadband_deg = 0.5;
-        c.safety.max_deviation_deg = 0.5;
+    ("axis.a.deadband_deg", Reason::Deg0To5, |c| {
+        c.axes[1].deadband_deg = 5.5
+    }),
+    ("axis.c.deadband_deg", Reason::BelowMaxDeviation, |c| {
+        c.axes[0].deadband_deg = 1.0;
+        c.safety.max_deviation_deg = 1.0;
     }),
     ("wind.stow_hz", Reason::StowHz, |c| {
-        c.wind.threshold_hz = 0.05
+        c.wind.threshold_hz = 0.0
+    }),
+    ("wind.stow_hz", Reason::StowHz, |c| {
+        c.wind.threshold_hz = 1_001.0
+    }),
+    ("wind.stow_hz", Reason::StowHz, |c| {
+        c.wind.threshold_hz = f32::NAN
     }),
     ("wind.hold_s", Reason::S0To600, |c| c.wind.hold_s = 601),
     ("wind.release_s", Reason::S0To86400, |c| {
         c.wind.release_s = 86_401
     }),
     ("safety.max_deviation_deg", Reason::MaxDeviationDeg, |c| {
-        c.safety.max_deviation_deg = 45.5
+        c.safety.max_deviation_deg = 0.05
+    }),
+    ("safety.max_deviation_deg", Reason::MaxDeviationDeg, |c| {
+        c.safety.max_deviation_deg = 46.0
+    }),
+    ("safety.stall_timeout_s", Reason::S1To600, |c| {
+        c.safety.stall_timeout_s = 0
     }),
     ("safety.stall_timeout_s", Reason::S1To600, |c| {
         c.safety.stall_timeout_s = 601
@@ -245,24 +202,27 @@ const REASONS: &[(&str, Reason, Mutate)] = &[
     ("safety.sensor_timeout_s", Reason::S1To3600, |c| {
         c.safety.sensor_timeout_s = 0
     }),
+    ("safety.sensor_timeout_s", Reason::S1To3600, |c| {
+        c.safety.sensor_timeout_s = 3_601
+    }),
     ("safety.max_retries", Reason::MaxRetries, |c| {
         c.safety.max_retries = 21
     }),
     ("calibration.declination_deg", Reason::Deg180, |c| {
-        c.calibration.declination_deg = -181.0
+        c.calibration.declination_deg = 181.0
     }),
     ("calibration.heading_offset_deg", Reason::Deg180, |c| {
-        c.calibration.heading_offset_deg = 181.0
+        c.calibration.heading_offset_deg = -181.0
     }),
     (
         "calibration.tilt_x_offset_deg",
         Reason::TiltOffsetDeg,
-        |c| c.calibration.tilt_x_offset_deg = -45.5,
+        |c| c.calibration.tilt_x_offset_deg = 46.0,
     ),
     (
         "calibration.tilt_y_offset_deg",
         Reason::TiltOffsetDeg,
-        |c| c.calibration.tilt_y_offset_deg = 45.5,
+        |c| c.calibration.tilt_y_offset_deg = f32::NAN,
     ),
     ("log.status_min", Reason::StatusMin, |c| {
         c.log.status_every_min = 1_441
@@ -270,19 +230,19 @@ const REASONS: &[(&str, Reason, Mutate)] = &[
 ];
 
 #[test]
-fn every_key_gives_the_reason_of_its_range() {
-    for (key, reason, mutate) in REASONS {
+fn every_field_out_of_range_is_named_with_its_reason() {
+    for (key, reason, mutate) in OUT_OF_RANGE {
         let mut c = Config::default();
         mutate(&mut c);
-        assert_eq!(
-            c.validate(),
-            Err(ConfigError {
-                field: c.validate().unwrap_err().field,
-                reason: *reason
-            }),
-            "{key}"
-        );
-        assert_eq!(c.validate().unwrap_err().field, *key);
+        let e = c.validate().expect_err(key);
+        assert_eq!(e.field, *key, "{e:?}");
+        assert_eq!(e.reason, *reason, "{key}");
+        assert_eq!(e.to_string(), format!("{key}: {}", e.reason));
+        assert!(!c.is_valid());
+        // Never stored nor loaded.
+        let mut buf = [0u8; 256];
+        let n = c.encode(&mut buf).unwrap();
+        assert_eq!(Config::decode(&buf[..n]), None, "{key}");
     }
 }
 
