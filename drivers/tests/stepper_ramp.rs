@@ -163,10 +163,15 @@ fn bad_ramps() {
     };
     assert_eq!(Planner::new(z).err(), Some(RampError::Zero));
     let f = Ramp {
-        max_speed_sps: 2_000_000,
+        max_speed_sps: 65_536,
         ..RAMP
     };
     assert_eq!(Planner::new(f).err(), Some(RampError::TooFast));
+    let fastest = Ramp {
+        max_speed_sps: 65_535,
+        ..RAMP
+    };
+    assert!(Planner::new(fastest).is_ok());
 }
 
 /// The 32-bit root and the 32-bit fast path of `speed_sps` agree with the
@@ -199,17 +204,26 @@ fn the_32_bit_path_equals_the_64_bit_definition() {
             max_speed_sps: 60_000,
             accel_sps2: 50_000,
         },
-        // v0² alone overflows 32 bits: the 64-bit path.
+        // The fastest ramp `validate` accepts: v² overflows 32 bits from
+        // level 2,147 on.
         Ramp {
-            start_speed_sps: 70_000,
-            max_speed_sps: 1_000_000,
+            start_speed_sps: 1,
+            max_speed_sps: 65_535,
             accel_sps2: 1_000_000,
+        },
+        // v0² alone is 65,535², the most that fits.
+        Ramp {
+            start_speed_sps: 65_535,
+            max_speed_sps: 65_535,
+            accel_sps2: u32::MAX,
         },
     ];
     for r in ramps {
         for level in (0u32..5_000).chain([u32::MAX / 4, u32::MAX]) {
-            let v0 = u64::from(r.start_speed_sps);
-            let v2 = v0 * v0 + 2 * u64::from(r.accel_sps2) * u64::from(level);
+            let v0 = u128::from(r.start_speed_sps);
+            let v2 = v0 * v0 + 2 * u128::from(r.accel_sps2) * u128::from(level);
+            // Beyond u64 the root is far above any maximum speed.
+            let v2 = u64::try_from(v2).unwrap_or(u64::MAX);
             let want = isqrt(v2).min(u64::from(r.max_speed_sps)).max(1);
             assert_eq!(u64::from(r.speed_sps(level)), want, "{r:?} level {level}");
         }

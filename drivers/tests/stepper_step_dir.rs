@@ -120,9 +120,13 @@ fn min_limit_stops_before_stepping() {
 
 #[test]
 fn pulse_longer_than_interval_is_refused() {
-    // 500 000 steps/s -> 2 µs interval, but a DRV8825 pulse needs 1.9 + 1.9 µs.
-    let mut cfg = config(PulseTiming::DRV8825);
-    cfg.ramp.max_speed_sps = 500_000;
+    // 62 500 steps/s -> a 16 µs interval, but this pulse needs 10 + 10 µs
+    let mut cfg = config(PulseTiming {
+        step_high_ns: 10_000,
+        step_low_ns: 10_000,
+        ..PulseTiming::DRV8825
+    });
+    cfg.ramp.max_speed_sps = 62_500;
     let pins = StepDirPins {
         step: set(&[]),
         dir: set(&[]),

@@ -31,7 +31,8 @@ pub enum RampError {
     Zero,
     /// Start speed above maximum speed.
     StartAboveMax,
-    /// Maximum speed above 1 000 000 steps/s (interval below 1 µs).
+    /// Maximum speed above 65 535 steps/s (interval below 16 µs): faster
+    /// than a loop that polls the driver can step, and v² would exceed 32 bits.
     TooFast,
     /// The step pulse (high + low) does not fit in the shortest interval.
     PulseTooLong,
@@ -42,7 +43,7 @@ impl core::fmt::Display for RampError {
         match self {
             RampError::Zero => f.write_str("a speed or the acceleration is zero"),
             RampError::StartAboveMax => f.write_str("start speed above maximum speed"),
-            RampError::TooFast => f.write_str("maximum speed above 1 000 000 steps/s"),
+            RampError::TooFast => f.write_str("maximum speed above 65 535 steps/s"),
             RampError::PulseTooLong => {
                 f.write_str("step pulse does not fit in the shortest step interval")
             }
@@ -51,6 +52,10 @@ impl core::fmt::Display for RampError {
 }
 
 impl core::error::Error for RampError {}
+
+/// The highest maximum speed [`Ramp::validate`] accepts, steps/s: its
+/// square is the largest that fits in 32 bits.
+pub const MAX_SPEED_SPS: u32 = 65_535;
 
 /// Speed profile parameters.
 ///
@@ -87,7 +92,7 @@ impl Ramp {
     /// assert_eq!(ramp.validate(), Ok(()));
     /// let slow_max = Ramp { max_speed_sps: 50, ..ramp };
     /// assert_eq!(slow_max.validate(), Err(RampError::StartAboveMax));
-    /// let too_fast = Ramp { max_speed_sps: 2_000_000, ..ramp };
+    /// let too_fast = Ramp { max_speed_sps: 65_536, ..ramp };
     /// assert_eq!(too_fast.validate(), Err(RampError::TooFast));
     /// ```
     pub fn validate(&self) -> Result<(), RampError> {
@@ -97,13 +102,15 @@ impl Ramp {
         if self.start_speed_sps > self.max_speed_sps {
             return Err(RampError::StartAboveMax);
         }
-        if self.max_speed_sps > 1_000_000 {
+        if self.max_speed_sps > MAX_SPEED_SPS {
             return Err(RampError::TooFast);
         }
         Ok(())
     }
 
-    /// Speed at ramp level `k` (steps from the nearer end of the move), steps/s.
+    /// Speed at ramp level `k` (steps from the nearer end of the move),
+    /// steps/s, for a ramp [`validate`](Self::validate) accepts (one above
+    /// 65,535 steps/s reads `max_speed_sps` wherever v² exceeds 32 bits).
     ///
     /// ```
     /// use drivers::stepper::ramp::Ramp;
@@ -118,27 +125,24 @@ impl Ramp {
     /// assert_eq!(ramp.speed_sps(u32::MAX), 1_000);
     /// ```
     pub fn speed_sps(&self, level: u32) -> u32 {
-        // v² = v0² + 2·a·k in 32 bits whenever it fits (every ramp up to
-        // 65,535 steps/s): on an 8-bit CPU the 64-bit products and root
-        // below cost several times more, once per step.
+        // v² = v0² + 2·a·k in 32 bits: a v² that does not fit is above
+        // 65,535², so above every maximum `validate` accepts. (On an 8-bit
+        // CPU the 64-bit products and root cost several times more, once
+        // per step.)
         let v0 = self.start_speed_sps;
-        let v2_32 = v0.checked_mul(v0).and_then(|sq| {
+        let max = self.max_speed_sps;
+        let v2 = v0.checked_mul(v0).and_then(|sq| {
             self.accel_sps2
                 .checked_mul(2)?
                 .checked_mul(level)?
                 .checked_add(sq)
         });
-        if let Some(v2) = v2_32 {
-            let max = self.max_speed_sps;
-            if max.checked_mul(max).is_some_and(|m2| v2 >= m2) {
-                return max.max(1);
+        match v2 {
+            Some(v2) if max.checked_mul(max).is_none_or(|m2| v2 < m2) => {
+                isqrt32(v2).min(max).max(1)
             }
-            return isqrt32(v2).min(max).max(1);
+            _ => max.max(1),
         }
-        let v0 = u64::from(self.start_speed_sps);
-        let v2 = v0 * v0 + 2 * u64::from(self.accel_sps2) * u64::from(level);
-        let v = isqrt(v2).min(u64::from(self.max_speed_sps)).max(1);
-        u32::try_from(v).unwrap_or(u32::MAX)
     }
 
     /// Interval in whole µs (rounded to nearest) at ramp level `k`.
@@ -243,7 +247,7 @@ mod tests {
     #[test]
     fn cruise_level_is_the_ceiling_of_the_exact_quotient() {
         // ⌈(v_max² − v₀²) / 2a⌉ in 128-bit arithmetic, over the extremes
-        // of every field (v_max up to the 10⁶ steps/s `validate` allows).
+        // of every field (v_max beyond the 65,535 steps/s `validate` allows).
         let speeds = [1, 2, 99, 100, 1_000, 65_535, 65_536, 999_999, 1_000_000];
         let accels = [
             1,

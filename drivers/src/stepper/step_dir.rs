@@ -194,12 +194,13 @@ where
     /// use embedded_hal_mock::eh1::delay::NoopDelay;
     /// use embedded_hal_mock::eh1::digital::Mock as Pin;
     ///
-    /// // 500 000 steps/s is a 2 µs interval; a DRV8825 pulse needs 1.9 µs
-    /// // high plus 1.9 µs low.
+    /// // 62 500 steps/s is a 16 µs interval; a pulse timing of 10 µs high
+    /// // plus 10 µs low does not fit it.
     /// let mut pins = [Pin::new(&[]), Pin::new(&[]), Pin::new(&[])];
     /// let [step, dir, enable] = pins.clone();
-    /// let ramp = Ramp { start_speed_sps: 1_000, max_speed_sps: 500_000, accel_sps2: 1_000_000 };
-    /// let config = Config { ramp, timing: PulseTiming::DRV8825, invert_dir: false, enable_active_low: true, settle_us: 0 };
+    /// let ramp = Ramp { start_speed_sps: 1_000, max_speed_sps: 62_500, accel_sps2: 1_000_000 };
+    /// let slow = PulseTiming { step_high_ns: 10_000, step_low_ns: 10_000, ..PulseTiming::A4988 };
+    /// let config = Config { ramp, timing: slow, invert_dir: false, enable_active_low: true, settle_us: 0 };
     /// let e = StepDirStepper::new(
     ///     StepDirPins { step, dir, enable: Some(enable) },
     ///     LimitSwitches::<Pin>::none(),
