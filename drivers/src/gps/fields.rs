@@ -21,6 +21,17 @@ pub(crate) fn before_ascii(text: &str, delim: u8) -> &str {
     split_once_ascii(text, delim).map_or(text, |(head, _)| head)
 }
 
+/// `text` without one leading `-` or `+`, and whether that was a `-`:
+/// what `strip_prefix(['-', '+'])` gives, without core's character
+/// pattern code (500 B on the AVR).
+pub(crate) fn split_sign(text: &str) -> (bool, &str) {
+    match text.as_bytes().first() {
+        // An ASCII sign is one byte: 1 is a character boundary.
+        Some(&sign @ (b'-' | b'+')) => (sign == b'-', text.get(1..).unwrap_or(text)),
+        _ => (false, text),
+    }
+}
+
 /// The parts of `text` between `delim`s, as `text.split(delim as char)`
 /// gives them (an empty text is one empty part).
 pub(crate) fn split_ascii(text: &str, delim: u8) -> SplitAscii<'_> {
@@ -87,6 +98,14 @@ mod tests {
                 );
                 assert_eq!(before_ascii(text, delim), core[0], "{text:?}");
             }
+        }
+        for text in TEXTS
+            .iter()
+            .copied()
+            .chain(["-", "+", "-1.5", "+-2", "--", "−3"])
+        {
+            let core = text.strip_prefix(['-', '+']).unwrap_or(text);
+            assert_eq!(split_sign(text), (text.starts_with('-'), core), "{text:?}");
         }
     }
 }

@@ -51,7 +51,7 @@ use sun_algos::Float;
 
 use super::assembler::{check as check_framing, MAX_SENTENCE_LEN};
 use super::coordinate::Coordinate;
-use super::fields::{split_ascii, split_once_ascii};
+use super::fields::{split_ascii, split_once_ascii, split_sign};
 use super::plausible::{check_fields, gga_is_plausible, rmc_is_plausible, Kind};
 use crate::time::{days_in_month, DateTime};
 
@@ -578,10 +578,7 @@ fn parse_angle(text: &str, degree_digits: usize) -> Result<i64, ParseError> {
 
 /// `[+-]digits[.digits]`, metres.
 fn parse_altitude(text: &str) -> Result<f32, ParseError> {
-    let (negative, unsigned) = match text.strip_prefix('-') {
-        Some(rest) => (true, rest),
-        None => (false, text.strip_prefix('+').unwrap_or(text)),
-    };
+    let (negative, unsigned) = split_sign(text);
     let (int, frac) = split_decimal(unsigned)?;
     let decimals = leading(frac, ALTITUDE_DECIMALS);
     let scale = pow10(decimals.len());

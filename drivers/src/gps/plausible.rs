@@ -36,7 +36,7 @@
 //!    [`MIN_ALTITUDE_M`]..=[`MAX_ALTITUDE_M`], time of day below 24 h.
 
 use super::coordinate::Coordinate;
-use super::fields::{before_ascii, split_ascii, split_once_ascii};
+use super::fields::{before_ascii, split_ascii, split_once_ascii, split_sign};
 use super::parse::{Gga, Rmc, TimeOfDayMs};
 use crate::time::days_in_month;
 
@@ -166,7 +166,7 @@ fn field_ok(field: Field, text: &str) -> bool {
         Field::EastWest | Field::VariationSide => text == "E" || text == "W",
         Field::Count => all_digits(text),
         Field::Unsigned => decimal_ok(text),
-        Field::Signed => decimal_ok(text.strip_prefix(['-', '+']).unwrap_or(text)),
+        Field::Signed => decimal_ok(split_sign(text).1),
         Field::Date => date_ok(text),
     }
 }
@@ -174,7 +174,7 @@ fn field_ok(field: Field, text: &str) -> bool {
 /// `nan`, `inf`, `infinity` in any case, with or without a sign: what
 /// floating-point parsers take as non-finite.
 fn spells_non_finite(text: &str) -> bool {
-    let unsigned = text.strip_prefix(['-', '+']).unwrap_or(text);
+    let (_, unsigned) = split_sign(text);
     let prefix = unsigned.get(..3).unwrap_or(unsigned);
     prefix.eq_ignore_ascii_case("nan") || prefix.eq_ignore_ascii_case("inf")
 }
