@@ -333,12 +333,11 @@ pub fn parse_sentence(sentence: &str) -> Result<Sentence, ParseError> {
     let body = bytes
         .get(1..bytes.len().saturating_sub(3))
         .ok_or(ParseError)?;
-    let parsed = read_fields(kind, table, required, body).ok_or(ParseError)?;
-    if sentence_is_plausible(&parsed) {
-        Ok(parsed)
-    } else {
-        Err(ParseError)
+    let mut reading = Reading::default();
+    if read_fields(table, body, &mut reading) < required {
+        return Err(ParseError);
     }
+    reading.sentence(kind)
 }
 
 /// What a field of a GGA or RMC must be, and what is read from it; the
@@ -448,55 +447,73 @@ struct Reading {
 }
 
 /// Reads every field of a GGA or RMC body (between `$` and `*`) in one
-/// pass, checking each by its [`Field`] rule; `None` when one breaks it.
-// Out of line on the AVR, as `read_field`: the reading stays in a frame of
-// its own, within the 63 bytes `ldd`/`std` reach.
+/// pass into `reading`, checking each by its [`Field`] rule. The number of
+/// fields read, 0 when one breaks its rule.
+// Out of line on the AVR, as `read_field` and `Reading::sentence`: each
+// keeps a frame within the 63 bytes `ldd`/`std` reach (one function with
+// the reading in its frame spent 232 B more on slots beyond).
 #[cfg_attr(target_arch = "avr", inline(never))]
-fn read_fields(kind: Kind, table: &[Field], required: usize, body: &[u8]) -> Option<Sentence> {
-    let mut reading = Reading::default();
+fn read_fields(table: &[Field], body: &[u8], reading: &mut Reading) -> usize {
     let mut count = 0;
     let mut rest = Some(body);
     while let Some(text) = rest {
         let (field_text, after) = split_at(text, b',');
         rest = after;
         let field = table.get(count).copied().unwrap_or(Field::Other);
-        read_field(field, field_text, &mut reading)?;
+        if read_field(field, field_text, reading).is_none() {
+            return 0;
+        }
         // At most MAX_SENTENCE_LEN fields: no overflow.
         count += 1;
     }
-    if count < required || (reading.variation && !reading.variation_side) {
-        return None;
+    count
+}
+
+impl Reading {
+    /// The sentence the fields read say, if possible: all of them read, the
+    /// position all there or all missing, a variation with its side, and
+    /// the values plausible.
+    #[cfg_attr(target_arch = "avr", inline(never))]
+    fn sentence(&self, kind: Kind) -> Result<Sentence, ParseError> {
+        if self.variation && !self.variation_side {
+            return Err(ParseError);
+        }
+        // Latitude, N/S, longitude and E/W come together or not at all.
+        let (latitude_deg, longitude_deg) = match self.position_fields {
+            0 => (None, None),
+            4 => (
+                Some(Coordinate::from_e11_min(self.latitude)),
+                Some(Coordinate::from_e11_min(self.longitude)),
+            ),
+            _ => return Err(ParseError),
+        };
+        let time_of_day_ms = self.time.map(Hms::time_of_day_ms);
+        let parsed = match kind {
+            Kind::Gga => Sentence::Gga(Gga {
+                time_of_day_ms,
+                quality: self.quality,
+                latitude_deg,
+                longitude_deg,
+                altitude_m: self.altitude_m,
+                satellites: self.satellites,
+            }),
+            Kind::Rmc => Sentence::Rmc(Rmc {
+                time_of_day_ms,
+                utc: match (self.date, self.time) {
+                    (Some(d), Some(t)) => to_datetime(d, t),
+                    _ => None,
+                },
+                valid: self.valid,
+                latitude_deg,
+                longitude_deg,
+            }),
+        };
+        if sentence_is_plausible(&parsed) {
+            Ok(parsed)
+        } else {
+            Err(ParseError)
+        }
     }
-    // Latitude, N/S, longitude and E/W come together or not at all.
-    let (latitude_deg, longitude_deg) = match reading.position_fields {
-        0 => (None, None),
-        4 => (
-            Some(Coordinate::from_e11_min(reading.latitude)),
-            Some(Coordinate::from_e11_min(reading.longitude)),
-        ),
-        _ => return None,
-    };
-    let time_of_day_ms = reading.time.map(Hms::time_of_day_ms);
-    Some(match kind {
-        Kind::Gga => Sentence::Gga(Gga {
-            time_of_day_ms,
-            quality: reading.quality,
-            latitude_deg,
-            longitude_deg,
-            altitude_m: reading.altitude_m,
-            satellites: reading.satellites,
-        }),
-        Kind::Rmc => Sentence::Rmc(Rmc {
-            time_of_day_ms,
-            utc: match (reading.date, reading.time) {
-                (Some(d), Some(t)) => to_datetime(d, t),
-                _ => None,
-            },
-            valid: reading.valid,
-            latitude_deg,
-            longitude_deg,
-        }),
-    })
 }
 
 /// The text before the first `delim`, and the text after it (`None`
@@ -637,10 +654,19 @@ fn split_decimal(text: &[u8]) -> Option<(&[u8], &[u8])> {
 /// non-digit or when it does not fit a `u32` (every integer field does; on
 /// an 8-bit core checked 64-bit arithmetic costs several times more code).
 fn digits_value(text: &[u8]) -> Option<u32> {
-    text.iter().try_fold(0u32, |acc, b| {
-        let digit = b.checked_sub(b'0').filter(|d| *d <= 9)?;
-        acc.checked_mul(10)?.checked_add(u32::from(digit))
-    })
+    // acc · 10 + digit fits a u32 when acc < ⌊u32::MAX / 10⌋, or equals it
+    // and digit ≤ u32::MAX mod 10: tested before, not by a checked
+    // multiply (a 64-bit product on the AVR, two library calls).
+    const LIMIT: u32 = u32::MAX / 10;
+    let mut acc: u32 = 0;
+    for &b in text {
+        let digit = u32::from(b.wrapping_sub(b'0'));
+        if digit > 9 || acc > LIMIT || (acc == LIMIT && digit > u32::MAX % 10) {
+            return None;
+        }
+        acc = acc * 10 + digit;
+    }
+    Some(acc)
 }
 
 /// Value of the two digits at `at`; `None` unless both are there and digits.
