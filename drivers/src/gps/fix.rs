@@ -167,34 +167,52 @@ struct Epoch {
 }
 
 impl Epoch {
-    fn fix(&self) -> GpsFix {
-        let utc = self.rmc.and_then(|r| r.utc);
-        let mut fix = GpsFix {
-            utc,
-            utc_received_ms: utc.map(|_| self.rmc_ms),
-            satellites: self.gga.and_then(|g| g.satellites),
-            ..GpsFix::NONE
-        };
+    /// Writes the epoch's fix into `fix`, field by field from references to
+    /// its sentences (built as a value, from combinators on the
+    /// `Option<Gga>`/`Option<Rmc>` values, it was copied whole several
+    /// times on the AVR).
+    // Out of line on the AVR: the fix is written where it is kept.
+    #[cfg_attr(target_arch = "avr", inline(never))]
+    fn write_fix(&self, fix: &mut GpsFix) {
+        *fix = GpsFix::NONE;
+        if let Some(utc) = self.rmc.as_ref().and_then(|r| r.utc) {
+            fix.utc = Some(utc);
+            fix.utc_received_ms = Some(self.rmc_ms);
+        }
+        if let Some(gga) = &self.gga {
+            fix.satellites = gga.satellites;
+        }
         // Every sentence the epoch has must report a fix; a contradiction
         // (RMC V with GGA 1, or RMC A with GGA 0) counts as no fix.
-        let rmc_ok = self.rmc.is_none_or(|r| r.valid);
-        let gga_ok = self.gga.is_none_or(|g| g.quality != FixQuality::Invalid);
-        if !(rmc_ok && gga_ok && self.has_data()) {
-            return fix;
-        }
-        fix.quality = self.gga.map_or(FixQuality::Gps, |g| g.quality);
-        let gga_position = self
+        let rmc_ok = self.rmc.as_ref().is_none_or(|r| r.valid);
+        let gga_ok = self
             .gga
-            .and_then(|g| Some((g.latitude_deg?, g.longitude_deg?, g.altitude_m)));
-        let rmc_position = self
-            .rmc
-            .and_then(|r| Some((r.latitude_deg?, r.longitude_deg?, None)));
-        if let Some((lat, lon, alt)) = gga_position.or(rmc_position) {
-            fix.latitude_deg = Some(lat);
-            fix.longitude_deg = Some(lon);
-            fix.altitude_m = alt;
+            .as_ref()
+            .is_none_or(|g| g.quality != FixQuality::Invalid);
+        if !(rmc_ok && gga_ok && self.has_data()) {
+            return;
         }
-        fix
+        fix.quality = self.gga.as_ref().map_or(FixQuality::Gps, |g| g.quality);
+        // The GGA position (with its altitude) first, else the RMC's.
+        if let Some(Gga {
+            latitude_deg: Some(lat),
+            longitude_deg: Some(lon),
+            altitude_m,
+            ..
+        }) = &self.gga
+        {
+            fix.latitude_deg = Some(*lat);
+            fix.longitude_deg = Some(*lon);
+            fix.altitude_m = *altitude_m;
+        } else if let Some(Rmc {
+            latitude_deg: Some(lat),
+            longitude_deg: Some(lon),
+            ..
+        }) = &self.rmc
+        {
+            fix.latitude_deg = Some(*lat);
+            fix.longitude_deg = Some(*lon);
+        }
     }
 
     fn has_data(&self) -> bool {
@@ -223,7 +241,11 @@ impl Epoch {
 pub struct FixFusion {
     stale_after_ms: u32,
     epoch: Epoch,
-    last: Option<(GpsFix, u32)>,
+    /// The last epoch's fix; given out only while `last_ms` is `Some`.
+    last_fix: GpsFix,
+    /// The caller's clock at the last sentence of that epoch; `None` before
+    /// the first epoch and once the fix is forgotten.
+    last_ms: Option<u32>,
 }
 
 impl FixFusion {
@@ -247,7 +269,8 @@ impl FixFusion {
                 emitted: false,
                 last_ms: 0,
             },
-            last: None,
+            last_fix: GpsFix::NONE,
+            last_ms: None,
         }
     }
 
@@ -334,9 +357,9 @@ impl FixFusion {
             return None;
         }
         self.epoch.emitted = true;
-        let fix = self.epoch.fix();
-        self.last = Some((fix, self.epoch.last_ms));
-        Some(fix)
+        self.epoch.write_fix(&mut self.last_fix);
+        self.last_ms = Some(self.epoch.last_ms);
+        Some(self.last_fix)
     }
 
     /// Whether nothing (no completed epoch) was heard within `stale_after_ms`
@@ -353,8 +376,8 @@ impl FixFusion {
     /// # Ok::<(), drivers::gps::ParseError>(())
     /// ```
     pub fn is_stale(&self, now_ms: u32) -> bool {
-        match self.last {
-            Some((_, at_ms)) => now_ms.wrapping_sub(at_ms) > self.stale_after_ms,
+        match self.last_ms {
+            Some(at_ms) => now_ms.wrapping_sub(at_ms) > self.stale_after_ms,
             None => true,
         }
     }
@@ -373,12 +396,12 @@ impl FixFusion {
     /// # Ok::<(), drivers::gps::ParseError>(())
     /// ```
     pub fn current(&mut self, now_ms: u32) -> GpsFix {
-        match self.last {
-            Some((fix, _)) if !self.is_stale(now_ms) => fix,
-            _ => {
-                self.last = None;
-                GpsFix::NONE
-            }
+        if self.is_stale(now_ms) {
+            // Forgotten: never given out again.
+            self.last_ms = None;
+            GpsFix::NONE
+        } else {
+            self.last_fix
         }
     }
 }
