@@ -303,15 +303,24 @@ impl FixFusion {
     // Its own stack frame on the AVR (see `parse_sentence`).
     #[cfg_attr(target_arch = "avr", inline(never))]
     pub fn update(&mut self, sentence: &Sentence, now_ms: u32) -> Option<GpsFix> {
+        self.update_completes(sentence, now_ms)
+            .then_some(self.last_fix)
+    }
+
+    /// [`FixFusion::update`] saying only whether an epoch completed: its
+    /// fix is then [`FixFusion::last_fix`]. The decoder passes this on
+    /// instead of an `Option<GpsFix>` (41 bytes, copied at every level on
+    /// the AVR).
+    pub(super) fn update_completes(&mut self, sentence: &Sentence, now_ms: u32) -> bool {
         if !sentence_is_plausible(sentence) {
-            return None;
+            return false;
         }
         let key = match sentence {
             Sentence::Gga(g) => g.time_of_day_ms,
             Sentence::Rmc(r) => r.time_of_day_ms,
-            Sentence::Other => return None,
+            Sentence::Other => return false,
         };
-        let mut done = None;
+        let mut done = false;
         if key != self.epoch.key {
             done = self.finish_epoch();
             self.epoch = Epoch {
@@ -328,7 +337,7 @@ impl FixFusion {
             Sentence::Other => {}
         }
         self.epoch.last_ms = now_ms;
-        if done.is_none() && self.epoch.gga.is_some() && self.epoch.rmc.is_some() {
+        if !done && self.epoch.gga.is_some() && self.epoch.rmc.is_some() {
             done = self.finish_epoch();
         }
         done
@@ -349,17 +358,23 @@ impl FixFusion {
     /// # Ok::<(), drivers::gps::ParseError>(())
     /// ```
     pub fn flush(&mut self) -> Option<GpsFix> {
-        self.finish_epoch()
+        self.finish_epoch().then_some(self.last_fix)
     }
 
-    fn finish_epoch(&mut self) -> Option<GpsFix> {
+    /// The fix of the last epoch given out (whether or not stale since).
+    pub(super) fn last_fix(&self) -> GpsFix {
+        self.last_fix
+    }
+
+    /// Gives out the epoch being gathered into `last_fix`; whether it did.
+    fn finish_epoch(&mut self) -> bool {
         if self.epoch.emitted || !self.epoch.has_data() {
-            return None;
+            return false;
         }
         self.epoch.emitted = true;
         self.epoch.write_fix(&mut self.last_fix);
         self.last_ms = Some(self.epoch.last_ms);
-        Some(self.last_fix)
+        true
     }
 
     /// Whether nothing (no completed epoch) was heard within `stale_after_ms`
