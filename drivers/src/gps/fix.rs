@@ -193,25 +193,23 @@ impl Epoch {
             return;
         }
         fix.quality = self.gga.as_ref().map_or(FixQuality::Gps, |g| g.quality);
-        // The GGA position (with its altitude) first, else the RMC's.
-        if let Some(Gga {
-            latitude_deg: Some(lat),
-            longitude_deg: Some(lon),
-            altitude_m,
-            ..
-        }) = &self.gga
-        {
+        // The GGA position (with its altitude) first, else the RMC's: the
+        // source chosen by reference, then copied once.
+        let gga_position = self.gga.as_ref().and_then(|g| {
+            Some((
+                g.latitude_deg.as_ref()?,
+                g.longitude_deg.as_ref()?,
+                g.altitude_m,
+            ))
+        });
+        let rmc_position = self
+            .rmc
+            .as_ref()
+            .and_then(|r| Some((r.latitude_deg.as_ref()?, r.longitude_deg.as_ref()?, None)));
+        if let Some((lat, lon, alt)) = gga_position.or(rmc_position) {
             fix.latitude_deg = Some(*lat);
             fix.longitude_deg = Some(*lon);
-            fix.altitude_m = *altitude_m;
-        } else if let Some(Rmc {
-            latitude_deg: Some(lat),
-            longitude_deg: Some(lon),
-            ..
-        }) = &self.rmc
-        {
-            fix.latitude_deg = Some(*lat);
-            fix.longitude_deg = Some(*lon);
+            fix.altitude_m = alt;
         }
     }
 
