@@ -638,13 +638,22 @@ fn split_sign(text: &[u8]) -> (bool, &[u8]) {
 /// fraction empty without a point). No sign, no exponent, at least one digit
 /// each side of a point.
 fn split_decimal(text: &[u8]) -> Option<(&[u8], &[u8])> {
-    let (int, frac) = match split_at(text, b'.') {
-        (int, Some(frac)) if !frac.is_empty() => (int, frac),
-        (_, Some(_)) => return None,
-        (int, None) => (int, &[][..]),
+    // One pass: digits, and at most one point (checked byte by byte; a
+    // split and two digit scans were larger on the AVR).
+    let mut point = None;
+    for (at, &b) in text.iter().enumerate() {
+        if b == b'.' && point.is_none() {
+            point = Some(at);
+        } else if !b.is_ascii_digit() {
+            return None;
+        }
+    }
+    let (int, frac) = match point {
+        // `at` < text.len(): both ranges are in bounds.
+        Some(at) => (text.get(..at)?, text.get(at + 1..)?),
+        None => (text, &[][..]),
     };
-    let digits = |s: &[u8]| s.iter().all(u8::is_ascii_digit);
-    if int.is_empty() || !digits(int) || !digits(frac) {
+    if int.is_empty() || (point.is_some() && frac.is_empty()) {
         return None;
     }
     Some((int, frac))
@@ -671,9 +680,10 @@ fn digits_value(text: &[u8]) -> Option<u32> {
 
 /// Value of the two digits at `at`; `None` unless both are there and digits.
 fn two_digits(text: &[u8], at: usize) -> Option<u8> {
-    let value = digits_value(text.get(at..at.checked_add(2)?)?)?;
-    // Two digits: at most 99.
-    u8::try_from(value).ok()
+    let tens = text.get(at)?.wrapping_sub(b'0');
+    let ones = text.get(at.checked_add(1)?)?.wrapping_sub(b'0');
+    // Each at most 9 once checked: at most 99.
+    (tens <= 9 && ones <= 9).then(|| tens * 10 + ones)
 }
 
 /// `acc` followed by the first `places` digits of `digits` (zeros past its
