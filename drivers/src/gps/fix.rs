@@ -309,6 +309,8 @@ impl FixFusion {
     /// fix is then [`FixFusion::last_fix`]. The decoder passes this on
     /// instead of an `Option<GpsFix>` (41 bytes, copied at every level on
     /// the AVR).
+    // Out of line on the AVR: its own frame, not the byte loop's.
+    #[cfg_attr(target_arch = "avr", inline(never))]
     pub(super) fn update_completes(&mut self, sentence: &Sentence, now_ms: u32) -> bool {
         if !sentence_is_plausible(sentence) {
             return false;
