@@ -133,6 +133,8 @@ impl GpsDecoder {
     /// [`GpsDecoder::push`] saying only whether an epoch completed (its fix
     /// is then `self.fusion.last_fix()`), so that no `Option<GpsFix>` is
     /// copied per byte.
+    // Out of line on the AVR: one copy of the byte path, its own frame.
+    #[cfg_attr(target_arch = "avr", inline(never))]
     fn push_completes(&mut self, byte: u8, now_ms: u32) -> bool {
         let sentence = match self.assembler.push(byte) {
             Some(Ok(text)) => parse_sentence(text),
