@@ -17,6 +17,7 @@
 
 mod assembler;
 mod coordinate;
+#[cfg(test)]
 mod fields;
 mod fix;
 mod parse;

@@ -6,7 +6,7 @@ use embedded_io::{Read, ReadReady};
 
 /// Most reads per [`GpsPort::service`] call, so that a receiver that never
 /// stops talking cannot hold the loop (each read is one UART chunk).
-const MAX_READS_PER_SERVICE: u32 = 64;
+const MAX_READS_PER_SERVICE: u8 = 64;
 
 /// A GPS receiver on a serial port, polled from the main loop.
 #[derive(Debug)]

@@ -376,6 +376,9 @@ impl SentenceAssembler {
         self.state = State::InSentence;
     }
 
+    // Out of line on the AVR: inlined at its constant call sites, each kept
+    // a copy of the saturating 32-bit increment.
+    #[cfg_attr(target_arch = "avr", inline(never))]
     fn reject(&mut self, reason: Reject) -> Reject {
         self.stats.count(reason);
         reason
@@ -404,7 +407,9 @@ impl SentenceAssembler {
 /// Cortex-M4F image, the table in RAM on an AVR).
 #[allow(unsafe_code)]
 fn ascii_text(bytes: &[u8]) -> Option<&str> {
-    if bytes.is_ascii() {
+    // A byte loop, not `<[u8]>::is_ascii` (word-at-a-time code, larger on
+    // the AVR, for at most 82 bytes).
+    if bytes.iter().all(|b| *b < 0x80) {
         // SAFETY: every byte is below 0x80 (just checked): ASCII, which is
         // valid UTF-8 byte for byte.
         Some(unsafe { core::str::from_utf8_unchecked(bytes) })
@@ -414,30 +419,31 @@ fn ascii_text(bytes: &[u8]) -> Option<&str> {
 }
 
 /// Checks `$<body>*hh`.
+// One pass over the body for the stray `*` and the checksum (as
+// `contains` and then `nmea_checksum`, 532 B on the AVR, the generic
+// search among them).
 pub(super) fn check(sentence: &[u8]) -> Result<(), Reject> {
     let (&first, rest) = sentence.split_first().ok_or(Reject::MissingStart)?;
     if first != START {
         return Err(Reject::MissingStart);
     }
-    let n = rest.len();
-    if n < 3 {
-        return Err(Reject::MissingChecksum);
-    }
-    let (body, tail) = rest.split_at(n - 3);
-    let (star, hi, lo) = match tail {
-        [s, h, l] => (*s, *h, *l),
-        _ => return Err(Reject::MissingChecksum),
-    };
-    if star != CHECKSUM_DELIMITER {
-        return Err(Reject::MissingChecksum);
-    }
-    let (Some(hi), Some(lo)) = (hex_value(hi), hex_value(lo)) else {
+    let [body @ .., star, hi, lo] = rest else {
         return Err(Reject::MissingChecksum);
     };
-    if body.contains(&CHECKSUM_DELIMITER) {
+    if *star != CHECKSUM_DELIMITER {
         return Err(Reject::MissingChecksum);
     }
-    if nmea_checksum(body) == (hi << 4) | lo {
+    let (Some(hi), Some(lo)) = (hex_value(*hi), hex_value(*lo)) else {
+        return Err(Reject::MissingChecksum);
+    };
+    let mut sum = 0;
+    for &b in body {
+        if b == CHECKSUM_DELIMITER {
+            return Err(Reject::MissingChecksum);
+        }
+        sum ^= b;
+    }
+    if sum == (hi << 4) | lo {
         Ok(())
     } else {
         Err(Reject::BadChecksum)

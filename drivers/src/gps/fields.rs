@@ -7,6 +7,9 @@
 //! byte always sits on a character boundary, so the parts found here are
 //! taken with `str::get` (no panic path) and are exactly those of
 //! `split(char)`.
+//!
+//! Used by the field-text rules' reference pass in the tests
+//! (`plausible::reference`); the reader splits its bytes itself.
 
 /// The text before the first `delim` and the text after it; `None` when
 /// there is none.

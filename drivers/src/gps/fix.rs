@@ -167,34 +167,50 @@ struct Epoch {
 }
 
 impl Epoch {
-    fn fix(&self) -> GpsFix {
-        let utc = self.rmc.and_then(|r| r.utc);
-        let mut fix = GpsFix {
-            utc,
-            utc_received_ms: utc.map(|_| self.rmc_ms),
-            satellites: self.gga.and_then(|g| g.satellites),
-            ..GpsFix::NONE
-        };
+    /// Writes the epoch's fix into `fix`, field by field from references to
+    /// its sentences (built as a value, from combinators on the
+    /// `Option<Gga>`/`Option<Rmc>` values, it was copied whole several
+    /// times on the AVR).
+    // Out of line on the AVR: the fix is written where it is kept.
+    #[cfg_attr(target_arch = "avr", inline(never))]
+    fn write_fix(&self, fix: &mut GpsFix) {
+        *fix = GpsFix::NONE;
+        if let Some(utc) = self.rmc.as_ref().and_then(|r| r.utc) {
+            fix.utc = Some(utc);
+            fix.utc_received_ms = Some(self.rmc_ms);
+        }
+        if let Some(gga) = &self.gga {
+            fix.satellites = gga.satellites;
+        }
         // Every sentence the epoch has must report a fix; a contradiction
         // (RMC V with GGA 1, or RMC A with GGA 0) counts as no fix.
-        let rmc_ok = self.rmc.is_none_or(|r| r.valid);
-        let gga_ok = self.gga.is_none_or(|g| g.quality != FixQuality::Invalid);
-        if !(rmc_ok && gga_ok && self.has_data()) {
-            return fix;
-        }
-        fix.quality = self.gga.map_or(FixQuality::Gps, |g| g.quality);
-        let gga_position = self
+        let rmc_ok = self.rmc.as_ref().is_none_or(|r| r.valid);
+        let gga_ok = self
             .gga
-            .and_then(|g| Some((g.latitude_deg?, g.longitude_deg?, g.altitude_m)));
+            .as_ref()
+            .is_none_or(|g| g.quality != FixQuality::Invalid);
+        if !(rmc_ok && gga_ok && self.has_data()) {
+            return;
+        }
+        fix.quality = self.gga.as_ref().map_or(FixQuality::Gps, |g| g.quality);
+        // The GGA position (with its altitude) first, else the RMC's: the
+        // source chosen by reference, then copied once.
+        let gga_position = self.gga.as_ref().and_then(|g| {
+            Some((
+                g.latitude_deg.as_ref()?,
+                g.longitude_deg.as_ref()?,
+                g.altitude_m,
+            ))
+        });
         let rmc_position = self
             .rmc
-            .and_then(|r| Some((r.latitude_deg?, r.longitude_deg?, None)));
+            .as_ref()
+            .and_then(|r| Some((r.latitude_deg.as_ref()?, r.longitude_deg.as_ref()?, None)));
         if let Some((lat, lon, alt)) = gga_position.or(rmc_position) {
-            fix.latitude_deg = Some(lat);
-            fix.longitude_deg = Some(lon);
+            fix.latitude_deg = Some(*lat);
+            fix.longitude_deg = Some(*lon);
             fix.altitude_m = alt;
         }
-        fix
     }
 
     fn has_data(&self) -> bool {
@@ -223,7 +239,11 @@ impl Epoch {
 pub struct FixFusion {
     stale_after_ms: u32,
     epoch: Epoch,
-    last: Option<(GpsFix, u32)>,
+    /// The last epoch's fix; given out only while `last_ms` is `Some`.
+    last_fix: GpsFix,
+    /// The caller's clock at the last sentence of that epoch; `None` before
+    /// the first epoch and once the fix is forgotten.
+    last_ms: Option<u32>,
 }
 
 impl FixFusion {
@@ -247,7 +267,8 @@ impl FixFusion {
                 emitted: false,
                 last_ms: 0,
             },
-            last: None,
+            last_fix: GpsFix::NONE,
+            last_ms: None,
         }
     }
 
@@ -280,15 +301,26 @@ impl FixFusion {
     // Its own stack frame on the AVR (see `parse_sentence`).
     #[cfg_attr(target_arch = "avr", inline(never))]
     pub fn update(&mut self, sentence: &Sentence, now_ms: u32) -> Option<GpsFix> {
+        self.update_completes(sentence, now_ms)
+            .then_some(self.last_fix)
+    }
+
+    /// [`FixFusion::update`] saying only whether an epoch completed: its
+    /// fix is then [`FixFusion::last_fix`]. The decoder passes this on
+    /// instead of an `Option<GpsFix>` (41 bytes, copied at every level on
+    /// the AVR).
+    // Out of line on the AVR: its own frame, not the byte loop's.
+    #[cfg_attr(target_arch = "avr", inline(never))]
+    pub(super) fn update_completes(&mut self, sentence: &Sentence, now_ms: u32) -> bool {
         if !sentence_is_plausible(sentence) {
-            return None;
+            return false;
         }
         let key = match sentence {
             Sentence::Gga(g) => g.time_of_day_ms,
             Sentence::Rmc(r) => r.time_of_day_ms,
-            Sentence::Other => return None,
+            Sentence::Other => return false,
         };
-        let mut done = None;
+        let mut done = false;
         if key != self.epoch.key {
             done = self.finish_epoch();
             self.epoch = Epoch {
@@ -305,7 +337,7 @@ impl FixFusion {
             Sentence::Other => {}
         }
         self.epoch.last_ms = now_ms;
-        if done.is_none() && self.epoch.gga.is_some() && self.epoch.rmc.is_some() {
+        if !done && self.epoch.gga.is_some() && self.epoch.rmc.is_some() {
             done = self.finish_epoch();
         }
         done
@@ -326,17 +358,23 @@ impl FixFusion {
     /// # Ok::<(), drivers::gps::ParseError>(())
     /// ```
     pub fn flush(&mut self) -> Option<GpsFix> {
-        self.finish_epoch()
+        self.finish_epoch().then_some(self.last_fix)
     }
 
-    fn finish_epoch(&mut self) -> Option<GpsFix> {
+    /// The fix of the last epoch given out (whether or not stale since).
+    pub(super) fn last_fix(&self) -> GpsFix {
+        self.last_fix
+    }
+
+    /// Gives out the epoch being gathered into `last_fix`; whether it did.
+    fn finish_epoch(&mut self) -> bool {
         if self.epoch.emitted || !self.epoch.has_data() {
-            return None;
+            return false;
         }
         self.epoch.emitted = true;
-        let fix = self.epoch.fix();
-        self.last = Some((fix, self.epoch.last_ms));
-        Some(fix)
+        self.epoch.write_fix(&mut self.last_fix);
+        self.last_ms = Some(self.epoch.last_ms);
+        true
     }
 
     /// Whether nothing (no completed epoch) was heard within `stale_after_ms`
@@ -353,8 +391,8 @@ impl FixFusion {
     /// # Ok::<(), drivers::gps::ParseError>(())
     /// ```
     pub fn is_stale(&self, now_ms: u32) -> bool {
-        match self.last {
-            Some((_, at_ms)) => now_ms.wrapping_sub(at_ms) > self.stale_after_ms,
+        match self.last_ms {
+            Some(at_ms) => now_ms.wrapping_sub(at_ms) > self.stale_after_ms,
             None => true,
         }
     }
@@ -373,12 +411,12 @@ impl FixFusion {
     /// # Ok::<(), drivers::gps::ParseError>(())
     /// ```
     pub fn current(&mut self, now_ms: u32) -> GpsFix {
-        match self.last {
-            Some((fix, _)) if !self.is_stale(now_ms) => fix,
-            _ => {
-                self.last = None;
-                GpsFix::NONE
-            }
+        if self.is_stale(now_ms) {
+            // Forgotten: never given out again.
+            self.last_ms = None;
+            GpsFix::NONE
+        } else {
+            self.last_fix
         }
     }
 }

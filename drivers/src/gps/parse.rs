@@ -41,9 +41,9 @@
 //!   59.999 (as `chrono`, behind the `nmea` crate, represented it);
 //! - satellites: any digit string that fits a `u32`, saturated to 255.
 //!
-//! A GGA or RMC is checked for possible content both before (the text of its
-//! fields, [`check_fields`]) and after (the values) it is read here; an
-//! impossible one is a [`ParseError`] like an unreadable one. The rules
+//! A GGA or RMC is checked for possible content both while its fields are
+//! read (the text of each, in the one pass over them) and after (the
+//! values); an impossible one is a [`ParseError`] like an unreadable one. The rules
 //! (ranges, minutes < 60, calendar dates, no leap second, no `nan`/`inf`) are
 //! in the `plausible` module's documentation and in the README.
 
@@ -51,8 +51,7 @@ use sun_algos::Float;
 
 use super::assembler::{check as check_framing, MAX_SENTENCE_LEN};
 use super::coordinate::Coordinate;
-use super::fields::{split_ascii, split_once_ascii, split_sign};
-use super::plausible::{check_fields, gga_is_plausible, rmc_is_plausible, Kind};
+use super::plausible::{gga_is_plausible, rmc_is_plausible, Kind};
 use crate::time::{days_in_month, DateTime};
 
 /// Fix quality, GGA field 6.
@@ -320,184 +319,405 @@ fn to_datetime(date: Ymd, time: Hms) -> Option<DateTime> {
 #[cfg_attr(target_arch = "avr", inline(never))]
 pub fn parse_sentence(sentence: &str) -> Result<Sentence, ParseError> {
     // "$" + 2-character talker + 3-character type.
-    let kind = match sentence.get(3..6).ok_or(ParseError)? {
-        "GGA" => Kind::Gga,
-        "RMC" => Kind::Rmc,
-        _ => return Ok(Sentence::Other),
-    };
-    if sentence.len() > MAX_SENTENCE_LEN || check_framing(sentence.as_bytes()).is_err() {
+    let (kind, table, required): (_, &[Field], _) =
+        match sentence.get(3..6).ok_or(ParseError)?.as_bytes() {
+            b"GGA" => (Kind::Gga, &GGA_FIELDS, GGA_REQUIRED_FIELDS),
+            b"RMC" => (Kind::Rmc, &RMC_FIELDS, RMC_REQUIRED_FIELDS),
+            _ => return Ok(Sentence::Other),
+        };
+    let bytes = sentence.as_bytes();
+    if bytes.len() > MAX_SENTENCE_LEN || check_framing(bytes).is_err() {
         return Err(ParseError);
     }
-    if !check_fields(kind, sentence) {
+    // The framing check leaves `$`, the body, and `*hh` (no other `*`).
+    let body = bytes
+        .get(1..bytes.len().saturating_sub(3))
+        .ok_or(ParseError)?;
+    let mut reading = Reading::default();
+    if read_fields(table, body, &mut reading) < required {
         return Err(ParseError);
     }
-    // The framing check leaves exactly one '*', three characters from the end.
-    let body = sentence.strip_prefix('$').ok_or(ParseError)?;
-    let (body, _checksum) = split_once_ascii(body, b'*').ok_or(ParseError)?;
-    let mut fields = split_ascii(body, b',');
-    // Address: 2-character talker and 3-character type, then the first comma.
-    if fields.next().map(str::len) != Some(5) {
-        return Err(ParseError);
+    reading.sentence(kind)
+}
+
+/// What a field of a GGA or RMC must be, and what is read from it; the
+/// rules are those of the `plausible` module's documentation (rule 1) and of
+/// the `nmea` crate (this module's documentation).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+enum Field {
+    /// Not read: only the non-finite rule applies (units of separation,
+    /// mode, navigational status, fields past the last one listed).
+    Other,
+    /// The address, talker and type: exactly 5 characters.
+    Address,
+    /// `hhmmss[.s…]`, UTC time of day.
+    Time,
+    /// `ddmm[.m…]`, at most 90°.
+    Latitude,
+    /// `N` or `S`.
+    NorthSouth,
+    /// `dddmm[.m…]`, at most 180°.
+    Longitude,
+    /// `E` or `W`, of the longitude.
+    EastWest,
+    /// GGA quality: exactly one digit `0`..=`8`, never empty.
+    Quality,
+    /// Digits fitting a `u32`, saturated to 255.
+    Satellites,
+    /// Digits only.
+    Count,
+    /// `x[.x…]` without a sign.
+    Unsigned,
+    /// `[+-]x[.x…]`.
+    Signed,
+    /// `[+-]x[.x…]` metres, the integer part fitting a `u32`.
+    Altitude,
+    /// Empty or `M`.
+    AltitudeUnit,
+    /// RMC status `A`, `D` or `V`, never empty.
+    Status,
+    /// `ddmmyy` naming a day that exists.
+    Date,
+    /// `x[.x…]` without a sign; when present, so is its side.
+    Variation,
+    /// `E` or `W`, of the magnetic variation.
+    VariationSide,
+}
+
+/// GGA fields in NMEA 0183 order.
+const GGA_FIELDS: [Field; 15] = [
+    Field::Address,      // e.g. GPGGA
+    Field::Time,         // 1: UTC of position
+    Field::Latitude,     // 2: latitude
+    Field::NorthSouth,   // 3: N/S
+    Field::Longitude,    // 4: longitude
+    Field::EastWest,     // 5: E/W
+    Field::Quality,      // 6: GPS quality indicator 0..8
+    Field::Satellites,   // 7: number of satellites in use
+    Field::Unsigned,     // 8: horizontal dilution of precision
+    Field::Altitude,     // 9: antenna altitude above/below mean sea level
+    Field::AltitudeUnit, // 10: units of altitude, M
+    Field::Signed,       // 11: geoidal separation
+    Field::Other,        // 12: units of separation, M
+    Field::Unsigned,     // 13: age of differential GPS data, seconds
+    Field::Count,        // 14: differential reference station ID
+];
+
+/// Fields a GGA must have: the address and fields 1..=12.
+const GGA_REQUIRED_FIELDS: usize = 13;
+
+/// RMC fields in NMEA 0183 order.
+const RMC_FIELDS: [Field; 14] = [
+    Field::Address,       // e.g. GPRMC
+    Field::Time,          // 1: UTC of position fix
+    Field::Status,        // 2: status, A valid / V navigation receiver warning
+    Field::Latitude,      // 3: latitude
+    Field::NorthSouth,    // 4: N/S
+    Field::Longitude,     // 5: longitude
+    Field::EastWest,      // 6: E/W
+    Field::Unsigned,      // 7: speed over ground, knots
+    Field::Unsigned,      // 8: course over ground, degrees true
+    Field::Date,          // 9: date ddmmyy
+    Field::Variation,     // 10: magnetic variation, degrees
+    Field::VariationSide, // 11: E/W of the variation
+    Field::Other,         // 12: mode indicator (NMEA 2.3)
+    Field::Other,         // 13: navigational status (NMEA 4.1)
+];
+
+/// Fields an RMC must have: the address and fields 1..=11.
+const RMC_REQUIRED_FIELDS: usize = 12;
+
+/// What the fields read so far say.
+#[derive(Default)]
+struct Reading {
+    time: Option<Hms>,
+    /// Latitude and longitude in 10⁻¹¹ arc-minutes, signed once their
+    /// hemisphere is read.
+    latitude: i64,
+    longitude: i64,
+    /// How many of the four position fields are present.
+    position_fields: u8,
+    quality: FixQuality,
+    satellites: Option<u8>,
+    altitude_m: Option<f32>,
+    valid: bool,
+    date: Option<Ymd>,
+    variation: bool,
+    variation_side: bool,
+}
+
+/// Reads every field of a GGA or RMC body (between `$` and `*`) in one
+/// pass into `reading`, checking each by its [`Field`] rule. The number of
+/// fields read, 0 when one breaks its rule.
+// Out of line on the AVR, as `read_field` and `Reading::sentence`: each
+// keeps a frame within the 63 bytes `ldd`/`std` reach (one function with
+// the reading in its frame spent 232 B more on slots beyond).
+#[cfg_attr(target_arch = "avr", inline(never))]
+fn read_fields(table: &[Field], body: &[u8], reading: &mut Reading) -> usize {
+    let mut count = 0;
+    let mut rest = Some(body);
+    while let Some(text) = rest {
+        let (field_text, after) = split_at(text, b',');
+        rest = after;
+        let field = table.get(count).copied().unwrap_or(Field::Other);
+        if read_field(field, field_text, reading).is_none() {
+            return 0;
+        }
+        // At most MAX_SENTENCE_LEN fields: no overflow.
+        count += 1;
     }
-    let parsed = match kind {
-        Kind::Gga => Sentence::Gga(parse_gga(&mut fields)?),
-        Kind::Rmc => Sentence::Rmc(parse_rmc(&mut fields)?),
-    };
-    if sentence_is_plausible(&parsed) {
-        Ok(parsed)
-    } else {
-        Err(ParseError)
+    count
+}
+
+impl Reading {
+    /// The sentence the fields read say, if possible: all of them read, the
+    /// position all there or all missing, a variation with its side, and
+    /// the values plausible.
+    #[cfg_attr(target_arch = "avr", inline(never))]
+    fn sentence(&self, kind: Kind) -> Result<Sentence, ParseError> {
+        if self.variation && !self.variation_side {
+            return Err(ParseError);
+        }
+        // Latitude, N/S, longitude and E/W come together or not at all.
+        let (latitude_deg, longitude_deg) = match self.position_fields {
+            0 => (None, None),
+            4 => (
+                Some(Coordinate::from_e11_min(self.latitude)),
+                Some(Coordinate::from_e11_min(self.longitude)),
+            ),
+            _ => return Err(ParseError),
+        };
+        let time_of_day_ms = self.time.map(Hms::time_of_day_ms);
+        let parsed = match kind {
+            Kind::Gga => Sentence::Gga(Gga {
+                time_of_day_ms,
+                quality: self.quality,
+                latitude_deg,
+                longitude_deg,
+                altitude_m: self.altitude_m,
+                satellites: self.satellites,
+            }),
+            Kind::Rmc => Sentence::Rmc(Rmc {
+                time_of_day_ms,
+                utc: match (self.date, self.time) {
+                    (Some(d), Some(t)) => to_datetime(d, t),
+                    _ => None,
+                },
+                valid: self.valid,
+                latitude_deg,
+                longitude_deg,
+            }),
+        };
+        if sentence_is_plausible(&parsed) {
+            Ok(parsed)
+        } else {
+            Err(ParseError)
+        }
     }
 }
 
-/// The next field, which must be there (it may be empty).
-fn next<'a>(fields: &mut impl Iterator<Item = &'a str>) -> Result<&'a str, ParseError> {
-    fields.next().ok_or(ParseError)
+/// The text before the first `delim`, and the text after it (`None`
+/// without one): one step of `split(delim)`, byte by byte (core's `str`
+/// pattern code is large on the AVR).
+fn split_at(text: &[u8], delim: u8) -> (&[u8], Option<&[u8]>) {
+    match text.iter().position(|&b| b == delim) {
+        // `at` < text.len(): both ranges are in bounds.
+        Some(at) => (text.get(..at).unwrap_or(text), text.get(at + 1..)),
+        None => (text, None),
+    }
 }
 
-/// `None` for an empty field, else the field read by `parse`.
-fn optional<T>(
-    text: &str,
-    parse: impl FnOnce(&str) -> Result<T, ParseError>,
-) -> Result<Option<T>, ParseError> {
+/// Checks one field by its rule and keeps what it says; `None` when the
+/// field breaks the rule.
+#[cfg_attr(target_arch = "avr", inline(never))]
+fn read_field(field: Field, text: &[u8], reading: &mut Reading) -> Option<()> {
+    if spells_non_finite(text) {
+        return None;
+    }
     if text.is_empty() {
-        Ok(None)
-    } else {
-        parse(text).map(Some)
+        // Only the address, the quality and the status are never empty.
+        return match field {
+            Field::Address | Field::Quality | Field::Status => None,
+            _ => Some(()),
+        };
     }
+    match field {
+        Field::Other => {}
+        Field::Address => {
+            if text.len() != 5 {
+                return None;
+            }
+        }
+        Field::Time => reading.time = Some(parse_time(text)?),
+        Field::Latitude => {
+            reading.latitude = parse_angle(text, 2, 90)?;
+            reading.position_fields += 1;
+        }
+        Field::NorthSouth => {
+            match text {
+                b"N" => {}
+                b"S" => reading.latitude = -reading.latitude,
+                _ => return None,
+            }
+            reading.position_fields += 1;
+        }
+        Field::Longitude => {
+            reading.longitude = parse_angle(text, 3, 180)?;
+            reading.position_fields += 1;
+        }
+        Field::EastWest => {
+            match text {
+                b"E" => {}
+                b"W" => reading.longitude = -reading.longitude,
+                _ => return None,
+            }
+            reading.position_fields += 1;
+        }
+        Field::Quality => reading.quality = parse_quality(text)?,
+        Field::Satellites => {
+            let count = digits_value(text)?;
+            reading.satellites = Some(u8::try_from(count).unwrap_or(u8::MAX));
+        }
+        Field::Count => {
+            if !text.iter().all(u8::is_ascii_digit) {
+                return None;
+            }
+        }
+        Field::Unsigned => {
+            split_decimal(text)?;
+        }
+        Field::Signed => {
+            split_decimal(split_sign(text).1)?;
+        }
+        Field::Altitude => reading.altitude_m = Some(parse_altitude(text)?),
+        Field::AltitudeUnit => {
+            if text != b"M" {
+                return None;
+            }
+        }
+        Field::Status => {
+            reading.valid = match text {
+                b"A" | b"D" => true,
+                b"V" => false,
+                _ => return None,
+            }
+        }
+        Field::Date => reading.date = Some(parse_date(text)?),
+        Field::Variation => {
+            split_decimal(text)?;
+            reading.variation = true;
+        }
+        Field::VariationSide => {
+            if !matches!(text, b"E" | b"W") {
+                return None;
+            }
+            reading.variation_side = true;
+        }
+    }
+    Some(())
 }
 
-/// GGA fields 1..=12 (field 0, the address, already taken). The HDOP (8)
-/// and geoid separation (11) are not used; their grammar is checked by
-/// [`check_fields`], like that of the fields after 12.
-// Out of line on the AVR, as `parse_rmc`: in `parse_sentence`'s frame
-// their fields lay beyond the 63 bytes `ldd`/`std` reach (324 B more).
-#[cfg_attr(target_arch = "avr", inline(never))]
-fn parse_gga<'a>(fields: &mut impl Iterator<Item = &'a str>) -> Result<Gga, ParseError> {
-    let time = optional(next(fields)?, parse_time)?;
-    let (latitude_deg, longitude_deg) =
-        parse_position(next(fields)?, next(fields)?, next(fields)?, next(fields)?)?;
-    let quality = parse_quality(next(fields)?)?;
-    let satellites = optional(next(fields)?, parse_count)?;
-    let _hdop = next(fields)?;
-    let altitude_m = optional(next(fields)?, parse_altitude)?;
-    if !matches!(next(fields)?, "" | "M") {
-        return Err(ParseError);
-    }
-    let _geoid_separation = next(fields)?;
-    let _geoid_unit = next(fields)?;
-    Ok(Gga {
-        time_of_day_ms: time.map(Hms::time_of_day_ms),
-        quality,
-        latitude_deg,
-        longitude_deg,
-        altitude_m,
-        satellites: satellites.map(|n| u8::try_from(n).unwrap_or(u8::MAX)),
-    })
+/// `nan`, `inf`, `infinity` in any case, with or without a sign: what
+/// floating-point parsers take as non-finite (rule 1 of the `plausible`
+/// module, for every field).
+fn spells_non_finite(text: &[u8]) -> bool {
+    let unsigned = split_sign(text).1;
+    let prefix = unsigned.get(..3).unwrap_or(unsigned);
+    prefix.eq_ignore_ascii_case(b"nan") || prefix.eq_ignore_ascii_case(b"inf")
 }
 
-/// RMC fields 1..=11 (field 0, the address, already taken). Speed (7),
-/// course (8) and magnetic variation (10) are not used; their grammar is
-/// checked by [`check_fields`].
-#[cfg_attr(target_arch = "avr", inline(never))]
-fn parse_rmc<'a>(fields: &mut impl Iterator<Item = &'a str>) -> Result<Rmc, ParseError> {
-    let time = optional(next(fields)?, parse_time)?;
-    let valid = match next(fields)? {
-        "A" | "D" => true,
-        "V" => false,
-        _ => return Err(ParseError),
-    };
-    let (latitude_deg, longitude_deg) =
-        parse_position(next(fields)?, next(fields)?, next(fields)?, next(fields)?)?;
-    let _speed = next(fields)?;
-    let _course = next(fields)?;
-    let date = optional(next(fields)?, parse_date)?;
-    let variation = next(fields)?;
-    let variation_side = next(fields)?;
-    if !variation.is_empty() && !matches!(variation_side, "E" | "W") {
-        return Err(ParseError);
+/// `text` without one leading `-` or `+`, and whether that was a `-`.
+fn split_sign(text: &[u8]) -> (bool, &[u8]) {
+    match text.split_first() {
+        Some((&sign @ (b'-' | b'+'), rest)) => (sign == b'-', rest),
+        _ => (false, text),
     }
-    Ok(Rmc {
-        time_of_day_ms: time.map(Hms::time_of_day_ms),
-        utc: match (date, time) {
-            (Some(d), Some(t)) => to_datetime(d, t),
-            _ => None,
-        },
-        valid,
-        latitude_deg,
-        longitude_deg,
-    })
 }
 
 /// Splits `digits[.digits]` into its integer and fraction digits (the
 /// fraction empty without a point). No sign, no exponent, at least one digit
 /// each side of a point.
-fn split_decimal(text: &str) -> Result<(&str, &str), ParseError> {
-    let (int, frac) = match split_once_ascii(text, b'.') {
-        Some((int, frac)) if !frac.is_empty() => (int, frac),
-        Some(_) => return Err(ParseError),
-        None => (text, ""),
-    };
-    let digits = |s: &str| s.bytes().all(|b| b.is_ascii_digit());
-    if int.is_empty() || !digits(int) || !digits(frac) {
-        return Err(ParseError);
+fn split_decimal(text: &[u8]) -> Option<(&[u8], &[u8])> {
+    // One pass: digits, and at most one point (checked byte by byte; a
+    // split and two digit scans were larger on the AVR).
+    let mut point = None;
+    for (at, &b) in text.iter().enumerate() {
+        if b == b'.' && point.is_none() {
+            point = Some(at);
+        } else if !b.is_ascii_digit() {
+            return None;
+        }
     }
-    Ok((int, frac))
+    let (int, frac) = match point {
+        // `at` < text.len(): both ranges are in bounds.
+        Some(at) => (text.get(..at)?, text.get(at + 1..)?),
+        None => (text, &[][..]),
+    };
+    if int.is_empty() || (point.is_some() && frac.is_empty()) {
+        return None;
+    }
+    Some((int, frac))
 }
 
 /// Value of a digit string (digits only, may be empty: 0); `None` on a
 /// non-digit or when it does not fit a `u32` (every integer field does; on
 /// an 8-bit core checked 64-bit arithmetic costs several times more code).
-fn digits_value(text: &str) -> Option<u32> {
-    text.bytes().try_fold(0u32, |acc, b| {
-        let digit = b.checked_sub(b'0').filter(|d| *d <= 9)?;
-        acc.checked_mul(10)?.checked_add(u32::from(digit))
+fn digits_value(text: &[u8]) -> Option<u32> {
+    // acc · 10 + digit fits a u32 when acc < ⌊u32::MAX / 10⌋, or equals it
+    // and digit ≤ u32::MAX mod 10: tested before, not by a checked
+    // multiply (a 64-bit product on the AVR, two library calls).
+    const LIMIT: u32 = u32::MAX / 10;
+    let mut acc: u32 = 0;
+    for &b in text {
+        let digit = u32::from(b.wrapping_sub(b'0'));
+        if digit > 9 || acc > LIMIT || (acc == LIMIT && digit > u32::MAX % 10) {
+            return None;
+        }
+        acc = acc * 10 + digit;
+    }
+    Some(acc)
+}
+
+/// Value of the two digits at `at`; `None` unless both are there and digits.
+fn two_digits(text: &[u8], at: usize) -> Option<u8> {
+    let tens = text.get(at)?.wrapping_sub(b'0');
+    let ones = text.get(at.checked_add(1)?)?.wrapping_sub(b'0');
+    // Each at most 9 once checked: at most 99.
+    (tens <= 9 && ones <= 9).then(|| tens * 10 + ones)
+}
+
+/// `acc` followed by the first `places` digits of `digits` (zeros past its
+/// end): `acc · 10^places + value(digits[..k]) · 10^(places − k)`. The one
+/// place of 64-bit arithmetic of the reader (an exact latitude, longitude
+/// or altitude mantissa needs more than 32 bits), out of line so that the
+/// AVR has it once. `digits` must be ASCII digits; the callers keep the
+/// result below 2⁶³ (at most 4.3·10⁹ · 10⁹).
+#[cfg_attr(target_arch = "avr", inline(never))]
+fn append_digits(acc: u64, digits: &[u8], places: usize) -> u64 {
+    (0..places).fold(acc, |value, i| {
+        let digit = digits.get(i).map_or(0, |b| b.wrapping_sub(b'0'));
+        value * 10 + u64::from(digit)
     })
 }
 
-/// Value of the first [`MINUTE_DECIMALS`] (11) characters of a fraction
-/// that [`split_decimal`] checked to be digits: below 10¹¹, so the sum
-/// cannot overflow (a byte that is not a digit, which the caller excludes,
-/// still cannot: 255 · 111,111,111,111 < 2⁶⁴).
-fn fraction_value(digits: &str) -> u64 {
-    leading(digits, MINUTE_DECIMALS)
-        .bytes()
-        .fold(0u64, |acc, b| acc * 10 + u64::from(b.wrapping_sub(b'0')))
-}
-
-/// 10^`k` for `k` ≤ [`MINUTE_DECIMALS`] (a fraction's place value).
-fn pow10(k: usize) -> u64 {
-    (0..k.min(MINUTE_DECIMALS)).fold(1u64, |p, _| p * 10)
-}
-
-/// The first `n` characters of an ASCII digit string (all of it if shorter).
-fn leading(text: &str, n: usize) -> &str {
-    text.get(..n).unwrap_or(text)
-}
-
 /// `hhmmss[.s…]`: hour < 24, minute < 60, second < 60.
-fn parse_time(text: &str) -> Result<Hms, ParseError> {
+fn parse_time(text: &[u8]) -> Option<Hms> {
     let (int, frac) = split_decimal(text)?;
-    let two = |range: core::ops::Range<usize>| {
-        int.get(range)
-            .and_then(digits_value)
-            .and_then(|v| u8::try_from(v).ok())
-            .ok_or(ParseError)
-    };
     if int.len() != 6 {
-        return Err(ParseError);
+        return None;
     }
-    let (hour, minute, second) = (two(0..2)?, two(2..4)?, two(4..6)?);
+    let (hour, minute, second) = (
+        two_digits(int, 0)?,
+        two_digits(int, 2)?,
+        two_digits(int, 4)?,
+    );
     if hour >= 24 || minute >= 60 || second >= 60 {
-        return Err(ParseError);
+        return None;
     }
-    // The fraction to the nanosecond, rounded half up on the tenth digit.
-    let nine = leading(frac, 9);
-    let mut nanos = digits_value(nine).ok_or(ParseError)?;
-    for _ in nine.len()..9 {
-        nanos *= 10;
-    }
-    if frac.as_bytes().get(9).is_some_and(|d| *d >= b'5') {
+    // The fraction to the nanosecond (below 10⁹: fits a u32), rounded half
+    // up on the tenth digit.
+    let mut nanos = u32::try_from(append_digits(0, frac, 9)).ok()?;
+    if frac.get(9).is_some_and(|d| *d >= b'5') {
         nanos += 1;
     }
     let millis = if nanos < 1_000_000_000 {
@@ -507,106 +727,57 @@ fn parse_time(text: &str) -> Result<Hms, ParseError> {
         // took that as the leap second 59.999…; only there is it accepted.
         999
     } else {
-        return Err(ParseError);
+        return None;
     };
-    Ok(Hms {
+    Some(Hms {
         hour,
         minute,
         second,
-        millis: u16::try_from(millis).map_err(|_| ParseError)?,
+        millis: u16::try_from(millis).ok()?,
     })
 }
 
-/// The four position fields: all empty (no position), or all present with
-/// hemispheres exactly `N`/`S` and `E`/`W`.
-fn parse_position(
-    lat: &str,
-    north_south: &str,
-    lon: &str,
-    east_west: &str,
-) -> Result<(Option<Coordinate>, Option<Coordinate>), ParseError> {
-    if lat.is_empty() && north_south.is_empty() && lon.is_empty() && east_west.is_empty() {
-        return Ok((None, None));
-    }
-    let latitude = parse_angle(lat, 2)?;
-    let latitude = match north_south {
-        "N" => latitude,
-        "S" => -latitude,
-        _ => return Err(ParseError),
-    };
-    let longitude = parse_angle(lon, 3)?;
-    let longitude = match east_west {
-        "E" => longitude,
-        "W" => -longitude,
-        _ => return Err(ParseError),
-    };
-    Ok((
-        Some(Coordinate::from_e11_min(latitude)),
-        Some(Coordinate::from_e11_min(longitude)),
-    ))
-}
-
 /// Degrees and minutes `d…dmm[.m…]` with exactly `degree_digits` degree
-/// digits and minutes below 60, in 10⁻¹¹ arc-minutes (exact: at most
-/// 999·60·10¹¹ < 2⁶³). The degree range is left to the value check
-/// (90°00.0' is a latitude, 90°00.1' is not).
-fn parse_angle(text: &str, degree_digits: usize) -> Result<i64, ParseError> {
+/// digits, at most `max_deg` degrees and minutes below 60, in 10⁻¹¹
+/// arc-minutes (exact: at most 999·60·10¹¹ < 2⁶³). Beyond `max_deg` with
+/// minutes is left to the value check (90°00.0' is a latitude, 90°00.1' is
+/// not).
+fn parse_angle(text: &[u8], degree_digits: usize, max_deg: u32) -> Option<i64> {
     let (int, frac) = split_decimal(text)?;
     if int.len() != degree_digits + 2 {
-        return Err(ParseError);
+        return None;
     }
-    let degrees = int
-        .get(..degree_digits)
-        .and_then(digits_value)
-        .ok_or(ParseError)?;
-    let minutes = int
-        .get(degree_digits..)
-        .and_then(digits_value)
-        .ok_or(ParseError)?;
-    if minutes >= 60 {
-        return Err(ParseError);
+    let degrees = digits_value(int.get(..degree_digits)?)?;
+    let minutes = u32::from(two_digits(int, degree_digits)?);
+    if degrees > max_deg || minutes >= 60 {
+        return None;
     }
-    let decimals = leading(frac, MINUTE_DECIMALS);
-    // degrees ≤ 999 (three digits) and minutes < 60: whole minutes ≤ 59,999;
-    // the decimals (k ≤ 11 of them, at 10^(11 − k) each) stay below 10¹¹.
-    let whole_min = u64::from(degrees * 60 + minutes);
-    let e11_min = whole_min * pow10(MINUTE_DECIMALS)
-        + fraction_value(decimals) * pow10(MINUTE_DECIMALS - decimals.len());
-    // Below 6·10¹⁵ < 2⁶³.
-    i64::try_from(e11_min).map_err(|_| ParseError)
+    // Whole minutes ≤ 999·60 + 59, then [`MINUTE_DECIMALS`] decimals.
+    let e11_min = append_digits(u64::from(degrees * 60 + minutes), frac, MINUTE_DECIMALS);
+    i64::try_from(e11_min).ok()
 }
 
 /// `[+-]digits[.digits]`, metres.
-fn parse_altitude(text: &str) -> Result<f32, ParseError> {
+fn parse_altitude(text: &[u8]) -> Option<f32> {
     let (negative, unsigned) = split_sign(text);
     let (int, frac) = split_decimal(unsigned)?;
-    let decimals = leading(frac, ALTITUDE_DECIMALS);
-    let scale = pow10(decimals.len());
+    let places = frac.len().min(ALTITUDE_DECIMALS);
     // An integer part beyond u32 is far outside the plausible range; below
     // it, int · 10⁹ + decimals < 4.3·10¹⁸ < 2⁶³.
-    let int = digits_value(int).ok_or(ParseError)?;
-    let mantissa = u64::from(int) * scale + fraction_value(decimals);
-    let mantissa = i64::try_from(mantissa).map_err(|_| ParseError)?;
+    let mantissa = append_digits(u64::from(digits_value(int)?), frac, places);
+    let scale = append_digits(1, &[], places);
     // The f32 nearest mantissa / scale, rounded once from the integers.
-    let value = f32::from_ratio(mantissa, scale);
-    Ok(if negative { -value } else { value })
-}
-
-/// Digits only, fitting a `u32`.
-fn parse_count(text: &str) -> Result<u32, ParseError> {
-    if text.is_empty() {
-        return Err(ParseError);
-    }
-    digits_value(text).ok_or(ParseError)
+    let value = f32::from_ratio(i64::try_from(mantissa).ok()?, scale);
+    Some(if negative { -value } else { value })
 }
 
 /// GGA field 6: exactly one digit 0..=8.
-fn parse_quality(text: &str) -> Result<FixQuality, ParseError> {
-    let [digit] = text.as_bytes() else {
-        return Err(ParseError);
+fn parse_quality(text: &[u8]) -> Option<FixQuality> {
+    let [digit] = text else {
+        return None;
     };
     // By the digit's value, not by string compares: one range check.
-    Ok(match digit.wrapping_sub(b'0') {
+    Some(match digit.wrapping_sub(b'0') {
         0 => FixQuality::Invalid,
         1 => FixQuality::Gps,
         2 => FixQuality::Dgps,
@@ -616,32 +787,30 @@ fn parse_quality(text: &str) -> Result<FixQuality, ParseError> {
         6 => FixQuality::Estimated,
         7 => FixQuality::Manual,
         8 => FixQuality::Simulation,
-        _ => return Err(ParseError),
+        _ => return None,
     })
 }
 
 /// `ddmmyy` naming a day that exists; years 83..=99 are 1983..=1999 (NMEA 0183
 /// appeared in 1983), the others 2000..=2082.
-fn parse_date(text: &str) -> Result<Ymd, ParseError> {
+fn parse_date(text: &[u8]) -> Option<Ymd> {
     if text.len() != 6 {
-        return Err(ParseError);
+        return None;
     }
-    let two = |range: core::ops::Range<usize>| {
-        text.get(range)
-            .and_then(digits_value)
-            .and_then(|v| u8::try_from(v).ok())
-            .ok_or(ParseError)
-    };
-    let (day, month, yy) = (two(0..2)?, two(2..4)?, two(4..6)?);
+    let (day, month, yy) = (
+        two_digits(text, 0)?,
+        two_digits(text, 2)?,
+        two_digits(text, 4)?,
+    );
     let year = if yy >= 83 {
         1900 + u16::from(yy)
     } else {
         2000 + u16::from(yy)
     };
     if !(1..=12).contains(&month) || day == 0 || day > days_in_month(year, month) {
-        return Err(ParseError);
+        return None;
     }
-    Ok(Ymd { year, month, day })
+    Some(Ymd { year, month, day })
 }
 
 /// Whether a GGA's or RMC's values are possible: finite, latitude within ±90°,
@@ -983,8 +1152,8 @@ mod tests {
                     width = decimals as usize
                 );
                 assert_eq!(
-                    parse_altitude(&text),
-                    Ok(text.parse::<f32>().unwrap()),
+                    parse_altitude(text.as_bytes()),
+                    Some(text.parse::<f32>().unwrap()),
                     "{text}"
                 );
             }
@@ -1032,19 +1201,40 @@ mod tests {
 
     #[test]
     fn digit_helpers() {
-        assert_eq!(digits_value(""), Some(0));
-        assert_eq!(digits_value("4294967295"), Some(u32::MAX));
-        assert_eq!(digits_value("4294967296"), None);
-        assert_eq!(digits_value("1a"), None);
-        assert_eq!(fraction_value("99999999999"), 99_999_999_999);
-        // Past the eleventh decimal: not read.
-        assert_eq!(fraction_value("0000000000159"), 1);
-        assert_eq!(fraction_value(""), 0);
-        assert_eq!((pow10(0), pow10(11)), (1, 100_000_000_000));
-        assert_eq!(split_decimal("12.50"), Ok(("12", "50")));
-        assert_eq!(split_decimal("12"), Ok(("12", "")));
+        assert_eq!(digits_value(b""), Some(0));
+        assert_eq!(digits_value(b"4294967295"), Some(u32::MAX));
+        assert_eq!(digits_value(b"4294967296"), None);
+        assert_eq!(digits_value(b"1a"), None);
+        assert_eq!(two_digits(b"1234", 2), Some(34));
+        assert_eq!(
+            (two_digits(b"123", 2), two_digits(b"1x34", 0)),
+            (None, None)
+        );
+        // 11 decimals read, zeros appended, digits past them not read.
+        assert_eq!(append_digits(0, b"99999999999", 11), 99_999_999_999);
+        assert_eq!(append_digits(0, b"0000000000159", 11), 1);
+        assert_eq!(append_digits(0, b"", 11), 0);
+        assert_eq!(append_digits(59_999, b"5", 11), 5_999_950_000_000_000);
+        assert_eq!(
+            (append_digits(1, b"", 0), append_digits(1, b"", 11)),
+            (1, 100_000_000_000)
+        );
+        assert_eq!(split_decimal(b"12.50"), Some((&b"12"[..], &b"50"[..])));
+        assert_eq!(split_decimal(b"12"), Some((&b"12"[..], &b""[..])));
         for bad in ["", ".", "1.", ".1", "1..2", "-1", "1e2", "١٢"] {
-            assert_eq!(split_decimal(bad), Err(ParseError), "{bad}");
+            assert_eq!(split_decimal(bad.as_bytes()), None, "{bad}");
+        }
+        assert_eq!(split_at(b"a,b,c", b','), (&b"a"[..], Some(&b"b,c"[..])));
+        assert_eq!(split_at(b"abc", b','), (&b"abc"[..], None));
+        assert_eq!(split_at(b",", b','), (&b""[..], Some(&b""[..])));
+        assert_eq!(split_sign(b"-1.5"), (true, &b"1.5"[..]));
+        assert_eq!(split_sign(b"+-2"), (false, &b"-2"[..]));
+        assert_eq!(split_sign(b"3"), (false, &b"3"[..]));
+        for s in ["nan", "NaN", "-inf", "+Infinity", "INF", "nAn1"] {
+            assert!(spells_non_finite(s.as_bytes()), "{s}");
+        }
+        for s in ["N", "12.5", "", "-", "na", "in", "−inf"] {
+            assert!(!spells_non_finite(s.as_bytes()), "{s}");
         }
     }
 }

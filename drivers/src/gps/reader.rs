@@ -126,15 +126,25 @@ impl GpsDecoder {
     /// # Ok::<(), drivers::time::DateTimeError>(())
     /// ```
     pub fn push(&mut self, byte: u8, now_ms: u32) -> Option<GpsFix> {
-        let sentence = match self.assembler.push(byte)? {
-            Ok(text) => parse_sentence(text),
-            Err(_) => return None,
+        self.push_completes(byte, now_ms)
+            .then(|| self.fusion.last_fix())
+    }
+
+    /// [`GpsDecoder::push`] saying only whether an epoch completed (its fix
+    /// is then `self.fusion.last_fix()`), so that no `Option<GpsFix>` is
+    /// copied per byte.
+    // Out of line on the AVR: one copy of the byte path, its own frame.
+    #[cfg_attr(target_arch = "avr", inline(never))]
+    fn push_completes(&mut self, byte: u8, now_ms: u32) -> bool {
+        let sentence = match self.assembler.push(byte) {
+            Some(Ok(text)) => parse_sentence(text),
+            _ => return false,
         };
         match sentence {
-            Ok(s) => self.fusion.update(&s, now_ms),
+            Ok(s) => self.fusion.update_completes(&s, now_ms),
             Err(_) => {
                 self.parse_errors = self.parse_errors.saturating_add(1);
-                None
+                false
             }
         }
     }
@@ -373,8 +383,8 @@ impl<R: Read> GpsReader<R> {
     /// # Ok::<(), drivers::time::DateTimeError>(())
     /// ```
     pub fn poll(&mut self, now_ms: u32) -> Result<Option<GpsFix>, Error<R::Error>> {
-        if let Some(fix) = self.drain(now_ms) {
-            return Ok(Some(fix));
+        if self.drain(now_ms) {
+            return Ok(Some(self.decoder.fusion.last_fix()));
         }
         let n = self.serial.read(&mut self.buf).map_err(Error::Comm)?;
         if n == 0 {
@@ -385,7 +395,7 @@ impl<R: Read> GpsReader<R> {
         }
         self.start = 0;
         self.end = n.min(READ_CHUNK);
-        Ok(self.drain(now_ms))
+        Ok(self.drain(now_ms).then(|| self.decoder.fusion.last_fix()))
     }
 
     /// Like [`GpsReader::poll`], but never blocks: when no byte is buffered
@@ -420,8 +430,8 @@ impl<R: Read> GpsReader<R> {
     where
         R: ReadReady,
     {
-        if let Some(fix) = self.drain(now_ms) {
-            return Ok(Some(fix));
+        if self.drain(now_ms) {
+            return Ok(Some(self.decoder.fusion.last_fix()));
         }
         if self.serial.read_ready().map_err(Error::Comm)? {
             self.poll(now_ms)
@@ -468,15 +478,16 @@ impl<R: Read> GpsReader<R> {
         self.serial.read_ready().map_err(Error::Comm)
     }
 
-    fn drain(&mut self, now_ms: u32) -> Option<GpsFix> {
-        while self.start < self.end {
-            let byte = *self.buf.get(self.start)?;
+    /// Decodes the buffered bytes until an epoch completes (its fix is then
+    /// `self.decoder.fusion.last_fix()`); whether one did.
+    fn drain(&mut self, now_ms: u32) -> bool {
+        while let Some(&byte) = self.buf.get(self.start).filter(|_| self.start < self.end) {
             self.start += 1;
-            if let Some(fix) = self.decoder.push(byte, now_ms) {
-                return Some(fix);
+            if self.decoder.push_completes(byte, now_ms) {
+                return true;
             }
         }
-        None
+        false
     }
 
     /// The latest fix, or [`GpsFix::NONE`] once stale (a stale fix is then forgotten).

@@ -20,7 +20,7 @@ use nmea::sentences::FixType;
 use nmea::ParseResult;
 
 use super::super::assembler::nmea_checksum;
-use super::super::plausible::{check_fields, Kind};
+use super::super::plausible::{reference::check_fields, Kind};
 use super::*;
 
 impl From<FixType> for FixQuality {
