@@ -4,8 +4,8 @@
 use super::config_commands::{run_config, Outcome};
 use super::parse::{parse, Command, ParseError};
 use super::reply::{
-    write_error, write_loaded, write_ok, write_parse_error, write_saved, write_time_error,
-    write_time_set,
+    write_error, write_field_error, write_loaded, write_ok, write_parse_error, write_saved,
+    write_time_error, write_time_set,
 };
 use super::status::{write_status, StatusView};
 use crate::config::Config;
@@ -138,11 +138,7 @@ pub fn write_hold_saved(
     match result {
         Ok(()) if ok_when_saved => write_ok(out, name),
         Ok(()) => {}
-        Err(_) => {
-            out.flash(crate::flash_str!("error "));
-            out.flash(name);
-            out.flash(crate::flash_str!(": in force but not saved\n"));
-        }
+        Err(_) => write_field_error(out, name, crate::flash_str!("in force but not saved")),
     }
 }
 

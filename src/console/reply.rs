@@ -83,14 +83,7 @@ pub fn write_parse_error(out: &mut dyn Sink, e: &ParseError) {
         ParseError::UnknownKey => crate::flash_str!("unknown key"),
         ParseError::MissingArgument => crate::flash_str!("missing argument"),
         ParseError::UnexpectedArgument => crate::flash_str!("unexpected argument"),
-        ParseError::BadValue(k, n) => {
-            out.flash(crate::flash_str!("error "));
-            out.flash(k.name());
-            out.flash(crate::flash_str!(": "));
-            out.flash(n.text());
-            out.flash(crate::flash_str!("\n"));
-            return;
-        }
+        ParseError::BadValue(k, n) => return write_field_error(out, k.name(), n.text()),
         ParseError::BadNumber(n) => n.text(),
         ParseError::BadAxis => crate::flash_str!("axis must be c or a"),
         ParseError::BadTime => crate::flash_str!("time must be YYYY-MM-DDTHH:MM:SSZ"),
@@ -115,7 +108,6 @@ pub fn postal_error_text(e: PostalError) -> FlashStr {
 /// number expected`, `error KEY: read only`, `error KEY: out of range`,
 /// `error site.postal_code: …`.
 pub fn write_set_error(out: &mut dyn Sink, e: &SetError) {
-    out.flash(crate::flash_str!("error "));
     let (name, reason) = match *e {
         SetError::Invalid(ConfigError { field, reason }) => (field.name(), reason.text()),
         SetError::NotWhole(k) => (k.name(), crate::flash_str!("whole number expected")),
@@ -123,6 +115,15 @@ pub fn write_set_error(out: &mut dyn Sink, e: &SetError) {
         SetError::OutOfRange(k) => (k.name(), crate::flash_str!("out of range")),
         SetError::Postal(p) => (POSTAL_CODE_KEY, postal_error_text(p)),
     };
+    write_field_error(out, name, reason);
+}
+
+/// `error NAME: REASON`: a refused value (a key's, a command's). One copy
+/// for the parser's, `set`'s and the hold's refusals (written out at each,
+/// 44 B more on the ATmega2560).
+#[inline(never)]
+pub(super) fn write_field_error(out: &mut dyn Sink, name: FlashStr, reason: FlashStr) {
+    out.flash(crate::flash_str!("error "));
     out.flash(name);
     out.flash(crate::flash_str!(": "));
     out.flash(reason);
