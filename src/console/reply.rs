@@ -108,14 +108,16 @@ pub fn postal_error_text(e: PostalError) -> FlashStr {
 /// number expected`, `error KEY: read only`, `error KEY: out of range`,
 /// `error site.postal_code: …`.
 pub fn write_set_error(out: &mut dyn Sink, e: &SetError) {
-    let (name, reason) = match *e {
-        SetError::Invalid(ConfigError { field, reason }) => (field.name(), reason.text()),
-        SetError::NotWhole(k) => (k.name(), crate::flash_str!("whole number expected")),
-        SetError::ReadOnly(k) => (k.name(), crate::flash_str!("read only")),
-        SetError::OutOfRange(k) => (k.name(), crate::flash_str!("out of range")),
-        SetError::Postal(p) => (POSTAL_CODE_KEY, postal_error_text(p)),
+    // The key's name looked up once (at each arm, 24 B more on the
+    // ATmega2560); `None` for the postal-code pseudo-key.
+    let (key, reason) = match *e {
+        SetError::Invalid(ConfigError { field, reason }) => (Some(field), reason.text()),
+        SetError::NotWhole(k) => (Some(k), crate::flash_str!("whole number expected")),
+        SetError::ReadOnly(k) => (Some(k), crate::flash_str!("read only")),
+        SetError::OutOfRange(k) => (Some(k), crate::flash_str!("out of range")),
+        SetError::Postal(p) => (None, postal_error_text(p)),
     };
-    write_field_error(out, name, reason);
+    write_field_error(out, key.map_or(POSTAL_CODE_KEY, Key::name), reason);
 }
 
 /// `error NAME: REASON`: a refused value (a key's, a command's). One copy
