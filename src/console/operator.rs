@@ -2,7 +2,7 @@
 //! ([`Operator`]), and [`execute`], which answers every command through it.
 
 use super::config_commands::{run_config, Outcome};
-use super::parse::{parse, Command, ParseError};
+use super::parse::{names, parse, Command, ParseError};
 use super::reply::{
     write_error, write_field_error, write_loaded, write_ok, write_parse_error, write_saved,
     write_time_error, write_time_set,
@@ -196,7 +196,7 @@ pub fn execute(op: &mut dyn Operator, line: &str) -> Executed {
     if cmd == Command::Defaults {
         let defaults = op.defaults();
         if put_into_effect(op, defaults) {
-            write_ok(op.out(), cmd.name());
+            write_ok(op.out(), names::DEFAULTS);
         }
         return Executed::Done;
     }
@@ -240,21 +240,35 @@ pub fn execute(op: &mut dyn Operator, line: &str) -> Executed {
         },
         Command::Stow | Command::Resume | Command::ManualOff | Command::Service(_) => {
             let before = op.hold();
-            match cmd {
-                Command::Stow => op.stow(true),
-                Command::Service(on) => op.service(on),
+            let name = match cmd {
+                Command::Stow => {
+                    op.stow(true);
+                    names::STOW
+                }
+                Command::Service(on) => {
+                    op.service(on);
+                    if on {
+                        names::SERVICE_ON
+                    } else {
+                        names::SERVICE_OFF
+                    }
+                }
                 // `resume` ends a stow and a manual mode.
                 Command::Resume => {
                     op.stow(false);
                     op.manual_off();
+                    names::RESUME
                 }
-                _ => op.manual_off(),
-            }
-            return save_hold(op, before, cmd.name(), true);
+                _ => {
+                    op.manual_off();
+                    names::MANUAL_OFF
+                }
+            };
+            return save_hold(op, before, name, true);
         }
         Command::Home => {
             if op.home() {
-                write_ok(op.out(), cmd.name());
+                write_ok(op.out(), names::HOME);
             } else {
                 write_error(
                     op.out(),
@@ -264,7 +278,7 @@ pub fn execute(op: &mut dyn Operator, line: &str) -> Executed {
         }
         Command::Clear => {
             op.clear();
-            write_ok(op.out(), cmd.name());
+            write_ok(op.out(), names::CLEAR);
         }
         Command::Jog(axis, deg) => {
             let before = op.hold();
@@ -279,7 +293,7 @@ pub fn execute(op: &mut dyn Operator, line: &str) -> Executed {
             } else {
                 crate::flash_str!("\n")
             });
-            return save_hold(op, before, cmd.name(), false);
+            return save_hold(op, before, names::JOG, false);
         }
         // Carried out by `run_config`.
         Command::Help

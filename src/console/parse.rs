@@ -78,6 +78,24 @@ pub enum Command<'a> {
     Clear,
 }
 
+/// The words of the commands that [`execute`](super::execute) answers
+/// `ok NAME` itself, each written once: [`Command::name`] gives them, and
+/// `execute` names them in the arm of each command (looking them up by the
+/// command again cost 268 B more on the ATmega2560).
+pub(super) mod names {
+    use crate::text::FlashStr;
+
+    pub const DEFAULTS: FlashStr = crate::flash_str!("defaults");
+    pub const STOW: FlashStr = crate::flash_str!("stow");
+    pub const RESUME: FlashStr = crate::flash_str!("resume");
+    pub const HOME: FlashStr = crate::flash_str!("home");
+    pub const JOG: FlashStr = crate::flash_str!("jog");
+    pub const MANUAL_OFF: FlashStr = crate::flash_str!("manual off");
+    pub const SERVICE_ON: FlashStr = crate::flash_str!("service on");
+    pub const SERVICE_OFF: FlashStr = crate::flash_str!("service off");
+    pub const CLEAR: FlashStr = crate::flash_str!("clear");
+}
+
 impl Command<'_> {
     /// The command's words, for its `ok` reply (`stow`, `manual off`,
     /// `time set`, …).
@@ -91,17 +109,17 @@ impl Command<'_> {
             }
             Command::Save => crate::flash_str!("save"),
             Command::Load => crate::flash_str!("load"),
-            Command::Defaults => crate::flash_str!("defaults"),
+            Command::Defaults => names::DEFAULTS,
             Command::TimeSet(_) => crate::flash_str!("time set"),
-            Command::Stow => crate::flash_str!("stow"),
-            Command::Resume => crate::flash_str!("resume"),
-            Command::Home => crate::flash_str!("home"),
-            Command::Jog(..) => crate::flash_str!("jog"),
-            Command::ManualOff => crate::flash_str!("manual off"),
-            Command::Service(true) => crate::flash_str!("service on"),
-            Command::Service(false) => crate::flash_str!("service off"),
+            Command::Stow => names::STOW,
+            Command::Resume => names::RESUME,
+            Command::Home => names::HOME,
+            Command::Jog(..) => names::JOG,
+            Command::ManualOff => names::MANUAL_OFF,
+            Command::Service(true) => names::SERVICE_ON,
+            Command::Service(false) => names::SERVICE_OFF,
             Command::Faults => crate::flash_str!("faults"),
-            Command::Clear => crate::flash_str!("clear"),
+            Command::Clear => names::CLEAR,
         }
     }
 }
