@@ -312,6 +312,10 @@ verbs! {
     "clear" => Clear,
 }
 
+/// The second word of `manual off` and `service off` (one copy of the
+/// text).
+const OFF: FlashStr = crate::flash_str!("off");
+
 /// Parses one command line (see the module docs for the language).
 pub fn parse(line: &str) -> Result<Command<'_>, ParseError> {
     parse_in(line, KEYS)
@@ -379,7 +383,7 @@ pub fn parse_in<'a>(line: &'a str, keys: &'a [Key]) -> Result<Command<'a>, Parse
                 .ok_or(ParseError::BadTime)
         }
         Verb::Manual => {
-            if !same_word(arg, crate::flash_str!("off")) {
+            if !same_word(arg, OFF) {
                 return Err(ParseError::UnknownCommand);
             }
             no_more(after).map(|()| Command::ManualOff)
@@ -387,7 +391,7 @@ pub fn parse_in<'a>(line: &'a str, keys: &'a [Key]) -> Result<Command<'a>, Parse
         Verb::Service => {
             let on = if same_word(arg, crate::flash_str!("on")) {
                 true
-            } else if same_word(arg, crate::flash_str!("off")) {
+            } else if same_word(arg, OFF) {
                 false
             } else if arg.is_empty() {
                 return Err(ParseError::MissingArgument);

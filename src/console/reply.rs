@@ -39,9 +39,12 @@ pub fn write_ok(out: &mut dyn Sink, what: FlashStr) {
     out.flash(crate::flash_str!("\n"));
 }
 
+/// The start of every `error` line (one copy of the text).
+const ERROR: FlashStr = crate::flash_str!("error ");
+
 /// `error WHAT`.
 pub fn write_error(out: &mut dyn Sink, what: FlashStr) {
-    out.flash(crate::flash_str!("error "));
+    out.flash(ERROR);
     out.flash(what);
     out.flash(crate::flash_str!("\n"));
 }
@@ -125,7 +128,7 @@ pub fn write_set_error(out: &mut dyn Sink, e: &SetError) {
 /// 44 B more on the ATmega2560).
 #[inline(never)]
 pub(super) fn write_field_error(out: &mut dyn Sink, name: FlashStr, reason: FlashStr) {
-    out.flash(crate::flash_str!("error "));
+    out.flash(ERROR);
     out.flash(name);
     out.flash(crate::flash_str!(": "));
     out.flash(reason);
