@@ -182,13 +182,12 @@ fn next_pair(s: &str) -> Result<Option<(&str, &str, &str)>, ParseError> {
 fn parse_set<'a>(args: &'a str, keys: &'a [Key]) -> Result<Command<'a>, ParseError> {
     let trimmed = trim_start_blank(args);
     if let Some(after) = strip_prefix_ignore_case(trimmed, POSTAL_CODE_KEY) {
-        let value = after.strip_prefix('=').or_else(|| {
-            after
-                .bytes()
-                .next()
-                .is_none_or(is_blank_byte)
-                .then_some(after)
-        });
+        // The byte after the key: `=`, a blank or the end (a byte test, not
+        // core's char pattern, 16 B more on the ATmega2560).
+        let value = match after.bytes().next() {
+            Some(b'=') => after.get(1..),
+            next => next.is_none_or(is_blank_byte).then_some(after),
+        };
         if let Some(value) = value {
             let value = trim_blank(value);
             if value.is_empty() {
