@@ -2,7 +2,7 @@
 //! `defaults`) on a [`Config`] and answering them.
 
 use super::keys::KEYS;
-use super::parse::Command;
+use super::parse::{names, Command};
 use super::postal::apply_postal_code;
 use super::reply::{format_get, write_help, write_key_value, write_ok, write_set_error};
 use super::set::{apply_assignments, apply_set};
@@ -87,7 +87,7 @@ pub fn run_config<'a>(out: &mut dyn Sink, config: &mut Config, cmd: Command<'a>)
         }
         Command::Defaults => {
             *config = Config::default();
-            write_ok(out, crate::flash_str!("defaults"));
+            write_ok(out, names::DEFAULTS);
             Outcome::Changed
         }
         other => Outcome::Pass(other),

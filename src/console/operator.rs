@@ -2,10 +2,10 @@
 //! ([`Operator`]), and [`execute`], which answers every command through it.
 
 use super::config_commands::{run_config, Outcome};
-use super::parse::{parse, Command, ParseError};
+use super::parse::{names, parse, Command, ParseError};
 use super::reply::{
-    write_error, write_loaded, write_ok, write_parse_error, write_saved, write_time_error,
-    write_time_set,
+    write_error, write_field_error, write_loaded, write_ok, write_parse_error, write_saved,
+    write_time_error, write_time_set,
 };
 use super::status::{write_status, StatusView};
 use crate::config::Config;
@@ -138,11 +138,7 @@ pub fn write_hold_saved(
     match result {
         Ok(()) if ok_when_saved => write_ok(out, name),
         Ok(()) => {}
-        Err(_) => {
-            out.flash(crate::flash_str!("error "));
-            out.flash(name);
-            out.flash(crate::flash_str!(": in force but not saved\n"));
-        }
+        Err(_) => write_field_error(out, name, crate::flash_str!("in force but not saved")),
     }
 }
 
@@ -166,6 +162,23 @@ fn save_hold(
     Executed::Done
 }
 
+/// Puts `config` into effect ([`Operator::apply`]); when the tracker
+/// refuses it, answers `error config refused by the tracker: not in
+/// effect` and returns false. One copy of the reply for `defaults`, `set`
+/// and `load` (three copies of its text and call cost 130 B more on the
+/// ATmega2560).
+#[inline(never)]
+fn put_into_effect(op: &mut dyn Operator, config: Config) -> bool {
+    let applied = op.apply(config);
+    if !applied {
+        write_error(
+            op.out(),
+            crate::flash_str!("config refused by the tracker: not in effect"),
+        );
+    }
+    applied
+}
+
 /// Parses `line`, carries it out through `op` and answers on
 /// [`Operator::out`]. Not inlined: a command's temporaries (a copy of the
 /// configuration, the status view) are on the stack only while it runs.
@@ -181,25 +194,16 @@ pub fn execute(op: &mut dyn Operator, line: &str) -> Executed {
     };
     let mut config = op.config();
     if cmd == Command::Defaults {
-        if op.apply(op.defaults()) {
-            write_ok(op.out(), cmd.name());
-        } else {
-            write_error(
-                op.out(),
-                crate::flash_str!("config refused by the tracker: not in effect"),
-            );
+        let defaults = op.defaults();
+        if put_into_effect(op, defaults) {
+            write_ok(op.out(), names::DEFAULTS);
         }
         return Executed::Done;
     }
     let cmd = match run_config(op.out(), &mut config, cmd) {
         Outcome::Answered => return Executed::Done,
         Outcome::Changed => {
-            if !op.apply(config) {
-                write_error(
-                    op.out(),
-                    crate::flash_str!("config refused by the tracker: not in effect"),
-                );
-            }
+            put_into_effect(op, config);
             return Executed::Done;
         }
         Outcome::Pass(cmd) => cmd,
@@ -221,11 +225,8 @@ pub fn execute(op: &mut dyn Operator, line: &str) -> Executed {
         Command::Load => match op.load() {
             Some(loaded) => {
                 write_loaded(op.out(), &loaded);
-                if !loaded.defaults && !op.apply(loaded.config) {
-                    write_error(
-                        op.out(),
-                        crate::flash_str!("config refused by the tracker: not in effect"),
-                    );
+                if !loaded.defaults {
+                    put_into_effect(op, loaded.config);
                 }
             }
             None => write_error(
@@ -239,21 +240,35 @@ pub fn execute(op: &mut dyn Operator, line: &str) -> Executed {
         },
         Command::Stow | Command::Resume | Command::ManualOff | Command::Service(_) => {
             let before = op.hold();
-            match cmd {
-                Command::Stow => op.stow(true),
-                Command::Service(on) => op.service(on),
+            let name = match cmd {
+                Command::Stow => {
+                    op.stow(true);
+                    names::STOW
+                }
+                Command::Service(on) => {
+                    op.service(on);
+                    if on {
+                        names::SERVICE_ON
+                    } else {
+                        names::SERVICE_OFF
+                    }
+                }
                 // `resume` ends a stow and a manual mode.
                 Command::Resume => {
                     op.stow(false);
                     op.manual_off();
+                    names::RESUME
                 }
-                _ => op.manual_off(),
-            }
-            return save_hold(op, before, cmd.name(), true);
+                _ => {
+                    op.manual_off();
+                    names::MANUAL_OFF
+                }
+            };
+            return save_hold(op, before, name, true);
         }
         Command::Home => {
             if op.home() {
-                write_ok(op.out(), cmd.name());
+                write_ok(op.out(), names::HOME);
             } else {
                 write_error(
                     op.out(),
@@ -263,7 +278,7 @@ pub fn execute(op: &mut dyn Operator, line: &str) -> Executed {
         }
         Command::Clear => {
             op.clear();
-            write_ok(op.out(), cmd.name());
+            write_ok(op.out(), names::CLEAR);
         }
         Command::Jog(axis, deg) => {
             let before = op.hold();
@@ -278,7 +293,7 @@ pub fn execute(op: &mut dyn Operator, line: &str) -> Executed {
             } else {
                 crate::flash_str!("\n")
             });
-            return save_hold(op, before, cmd.name(), false);
+            return save_hold(op, before, names::JOG, false);
         }
         // Carried out by `run_config`.
         Command::Help

@@ -78,6 +78,24 @@ pub enum Command<'a> {
     Clear,
 }
 
+/// The words of the commands that [`execute`](super::execute) answers
+/// `ok NAME` itself, each written once: [`Command::name`] gives them, and
+/// `execute` names them in the arm of each command (looking them up by the
+/// command again cost 268 B more on the ATmega2560).
+pub(super) mod names {
+    use crate::text::FlashStr;
+
+    pub const DEFAULTS: FlashStr = crate::flash_str!("defaults");
+    pub const STOW: FlashStr = crate::flash_str!("stow");
+    pub const RESUME: FlashStr = crate::flash_str!("resume");
+    pub const HOME: FlashStr = crate::flash_str!("home");
+    pub const JOG: FlashStr = crate::flash_str!("jog");
+    pub const MANUAL_OFF: FlashStr = crate::flash_str!("manual off");
+    pub const SERVICE_ON: FlashStr = crate::flash_str!("service on");
+    pub const SERVICE_OFF: FlashStr = crate::flash_str!("service off");
+    pub const CLEAR: FlashStr = crate::flash_str!("clear");
+}
+
 impl Command<'_> {
     /// The command's words, for its `ok` reply (`stow`, `manual off`,
     /// `time set`, …).
@@ -91,17 +109,17 @@ impl Command<'_> {
             }
             Command::Save => crate::flash_str!("save"),
             Command::Load => crate::flash_str!("load"),
-            Command::Defaults => crate::flash_str!("defaults"),
+            Command::Defaults => names::DEFAULTS,
             Command::TimeSet(_) => crate::flash_str!("time set"),
-            Command::Stow => crate::flash_str!("stow"),
-            Command::Resume => crate::flash_str!("resume"),
-            Command::Home => crate::flash_str!("home"),
-            Command::Jog(..) => crate::flash_str!("jog"),
-            Command::ManualOff => crate::flash_str!("manual off"),
-            Command::Service(true) => crate::flash_str!("service on"),
-            Command::Service(false) => crate::flash_str!("service off"),
+            Command::Stow => names::STOW,
+            Command::Resume => names::RESUME,
+            Command::Home => names::HOME,
+            Command::Jog(..) => names::JOG,
+            Command::ManualOff => names::MANUAL_OFF,
+            Command::Service(true) => names::SERVICE_ON,
+            Command::Service(false) => names::SERVICE_OFF,
             Command::Faults => crate::flash_str!("faults"),
-            Command::Clear => crate::flash_str!("clear"),
+            Command::Clear => names::CLEAR,
         }
     }
 }
@@ -164,13 +182,12 @@ fn next_pair(s: &str) -> Result<Option<(&str, &str, &str)>, ParseError> {
 fn parse_set<'a>(args: &'a str, keys: &'a [Key]) -> Result<Command<'a>, ParseError> {
     let trimmed = trim_start_blank(args);
     if let Some(after) = strip_prefix_ignore_case(trimmed, POSTAL_CODE_KEY) {
-        let value = after.strip_prefix('=').or_else(|| {
-            after
-                .bytes()
-                .next()
-                .is_none_or(is_blank_byte)
-                .then_some(after)
-        });
+        // The byte after the key: `=`, a blank or the end (a byte test, not
+        // core's char pattern, 16 B more on the ATmega2560).
+        let value = match after.bytes().next() {
+            Some(b'=') => after.get(1..),
+            next => next.is_none_or(is_blank_byte).then_some(after),
+        };
         if let Some(value) = value {
             let value = trim_blank(value);
             if value.is_empty() {
@@ -294,6 +311,10 @@ verbs! {
     "clear" => Clear,
 }
 
+/// The second word of `manual off` and `service off` (one copy of the
+/// text).
+const OFF: FlashStr = crate::flash_str!("off");
+
 /// Parses one command line (see the module docs for the language).
 pub fn parse(line: &str) -> Result<Command<'_>, ParseError> {
     parse_in(line, KEYS)
@@ -361,7 +382,7 @@ pub fn parse_in<'a>(line: &'a str, keys: &'a [Key]) -> Result<Command<'a>, Parse
                 .ok_or(ParseError::BadTime)
         }
         Verb::Manual => {
-            if !same_word(arg, crate::flash_str!("off")) {
+            if !same_word(arg, OFF) {
                 return Err(ParseError::UnknownCommand);
             }
             no_more(after).map(|()| Command::ManualOff)
@@ -369,7 +390,7 @@ pub fn parse_in<'a>(line: &'a str, keys: &'a [Key]) -> Result<Command<'a>, Parse
         Verb::Service => {
             let on = if same_word(arg, crate::flash_str!("on")) {
                 true
-            } else if same_word(arg, crate::flash_str!("off")) {
+            } else if same_word(arg, OFF) {
                 false
             } else if arg.is_empty() {
                 return Err(ParseError::MissingArgument);

@@ -141,34 +141,28 @@ impl RingState {
     fn push(&mut self, bytes: &mut [u8], byte: u8) {
         let after_cr = core::mem::replace(&mut self.after_cr, byte == b'\r');
         let line_end = byte == b'\r' || (byte == b'\n' && !after_cr);
-        let room = bytes.len().saturating_sub(self.len);
-        if byte == b'\n' && after_cr {
-            // The LF of a CR LF ends nothing (the line buffer skips it, or
-            // ends an empty line with it when its CR was dropped): stored
-            // as it is, a gap to mark stays for the next byte; dropped,
-            // nothing is lost.
-            if room >= 1 {
-                self.store(bytes, byte);
-            } else {
-                self.dropped = self.dropped.saturating_add(1);
-            }
-            return;
-        }
-        if self.gap_pending && room >= 2 {
+        // The LF of a CR LF ends nothing (the line buffer skips it, or ends
+        // an empty line with it when its CR was dropped): stored as it is,
+        // a gap to mark stays for the next byte; dropped, nothing is lost.
+        let lf_of_crlf = byte == b'\n' && after_cr;
+        // Otherwise a gap pending is marked first when there is room for
+        // the marker, and the byte is stored when room is left after it.
+        // One store of each and one count of a drop (written out per case,
+        // 100 B more on the ATmega2560).
+        let mut room = bytes.len().saturating_sub(self.len);
+        if room >= 1 && self.gap_pending && !lf_of_crlf {
             self.store(bytes, LOST_INPUT);
             self.gap_pending = false;
+            room -= 1;
         }
-        if !self.gap_pending && self.len < bytes.len() {
+        if room >= 1 {
             self.store(bytes, byte);
             return;
         }
-        if self.gap_pending && room == 1 {
-            // Room for the marker only.
-            self.store(bytes, LOST_INPUT);
-            self.gap_pending = false;
-        }
         self.dropped = self.dropped.saturating_add(1);
-        self.mark_gap(bytes, line_end);
+        if !lf_of_crlf {
+            self.mark_gap(bytes, line_end);
+        }
     }
 
     #[inline(never)]

@@ -3,6 +3,7 @@
 
 use crate::log::{Sink, SiteSource};
 use crate::safety::{Fault, FaultManager, Mode, MAX_ACTIVE};
+use crate::text::FlashStr;
 use crate::time::TimeOrigin;
 use sun_algos::UtcTime;
 
@@ -41,10 +42,14 @@ impl StatusView {
     }
 }
 
+/// What `status` shows for a value it does not have (one copy of the
+/// text).
+const NONE: FlashStr = crate::flash_str!("none");
+
 fn write_opt_number(out: &mut dyn Sink, v: Option<f32>, decimals: u8) {
     match v {
         Some(v) => out.fixed(v, decimals),
-        None => out.flash(crate::flash_str!("none")),
+        None => out.flash(NONE),
     }
 }
 
@@ -97,7 +102,7 @@ pub fn write_status_fields(out: &mut dyn Sink, s: &StatusView) {
         any = true;
     }
     if !any {
-        out.flash(crate::flash_str!("none"));
+        out.flash(NONE);
     }
     out.flash(crate::flash_str!(" wind_hz="));
     write_opt_number(out, s.wind_hz, 2);

@@ -29,7 +29,9 @@ pub(super) fn trim_blank(s: &str) -> &str {
 pub(super) fn word(s: &str) -> (&str, &str) {
     let s = trim_start_blank(s);
     let end = s.bytes().position(is_blank_byte).unwrap_or(s.len());
-    (s.get(..end).unwrap_or(""), s.get(end..).unwrap_or(""))
+    // One boundary check for both halves (two `get`s, 56 B more on the
+    // ATmega2560).
+    s.split_at_checked(end).unwrap_or((s, ""))
 }
 
 /// Splits `s` at the first `sep` (an ASCII byte).
