@@ -732,62 +732,8 @@ impl<T: Float, P: PositionSource<T>, const N: usize> Scheduler<T, P, N> {
             0 => u32::MAX,
             b => u32::from(b),
         };
-        if let Some(Planner::Daylight(search)) = &mut self.planner {
-            // Jimoh & Aliyu 2019 eq. 9: sunrise is where the zenith
-            // angle is 90° (see find_daylight).
-            let shift = T::from_f64(SUN_RADIUS_PLUS_HORIZON_REFRACTION_DEG);
-            let src = &mut self.source;
-            let mut used = 0u32;
-            let mut sun = |t: &UtcTime| {
-                used = used.saturating_add(1);
-                src.position(t).map(|p| SunPosition {
-                    zenith_deg: p.zenith_deg + shift,
-                    ..p
-                })
-            };
-            let found = search.step(&mut sun, budget)?;
-            budget = budget.saturating_sub(used);
-            let Some(ev) = found else {
-                self.phase = Phase::Planning;
-                return Ok(Action::Idle);
-            };
-            self.planner = None;
-            let day = solar_day_of(&ev)?;
-            self.day = Some(day);
-            self.last_applied = None;
-            match day.span()? {
-                Some((from, to)) if now >= from && now < to => {
-                    // Steps 7–8: the table for the whole daylight
-                    // (set-points facing the sun: no slope or azimuth
-                    // limits, the axes' own limits are applied by the
-                    // attitude step).
-                    let interval_min = (self.config.table_step_s / 60) as u16;
-                    self.has_table = false;
-                    match self.table.begin(&ev, interval_min) {
-                        Ok(()) => self.planner = Some(Planner::Table(start)),
-                        Err(GeometryError::CapacityExceeded { .. }) if N > 0 => {
-                            // Longer than the table (a polar day on a board
-                            // with a short one): slot by slot until sunset.
-                            self.overflow = true;
-                            self.phase = Phase::ReadDate;
-                            return self.rt_check(now);
-                        }
-                        Err(e) => return Err(e.into()),
-                    }
-                }
-                Some((from, _)) if now < from => {
-                    // Steps 5–6: td_os = sunrise − now.
-                    self.phase = Phase::WaitSunrise { until: from };
-                    return Ok(Action::Sleep { until: from });
-                }
-                _ => {
-                    // After sunset, or polar night: wait for the next
-                    // solar day.
-                    let until = day.end()?;
-                    self.phase = Phase::WaitSunrise { until };
-                    return Ok(Action::Sleep { until });
-                }
-            }
+        if let Some(action) = self.plan_daylight(now, start, &mut budget)? {
+            return Ok(action);
         }
         // The table of the day (its planner is `Table`: the search above
         // either returned or set it).
@@ -810,6 +756,80 @@ impl<T: Float, P: PositionSource<T>, const N: usize> Scheduler<T, P, N> {
         // begins with that check.)
         self.phase = Phase::Tracking { next_check: now };
         self.track(now)
+    }
+
+    /// Steps 2–6 of [`Scheduler::plan_in_place`]: the daylight search of
+    /// the solar day starting at `start` while the planner is `Daylight`,
+    /// taking its positions from `budget`; then the table begun, or the
+    /// wait. `Some` is the tick's action when the plan stops here.
+    // Out of line on the AVR: its events and solar day in the planner's
+    // frame put that frame's slots out of `ldd`/`std` reach.
+    #[cfg_attr(target_arch = "avr", inline(never))]
+    fn plan_daylight(
+        &mut self,
+        now: UtcTime,
+        start: UtcTime,
+        budget: &mut u32,
+    ) -> Result<Option<Action<T>>, ScheduleError> {
+        let Some(Planner::Daylight(search)) = &mut self.planner else {
+            return Ok(None);
+        };
+        // Jimoh & Aliyu 2019 eq. 9: sunrise is where the zenith
+        // angle is 90° (see find_daylight).
+        let shift = T::from_f64(SUN_RADIUS_PLUS_HORIZON_REFRACTION_DEG);
+        let src = &mut self.source;
+        let mut used = 0u32;
+        let mut sun = |t: &UtcTime| {
+            used = used.saturating_add(1);
+            src.position(t).map(|p| SunPosition {
+                zenith_deg: p.zenith_deg + shift,
+                ..p
+            })
+        };
+        let found = search.step(&mut sun, *budget)?;
+        *budget = budget.saturating_sub(used);
+        let Some(ev) = found else {
+            self.phase = Phase::Planning;
+            return Ok(Some(Action::Idle));
+        };
+        self.planner = None;
+        let day = solar_day_of(&ev)?;
+        self.day = Some(day);
+        self.last_applied = None;
+        match day.span()? {
+            Some((from, to)) if now >= from && now < to => {
+                // Steps 7–8: the table for the whole daylight
+                // (set-points facing the sun: no slope or azimuth
+                // limits, the axes' own limits are applied by the
+                // attitude step).
+                let interval_min = (self.config.table_step_s / 60) as u16;
+                self.has_table = false;
+                match self.table.begin(&ev, interval_min) {
+                    Ok(()) => self.planner = Some(Planner::Table(start)),
+                    Err(GeometryError::CapacityExceeded { .. }) if N > 0 => {
+                        // Longer than the table (a polar day on a board
+                        // with a short one): slot by slot until sunset.
+                        self.overflow = true;
+                        self.phase = Phase::ReadDate;
+                        return self.rt_check(now).map(Some);
+                    }
+                    Err(e) => return Err(e.into()),
+                }
+            }
+            Some((from, _)) if now < from => {
+                // Steps 5–6: td_os = sunrise − now.
+                self.phase = Phase::WaitSunrise { until: from };
+                return Ok(Some(Action::Sleep { until: from }));
+            }
+            _ => {
+                // After sunset, or polar night: wait for the next
+                // solar day.
+                let until = day.end()?;
+                self.phase = Phase::WaitSunrise { until };
+                return Ok(Some(Action::Sleep { until }));
+            }
+        }
+        Ok(None)
     }
 
     fn past_daylight(&self, now: &UtcTime) -> Result<bool, ScheduleError> {
