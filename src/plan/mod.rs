@@ -294,7 +294,17 @@ pub fn match_at<T: Float, const N: usize>(
     now: &UtcTime,
     window_s: u32,
 ) -> Option<(usize, TableEntry<T>)> {
-    let i = usize::try_from(slot_of(table, now)?).ok()?;
+    entry_in_window(table, slot_of(table, now)?, now, window_s)
+}
+
+/// [`match_at`] for the slot `now` is in, `slot` ([`slot_of`]).
+fn entry_in_window<T: Float, const N: usize>(
+    table: &DayTable<N>,
+    slot: u32,
+    now: &UtcTime,
+    window_s: u32,
+) -> Option<(usize, TableEntry<T>)> {
+    let i = usize::try_from(slot).ok()?;
     let e = table_entry(table, i)?;
     let late = now.seconds_since(&e.time)?;
     (0..i32::try_from(window_s.max(1)).unwrap_or(i32::MAX))
@@ -314,11 +324,11 @@ fn slot_of<const N: usize>(table: &DayTable<N>, now: &UtcTime) -> Option<u32> {
     since.checked_div(u32::from(table.interval_min()) * 60)
 }
 
-/// The start of the table slot after the one `now` is in: the instant the
-/// next entry becomes due. `None` before the table or without one.
-fn next_slot_time<const N: usize>(table: &DayTable<N>, now: &UtcTime) -> Option<UtcTime> {
+/// The start of the table slot after `slot` (the one `now` is in,
+/// [`slot_of`]): the instant the next entry becomes due.
+fn slot_start_after<const N: usize>(table: &DayTable<N>, slot: u32) -> Option<UtcTime> {
     let step = u32::from(table.interval_min()) * 60;
-    let next = slot_of(table, now)?.checked_add(1)?.checked_mul(step)?;
+    let next = slot.checked_add(1)?.checked_mul(step)?;
     table
         .first_time()
         .add_seconds_i32(i32::try_from(next).ok()?)
@@ -867,18 +877,15 @@ impl<T: Float, P: PositionSource<T>, const N: usize> Scheduler<T, P, N> {
         if self.past_daylight(&now)? {
             return self.end_of_day(now);
         }
-        let found = self
-            .has_table
-            .then_some(&self.table)
-            .and_then(|t| match_at(t, &now, self.config.recheck_s));
+        // The slot `now` is in, found once for the match and the next
+        // slot (None without a table).
+        let slot = self.has_table.then(|| slot_of(&self.table, &now)).flatten();
+        let found = slot.and_then(|i| entry_in_window(&self.table, i, &now, self.config.recheck_s));
         // The next check comes after the hold (or the recheck interval),
         // but never after the next entry falls due: checks every recheck_s
         // against a window of recheck_s would otherwise drift to its edge,
         // and a tick a second late would skip an entry.
-        let next_slot = self
-            .has_table
-            .then(|| next_slot_time(&self.table, &now))
-            .flatten();
+        let next_slot = slot.and_then(|i| slot_start_after(&self.table, i));
         let (wait_s, action) = match found {
             Some((i, e)) if self.last_applied != Some(i) => {
                 self.last_applied = Some(i);
