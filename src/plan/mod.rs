@@ -860,7 +860,13 @@ impl<T: Float, P: PositionSource<T>, const N: usize> Scheduler<T, P, N> {
         let (until, up_at_end) = match self.day {
             Some(d) => {
                 let end = d.end()?;
-                let up = matches!(d.span()?, Some((_, to)) if to >= end);
+                // The daylight span's end (`SolarDay::span`) at or after
+                // the day's end; a polar day's span ends there.
+                let up = match d.daylight {
+                    Daylight::Normal { set, .. } => set >= end,
+                    Daylight::PolarDay => true,
+                    Daylight::PolarNight => false,
+                };
                 (end, up)
             }
             None => return Err(ScheduleError::TimeRange),
