@@ -844,9 +844,11 @@ impl<T: Float, P: PositionSource<T>, const N: usize> Scheduler<T, P, N> {
 
     fn past_daylight(&self, now: &UtcTime) -> Result<bool, ScheduleError> {
         match self.day {
-            Some(d) => Ok(match d.span()? {
-                Some((_, to)) => *now >= to,
-                None => true,
+            // The end of the daylight span (`SolarDay::span`).
+            Some(d) => Ok(match d.daylight {
+                Daylight::Normal { set, .. } => *now >= set,
+                Daylight::PolarDay => *now >= d.end()?,
+                Daylight::PolarNight => true,
             }),
             None => Ok(true),
         }
