@@ -953,54 +953,56 @@ impl<T: Float, P: PositionSource<T>, const N: usize> Scheduler<T, P, N> {
             // Never after the next slot falls due.
             Ok(if next_slot < t { next_slot } else { t })
         };
-        // This slot's set-point was applied: nothing to compute (step 12).
-        if tracking && self.last_entry.is_some_and(|e| e.time == slot) {
-            self.phase = Phase::Tracking {
-                next_check: add(self.config.recheck_s)?,
-            };
-            return Ok(Action::Idle);
-        }
-        let sun = self.source.position(&slot)?;
-        // (A NaN zenith is not daylight.)
-        let up = sun.zenith_deg < T::from_f64(90.0);
-        if !up {
-            // Outside daylight (Jimoh & Aliyu eq. 9). After tracking: the day has
-            // ended (step 10), go home; else wait for the next slot (steps
-            // 4–6), with a Sleep the first time (power-on, clock jump).
-            let first = matches!(self.phase, Phase::ReadDate | Phase::Planning);
-            // A day too long for the table has ended: the next is planned
-            // with the table again.
-            self.overflow = false;
-            if tracking {
-                self.phase = Phase::WaitNextDay { until: next_slot };
-                return Ok(Action::GoHome(self.home));
+        // The wait (one computation of the next check, for both kinds of
+        // check) and the action of a check that keeps tracking.
+        let (wait_s, action) = 'check: {
+            // This slot's set-point was applied: nothing to compute (step 12).
+            if tracking && self.last_entry.is_some_and(|e| e.time == slot) {
+                break 'check (self.config.recheck_s, Action::Idle);
             }
-            self.phase = Phase::WaitSunrise { until: next_slot };
-            return Ok(if first {
-                Action::Sleep { until: next_slot }
-            } else {
-                Action::Idle
+            let sun = self.source.position(&slot)?;
+            // (A NaN zenith is not daylight.)
+            let up = sun.zenith_deg < T::from_f64(90.0);
+            if !up {
+                // Outside daylight (Jimoh & Aliyu eq. 9). After tracking: the day has
+                // ended (step 10), go home; else wait for the next slot (steps
+                // 4–6), with a Sleep the first time (power-on, clock jump).
+                let first = matches!(self.phase, Phase::ReadDate | Phase::Planning);
+                // A day too long for the table has ended: the next is planned
+                // with the table again.
+                self.overflow = false;
+                if tracking {
+                    self.phase = Phase::WaitNextDay { until: next_slot };
+                    return Ok(Action::GoHome(self.home));
+                }
+                self.phase = Phase::WaitSunrise { until: next_slot };
+                return Ok(if first {
+                    Action::Sleep { until: next_slot }
+                } else {
+                    Action::Idle
+                });
+            }
+            let set_point = SetPoint::facing(&sun);
+            // A new solar day: its first daylight slot is home (Li et al. 2022).
+            let day_start = solar_day_start(&slot, self.source.site().longitude_deg())?;
+            if self.rt_day.map(|(d, _)| d) != Some(day_start) {
+                self.rt_day = Some((day_start, slot));
+                self.home = set_point;
+                self.last_entry = None;
+            }
+            // Steps 11–14: the slot's set-point, then the hold. A check that
+            // comes late in the slot (ticks were missed) still takes it, as the
+            // table's present entry would be taken (it is the slot's time the
+            // set-point faces, at most one step old).
+            self.last_entry = Some(TableEntry {
+                time: slot,
+                set_point,
             });
-        }
-        let set_point = SetPoint::facing(&sun);
-        // A new solar day: its first daylight slot is home (Li et al. 2022).
-        let day_start = solar_day_start(&slot, self.source.site().longitude_deg())?;
-        if self.rt_day.map(|(d, _)| d) != Some(day_start) {
-            self.rt_day = Some((day_start, slot));
-            self.home = set_point;
-            self.last_entry = None;
-        }
-        // Steps 11–14: the slot's set-point, then the hold. A check that
-        // comes late in the slot (ticks were missed) still takes it, as the
-        // table's present entry would be taken (it is the slot's time the
-        // set-point faces, at most one step old).
-        self.last_entry = Some(TableEntry {
-            time: slot,
-            set_point,
-        });
-        self.phase = Phase::Tracking {
-            next_check: add(self.config.hold_s)?,
+            (self.config.hold_s, Action::SetPoints(set_point))
         };
-        Ok(Action::SetPoints(set_point))
+        self.phase = Phase::Tracking {
+            next_check: add(wait_s)?,
+        };
+        Ok(action)
     }
 }
