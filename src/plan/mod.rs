@@ -826,15 +826,14 @@ impl<T: Float, P: PositionSource<T>, const N: usize> Scheduler<T, P, N> {
                     Err(e) => return Err(e.into()),
                 }
             }
-            Some((from, _)) if now < from => {
-                // Steps 5–6: td_os = sunrise − now.
-                self.phase = Phase::WaitSunrise { until: from };
-                return Ok(Some(Action::Sleep { until: from }));
-            }
-            _ => {
-                // After sunset, or polar night: wait for the next
-                // solar day.
-                let until = day.end()?;
+            waiting => {
+                let until = match waiting {
+                    // Steps 5–6: td_os = sunrise − now.
+                    Some((from, _)) if now < from => from,
+                    // After sunset, or polar night: wait for the next
+                    // solar day.
+                    _ => day.end()?,
+                };
                 self.phase = Phase::WaitSunrise { until };
                 return Ok(Some(Action::Sleep { until }));
             }
