@@ -343,28 +343,34 @@ impl<T: Float> MountAttitude<T> {
         let cost_of = |p: &Pose<T>| {
             (p.gamma_deg - current.gamma_deg).abs() + (p.alpha_deg - current.alpha_deg).abs()
         };
+        // The six candidates in turn: each solution at −360°, 0 and +360°
+        // on the C axis. The out-of-reach ones are clamped again in the
+        // second pass rather than kept: an array of six clamped candidates
+        // put this function's locals beyond the 63 bytes AVR `ldd`/`std`
+        // reach from the frame pointer (328 B less on the ATmega2560).
+        let candidate = |k: usize| {
+            let sol = sols.get(k / 3)?;
+            let g = match k % 3 {
+                0 => -turn,
+                1 => T::ZERO,
+                _ => turn,
+            };
+            Some(Pose {
+                gamma_deg: sol.gamma_deg + g,
+                alpha_deg: sol.alpha_deg,
+            })
+        };
         let mut best: Option<(T, Pose<T>)> = None;
-        // Clamped candidates: (miss angle, travel, pose).
-        let mut clamped: [Option<(T, T, Pose<T>)>; 6] = [None; 6];
-        let mut k = 0;
-        for sol in sols {
-            for g in [-turn, T::ZERO, turn] {
-                let cand = Pose {
-                    gamma_deg: sol.gamma_deg + g,
-                    alpha_deg: sol.alpha_deg,
-                };
-                if limits.contains(&cand) {
-                    let cost = cost_of(&cand);
-                    if best.is_none_or(|(c, _)| cost < c) {
-                        best = Some((cost, cand));
-                    }
-                } else {
-                    let (miss, c) = clamped_miss(limits, &cand);
-                    if let Some(slot) = clamped.get_mut(k) {
-                        *slot = Some((miss, cost_of(&c), c));
-                    }
-                    k += 1;
+        let mut min_miss: Option<T> = None;
+        for cand in (0..6).filter_map(candidate) {
+            if limits.contains(&cand) {
+                let cost = cost_of(&cand);
+                if best.is_none_or(|(c, _)| cost < c) {
+                    best = Some((cost, cand));
                 }
+            } else {
+                let (miss, _) = clamped_miss(limits, &cand);
+                min_miss = Some(min_miss.map_or(miss, |m| m.min(miss)));
             }
         }
         if let Some((_, p)) = best {
@@ -373,23 +379,23 @@ impl<T: Float> MountAttitude<T> {
         // Out of reach: the smallest miss; among misses within 0.5° of it
         // (e.g. α = ±90° with γ half a turn apart point the same way) the
         // least travel, so that noise does not swing the axes to and fro.
-        let min_miss = clamped
-            .iter()
-            .flatten()
-            .map(|c| c.0)
-            .fold(None, |m: Option<T>, x| Some(m.map_or(x, |m| m.min(x))));
         let Some(min_miss) = min_miss else {
             return Err(AttitudeError::ZeroVector);
         };
         let tol = T::from_f64(0.5);
-        clamped
-            .iter()
-            .flatten()
-            .filter(|c| c.0 <= min_miss + tol)
-            .fold(None, |b: Option<(T, Pose<T>)>, c| match b {
-                Some((t, _)) if t <= c.1 => b,
-                _ => Some((c.1, c.2)),
-            })
+        let mut least: Option<(T, Pose<T>)> = None;
+        // None of the six is inside the limits here (else `best`).
+        for cand in (0..6).filter_map(candidate) {
+            let (miss, c) = clamped_miss(limits, &cand);
+            if miss <= min_miss + tol {
+                let travel = cost_of(&c);
+                match least {
+                    Some((t, _)) if t <= travel => {}
+                    _ => least = Some((travel, c)),
+                }
+            }
+        }
+        least
             .map(|(_, p)| Choice::Clamped(p))
             .ok_or(AttitudeError::ZeroVector)
     }
@@ -528,5 +534,52 @@ mod tests {
             m.choose(&s, &Pose::default(), &lim),
             Ok(Choice::Clamped(_))
         ));
+    }
+
+    #[test]
+    fn out_of_reach_takes_the_least_miss_then_the_least_travel() {
+        let m = MountAttitude::<f64>::level();
+        // Sun 30° high: a level mount tilts the panel by the zenith angle,
+        // 60°; at ±10° at most it misses by 50° either way, whichever of the
+        // two solutions (half a turn apart) it follows: a tie, so the
+        // one nearer the current C angle wins.
+        let s = sun_vector_xyz(30.0, 200.0);
+        let lim = PoseLimits {
+            gamma_min_deg: -180.0,
+            gamma_max_deg: 180.0,
+            alpha_min_deg: -10.0,
+            alpha_max_deg: 10.0,
+        };
+        for sol in m.solutions(&s, 0.0).unwrap() {
+            let gamma = wrap180(sol.gamma_deg);
+            let from = Pose {
+                gamma_deg: gamma,
+                alpha_deg: 0.0,
+            };
+            let c = m.choose(&s, &from, &lim).unwrap();
+            let Choice::Clamped(p) = c else {
+                panic!("{c:?}")
+            };
+            assert!((p.gamma_deg - gamma).abs() < 1e-9, "{p:?} from {from:?}");
+            assert!((p.alpha_deg.abs() - 10.0).abs() < 1e-9, "{p:?}");
+            assert!((m.pointing_error_deg(&p, &s) - 50.0).abs() < 1e-6);
+        }
+        // Only α ≥ 0: the solution tilting the other way misses by 60°.
+        let lim = PoseLimits {
+            alpha_min_deg: 0.0,
+            ..lim
+        };
+        for sol in m.solutions(&s, 0.0).unwrap() {
+            let from = Pose {
+                gamma_deg: wrap180(sol.gamma_deg),
+                alpha_deg: 0.0,
+            };
+            let c = m.choose(&s, &from, &lim).unwrap();
+            let Choice::Clamped(p) = c else {
+                panic!("{c:?}")
+            };
+            assert!((p.alpha_deg - 10.0).abs() < 1e-9, "{p:?}");
+            assert!((m.pointing_error_deg(&p, &s) - 50.0).abs() < 1e-6);
+        }
     }
 }

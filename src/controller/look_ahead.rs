@@ -54,7 +54,6 @@ where
     pub(super) fn begin_look_ahead(&mut self, now: UtcTime) {
         self.branch_anchor = None;
         self.branch_search = None;
-        let limits = self.limits();
         let here = Pose {
             gamma_deg: T::from_f32(self.axes[0].counted_deg()),
             alpha_deg: T::from_f32(self.axes[1].counted_deg()),
@@ -96,6 +95,18 @@ where
                 entry.set_point,
             )
         };
+        self.start_branch_search(path, &first, &here);
+    }
+
+    /// The branch search along `path` from its first set-point `first`,
+    /// the move from `here` charged; none when no pose faces `first`. Out of
+    /// line on the AVR: the starts' stack copy pushed `begin_look_ahead`'s
+    /// other locals beyond the 63 bytes `ldd`/`std` reach from the frame
+    /// pointer (92 B less on the ATmega2560).
+    #[cfg_attr(target_arch = "avr", inline(never))]
+    fn start_branch_search(&mut self, path: Path, first: &SetPoint<T>, here: &Pose<T>) {
+        let sampled = matches!(path, Path::Sampled { .. });
+        let limits = self.limits();
         // Built where it is stored (a copy on the stack would be some 170
         // bytes of an 8-bit board's 8 KB).
         let search = self.branch_search.insert(PathSearch {
@@ -107,10 +118,10 @@ where
             limits: &limits,
             gamma_deg: self.pose.gamma_deg,
         };
-        if !search.starts.fill(&frame, &first, Some(&here)) {
+        if !search.starts.fill(&frame, first, Some(here)) {
             self.branch_search = None;
         } else if sampled {
-            search.starts.visit(&first, &self.attitude, &limits);
+            search.starts.visit(first, &self.attitude, &limits);
         }
     }
 

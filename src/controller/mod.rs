@@ -584,22 +584,22 @@ where
         // A change over 5° (or ~5° of heading: 0.09 of a unit vector) is a
         // moved mount, taken at once.
         let (tilt_jump, heading_jump) = (T::from_f64(5.0), T::from_f64(0.09));
-        let avg = match self.smoothed {
-            Some(old)
-                if (meas[0] - old[0]).abs() < tilt_jump
-                    && (meas[1] - old[1]).abs() < tilt_jump
-                    && (meas[2] - old[2]).abs() < heading_jump
-                    && (meas[3] - old[3]).abs() < heading_jump =>
-            {
-                [
-                    old[0] + w * (meas[0] - old[0]),
-                    old[1] + w * (meas[1] - old[1]),
-                    old[2] + w * (meas[2] - old[2]),
-                    old[3] + w * (meas[3] - old[3]),
-                ]
+        // Loops over the four averages rather than four written-out copies
+        // of the f32 calls (32 B less on the ATmega2560); every comparison
+        // is evaluated, as none has a side effect.
+        let mut avg = meas;
+        if let Some(old) = self.smoothed {
+            let jumps = [tilt_jump, tilt_jump, heading_jump, heading_jump];
+            let mut steady = true;
+            for ((&m, &o), &jump) in meas.iter().zip(&old).zip(&jumps) {
+                steady &= (m - o).abs() < jump;
             }
-            _ => meas,
-        };
+            if steady {
+                for ((a, &m), &o) in avg.iter_mut().zip(&meas).zip(&old) {
+                    *a = o + w * (m - o);
+                }
+            }
+        }
         self.smoothed = Some(avg);
         let [sx, sy, hs, hc] = avg;
         let cal = &self.config.calibration;
