@@ -25,8 +25,8 @@ pub(crate) fn before_ascii(text: &str, delim: u8) -> &str {
 }
 
 /// `text` without one leading `-` or `+`, and whether that was a `-`:
-/// what `strip_prefix(['-', '+'])` gives, without core's character
-/// pattern code (500 B on the AVR).
+/// what `strip_prefix(['-', '+'])` gives (the reference pass's twin of the
+/// reader's byte-slice `split_sign` in `parse.rs`).
 pub(crate) fn split_sign(text: &str) -> (bool, &str) {
     match text.as_bytes().first() {
         // An ASCII sign is one byte: 1 is a character boundary.
