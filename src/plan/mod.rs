@@ -294,7 +294,17 @@ pub fn match_at<T: Float, const N: usize>(
     now: &UtcTime,
     window_s: u32,
 ) -> Option<(usize, TableEntry<T>)> {
-    let i = usize::try_from(slot_of(table, now)?).ok()?;
+    entry_in_window(table, slot_of(table, now)?, now, window_s)
+}
+
+/// [`match_at`] for the slot `now` is in, `slot` ([`slot_of`]).
+fn entry_in_window<T: Float, const N: usize>(
+    table: &DayTable<N>,
+    slot: u32,
+    now: &UtcTime,
+    window_s: u32,
+) -> Option<(usize, TableEntry<T>)> {
+    let i = usize::try_from(slot).ok()?;
     let e = table_entry(table, i)?;
     let late = now.seconds_since(&e.time)?;
     (0..i32::try_from(window_s.max(1)).unwrap_or(i32::MAX))
@@ -314,11 +324,11 @@ fn slot_of<const N: usize>(table: &DayTable<N>, now: &UtcTime) -> Option<u32> {
     since.checked_div(u32::from(table.interval_min()) * 60)
 }
 
-/// The start of the table slot after the one `now` is in: the instant the
-/// next entry becomes due. `None` before the table or without one.
-fn next_slot_time<const N: usize>(table: &DayTable<N>, now: &UtcTime) -> Option<UtcTime> {
+/// The start of the table slot after `slot` (the one `now` is in,
+/// [`slot_of`]): the instant the next entry becomes due.
+fn slot_start_after<const N: usize>(table: &DayTable<N>, slot: u32) -> Option<UtcTime> {
     let step = u32::from(table.interval_min()) * 60;
-    let next = slot_of(table, now)?.checked_add(1)?.checked_mul(step)?;
+    let next = slot.checked_add(1)?.checked_mul(step)?;
     table
         .first_time()
         .add_seconds_i32(i32::try_from(next).ok()?)
@@ -732,62 +742,8 @@ impl<T: Float, P: PositionSource<T>, const N: usize> Scheduler<T, P, N> {
             0 => u32::MAX,
             b => u32::from(b),
         };
-        if let Some(Planner::Daylight(search)) = &mut self.planner {
-            // Jimoh & Aliyu 2019 eq. 9: sunrise is where the zenith
-            // angle is 90° (see find_daylight).
-            let shift = T::from_f64(SUN_RADIUS_PLUS_HORIZON_REFRACTION_DEG);
-            let src = &mut self.source;
-            let mut used = 0u32;
-            let mut sun = |t: &UtcTime| {
-                used = used.saturating_add(1);
-                src.position(t).map(|p| SunPosition {
-                    zenith_deg: p.zenith_deg + shift,
-                    ..p
-                })
-            };
-            let found = search.step(&mut sun, budget)?;
-            budget = budget.saturating_sub(used);
-            let Some(ev) = found else {
-                self.phase = Phase::Planning;
-                return Ok(Action::Idle);
-            };
-            self.planner = None;
-            let day = solar_day_of(&ev)?;
-            self.day = Some(day);
-            self.last_applied = None;
-            match day.span()? {
-                Some((from, to)) if now >= from && now < to => {
-                    // Steps 7–8: the table for the whole daylight
-                    // (set-points facing the sun: no slope or azimuth
-                    // limits, the axes' own limits are applied by the
-                    // attitude step).
-                    let interval_min = (self.config.table_step_s / 60) as u16;
-                    self.has_table = false;
-                    match self.table.begin(&ev, interval_min) {
-                        Ok(()) => self.planner = Some(Planner::Table(start)),
-                        Err(GeometryError::CapacityExceeded { .. }) if N > 0 => {
-                            // Longer than the table (a polar day on a board
-                            // with a short one): slot by slot until sunset.
-                            self.overflow = true;
-                            self.phase = Phase::ReadDate;
-                            return self.rt_check(now);
-                        }
-                        Err(e) => return Err(e.into()),
-                    }
-                }
-                Some((from, _)) if now < from => {
-                    // Steps 5–6: td_os = sunrise − now.
-                    self.phase = Phase::WaitSunrise { until: from };
-                    return Ok(Action::Sleep { until: from });
-                }
-                _ => {
-                    // After sunset, or polar night: wait for the next
-                    // solar day.
-                    let until = day.end()?;
-                    self.phase = Phase::WaitSunrise { until };
-                    return Ok(Action::Sleep { until });
-                }
-            }
+        if let Some(action) = self.plan_daylight(now, start, &mut budget)? {
+            return Ok(action);
         }
         // The table of the day (its planner is `Table`: the search above
         // either returned or set it).
@@ -812,11 +768,86 @@ impl<T: Float, P: PositionSource<T>, const N: usize> Scheduler<T, P, N> {
         self.track(now)
     }
 
+    /// Steps 2–6 of [`Scheduler::plan_in_place`]: the daylight search of
+    /// the solar day starting at `start` while the planner is `Daylight`,
+    /// taking its positions from `budget`; then the table begun, or the
+    /// wait. `Some` is the tick's action when the plan stops here.
+    // Out of line on the AVR: its events and solar day in the planner's
+    // frame put that frame's slots out of `ldd`/`std` reach.
+    #[cfg_attr(target_arch = "avr", inline(never))]
+    fn plan_daylight(
+        &mut self,
+        now: UtcTime,
+        start: UtcTime,
+        budget: &mut u32,
+    ) -> Result<Option<Action<T>>, ScheduleError> {
+        let Some(Planner::Daylight(search)) = &mut self.planner else {
+            return Ok(None);
+        };
+        // Jimoh & Aliyu 2019 eq. 9: sunrise is where the zenith
+        // angle is 90° (see find_daylight).
+        let shift = T::from_f64(SUN_RADIUS_PLUS_HORIZON_REFRACTION_DEG);
+        let src = &mut self.source;
+        let mut used = 0u32;
+        let mut sun = |t: &UtcTime| {
+            used = used.saturating_add(1);
+            src.position(t).map(|p| SunPosition {
+                zenith_deg: p.zenith_deg + shift,
+                ..p
+            })
+        };
+        let found = search.step(&mut sun, *budget)?;
+        *budget = budget.saturating_sub(used);
+        let Some(ev) = found else {
+            self.phase = Phase::Planning;
+            return Ok(Some(Action::Idle));
+        };
+        self.planner = None;
+        let day = solar_day_of(&ev)?;
+        self.day = Some(day);
+        self.last_applied = None;
+        match day.span()? {
+            Some((from, to)) if now >= from && now < to => {
+                // Steps 7–8: the table for the whole daylight
+                // (set-points facing the sun: no slope or azimuth
+                // limits, the axes' own limits are applied by the
+                // attitude step).
+                let interval_min = (self.config.table_step_s / 60) as u16;
+                self.has_table = false;
+                match self.table.begin(&ev, interval_min) {
+                    Ok(()) => self.planner = Some(Planner::Table(start)),
+                    Err(GeometryError::CapacityExceeded { .. }) if N > 0 => {
+                        // Longer than the table (a polar day on a board
+                        // with a short one): slot by slot until sunset.
+                        self.overflow = true;
+                        self.phase = Phase::ReadDate;
+                        return self.rt_check(now).map(Some);
+                    }
+                    Err(e) => return Err(e.into()),
+                }
+            }
+            waiting => {
+                let until = match waiting {
+                    // Steps 5–6: td_os = sunrise − now.
+                    Some((from, _)) if now < from => from,
+                    // After sunset, or polar night: wait for the next
+                    // solar day.
+                    _ => day.end()?,
+                };
+                self.phase = Phase::WaitSunrise { until };
+                return Ok(Some(Action::Sleep { until }));
+            }
+        }
+        Ok(None)
+    }
+
     fn past_daylight(&self, now: &UtcTime) -> Result<bool, ScheduleError> {
         match self.day {
-            Some(d) => Ok(match d.span()? {
-                Some((_, to)) => *now >= to,
-                None => true,
+            // The end of the daylight span (`SolarDay::span`).
+            Some(d) => Ok(match d.daylight {
+                Daylight::Normal { set, .. } => *now >= set,
+                Daylight::PolarDay => *now >= d.end()?,
+                Daylight::PolarNight => true,
             }),
             None => Ok(true),
         }
@@ -830,7 +861,13 @@ impl<T: Float, P: PositionSource<T>, const N: usize> Scheduler<T, P, N> {
         let (until, up_at_end) = match self.day {
             Some(d) => {
                 let end = d.end()?;
-                let up = matches!(d.span()?, Some((_, to)) if to >= end);
+                // The daylight span's end (`SolarDay::span`) at or after
+                // the day's end; a polar day's span ends there.
+                let up = match d.daylight {
+                    Daylight::Normal { set, .. } => set >= end,
+                    Daylight::PolarDay => true,
+                    Daylight::PolarNight => false,
+                };
                 (end, up)
             }
             None => return Err(ScheduleError::TimeRange),
@@ -847,18 +884,15 @@ impl<T: Float, P: PositionSource<T>, const N: usize> Scheduler<T, P, N> {
         if self.past_daylight(&now)? {
             return self.end_of_day(now);
         }
-        let found = self
-            .has_table
-            .then_some(&self.table)
-            .and_then(|t| match_at(t, &now, self.config.recheck_s));
+        // The slot `now` is in, found once for the match and the next
+        // slot (None without a table).
+        let slot = self.has_table.then(|| slot_of(&self.table, &now)).flatten();
+        let found = slot.and_then(|i| entry_in_window(&self.table, i, &now, self.config.recheck_s));
         // The next check comes after the hold (or the recheck interval),
         // but never after the next entry falls due: checks every recheck_s
         // against a window of recheck_s would otherwise drift to its edge,
         // and a tick a second late would skip an entry.
-        let next_slot = self
-            .has_table
-            .then(|| next_slot_time(&self.table, &now))
-            .flatten();
+        let next_slot = slot.and_then(|i| slot_start_after(&self.table, i));
         let (wait_s, action) = match found {
             Some((i, e)) if self.last_applied != Some(i) => {
                 self.last_applied = Some(i);
@@ -918,54 +952,56 @@ impl<T: Float, P: PositionSource<T>, const N: usize> Scheduler<T, P, N> {
             // Never after the next slot falls due.
             Ok(if next_slot < t { next_slot } else { t })
         };
-        // This slot's set-point was applied: nothing to compute (step 12).
-        if tracking && self.last_entry.is_some_and(|e| e.time == slot) {
-            self.phase = Phase::Tracking {
-                next_check: add(self.config.recheck_s)?,
-            };
-            return Ok(Action::Idle);
-        }
-        let sun = self.source.position(&slot)?;
-        // (A NaN zenith is not daylight.)
-        let up = sun.zenith_deg < T::from_f64(90.0);
-        if !up {
-            // Outside daylight (Jimoh & Aliyu eq. 9). After tracking: the day has
-            // ended (step 10), go home; else wait for the next slot (steps
-            // 4–6), with a Sleep the first time (power-on, clock jump).
-            let first = matches!(self.phase, Phase::ReadDate | Phase::Planning);
-            // A day too long for the table has ended: the next is planned
-            // with the table again.
-            self.overflow = false;
-            if tracking {
-                self.phase = Phase::WaitNextDay { until: next_slot };
-                return Ok(Action::GoHome(self.home));
+        // The wait (one computation of the next check, for both kinds of
+        // check) and the action of a check that keeps tracking.
+        let (wait_s, action) = 'check: {
+            // This slot's set-point was applied: nothing to compute (step 12).
+            if tracking && self.last_entry.is_some_and(|e| e.time == slot) {
+                break 'check (self.config.recheck_s, Action::Idle);
             }
-            self.phase = Phase::WaitSunrise { until: next_slot };
-            return Ok(if first {
-                Action::Sleep { until: next_slot }
-            } else {
-                Action::Idle
+            let sun = self.source.position(&slot)?;
+            // (A NaN zenith is not daylight.)
+            let up = sun.zenith_deg < T::from_f64(90.0);
+            if !up {
+                // Outside daylight (Jimoh & Aliyu eq. 9). After tracking: the day has
+                // ended (step 10), go home; else wait for the next slot (steps
+                // 4–6), with a Sleep the first time (power-on, clock jump).
+                let first = matches!(self.phase, Phase::ReadDate | Phase::Planning);
+                // A day too long for the table has ended: the next is planned
+                // with the table again.
+                self.overflow = false;
+                if tracking {
+                    self.phase = Phase::WaitNextDay { until: next_slot };
+                    return Ok(Action::GoHome(self.home));
+                }
+                self.phase = Phase::WaitSunrise { until: next_slot };
+                return Ok(if first {
+                    Action::Sleep { until: next_slot }
+                } else {
+                    Action::Idle
+                });
+            }
+            let set_point = SetPoint::facing(&sun);
+            // A new solar day: its first daylight slot is home (Li et al. 2022).
+            let day_start = solar_day_start(&slot, self.source.site().longitude_deg())?;
+            if self.rt_day.map(|(d, _)| d) != Some(day_start) {
+                self.rt_day = Some((day_start, slot));
+                self.home = set_point;
+                self.last_entry = None;
+            }
+            // Steps 11–14: the slot's set-point, then the hold. A check that
+            // comes late in the slot (ticks were missed) still takes it, as the
+            // table's present entry would be taken (it is the slot's time the
+            // set-point faces, at most one step old).
+            self.last_entry = Some(TableEntry {
+                time: slot,
+                set_point,
             });
-        }
-        let set_point = SetPoint::facing(&sun);
-        // A new solar day: its first daylight slot is home (Li et al. 2022).
-        let day_start = solar_day_start(&slot, self.source.site().longitude_deg())?;
-        if self.rt_day.map(|(d, _)| d) != Some(day_start) {
-            self.rt_day = Some((day_start, slot));
-            self.home = set_point;
-            self.last_entry = None;
-        }
-        // Steps 11–14: the slot's set-point, then the hold. A check that
-        // comes late in the slot (ticks were missed) still takes it, as the
-        // table's present entry would be taken (it is the slot's time the
-        // set-point faces, at most one step old).
-        self.last_entry = Some(TableEntry {
-            time: slot,
-            set_point,
-        });
-        self.phase = Phase::Tracking {
-            next_check: add(self.config.hold_s)?,
+            (self.config.hold_s, Action::SetPoints(set_point))
         };
-        Ok(Action::SetPoints(set_point))
+        self.phase = Phase::Tracking {
+            next_check: add(wait_s)?,
+        };
+        Ok(action)
     }
 }

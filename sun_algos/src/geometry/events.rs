@@ -496,39 +496,26 @@ impl<T: Float> EventSearch<T> {
         // and no rebuilt stage: on an 8-bit board each inlined call and
         // each copy of the stage cost hundreds of bytes.)
         for _ in 0..budget {
-            if let Stage::Golden {
-                a,
-                b,
-                c,
-                d,
-                fc: Some(fc),
-                fd: Some(fd),
-            } = self.stage
-            {
-                // Narrow the bracket; the new interior point is sampled
-                // below.
-                if b - a > T::ONE {
-                    self.stage = if fc >= fd {
+            if let Stage::Golden { a, b, c, d, fc, fd } = &mut self.stage {
+                // Narrow the bracket in place (no rebuilt stage); the new
+                // interior point is sampled below.
+                if let (Some(vc), Some(vd), true) = (*fc, *fd, *b - *a > T::ONE) {
+                    let old_c = *c;
+                    if vc >= vd {
                         // [a, d] with c as its upper point.
-                        Stage::Golden {
-                            a,
-                            b: d,
-                            c: d - inv_phi * (d - a),
-                            d: c,
-                            fc: None,
-                            fd: Some(fc),
-                        }
+                        *b = *d;
+                        *c = *b - inv_phi * (*b - *a);
+                        *d = old_c;
+                        *fd = Some(vc);
+                        *fc = None;
                     } else {
                         // [c, b] with d as its lower point.
-                        Stage::Golden {
-                            a: c,
-                            b,
-                            c: d,
-                            d: c + inv_phi * (b - c),
-                            fc: Some(fd),
-                            fd: None,
-                        }
-                    };
+                        *a = old_c;
+                        *c = *d;
+                        *d = old_c + inv_phi * (*b - old_c);
+                        *fc = Some(vd);
+                        *fd = None;
+                    }
                 }
             }
             // The instant sampled: `s` seconds after `base`.
