@@ -742,7 +742,7 @@ impl<T: Float, P: PositionSource<T>, const N: usize> Scheduler<T, P, N> {
             0 => u32::MAX,
             b => u32::from(b),
         };
-        if let Some(action) = self.plan_daylight(now, start, &mut budget)? {
+        if let Some(action) = self.plan_daylight(now, &mut budget)? {
             return Ok(action);
         }
         // The table of the day (its planner is `Table`: the search above
@@ -769,21 +769,25 @@ impl<T: Float, P: PositionSource<T>, const N: usize> Scheduler<T, P, N> {
     }
 
     /// Steps 2–6 of [`Scheduler::plan_in_place`]: the daylight search of
-    /// the solar day starting at `start` while the planner is `Daylight`,
-    /// taking its positions from `budget`; then the table begun, or the
-    /// wait. `Some` is the tick's action when the plan stops here.
+    /// the solar day the planner's `Daylight` search covers (its window
+    /// start is the day's start), taking its positions from `budget`; then
+    /// the table begun, or the wait. `Some` is the tick's action when the
+    /// plan stops here.
     // Out of line on the AVR: its events and solar day in the planner's
-    // frame put that frame's slots out of `ldd`/`std` reach.
+    // frame put that frame's slots out of `ldd`/`std` reach. The day's
+    // start is read from the search, not passed: with it, the arguments
+    // exceed the 18 bytes of r8-r25, and on the ATmega2560 LLVM reads
+    // stack-passed arguments one byte low (.ci/avr_codegen_check.py).
     #[cfg_attr(target_arch = "avr", inline(never))]
     fn plan_daylight(
         &mut self,
         now: UtcTime,
-        start: UtcTime,
         budget: &mut u32,
     ) -> Result<Option<Action<T>>, ScheduleError> {
         let Some(Planner::Daylight(search)) = &mut self.planner else {
             return Ok(None);
         };
+        let start = search.window_start();
         // Jimoh & Aliyu 2019 eq. 9: sunrise is where the zenith
         // angle is 90° (see find_daylight).
         let shift = T::from_f64(SUN_RADIUS_PLUS_HORIZON_REFRACTION_DEG);
