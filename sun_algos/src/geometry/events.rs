@@ -351,11 +351,12 @@ enum Stage<T> {
     Start,
     /// The 10-minute samples; `i` is the next one.
     Sample { i: i32 },
-    /// Bisecting a crossing that starts at `t0` (`a`, `b` seconds after it);
-    /// then the two ends are compared (`va` once the first is known). The
-    /// samples continue at `resume`.
+    /// Bisecting a crossing between `a` and `b` seconds after the window
+    /// start; then the two ends are compared (`va` once the first is
+    /// known). The samples continue at `resume`. (Every instant of the
+    /// search is a whole number of seconds after the window start: one
+    /// time computation, and no instant stored, in the loop.)
     Bisect {
-        t0: UtcTime,
         rising: bool,
         a: i32,
         b: i32,
@@ -410,8 +411,9 @@ pub struct EventSearch<T> {
     any_up: bool,
     best_i: i32,
     best_v: T,
-    sunrise: Option<UtcTime>,
-    sunset: Option<UtcTime>,
+    /// Sunrise and sunset once found, seconds after the window start.
+    sunrise_s: Option<i32>,
+    sunset_s: Option<i32>,
 }
 
 impl<T: Float> EventSearch<T> {
@@ -432,8 +434,8 @@ impl<T: Float> EventSearch<T> {
             any_up: false,
             best_i: 0,
             best_v: T::ZERO,
-            sunrise: None,
-            sunset: None,
+            sunrise_s: None,
+            sunset_s: None,
         }
     }
 
@@ -487,172 +489,191 @@ impl<T: Float> EventSearch<T> {
     where
         F: FnMut(&UtcTime) -> Result<SunPosition<T>, crate::Error>,
     {
-        let limit = T::from_f64(90.0 + SUN_RADIUS_PLUS_HORIZON_REFRACTION_DEG);
         let w0 = self.window_start;
-        let inv_phi = T::from_f64(INV_PHI);
         // Each pass samples one position (the first of the transit search
         // none): first the instant it needs, then the one call of the
         // position source, then the stage updated in place. (One call site
         // and no rebuilt stage: on an 8-bit board each inlined call and
         // each copy of the stage cost hundreds of bytes.)
         for _ in 0..budget {
-            if let Stage::Golden { a, b, c, d, fc, fd } = &mut self.stage {
-                // Narrow the bracket in place (no rebuilt stage); the new
-                // interior point is sampled below.
-                if let (Some(vc), Some(vd), true) = (*fc, *fd, *b - *a > T::ONE) {
-                    let old_c = *c;
-                    if vc >= vd {
-                        // [a, d] with c as its upper point.
-                        *b = *d;
-                        *c = *b - inv_phi * (*b - *a);
-                        *d = old_c;
-                        *fd = Some(vc);
-                        *fc = None;
-                    } else {
-                        // [c, b] with d as its lower point.
-                        *a = old_c;
-                        *c = *d;
-                        *d = old_c + inv_phi * (*b - old_c);
-                        *fc = Some(vd);
-                        *fd = None;
-                    }
-                }
-            }
-            // The instant sampled: `s` seconds after `base`.
-            let (base, s) = match self.stage {
-                Stage::Start => (w0, 0),
-                Stage::Sample { i } if i < SAMPLES => (w0, i * STEP_S),
-                Stage::Sample { .. } => {
-                    // Transit: golden-section search on the height over
-                    // ±1 step around the highest sample, to 1 s.
-                    let lo = (self.best_i - 1).max(0) * STEP_S;
-                    let hi = ((self.best_i + 1) * STEP_S).min(86_400);
-                    // 0 ≤ lo < hi ≤ 86 400: exact in T.
-                    let (a, b) = (T::from_i32(lo), T::from_i32(hi));
-                    self.stage = Stage::Golden {
-                        a,
-                        b,
-                        c: b - inv_phi * (b - a),
-                        d: a + inv_phi * (b - a),
-                        fc: None,
-                        fd: None,
-                    };
-                    continue;
-                }
-                Stage::Bisect { t0, a, b, va, .. } => match va {
-                    _ if b - a > 1 => (t0, (a + b) / 2),
-                    // Then the two ends, to take the nearer whole second.
-                    None => (t0, a),
-                    Some(_) => (t0, b),
-                },
-                Stage::Golden { c, fc: None, .. } => (w0, round_s(c)),
-                Stage::Golden { d, fd: None, .. } => (w0, round_s(d)),
-                Stage::Golden { a, b, .. } => (w0, round_s((a + b) / T::from_f64(2.0))),
+            let Some(s) = self.next_sample() else {
+                continue;
             };
             // Height above the limit; positive when the sun is up.
-            let v = height_at(sun, &base.add_seconds_i32(s)?)?;
-            match &mut self.stage {
-                Stage::Start => {
-                    self.prev = v;
-                    self.any_up = v > T::ZERO;
-                    self.best_i = 0;
-                    self.best_v = v;
-                    self.stage = Stage::Sample { i: 1 };
-                }
-                Stage::Sample { i } => {
-                    let i = *i;
-                    if v > self.best_v {
-                        self.best_v = v;
-                        self.best_i = i;
-                    }
-                    let prev = self.prev;
-                    let crossed_up = prev <= T::ZERO && v > T::ZERO;
-                    let crossed_down = prev > T::ZERO && v <= T::ZERO;
-                    self.any_up |= v > T::ZERO;
-                    self.prev = v;
-                    self.stage = if (crossed_up && self.sunrise.is_none()) || crossed_down {
-                        Stage::Bisect {
-                            t0: w0.add_seconds_i32((i - 1) * STEP_S)?,
-                            rising: crossed_up,
-                            a: 0,
-                            b: STEP_S,
-                            va: None,
-                            resume: i + 1,
-                        }
-                    } else {
-                        Stage::Sample { i: i + 1 }
-                    };
-                }
-                Stage::Bisect {
-                    t0,
-                    rising,
-                    a,
-                    b,
-                    va,
-                    resume,
-                } => {
-                    if *b - *a > 1 {
-                        if (v > T::ZERO) == *rising {
-                            *b = s;
-                        } else {
-                            *a = s;
-                        }
-                    } else if let Some(va) = *va {
-                        // The nearer whole second to the crossing.
-                        let t = t0.add_seconds_i32(if va < v.abs() { *a } else { *b })?;
-                        if *rising {
-                            self.sunrise = Some(t);
-                        } else {
-                            self.sunset = Some(t);
-                        }
-                        self.stage = Stage::Sample { i: *resume };
-                    } else {
-                        *va = Some(v.abs());
-                    }
-                }
-                Stage::Golden { fc: fc @ None, .. } => *fc = Some(v),
-                Stage::Golden { fd: fd @ None, .. } => *fd = Some(v),
-                Stage::Golden { .. } => return Ok(Some(self.finish(s, v, limit)?)),
+            let v = height_at(sun, &w0.add_seconds_i32(s)?)?;
+            if self.record(s, v) {
+                return self.finish(s, v);
             }
         }
         Ok(None)
     }
 
-    /// The events once the transit is at `transit_s` with height `transit_v`.
-    fn finish(&self, transit_s: i32, transit_v: T, limit: T) -> Result<Events<T>, GeometryError> {
-        let window_start = self.window_start;
-        let (sunrise, sunset) = (self.sunrise, self.sunset);
-        let transit = window_start.add_seconds_i32(transit_s)?;
-        let kind = match (sunrise, sunset) {
-            (None, None) if self.any_up => DayKind::PolarDay,
-            (None, None) => DayKind::PolarNight,
-            _ => DayKind::Normal,
-        };
-        let end_s: i32 = 86_400;
-        // Both within a day of the window start: never `None`.
-        let rise_s = sunrise.and_then(|t| t.seconds_since(&window_start));
-        let set_s = sunset.and_then(|t| t.seconds_since(&window_start));
-        let daylight_s = match kind {
-            DayKind::PolarDay => end_s,
-            DayKind::PolarNight => 0,
-            DayKind::Normal => match (rise_s, set_s) {
-                (Some(r), Some(s)) if s > r => s - r,
-                // Set then rose again (up at both ends of the window).
-                (Some(r), Some(s)) => s + (end_s - r),
-                (Some(r), None) => end_s - r,
-                (None, Some(s)) => s,
-                (None, None) => 0,
+    /// The instant the next pass samples, seconds after the window start;
+    /// `None` for the pass that begins the transit search (it samples
+    /// nothing). Narrows the transit search's bracket first.
+    // Out of line on the AVR, as `record` and `finish`: apart from the
+    // position source's closure, the stages keep `advance`'s frame within
+    // `ldd`/`std` reach (with seconds after the window start in place of
+    // instants, 396 B less in the ATmega2560 image).
+    #[cfg_attr(target_arch = "avr", inline(never))]
+    fn next_sample(&mut self) -> Option<i32> {
+        let inv_phi = T::from_f64(INV_PHI);
+        if let Stage::Golden { a, b, c, d, fc, fd } = &mut self.stage {
+            // Narrow the bracket in place (no rebuilt stage); the new
+            // interior point is sampled next.
+            if let (Some(vc), Some(vd), true) = (*fc, *fd, *b - *a > T::ONE) {
+                let old_c = *c;
+                if vc >= vd {
+                    // [a, d] with c as its upper point.
+                    *b = *d;
+                    *c = *b - inv_phi * (*b - *a);
+                    *d = old_c;
+                    *fd = Some(vc);
+                    *fc = None;
+                } else {
+                    // [c, b] with d as its lower point.
+                    *a = old_c;
+                    *c = *d;
+                    *d = old_c + inv_phi * (*b - old_c);
+                    *fc = Some(vd);
+                    *fd = None;
+                }
+            }
+        }
+        Some(match self.stage {
+            Stage::Start => 0,
+            Stage::Sample { i } if i < SAMPLES => i * STEP_S,
+            Stage::Sample { .. } => {
+                // Transit: golden-section search on the height over
+                // ±1 step around the highest sample, to 1 s.
+                let lo = (self.best_i - 1).max(0) * STEP_S;
+                let hi = ((self.best_i + 1) * STEP_S).min(86_400);
+                // 0 ≤ lo < hi ≤ 86 400: exact in T.
+                let (a, b) = (T::from_i32(lo), T::from_i32(hi));
+                self.stage = Stage::Golden {
+                    a,
+                    b,
+                    c: b - inv_phi * (b - a),
+                    d: a + inv_phi * (b - a),
+                    fc: None,
+                    fd: None,
+                };
+                return None;
+            }
+            Stage::Bisect { a, b, va, .. } => match va {
+                _ if b - a > 1 => (a + b) / 2,
+                // Then the two ends, to take the nearer whole second.
+                None => a,
+                Some(_) => b,
             },
+            Stage::Golden { c, fc: None, .. } => round_s(c),
+            Stage::Golden { d, fd: None, .. } => round_s(d),
+            Stage::Golden { a, b, .. } => round_s((a + b) / T::from_f64(2.0)),
+        })
+    }
+
+    /// Takes in the height `v` sampled `s` seconds after the window start;
+    /// true when it is the transit search's last (the search is done).
+    #[cfg_attr(target_arch = "avr", inline(never))]
+    fn record(&mut self, s: i32, v: T) -> bool {
+        match &mut self.stage {
+            Stage::Start => {
+                self.prev = v;
+                self.any_up = v > T::ZERO;
+                self.best_i = 0;
+                self.best_v = v;
+                self.stage = Stage::Sample { i: 1 };
+            }
+            Stage::Sample { i } => {
+                let i = *i;
+                if v > self.best_v {
+                    self.best_v = v;
+                    self.best_i = i;
+                }
+                let prev = self.prev;
+                let crossed_up = prev <= T::ZERO && v > T::ZERO;
+                let crossed_down = prev > T::ZERO && v <= T::ZERO;
+                self.any_up |= v > T::ZERO;
+                self.prev = v;
+                self.stage = if (crossed_up && self.sunrise_s.is_none()) || crossed_down {
+                    // Between the last two samples (0 < i < SAMPLES).
+                    Stage::Bisect {
+                        rising: crossed_up,
+                        a: (i - 1) * STEP_S,
+                        b: i * STEP_S,
+                        va: None,
+                        resume: i + 1,
+                    }
+                } else {
+                    Stage::Sample { i: i + 1 }
+                };
+            }
+            Stage::Bisect {
+                rising,
+                a,
+                b,
+                va,
+                resume,
+            } => {
+                if *b - *a > 1 {
+                    if (v > T::ZERO) == *rising {
+                        *b = s;
+                    } else {
+                        *a = s;
+                    }
+                } else if let Some(va) = *va {
+                    // The nearer whole second to the crossing.
+                    let t = Some(if va < v.abs() { *a } else { *b });
+                    if *rising {
+                        self.sunrise_s = t;
+                    } else {
+                        self.sunset_s = t;
+                    }
+                    self.stage = Stage::Sample { i: *resume };
+                } else {
+                    *va = Some(v.abs());
+                }
+            }
+            Stage::Golden { fc: fc @ None, .. } => *fc = Some(v),
+            Stage::Golden { fd: fd @ None, .. } => *fd = Some(v),
+            Stage::Golden { .. } => return true,
+        }
+        false
+    }
+
+    /// The events once the transit is at `transit_s` with height
+    /// `transit_v`, as [`EventSearch::advance`] returns them (built in its
+    /// caller's result: no copy of the events in that caller's frame).
+    // Out of line on the AVR: inlined, its events and times put
+    // `advance`'s frame slots beyond `ldd`/`std` reach.
+    #[cfg_attr(target_arch = "avr", inline(never))]
+    fn finish(&self, transit_s: i32, transit_v: T) -> Result<Option<Events<T>>, GeometryError> {
+        let limit = T::from_f64(90.0 + SUN_RADIUS_PLUS_HORIZON_REFRACTION_DEG);
+        let window_start = self.window_start;
+        let (rise_s, set_s) = (self.sunrise_s, self.sunset_s);
+        // Instants already sampled (the additions succeeded then): `ok()`
+        // drops no error.
+        let at = |s: Option<i32>| s.and_then(|s| window_start.add_seconds_i32(s).ok());
+        let transit = window_start.add_seconds_i32(transit_s)?;
+        let end_s: i32 = 86_400;
+        let (kind, daylight_s) = match (rise_s, set_s) {
+            (None, None) if self.any_up => (DayKind::PolarDay, end_s),
+            (None, None) => (DayKind::PolarNight, 0),
+            (Some(r), Some(s)) if s > r => (DayKind::Normal, s - r),
+            // Set then rose again (up at both ends of the window).
+            (Some(r), Some(s)) => (DayKind::Normal, s + (end_s - r)),
+            (Some(r), None) => (DayKind::Normal, end_s - r),
+            (None, Some(s)) => (DayKind::Normal, s),
         };
-        Ok(Events {
+        Ok(Some(Events {
             kind,
             window_start,
-            sunrise,
+            sunrise: at(rise_s),
             transit,
             transit_zenith_deg: limit - transit_v,
-            sunset,
+            sunset: at(set_s),
             daylight_s: daylight_s.clamp(0, end_s) as u32,
-        })
+        }))
     }
 }
 
@@ -875,6 +896,31 @@ mod tests {
                 }
             }
         }
+    }
+
+    /// The events stay whole seconds after a window start with a fraction
+    /// of a second: a made-up sun whose height above the limit rises and
+    /// falls by 1° a minute, 0 at 34 000.4 s and 46 000.4 s after the
+    /// start and highest (100°) at 40 000.4 s (hand computation: the
+    /// nearer whole seconds are 34 000 and 46 000, 12 000 s of daylight).
+    #[test]
+    fn events_are_whole_seconds_after_the_window_start() {
+        let start: UtcTime = "2026-06-21T00:00:00.500Z".parse().unwrap();
+        let limit = 90.0 + SUN_RADIUS_PLUS_HORIZON_REFRACTION_DEG;
+        let sun = |t: &UtcTime| {
+            let s = f64::from(t.seconds_since(&start).unwrap());
+            let height = 100.0 - (s - 40_000.4).abs() / 60.0;
+            Ok(SunPosition::new(limit - height, 180.0, false))
+        };
+        let ev = find(start, sun).unwrap();
+        let after = |s| start.add_seconds_i32(s).unwrap();
+        assert_eq!(ev.kind, DayKind::Normal);
+        assert_eq!(ev.sunrise, Some(after(34_000)));
+        assert_eq!(ev.sunset, Some(after(46_000)));
+        assert_eq!(ev.daylight_s, 12_000);
+        let transit_s = ev.transit.seconds_since(&start).unwrap();
+        assert!((transit_s - 40_000).abs() <= 1, "{transit_s}");
+        assert_eq!(ev.transit, after(transit_s));
     }
 
     #[test]
