@@ -787,7 +787,6 @@ impl<T: Float, P: PositionSource<T>, const N: usize> Scheduler<T, P, N> {
         let Some(Planner::Daylight(search)) = &mut self.planner else {
             return Ok(None);
         };
-        let start = search.window_start();
         // Jimoh & Aliyu 2019 eq. 9: sunrise is where the zenith
         // angle is 90° (see find_daylight).
         let shift = T::from_f64(SUN_RADIUS_PLUS_HORIZON_REFRACTION_DEG);
@@ -800,14 +799,35 @@ impl<T: Float, P: PositionSource<T>, const N: usize> Scheduler<T, P, N> {
                 ..p
             })
         };
-        let found = search.step(&mut sun, *budget)?;
+        let found = search.step(&mut sun, *budget);
         *budget = budget.saturating_sub(used);
-        let Some(ev) = found else {
-            self.phase = Phase::Planning;
-            return Ok(Some(Action::Idle));
-        };
+        // The events read where the search returned them (no copy).
+        match &found {
+            Ok(Some(ev)) => self.plan_found_daylight(now, ev),
+            Ok(None) => {
+                self.phase = Phase::Planning;
+                Ok(Some(Action::Idle))
+            }
+            Err(e) => Err((*e).into()),
+        }
+    }
+
+    /// Steps 4–7 of [`Scheduler::plan_in_place`] once the events `ev` of
+    /// a solar day are found: the table begun, or the wait.
+    // Out of line on the AVR: in `plan_daylight` its solar day and action
+    // share a frame with the events, beyond `ldd`/`std` reach. The day's
+    // start is the events' window start, not an argument: the arguments
+    // (sret, &mut self, `now`, &ev) are 14 bytes, within r8-r25 (see
+    // `plan_daylight`).
+    #[cfg_attr(target_arch = "avr", inline(never))]
+    fn plan_found_daylight(
+        &mut self,
+        now: UtcTime,
+        ev: &Events<T>,
+    ) -> Result<Option<Action<T>>, ScheduleError> {
+        let start = ev.window_start;
         self.planner = None;
-        let day = solar_day_of(&ev)?;
+        let day = solar_day_of(ev)?;
         self.day = Some(day);
         self.last_applied = None;
         match day.span()? {
@@ -818,7 +838,7 @@ impl<T: Float, P: PositionSource<T>, const N: usize> Scheduler<T, P, N> {
                 // attitude step).
                 let interval_min = (self.config.table_step_s / 60) as u16;
                 self.has_table = false;
-                match self.table.begin(&ev, interval_min) {
+                match self.table.begin(ev, interval_min) {
                     Ok(()) => self.planner = Some(Planner::Table(start)),
                     Err(GeometryError::CapacityExceeded { .. }) if N > 0 => {
                         // Longer than the table (a polar day on a board
