@@ -576,10 +576,14 @@ impl<T: Float> EventSearch<T> {
     /// true when it is the transit search's last (the search is done).
     #[cfg_attr(target_arch = "avr", inline(never))]
     fn record(&mut self, s: i32, v: T) -> bool {
+        // Whether the sun is up, compared once (each comparison is a call
+        // of the soft-float library on an 8-bit board). Heights are finite
+        // (`height_at`), so not above zero is at or below zero.
+        let up = v > T::ZERO;
         match &mut self.stage {
             Stage::Start => {
                 self.prev = v;
-                self.any_up = v > T::ZERO;
+                self.any_up = up;
                 self.best_i = 0;
                 self.best_v = v;
                 self.stage = Stage::Sample { i: 1 };
@@ -590,10 +594,10 @@ impl<T: Float> EventSearch<T> {
                     self.best_v = v;
                     self.best_i = i;
                 }
-                let prev = self.prev;
-                let crossed_up = prev <= T::ZERO && v > T::ZERO;
-                let crossed_down = prev > T::ZERO && v <= T::ZERO;
-                self.any_up |= v > T::ZERO;
+                let was_up = self.prev > T::ZERO;
+                let crossed_up = !was_up && up;
+                let crossed_down = was_up && !up;
+                self.any_up |= up;
                 self.prev = v;
                 self.stage = if (crossed_up && self.sunrise_s.is_none()) || crossed_down {
                     // Between the last two samples (0 < i < SAMPLES).
@@ -616,7 +620,7 @@ impl<T: Float> EventSearch<T> {
                 resume,
             } => {
                 if *b - *a > 1 {
-                    if (v > T::ZERO) == *rising {
+                    if up == *rising {
                         *b = s;
                     } else {
                         *a = s;
