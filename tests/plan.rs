@@ -843,3 +843,42 @@ fn table_current_is_the_slot_entry_applied_or_not() {
     // Before sunrise no slot of the table.
     assert_eq!(s.current(&t("2018-10-19T04:00:00Z")), None);
 }
+
+/// `match_at` against a look at every entry: the latest entry whose time
+/// lies in `(now − window, now]` in whole seconds
+/// (`UtcTime::seconds_since`), with `now` on and off whole seconds, in and
+/// past the window.
+#[test]
+fn match_at_is_the_entry_within_the_window() {
+    let mut s = Sched::new(ScheduleConfig::default(), KANO).unwrap();
+    run(&mut s, t("2018-10-19T03:00:00Z"), 7 * 3600 + 30, 1);
+    let view = s.table();
+    let table = view.raw().expect("a table");
+    let by_look = |now: &UtcTime, window_s: i64| {
+        (0..s.table().len()).rev().find_map(|i| {
+            let e = s.table().get(i)?;
+            let late = now.seconds_since(&e.time).map_or(-1, i64::from);
+            (0..window_s.max(1)).contains(&late).then_some((i, e))
+        })
+    };
+    let mut checked = 0;
+    for now in [
+        "2018-10-19T03:00:00Z",
+        "2018-10-19T10:00:00Z",
+        "2018-10-19T10:00:29.700Z",
+        "2018-10-19T10:00:30Z",
+        "2018-10-19T10:00:30.200Z",
+        "2018-10-19T10:03:59.999Z",
+        "2018-10-19T12:34:05.500Z",
+        "2018-10-19T23:00:00Z",
+    ] {
+        let now = t(now);
+        for window_s in [0u32, 1, 30, 240, 600] {
+            let got = suntracker::plan::match_at::<f64, 1441>(table, &now, window_s);
+            assert_eq!(got, by_look(&now, i64::from(window_s)), "{now} {window_s}");
+            checked += usize::from(got.is_some());
+        }
+    }
+    // Some inside a window, some not (the loop above is no vacuous test).
+    assert!((5..35).contains(&checked), "{checked}");
+}

@@ -294,34 +294,34 @@ pub fn match_at<T: Float, const N: usize>(
     now: &UtcTime,
     window_s: u32,
 ) -> Option<(usize, TableEntry<T>)> {
-    entry_in_window(table, slot_of(table, now)?, now, window_s)
+    entry_in_window(table, slot_of(table, now)?, window_s)
 }
 
-/// [`match_at`] for the slot `now` is in, `slot` ([`slot_of`]).
+/// [`match_at`] for the slot `now` is in, `(slot, late)` ([`slot_of`]).
 fn entry_in_window<T: Float, const N: usize>(
     table: &DayTable<N>,
-    slot: u32,
-    now: &UtcTime,
+    (slot, late): (u32, u32),
     window_s: u32,
 ) -> Option<(usize, TableEntry<T>)> {
     let i = usize::try_from(slot).ok()?;
     let e = table_entry(table, i)?;
-    let late = now.seconds_since(&e.time)?;
-    (0..i32::try_from(window_s.max(1)).unwrap_or(i32::MAX))
-        .contains(&late)
-        .then_some((i, e))
+    (late < window_s.max(1)).then_some((i, e))
 }
 
-/// The table slot `now` is in (entry index, possibly past the last entry);
-/// `None` before the table or without one.
-fn slot_of<const N: usize>(table: &DayTable<N>, now: &UtcTime) -> Option<u32> {
+/// The table slot `now` is in (entry index, possibly past the last entry)
+/// and the whole seconds `now` is past the slot's start (its entry's
+/// time, `slot` steps after the first: whole seconds apart, so these are
+/// the seconds `now` is past that entry); `None` before the table or
+/// without one.
+fn slot_of<const N: usize>(table: &DayTable<N>, now: &UtcTime) -> Option<(u32, u32)> {
     // Before the table, or 68 years after it: None.
     let since = u32::try_from(now.seconds_since(&table.first_time())?).ok()?;
     if table.is_empty() {
         return None;
     }
     // No step (an empty table's interval is 0): None.
-    since.checked_div(u32::from(table.interval_min()) * 60)
+    let step = u32::from(table.interval_min()) * 60;
+    Some((since.checked_div(step)?, since.checked_rem(step)?))
 }
 
 /// The start of the table slot after `slot` (the one `now` is in,
@@ -911,12 +911,12 @@ impl<T: Float, P: PositionSource<T>, const N: usize> Scheduler<T, P, N> {
         // The slot `now` is in, found once for the match and the next
         // slot (None without a table).
         let slot = self.has_table.then(|| slot_of(&self.table, &now)).flatten();
-        let found = slot.and_then(|i| entry_in_window(&self.table, i, &now, self.config.recheck_s));
+        let found = slot.and_then(|s| entry_in_window(&self.table, s, self.config.recheck_s));
         // The next check comes after the hold (or the recheck interval),
         // but never after the next entry falls due: checks every recheck_s
         // against a window of recheck_s would otherwise drift to its edge,
         // and a tick a second late would skip an entry.
-        let next_slot = slot.and_then(|i| slot_start_after(&self.table, i));
+        let next_slot = slot.and_then(|(i, _)| slot_start_after(&self.table, i));
         let (wait_s, action) = match found {
             Some((i, e)) if self.last_applied != Some(i) => {
                 self.last_applied = Some(i);
