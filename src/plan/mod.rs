@@ -838,7 +838,9 @@ impl<T: Float, P: PositionSource<T>, const N: usize> Scheduler<T, P, N> {
                 // attitude step).
                 let interval_min = (self.config.table_step_s / 60) as u16;
                 self.has_table = false;
-                match self.table.begin(ev, interval_min) {
+                // The day's span is its events' daylight (`solar_day_of`).
+                let daylight = Ok(Some((from, to)));
+                match self.table.begin_daylight(start, &daylight, interval_min) {
                     Ok(()) => self.planner = Some(Planner::Table(start)),
                     Err(GeometryError::CapacityExceeded { .. }) if N > 0 => {
                         // Longer than the table (a polar day on a board

@@ -173,3 +173,43 @@ fn filling_a_few_entries_at_a_time_gives_the_same_table() {
     assert_eq!(table, whole);
     assert!(whole.len() > 150);
 }
+
+/// `begin_daylight` sets a table up as `begin` does from the same events'
+/// daylight, checks the interval before the daylight's error, and begins
+/// no step in a polar night.
+#[test]
+fn begin_daylight_is_begin_with_the_daylight_given() {
+    let site = Site::new(11.9683f64, 8.4261).unwrap(); // Kano
+    let opts = Options::default();
+    let sun = |t: &UtcTime| Algorithm::Spa.position(t, &site, &opts);
+    let start = solar_day_start(2026, 6, 21, site.longitude_deg()).unwrap();
+    let ev = find(start, sun).unwrap();
+    let mut by_events = DayTable::<361>::empty(UtcTime::MIDNIGHT_2000);
+    by_events.begin(&ev, 4).unwrap();
+    let mut given = DayTable::<361>::empty(UtcTime::MIDNIGHT_2000);
+    given
+        .begin_daylight(ev.window_start, &ev.daylight(), 4)
+        .unwrap();
+    assert_eq!(given, by_events);
+    assert!(given.first_time() >= ev.sunrise.unwrap());
+    // An invalid interval first, then the daylight's error.
+    let failed = Err(GeometryError::NotFinite);
+    assert_eq!(
+        given.begin_daylight(start, &failed, 7),
+        Err(GeometryError::InvalidInterval)
+    );
+    assert_eq!(
+        given.begin_daylight(start, &failed, 4),
+        Err(GeometryError::NotFinite)
+    );
+    // Polar night: nothing to compute, complete at once.
+    given.begin_daylight(start, &Ok(None), 4).unwrap();
+    let mut calls = 0;
+    let mut counted = |t: &UtcTime| {
+        calls += 1;
+        sun(t)
+    };
+    assert!(given.fill(&Limits::upward(), &mut counted, 1).unwrap());
+    assert!(given.is_empty());
+    assert_eq!(calls, 0);
+}

@@ -402,6 +402,36 @@ impl<const N: usize> DayTable<N> {
         events: &Events<T>,
         interval_min: u16,
     ) -> Result<(), GeometryError> {
+        self.begin_daylight(events.window_start, &events.daylight(), interval_min)
+    }
+
+    /// [`DayTable::begin`] for the daylight `daylight` of the window
+    /// starting at `window_start`, as [`Events::daylight`] gives it (its
+    /// error returned after the interval's): for a caller that has the
+    /// daylight already.
+    ///
+    /// ```
+    /// use sun_algos::geometry::day_table::DayTable;
+    /// use sun_algos::geometry::events;
+    /// use sun_algos::{Algorithm, Options, Site, UtcTime};
+    ///
+    /// // The NREL SPA report's site and day (39.742476° N, 105.1786° W, 1830.14 m,
+    /// // ΔT 67 s, 2003-10-17), set-points every 4 minutes.
+    /// let site = Site::with_elevation(39.742476f64, -105.1786, 1830.14)?;
+    /// let opts = Options { delta_t_s: Some(67.0), ..Options::default() };
+    /// let ev = events::for_algorithm(Algorithm::Spa, (2003, 10, 17), &site, &opts)?;
+    /// let mut table = DayTable::<361>::empty(UtcTime::MIDNIGHT_2000);
+    /// table.begin_daylight(ev.window_start, &ev.daylight(), 4)?;
+    /// // The first 4-minute mark after sunrise (13:12:43 UT), as `begin`.
+    /// assert_eq!(table.first_time().to_string(), "2003-10-17T13:16:00Z");
+    /// # Ok::<(), sun_algos::geometry::GeometryError>(())
+    /// ```
+    pub fn begin_daylight(
+        &mut self,
+        window_start: UtcTime,
+        daylight: &Result<Option<(UtcTime, UtcTime)>, GeometryError>,
+        interval_min: u16,
+    ) -> Result<(), GeometryError> {
         self.entries.clear();
         self.needed = 0;
         if !interval_is_valid(interval_min) {
@@ -413,15 +443,16 @@ impl<const N: usize> DayTable<N> {
         // from there are whole steps of the UTC (and Unix) time scale, as
         // a step divides a day. In 32-bit arithmetic: the events lie within
         // two days of it.
-        let midnight = events.window_start.start_of_day();
+        let midnight = window_start.start_of_day();
         let rel = |t: UtcTime| t.seconds_since(&midnight).ok_or(crate::Error::InvalidDate);
-        let (from, to) = match events.daylight()? {
-            Some((from, to)) => (rel(from)?, rel(to)?),
+        let (from, to) = match *daylight {
+            Ok(Some((from, to))) => (rel(from)?, rel(to)?),
             // Polar night: no step from `from` to `to`.
-            None => {
-                let w0 = rel(events.window_start)?;
+            Ok(None) => {
+                let w0 = rel(window_start)?;
                 (w0, w0 - 1)
             }
+            Err(e) => return Err(e),
         };
         // The first whole step at or after `from`, the last at or before
         // `to` (|from|, |to| < 2^31 − step: no overflow).
