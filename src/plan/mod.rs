@@ -611,9 +611,11 @@ impl<T: Float, P: PositionSource<T>, const N: usize> Scheduler<T, P, N> {
             now.seconds_since(&e.time)
                 .is_some_and(|late| (0..step_s).contains(&late))
         };
-        let applied = self.applied().filter(in_slot);
-        if self.real_time() || applied.is_some() {
-            return applied;
+        if let Some(e) = self.applied().filter(in_slot) {
+            return Some(e);
+        }
+        if self.real_time() {
+            return None;
         }
         // Ticks were missed (or the scheduler's check for this slot is
         // still to come): the table's entry, one scan of it. Usually the
