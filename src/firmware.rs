@@ -245,50 +245,56 @@ pub struct Stats {
 }
 
 /// The tracker firmware over one board's parts.
+// In this order on the AVR: the small fields every tick reads first,
+// within the 63 bytes an `ldd` reaches from the struct's address (a field
+// further on costs an address computation at each access), then the
+// controller. Rust's own order put the controller (2.3 KB) first and
+// these fields beyond it: 380 B more on the ATmega2560.
+#[cfg_attr(target_arch = "avr", repr(C))]
 pub struct Firmware<T, R, G, D, S, L, const N: usize> {
-    controller: Controller<T, BoardSource<T>, D, S, N>,
-    time: TimeKeeper<R>,
-    gps: GpsPort<G>,
     log: L,
-    app: AppConfig,
-    changes: ChangeLog,
+    time_origin: Option<TimeOrigin>,
+    site_origin: Option<LogSite>,
+    /// Lines the console's ring lost whole, still to answer.
+    lost_lines_due: u8,
     stats: Stats,
-    fix: GpsFix,
+    last_tick_ms: u32,
     /// Monotonic ms (the 32-bit clock of [`crate::time::monotonic`], as
     /// every stamp here) of the next controller tick.
     next_tick_ms: Option<u32>,
-    last_tick_ms: u32,
-    /// UTC handed to the controller at the last tick.
-    last_tick_utc: Option<UtcTime>,
     /// Monotonic ms of the last pass.
     last_pass_ms: Option<u32>,
-    time_origin: Option<TimeOrigin>,
-    site_origin: Option<LogSite>,
-    /// The site in use, in the controller's precision (`f32` on a board
-    /// without an FPU: about a metre, and no software `f64`).
-    site: Site<T>,
-    /// Which GPS positions become the site.
-    site_filter: SiteFilter<T>,
-    /// The site and day (since 2000) the declination was computed for.
-    declination_for: Option<(Site<T>, i32)>,
-    last_setpoint: Option<UtcTime>,
-    last_report: Option<TickReport<T>>,
     last_gps_ms: Option<u32>,
-    boot_fallback: UtcTime,
-    console_line: LineBuffer<{ console::LINE_LEN }>,
-    /// A save in progress and the reply due when it ends.
-    saving: Option<Executed>,
-    /// Lines the console's ring lost whole, still to answer.
-    lost_lines_due: u8,
     /// GPS epochs refused before the GPS time faults were raised, while
     /// they are.
     rejected_at_fault: Option<u32>,
-    /// The trusted time at the last tick and where it came from.
-    last_time: Option<(UtcTime, TimeOrigin)>,
     /// Anemometer pulse rate over the last tick, Hz.
     last_wind_hz: Option<f32>,
     /// Monotonic ms of the next periodic `status` line.
     next_status_ms: Option<u32>,
+    controller: Controller<T, BoardSource<T>, D, S, N>,
+    /// UTC handed to the controller at the last tick.
+    last_tick_utc: Option<UtcTime>,
+    /// The trusted time at the last tick and where it came from.
+    last_time: Option<(UtcTime, TimeOrigin)>,
+    last_setpoint: Option<UtcTime>,
+    /// A save in progress and the reply due when it ends.
+    saving: Option<Executed>,
+    boot_fallback: UtcTime,
+    changes: ChangeLog,
+    /// The site in use, in the controller's precision (`f32` on a board
+    /// without an FPU: about a metre, and no software `f64`).
+    site: Site<T>,
+    /// The site and day (since 2000) the declination was computed for.
+    declination_for: Option<(Site<T>, i32)>,
+    /// Which GPS positions become the site.
+    site_filter: SiteFilter<T>,
+    fix: GpsFix,
+    app: AppConfig,
+    console_line: LineBuffer<{ console::LINE_LEN }>,
+    time: TimeKeeper<R>,
+    gps: GpsPort<G>,
+    last_report: Option<TickReport<T>>,
 }
 
 impl<T, R, G, D, S, L, const N: usize> Firmware<T, R, G, D, S, L, N>
