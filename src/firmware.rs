@@ -33,7 +33,7 @@ use sun_algos::{Error as SunError, Float, Site, UtcTime};
 use crate::attitude::Pose;
 use crate::config::Config;
 use crate::console::{self, Executed, Jogged, LineBuffer, Operator, StatusView, TimeSetError};
-use crate::controller::{Controller, ControllerError, ControllerOptions, TickReport};
+use crate::controller::{Controller, ControllerError, ControllerOptions, TickInputs, TickReport};
 use crate::hw::GpsPort;
 use crate::log::{self, ChangeLog, Sink, SiteSource as LogSite};
 use crate::motion::AxisDrive;
@@ -493,7 +493,22 @@ where
         let fallback = self.time.last_valid().unwrap_or(self.boot_fallback);
         let mut inputs = status.tick_inputs(now_ms, fallback, wind_pulses, interval_ms);
         inputs.gps_position_unstable = self.site_filter.unstable();
-        let report = self.controller.tick(&inputs);
+        self.run_controller(&inputs, status.origin, rejected_before);
+    }
+
+    /// The controller's tick over `inputs`, and what it changed in the
+    /// log (`origin`: where the time came from; `rejected_before`: the GPS
+    /// epochs refused before the keeper's update). Its own frame on the
+    /// AVR: the report and the set-point's entry then stay within the 63
+    /// bytes `ldd` reaches, apart from the time status and the inputs.
+    #[cfg_attr(target_arch = "avr", inline(never))]
+    fn run_controller(
+        &mut self,
+        inputs: &TickInputs,
+        origin: Option<TimeOrigin>,
+        rejected_before: u32,
+    ) {
+        let report = self.controller.tick(inputs);
         if report.clock_jump {
             // The schedule starts over: say why tracking pauses.
             self.log.flash(crate::flash_str!("clock jump from="));
@@ -502,7 +517,7 @@ where
             }
             self.log.flash(crate::flash_str!(" to="));
             self.log.utc(&inputs.now);
-            self.log.text(match status.origin {
+            self.log.text(match origin {
                 Some(TimeOrigin::Gps) => " source=gps",
                 Some(TimeOrigin::Rtc) => " source=rtc",
                 None => " source=none",
