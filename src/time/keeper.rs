@@ -119,7 +119,10 @@ pub enum GpsTime {
 }
 
 /// What `fix` says about the time at monotonic `now_ms` (see the module
-/// documentation for the rules).
+/// documentation for the rules). Out of line on the AVR: inlined into
+/// [`TimeKeeper::update`], its values joined the update's (52 B more on
+/// the ATmega2560).
+#[cfg_attr(target_arch = "avr", inline(never))]
 pub fn gps_time(fix: &GpsFix, now_ms: u32, config: &TimeConfig) -> GpsTime {
     // A position a site can be made of (the exact coordinates' range,
     // checked without floats).
