@@ -609,13 +609,12 @@ impl<F: Float> DegreeTerms<'_, F> {
         let (mut sum_x, mut sum_y, mut sum_z) = (zero, zero, zero);
         // cos(m λ), sin(m λ) for m = 0.
         let (mut cm, mut sm) = (one, zero);
-        let mut i = row_index;
         for m in 0..=n {
             let mf = F::from_u32(m as u32);
             let p = get(&row.p, m);
             let dp = get(&row.dp, m);
-            let (g, h) = self.table.at_date(i, n, m, self.dt_years)?;
-            i += 1;
+            // Below the table's 90 rows.
+            let (g, h) = self.table.at_date(row_index + m, n, m, self.dt_years)?;
             let gc_hs = g * cm + h * sm;
             sum_x += gc_hs * dp;
             sum_y += mf * (g * sm - h * cm) * p;
