@@ -33,7 +33,7 @@ use sun_algos::{Error as SunError, Float, Site, UtcTime};
 use crate::attitude::Pose;
 use crate::config::Config;
 use crate::console::{self, Executed, Jogged, LineBuffer, Operator, StatusView, TimeSetError};
-use crate::controller::{Controller, ControllerError, ControllerOptions, TickReport};
+use crate::controller::{Controller, ControllerError, ControllerOptions, TickInputs, TickReport};
 use crate::hw::GpsPort;
 use crate::log::{self, ChangeLog, Sink, SiteSource as LogSite};
 use crate::motion::AxisDrive;
@@ -245,50 +245,56 @@ pub struct Stats {
 }
 
 /// The tracker firmware over one board's parts.
+// In this order on the AVR: the small fields every tick reads first,
+// within the 63 bytes an `ldd` reaches from the struct's address (a field
+// further on costs an address computation at each access), then the
+// controller. Rust's own order put the controller (2.3 KB) first and
+// these fields beyond it: 380 B more on the ATmega2560.
+#[cfg_attr(target_arch = "avr", repr(C))]
 pub struct Firmware<T, R, G, D, S, L, const N: usize> {
-    controller: Controller<T, BoardSource<T>, D, S, N>,
-    time: TimeKeeper<R>,
-    gps: GpsPort<G>,
     log: L,
-    app: AppConfig,
-    changes: ChangeLog,
+    time_origin: Option<TimeOrigin>,
+    site_origin: Option<LogSite>,
+    /// Lines the console's ring lost whole, still to answer.
+    lost_lines_due: u8,
     stats: Stats,
-    fix: GpsFix,
+    last_tick_ms: u32,
     /// Monotonic ms (the 32-bit clock of [`crate::time::monotonic`], as
     /// every stamp here) of the next controller tick.
     next_tick_ms: Option<u32>,
-    last_tick_ms: u32,
-    /// UTC handed to the controller at the last tick.
-    last_tick_utc: Option<UtcTime>,
     /// Monotonic ms of the last pass.
     last_pass_ms: Option<u32>,
-    time_origin: Option<TimeOrigin>,
-    site_origin: Option<LogSite>,
-    /// The site in use, in the controller's precision (`f32` on a board
-    /// without an FPU: about a metre, and no software `f64`).
-    site: Site<T>,
-    /// Which GPS positions become the site.
-    site_filter: SiteFilter<T>,
-    /// The site and day (since 2000) the declination was computed for.
-    declination_for: Option<(Site<T>, i32)>,
-    last_setpoint: Option<UtcTime>,
-    last_report: Option<TickReport<T>>,
     last_gps_ms: Option<u32>,
-    boot_fallback: UtcTime,
-    console_line: LineBuffer<{ console::LINE_LEN }>,
-    /// A save in progress and the reply due when it ends.
-    saving: Option<Executed>,
-    /// Lines the console's ring lost whole, still to answer.
-    lost_lines_due: u8,
     /// GPS epochs refused before the GPS time faults were raised, while
     /// they are.
     rejected_at_fault: Option<u32>,
-    /// The trusted time at the last tick and where it came from.
-    last_time: Option<(UtcTime, TimeOrigin)>,
     /// Anemometer pulse rate over the last tick, Hz.
     last_wind_hz: Option<f32>,
     /// Monotonic ms of the next periodic `status` line.
     next_status_ms: Option<u32>,
+    controller: Controller<T, BoardSource<T>, D, S, N>,
+    /// UTC handed to the controller at the last tick.
+    last_tick_utc: Option<UtcTime>,
+    /// The trusted time at the last tick and where it came from.
+    last_time: Option<(UtcTime, TimeOrigin)>,
+    last_setpoint: Option<UtcTime>,
+    /// A save in progress and the reply due when it ends.
+    saving: Option<Executed>,
+    boot_fallback: UtcTime,
+    changes: ChangeLog,
+    /// The site in use, in the controller's precision (`f32` on a board
+    /// without an FPU: about a metre, and no software `f64`).
+    site: Site<T>,
+    /// The site and day (since 2000) the declination was computed for.
+    declination_for: Option<(Site<T>, i32)>,
+    /// Which GPS positions become the site.
+    site_filter: SiteFilter<T>,
+    fix: GpsFix,
+    app: AppConfig,
+    console_line: LineBuffer<{ console::LINE_LEN }>,
+    time: TimeKeeper<R>,
+    gps: GpsPort<G>,
+    last_report: Option<TickReport<T>>,
 }
 
 impl<T, R, G, D, S, L, const N: usize> Firmware<T, R, G, D, S, L, N>
@@ -487,7 +493,22 @@ where
         let fallback = self.time.last_valid().unwrap_or(self.boot_fallback);
         let mut inputs = status.tick_inputs(now_ms, fallback, wind_pulses, interval_ms);
         inputs.gps_position_unstable = self.site_filter.unstable();
-        let report = self.controller.tick(&inputs);
+        self.run_controller(&inputs, status.origin, rejected_before);
+    }
+
+    /// The controller's tick over `inputs`, and what it changed in the
+    /// log (`origin`: where the time came from; `rejected_before`: the GPS
+    /// epochs refused before the keeper's update). Its own frame on the
+    /// AVR: the report and the set-point's entry then stay within the 63
+    /// bytes `ldd` reaches, apart from the time status and the inputs.
+    #[cfg_attr(target_arch = "avr", inline(never))]
+    fn run_controller(
+        &mut self,
+        inputs: &TickInputs,
+        origin: Option<TimeOrigin>,
+        rejected_before: u32,
+    ) {
+        let report = self.controller.tick(inputs);
         if report.clock_jump {
             // The schedule starts over: say why tracking pauses.
             self.log.flash(crate::flash_str!("clock jump from="));
@@ -496,7 +517,7 @@ where
             }
             self.log.flash(crate::flash_str!(" to="));
             self.log.utc(&inputs.now);
-            self.log.text(match status.origin {
+            self.log.text(match origin {
                 Some(TimeOrigin::Gps) => " source=gps",
                 Some(TimeOrigin::Rtc) => " source=rtc",
                 None => " source=none",

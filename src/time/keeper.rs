@@ -119,7 +119,10 @@ pub enum GpsTime {
 }
 
 /// What `fix` says about the time at monotonic `now_ms` (see the module
-/// documentation for the rules).
+/// documentation for the rules). Out of line on the AVR: inlined into
+/// [`TimeKeeper::update`], its values joined the update's (52 B more on
+/// the ATmega2560).
+#[cfg_attr(target_arch = "avr", inline(never))]
 pub fn gps_time(fix: &GpsFix, now_ms: u32, config: &TimeConfig) -> GpsTime {
     // A position a site can be made of (the exact coordinates' range,
     // checked without floats).
@@ -328,87 +331,87 @@ impl<C: RtcDriver> TimeKeeper<C> {
         let new_epoch = gps
             .utc_received_ms
             .filter(|&r| self.gps.last_arrival_ms != Some(r));
-        if !matches!(gps_said, GpsTime::NoFix | GpsTime::Stale) {
-            if let Some(r) = new_epoch {
-                self.gps.last_arrival_ms = Some(r);
-            }
-        }
         let mut gps_time = None;
         match gps_said {
             GpsTime::Trusted(t) => {
-                if new_epoch.is_some() {
+                if let Some(r) = new_epoch {
+                    self.gps.last_arrival_ms = Some(r);
                     self.gps_epoch(t, now_ms);
                 }
                 gps_time = Some(t);
             }
             GpsTime::Implausible(_) => {
-                if new_epoch.is_some() {
+                if let Some(r) = new_epoch {
+                    self.gps.last_arrival_ms = Some(r);
                     self.gps.last_implausible_ms = Some(now_ms);
                     self.gps.rejected = self.gps.rejected.saturating_add(1);
                 }
             }
             GpsTime::NoFix | GpsTime::Stale => {}
         }
-        let hold_ms = self.config.fault_hold_ms;
-        self.gps.expire(now_ms, hold_ms);
+        self.gps.expire(now_ms, self.config.fault_hold_ms);
+        // Field by field, not `..TimeStatus::NONE`: the constant's two
+        // `None` times were copied whole from RAM.
         let mut status = TimeStatus {
+            now: None,
+            origin: None,
+            rtc_raw: None,
             gps_fix: gps_time.is_some(),
-            gps_time_implausible: within(self.gps.last_implausible_ms, now_ms, hold_ms),
+            // `expire` dropped a stamp older than the hold.
+            gps_time_implausible: self.gps.last_implausible_ms.is_some(),
             gps_time_unstable: self.gps.disagreements >= UNSTABLE_DISAGREEMENTS,
-            ..TimeStatus::NONE
+            rtc_implausible: false,
+            rtc_lost_power: false,
+            rtc_error: false,
+            rtc_set: false,
         };
         let (rtc_time, bus_ok) = self.read_rtc_apart(&mut status);
-        // GPS time is adopted when it agrees with itself (two epochs), or
-        // with a running RTC; a step beyond the margin from a running RTC
-        // waits until GPS has agreed with itself for the confirm time.
-        let gps_time = gps_time.filter(|g| {
+        if let Some(g) = gps_time {
+            // Beyond ±68 years apart (or no running RTC): drifted.
             let from_rtc_s = rtc_time.and_then(|r| g.seconds_since(&r));
-            let agreed_ms = self
-                .gps
-                .agree_since_ms
-                .map(|t| super::monotonic::elapsed_ms(now_ms, t));
-            let adopt = match (from_rtc_s, agreed_ms) {
-                // One epoch confirmed by the RTC, unless it contradicts the
-                // epoch before it.
-                (Some(d), _) if d.unsigned_abs() <= self.config.max_drift_s => {
-                    !self.gps.last_disagreed
+            let within_drift =
+                from_rtc_s.is_some_and(|d| d.unsigned_abs() <= self.config.max_drift_s);
+            // GPS time is adopted when it agrees with a running RTC (one
+            // epoch, unless it contradicts the epoch before it) or with
+            // itself (two epochs); a step beyond the margin from a running
+            // RTC waits until GPS has agreed with itself for the confirm
+            // time.
+            let adopt = if within_drift {
+                !self.gps.last_disagreed
+            } else {
+                match (from_rtc_s, self.gps.agree_since_ms) {
+                    (_, None) => false,
+                    (Some(d), Some(t)) if d.unsigned_abs() > self.config.rtc_margin_s => {
+                        super::monotonic::elapsed_ms(now_ms, t) >= self.config.confirm_ms
+                    }
+                    // No running RTC (or one beyond ±68 years: lost), or
+                    // within the margin: two agreeing epochs.
+                    (_, Some(_)) => rtc_time.is_none() || from_rtc_s.is_some(),
                 }
-                (_, None) => false,
-                (Some(d), Some(a)) if d.unsigned_abs() > self.config.rtc_margin_s => {
-                    a >= self.config.confirm_ms
-                }
-                // No running RTC (or one beyond ±68 years: lost), or
-                // within the margin: two agreeing epochs.
-                (_, Some(_)) => rtc_time.is_none() || from_rtc_s.is_some(),
             };
-            if !adopt && new_epoch.is_some() {
+            if adopt {
+                // A bus that failed to answer the status read is not
+                // written.
+                if !within_drift && bus_ok {
+                    match datetime_from_utc(&g).map(|d| self.rtc.set_datetime(&d)) {
+                        Ok(Ok(())) => {
+                            status.rtc_set = true;
+                            self.rtc_sets = self.rtc_sets.saturating_add(1);
+                        }
+                        _ => status.rtc_error = true,
+                    }
+                }
+                status.now = Some(g);
+                status.origin = Some(TimeOrigin::Gps);
+            } else if new_epoch.is_some() {
                 self.gps.rejected = self.gps.rejected.saturating_add(1);
             }
-            adopt
-        });
-        if let Some(g) = gps_time {
-            let drifted = match rtc_time {
-                // Beyond ±68 years apart: drifted.
-                Some(r) => g
-                    .seconds_since(&r)
-                    .is_none_or(|d| d.unsigned_abs() > self.config.max_drift_s),
-                None => true,
-            };
-            // A bus that failed to answer the status read is not written.
-            if drifted && bus_ok {
-                match datetime_from_utc(&g).map(|d| self.rtc.set_datetime(&d)) {
-                    Ok(Ok(())) => {
-                        status.rtc_set = true;
-                        self.rtc_sets = self.rtc_sets.saturating_add(1);
-                    }
-                    _ => status.rtc_error = true,
-                }
+        }
+        if status.now.is_none() {
+            if let Some(r) = rtc_time {
+                status.now = Some(r);
+                status.origin = Some(TimeOrigin::Rtc);
             }
-            status.now = Some(g);
-            status.origin = Some(TimeOrigin::Gps);
-        } else if let Some(r) = rtc_time {
-            status.now = Some(r);
-            status.origin = Some(TimeOrigin::Rtc);
         }
         if status.now.is_some() {
             self.last_valid = status.now;

@@ -550,7 +550,12 @@ impl WmmModel {
         let mut x_gc = zero;
         let mut y_gc = zero;
         let mut z_gc = zero;
-        let table = self.coefficients;
+        let terms = DegreeTerms {
+            table: &self.coefficients,
+            dt_years,
+            sin_l,
+            cos_l,
+        };
         let mut row_index = 0;
 
         for n in 1..=MAX_DEGREE {
@@ -559,22 +564,9 @@ impl WmmModel {
             prev2.advance(n, prev, sin_gc, cos_gc);
             // n ≤ 12.
             let nf = F::from_u32(n as u32);
-            let (mut sum_x, mut sum_y, mut sum_z) = (zero, zero, zero);
-            // cos(m λ), sin(m λ) for m = 0.
-            let (mut cm, mut sm) = (one, zero);
-            for m in 0..=n {
-                let mf = F::from_u32(m as u32);
-                let p = get(&prev2.p, m);
-                let dp = get(&prev2.dp, m);
-                let (g, h) = table.at_date(row_index, n, m, dt_years)?;
-                row_index += 1;
-                let gc_hs = g * cm + h * sm;
-                sum_x += gc_hs * dp;
-                sum_y += mf * (g * sm - h * cm) * p;
-                sum_z += gc_hs * p;
-                // cos((m+1)λ), sin((m+1)λ).
-                (cm, sm) = (cm * cos_l - sm * sin_l, sm * cos_l + cm * sin_l);
-            }
+            let [sum_x, sum_y, sum_z] = terms.sums(n, prev2, row_index)?;
+            // Degree n has n + 1 rows (n ≤ 12).
+            row_index += n + 1;
             // Report eq. 10.
             x_gc -= ratio_pow * sum_x;
             y_gc += ratio_pow * sum_y;
@@ -593,6 +585,47 @@ impl WmmModel {
         let east_nt = y_gc;
         let down_nt = x_gc * sin_d + z_gc * cos_d;
         Ok([north_nt, east_nt, down_nt])
+    }
+}
+
+/// What the sums of each degree take besides its Legendre row: the
+/// coefficients, the date's years from the epoch, and sin λ, cos λ.
+struct DegreeTerms<'a, F> {
+    table: &'a Table,
+    dt_years: F,
+    sin_l: F,
+    cos_l: F,
+}
+
+impl<F: Float> DegreeTerms<'_, F> {
+    /// Report eq. 10's sums over m = 0..=n for degree `n` (rows
+    /// `row_index..=row_index + n` of the table), for X, Y and Z. Out of
+    /// line on the AVR: the synthesis's frame then holds fewer values at
+    /// once, within reach of its frame pointer (`ldd`/`std` reach 63
+    /// bytes; a slot beyond costs 8–12 more bytes at each use).
+    #[cfg_attr(target_arch = "avr", inline(never))]
+    fn sums(&self, n: usize, row: &LegendreRow<F>, row_index: usize) -> Result<[F; 3], WmmError> {
+        let (zero, one) = (F::from_f64(0.0), F::from_f64(1.0));
+        let (mut sum_x, mut sum_y, mut sum_z) = (zero, zero, zero);
+        // cos(m λ), sin(m λ) for m = 0.
+        let (mut cm, mut sm) = (one, zero);
+        for m in 0..=n {
+            let mf = F::from_u32(m as u32);
+            let p = get(&row.p, m);
+            let dp = get(&row.dp, m);
+            // Below the table's 90 rows.
+            let (g, h) = self.table.at_date(row_index + m, n, m, self.dt_years)?;
+            let gc_hs = g * cm + h * sm;
+            sum_x += gc_hs * dp;
+            sum_y += mf * (g * sm - h * cm) * p;
+            sum_z += gc_hs * p;
+            // cos((m+1)λ), sin((m+1)λ).
+            (cm, sm) = (
+                cm * self.cos_l - sm * self.sin_l,
+                sm * self.cos_l + cm * self.sin_l,
+            );
+        }
+        Ok([sum_x, sum_y, sum_z])
     }
 }
 
