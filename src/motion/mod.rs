@@ -754,14 +754,14 @@ impl<D: AxisDrive> AxisController<D> {
 // Out of line on the AVR: a saturating 32-bit add written out is some 40
 // bytes on an 8-bit CPU, a call a third of that; the axis code has many.
 #[cfg_attr(target_arch = "avr", inline(never))]
-fn sat_add(a: i32, b: i32) -> i32 {
+pub(crate) fn sat_add(a: i32, b: i32) -> i32 {
     a.saturating_add(b)
 }
 
 /// `a - b`, saturated at the ends of the i32 range (`i32::saturating_sub`).
 // Out of line on the AVR, as `sat_add`.
 #[cfg_attr(target_arch = "avr", inline(never))]
-fn sat_sub(a: i32, b: i32) -> i32 {
+pub(crate) fn sat_sub(a: i32, b: i32) -> i32 {
     a.saturating_sub(b)
 }
 
