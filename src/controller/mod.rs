@@ -582,7 +582,11 @@ where
         // The averages, smoothed in place: one array in the frame rather
         // than copies of the old and new ones (the frame stays nearer the
         // 63 bytes `ldd`/`std` reach on the AVR).
-        let mut avg = [sx / k, sy / k, hs / k, hc / k];
+        let mut avg = [sx, sy, hs, hc];
+        // One division in a loop rather than four written out.
+        for a in avg.iter_mut() {
+            *a /= k;
+        }
         let w = T::from_f32(self.options.attitude_smoothing.clamp(0.0, 1.0));
         // A change over 5° (or ~5° of heading: 0.09 of a unit vector) is a
         // moved mount, taken at once.
