@@ -178,7 +178,10 @@ pub trait Float:
         }
     }
     /// Clamps into `[lo, hi]`.
-    #[inline]
+    // Out of line on the AVR: the two soft-float comparisons and their
+    // selects, written out at each caller, cost more than a call.
+    #[cfg_attr(not(target_arch = "avr"), inline)]
+    #[cfg_attr(target_arch = "avr", inline(never))]
     fn clamp(self, lo: Self, hi: Self) -> Self {
         self.max(lo).min(hi)
     }
