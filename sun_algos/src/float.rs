@@ -149,7 +149,9 @@ pub trait Float:
         self * (Self::from_f64(180.0) / Self::PI)
     }
     /// Euclidean remainder: the result lies in `[0, m)` for `m > 0`.
-    #[inline]
+    // Out of line on the AVR, as `clamp`.
+    #[cfg_attr(not(target_arch = "avr"), inline)]
+    #[cfg_attr(target_arch = "avr", inline(never))]
     fn rem_euclid(self, m: Self) -> Self {
         let r = self - (self / m).floor() * m;
         // Rounding can land exactly on `m` for tiny negative inputs.
@@ -160,7 +162,9 @@ pub trait Float:
         }
     }
     /// The smaller of two values.
-    #[inline]
+    // Out of line on the AVR, as `clamp`.
+    #[cfg_attr(not(target_arch = "avr"), inline)]
+    #[cfg_attr(target_arch = "avr", inline(never))]
     fn min(self, o: Self) -> Self {
         if o < self {
             o
@@ -169,7 +173,9 @@ pub trait Float:
         }
     }
     /// The larger of two values.
-    #[inline]
+    // Out of line on the AVR, as `clamp`.
+    #[cfg_attr(not(target_arch = "avr"), inline)]
+    #[cfg_attr(target_arch = "avr", inline(never))]
     fn max(self, o: Self) -> Self {
         if o > self {
             o
