@@ -139,12 +139,18 @@ pub trait Float:
         (self.sin(), self.cos())
     }
     /// Degrees to radians.
-    #[inline]
+    // Out of line on the AVR, as `clamp`: a call takes its argument where
+    // it is, the product loads the constant too.
+    #[cfg_attr(not(target_arch = "avr"), inline)]
+    #[cfg_attr(target_arch = "avr", inline(never))]
     fn to_radians(self) -> Self {
         self * (Self::PI / Self::from_f64(180.0))
     }
     /// Radians to degrees.
-    #[inline]
+    // Out of line on the AVR, as `clamp`: a call takes its argument where
+    // it is, the product loads the constant too.
+    #[cfg_attr(not(target_arch = "avr"), inline)]
+    #[cfg_attr(target_arch = "avr", inline(never))]
     fn to_degrees(self) -> Self {
         self * (Self::from_f64(180.0) / Self::PI)
     }
