@@ -388,7 +388,9 @@ impl Float for f32 {
     fn powf(self, e: Self) -> Self {
         libm::powf(self, e)
     }
-    #[inline]
+    // Out of line on the AVR, as `clamp`.
+    #[cfg_attr(not(target_arch = "avr"), inline)]
+    #[cfg_attr(target_arch = "avr", inline(never))]
     fn is_finite(self) -> bool {
         f32::is_finite(self)
     }
