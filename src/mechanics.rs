@@ -46,6 +46,10 @@ pub fn axis_configs() -> [AxisConfig; 2] {
 }
 
 /// The H-bridge drive settings: full steps, ramp from 20 to 56 steps/s.
+// Out of line on the AVR: inlined, its fields were stored one by one into
+// the ATmega2560 board's frame of two drivers, beyond the 63 bytes
+// `ldd`/`std` reach from the frame pointer (8-12 bytes more each).
+#[cfg_attr(target_arch = "avr", inline(never))]
 pub fn bridge_config() -> BridgeConfig {
     BridgeConfig {
         mode: StepMode::Full,

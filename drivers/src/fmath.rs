@@ -59,3 +59,39 @@ pub(crate) fn hypot(x: f32, y: f32) -> f32 {
 pub(crate) fn floor(x: f32) -> f32 {
     Float::floor(x)
 }
+
+/// asin of `x` clamped to [−1, 1] (a NaN stays NaN), radians: for a sine
+/// computed from readings, which rounding may put just outside.
+// Out of line on the AVR: the clamp's two soft-float comparisons, written
+// out at each caller, cost more than the call.
+#[cfg_attr(target_arch = "avr", inline(never))]
+pub(crate) fn asin_clamped(x: f32) -> f32 {
+    asin(x.clamp(-1.0, 1.0))
+}
+
+/// acos of `x` clamped to [−1, 1] (a NaN stays NaN), in degrees.
+// Out of line on the AVR, as `asin_clamped`.
+#[cfg_attr(target_arch = "avr", inline(never))]
+pub(crate) fn acos_deg_clamped(x: f32) -> f32 {
+    acos(x.clamp(-1.0, 1.0)).to_degrees()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn clamped_inverse_sines_take_the_end_values_outside_the_range() {
+        // asin(1) = π/2, asin(−1) = −π/2, acos(−1) = 180°, acos(1) = 0°,
+        // acos(½) = 60°, asin(½) = π/6.
+        let pi = core::f32::consts::PI;
+        assert_eq!(asin_clamped(1.000_01), pi / 2.0);
+        assert_eq!(asin_clamped(-7.0), -pi / 2.0);
+        assert!((asin_clamped(0.5) - pi / 6.0).abs() < 1e-6);
+        assert_eq!(acos_deg_clamped(-1.5), 180.0);
+        assert_eq!(acos_deg_clamped(3.0), 0.0);
+        assert!((acos_deg_clamped(0.5) - 60.0).abs() < 1e-4);
+        assert!(asin_clamped(f32::NAN).is_nan());
+        assert!(acos_deg_clamped(f32::NAN).is_nan());
+    }
+}

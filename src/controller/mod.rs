@@ -579,7 +579,14 @@ where
         self.attitude_not_ready = 0;
         self.faults.clear(stalled, now_ms);
         let k = T::from_u32(ok);
-        let meas = [sx / k, sy / k, hs / k, hc / k];
+        // The averages, smoothed in place: one array in the frame rather
+        // than copies of the old and new ones (the frame stays nearer the
+        // 63 bytes `ldd`/`std` reach on the AVR).
+        let mut avg = [sx, sy, hs, hc];
+        // One division in a loop rather than four written out.
+        for a in avg.iter_mut() {
+            *a /= k;
+        }
         let w = T::from_f32(self.options.attitude_smoothing.clamp(0.0, 1.0));
         // A change over 5° (or ~5° of heading: 0.09 of a unit vector) is a
         // moved mount, taken at once.
@@ -587,16 +594,16 @@ where
         // Loops over the four averages rather than four written-out copies
         // of the f32 calls (32 B less on the ATmega2560); every comparison
         // is evaluated, as none has a side effect.
-        let mut avg = meas;
-        if let Some(old) = self.smoothed {
-            let jumps = [tilt_jump, tilt_jump, heading_jump, heading_jump];
+        if let Some(old) = &self.smoothed {
             let mut steady = true;
-            for ((&m, &o), &jump) in meas.iter().zip(&old).zip(&jumps) {
+            for (i, (&m, &o)) in avg.iter().zip(old).enumerate() {
+                // The first two are tilts, the last two the heading's vector.
+                let jump = if i < 2 { tilt_jump } else { heading_jump };
                 steady &= (m - o).abs() < jump;
             }
             if steady {
-                for ((a, &m), &o) in avg.iter_mut().zip(&meas).zip(&old) {
-                    *a = o + w * (m - o);
+                for (a, &o) in avg.iter_mut().zip(old) {
+                    *a = o + w * (*a - o);
                 }
             }
         }

@@ -422,8 +422,8 @@ impl<D: AxisDrive> AxisController<D> {
         self.drive.stop().map_err(AxisError::Drive)?;
         // A ramped stop still runs `after` counts; the rest never will.
         let after = self.drive.pending();
-        let dropped = before.saturating_sub(after);
-        self.position_counts = self.position_counts.saturating_sub(dropped);
+        let dropped = sat_sub(before, after);
+        self.position_counts = sat_sub(self.position_counts, dropped);
         Ok(())
     }
 
@@ -437,11 +437,11 @@ impl<D: AxisDrive> AxisController<D> {
     /// reference, not beyond `max_deg`.
     fn backoff_room_counts(&self) -> i32 {
         let low = self.homing_low_counts.unwrap_or(self.position_counts);
-        let mut ceiling = low.saturating_add(self.geo.counts(HOMING_BACKOFF_MAX_DEG));
+        let mut ceiling = sat_add(low, self.geo.counts(HOMING_BACKOFF_MAX_DEG));
         if self.referenced {
             ceiling = ceiling.min(self.geo.counts(self.geo.max_deg - self.geo.home_deg));
         }
-        ceiling.saturating_sub(self.position_counts)
+        sat_sub(ceiling, self.position_counts)
     }
 
     /// Counts a seek may still move down: the documented travel below the
@@ -450,10 +450,8 @@ impl<D: AxisDrive> AxisController<D> {
     fn seek_room_counts(&self) -> i32 {
         let g = &self.geo;
         let travel_deg = (g.max_deg - g.min_deg) + HOMING_SEEK_EXTRA_DEG + g.backlash_deg;
-        let below_start = self
-            .attempt_start_counts
-            .saturating_sub(self.position_counts);
-        let mut room = g.counts(travel_deg).saturating_sub(below_start);
+        let below_start = sat_sub(self.attempt_start_counts, self.position_counts);
+        let mut room = sat_sub(g.counts(travel_deg), below_start);
         if self.referenced {
             let lowest_deg = if g.home_deg < g.min_deg {
                 g.home_deg
@@ -462,7 +460,7 @@ impl<D: AxisDrive> AxisController<D> {
             };
             let floor_deg = lowest_deg - HOMING_SEEK_MARGIN_DEG - g.backlash_deg;
             let floor = g.counts(floor_deg - g.home_deg);
-            room = room.min(self.position_counts.saturating_sub(floor));
+            room = room.min(sat_sub(self.position_counts, floor));
         }
         room
     }
@@ -552,7 +550,7 @@ impl<D: AxisDrive> AxisController<D> {
                 // lowest point of homing moves with it.
                 let shift = self.position_counts;
                 self.position_counts = 0;
-                self.homing_low_counts = self.homing_low_counts.map(|l| l.saturating_sub(shift));
+                self.homing_low_counts = self.homing_low_counts.map(|l| sat_sub(l, shift));
             }
             self.attempt_start_counts = self.position_counts;
             self.fine = false;
@@ -584,12 +582,10 @@ impl<D: AxisDrive> AxisController<D> {
                 self.home = HomeState::Idle;
                 return Err(AxisError::HomeNotFound);
             }
-            let want = self
-                .homing_move_counts(chunk_deg, now_ms)
-                .saturating_sub(pending);
+            let want = sat_sub(self.homing_move_counts(chunk_deg, now_ms), pending);
             if want > 0 {
                 let c = self.command(want.min(room))?;
-                self.position_counts = self.position_counts.saturating_add(c);
+                self.position_counts = sat_add(self.position_counts, c);
                 self.last_dir = 1;
             }
             return Ok(HomeState::BackingOff);
@@ -631,12 +627,10 @@ impl<D: AxisDrive> AxisController<D> {
             return Err(AxisError::HomeNotFound);
         }
         // `pending` ≤ 0 here: what is queued downward.
-        let want = self
-            .homing_move_counts(chunk_deg, now_ms)
-            .saturating_add(pending);
+        let want = sat_add(self.homing_move_counts(chunk_deg, now_ms), pending);
         if want > 0 {
             let c = self.command(-want.min(room))?;
-            self.position_counts = self.position_counts.saturating_add(c);
+            self.position_counts = sat_add(self.position_counts, c);
             self.last_dir = -1;
         }
         Ok(HomeState::Seeking)
@@ -720,7 +714,7 @@ impl<D: AxisDrive> AxisController<D> {
         let g = self.geo;
         let span = g.max_deg - g.min_deg;
         let c = g.counts(within(deg, -span, span));
-        self.move_counted_to(self.position_counts.saturating_add(c))
+        self.move_counted_to(sat_add(self.position_counts, c))
             .map(|_| ())
     }
 
@@ -729,7 +723,7 @@ impl<D: AxisDrive> AxisController<D> {
     /// returns the counts commanded.
     fn move_counted_to(&mut self, goal_counts: i32) -> Result<i32, AxisError<D::Error>> {
         let g = self.geo;
-        let delta = goal_counts.saturating_sub(self.position_counts);
+        let delta = sat_sub(goal_counts, self.position_counts);
         let mut commanded = 0;
         if delta != 0 {
             let dir: i8 = if delta > 0 { 1 } else { -1 };
@@ -745,13 +739,46 @@ impl<D: AxisDrive> AxisController<D> {
             } else {
                 0
             };
-            commanded = self.command(delta.saturating_add(take_up))?;
+            commanded = self.command(sat_add(delta, take_up))?;
             // The take-up only closes the slack; the rest moves the axis.
             // Equal to `goal_counts` unless the command was clamped.
-            let moved = commanded.saturating_sub(take_up);
-            self.position_counts = self.position_counts.saturating_add(moved);
+            let moved = sat_sub(commanded, take_up);
+            self.position_counts = sat_add(self.position_counts, moved);
             self.last_dir = dir;
         }
         Ok(commanded)
+    }
+}
+
+/// `a + b`, saturated at the ends of the i32 range (`i32::saturating_add`).
+// Out of line on the AVR: a saturating 32-bit add written out is some 40
+// bytes on an 8-bit CPU, a call a third of that; the axis code has many.
+#[cfg_attr(target_arch = "avr", inline(never))]
+pub(crate) fn sat_add(a: i32, b: i32) -> i32 {
+    a.saturating_add(b)
+}
+
+/// `a - b`, saturated at the ends of the i32 range (`i32::saturating_sub`).
+// Out of line on the AVR, as `sat_add`.
+#[cfg_attr(target_arch = "avr", inline(never))]
+pub(crate) fn sat_sub(a: i32, b: i32) -> i32 {
+    a.saturating_sub(b)
+}
+
+#[cfg(test)]
+mod sat_tests {
+    use super::{sat_add, sat_sub};
+
+    #[test]
+    fn saturating_helpers_stop_at_the_ends_of_the_i32_range() {
+        assert_eq!(sat_add(2, 3), 5);
+        assert_eq!(sat_add(-7, 3), -4);
+        assert_eq!(sat_add(i32::MAX, 1), i32::MAX);
+        assert_eq!(sat_add(i32::MIN, -1), i32::MIN);
+        assert_eq!(sat_sub(2, 3), -1);
+        assert_eq!(sat_sub(i32::MIN, 1), i32::MIN);
+        assert_eq!(sat_sub(0, i32::MIN), i32::MAX);
+        assert_eq!(sat_sub(-1, i32::MIN), i32::MAX);
+        assert_eq!(sat_sub(-2, i32::MAX), i32::MIN);
     }
 }

@@ -139,17 +139,25 @@ pub trait Float:
         (self.sin(), self.cos())
     }
     /// Degrees to radians.
-    #[inline]
+    // Out of line on the AVR, as `clamp`: a call takes its argument where
+    // it is, the product loads the constant too.
+    #[cfg_attr(not(target_arch = "avr"), inline)]
+    #[cfg_attr(target_arch = "avr", inline(never))]
     fn to_radians(self) -> Self {
         self * (Self::PI / Self::from_f64(180.0))
     }
     /// Radians to degrees.
-    #[inline]
+    // Out of line on the AVR, as `clamp`: a call takes its argument where
+    // it is, the product loads the constant too.
+    #[cfg_attr(not(target_arch = "avr"), inline)]
+    #[cfg_attr(target_arch = "avr", inline(never))]
     fn to_degrees(self) -> Self {
         self * (Self::from_f64(180.0) / Self::PI)
     }
     /// Euclidean remainder: the result lies in `[0, m)` for `m > 0`.
-    #[inline]
+    // Out of line on the AVR, as `clamp`.
+    #[cfg_attr(not(target_arch = "avr"), inline)]
+    #[cfg_attr(target_arch = "avr", inline(never))]
     fn rem_euclid(self, m: Self) -> Self {
         let r = self - (self / m).floor() * m;
         // Rounding can land exactly on `m` for tiny negative inputs.
@@ -160,7 +168,9 @@ pub trait Float:
         }
     }
     /// The smaller of two values.
-    #[inline]
+    // Out of line on the AVR, as `clamp`.
+    #[cfg_attr(not(target_arch = "avr"), inline)]
+    #[cfg_attr(target_arch = "avr", inline(never))]
     fn min(self, o: Self) -> Self {
         if o < self {
             o
@@ -169,7 +179,9 @@ pub trait Float:
         }
     }
     /// The larger of two values.
-    #[inline]
+    // Out of line on the AVR, as `clamp`.
+    #[cfg_attr(not(target_arch = "avr"), inline)]
+    #[cfg_attr(target_arch = "avr", inline(never))]
     fn max(self, o: Self) -> Self {
         if o > self {
             o
@@ -178,7 +190,10 @@ pub trait Float:
         }
     }
     /// Clamps into `[lo, hi]`.
-    #[inline]
+    // Out of line on the AVR: the two soft-float comparisons and their
+    // selects, written out at each caller, cost more than a call.
+    #[cfg_attr(not(target_arch = "avr"), inline)]
+    #[cfg_attr(target_arch = "avr", inline(never))]
     fn clamp(self, lo: Self, hi: Self) -> Self {
         self.max(lo).min(hi)
     }
@@ -373,7 +388,9 @@ impl Float for f32 {
     fn powf(self, e: Self) -> Self {
         libm::powf(self, e)
     }
-    #[inline]
+    // Out of line on the AVR, as `clamp`.
+    #[cfg_attr(not(target_arch = "avr"), inline)]
+    #[cfg_attr(target_arch = "avr", inline(never))]
     fn is_finite(self) -> bool {
         f32::is_finite(self)
     }

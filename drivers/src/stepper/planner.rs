@@ -276,7 +276,7 @@ impl Planner {
     /// # Ok::<(), drivers::stepper::ramp::RampError>(())
     /// ```
     pub fn move_by(&mut self, delta: i32) {
-        self.move_to(self.target().saturating_add(delta));
+        self.move_to(sat_add(self.target(), delta));
     }
 
     /// Decelerates to rest along the ramp.
@@ -332,8 +332,8 @@ impl Planner {
     fn stop_position(&self) -> i32 {
         let d = i32::try_from(self.level).unwrap_or(i32::MAX);
         match self.dir {
-            Direction::Forward => self.position.saturating_add(d).min(self.target),
-            Direction::Backward => self.position.saturating_sub(d).max(self.target),
+            Direction::Forward => sat_add(self.position, d).min(self.target),
+            Direction::Backward => sat_sub(self.position, d).max(self.target),
         }
     }
 
@@ -401,10 +401,11 @@ impl Planner {
     /// # Ok::<(), drivers::stepper::ramp::RampError>(())
     /// ```
     pub fn stepped(&mut self, now_us: u64) -> bool {
-        self.position = match self.dir {
-            Direction::Forward => self.position.saturating_add(1),
-            Direction::Backward => self.position.saturating_sub(1),
+        let step = match self.dir {
+            Direction::Forward => 1,
+            Direction::Backward => -1,
         };
+        self.position = sat_add(self.position, step);
         self.steps_done = self.steps_done.saturating_add(1);
         let to_go = self.target.abs_diff(self.position);
         self.level = self.steps_done.min(to_go).min(self.cruise_level);
@@ -419,5 +420,35 @@ impl Planner {
             }
         }
         false
+    }
+}
+
+/// `a + b`, saturated at the ends of the i32 range (`i32::saturating_add`).
+// Out of line on the AVR: a saturating 32-bit add written out is some 40
+// bytes on an 8-bit CPU, a call a third of that.
+#[cfg_attr(target_arch = "avr", inline(never))]
+fn sat_add(a: i32, b: i32) -> i32 {
+    a.saturating_add(b)
+}
+
+/// `a - b`, saturated at the ends of the i32 range (`i32::saturating_sub`).
+// Out of line on the AVR, as `sat_add`.
+#[cfg_attr(target_arch = "avr", inline(never))]
+fn sat_sub(a: i32, b: i32) -> i32 {
+    a.saturating_sub(b)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::{sat_add, sat_sub};
+
+    #[test]
+    fn saturating_helpers_stop_at_the_ends_of_the_i32_range() {
+        assert_eq!(sat_add(2, 3), 5);
+        assert_eq!(sat_add(i32::MAX, 1), i32::MAX);
+        assert_eq!(sat_add(i32::MIN, -1), i32::MIN);
+        assert_eq!(sat_sub(2, 3), -1);
+        assert_eq!(sat_sub(i32::MIN, 1), i32::MIN);
+        assert_eq!(sat_sub(0, i32::MIN), i32::MAX);
     }
 }

@@ -131,16 +131,14 @@ impl Ramp {
         // per step.)
         let v0 = self.start_speed_sps;
         let max = self.max_speed_sps;
-        let v2 = v0.checked_mul(v0).and_then(|sq| {
+        let v2 = square_u32(v0).and_then(|sq| {
             self.accel_sps2
                 .checked_mul(2)?
                 .checked_mul(level)?
                 .checked_add(sq)
         });
         match v2 {
-            Some(v2) if max.checked_mul(max).is_none_or(|m2| v2 < m2) => {
-                isqrt32(v2).min(max).max(1)
-            }
+            Some(v2) if square_u32(max).is_none_or(|m2| v2 < m2) => isqrt32(v2).min(max).max(1),
             _ => max.max(1),
         }
     }
@@ -187,6 +185,14 @@ impl Ramp {
 }
 
 /// The bit-by-bit integer square root ⌊√n⌋ for one unsigned width.
+/// `v²` when it fits in 32 bits (`v.checked_mul(v)`): exactly when `v`
+/// fits in 16 (65,535² < 2³² ≤ 65,536²). A compare and a 16 × 16-bit
+/// product rather than a 32 × 32-bit one with its high half checked (two
+/// multiplication calls more per step on an 8-bit CPU).
+fn square_u32(v: u32) -> Option<u32> {
+    u16::try_from(v).ok().map(|v| u32::from(v) * u32::from(v))
+}
+
 macro_rules! bitwise_isqrt {
     ($(#[$doc:meta])* $name:ident, $t:ty) => {
         $(#[$doc])*
@@ -243,6 +249,64 @@ bitwise_isqrt!(
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn square_u32_is_the_square_when_it_fits_in_32_bits() {
+        // 65,535² = 4,294,836,225 < 2³² = 4,294,967,296 = 65,536².
+        assert_eq!(square_u32(0), Some(0));
+        assert_eq!(square_u32(3), Some(9));
+        assert_eq!(square_u32(65_535), Some(4_294_836_225));
+        assert_eq!(square_u32(65_536), None);
+        assert_eq!(square_u32(u32::MAX), None);
+    }
+
+    #[test]
+    fn speed_is_the_capped_root_of_the_exact_square() {
+        // ⌊√(v₀² + 2·a·k)⌋ capped at v_max (and at least 1) in 128-bit
+        // arithmetic; where v², or a term of it (v₀², 2·a, 2·a·k), leaves
+        // 32 bits the driver reads v_max, and so where v_max² does not fit
+        // the root is not capped by the compare but by v_max itself.
+        let speeds = [1, 2, 99, 100, 1_000, 65_535, 65_536, 999_999];
+        let accels = [1, 3, 10_000, u32::MAX / 2, u32::MAX / 2 + 1, u32::MAX];
+        let levels = [0, 1, 2, 49, 50, 65_536, u32::MAX];
+        for &max_speed_sps in &speeds {
+            for &start_speed_sps in speeds.iter().filter(|&&v| v <= max_speed_sps) {
+                for &accel_sps2 in &accels {
+                    let ramp = Ramp {
+                        start_speed_sps,
+                        max_speed_sps,
+                        accel_sps2,
+                    };
+                    for &level in &levels {
+                        let v2 = u128::from(start_speed_sps).pow(2)
+                            + 2 * u128::from(accel_sps2) * u128::from(level);
+                        let m2 = u128::from(max_speed_sps).pow(2);
+                        let fits = |x: u128| x <= u128::from(u32::MAX);
+                        let a2 = 2 * u128::from(accel_sps2);
+                        let terms_fit = fits(u128::from(start_speed_sps).pow(2))
+                            && fits(a2)
+                            && fits(a2 * u128::from(level));
+                        let want = if terms_fit && fits(v2) && (!fits(m2) || v2 < m2) {
+                            let root = (v2 as f64).sqrt() as u128;
+                            // The float root corrected to the integer one.
+                            let root = (root.saturating_sub(2)..=root + 2)
+                                .filter(|r| r * r <= v2)
+                                .max()
+                                .unwrap();
+                            root.min(max_speed_sps.into()).max(1)
+                        } else {
+                            u128::from(max_speed_sps).max(1)
+                        };
+                        assert_eq!(
+                            u128::from(ramp.speed_sps(level)),
+                            want,
+                            "{ramp:?} k={level}"
+                        );
+                    }
+                }
+            }
+        }
+    }
 
     #[test]
     fn cruise_level_is_the_ceiling_of_the_exact_quotient() {

@@ -124,7 +124,7 @@ pub fn mount_tilt(theta_x_deg: f32, theta_y_deg: f32) -> Result<MountTilt, Mount
     }
     let cos_x = fmath::cos(theta_x_deg.to_radians());
     let cos_y = fmath::cos(theta_y_deg.to_radians());
-    let alpha0 = fmath::asin(cos_y.clamp(-1.0, 1.0));
+    let alpha0 = fmath::asin_clamped(cos_y);
     let cos_alpha = fmath::cos(alpha0);
     if cos_alpha < MIN_COS_ALPHA {
         return Err(MountTiltError::Degenerate);
@@ -133,7 +133,7 @@ pub fn mount_tilt(theta_x_deg: f32, theta_y_deg: f32) -> Result<MountTilt, Mount
     if ratio.abs() > 1.0 + RATIO_TOLERANCE {
         return Err(MountTiltError::Inconsistent);
     }
-    let beta0 = fmath::asin(ratio.clamp(-1.0, 1.0));
+    let beta0 = fmath::asin_clamped(ratio);
     Ok(MountTilt {
         alpha0_deg: alpha0.to_degrees(),
         beta0_deg: beta0.to_degrees(),
@@ -159,8 +159,8 @@ pub fn axis_angles(tilt: &MountTilt) -> (f32, f32) {
     let cos_x = -fmath::cos(a) * fmath::sin(b);
     let cos_y = fmath::sin(a);
     (
-        fmath::acos(cos_x.clamp(-1.0, 1.0)).to_degrees(),
-        fmath::acos(cos_y.clamp(-1.0, 1.0)).to_degrees(),
+        fmath::acos_deg_clamped(cos_x),
+        fmath::acos_deg_clamped(cos_y),
     )
 }
 
@@ -185,7 +185,7 @@ pub fn axis_angles_from_gravity(a: &Acceleration) -> Option<(f32, f32)> {
     if norm.is_nan() || norm < 0.1 {
         return None;
     }
-    let angle = |c: f32| fmath::acos((c / norm).clamp(-1.0, 1.0)).to_degrees();
+    let angle = |c: f32| fmath::acos_deg_clamped(c / norm);
     Some((angle(a.x_g), angle(a.y_g)))
 }
 
@@ -227,7 +227,7 @@ pub fn axis_angles_from_inclination(incl: &super::Inclination) -> (f32, f32) {
     let cos_x = -fmath::sin(pitch);
     let cos_y = fmath::cos(pitch) * fmath::sin(roll);
     (
-        fmath::acos(cos_x.clamp(-1.0, 1.0)).to_degrees(),
-        fmath::acos(cos_y.clamp(-1.0, 1.0)).to_degrees(),
+        fmath::acos_deg_clamped(cos_x),
+        fmath::acos_deg_clamped(cos_y),
     )
 }
