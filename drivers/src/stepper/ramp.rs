@@ -269,43 +269,51 @@ mod tests {
         let speeds = [1, 2, 99, 100, 1_000, 65_535, 65_536, 999_999];
         let accels = [1, 3, 10_000, u32::MAX / 2, u32::MAX / 2 + 1, u32::MAX];
         let levels = [0, 1, 2, 49, 50, 65_536, u32::MAX];
-        for &max_speed_sps in &speeds {
-            for &start_speed_sps in speeds.iter().filter(|&&v| v <= max_speed_sps) {
-                for &accel_sps2 in &accels {
-                    let ramp = Ramp {
+        for ramp in ramps(&speeds, &accels) {
+            let (v0, vmax) = (
+                u128::from(ramp.start_speed_sps),
+                u128::from(ramp.max_speed_sps),
+            );
+            for &level in &levels {
+                let a2 = 2 * u128::from(ramp.accel_sps2);
+                let v2 = v0.pow(2) + a2 * u128::from(level);
+                let fits = |x: u128| x <= u128::from(u32::MAX);
+                let terms_fit = fits(v0.pow(2)) && fits(a2) && fits(a2 * u128::from(level));
+                let want = if terms_fit && fits(v2) && (!fits(vmax.pow(2)) || v2 < vmax.pow(2)) {
+                    let root = (v2 as f64).sqrt() as u128;
+                    // The float root corrected to the integer one.
+                    let root = (root.saturating_sub(2)..=root + 2)
+                        .filter(|r| r * r <= v2)
+                        .max()
+                        .unwrap();
+                    root.min(vmax).max(1)
+                } else {
+                    vmax.max(1)
+                };
+                assert_eq!(
+                    u128::from(ramp.speed_sps(level)),
+                    want,
+                    "{ramp:?} k={level}"
+                );
+            }
+        }
+    }
+
+    /// Every ramp of these speeds (the start at most the maximum) and
+    /// accelerations.
+    fn ramps<'a>(speeds: &'a [u32], accels: &'a [u32]) -> impl Iterator<Item = Ramp> + 'a {
+        speeds.iter().flat_map(move |&max_speed_sps| {
+            speeds
+                .iter()
+                .filter(move |&&v| v <= max_speed_sps)
+                .flat_map(move |&start_speed_sps| {
+                    accels.iter().map(move |&accel_sps2| Ramp {
                         start_speed_sps,
                         max_speed_sps,
                         accel_sps2,
-                    };
-                    for &level in &levels {
-                        let v2 = u128::from(start_speed_sps).pow(2)
-                            + 2 * u128::from(accel_sps2) * u128::from(level);
-                        let m2 = u128::from(max_speed_sps).pow(2);
-                        let fits = |x: u128| x <= u128::from(u32::MAX);
-                        let a2 = 2 * u128::from(accel_sps2);
-                        let terms_fit = fits(u128::from(start_speed_sps).pow(2))
-                            && fits(a2)
-                            && fits(a2 * u128::from(level));
-                        let want = if terms_fit && fits(v2) && (!fits(m2) || v2 < m2) {
-                            let root = (v2 as f64).sqrt() as u128;
-                            // The float root corrected to the integer one.
-                            let root = (root.saturating_sub(2)..=root + 2)
-                                .filter(|r| r * r <= v2)
-                                .max()
-                                .unwrap();
-                            root.min(max_speed_sps.into()).max(1)
-                        } else {
-                            u128::from(max_speed_sps).max(1)
-                        };
-                        assert_eq!(
-                            u128::from(ramp.speed_sps(level)),
-                            want,
-                            "{ramp:?} k={level}"
-                        );
-                    }
-                }
-            }
-        }
+                    })
+                })
+        })
     }
 
     #[test]
@@ -324,20 +332,13 @@ mod tests {
             u32::MAX - 1,
             u32::MAX,
         ];
-        for &max_speed_sps in &speeds {
-            for &start_speed_sps in speeds.iter().filter(|&&v| v <= max_speed_sps) {
-                for &accel_sps2 in &accels {
-                    let ramp = Ramp {
-                        start_speed_sps,
-                        max_speed_sps,
-                        accel_sps2,
-                    };
-                    let n = u128::from(max_speed_sps).pow(2) - u128::from(start_speed_sps).pow(2);
-                    // Saturated to a u32.
-                    let want = n.div_ceil(2 * u128::from(accel_sps2)).min(u32::MAX.into());
-                    assert_eq!(u128::from(ramp.cruise_level()), want, "{ramp:?}");
-                }
-            }
+        for ramp in ramps(&speeds, &accels) {
+            let n = u128::from(ramp.max_speed_sps).pow(2) - u128::from(ramp.start_speed_sps).pow(2);
+            // Saturated to a u32.
+            let want = n
+                .div_ceil(2 * u128::from(ramp.accel_sps2))
+                .min(u32::MAX.into());
+            assert_eq!(u128::from(ramp.cruise_level()), want, "{ramp:?}");
         }
     }
 }
