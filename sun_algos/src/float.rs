@@ -104,6 +104,28 @@ pub trait Float:
         self.to_f64().to_mantissa_exp2()
     }
 
+    /// `⌊x·100 + ½⌋` modulo 36 000 for `x = self`, exactly: a value in
+    /// degrees rounded to whole centidegrees (halves up) and folded into
+    /// one turn, `0..36 000`; 0 for NaN and ±∞. Computed from the value's
+    /// own bits ([`Float::to_mantissa_exp2`]), never through a wider float.
+    ///
+    /// ```
+    /// use sun_algos::Float;
+    ///
+    /// // 0.055 is 0.054999999701… in f32 (5.4999999701… cdeg) and
+    /// // 0.055000000000000000277… in f64 (5.5000000000000000277… cdeg).
+    /// assert_eq!(0.055f32.centi_round_mod_turn(), 5);
+    /// assert_eq!(0.055f64.centi_round_mod_turn(), 6);
+    /// // −0.125° is −12.5 cdeg: the half goes up, to −12 ≡ 35 988.
+    /// assert_eq!((-0.125f32).centi_round_mod_turn(), 35_988);
+    /// assert_eq!(720.0f64.centi_round_mod_turn(), 0);
+    /// assert_eq!(f32::NAN.centi_round_mod_turn(), 0);
+    /// ```
+    fn centi_round_mod_turn(self) -> u32 {
+        self.to_mantissa_exp2()
+            .map_or(0, |(m, e)| centi_round_mod_turn_i64(m, e))
+    }
+
     /// Sine of an angle in radians.
     fn sin(self) -> Self;
     /// Cosine of an angle in radians.
@@ -336,6 +358,40 @@ impl Float for f32 {
     fn to_mantissa_exp2(self) -> Option<(i64, i32)> {
         mantissa_exp2(u64::from(self.to_bits()), F32_FORMAT)
     }
+    // In 32-bit integers: an f32's significand times 100 stays below 2^31
+    // (the 64-bit path took about 1 KB more on the AVR).
+    fn centi_round_mod_turn(self) -> u32 {
+        let bits = self.to_bits();
+        let field = (bits >> 23) & 0xff;
+        if field == 0xff {
+            return 0;
+        }
+        let fraction = bits & 0x7f_ffff;
+        // Subnormals (field 0) have no hidden bit and the exponent of field 1.
+        let (m, field) = if field == 0 {
+            (fraction, 1)
+        } else {
+            (fraction | 1 << 23, field)
+        };
+        // field ≤ 254: e in −149..=104.
+        let e = field as i32 - 150;
+        // m < 2^24: m·100 < 2^31.
+        let y = (m * 100) as i32;
+        let y = if bits >> 31 != 0 { -y } else { y };
+        const TURN: i32 = CENTI_TURN as i32;
+        if e >= 0 {
+            // A whole number y·2^e: doubled e times modulo the turn.
+            (0..e).fold(y.rem_euclid(TURN) as u32, |r, _| r * 2 % CENTI_TURN)
+        } else if e < -31 {
+            // |y·2^e| < 2^31·2^−32: ⌊y·2^e + ½⌋ = 0.
+            0
+        } else {
+            // ⌊y/2^s + ½⌋ = ⌊(⌊y/2^(s−1)⌋ + 1) / 2⌋ for s = −e (arithmetic
+            // shifts round towards −∞; |y >> (s−1)| ≤ 2^30, no overflow).
+            let s = e.unsigned_abs();
+            (((y >> (s - 1)) + 1) >> 1).rem_euclid(TURN) as u32
+        }
+    }
     #[inline]
     fn sin(self) -> Self {
         backend32::sin(self)
@@ -524,6 +580,30 @@ fn mantissa_exp2(bits: u64, format: Format) -> Option<(i64, i32)> {
     })
 }
 
+/// Centidegrees in a turn.
+const CENTI_TURN: u32 = 36_000;
+
+/// `⌊x·100 + ½⌋` modulo [`CENTI_TURN`] (in `0..36 000`) for `x = m·2^e`, in
+/// integer arithmetic, exactly (`|m| < 2^53`, as a float's significand).
+fn centi_round_mod_turn_i64(m: i64, e: i32) -> u32 {
+    // 32-bit steps (no 64-bit division linked on an 8-bit part).
+    let turn_rem = |v: i64| crate::time::div_rem_euclid_i64(v, CENTI_TURN).map_or(0, |(_, r)| r);
+    // |m| < 2^53: below 2^60.
+    let y = m * 100;
+    if e >= 0 {
+        // A whole number y·2^e: doubled e times modulo the turn.
+        (0..e).fold(turn_rem(y), |r, _| r * 2 % CENTI_TURN)
+    } else if e < -62 {
+        // |y·2^e| < 2^−2: rounds to 0.
+        0
+    } else {
+        // ⌊(y + 2^(s−1)) / 2^s⌋ for s = −e, the shift rounding towards −∞
+        // (no overflow: |y| + 2^61 < 2^63).
+        let s = e.unsigned_abs();
+        turn_rem((y + (1 << (s - 1))) >> s)
+    }
+}
+
 /// The f32 trigonometry in use: libm by default.
 #[cfg(not(feature = "compact-f32"))]
 mod backend32 {
@@ -631,6 +711,54 @@ mod tests {
         assert_eq!(f32::from_ratio(0, 7), 0.0);
         assert_eq!(f64::from_ratio(3, 0), f64::INFINITY);
         assert!(f32::from_ratio(0, 0).is_nan() && f64::from_ratio(0, 0).is_nan());
+    }
+
+    /// `⌊x·100 + ½⌋ mod 36 000` in f64, independently of the integer
+    /// paths. For a finite f32 x, x·100 has at most 31 significant bits and
+    /// is exact in f64; adding ½ is exact too unless |x·100| < 2^−22, where
+    /// the rounded sum stays inside (0, 1) and the floor is 0 either way;
+    /// at and above 2^53 the value is whole and the floor keeps it; f64's
+    /// remainder is exact.
+    fn centi_reference(x: f32) -> u32 {
+        if !x.is_finite() {
+            return 0;
+        }
+        let v = (f64::from(x) * 100.0 + 0.5).floor();
+        v.rem_euclid(36_000.0) as u32
+    }
+
+    #[test]
+    fn centi_round_mod_turn_of_f32_matches_f64_over_the_bit_patterns() {
+        // Every 1021st bit pattern (all exponents and signs, both ends of
+        // each binade's significands), then every value near the halves
+        // and the ends of the range where the rounding turns.
+        let strided = (0..=u32::MAX / 1021).map(|i| f32::from_bits(i * 1021));
+        let near_halves = (-72_000i32..72_000).flat_map(|k| {
+            let half = (k as f32 + 0.5) / 100.0;
+            (-3i32..=3).map(move |d| f32::from_bits(half.to_bits().wrapping_add_signed(d)))
+        });
+        let specials = [
+            0.0f32,
+            -0.0,
+            f32::MIN_POSITIVE,
+            -f32::MIN_POSITIVE,
+            f32::MAX,
+            f32::MIN,
+        ];
+        for x in strided.chain(near_halves).chain(specials) {
+            assert_eq!(
+                x.centi_round_mod_turn(),
+                centi_reference(x),
+                "{x:e} ({:#x})",
+                x.to_bits()
+            );
+            // The generic 64-bit path (f64's) agrees on the same values.
+            assert_eq!(
+                f64::from(x).centi_round_mod_turn(),
+                centi_reference(x),
+                "{x:e} as f64"
+            );
+        }
     }
 
     #[test]

@@ -47,7 +47,7 @@ use heapless::Vec;
 
 use crate::float::Float;
 use crate::position::SunPosition;
-use crate::time::{div_rem_euclid_i64, UtcTime};
+use crate::time::UtcTime;
 
 use super::events::Events;
 use super::incidence::Surface;
@@ -91,21 +91,12 @@ impl Entry {
         let s = surface
             .slope_deg
             .clamp(T::from_f64(-180.0), T::from_f64(180.0));
-        let slope_cdeg = s.to_mantissa_exp2().map_or(0, |(m, e)| {
-            // |s| ≤ 180°: at most 18 000, below the turn it is reduced by.
-            let c = centi_round_mod_turn(m.abs(), e) as i16;
-            if m < 0 {
-                -c
-            } else {
-                c
-            }
-        });
+        // |s| ≤ 180°: at most 18 000, below the turn it is reduced by.
+        let c = s.abs().centi_round_mod_turn() as i16;
+        let slope_cdeg = if s < T::ZERO { -c } else { c };
         // ⌊a·100 + ½⌋ taken modulo a turn equals folding a into 0…360°
         // first and rounding its hundredfold halves up.
-        let azimuth_cdeg = surface
-            .azimuth_deg
-            .to_mantissa_exp2()
-            .map_or(0, |(m, e)| centi_round_mod_turn(m, e) as u16);
+        let azimuth_cdeg = surface.azimuth_deg.centi_round_mod_turn() as u16;
         Entry {
             slope_cdeg,
             azimuth_cdeg,
@@ -169,29 +160,6 @@ impl Entry {
 /// How [`DayTable::fill`] and [`DayTable::fill_facing`] turn a sun position
 /// into an entry's surface.
 type SurfaceOf<'a, T> = dyn Fn(&SunPosition<T>) -> Result<Surface<T>, GeometryError> + 'a;
-
-/// Centidegrees in a turn.
-const TURN_CDEG: u32 = 36_000;
-
-/// `⌊x·100 + ½⌋` modulo [`TURN_CDEG`] (in `0..36 000`) for `x = m·2^e`, in
-/// integer arithmetic, exactly (`|m| < 2^53`, as a float's significand).
-fn centi_round_mod_turn(m: i64, e: i32) -> u32 {
-    let turn_rem = |v: i64| div_rem_euclid_i64(v, TURN_CDEG).map_or(0, |(_, r)| r);
-    // |m| < 2^53: below 2^60.
-    let y = m * 100;
-    if e >= 0 {
-        // A whole number y·2^e: doubled e times modulo the turn.
-        (0..e).fold(turn_rem(y), |r, _| r * 2 % TURN_CDEG)
-    } else if e < -62 {
-        // |y·2^e| < 2^−2: rounds to 0.
-        0
-    } else {
-        // ⌊(y + 2^(s−1)) / 2^s⌋ for s = −e, the shift rounding towards −∞
-        // (no overflow: |y| + 2^61 < 2^63).
-        let s = e.unsigned_abs();
-        turn_rem((y + (1 << (s - 1))) >> s)
-    }
-}
 
 /// Entries a table needs for a 24-hour day (polar day) at `interval_min`:
 /// 1440 / interval + 1.
