@@ -22,6 +22,24 @@ pub mod planner;
 pub mod ramp;
 pub mod step_dir;
 
+/// `a + b` in steps, saturated at the ends of the i32 range
+/// (`i32::saturating_add`); positions and targets never wrap.
+// Out of line on the AVR: a saturating 32-bit add written out is some 40
+// bytes on an 8-bit CPU, a call a third of that, and the planner and the
+// tracker's axis code use it in many places.
+#[cfg_attr(target_arch = "avr", inline(never))]
+pub fn sat_add(a: i32, b: i32) -> i32 {
+    a.saturating_add(b)
+}
+
+/// `a - b` in steps, saturated at the ends of the i32 range
+/// (`i32::saturating_sub`).
+// Out of line on the AVR, as `sat_add`.
+#[cfg_attr(target_arch = "avr", inline(never))]
+pub fn sat_sub(a: i32, b: i32) -> i32 {
+    a.saturating_sub(b)
+}
+
 /// Direction of rotation, counted in the position as +1 / −1 step.
 ///
 /// ```
@@ -202,5 +220,23 @@ impl<L: embedded_hal::digital::InputPin> LimitSwitches<L> {
                 Ok((high != self.active_low).then_some(which))
             }
         }
+    }
+}
+
+#[cfg(test)]
+mod sat_tests {
+    use super::{sat_add, sat_sub};
+
+    #[test]
+    fn saturating_helpers_stop_at_the_ends_of_the_i32_range() {
+        assert_eq!(sat_add(2, 3), 5);
+        assert_eq!(sat_add(-7, 3), -4);
+        assert_eq!(sat_add(i32::MAX, 1), i32::MAX);
+        assert_eq!(sat_add(i32::MIN, -1), i32::MIN);
+        assert_eq!(sat_sub(2, 3), -1);
+        assert_eq!(sat_sub(i32::MIN, 1), i32::MIN);
+        assert_eq!(sat_sub(0, i32::MIN), i32::MAX);
+        assert_eq!(sat_sub(-1, i32::MIN), i32::MAX);
+        assert_eq!(sat_sub(-2, i32::MAX), i32::MIN);
     }
 }

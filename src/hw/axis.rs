@@ -121,7 +121,7 @@ where
         // The difference clamped to the i32 range, in 32 bits (no 64-bit
         // subtraction and compare at each of its callers on the AVR), and
         // called rather than written out at each of them.
-        crate::motion::sat_sub(self.stepper.target(), self.stepper.position())
+        drivers::stepper::sat_sub(self.stepper.target(), self.stepper.position())
     }
 
     /// Decelerates to rest along the driver's ramp (a stepper stopped dead

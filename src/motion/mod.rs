@@ -15,6 +15,7 @@
 
 use crate::config::AxisConfig;
 use crate::time::monotonic;
+use drivers::stepper::{sat_add, sat_sub};
 
 mod stall;
 
@@ -747,38 +748,5 @@ impl<D: AxisDrive> AxisController<D> {
             self.last_dir = dir;
         }
         Ok(commanded)
-    }
-}
-
-/// `a + b`, saturated at the ends of the i32 range (`i32::saturating_add`).
-// Out of line on the AVR: a saturating 32-bit add written out is some 40
-// bytes on an 8-bit CPU, a call a third of that; the axis code has many.
-#[cfg_attr(target_arch = "avr", inline(never))]
-pub(crate) fn sat_add(a: i32, b: i32) -> i32 {
-    a.saturating_add(b)
-}
-
-/// `a - b`, saturated at the ends of the i32 range (`i32::saturating_sub`).
-// Out of line on the AVR, as `sat_add`.
-#[cfg_attr(target_arch = "avr", inline(never))]
-pub(crate) fn sat_sub(a: i32, b: i32) -> i32 {
-    a.saturating_sub(b)
-}
-
-#[cfg(test)]
-mod sat_tests {
-    use super::{sat_add, sat_sub};
-
-    #[test]
-    fn saturating_helpers_stop_at_the_ends_of_the_i32_range() {
-        assert_eq!(sat_add(2, 3), 5);
-        assert_eq!(sat_add(-7, 3), -4);
-        assert_eq!(sat_add(i32::MAX, 1), i32::MAX);
-        assert_eq!(sat_add(i32::MIN, -1), i32::MIN);
-        assert_eq!(sat_sub(2, 3), -1);
-        assert_eq!(sat_sub(i32::MIN, 1), i32::MIN);
-        assert_eq!(sat_sub(0, i32::MIN), i32::MAX);
-        assert_eq!(sat_sub(-1, i32::MIN), i32::MAX);
-        assert_eq!(sat_sub(-2, i32::MAX), i32::MIN);
     }
 }

@@ -9,7 +9,7 @@
 //! 2 with v₀ = 100 steps/s and a = 10 000 steps/s².
 
 use super::ramp::{Ramp, RampError};
-use super::Direction;
+use super::{sat_add, sat_sub, Direction};
 
 /// What the planner wants at `now_us`.
 ///
@@ -420,35 +420,5 @@ impl Planner {
             }
         }
         false
-    }
-}
-
-/// `a + b`, saturated at the ends of the i32 range (`i32::saturating_add`).
-// Out of line on the AVR: a saturating 32-bit add written out is some 40
-// bytes on an 8-bit CPU, a call a third of that.
-#[cfg_attr(target_arch = "avr", inline(never))]
-fn sat_add(a: i32, b: i32) -> i32 {
-    a.saturating_add(b)
-}
-
-/// `a - b`, saturated at the ends of the i32 range (`i32::saturating_sub`).
-// Out of line on the AVR, as `sat_add`.
-#[cfg_attr(target_arch = "avr", inline(never))]
-fn sat_sub(a: i32, b: i32) -> i32 {
-    a.saturating_sub(b)
-}
-
-#[cfg(test)]
-mod tests {
-    use super::{sat_add, sat_sub};
-
-    #[test]
-    fn saturating_helpers_stop_at_the_ends_of_the_i32_range() {
-        assert_eq!(sat_add(2, 3), 5);
-        assert_eq!(sat_add(i32::MAX, 1), i32::MAX);
-        assert_eq!(sat_add(i32::MIN, -1), i32::MIN);
-        assert_eq!(sat_sub(2, 3), -1);
-        assert_eq!(sat_sub(i32::MIN, 1), i32::MIN);
-        assert_eq!(sat_sub(0, i32::MIN), i32::MAX);
     }
 }
