@@ -1,6 +1,7 @@
 #![doc = include_str!("../README.md")]
 #![no_std]
 
+pub mod adc;
 pub mod compass;
 pub mod encoder;
 mod fmath;

@@ -1,5 +1,6 @@
 //! Test doubles of our own for `embedded-io` serial ports (embedded-hal-mock
-//! does not cover `embedded-io`), shared by the gps_* and tilt_* tests.
+//! does not cover `embedded-io`), shared by the gps_* and tilt_* tests, and
+//! a scripted ADC channel for the crate's own `adc::AdcChannel` trait.
 #![allow(dead_code)]
 
 use std::cell::RefCell;
@@ -155,4 +156,50 @@ pub fn checksum_is_right(sentence: &str) -> bool {
     sum.len() == 2
         && sum.bytes().all(|c| c.is_ascii_hexdigit())
         && body.bytes().fold(0u8, |a, b| a ^ b) == expected
+}
+
+/// Error injected into [`ScriptedAdc`].
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct AdcError;
+
+/// A scripted `drivers::adc::AdcChannel`: each `read_raw` takes the next
+/// queued result (clones share the queue, like embedded-hal-mock's mocks);
+/// reading past the end panics, and `done` asserts every queued reading was
+/// taken.
+#[derive(Debug, Clone)]
+pub struct ScriptedAdc {
+    readings: Rc<RefCell<VecDeque<Result<u16, AdcError>>>>,
+    full_scale: u16,
+}
+
+impl ScriptedAdc {
+    pub fn new(full_scale: u16, readings: &[Result<u16, AdcError>]) -> Self {
+        Self {
+            readings: Rc::new(RefCell::new(readings.iter().copied().collect())),
+            full_scale,
+        }
+    }
+
+    pub fn done(&self) {
+        assert!(
+            self.readings.borrow().is_empty(),
+            "ADC readings left unread: {:?}",
+            self.readings.borrow()
+        );
+    }
+}
+
+impl drivers::adc::AdcChannel for ScriptedAdc {
+    type Error = AdcError;
+
+    fn read_raw(&mut self) -> Result<u16, AdcError> {
+        self.readings
+            .borrow_mut()
+            .pop_front()
+            .expect("ScriptedAdc: no reading queued")
+    }
+
+    fn full_scale(&self) -> u16 {
+        self.full_scale
+    }
 }
