@@ -7,6 +7,7 @@ pub mod dc_motor;
 pub mod encoder;
 mod fmath;
 pub mod gps;
+pub mod hall;
 pub mod rtc;
 pub mod servo;
 pub mod stepper;
