@@ -5,7 +5,7 @@
 //! A reading is a raw count `0..=full_scale` proportional to the input
 //! voltage over the converter's reference: `V = raw · vref / full_scale`
 //! ([`millivolts`]). The DC-motor current sense ([`crate::dc_motor`]) and the
-//! actuator potentiometer read through it.
+//! actuator potentiometer ([`crate::linear::PotCalibration`]) read through it.
 
 /// One analog input channel.
 ///

@@ -8,6 +8,7 @@ pub mod encoder;
 mod fmath;
 pub mod gps;
 pub mod hall;
+pub mod linear;
 pub mod rtc;
 pub mod servo;
 pub mod stepper;
