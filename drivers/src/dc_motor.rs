@@ -264,7 +264,6 @@ fn write_pin<P: embedded_hal::digital::OutputPin>(
 /// assert!(ramp.is_settled());
 /// ```
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
-#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
 pub struct DutyRamp {
     rate_permille_per_ms: u16,

@@ -130,7 +130,6 @@ pub enum Watch {
 /// # Ok::<(), drivers::hall::HallError>(())
 /// ```
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
-#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
 pub struct StallWatch {
     config: HallConfig,
@@ -287,7 +286,6 @@ impl StallWatch {
 /// # Ok::<(), drivers::hall::HallError>(())
 /// ```
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
-#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
 pub struct SingleHall {
     watch: StallWatch,
@@ -418,7 +416,6 @@ impl SingleHall {
 /// # Ok::<(), drivers::hall::HallError>(())
 /// ```
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
-#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
 pub struct QuadratureHall {
     watch: StallWatch,

@@ -282,7 +282,11 @@ fn round_to_i32(x: f32) -> Option<i32> {
 /// # Ok::<(), drivers::linear::LinearError>(())
 /// ```
 #[derive(Debug, Clone, Copy, PartialEq)]
-#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
+#[cfg_attr(
+    feature = "serde",
+    derive(serde::Serialize, serde::Deserialize),
+    serde(try_from = "f32", into = "f32")
+)]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
 pub struct PulseScale {
     pulses_per_mm: f32,
@@ -362,7 +366,11 @@ impl PulseScale {
 /// # Ok::<(), drivers::linear::LinearError>(())
 /// ```
 #[derive(Debug, Clone, Copy, PartialEq)]
-#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
+#[cfg_attr(
+    feature = "serde",
+    derive(serde::Serialize, serde::Deserialize),
+    serde(try_from = "PotFields", into = "PotFields")
+)]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
 pub struct PotCalibration {
     retracted_counts: u16,
@@ -445,5 +453,60 @@ impl PotCalibration {
             .ok_or(LinearError::OutsideStroke)?;
         // Between the two calibrated counts, so within u16.
         u16::try_from(c).map_err(|_| LinearError::OutsideStroke)
+    }
+}
+
+/// Pulses per mm, checked as by [`PulseScale::new`] (the form the `serde`
+/// feature reads and writes: a bare number).
+///
+/// ```
+/// use drivers::linear::{LinearError, PulseScale};
+///
+/// assert_eq!(PulseScale::try_from(2.0), PulseScale::new(2.0));
+/// assert_eq!(PulseScale::try_from(-1.0), Err(LinearError::InvalidConfig));
+/// assert_eq!(f32::from(PulseScale::new(2.0)?), 2.0);
+/// # Ok::<(), LinearError>(())
+/// ```
+impl TryFrom<f32> for PulseScale {
+    type Error = LinearError;
+
+    fn try_from(pulses_per_mm: f32) -> Result<Self, LinearError> {
+        Self::new(pulses_per_mm)
+    }
+}
+
+impl From<PulseScale> for f32 {
+    fn from(scale: PulseScale) -> f32 {
+        scale.pulses_per_mm
+    }
+}
+
+/// The serialized form of [`PotCalibration`], checked by
+/// [`PotCalibration::new`] on the way in.
+#[cfg(feature = "serde")]
+#[derive(Clone, Copy, serde::Serialize, serde::Deserialize)]
+struct PotFields {
+    retracted_counts: u16,
+    extended_counts: u16,
+    stroke_mm: f32,
+}
+
+#[cfg(feature = "serde")]
+impl TryFrom<PotFields> for PotCalibration {
+    type Error = LinearError;
+
+    fn try_from(f: PotFields) -> Result<Self, LinearError> {
+        Self::new(f.retracted_counts, f.extended_counts, f.stroke_mm)
+    }
+}
+
+#[cfg(feature = "serde")]
+impl From<PotCalibration> for PotFields {
+    fn from(c: PotCalibration) -> Self {
+        Self {
+            retracted_counts: c.retracted_counts,
+            extended_counts: c.extended_counts,
+            stroke_mm: c.stroke_mm,
+        }
     }
 }
