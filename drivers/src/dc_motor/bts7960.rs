@@ -38,8 +38,12 @@
 //! routine on an 8-bit part). Only the conducting half bridge's IS carries
 //! the sense current (the other one leaks at most 1 µA, item 4.4.8), so
 //! R_IS and L_IS may share one ADC input. The resistor fitted on a given
-//! IBT-2 board is not documented by the module makers; measure it and put
-//! it in [`SenseConfig::r_is_ohm`]. In a fault (over-temperature, current
+//! IBT-2 board is not documented by the module makers, and boards differ
+//! from the schematic that circulates for them (Arduino forum thread
+//! "BTS7960 BTN7960N IBT_2 motor drive module", 2023, on the SR and IS
+//! resistors): measure it and put it in [`SenseConfig::r_is_ohm`]. Modules
+//! sold with the BTN7960 instead take that part's k_ILIS from its own data
+//! sheet. In a fault (over-temperature, current
 //! limit) IS sources I_IS(lim), 4 – 7 mA (item 4.4.7), which reads as a large
 //! current. The spread of k_ILIS makes the value an estimate (±30 % at
 //! 30 A), good for stall and overload detection, not for metering.

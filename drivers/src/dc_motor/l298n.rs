@@ -14,9 +14,10 @@
 //!
 //! ENA is driven with PWM, so the duty is the fraction of each period the
 //! bridge conducts; brake holds ENA at full duty with IN1 = IN2 = L (both
-//! lower transistors on). Application note 2 of the same data sheet: the
-//! brake current must never exceed the 2 A absolute maximum rating, so a
-//! fast-running heavy axis should coast or ramp down before braking.
+//! lower transistors on). The data sheet's application information,
+//! section 2 "Suggestions": the brake (fast motor stop) current must never
+//! exceed the 2 A absolute maximum rating, so a fast-running heavy axis
+//! should ramp down (or coast) before braking.
 //!
 //! When IN1/IN2 must change, ENA is first set to 0 (no bridge conducting),
 //! then the input going low is written, then the one going high, then ENA
