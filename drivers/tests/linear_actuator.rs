@@ -2,14 +2,15 @@
 //! worked example from a real actuator's data sheet.
 //!
 //! Data sheet: LINAK, *Actuator LA12 User manual* (TECHLINE), page "Actuator
-//! with IC and Endstop Signals – I/O specifications": stroke at most
-//! 100 mm; single Hall sensor, option L, 2 pulses, 1 mm per pulse on the
-//! 12xLxx-1; analogue feedback, option K, 0.5 – 4.5 V. The LA12 runs on
-//! 12 V (or 24 V). Its retracted (built-in) length is on the manual's
-//! dimension drawing, which was not available here: the 245 mm pivot to
-//! pivot below is an assumed value for the mounting, not a data-sheet
-//! figure. The pivot distances are chosen to fit that stroke: a = 300 mm,
-//! b = 150 mm (|a − b| = 150 < 245 and 245 + 100 = 345 < a + b = 450).
+//! with IC and Endstop Signals – I/O specifications": a 100 mm stroke
+//! (the longest its potentiometer feedback covers, "Max. 100 mm stroke");
+//! single Hall sensor, option L, 2 pulses, 1 mm per pulse on the 12xLxx-1;
+//! analogue feedback, option K, 0.5 – 4.5 V. Its retracted (built-in)
+//! length is on the manual's dimension drawing, which was not available
+//! here: the 245 mm pivot to pivot below is an assumed value for the
+//! mounting, not a data-sheet figure. The pivot distances are chosen to fit
+//! that stroke: a = 300 mm, b = 150 mm (|a − b| = 150 < 245 and
+//! 245 + 100 = 345 < a + b = 450).
 
 use drivers::linear::{ActuatorGeometry, LinearError, PotCalibration, PulseScale};
 
