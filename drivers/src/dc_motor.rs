@@ -13,9 +13,15 @@
 //! duty actually output moves towards it in `poll` by at most
 //! [`Config::ramp_permille_per_ms`] per elapsed millisecond ([`DutyRamp`]):
 //! soft start, soft stop and a soft reversal through zero, without ever
-//! blocking. [`Bts7960::brake`](bts7960::Bts7960::brake) and
-//! [`coast`](bts7960::Bts7960::coast) act at once. When the ramp comes down
-//! to zero the bridge is put into the configured [`RestMode`].
+//! blocking. [`DcMotor::brake`] and [`DcMotor::coast`] act at once. When
+//! the ramp comes down to zero the bridge is put into the configured
+//! [`RestMode`].
+//!
+//! The commands, the ramp and the retry of a failed write are written once,
+//! in [`DcMotor`]; a chip only says how its pins carry an [`Output`], by
+//! implementing [`Bridge`] for its pin set ([`bts7960::Bts7960Pins`],
+//! [`l298n::L298nPins`]). [`bts7960::Bts7960`] and [`l298n::L298n`] are
+//! `DcMotor` over those pins.
 //!
 //! Each output (PWM channel or pin) is written only when its value changes;
 //! the examples and tests list the exact writes with `embedded-hal-mock`.
@@ -240,6 +246,407 @@ fn write_pin<P: embedded_hal::digital::OutputPin>(
         *last = Some(high);
     }
     Ok(())
+}
+
+/// The output stage of one H-bridge chip: how its pins carry an [`Output`].
+///
+/// Implemented by each chip's pin set; [`DcMotor`] does the rest (commands,
+/// ramp, retry). An implementation keeps in [`Bridge::State`] what it needs
+/// between writes (the channels' max duty, the value last written to each
+/// input) and writes an input only when its value changes, in the order its
+/// data sheet asks for.
+///
+/// ```
+/// use drivers::dc_motor::{Bridge, Error, Output};
+/// use embedded_hal::pwm::SetDutyCycle;
+/// use embedded_hal_mock::eh1::pwm::{Mock as Pwm, Transaction as P};
+///
+/// // A one-direction bridge (a single low-side switch on a PWM output):
+/// // backward and brake are not available, coast is duty 0.
+/// struct LowSide<C>(C);
+/// impl<C: SetDutyCycle> Bridge for LowSide<C> {
+///     type PwmError = C::Error;
+///     type PinError = core::convert::Infallible;
+///     type State = u16; // max duty
+///     fn init(&mut self) -> Result<u16, Error<C::Error, Self::PinError>> {
+///         let max = self.0.max_duty_cycle();
+///         self.0.set_duty_cycle(0).map_err(Error::Pwm)?;
+///         Ok(max)
+///     }
+///     fn apply(&mut self, max: &mut u16, output: Output) -> Result<(), Error<C::Error, Self::PinError>> {
+///         let permille = match output {
+///             Output::Forward(p) => u32::from(p),
+///             _ => 0,
+///         };
+///         let counts = u16::try_from(permille * u32::from(*max) / 1_000).unwrap_or(*max);
+///         self.0.set_duty_cycle(counts).map_err(Error::Pwm)
+///     }
+/// }
+///
+/// let mut pwm = Pwm::new(&[P::max_duty_cycle(100), P::set_duty_cycle(0), P::set_duty_cycle(30)]);
+/// let mut bridge = LowSide(pwm.clone());
+/// let mut max = bridge.init()?;
+/// bridge.apply(&mut max, Output::Forward(300))?;
+/// pwm.done();
+/// # Ok::<(), Box<dyn core::error::Error>>(())
+/// ```
+pub trait Bridge {
+    /// Error of the PWM channels.
+    type PwmError;
+    /// Error of the digital outputs.
+    type PinError;
+    /// What the bridge keeps between writes (max duties, last values).
+    type State;
+
+    /// Reads what the bridge needs from its channels (a max duty of 0 is
+    /// [`Error::InvalidConfig`], before any write) and leaves it coasting.
+    fn init(&mut self) -> Result<Self::State, Error<Self::PwmError, Self::PinError>>;
+
+    /// Writes the inputs for `output`, each only when its value in `state`
+    /// differs. A write that fails leaves `state` so that `apply` with the
+    /// same `output` again repeats only the writes still missing.
+    fn apply(
+        &mut self,
+        state: &mut Self::State,
+        output: Output,
+    ) -> Result<(), Error<Self::PwmError, Self::PinError>>;
+}
+
+/// A brushed DC motor on the H-bridge `B`: commands, the [`DutyRamp`] and
+/// the retry of a failed write, the same for every chip.
+///
+/// [`bts7960::Bts7960`] and [`l298n::L298n`] are this type over their pin
+/// sets; the examples here use the L298N, whose truth table (ENA = duty,
+/// IN1/IN2 = direction, ENA 0 while they change) keeps the writes short.
+/// Code above the drivers can stay generic over the chip:
+///
+/// ```
+/// use drivers::dc_motor::l298n::{L298n, L298nPins};
+/// use drivers::dc_motor::{Bridge, Config, DcMotor, Error, Output, RestMode};
+/// use embedded_hal_mock::eh1::digital::{Mock as Pin, State, Transaction as T};
+/// use embedded_hal_mock::eh1::pwm::{Mock as Pwm, Transaction as P};
+///
+/// // An axis loop's end stop, for any bridge: brake unless already stopped.
+/// fn stop<B: Bridge>(m: &mut DcMotor<B>) -> Result<(), Error<B::PwmError, B::PinError>> {
+///     if m.output() != Output::Brake {
+///         m.brake()?;
+///     }
+///     Ok(())
+/// }
+///
+/// // From coast the L298N's inputs are already low: only ENA goes to full.
+/// let mut ena = Pwm::new(&[P::max_duty_cycle(100), P::set_duty_cycle(0), P::set_duty_cycle(100)]);
+/// let (mut in1, mut in2) = (Pin::new(&[T::set(State::Low)]), Pin::new(&[T::set(State::Low)]));
+/// let pins = L298nPins { ena: ena.clone(), in1: in1.clone(), in2: in2.clone() };
+/// let mut motor = L298n::new(pins, Config { ramp_permille_per_ms: 1, rest: RestMode::Coast })?;
+/// stop(&mut motor)?;
+/// stop(&mut motor)?; // nothing written
+/// motor.destroy();
+/// ena.done();
+/// in1.done();
+/// in2.done();
+/// # Ok::<(), Box<dyn core::error::Error>>(())
+/// ```
+#[derive(Debug)]
+pub struct DcMotor<B: Bridge> {
+    bridge: B,
+    state: B::State,
+    config: Config,
+    ramp: DutyRamp,
+    output: Output,
+    /// An output whose writes failed part-way, repeated by the next `poll`.
+    pending: Option<Output>,
+}
+
+impl<B: Bridge> DcMotor<B> {
+    /// Takes the bridge's pins and puts it in coast ([`Bridge::init`]),
+    /// whatever the configured rest mode: nothing is driven until a command.
+    ///
+    /// ```
+    /// use drivers::dc_motor::l298n::{L298n, L298nPins};
+    /// use drivers::dc_motor::{Config, Output, RestMode};
+    /// use embedded_hal_mock::eh1::digital::{Mock as Pin, State, Transaction as T};
+    /// use embedded_hal_mock::eh1::pwm::{Mock as Pwm, Transaction as P};
+    ///
+    /// let mut ena = Pwm::new(&[P::max_duty_cycle(255), P::set_duty_cycle(0)]);
+    /// let mut in1 = Pin::new(&[T::set(State::Low)]);
+    /// let mut in2 = Pin::new(&[T::set(State::Low)]);
+    /// let pins = L298nPins { ena: ena.clone(), in1: in1.clone(), in2: in2.clone() };
+    /// let motor = L298n::new(pins, Config { ramp_permille_per_ms: 2, rest: RestMode::Brake })?;
+    /// assert_eq!(motor.output(), Output::Coast);
+    /// motor.destroy();
+    /// ena.done();
+    /// in1.done();
+    /// in2.done();
+    /// # Ok::<(), Box<dyn core::error::Error>>(())
+    /// ```
+    pub fn new(mut pins: B, config: Config) -> Result<Self, Error<B::PwmError, B::PinError>> {
+        let state = pins.init()?;
+        Ok(Self {
+            bridge: pins,
+            state,
+            config,
+            ramp: DutyRamp::new(config.ramp_permille_per_ms),
+            output: Output::Coast,
+            pending: None,
+        })
+    }
+
+    /// Gives the pins back (the outputs keep their last levels).
+    ///
+    /// ```
+    /// use drivers::dc_motor::l298n::{L298n, L298nPins};
+    /// use drivers::dc_motor::{Config, RestMode};
+    /// use embedded_hal_mock::eh1::digital::{Mock as Pin, State, Transaction as T};
+    /// use embedded_hal_mock::eh1::pwm::{Mock as Pwm, Transaction as P};
+    ///
+    /// let pins = L298nPins {
+    ///     ena: Pwm::new(&[P::max_duty_cycle(255), P::set_duty_cycle(0)]),
+    ///     in1: Pin::new(&[T::set(State::Low)]),
+    ///     in2: Pin::new(&[T::set(State::Low)]),
+    /// };
+    /// let motor = L298n::new(pins, Config { ramp_permille_per_ms: 2, rest: RestMode::Brake })?;
+    /// let mut pins = motor.destroy();
+    /// pins.ena.done();
+    /// pins.in1.done();
+    /// pins.in2.done();
+    /// # Ok::<(), Box<dyn core::error::Error>>(())
+    /// ```
+    pub fn destroy(self) -> B {
+        self.bridge
+    }
+
+    /// Commands a duty −1..+1 (positive = forward), reached by the ramp in
+    /// `poll`. NaN, infinities and values outside −1..+1 are refused
+    /// ([`Error::InvalidDuty`]) and leave the target unchanged.
+    ///
+    /// ```
+    /// use drivers::dc_motor::l298n::{L298n, L298nPins};
+    /// use drivers::dc_motor::{Config, Error, RestMode};
+    /// use embedded_hal_mock::eh1::digital::{Mock as Pin, State, Transaction as T};
+    /// use embedded_hal_mock::eh1::pwm::{Mock as Pwm, Transaction as P};
+    ///
+    /// # let pins = L298nPins { ena: Pwm::new(&[P::max_duty_cycle(255), P::set_duty_cycle(0)]), in1: Pin::new(&[T::set(State::Low)]), in2: Pin::new(&[T::set(State::Low)]) };
+    /// let mut motor = L298n::new(pins, Config { ramp_permille_per_ms: 2, rest: RestMode::Brake })?;
+    /// motor.set_duty(-0.25)?;
+    /// assert_eq!(motor.set_duty(f32::INFINITY), Err(Error::InvalidDuty));
+    /// assert_eq!(motor.set_duty(-1.01), Err(Error::InvalidDuty));
+    /// assert_eq!(motor.target_permille(), -250);
+    /// motor.set_duty(-1.0)?;
+    /// assert_eq!(motor.target_permille(), -1_000);
+    /// # let mut pins = motor.destroy();
+    /// # pins.ena.done(); pins.in1.done(); pins.in2.done();
+    /// # Ok::<(), Box<dyn core::error::Error>>(())
+    /// ```
+    pub fn set_duty(&mut self, duty: f32) -> Result<(), Error<B::PwmError, B::PinError>> {
+        let p = duty_permille(duty).ok_or(Error::InvalidDuty)?;
+        self.ramp.set_target(p);
+        Ok(())
+    }
+
+    /// Commands a direction and a duty in permille (0..=1000), reached by
+    /// the ramp in `poll`; above 1000 is refused ([`Error::InvalidDuty`]).
+    ///
+    /// ```
+    /// use drivers::dc_motor::l298n::{L298n, L298nPins};
+    /// use drivers::dc_motor::{Config, Direction, Error, RestMode};
+    /// use embedded_hal_mock::eh1::digital::{Mock as Pin, State, Transaction as T};
+    /// use embedded_hal_mock::eh1::pwm::{Mock as Pwm, Transaction as P};
+    ///
+    /// # let pins = L298nPins { ena: Pwm::new(&[P::max_duty_cycle(255), P::set_duty_cycle(0)]), in1: Pin::new(&[T::set(State::Low)]), in2: Pin::new(&[T::set(State::Low)]) };
+    /// let mut motor = L298n::new(pins, Config { ramp_permille_per_ms: 2, rest: RestMode::Brake })?;
+    /// motor.set_permille(Direction::Forward, 750)?;
+    /// assert_eq!(motor.target_permille(), 750);
+    /// assert_eq!(motor.set_permille(Direction::Backward, u16::MAX), Err(Error::InvalidDuty));
+    /// assert_eq!(motor.set_permille(Direction::Forward, 1_001), Err(Error::InvalidDuty));
+    /// # let mut pins = motor.destroy();
+    /// # pins.ena.done(); pins.in1.done(); pins.in2.done();
+    /// # Ok::<(), Box<dyn core::error::Error>>(())
+    /// ```
+    pub fn set_permille(
+        &mut self,
+        direction: Direction,
+        permille: u16,
+    ) -> Result<(), Error<B::PwmError, B::PinError>> {
+        let p = signed_permille(direction, permille).ok_or(Error::InvalidDuty)?;
+        self.ramp.set_target(p);
+        Ok(())
+    }
+
+    /// Steps the ramp and writes the outputs that change; returns what the
+    /// bridge now does. Call every main-loop pass; never waits. An output
+    /// whose writes failed is written again by the next `poll`.
+    ///
+    /// ```
+    /// use drivers::dc_motor::l298n::{L298n, L298nPins};
+    /// use drivers::dc_motor::{Config, Output, RestMode};
+    /// use embedded_hal_mock::eh1::digital::{Mock as Pin, State, Transaction as T};
+    /// use embedded_hal_mock::eh1::pwm::{Mock as Pwm, Transaction as P};
+    ///
+    /// // Soft reversal at 10 ‰/ms on a 100-count channel, from forward
+    /// // 100 ‰ to backward 100 ‰: 10 ms to zero (ENA 0, coast at rest),
+    /// // then IN1 low before IN2 high, ENA up again.
+    /// let mut ena = Pwm::new(&[
+    ///     P::max_duty_cycle(100), P::set_duty_cycle(0), // new
+    ///     P::set_duty_cycle(10),                         // forward 100 ‰
+    ///     P::set_duty_cycle(5),                          // 50 ‰
+    ///     P::set_duty_cycle(0),                          // 0 ‰: coast
+    ///     P::set_duty_cycle(5),                          // backward 50 ‰
+    /// ]);
+    /// let mut in1 = Pin::new(&[T::set(State::Low), T::set(State::High), T::set(State::Low)]);
+    /// let mut in2 = Pin::new(&[T::set(State::Low), T::set(State::High)]);
+    /// let pins = L298nPins { ena: ena.clone(), in1: in1.clone(), in2: in2.clone() };
+    /// let mut motor = L298n::new(pins, Config { ramp_permille_per_ms: 10, rest: RestMode::Coast })?;
+    /// motor.set_duty(0.1)?;
+    /// motor.poll(0)?; // clock started
+    /// assert_eq!(motor.poll(10)?, Output::Forward(100));
+    /// motor.set_duty(-0.1)?;
+    /// assert_eq!(motor.poll(12)?, Output::Forward(100)); // settled before: clock restarted
+    /// assert_eq!(motor.poll(17)?, Output::Forward(50));
+    /// assert_eq!(motor.poll(22)?, Output::Coast);
+    /// assert_eq!(motor.poll(27)?, Output::Backward(50));
+    /// motor.destroy();
+    /// ena.done();
+    /// in1.done();
+    /// in2.done();
+    /// # Ok::<(), Box<dyn core::error::Error>>(())
+    /// ```
+    pub fn poll(&mut self, now_ms: u32) -> Result<Output, Error<B::PwmError, B::PinError>> {
+        let before = self.ramp.current_permille();
+        let now = self.ramp.poll(now_ms);
+        if now != before {
+            self.apply(Output::from_permille(now, self.config.rest))?;
+        } else if let Some(retry) = self.pending {
+            self.apply(retry)?;
+        }
+        Ok(self.output)
+    }
+
+    /// Brakes at once (the motor terminals shorted through the bridge);
+    /// the ramp is reset to 0.
+    ///
+    /// ```
+    /// use drivers::dc_motor::l298n::{L298n, L298nPins};
+    /// use drivers::dc_motor::{Config, Output, RestMode};
+    /// use embedded_hal_mock::eh1::digital::{Mock as Pin, State, Transaction as T};
+    /// use embedded_hal_mock::eh1::pwm::{Mock as Pwm, Transaction as P};
+    ///
+    /// // L298N fast motor stop from coast: the inputs are already low, only
+    /// // ENA goes to full (255).
+    /// let mut ena = Pwm::new(&[P::max_duty_cycle(255), P::set_duty_cycle(0), P::set_duty_cycle(255)]);
+    /// let (mut in1, mut in2) = (Pin::new(&[T::set(State::Low)]), Pin::new(&[T::set(State::Low)]));
+    /// let pins = L298nPins { ena: ena.clone(), in1: in1.clone(), in2: in2.clone() };
+    /// let mut motor = L298n::new(pins, Config { ramp_permille_per_ms: 2, rest: RestMode::Coast })?;
+    /// motor.brake()?;
+    /// assert_eq!((motor.output(), motor.duty_permille()), (Output::Brake, 0));
+    /// motor.destroy();
+    /// ena.done();
+    /// in1.done();
+    /// in2.done();
+    /// # Ok::<(), Box<dyn core::error::Error>>(())
+    /// ```
+    pub fn brake(&mut self) -> Result<(), Error<B::PwmError, B::PinError>> {
+        self.ramp.reset(0);
+        self.apply(Output::Brake)
+    }
+
+    /// Lets the motor run down freely at once (bridge off); the ramp is
+    /// reset to 0.
+    ///
+    /// ```
+    /// use drivers::dc_motor::l298n::{L298n, L298nPins};
+    /// use drivers::dc_motor::{Config, Output, RestMode};
+    /// use embedded_hal_mock::eh1::digital::{Mock as Pin, State, Transaction as T};
+    /// use embedded_hal_mock::eh1::pwm::{Mock as Pwm, Transaction as P};
+    ///
+    /// // L298N backward full duty, then coast: only ENA changes.
+    /// let mut ena = Pwm::new(&[P::max_duty_cycle(255), P::set_duty_cycle(0), P::set_duty_cycle(255), P::set_duty_cycle(0)]);
+    /// let mut in1 = Pin::new(&[T::set(State::Low)]);
+    /// let mut in2 = Pin::new(&[T::set(State::Low), T::set(State::High)]);
+    /// let pins = L298nPins { ena: ena.clone(), in1: in1.clone(), in2: in2.clone() };
+    /// let mut motor = L298n::new(pins, Config { ramp_permille_per_ms: 0, rest: RestMode::Brake })?;
+    /// motor.set_duty(-1.0)?;
+    /// motor.poll(0)?;
+    /// motor.coast()?;
+    /// assert_eq!((motor.output(), motor.duty_permille()), (Output::Coast, 0));
+    /// motor.destroy();
+    /// ena.done();
+    /// in1.done();
+    /// in2.done();
+    /// # Ok::<(), Box<dyn core::error::Error>>(())
+    /// ```
+    pub fn coast(&mut self) -> Result<(), Error<B::PwmError, B::PinError>> {
+        self.ramp.reset(0);
+        self.apply(Output::Coast)
+    }
+
+    /// What the bridge was last told to do.
+    ///
+    /// ```
+    /// # use drivers::dc_motor::l298n::{L298n, L298nPins};
+    /// # use drivers::dc_motor::{Config, Output, RestMode};
+    /// # use embedded_hal_mock::eh1::digital::{Mock as Pin, State, Transaction as T};
+    /// # use embedded_hal_mock::eh1::pwm::{Mock as Pwm, Transaction as P};
+    /// # let pins = L298nPins { ena: Pwm::new(&[P::max_duty_cycle(255), P::set_duty_cycle(0)]), in1: Pin::new(&[T::set(State::Low)]), in2: Pin::new(&[T::set(State::Low)]) };
+    /// let motor = L298n::new(pins, Config { ramp_permille_per_ms: 2, rest: RestMode::Brake })?;
+    /// assert_eq!(motor.output(), Output::Coast); // as left by `new`
+    /// # let mut pins = motor.destroy();
+    /// # pins.ena.done(); pins.in1.done(); pins.in2.done();
+    /// # Ok::<(), Box<dyn core::error::Error>>(())
+    /// ```
+    pub fn output(&self) -> Output {
+        self.output
+    }
+
+    /// The signed duty output now, ‰ (the ramp's position).
+    ///
+    /// ```
+    /// # use drivers::dc_motor::l298n::{L298n, L298nPins};
+    /// # use drivers::dc_motor::{Config, RestMode};
+    /// # use embedded_hal_mock::eh1::digital::{Mock as Pin, State, Transaction as T};
+    /// # use embedded_hal_mock::eh1::pwm::{Mock as Pwm, Transaction as P};
+    /// # let pins = L298nPins { ena: Pwm::new(&[P::max_duty_cycle(255), P::set_duty_cycle(0)]), in1: Pin::new(&[T::set(State::Low)]), in2: Pin::new(&[T::set(State::Low)]) };
+    /// let mut motor = L298n::new(pins, Config { ramp_permille_per_ms: 1, rest: RestMode::Brake })?;
+    /// assert_eq!(motor.duty_permille(), 0);
+    /// motor.set_duty(0.9)?;
+    /// assert_eq!((motor.duty_permille(), motor.target_permille()), (0, 900)); // before any poll
+    /// # let mut pins = motor.destroy();
+    /// # pins.ena.done(); pins.in1.done(); pins.in2.done();
+    /// # Ok::<(), Box<dyn core::error::Error>>(())
+    /// ```
+    pub fn duty_permille(&self) -> i16 {
+        self.ramp.current_permille()
+    }
+
+    /// The commanded signed duty, ‰.
+    ///
+    /// ```
+    /// # use drivers::dc_motor::l298n::{L298n, L298nPins};
+    /// # use drivers::dc_motor::{Config, RestMode};
+    /// # use embedded_hal_mock::eh1::digital::{Mock as Pin, State, Transaction as T};
+    /// # use embedded_hal_mock::eh1::pwm::{Mock as Pwm, Transaction as P};
+    /// # let pins = L298nPins { ena: Pwm::new(&[P::max_duty_cycle(255), P::set_duty_cycle(0)]), in1: Pin::new(&[T::set(State::Low)]), in2: Pin::new(&[T::set(State::Low)]) };
+    /// let mut motor = L298n::new(pins, Config { ramp_permille_per_ms: 2, rest: RestMode::Brake })?;
+    /// motor.set_duty(0.333)?;
+    /// assert_eq!(motor.target_permille(), 333);
+    /// # let mut pins = motor.destroy();
+    /// # pins.ena.done(); pins.in1.done(); pins.in2.done();
+    /// # Ok::<(), Box<dyn core::error::Error>>(())
+    /// ```
+    pub fn target_permille(&self) -> i16 {
+        self.ramp.target_permille()
+    }
+
+    /// Writes `output`; when a write fails, `output` stays pending and the
+    /// next `poll` writes it again (the bridge skips the inputs whose
+    /// writes succeeded, see [`Bridge::apply`]).
+    fn apply(&mut self, output: Output) -> Result<(), Error<B::PwmError, B::PinError>> {
+        self.pending = Some(output);
+        self.bridge.apply(&mut self.state, output)?;
+        self.output = output;
+        self.pending = None;
+        Ok(())
+    }
 }
 
 /// Slew-rate limit on the signed duty, ‰: the non-blocking soft start and

@@ -51,10 +51,7 @@
 use embedded_hal::digital::OutputPin;
 use embedded_hal::pwm::SetDutyCycle;
 
-use super::{
-    duty_counts, duty_permille, signed_permille, write_duty, write_pin, Config, Direction,
-    DutyRamp, Error, Output,
-};
+use super::{duty_counts, write_duty, write_pin, Bridge, DcMotor, Error, Output};
 use crate::adc::AdcChannel;
 
 /// The module's four control inputs.
@@ -83,7 +80,8 @@ pub struct Bts7960Pins<R, L, E> {
     pub l_en: E,
 }
 
-/// A DC motor on an IBT-2 (two BTS7960).
+/// A DC motor on an IBT-2 (two BTS7960): [`DcMotor`] over [`Bts7960Pins`],
+/// so `Bts7960::new(pins, config)` and the commands of [`DcMotor`].
 ///
 /// ```
 /// use drivers::dc_motor::bts7960::{Bts7960, Bts7960Pins};
@@ -110,35 +108,36 @@ pub struct Bts7960Pins<R, L, E> {
 /// for p in [&mut r_en, &mut l_en] { p.done(); }
 /// # Ok::<(), Box<dyn core::error::Error>>(())
 /// ```
-#[derive(Debug)]
-pub struct Bts7960<R, L, E> {
-    pins: Bts7960Pins<R, L, E>,
-    config: Config,
+pub type Bts7960<R, L, E> = DcMotor<Bts7960Pins<R, L, E>>;
+
+/// What an IBT-2 keeps between writes: both channels' max duty and the
+/// value last written to each input (`None`: unknown, written next time).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct Bts7960State {
     max_r: u16,
     max_l: u16,
-    ramp: DutyRamp,
-    output: Output,
-    /// An output whose writes failed part-way, repeated by the next `poll`.
-    pending: Option<Output>,
     last_r: Option<u16>,
     last_l: Option<u16>,
     last_r_en: Option<bool>,
     last_l_en: Option<bool>,
 }
 
-impl<R, L, E> Bts7960<R, L, E>
+impl<R, L, E> Bridge for Bts7960Pins<R, L, E>
 where
     R: SetDutyCycle,
     L: SetDutyCycle<Error = R::Error>,
     E: OutputPin,
 {
+    type PwmError = R::Error;
+    type PinError = E::Error;
+    type State = Bts7960State;
+
     /// Reads both channels' max duty, then puts the bridge in coast
-    /// (R_EN, L_EN low, then RPWM, LPWM 0), whatever the configured rest
-    /// mode: nothing is driven until a command.
+    /// (R_EN, L_EN low, then RPWM, LPWM 0).
     ///
     /// ```
     /// use drivers::dc_motor::bts7960::{Bts7960, Bts7960Pins};
-    /// use drivers::dc_motor::{Config, Output, RestMode};
+    /// use drivers::dc_motor::{Config, Error, Output, RestMode};
     /// use embedded_hal_mock::eh1::digital::{Mock as Pin, State, Transaction as T};
     /// use embedded_hal_mock::eh1::pwm::{Mock as Pwm, Transaction as P};
     ///
@@ -149,122 +148,43 @@ where
     /// let pins = Bts7960Pins { rpwm: rpwm.clone(), lpwm: lpwm.clone(), r_en: r_en.clone(), l_en: l_en.clone() };
     /// let motor = Bts7960::new(pins, Config { ramp_permille_per_ms: 0, rest: RestMode::Brake })?;
     /// assert_eq!(motor.output(), Output::Coast);
-    /// motor.destroy();
-    /// for p in [&mut rpwm, &mut lpwm] { p.done(); }
-    /// for p in [&mut r_en, &mut l_en] { p.done(); }
-    /// # Ok::<(), Box<dyn core::error::Error>>(())
-    /// ```
-    pub fn new(
-        pins: Bts7960Pins<R, L, E>,
-        config: Config,
-    ) -> Result<Self, Error<R::Error, E::Error>> {
-        let max_r = pins.rpwm.max_duty_cycle();
-        let max_l = pins.lpwm.max_duty_cycle();
-        if max_r == 0 || max_l == 0 {
-            return Err(Error::InvalidConfig);
-        }
-        let mut m = Self {
-            pins,
-            config,
-            max_r,
-            max_l,
-            ramp: DutyRamp::new(config.ramp_permille_per_ms),
-            output: Output::Coast,
-            pending: None,
-            last_r: None,
-            last_l: None,
-            last_r_en: None,
-            last_l_en: None,
-        };
-        m.apply(Output::Coast)?;
-        Ok(m)
-    }
-
-    /// Gives the pins back (the outputs keep their last levels).
-    ///
-    /// ```
-    /// use drivers::dc_motor::bts7960::{Bts7960, Bts7960Pins};
-    /// use drivers::dc_motor::{Config, RestMode};
-    /// use embedded_hal_mock::eh1::digital::{Mock as Pin, State, Transaction as T};
-    /// use embedded_hal_mock::eh1::pwm::{Mock as Pwm, Transaction as P};
-    ///
-    /// let pwm = [P::max_duty_cycle(255), P::set_duty_cycle(0)];
-    /// let pins = Bts7960Pins {
-    ///     rpwm: Pwm::new(&pwm),
-    ///     lpwm: Pwm::new(&pwm),
-    ///     r_en: Pin::new(&[T::set(State::Low)]),
-    ///     l_en: Pin::new(&[T::set(State::Low)]),
-    /// };
-    /// let motor = Bts7960::new(pins, Config { ramp_permille_per_ms: 0, rest: RestMode::Coast })?;
     /// let mut pins = motor.destroy();
     /// pins.rpwm.done();
     /// pins.lpwm.done();
     /// pins.r_en.done();
     /// pins.l_en.done();
+    /// // Either channel with max duty 0 is refused before any write.
+    /// let (mut r, mut l) = (Pwm::new(&[P::max_duty_cycle(255)]), Pwm::new(&[P::max_duty_cycle(0)]));
+    /// let (mut r_en, mut l_en) = (Pin::new(&[]), Pin::new(&[]));
+    /// let zero = Bts7960Pins { rpwm: r.clone(), lpwm: l.clone(), r_en: r_en.clone(), l_en: l_en.clone() };
+    /// let e = Bts7960::new(zero, Config { ramp_permille_per_ms: 0, rest: RestMode::Brake }).unwrap_err();
+    /// assert_eq!(e, Error::InvalidConfig);
+    /// for p in [&mut r, &mut l] { p.done(); }
+    /// for p in [&mut r_en, &mut l_en] { p.done(); }
     /// # Ok::<(), Box<dyn core::error::Error>>(())
     /// ```
-    pub fn destroy(self) -> Bts7960Pins<R, L, E> {
-        self.pins
+    fn init(&mut self) -> Result<Bts7960State, Error<R::Error, E::Error>> {
+        let max_r = self.rpwm.max_duty_cycle();
+        let max_l = self.lpwm.max_duty_cycle();
+        if max_r == 0 || max_l == 0 {
+            return Err(Error::InvalidConfig);
+        }
+        let mut s = Bts7960State {
+            max_r,
+            max_l,
+            last_r: None,
+            last_l: None,
+            last_r_en: None,
+            last_l_en: None,
+        };
+        self.apply(&mut s, Output::Coast)?;
+        Ok(s)
     }
 
-    /// Commands a duty −1..+1 (positive = forward), reached by the ramp in
-    /// `poll`. NaN, infinities and values outside −1..+1 are refused
-    /// ([`Error::InvalidDuty`]) and leave the target unchanged.
-    ///
-    /// ```
-    /// use drivers::dc_motor::bts7960::{Bts7960, Bts7960Pins};
-    /// use drivers::dc_motor::{Config, Error, RestMode};
-    /// use embedded_hal_mock::eh1::digital::{Mock as Pin, State, Transaction as T};
-    /// use embedded_hal_mock::eh1::pwm::{Mock as Pwm, Transaction as P};
-    ///
-    /// # let pwm = [P::max_duty_cycle(255), P::set_duty_cycle(0)];
-    /// # let pins = Bts7960Pins { rpwm: Pwm::new(&pwm), lpwm: Pwm::new(&pwm), r_en: Pin::new(&[T::set(State::Low)]), l_en: Pin::new(&[T::set(State::Low)]) };
-    /// let mut motor = Bts7960::new(pins, Config { ramp_permille_per_ms: 1, rest: RestMode::Coast })?;
-    /// motor.set_duty(-0.25)?;
-    /// assert_eq!(motor.set_duty(f32::NAN), Err(Error::InvalidDuty));
-    /// assert_eq!(motor.set_duty(1.5), Err(Error::InvalidDuty));
-    /// assert_eq!(motor.target_permille(), -250);
-    /// # let mut pins = motor.destroy();
-    /// # pins.rpwm.done(); pins.lpwm.done(); pins.r_en.done(); pins.l_en.done();
-    /// # Ok::<(), Box<dyn core::error::Error>>(())
-    /// ```
-    pub fn set_duty(&mut self, duty: f32) -> Result<(), Error<R::Error, E::Error>> {
-        let p = duty_permille(duty).ok_or(Error::InvalidDuty)?;
-        self.ramp.set_target(p);
-        Ok(())
-    }
-
-    /// Commands a direction and a duty in permille (0..=1000), reached by
-    /// the ramp in `poll`; above 1000 is refused ([`Error::InvalidDuty`]).
-    ///
-    /// ```
-    /// use drivers::dc_motor::bts7960::{Bts7960, Bts7960Pins};
-    /// use drivers::dc_motor::{Config, Direction, Error, RestMode};
-    /// use embedded_hal_mock::eh1::digital::{Mock as Pin, State, Transaction as T};
-    /// use embedded_hal_mock::eh1::pwm::{Mock as Pwm, Transaction as P};
-    ///
-    /// # let pwm = [P::max_duty_cycle(255), P::set_duty_cycle(0)];
-    /// # let pins = Bts7960Pins { rpwm: Pwm::new(&pwm), lpwm: Pwm::new(&pwm), r_en: Pin::new(&[T::set(State::Low)]), l_en: Pin::new(&[T::set(State::Low)]) };
-    /// let mut motor = Bts7960::new(pins, Config { ramp_permille_per_ms: 1, rest: RestMode::Coast })?;
-    /// motor.set_permille(Direction::Backward, 400)?;
-    /// assert_eq!(motor.target_permille(), -400);
-    /// assert_eq!(motor.set_permille(Direction::Forward, 1_001), Err(Error::InvalidDuty));
-    /// # let mut pins = motor.destroy();
-    /// # pins.rpwm.done(); pins.lpwm.done(); pins.r_en.done(); pins.l_en.done();
-    /// # Ok::<(), Box<dyn core::error::Error>>(())
-    /// ```
-    pub fn set_permille(
-        &mut self,
-        direction: Direction,
-        permille: u16,
-    ) -> Result<(), Error<R::Error, E::Error>> {
-        let p = signed_permille(direction, permille).ok_or(Error::InvalidDuty)?;
-        self.ramp.set_target(p);
-        Ok(())
-    }
-
-    /// Steps the ramp and writes the outputs that change; returns what the
-    /// bridge now does. Call every main-loop pass; never waits.
+    /// Forward: LPWM 0, then RPWM the duty; backward the mirror; brake: both
+    /// inputs 0 (both low-side switches on, the motor shorted); all three
+    /// with both enables high, written last. Coast: both half bridges
+    /// asleep, enables low first, then both inputs 0.
     ///
     /// ```
     /// use drivers::dc_motor::bts7960::{Bts7960, Bts7960Pins};
@@ -288,29 +208,8 @@ where
     /// motor.destroy();
     /// for p in [&mut rpwm, &mut lpwm] { p.done(); }
     /// for p in [&mut r_en, &mut l_en] { p.done(); }
-    /// # Ok::<(), Box<dyn core::error::Error>>(())
-    /// ```
-    pub fn poll(&mut self, now_ms: u32) -> Result<Output, Error<R::Error, E::Error>> {
-        let before = self.ramp.current_permille();
-        let now = self.ramp.poll(now_ms);
-        if now != before {
-            self.apply(Output::from_permille(now, self.config.rest))?;
-        } else if let Some(retry) = self.pending {
-            self.apply(retry)?;
-        }
-        Ok(self.output)
-    }
-
-    /// Brakes at once: both inputs 0 with both half bridges enabled (both
-    /// low-side switches on, the motor shorted); the ramp is reset to 0.
     ///
-    /// ```
-    /// use drivers::dc_motor::bts7960::{Bts7960, Bts7960Pins};
-    /// use drivers::dc_motor::{Config, Output, RestMode};
-    /// use embedded_hal_mock::eh1::digital::{Mock as Pin, State, Transaction as T};
-    /// use embedded_hal_mock::eh1::pwm::{Mock as Pwm, Transaction as P};
-    ///
-    /// // From coast: the inputs are already 0, only the enables go high.
+    /// // Brake from coast: the inputs are already 0, only the enables go high.
     /// let pwm = [P::max_duty_cycle(255), P::set_duty_cycle(0)];
     /// let (mut rpwm, mut lpwm) = (Pwm::new(&pwm), Pwm::new(&pwm));
     /// let en = [T::set(State::Low), T::set(State::High)];
@@ -322,21 +221,6 @@ where
     /// motor.destroy();
     /// for p in [&mut rpwm, &mut lpwm] { p.done(); }
     /// for p in [&mut r_en, &mut l_en] { p.done(); }
-    /// # Ok::<(), Box<dyn core::error::Error>>(())
-    /// ```
-    pub fn brake(&mut self) -> Result<(), Error<R::Error, E::Error>> {
-        self.ramp.reset(0);
-        self.apply(Output::Brake)
-    }
-
-    /// Lets the motor run down freely at once: both half bridges asleep
-    /// (enables low, then inputs 0); the ramp is reset to 0.
-    ///
-    /// ```
-    /// use drivers::dc_motor::bts7960::{Bts7960, Bts7960Pins};
-    /// use drivers::dc_motor::{Config, Output, RestMode};
-    /// use embedded_hal_mock::eh1::digital::{Mock as Pin, State, Transaction as T};
-    /// use embedded_hal_mock::eh1::pwm::{Mock as Pwm, Transaction as P};
     ///
     /// // Full forward without a ramp (255 counts), then coast: enables low
     /// // first, then RPWM back to 0.
@@ -355,110 +239,35 @@ where
     /// for p in [&mut r_en, &mut l_en] { p.done(); }
     /// # Ok::<(), Box<dyn core::error::Error>>(())
     /// ```
-    pub fn coast(&mut self) -> Result<(), Error<R::Error, E::Error>> {
-        self.ramp.reset(0);
-        self.apply(Output::Coast)
-    }
-
-    /// What the bridge was last told to do.
-    ///
-    /// ```
-    /// # use drivers::dc_motor::bts7960::{Bts7960, Bts7960Pins};
-    /// # use drivers::dc_motor::{Config, Output, RestMode};
-    /// # use embedded_hal_mock::eh1::digital::{Mock as Pin, State, Transaction as T};
-    /// # use embedded_hal_mock::eh1::pwm::{Mock as Pwm, Transaction as P};
-    /// # let pwm = [P::max_duty_cycle(255), P::set_duty_cycle(0)];
-    /// # let pins = Bts7960Pins { rpwm: Pwm::new(&pwm), lpwm: Pwm::new(&pwm), r_en: Pin::new(&[T::set(State::Low)]), l_en: Pin::new(&[T::set(State::Low)]) };
-    /// let motor = Bts7960::new(pins, Config { ramp_permille_per_ms: 0, rest: RestMode::Brake })?;
-    /// assert_eq!(motor.output(), Output::Coast); // as left by `new`
-    /// # let mut pins = motor.destroy();
-    /// # pins.rpwm.done(); pins.lpwm.done(); pins.r_en.done(); pins.l_en.done();
-    /// # Ok::<(), Box<dyn core::error::Error>>(())
-    /// ```
-    pub fn output(&self) -> Output {
-        self.output
-    }
-
-    /// The signed duty output now, ‰ (the ramp's position).
-    ///
-    /// ```
-    /// # use drivers::dc_motor::bts7960::{Bts7960, Bts7960Pins};
-    /// # use drivers::dc_motor::{Config, RestMode};
-    /// # use embedded_hal_mock::eh1::digital::{Mock as Pin, State, Transaction as T};
-    /// # use embedded_hal_mock::eh1::pwm::{Mock as Pwm, Transaction as P};
-    /// # let pwm = [P::max_duty_cycle(255), P::set_duty_cycle(0)];
-    /// # let pins = Bts7960Pins { rpwm: Pwm::new(&pwm), lpwm: Pwm::new(&pwm), r_en: Pin::new(&[T::set(State::Low)]), l_en: Pin::new(&[T::set(State::Low)]) };
-    /// let mut motor = Bts7960::new(pins, Config { ramp_permille_per_ms: 1, rest: RestMode::Brake })?;
-    /// motor.set_duty(0.9)?;
-    /// assert_eq!((motor.duty_permille(), motor.target_permille()), (0, 900)); // before any poll
-    /// # let mut pins = motor.destroy();
-    /// # pins.rpwm.done(); pins.lpwm.done(); pins.r_en.done(); pins.l_en.done();
-    /// # Ok::<(), Box<dyn core::error::Error>>(())
-    /// ```
-    pub fn duty_permille(&self) -> i16 {
-        self.ramp.current_permille()
-    }
-
-    /// The commanded signed duty, ‰.
-    ///
-    /// ```
-    /// # use drivers::dc_motor::bts7960::{Bts7960, Bts7960Pins};
-    /// # use drivers::dc_motor::{Config, Direction, RestMode};
-    /// # use embedded_hal_mock::eh1::digital::{Mock as Pin, State, Transaction as T};
-    /// # use embedded_hal_mock::eh1::pwm::{Mock as Pwm, Transaction as P};
-    /// # let pwm = [P::max_duty_cycle(255), P::set_duty_cycle(0)];
-    /// # let pins = Bts7960Pins { rpwm: Pwm::new(&pwm), lpwm: Pwm::new(&pwm), r_en: Pin::new(&[T::set(State::Low)]), l_en: Pin::new(&[T::set(State::Low)]) };
-    /// let mut motor = Bts7960::new(pins, Config { ramp_permille_per_ms: 1, rest: RestMode::Brake })?;
-    /// motor.set_permille(Direction::Backward, 1_000)?;
-    /// assert_eq!(motor.target_permille(), -1_000);
-    /// # let mut pins = motor.destroy();
-    /// # pins.rpwm.done(); pins.lpwm.done(); pins.r_en.done(); pins.l_en.done();
-    /// # Ok::<(), Box<dyn core::error::Error>>(())
-    /// ```
-    pub fn target_permille(&self) -> i16 {
-        self.ramp.target_permille()
-    }
-
-    /// Writes `output`; when a write fails, `output` stays pending and the
-    /// next `poll` writes it again (each output is still written only when
-    /// its recorded value differs, so the ones that succeeded are skipped).
-    fn apply(&mut self, output: Output) -> Result<(), Error<R::Error, E::Error>> {
-        self.pending = Some(output);
-        self.write_output(output)?;
-        self.pending = None;
-        Ok(())
-    }
-
-    fn write_output(&mut self, output: Output) -> Result<(), Error<R::Error, E::Error>> {
-        let p = &mut self.pins;
+    fn apply(
+        &mut self,
+        s: &mut Bts7960State,
+        output: Output,
+    ) -> Result<(), Error<R::Error, E::Error>> {
         match output {
             Output::Forward(permille) => {
-                write_duty(&mut p.lpwm, &mut self.last_l, 0).map_err(Error::Pwm)?;
-                let d = duty_counts(permille, self.max_r);
-                write_duty(&mut p.rpwm, &mut self.last_r, d).map_err(Error::Pwm)?;
+                write_duty(&mut self.lpwm, &mut s.last_l, 0).map_err(Error::Pwm)?;
+                let d = duty_counts(permille, s.max_r);
+                write_duty(&mut self.rpwm, &mut s.last_r, d).map_err(Error::Pwm)?;
             }
             Output::Backward(permille) => {
-                write_duty(&mut p.rpwm, &mut self.last_r, 0).map_err(Error::Pwm)?;
-                let d = duty_counts(permille, self.max_l);
-                write_duty(&mut p.lpwm, &mut self.last_l, d).map_err(Error::Pwm)?;
+                write_duty(&mut self.rpwm, &mut s.last_r, 0).map_err(Error::Pwm)?;
+                let d = duty_counts(permille, s.max_l);
+                write_duty(&mut self.lpwm, &mut s.last_l, d).map_err(Error::Pwm)?;
             }
             Output::Brake => {
-                write_duty(&mut p.rpwm, &mut self.last_r, 0).map_err(Error::Pwm)?;
-                write_duty(&mut p.lpwm, &mut self.last_l, 0).map_err(Error::Pwm)?;
+                write_duty(&mut self.rpwm, &mut s.last_r, 0).map_err(Error::Pwm)?;
+                write_duty(&mut self.lpwm, &mut s.last_l, 0).map_err(Error::Pwm)?;
             }
             Output::Coast => {
-                write_pin(&mut p.r_en, &mut self.last_r_en, false).map_err(Error::Pin)?;
-                write_pin(&mut p.l_en, &mut self.last_l_en, false).map_err(Error::Pin)?;
-                write_duty(&mut p.rpwm, &mut self.last_r, 0).map_err(Error::Pwm)?;
-                write_duty(&mut p.lpwm, &mut self.last_l, 0).map_err(Error::Pwm)?;
-                self.output = output;
-                return Ok(());
+                write_pin(&mut self.r_en, &mut s.last_r_en, false).map_err(Error::Pin)?;
+                write_pin(&mut self.l_en, &mut s.last_l_en, false).map_err(Error::Pin)?;
+                write_duty(&mut self.rpwm, &mut s.last_r, 0).map_err(Error::Pwm)?;
+                return write_duty(&mut self.lpwm, &mut s.last_l, 0).map_err(Error::Pwm);
             }
         }
-        write_pin(&mut p.r_en, &mut self.last_r_en, true).map_err(Error::Pin)?;
-        write_pin(&mut p.l_en, &mut self.last_l_en, true).map_err(Error::Pin)?;
-        self.output = output;
-        Ok(())
+        write_pin(&mut self.r_en, &mut s.last_r_en, true).map_err(Error::Pin)?;
+        write_pin(&mut self.l_en, &mut s.last_l_en, true).map_err(Error::Pin)
     }
 }
 
