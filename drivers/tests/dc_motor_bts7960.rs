@@ -158,30 +158,6 @@ fn brake_and_coast_act_at_once_and_reset_the_ramp() {
 }
 
 #[test]
-fn invalid_commands_are_errors_and_keep_the_target() {
-    let r = rig(255, &[0], &[0], &[L]);
-    let mut m = Bts7960::new(
-        r.pins(),
-        Config {
-            ramp_permille_per_ms: 1,
-            rest: RestMode::Brake,
-        },
-    )
-    .unwrap();
-    m.set_duty(0.25).unwrap();
-    for bad in [f32::NAN, f32::INFINITY, f32::NEG_INFINITY, 1.0001, -2.0] {
-        assert_eq!(m.set_duty(bad), Err(Error::InvalidDuty));
-    }
-    assert_eq!(
-        m.set_permille(Direction::Backward, 1_001),
-        Err(Error::InvalidDuty)
-    );
-    assert_eq!(m.target_permille(), 250);
-    m.destroy();
-    r.done();
-}
-
-#[test]
 fn failed_write_is_repeated_by_the_next_poll() {
     // Forward 100 ‰ on 1000 counts: the RPWM write fails once; the next
     // poll (ramp settled) writes it again, then the enables.

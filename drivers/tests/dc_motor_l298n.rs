@@ -136,18 +136,3 @@ fn pin_error_is_reported_and_retried() {
     in1.done();
     in2.done();
 }
-
-#[test]
-fn invalid_commands_are_errors() {
-    let r = rig(255, &[0], &[L], &[L]);
-    let mut m = motor(&r, 2, RestMode::Brake);
-    assert_eq!(m.set_duty(f32::NAN), Err(Error::InvalidDuty));
-    assert_eq!(m.set_duty(-1.5), Err(Error::InvalidDuty));
-    assert_eq!(
-        m.set_permille(Direction::Forward, 2_000),
-        Err(Error::InvalidDuty)
-    );
-    assert_eq!(m.target_permille(), 0);
-    assert_eq!(m.poll(10).unwrap(), Output::Coast);
-    done(m, r);
-}
