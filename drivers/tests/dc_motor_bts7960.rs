@@ -162,23 +162,20 @@ fn failed_write_is_repeated_by_the_next_poll() {
     // Forward 100 ‰ on 1000 counts: the RPWM write fails once; the next
     // poll (ramp settled) writes it again, then the enables.
     let err = MockError::Io(std::io::ErrorKind::Other);
-    let mut rpwm = Pwm::new(&[
-        P::max_duty_cycle(1_000),
-        P::set_duty_cycle(0),
-        P::set_duty_cycle(100).with_error(err.clone()),
-        P::set_duty_cycle(100),
-    ]);
-    let mut lpwm = Pwm::new(&[P::max_duty_cycle(1_000), P::set_duty_cycle(0)]);
     let en = [T::set(L), T::set(H)];
-    let (mut r_en, mut l_en) = (Pin::new(&en), Pin::new(&en));
-    let pins = Bts7960Pins {
-        rpwm: rpwm.clone(),
-        lpwm: lpwm.clone(),
-        r_en: r_en.clone(),
-        l_en: l_en.clone(),
+    let r = Rig {
+        rpwm: Pwm::new(&[
+            P::max_duty_cycle(1_000),
+            P::set_duty_cycle(0),
+            P::set_duty_cycle(100).with_error(err.clone()),
+            P::set_duty_cycle(100),
+        ]),
+        lpwm: Pwm::new(&[P::max_duty_cycle(1_000), P::set_duty_cycle(0)]),
+        r_en: Pin::new(&en),
+        l_en: Pin::new(&en),
     };
     let mut m = Bts7960::new(
-        pins,
+        r.pins(),
         Config {
             ramp_permille_per_ms: 0,
             rest: RestMode::Coast,
@@ -190,39 +187,26 @@ fn failed_write_is_repeated_by_the_next_poll() {
     assert_eq!(m.poll(1).unwrap(), Output::Forward(100));
     assert_eq!(m.poll(2).unwrap(), Output::Forward(100)); // nothing more
     m.destroy();
-    for p in [&mut rpwm, &mut lpwm] {
-        p.done();
-    }
-    for p in [&mut r_en, &mut l_en] {
-        p.done();
-    }
+    r.done();
 }
 
 #[test]
 fn zero_max_duty_is_refused_before_any_write() {
-    let mut rpwm = Pwm::new(&[P::max_duty_cycle(255)]);
-    let mut lpwm = Pwm::new(&[P::max_duty_cycle(0)]);
-    let (mut r_en, mut l_en) = (Pin::new(&[]), Pin::new(&[]));
-    let pins = Bts7960Pins {
-        rpwm: rpwm.clone(),
-        lpwm: lpwm.clone(),
-        r_en: r_en.clone(),
-        l_en: l_en.clone(),
+    let r = Rig {
+        rpwm: Pwm::new(&[P::max_duty_cycle(255)]),
+        lpwm: Pwm::new(&[P::max_duty_cycle(0)]),
+        r_en: Pin::new(&[]),
+        l_en: Pin::new(&[]),
     };
     let config = Config {
         ramp_permille_per_ms: 1,
         rest: RestMode::Brake,
     };
     assert!(matches!(
-        Bts7960::new(pins, config),
+        Bts7960::new(r.pins(), config),
         Err(Error::InvalidConfig)
     ));
-    for p in [&mut rpwm, &mut lpwm] {
-        p.done();
-    }
-    for p in [&mut r_en, &mut l_en] {
-        p.done();
-    }
+    r.done();
 }
 
 #[test]
