@@ -48,6 +48,15 @@ impl Rig {
         }
     }
 
+    /// The motor on these mocks; `new` must succeed.
+    fn motor(&self, ramp_permille_per_ms: u16, rest: RestMode) -> Bts7960<Pwm, Pwm, Pin> {
+        let config = Config {
+            ramp_permille_per_ms,
+            rest,
+        };
+        Bts7960::new(self.pins(), config).unwrap()
+    }
+
     fn done(mut self) {
         self.rpwm.done();
         self.lpwm.done();
@@ -63,14 +72,7 @@ fn soft_start_and_soft_stop_to_brake() {
     // another 100 ms. Stop: 600 → 0: −400, then −200 to 0 = brake (both
     // inputs 0, enables stay high).
     let r = rig(1_000, &[0, 400, 600, 200, 0], &[0], &[L, H]);
-    let mut m = Bts7960::new(
-        r.pins(),
-        Config {
-            ramp_permille_per_ms: 4,
-            rest: RestMode::Brake,
-        },
-    )
-    .unwrap();
+    let mut m = r.motor(4, RestMode::Brake);
     m.set_permille(Direction::Forward, 600).unwrap();
     assert_eq!(m.poll(1_000).unwrap(), Output::Coast);
     assert_eq!(m.poll(1_100).unwrap(), Output::Forward(400));
@@ -90,14 +92,7 @@ fn reversal_in_one_step_clears_the_old_side_first() {
     // No ramp, 8-bit channels: +300 ‰ → round(76.5) = 77 on RPWM; then
     // −300 ‰: RPWM to 0 before LPWM to 77, enables untouched.
     let r = rig(255, &[0, 77, 0], &[0, 77], &[L, H]);
-    let mut m = Bts7960::new(
-        r.pins(),
-        Config {
-            ramp_permille_per_ms: 0,
-            rest: RestMode::Coast,
-        },
-    )
-    .unwrap();
+    let mut m = r.motor(0, RestMode::Coast);
     m.set_duty(0.3).unwrap();
     assert_eq!(m.poll(0).unwrap(), Output::Forward(300));
     m.set_duty(-0.3).unwrap();
@@ -112,14 +107,7 @@ fn ramp_down_to_coast_disables_before_clearing() {
     // 500 ‰ → round(2047.5) = 2048 after 50 ms. Stop: 0 after another
     // 50 ms: enables low first, then LPWM 0.
     let r = rig(4_095, &[0], &[0, 2_048, 0], &[L, H, L]);
-    let mut m = Bts7960::new(
-        r.pins(),
-        Config {
-            ramp_permille_per_ms: 10,
-            rest: RestMode::Coast,
-        },
-    )
-    .unwrap();
+    let mut m = r.motor(10, RestMode::Coast);
     m.set_permille(Direction::Backward, 500).unwrap();
     m.poll(0).unwrap();
     assert_eq!(m.poll(50).unwrap(), Output::Backward(500));
@@ -135,14 +123,7 @@ fn brake_and_coast_act_at_once_and_reset_the_ramp() {
     // No ramp: forward full (1000 counts), brake (RPWM 0, enables stay
     // high), coast (enables low; inputs already 0).
     let r = rig(1_000, &[0, 1_000, 0], &[0], &[L, H, L]);
-    let mut m = Bts7960::new(
-        r.pins(),
-        Config {
-            ramp_permille_per_ms: 0,
-            rest: RestMode::Coast,
-        },
-    )
-    .unwrap();
+    let mut m = r.motor(0, RestMode::Coast);
     m.set_duty(1.0).unwrap();
     m.poll(0).unwrap();
     m.brake().unwrap();
@@ -174,14 +155,7 @@ fn failed_write_is_repeated_by_the_next_poll() {
         r_en: Pin::new(&en),
         l_en: Pin::new(&en),
     };
-    let mut m = Bts7960::new(
-        r.pins(),
-        Config {
-            ramp_permille_per_ms: 0,
-            rest: RestMode::Coast,
-        },
-    )
-    .unwrap();
+    let mut m = r.motor(0, RestMode::Coast);
     m.set_duty(0.1).unwrap();
     assert_eq!(m.poll(0), Err(Error::Pwm(err)));
     assert_eq!(m.poll(1).unwrap(), Output::Forward(100));
