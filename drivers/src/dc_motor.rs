@@ -213,39 +213,44 @@ fn duty_counts(permille: u16, max_duty: u16) -> u16 {
     u16::try_from(counts).unwrap_or(max_duty).min(max_duty)
 }
 
-/// Writes `duty` to a PWM channel unless it is already the last value
-/// written. The record is cleared before the write, so a failed write is
-/// repeated next time.
+/// Calls `write(value)` unless `value` is already the last value written.
+/// The record is cleared before the write, so a failed write is repeated
+/// next time.
+fn write_changed<T: Copy + PartialEq, E>(
+    last: &mut Option<T>,
+    value: T,
+    write: impl FnOnce(T) -> Result<(), E>,
+) -> Result<(), E> {
+    if *last != Some(value) {
+        *last = None;
+        write(value)?;
+        *last = Some(value);
+    }
+    Ok(())
+}
+
+/// Writes `duty` to a PWM channel unless it already has it
+/// ([`write_changed`]).
 fn write_duty<P: embedded_hal::pwm::SetDutyCycle>(
     pwm: &mut P,
     last: &mut Option<u16>,
     duty: u16,
 ) -> Result<(), P::Error> {
-    if *last != Some(duty) {
-        *last = None;
-        pwm.set_duty_cycle(duty)?;
-        *last = Some(duty);
-    }
-    Ok(())
+    write_changed(last, duty, |d| pwm.set_duty_cycle(d))
 }
 
-/// Sets a digital output unless it already has that level (as
-/// [`write_duty`]).
+/// Sets a digital output unless it already has that level
+/// ([`write_changed`]).
 fn write_pin<P: embedded_hal::digital::OutputPin>(
     pin: &mut P,
     last: &mut Option<bool>,
     high: bool,
 ) -> Result<(), P::Error> {
-    if *last != Some(high) {
-        *last = None;
-        if high {
-            pin.set_high()?;
-        } else {
-            pin.set_low()?;
-        }
-        *last = Some(high);
-    }
-    Ok(())
+    write_changed(
+        last,
+        high,
+        |h| if h { pin.set_high() } else { pin.set_low() },
+    )
 }
 
 /// The output stage of one H-bridge chip: how its pins carry an [`Output`].
