@@ -1,7 +1,7 @@
 //! Simulation of a suntracker's world: the mount and its axes, the
 //! attitude sensors, a continuous-rotation servo and its quadrature
 //! encoder, DC gear motors on H-bridges with their Hall encoders and
-//! current sense, GPS and RTC streams, weather and operator scenarios,
+//! current sense, linear actuators, GPS and RTC streams, weather and operator scenarios,
 //! and the sun-position workload of the speed benches. `no_std`: the host
 //! tests and tools use it, and so does the QEMU board image, whose emulated
 //! chip has no motors or sensors of its own.
@@ -19,6 +19,8 @@ pub mod dc_motor;
 pub mod encoder;
 #[cfg(not(target_arch = "avr"))]
 pub mod gps;
+#[cfg(not(target_arch = "avr"))]
+pub mod linear_actuator;
 pub mod plant;
 pub mod rng;
 #[cfg(not(target_arch = "avr"))]
