@@ -88,7 +88,7 @@
 
 use drivers::dc_motor::Output;
 
-use crate::encoder::{levels_of_count, QuadratureEncoder};
+use crate::encoder::{levels_of_count, Edge, QuadratureEncoder};
 
 /// The integration step the presets are checked at, s (see the module
 /// documentation: τ_e / 46 for the Pololu preset).
@@ -273,6 +273,17 @@ impl HallSensor {
     /// entering counts 1, 5, 9, …, so this is `⌊(count + 3) / 4⌋`).
     pub fn pulses_at(&self, motor_deg: f64) -> i64 {
         (self.count_at(motor_deg) + 3).div_euclid(4)
+    }
+
+    /// The channel edges, in order, while the motor shaft turns
+    /// monotonically from `from_motor_deg` to `to_motor_deg`
+    /// ([`QuadratureEncoder::edges`]: one channel changes per edge); none
+    /// while failed.
+    pub fn edges(&self, from_motor_deg: f64, to_motor_deg: f64) -> impl Iterator<Item = Edge> + '_ {
+        let live = self.frozen.is_none();
+        self.encoder
+            .edges(from_motor_deg, to_motor_deg)
+            .filter(move |_| live)
     }
 
     /// Fails (outputs stuck at their levels at `motor_deg`) or recovers.
@@ -754,6 +765,23 @@ mod tests {
         m.set_hall_failed(false);
         let want = libm::floor(m.motor_angle_deg() * 64.0 / 360.0) as i64;
         assert_eq!(m.hall_count(), want);
+    }
+
+    #[test]
+    fn hall_edges_of_one_motor_turn() {
+        let mut hall = HallSensor::new(64);
+        // 64 counts per turn: 64 edges, one channel at a time, 16 A rises.
+        let (mut prev, mut n, mut a_rises) = (hall.levels_at(0.1), 0, 0);
+        for e in hall.edges(0.1, 360.1) {
+            assert_eq!(u8::from(e.a != prev.0) + u8::from(e.b != prev.1), 1);
+            a_rises += u32::from(e.a && !prev.0);
+            prev = (e.a, e.b);
+            n += 1;
+        }
+        assert_eq!(n, 64);
+        assert_eq!(a_rises, hall.pulses_per_rev());
+        hall.set_failed(true, 0.1);
+        assert_eq!(hall.edges(0.1, 720.0).count(), 0);
     }
 
     #[test]
