@@ -84,7 +84,7 @@
 //! are assumptions of the order of a 35 mm can motor (a 60 g rotor of
 //! 13 mm radius: ½·0.060·0.013² = 5.1·10⁻⁶ kg·m²), fields to set from a
 //! measurement; they give τ_e = L/R = 0.46 ms and the mechanical time
-//! constant τ_m = J·R / (k_t·k_e + R·b) = 0.098 s.
+//! constant τ_m = J·R / (k_t·k_e + R·b) = 0.107 s.
 
 use drivers::dc_motor::Output;
 

@@ -1,10 +1,10 @@
 //! Simulation of a suntracker's world: the mount and its axes, the
 //! attitude sensors, a continuous-rotation servo and its quadrature
 //! encoder, DC gear motors on H-bridges with their Hall encoders and
-//! current sense, linear actuators, GPS and RTC streams, weather and operator scenarios,
-//! and the sun-position workload of the speed benches. `no_std`: the host
-//! tests and tools use it, and so does the QEMU board image, whose emulated
-//! chip has no motors or sensors of its own.
+//! current sense, linear actuators, GPS and RTC streams, weather and
+//! operator scenarios, and the sun-position workload of the speed benches.
+//! `no_std`: the host tests and tools use it, and so does the QEMU board
+//! image, whose emulated chip has no motors or sensors of its own.
 #![no_std]
 #![forbid(unsafe_code)]
 
