@@ -189,6 +189,29 @@ impl MotorSpec {
         Self::from_figures(&POLOLU_37D_131_12V, 1.0e-3, 5.0e-6)
     }
 
+    /// The same motor driving through a further stage, e.g. the worm of a
+    /// slew drive: ratios multiply, efficiencies multiply. Ratios that are
+    /// not finite and positive, and efficiencies outside 0..1, leave the
+    /// spec unchanged. (No slew-drive preset: no published ratio and
+    /// efficiency of one were at hand; take them from its data sheet.)
+    pub fn with_output_stage(mut self, ratio: f64, efficiency: f64) -> Self {
+        if ratio.is_finite() && ratio > 0.0 && (0.0..=1.0).contains(&efficiency) {
+            self.gear_ratio *= ratio;
+            self.gear_efficiency *= efficiency;
+        }
+        self
+    }
+
+    /// Adds a load inertia at the output (the axis and its panels),
+    /// reflected to the motor shaft as `J_out / N²`. Non-finite or negative
+    /// values leave the spec unchanged.
+    pub fn with_output_inertia_kg_m2(mut self, output_kg_m2: f64) -> Self {
+        if output_kg_m2.is_finite() && output_kg_m2 >= 0.0 && self.gear_ratio > 0.0 {
+            self.inertia_kg_m2 += output_kg_m2 / (self.gear_ratio * self.gear_ratio);
+        }
+        self
+    }
+
     /// Stall current at full duty, `V / R`, A.
     pub fn stall_current_a(&self) -> f64 {
         self.supply_v / self.resistance_ohm
@@ -730,6 +753,30 @@ mod tests {
             / (s.k_t_nm_a * s.k_e_v_s_rad + s.viscous_nm_s_rad * s.resistance_ohm);
         assert!(close(m.current_a(), want, 0.002));
         assert!(m.motor_speed_rad_s() > 0.0);
+    }
+
+    #[test]
+    fn a_further_stage_divides_the_speed_and_multiplies_the_torque() {
+        let base = MotorSpec::pololu_37d_131_12v();
+        // A 60:1 stage of 40 % efficiency after the gearbox (illustrative
+        // worm figures, not a product's).
+        let s = base.with_output_stage(60.0, 0.4);
+        assert!(close(s.gear_ratio, 131.25 * 60.0, 1e-12));
+        assert!(close(
+            s.output_stall_torque_nm(),
+            45.0 * NM_PER_KGF_CM * 24.0,
+            1e-9
+        ));
+        let mut m = DcMotor::new(s);
+        m.set_output(FULL);
+        m.run_for(1.0, DEFAULT_STEP_S);
+        // 10,000 rpm / 7,875 = 1.27 rpm at the output.
+        assert!(close(m.output_speed_rpm(), 10_000.0 / 7_875.0, 0.002));
+        // An axis of 50 kg·m² adds 50 / 7,875² = 8.06·10⁻⁷ kg·m² at the motor.
+        let j = s.with_output_inertia_kg_m2(50.0).inertia_kg_m2;
+        assert!(close(j - s.inertia_kg_m2, 50.0 / (7_875.0 * 7_875.0), 1e-9));
+        assert_eq!(base.with_output_stage(f64::NAN, 0.5), base);
+        assert_eq!(base.with_output_stage(10.0, 1.5), base);
     }
 
     #[test]
