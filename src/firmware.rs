@@ -883,17 +883,19 @@ where
         // homing waits: an axis with no reference is jogged from where it
         // stands (`nudge` refuses an axis that has its reference).
         let nudged = !c.homing_allowed() && c.nudge(axis, deg);
-        let axes = c.axes();
+        // Each axis's count read once for both answers.
+        let [c_axis, a_axis] = c.axes();
+        let (c_deg, a_deg) = (c_axis.counted_deg(), a_axis.counted_deg());
         if nudged {
             return Jogged {
-                c_deg: axes[0].counted_deg(),
-                a_deg: axes[1].counted_deg(),
+                c_deg,
+                a_deg,
                 limited: false,
             };
         }
         let counted = Pose {
-            gamma_deg: T::from_f32(axes[0].counted_deg()),
-            alpha_deg: T::from_f32(axes[1].counted_deg()),
+            gamma_deg: T::from_f32(c_deg),
+            alpha_deg: T::from_f32(a_deg),
         };
         let mut pose = c.manual_pose().unwrap_or(counted);
         let limits = &c.config().axes;
