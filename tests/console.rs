@@ -9,7 +9,7 @@ use sun_algos::UtcTime;
 use suntracker::config::Config;
 use suntracker::console::{
     self, apply_set, Command, Decimal, Key, LineBuffer, LineError, NumberError, Outcome,
-    ParseError, RxRing, SetError, StatusView, Value, KEYS, LINE_LEN,
+    ParseError, RxRing, SetError, StatusView, TimeSetError, Value, KEYS, LINE_LEN,
 };
 use suntracker::log::SiteSource;
 use suntracker::persist::{Loaded, MemError, SaveError, SlotState};
@@ -1138,6 +1138,22 @@ fn fault_time_save_and_load_replies() {
     assert_eq!(
         out.take(),
         "ok utc=2026-03-20T06:30:05Z\nerror time set: GPS time is in force\n"
+    );
+    // Every refusal of `time set`, each its own text (TimeSetError's docs).
+    for e in [
+        TimeSetError::GpsInForce,
+        TimeSetError::RtcFailed,
+        TimeSetError::OutOfRange,
+        TimeSetError::OutsideWindow,
+    ] {
+        console::write_time_error(&mut out, e);
+    }
+    assert_eq!(
+        out.take(),
+        "error time set: GPS time is in force\n\
+         error time set: the RTC did not answer\n\
+         error time set: outside the RTC's range\n\
+         error time set: outside this firmware's dates\n"
     );
     console::write_saved::<MemError>(&mut out, &Ok(()));
     console::write_saved(&mut out, &Err(SaveError::<MemError>::Invalid));

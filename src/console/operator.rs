@@ -4,8 +4,8 @@
 use super::config_commands::{run_config, Outcome};
 use super::parse::{names, parse, Command, ParseError};
 use super::reply::{
-    write_error, write_field_error, write_loaded, write_ok, write_parse_error, write_saved,
-    write_time_error, write_time_set,
+    time_error_text, write_error, write_field_error, write_loaded, write_ok, write_parse_error,
+    write_saved, write_time_set,
 };
 use super::status::{write_status, StatusView};
 use crate::config::Config;
@@ -208,19 +208,26 @@ pub fn execute(op: &mut dyn Operator, line: &str) -> Executed {
         }
         Outcome::Pass(cmd) => cmd,
     };
-    match cmd {
+    // The commands answered `ok NAME` or `error TEXT` at the end, by one
+    // call of each writer (a pair of calls in each arm cost more on the
+    // ATmega2560).
+    let reply = match cmd {
         Command::Status => {
             let view = op.status();
             write_status(op.out(), &view);
+            return Executed::Done;
         }
-        Command::Faults => op.write_faults(),
+        Command::Faults => {
+            op.write_faults();
+            return Executed::Done;
+        }
         Command::Save => match op.begin_save(&config) {
             Some(Ok(())) => return Executed::SaveStarted,
-            Some(Err(e)) => write_saved(op.out(), &Err(e)),
-            None => write_error(
-                op.out(),
-                crate::flash_str!("save: no storage on this board"),
-            ),
+            Some(Err(e)) => {
+                write_saved(op.out(), &Err(e));
+                return Executed::Done;
+            }
+            None => Err(crate::flash_str!("save: no storage on this board")),
         },
         Command::Load => match op.load() {
             Some(loaded) => {
@@ -228,15 +235,16 @@ pub fn execute(op: &mut dyn Operator, line: &str) -> Executed {
                 if !loaded.defaults {
                     put_into_effect(op, loaded.config);
                 }
+                return Executed::Done;
             }
-            None => write_error(
-                op.out(),
-                crate::flash_str!("load: no storage on this board"),
-            ),
+            None => Err(crate::flash_str!("load: no storage on this board")),
         },
         Command::TimeSet(t) => match op.set_time(&t) {
-            Ok(()) => write_time_set(op.out(), &t),
-            Err(e) => write_time_error(op.out(), e),
+            Ok(()) => {
+                write_time_set(op.out(), &t);
+                return Executed::Done;
+            }
+            Err(e) => Err(time_error_text(e)),
         },
         Command::Stow | Command::Resume | Command::ManualOff | Command::Service(_) => {
             let before = op.hold();
@@ -268,17 +276,14 @@ pub fn execute(op: &mut dyn Operator, line: &str) -> Executed {
         }
         Command::Home => {
             if op.home() {
-                write_ok(op.out(), names::HOME);
+                Ok(names::HOME)
             } else {
-                write_error(
-                    op.out(),
-                    crate::flash_str!("home: no home switches on this board"),
-                );
+                Err(crate::flash_str!("home: no home switches on this board"))
             }
         }
         Command::Clear => {
             op.clear();
-            write_ok(op.out(), names::CLEAR);
+            Ok(names::CLEAR)
         }
         Command::Jog(axis, deg) => {
             let before = op.hold();
@@ -302,7 +307,11 @@ pub fn execute(op: &mut dyn Operator, line: &str) -> Executed {
         | Command::Set(..)
         | Command::SetMany(_)
         | Command::SetPostalCode(_)
-        | Command::Defaults => {}
+        | Command::Defaults => return Executed::Done,
+    };
+    match reply {
+        Ok(name) => write_ok(op.out(), name),
+        Err(text) => write_error(op.out(), text),
     }
     Executed::Done
 }

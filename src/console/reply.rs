@@ -162,25 +162,28 @@ pub fn write_time_set(out: &mut dyn Sink, t: &UtcTime) {
 /// The reply to `time set` while GPS time is trusted:
 /// `error time set: GPS time is in force`.
 pub fn write_time_refused(out: &mut dyn Sink) {
-    write_error(out, crate::flash_str!("time set: GPS time is in force"));
+    write_error(out, GPS_IN_FORCE);
 }
+
+/// The text of [`write_time_refused`] (one copy).
+const GPS_IN_FORCE: FlashStr = crate::flash_str!("time set: GPS time is in force");
 
 /// The reply to a refused `time set`: `error time set: GPS time is in
 /// force`, `… the RTC did not answer`, `… outside the RTC's range`, `…
 /// outside this firmware's dates`.
 pub fn write_time_error(out: &mut dyn Sink, e: TimeSetError) {
+    write_error(out, time_error_text(e));
+}
+
+/// The text of [`write_time_error`]'s line, after `error `.
+pub(super) fn time_error_text(e: TimeSetError) -> FlashStr {
     match e {
-        TimeSetError::GpsInForce => write_time_refused(out),
-        TimeSetError::RtcFailed => {
-            write_error(out, crate::flash_str!("time set: the RTC did not answer"))
+        TimeSetError::GpsInForce => GPS_IN_FORCE,
+        TimeSetError::RtcFailed => crate::flash_str!("time set: the RTC did not answer"),
+        TimeSetError::OutOfRange => crate::flash_str!("time set: outside the RTC's range"),
+        TimeSetError::OutsideWindow => {
+            crate::flash_str!("time set: outside this firmware's dates")
         }
-        TimeSetError::OutOfRange => {
-            write_error(out, crate::flash_str!("time set: outside the RTC's range"))
-        }
-        TimeSetError::OutsideWindow => write_error(
-            out,
-            crate::flash_str!("time set: outside this firmware's dates"),
-        ),
     }
 }
 
