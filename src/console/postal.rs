@@ -1,7 +1,7 @@
 //! `set site.postal_code CC:CODE`: the site from the built-in postal-code
 //! table.
 
-use super::set::SetError;
+use super::set::{commit, SetError};
 use super::words::{split_at_byte, trim_blank};
 use crate::config::Config;
 use crate::site::key::MAX_CODE_LEN;
@@ -22,8 +22,8 @@ pub fn apply_postal_code(config: &mut Config, text: &str) -> Result<PostalEntry,
     let mut copy = *config;
     copy.site.latitude_deg = entry.latitude_deg::<f32>();
     copy.site.longitude_deg = entry.longitude_deg::<f32>();
-    copy.validate().map_err(SetError::Invalid)?;
-    *config = copy;
+    // Validated and kept as a `set` is (one copy of that step).
+    commit(config, copy, None)?;
     Ok(entry)
 }
 

@@ -90,7 +90,11 @@ pub fn apply_assignments(config: &mut Config, set: &Assignments<'_>) -> Result<(
 
 /// Stores `copy` if it is valid and no value had to be clipped to its
 /// field's type (`clipped` names such a key).
-fn commit(config: &mut Config, copy: Config, clipped: Option<Key>) -> Result<(), SetError> {
+pub(super) fn commit(
+    config: &mut Config,
+    copy: Config,
+    clipped: Option<Key>,
+) -> Result<(), SetError> {
     copy.validate().map_err(SetError::Invalid)?;
     if let Some(key) = clipped {
         return Err(SetError::OutOfRange(key));
