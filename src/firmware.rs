@@ -713,9 +713,14 @@ where
                 ok_when_saved,
             } => match self.begin_hold_save(platform) {
                 Some(Ok(())) => self.saving = Some(done),
-                Some(Err(e)) => console::write_hold_saved(&mut self.log, name, true, &Err(e)),
-                None if ok_when_saved => console::write_ok(&mut self.log, name),
-                None => {}
+                // A save that failed to start, or no storage (then the
+                // reply of a save that succeeded: `ok NAME` or nothing).
+                r => console::write_hold_saved(
+                    &mut self.log,
+                    name,
+                    ok_when_saved,
+                    &r.unwrap_or(Ok(())),
+                ),
             },
         }
     }
