@@ -414,14 +414,14 @@ where
         };
         match self.gps.service(stamp_ms) {
             Ok(fix) => self.fix = fix,
-            Err(_) => self.stats.gps_errors = self.stats.gps_errors.saturating_add(1),
+            Err(_) => count_one(&mut self.stats.gps_errors),
         }
         // The drives' microseconds from the board's 64-bit count: they
         // never wrap.
         let now_us = us_from_ms(board_ms);
         for ax in self.controller.axes_mut().iter_mut() {
             if !ax.drive_mut().service(now_us) {
-                self.stats.drive_errors = self.stats.drive_errors.saturating_add(1);
+                count_one(&mut self.stats.drive_errors);
             }
         }
         self.service_console(platform);
@@ -432,7 +432,7 @@ where
         if due {
             if let Some(t) = self.next_tick_ms {
                 if monotonic::elapsed_ms(now_ms, t) > tick_ms {
-                    self.stats.late_ticks = self.stats.late_ticks.saturating_add(1);
+                    count_one(&mut self.stats.late_ticks);
                 }
             }
             let pulses = platform.take_wind_pulses();
@@ -458,7 +458,7 @@ where
         self.last_tick_ms = now_ms;
         self.last_wind_hz = (interval_ms > 0 && self.stats.ticks > 0)
             .then(|| wind_pulses as f32 * 1000.0 / interval_ms as f32);
-        self.stats.ticks = self.stats.ticks.saturating_add(1);
+        count_one(&mut self.stats.ticks);
         let rejected_before = self.time.rejected_epochs();
         let mut status = self.time.update(&self.fix, now_ms);
         if status.origin == Some(TimeOrigin::Gps) {
@@ -626,7 +626,7 @@ where
             return;
         }
         self.last_setpoint = Some(entry.time);
-        self.stats.setpoints = self.stats.setpoints.saturating_add(1);
+        count_one(&mut self.stats.setpoints);
         log::setpoint(
             &mut self.log,
             &entry.time,
@@ -926,6 +926,14 @@ where
     }
 }
 
+/// One more in a counter of [`Stats`], saturating. Out of line on the
+/// AVR: a 32-bit saturating increment in line at each of the loop's
+/// counters cost more on the ATmega2560 than a call.
+#[cfg_attr(target_arch = "avr", inline(never))]
+fn count_one(counter: &mut u32) {
+    *counter = counter.saturating_add(1);
+}
+
 /// `ms × 1000`, saturating: by shifts, an addition and a subtraction,
 /// `1000 = (128 − 4 + 1) · 8`. On an 8-bit AVR a 64-bit product is a library call of some 1,500
 /// cycles, and the main loop converts its clock once a pass (every
@@ -941,7 +949,19 @@ fn us_from_ms(ms: u64) -> u64 {
 
 #[cfg(test)]
 mod tests {
-    use super::us_from_ms;
+    use super::{count_one, us_from_ms};
+
+    #[test]
+    fn a_counter_counts_one_and_stops_at_its_maximum() {
+        let mut c = 0u32;
+        count_one(&mut c);
+        assert_eq!(c, 1);
+        let mut c = u32::MAX - 1;
+        count_one(&mut c);
+        assert_eq!(c, u32::MAX);
+        count_one(&mut c);
+        assert_eq!(c, u32::MAX);
+    }
 
     #[test]
     fn microseconds_are_the_product_saturated() {
