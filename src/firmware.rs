@@ -442,7 +442,14 @@ where
         }
         // Fed only while ticks come on time: a pass that hangs, or ticks
         // that stop, let the watchdog reset the chip.
-        let watchdog_ms = tick_ms.saturating_mul(3);
+        // Three tick periods, saturating: one 32-bit product after a
+        // comparison (`saturating_mul` made a 64-bit product of two library
+        // calls on the AVR).
+        let watchdog_ms = if tick_ms > u32::MAX / 3 {
+            u32::MAX
+        } else {
+            tick_ms.wrapping_mul(3)
+        };
         if monotonic::elapsed_ms(now_ms, self.last_tick_ms) <= watchdog_ms {
             platform.feed_watchdog();
         }
