@@ -916,7 +916,16 @@ where
             AxisId::A => (&mut pose.alpha_deg, &limits[1]),
         };
         let moved = slot.to_f32() + deg;
-        let clamped = moved.max(lim.min_deg).min(lim.max_deg);
+        // Within [min_deg, max_deg] (min_deg < max_deg: the configuration
+        // is validated): the lower bound by a comparison, which gives what
+        // `moved.max(min_deg)` gives, a value that is not a number included
+        // (then min_deg). `f32::max` linked a library function that only
+        // this used (138 B on the ATmega2560).
+        let clamped = if moved >= lim.min_deg {
+            moved.min(lim.max_deg)
+        } else {
+            lim.min_deg
+        };
         *slot = T::from_f32(clamped);
         c.manual(Some(pose));
         Jogged {
