@@ -950,17 +950,16 @@ fn count_one(counter: &mut u32) {
     *counter = counter.saturating_add(1);
 }
 
-/// `ms × 1000`, saturating: by shifts, an addition and a subtraction,
-/// `1000 = (128 − 4 + 1) · 8`. On an 8-bit AVR a 64-bit product is a library call of some 1,500
-/// cycles, and the main loop converts its clock once a pass (every
-/// millisecond); shifts by constants are register moves.
+/// `ms × 1000`, saturating at `u64::MAX`: the range test, then one
+/// product that cannot overflow. (A `u64::saturating_mul` would check a
+/// 128-bit product; shifts and adds, tried once, were folded back by LLVM
+/// into the same 64-bit product, `__muldi3` on the AVR.)
 fn us_from_ms(ms: u64) -> u64 {
     if ms > u64::MAX / 1000 {
         return u64::MAX;
     }
-    // ms ≤ (2^64 − 1) / 1000 < 2^55: ms·128 fits, ms·125 ≤ ms·128, and
-    // ms·125·8 = ms·1000 fits by the test above.
-    ((ms << 7) - (ms << 2) + ms) << 3
+    // ms ≤ ⌊(2^64 − 1) / 1000⌋, so ms·1000 ≤ 2^64 − 1.
+    ms * 1000
 }
 
 #[cfg(test)]
