@@ -8,6 +8,7 @@
 //! | [`GpsPort`] | — (feeds [`crate::time`]) | [`drivers::gps::GpsReader`] |
 //! | [`MountSensorsHw`] | [`crate::ports::AttitudeSensor`] | a tilt sensor ([`AxisAngles`]: ADXL345, WitMotion inclinometer) + any [`drivers::compass::Magnetometer`] |
 //! | [`ServoAxis`] | [`crate::motion::AxisDrive`] | [`drivers::servo::ContinuousServo`] + a quadrature encoder ([`EncoderCount`]) + home switch |
+//! | [`DcAxis`] | [`crate::motion::AxisDrive`] | [`drivers::dc_motor::DcMotor`] (BTS7960, L298N) + a Hall count ([`HallCount`]) + home switch + optional current sense ([`MotorCurrent`]) |
 //! | [`StepperAxis`] | [`crate::motion::AxisDrive`] | [`drivers::stepper::hbridge::HBridgeStepper`] + home switch |
 //!
 //! Time and site fallbacks (GPS, then RTC, then the stored site or a postal
@@ -15,6 +16,7 @@
 
 mod attitude;
 mod axis;
+mod dc_axis;
 mod gps;
 mod rtc;
 mod servo_axis;
@@ -23,6 +25,10 @@ pub use attitude::{
     AccelTiltError, AxisAngles, EitherTilt, EitherTiltError, MountSensorError, MountSensorsHw,
 };
 pub use axis::{StepperAxis, StepperAxisError};
+pub use dc_axis::{
+    DcAxis, DcAxisConfig, DcAxisConfigError, DcAxisError, DcFault, DcState, HallCount,
+    MotorCurrent, NoCurrentSense, MAX_LEAD_MS, MIN_LEARN_SPEED_CPS, SPEED_WINDOW_MS,
+};
 pub use gps::GpsPort;
 pub use rtc::{ClockError, RtcClock};
 pub use servo_axis::{EncoderCount, ServoAxis, ServoAxisError};

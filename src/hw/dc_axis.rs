@@ -1,0 +1,697 @@
+//! [`AxisDrive`] over a brushed DC gear motor on an H-bridge
+//! ([`drivers::dc_motor::DcMotor`]: the Infineon BTS7960 pair of the IBT-2
+//! module or the ST L298N) with a Hall encoder on the motor shaft, and an
+//! optional current sense (the BTS7960's IS pin,
+//! [`drivers::dc_motor::bts7960::CurrentSense`]).
+//!
+//! Counts are Hall counts ([`HallCount`], usually kept by an interrupt). Like
+//! the servo axis it never blocks: [`AxisDrive::move_counts`] moves the
+//! target, and the main loop calls [`DcAxis::poll`] every pass (about every
+//! millisecond), which runs the position loop:
+//!
+//! * farther than [`DcAxisConfig::slow_band_counts`] from the target, the
+//!   motor is commanded [`DcAxisConfig::max_duty_permille`]; inside the band
+//!   the duty falls linearly to [`DcAxisConfig::min_duty_permille`] at the
+//!   target. The driver's duty ramp ([`drivers::dc_motor::DutyRamp`]) makes
+//!   every change of duty a soft start or a soft stop.
+//! * A gear motor runs on after its bridge brakes (the rotor's inertia
+//!   against the short-circuit braking torque: a distance proportional to
+//!   the speed). The loop brakes as soon as the remaining distance is at
+//!   most `speed × lead`, where the lead (ms) starts at
+//!   [`DcAxisConfig::brake_lead_ms`] and is re-measured after every stop
+//!   (overrun counts / speed at the brake), so the axis comes to rest on the
+//!   target instead of passing it and hunting back. The prediction is taken
+//!   an eighth long: a stop errs short, and the rest of the way is a slow
+//!   re-approach in the same direction, never a reversal.
+//! * Once the counts have stood still for [`DcAxisConfig::settle_ms`], a
+//!   stop farther than [`DcAxisConfig::deadband_counts`] from the target is
+//!   re-approached slowly (at most [`DcAxisConfig::max_reapproaches`]
+//!   times); then the axis rests, braked.
+//!
+//! The motor is watched with the drivers' [`drivers::hall::StallWatch`]:
+//! driven with no count for [`DcAxisConfig::stall_ms`] is a
+//! [`DcFault::Stall`]; more than [`DcAxisConfig::max_idle_counts`] counts
+//! while resting is [`DcFault::UnexpectedMotion`] (a back-driven axis). With
+//! a current sense, a current above [`DcAxisConfig::max_current_ma`] for
+//! [`DcAxisConfig::overcurrent_ms`] while driven is [`DcFault::Overcurrent`]
+//! (an obstruction: a blocked rotor draws its stall current, `V / R`). A
+//! stall or an overcurrent brakes the motor, is returned once by `poll` as
+//! [`DcAxisError::Fault`], and stays latched ([`DcAxis::fault`]; moves are
+//! refused) until [`DcAxis::clear_fault`]. Unexpected motion is returned
+//! once per rest and not latched; the target becomes the count where it
+//! was seen (the axis does not fight the load on its own: correcting is the
+//! controller's decision, from [`AxisDrive::encoder_deg`]).
+//!
+//! The home switch works as in [`super::ServoAxis`]: every
+//! [`AxisDrive::at_limit`] that finds it closed takes the count there as the
+//! switch angle, so [`AxisDrive::encoder_deg`] is `home_deg + (count −
+//! count_at_switch) / counts_per_deg`; motion toward the switch (negative
+//! counts) stops when it closes.
+//!
+//! Times are the monotonic `u32` millisecond counter; differences wrap with
+//! it (every 49.7 days).
+
+use core::convert::Infallible;
+
+use drivers::adc::AdcChannel;
+use drivers::dc_motor::bts7960::{CurrentSense, SenseError};
+use drivers::dc_motor::{Bridge, DcMotor, Direction, Error as MotorError, Output};
+use drivers::encoder::SharedEncoder;
+use drivers::hall::{HallConfig, StallWatch, Watch};
+use embedded_hal::digital::InputPin;
+
+use crate::config::AxisConfig;
+use crate::motion::AxisDrive;
+
+/// Something that counts the Hall edges of the motor shaft (usually
+/// updated by an interrupt), signed: positive = forward.
+pub trait HallCount {
+    /// Counts so far.
+    fn count(&self) -> i32;
+}
+
+impl HallCount for SharedEncoder {
+    fn count(&self) -> i32 {
+        SharedEncoder::count(self)
+    }
+}
+
+#[cfg(target_has_atomic = "32")]
+impl HallCount for drivers::encoder::AtomicEncoder {
+    fn count(&self) -> i32 {
+        drivers::encoder::AtomicEncoder::count(self)
+    }
+}
+
+/// A motor-current reading, mA (magnitude).
+pub trait MotorCurrent {
+    /// Conversion error.
+    type Error;
+    /// One reading of the motor current, mA.
+    fn current_ma(&mut self) -> Result<u32, Self::Error>;
+}
+
+impl<A: AdcChannel> MotorCurrent for CurrentSense<A> {
+    type Error = SenseError<A::Error>;
+    fn current_ma(&mut self) -> Result<u32, Self::Error> {
+        CurrentSense::current_ma(self)
+    }
+}
+
+/// The sensor type of an axis without current sense (pass `None`); it
+/// reads 0 mA.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
+pub struct NoCurrentSense;
+
+impl MotorCurrent for NoCurrentSense {
+    type Error = Infallible;
+    fn current_ma(&mut self) -> Result<u32, Infallible> {
+        Ok(0)
+    }
+}
+
+/// A motor fault seen by [`DcAxis::poll`].
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum DcFault {
+    /// Driven, but no Hall count for `stall_ms` (jammed axis, failed
+    /// sensor, open motor lead).
+    Stall,
+    /// Current above `max_current_ma` for `overcurrent_ms` while driven (an
+    /// obstruction).
+    Overcurrent,
+    /// More than `max_idle_counts` counts while resting (back-driven axis).
+    UnexpectedMotion,
+}
+
+/// Errors of a DC axis.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum DcAxisError<PE, NE, HE, CE> {
+    /// The bridge refused a write.
+    Motor(MotorError<PE, NE>),
+    /// The home switch could not be read.
+    Switch(HE),
+    /// The current sense could not be read.
+    Sense(CE),
+    /// A motor fault (returned once by `poll`; stall and overcurrent also
+    /// refuse moves until cleared).
+    Fault(DcFault),
+}
+
+/// Which [`DcAxisConfig`] field is unusable.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum DcAxisConfigError {
+    /// `max_duty_permille` is 0 or above 1000, or `min_duty_permille` above it.
+    Duty,
+    /// `deadband_counts` is 0 or above 1,000,000, or `slow_band_counts` is
+    /// not above it or above 100,000,000.
+    Band,
+    /// `brake_lead_ms` above [`MAX_LEAD_MS`].
+    BrakeLead,
+    /// `settle_ms` is 0 or above 10,000.
+    Settle,
+    /// `stall_ms` is 0 or above 600,000.
+    Stall,
+    /// `drive_threshold_permille` is not below `min_duty_permille`: a slow
+    /// approach would never count as driven.
+    DriveThreshold,
+    /// `max_current_ma` is 0, or `overcurrent_ms` above 600,000.
+    Current,
+}
+
+/// Longest stopping lead, ms (a motor that runs on longer than two seconds
+/// after a brake is not one this loop can place).
+pub const MAX_LEAD_MS: u32 = 2_000;
+
+/// Interval of the speed estimate, ms: counts over at least this long.
+pub const SPEED_WINDOW_MS: u32 = 8;
+
+/// Slowest speed at a brake that re-measures the lead, counts/s: below it
+/// the overrun is a count or two and says nothing about the lead.
+pub const MIN_LEARN_SPEED_CPS: u32 = 200;
+
+/// Position loop and watch settings of one DC axis.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct DcAxisConfig {
+    /// Duty far from the target, ‰ (1..=1000).
+    pub max_duty_permille: u16,
+    /// Duty at the target end of the slow band, ‰ (≤ `max_duty_permille`):
+    /// enough to turn the loaded gear.
+    pub min_duty_permille: u16,
+    /// Distance over which the duty falls from max to min, counts.
+    pub slow_band_counts: u32,
+    /// A stop this close to the target is done, counts (≥ 1).
+    pub deadband_counts: u32,
+    /// First estimate of the run-on after a brake, ms of the present speed
+    /// (re-measured at every stop; ≈ the mechanical time constant of the
+    /// motor under short-circuit braking).
+    pub brake_lead_ms: u32,
+    /// Standstill time that ends a stop, ms.
+    pub settle_ms: u32,
+    /// Slow re-approaches after a stop outside the deadband.
+    pub max_reapproaches: u8,
+    /// Driven with no count this long is a stall, ms.
+    pub stall_ms: u32,
+    /// The motor counts as driven above this duty, ‰ (< `min_duty_permille`).
+    pub drive_threshold_permille: u16,
+    /// Counts tolerated while resting, beyond which the motion is
+    /// unexpected.
+    pub max_idle_counts: u32,
+    /// Current limit while driven, mA (with a current sense).
+    pub max_current_ma: u32,
+    /// Time above `max_current_ma` that is an overcurrent, ms.
+    pub overcurrent_ms: u32,
+}
+
+impl DcAxisConfig {
+    /// Checks every field (see [`DcAxisConfigError`]).
+    pub fn validate(&self) -> Result<(), DcAxisConfigError> {
+        if self.max_duty_permille == 0
+            || self.max_duty_permille > 1_000
+            || self.min_duty_permille > self.max_duty_permille
+        {
+            return Err(DcAxisConfigError::Duty);
+        }
+        if self.deadband_counts == 0
+            || self.deadband_counts > 1_000_000
+            || self.slow_band_counts <= self.deadband_counts
+            || self.slow_band_counts > 100_000_000
+        {
+            return Err(DcAxisConfigError::Band);
+        }
+        if self.brake_lead_ms > MAX_LEAD_MS {
+            return Err(DcAxisConfigError::BrakeLead);
+        }
+        if self.settle_ms == 0 || self.settle_ms > 10_000 {
+            return Err(DcAxisConfigError::Settle);
+        }
+        if self.stall_ms == 0 || self.stall_ms > 600_000 {
+            return Err(DcAxisConfigError::Stall);
+        }
+        if self.drive_threshold_permille >= self.min_duty_permille {
+            return Err(DcAxisConfigError::DriveThreshold);
+        }
+        if self.max_current_ma == 0 || self.overcurrent_ms > 600_000 {
+            return Err(DcAxisConfigError::Current);
+        }
+        Ok(())
+    }
+}
+
+/// What the position loop is doing.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum DcState {
+    /// Resting, braked. `reported`: unexpected motion already returned.
+    Idle {
+        /// Unexpected motion was returned during this rest.
+        reported: bool,
+    },
+    /// A new target: the next `poll` starts the approach.
+    Starting,
+    /// Driving toward the target.
+    Driving {
+        /// +1 forward, −1 backward.
+        dir: i8,
+    },
+    /// Braked, waiting for the counts to stand still.
+    Stopping {
+        /// A stop outside the deadband may be re-approached.
+        may_reapproach: bool,
+    },
+    /// Stopped by a fault; moves refused until [`DcAxis::clear_fault`].
+    Faulted(DcFault),
+}
+
+/// One tracker axis on a DC gear motor with a Hall encoder; counts are Hall
+/// counts (`AxisConfig::counts_per_motor_rev` = Hall counts per motor
+/// revolution, `microsteps` = 1, `gear_ratio` = all stages).
+pub struct DcAxis<'a, B: Bridge, E, H, C> {
+    motor: DcMotor<B>,
+    hall: &'a E,
+    home: H,
+    home_active_low: bool,
+    sense: Option<C>,
+    config: DcAxisConfig,
+    /// A fresh watch (copied in at every start and rest).
+    watch_new: StallWatch,
+    watch: StallWatch,
+    state: DcState,
+    target: i32,
+    approaches: u8,
+    last_count: i32,
+    /// Count and time the speed window started at.
+    speed_ref: (i32, u32),
+    speed_cps: i32,
+    lead_ms: u32,
+    /// Count and speed at the last brake of an approach.
+    brake_at: Option<(i32, i32)>,
+    /// Time the counts last changed (while stopping).
+    still_since_ms: u32,
+    over_since_ms: Option<u32>,
+    count_at_switch: Option<i32>,
+    home_deg: f32,
+    counts_per_deg: f32,
+}
+
+impl<B: Bridge, E, H, C> core::fmt::Debug for DcAxis<'_, B, E, H, C> {
+    fn fmt(&self, f: &mut core::fmt::Formatter<'_>) -> core::fmt::Result {
+        f.debug_struct("DcAxis")
+            .field("state", &self.state)
+            .field("target", &self.target)
+            .field("last_count", &self.last_count)
+            .field("speed_cps", &self.speed_cps)
+            .field("lead_ms", &self.lead_ms)
+            .field("output", &self.motor.output())
+            .finish_non_exhaustive()
+    }
+}
+
+type AxisErr<B, H, C> = DcAxisError<
+    <B as Bridge>::PwmError,
+    <B as Bridge>::PinError,
+    <H as embedded_hal::digital::ErrorType>::Error,
+    <C as MotorCurrent>::Error,
+>;
+
+impl<'a, B, E, H, C> DcAxis<'a, B, E, H, C>
+where
+    B: Bridge,
+    E: HallCount,
+    H: InputPin,
+    C: MotorCurrent,
+{
+    /// An axis resting at its present count. `axis` gives the switch angle
+    /// and the counts per degree; `sense` is the current sense, if fitted.
+    pub fn new(
+        motor: DcMotor<B>,
+        hall: &'a E,
+        home: H,
+        home_active_low: bool,
+        sense: Option<C>,
+        config: DcAxisConfig,
+        axis: &AxisConfig,
+    ) -> Result<Self, DcAxisConfigError> {
+        config.validate()?;
+        let watch = StallWatch::new(HallConfig {
+            stall_ms: config.stall_ms,
+            drive_threshold_permille: config.drive_threshold_permille,
+            max_idle_pulses: config.max_idle_counts,
+        })
+        .map_err(|_| DcAxisConfigError::Stall)?;
+        let cpd = axis.counts_per_deg();
+        let count = hall.count();
+        Ok(DcAxis {
+            motor,
+            hall,
+            home,
+            home_active_low,
+            sense,
+            config,
+            watch_new: watch,
+            watch,
+            state: DcState::Idle { reported: false },
+            target: count,
+            approaches: 0,
+            last_count: count,
+            speed_ref: (count, 0),
+            speed_cps: 0,
+            lead_ms: config.brake_lead_ms,
+            brake_at: None,
+            still_since_ms: 0,
+            over_since_ms: None,
+            count_at_switch: None,
+            home_deg: axis.home_deg,
+            counts_per_deg: if cpd.is_finite() && cpd > 0.0 {
+                cpd
+            } else {
+                1.0
+            },
+        })
+    }
+
+    fn switch_closed(&mut self) -> Result<bool, AxisErr<B, H, C>> {
+        let high = self.home.is_high().map_err(DcAxisError::Switch)?;
+        let closed = high != self.home_active_low;
+        if closed {
+            self.count_at_switch = Some(self.hall.count());
+        }
+        Ok(closed)
+    }
+
+    /// Brakes and waits for standstill; `may_reapproach` lets a stop outside
+    /// the deadband be corrected.
+    fn brake(&mut self, now_ms: u32, may_reapproach: bool) -> Result<(), AxisErr<B, H, C>> {
+        self.motor.brake().map_err(DcAxisError::Motor)?;
+        self.watch.set_drive(0, now_ms);
+        self.still_since_ms = now_ms;
+        self.state = DcState::Stopping { may_reapproach };
+        Ok(())
+    }
+
+    /// Brakes, latches `fault` and returns it.
+    fn trip(&mut self, fault: DcFault, count: i32) -> Result<Output, AxisErr<B, H, C>> {
+        self.target = count;
+        self.brake_at = None;
+        self.state = DcState::Faulted(fault);
+        self.motor.brake().map_err(DcAxisError::Motor)?;
+        Err(DcAxisError::Fault(fault))
+    }
+
+    fn rest(&mut self, now_ms: u32) {
+        self.watch = self.watch_new;
+        self.watch.set_drive(0, now_ms);
+        self.state = DcState::Idle { reported: false };
+    }
+
+    /// Counts/s over the last window of at least [`SPEED_WINDOW_MS`].
+    fn update_speed(&mut self, count: i32, now_ms: u32) {
+        let (c0, t0) = self.speed_ref;
+        let dt = now_ms.wrapping_sub(t0);
+        if dt >= SPEED_WINDOW_MS {
+            let dc = i64::from(count) - i64::from(c0);
+            // |dc| < 2³³, · 1000 < 2⁴³: no overflow; dt ≥ 8.
+            let v = dc * 1_000 / i64::from(dt);
+            self.speed_cps = i32::try_from(v).unwrap_or(if v < 0 { i32::MIN } else { i32::MAX });
+            self.speed_ref = (count, now_ms);
+        }
+    }
+
+    /// Duty for `remaining` counts to go, ‰.
+    fn duty_for(&self, remaining: u64) -> u16 {
+        let c = &self.config;
+        let band = u64::from(c.slow_band_counts);
+        if remaining >= band {
+            return c.max_duty_permille;
+        }
+        let span = u64::from(c.max_duty_permille - c.min_duty_permille);
+        // span ≤ 1000, remaining < band ≤ 10⁸: the product is under 2⁴⁰.
+        let extra = span * remaining / band;
+        c.min_duty_permille
+            .saturating_add(u16::try_from(extra).unwrap_or(u16::MAX))
+            .min(c.max_duty_permille)
+    }
+
+    /// Counts the motor still runs after a brake at the present speed.
+    fn predicted_overrun(&self) -> u64 {
+        // |speed| ≤ 2³¹, lead ≤ 2000, · 9: under 2⁴⁷.
+        u64::from(self.speed_cps.unsigned_abs()) * u64::from(self.lead_ms) * 9 / 8_000
+    }
+
+    /// Runs the position loop and the watch once; call every main-loop pass
+    /// with the monotonic millisecond counter. Returns what the bridge now
+    /// does. A stall or overcurrent brakes the motor and is returned here
+    /// once (then [`DcAxis::fault`] keeps it); unexpected motion at rest is
+    /// returned once per rest.
+    pub fn poll(&mut self, now_ms: u32) -> Result<Output, AxisErr<B, H, C>> {
+        let count = self.hall.count();
+        let moved = count.saturating_sub(self.last_count);
+        self.last_count = count;
+        self.update_speed(count, now_ms);
+        match self.state {
+            DcState::Faulted(_) => {}
+            DcState::Idle { reported } => {
+                // Each count is a pulse; beyond the limit more make no
+                // difference.
+                let n = moved
+                    .unsigned_abs()
+                    .min(self.config.max_idle_counts.saturating_add(1));
+                for _ in 0..n {
+                    self.watch.pulse(now_ms);
+                }
+                if !reported && self.watch.check(now_ms) == Watch::UnexpectedMotion {
+                    self.state = DcState::Idle { reported: true };
+                    self.target = count;
+                    self.motor.brake().map_err(DcAxisError::Motor)?;
+                    return Err(DcAxisError::Fault(DcFault::UnexpectedMotion));
+                }
+            }
+            DcState::Starting => {
+                self.watch = self.watch_new;
+                self.speed_ref = (count, now_ms);
+                self.over_since_ms = None;
+                let e = i64::from(self.target) - i64::from(count);
+                if e.unsigned_abs() <= u64::from(self.config.deadband_counts) {
+                    self.rest(now_ms);
+                } else {
+                    self.state = DcState::Driving {
+                        dir: if e > 0 { 1 } else { -1 },
+                    };
+                    return self.drive(count, now_ms, moved);
+                }
+            }
+            DcState::Driving { .. } => return self.drive(count, now_ms, moved),
+            DcState::Stopping { may_reapproach } => {
+                if moved != 0 {
+                    self.still_since_ms = now_ms;
+                }
+                if now_ms.wrapping_sub(self.still_since_ms) >= self.config.settle_ms {
+                    self.settled(count, now_ms, may_reapproach);
+                }
+            }
+        }
+        self.motor.poll(now_ms).map_err(DcAxisError::Motor)
+    }
+
+    /// The stop is over: learn the lead, then rest or re-approach.
+    fn settled(&mut self, count: i32, now_ms: u32, may_reapproach: bool) {
+        if let Some((c0, v0)) = self.brake_at.take() {
+            let speed = u64::from(v0.unsigned_abs());
+            if speed >= u64::from(MIN_LEARN_SPEED_CPS) {
+                let overrun = (i64::from(count) - i64::from(c0)).unsigned_abs();
+                // overrun < 2³³: · 1000 under 2⁴³.
+                let lead = (overrun * 1_000 / speed).min(u64::from(MAX_LEAD_MS));
+                let lead = u32::try_from(lead).unwrap_or(MAX_LEAD_MS);
+                // Half the old estimate, half the new one (both ≤ 2000).
+                self.lead_ms = (self.lead_ms + lead).div_ceil(2);
+            }
+        }
+        let e = i64::from(self.target) - i64::from(count);
+        let outside = e.unsigned_abs() > u64::from(self.config.deadband_counts);
+        if outside && may_reapproach && self.approaches < self.config.max_reapproaches {
+            self.approaches = self.approaches.saturating_add(1);
+            self.state = DcState::Starting;
+        } else {
+            self.rest(now_ms);
+        }
+    }
+
+    fn drive(&mut self, count: i32, now_ms: u32, moved: i32) -> Result<Output, AxisErr<B, H, C>> {
+        let DcState::Driving { dir } = self.state else {
+            return self.motor.poll(now_ms).map_err(DcAxisError::Motor);
+        };
+        if moved != 0 {
+            self.watch.pulse(now_ms);
+        }
+        if self.watch.check(now_ms) == Watch::Stall {
+            return self.trip(DcFault::Stall, count);
+        }
+        if let Some(sense) = self.sense.as_mut() {
+            let ma = sense.current_ma().map_err(DcAxisError::Sense)?;
+            if ma > self.config.max_current_ma {
+                let since = *self.over_since_ms.get_or_insert(now_ms);
+                if now_ms.wrapping_sub(since) >= self.config.overcurrent_ms {
+                    return self.trip(DcFault::Overcurrent, count);
+                }
+            } else {
+                self.over_since_ms = None;
+            }
+        }
+        if dir < 0 && self.switch_closed()? {
+            // At the switch: stop here, no re-approach past it.
+            self.target = count;
+            self.brake_at = None;
+            self.brake(now_ms, false)?;
+            return self.motor.poll(now_ms).map_err(DcAxisError::Motor);
+        }
+        let e = i64::from(self.target) - i64::from(count);
+        // Remaining distance in the driven direction (negative: passed).
+        let ahead = if dir > 0 { e } else { -e };
+        let toward = i64::from(self.speed_cps) * i64::from(dir) > 0;
+        let overrun = if toward { self.predicted_overrun() } else { 0 };
+        let db = u64::from(self.config.deadband_counts);
+        if ahead <= 0 || ahead.unsigned_abs() <= db || ahead.unsigned_abs() <= overrun {
+            self.brake_at = Some((count, self.speed_cps));
+            self.brake(now_ms, true)?;
+            return self.motor.poll(now_ms).map_err(DcAxisError::Motor);
+        }
+        let duty = self.duty_for(ahead.unsigned_abs());
+        let direction = if dir > 0 {
+            Direction::Forward
+        } else {
+            Direction::Backward
+        };
+        self.motor
+            .set_permille(direction, duty)
+            .map_err(DcAxisError::Motor)?;
+        let out = self.motor.poll(now_ms).map_err(DcAxisError::Motor)?;
+        self.watch.set_drive(self.motor.duty_permille(), now_ms);
+        Ok(out)
+    }
+
+    /// The latched fault (stall or overcurrent), if any.
+    pub fn fault(&self) -> Option<DcFault> {
+        match self.state {
+            DcState::Faulted(f) => Some(f),
+            _ => None,
+        }
+    }
+
+    /// Ends a latched fault: the axis rests where it is, braked.
+    pub fn clear_fault(&mut self, now_ms: u32) {
+        if let DcState::Faulted(_) = self.state {
+            self.target = self.hall.count();
+            self.rest(now_ms);
+        }
+    }
+
+    /// What the loop is doing.
+    pub fn state(&self) -> DcState {
+        self.state
+    }
+
+    /// The Hall count.
+    pub fn count(&self) -> i32 {
+        self.hall.count()
+    }
+
+    /// The target count.
+    pub fn target(&self) -> i32 {
+        self.target
+    }
+
+    /// The speed estimate, counts/s.
+    pub fn speed_cps(&self) -> i32 {
+        self.speed_cps
+    }
+
+    /// The present stopping lead, ms (see the module documentation).
+    pub fn lead_ms(&self) -> u32 {
+        self.lead_ms
+    }
+
+    /// What the bridge was last told to do.
+    pub fn output(&self) -> Output {
+        self.motor.output()
+    }
+
+    /// The duty output now, ‰ (signed).
+    pub fn duty_permille(&self) -> i16 {
+        self.motor.duty_permille()
+    }
+
+    /// Gives the motor, the switch and the current sense back.
+    pub fn destroy(self) -> (DcMotor<B>, H, Option<C>) {
+        (self.motor, self.home, self.sense)
+    }
+}
+
+impl<B, E, H, C> AxisDrive for DcAxis<'_, B, E, H, C>
+where
+    B: Bridge,
+    E: HallCount,
+    H: InputPin,
+    C: MotorCurrent,
+{
+    type Error = AxisErr<B, H, C>;
+
+    /// Moves the target; refused while a stall or overcurrent is latched.
+    fn move_counts(&mut self, counts: i32) -> Result<(), Self::Error> {
+        if let DcState::Faulted(f) = self.state {
+            return Err(DcAxisError::Fault(f));
+        }
+        if counts != 0 {
+            self.target = self.target.saturating_add(counts);
+            self.approaches = 0;
+            if !matches!(self.state, DcState::Driving { .. }) {
+                self.state = DcState::Starting;
+            }
+        }
+        Ok(())
+    }
+
+    /// Counts to go while a move runs (never 0 while driving); 0 at rest,
+    /// faulted, or in the last stop of a move.
+    fn pending(&self) -> i32 {
+        let e = self.target.saturating_sub(self.hall.count());
+        match self.state {
+            DcState::Starting | DcState::Driving { .. } => {
+                if e != 0 {
+                    e
+                } else {
+                    1
+                }
+            }
+            DcState::Stopping {
+                may_reapproach: true,
+            } if e.unsigned_abs() > self.config.deadband_counts
+                && self.approaches < self.config.max_reapproaches =>
+            {
+                e
+            }
+            _ => 0,
+        }
+    }
+
+    /// Brakes at once; the target becomes the present count.
+    fn stop(&mut self) -> Result<(), Self::Error> {
+        self.target = self.hall.count();
+        self.brake_at = None;
+        self.motor.brake().map_err(DcAxisError::Motor)?;
+        if !matches!(self.state, DcState::Faulted(_)) {
+            self.state = DcState::Stopping {
+                may_reapproach: false,
+            };
+        }
+        Ok(())
+    }
+
+    fn at_limit(&mut self) -> Result<bool, Self::Error> {
+        self.switch_closed()
+    }
+
+    fn encoder_deg(&mut self) -> Result<Option<f32>, Self::Error> {
+        Ok(self.count_at_switch.map(|c0| {
+            let d = self.hall.count().saturating_sub(c0);
+            self.home_deg + d as f32 / self.counts_per_deg
+        }))
+    }
+}
