@@ -480,3 +480,56 @@ fn absurd_configurations_are_refused() {
         assert_eq!(axis.err(), Some(want));
     }
 }
+
+#[test]
+fn homing_through_the_axis_controller_then_closed_loop() {
+    use suntracker::motion::{AxisController, FeedbackMode, HomeState};
+    let rig = Rig::new();
+    // Start 4° above the switch (closed at −90°).
+    rig.plant.borrow_mut().set_output_angle_deg(-86.0);
+    let (a, b) = rig.plant.borrow().hall_levels();
+    rig.enc.set_levels(a, b);
+    let cfg = axis_config();
+    let mut ax = AxisController::new(rig.axis::<Sense>(Some(rig.sense())), cfg);
+    assert_eq!(ax.drive_mut().encoder_deg(), Ok(None));
+    let mut now = 0u32;
+    let mut steps = 0;
+    loop {
+        steps += 1;
+        assert!(steps < 2_000, "homing did not finish");
+        match ax.home_step(1.0, now).unwrap() {
+            HomeState::Done => break,
+            _ => {
+                // Until the step's move is over.
+                for _ in 0..20_000 {
+                    let d = ax.drive_mut();
+                    d.poll(now).unwrap();
+                    rig.step_ms();
+                    now = now.wrapping_add(1);
+                    if matches!(d.state(), DcState::Idle { .. }) {
+                        break;
+                    }
+                }
+            }
+        }
+    }
+    let truth = rig.deg();
+    let fb = f64::from(ax.drive_mut().encoder_deg().unwrap().unwrap());
+    println!("homed at {truth:.4}°, encoder {fb:.4}°");
+    // The switch closes at −90°: the axis rests past it by the run-on of
+    // the fine approach's last step (1° / 50 = 28 counts, shorter than the
+    // motor's run-on at min duty: about 0.1° at most); the encoder took the
+    // closing edge, within a millisecond of the fine approach (a few counts,
+    // 0.005°) of the truth.
+    assert!((-90.1..=-90.0).contains(&truth), "{truth}");
+    assert!((fb - truth).abs() < 0.005, "{fb} vs {truth}");
+    // Closed loop to 12.5°: a 102.5° slew.
+    for _ in 0..3 {
+        let fb = ax.drive_mut().encoder_deg().unwrap();
+        ax.update(12.5, FeedbackMode::ClosedLoop, fb).unwrap();
+        settle(&rig, ax.drive_mut(), &mut now, 60_000);
+    }
+    let truth = rig.deg();
+    println!("closed loop to 12.5°: at {truth:.4}°");
+    assert!((truth - 12.5).abs() <= TOL_DEG, "{truth}");
+}

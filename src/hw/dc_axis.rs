@@ -42,11 +42,16 @@
 //! was seen (the axis does not fight the load on its own: correcting is the
 //! controller's decision, from [`AxisDrive::encoder_deg`]).
 //!
-//! The home switch works as in [`super::ServoAxis`]: every
-//! [`AxisDrive::at_limit`] that finds it closed takes the count there as the
-//! switch angle, so [`AxisDrive::encoder_deg`] is `home_deg + (count −
-//! count_at_switch) / counts_per_deg`; motion toward the switch (negative
-//! counts) stops when it closes.
+//! The home switch is read by [`AxisDrive::at_limit`] and at every poll
+//! while the axis moves toward it (negative counts): driven, the loop
+//! brakes when it closes; running on after a brake, the reading only
+//! catches the closing edge. Unlike [`super::ServoAxis`], which takes the count of every
+//! closed reading, the reference is the count where a reading first finds
+//! it closed after an open one (the count at the first reading if it was
+//! closed from the start): a DC motor runs on past the switch after the
+//! brake, and the closing edge, not the rest after it, is the switch angle.
+//! [`AxisDrive::encoder_deg`] is then `home_deg + (count − count_at_switch)
+//! / counts_per_deg`.
 //!
 //! Times are the monotonic `u32` millisecond counter; differences wrap with
 //! it (every 49.7 days).
@@ -288,6 +293,8 @@ pub struct DcAxis<'a, B: Bridge, E, H, C> {
     still_since_ms: u32,
     over_since_ms: Option<u32>,
     count_at_switch: Option<i32>,
+    /// The switch at its last reading.
+    switch_was_closed: bool,
     home_deg: f32,
     counts_per_deg: f32,
 }
@@ -359,6 +366,7 @@ where
             still_since_ms: 0,
             over_since_ms: None,
             count_at_switch: None,
+            switch_was_closed: false,
             home_deg: axis.home_deg,
             counts_per_deg: if cpd.is_finite() && cpd > 0.0 {
                 cpd
@@ -371,9 +379,10 @@ where
     fn switch_closed(&mut self) -> Result<bool, AxisErr<B, H, C>> {
         let high = self.home.is_high().map_err(DcAxisError::Switch)?;
         let closed = high != self.home_active_low;
-        if closed {
+        if closed && !self.switch_was_closed {
             self.count_at_switch = Some(self.hall.count());
         }
+        self.switch_was_closed = closed;
         Ok(closed)
     }
 
@@ -482,6 +491,11 @@ where
             DcState::Stopping { may_reapproach } => {
                 if moved != 0 {
                     self.still_since_ms = now_ms;
+                    if moved < 0 {
+                        // Running on toward the switch: its closing edge
+                        // is the reference.
+                        self.switch_closed()?;
+                    }
                 }
                 if now_ms.wrapping_sub(self.still_since_ms) >= self.config.settle_ms {
                     self.settled(count, now_ms, may_reapproach);
