@@ -456,6 +456,20 @@ fn absurd_configurations_are_refused() {
             },
             DcAxisConfigError::Current,
         ),
+        (
+            DcAxisConfig {
+                max_idle_counts: 10_001,
+                ..ok
+            },
+            DcAxisConfigError::IdleCounts,
+        ),
+        (
+            DcAxisConfig {
+                stall_ms: 600_001,
+                ..ok
+            },
+            DcAxisConfigError::Stall,
+        ),
     ];
     let rig = Rig::new();
     for (c, want) in bad {
@@ -532,4 +546,36 @@ fn homing_through_the_axis_controller_then_closed_loop() {
     let truth = rig.deg();
     println!("closed loop to 12.5°: at {truth:.4}°");
     assert!((truth - 12.5).abs() <= TOL_DEG, "{truth}");
+}
+
+#[test]
+fn a_load_back_driving_the_stop_ends_it_as_unexpected_motion() {
+    let rig = Rig::new();
+    let mut axis = rig.axis::<Sense>(Some(rig.sense()));
+    axis.move_counts(1_400).unwrap();
+    let mut stop_at = None;
+    for now in 0..20_000u32 {
+        let r = axis.poll(now);
+        if stop_at.is_none() && matches!(axis.state(), DcState::Stopping { .. }) {
+            // The wind rises as the axis brakes: the counts never stand still.
+            rig.plant.borrow_mut().set_load_torque_nm(200.0);
+            stop_at = Some(now);
+        }
+        if let Err(e) = r {
+            assert_eq!(e, DcAxisError::Fault(DcFault::UnexpectedMotion));
+            let took = now - stop_at.unwrap();
+            println!("back-driven stop ended after {took} ms");
+            // The stop is cut at settle_ms + STOP_LEADS · lead; this first
+            // stop never settles, so the lead is never measured and stays
+            // brake_lead_ms = 130 ms. The next 71 counts at rest, at
+            // hundreds of counts/s, trip the watch within 200 ms.
+            let max = 100 + suntracker::hw::STOP_LEADS * 130;
+            assert!((max..max + 200).contains(&took), "{took}");
+            assert_eq!(axis.lead_ms(), 130);
+            assert_eq!(rig.plant.borrow().output(), Output::Brake);
+            return;
+        }
+        rig.step_ms();
+    }
+    panic!("no unexpected motion: {axis:?}");
 }

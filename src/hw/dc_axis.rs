@@ -152,7 +152,7 @@ pub enum DcAxisConfigError {
     Band,
     /// `brake_lead_ms` above [`MAX_LEAD_MS`].
     BrakeLead,
-    /// `settle_ms` is 0 or above 10,000.
+    /// `settle_ms` is 0 or above [`MAX_SETTLE_MS`].
     Settle,
     /// `stall_ms` is 0 or above 600,000.
     Stall,
@@ -161,11 +161,27 @@ pub enum DcAxisConfigError {
     DriveThreshold,
     /// `max_current_ma` is 0, or `overcurrent_ms` above 600,000.
     Current,
+    /// `max_idle_counts` above [`MAX_IDLE_COUNTS`].
+    IdleCounts,
 }
 
 /// Longest stopping lead, ms (a motor that runs on longer than two seconds
 /// after a brake is not one this loop can place).
 pub const MAX_LEAD_MS: u32 = 2_000;
+
+/// A stop lasts at most `settle_ms` + this many stopping leads (the larger
+/// of the measured one and `brake_lead_ms`): after eight time constants a
+/// braked run-down is at 0.03 % of its speed. Counts still coming then (a
+/// load back-driving the braked motor) end the stop without a
+/// re-approach, and are the idle watch's to judge.
+pub const STOP_LEADS: u32 = 8;
+
+/// Longest `settle_ms`, ms.
+pub const MAX_SETTLE_MS: u32 = 10_000;
+
+/// Largest `max_idle_counts`: each count at rest is one pulse fed to the
+/// watch, at most this many plus one per rest.
+pub const MAX_IDLE_COUNTS: u32 = 10_000;
 
 /// Interval of the speed estimate, ms: counts over at least this long.
 pub const SPEED_WINDOW_MS: u32 = 8;
@@ -226,7 +242,7 @@ impl DcAxisConfig {
         if self.brake_lead_ms > MAX_LEAD_MS {
             return Err(DcAxisConfigError::BrakeLead);
         }
-        if self.settle_ms == 0 || self.settle_ms > 10_000 {
+        if self.settle_ms == 0 || self.settle_ms > MAX_SETTLE_MS {
             return Err(DcAxisConfigError::Settle);
         }
         if self.stall_ms == 0 || self.stall_ms > 600_000 {
@@ -237,6 +253,9 @@ impl DcAxisConfig {
         }
         if self.max_current_ma == 0 || self.overcurrent_ms > 600_000 {
             return Err(DcAxisConfigError::Current);
+        }
+        if self.max_idle_counts > MAX_IDLE_COUNTS {
+            return Err(DcAxisConfigError::IdleCounts);
         }
         Ok(())
     }
@@ -291,6 +310,8 @@ pub struct DcAxis<'a, B: Bridge, E, H, C> {
     brake_at: Option<(i32, i32)>,
     /// Time the counts last changed (while stopping).
     still_since_ms: u32,
+    /// Time the stop started (`None`: not known yet, set by the next poll).
+    stop_since_ms: Option<u32>,
     over_since_ms: Option<u32>,
     count_at_switch: Option<i32>,
     /// The switch at its last reading.
@@ -364,6 +385,7 @@ where
             lead_ms: config.brake_lead_ms,
             brake_at: None,
             still_since_ms: 0,
+            stop_since_ms: None,
             over_since_ms: None,
             count_at_switch: None,
             switch_was_closed: false,
@@ -392,6 +414,7 @@ where
         self.motor.brake().map_err(DcAxisError::Motor)?;
         self.watch.set_drive(0, now_ms);
         self.still_since_ms = now_ms;
+        self.stop_since_ms = Some(now_ms);
         self.state = DcState::Stopping { may_reapproach };
         Ok(())
     }
@@ -457,22 +480,23 @@ where
         self.update_speed(count, now_ms);
         match self.state {
             DcState::Faulted(_) => {}
-            DcState::Idle { reported } => {
+            DcState::Idle { reported: false } => {
                 // Each count is a pulse; beyond the limit more make no
-                // difference.
+                // difference (so at most MAX_IDLE_COUNTS + 1 in all).
                 let n = moved
                     .unsigned_abs()
                     .min(self.config.max_idle_counts.saturating_add(1));
                 for _ in 0..n {
                     self.watch.pulse(now_ms);
                 }
-                if !reported && self.watch.check(now_ms) == Watch::UnexpectedMotion {
+                if self.watch.check(now_ms) == Watch::UnexpectedMotion {
                     self.state = DcState::Idle { reported: true };
                     self.target = count;
                     self.motor.brake().map_err(DcAxisError::Motor)?;
                     return Err(DcAxisError::Fault(DcFault::UnexpectedMotion));
                 }
             }
+            DcState::Idle { reported: true } => {}
             DcState::Starting => {
                 self.watch = self.watch_new;
                 self.speed_ref = (count, now_ms);
@@ -497,12 +521,26 @@ where
                         self.switch_closed()?;
                     }
                 }
+                let since = *self.stop_since_ms.get_or_insert(now_ms);
                 if now_ms.wrapping_sub(self.still_since_ms) >= self.config.settle_ms {
                     self.settled(count, now_ms, may_reapproach);
+                } else if now_ms.wrapping_sub(since) >= self.max_stop_ms() {
+                    // A load keeps turning the braked motor: rest, and let
+                    // the idle watch judge the motion.
+                    self.brake_at = None;
+                    self.rest(now_ms);
                 }
             }
         }
         self.motor.poll(now_ms).map_err(DcAxisError::Motor)
+    }
+
+    /// Longest stop, ms ([`STOP_LEADS`]); at most 10,000 + 8 · 2,000.
+    fn max_stop_ms(&self) -> u32 {
+        let lead = self.lead_ms.max(self.config.brake_lead_ms);
+        self.config
+            .settle_ms
+            .saturating_add(STOP_LEADS.saturating_mul(lead))
     }
 
     /// The stop is over: learn the lead, then rest or re-approach.
@@ -689,6 +727,7 @@ where
     fn stop(&mut self) -> Result<(), Self::Error> {
         self.target = self.hall.count();
         self.brake_at = None;
+        self.stop_since_ms = None;
         self.motor.brake().map_err(DcAxisError::Motor)?;
         if !matches!(self.state, DcState::Faulted(_)) {
             self.state = DcState::Stopping {

@@ -27,7 +27,8 @@ pub use attitude::{
 pub use axis::{StepperAxis, StepperAxisError};
 pub use dc_axis::{
     DcAxis, DcAxisConfig, DcAxisConfigError, DcAxisError, DcFault, DcState, HallCount,
-    MotorCurrent, NoCurrentSense, MAX_LEAD_MS, MIN_LEARN_SPEED_CPS, SPEED_WINDOW_MS,
+    MotorCurrent, NoCurrentSense, MAX_IDLE_COUNTS, MAX_LEAD_MS, MAX_SETTLE_MS, MIN_LEARN_SPEED_CPS,
+    SPEED_WINDOW_MS, STOP_LEADS,
 };
 pub use gps::GpsPort;
 pub use rtc::{ClockError, RtcClock};
