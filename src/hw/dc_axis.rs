@@ -219,7 +219,10 @@ pub struct DcAxisConfig {
     pub max_idle_counts: u32,
     /// Current limit while driven, mA (with a current sense).
     pub max_current_ma: u32,
-    /// Time above `max_current_ma` that is an overcurrent, ms.
+    /// Time above `max_current_ma` that is an overcurrent, ms: longer than
+    /// the inrush of a start (with a slow duty ramp a start draws little
+    /// more than the running current; without one, up to the stall current
+    /// `V / R` for about a mechanical time constant).
     pub overcurrent_ms: u32,
 }
 
@@ -498,6 +501,8 @@ where
             }
             DcState::Idle { reported: true } => {}
             DcState::Starting => {
+                // A stop cut short by a new target measured no run-on.
+                self.brake_at = None;
                 self.watch = self.watch_new;
                 self.speed_ref = (count, now_ms);
                 self.over_since_ms = None;
