@@ -211,8 +211,9 @@ impl Reversals {
     }
 }
 
-/// Polls every ms until the axis rests, then 2 s more; returns the ms to
-/// rest, the reversals and the count on coming to rest.
+/// Polls every ms until the axis rests, then 2 s more, checking the duty
+/// ramp; returns the ms to rest, the reversals and the count on coming to
+/// rest.
 fn settle<C: suntracker::hw::MotorCurrent>(
     rig: &Rig,
     axis: &mut Axis<'_, C>,
@@ -225,8 +226,14 @@ where
     let mut rev = Reversals::default();
     let mut rest_ms = None;
     let mut rest_count = 0;
+    let mut duty = axis.duty_permille();
     for ms in 0..max_ms {
         axis.poll(*now).unwrap();
+        // Soft starts and stops: the duty moves by the ramp's 2 ‰ per ms,
+        // or drops to 0 at a brake.
+        let d = axis.duty_permille();
+        assert!(d == 0 || (d - duty).abs() <= 2, "duty {duty} → {d}");
+        duty = d;
         rig.step_ms();
         *now = now.wrapping_add(1);
         rev.see(axis.count());
