@@ -4,7 +4,8 @@
 //! optional current sense (the BTS7960's IS pin,
 //! [`drivers::dc_motor::bts7960::CurrentSense`]).
 //!
-//! Counts are Hall counts ([`HallCount`], usually kept by an interrupt). Like
+//! Counts are Hall counts (an [`EncoderCount`], usually kept by an interrupt: the
+//! quadrature counter of the servo axis serves a two-channel Hall sensor). Like
 //! the servo axis it never blocks: [`AxisDrive::move_counts`] moves the
 //! target, and the main loop calls [`DcAxis::poll`] every pass (about every
 //! millisecond), which runs the position loop:
@@ -58,35 +59,15 @@
 
 use core::convert::Infallible;
 
+use super::servo_axis::EncoderCount;
 use drivers::adc::AdcChannel;
 use drivers::dc_motor::bts7960::{CurrentSense, SenseError};
 use drivers::dc_motor::{Bridge, DcMotor, Direction, Error as MotorError, Output};
-use drivers::encoder::SharedEncoder;
 use drivers::hall::{HallConfig, StallWatch, Watch};
 use embedded_hal::digital::InputPin;
 
 use crate::config::AxisConfig;
 use crate::motion::AxisDrive;
-
-/// Something that counts the Hall edges of the motor shaft (usually
-/// updated by an interrupt), signed: positive = forward.
-pub trait HallCount {
-    /// Counts so far.
-    fn count(&self) -> i32;
-}
-
-impl HallCount for SharedEncoder {
-    fn count(&self) -> i32 {
-        SharedEncoder::count(self)
-    }
-}
-
-#[cfg(target_has_atomic = "32")]
-impl HallCount for drivers::encoder::AtomicEncoder {
-    fn count(&self) -> i32 {
-        drivers::encoder::AtomicEncoder::count(self)
-    }
-}
 
 /// A motor-current reading, mA (magnitude).
 pub trait MotorCurrent {
@@ -346,7 +327,7 @@ type AxisErr<B, H, C> = DcAxisError<
 impl<'a, B, E, H, C> DcAxis<'a, B, E, H, C>
 where
     B: Bridge,
-    E: HallCount,
+    E: EncoderCount,
     H: InputPin,
     C: MotorCurrent,
 {
@@ -684,7 +665,7 @@ where
 impl<B, E, H, C> AxisDrive for DcAxis<'_, B, E, H, C>
 where
     B: Bridge,
-    E: HallCount,
+    E: EncoderCount,
     H: InputPin,
     C: MotorCurrent,
 {

@@ -8,7 +8,7 @@
 //! | [`GpsPort`] | — (feeds [`crate::time`]) | [`drivers::gps::GpsReader`] |
 //! | [`MountSensorsHw`] | [`crate::ports::AttitudeSensor`] | a tilt sensor ([`AxisAngles`]: ADXL345, WitMotion inclinometer) + any [`drivers::compass::Magnetometer`] |
 //! | [`ServoAxis`] | [`crate::motion::AxisDrive`] | [`drivers::servo::ContinuousServo`] + a quadrature encoder ([`EncoderCount`]) + home switch |
-//! | [`DcAxis`] | [`crate::motion::AxisDrive`] | [`drivers::dc_motor::DcMotor`] (BTS7960, L298N) + a Hall count ([`HallCount`]) + home switch + optional current sense ([`MotorCurrent`]) |
+//! | [`DcAxis`] | [`crate::motion::AxisDrive`] | [`drivers::dc_motor::DcMotor`] (BTS7960, L298N) + a Hall count ([`EncoderCount`]) + home switch + optional current sense ([`MotorCurrent`]) |
 //! | [`StepperAxis`] | [`crate::motion::AxisDrive`] | [`drivers::stepper::hbridge::HBridgeStepper`] + home switch |
 //!
 //! Time and site fallbacks (GPS, then RTC, then the stored site or a postal
@@ -26,8 +26,8 @@ pub use attitude::{
 };
 pub use axis::{StepperAxis, StepperAxisError};
 pub use dc_axis::{
-    DcAxis, DcAxisConfig, DcAxisConfigError, DcAxisError, DcFault, DcState, HallCount,
-    MotorCurrent, NoCurrentSense, MAX_IDLE_COUNTS, MAX_LEAD_MS, MAX_SETTLE_MS, MIN_LEARN_SPEED_CPS,
+    DcAxis, DcAxisConfig, DcAxisConfigError, DcAxisError, DcFault, DcState, MotorCurrent,
+    NoCurrentSense, MAX_IDLE_COUNTS, MAX_LEAD_MS, MAX_SETTLE_MS, MIN_LEARN_SPEED_CPS,
     SPEED_WINDOW_MS, STOP_LEADS,
 };
 pub use gps::GpsPort;
