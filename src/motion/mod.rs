@@ -242,12 +242,16 @@ impl Geometry {
 }
 
 /// An axis under control.
+///
+/// Fields in this order (`repr(C)`): the homing and position state, then
+/// the geometry, then the drive (the largest, read through its own
+/// methods). The AVR's `ldd`/`std` reach 63 bytes past a pointer, and with
+/// the compiler's order (the drive first) most of the state lay beyond
+/// them: this order is 408 B less on the ATmega2560 (116,768 -> 116,360 B).
 #[derive(Debug)]
+#[repr(C)]
 pub struct AxisController<D> {
-    drive: D,
-    /// The configuration as the arithmetic uses it (the configuration
-    /// itself is not kept: its owner holds it).
-    geo: Geometry,
+    home: HomeState,
     /// Position in counts relative to the home switch, as commanded; while
     /// not homed, counted on from the last reference (or from power-on).
     /// 32 bits: every position homing or a move reaches is within the
@@ -257,9 +261,6 @@ pub struct AxisController<D> {
     position_counts: i32,
     /// Direction of the last move: +1, −1 or 0 (unknown).
     last_dir: i8,
-    home: HomeState,
-    /// Counted position at the start of this homing attempt.
-    attempt_start_counts: i32,
     /// Second, slow approach of homing.
     fine: bool,
     /// The axis has been homed at least once: the counted position is an
@@ -269,12 +270,18 @@ pub struct AxisController<D> {
     /// (`None` until homing starts); back-off stays within
     /// [`HOMING_BACKOFF_MAX_DEG`] of it.
     homing_low_counts: Option<i32>,
+    /// Counted position at the start of this homing attempt.
+    attempt_start_counts: i32,
     /// Monotonic time of the previous homing step of this attempt, ms: the
     /// next step moves for the time since.
     /// Kept in 32 bits: a step more than 49.7 days after the previous one
     /// takes the wrapped interval, and every interval is capped at
     /// [`HOMING_MAX_INTERVAL_MS`] anyway.
     homing_last_ms: Option<u32>,
+    /// The configuration as the arithmetic uses it (the configuration
+    /// itself is not kept: its owner holds it).
+    geo: Geometry,
+    drive: D,
 }
 
 impl<D: AxisDrive> AxisController<D> {
