@@ -572,7 +572,9 @@ impl<D: AxisDrive> AxisController<D> {
                 HomeState::Seeking
             };
         }
-        if self.home == HomeState::BackingOff {
+        // Each branch ends in the move it asks for, `want` counts at most
+        // `room` in its direction; the move itself is written once below.
+        let (state, want, room) = if self.home == HomeState::BackingOff {
             if !closed {
                 self.stop()?;
                 self.home = HomeState::Seeking;
@@ -591,57 +593,57 @@ impl<D: AxisDrive> AxisController<D> {
                 return Err(AxisError::HomeNotFound);
             }
             let want = sat_sub(self.homing_move_counts(chunk_deg, now_ms), pending);
-            if want > 0 {
-                let c = self.command(want.min(room))?;
-                self.position_counts = sat_add(self.position_counts, c);
-                self.last_dir = 1;
+            (HomeState::BackingOff, want, room)
+        } else {
+            if closed && !self.fine {
+                self.stop()?;
+                self.note_low();
+                self.fine = true;
+                self.home = HomeState::BackingOff;
+                return Ok(HomeState::BackingOff);
             }
-            return Ok(HomeState::BackingOff);
-        }
-        if closed && !self.fine {
-            self.stop()?;
-            self.note_low();
-            self.fine = true;
-            self.home = HomeState::BackingOff;
-            return Ok(HomeState::BackingOff);
-        }
-        if closed {
-            self.stop()?;
-            self.position_counts = 0;
-            // Arrived moving negative: the gear's slack is taken up that way.
-            self.last_dir = -1;
-            self.referenced = true;
-            self.homing_low_counts = None;
-            self.homing_last_ms = None;
-            self.home = HomeState::Done;
-            return Ok(HomeState::Done);
-        }
-        // Still running up (the tail of a ramped stop): wait.
-        if pending > 0 {
-            return Ok(HomeState::Seeking);
-        }
-        let room = self.seek_room_counts();
-        if room <= 0 {
-            if !settled {
-                return Ok(HomeState::Seeking); // the last moves still run
+            if closed {
+                self.stop()?;
+                self.position_counts = 0;
+                // Arrived moving negative: the gear's slack is taken up that way.
+                self.last_dir = -1;
+                self.referenced = true;
+                self.homing_low_counts = None;
+                self.homing_last_ms = None;
+                self.home = HomeState::Done;
+                return Ok(HomeState::Done);
             }
-            // A referenced axis that reaches its floor without closing the
-            // switch was not where it counted (steps lost while stalled):
-            // the count is no reference any more, and the next attempt runs
-            // the whole travel instead of stopping at the same wrong floor
-            // for ever.
-            self.referenced = false;
-            self.home = HomeState::Idle;
-            return Err(AxisError::HomeNotFound);
-        }
-        // `pending` ≤ 0 here: what is queued downward.
-        let want = sat_add(self.homing_move_counts(chunk_deg, now_ms), pending);
+            // Still running up (the tail of a ramped stop): wait.
+            if pending > 0 {
+                return Ok(HomeState::Seeking);
+            }
+            let room = self.seek_room_counts();
+            if room <= 0 {
+                if !settled {
+                    return Ok(HomeState::Seeking); // the last moves still run
+                }
+                // A referenced axis that reaches its floor without closing the
+                // switch was not where it counted (steps lost while stalled):
+                // the count is no reference any more, and the next attempt runs
+                // the whole travel instead of stopping at the same wrong floor
+                // for ever.
+                self.referenced = false;
+                self.home = HomeState::Idle;
+                return Err(AxisError::HomeNotFound);
+            }
+            // `pending` ≤ 0 here: what is queued downward.
+            let want = sat_add(self.homing_move_counts(chunk_deg, now_ms), pending);
+            (HomeState::Seeking, want, room)
+        };
         if want > 0 {
-            let c = self.command(-want.min(room))?;
+            // Backing off moves up, seeking down; 0 < `room` here.
+            let up = state == HomeState::BackingOff;
+            let counts = want.min(room);
+            let c = self.command(if up { counts } else { -counts })?;
             self.position_counts = sat_add(self.position_counts, c);
-            self.last_dir = -1;
+            self.last_dir = if up { 1 } else { -1 };
         }
-        Ok(HomeState::Seeking)
+        Ok(state)
     }
 
     /// Moves toward `target_deg` (clamped to the soft limits) and, per
