@@ -733,11 +733,12 @@ where
         let probe_every = self.options.probe_every_ticks.max(1);
         let ticks = self.ticks;
         let disabled = self.faults.axis_disabled(id);
-        let enc_degraded = self.faults.is_active(enc_fault)
-            && self
-                .faults
-                .active()
-                .any(|a| a.fault == enc_fault && a.recovery == Recovery::DegradeOpenLoop);
+        // A fault has one record at most (`FaultManager::raise` updates
+        // the one it finds): its own is the one to look at.
+        let enc_degraded = self
+            .faults
+            .get(enc_fault)
+            .is_some_and(|a| a.recovery == Recovery::DegradeOpenLoop);
         let Some(ax) = self.axes.get_mut(i) else {
             return;
         };
