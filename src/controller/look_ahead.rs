@@ -150,11 +150,13 @@ where
     /// its answer, kept for that sunrise: a failed search (no pose facing
     /// sunrise within the limits) too.
     pub(super) fn pre_position(&mut self, sunrise: UtcTime) -> Option<Option<Pose<T>>> {
+        // The limits once, for a search begun and one advanced.
+        let limits = self.limits();
         match self.night_pose {
             Some(NightPose::Found(t, p)) if t == sunrise => return Some(p),
             Some(NightPose::Searching(t, _)) if t == sunrise => {}
             _ => {
-                self.begin_night_search(sunrise);
+                self.begin_night_search(sunrise, &limits);
                 // On a board that spreads its work, the first position and
                 // kinematics are this tick's share.
                 if self.scheduler.plan_budget() != 0 {
@@ -166,7 +168,6 @@ where
             }
         }
         let points = self.search_points_per_tick();
-        let limits = self.limits();
         // Advanced where it is stored, as the branch search.
         let Some(NightPose::Searching(_, search)) = self.night_pose.as_mut() else {
             return match self.night_pose {
@@ -185,17 +186,16 @@ where
     /// The night search's start: the set-point facing sunrise (one sun
     /// position) and the starts facing it, built where it is stored; found
     /// with no pose when none faces it.
-    fn begin_night_search(&mut self, sunrise: UtcTime) {
+    fn begin_night_search(&mut self, sunrise: UtcTime, limits: &PoseLimits<T>) {
         let first = self
             .scheduler
             .source_mut()
             .position(&sunrise)
             .ok()
             .map(|p| SetPoint::facing(&p));
-        let limits = self.limits();
         let frame = Frame {
             attitude: &self.attitude,
-            limits: &limits,
+            limits,
             gamma_deg: self.pose.gamma_deg,
         };
         let slot = self.night_pose.insert(NightPose::Searching(
@@ -212,7 +212,7 @@ where
             (NightPose::Searching(_, search), Some(first)) => {
                 let ok = search.starts.fill(&frame, &first, None);
                 if ok {
-                    search.starts.visit(&first, &self.attitude, &limits);
+                    search.starts.visit(&first, &self.attitude, limits);
                 }
                 ok
             }
