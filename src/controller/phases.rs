@@ -35,17 +35,11 @@ where
     #[cfg_attr(target_arch = "avr", inline(never))]
     pub(super) fn time_health(&mut self, inp: &TickInputs) {
         let now_ms = inp.now_ms;
-        if inp.time_valid {
-            self.faults.clear(Fault::RtcInvalid, now_ms);
-        } else {
-            self.faults.raise(Fault::RtcInvalid, now_ms);
-        }
-        if inp.gps_fix {
-            self.faults.clear(Fault::GpsLost, now_ms);
-        } else {
-            self.faults.raise(Fault::GpsLost, now_ms);
-        }
+        // All five in one loop, in this order, rather than the first two
+        // written out (32 B less on the ATmega2560).
         for (on, fault) in [
+            (!inp.time_valid, Fault::RtcInvalid),
+            (!inp.gps_fix, Fault::GpsLost),
             (inp.gps_time_implausible, Fault::GpsTimeImplausible),
             (inp.gps_time_unstable, Fault::GpsTimeUnstable),
             (inp.gps_position_unstable, Fault::GpsPositionUnstable),
