@@ -690,7 +690,10 @@ where
         }
         // Bounded: a whole travel at the fine step is ≤ 50 × 370 chunks.
         for _ in 0..20_000 {
-            match home_step(ax, chunk, now_ms) {
+            // Inline: with the axis's state first in `AxisController` its
+            // temporaries stay within the 63 bytes `ldd`/`std` reach on the
+            // AVR (out of line it was 128 B more on the ATmega2560).
+            match ax.home_step(chunk, now_ms) {
                 Ok(HomeState::Done) => {
                     // A reference regained ends the faults that asked for it.
                     self.faults.clear(Fault::LimitSwitchHit(id), now_ms);
@@ -862,17 +865,4 @@ where
             }
         }
     }
-}
-
-/// One homing step of `ax` ([`AxisController::home_step`]). Out of line on
-/// the AVR: inlined into the homing phase its temporaries lay beyond the
-/// 63 bytes `ldd`/`std` reach from the frame pointer (356 B more on the
-/// ATmega2560). A wrapper, so that the servo loop's own call stays inline.
-#[cfg_attr(target_arch = "avr", inline(never))]
-fn home_step<D: AxisDrive>(
-    ax: &mut AxisController<D>,
-    chunk_deg: f32,
-    now_ms: u32,
-) -> Result<HomeState, AxisError<D::Error>> {
-    ax.home_step(chunk_deg, now_ms)
 }
