@@ -321,7 +321,9 @@ impl<T: Float> Starts<T> {
         };
         self.0 = [None; 6];
         let mut slots = self.0.iter_mut();
-        for sol in sols {
+        // By reference: the array moved into its iterator was a copy on
+        // the stack (64 B more on the ATmega2560).
+        for sol in sols.iter() {
             // Whole turns as integers: an array of f64 read in the loop
             // would be converted by software f64 on an 8-bit board.
             for turn in [-360, 0, 360] {
