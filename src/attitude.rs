@@ -348,8 +348,10 @@ impl<T: Float> MountAttitude<T> {
         // second pass rather than kept: an array of six clamped candidates
         // put this function's locals beyond the 63 bytes AVR `ldd`/`std`
         // reach from the frame pointer (328 B less on the ATmega2560).
-        let candidate = |k: usize| {
-            let sol = sols.get(k / 3)?;
+        // `k` in 8 bits: its division and remainder by 3 are byte-wide on
+        // the AVR (28 B less on the ATmega2560 than with `usize`).
+        let candidate = |k: u8| {
+            let sol = sols.get(usize::from(k / 3))?;
             let g = match k % 3 {
                 0 => -turn,
                 1 => T::ZERO,
