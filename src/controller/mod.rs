@@ -691,7 +691,9 @@ where
             return true; // waiting before another attempt
         }
         // Bounded: a whole travel at the fine step is ≤ 50 × 370 chunks.
-        for _ in 0..20_000 {
+        // Counted in 16 bits, not the default `i32` (36 B less on the
+        // ATmega2560).
+        for _ in 0..20_000u16 {
             // Inline: with the axis's state first in `AxisController` its
             // temporaries stay within the 63 bytes `ldd`/`std` reach on the
             // AVR (out of line it was 128 B more on the ATmega2560).
