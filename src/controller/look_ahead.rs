@@ -325,10 +325,11 @@ impl<T: Float> Starts<T> {
         // the stack (64 B more on the ATmega2560).
         for sol in sols.iter() {
             // Whole turns as integers: an array of f64 read in the loop
-            // would be converted by software f64 on an 8-bit board.
-            for turn in [-360, 0, 360] {
+            // would be converted by software f64 on an 8-bit board; 16 bits
+            // hold them (24 B less on the ATmega2560 than `i32`).
+            for turn in [-360i16, 0, 360] {
                 let start = Pose {
-                    gamma_deg: sol.gamma_deg + T::from_i32(turn),
+                    gamma_deg: sol.gamma_deg + T::from_i32(i32::from(turn)),
                     alpha_deg: sol.alpha_deg,
                 };
                 if !frame.limits.contains(&start) {
