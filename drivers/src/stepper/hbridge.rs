@@ -176,18 +176,24 @@ pub struct BridgePins<P> {
 /// }
 /// # Ok::<(), Box<dyn core::error::Error>>(())
 /// ```
+//
+// Fields in this order on the AVR (`repr(C)` there): the small per-step
+// state first, within the 63 bytes an AVR `ldd`/`std` reaches past the
+// pointer, then the planner, configuration and pins. Elsewhere the
+// compiler's order (no padding).
 #[derive(Debug)]
+#[cfg_attr(target_arch = "avr", repr(C))]
 pub struct HBridgeStepper<P, L> {
-    pins: BridgePins<P>,
-    limits: LimitSwitches<L>,
-    planner: Planner,
-    config: Config,
     phase: u8,
     energised: bool,
     /// The coils have been energised at `phase` since power-on: the rotor
     /// rests there (before that its phase is unknown).
     rotor_at_phase: bool,
     release_at_us: Option<u64>,
+    planner: Planner,
+    config: Config,
+    pins: BridgePins<P>,
+    limits: LimitSwitches<L>,
 }
 
 impl<P, L, E> HBridgeStepper<P, L>
