@@ -109,19 +109,25 @@ impl Config {
     /// [`ranges`]: super::ranges
     /// [`ranges::COUNTS_PER_DEG`]: super::ranges::COUNTS_PER_DEG
     pub fn validate(&self) -> Result<(), ConfigError> {
-        self.check_keys(0..KEYS.len())
+        // Read through the table's slots, which borrow for writing: a
+        // copy, made here so that the checks' frame does not hold it.
+        let mut copy = *self;
+        copy.check_keys(0..KEYS.len())
     }
 
     /// The keys at `places` of [`KEYS`] in order: each against its range
-    /// ([`RANGES`]), then the rules between fields that end at it.
-    fn check_keys(&self, places: Range<usize>) -> Result<(), ConfigError> {
-        // Read through the table's slots, which borrow for writing.
-        let mut copy = *self;
+    /// ([`RANGES`]), then the rules between fields that end at it. Takes
+    /// the configuration mutably (the table's slots borrow for writing;
+    /// nothing is written). Out of line on the AVR: with the copy of the
+    /// configuration in its frame, the checks' slots lay beyond
+    /// `ldd`/`std` reach.
+    #[cfg_attr(target_arch = "avr", inline(never))]
+    fn check_keys(&mut self, places: Range<usize>) -> Result<(), ConfigError> {
         for i in places {
             let (Some(&key), Some(range)) = (KEYS.get(i), RANGES.get(i)) else {
                 break;
             };
-            let ok = match read(&mut copy, key) {
+            let ok = match read(self, key) {
                 Value::F32(v) => {
                     let (mut lo, mut hi) = (f32::from_bits(range.lo), f32::from_bits(range.hi));
                     // A home switch angle: from its offsets below and above

@@ -171,11 +171,12 @@ struct Job {
     phase: Phase,
 }
 
-/// The result of reading both slots.
-struct Scan<E, R> {
+/// The result of reading both slots (the newest good configuration goes
+/// to the caller's place, see [`ConfigStore::scan`]).
+struct Scan<E> {
     slots: [SlotState; 2],
-    /// The newest good slot: its index, sequence number and configuration.
-    best: Option<(usize, u32, R)>,
+    /// The newest good slot: its index and sequence number.
+    best: Option<(usize, u32)>,
     /// The first read error, if a slot could not be read.
     error: Option<E>,
 }
@@ -355,8 +356,14 @@ impl<S: Storage, R: Record, const N: usize> ConfigStore<S, R, N> {
         }
     }
 
-    /// Reads both slots; remembers which holds the newest good copy.
-    fn scan(&mut self) -> Scan<S::Error, R> {
+    /// Reads both slots; remembers which holds the newest good copy, and
+    /// puts its configuration in `best_config` (left as it is when no
+    /// slot is good).
+    // The configuration goes to the caller's place, not into the returned
+    // scan: a scan holding it was built in this frame and copied out
+    // whole, and the frame's small slots lay beyond `ldd`/`std` reach on
+    // the AVR.
+    fn scan(&mut self, best_config: &mut Option<R>) -> Scan<S::Error> {
         let mut scan = Scan {
             slots: [SlotState::Unreadable; 2],
             best: None,
@@ -368,11 +375,12 @@ impl<S: Storage, R: Record, const N: usize> ConfigStore<S, R, N> {
                 Ok(state) => {
                     if let (SlotState::Good(seq), Some(cfg)) = (state, cfg) {
                         let newer = match scan.best {
-                            Some((_, best_seq, _)) => seq_newer(seq, best_seq),
+                            Some((_, best_seq)) => seq_newer(seq, best_seq),
                             None => true,
                         };
                         if newer {
-                            scan.best = Some((slot, seq, cfg));
+                            scan.best = Some((slot, seq));
+                            *best_config = Some(cfg);
                         }
                     }
                     state
@@ -389,7 +397,7 @@ impl<S: Storage, R: Record, const N: usize> ConfigStore<S, R, N> {
             }
         }
         self.newest = match (&scan.best, &scan.error) {
-            (Some((slot, seq, _)), _) => Newest::Slot {
+            (Some((slot, seq)), _) => Newest::Slot {
                 slot: *slot,
                 seq: *seq,
             },
@@ -403,9 +411,10 @@ impl<S: Storage, R: Record, const N: usize> ConfigStore<S, R, N> {
     /// defaults when neither is good. Only reads (two slots, a CRC each);
     /// a save under way goes on.
     pub fn load(&mut self) -> Loaded<R> {
-        let scan = self.scan();
-        match scan.best {
-            Some((_, _, config)) => Loaded {
+        let mut best = None;
+        let scan = self.scan(&mut best);
+        match best {
+            Some(config) => Loaded {
                 config,
                 defaults: false,
                 slots: scan.slots,
@@ -424,7 +433,7 @@ impl<S: Storage, R: Record, const N: usize> ConfigStore<S, R, N> {
     /// good copy).
     fn target(&mut self) -> Result<(usize, u32), SaveError<S::Error>> {
         if self.newest == Newest::Unknown {
-            if let Some(e) = self.scan().error {
+            if let Some(e) = self.scan(&mut None).error {
                 return Err(SaveError::Storage(e));
             }
         }
