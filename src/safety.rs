@@ -234,11 +234,18 @@ pub const RECURRENCE_WINDOW_MS: u32 = 3_600_000;
 /// Back-off after the `attempt`-th attempt (1 = first):
 /// [`RETRY_BACKOFF_BASE_MS`] × 2^(attempt − 1), at most
 /// [`RETRY_BACKOFF_MAX_MS`].
+// Doubled once per attempt after the first until the cap (six doublings
+// at most): no 32-bit multiply and no variable shift, each a loop on an
+// 8-bit core. Out of line on the AVR: `FaultManager::raise` has two calls.
+#[cfg_attr(target_arch = "avr", inline(never))]
 pub fn retry_backoff_ms(attempt: u32) -> u32 {
-    let shift = attempt.saturating_sub(1).min(16);
-    RETRY_BACKOFF_BASE_MS
-        .saturating_mul(1u32 << shift)
-        .min(RETRY_BACKOFF_MAX_MS)
+    let mut ms = RETRY_BACKOFF_BASE_MS;
+    let mut doublings = attempt.saturating_sub(1);
+    while doublings > 0 && ms < RETRY_BACKOFF_MAX_MS {
+        ms = ms.saturating_mul(2);
+        doublings -= 1;
+    }
+    ms.min(RETRY_BACKOFF_MAX_MS)
 }
 
 /// An active fault.

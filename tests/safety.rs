@@ -252,7 +252,13 @@ fn backoff_doubles_up_to_its_cap() {
     assert_eq!(retry_backoff_ms(1), 10_000);
     assert_eq!(retry_backoff_ms(2), 20_000);
     assert_eq!(retry_backoff_ms(3), 40_000);
+    // 10 000 ms × 2^5 = 320 000 ms, below the cap; × 2^6 = 640 000 ms
+    // is above it.
+    assert_eq!(retry_backoff_ms(6), 320_000);
     assert_eq!(retry_backoff_ms(7), 600_000);
+    assert_eq!(retry_backoff_ms(8), 600_000);
+    // Attempt 0 (before the first) waits as the first.
+    assert_eq!(retry_backoff_ms(0), 10_000);
     assert_eq!(retry_backoff_ms(u32::MAX), 600_000);
 }
 
