@@ -344,6 +344,23 @@ fn seconds_after(now: &UtcTime, s: u32) -> Result<UtcTime, ScheduleError> {
         .ok_or(ScheduleError::TimeRange)
 }
 
+/// The next check of a tracking day: `now` plus `wait_s` seconds
+/// ([`seconds_after`]), but never after `next_slot`, the instant the next
+/// entry falls due. One copy for the table's tracking and real-time mode's
+/// (out of line on the AVR); references keep its arguments in registers.
+#[cfg_attr(target_arch = "avr", inline(never))]
+fn next_check_at(
+    now: &UtcTime,
+    wait_s: u32,
+    next_slot: Option<&UtcTime>,
+) -> Result<UtcTime, ScheduleError> {
+    let t = seconds_after(now, wait_s)?;
+    Ok(match next_slot {
+        Some(slot) if *slot < t => *slot,
+        _ => t,
+    })
+}
+
 /// A read-only view of the scheduler's day table in degrees.
 #[derive(Debug, Clone, Copy)]
 pub struct TableView<'a, T, const N: usize> {
@@ -928,11 +945,7 @@ impl<T: Float, P: PositionSource<T>, const N: usize> Scheduler<T, P, N> {
             }
             _ => (self.config.recheck_s, Action::Idle),
         };
-        let t = seconds_after(&now, wait_s)?;
-        let next_check = match next_slot {
-            Some(slot) if slot < t => slot,
-            _ => t,
-        };
+        let next_check = next_check_at(&now, wait_s, next_slot.as_ref())?;
         self.phase = Phase::Tracking { next_check };
         Ok(action)
     }
@@ -975,11 +988,6 @@ impl<T: Float, P: PositionSource<T>, const N: usize> Scheduler<T, P, N> {
             .add_seconds_i32(step_s as i32)
             .map_err(|_| ScheduleError::TimeRange)?;
         let tracking = matches!(self.phase, Phase::Tracking { .. });
-        let add = |s: u32| -> Result<UtcTime, ScheduleError> {
-            let t = seconds_after(&now, s)?;
-            // Never after the next slot falls due.
-            Ok(if next_slot < t { next_slot } else { t })
-        };
         // The wait (one computation of the next check, for both kinds of
         // check) and the action of a check that keeps tracking.
         let (wait_s, action) = 'check: {
@@ -998,16 +1006,21 @@ impl<T: Float, P: PositionSource<T>, const N: usize> Scheduler<T, P, N> {
                 // A day too long for the table has ended: the next is planned
                 // with the table again.
                 self.overflow = false;
-                if tracking {
-                    self.phase = Phase::WaitNextDay { until: next_slot };
-                    return Ok(Action::GoHome(self.home));
-                }
-                self.phase = Phase::WaitSunrise { until: next_slot };
-                return Ok(if first {
-                    Action::Sleep { until: next_slot }
+                let (phase, action) = if tracking {
+                    (
+                        Phase::WaitNextDay { until: next_slot },
+                        Action::GoHome(self.home),
+                    )
+                } else if first {
+                    (
+                        Phase::WaitSunrise { until: next_slot },
+                        Action::Sleep { until: next_slot },
+                    )
                 } else {
-                    Action::Idle
-                });
+                    (Phase::WaitSunrise { until: next_slot }, Action::Idle)
+                };
+                self.phase = phase;
+                return Ok(action);
             }
             let set_point = SetPoint::facing(&sun);
             // A new solar day: its first daylight slot is home (Li et al. 2022).
@@ -1027,8 +1040,9 @@ impl<T: Float, P: PositionSource<T>, const N: usize> Scheduler<T, P, N> {
             });
             (self.config.hold_s, Action::SetPoints(set_point))
         };
+        // Never after the next slot falls due.
         self.phase = Phase::Tracking {
-            next_check: add(wait_s)?,
+            next_check: next_check_at(&now, wait_s, Some(&next_slot))?,
         };
         Ok(action)
     }
