@@ -297,23 +297,32 @@ pub fn match_at<T: Float, const N: usize>(
     entry_in_window(table, slot_of(table, now)?, window_s)
 }
 
-/// [`match_at`] for the slot `now` is in, `(slot, late)` ([`slot_of`]).
+/// [`match_at`] for the slot `now` is in ([`slot_of`]).
 fn entry_in_window<T: Float, const N: usize>(
     table: &DayTable<N>,
-    (slot, late): (u32, u32),
+    slot: Slot,
     window_s: u32,
 ) -> Option<(usize, TableEntry<T>)> {
-    let i = usize::try_from(slot).ok()?;
+    let i = usize::try_from(slot.index).ok()?;
     let e = table_entry(table, i)?;
-    (late < window_s.max(1)).then_some((i, e))
+    (slot.late_s < window_s.max(1)).then_some((i, e))
 }
 
-/// The table slot `now` is in (entry index, possibly past the last entry)
-/// and the whole seconds `now` is past the slot's start (its entry's
-/// time, `slot` steps after the first: whole seconds apart, so these are
-/// the seconds `now` is past that entry); `None` before the table or
-/// without one.
-fn slot_of<const N: usize>(table: &DayTable<N>, now: &UtcTime) -> Option<(u32, u32)> {
+/// The table slot an instant is in ([`slot_of`]).
+#[derive(Debug, Clone, Copy)]
+struct Slot {
+    /// Its entry's index (possibly past the last entry).
+    index: u32,
+    /// Whole seconds the instant is past the slot's start (its entry's
+    /// time, `index` steps after the first: whole seconds apart, so these
+    /// are the seconds the instant is past that entry).
+    late_s: u32,
+    /// Seconds from the first entry to the next slot's start.
+    next_s: u32,
+}
+
+/// The table slot `now` is in; `None` before the table or without one.
+fn slot_of<const N: usize>(table: &DayTable<N>, now: &UtcTime) -> Option<Slot> {
     // Before the table, or 68 years after it: None.
     let since = u32::try_from(now.seconds_since(&table.first_time())?).ok()?;
     if table.is_empty() {
@@ -321,17 +330,23 @@ fn slot_of<const N: usize>(table: &DayTable<N>, now: &UtcTime) -> Option<(u32, u
     }
     // No step (an empty table's interval is 0): None.
     let step = u32::from(table.interval_min()) * 60;
-    Some((since.checked_div(step)?, since.checked_rem(step)?))
+    let late_s = since.checked_rem(step)?;
+    Some(Slot {
+        index: since.checked_div(step)?,
+        late_s,
+        // The slot's start (since − late_s, a whole number of steps) and
+        // one step: from the remainder, not a product of the index (a
+        // checked 32-bit product is three library calls on the AVR).
+        next_s: (since - late_s).checked_add(step)?,
+    })
 }
 
 /// The start of the table slot after `slot` (the one `now` is in,
 /// [`slot_of`]): the instant the next entry becomes due.
-fn slot_start_after<const N: usize>(table: &DayTable<N>, slot: u32) -> Option<UtcTime> {
-    let step = u32::from(table.interval_min()) * 60;
-    let next = slot.checked_add(1)?.checked_mul(step)?;
+fn slot_start_after<const N: usize>(table: &DayTable<N>, slot: &Slot) -> Option<UtcTime> {
     table
         .first_time()
-        .add_seconds_i32(i32::try_from(next).ok()?)
+        .add_seconds_i32(i32::try_from(slot.next_s).ok()?)
         .ok()
 }
 
@@ -937,7 +952,7 @@ impl<T: Float, P: PositionSource<T>, const N: usize> Scheduler<T, P, N> {
         // but never after the next entry falls due: checks every recheck_s
         // against a window of recheck_s would otherwise drift to its edge,
         // and a tick a second late would skip an entry.
-        let next_slot = slot.and_then(|(i, _)| slot_start_after(&self.table, i));
+        let next_slot = slot.and_then(|s| slot_start_after(&self.table, &s));
         let (wait_s, action) = match found {
             Some((i, e)) if self.last_applied != Some(i) => {
                 self.last_applied = Some(i);
