@@ -382,21 +382,25 @@ impl FaultManager {
             attempts: a.attempts,
             at_ms: now_ms,
         };
-        // The same fault's older entry, else a free slot, else the oldest.
-        let idx = self
-            .recent
-            .iter()
-            .position(|c| c.is_some_and(|c| c.fault == a.fault))
-            .or_else(|| self.recent.iter().position(Option::is_none))
-            .or_else(|| {
-                self.recent
-                    .iter()
-                    .enumerate()
-                    .max_by_key(|(_, c)| {
-                        c.map_or(u32::MAX, |c| monotonic::elapsed_ms(now_ms, c.at_ms))
-                    })
-                    .map(|(i, _)| i)
-            });
+        // The same fault's older entry, else the first free slot, else the
+        // oldest (the last of equally old ones): one pass over the list
+        // (three searches were 3 loops on the AVR).
+        let (mut same, mut free, mut oldest) = (None, None, None::<(usize, u32)>);
+        for (i, c) in self.recent.iter().enumerate() {
+            match c {
+                Some(c) if c.fault == a.fault => {
+                    same = same.or(Some(i));
+                }
+                Some(c) => {
+                    let age = monotonic::elapsed_ms(now_ms, c.at_ms);
+                    if oldest.is_none_or(|(_, o)| age >= o) {
+                        oldest = Some((i, age));
+                    }
+                }
+                None => free = free.or(Some(i)),
+            }
+        }
+        let idx = same.or(free).or(oldest.map(|(i, _)| i));
         if let Some(slot) = idx.and_then(|i| self.recent.get_mut(i)) {
             *slot = Some(entry);
         }

@@ -405,3 +405,38 @@ fn operator_hold_bits_round_trip_and_unknown_bits_are_refused() {
         assert_eq!(OperatorHold::from_bits(b), None, "{b:#x}");
     }
 }
+
+#[test]
+fn a_full_list_of_cleared_faults_forgets_the_oldest() {
+    // Nine different faults raised and cleared one after another, a
+    // minute apart: the list of cleared faults holds eight
+    // (`MAX_ACTIVE`), so the ninth takes the place of the first, the
+    // oldest. The first coming back is then a new fault; the second, still
+    // remembered, a recurrence.
+    let faults = [
+        Fault::GpsLost,
+        Fault::RtcInvalid,
+        Fault::SensorTimeout(Sensor::Inclinometer),
+        Fault::SensorTimeout(Sensor::Compass),
+        Fault::MotorStalled(AxisId::C),
+        Fault::MotorStalled(AxisId::A),
+        Fault::LimitSwitchHit(AxisId::C),
+        Fault::LimitSwitchHit(AxisId::A),
+        Fault::TimeOutOfRange,
+    ];
+    let mut m = FaultManager::new(Config::default().safety);
+    for (i, &f) in (0u32..).zip(faults.iter()) {
+        m.raise(f, at(60 * i));
+        assert!(m.clear(f, at(60 * i + 30)));
+    }
+    let now = at(600);
+    m.raise(faults[0], now);
+    assert_eq!(m.get(faults[0]).unwrap().attempts, 1);
+    m.raise(faults[1], now);
+    assert_eq!(m.get(faults[1]).unwrap().attempts, 2);
+    // A fault cleared again takes its own earlier place: the other
+    // remembered ones stay.
+    assert!(m.clear(faults[1], now));
+    m.raise(faults[2], now);
+    assert_eq!(m.get(faults[2]).unwrap().attempts, 2);
+}
