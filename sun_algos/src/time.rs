@@ -84,12 +84,79 @@ pub const MAX_YEAR: i32 = 8000;
 /// assert_eq!(core::mem::size_of::<UtcTime>(), 8);
 /// # Ok::<(), sun_algos::Error>(())
 /// ```
-#[derive(Debug, Clone, Copy, PartialEq, Eq, PartialOrd, Ord, Hash)]
+#[derive(Debug, Clone, Copy)]
 pub struct UtcTime {
     /// Days since 2000-01-01 (that day is 0).
     days: i32,
     /// Milliseconds since midnight, `0..MS_PER_DAY`.
     ms_of_day: u32,
+}
+
+impl UtcTime {
+    /// True when this instant is earlier than `other`: by day, then by
+    /// millisecond of the day (the order a derived `Ord` of the fields
+    /// gives). The one comparison behind `<`, `<=`, `>`, `>=` and `cmp`;
+    /// out of line on the AVR, where a derived comparison of the two
+    /// fields was inlined at every comparison of two instants (the
+    /// scheduler, controller and time keeper make many).
+    #[cfg_attr(target_arch = "avr", inline(never))]
+    fn is_before(&self, other: &Self) -> bool {
+        self.days < other.days || (self.days == other.days && self.ms_of_day < other.ms_of_day)
+    }
+}
+
+impl PartialEq for UtcTime {
+    // Out of line on the AVR, as `is_before`: one copy of the comparison
+    // of eight bytes.
+    #[cfg_attr(target_arch = "avr", inline(never))]
+    fn eq(&self, other: &Self) -> bool {
+        self.days == other.days && self.ms_of_day == other.ms_of_day
+    }
+}
+
+impl Eq for UtcTime {}
+
+/// Hashes the fields in order, as a derived `Hash` would (equal instants
+/// have equal fields).
+impl core::hash::Hash for UtcTime {
+    fn hash<H: core::hash::Hasher>(&self, state: &mut H) {
+        self.days.hash(state);
+        self.ms_of_day.hash(state);
+    }
+}
+
+impl Ord for UtcTime {
+    fn cmp(&self, other: &Self) -> core::cmp::Ordering {
+        if self.is_before(other) {
+            core::cmp::Ordering::Less
+        } else if other.is_before(self) {
+            core::cmp::Ordering::Greater
+        } else {
+            core::cmp::Ordering::Equal
+        }
+    }
+}
+
+impl PartialOrd for UtcTime {
+    fn partial_cmp(&self, other: &Self) -> Option<core::cmp::Ordering> {
+        Some(self.cmp(other))
+    }
+    #[inline]
+    fn lt(&self, other: &Self) -> bool {
+        self.is_before(other)
+    }
+    #[inline]
+    fn le(&self, other: &Self) -> bool {
+        !other.is_before(self)
+    }
+    #[inline]
+    fn gt(&self, other: &Self) -> bool {
+        other.is_before(self)
+    }
+    #[inline]
+    fn ge(&self, other: &Self) -> bool {
+        !self.is_before(other)
+    }
 }
 
 /// Days from 1970-01-01 to 2000-01-01 (946 684 800 s of POSIX time / 86 400).
@@ -910,6 +977,53 @@ mod tests {
             UtcTime::from_unix_seconds(first.unix_seconds() - 1),
             Err(Error::InvalidDate)
         );
+    }
+
+    #[test]
+    fn instants_order_by_day_then_millisecond() {
+        use core::cmp::Ordering;
+        use core::hash::{Hash, Hasher};
+        // Pairs in time order, by their calendar readings: a later day
+        // whose millisecond of the day is smaller, the same day a
+        // millisecond apart, and days either side of 2000-01-01.
+        let t =
+            |y, mo, d, h, mi, s, ms| UtcTime::from_ymd_hms_milli(y, mo, d, h, mi, s, ms).unwrap();
+        let pairs = [
+            (t(2026, 6, 21, 23, 59, 59, 999), t(2026, 6, 22, 0, 0, 0, 0)),
+            (t(2026, 6, 21, 12, 0, 0, 0), t(2026, 6, 21, 12, 0, 0, 1)),
+            (t(1999, 12, 31, 23, 0, 0, 0), t(2000, 1, 1, 1, 0, 0, 0)),
+        ];
+        for (early, late) in pairs {
+            // <, <=, >, >=, == and != of each way round.
+            let ops = |a: UtcTime, b: UtcTime| [a < b, a <= b, a > b, a >= b, a == b, a != b];
+            assert_eq!(ops(early, late), [true, true, false, false, false, true]);
+            assert_eq!(ops(late, early), [false, false, true, true, false, true]);
+            assert_eq!(ops(late, late), [false, true, false, true, true, false]);
+            assert_eq!(early.cmp(&late), Ordering::Less);
+            assert_eq!(late.cmp(&early), Ordering::Greater);
+            assert_eq!(late.cmp(&late), Ordering::Equal);
+            assert_eq!(early.partial_cmp(&late), Some(Ordering::Less));
+            assert_eq!(late.max(early), late);
+        }
+        // Equal instants hash alike (a derived Hash of the fields).
+        struct Sum(u64);
+        impl Hasher for Sum {
+            fn finish(&self) -> u64 {
+                self.0
+            }
+            fn write(&mut self, bytes: &[u8]) {
+                for &b in bytes {
+                    self.0 = self.0.wrapping_mul(31).wrapping_add(u64::from(b));
+                }
+            }
+        }
+        let hash = |u: &UtcTime| {
+            let mut h = Sum(0);
+            u.hash(&mut h);
+            h.finish()
+        };
+        let (a, b) = (t(2026, 6, 21, 1, 2, 3, 4), t(2026, 6, 21, 1, 2, 3, 4));
+        assert_eq!(hash(&a), hash(&b));
     }
 
     #[test]
