@@ -14,6 +14,7 @@
 use crate::config::{SafetyConfig, WindConfig};
 use crate::text::FlashStr;
 use crate::time::monotonic;
+use drivers::counter::count_up;
 
 /// The two axes: C (vertical at home, azimuth-like) and A (tilt).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord)]
@@ -327,13 +328,13 @@ impl FaultManager {
         let max_retries = self.config.max_retries;
         if let Some(a) = self.active.iter_mut().flatten().find(|a| a.fault == fault) {
             if a.retry_due(now_ms) {
-                a.attempts = a.attempts.saturating_add(1);
+                count_up(&mut a.attempts);
                 a.next_attempt_ms = now_ms.wrapping_add(retry_backoff_ms(a.attempts));
                 a.recovery = fault.recovery(a.attempts, max_retries);
             }
             return a.recovery;
         }
-        self.raised = self.raised.saturating_add(1);
+        count_up(&mut self.raised);
         let mut attempts = 1;
         if let Some(slot) = self
             .recent
@@ -357,7 +358,7 @@ impl FaultManager {
                     recovery,
                 });
             }
-            None => self.dropped = self.dropped.saturating_add(1),
+            None => count_up(&mut self.dropped),
         }
         recovery
     }
@@ -368,7 +369,7 @@ impl FaultManager {
         for slot in self.active.iter_mut() {
             if let Some(a) = slot.filter(|a| a.fault == fault) {
                 *slot = None;
-                self.recovered = self.recovered.saturating_add(1);
+                count_up(&mut self.recovered);
                 self.remember(a, now_ms);
                 return true;
             }
@@ -475,7 +476,7 @@ impl FaultManager {
     pub fn reset(&mut self) {
         for slot in self.active.iter_mut() {
             if slot.take().is_some() {
-                self.recovered = self.recovered.saturating_add(1);
+                count_up(&mut self.recovered);
             }
         }
         self.recent = [None; MAX_ACTIVE];
@@ -557,7 +558,7 @@ impl WindMonitor {
         if self.stowed != windy && age_ms >= after_s.saturating_mul(1000) {
             self.stowed = windy;
             if windy {
-                self.stow_count = self.stow_count.saturating_add(1);
+                count_up(&mut self.stow_count);
             }
         }
         self.stowed

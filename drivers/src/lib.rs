@@ -3,6 +3,7 @@
 
 pub mod adc;
 pub mod compass;
+pub mod counter;
 pub mod dc_motor;
 pub mod encoder;
 mod fmath;

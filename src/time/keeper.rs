@@ -38,6 +38,7 @@
 //!
 //! Nothing here blocks or panics; every device error ends in a status flag.
 
+use drivers::counter::count_up;
 use drivers::gps::{FixQuality, GpsFix};
 use drivers::rtc::Clock as RtcDriver;
 use sun_algos::UtcTime;
@@ -344,7 +345,7 @@ impl<C: RtcDriver> TimeKeeper<C> {
                 if let Some(r) = new_epoch {
                     self.gps.last_arrival_ms = Some(r);
                     self.gps.last_implausible_ms = Some(now_ms);
-                    self.gps.rejected = self.gps.rejected.saturating_add(1);
+                    count_up(&mut self.gps.rejected);
                 }
             }
             GpsTime::NoFix | GpsTime::Stale => {}
@@ -396,7 +397,7 @@ impl<C: RtcDriver> TimeKeeper<C> {
                     match datetime_from_utc(&g).map(|d| self.rtc.set_datetime(&d)) {
                         Ok(Ok(())) => {
                             status.rtc_set = true;
-                            self.rtc_sets = self.rtc_sets.saturating_add(1);
+                            count_up(&mut self.rtc_sets);
                         }
                         _ => status.rtc_error = true,
                     }
@@ -404,7 +405,7 @@ impl<C: RtcDriver> TimeKeeper<C> {
                 status.now = Some(g);
                 status.origin = Some(TimeOrigin::Gps);
             } else if new_epoch.is_some() {
-                self.gps.rejected = self.gps.rejected.saturating_add(1);
+                count_up(&mut self.gps.rejected);
             }
         }
         if status.now.is_none() {

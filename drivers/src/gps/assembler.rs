@@ -15,6 +15,8 @@
 //! A bare LF (without CR) is accepted as the end of a line, since some
 //! receivers and log files drop the CR.
 
+use crate::counter::count_up;
+
 /// Longest sentence kept, from `$` through the checksum digits.
 ///
 /// ```
@@ -157,7 +159,7 @@ impl AssemblerStats {
             Reject::MissingChecksum => &mut self.missing_checksum,
             Reject::BadChecksum => &mut self.bad_checksum,
         };
-        *counter = counter.saturating_add(1);
+        count_up(counter);
     }
 }
 
@@ -392,7 +394,7 @@ impl SentenceAssembler {
         let verdict = check(sentence);
         match verdict {
             Ok(()) => {
-                self.stats.accepted = self.stats.accepted.saturating_add(1);
+                count_up(&mut self.stats.accepted);
                 // Only 0x20..=0x7e bytes are ever stored, so this is ASCII.
                 ascii_text(self.buf.get(..len).unwrap_or(&[])).ok_or(Reject::NonAscii)
             }

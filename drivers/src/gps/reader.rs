@@ -12,6 +12,7 @@ use embedded_io::{ErrorKind, Read, ReadReady};
 use super::assembler::{AssemblerStats, SentenceAssembler};
 use super::fix::{FixFusion, GpsFix};
 use super::parse::parse_sentence;
+use crate::counter::count_up;
 
 /// Size of the reader's receive chunk.
 const READ_CHUNK: usize = 32;
@@ -143,7 +144,7 @@ impl GpsDecoder {
         match sentence {
             Ok(s) => self.fusion.update_completes(&s, now_ms),
             Err(_) => {
-                self.parse_errors = self.parse_errors.saturating_add(1);
+                count_up(&mut self.parse_errors);
                 false
             }
         }
