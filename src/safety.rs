@@ -686,6 +686,13 @@ impl OperatorHold {
     const MANUAL: u8 = 2;
     const SERVICE: u8 = 4;
 
+    /// No hold in force (the default).
+    pub const NONE: OperatorHold = OperatorHold {
+        stow: false,
+        manual: false,
+        service: false,
+    };
+
     /// The stored byte: bit 0 stow, bit 1 manual, bit 2 service.
     pub fn to_bits(self) -> u8 {
         let bit = |on: bool, b: u8| if on { b } else { 0 };

@@ -1,6 +1,8 @@
 //! Configuration ranges: every field is checked and the error names it.
 
 use suntracker::config::{ranges, AxisConfig, Config, ConfigError, Reason};
+use suntracker::plan::ScheduleConfig;
+use suntracker::safety::OperatorHold;
 
 fn field_of(c: &Config) -> Option<&'static str> {
     c.validate()
@@ -369,4 +371,41 @@ fn the_controller_refuses_a_configuration_out_of_range() {
         Err(e) => panic!("{e:?}"),
         Ok(_) => panic!("accepted a gear ratio of 1e30"),
     }
+}
+
+#[test]
+fn defaults_from_the_key_table_are_the_documented_constant() {
+    // `Config::default` writes each key from a table built out of
+    // `Config::DEFAULT`: every field (and the hold, none) comes out as the
+    // constant's, and the documented values are in it.
+    let d = Config::default();
+    assert_eq!(d, Config::DEFAULT);
+    assert_eq!(d.schedule, ScheduleConfig::default());
+    assert_eq!(d.hold, OperatorHold::default());
+    // Jimoh & Aliyu (2019): Kano, 4-minute table, 2-minute hold, 30 s
+    // re-check; 1.8° steppers (200 steps) with 16 microsteps, 100:1 gear.
+    assert_eq!(
+        (
+            d.site.latitude_deg,
+            d.site.longitude_deg,
+            d.site.elevation_m
+        ),
+        (11.9683, 8.4261, 480.0)
+    );
+    assert_eq!(
+        (
+            d.schedule.table_step_s,
+            d.schedule.hold_s,
+            d.schedule.recheck_s
+        ),
+        (240, 120, 30)
+    );
+    for a in &d.axes {
+        assert_eq!(
+            (a.counts_per_motor_rev, a.microsteps, a.gear_ratio),
+            (200, 16, 100.0)
+        );
+    }
+    assert_eq!((d.axes[1].min_deg, d.axes[1].max_deg), (-90.0, 90.0));
+    assert_eq!((d.safety.max_retries, d.log.status_every_min), (3, 10));
 }

@@ -201,13 +201,13 @@ pub struct Config {
     pub hold: OperatorHold,
 }
 
-impl Default for Config {
-    /// Kano (Jimoh & Aliyu's (2019) site); 1.8° steppers with 16 microsteps and a
-    /// 100:1 worm gear; Jimoh & Aliyu's 4-minute table, 2-minute hold and
-    /// 30-second re-check (their flowchart's steps 7, 14 and 12).
-    // Not inlined: a board's own defaults start from these.
-    #[inline(never)]
-    fn default() -> Self {
+impl Config {
+    /// The defaults: Kano (Jimoh & Aliyu's (2019) site); 1.8° steppers with
+    /// 16 microsteps and a 100:1 worm gear; Jimoh & Aliyu's 4-minute table,
+    /// 2-minute hold and 30-second re-check (their flowchart's steps 7, 14
+    /// and 12). A constant for the key table's defaults, built from it when
+    /// compiling; [`Config::default`] returns these values.
+    pub const DEFAULT: Config = {
         let axis = AxisConfig {
             counts_per_motor_rev: 200,
             microsteps: 16,
@@ -225,7 +225,7 @@ impl Default for Config {
                 longitude_deg: 8.4261,
                 elevation_m: 480.0,
             },
-            schedule: ScheduleConfig::default(),
+            schedule: ScheduleConfig::DEFAULT,
             axes: [
                 axis,
                 AxisConfig {
@@ -255,7 +255,20 @@ impl Default for Config {
             log: LogConfig {
                 status_every_min: 10,
             },
-            hold: OperatorHold::default(),
+            hold: OperatorHold::NONE,
         }
+    };
+}
+
+impl Default for Config {
+    /// [`Config::DEFAULT`], written key by key from the key table's
+    /// defaults (a table built from it when compiling, in flash on the
+    /// AVR).
+    // Not inlined: a board's own defaults start from these. From the
+    // table: the fields written one by one were 584 B of code on the
+    // ATmega2560.
+    #[inline(never)]
+    fn default() -> Self {
+        table::defaults()
     }
 }

@@ -5,7 +5,12 @@
 //! [`Config::validate`] checks its ranges in that order, so that one table
 //! says all three.
 
-use super::{ranges as r, Config, Field, Reason};
+use super::{
+    ranges as r, AxisConfig, Calibration, Config, Field, LogConfig, Reason, SafetyConfig,
+    SiteConfig, WindConfig,
+};
+use crate::plan::ScheduleConfig;
+use crate::safety::OperatorHold;
 
 /// A key's value.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -33,6 +38,21 @@ macro_rules! key_slot {
     };
     (U8, $e:expr) => {
         Slot::U8(&mut $e)
+    };
+}
+
+/// One field's value as the defaults table stores it: an `f32`'s bits
+/// or the whole number; 0 for a derived key (not stored).
+macro_rules! key_bits {
+    (F32, $e:expr) => {
+        $e.to_bits()
+    };
+    (Derived, $e:expr) => {
+        0
+    };
+    // Widening casts (`u32::from` is not `const`).
+    ($int:ident, $e:expr) => {
+        $e as u32
     };
 }
 
@@ -96,6 +116,14 @@ macro_rules! key_table {
                 [$(key_range!($kind, r::$range, $why),)*];
         }
 
+        /// The value of `key` in `$c` in the defaults table's bits
+        /// ([`key_bits`]); when compiling.
+        const fn key_bits($c: &Config, key: Field) -> u32 {
+            match key {
+                $(Field::$field => key_bits!($kind, $place),)*
+            }
+        }
+
         /// The field of `key`, to write.
         pub(crate) fn slot($c: &mut Config, key: Field) -> Slot<'_> {
             match key {
@@ -147,6 +175,94 @@ key_table! { c;
     CalibrationTiltYOffsetDeg F32 c.calibration.tilt_y_offset_deg, TILT_OFFSET_DEG TiltOffsetDeg;
     LogStatusMin U16 c.log.status_every_min, STATUS_MIN StatusMin;
 }
+
+crate::progmem! {
+    /// Each key's default ([`Config::DEFAULT`]) at its place in [`KEYS`],
+    /// in the bits of [`key_bits`]; built when compiling.
+    pub(crate) static DEFAULTS: [u32; KEYS.len()] = {
+        let mut bits = [0u32; KEYS.len()];
+        let mut i = 0;
+        while i < KEYS.len() {
+            bits[i] = key_bits(&Config::DEFAULT, KEYS[i]);
+            i += 1;
+        }
+        bits
+    };
+}
+
+/// [`Config::DEFAULT`], written key by key from [`DEFAULTS`] into a
+/// configuration of zeros (the operator's hold, not a key, is none).
+/// Through the table: on the AVR the fields written one by one were
+/// several times the code of this loop and the table's 4 bytes a key.
+pub(crate) fn defaults() -> Config {
+    let mut config = ZEROS;
+    for (i, &key) in KEYS.iter().enumerate() {
+        let field = slot(&mut config, key);
+        let bits = DEFAULTS.get(i).unwrap_or(0);
+        // Each value came from its own field (`key_bits`): the narrowing
+        // casts give it back.
+        match field {
+            Slot::F32(v) => *v = f32::from_bits(bits),
+            Slot::U32(v) => *v = bits,
+            Slot::U16(v) => *v = bits as u16,
+            Slot::U8(v) => *v = bits as u8,
+            Slot::Derived => {}
+        }
+    }
+    config
+}
+
+/// A configuration of zeros (every field's bits 0), which [`defaults`]
+/// fills in.
+const ZEROS: Config = {
+    let axis = AxisConfig {
+        counts_per_motor_rev: 0,
+        microsteps: 0,
+        gear_ratio: 0.0,
+        min_deg: 0.0,
+        max_deg: 0.0,
+        home_deg: 0.0,
+        backlash_deg: 0.0,
+        max_speed_deg_s: 0.0,
+        deadband_deg: 0.0,
+    };
+    Config {
+        site: SiteConfig {
+            latitude_deg: 0.0,
+            longitude_deg: 0.0,
+            elevation_m: 0.0,
+        },
+        schedule: ScheduleConfig {
+            table_step_s: 0,
+            hold_s: 0,
+            recheck_s: 0,
+            max_tick_gap_s: 0,
+            max_backward_s: 0,
+        },
+        axes: [axis, axis],
+        wind: WindConfig {
+            threshold_hz: 0.0,
+            hold_s: 0,
+            release_s: 0,
+        },
+        safety: SafetyConfig {
+            max_deviation_deg: 0.0,
+            stall_timeout_s: 0,
+            sensor_timeout_s: 0,
+            max_retries: 0,
+        },
+        calibration: Calibration {
+            declination_deg: 0.0,
+            heading_offset_deg: 0.0,
+            tilt_x_offset_deg: 0.0,
+            tilt_y_offset_deg: 0.0,
+        },
+        log: LogConfig {
+            status_every_min: 0,
+        },
+        hold: OperatorHold::NONE,
+    }
+};
 
 /// The value of `key` in `config`: read through its slot in a copy
 /// (one table of places, not a second `match` over the keys); the derived

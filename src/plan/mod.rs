@@ -73,15 +73,21 @@ pub struct ScheduleConfig {
     pub max_backward_s: u32,
 }
 
+impl ScheduleConfig {
+    /// The defaults ([`Default`]), as a constant (the configuration's
+    /// defaults are built from it when compiling).
+    pub const DEFAULT: ScheduleConfig = ScheduleConfig {
+        table_step_s: 240,
+        hold_s: 120,
+        recheck_s: 30,
+        max_tick_gap_s: 900,
+        max_backward_s: 2,
+    };
+}
+
 impl Default for ScheduleConfig {
     fn default() -> Self {
-        ScheduleConfig {
-            table_step_s: 240,
-            hold_s: 120,
-            recheck_s: 30,
-            max_tick_gap_s: 900,
-            max_backward_s: 2,
-        }
+        Self::DEFAULT
     }
 }
 
