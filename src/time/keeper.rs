@@ -278,6 +278,8 @@ fn ms_between(later: &UtcTime, earlier: &UtcTime) -> Option<i32> {
 }
 
 /// True when `t` (monotonic ms) is set and at most `hold_ms` before `now_ms`.
+// Out of line on the AVR: `GpsState::expire` has three calls.
+#[cfg_attr(target_arch = "avr", inline(never))]
 fn within(t: Option<u32>, now_ms: u32, hold_ms: u32) -> bool {
     t.is_some_and(|t| super::monotonic::elapsed_ms(now_ms, t) <= hold_ms)
 }
