@@ -908,7 +908,8 @@ impl<T: Float, P: PositionSource<T>, const N: usize> Scheduler<T, P, N> {
     }
 
     fn past_daylight(&self, now: &UtcTime) -> Result<bool, ScheduleError> {
-        match self.day {
+        // Read in place (a copy of the day is 26 bytes moved on the AVR).
+        match &self.day {
             // The end of the daylight span (`SolarDay::span`).
             Some(d) => Ok(match d.daylight {
                 Daylight::Normal { set, .. } => *now >= set,
@@ -924,7 +925,7 @@ impl<T: Float, P: PositionSource<T>, const N: usize> Scheduler<T, P, N> {
     /// td_ed is zero and there is no night to go home for: the next day is
     /// planned at once.
     fn end_of_day(&mut self, now: UtcTime) -> Result<Action<T>, ScheduleError> {
-        let (until, up_at_end) = match self.day {
+        let (until, up_at_end) = match &self.day {
             Some(d) => {
                 let end = d.end()?;
                 // The daylight span's end (`SolarDay::span`) at or after
@@ -1013,7 +1014,7 @@ impl<T: Float, P: PositionSource<T>, const N: usize> Scheduler<T, P, N> {
         // check) and the action of a check that keeps tracking.
         let (wait_s, action) = 'check: {
             // This slot's set-point was applied: nothing to compute (step 12).
-            if tracking && self.last_entry.is_some_and(|e| e.time == slot) {
+            if tracking && self.last_entry.as_ref().is_some_and(|e| e.time == slot) {
                 break 'check (self.config.recheck_s, Action::Idle);
             }
             let sun = self.source.position(&slot)?;
@@ -1046,7 +1047,7 @@ impl<T: Float, P: PositionSource<T>, const N: usize> Scheduler<T, P, N> {
             let set_point = SetPoint::facing(&sun);
             // A new solar day: its first daylight slot is home (Li et al. 2022).
             let day_start = solar_day_start(&slot, self.source.site().longitude_deg())?;
-            if self.rt_day.map(|(d, _)| d) != Some(day_start) {
+            if self.rt_day.as_ref().is_none_or(|(d, _)| *d != day_start) {
                 self.rt_day = Some((day_start, slot));
                 self.home = set_point;
                 self.last_entry = None;
