@@ -51,7 +51,7 @@ pub enum Sensor {
 }
 
 /// A fault.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord)]
+#[derive(Debug, Clone, Copy, PartialOrd, Ord)]
 pub enum Fault {
     /// No reading from the sensor within the timeout.
     SensorTimeout(Sensor),
@@ -82,6 +82,24 @@ pub enum Fault {
     /// The day could not be planned for another reason (events, table
     /// capacity).
     ScheduleFailed,
+}
+
+/// Faults are equal when they are the same fault ([`Fault::number`] is
+/// one to one): one comparison of two numbers, not a derived one of the
+/// variant and then its sensor or axis.
+impl PartialEq for Fault {
+    fn eq(&self, other: &Self) -> bool {
+        self.number() == other.number()
+    }
+}
+
+impl Eq for Fault {}
+
+/// Hashes the fault's number (equal faults, equal numbers).
+impl core::hash::Hash for Fault {
+    fn hash<H: core::hash::Hasher>(&self, state: &mut H) {
+        self.number().hash(state);
+    }
 }
 
 impl Fault {

@@ -440,3 +440,55 @@ fn a_full_list_of_cleared_faults_forgets_the_oldest() {
     m.raise(faults[2], now);
     assert_eq!(m.get(faults[2]).unwrap().attempts, 2);
 }
+
+#[test]
+fn faults_are_equal_only_to_themselves() {
+    // Every fault, each variant with each of its sensors or axes (the
+    // enums' own lists): equality, ordering and hashing agree, and no two
+    // different faults are equal.
+    use std::collections::hash_map::DefaultHasher;
+    use std::hash::{Hash, Hasher};
+    let sensors = [
+        Sensor::Inclinometer,
+        Sensor::Compass,
+        Sensor::Encoder(AxisId::C),
+        Sensor::Encoder(AxisId::A),
+        Sensor::Rtc,
+        Sensor::Gps,
+    ];
+    let mut all = Vec::new();
+    for s in sensors {
+        all.push(Fault::SensorTimeout(s));
+        all.push(Fault::I2cError(s));
+    }
+    for a in [AxisId::C, AxisId::A] {
+        all.push(Fault::MotorStalled(a));
+        all.push(Fault::SetPointDeviation(a));
+        all.push(Fault::LimitSwitchHit(a));
+    }
+    all.extend([
+        Fault::GpsLost,
+        Fault::RtcInvalid,
+        Fault::GpsTimeImplausible,
+        Fault::GpsTimeUnstable,
+        Fault::GpsPositionUnstable,
+        Fault::TimeOutOfRange,
+        Fault::ScheduleFailed,
+    ]);
+    assert_eq!(all.len(), 25);
+    let hash = |f: &Fault| {
+        let mut h = DefaultHasher::new();
+        f.hash(&mut h);
+        h.finish()
+    };
+    for (i, a) in all.iter().enumerate() {
+        for (j, b) in all.iter().enumerate() {
+            assert_eq!(a == b, i == j, "{a:?} {b:?}");
+            assert_eq!(a.cmp(b) == std::cmp::Ordering::Equal, i == j);
+        }
+        let copy = *a;
+        assert_eq!(hash(a), hash(&copy));
+        // The names are distinct too (one per fault).
+        assert_eq!(all.iter().filter(|b| b.name() == a.name()).count(), 1);
+    }
+}
