@@ -483,7 +483,11 @@ impl UtcTime {
     }
 
     /// This instant plus whole days and `ms` (below one day) milliseconds.
-    #[inline]
+    // Out of line on the AVR: the 32-bit adds and range checks were
+    // inlined into each caller there (the time keeper's `add_millis_u32`
+    // and `add_seconds_i32`).
+    #[cfg_attr(target_arch = "avr", inline(never))]
+    #[cfg_attr(not(target_arch = "avr"), inline)]
     fn add_days_ms(&self, whole_days: i32, ms: u32) -> Result<Self, Error> {
         // Below two days (2 × MS_PER_DAY): one comparison, not a division.
         let total_ms = ms.checked_add(self.ms_of_day).ok_or(Error::InvalidTime)?;
