@@ -169,14 +169,21 @@ pub struct SolarDay {
     pub daylight: Daylight,
 }
 
+/// `t` plus `s` seconds; past the calendar, [`ScheduleError::TimeRange`].
+/// The one conversion of the calendar's error for the scheduler's steps
+/// (out of line on the AVR, where each inlined one moved the instant
+/// between two results).
+#[cfg_attr(target_arch = "avr", inline(never))]
+fn add_s(t: &UtcTime, s: i32) -> Result<UtcTime, ScheduleError> {
+    t.add_seconds_i32(s).map_err(|_| ScheduleError::TimeRange)
+}
+
 impl SolarDay {
     /// The next solar midnight. Out of line on the AVR (two inlined copies
     /// of the calendar step there).
     #[cfg_attr(target_arch = "avr", inline(never))]
     pub fn end(&self) -> Result<UtcTime, ScheduleError> {
-        self.start
-            .add_seconds_i32(86_400)
-            .map_err(|_| ScheduleError::TimeRange)
+        add_s(&self.start, 86_400)
     }
 
     /// Daylight span `[from, to)` (whole day for a polar day).
@@ -223,10 +230,8 @@ pub fn solar_day_start<T: Float>(
     // The local midnight at or before `now + off`, back in UTC. Days
     // begin at whole seconds, so keeping `now`'s milliseconds changes no
     // day.
-    now.add_seconds_i32(off)
-        .map(|local| local.start_of_day())
-        .and_then(|midnight| midnight.add_seconds_i32(-off))
-        .map_err(|_| ScheduleError::TimeRange)
+    let local = add_s(now, off)?;
+    add_s(&local.start_of_day(), -off)
 }
 
 /// Sunrise and sunset (sun centre on the geometric horizon, Jimoh & Aliyu
@@ -1002,13 +1007,8 @@ impl<T: Float, P: PositionSource<T>, const N: usize> Scheduler<T, P, N> {
         let of_day_s = now.ms_of_day() / 1000;
         // Below 86 400: fits an i32.
         let slot_s = (of_day_s - of_day_s % step_s) as i32;
-        let slot = now
-            .start_of_day()
-            .add_seconds_i32(slot_s)
-            .map_err(|_| ScheduleError::TimeRange)?;
-        let next_slot = slot
-            .add_seconds_i32(step_s as i32)
-            .map_err(|_| ScheduleError::TimeRange)?;
+        let slot = add_s(&now.start_of_day(), slot_s)?;
+        let next_slot = add_s(&slot, step_s as i32)?;
         let tracking = matches!(self.phase, Phase::Tracking { .. });
         // The wait (one computation of the next check, for both kinds of
         // check) and the action of a check that keeps tracking.
