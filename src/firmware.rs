@@ -25,6 +25,7 @@
 //! outside the firmware's window, and no GPS) the controller waits stowed
 //! and the log says so (`mode wait_for_time`, `fault rtc_invalid raised`).
 
+use drivers::counter::count_up;
 use drivers::gps::GpsFix;
 use drivers::rtc::Clock as RtcDriver;
 use embedded_io::{Read, ReadReady};
@@ -414,14 +415,14 @@ where
         };
         match self.gps.service(stamp_ms) {
             Ok(fix) => self.fix = fix,
-            Err(_) => count_one(&mut self.stats.gps_errors),
+            Err(_) => count_up(&mut self.stats.gps_errors),
         }
         // The drives' microseconds from the board's 64-bit count: they
         // never wrap.
         let now_us = us_from_ms(board_ms);
         for ax in self.controller.axes_mut().iter_mut() {
             if !ax.drive_mut().service(now_us) {
-                count_one(&mut self.stats.drive_errors);
+                count_up(&mut self.stats.drive_errors);
             }
         }
         self.service_console(platform);
@@ -432,7 +433,7 @@ where
         if due {
             if let Some(t) = self.next_tick_ms {
                 if monotonic::elapsed_ms(now_ms, t) > tick_ms {
-                    count_one(&mut self.stats.late_ticks);
+                    count_up(&mut self.stats.late_ticks);
                 }
             }
             let pulses = platform.take_wind_pulses();
@@ -465,7 +466,7 @@ where
         self.last_tick_ms = now_ms;
         self.last_wind_hz = (interval_ms > 0 && self.stats.ticks > 0)
             .then(|| wind_pulses as f32 * 1000.0 / interval_ms as f32);
-        count_one(&mut self.stats.ticks);
+        count_up(&mut self.stats.ticks);
         let rejected_before = self.time.rejected_epochs();
         let mut status = self.time.update(&self.fix, now_ms);
         if status.origin == Some(TimeOrigin::Gps) {
@@ -633,7 +634,7 @@ where
             return;
         }
         self.last_setpoint = Some(entry.time);
-        count_one(&mut self.stats.setpoints);
+        count_up(&mut self.stats.setpoints);
         log::setpoint(
             &mut self.log,
             &entry.time,
@@ -942,14 +943,6 @@ where
     }
 }
 
-/// One more in a counter of [`Stats`], saturating. Out of line on the
-/// AVR: a 32-bit saturating increment in line at each of the loop's
-/// counters cost more on the ATmega2560 than a call.
-#[cfg_attr(target_arch = "avr", inline(never))]
-fn count_one(counter: &mut u32) {
-    *counter = counter.saturating_add(1);
-}
-
 /// `ms × 1000`, saturating at `u64::MAX`: the range test, then one
 /// product that cannot overflow. (A `u64::saturating_mul` would check a
 /// 128-bit product; shifts and adds, tried once, were folded back by LLVM
@@ -964,19 +957,7 @@ fn us_from_ms(ms: u64) -> u64 {
 
 #[cfg(test)]
 mod tests {
-    use super::{count_one, us_from_ms};
-
-    #[test]
-    fn a_counter_counts_one_and_stops_at_its_maximum() {
-        let mut c = 0u32;
-        count_one(&mut c);
-        assert_eq!(c, 1);
-        let mut c = u32::MAX - 1;
-        count_one(&mut c);
-        assert_eq!(c, u32::MAX);
-        count_one(&mut c);
-        assert_eq!(c, u32::MAX);
-    }
+    use super::us_from_ms;
 
     #[test]
     fn microseconds_are_the_product_saturated() {
