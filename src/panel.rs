@@ -117,7 +117,7 @@ impl DayEnergy {
             }
         }
         self.last = Some((now_ms, panel_mv));
-        self.samples = self.samples.saturating_add(1);
+        drivers::counter::count_up(&mut self.samples);
     }
 
     /// Samples added since the last reset.

@@ -62,7 +62,7 @@ where
             .poll(now_us)
             .map_err(StepperAxisError::Stepper)?;
         if let Event::LimitReached(_) = ev {
-            self.limit_stops = self.limit_stops.saturating_add(1);
+            drivers::counter::count_up(&mut self.limit_stops);
         }
         self.last_event = ev;
         Ok(ev)

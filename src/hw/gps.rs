@@ -39,7 +39,7 @@ impl<R: Read + ReadReady> GpsPort<R> {
                 break;
             }
             if self.reader.poll_if_ready(now_ms)?.is_some() {
-                self.fixes = self.fixes.saturating_add(1);
+                drivers::counter::count_up(&mut self.fixes);
             }
         }
         Ok(self.reader.current(now_ms))
