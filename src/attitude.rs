@@ -58,6 +58,17 @@ pub struct Pose<T> {
     pub alpha_deg: T,
 }
 
+impl<T: Float> Pose<T> {
+    /// Travel between this pose and `other`: both axes' degrees, summed
+    /// (how [`MountAttitude::choose`] and the controller's look-ahead
+    /// measure movement). Out of line on the AVR, where `choose` would hold
+    /// two copies (120 B less on the ATmega2560, with the look-ahead's own copy gone).
+    #[cfg_attr(target_arch = "avr", inline(never))]
+    pub fn travel_deg(&self, other: &Pose<T>) -> T {
+        (self.gamma_deg - other.gamma_deg).abs() + (self.alpha_deg - other.alpha_deg).abs()
+    }
+}
+
 /// Mechanical ranges of the two axes, degrees (inclusive).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct PoseLimits<T> {
@@ -340,9 +351,6 @@ impl<T: Float> MountAttitude<T> {
     ) -> Result<Choice<T>, AttitudeError> {
         let sols = self.solutions(sun_xyz, current.gamma_deg)?;
         let turn = T::from_f64(360.0);
-        let cost_of = |p: &Pose<T>| {
-            (p.gamma_deg - current.gamma_deg).abs() + (p.alpha_deg - current.alpha_deg).abs()
-        };
         // The six candidates in turn: each solution at −360°, 0 and +360°
         // on the C axis. The out-of-reach ones are clamped again in the
         // second pass rather than kept: an array of six clamped candidates
@@ -366,7 +374,7 @@ impl<T: Float> MountAttitude<T> {
         let mut min_miss: Option<T> = None;
         for cand in (0..6).filter_map(candidate) {
             if limits.contains(&cand) {
-                let cost = cost_of(&cand);
+                let cost = cand.travel_deg(current);
                 if best.is_none_or(|(c, _)| cost < c) {
                     best = Some((cost, cand));
                 }
@@ -390,7 +398,7 @@ impl<T: Float> MountAttitude<T> {
         for cand in (0..6).filter_map(candidate) {
             let (miss, c) = clamped_miss(limits, &cand);
             if miss <= min_miss + tol {
-                let travel = cost_of(&c);
+                let travel = c.travel_deg(current);
                 match least {
                     Some((t, _)) if t <= travel => {}
                     _ => least = Some((travel, c)),
@@ -507,6 +515,22 @@ mod tests {
         let [p1, _] = m.solutions(&s, 17.0).unwrap();
         assert_eq!(p1.gamma_deg, 17.0);
         assert!(p1.alpha_deg.abs() < 1e-9);
+    }
+
+    #[test]
+    fn travel_sums_both_axes() {
+        let a = Pose {
+            gamma_deg: -170.0f64,
+            alpha_deg: 20.0,
+        };
+        let b = Pose {
+            gamma_deg: 170.0,
+            alpha_deg: -5.0,
+        };
+        // 340° on the C axis (no wrap: the axis turns the long way) + 25°.
+        assert_eq!(a.travel_deg(&b), 365.0);
+        assert_eq!(b.travel_deg(&a), 365.0);
+        assert_eq!(a.travel_deg(&a), 0.0);
     }
 
     #[test]

@@ -280,11 +280,6 @@ fn advance<T: Float, P: PositionSource<T>, const N: usize>(
     }
 }
 
-/// Travel between two poses: both axes' degrees, summed.
-fn travel_deg<T: Float>(a: &Pose<T>, b: &Pose<T>) -> T {
-    (a.gamma_deg - b.gamma_deg).abs() + (a.alpha_deg - b.alpha_deg).abs()
-}
-
 /// One candidate start and the path followed from it so far.
 #[derive(Debug, Clone, Copy, PartialEq)]
 struct Start<T> {
@@ -339,7 +334,7 @@ impl<T: Float> Starts<T> {
                     *slot = Some(Start {
                         start,
                         prev: start,
-                        travel: from.map_or(T::ZERO, |f| travel_deg(f, &start)),
+                        travel: from.map_or(T::ZERO, |f| start.travel_deg(f)),
                     });
                 }
             }
@@ -353,7 +348,7 @@ impl<T: Float> Starts<T> {
         for s in self.0.iter_mut().flatten() {
             if let Ok(c) = attitude.choose(&sun, &s.prev, limits) {
                 let p = c.pose();
-                s.travel += travel_deg(&p, &s.prev);
+                s.travel += p.travel_deg(&s.prev);
                 s.prev = p;
             }
         }
