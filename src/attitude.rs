@@ -350,7 +350,6 @@ impl<T: Float> MountAttitude<T> {
         limits: &PoseLimits<T>,
     ) -> Result<Choice<T>, AttitudeError> {
         let sols = self.solutions(sun_xyz, current.gamma_deg)?;
-        let turn = T::from_f64(360.0);
         // The six candidates in turn: each solution at −360°, 0 and +360°
         // on the C axis. The out-of-reach ones are clamped again in the
         // second pass rather than kept: an array of six clamped candidates
@@ -360,10 +359,13 @@ impl<T: Float> MountAttitude<T> {
         // the AVR (28 B less on the ATmega2560 than with `usize`).
         let candidate = |k: u8| {
             let sol = sols.get(usize::from(k / 3))?;
+            // ±360° as constants, not a local the closure captures by
+            // reference: that local sat in a far stack slot of `choose`
+            // (80 B less on the ATmega2560).
             let g = match k % 3 {
-                0 => -turn,
+                0 => T::from_f64(-360.0),
                 1 => T::ZERO,
-                _ => turn,
+                _ => T::from_f64(360.0),
             };
             Some(Pose {
                 gamma_deg: sol.gamma_deg + g,
