@@ -84,7 +84,7 @@ pub enum Fault {
     ScheduleFailed,
 }
 
-/// Faults are equal when they are the same fault ([`Fault::number`] is
+/// Faults are equal when they are the same fault (`Fault::number` is
 /// one to one): one comparison of two numbers, not a derived one of the
 /// variant and then its sensor or axis.
 impl PartialEq for Fault {
