@@ -944,9 +944,9 @@ where
 }
 
 /// `ms × 1000`, saturating at `u64::MAX`: the range test, then one
-/// product that cannot overflow. (A `u64::saturating_mul` would check a
-/// 128-bit product; shifts and adds, tried once, were folded back by LLVM
-/// into the same 64-bit product, `__muldi3` on the AVR.)
+/// product that cannot overflow (a `u64::saturating_mul` would check a
+/// 128-bit product). On the AVR the product is a `__muldi3` call; the
+/// shifts and adds this was once written as saved no call there.
 fn us_from_ms(ms: u64) -> u64 {
     if ms > u64::MAX / 1000 {
         return u64::MAX;
