@@ -945,8 +945,7 @@ where
 
 /// `ms × 1000`, saturating at `u64::MAX`: the range test, then one
 /// product that cannot overflow (a `u64::saturating_mul` would check a
-/// 128-bit product). On the AVR the product is a `__muldi3` call; the
-/// shifts and adds this was once written as saved no call there.
+/// 128-bit product).
 fn us_from_ms(ms: u64) -> u64 {
     if ms > u64::MAX / 1000 {
         return u64::MAX;
