@@ -82,6 +82,12 @@ pub enum Fault {
     /// The day could not be planned for another reason (events, table
     /// capacity).
     ScheduleFailed,
+    /// The axis's motor current stayed above its limit (a DC drive's
+    /// current sense): the axis met an obstacle.
+    Obstruction(AxisId),
+    /// The axis moved while its motor rested (a DC drive's Hall counts):
+    /// an external force back-drives it, or a gear is loose.
+    UnexpectedMotion(AxisId),
 }
 
 /// Faults are equal when they are the same fault (`Fault::number` is
@@ -132,6 +138,10 @@ impl Fault {
             "gps_position_unstable",
             "time_out_of_range",
             "schedule_failed",
+            "obstruction_c",
+            "obstruction_a",
+            "unexpected_motion_c",
+            "unexpected_motion_a",
         )
         .get(self.number())
         .unwrap_or(crate::flash_str!(""))
@@ -163,6 +173,8 @@ impl Fault {
             Fault::GpsPositionUnstable => 22,
             Fault::TimeOutOfRange => 23,
             Fault::ScheduleFailed => 24,
+            Fault::Obstruction(a) => 25 + a.index(),
+            Fault::UnexpectedMotion(a) => 27 + a.index(),
         }
     }
 }
@@ -212,7 +224,7 @@ impl Fault {
                     Recovery::DegradeOpenLoop
                 }
             }
-            Fault::MotorStalled(ax) => {
+            Fault::MotorStalled(ax) | Fault::Obstruction(ax) | Fault::UnexpectedMotion(ax) => {
                 if attempt <= retries {
                     Recovery::Retry
                 } else {

@@ -86,7 +86,7 @@ impl InputPin for Switch {
 }
 
 type Sense = CurrentSense<IsPin>;
-type Axis<'a, C> = DcAxis<'a, SimBridge, SharedEncoder, Switch, C>;
+type Axis<'a, C> = DcAxis<SimBridge, &'a SharedEncoder, Switch, C>;
 
 fn spec() -> MotorSpec {
     MotorSpec::pololu_37d_131_12v()

@@ -32,9 +32,19 @@ fn every_fault_has_its_recovery() {
     }
     assert_eq!(Fault::GpsLost.recovery(1, r), Recovery::UseRtcAndStoredSite);
     assert_eq!(Fault::RtcInvalid.recovery(1, r), Recovery::WaitForGps);
-    let st = Fault::MotorStalled(AxisId::C);
-    assert_eq!(st.recovery(1, r), Recovery::Retry);
-    assert_eq!(st.recovery(4, r), Recovery::DegradeOneAxis(AxisId::C));
+    // A motor that does not move, meets an obstacle or is moved by one:
+    // retried, then that axis is left alone.
+    for ax in [AxisId::C, AxisId::A] {
+        for st in [
+            Fault::MotorStalled(ax),
+            Fault::Obstruction(ax),
+            Fault::UnexpectedMotion(ax),
+        ] {
+            assert_eq!(st.recovery(1, r), Recovery::Retry);
+            assert_eq!(st.recovery(3, r), Recovery::Retry);
+            assert_eq!(st.recovery(4, r), Recovery::DegradeOneAxis(ax));
+        }
+    }
     let dev = Fault::SetPointDeviation(AxisId::A);
     assert_eq!(dev.recovery(1, r), Recovery::Rehome(AxisId::A));
     assert_eq!(dev.recovery(4, r), Recovery::DegradeOneAxis(AxisId::A));
@@ -66,6 +76,11 @@ fn every_fault_and_mode_has_its_documented_name() {
         expected.push((Fault::MotorStalled(a), format!("motor_stalled_{letter}")));
         expected.push((Fault::SetPointDeviation(a), format!("deviation_{letter}")));
         expected.push((Fault::LimitSwitchHit(a), format!("limit_switch_{letter}")));
+        expected.push((Fault::Obstruction(a), format!("obstruction_{letter}")));
+        expected.push((
+            Fault::UnexpectedMotion(a),
+            format!("unexpected_motion_{letter}"),
+        ));
     }
     for (f, name) in [
         (Fault::GpsLost, "gps_lost"),
@@ -78,7 +93,7 @@ fn every_fault_and_mode_has_its_documented_name() {
     ] {
         expected.push((f, name.to_string()));
     }
-    assert_eq!(expected.len(), 25);
+    assert_eq!(expected.len(), 29);
     for (f, name) in &expected {
         assert_eq!(f.name(), name.as_str(), "{f:?}");
     }
@@ -465,6 +480,8 @@ fn faults_are_equal_only_to_themselves() {
         all.push(Fault::MotorStalled(a));
         all.push(Fault::SetPointDeviation(a));
         all.push(Fault::LimitSwitchHit(a));
+        all.push(Fault::Obstruction(a));
+        all.push(Fault::UnexpectedMotion(a));
     }
     all.extend([
         Fault::GpsLost,
@@ -475,7 +492,7 @@ fn faults_are_equal_only_to_themselves() {
         Fault::TimeOutOfRange,
         Fault::ScheduleFailed,
     ]);
-    assert_eq!(all.len(), 25);
+    assert_eq!(all.len(), 29);
     let hash = |f: &Fault| {
         let mut h = DefaultHasher::new();
         f.hash(&mut h);

@@ -19,7 +19,8 @@ mod phases;
 use crate::attitude::{sun_vector_xyz, MountAttitude, Pose, PoseLimits};
 use crate::config::{Config, ConfigError};
 use crate::motion::{
-    AxisController, AxisDrive, AxisError, FeedbackMode, HomeState, StallVerdict, StallWatch,
+    AxisController, AxisDrive, AxisError, DriveFault, FeedbackMode, HomeState, StallVerdict,
+    StallWatch,
 };
 use crate::plan::{ScheduleError, Scheduler, SetPoint};
 use crate::ports::{AttitudeReading, AttitudeSensor};
@@ -690,6 +691,9 @@ where
         if wait_until.is_some_and(|t| !monotonic::reached(now_ms, t)) {
             return true; // waiting before another attempt
         }
+        if D::SELF_WATCHED && drive_watch(&mut self.faults, ax.drive_mut(), id, now_ms) {
+            return true; // a latched motor fault waits for its retry
+        }
         // Bounded: a whole travel at the fine step is ≤ 50 × 370 chunks.
         // Counted in 16 bits, not the default `i32` (36 B less on the
         // ATmega2560).
@@ -720,6 +724,10 @@ where
                     if let Some(t) = self.home_retry_ms.get_mut(i) {
                         *t = Some(next);
                     }
+                    return true;
+                }
+                Err(_) if D::SELF_WATCHED && ax.drive().fault_latched() => {
+                    drive_watch(&mut self.faults, ax.drive_mut(), id, now_ms);
                     return true;
                 }
                 Err(_) => {
@@ -755,6 +763,9 @@ where
         // A stalled axis is left alone, but probed now and then.
         if disabled && !ticks.is_multiple_of(probe_every) {
             return;
+        }
+        if D::SELF_WATCHED && drive_watch(&mut self.faults, ax.drive_mut(), id, now_ms) {
+            return; // a latched motor fault waits for its retry
         }
         // Unexpected limit switch: closed far from the home angle.
         let counted = ax.counted_deg();
@@ -834,6 +845,9 @@ where
             let report = match ax.update(target, mode, before) {
                 Ok(r) => r,
                 Err(AxisError::NotHomed) => return,
+                // Refused: the motor's watch tripped during this tick's
+                // moves (raised below).
+                Err(_) if D::SELF_WATCHED && ax.drive().fault_latched() => break,
                 Err(_) => {
                     self.faults
                         .raise(Fault::I2cError(Sensor::Encoder(id)), now_ms);
@@ -859,6 +873,23 @@ where
                 last_dev = Some(a - report.target_deg);
             }
         }
+        if D::SELF_WATCHED {
+            // What the motor's watch saw during this tick's moves; a move
+            // done without one ends an obstruction or unexpected motion.
+            // A latched fault explains the deviation: it is not a lost
+            // reference.
+            let drive = ax.drive_mut();
+            if let Some(f) = drive.take_fault() {
+                self.faults.raise(drive_fault(f, id), now_ms);
+            }
+            if drive.fault_latched() {
+                return;
+            }
+            if drive.pending() == 0 {
+                self.faults.clear(Fault::Obstruction(id), now_ms);
+                self.faults.clear(Fault::UnexpectedMotion(id), now_ms);
+            }
+        }
         if let Some(dev) = last_dev {
             if dev.abs() > max_dev && ax.drive().pending() == 0 {
                 if let Recovery::Rehome(_) = self.faults.raise(Fault::SetPointDeviation(id), now_ms)
@@ -870,4 +901,42 @@ where
             }
         }
     }
+}
+
+/// The fault of the fault manager for one the drive saw itself.
+fn drive_fault(f: DriveFault, id: AxisId) -> Fault {
+    match f {
+        DriveFault::Stall => Fault::MotorStalled(id),
+        DriveFault::Obstruction => Fault::Obstruction(id),
+        DriveFault::UnexpectedMotion => Fault::UnexpectedMotion(id),
+    }
+}
+
+/// For a drive that watches its own motor ([`AxisDrive::SELF_WATCHED`]):
+/// raises what the watch saw, and returns true while a latched fault
+/// (stall, obstruction) waits for its retry, leaving the axis alone. When
+/// the fault manager's back-off for it has passed (or the fault was
+/// cleared by the operator), the drive's fault is cleared and the axis is
+/// commanded again: the retry, counted as one more attempt if it trips
+/// again.
+fn drive_watch<D: AxisDrive>(
+    faults: &mut FaultManager,
+    drive: &mut D,
+    id: AxisId,
+    now_ms: u32,
+) -> bool {
+    if let Some(f) = drive.take_fault() {
+        faults.raise(drive_fault(f, id), now_ms);
+    }
+    if !drive.fault_latched() {
+        return false;
+    }
+    let due = [Fault::Obstruction(id), Fault::MotorStalled(id)]
+        .into_iter()
+        .filter_map(|f| faults.get(f))
+        .all(|a| a.retry_due(now_ms));
+    if due {
+        drive.clear_fault();
+    }
+    !due
 }

@@ -67,7 +67,7 @@ use drivers::hall::{HallConfig, StallWatch, Watch};
 use embedded_hal::digital::InputPin;
 
 use crate::config::AxisConfig;
-use crate::motion::AxisDrive;
+use crate::motion::{AxisDrive, DriveFault};
 
 /// A motor-current reading, mA (magnitude).
 pub trait MotorCurrent {
@@ -272,9 +272,9 @@ pub enum DcState {
 /// One tracker axis on a DC gear motor with a Hall encoder; counts are Hall
 /// counts (`AxisConfig::counts_per_motor_rev` = Hall counts per motor
 /// revolution, `microsteps` = 1, `gear_ratio` = all stages).
-pub struct DcAxis<'a, B: Bridge, E, H, C> {
+pub struct DcAxis<B: Bridge, E, H, C> {
     motor: DcMotor<B>,
-    hall: &'a E,
+    hall: E,
     home: H,
     home_active_low: bool,
     sense: Option<C>,
@@ -302,9 +302,14 @@ pub struct DcAxis<'a, B: Bridge, E, H, C> {
     switch_was_closed: bool,
     home_deg: f32,
     counts_per_deg: f32,
+    /// A fault not yet taken by [`AxisDrive::take_fault`].
+    unseen: Option<DcFault>,
+    /// The time of the last poll, ms (a fault cleared through the
+    /// [`AxisDrive`] trait rests from then).
+    last_poll_ms: u32,
 }
 
-impl<B: Bridge, E, H, C> core::fmt::Debug for DcAxis<'_, B, E, H, C> {
+impl<B: Bridge, E, H, C> core::fmt::Debug for DcAxis<B, E, H, C> {
     fn fmt(&self, f: &mut core::fmt::Formatter<'_>) -> core::fmt::Result {
         f.debug_struct("DcAxis")
             .field("state", &self.state)
@@ -324,7 +329,7 @@ type AxisErr<B, H, C> = DcAxisError<
     <C as MotorCurrent>::Error,
 >;
 
-impl<'a, B, E, H, C> DcAxis<'a, B, E, H, C>
+impl<B, E, H, C> DcAxis<B, E, H, C>
 where
     B: Bridge,
     E: EncoderCount,
@@ -335,7 +340,7 @@ where
     /// and the counts per degree; `sense` is the current sense, if fitted.
     pub fn new(
         motor: DcMotor<B>,
-        hall: &'a E,
+        hall: E,
         home: H,
         home_active_low: bool,
         sense: Option<C>,
@@ -374,6 +379,8 @@ where
             count_at_switch: None,
             switch_was_closed: false,
             home_deg: axis.home_deg,
+            unseen: None,
+            last_poll_ms: 0,
             counts_per_deg: if cpd.is_finite() && cpd > 0.0 {
                 cpd
             } else {
@@ -408,6 +415,7 @@ where
         self.target = count;
         self.brake_at = None;
         self.state = DcState::Faulted(fault);
+        self.unseen = Some(fault);
         self.motor.brake().map_err(DcAxisError::Motor)?;
         Err(DcAxisError::Fault(fault))
     }
@@ -461,6 +469,7 @@ where
         let count = self.hall.count();
         let moved = count.saturating_sub(self.last_count);
         self.last_count = count;
+        self.last_poll_ms = now_ms;
         self.update_speed(count, now_ms);
         match self.state {
             DcState::Faulted(_) => {}
@@ -475,6 +484,7 @@ where
                 }
                 if self.watch.check(now_ms) == Watch::UnexpectedMotion {
                     self.state = DcState::Idle { reported: true };
+                    self.unseen = Some(DcFault::UnexpectedMotion);
                     self.target = count;
                     self.motor.brake().map_err(DcAxisError::Motor)?;
                     return Err(DcAxisError::Fault(DcFault::UnexpectedMotion));
@@ -617,6 +627,7 @@ where
     pub fn clear_fault(&mut self, now_ms: u32) {
         if let DcState::Faulted(_) = self.state {
             self.target = self.hall.count();
+            self.unseen = None;
             self.rest(now_ms);
         }
     }
@@ -662,7 +673,7 @@ where
     }
 }
 
-impl<B, E, H, C> AxisDrive for DcAxis<'_, B, E, H, C>
+impl<B, E, H, C> AxisDrive for DcAxis<B, E, H, C>
 where
     B: Bridge,
     E: EncoderCount,
@@ -670,6 +681,7 @@ where
     C: MotorCurrent,
 {
     type Error = AxisErr<B, H, C>;
+    const SELF_WATCHED: bool = true;
 
     /// Moves the target; refused while a stall or overcurrent is latched.
     fn move_counts(&mut self, counts: i32) -> Result<(), Self::Error> {
@@ -732,5 +744,24 @@ where
             let d = self.hall.count().saturating_sub(c0);
             self.home_deg + d as f32 / self.counts_per_deg
         }))
+    }
+
+    /// A stall, overcurrent or unexpected motion seen by `poll` since the
+    /// last call.
+    fn take_fault(&mut self) -> Option<DriveFault> {
+        self.unseen.take().map(|f| match f {
+            DcFault::Stall => DriveFault::Stall,
+            DcFault::Overcurrent => DriveFault::Obstruction,
+            DcFault::UnexpectedMotion => DriveFault::UnexpectedMotion,
+        })
+    }
+
+    fn fault_latched(&self) -> bool {
+        self.fault().is_some()
+    }
+
+    /// [`DcAxis::clear_fault`] at the time of the last poll.
+    fn clear_fault(&mut self) {
+        DcAxis::clear_fault(self, self.last_poll_ms);
     }
 }

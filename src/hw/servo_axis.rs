@@ -29,6 +29,14 @@ pub trait EncoderCount {
     fn count(&self) -> i32;
 }
 
+/// A shared reference counts as its encoder does (an encoder kept by an
+/// interrupt is shared between the interrupt and the axis).
+impl<T: EncoderCount + ?Sized> EncoderCount for &T {
+    fn count(&self) -> i32 {
+        T::count(self)
+    }
+}
+
 impl EncoderCount for SharedEncoder {
     fn count(&self) -> i32 {
         SharedEncoder::count(self)

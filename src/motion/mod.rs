@@ -36,6 +36,39 @@ pub trait AxisDrive {
     fn at_limit(&mut self) -> Result<bool, Self::Error>;
     /// The axis angle from an output-side encoder, degrees, when fitted.
     fn encoder_deg(&mut self) -> Result<Option<f32>, Self::Error>;
+    /// True for a drive that watches its own motor ([`AxisDrive::take_fault`]);
+    /// the controller's checks of it compile away for the others.
+    const SELF_WATCHED: bool = false;
+    /// A fault the drive detected itself (a DC motor's current and Hall
+    /// watch), reported once: a latched fault ([`DriveFault::Stall`],
+    /// [`DriveFault::Obstruction`]) refuses moves until
+    /// [`AxisDrive::clear_fault`]; [`DriveFault::UnexpectedMotion`] is not
+    /// latched. Drives without a watch of their own (steppers, servos,
+    /// whose stalls the controller sees on the encoder) report none.
+    fn take_fault(&mut self) -> Option<DriveFault> {
+        None
+    }
+    /// True while a fault stops the drive (moves are refused).
+    fn fault_latched(&self) -> bool {
+        false
+    }
+    /// Ends a latched fault: the drive rests where it is and takes moves
+    /// again (a retry).
+    fn clear_fault(&mut self) {}
+}
+
+/// A fault seen by the drive itself ([`AxisDrive::take_fault`]).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum DriveFault {
+    /// Driven, but no feedback count for the drive's stall time (jammed
+    /// gear, failed Hall sensor, open motor lead).
+    Stall,
+    /// Motor current above its limit for the drive's overcurrent time (the
+    /// axis met an obstacle).
+    Obstruction,
+    /// Counts while the motor rests (an external force back-drives the
+    /// axis, or a loose gear).
+    UnexpectedMotion,
 }
 
 /// How the axis uses feedback.
