@@ -62,6 +62,9 @@ SIM_RUNS = {
     "tromso_stepper_encoder_faults": (TROMSO, "--drive stepper --feedback encoder --mount level --faults"),
     "tromso_stepper_portable": (TROMSO, "--drive stepper --feedback sensors --mount portable"),
     "tromso_stepper_portable_faults": (TROMSO, "--drive stepper --feedback sensors --mount portable --faults"),
+    "kano_dchall_encoder": (KANO, "--drive dc-hall --feedback encoder --mount level"),
+    "kano_dchall_encoder_faults": (KANO, "--drive dc-hall --feedback encoder --mount level --faults"),
+    "tromso_dchall_encoder_faults": (TROMSO, "--drive dc-hall --feedback encoder --mount level --faults"),
 }
 
 # group -> shell command (run from the repository root, stdout + stderr).
@@ -104,7 +107,7 @@ for _id, (_site, _opts) in SIM_RUNS.items():
 REGENERATE = {"sizes_report": "python3 .ci/size_report.py --write"}
 
 # FIGURES_ONLY names groups; a name stands for every group that starts with
-# it (`sim` = the nine simulation runs, `setpoints` = both set-point runs).
+# it (`sim` = the twelve simulation runs, `setpoints` = both set-point runs).
 # A figure read from several groups runs only when all of them are selected.
 
 # ---------------------------------------------------------------- helpers
@@ -427,6 +430,9 @@ SIM_LABELS = {
     "tromso_stepper_encoder_faults": "Tromsø, stepper, encoder, level, `--faults`",
     "tromso_stepper_portable": "Tromsø, stepper, sensors, portable",
     "tromso_stepper_portable_faults": "Tromsø, stepper, sensors, portable, `--faults`",
+    "kano_dchall_encoder": "Kano, DC gear motor + Hall, level",
+    "kano_dchall_encoder_faults": "Kano, DC gear motor + Hall, level, `--faults`",
+    "tromso_dchall_encoder_faults": "Tromsø, DC gear motor + Hall, level, `--faults`",
 }
 SIM_LAST = (
     r"^simulate: pointing_p95_deg=(?P<p95>[0-9.]+) energy_vs_ideal=(?P<ideal>[0-9.]+) "
@@ -439,6 +445,30 @@ for sid, label in SIM_LABELS.items():
 
 
 SIM_FAULTS = r"^faults: raised \d+, recovered \d+, still active \d+, injected events (\d+)\s*$"
+
+
+# --- the drive kinds over a year with faults: travel and recoveries too
+SIM_TRAVEL = r"^motor travel: C axis (?P<c>\d+) deg, A axis (?P<a>\d+) deg\s*$"
+SIM_RECOVERED = r"^faults: raised (?P<raised>\d+), recovered (?P<rec>\d+), still active \d+"
+
+
+def sim_drive_row(out):
+    last, travel, faults = rx(out, SIM_LAST), rx(out, SIM_TRAVEL), rx(out, SIM_RECOVERED)
+    return {
+        "p95": last["p95"], "ideal": last["ideal"],
+        "c": thousands(int(travel["c"])), "a": thousands(int(travel["a"])),
+        "raised": faults["raised"], "rec": faults["rec"],
+    }
+
+
+for sid, label in [
+    ("kano_stepper_encoder_faults", "Kano, stepper"),
+    ("kano_dchall_encoder_faults", "Kano, DC gear motor + Hall"),
+    ("tromso_stepper_encoder_faults", "Tromsø, stepper"),
+    ("tromso_dchall_encoder_faults", "Tromsø, DC gear motor + Hall"),
+]:
+    figure(f"sim.drive.{sid}", "sim_" + sid, sim_drive_row,
+           f"| {label} | {{p95}}° | {{ideal}} | {{c}}° / {{a}}° | {{raised}} / {{rec}} |")
 
 
 def sim_faults(kano, tromso):

@@ -9,8 +9,10 @@ use std::fs::File;
 use std::io::{BufWriter, Write};
 
 use drivers::gps::GpsDecoder;
+use sim::dc_drive::{DcDrive, DcDriveSpec};
+use sim::dc_motor::MotorSpec;
 use sim::gps::{GpsReceiverModel, EPOCH_BUF_LEN};
-use sim::plant::MotorPlant;
+use sim::plant::{Injected, MotorPlant, SimAxis};
 use sim::rng::SplitMix64;
 use sim::rtc::SimRtc;
 use sim::scenario::{parse_all, Command, Event, RtcState, SwitchState};
@@ -46,7 +48,7 @@ pub const TOOL: &str = "simulate";
 
 /// The synopsis of `--help`.
 pub const USAGE: &str = "[--lat DEG] [--lon DEG] [--start YYYY-MM-DD] [--days N] \
-[--drive stepper|servo] [--feedback encoder|sensors] [--mount level|portable] [--faults] [--seed N] \
+[--drive stepper|servo|dc-hall] [--feedback encoder|sensors] [--mount level|portable] [--faults] [--seed N] \
 [--scenario FILE] [--trace OUT.csv] [--svg OUT.svg]";
 
 /// The text of `--help`.
@@ -66,7 +68,12 @@ stow times; its last line holds the figures as key=value.",
             opt("--lon DEG", "site longitude, degrees east (west negative)", "8.4261 (Kano)"),
             opt("--start YYYY-MM-DD", "first day of the run (00:00 UTC)", "2026-01-01"),
             opt("--days N", "length of the run in days, 1 to 3660", "1"),
-            opt("--drive stepper|servo", "axis drives", "stepper"),
+            opt(
+                "--drive stepper|servo|dc-hall",
+                "axis drives: steppers through a gear, servos on output encoders, or DC gear \
+                 motors with motor-shaft Hall encoders (sim::dc_drive)",
+                "stepper",
+            ),
             opt(
                 "--feedback encoder|sensors",
                 "closed loop on output encoders, or open loop with the attitude sensors",
@@ -119,6 +126,17 @@ const TECHNICIAN_MINUTE_OF_DAY: i64 = 8 * 60;
 enum Drive {
     Stepper,
     Servo,
+    DcHall,
+}
+
+impl Drive {
+    fn name(self) -> &'static str {
+        match self {
+            Drive::Stepper => "stepper",
+            Drive::Servo => "servo",
+            Drive::DcHall => "dc-hall",
+        }
+    }
 }
 
 #[derive(Debug, Clone)]
@@ -174,7 +192,11 @@ pub fn parse_args(args: &[String]) -> Result<Parsed<Args>, String> {
                 a.drive = cli::choice(
                     &mut p,
                     "--drive",
-                    &[("stepper", Drive::Stepper), ("servo", Drive::Servo)],
+                    &[
+                        ("stepper", Drive::Stepper),
+                        ("servo", Drive::Servo),
+                        ("dc-hall", Drive::DcHall),
+                    ],
                 )?
             }
             Long("feedback") => {
@@ -259,11 +281,12 @@ struct World {
     gps_on: bool,
     switch: [SwitchState; 2],
     stalled: [bool; 2],
+    obstructed: [bool; 2],
     encoder_failed: [bool; 2],
     attitude_failed: bool,
 }
 
-type Ctl<'a> = Controller<f64, SharedSiteSource<'a, f64>, MotorPlant, MountSensors, 1441>;
+type Ctl<'a, P> = Controller<f64, SharedSiteSource<'a, f64>, P, MountSensors, 1441>;
 
 /// Runs the tool with `args` (without the program name); the summary goes
 /// to `out`, errors to `err`. Returns the exit code (2 for bad input).
@@ -280,6 +303,91 @@ pub fn run(args: &[String], out: &mut dyn Write, err: &mut dyn Write) -> u8 {
 }
 
 fn simulate(args: &Args, out: &mut dyn Write, err: &mut dyn Write) -> Result<(), String> {
+    match args.drive {
+        Drive::Stepper | Drive::Servo => simulate_with(args, out, err, motor_plants),
+        Drive::DcHall => simulate_with(args, out, err, dc_plants),
+    }
+}
+
+/// Servo: encoder of 2^14 counts on the output, no gear, no microsteps.
+const SERVO_CPR: u32 = 1 << 14;
+
+/// The stepper or servo plants of the axes of `config`.
+fn motor_plants(args: &Args, config: &Config) -> Result<[MotorPlant; 2], String> {
+    let encoder = if args.encoder { Some(1u32 << 16) } else { None };
+    let plant = |min: f64, max: f64, start: f64| match args.drive {
+        Drive::Servo => MotorPlant::servo(SERVO_CPR, 2.0, min, max, start),
+        _ => MotorPlant::stepper(1.8, 16, 100.0, 0.2, 2.0, encoder, min, max, start),
+    };
+    let [c, a] = config.axes;
+    Ok([
+        plant(f64::from(c.min_deg), f64::from(c.max_deg), 10.0),
+        plant(f64::from(a.min_deg), f64::from(a.max_deg), 20.0),
+    ])
+}
+
+/// The DC axis: the Pololu 37D 131.25:1 gear motor at 12 V with its 64-count
+/// motor-shaft Hall encoder, through a further 60:1 worm stage of 40 %
+/// efficiency (7,875:1 in all: 1,400 counts per output degree, at most
+/// 7.6 °/s), 50 kg·m² of panels at the output (assumed), on a BTS7960 with
+/// a 2 ‰/ms duty ramp, braking at rest.
+fn dc_spec() -> DcDriveSpec {
+    DcDriveSpec {
+        motor: MotorSpec::pololu_37d_131_12v()
+            .with_output_stage(60.0, 0.4)
+            .with_output_inertia_kg_m2(50.0),
+        bridge: drivers::dc_motor::Config {
+            ramp_permille_per_ms: 2,
+            rest: drivers::dc_motor::RestMode::Brake,
+        },
+        // Full duty beyond 4° (5,600 counts), 15 % at the target, done
+        // within 0.01° (14 counts); a first stopping lead of 130 ms (the
+        // model's mechanical time constant under braking); stall after
+        // 500 ms without a count; unexpected motion beyond 70 counts
+        // (0.05°); an obstruction above 3 A for 100 ms. A motor held
+        // still draws V·d/R (5.5 A at full duty): starting a slew into an
+        // obstacle, the 2 ‰/ms ramp reaches 3 A at 545 ‰ after 273 ms, so
+        // the obstruction trips at 373 ms, before the stall. Held at a
+        // tracking step's duty (under 20 %, about 1 A) it is a stall.
+        loop_config: suntracker::hw::DcAxisConfig {
+            max_duty_permille: 1_000,
+            min_duty_permille: 150,
+            slow_band_counts: 5_600,
+            deadband_counts: 14,
+            brake_lead_ms: 130,
+            settle_ms: 100,
+            max_reapproaches: 3,
+            stall_ms: 500,
+            drive_threshold_permille: 100,
+            max_idle_counts: 70,
+            max_current_ma: 3_000,
+            overcurrent_ms: 100,
+        },
+    }
+}
+
+/// The DC plants of the axes of `config`.
+fn dc_plants(_: &Args, config: &Config) -> Result<[DcDrive; 2], String> {
+    let spec = dc_spec();
+    let plant = |ax: &suntracker::config::AxisConfig, start: f64| {
+        DcDrive::new(
+            spec,
+            ax,
+            f64::from(ax.min_deg),
+            f64::from(ax.max_deg),
+            start,
+        )
+        .map_err(|e| format!("DC axis: {e:?}"))
+    };
+    Ok([plant(&config.axes[0], 10.0)?, plant(&config.axes[1], 20.0)?])
+}
+
+fn simulate_with<P: SimAxis>(
+    args: &Args,
+    out: &mut dyn Write,
+    err: &mut dyn Write,
+    make_plants: fn(&Args, &Config) -> Result<[P; 2], String>,
+) -> Result<(), String> {
     // The scenario is parsed before anything runs.
     let scenario = match &args.scenario {
         Some(p) => load_scenario(p)?,
@@ -347,15 +455,26 @@ fn simulate(args: &Args, out: &mut dyn Write, err: &mut dyn Write) -> Result<(),
     for ax in config.axes.iter_mut() {
         ax.deadband_deg = 0.02;
     }
-    // Servo: encoder of 2^14 counts on the output, no gear, no microsteps.
-    let servo_cpr = 1u32 << 14;
-    if args.drive == Drive::Servo {
-        for ax in config.axes.iter_mut() {
-            ax.counts_per_motor_rev = servo_cpr;
-            ax.microsteps = 1;
-            ax.gear_ratio = 1.0;
-            ax.backlash_deg = 0.0;
+    match args.drive {
+        Drive::Servo => {
+            for ax in config.axes.iter_mut() {
+                ax.counts_per_motor_rev = SERVO_CPR;
+                ax.microsteps = 1;
+                ax.gear_ratio = 1.0;
+                ax.backlash_deg = 0.0;
+            }
         }
+        Drive::DcHall => {
+            // Hall counts: 64 per motor turn, 7,875:1 (dc_spec).
+            for ax in config.axes.iter_mut() {
+                ax.counts_per_motor_rev = 64;
+                ax.microsteps = 1;
+                ax.gear_ratio = 7_875.0;
+                ax.backlash_deg = 0.0;
+                ax.max_speed_deg_s = 7.0;
+            }
+        }
+        Drive::Stepper => {}
     }
     // The configuration as stored on the board: a power cycle reloads it.
     let mut store = ConfigStore::new(MemStorage::<512>::new());
@@ -364,17 +483,7 @@ fn simulate(args: &Args, out: &mut dyn Write, err: &mut dyn Write) -> Result<(),
         .map_err(|e| format!("configuration not stored: {e:?}"))?;
     let stored_site = site_from_config(&config.site).map_err(|e| e.to_string())?;
 
-    let encoder = if args.encoder { Some(1u32 << 16) } else { None };
-    let plant = |min: f64, max: f64, start: f64| match args.drive {
-        Drive::Stepper => MotorPlant::stepper(1.8, 16, 100.0, 0.2, 2.0, encoder, min, max, start),
-        Drive::Servo => MotorPlant::servo(servo_cpr, 2.0, min, max, start),
-    };
-    let c = config.axes[0];
-    let a = config.axes[1];
-    let plants = [
-        plant(f64::from(c.min_deg), f64::from(c.max_deg), 10.0),
-        plant(f64::from(a.min_deg), f64::from(a.max_deg), 20.0),
-    ];
+    let plants = make_plants(args, &config)?;
     let truth = if args.portable {
         MountAttitude {
             alpha0_deg: 6.0,
@@ -401,17 +510,16 @@ fn simulate(args: &Args, out: &mut dyn Write, err: &mut dyn Write) -> Result<(),
         ..ControllerOptions::default()
     };
     let site_cell = Cell::new(stored_site);
-    let new_controller =
-        |config: Config, plants: [MotorPlant; 2], sensors: Option<MountSensors>| {
-            let source = SharedSiteSource {
-                algorithm,
-                site: &site_cell,
-                options: ctl_options,
-            };
-            Controller::new(config, options, source, plants, sensors)
-                .map_err(|e| format!("controller: {e:?}"))
+    let new_controller = |config: Config, plants: [P; 2], sensors: Option<MountSensors>| {
+        let source = SharedSiteSource {
+            algorithm,
+            site: &site_cell,
+            options: ctl_options,
         };
-    let mut ctl: Ctl = new_controller(config, plants, Some(sensors))?;
+        Controller::new(config, options, source, plants, sensors)
+            .map_err(|e| format!("controller: {e:?}"))
+    };
+    let mut ctl: Ctl<P> = new_controller(config, plants, Some(sensors))?;
 
     let windows: Vec<Window> = if args.faults {
         schedule::daily(args.days, &mut rng)
@@ -441,6 +549,7 @@ fn simulate(args: &Args, out: &mut dyn Write, err: &mut dyn Write) -> Result<(),
         gps_on: true,
         switch: [SwitchState::Ok; 2],
         stalled: [false; 2],
+        obstructed: [false; 2],
         encoder_failed: [false; 2],
         attitude_failed: false,
     };
@@ -505,7 +614,10 @@ fn simulate(args: &Args, out: &mut dyn Write, err: &mut dyn Write) -> Result<(),
                     Event::Rtc(RtcState::Ok) => keeper.rtc_mut().bus_error = false,
                     Event::LimitSwitch(ax, s) => world.switch[ax.index()] = s,
                     Event::Motor(ax, on) => world.stalled[ax.index()] = on,
-                    Event::Encoder(ax, on) => world.encoder_failed[ax.index()] = on,
+                    Event::Encoder(ax, on) | Event::Hall(ax, on) => {
+                        world.encoder_failed[ax.index()] = on
+                    }
+                    Event::Obstruction(ax, on) => world.obstructed[ax.index()] = on,
                     Event::AttitudeSensor(on) => world.attitude_failed = on,
                     Event::Command(c) => {
                         match c {
@@ -592,6 +704,7 @@ fn simulate(args: &Args, out: &mut dyn Write, err: &mut dyn Write) -> Result<(),
             if let Some(at) = technician_at.filter(|at| *at <= m) {
                 let hardware_ok = world.switch == [SwitchState::Ok; 2]
                     && world.stalled == [false; 2]
+                    && world.obstructed == [false; 2]
                     && world.encoder_failed == [false; 2]
                     && !world.attitude_failed
                     && !active(&|k| {
@@ -626,10 +739,13 @@ fn simulate(args: &Args, out: &mut dyn Write, err: &mut dyn Write) -> Result<(),
             });
             if let Some(ax) = ctl.axes_mut().get_mut(i) {
                 let p = ax.drive_mut();
-                p.stalled = stalled;
-                p.encoder_timeout = enc;
-                p.switch_stuck = stuck;
-                p.switch_stuck_open = world.switch[i] == SwitchState::StuckOpen;
+                p.inject(Injected {
+                    stalled,
+                    obstructed: world.obstructed[i],
+                    feedback_failed: enc,
+                    switch_stuck_closed: stuck,
+                    switch_stuck_open: world.switch[i] == SwitchState::StuckOpen,
+                });
                 if let Some(d) = slip {
                     p.slip(d);
                 }
@@ -768,10 +884,7 @@ fn simulate(args: &Args, out: &mut dyn Write, err: &mut dyn Write) -> Result<(),
             iso(&args.start).get(..10).unwrap_or(""),
             args.days,
             if args.days == 1 { "" } else { "s" },
-            match args.drive {
-                Drive::Stepper => "stepper",
-                Drive::Servo => "servo",
-            },
+            args.drive.name(),
             if args.encoder { "encoder" } else { "sensors" },
             if args.portable { "portable" } else { "level" },
             if args.faults { "on" } else { "off" },
@@ -803,17 +916,17 @@ fn simulate(args: &Args, out: &mut dyn Write, err: &mut dyn Write) -> Result<(),
     let raised = prior_raised.saturating_add(f.raised);
     let recovered = prior_recovered.saturating_add(f.recovered);
     let unrecovered = f.active_count() as u32 + f.dropped;
-    let travel: Vec<f64> = ctl.axes().iter().map(|a| a.drive().travel_deg).collect();
+    let travel: Vec<f64> = ctl.axes().iter().map(|a| a.drive().travel_deg()).collect();
     let p = |out: &mut dyn Write, s: String| writeln!(out, "{s}").map_err(io_err);
     p(
         out,
         format!(
-            "site {:.4} {:.4}, {} days from {}, drive {:?}, feedback {}, mount {}, faults {}",
+            "site {:.4} {:.4}, {} days from {}, drive {}, feedback {}, mount {}, faults {}",
             args.lat,
             args.lon,
             args.days,
             args.start,
-            args.drive,
+            args.drive.name(),
             if args.encoder { "encoder" } else { "sensors" },
             if args.portable { "portable" } else { "level" },
             if args.faults { "on" } else { "off" },

@@ -13,6 +13,9 @@
 #[cfg(feature = "std")]
 extern crate std;
 
+// The DC axis of whole-tracker runs shares its motor through `Rc`.
+#[cfg(feature = "std")]
+pub mod dc_drive;
 #[cfg(not(target_arch = "avr"))]
 pub mod dc_motor;
 #[cfg(not(target_arch = "avr"))]

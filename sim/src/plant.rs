@@ -15,6 +15,41 @@ use suntracker::motion::AxisDrive;
 /// its steps, above or below; this closes the switch there either way.
 const SWITCH_TOL_DEG: f64 = 1e-9;
 
+/// Faults a run injects into one axis's hardware.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
+pub struct Injected {
+    /// The motor turns no more (a stepper loses its steps; a DC motor is
+    /// jammed and draws its stall current).
+    pub stalled: bool,
+    /// An obstacle holds the axis where it is.
+    pub obstructed: bool,
+    /// The feedback fails (an output encoder times out; a Hall sensor gives
+    /// no more pulses).
+    pub feedback_failed: bool,
+    /// The limit switch reads closed.
+    pub switch_stuck_closed: bool,
+    /// The limit switch never closes.
+    pub switch_stuck_open: bool,
+}
+
+/// One simulated axis as a whole-tracker run uses it: the controller
+/// drives it ([`AxisDrive`]); the run gives it time, reads the truth and
+/// injects faults.
+pub trait SimAxis: AxisDrive + Clone {
+    /// Starts a tick of `dt_s` seconds: motion still pending runs now, and
+    /// moves commanded during the tick run at once within what is left.
+    fn begin_tick(&mut self, dt_s: f64);
+    /// The true output angle, degrees.
+    fn output_deg(&self) -> f64;
+    /// Output travel so far, degrees.
+    fn travel_deg(&self) -> f64;
+    /// Sets the injected faults.
+    fn inject(&mut self, injected: Injected);
+    /// The axis turns by `deg` without being driven (lost steps; a
+    /// back-driven DC axis).
+    fn slip(&mut self, deg: f64);
+}
+
 /// Errors of the simulated drive.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum SimError {
@@ -282,6 +317,29 @@ impl AxisDrive for MotorPlant {
             let cpd = f64::from(cpr) / 360.0;
             (libm::floor(self.output_deg * cpd) / cpd) as f32
         }))
+    }
+}
+
+impl SimAxis for MotorPlant {
+    fn begin_tick(&mut self, dt_s: f64) {
+        MotorPlant::begin_tick(self, dt_s);
+    }
+    fn output_deg(&self) -> f64 {
+        self.output_deg
+    }
+    fn travel_deg(&self) -> f64 {
+        self.travel_deg
+    }
+    /// An obstruction stalls the motor (the steps are issued, nothing
+    /// turns).
+    fn inject(&mut self, injected: Injected) {
+        self.stalled = injected.stalled || injected.obstructed;
+        self.encoder_timeout = injected.feedback_failed;
+        self.switch_stuck = injected.switch_stuck_closed;
+        self.switch_stuck_open = injected.switch_stuck_open;
+    }
+    fn slip(&mut self, deg: f64) {
+        MotorPlant::slip(self, deg);
     }
 }
 

@@ -21,6 +21,8 @@
 //! 130,limit_switch,C,stuck_closed   # limit_switch,C|A,stuck_closed|stuck_open|ok
 //! 140,motor,A,stalled      # motor,C|A,stalled|ok
 //! 150,encoder,C,failed     # encoder,C|A,failed|ok
+//! 152,obstruction,A,on     # obstruction,C|A,on|off (the axis is held where it is)
+//! 155,hall,C,failed        # hall,C|A,failed|ok (the motor's Hall sensor)
 //! 160,attitude_sensor,failed        # attitude_sensor,failed|ok
 //! 170,power_cycle
 //! 180,command,stow         # command,stow|resume|home|clear|service_on|service_off
@@ -124,6 +126,12 @@ pub enum Event {
     Motor(AxisId, bool),
     /// `encoder,C|A,failed|ok`: `true` = failed.
     Encoder(AxisId, bool),
+    /// `obstruction,C|A,on|off`: an obstacle holds the axis where it is
+    /// (`true` = on); a DC motor pushing into it draws its stall current.
+    Obstruction(AxisId, bool),
+    /// `hall,C|A,failed|ok`: the motor's Hall sensor gives no more pulses
+    /// (`true` = failed).
+    Hall(AxisId, bool),
     /// `attitude_sensor,failed|ok`: `true` = failed.
     AttitudeSensor(bool),
     /// `power_cycle`: the controller restarts.
@@ -490,6 +498,30 @@ fn parse_event(name: &str, args: &Args<'_>) -> Result<Event, ScenarioErrorKind> 
                 )?,
             )
         }
+        "obstruction" => {
+            let [axis_text, state] = args.exactly("obstruction")?;
+            Event::Obstruction(
+                axis("obstruction", axis_text)?,
+                keyword(
+                    &[("on", true), ("off", false)],
+                    "obstruction",
+                    "on or off",
+                    state,
+                )?,
+            )
+        }
+        "hall" => {
+            let [axis_text, state] = args.exactly("hall")?;
+            Event::Hall(
+                axis("hall", axis_text)?,
+                keyword(
+                    &[("failed", true), ("ok", false)],
+                    "hall",
+                    "failed or ok",
+                    state,
+                )?,
+            )
+        }
         "attitude_sensor" => {
             let [state] = args.exactly("attitude_sensor")?;
             Event::AttitudeSensor(keyword(
@@ -657,6 +689,13 @@ impl fmt::Display for Event {
             }
             Event::Encoder(a, failed) => {
                 write!(f, "encoder,{},{}", axis_name(a), fault(failed, "failed"))
+            }
+            Event::Obstruction(a, on) => {
+                let state = if *on { "on" } else { "off" };
+                write!(f, "obstruction,{},{state}", axis_name(a))
+            }
+            Event::Hall(a, failed) => {
+                write!(f, "hall,{},{}", axis_name(a), fault(failed, "failed"))
             }
             Event::AttitudeSensor(failed) => {
                 write!(f, "attitude_sensor,{}", fault(failed, "failed"))

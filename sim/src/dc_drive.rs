@@ -1,0 +1,382 @@
+//! A tracker axis on a DC gear motor, as the firmware drives it: the core's
+//! [`DcAxis`] (position loop, Hall stall watch, current watch) over the
+//! motor model of [`crate::dc_motor`], with a Hall counter, a home switch
+//! and a BTS7960 current sense on a 10-bit ADC at 5 V. For whole-tracker
+//! runs (`examples/simulate.rs --drive dc-hall`); needs the `std` feature
+//! (the axis and the test harness share the motor through `Rc`).
+//!
+//! Time advances as for [`crate::plant::MotorPlant`]:
+//! [`SimAxis::begin_tick`] gives the axis `dt` seconds; a move runs at
+//! once, [`DcAxis::poll`] every simulated millisecond over
+//! [`STEPS_PER_MS`] backward-Euler steps of the model, until the loop
+//! rests and the motor stands still or the tick's time is spent (the rest
+//! of the move then runs in the next tick). Time the axis spends at rest is
+//! not stepped: the first poll of the next tick is that much later on the
+//! axis's millisecond clock.
+//!
+//! The Hall counter is the model's quadrature count (every edge counted, as
+//! an interrupt-driven decoder counts them); it freezes while the sensor is
+//! failed.
+
+use std::cell::RefCell;
+use std::convert::Infallible;
+use std::rc::Rc;
+
+use drivers::adc::AdcChannel;
+use drivers::dc_motor::bts7960::{CurrentSense, SenseConfig, SenseError};
+use drivers::dc_motor::{Bridge, Config as BridgeConfig, DcMotor as MotorDriver, Error, Output};
+use embedded_hal::digital::{ErrorType, InputPin};
+use suntracker::config::AxisConfig;
+use suntracker::hw::{DcAxis, DcAxisConfig, DcAxisConfigError, DcAxisError, DcState, EncoderCount};
+use suntracker::motion::{AxisDrive, DriveFault};
+
+use crate::dc_motor::{Bts7960Sense, DcMotor, MotorSpec};
+use crate::plant::{Injected, SimAxis};
+
+/// Model steps per millisecond poll: 0.25 ms each, about half the Pololu
+/// preset's electrical time constant τ_e = 0.46 ms. Backward Euler is
+/// stable at any step (see [`crate::dc_motor`]); at this one a current
+/// step's response is 55 % of its final value after τ_e instead of 63 %,
+/// and 98.2 % instead of 99.3 % after 5 τ_e (2.3 ms): a lag of a
+/// millisecond or two against the overcurrent watch's 100 ms. The
+/// mechanical time constant (0.12 s) is 480 steps.
+pub const STEPS_PER_MS: u32 = 4;
+const STEP_S: f64 = 1e-3 / STEPS_PER_MS as f64;
+/// Below this motor speed, braked, the motor is taken to stand still,
+/// rad/s: what is left of its run-down, speed × the braked mechanical time
+/// constant (0.12 s for [`MotorSpec::pololu_37d_131_12v`] with a load), is
+/// 0.06 rad, under a Hall count (2π/64 = 0.098 rad), and is not stepped.
+const AT_REST_RAD_S: f64 = 0.5;
+/// ADC of the current sense: full scale and reference.
+const ADC_FULL_SCALE: u16 = 1_023;
+const ADC_VREF_V: f64 = 5.0;
+
+/// The hardware one axis shares between the firmware's ports and the run.
+#[derive(Debug, Clone, Copy)]
+struct Hardware {
+    motor: DcMotor,
+    /// The home switch closes at or below this output angle, degrees.
+    switch_deg: f64,
+    /// The mechanical end stops, degrees.
+    ends_deg: (f64, f64),
+    injected: Injected,
+}
+
+impl Hardware {
+    fn switch_closed(&self) -> bool {
+        self.injected.switch_stuck_closed
+            || (!self.injected.switch_stuck_open
+                && self.motor.output_angle_deg() <= self.switch_deg)
+    }
+}
+
+type Shared = Rc<RefCell<Hardware>>;
+
+/// The H-bridge: its output goes to the motor model.
+#[derive(Debug)]
+pub struct SimBridge(Shared);
+
+impl Bridge for SimBridge {
+    type PwmError = Infallible;
+    type PinError = Infallible;
+    type State = ();
+    fn init(&mut self) -> Result<(), Error<Infallible, Infallible>> {
+        self.0.borrow_mut().motor.set_output(Output::Coast);
+        Ok(())
+    }
+    fn apply(&mut self, _: &mut (), output: Output) -> Result<(), Error<Infallible, Infallible>> {
+        self.0.borrow_mut().motor.set_output(output);
+        Ok(())
+    }
+}
+
+/// The Hall counter.
+#[derive(Debug)]
+pub struct SimHall(Shared);
+
+impl EncoderCount for SimHall {
+    fn count(&self) -> i32 {
+        let c = self.0.borrow().motor.hall_count();
+        i32::try_from(c).unwrap_or(if c < 0 { i32::MIN } else { i32::MAX })
+    }
+}
+
+/// The home switch (active high).
+#[derive(Debug)]
+pub struct SimSwitch(Shared);
+
+impl ErrorType for SimSwitch {
+    type Error = Infallible;
+}
+
+impl InputPin for SimSwitch {
+    fn is_high(&mut self) -> Result<bool, Infallible> {
+        Ok(self.0.borrow().switch_closed())
+    }
+    fn is_low(&mut self) -> Result<bool, Infallible> {
+        Ok(!self.0.borrow().switch_closed())
+    }
+}
+
+/// The BTS7960's IS pin on a 10-bit ADC at 5 V (data-sheet sense ratio,
+/// 1 kΩ: [`Bts7960Sense::TYPICAL_1K_5V`]).
+#[derive(Debug)]
+pub struct SimIsPin(Shared);
+
+impl AdcChannel for SimIsPin {
+    type Error = Infallible;
+    fn read_raw(&mut self) -> Result<u16, Infallible> {
+        let m = self.0.borrow().motor;
+        Ok(Bts7960Sense::TYPICAL_1K_5V.adc_counts(
+            m.output(),
+            m.current_a(),
+            ADC_VREF_V,
+            ADC_FULL_SCALE,
+        ))
+    }
+    fn full_scale(&self) -> u16 {
+        ADC_FULL_SCALE
+    }
+}
+
+/// The firmware's axis over the simulated parts.
+pub type SimDcAxis = DcAxis<SimBridge, SimHall, SimSwitch, CurrentSense<SimIsPin>>;
+
+/// Errors of the simulated DC drive (the ports themselves never fail).
+pub type DcDriveError = DcAxisError<Infallible, Infallible, Infallible, SenseError<Infallible>>;
+
+/// How one DC axis is built: the motor, the firmware's settings.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct DcDriveSpec {
+    /// The gear motor and its stages.
+    pub motor: MotorSpec,
+    /// The bridge driver's ramp and rest.
+    pub bridge: BridgeConfig,
+    /// The position loop and watch.
+    pub loop_config: DcAxisConfig,
+}
+
+/// One DC axis: the motor model and the firmware's [`DcAxis`] over it.
+pub struct DcDrive {
+    hw: Shared,
+    axis: SimDcAxis,
+    spec: DcDriveSpec,
+    axis_config: AxisConfig,
+    /// The axis's millisecond clock (its board's monotonic counter).
+    now_ms: u32,
+    /// Milliseconds left in this tick.
+    budget_ms: u32,
+    travel_deg: f64,
+}
+
+impl core::fmt::Debug for DcDrive {
+    fn fmt(&self, f: &mut core::fmt::Formatter<'_>) -> core::fmt::Result {
+        f.debug_struct("DcDrive")
+            .field("output_deg", &self.output_deg())
+            .field("axis", &self.axis)
+            .finish_non_exhaustive()
+    }
+}
+
+impl DcDrive {
+    /// An axis at `start_deg` whose home switch closes at or below
+    /// `switch_deg`, with hard stops 1° beyond the switch and at `max_deg` +
+    /// 1° (as [`crate::plant::MotorPlant`]'s); `axis` gives the firmware's
+    /// counts per degree and home angle.
+    pub fn new(
+        spec: DcDriveSpec,
+        axis: &AxisConfig,
+        switch_deg: f64,
+        max_deg: f64,
+        start_deg: f64,
+    ) -> Result<Self, DcAxisConfigError> {
+        let mut motor = DcMotor::new(spec.motor);
+        motor.set_output_angle_deg(start_deg);
+        let ends_deg = (switch_deg - 1.0, max_deg + 1.0);
+        motor.set_hard_stops_deg(Some(ends_deg));
+        Self::over(
+            Hardware {
+                motor,
+                switch_deg,
+                ends_deg,
+                injected: Injected::default(),
+            },
+            spec,
+            axis,
+        )
+    }
+
+    fn over(hw: Hardware, spec: DcDriveSpec, axis: &AxisConfig) -> Result<Self, DcAxisConfigError> {
+        let hw = Rc::new(RefCell::new(hw));
+        // The simulated bridge and ADC never fail; the sense configuration
+        // is the data sheet's and valid.
+        let bridge = MotorDriver::new(SimBridge(Rc::clone(&hw)), spec.bridge)
+            .map_err(|_| DcAxisConfigError::Duty)?;
+        let sense = CurrentSense::new(SimIsPin(Rc::clone(&hw)), SenseConfig::DATASHEET_1K_5V)
+            .map_err(|_| DcAxisConfigError::Current)?;
+        let dc = DcAxis::new(
+            bridge,
+            SimHall(Rc::clone(&hw)),
+            SimSwitch(Rc::clone(&hw)),
+            false,
+            Some(sense),
+            spec.loop_config,
+            axis,
+        )?;
+        Ok(DcDrive {
+            hw,
+            axis: dc,
+            spec,
+            axis_config: *axis,
+            now_ms: 0,
+            budget_ms: 0,
+            travel_deg: 0.0,
+        })
+    }
+
+    /// The firmware's axis (state, lead, count).
+    pub fn axis(&self) -> &SimDcAxis {
+        &self.axis
+    }
+
+    /// The motor current now, A.
+    pub fn current_a(&self) -> f64 {
+        self.hw.borrow().motor.current_a()
+    }
+
+    fn at_rest(&self) -> bool {
+        let m = self.hw.borrow().motor;
+        m.motor_speed_rad_s().abs() < AT_REST_RAD_S && duty_free(m.output())
+    }
+
+    /// One millisecond: a poll, then the model's steps.
+    fn step_ms(&mut self) {
+        // Faults are kept by the axis for `take_fault`; the ports never
+        // fail.
+        let _ = self.axis.poll(self.now_ms);
+        let mut hw = self.hw.borrow_mut();
+        let before = hw.motor.output_angle_deg();
+        for _ in 0..STEPS_PER_MS {
+            hw.motor.step(STEP_S);
+        }
+        self.travel_deg += (hw.motor.output_angle_deg() - before).abs();
+        drop(hw);
+        self.now_ms = self.now_ms.wrapping_add(1);
+        self.budget_ms = self.budget_ms.saturating_sub(1);
+    }
+
+    /// Runs while the loop is busy or the motor turns, within the budget.
+    fn run(&mut self) {
+        while self.budget_ms > 0 {
+            let resting = matches!(
+                self.axis.state(),
+                DcState::Idle { .. } | DcState::Faulted(_)
+            );
+            if resting && self.at_rest() {
+                break;
+            }
+            self.step_ms();
+        }
+    }
+}
+
+/// No duty applied (braked or coasting).
+fn duty_free(output: Output) -> bool {
+    matches!(output, Output::Brake | Output::Coast)
+}
+
+/// The same hardware after a power cycle: the motor where it is, the
+/// firmware's axis new (its RAM is lost).
+impl Clone for DcDrive {
+    fn clone(&self) -> Self {
+        let hw = *self.hw.borrow();
+        let mut copy = Self::over(hw, self.spec, &self.axis_config)
+            .expect("the configuration was accepted when this drive was made");
+        copy.now_ms = self.now_ms;
+        copy.travel_deg = self.travel_deg;
+        copy
+    }
+}
+
+impl AxisDrive for DcDrive {
+    type Error = DcDriveError;
+    const SELF_WATCHED: bool = true;
+    fn move_counts(&mut self, counts: i32) -> Result<(), DcDriveError> {
+        self.axis.move_counts(counts)?;
+        self.run();
+        Ok(())
+    }
+    fn pending(&self) -> i32 {
+        self.axis.pending()
+    }
+    fn stop(&mut self) -> Result<(), DcDriveError> {
+        self.axis.stop()?;
+        self.run();
+        Ok(())
+    }
+    fn at_limit(&mut self) -> Result<bool, DcDriveError> {
+        self.axis.at_limit()
+    }
+    fn encoder_deg(&mut self) -> Result<Option<f32>, DcDriveError> {
+        self.axis.encoder_deg()
+    }
+    fn take_fault(&mut self) -> Option<DriveFault> {
+        self.axis.take_fault()
+    }
+    fn fault_latched(&self) -> bool {
+        self.axis.fault_latched()
+    }
+    fn clear_fault(&mut self) {
+        AxisDrive::clear_fault(&mut self.axis);
+    }
+}
+
+impl SimAxis for DcDrive {
+    /// The idle time of the tick before passes on the axis's clock; one
+    /// poll looks at the counts (a back-driven axis), then pending motion
+    /// runs.
+    fn begin_tick(&mut self, dt_s: f64) {
+        self.now_ms = self.now_ms.wrapping_add(self.budget_ms);
+        let ms = (dt_s.max(0.0) * 1e3).round();
+        self.budget_ms = if ms < f64::from(u32::MAX) {
+            ms as u32
+        } else {
+            u32::MAX
+        };
+        if self.budget_ms > 0 {
+            self.step_ms();
+        }
+        self.run();
+    }
+    fn output_deg(&self) -> f64 {
+        self.hw.borrow().motor.output_angle_deg()
+    }
+    fn travel_deg(&self) -> f64 {
+        self.travel_deg
+    }
+    /// A stall or an obstruction jams the output where it is (the motor
+    /// pushes into it and draws its stall current); a failed feedback is a
+    /// failed Hall sensor.
+    fn inject(&mut self, injected: Injected) {
+        let mut hw = self.hw.borrow_mut();
+        let jammed = injected.stalled || injected.obstructed;
+        let was_jammed = hw.injected.stalled || hw.injected.obstructed;
+        if jammed != was_jammed {
+            let at = hw.motor.output_angle_deg();
+            let stops = if jammed { (at, at) } else { hw.ends_deg };
+            hw.motor.set_hard_stops_deg(Some(stops));
+        }
+        if injected.feedback_failed != hw.injected.feedback_failed {
+            hw.motor.set_hall_failed(injected.feedback_failed);
+        }
+        hw.injected = injected;
+    }
+    /// An external force turns the resting axis by `deg` (the Hall sensor
+    /// counts it).
+    fn slip(&mut self, deg: f64) {
+        let mut hw = self.hw.borrow_mut();
+        let to = hw.motor.output_angle_deg() + deg;
+        hw.motor.set_output_angle_deg(to);
+        self.travel_deg += deg.abs();
+    }
+}
