@@ -92,6 +92,13 @@ pub trait ConfigPersist {
     /// Goes on with a save without waiting: `None` while it is not done,
     /// then its result once.
     fn poll_save(&mut self) -> Option<Result<(), SaveError<()>>>;
+    /// The longest a save step stalls the CPU, ms
+    /// ([`crate::ports::Storage::stall_ms`]): the loop then takes the steps
+    /// only while no axis moves and no tick is due for that long, so that a
+    /// save typed during a move changes none of its steps or their timing.
+    fn stall_ms(&self) -> u32 {
+        0
+    }
 }
 
 /// The two-slot store over any storage, stepped from the loop.
@@ -101,6 +108,9 @@ impl<S: crate::ports::Storage> ConfigPersist for crate::persist::ConfigStore<S> 
     }
     fn begin_save(&mut self, config: &Config) -> Result<(), SaveError<()>> {
         crate::persist::ConfigStore::begin_save(self, config).map_err(drop_storage_error)
+    }
+    fn stall_ms(&self) -> u32 {
+        self.storage().stall_ms()
     }
     fn poll_save(&mut self) -> Option<Result<(), SaveError<()>>> {
         match self.poll() {
@@ -425,7 +435,7 @@ where
                 count_up(&mut self.stats.drive_errors);
             }
         }
-        self.service_console(platform);
+        self.service_console(platform, now_ms);
         let tick_ms = self.app.tick_ms.max(1);
         let due = self
             .next_tick_ms
@@ -647,15 +657,28 @@ where
 
     // The console and the configuration.
 
-    /// The console: goes on with a save in progress, takes at most
+    /// The console: goes on with a save in progress (on storage whose steps
+    /// stall the CPU, only while no axis moves and no tick is due within
+    /// the stall: [`ConfigPersist::stall_ms`]), takes at most
     /// [`CONSOLE_BYTES_PER_PASS`] bytes and runs each complete line (while
     /// a save is under way it answers `error busy` instead). Not inlined:
     /// its buffers are then not in the frame of every pass.
     #[inline(never)]
-    fn service_console<P: Platform>(&mut self, platform: &mut P) {
+    fn service_console<P: Platform>(&mut self, platform: &mut P, now_ms: u32) {
         if let Some(pending) = self.saving {
+            let busy_within = |stall_ms: u32| {
+                self.controller.axes().iter().any(|a| a.drive().pending() != 0)
+                    // A stall as long as a tick delays one whatever the wait.
+                    || (stall_ms < self.app.tick_ms
+                        && self.next_tick_ms.is_some_and(|t| {
+                            monotonic::reached(now_ms.wrapping_add(stall_ms), t)
+                        }))
+            };
             if let Some(store) = platform.config_store() {
-                if let Some(result) = store.poll_save() {
+                let stall_ms = store.stall_ms();
+                if stall_ms > 0 && busy_within(stall_ms) {
+                    // Waits for the axes to rest between ticks.
+                } else if let Some(result) = store.poll_save() {
                     self.saving = None;
                     match pending {
                         Executed::HoldChanged {

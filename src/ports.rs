@@ -60,6 +60,15 @@ pub trait Storage {
     fn flush_step(&mut self) -> Result<bool, Self::Error> {
         Ok(true)
     }
+    /// The longest an erase or write step stalls the CPU, ms: non-zero for
+    /// a microcontroller's own flash, from which its code runs (on the
+    /// STM32F411 a 16 KiB sector erase stalls it up to 800 ms, see
+    /// [`crate::persist`]). The firmware loop then takes save steps only
+    /// while no axis moves and no tick is due for that long. The default:
+    /// 0, no stall.
+    fn stall_ms(&self) -> u32 {
+        0
+    }
 }
 
 /// One reading of the mount's attitude sensors (Choi et al. (portable tracker) §III).

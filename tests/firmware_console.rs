@@ -17,11 +17,14 @@
 //! - `time set` is refused while GPS time is in force and sets an RTC that
 //!   lost power otherwise (then tracking starts);
 //! - `stow`, `resume`, `jog`, `manual off`, `status`, `faults`, `clear`,
-//!   and the periodic `status` line every `log.status_min` minutes.
+//!   and the periodic `status` line every `log.status_min` minutes;
+//! - on storage whose erase stalls the CPU (the Black Pill's flash, up to
+//!   800 ms), a `save` typed while the axes home changes none of their
+//!   steps: every step lands on the same millisecond as without the save.
 
 mod common;
 
-use std::cell::RefCell;
+use std::cell::{Cell, RefCell};
 use std::collections::VecDeque;
 use std::rc::Rc;
 
@@ -35,8 +38,58 @@ use suntracker::config::Config;
 use suntracker::controller::ControllerOptions;
 use suntracker::firmware::{AppConfig, ConfigPersist, Firmware, Platform};
 use suntracker::persist::{ConfigStore, MemStorage};
+use suntracker::ports::Storage;
 
-type Store = ConfigStore<MemStorage<1024>>;
+type Store = ConfigStore<TestFlash>;
+
+/// RAM storage that may stand for a microcontroller's own flash: each
+/// erase or write step then stalls the CPU for `stall_ms`, which the bench
+/// adds to its clock with no loop pass and no motor step in between.
+struct TestFlash {
+    mem: MemStorage<1024>,
+    stall_ms: u32,
+    /// Stall time of the steps since the bench last looked, ms.
+    stalled_ms: Cell<u64>,
+}
+
+impl TestFlash {
+    fn new(stall_ms: u32) -> Self {
+        TestFlash {
+            mem: MemStorage::new(),
+            stall_ms,
+            stalled_ms: Cell::new(0),
+        }
+    }
+    fn stall(&self) {
+        self.stalled_ms
+            .set(self.stalled_ms.get() + u64::from(self.stall_ms));
+    }
+}
+
+impl Storage for TestFlash {
+    type Error = <MemStorage<1024> as Storage>::Error;
+    fn capacity(&self) -> usize {
+        self.mem.capacity()
+    }
+    fn read(&mut self, offset: usize, buf: &mut [u8]) -> Result<(), Self::Error> {
+        self.mem.read(offset, buf)
+    }
+    fn write(&mut self, offset: usize, data: &[u8]) -> Result<(), Self::Error> {
+        self.stall();
+        self.mem.write(offset, data)
+    }
+    fn erase_step(&mut self, offset: usize, len: usize) -> Result<usize, Self::Error> {
+        self.stall();
+        self.mem.erase_step(offset, len)
+    }
+    fn write_step(&mut self, offset: usize, data: &[u8]) -> Result<usize, Self::Error> {
+        self.stall();
+        self.mem.write_step(offset, data)
+    }
+    fn stall_ms(&self) -> u32 {
+        self.stall_ms
+    }
+}
 
 struct HostPlatform {
     now_ms: u64,
@@ -84,6 +137,8 @@ struct Bench {
     /// Monotonic ms at which each log line was first seen.
     stamps: Vec<(u64, String)>,
     seen: usize,
+    /// After each pass: its monotonic ms and both motors' half-steps.
+    steps: Vec<(u64, i64, i64)>,
 }
 
 fn start_utc() -> UtcTime {
@@ -135,6 +190,7 @@ impl Bench {
             start,
             stamps: Vec::new(),
             seen: 0,
+            steps: Vec::new(),
         }
     }
 
@@ -175,6 +231,11 @@ impl Bench {
             for m in [&self.c, &self.a] {
                 m.borrow_mut().settle();
             }
+            self.steps.push((
+                self.platform.now_ms,
+                self.c.borrow().half_steps,
+                self.a.borrow().half_steps,
+            ));
             let text = String::from_utf8(self.log.0.borrow().clone()).unwrap();
             let lines: Vec<&str> = text.lines().collect();
             for line in lines.iter().skip(self.seen) {
@@ -184,7 +245,9 @@ impl Bench {
                 self.stamps.push((self.platform.now_ms, line.to_string()));
             }
             self.seen = lines.len();
-            self.platform.now_ms += 1;
+            // A stalled CPU: time passes, nothing runs.
+            let stalled = self.platform.store.storage().stalled_ms.replace(0);
+            self.platform.now_ms += 1 + stalled;
         }
     }
 
@@ -205,7 +268,7 @@ impl Bench {
 }
 
 fn store() -> Store {
-    ConfigStore::new(MemStorage::new())
+    ConfigStore::new(TestFlash::new(0))
 }
 
 fn field(line: &str, key: &str) -> f64 {
@@ -673,4 +736,67 @@ fn stow_and_manual_survive_a_power_cycle() {
     b.run_until(b.platform.now_ms + 10 * 60_000, |_| {});
     let m = modes(&b);
     assert_eq!(m[1..], ["mode homing", "mode tracking"], "{m:?}");
+}
+
+/// The Black Pill's flash stalls the CPU for up to 800 ms a sector erase
+/// (`suntracker::persist`): no step can be taken meanwhile. A `save` typed
+/// while both axes home (a long move) waits until they rest with no tick
+/// due within the stall; every step of the homing and of the tracking
+/// after it lands on the same millisecond as on a bench whose storage
+/// never stalls, and the save is answered after homing.
+#[test]
+fn save_on_a_stalling_flash_changes_no_step() {
+    let run = |stall_ms: u32| {
+        let mut b = Bench::new(
+            kano_config(),
+            ConfigStore::new(TestFlash::new(stall_ms)),
+            false,
+        );
+        b.run_until(3_000, |_| {});
+        let from = b.stamps.len();
+        b.type_line("save");
+        b.run_until(10 * 60_000, |_| {});
+        let saved_ms = b.stamps[from..]
+            .iter()
+            .find(|(_, l)| l == "ok save")
+            .map(|(t, _)| *t)
+            .unwrap_or_else(|| panic!("no `ok save`: {:?}", &b.stamps[from..]));
+        let tracking_ms = b
+            .stamps
+            .iter()
+            .find(|(_, l)| l == "mode tracking")
+            .map(|(t, _)| *t)
+            .expect("tracking after homing");
+        (b.steps, saved_ms, tracking_ms)
+    };
+    let (free, free_saved, free_tracking) = run(0);
+    let (stalled, stalled_saved, stalled_tracking) = run(800);
+    // Without a stall the save is done within the passes after the line.
+    assert!(free_saved < 3_100, "{free_saved}");
+    // With it, after homing (mode tracking), and the steps are the same.
+    assert_eq!(stalled_tracking, free_tracking);
+    assert!(
+        stalled_saved > stalled_tracking,
+        "{stalled_saved} {stalled_tracking}"
+    );
+    let moved = free
+        .windows(2)
+        .filter(|w| (w[0].1, w[0].2) != (w[1].1, w[1].2))
+        .count();
+    assert!(moved > 10_000, "homing moved the axes in {moved} passes");
+    let at = |steps: &[(u64, i64, i64)], ms: u64| {
+        // The motors' state at `ms`: after the last pass at or before it.
+        let i = steps.partition_point(|s| s.0 <= ms);
+        steps[i - 1]
+    };
+    let mut compared = 0;
+    for s in &stalled {
+        let f = at(&free, s.0);
+        assert_eq!((s.1, s.2), (f.1, f.2), "steps differ at {} ms", s.0);
+        compared += 1;
+    }
+    // The stalls: time without passes on the stalling bench.
+    let gaps: u64 = stalled.windows(2).map(|w| w[1].0 - w[0].0 - 1).sum();
+    assert!(gaps >= 800, "no erase stalled the CPU ({gaps} ms)");
+    assert!(compared > 500_000, "{compared}");
 }

@@ -76,9 +76,13 @@
 //! typical, 1.6 ms at most. During the erase no interrupt runs: the
 //! SysTick interrupts due meanwhile are taken once at its end (a counter
 //! of them falls behind by the erase's length), received GPS bytes overrun
-//! (counted as dropped), and the steppers hold their position; so a
-//! firmware starts a save on this board while the axes are at rest. The
-//! independent watchdog (2 s) outlasts the 800 ms.
+//! (counted as dropped), and the steppers hold their position. So
+//! [`NorFlashStorage::in_code_flash`] marks such a flash with its longest
+//! stall ([`crate::ports::Storage::stall_ms`]), and the firmware loop takes
+//! the steps of a save on it only while no axis moves and no controller
+//! tick is due for that long: a `save` typed during a move waits for its
+//! end, and no step of the axes falls in the stall. The independent watchdog (2 s) outlasts the
+//! 800 ms.
 //!
 //! The flash driver is stm32f4xx-hal 0.23's `flash` module: it implements
 //! `NorFlash` for its `UnlockedFlash` (erase per physical sector, program
@@ -333,6 +337,8 @@ pub struct NorFlashStorage<F, const STEP: usize = 16> {
     base: usize,
     /// Bytes of each slot's region: whole erase units.
     region: usize,
+    /// The longest stall of an erase or write, ms ([`Storage::stall_ms`]).
+    stall_ms: u32,
 }
 
 impl<F: NorFlash, const STEP: usize> NorFlashStorage<F, STEP> {
@@ -370,7 +376,15 @@ impl<F: NorFlash, const STEP: usize> NorFlashStorage<F, STEP> {
             flash,
             base,
             region,
+            stall_ms: 0,
         })
+    }
+
+    /// Marks the flash as the one the code runs from: an erase or write
+    /// stalls the CPU for up to `stall_ms` ([`Storage::stall_ms`]).
+    pub fn in_code_flash(mut self, stall_ms: u32) -> Self {
+        self.stall_ms = stall_ms;
+        self
     }
 
     /// The flash, to look at.
@@ -456,6 +470,10 @@ impl<F: NorFlash, const STEP: usize> NorFlashStorage<F, STEP> {
 
 impl<F: NorFlash, const STEP: usize> Storage for NorFlashStorage<F, STEP> {
     type Error = NorError<F::Error>;
+
+    fn stall_ms(&self) -> u32 {
+        self.stall_ms
+    }
 
     /// Two slots of [`SLOT_LEN`] bytes.
     fn capacity(&self) -> usize {

@@ -53,6 +53,10 @@ pub struct ConfigSectors {
     flash: FLASH,
 }
 
+/// Longest stall of a 16 KiB sector erase at x8 parallelism, ms (DS10314,
+/// table "Flash memory programming"; see [`suntracker::persist`]).
+const ERASE_MAX_MS: u32 = 800;
+
 impl ConfigSectors {
     /// The sectors, over the flash controller.
     pub fn new(flash: FLASH) -> Self {
@@ -60,11 +64,12 @@ impl ConfigSectors {
     }
 
     /// The configuration storage on these sectors: slot 0 in sector 1,
-    /// slot 1 in sector 2.
+    /// slot 1 in sector 2; the code runs from the same flash, so that every
+    /// erase and write stalls the CPU (saves wait for the axes to rest).
     pub fn storage(
         flash: FLASH,
     ) -> Result<NorFlashStorage<ConfigSectors>, NorError<ConfigFlashError>> {
-        NorFlashStorage::new(ConfigSectors::new(flash), 0)
+        NorFlashStorage::new(ConfigSectors::new(flash), 0).map(|s| s.in_code_flash(ERASE_MAX_MS))
     }
 
     /// Gives the flash controller back.

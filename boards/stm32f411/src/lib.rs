@@ -70,7 +70,10 @@
 //! loaded: a good copy the controller takes is used (`config
 //! source=stored`), else the board's own ([`mechanics::config`], `config
 //! source=defaults`). A `save` erases one sector, which stalls the CPU for
-//! up to 800 ms (see [`suntracker::persist`]): save while the axes are at rest.
+//! up to 800 ms (see [`suntracker::persist`]): the storage says so
+//! ([`suntracker::persist::NorFlashStorage::in_code_flash`]), and the loop
+//! erases only while both axes rest, so a `save` typed during a move is
+//! done after it.
 //!
 //! With the `defmt` feature the log lines go out over RTT through defmt
 //! (`defmt_log::DefmtLog`, a debug probe reads them) instead of
