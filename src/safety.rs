@@ -88,6 +88,9 @@ pub enum Fault {
     /// The axis moved while its motor rested (a DC drive's Hall counts):
     /// an external force back-drives it, or a gear is loose.
     UnexpectedMotion(AxisId),
+    /// A move of the axis took longer than its distance at the drive's
+    /// slowest expected speed, with a margin (a DC drive's move timeout).
+    MoveTimeout(AxisId),
 }
 
 /// Faults are equal when they are the same fault (`Fault::number` is
@@ -142,6 +145,8 @@ impl Fault {
             "obstruction_a",
             "unexpected_motion_c",
             "unexpected_motion_a",
+            "move_timeout_c",
+            "move_timeout_a",
         )
         .get(self.number())
         .unwrap_or(crate::flash_str!(""))
@@ -175,6 +180,7 @@ impl Fault {
             Fault::ScheduleFailed => 24,
             Fault::Obstruction(a) => 25 + a.index(),
             Fault::UnexpectedMotion(a) => 27 + a.index(),
+            Fault::MoveTimeout(a) => 29 + a.index(),
         }
     }
 }
@@ -224,7 +230,10 @@ impl Fault {
                     Recovery::DegradeOpenLoop
                 }
             }
-            Fault::MotorStalled(ax) | Fault::Obstruction(ax) | Fault::UnexpectedMotion(ax) => {
+            Fault::MotorStalled(ax)
+            | Fault::Obstruction(ax)
+            | Fault::UnexpectedMotion(ax)
+            | Fault::MoveTimeout(ax) => {
                 if attempt <= retries {
                     Recovery::Retry
                 } else {

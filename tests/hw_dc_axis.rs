@@ -116,7 +116,10 @@ fn axis_config() -> AxisConfig {
 /// 100 ms (the braked run-down crawls at tens of counts/s at its end); done within
 /// 0.01° (14 counts); stall after 300 ms without a count, unexpected motion
 /// beyond 70 counts (0.05°), overcurrent above 3 A for 100 ms (20 times the
-/// 0.15 A free-running current, 55 % of the 5.5 A stall current).
+/// 0.15 A free-running current, 55 % of the 5.5 A stall current); an
+/// approach slower than 5,500 counts/s (about half the no-load 10,000 rpm ×
+/// 64 / 60 = 10,667 counts/s) over its distance, plus 3 s for the slow
+/// band and the stop, is too slow.
 fn dc_config() -> DcAxisConfig {
     DcAxisConfig {
         max_duty_permille: 1_000,
@@ -131,6 +134,8 @@ fn dc_config() -> DcAxisConfig {
         max_idle_counts: 70,
         max_current_ma: 3_000,
         overcurrent_ms: 100,
+        min_speed_cps: 5_500,
+        move_margin_ms: 3_000,
     }
 }
 
@@ -366,6 +371,48 @@ fn an_obstruction_trips_the_stall_watch_without_one() {
     assert!((295..=305).contains(&took), "{took}");
 }
 
+/// A supply sagging to 5 V (a flat battery, a long thin cable) turns the
+/// motor at 5/12 of its speed, drawing no more current than at 12 V: only
+/// the move timeout sees it. An 80° slew (112,000 counts) may take
+/// 112,000 / 5,500 s + 3 s = 23.4 s; at 5 V it needs about 26 s, at 12 V
+/// about 12 s.
+#[test]
+fn a_slow_motor_trips_the_move_timeout() {
+    let slew = |supply_v: f64| {
+        let rig = Rig::new();
+        rig.plant.borrow_mut().set_output_angle_deg(-85.0);
+        *rig.plant.borrow_mut() = {
+            let mut m = Plant::new(MotorSpec { supply_v, ..spec() });
+            m.set_output_angle_deg(-85.0);
+            m
+        };
+        let (a, b) = rig.plant.borrow().hall_levels();
+        rig.enc.set_levels(a, b);
+        let mut axis = rig.axis::<Sense>(Some(rig.sense()));
+        let mut now = 0u32;
+        axis.move_counts(112_000).unwrap();
+        for _ in 0..40_000 {
+            if let Err(e) = axis.poll(now) {
+                return (now, Some(e));
+            }
+            if matches!(axis.state(), DcState::Idle { .. }) {
+                return (now, None);
+            }
+            rig.step_ms();
+            now += 1;
+        }
+        panic!("neither done nor faulted: {axis:?}");
+    };
+    let (ms, fault) = slew(12.0);
+    println!("12 V: at rest after {ms} ms");
+    assert_eq!(fault, None);
+    assert!(ms < 15_000, "{ms}");
+    let (ms, fault) = slew(5.0);
+    println!("5 V: too slow after {ms} ms");
+    assert_eq!(fault, Some(DcAxisError::Fault(DcFault::TooSlow)));
+    assert!((23_363..=23_366).contains(&ms), "{ms}");
+}
+
 #[test]
 fn a_back_driven_axis_at_rest_is_unexpected_motion() {
     let rig = Rig::new();
@@ -469,6 +516,13 @@ fn absurd_configurations_are_refused() {
                 ..ok
             },
             DcAxisConfigError::IdleCounts,
+        ),
+        (
+            DcAxisConfig {
+                move_margin_ms: 600_001,
+                ..ok
+            },
+            DcAxisConfigError::MoveMargin,
         ),
         (
             DcAxisConfig {

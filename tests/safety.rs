@@ -32,13 +32,15 @@ fn every_fault_has_its_recovery() {
     }
     assert_eq!(Fault::GpsLost.recovery(1, r), Recovery::UseRtcAndStoredSite);
     assert_eq!(Fault::RtcInvalid.recovery(1, r), Recovery::WaitForGps);
-    // A motor that does not move, meets an obstacle or is moved by one:
+    // A motor that does not move, meets an obstacle, is moved by one or
+    // runs too slowly:
     // retried, then that axis is left alone.
     for ax in [AxisId::C, AxisId::A] {
         for st in [
             Fault::MotorStalled(ax),
             Fault::Obstruction(ax),
             Fault::UnexpectedMotion(ax),
+            Fault::MoveTimeout(ax),
         ] {
             assert_eq!(st.recovery(1, r), Recovery::Retry);
             assert_eq!(st.recovery(3, r), Recovery::Retry);
@@ -81,6 +83,7 @@ fn every_fault_and_mode_has_its_documented_name() {
             Fault::UnexpectedMotion(a),
             format!("unexpected_motion_{letter}"),
         ));
+        expected.push((Fault::MoveTimeout(a), format!("move_timeout_{letter}")));
     }
     for (f, name) in [
         (Fault::GpsLost, "gps_lost"),
@@ -93,7 +96,7 @@ fn every_fault_and_mode_has_its_documented_name() {
     ] {
         expected.push((f, name.to_string()));
     }
-    assert_eq!(expected.len(), 29);
+    assert_eq!(expected.len(), 31);
     for (f, name) in &expected {
         assert_eq!(f.name(), name.as_str(), "{f:?}");
     }
@@ -482,6 +485,7 @@ fn faults_are_equal_only_to_themselves() {
         all.push(Fault::LimitSwitchHit(a));
         all.push(Fault::Obstruction(a));
         all.push(Fault::UnexpectedMotion(a));
+        all.push(Fault::MoveTimeout(a));
     }
     all.extend([
         Fault::GpsLost,
@@ -492,7 +496,7 @@ fn faults_are_equal_only_to_themselves() {
         Fault::TimeOutOfRange,
         Fault::ScheduleFailed,
     ]);
-    assert_eq!(all.len(), 29);
+    assert_eq!(all.len(), 31);
     let hash = |f: &Fault| {
         let mut h = DefaultHasher::new();
         f.hash(&mut h);

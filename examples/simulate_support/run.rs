@@ -348,7 +348,10 @@ fn dc_spec() -> DcDriveSpec {
         // still draws V·d/R (5.5 A at full duty): starting a slew into an
         // obstacle, the 2 ‰/ms ramp reaches 3 A at 545 ‰ after 273 ms, so
         // the obstruction trips at 373 ms, before the stall. Held at a
-        // tracking step's duty (under 20 %, about 1 A) it is a stall.
+        // tracking step's duty (under 20 %, about 1 A) it is a stall. An
+        // approach slower than half the no-load speed (5,500 of 10,667
+        // counts/s) over its distance, plus 3 s for the slow band and the
+        // stop, is too slow.
         loop_config: suntracker::hw::DcAxisConfig {
             max_duty_permille: 1_000,
             min_duty_permille: 150,
@@ -362,6 +365,8 @@ fn dc_spec() -> DcDriveSpec {
             max_idle_counts: 70,
             max_current_ma: 3_000,
             overcurrent_ms: 100,
+            min_speed_cps: 5_500,
+            move_margin_ms: 3_000,
         },
     }
 }

@@ -888,6 +888,7 @@ where
             if drive.pending() == 0 {
                 self.faults.clear(Fault::Obstruction(id), now_ms);
                 self.faults.clear(Fault::UnexpectedMotion(id), now_ms);
+                self.faults.clear(Fault::MoveTimeout(id), now_ms);
             }
         }
         if let Some(dev) = last_dev {
@@ -909,12 +910,13 @@ fn drive_fault(f: DriveFault, id: AxisId) -> Fault {
         DriveFault::Stall => Fault::MotorStalled(id),
         DriveFault::Obstruction => Fault::Obstruction(id),
         DriveFault::UnexpectedMotion => Fault::UnexpectedMotion(id),
+        DriveFault::TooSlow => Fault::MoveTimeout(id),
     }
 }
 
 /// For a drive that watches its own motor ([`AxisDrive::SELF_WATCHED`]):
 /// raises what the watch saw, and returns true while a latched fault
-/// (stall, obstruction) waits for its retry, leaving the axis alone. When
+/// (stall, obstruction, move timeout) waits for its retry, leaving the axis alone. When
 /// the fault manager's back-off for it has passed (or the fault was
 /// cleared by the operator), the drive's fault is cleared and the axis is
 /// commanded again: the retry, counted as one more attempt if it trips
@@ -931,7 +933,11 @@ fn drive_watch<D: AxisDrive>(
     if !drive.fault_latched() {
         return false;
     }
-    let due = [Fault::Obstruction(id), Fault::MotorStalled(id)]
+    let due = [
+        Fault::Obstruction(id),
+        Fault::MotorStalled(id),
+        Fault::MoveTimeout(id),
+    ]
         .into_iter()
         .filter_map(|f| faults.get(f))
         .all(|a| a.retry_due(now_ms));

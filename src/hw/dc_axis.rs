@@ -35,10 +35,14 @@
 //! while resting is [`DcFault::UnexpectedMotion`] (a back-driven axis). With
 //! a current sense, a current above [`DcAxisConfig::max_current_ma`] for
 //! [`DcAxisConfig::overcurrent_ms`] while driven is [`DcFault::Overcurrent`]
-//! (an obstruction: a blocked rotor draws its stall current, `V / R`). A
-//! stall or an overcurrent brakes the motor, is returned once by `poll` as
-//! [`DcAxisError::Fault`], and stays latched ([`DcAxis::fault`]; moves are
-//! refused) until [`DcAxis::clear_fault`]. Unexpected motion is returned
+//! (an obstruction: a blocked rotor draws its stall current, `V / R`). With
+//! [`DcAxisConfig::min_speed_cps`] set, an approach that takes longer than
+//! its distance at that speed plus [`DcAxisConfig::move_margin_ms`] is
+//! [`DcFault::TooSlow`] (a load, a low supply or a dragging gear slows the
+//! motor). A stall, an overcurrent or a slow move brakes the motor, is
+//! returned once by `poll` as [`DcAxisError::Fault`] (and once by
+//! [`AxisDrive::take_fault`]), and stays latched ([`DcAxis::fault`]; moves
+//! are refused) until [`DcAxis::clear_fault`]. Unexpected motion is returned
 //! once per rest and not latched; the target becomes the count where it
 //! was seen (the axis does not fight the load on its own: correcting is the
 //! controller's decision, from [`AxisDrive::encoder_deg`]).
@@ -107,6 +111,10 @@ pub enum DcFault {
     Overcurrent,
     /// More than `max_idle_counts` counts while resting (back-driven axis).
     UnexpectedMotion,
+    /// An approach took longer than its distance at `min_speed_cps` plus
+    /// `move_margin_ms` (a motor slowed by a load, a low supply, a
+    /// dragging gear).
+    TooSlow,
 }
 
 /// Errors of a DC axis.
@@ -144,6 +152,8 @@ pub enum DcAxisConfigError {
     Current,
     /// `max_idle_counts` above [`MAX_IDLE_COUNTS`].
     IdleCounts,
+    /// `move_margin_ms` above 600,000.
+    MoveMargin,
 }
 
 /// Longest stopping lead, ms (a motor that runs on longer than two seconds
@@ -205,6 +215,16 @@ pub struct DcAxisConfig {
     /// more than the running current; without one, up to the stall current
     /// `V / R` for about a mechanical time constant).
     pub overcurrent_ms: u32,
+    /// The slowest the axis may turn at full duty, counts/s (0: no move
+    /// timeout): a data-sheet speed under the heaviest expected load, with
+    /// room for a low supply.
+    pub min_speed_cps: u32,
+    /// Time an approach may take beyond its distance at `min_speed_cps`,
+    /// ms: the slow band's approach and the stop (the duty falls linearly
+    /// to `min_duty_permille` over `slow_band_counts`, so the band takes
+    /// about `slow_band / speed × ln(max/min duty) / (1 − min/max)`, 2.2
+    /// times its distance at full speed for 1000 ‰ to 150 ‰).
+    pub move_margin_ms: u32,
 }
 
 impl DcAxisConfig {
@@ -240,6 +260,9 @@ impl DcAxisConfig {
         }
         if self.max_idle_counts > MAX_IDLE_COUNTS {
             return Err(DcAxisConfigError::IdleCounts);
+        }
+        if self.move_margin_ms > 600_000 {
+            return Err(DcAxisConfigError::MoveMargin);
         }
         Ok(())
     }
@@ -297,6 +320,8 @@ pub struct DcAxis<B: Bridge, E, H, C> {
     /// Time the stop started (`None`: not known yet, set by the next poll).
     stop_since_ms: Option<u32>,
     over_since_ms: Option<u32>,
+    /// Start and allowed length of the approach under way, ms.
+    approach: (u32, u32),
     count_at_switch: Option<i32>,
     /// The switch at its last reading.
     switch_was_closed: bool,
@@ -376,6 +401,7 @@ where
             still_since_ms: 0,
             stop_since_ms: None,
             over_since_ms: None,
+            approach: (0, u32::MAX),
             count_at_switch: None,
             switch_was_closed: false,
             home_deg: axis.home_deg,
@@ -462,7 +488,7 @@ where
 
     /// Runs the position loop and the watch once; call every main-loop pass
     /// with the monotonic millisecond counter. Returns what the bridge now
-    /// does. A stall or overcurrent brakes the motor and is returned here
+    /// does. A stall, overcurrent or slow move brakes the motor and is returned here
     /// once (then [`DcAxis::fault`] keeps it); unexpected motion at rest is
     /// returned once per rest.
     pub fn poll(&mut self, now_ms: u32) -> Result<Output, AxisErr<B, H, C>> {
@@ -504,6 +530,7 @@ where
                     self.state = DcState::Driving {
                         dir: if e > 0 { 1 } else { -1 },
                     };
+                    self.approach = (now_ms, self.approach_ms(e.unsigned_abs()));
                     return self.drive(count, now_ms, moved);
                 }
             }
@@ -529,6 +556,17 @@ where
             }
         }
         self.motor.poll(now_ms).map_err(DcAxisError::Motor)
+    }
+
+    /// The time allowed for an approach of `distance` counts, ms.
+    fn approach_ms(&self, distance: u64) -> u32 {
+        let speed = u64::from(self.config.min_speed_cps);
+        if speed == 0 {
+            return u32::MAX;
+        }
+        // distance < 2³³, · 1000 < 2⁴³.
+        let ms = (distance * 1_000 / speed).saturating_add(u64::from(self.config.move_margin_ms));
+        u32::try_from(ms).unwrap_or(u32::MAX)
     }
 
     /// Longest stop, ms ([`STOP_LEADS`]); at most 10,000 + 8 · 2,000.
@@ -571,6 +609,10 @@ where
         }
         if self.watch.check(now_ms) == Watch::Stall {
             return self.trip(DcFault::Stall, count);
+        }
+        let (since, allowed) = self.approach;
+        if now_ms.wrapping_sub(since) > allowed {
+            return self.trip(DcFault::TooSlow, count);
         }
         if let Some(sense) = self.sense.as_mut() {
             let ma = sense.current_ma().map_err(DcAxisError::Sense)?;
@@ -615,7 +657,7 @@ where
         Ok(out)
     }
 
-    /// The latched fault (stall or overcurrent), if any.
+    /// The latched fault (stall, overcurrent, slow move), if any.
     pub fn fault(&self) -> Option<DcFault> {
         match self.state {
             DcState::Faulted(f) => Some(f),
@@ -683,7 +725,7 @@ where
     type Error = AxisErr<B, H, C>;
     const SELF_WATCHED: bool = true;
 
-    /// Moves the target; refused while a stall or overcurrent is latched.
+    /// Moves the target; refused while a stall, overcurrent or slow move is latched.
     fn move_counts(&mut self, counts: i32) -> Result<(), Self::Error> {
         if let DcState::Faulted(f) = self.state {
             return Err(DcAxisError::Fault(f));
@@ -753,6 +795,7 @@ where
             DcFault::Stall => DriveFault::Stall,
             DcFault::Overcurrent => DriveFault::Obstruction,
             DcFault::UnexpectedMotion => DriveFault::UnexpectedMotion,
+            DcFault::TooSlow => DriveFault::TooSlow,
         })
     }
 

@@ -41,7 +41,7 @@ pub trait AxisDrive {
     const SELF_WATCHED: bool = false;
     /// A fault the drive detected itself (a DC motor's current and Hall
     /// watch), reported once: a latched fault ([`DriveFault::Stall`],
-    /// [`DriveFault::Obstruction`]) refuses moves until
+    /// [`DriveFault::Obstruction`], [`DriveFault::TooSlow`]) refuses moves until
     /// [`AxisDrive::clear_fault`]; [`DriveFault::UnexpectedMotion`] is not
     /// latched. Drives without a watch of their own (steppers, servos,
     /// whose stalls the controller sees on the encoder) report none.
@@ -69,6 +69,10 @@ pub enum DriveFault {
     /// Counts while the motor rests (an external force back-drives the
     /// axis, or a loose gear).
     UnexpectedMotion,
+    /// A move took longer than its distance at the drive's slowest
+    /// expected speed, with a margin (a load or a low supply slows the
+    /// motor).
+    TooSlow,
 }
 
 /// How the axis uses feedback.
