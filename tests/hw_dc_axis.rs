@@ -380,7 +380,6 @@ fn an_obstruction_trips_the_stall_watch_without_one() {
 fn a_slow_motor_trips_the_move_timeout() {
     let slew = |supply_v: f64| {
         let rig = Rig::new();
-        rig.plant.borrow_mut().set_output_angle_deg(-85.0);
         *rig.plant.borrow_mut() = {
             let mut m = Plant::new(MotorSpec { supply_v, ..spec() });
             m.set_output_angle_deg(-85.0);
@@ -389,9 +388,8 @@ fn a_slow_motor_trips_the_move_timeout() {
         let (a, b) = rig.plant.borrow().hall_levels();
         rig.enc.set_levels(a, b);
         let mut axis = rig.axis::<Sense>(Some(rig.sense()));
-        let mut now = 0u32;
         axis.move_counts(112_000).unwrap();
-        for _ in 0..40_000 {
+        for now in 0..40_000u32 {
             if let Err(e) = axis.poll(now) {
                 return (now, Some(e));
             }
@@ -399,7 +397,6 @@ fn a_slow_motor_trips_the_move_timeout() {
                 return (now, None);
             }
             rig.step_ms();
-            now += 1;
         }
         panic!("neither done nor faulted: {axis:?}");
     };

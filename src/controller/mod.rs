@@ -938,9 +938,9 @@ fn drive_watch<D: AxisDrive>(
         Fault::MotorStalled(id),
         Fault::MoveTimeout(id),
     ]
-        .into_iter()
-        .filter_map(|f| faults.get(f))
-        .all(|a| a.retry_due(now_ms));
+    .into_iter()
+    .filter_map(|f| faults.get(f))
+    .all(|a| a.retry_due(now_ms));
     if due {
         drive.clear_fault();
     }
