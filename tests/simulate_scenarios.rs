@@ -182,7 +182,8 @@ fn run_scenario_with(name: &str, more: &[&str]) -> Vec<Row> {
         // A DC motor braked at the switch runs on past it: up to 0.2°
         // measured at the 7.6 °/s of simulate's DC axis, short of the hard
         // stop 1° beyond.
-        let tol = if more.contains(&"dc-hall") { 0.5 } else { 0.01 };
+        let dc = more.contains(&"dc-hall") || more.contains(&"timed");
+        let tol = if dc { 0.5 } else { 0.01 };
         assert!(
             (-180.0 - tol..=180.0 + tol).contains(&r.axis_c),
             "{name}: C axis {} at minute {}",
@@ -394,6 +395,23 @@ fn dc_hall_failure_is_a_stall_and_recovers() {
     assert!(span(&rows, 760, 1440).iter().all(|r| r.faults.is_empty()));
     tracks_well(name, span(&rows, 300, 720));
     tracks_well(name, span(&rows, 760, 1100));
+}
+
+#[test]
+fn timed_drives_home_again_after_a_stow() {
+    let name = "timed_stow_rehome.csv";
+    let rows = run_scenario_with(name, &["--drive", "timed"]);
+    assert!(span(&rows, 0, 1440).iter().all(|r| r.faults.is_empty()));
+    assert!(span(&rows, 600, 630)
+        .iter()
+        .all(|r| r.mode == "command_stow" && !r.homing));
+    // Homing within minutes of the stow's end, then tracking.
+    let homed = span(&rows, 630, 640)
+        .iter()
+        .any(|r| r.mode == "homing" && r.homing);
+    assert!(homed, "{:?}", span(&rows, 630, 640));
+    tracks_well(name, span(&rows, 300, 600));
+    tracks_well(name, span(&rows, 640, 1000));
 }
 
 #[test]

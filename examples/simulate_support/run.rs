@@ -9,7 +9,7 @@ use std::fs::File;
 use std::io::{BufWriter, Write};
 
 use drivers::gps::GpsDecoder;
-use sim::dc_drive::{DcDrive, DcDriveSpec};
+use sim::dc_drive::{DcDrive, DcDriveSpec, SimTimedAxis};
 use sim::dc_motor::MotorSpec;
 use sim::gps::{GpsReceiverModel, EPOCH_BUF_LEN};
 use sim::plant::{Injected, MotorPlant, SimAxis};
@@ -48,7 +48,7 @@ pub const TOOL: &str = "simulate";
 
 /// The synopsis of `--help`.
 pub const USAGE: &str = "[--lat DEG] [--lon DEG] [--start YYYY-MM-DD] [--days N] \
-[--drive stepper|servo|dc-hall] [--feedback encoder|sensors] [--mount level|portable] [--faults] [--seed N] \
+[--drive stepper|servo|dc-hall|timed] [--supply regulated|battery] [--feedback encoder|sensors] [--mount level|portable] [--faults] [--seed N] \
 [--scenario FILE] [--trace OUT.csv] [--svg OUT.svg]";
 
 /// The text of `--help`.
@@ -69,10 +69,17 @@ stow times; its last line holds the figures as key=value.",
             opt("--start YYYY-MM-DD", "first day of the run (00:00 UTC)", "2026-01-01"),
             opt("--days N", "length of the run in days, 1 to 3660", "1"),
             opt(
-                "--drive stepper|servo|dc-hall",
-                "axis drives: steppers through a gear, servos on output encoders, or DC gear \
-                 motors with motor-shaft Hall encoders (sim::dc_drive)",
+                "--drive stepper|servo|dc-hall|timed",
+                "axis drives: steppers through a gear, servos on output encoders, DC gear motors \
+                 with motor-shaft Hall encoders, or the same motors run by time with no feedback \
+                 (sim::dc_drive)",
                 "stepper",
+            ),
+            opt(
+                "--supply regulated|battery",
+                "the DC motors' supply: a regulated 12 V, or a 12 V lead-acid battery at a new \
+                 charge each day (11.9 to 12.7 V)",
+                "regulated",
             ),
             opt(
                 "--feedback encoder|sensors",
@@ -127,6 +134,7 @@ enum Drive {
     Stepper,
     Servo,
     DcHall,
+    Timed,
 }
 
 impl Drive {
@@ -135,8 +143,18 @@ impl Drive {
             Drive::Stepper => "stepper",
             Drive::Servo => "servo",
             Drive::DcHall => "dc-hall",
+            Drive::Timed => "timed",
         }
     }
+}
+
+/// The DC motors' supply.
+#[derive(Debug, Clone, Copy, PartialEq)]
+enum Supply {
+    /// A regulated 12 V.
+    Regulated,
+    /// A 12 V lead-acid battery, a new charge each day.
+    Battery,
 }
 
 #[derive(Debug, Clone)]
@@ -146,6 +164,7 @@ pub struct Args {
     start: UtcTime,
     days: u32,
     drive: Drive,
+    supply: Supply,
     encoder: bool,
     portable: bool,
     faults: bool,
@@ -164,6 +183,7 @@ pub fn parse_args(args: &[String]) -> Result<Parsed<Args>, String> {
         start: UtcTime::from_ymd_hms(2026, 1, 1, 0, 0, 0).map_err(|e| e.to_string())?,
         days: 1,
         drive: Drive::Stepper,
+        supply: Supply::Regulated,
         encoder: true,
         portable: false,
         faults: false,
@@ -196,6 +216,17 @@ pub fn parse_args(args: &[String]) -> Result<Parsed<Args>, String> {
                         ("stepper", Drive::Stepper),
                         ("servo", Drive::Servo),
                         ("dc-hall", Drive::DcHall),
+                        ("timed", Drive::Timed),
+                    ],
+                )?
+            }
+            Long("supply") => {
+                a.supply = cli::choice(
+                    &mut p,
+                    "--supply",
+                    &[
+                        ("regulated", Supply::Regulated),
+                        ("battery", Supply::Battery),
                     ],
                 )?
             }
@@ -306,7 +337,64 @@ fn simulate(args: &Args, out: &mut dyn Write, err: &mut dyn Write) -> Result<(),
     match args.drive {
         Drive::Stepper | Drive::Servo => simulate_with(args, out, err, motor_plants),
         Drive::DcHall => simulate_with(args, out, err, dc_plants),
+        Drive::Timed => simulate_with(args, out, err, timed_plants),
     }
+}
+
+/// The DC motor of both DC drive kinds, its bridge at no ramp for the timed
+/// drive (its run times assume full duty at once) and 2 ‰/ms otherwise.
+fn dc_motor(ramp_permille_per_ms: u16) -> (MotorSpec, drivers::dc_motor::Config) {
+    (
+        MotorSpec::pololu_37d_131_12v()
+            .with_output_stage(60.0, 0.4)
+            .with_output_inertia_kg_m2(50.0),
+        drivers::dc_motor::Config {
+            ramp_permille_per_ms,
+            rest: drivers::dc_motor::RestMode::Brake,
+        },
+    )
+}
+
+/// The supply at which the timed drive's speeds are calibrated, V: the
+/// regulated 12 V, or the middle of the battery's range.
+fn calibration_supply_v(supply: Supply) -> f64 {
+    match supply {
+        Supply::Regulated => 12.0,
+        Supply::Battery => 12.3,
+    }
+}
+
+/// The timed axes: the same motor as `dc_spec`'s, run at full duty for the
+/// time a move takes at the speed calibrated at `calibration_supply_v`
+/// (the motor's no-load speed there, through the gears: the model's load is
+/// friction alone, the same both ways).
+fn timed_plants(args: &Args, config: &Config) -> Result<[DcDrive<SimTimedAxis>; 2], String> {
+    let (motor, bridge) = dc_motor(0);
+    let calibrated = MotorSpec {
+        supply_v: calibration_supply_v(args.supply),
+        ..motor
+    };
+    let deg_s = (calibrated.no_load_motor_rad_s() / calibrated.gear_ratio).to_degrees() as f32;
+    let spec = DcDriveSpec {
+        motor,
+        bridge,
+        firmware: suntracker::hw::TimedAxisConfig {
+            forward_deg_s: deg_s,
+            backward_deg_s: deg_s,
+            duty_permille: 1_000,
+        },
+    };
+    let plant = |ax: &suntracker::config::AxisConfig, start: f64| {
+        DcDrive::new(
+            spec,
+            ax,
+            f64::from(ax.min_deg),
+            f64::from(ax.max_deg),
+            start,
+        )
+        .map_err(|e| format!("timed axis: {e:?}"))
+    };
+    Ok([plant(&config.axes[0], 10.0)?, plant(&config.axes[1], 20.0)?])
 }
 
 /// Servo: encoder of 2^14 counts on the output, no gear, no microsteps.
@@ -331,15 +419,11 @@ fn motor_plants(args: &Args, config: &Config) -> Result<[MotorPlant; 2], String>
 /// efficiency (7,875:1 in all: 1,400 counts per output degree, at most
 /// 7.6 °/s), 50 kg·m² of panels at the output (assumed), on a BTS7960 with
 /// a 2 ‰/ms duty ramp, braking at rest.
-fn dc_spec() -> DcDriveSpec {
+fn dc_spec() -> DcDriveSpec<suntracker::hw::DcAxisConfig> {
+    let (motor, bridge) = dc_motor(2);
     DcDriveSpec {
-        motor: MotorSpec::pololu_37d_131_12v()
-            .with_output_stage(60.0, 0.4)
-            .with_output_inertia_kg_m2(50.0),
-        bridge: drivers::dc_motor::Config {
-            ramp_permille_per_ms: 2,
-            rest: drivers::dc_motor::RestMode::Brake,
-        },
+        motor,
+        bridge,
         // Full duty beyond 4° (5,600 counts), 15 % at the target, done
         // within 0.01° (14 counts); a first stopping lead of 130 ms (the
         // model's mechanical time constant under braking); stall after
@@ -352,7 +436,7 @@ fn dc_spec() -> DcDriveSpec {
         // approach slower than half the no-load speed (5,500 of 10,667
         // counts/s) over its distance, plus 3 s for the slow band and the
         // stop, is too slow.
-        loop_config: suntracker::hw::DcAxisConfig {
+        firmware: suntracker::hw::DcAxisConfig {
             max_duty_permille: 1_000,
             min_duty_permille: 150,
             slow_band_counts: 5_600,
@@ -469,8 +553,9 @@ fn simulate_with<P: SimAxis>(
                 ax.backlash_deg = 0.0;
             }
         }
-        Drive::DcHall => {
-            // Hall counts: 64 per motor turn, 7,875:1 (dc_spec).
+        Drive::DcHall | Drive::Timed => {
+            // Hall counts: 64 per motor turn, 7,875:1 (dc_spec); the timed
+            // drive's counts are the same scale, run by time.
             for ax in config.axes.iter_mut() {
                 ax.counts_per_motor_rev = 64;
                 ax.microsteps = 1;
@@ -500,13 +585,17 @@ fn simulate_with<P: SimAxis>(
     };
     let accuracy = SensorAccuracy::li_2022(&mut rng);
     let sensors = MountSensors::new(truth, accuracy, rng.next_u64());
+    // The timed drive has no feedback: open loop, re-homed every night
+    // and after every stow.
+    let timed = args.drive == Drive::Timed;
     let use_sensors = args.portable || !args.encoder;
     let options = ControllerOptions {
-        feedback: if args.encoder {
+        feedback: if args.encoder && !timed {
             FeedbackMode::ClosedLoop
         } else {
             FeedbackMode::OpenLoop
         },
+        rehome_after_stow: timed,
         attitude: if use_sensors {
             AttitudeSource::Sensors
         } else {
@@ -589,7 +678,18 @@ fn simulate_with<P: SimAxis>(
     // counted at tick m are those of minutes m-1..m, so a wind that starts
     // at minute m is first counted at tick m + 1.
     let mut counted_hz: Option<f64> = None;
+    // The battery's charge: its own random stream, so that the other
+    // draws (and every run without DC motors) stay as they are. Open-circuit
+    // voltages of a 12 V lead-acid battery from 20 % charge (11.9 V) to full
+    // (12.7 V), a new one each day.
+    let mut supply_rng = SplitMix64::new(args.seed ^ 0x5355_5050_4c59);
     for m in 0..minutes {
+        if args.supply == Supply::Battery && m % 1440 == 0 {
+            let v = supply_rng.uniform(11.9, 12.7);
+            for ax in ctl.axes_mut().iter_mut() {
+                ax.drive_mut().set_supply_v(v);
+            }
+        }
         let now = args
             .start
             .add_seconds(i64::from(m) * 60)

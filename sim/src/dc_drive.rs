@@ -27,7 +27,10 @@ use drivers::dc_motor::bts7960::{CurrentSense, SenseConfig, SenseError};
 use drivers::dc_motor::{Bridge, Config as BridgeConfig, DcMotor as MotorDriver, Error, Output};
 use embedded_hal::digital::{ErrorType, InputPin};
 use suntracker::config::AxisConfig;
-use suntracker::hw::{DcAxis, DcAxisConfig, DcAxisConfigError, DcAxisError, DcState, EncoderCount};
+use suntracker::hw::{
+    DcAxis, DcAxisConfig, DcAxisConfigError, DcAxisError, DcState, EncoderCount, TimedAxis,
+    TimedAxisConfig, TimedAxisConfigError, TimedAxisError,
+};
 use suntracker::motion::{AxisDrive, DriveFault};
 
 use crate::dc_motor::{Bts7960Sense, DcMotor, MotorSpec};
@@ -139,28 +142,116 @@ impl AdcChannel for SimIsPin {
     }
 }
 
-/// The firmware's axis over the simulated parts.
+/// The firmware's Hall-closed axis over the simulated parts.
 pub type SimDcAxis = DcAxis<SimBridge, SimHall, SimSwitch, CurrentSense<SimIsPin>>;
 
-/// Errors of the simulated DC drive (the ports themselves never fail).
+/// The firmware's timed axis (no feedback) over the simulated parts.
+pub type SimTimedAxis = TimedAxis<SimBridge, SimSwitch>;
+
+/// Errors of the simulated Hall-closed drive (the ports themselves never
+/// fail).
 pub type DcDriveError = DcAxisError<Infallible, Infallible, Infallible, SenseError<Infallible>>;
 
-/// How one DC axis is built: the motor, the firmware's settings.
+/// The simulated parts one axis's firmware is built over.
+#[derive(Debug)]
+pub struct Ports {
+    /// The bridge driver over the simulated bridge.
+    pub motor: MotorDriver<SimBridge>,
+    /// The Hall counter.
+    pub hall: SimHall,
+    /// The home switch.
+    pub switch: SimSwitch,
+    /// The current-sense ADC channel.
+    pub is_pin: SimIsPin,
+}
+
+/// A firmware axis a simulated DC drive runs: built over the [`Ports`],
+/// polled every simulated millisecond.
+pub trait FirmwareAxis: AxisDrive + Sized {
+    /// Its settings.
+    type Config: Copy + core::fmt::Debug + PartialEq;
+    /// Why the settings are refused.
+    type ConfigError: core::fmt::Debug;
+    /// The axis over `ports`.
+    fn build(
+        ports: Ports,
+        config: Self::Config,
+        axis: &AxisConfig,
+    ) -> Result<Self, Self::ConfigError>;
+    /// One main-loop pass at `now_ms`.
+    fn poll_ms(&mut self, now_ms: u32);
+    /// True when the axis has nothing more to do until the next command.
+    fn resting(&self) -> bool;
+}
+
+impl FirmwareAxis for SimDcAxis {
+    type Config = DcAxisConfig;
+    type ConfigError = DcAxisConfigError;
+    /// With the BTS7960's current sense, at the data sheet's ratio.
+    fn build(
+        ports: Ports,
+        config: DcAxisConfig,
+        axis: &AxisConfig,
+    ) -> Result<Self, DcAxisConfigError> {
+        let sense = CurrentSense::new(ports.is_pin, SenseConfig::DATASHEET_1K_5V)
+            .map_err(|_| DcAxisConfigError::Current)?;
+        DcAxis::new(
+            ports.motor,
+            ports.hall,
+            ports.switch,
+            false,
+            Some(sense),
+            config,
+            axis,
+        )
+    }
+    fn poll_ms(&mut self, now_ms: u32) {
+        // Faults are kept by the axis for `take_fault`; the ports never
+        // fail.
+        let _ = self.poll(now_ms);
+    }
+    fn resting(&self) -> bool {
+        matches!(self.state(), DcState::Idle { .. } | DcState::Faulted(_))
+    }
+}
+
+impl FirmwareAxis for SimTimedAxis {
+    type Config = TimedAxisConfig;
+    type ConfigError = TimedAxisConfigError;
+    fn build(
+        ports: Ports,
+        config: TimedAxisConfig,
+        axis: &AxisConfig,
+    ) -> Result<Self, TimedAxisConfigError> {
+        TimedAxis::new(ports.motor, ports.switch, false, config, axis)
+    }
+    fn poll_ms(&mut self, now_ms: u32) {
+        // The ports never fail.
+        let _ = self.poll(now_ms);
+    }
+    fn resting(&self) -> bool {
+        self.pending() == 0
+    }
+}
+
+/// How one DC axis is built: the motor, the bridge, the firmware's
+/// settings.
 #[derive(Debug, Clone, Copy, PartialEq)]
-pub struct DcDriveSpec {
+pub struct DcDriveSpec<C> {
     /// The gear motor and its stages.
     pub motor: MotorSpec,
     /// The bridge driver's ramp and rest.
     pub bridge: BridgeConfig,
-    /// The position loop and watch.
-    pub loop_config: DcAxisConfig,
+    /// The firmware axis's settings.
+    pub firmware: C,
 }
 
-/// One DC axis: the motor model and the firmware's [`DcAxis`] over it.
-pub struct DcDrive {
+/// One DC axis: the motor model and the firmware's axis over it
+/// ([`SimDcAxis`] by default, or [`SimTimedAxis`]).
+pub struct DcDrive<A: FirmwareAxis = SimDcAxis> {
     hw: Shared,
-    axis: SimDcAxis,
-    spec: DcDriveSpec,
+    axis: A,
+    spec: DcDriveSpec<A::Config>,
     axis_config: AxisConfig,
     /// The axis's millisecond clock (its board's monotonic counter).
     now_ms: u32,
@@ -169,27 +260,27 @@ pub struct DcDrive {
     travel_deg: f64,
 }
 
-impl core::fmt::Debug for DcDrive {
+impl<A: FirmwareAxis + core::fmt::Debug> core::fmt::Debug for DcDrive<A> {
     fn fmt(&self, f: &mut core::fmt::Formatter<'_>) -> core::fmt::Result {
         f.debug_struct("DcDrive")
-            .field("output_deg", &self.output_deg())
+            .field("output_deg", &self.hw.borrow().motor.output_angle_deg())
             .field("axis", &self.axis)
             .finish_non_exhaustive()
     }
 }
 
-impl DcDrive {
+impl<A: FirmwareAxis> DcDrive<A> {
     /// An axis at `start_deg` whose home switch closes at or below
     /// `switch_deg`, with hard stops 1° beyond the switch and at `max_deg` +
     /// 1° (as [`crate::plant::MotorPlant`]'s); `axis` gives the firmware's
     /// counts per degree and home angle.
     pub fn new(
-        spec: DcDriveSpec,
+        spec: DcDriveSpec<A::Config>,
         axis: &AxisConfig,
         switch_deg: f64,
         max_deg: f64,
         start_deg: f64,
-    ) -> Result<Self, DcAxisConfigError> {
+    ) -> Result<Self, A::ConfigError> {
         let mut motor = DcMotor::new(spec.motor);
         motor.set_output_angle_deg(start_deg);
         let ends_deg = (switch_deg - 1.0, max_deg + 1.0);
@@ -206,26 +297,24 @@ impl DcDrive {
         )
     }
 
-    fn over(hw: Hardware, spec: DcDriveSpec, axis: &AxisConfig) -> Result<Self, DcAxisConfigError> {
+    fn over(
+        hw: Hardware,
+        spec: DcDriveSpec<A::Config>,
+        axis: &AxisConfig,
+    ) -> Result<Self, A::ConfigError> {
         let hw = Rc::new(RefCell::new(hw));
-        // The simulated bridge and ADC never fail; the sense configuration
-        // is the data sheet's and valid.
-        let bridge = MotorDriver::new(SimBridge(Rc::clone(&hw)), spec.bridge)
-            .map_err(|_| DcAxisConfigError::Duty)?;
-        let sense = CurrentSense::new(SimIsPin(Rc::clone(&hw)), SenseConfig::DATASHEET_1K_5V)
-            .map_err(|_| DcAxisConfigError::Current)?;
-        let dc = DcAxis::new(
-            bridge,
-            SimHall(Rc::clone(&hw)),
-            SimSwitch(Rc::clone(&hw)),
-            false,
-            Some(sense),
-            spec.loop_config,
-            axis,
-        )?;
+        let ports = Ports {
+            // The simulated bridge never fails.
+            motor: MotorDriver::new(SimBridge(Rc::clone(&hw)), spec.bridge)
+                .unwrap_or_else(|_| unreachable!("the simulated bridge never fails")),
+            hall: SimHall(Rc::clone(&hw)),
+            switch: SimSwitch(Rc::clone(&hw)),
+            is_pin: SimIsPin(Rc::clone(&hw)),
+        };
+        let fw = A::build(ports, spec.firmware, axis)?;
         Ok(DcDrive {
             hw,
-            axis: dc,
+            axis: fw,
             spec,
             axis_config: *axis,
             now_ms: 0,
@@ -234,8 +323,8 @@ impl DcDrive {
         })
     }
 
-    /// The firmware's axis (state, lead, count).
-    pub fn axis(&self) -> &SimDcAxis {
+    /// The firmware's axis.
+    pub fn axis(&self) -> &A {
         &self.axis
     }
 
@@ -251,9 +340,7 @@ impl DcDrive {
 
     /// One millisecond: a poll, then the model's steps.
     fn step_ms(&mut self) {
-        // Faults are kept by the axis for `take_fault`; the ports never
-        // fail.
-        let _ = self.axis.poll(self.now_ms);
+        self.axis.poll_ms(self.now_ms);
         let mut hw = self.hw.borrow_mut();
         let before = hw.motor.output_angle_deg();
         for _ in 0..STEPS_PER_MS {
@@ -265,14 +352,11 @@ impl DcDrive {
         self.budget_ms = self.budget_ms.saturating_sub(1);
     }
 
-    /// Runs while the loop is busy or the motor turns, within the budget.
+    /// Runs while the firmware axis is busy or the motor turns, within the
+    /// budget.
     fn run(&mut self) {
         while self.budget_ms > 0 {
-            let resting = matches!(
-                self.axis.state(),
-                DcState::Idle { .. } | DcState::Faulted(_)
-            );
-            if resting && self.at_rest() {
+            if self.axis.resting() && self.at_rest() {
                 break;
             }
             self.step_ms();
@@ -287,18 +371,18 @@ fn duty_free(output: Output) -> bool {
 
 /// The same hardware after a power cycle: the motor where it is, the
 /// firmware's axis new (its RAM is lost).
-impl Clone for DcDrive {
+impl<A: FirmwareAxis> Clone for DcDrive<A> {
     fn clone(&self) -> Self {
         let hw = *self.hw.borrow();
         let mut copy = Self::over(hw, self.spec, &self.axis_config)
-            .expect("the configuration was accepted when this drive was made");
+            .unwrap_or_else(|e| unreachable!("accepted when this drive was made: {e:?}"));
         copy.now_ms = self.now_ms;
         copy.travel_deg = self.travel_deg;
         copy
     }
 }
 
-impl AxisDrive for DcDrive {
+impl AxisDrive for DcDrive<SimDcAxis> {
     type Error = DcDriveError;
     const SELF_WATCHED: bool = true;
     fn move_counts(&mut self, counts: i32) -> Result<(), DcDriveError> {
@@ -331,7 +415,36 @@ impl AxisDrive for DcDrive {
     }
 }
 
-impl SimAxis for DcDrive {
+/// Errors of the simulated timed drive.
+pub type TimedDriveError = TimedAxisError<Infallible, Infallible, Infallible>;
+
+impl AxisDrive for DcDrive<SimTimedAxis> {
+    type Error = TimedDriveError;
+    fn move_counts(&mut self, counts: i32) -> Result<(), TimedDriveError> {
+        self.axis.move_counts(counts)?;
+        self.run();
+        Ok(())
+    }
+    fn pending(&self) -> i32 {
+        self.axis.pending()
+    }
+    fn stop(&mut self) -> Result<(), TimedDriveError> {
+        self.axis.stop()?;
+        self.run();
+        Ok(())
+    }
+    fn at_limit(&mut self) -> Result<bool, TimedDriveError> {
+        self.axis.at_limit()
+    }
+    fn encoder_deg(&mut self) -> Result<Option<f32>, TimedDriveError> {
+        self.axis.encoder_deg()
+    }
+}
+
+impl<A: FirmwareAxis> SimAxis for DcDrive<A>
+where
+    DcDrive<A>: AxisDrive,
+{
     /// The idle time of the tick before passes on the axis's clock; one
     /// poll looks at the counts (a back-driven axis), then pending motion
     /// runs.
@@ -370,6 +483,11 @@ impl SimAxis for DcDrive {
             hw.motor.set_hall_failed(injected.feedback_failed);
         }
         hw.injected = injected;
+    }
+    /// The speed at a duty follows the supply (a battery's charge, a long
+    /// cable).
+    fn set_supply_v(&mut self, supply_v: f64) {
+        self.hw.borrow_mut().motor.set_supply_v(supply_v);
     }
     /// An external force turns the resting axis by `deg` (the Hall sensor
     /// counts it).

@@ -406,6 +406,17 @@ impl DcMotor {
         &self.spec
     }
 
+    /// Sets the supply voltage at full duty, V (from the next step on;
+    /// non-finite or negative values are taken as 0): a battery's charge,
+    /// a long cable.
+    pub fn set_supply_v(&mut self, supply_v: f64) {
+        self.spec.supply_v = if supply_v.is_finite() && supply_v > 0.0 {
+            supply_v
+        } else {
+            0.0
+        };
+    }
+
     /// Sets the bridge command (from the next step on).
     pub fn set_output(&mut self, output: Output) {
         self.output = output;

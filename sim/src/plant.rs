@@ -48,6 +48,12 @@ pub trait SimAxis: AxisDrive + Clone {
     /// The axis turns by `deg` without being driven (lost steps; a
     /// back-driven DC axis).
     fn slip(&mut self, deg: f64);
+    /// Sets the motor's supply, V: a DC motor's speed follows it; the
+    /// default (steppers and servos, whose drivers regulate their own)
+    /// ignores it.
+    fn set_supply_v(&mut self, supply_v: f64) {
+        let _ = supply_v;
+    }
 }
 
 /// Errors of the simulated drive.

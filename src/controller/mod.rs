@@ -65,6 +65,10 @@ pub struct ControllerOptions<T> {
     pub night_stow: bool,
     /// Re-home both axes at every end of day (open-loop drives lose steps).
     pub rehome_nightly: bool,
+    /// Re-home both axes at the end of every stow (wind or command): a
+    /// drive without feedback ([`crate::hw::TimedAxis`]) has only its
+    /// switch to tell where it is after a long slew and a gale.
+    pub rehome_after_stow: bool,
     /// Attitude readings averaged per tick.
     pub sensor_samples: u8,
     /// Weight of a new tick's attitude in the running average (1 = none);
@@ -94,6 +98,7 @@ impl<T: Float> Default for ControllerOptions<T> {
             attitude: AttitudeSource::Fixed(MountAttitude::level()),
             night_stow: false,
             rehome_nightly: true,
+            rehome_after_stow: false,
             sensor_samples: 16,
             attitude_smoothing: 0.2,
             homing_chunk_deg: 1.0,

@@ -241,6 +241,12 @@ where
         // While the day's branch is searched (a few ticks on a slow
         // board), the axes hold still.
         let choosing_branch = mode == Mode::Tracking && self.look_ahead_pending();
+        let stowed = |m: Option<Mode>| matches!(m, Some(Mode::WindStow | Mode::CommandStow));
+        if self.options.rehome_after_stow && stowed(self.last_mode) && !stowed(Some(mode)) {
+            for ax in self.axes.iter_mut() {
+                ax.unhome();
+            }
+        }
         self.last_mode = Some(mode);
         let target = match mode {
             Mode::SafeStop | Mode::Homing => None,

@@ -9,6 +9,7 @@
 //! | [`MountSensorsHw`] | [`crate::ports::AttitudeSensor`] | a tilt sensor ([`AxisAngles`]: ADXL345, WitMotion inclinometer) + any [`drivers::compass::Magnetometer`] |
 //! | [`ServoAxis`] | [`crate::motion::AxisDrive`] | [`drivers::servo::ContinuousServo`] + a quadrature encoder ([`EncoderCount`]) + home switch |
 //! | [`DcAxis`] | [`crate::motion::AxisDrive`] | [`drivers::dc_motor::DcMotor`] (BTS7960, L298N) + a Hall count ([`EncoderCount`]) + home switch + optional current sense ([`MotorCurrent`]) |
+//! | [`TimedAxis`] | [`crate::motion::AxisDrive`] | [`drivers::dc_motor::DcMotor`] + home switch, no feedback: runs timed at calibrated speeds |
 //! | [`StepperAxis`] | [`crate::motion::AxisDrive`] | [`drivers::stepper::hbridge::HBridgeStepper`] + home switch |
 //!
 //! Time and site fallbacks (GPS, then RTC, then the stored site or a postal
@@ -20,6 +21,7 @@ mod dc_axis;
 mod gps;
 mod rtc;
 mod servo_axis;
+mod timed_axis;
 
 pub use attitude::{
     AccelTiltError, AxisAngles, EitherTilt, EitherTiltError, MountSensorError, MountSensorsHw,
@@ -33,3 +35,6 @@ pub use dc_axis::{
 pub use gps::GpsPort;
 pub use rtc::{ClockError, RtcClock};
 pub use servo_axis::{EncoderCount, ServoAxis, ServoAxisError};
+pub use timed_axis::{
+    TimedAxis, TimedAxisConfig, TimedAxisConfigError, TimedAxisError, MAX_RUN_MS, SPEED_RANGE_DEG_S,
+};

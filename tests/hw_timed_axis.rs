@@ -1,0 +1,213 @@
+//! The timed axis (`hw::TimedAxis`: a DC motor run for the time a move
+//! takes at a calibrated speed, no feedback) on the simulated gear motor
+//! (`sim::dc_motor`, Pololu 37D 131.25:1 at 12 V, through a further 60:1
+//! worm of 40 %: 7,875:1, 7.62 °/s at no load), polled every millisecond by
+//! `sim::dc_drive`.
+//!
+//! The expected angles come from the motor model's own no-load speed
+//! (`MotorSpec::no_load_motor_rad_s`, from the data-sheet figures) times the
+//! run time, not from the axis's arithmetic: the model's motor is linear
+//! (viscous friction only) with one mechanical time constant driven and
+//! braked, so the angle of a run of T is the speed times T whatever its
+//! start-up lag.
+
+use sim::dc_drive::{DcDrive, DcDriveSpec, SimTimedAxis};
+use sim::dc_motor::MotorSpec;
+use sim::plant::SimAxis;
+use suntracker::config::AxisConfig;
+use suntracker::hw::{TimedAxisConfig, TimedAxisConfigError};
+use suntracker::motion::{AxisController, AxisDrive, FeedbackMode, HomeState};
+
+fn spec() -> MotorSpec {
+    MotorSpec::pololu_37d_131_12v()
+        .with_output_stage(60.0, 0.4)
+        .with_output_inertia_kg_m2(50.0)
+}
+
+/// The axis's no-load speed at 12 V, °/s.
+fn speed_deg_s() -> f64 {
+    let s = spec();
+    (s.no_load_motor_rad_s() / s.gear_ratio).to_degrees()
+}
+
+/// 1,400 counts per degree (64 counts a motor turn, 7,875:1), switch at
+/// −90°.
+fn axis_config() -> AxisConfig {
+    AxisConfig {
+        counts_per_motor_rev: 64,
+        microsteps: 1,
+        gear_ratio: 7_875.0,
+        min_deg: -90.0,
+        max_deg: 90.0,
+        home_deg: -90.0,
+        backlash_deg: 0.0,
+        max_speed_deg_s: 7.0,
+        deadband_deg: 0.02,
+    }
+}
+
+fn drive(config: TimedAxisConfig, start_deg: f64) -> DcDrive<SimTimedAxis> {
+    DcDrive::new(
+        DcDriveSpec {
+            motor: spec(),
+            bridge: drivers::dc_motor::Config {
+                ramp_permille_per_ms: 0,
+                rest: drivers::dc_motor::RestMode::Brake,
+            },
+            firmware: config,
+        },
+        &axis_config(),
+        -90.0,
+        90.0,
+        start_deg,
+    )
+    .unwrap()
+}
+
+fn calibrated() -> TimedAxisConfig {
+    let v = speed_deg_s() as f32;
+    TimedAxisConfig {
+        forward_deg_s: v,
+        backward_deg_s: v,
+        duty_permille: 1_000,
+    }
+}
+
+#[test]
+fn runs_land_on_the_speed_times_the_time() {
+    assert!((speed_deg_s() - 7.619).abs() < 0.001, "{}", speed_deg_s());
+    let mut d = drive(calibrated(), 0.0);
+    let mut expected = 0.0f64;
+    let mut worst = 0.0f64;
+    // Tracker steps, slews both ways, a nudge of a few milliseconds.
+    for deg in [0.25, 0.25, 0.25, 45.0, -60.0, 0.1, -0.1, 30.0, 0.02, -15.0] {
+        d.begin_tick(120.0);
+        d.move_counts((deg * 1_400.0) as i32).unwrap();
+        assert_eq!(d.pending(), 0, "not done within the tick");
+        expected += deg;
+        let err = (d.output_deg() - expected).abs();
+        worst = worst.max(err);
+        // Run times are whole milliseconds: ±0.5 ms at 7.62 °/s is
+        // ±0.0038°, plus the rounding of the counts (1/1400°).
+        assert!(err < 0.01, "{deg}°: at {} for {expected}", d.output_deg());
+    }
+    println!("worst {worst:.4}° over the moves");
+}
+
+#[test]
+fn a_miscalibrated_speed_errs_in_proportion() {
+    // Calibrated 5 % slow: every run is 5 % long.
+    let v = (speed_deg_s() * 0.95) as f32;
+    let mut d = drive(
+        TimedAxisConfig {
+            forward_deg_s: v,
+            backward_deg_s: v,
+            duty_permille: 1_000,
+        },
+        0.0,
+    );
+    d.begin_tick(120.0);
+    d.move_counts(40 * 1_400).unwrap();
+    let want = 40.0 / 0.95;
+    assert!((d.output_deg() - want).abs() < 0.02, "{}", d.output_deg());
+}
+
+#[test]
+fn homing_stops_on_the_switch_then_moves_by_time() {
+    let mut ax = AxisController::new(drive(calibrated(), -70.0), axis_config());
+    let mut now = 0u32;
+    for _ in 0..200 {
+        ax.drive_mut().begin_tick(1.0);
+        now += 1_000;
+        if ax.home_step(0.45, now).unwrap() == HomeState::Done {
+            break;
+        }
+    }
+    assert_eq!(ax.home_state(), HomeState::Done);
+    // Braked where the switch closed (−90°), plus the run-on after the
+    // brake: speed × the braked time constant is 0.9°, well short of the
+    // hard stop 1° beyond.
+    let at = ax.drive().output_deg();
+    assert!((-91.0..=-89.9).contains(&at), "{at}");
+    ax.drive_mut().begin_tick(60.0);
+    ax.update(0.0, FeedbackMode::OpenLoop, None).unwrap();
+    let off = ax.drive().output_deg() - at;
+    assert!((off - 90.0).abs() < 0.01, "{off}");
+}
+
+#[test]
+fn pending_counts_down_and_stop_brakes() {
+    let mut d = drive(calibrated(), 0.0);
+    // A tick of 1 s for a 20° move (2.6 s): two fifths done.
+    d.begin_tick(1.0);
+    d.move_counts(20 * 1_400).unwrap();
+    let left = d.pending();
+    assert!((15_000..17_500).contains(&left), "{left}");
+    d.stop().unwrap();
+    assert_eq!(d.pending(), 0);
+    d.begin_tick(5.0);
+    let after = d.output_deg();
+    d.begin_tick(5.0);
+    // The last of the braked run-down, under a Hall count (1/1400°).
+    assert!((d.output_deg() - after).abs() < 1e-4, "moved after a stop");
+    assert!(after > 7.0 && after < 9.0, "{after}");
+}
+
+#[test]
+fn absurd_configurations_are_refused() {
+    let ok = calibrated();
+    for (bad, want) in [
+        (
+            TimedAxisConfig {
+                forward_deg_s: f32::NAN,
+                ..ok
+            },
+            TimedAxisConfigError::Speed,
+        ),
+        (
+            TimedAxisConfig {
+                backward_deg_s: 0.0,
+                ..ok
+            },
+            TimedAxisConfigError::Speed,
+        ),
+        (
+            TimedAxisConfig {
+                forward_deg_s: 1e9,
+                ..ok
+            },
+            TimedAxisConfigError::Speed,
+        ),
+        (
+            TimedAxisConfig {
+                duty_permille: 0,
+                ..ok
+            },
+            TimedAxisConfigError::Duty,
+        ),
+        (
+            TimedAxisConfig {
+                duty_permille: 1_001,
+                ..ok
+            },
+            TimedAxisConfigError::Duty,
+        ),
+    ] {
+        assert_eq!(bad.validate(), Err(want));
+        let d = DcDrive::<SimTimedAxis>::new(
+            DcDriveSpec {
+                motor: spec(),
+                bridge: drivers::dc_motor::Config {
+                    ramp_permille_per_ms: 0,
+                    rest: drivers::dc_motor::RestMode::Brake,
+                },
+                firmware: bad,
+            },
+            &axis_config(),
+            -90.0,
+            90.0,
+            0.0,
+        );
+        assert_eq!(d.err(), Some(want));
+    }
+}
