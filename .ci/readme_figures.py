@@ -65,6 +65,9 @@ SIM_RUNS = {
     "kano_dchall_encoder": (KANO, "--drive dc-hall --feedback encoder --mount level"),
     "kano_dchall_encoder_faults": (KANO, "--drive dc-hall --feedback encoder --mount level --faults"),
     "tromso_dchall_encoder_faults": (TROMSO, "--drive dc-hall --feedback encoder --mount level --faults"),
+    "kano_timed_faults": (KANO, "--drive timed --mount level --faults"),
+    "kano_timed_battery_faults": (KANO, "--drive timed --supply battery --mount level --faults"),
+    "tromso_timed_faults": (TROMSO, "--drive timed --mount level --faults"),
 }
 
 # group -> shell command (run from the repository root, stdout + stderr).
@@ -107,7 +110,7 @@ for _id, (_site, _opts) in SIM_RUNS.items():
 REGENERATE = {"sizes_report": "python3 .ci/size_report.py --write"}
 
 # FIGURES_ONLY names groups; a name stands for every group that starts with
-# it (`sim` = the twelve simulation runs, `setpoints` = both set-point runs).
+# it (`sim` = the fifteen simulation runs, `setpoints` = both set-point runs).
 # A figure read from several groups runs only when all of them are selected.
 
 # ---------------------------------------------------------------- helpers
@@ -433,6 +436,9 @@ SIM_LABELS = {
     "kano_dchall_encoder": "Kano, DC gear motor + Hall, level",
     "kano_dchall_encoder_faults": "Kano, DC gear motor + Hall, level, `--faults`",
     "tromso_dchall_encoder_faults": "Tromsø, DC gear motor + Hall, level, `--faults`",
+    "kano_timed_faults": "Kano, DC gear motor timed (no feedback), level, `--faults`",
+    "kano_timed_battery_faults": "Kano, DC gear motor timed, battery, level, `--faults`",
+    "tromso_timed_faults": "Tromsø, DC gear motor timed (no feedback), level, `--faults`",
 }
 SIM_LAST = (
     r"^simulate: pointing_p95_deg=(?P<p95>[0-9.]+) energy_vs_ideal=(?P<ideal>[0-9.]+) "
@@ -464,8 +470,11 @@ def sim_drive_row(out):
 for sid, label in [
     ("kano_stepper_encoder_faults", "Kano, stepper"),
     ("kano_dchall_encoder_faults", "Kano, DC gear motor + Hall"),
+    ("kano_timed_faults", "Kano, DC gear motor timed"),
+    ("kano_timed_battery_faults", "Kano, DC gear motor timed, battery"),
     ("tromso_stepper_encoder_faults", "Tromsø, stepper"),
     ("tromso_dchall_encoder_faults", "Tromsø, DC gear motor + Hall"),
+    ("tromso_timed_faults", "Tromsø, DC gear motor timed"),
 ]:
     figure(f"sim.drive.{sid}", "sim_" + sid, sim_drive_row,
            f"| {label} | {{p95}}° | {{ideal}} | {{c}}° / {{a}}° | {{raised}} / {{rec}} |")

@@ -70,6 +70,7 @@ fn calibrated() -> TimedAxisConfig {
         forward_deg_s: v,
         backward_deg_s: v,
         duty_permille: 1_000,
+        calibration_supply_mv: 12_000,
     }
 }
 
@@ -94,6 +95,22 @@ fn runs_land_on_the_speed_times_the_time() {
     println!("worst {worst:.4}° over the moves");
 }
 
+/// A day of tracker steps of 0.25° (32.8 ms each at 7.62 °/s): each run's
+/// rounding to whole milliseconds is carried into the next, so 400 of them
+/// end within a millisecond's travel of 100°, not 400 roundings of 0.2 ms
+/// (0.6°) away.
+#[test]
+fn the_rounding_of_many_short_runs_does_not_add_up() {
+    let mut d = drive(calibrated(), -80.0);
+    for _ in 0..400 {
+        d.begin_tick(60.0);
+        d.move_counts(350).unwrap();
+    }
+    let err = d.output_deg() - 20.0;
+    println!("400 steps of 0.25°: {err:+.4}°");
+    assert!(err.abs() < 0.008, "{err}");
+}
+
 #[test]
 fn a_miscalibrated_speed_errs_in_proportion() {
     // Calibrated 5 % slow: every run is 5 % long.
@@ -103,6 +120,7 @@ fn a_miscalibrated_speed_errs_in_proportion() {
             forward_deg_s: v,
             backward_deg_s: v,
             duty_permille: 1_000,
+            calibration_supply_mv: 0,
         },
         0.0,
     );
@@ -110,6 +128,39 @@ fn a_miscalibrated_speed_errs_in_proportion() {
     d.move_counts(40 * 1_400).unwrap();
     let want = 40.0 / 0.95;
     assert!((d.output_deg() - want).abs() < 0.02, "{}", d.output_deg());
+}
+
+/// On a battery at 11.9 V the motor turns at 11.9/12 of its calibrated
+/// speed; told the supply (as a board's ADC reads it), the axis lengthens
+/// its runs to match.
+#[test]
+fn runs_follow_the_measured_supply() {
+    let run = |measured: bool| {
+        let mut d = drive(calibrated(), 0.0);
+        if measured {
+            d.set_supply_v(11.9);
+        } else {
+            // The motor slows, the firmware is not told.
+            let mut bare = drive(
+                TimedAxisConfig {
+                    calibration_supply_mv: 0,
+                    ..calibrated()
+                },
+                0.0,
+            );
+            bare.set_supply_v(11.9);
+            d = bare;
+        }
+        d.begin_tick(120.0);
+        d.move_counts(90 * 1_400).unwrap();
+        d.output_deg()
+    };
+    // Uncompensated: 90° × 11.9/12 = 89.25°.
+    let bare = run(false);
+    assert!((bare - 90.0 * 11.9 / 12.0).abs() < 0.01, "{bare}");
+    // Compensated: within the ADC's 19.6 mV step (0.16 %, 0.15°).
+    let fixed = run(true);
+    assert!((fixed - 90.0).abs() < 0.15, "{fixed}");
 }
 
 #[test]
@@ -191,6 +242,13 @@ fn absurd_configurations_are_refused() {
                 ..ok
             },
             TimedAxisConfigError::Duty,
+        ),
+        (
+            TimedAxisConfig {
+                calibration_supply_mv: 100_001,
+                ..ok
+            },
+            TimedAxisConfigError::Supply,
         ),
     ] {
         assert_eq!(bad.validate(), Err(want));

@@ -378,10 +378,13 @@ fn timed_plants(args: &Args, config: &Config) -> Result<[DcDrive<SimTimedAxis>; 
     let spec = DcDriveSpec {
         motor,
         bridge,
+        // The board measures the motor supply (sim::dc_drive::supply_adc_mv)
+        // and scales each run by calibration / measured supply.
         firmware: suntracker::hw::TimedAxisConfig {
             forward_deg_s: deg_s,
             backward_deg_s: deg_s,
             duty_permille: 1_000,
+            calibration_supply_mv: (calibration_supply_v(args.supply) * 1_000.0).round() as u32,
         },
     };
     let plant = |ax: &suntracker::config::AxisConfig, start: f64| {

@@ -182,6 +182,11 @@ pub trait FirmwareAxis: AxisDrive + Sized {
     fn poll_ms(&mut self, now_ms: u32);
     /// True when the axis has nothing more to do until the next command.
     fn resting(&self) -> bool;
+    /// The motor supply as the board measures it, mV; the default ignores
+    /// it.
+    fn supply_measured(&mut self, supply_mv: u32) {
+        let _ = supply_mv;
+    }
 }
 
 impl FirmwareAxis for SimDcAxis {
@@ -231,6 +236,9 @@ impl FirmwareAxis for SimTimedAxis {
     }
     fn resting(&self) -> bool {
         self.pending() == 0
+    }
+    fn supply_measured(&mut self, supply_mv: u32) {
+        self.set_supply_mv(supply_mv);
     }
 }
 
@@ -364,6 +372,14 @@ impl<A: FirmwareAxis> DcDrive<A> {
     }
 }
 
+/// The motor supply read by a 10-bit ADC at 5 V behind a 4:1 divider (20 V
+/// full scale, 19.6 mV a count), mV.
+pub fn supply_adc_mv(supply_v: f64) -> u32 {
+    let counts = libm::round((supply_v / 4.0 / 5.0 * 1_023.0).clamp(0.0, 1_023.0));
+    // At most 20,000 mV.
+    libm::round(counts * 20_000.0 / 1_023.0) as u32
+}
+
 /// No duty applied (braked or coasting).
 fn duty_free(output: Output) -> bool {
     matches!(output, Output::Brake | Output::Coast)
@@ -485,9 +501,11 @@ where
         hw.injected = injected;
     }
     /// The speed at a duty follows the supply (a battery's charge, a long
-    /// cable).
+    /// cable); the firmware axis is told the supply as a board measures it
+    /// ([`supply_adc_mv`]).
     fn set_supply_v(&mut self, supply_v: f64) {
         self.hw.borrow_mut().motor.set_supply_v(supply_v);
+        self.axis.supply_measured(supply_adc_mv(supply_v));
     }
     /// An external force turns the resting axis by `deg` (the Hall sensor
     /// counts it).

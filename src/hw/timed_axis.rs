@@ -15,6 +15,14 @@
 //! queued move, ends a run when its time is up (braking) and brakes at once
 //! when the home switch closes on a run toward it. It never blocks.
 //!
+//! On a supply that varies (a battery), the speeds are those at
+//! [`TimedAxisConfig::calibration_supply_mv`], and a board that measures
+//! its motor supply ([`TimedAxis::set_supply_mv`]) has each run's time
+//! scaled by calibration / measured supply: a DC motor's no-load speed is
+//! proportional to its voltage (`ω = V·k_t / (R·b + k_e·k_t)`; under load
+//! it falls a further `I·R / k_e`, which the calibration on the installed
+//! axis includes).
+//!
 //! The run time assumes full duty from the first millisecond: give the
 //! bridge no duty ramp (`drivers::dc_motor::Config::ramp_permille_per_ms`
 //! = 0) and braking at rest. A DC motor's own start-up lag is then paid back
@@ -35,6 +43,14 @@ pub const SPEED_RANGE_DEG_S: (f32, f32) = (0.001, 100.0);
 /// Longest run of one move, ms (an hour: beyond any axis's travel).
 pub const MAX_RUN_MS: u32 = 3_600_000;
 
+/// Highest supply a calibration or a measurement may name, mV.
+pub const MAX_SUPPLY_MV: u32 = 100_000;
+
+/// A measured supply below this share of the calibration's is taken as
+/// this share: a failing supply must not stretch a run without bound
+/// (the move timeout of a DC axis with feedback has no equal here).
+pub const MIN_SUPPLY_SHARE: f32 = 0.5;
+
 /// Settings of a timed axis.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct TimedAxisConfig {
@@ -44,6 +60,9 @@ pub struct TimedAxisConfig {
     pub backward_deg_s: f32,
     /// Duty of every run, ‰ (1..=1000): the duty the speeds were measured at.
     pub duty_permille: u16,
+    /// Motor supply the speeds were measured at, mV (0: runs are not
+    /// scaled by the measured supply).
+    pub calibration_supply_mv: u32,
 }
 
 impl TimedAxisConfig {
@@ -60,6 +79,9 @@ impl TimedAxisConfig {
         if self.duty_permille == 0 || self.duty_permille > 1_000 {
             return Err(TimedAxisConfigError::Duty);
         }
+        if self.calibration_supply_mv > MAX_SUPPLY_MV {
+            return Err(TimedAxisConfigError::Supply);
+        }
         Ok(())
     }
 }
@@ -71,6 +93,8 @@ pub enum TimedAxisConfigError {
     Speed,
     /// The duty is 0 or above 1000 ‰.
     Duty,
+    /// The calibration supply is above [`MAX_SUPPLY_MV`].
+    Supply,
     /// The axis's counts per degree are not finite or not positive.
     Scale,
 }
@@ -89,6 +113,9 @@ pub enum TimedAxisError<PE, NE, HE> {
 struct Run {
     /// Counts it moves (signed).
     counts: i32,
+    /// Its direction (with the carried rounding, a run of a count or two
+    /// may go the other way).
+    forward: bool,
     /// Its start and length, ms.
     start_ms: u32,
     length_ms: u32,
@@ -104,8 +131,13 @@ pub struct TimedAxis<B: Bridge, H> {
     /// Counts commanded and not started yet.
     queued: i32,
     run: Option<Run>,
+    /// Counts the rounding of the last run's time left over (less than a
+    /// millisecond's worth, either sign).
+    carry_counts: f32,
     /// The time of the last poll, ms.
     last_poll_ms: u32,
+    /// The motor supply measured last, mV (0: none).
+    supply_mv: u32,
 }
 
 impl<B: Bridge, H> core::fmt::Debug for TimedAxis<B, H> {
@@ -146,7 +178,9 @@ impl<B: Bridge, H: InputPin> TimedAxis<B, H> {
             counts_per_deg: cpd,
             queued: 0,
             run: None,
+            carry_counts: 0.0,
             last_poll_ms: 0,
+            supply_mv: 0,
         })
     }
 
@@ -155,22 +189,56 @@ impl<B: Bridge, H: InputPin> TimedAxis<B, H> {
         Ok(high != self.home_active_low)
     }
 
-    /// The run time of `counts`, ms, at the speed of their direction
-    /// (at most [`MAX_RUN_MS`]).
-    fn run_ms(&self, counts: i32) -> u32 {
-        let speed = if counts > 0 {
+    /// The run of `counts` plus the rounding carried from the runs
+    /// before, at the speed of its direction: its time in whole ms (at most
+    /// [`MAX_RUN_MS`]), the counts that rounding leaves over for the next
+    /// run, and whether it runs forward. Tracker steps are alike (0.25° is 32.8 ms at 7.6 °/s): each
+    /// rounded on its own, their roundings would add up in one direction
+    /// all day.
+    fn plan(&self, counts: i32) -> (u32, f32, bool) {
+        let want = counts as f32 + self.carry_counts;
+        let speed = if want > 0.0 {
             self.config.forward_deg_s
         } else {
             self.config.backward_deg_s
         };
-        // Both factors are checked finite and positive at construction.
-        let ms = counts.unsigned_abs() as f32 / self.counts_per_deg / speed * 1_000.0;
-        if ms >= MAX_RUN_MS as f32 {
-            MAX_RUN_MS
-        } else {
-            // Rounded to the nearest millisecond; non-negative and finite.
-            (ms + 0.5) as u32
+        // Counts per ms; every factor is checked finite and positive at
+        // construction, the supply factor is within 0.5..=2 or 1.
+        let per_ms = self.counts_per_deg * speed / self.supply_factor() / 1_000.0;
+        let ms = want.abs() / per_ms;
+        let forward = want > 0.0;
+        if !(ms < MAX_RUN_MS as f32) {
+            return (MAX_RUN_MS, 0.0, forward);
         }
+        // Rounded to the nearest millisecond; non-negative and finite.
+        let whole = (ms + 0.5) as u32;
+        let done = whole as f32 * per_ms;
+        (whole, want - if forward { done } else { -done }, forward)
+    }
+
+    /// Calibration supply / measured supply (1 without either), at most
+    /// 1 / [`MIN_SUPPLY_SHARE`].
+    fn supply_factor(&self) -> f32 {
+        let cal = self.config.calibration_supply_mv;
+        if cal == 0 || self.supply_mv == 0 {
+            return 1.0;
+        }
+        let share = self.supply_mv as f32 / cal as f32;
+        if share < MIN_SUPPLY_SHARE {
+            1.0 / MIN_SUPPLY_SHARE
+        } else {
+            1.0 / share
+        }
+    }
+
+    /// The motor supply measured now, mV (0, or above [`MAX_SUPPLY_MV`]:
+    /// unknown, runs not scaled); takes effect from the next run.
+    pub fn set_supply_mv(&mut self, supply_mv: u32) {
+        self.supply_mv = if supply_mv > MAX_SUPPLY_MV {
+            0
+        } else {
+            supply_mv
+        };
     }
 
     fn end_run(&mut self) -> Result<(), AxisErr<B, H>> {
@@ -184,10 +252,11 @@ impl<B: Bridge, H: InputPin> TimedAxis<B, H> {
     pub fn poll(&mut self, now_ms: u32) -> Result<Output, AxisErr<B, H>> {
         self.last_poll_ms = now_ms;
         if let Some(run) = self.run {
-            if run.counts < 0 && self.switch_closed()? {
+            if !run.forward && self.switch_closed()? {
                 // At the switch: the rest of the run and of the queue are
                 // dropped, as a stepper driver stops at its limit.
                 self.queued = 0;
+                self.carry_counts = 0.0;
                 self.end_run()?;
             } else if now_ms.wrapping_sub(run.start_ms) >= run.length_ms {
                 self.end_run()?;
@@ -195,10 +264,11 @@ impl<B: Bridge, H: InputPin> TimedAxis<B, H> {
         }
         if self.run.is_none() && self.queued != 0 {
             let counts = core::mem::take(&mut self.queued);
-            let length_ms = self.run_ms(counts);
-            let at_home = counts < 0 && self.switch_closed()?;
+            let (length_ms, carry, forward) = self.plan(counts);
+            let at_home = !forward && self.switch_closed()?;
+            self.carry_counts = if at_home { 0.0 } else { carry };
             if length_ms > 0 && !at_home {
-                let direction = if counts > 0 {
+                let direction = if forward {
                     Direction::Forward
                 } else {
                     Direction::Backward
@@ -208,6 +278,7 @@ impl<B: Bridge, H: InputPin> TimedAxis<B, H> {
                     .map_err(TimedAxisError::Motor)?;
                 self.run = Some(Run {
                     counts,
+                    forward,
                     start_ms: now_ms,
                     length_ms,
                 });
@@ -259,6 +330,7 @@ impl<B: Bridge, H: InputPin> AxisDrive for TimedAxis<B, H> {
     /// Brakes at once; the queue is dropped.
     fn stop(&mut self) -> Result<(), Self::Error> {
         self.queued = 0;
+        self.carry_counts = 0.0;
         self.end_run()
     }
 
