@@ -138,6 +138,7 @@ const DOCUMENTED: [(&str, &[&str]); 4] = [
             "--start",
             "--days",
             "--drive",
+            "--supply",
             "--feedback",
             "--mount",
             "--faults",
