@@ -11,7 +11,7 @@
 //! braked, so the angle of a run of T is the speed times T whatever its
 //! start-up lag.
 
-use sim::dc_drive::{DcDrive, DcDriveSpec, SimTimedAxis};
+use sim::dc_drive::{worm_slew_axis_config, worm_slew_motor, DcDrive, DcDriveSpec, SimTimedAxis};
 use sim::dc_motor::MotorSpec;
 use sim::plant::SimAxis;
 use suntracker::config::AxisConfig;
@@ -19,9 +19,7 @@ use suntracker::hw::{TimedAxisConfig, TimedAxisConfigError};
 use suntracker::motion::{AxisController, AxisDrive, FeedbackMode, HomeState};
 
 fn spec() -> MotorSpec {
-    MotorSpec::pololu_37d_131_12v()
-        .with_output_stage(60.0, 0.4)
-        .with_output_inertia_kg_m2(50.0)
+    worm_slew_motor()
 }
 
 /// The axis's no-load speed at 12 V, °/s.
@@ -30,20 +28,9 @@ fn speed_deg_s() -> f64 {
     (s.no_load_motor_rad_s() / s.gear_ratio).to_degrees()
 }
 
-/// 1,400 counts per degree (64 counts a motor turn, 7,875:1), switch at
-/// −90°.
+/// 1,400 counts per degree, switch at −90°.
 fn axis_config() -> AxisConfig {
-    AxisConfig {
-        counts_per_motor_rev: 64,
-        microsteps: 1,
-        gear_ratio: 7_875.0,
-        min_deg: -90.0,
-        max_deg: 90.0,
-        home_deg: -90.0,
-        backlash_deg: 0.0,
-        max_speed_deg_s: 7.0,
-        deadband_deg: 0.02,
-    }
+    worm_slew_axis_config(-90.0, 90.0)
 }
 
 fn drive(config: TimedAxisConfig, start_deg: f64) -> DcDrive<SimTimedAxis> {

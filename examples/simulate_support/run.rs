@@ -9,7 +9,9 @@ use std::fs::File;
 use std::io::{BufWriter, Write};
 
 use drivers::gps::GpsDecoder;
-use sim::dc_drive::{DcDrive, DcDriveSpec, SimTimedAxis};
+use sim::dc_drive::{
+    worm_slew_motor, DcDrive, DcDriveSpec, SimTimedAxis, WORM_SLEW_GEAR_RATIO, WORM_SLEW_LOOP,
+};
 use sim::dc_motor::MotorSpec;
 use sim::gps::{GpsReceiverModel, EPOCH_BUF_LEN};
 use sim::plant::{Injected, MotorPlant, SimAxis};
@@ -341,18 +343,13 @@ fn simulate(args: &Args, out: &mut dyn Write, err: &mut dyn Write) -> Result<(),
     }
 }
 
-/// The DC motor of both DC drive kinds, its bridge at no ramp for the timed
-/// drive (its run times assume full duty at once) and 2 ‰/ms otherwise.
-fn dc_motor(ramp_permille_per_ms: u16) -> (MotorSpec, drivers::dc_motor::Config) {
-    (
-        MotorSpec::pololu_37d_131_12v()
-            .with_output_stage(60.0, 0.4)
-            .with_output_inertia_kg_m2(50.0),
-        drivers::dc_motor::Config {
-            ramp_permille_per_ms,
-            rest: drivers::dc_motor::RestMode::Brake,
-        },
-    )
+/// The bridge of both DC drive kinds: no ramp for the timed drive (its run
+/// times assume full duty at once), 2 ‰/ms otherwise; braking at rest.
+fn dc_bridge(ramp_permille_per_ms: u16) -> drivers::dc_motor::Config {
+    drivers::dc_motor::Config {
+        ramp_permille_per_ms,
+        rest: drivers::dc_motor::RestMode::Brake,
+    }
 }
 
 /// The supply at which the timed drive's speeds are calibrated, V: the
@@ -369,7 +366,7 @@ fn calibration_supply_v(supply: Supply) -> f64 {
 /// (the motor's no-load speed there, through the gears: the model's load is
 /// friction alone, the same both ways).
 fn timed_plants(args: &Args, config: &Config) -> Result<[DcDrive<SimTimedAxis>; 2], String> {
-    let (motor, bridge) = dc_motor(0);
+    let (motor, bridge) = (worm_slew_motor(), dc_bridge(0));
     let calibrated = MotorSpec {
         supply_v: calibration_supply_v(args.supply),
         ..motor
@@ -387,6 +384,15 @@ fn timed_plants(args: &Args, config: &Config) -> Result<[DcDrive<SimTimedAxis>; 
             calibration_supply_mv: (calibration_supply_v(args.supply) * 1_000.0).round() as u32,
         },
     };
+    dc_drives(spec, config)
+}
+
+/// Both axes of `config` on DC drives of `spec`, at the start angles of
+/// `motor_plants` (C 10°, A 20°), switches at the lower soft limits.
+fn dc_drives<A: sim::dc_drive::FirmwareAxis>(
+    spec: DcDriveSpec<A::Config>,
+    config: &Config,
+) -> Result<[DcDrive<A>; 2], String> {
     let plant = |ax: &suntracker::config::AxisConfig, start: f64| {
         DcDrive::new(
             spec,
@@ -395,7 +401,7 @@ fn timed_plants(args: &Args, config: &Config) -> Result<[DcDrive<SimTimedAxis>; 
             f64::from(ax.max_deg),
             start,
         )
-        .map_err(|e| format!("timed axis: {e:?}"))
+        .map_err(|e| format!("DC axis: {e:?}"))
     };
     Ok([plant(&config.axes[0], 10.0)?, plant(&config.axes[1], 20.0)?])
 }
@@ -417,61 +423,19 @@ fn motor_plants(args: &Args, config: &Config) -> Result<[MotorPlant; 2], String>
     ])
 }
 
-/// The DC axis: the Pololu 37D 131.25:1 gear motor at 12 V with its 64-count
-/// motor-shaft Hall encoder, through a further 60:1 worm stage of 40 %
-/// efficiency (7,875:1 in all: 1,400 counts per output degree, at most
-/// 7.6 °/s), 50 kg·m² of panels at the output (assumed), on a BTS7960 with
-/// a 2 ‰/ms duty ramp, braking at rest.
+/// The DC axis: `sim::dc_drive`'s worm slew axis on a BTS7960 with a
+/// 2 ‰/ms duty ramp, its loop and watch `WORM_SLEW_LOOP`.
 fn dc_spec() -> DcDriveSpec<suntracker::hw::DcAxisConfig> {
-    let (motor, bridge) = dc_motor(2);
     DcDriveSpec {
-        motor,
-        bridge,
-        // Full duty beyond 4° (5,600 counts), 15 % at the target, done
-        // within 0.01° (14 counts); a first stopping lead of 130 ms (the
-        // model's mechanical time constant under braking); stall after
-        // 500 ms without a count; unexpected motion beyond 70 counts
-        // (0.05°); an obstruction above 3 A for 100 ms. A motor held
-        // still draws V·d/R (5.5 A at full duty): starting a slew into an
-        // obstacle, the 2 ‰/ms ramp reaches 3 A at 545 ‰ after 273 ms, so
-        // the obstruction trips at 373 ms, before the stall. Held at a
-        // tracking step's duty (under 20 %, about 1 A) it is a stall. An
-        // approach slower than half the no-load speed (5,500 of 10,667
-        // counts/s) over its distance, plus 3 s for the slow band and the
-        // stop, is too slow.
-        firmware: suntracker::hw::DcAxisConfig {
-            max_duty_permille: 1_000,
-            min_duty_permille: 150,
-            slow_band_counts: 5_600,
-            deadband_counts: 14,
-            brake_lead_ms: 130,
-            settle_ms: 100,
-            max_reapproaches: 3,
-            stall_ms: 500,
-            drive_threshold_permille: 100,
-            max_idle_counts: 70,
-            max_current_ma: 3_000,
-            overcurrent_ms: 100,
-            min_speed_cps: 5_500,
-            move_margin_ms: 3_000,
-        },
+        motor: worm_slew_motor(),
+        bridge: dc_bridge(2),
+        firmware: WORM_SLEW_LOOP,
     }
 }
 
 /// The DC plants of the axes of `config`.
 fn dc_plants(_: &Args, config: &Config) -> Result<[DcDrive; 2], String> {
-    let spec = dc_spec();
-    let plant = |ax: &suntracker::config::AxisConfig, start: f64| {
-        DcDrive::new(
-            spec,
-            ax,
-            f64::from(ax.min_deg),
-            f64::from(ax.max_deg),
-            start,
-        )
-        .map_err(|e| format!("DC axis: {e:?}"))
-    };
-    Ok([plant(&config.axes[0], 10.0)?, plant(&config.axes[1], 20.0)?])
+    dc_drives(dc_spec(), config)
 }
 
 fn simulate_with<P: SimAxis>(
@@ -562,7 +526,7 @@ fn simulate_with<P: SimAxis>(
             for ax in config.axes.iter_mut() {
                 ax.counts_per_motor_rev = 64;
                 ax.microsteps = 1;
-                ax.gear_ratio = 7_875.0;
+                ax.gear_ratio = WORM_SLEW_GEAR_RATIO;
                 ax.backlash_deg = 0.0;
                 ax.max_speed_deg_s = 7.0;
             }

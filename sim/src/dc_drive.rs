@@ -54,6 +54,74 @@ const AT_REST_RAD_S: f64 = 0.5;
 const ADC_FULL_SCALE: u16 = 1_023;
 const ADC_VREF_V: f64 = 5.0;
 
+/// The slew axis of the host tests and `simulate`: the Pololu 37D 131.25:1
+/// gear motor at 12 V with its 64-count motor-shaft Hall encoder
+/// ([`MotorSpec::pololu_37d_131_12v`]), through a further 60:1 stage of
+/// 40 % efficiency (the illustrative worm figures of [`crate::dc_motor`]'s
+/// own further-stage test, not a product's; a slew drive's single worm is of
+/// that order): 131.25 × 60 = 7,875:1 in all ([`WORM_SLEW_GEAR_RATIO`]),
+/// 64 × 7,875 = 504,000 Hall counts per output turn (1,400 a degree), at
+/// most 10,000 rpm / 7,875 = 1.27 rpm = 7.62 °/s. The axis and panels add
+/// 50 kg·m² at the output (assumed).
+pub fn worm_slew_motor() -> MotorSpec {
+    MotorSpec::pololu_37d_131_12v()
+        .with_output_stage(60.0, 0.4)
+        .with_output_inertia_kg_m2(50.0)
+}
+
+/// [`worm_slew_motor`]'s gear ratio, for `AxisConfig::gear_ratio` (with 64
+/// counts per motor revolution and no microsteps).
+pub const WORM_SLEW_GEAR_RATIO: f32 = 7_875.0;
+
+/// The controller's configuration of a [`worm_slew_motor`] axis over
+/// `min_deg..=max_deg`, homed at `min_deg`: 64 counts a motor turn,
+/// 7,875:1 (1,400 counts a degree), no backlash, 7 °/s, deadband 0.05°.
+pub fn worm_slew_axis_config(min_deg: f32, max_deg: f32) -> AxisConfig {
+    AxisConfig {
+        counts_per_motor_rev: 64,
+        microsteps: 1,
+        gear_ratio: WORM_SLEW_GEAR_RATIO,
+        min_deg,
+        max_deg,
+        home_deg: min_deg,
+        backlash_deg: 0.0,
+        max_speed_deg_s: 7.0,
+        deadband_deg: 0.05,
+    }
+}
+
+/// The position loop and watch of [`worm_slew_motor`]'s axis: full duty
+/// beyond 4° (5,600 counts), 15 % at the target; a first stopping lead of
+/// 130 ms (the model's mechanical time constant under braking, J·R / (k_t·k_e
+/// + R·b), is 0.107 s for the bare motor and 16 % more with the axis inertia,
+/// plus a few ms of speed-window lag); standstill = no count for 100 ms (the
+/// braked run-down crawls at tens of counts/s at its end); done within 0.01°
+/// (14 counts); stall after 500 ms without a count; unexpected motion beyond
+/// 70 counts (0.05°); overcurrent above 3 A for 100 ms (20 times the 0.15 A
+/// free-running current, 55 % of the 5.5 A stall current). A motor held
+/// still draws V·d/R: starting a slew into an obstacle, a 2 ‰/ms ramp
+/// reaches 3 A at 545 ‰ after 273 ms, so the overcurrent trips at 373 ms,
+/// before the stall; held at a tracking step's duty (under 20 %, about 1 A)
+/// it is a stall. An approach slower than 5,500 counts/s (about half the
+/// no-load 10,000 rpm × 64 / 60 = 10,667 counts/s) over its distance, plus
+/// 3 s for the slow band and the stop, is too slow.
+pub const WORM_SLEW_LOOP: DcAxisConfig = DcAxisConfig {
+    max_duty_permille: 1_000,
+    min_duty_permille: 150,
+    slow_band_counts: 5_600,
+    deadband_counts: 14,
+    brake_lead_ms: 130,
+    settle_ms: 100,
+    max_reapproaches: 3,
+    stall_ms: 500,
+    drive_threshold_permille: 100,
+    max_idle_counts: 70,
+    max_current_ma: 3_000,
+    overcurrent_ms: 100,
+    min_speed_cps: 5_500,
+    move_margin_ms: 3_000,
+};
+
 /// The hardware one axis shares between the firmware's ports and the run.
 #[derive(Debug, Clone, Copy)]
 struct Hardware {
