@@ -207,7 +207,8 @@ impl<B: Bridge, H: InputPin> TimedAxis<B, H> {
         let per_ms = self.counts_per_deg * speed / self.supply_factor() / 1_000.0;
         let ms = want.abs() / per_ms;
         let forward = want > 0.0;
-        if !(ms < MAX_RUN_MS as f32) {
+        // Also for a NaN, which the checks at construction rule out.
+        if ms.is_nan() || ms >= MAX_RUN_MS as f32 {
             return (MAX_RUN_MS, 0.0, forward);
         }
         // Rounded to the nearest millisecond; non-negative and finite.
