@@ -92,8 +92,8 @@ pub fn worm_slew_axis_config(min_deg: f32, max_deg: f32) -> AxisConfig {
 
 /// The position loop and watch of [`worm_slew_motor`]'s axis: full duty
 /// beyond 4° (5,600 counts), 15 % at the target; a first stopping lead of
-/// 130 ms (the model's mechanical time constant under braking, J·R / (k_t·k_e
-/// + R·b), is 0.107 s for the bare motor and 16 % more with the axis inertia,
+/// 130 ms (the model's mechanical time constant under braking,
+/// J·R / (k_t·k_e + R·b), is 0.107 s for the bare motor and 16 % more with the axis inertia,
 /// plus a few ms of speed-window lag); standstill = no count for 100 ms (the
 /// braked run-down crawls at tens of counts/s at its end); done within 0.01°
 /// (14 counts); stall after 500 ms without a count; unexpected motion beyond
