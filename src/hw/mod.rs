@@ -36,5 +36,6 @@ pub use gps::GpsPort;
 pub use rtc::{ClockError, RtcClock};
 pub use servo_axis::{EncoderCount, ServoAxis, ServoAxisError};
 pub use timed_axis::{
-    TimedAxis, TimedAxisConfig, TimedAxisConfigError, TimedAxisError, MAX_RUN_MS, SPEED_RANGE_DEG_S,
+    TimedAxis, TimedAxisConfig, TimedAxisConfigError, TimedAxisError, MAX_RUN_MS, MAX_SUPPLY_MV,
+    MIN_SUPPLY_SHARE, SPEED_RANGE_DEG_S,
 };
