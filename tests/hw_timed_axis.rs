@@ -13,10 +13,10 @@
 
 use sim::dc_drive::{worm_slew_axis_config, worm_slew_motor, DcDrive, DcDriveSpec, SimTimedAxis};
 use sim::dc_motor::MotorSpec;
-use sim::plant::SimAxis;
+use sim::plant::{Injected, SimAxis};
 use suntracker::config::AxisConfig;
 use suntracker::hw::{TimedAxisConfig, TimedAxisConfigError};
-use suntracker::motion::{AxisController, AxisDrive, FeedbackMode, HomeState};
+use suntracker::motion::{AxisController, AxisDrive, DriveFault, FeedbackMode, HomeState};
 
 fn spec() -> MotorSpec {
     worm_slew_motor()
@@ -58,6 +58,9 @@ fn calibrated() -> TimedAxisConfig {
         backward_deg_s: v,
         duty_permille: 1_000,
         calibration_supply_mv: 12_000,
+        max_current_ma: 3_000,
+        overcurrent_ms: 100,
+        lag_ms: 120,
     }
 }
 
@@ -108,6 +111,7 @@ fn a_miscalibrated_speed_errs_in_proportion() {
             backward_deg_s: v,
             duty_permille: 1_000,
             calibration_supply_mv: 0,
+            ..calibrated()
         },
         0.0,
     );
@@ -148,6 +152,43 @@ fn runs_follow_the_measured_supply() {
     // Compensated: within the ADC's 19.6 mV step (0.16 %, 0.15°).
     let fixed = run(true);
     assert!((fixed - 90.0).abs() < 0.15, "{fixed}");
+}
+
+/// A slew of 40° meets an obstacle at 5°: the jammed motor draws its
+/// stall current, 5.5 A at full duty, above the 3 A limit: an obstruction
+/// 100 ms later, reported once, the motor braked, moves refused. Once the
+/// obstacle is gone the retry (clearing the fault) runs the part of the
+/// run not done, and the axis ends at 40°.
+#[test]
+fn an_obstruction_stops_the_run_and_the_retry_finishes_it() {
+    let mut d = drive(calibrated(), 0.0);
+    // Jam the output once it passes 5°: ticks of 10 ms until then.
+    d.begin_tick(0.0);
+    d.move_counts(40 * 1_400).unwrap();
+    let mut t = 0;
+    while d.output_deg() < 5.0 {
+        d.begin_tick(0.01);
+        t += 10;
+        assert!(t < 2_000, "never reached 5°");
+    }
+    d.inject(Injected {
+        obstructed: true,
+        ..Injected::default()
+    });
+    d.begin_tick(1.0);
+    assert_eq!(d.take_fault(), Some(DriveFault::Obstruction));
+    assert_eq!(d.take_fault(), None, "reported once");
+    assert!(d.fault_latched());
+    assert_eq!(d.pending(), 0);
+    assert!(d.move_counts(100).is_err(), "moves refused while latched");
+    let held_at = d.output_deg();
+    assert!((5.0..5.2).contains(&held_at), "{held_at}");
+    d.inject(Injected::default());
+    d.clear_fault();
+    d.begin_tick(10.0);
+    let end = d.output_deg();
+    println!("held at {held_at:.3}°, retried to {end:.3}°");
+    assert!((end - 40.0).abs() < 0.1, "{end}");
 }
 
 #[test]
@@ -236,6 +277,20 @@ fn absurd_configurations_are_refused() {
                 ..ok
             },
             TimedAxisConfigError::Supply,
+        ),
+        (
+            TimedAxisConfig {
+                max_current_ma: 0,
+                ..ok
+            },
+            TimedAxisConfigError::Current,
+        ),
+        (
+            TimedAxisConfig {
+                lag_ms: 10_001,
+                ..ok
+            },
+            TimedAxisConfigError::Lag,
         ),
     ] {
         assert_eq!(bad.validate(), Err(want));

@@ -382,6 +382,14 @@ fn timed_plants(args: &Args, config: &Config) -> Result<[DcDrive<SimTimedAxis>; 
             backward_deg_s: deg_s,
             duty_permille: 1_000,
             calibration_supply_mv: (calibration_supply_v(args.supply) * 1_000.0).round() as u32,
+            // As the Hall-closed axis's watch (WORM_SLEW_LOOP); with no duty
+            // ramp a start draws up to the 5.5 A stall current for a few
+            // ms of the 0.12 s time constant, under the 100 ms.
+            max_current_ma: WORM_SLEW_LOOP.max_current_ma,
+            overcurrent_ms: WORM_SLEW_LOOP.overcurrent_ms,
+            // The motor's braked time constant with the panels (0.12 s,
+            // WORM_SLEW_LOOP's documentation).
+            lag_ms: 120,
         },
     };
     dc_drives(spec, config)

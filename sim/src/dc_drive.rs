@@ -214,7 +214,7 @@ impl AdcChannel for SimIsPin {
 pub type SimDcAxis = DcAxis<SimBridge, SimHall, SimSwitch, CurrentSense<SimIsPin>>;
 
 /// The firmware's timed axis (no feedback) over the simulated parts.
-pub type SimTimedAxis = TimedAxis<SimBridge, SimSwitch>;
+pub type SimTimedAxis = TimedAxis<SimBridge, SimSwitch, CurrentSense<SimIsPin>>;
 
 /// Errors of the simulated Hall-closed drive (the ports themselves never
 /// fail).
@@ -291,12 +291,15 @@ impl FirmwareAxis for SimDcAxis {
 impl FirmwareAxis for SimTimedAxis {
     type Config = TimedAxisConfig;
     type ConfigError = TimedAxisConfigError;
+    /// With the BTS7960's current sense, at the data sheet's ratio.
     fn build(
         ports: Ports,
         config: TimedAxisConfig,
         axis: &AxisConfig,
     ) -> Result<Self, TimedAxisConfigError> {
-        TimedAxis::new(ports.motor, ports.switch, false, config, axis)
+        let sense = CurrentSense::new(ports.is_pin, SenseConfig::DATASHEET_1K_5V)
+            .map_err(|_| TimedAxisConfigError::Current)?;
+        TimedAxis::new(ports.motor, ports.switch, false, Some(sense), config, axis)
     }
     fn poll_ms(&mut self, now_ms: u32) {
         // The ports never fail.
@@ -466,64 +469,51 @@ impl<A: FirmwareAxis> Clone for DcDrive<A> {
     }
 }
 
-impl AxisDrive for DcDrive<SimDcAxis> {
-    type Error = DcDriveError;
-    const SELF_WATCHED: bool = true;
-    fn move_counts(&mut self, counts: i32) -> Result<(), DcDriveError> {
-        self.axis.move_counts(counts)?;
-        self.run();
-        Ok(())
-    }
-    fn pending(&self) -> i32 {
-        self.axis.pending()
-    }
-    fn stop(&mut self) -> Result<(), DcDriveError> {
-        self.axis.stop()?;
-        self.run();
-        Ok(())
-    }
-    fn at_limit(&mut self) -> Result<bool, DcDriveError> {
-        self.axis.at_limit()
-    }
-    fn encoder_deg(&mut self) -> Result<Option<f32>, DcDriveError> {
-        self.axis.encoder_deg()
-    }
-    fn take_fault(&mut self) -> Option<DriveFault> {
-        self.axis.take_fault()
-    }
-    fn fault_latched(&self) -> bool {
-        self.axis.fault_latched()
-    }
-    fn clear_fault(&mut self) {
-        AxisDrive::clear_fault(&mut self.axis);
-    }
-}
-
 /// Errors of the simulated timed drive.
-pub type TimedDriveError = TimedAxisError<Infallible, Infallible, Infallible>;
+pub type TimedDriveError =
+    TimedAxisError<Infallible, Infallible, Infallible, SenseError<Infallible>>;
 
-impl AxisDrive for DcDrive<SimTimedAxis> {
-    type Error = TimedDriveError;
-    fn move_counts(&mut self, counts: i32) -> Result<(), TimedDriveError> {
-        self.axis.move_counts(counts)?;
-        self.run();
-        Ok(())
-    }
-    fn pending(&self) -> i32 {
-        self.axis.pending()
-    }
-    fn stop(&mut self) -> Result<(), TimedDriveError> {
-        self.axis.stop()?;
-        self.run();
-        Ok(())
-    }
-    fn at_limit(&mut self) -> Result<bool, TimedDriveError> {
-        self.axis.at_limit()
-    }
-    fn encoder_deg(&mut self) -> Result<Option<f32>, TimedDriveError> {
-        self.axis.encoder_deg()
-    }
+/// A drive whose firmware axis is `$axis` moves at once within the tick's
+/// time, and passes on the axis's own faults.
+macro_rules! drive_over {
+    ($axis:ty, $error:ty) => {
+        impl AxisDrive for DcDrive<$axis> {
+            type Error = $error;
+            const SELF_WATCHED: bool = true;
+            fn move_counts(&mut self, counts: i32) -> Result<(), $error> {
+                self.axis.move_counts(counts)?;
+                self.run();
+                Ok(())
+            }
+            fn pending(&self) -> i32 {
+                self.axis.pending()
+            }
+            fn stop(&mut self) -> Result<(), $error> {
+                self.axis.stop()?;
+                self.run();
+                Ok(())
+            }
+            fn at_limit(&mut self) -> Result<bool, $error> {
+                self.axis.at_limit()
+            }
+            fn encoder_deg(&mut self) -> Result<Option<f32>, $error> {
+                self.axis.encoder_deg()
+            }
+            fn take_fault(&mut self) -> Option<DriveFault> {
+                self.axis.take_fault()
+            }
+            fn fault_latched(&self) -> bool {
+                self.axis.fault_latched()
+            }
+            fn clear_fault(&mut self) {
+                AxisDrive::clear_fault(&mut self.axis);
+            }
+        }
+    };
 }
+
+drive_over!(SimDcAxis, DcDriveError);
+drive_over!(SimTimedAxis, TimedDriveError);
 
 impl<A: FirmwareAxis> SimAxis for DcDrive<A>
 where

@@ -9,7 +9,7 @@
 //! | [`MountSensorsHw`] | [`crate::ports::AttitudeSensor`] | a tilt sensor ([`AxisAngles`]: ADXL345, WitMotion inclinometer) + any [`drivers::compass::Magnetometer`] |
 //! | [`ServoAxis`] | [`crate::motion::AxisDrive`] | [`drivers::servo::ContinuousServo`] + a quadrature encoder ([`EncoderCount`]) + home switch |
 //! | [`DcAxis`] | [`crate::motion::AxisDrive`] | [`drivers::dc_motor::DcMotor`] (BTS7960, L298N) + a Hall count ([`EncoderCount`]) + home switch + optional current sense ([`MotorCurrent`]) |
-//! | [`TimedAxis`] | [`crate::motion::AxisDrive`] | [`drivers::dc_motor::DcMotor`] + home switch, no feedback: runs timed at calibrated speeds |
+//! | [`TimedAxis`] | [`crate::motion::AxisDrive`] | [`drivers::dc_motor::DcMotor`] + home switch + optional current sense, no feedback: runs timed at calibrated speeds |
 //! | [`StepperAxis`] | [`crate::motion::AxisDrive`] | [`drivers::stepper::hbridge::HBridgeStepper`] + home switch |
 //!
 //! Time and site fallbacks (GPS, then RTC, then the stored site or a postal

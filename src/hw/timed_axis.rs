@@ -23,6 +23,18 @@
 //! it falls a further `I·R / k_e`, which the calibration on the installed
 //! axis includes).
 //!
+//! With a current sense (the BTS7960's, [`super::MotorCurrent`]), a current
+//! above [`TimedAxisConfig::max_current_ma`] for
+//! [`TimedAxisConfig::overcurrent_ms`] during a run is an obstruction, as on
+//! a [`super::DcAxis`]: the motor brakes, the fault is latched
+//! ([`AxisDrive::take_fault`] gives [`DriveFault::Obstruction`] once) and
+//! moves wait. The part of the run not done is kept, computed from the time
+//! it ran until the current rose less the motor's start-up lag
+//! ([`TimedAxisConfig::lag_ms`], which the cut run's run-on no longer pays
+//! back), and runs first when the fault is cleared (the controller's
+//! retry), so the controller's count of the axis stays what the motor
+//! turns.
+//!
 //! The run time assumes full duty from the first millisecond: give the
 //! bridge no duty ramp (`drivers::dc_motor::Config::ramp_permille_per_ms`
 //! = 0) and braking at rest. A DC motor's own start-up lag is then paid back
@@ -34,8 +46,9 @@
 use drivers::dc_motor::{Bridge, DcMotor, Direction, Error as MotorError, Output};
 use embedded_hal::digital::InputPin;
 
+use super::dc_axis::{MotorCurrent, NoCurrentSense};
 use crate::config::AxisConfig;
-use crate::motion::AxisDrive;
+use crate::motion::{AxisDrive, DriveFault};
 
 /// Slowest and fastest calibrated speed, °/s.
 pub const SPEED_RANGE_DEG_S: (f32, f32) = (0.001, 100.0);
@@ -63,6 +76,17 @@ pub struct TimedAxisConfig {
     /// Motor supply the speeds were measured at, mV (0: runs are not
     /// scaled by the measured supply).
     pub calibration_supply_mv: u32,
+    /// Current limit during a run, mA (with a current sense).
+    pub max_current_ma: u32,
+    /// Time above `max_current_ma` that is an obstruction, ms (longer than
+    /// the inrush of a start: up to the stall current `V / R` for about a
+    /// mechanical time constant, as no duty ramp softens it).
+    pub overcurrent_ms: u32,
+    /// The motor's mechanical time constant, ms (J·R / (k_t·k_e), or
+    /// measured: the time to 63 % of its speed): the start-up lag a run's
+    /// run-on pays back, which a run stopped by an obstacle does not; the
+    /// part of it kept for the retry adds it.
+    pub lag_ms: u32,
 }
 
 impl TimedAxisConfig {
@@ -82,6 +106,12 @@ impl TimedAxisConfig {
         if self.calibration_supply_mv > MAX_SUPPLY_MV {
             return Err(TimedAxisConfigError::Supply);
         }
+        if self.max_current_ma == 0 || self.overcurrent_ms > 600_000 {
+            return Err(TimedAxisConfigError::Current);
+        }
+        if self.lag_ms > 10_000 {
+            return Err(TimedAxisConfigError::Lag);
+        }
         Ok(())
     }
 }
@@ -95,17 +125,26 @@ pub enum TimedAxisConfigError {
     Duty,
     /// The calibration supply is above [`MAX_SUPPLY_MV`].
     Supply,
+    /// `max_current_ma` is 0, or `overcurrent_ms` above 600,000.
+    Current,
+    /// `lag_ms` above 10,000.
+    Lag,
     /// The axis's counts per degree are not finite or not positive.
     Scale,
 }
 
 /// Errors of a timed axis.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub enum TimedAxisError<PE, NE, HE> {
+pub enum TimedAxisError<PE, NE, HE, CE> {
     /// The bridge refused a write.
     Motor(MotorError<PE, NE>),
     /// The home switch could not be read.
     Switch(HE),
+    /// The current sense could not be read.
+    Sense(CE),
+    /// An obstruction stopped the motor (returned once by `poll`; moves
+    /// are refused until [`AxisDrive::clear_fault`]).
+    Obstruction,
 }
 
 /// A run under way.
@@ -122,10 +161,17 @@ struct Run {
 }
 
 /// One tracker axis on a DC motor without feedback.
-pub struct TimedAxis<B: Bridge, H> {
+pub struct TimedAxis<B: Bridge, H, C = NoCurrentSense> {
     motor: DcMotor<B>,
     home: H,
     home_active_low: bool,
+    sense: Option<C>,
+    /// Since when the current is above the limit, ms.
+    over_since_ms: Option<u32>,
+    /// An obstruction stopped the axis; the counts of its run not done.
+    held: Option<i32>,
+    /// The obstruction not yet taken by [`AxisDrive::take_fault`].
+    unseen: bool,
     config: TimedAxisConfig,
     counts_per_deg: f32,
     /// Counts commanded and not started yet.
@@ -140,28 +186,32 @@ pub struct TimedAxis<B: Bridge, H> {
     supply_mv: u32,
 }
 
-impl<B: Bridge, H> core::fmt::Debug for TimedAxis<B, H> {
+impl<B: Bridge, H, C> core::fmt::Debug for TimedAxis<B, H, C> {
     fn fmt(&self, f: &mut core::fmt::Formatter<'_>) -> core::fmt::Result {
         f.debug_struct("TimedAxis")
             .field("queued", &self.queued)
             .field("run", &self.run)
+            .field("held", &self.held)
             .field("output", &self.motor.output())
             .finish_non_exhaustive()
     }
 }
 
-type AxisErr<B, H> = TimedAxisError<
+type AxisErr<B, H, C> = TimedAxisError<
     <B as Bridge>::PwmError,
     <B as Bridge>::PinError,
     <H as embedded_hal::digital::ErrorType>::Error,
+    <C as MotorCurrent>::Error,
 >;
 
-impl<B: Bridge, H: InputPin> TimedAxis<B, H> {
-    /// An axis at rest; `axis` gives the counts per degree.
+impl<B: Bridge, H: InputPin, C: MotorCurrent> TimedAxis<B, H, C> {
+    /// An axis at rest; `axis` gives the counts per degree; `sense` is the
+    /// current sense, if fitted.
     pub fn new(
         motor: DcMotor<B>,
         home: H,
         home_active_low: bool,
+        sense: Option<C>,
         config: TimedAxisConfig,
         axis: &AxisConfig,
     ) -> Result<Self, TimedAxisConfigError> {
@@ -174,6 +224,10 @@ impl<B: Bridge, H: InputPin> TimedAxis<B, H> {
             motor,
             home,
             home_active_low,
+            sense,
+            over_since_ms: None,
+            held: None,
+            unseen: false,
             config,
             counts_per_deg: cpd,
             queued: 0,
@@ -184,7 +238,7 @@ impl<B: Bridge, H: InputPin> TimedAxis<B, H> {
         })
     }
 
-    fn switch_closed(&mut self) -> Result<bool, AxisErr<B, H>> {
+    fn switch_closed(&mut self) -> Result<bool, AxisErr<B, H, C>> {
         let high = self.home.is_high().map_err(TimedAxisError::Switch)?;
         Ok(high != self.home_active_low)
     }
@@ -242,16 +296,39 @@ impl<B: Bridge, H: InputPin> TimedAxis<B, H> {
         };
     }
 
-    fn end_run(&mut self) -> Result<(), AxisErr<B, H>> {
+    fn end_run(&mut self) -> Result<(), AxisErr<B, H, C>> {
         self.run = None;
+        // The next run's current is watched from its own start.
+        self.over_since_ms = None;
         self.motor.brake().map_err(TimedAxisError::Motor)
     }
 
     /// Ends a run whose time is up, brakes on the home switch, starts the
     /// queued move; call every main-loop pass with the monotonic
     /// millisecond counter. Returns what the bridge now does.
-    pub fn poll(&mut self, now_ms: u32) -> Result<Output, AxisErr<B, H>> {
+    pub fn poll(&mut self, now_ms: u32) -> Result<Output, AxisErr<B, H, C>> {
         self.last_poll_ms = now_ms;
+        if let (Some(run), Some(sense)) = (self.run, self.sense.as_mut()) {
+            let ma = sense.current_ma().map_err(TimedAxisError::Sense)?;
+            if ma <= self.config.max_current_ma {
+                self.over_since_ms = None;
+            } else if now_ms.wrapping_sub(*self.over_since_ms.get_or_insert(now_ms))
+                >= self.config.overcurrent_ms
+            {
+                // What the run did not do, by its time up to the current's
+                // rise (the motor has stood since, held by the obstacle).
+                let since = self.over_since_ms.unwrap_or(now_ms);
+                let ran_ms = since.wrapping_sub(run.start_ms);
+                let left = run_share_after(run, ran_ms.saturating_sub(self.config.lag_ms));
+                self.held = Some(self.queued.saturating_add(left));
+                self.queued = 0;
+                self.carry_counts = 0.0;
+                self.over_since_ms = None;
+                self.unseen = true;
+                self.end_run()?;
+                return Err(TimedAxisError::Obstruction);
+            }
+        }
         if let Some(run) = self.run {
             if !run.forward && self.switch_closed()? {
                 // At the switch: the rest of the run and of the queue are
@@ -263,7 +340,7 @@ impl<B: Bridge, H: InputPin> TimedAxis<B, H> {
                 self.end_run()?;
             }
         }
-        if self.run.is_none() && self.queued != 0 {
+        if self.run.is_none() && self.queued != 0 && self.held.is_none() {
             let counts = core::mem::take(&mut self.queued);
             let (length_ms, carry, forward) = self.plan(counts);
             let at_home = !forward && self.switch_closed()?;
@@ -293,45 +370,68 @@ impl<B: Bridge, H: InputPin> TimedAxis<B, H> {
         self.motor.output()
     }
 
-    /// Gives the motor and the switch back.
-    pub fn destroy(self) -> (DcMotor<B>, H) {
-        (self.motor, self.home)
+    /// Gives the motor, the switch and the current sense back.
+    pub fn destroy(self) -> (DcMotor<B>, H, Option<C>) {
+        (self.motor, self.home, self.sense)
     }
 }
 
-impl<B: Bridge, H: InputPin> AxisDrive for TimedAxis<B, H> {
-    type Error = AxisErr<B, H>;
+/// The counts of `run` still to go at `now_ms`, by its time (never 0 while
+/// it has time left).
+fn run_share(run: Run, now_ms: u32) -> i32 {
+    run_share_after(run, now_ms.wrapping_sub(run.start_ms))
+}
+
+/// The counts of `run` still to go after it ran `elapsed_ms`.
+fn run_share_after(run: Run, elapsed_ms: u32) -> i32 {
+    let left = run.length_ms.saturating_sub(elapsed_ms);
+    if left == 0 {
+        return 0;
+    }
+    // |counts| < 2³¹ and left ≤ length: the share fits in i32.
+    let share = i64::from(run.counts) * i64::from(left) / i64::from(run.length_ms.max(1));
+    match i32::try_from(share) {
+        Ok(0) => run.counts.signum(),
+        Ok(s) => s,
+        Err(_) => run.counts,
+    }
+}
+
+impl<B: Bridge, H: InputPin, C: MotorCurrent> AxisDrive for TimedAxis<B, H, C> {
+    type Error = AxisErr<B, H, C>;
+    const SELF_WATCHED: bool = true;
 
     /// Queues the move; the next poll starts it once the run under way
-    /// ends.
+    /// ends. Refused while an obstruction is latched.
     fn move_counts(&mut self, counts: i32) -> Result<(), Self::Error> {
+        if self.held.is_some() {
+            return Err(TimedAxisError::Obstruction);
+        }
         self.queued = self.queued.saturating_add(counts);
         Ok(())
     }
 
     /// The queued counts and the part of the run under way still to go at
-    /// the last poll (never 0 while a run goes on).
+    /// the last poll (never 0 while a run goes on); 0 while an obstruction
+    /// is latched.
     fn pending(&self) -> i32 {
-        let running = self.run.map_or(0, |r| {
-            let left = r
-                .length_ms
-                .saturating_sub(self.last_poll_ms.wrapping_sub(r.start_ms));
-            // |counts| < 2³¹ and left ≤ length: the share fits in i32.
-            let share = i64::from(r.counts) * i64::from(left) / i64::from(r.length_ms.max(1));
-            let share = i32::try_from(share).unwrap_or(r.counts);
-            if share == 0 {
-                r.counts.signum()
-            } else {
-                share
-            }
-        });
+        let running = self
+            .run
+            .map_or(0, |r| match run_share(r, self.last_poll_ms) {
+                0 => r.counts.signum(),
+                s => s,
+            });
         self.queued.saturating_add(running)
     }
 
-    /// Brakes at once; the queue is dropped.
+    /// Brakes at once; the queue (and a run held by an obstruction) is
+    /// dropped.
     fn stop(&mut self) -> Result<(), Self::Error> {
         self.queued = 0;
         self.carry_counts = 0.0;
+        if self.held.is_some() {
+            self.held = Some(0);
+        }
         self.end_run()
     }
 
@@ -342,5 +442,23 @@ impl<B: Bridge, H: InputPin> AxisDrive for TimedAxis<B, H> {
     /// No feedback.
     fn encoder_deg(&mut self) -> Result<Option<f32>, Self::Error> {
         Ok(None)
+    }
+
+    /// An obstruction, once.
+    fn take_fault(&mut self) -> Option<DriveFault> {
+        core::mem::take(&mut self.unseen).then_some(DriveFault::Obstruction)
+    }
+
+    fn fault_latched(&self) -> bool {
+        self.held.is_some()
+    }
+
+    /// Ends a latched obstruction: the part of the run it stopped is
+    /// queued again (the retry).
+    fn clear_fault(&mut self) {
+        if let Some(left) = self.held.take() {
+            self.queued = self.queued.saturating_add(left);
+            self.unseen = false;
+        }
     }
 }
