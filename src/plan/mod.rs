@@ -692,6 +692,9 @@ impl<T: Float, P: PositionSource<T>, const N: usize> Scheduler<T, P, N> {
     }
 
     /// Advances the state machine to `now`. Never blocks.
+    // Out of line on the AVR: inlined into the controller's tick it shared
+    // that frame (measured in docs/src/sizes.md).
+    #[cfg_attr(target_arch = "avr", inline(never))]
     pub fn tick(&mut self, now: UtcTime) -> Output<T> {
         let mut clock_jump = false;
         if let Some(last) = self.last_now {
@@ -718,42 +721,36 @@ impl<T: Float, P: PositionSource<T>, const N: usize> Scheduler<T, P, N> {
         Output { action, clock_jump }
     }
 
+    /// One step of the flowchart, for the table and for real-time mode:
+    /// power-on and the waits are the same in both (one comparison of the
+    /// wait's end for all four phases that wait), then the table's plan
+    /// and tracking, or real-time mode's check of the present slot.
     fn step(&mut self, now: UtcTime) -> Result<Action<T>, ScheduleError> {
-        if self.real_time() {
-            return self.rt_step(now);
-        }
+        let real_time = self.real_time();
         match self.phase {
             Phase::PowerOn => {
                 // Step 1: the site is in the source; set-points zero.
                 self.phase = Phase::ReadDate;
                 Ok(Action::SetPoints(SetPoint::default()))
             }
-            Phase::ReadDate | Phase::Planning => self.plan(now),
-            Phase::WaitSunrise { until } | Phase::WaitNextDay { until } => {
-                if now < until {
-                    Ok(Action::Idle)
-                } else {
-                    self.plan(now)
+            Phase::Tracking { next_check: t }
+            | Phase::WaitSunrise { until: t }
+            | Phase::WaitNextDay { until: t }
+            | Phase::Failed { retry_at: t }
+                if now < t =>
+            {
+                // Sunset still ends the table's day even inside a hold.
+                if !real_time
+                    && matches!(self.phase, Phase::Tracking { .. })
+                    && self.past_daylight(&now)?
+                {
+                    return self.end_of_day(now);
                 }
+                Ok(Action::Idle)
             }
-            Phase::Failed { retry_at } => {
-                if now < retry_at {
-                    Ok(Action::Idle)
-                } else {
-                    self.plan(now)
-                }
-            }
-            Phase::Tracking { next_check } => {
-                if now < next_check {
-                    // Sunset still ends the day even inside a hold.
-                    if self.past_daylight(&now)? {
-                        return self.end_of_day(now);
-                    }
-                    Ok(Action::Idle)
-                } else {
-                    self.track(now)
-                }
-            }
+            _ if real_time => self.rt_check(now),
+            Phase::Tracking { .. } => self.track(now),
+            _ => self.plan(now),
         }
     }
 
@@ -975,26 +972,6 @@ impl<T: Float, P: PositionSource<T>, const N: usize> Scheduler<T, P, N> {
         let next_check = next_check_at(&now, wait_s, next_slot.as_ref())?;
         self.phase = Phase::Tracking { next_check };
         Ok(action)
-    }
-
-    /// Real-time mode: the flowchart with one position per slot.
-    fn rt_step(&mut self, now: UtcTime) -> Result<Action<T>, ScheduleError> {
-        match self.phase {
-            Phase::PowerOn => {
-                // Step 1: the site is in the source; set-points zero.
-                self.phase = Phase::ReadDate;
-                Ok(Action::SetPoints(SetPoint::default()))
-            }
-            Phase::Tracking { next_check: t }
-            | Phase::WaitSunrise { until: t }
-            | Phase::WaitNextDay { until: t }
-            | Phase::Failed { retry_at: t }
-                if now < t =>
-            {
-                Ok(Action::Idle)
-            }
-            _ => self.rt_check(now),
-        }
     }
 
     /// Real-time mode, steps 2–14 at one instant: the slot `now` is in
