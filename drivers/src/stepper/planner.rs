@@ -106,7 +106,8 @@ impl Planner {
             dir: Direction::Forward,
             level: 0,
             pending: None,
-            cruise_level: ramp.cruise_level(),
+            // Validated above: the 32-bit computation.
+            cruise_level: ramp.cruise_level_valid(),
         })
     }
 

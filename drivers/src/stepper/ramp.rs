@@ -173,6 +173,9 @@ impl Ramp {
     /// assert!(ramp.speed_sps(ramp.cruise_level()) >= ramp.max_speed_sps);
     /// ```
     pub fn cruise_level(&self) -> u32 {
+        if self.validate().is_ok() {
+            return self.cruise_level_valid();
+        }
         let vmax = u64::from(self.max_speed_sps);
         let v0 = u64::from(self.start_speed_sps);
         // ⌈n / 2a⌉ = ⌈⌈n / 2⌉ / a⌉, the division by a 32-bit a in 32-bit
@@ -181,6 +184,21 @@ impl Ramp {
         let (q, r) = div_rem_u64(half, self.accel_sps2.max(1)).unwrap_or((u64::MAX, 0));
         let k = q.saturating_add(u64::from(r != 0));
         u32::try_from(k).unwrap_or(u32::MAX)
+    }
+}
+
+impl Ramp {
+    /// [`Ramp::cruise_level`] of a ramp [`Ramp::validate`] accepts: both
+    /// speeds within 16 bits, so their squares fit 32 bits and so does the
+    /// rest (⌈⌈n / 2⌉ / a⌉ = ⌈n / 2a⌉), without the 64-bit products and
+    /// long division an 8-bit board would link for the general case.
+    pub(crate) fn cruise_level_valid(&self) -> u32 {
+        // Beyond 16 bits (not a valid ramp) the square saturates.
+        let square = |v: u32| square_u32(v).unwrap_or(u32::MAX);
+        square(self.max_speed_sps)
+            .saturating_sub(square(self.start_speed_sps))
+            .div_ceil(2)
+            .div_ceil(self.accel_sps2.max(1))
     }
 }
 
