@@ -941,12 +941,16 @@ where
         };
         let moved = slot.to_f32() + deg;
         // Within [min_deg, max_deg] (min_deg < max_deg: the configuration
-        // is validated): the lower bound by a comparison, which gives what
-        // `moved.max(min_deg)` gives, a value that is not a number included
-        // (then min_deg). `f32::max` linked a library function that only
-        // this used (138 B on the ATmega2560).
+        // is validated): both bounds by comparisons, which give what
+        // `moved.max(min_deg).min(max_deg)` gives, a value that is not a
+        // number included (then min_deg). `f32::max` and `f32::min` link
+        // library functions (138 and 130 B on the ATmega2560).
         let clamped = if moved >= lim.min_deg {
-            moved.min(lim.max_deg)
+            if moved < lim.max_deg {
+                moved
+            } else {
+                lim.max_deg
+            }
         } else {
             lim.min_deg
         };

@@ -138,7 +138,15 @@ impl Config {
                         _ => None,
                     };
                     if let Some(a) = home {
-                        (lo, hi) = (a.min_deg + lo, (a.min_deg + hi).min(a.max_deg));
+                        // The upper bound by a comparison: what `f32::min`
+                        // gives (`max_deg` when the sum is not a number;
+                        // `max_deg` is checked before this key), without
+                        // the library function it links on the AVR.
+                        let top = a.min_deg + hi;
+                        (lo, hi) = (
+                            a.min_deg + lo,
+                            if top < a.max_deg { top } else { a.max_deg },
+                        );
                     }
                     v.is_finite() && v >= lo && v <= hi
                 }
