@@ -248,41 +248,41 @@ where
             }
         }
         self.last_mode = Some(mode);
-        let target = match mode {
-            Mode::SafeStop | Mode::Homing => None,
-            Mode::WindStow | Mode::CommandStow | Mode::WaitForTime => Some(stow),
-            Mode::Manual | Mode::Service => self.manual,
+        // The pose for the set-point is asked for in one place (its copy
+        // and call once in the code): `from_set_point` says the target is
+        // that pose.
+        let (target, from_set_point) = match mode {
+            Mode::SafeStop | Mode::Homing => (None, false),
+            Mode::WindStow | Mode::CommandStow | Mode::WaitForTime => (Some(stow), false),
+            Mode::Manual | Mode::Service => (self.manual, false),
+            Mode::Night if self.options.night_stow => (Some(stow), false),
             Mode::Night => {
-                if self.options.night_stow {
-                    Some(stow)
-                } else {
-                    // The day's starting pose, on the branch the day used
-                    // (Li et al. 2022). Before any day: facing the coming
-                    // sunrise; failing that the power-on zero set-point
-                    // (Jimoh & Aliyu 2019 step 1).
-                    // While that search runs (a few ticks), the axes
-                    // wait where they are.
-                    let next_rise = self.scheduler.next_sunrise();
-                    match (self.day_start_pose, next_rise) {
-                        (Some(p), _) => Some(p),
-                        (None, Some(rise)) => match self.pre_position(rise) {
-                            None => None,
-                            Some(p) => {
-                                p.or_else(|| self.set_point.and_then(|sp| self.pose_for(&sp)))
-                            }
-                        },
-                        (None, None) => self.set_point.and_then(|sp| self.pose_for(&sp)),
-                    }
+                // The day's starting pose, on the branch the day used
+                // (Li et al. 2022). Before any day: facing the coming
+                // sunrise; failing that the power-on zero set-point
+                // (Jimoh & Aliyu 2019 step 1).
+                // While that search runs (a few ticks), the axes
+                // wait where they are.
+                let next_rise = self.scheduler.next_sunrise();
+                match (self.day_start_pose, next_rise) {
+                    (Some(p), _) => (Some(p), false),
+                    (None, Some(rise)) => match self.pre_position(rise) {
+                        None => (None, false),
+                        Some(p) => (p, p.is_none()),
+                    },
+                    (None, None) => (None, true),
                 }
             }
-            Mode::Tracking if choosing_branch => None,
-            Mode::Tracking => {
-                let p = self.set_point.and_then(|sp| self.pose_for(&sp));
-                if self.day_start_pose.is_none() {
-                    self.day_start_pose = p;
-                }
-                p
+            Mode::Tracking => (None, !choosing_branch),
+        };
+        let target = if from_set_point {
+            let p = self.set_point.and_then(|sp| self.pose_for(&sp));
+            if mode == Mode::Tracking && self.day_start_pose.is_none() {
+                self.day_start_pose = p;
             }
+            p
+        } else {
+            target
         };
         let target = target.map(|p| self.limits().clamp(&p));
         (mode, target)
