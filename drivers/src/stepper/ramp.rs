@@ -195,10 +195,15 @@ impl Ramp {
     pub(crate) fn cruise_level_valid(&self) -> u32 {
         // Beyond 16 bits (not a valid ramp) the square saturates.
         let square = |v: u32| square_u32(v).unwrap_or(u32::MAX);
-        square(self.max_speed_sps)
+        let half = square(self.max_speed_sps)
             .saturating_sub(square(self.start_speed_sps))
-            .div_ceil(2)
-            .div_ceil(self.accel_sps2.max(1))
+            .div_ceil(2);
+        // ⌈h / a⌉ = ⌊(h − 1) / a⌋ + 1 for h ≥ 1: one division, where
+        // `div_ceil` also multiplies back for the remainder on the AVR.
+        match half.checked_sub(1) {
+            Some(h) => h / self.accel_sps2.max(1) + 1,
+            None => 0,
+        }
     }
 }
 
