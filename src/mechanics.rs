@@ -65,10 +65,12 @@ pub fn bridge_config() -> BridgeConfig {
 
 /// The tracker configuration: the defaults with these axes.
 pub fn config() -> Config {
-    Config {
-        axes: axis_configs(),
-        ..Config::default()
-    }
+    // The defaults written where the result goes, then the axes: not the
+    // defaults built aside and copied field by field (on the AVR that copy
+    // was most of this function).
+    let mut config = Config::default();
+    config.axes = axis_configs();
+    config
 }
 
 /// The controller options of this build: open loop (no encoders), attitude
