@@ -336,11 +336,17 @@ pub struct FaultManager {
 }
 
 impl FaultManager {
+    // The empty lists as constants: `[None; MAX_ACTIVE]` written in place
+    // was built aside on the stack and copied on the AVR (the controller's
+    // construction, 64 B).
+    const NO_ACTIVE: [Option<ActiveFault>; MAX_ACTIVE] = [None; MAX_ACTIVE];
+    const NO_RECENT: [Option<Cleared>; MAX_ACTIVE] = [None; MAX_ACTIVE];
+
     /// No active faults.
     pub fn new(config: SafetyConfig) -> Self {
         FaultManager {
-            active: [None; MAX_ACTIVE],
-            recent: [None; MAX_ACTIVE],
+            active: Self::NO_ACTIVE,
+            recent: Self::NO_RECENT,
             config,
             raised: 0,
             recovered: 0,
@@ -518,7 +524,7 @@ impl FaultManager {
                 count_up(&mut self.recovered);
             }
         }
-        self.recent = [None; MAX_ACTIVE];
+        self.recent = Self::NO_RECENT;
     }
 }
 
