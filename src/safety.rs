@@ -336,17 +336,21 @@ pub struct FaultManager {
 }
 
 impl FaultManager {
-    // The empty lists as constants: `[None; MAX_ACTIVE]` written in place
-    // was built aside on the stack and copied on the AVR (the controller's
-    // construction, 64 B).
-    const NO_ACTIVE: [Option<ActiveFault>; MAX_ACTIVE] = [None; MAX_ACTIVE];
-    const NO_RECENT: [Option<Cleared>; MAX_ACTIVE] = [None; MAX_ACTIVE];
-
     /// No active faults.
     pub fn new(config: SafetyConfig) -> Self {
+        // On the AVR the empty lists as constants: the repeat expressions
+        // were built aside on the stack and copied into the controller
+        // there, the constants are one `memset` (64 B less on the
+        // ATmega2560). The Cortex-M images copied the constants from a
+        // 208-byte table in flash (about 200 B more): they keep the
+        // repeat expressions.
+        #[cfg(target_arch = "avr")]
+        let (active, recent) = (const { [None; MAX_ACTIVE] }, const { [None; MAX_ACTIVE] });
+        #[cfg(not(target_arch = "avr"))]
+        let (active, recent) = ([None; MAX_ACTIVE], [None; MAX_ACTIVE]);
         FaultManager {
-            active: Self::NO_ACTIVE,
-            recent: Self::NO_RECENT,
+            active,
+            recent,
             config,
             raised: 0,
             recovered: 0,
@@ -524,7 +528,7 @@ impl FaultManager {
                 count_up(&mut self.recovered);
             }
         }
-        self.recent = Self::NO_RECENT;
+        self.recent = [None; MAX_ACTIVE];
     }
 }
 
