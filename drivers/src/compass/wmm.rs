@@ -661,38 +661,39 @@ impl<F: Float> LegendreRow<F> {
         let (zero, one, two) = (F::ZERO, F::from_f64(1.0), F::from_f64(2.0));
         // n ≤ 12.
         let nf = F::from_u32(n as u32);
-        for m in 0..=n {
+        // Entries m < n, then the sectoral one, m = n, outside the loop (each
+        // entry reads only `prev` and its own entry of this row; n ≥ 1, the
+        // caller's degrees 1..=12).
+        let a = two * nf - one;
+        for m in 0..n {
             let mf = F::from_u32(m as u32);
-            let (p, dp) = if m == n {
-                // Sectoral: P̆ₙⁿ = k cos φ′ P̆ₙ₋₁ⁿ⁻¹, k = 1 for n = 1, √((2n−1)/2n) after.
-                let k = if n == 1 {
-                    one
-                } else {
-                    ((two * nf - one) / (two * nf)).sqrt()
-                };
-                let pm = get(&prev.p, n - 1);
-                let dpm = get(&prev.dp, n - 1);
-                (k * cos_gc * pm, k * (-sin_gc * pm + cos_gc * dpm))
-            } else {
-                // P̆ₙᵐ = [(2n−1) sin φ′ P̆ₙ₋₁ᵐ − √((n−1)²−m²) P̆ₙ₋₂ᵐ] / √(n²−m²)
-                let a = two * nf - one;
-                let b = ((nf - one) * (nf - one) - mf * mf).max(zero).sqrt();
-                let cc = (nf * nf - mf * mf).sqrt();
-                let p1 = get(&prev.p, m);
-                let dp1 = get(&prev.dp, m);
-                let p2 = get(&self.p, m);
-                let dp2 = get(&self.dp, m);
-                (
-                    (a * sin_gc * p1 - b * p2) / cc,
-                    (a * (cos_gc * p1 + sin_gc * dp1) - b * dp2) / cc,
-                )
-            };
+            // P̆ₙᵐ = [(2n−1) sin φ′ P̆ₙ₋₁ᵐ − √((n−1)²−m²) P̆ₙ₋₂ᵐ] / √(n²−m²)
+            let b = ((nf - one) * (nf - one) - mf * mf).max(zero).sqrt();
+            let cc = (nf * nf - mf * mf).sqrt();
+            let p1 = get(&prev.p, m);
+            let dp1 = get(&prev.dp, m);
+            let p2 = get(&self.p, m);
+            let dp2 = get(&self.dp, m);
             if let Some(slot) = self.p.get_mut(m) {
-                *slot = p;
+                *slot = (a * sin_gc * p1 - b * p2) / cc;
             }
             if let Some(slot) = self.dp.get_mut(m) {
-                *slot = dp;
+                *slot = (a * (cos_gc * p1 + sin_gc * dp1) - b * dp2) / cc;
             }
+        }
+        // Sectoral: P̆ₙⁿ = k cos φ′ P̆ₙ₋₁ⁿ⁻¹, k = 1 for n = 1, √((2n−1)/2n) after.
+        let k = if n == 1 {
+            one
+        } else {
+            (a / (two * nf)).sqrt()
+        };
+        let pm = get(&prev.p, n - 1);
+        let dpm = get(&prev.dp, n - 1);
+        if let Some(slot) = self.p.get_mut(n) {
+            *slot = k * cos_gc * pm;
+        }
+        if let Some(slot) = self.dp.get_mut(n) {
+            *slot = k * (-sin_gc * pm + cos_gc * dpm);
         }
     }
 }
