@@ -682,11 +682,7 @@ impl<F: Float> LegendreRow<F> {
             }
         }
         // Sectoral: P̆ₙⁿ = k cos φ′ P̆ₙ₋₁ⁿ⁻¹, k = 1 for n = 1, √((2n−1)/2n) after.
-        let k = if n == 1 {
-            one
-        } else {
-            (a / (two * nf)).sqrt()
-        };
+        let k = if n == 1 { one } else { (a / (two * nf)).sqrt() };
         let pm = get(&prev.p, n - 1);
         let dpm = get(&prev.dp, n - 1);
         if let Some(slot) = self.p.get_mut(n) {
