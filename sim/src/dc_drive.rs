@@ -229,8 +229,9 @@ pub struct Ports {
     pub hall: SimHall,
     /// The home switch.
     pub switch: SimSwitch,
-    /// The current-sense ADC channel.
-    pub is_pin: SimIsPin,
+    /// The BTS7960's current sense on its ADC channel, at the data sheet's
+    /// ratio.
+    pub sense: CurrentSense<SimIsPin>,
 }
 
 /// A firmware axis a simulated DC drive runs: built over the [`Ports`],
@@ -260,20 +261,17 @@ pub trait FirmwareAxis: AxisDrive + Sized {
 impl FirmwareAxis for SimDcAxis {
     type Config = DcAxisConfig;
     type ConfigError = DcAxisConfigError;
-    /// With the BTS7960's current sense, at the data sheet's ratio.
     fn build(
         ports: Ports,
         config: DcAxisConfig,
         axis: &AxisConfig,
     ) -> Result<Self, DcAxisConfigError> {
-        let sense = CurrentSense::new(ports.is_pin, SenseConfig::DATASHEET_1K_5V)
-            .map_err(|_| DcAxisConfigError::Current)?;
         DcAxis::new(
             ports.motor,
             ports.hall,
             ports.switch,
             false,
-            Some(sense),
+            Some(ports.sense),
             config,
             axis,
         )
@@ -291,15 +289,19 @@ impl FirmwareAxis for SimDcAxis {
 impl FirmwareAxis for SimTimedAxis {
     type Config = TimedAxisConfig;
     type ConfigError = TimedAxisConfigError;
-    /// With the BTS7960's current sense, at the data sheet's ratio.
     fn build(
         ports: Ports,
         config: TimedAxisConfig,
         axis: &AxisConfig,
     ) -> Result<Self, TimedAxisConfigError> {
-        let sense = CurrentSense::new(ports.is_pin, SenseConfig::DATASHEET_1K_5V)
-            .map_err(|_| TimedAxisConfigError::Current)?;
-        TimedAxis::new(ports.motor, ports.switch, false, Some(sense), config, axis)
+        TimedAxis::new(
+            ports.motor,
+            ports.switch,
+            false,
+            Some(ports.sense),
+            config,
+            axis,
+        )
     }
     fn poll_ms(&mut self, now_ms: u32) {
         // The ports never fail.
@@ -388,7 +390,9 @@ impl<A: FirmwareAxis> DcDrive<A> {
                 .unwrap_or_else(|_| unreachable!("the simulated bridge never fails")),
             hall: SimHall(Rc::clone(&hw)),
             switch: SimSwitch(Rc::clone(&hw)),
-            is_pin: SimIsPin(Rc::clone(&hw)),
+            // The data sheet's sense configuration is valid.
+            sense: CurrentSense::new(SimIsPin(Rc::clone(&hw)), SenseConfig::DATASHEET_1K_5V)
+                .unwrap_or_else(|_| unreachable!("the data sheet's sense configuration is valid")),
         };
         let fw = A::build(ports, spec.firmware, axis)?;
         Ok(DcDrive {

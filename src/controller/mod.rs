@@ -884,9 +884,7 @@ where
             // A latched fault explains the deviation: it is not a lost
             // reference.
             let drive = ax.drive_mut();
-            if let Some(f) = drive.take_fault() {
-                self.faults.raise(drive_fault(f, id), now_ms);
-            }
+            raise_drive_fault(&mut self.faults, drive, id, now_ms);
             if drive.fault_latched() {
                 return;
             }
@@ -909,32 +907,37 @@ where
     }
 }
 
-/// The fault of the fault manager for one the drive saw itself.
-fn drive_fault(f: DriveFault, id: AxisId) -> Fault {
-    match f {
-        DriveFault::Stall => Fault::MotorStalled(id),
-        DriveFault::Obstruction => Fault::Obstruction(id),
-        DriveFault::UnexpectedMotion => Fault::UnexpectedMotion(id),
-        DriveFault::TooSlow => Fault::MoveTimeout(id),
-    }
+/// Raises the fault the drive saw itself since it was last asked, if any.
+fn raise_drive_fault<D: AxisDrive>(
+    faults: &mut FaultManager,
+    drive: &mut D,
+    id: AxisId,
+    now_ms: u32,
+) {
+    let fault = match drive.take_fault() {
+        None => return,
+        Some(DriveFault::Stall) => Fault::MotorStalled(id),
+        Some(DriveFault::Obstruction) => Fault::Obstruction(id),
+        Some(DriveFault::UnexpectedMotion) => Fault::UnexpectedMotion(id),
+        Some(DriveFault::TooSlow) => Fault::MoveTimeout(id),
+    };
+    faults.raise(fault, now_ms);
 }
 
 /// For a drive that watches its own motor ([`AxisDrive::SELF_WATCHED`]):
 /// raises what the watch saw, and returns true while a latched fault
-/// (stall, obstruction, move timeout) waits for its retry, leaving the axis alone. When
-/// the fault manager's back-off for it has passed (or the fault was
-/// cleared by the operator), the drive's fault is cleared and the axis is
-/// commanded again: the retry, counted as one more attempt if it trips
-/// again.
+/// (stall, obstruction, move timeout) waits for its retry, leaving the
+/// axis alone. When the fault manager's back-off for it has passed (or the
+/// fault was cleared by the operator), the drive's fault is cleared and the
+/// axis is commanded again: the retry, counted as one more attempt if it
+/// trips again.
 fn drive_watch<D: AxisDrive>(
     faults: &mut FaultManager,
     drive: &mut D,
     id: AxisId,
     now_ms: u32,
 ) -> bool {
-    if let Some(f) = drive.take_fault() {
-        faults.raise(drive_fault(f, id), now_ms);
-    }
+    raise_drive_fault(faults, drive, id, now_ms);
     if !drive.fault_latched() {
         return false;
     }

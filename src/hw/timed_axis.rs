@@ -246,9 +246,9 @@ impl<B: Bridge, H: InputPin, C: MotorCurrent> TimedAxis<B, H, C> {
     /// The run of `counts` plus the rounding carried from the runs
     /// before, at the speed of its direction: its time in whole ms (at most
     /// [`MAX_RUN_MS`]), the counts that rounding leaves over for the next
-    /// run, and whether it runs forward. Tracker steps are alike (0.25° is 32.8 ms at 7.6 °/s): each
-    /// rounded on its own, their roundings would add up in one direction
-    /// all day.
+    /// run, and whether it runs forward. Tracker steps are alike (0.25° is
+    /// 32.8 ms at 7.6 °/s): each rounded on its own, their roundings would
+    /// add up in one direction all day.
     fn plan(&self, counts: i32) -> (u32, f32, bool) {
         let want = counts as f32 + self.carry_counts;
         let speed = if want > 0.0 {
@@ -323,7 +323,6 @@ impl<B: Bridge, H: InputPin, C: MotorCurrent> TimedAxis<B, H, C> {
                 self.held = Some(self.queued.saturating_add(left));
                 self.queued = 0;
                 self.carry_counts = 0.0;
-                self.over_since_ms = None;
                 self.unseen = true;
                 self.end_run()?;
                 return Err(TimedAxisError::Obstruction);
