@@ -67,6 +67,20 @@ impl<T: Float> Pose<T> {
     pub fn travel_deg(&self, other: &Pose<T>) -> T {
         (self.gamma_deg - other.gamma_deg).abs() + (self.alpha_deg - other.alpha_deg).abs()
     }
+
+    /// How far the panel normal sweeps, at most, when both axes turn from
+    /// `other` to this pose together, degrees: the A axis's turn plus the
+    /// C axis's turn on the cone of the larger tilt (the normal of
+    /// `n(γ, α)` (Choi et al. eq. 15–17) moves `sin α` degrees per degree of
+    /// γ). Small while the panel follows the sun, even where the C axis
+    /// turns fast under a sun near the tracker's axis; large for a change
+    /// of branch (half a turn of C with α changing sign) or a whole turn
+    /// of C at a steep tilt.
+    pub fn sweep_deg(&self, other: &Pose<T>) -> T {
+        let tilt_deg = self.alpha_deg.abs().max(other.alpha_deg.abs());
+        (self.gamma_deg - other.gamma_deg).abs() * tilt_deg.to_radians().sin()
+            + (self.alpha_deg - other.alpha_deg).abs()
+    }
 }
 
 /// Mechanical ranges of the two axes, degrees (inclusive).

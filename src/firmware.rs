@@ -629,7 +629,7 @@ where
 
     /// `setpoint …` at each new table entry the controller tracks.
     fn log_setpoint(&mut self, now: &UtcTime, report: &TickReport<T>) {
-        if report.mode != Mode::Tracking {
+        if !matches!(report.mode, Mode::Tracking | Mode::Unwind) {
             return;
         }
         // The present slot's entry when the day's table has one (what the

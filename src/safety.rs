@@ -641,6 +641,13 @@ pub enum Mode {
     /// Daylight, but an axis has no position reference yet: it is seeking
     /// its home switch and nothing tracks until it has one.
     Homing,
+    /// Following the sun, but the axes are turning to another branch of
+    /// the mount's two solutions (or another turn of the C axis) because
+    /// the one followed runs into a limit: a long move during which the
+    /// panel does not face the sun. Planned at the sun's lowest (see
+    /// the controller's look-ahead); the controller reports it from the
+    /// move's start until both axes reach the new pose.
+    Unwind,
     /// Following the sun.
     Tracking,
 }
@@ -658,6 +665,7 @@ impl Mode {
             "wait_for_time",
             "night",
             "homing",
+            "unwind",
             "tracking",
         )
         .get(self as usize)

@@ -109,6 +109,7 @@ fn every_fault_and_mode_has_its_documented_name() {
         (Mode::WaitForTime, "wait_for_time"),
         (Mode::Night, "night"),
         (Mode::Homing, "homing"),
+        (Mode::Unwind, "unwind"),
         (Mode::Tracking, "tracking"),
     ] {
         assert_eq!(m.name(), name, "{m:?}");

@@ -116,6 +116,7 @@ fn run_scenario_with(name: &str, more: &[&str]) -> Vec<Row> {
         "wait_for_time",
         "night",
         "homing",
+        "unwind",
         "tracking",
     ];
     let rows: Vec<Row> = lines

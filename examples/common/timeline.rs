@@ -23,8 +23,9 @@ use super::plot::{self, font, px, stroke, Area, Swatch};
 
 /// The controller's modes by name, in the order of the band (bottom up)
 /// and of the legend, with their colours.
-pub const MODE_COLOURS: [(&str, RGBColor); 9] = [
+pub const MODE_COLOURS: [(&str, RGBColor); 10] = [
     ("tracking", RGBColor(0x4c, 0xaf, 0x50)),      // green
+    ("unwind", RGBColor(0x00, 0x89, 0x7b)),        // teal
     ("homing", RGBColor(0x64, 0xb5, 0xf6)),        // light blue
     ("night", RGBColor(0x45, 0x4f, 0x6b)),         // slate
     ("wait_for_time", RGBColor(0xfb, 0xc0, 0x2d)), // yellow

@@ -645,6 +645,14 @@ fn simulate_with<P: SimAxis>(
     let (mut e_act, mut e_ideal, mut e_fixed) = (0.0f64, 0.0f64, 0.0f64);
     let (mut wind_min, mut cmd_min, mut wait_min, mut stop_min, mut home_min) = (0u32, 0, 0, 0, 0);
     let mut sched_errors = 0u32;
+    // Swings to another branch: the sun's elevation as each began; and
+    // the minutes in tracking with the panel more than 1° off the sun,
+    // once the first set-point after homing, a night or a stow was
+    // reached (`settled`: the move to it is not tracking's error).
+    let mut unwind_elevations_deg: Vec<f64> = Vec::new();
+    let mut last_mode: Option<Mode> = None;
+    let mut tracking_off_1deg_min = 0u32;
+    let mut settled = false;
     let mut last_raised = 0u32;
     let mut next_event = 0usize;
     let mut row = String::with_capacity(256);
@@ -899,6 +907,11 @@ fn simulate_with<P: SimAxis>(
             alpha_deg: axes[1].drive().output_deg(),
         };
         let mut pointing = None;
+        if report.mode == Mode::Unwind && last_mode != Some(Mode::Unwind) {
+            unwind_elevations_deg.push(sun.map_or(f64::NAN, |s| s.elevation_deg()));
+        }
+        last_mode = Some(report.mode);
+        settled &= matches!(report.mode, Mode::Tracking | Mode::Unwind);
         if let Some(sun) = sun.filter(|s| s.is_above_horizon()) {
             let s = sun_vector_xyz(sun.elevation_deg(), sun.azimuth_deg);
             let n = truth.normal_xyz(&pose);
@@ -906,6 +919,10 @@ fn simulate_with<P: SimAxis>(
             if report.mode == Mode::Tracking {
                 errors.push(err);
                 pointing = Some(err);
+                if err > 1.0 && settled {
+                    tracking_off_1deg_min += 1;
+                }
+                settled |= err <= 1.0;
             }
             let beam = clear_sky_beam_normal_w_m2(sun.zenith_deg, now.day_of_year());
             e_ideal += beam;
@@ -1056,6 +1073,23 @@ fn simulate_with<P: SimAxis>(
             "motor travel: C axis {:.0} deg, A axis {:.0} deg",
             travel.first().copied().unwrap_or(0.0),
             travel.get(1).copied().unwrap_or(0.0)
+        ),
+    )?;
+    let elevations: Vec<String> = unwind_elevations_deg
+        .iter()
+        .map(|e| format!("{e:.1}"))
+        .collect();
+    p(
+        out,
+        format!(
+            "unwind: {} swings (sun elevation at each: {} deg); minutes tracking more than 1 deg off the sun: {tracking_off_1deg_min}; C axis {:.0} deg a day",
+            unwind_elevations_deg.len(),
+            if elevations.is_empty() {
+                "none".to_string()
+            } else {
+                elevations.join(", ")
+            },
+            travel.first().copied().unwrap_or(0.0) / f64::from(args.days.max(1)),
         ),
     )?;
     p(

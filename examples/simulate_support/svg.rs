@@ -21,8 +21,9 @@ use timeline::{FAULT, MODE_COLOURS};
 
 /// Every mode, in the order of the band (bottom up) and the legend (that
 /// of [`MODE_COLOURS`]).
-const MODES: [Mode; 9] = [
+const MODES: [Mode; 10] = [
     Mode::Tracking,
+    Mode::Unwind,
     Mode::Homing,
     Mode::Night,
     Mode::WaitForTime,
@@ -38,14 +39,15 @@ const MODES: [Mode; 9] = [
 fn mode_index(mode: Mode) -> usize {
     match mode {
         Mode::Tracking => 0,
-        Mode::Homing => 1,
-        Mode::Night => 2,
-        Mode::WaitForTime => 3,
-        Mode::WindStow => 4,
-        Mode::CommandStow => 5,
-        Mode::Manual => 6,
-        Mode::SafeStop => 7,
-        Mode::Service => 8,
+        Mode::Unwind => 1,
+        Mode::Homing => 2,
+        Mode::Night => 3,
+        Mode::WaitForTime => 4,
+        Mode::WindStow => 5,
+        Mode::CommandStow => 6,
+        Mode::Manual => 7,
+        Mode::SafeStop => 8,
+        Mode::Service => 9,
     }
 }
 

@@ -1,7 +1,21 @@
 //! The pose look-ahead: which of the mount's two solutions (and which turn
-//! of the C axis) a day starts on, so that the day's path travels least
-//! and no axis runs into its limit at noon (Choi et al. (portable tracker) eq. 13–21
-//! for the solutions).
+//! of the C axis) a day starts on, so that no axis runs into its limit
+//! while the sun is up and the day's path travels least (Choi et al.
+//! (portable tracker) eq. 13–21 for the solutions).
+//!
+//! A path that runs into a limit has to swing to another branch: half a
+//! turn of the C axis with the A axis changing sign, or a whole turn of C.
+//! The panel faces away from the sun for that move, so the starts are
+//! ranked first by their swings, each weighted by the sun's height then
+//! (`sin` of its elevation, plus a little so that a swing at the horizon
+//! still counts), and only among equals by travel. Where the sun never
+//! sets and the C axis turns less than the sun does in a day, some swing
+//! is unavoidable: the path that swings at the sun's lowest wins. The
+//! scheduler's days begin at local mean solar midnight, within minutes
+//! of the sun's lowest, so a polar day's one unwind falls there; a
+//! branch that runs into its limit during the day all the same (after a
+//! stow, or at the end of a day) is replaced by a search over the next
+//! 24 hours from that moment ([`Controller::begin_swing_search`]).
 //!
 //! Each search follows a path of up to 48 set-points from six candidate
 //! starts (one inverse kinematics each per set-point, plus a sun position
@@ -14,7 +28,7 @@
 use sun_algos::{Float, UtcTime};
 
 use super::Controller;
-use crate::attitude::{sun_vector_xyz, MountAttitude, Pose, PoseLimits};
+use crate::attitude::{sun_vector_xyz, Choice, MountAttitude, Pose, PoseLimits};
 use crate::motion::AxisDrive;
 use crate::plan::{Scheduler, SetPoint};
 use crate::ports::AttitudeSensor;
@@ -25,6 +39,20 @@ const LOOK_AHEAD_POINTS: usize = 48;
 
 /// Half-hour samples over the 24 hours a day is judged on without a table.
 const DAY_SAMPLES: u16 = 48;
+
+/// A move between two poses on a path whose normal sweeps more than this
+/// ([`Pose::sweep_deg`]) is a swing to another branch, not following the
+/// sun: following sweeps at most the sun's own arc between set-points
+/// (7.5° in 30 minutes), and the flip of the A axis under a sun near the
+/// tracker's axis at most twice that; a change of branch with the panel
+/// tilted 20° sweeps 60° or more.
+pub(super) const SWING_DEG: f32 = 30.0;
+
+/// Swing weights within this of each other are equal, and travel decides.
+const SWING_TIE: f32 = 0.01;
+
+/// A swing's weight besides the sine of the sun's elevation.
+const SWING_FLOOR: f32 = 0.05;
 
 impl<T, P, D, S, const N: usize> Controller<T, P, D, S, N>
 where
@@ -51,7 +79,12 @@ where
     /// a turn there) is avoided at sunrise. The day table's rest is followed
     /// (at most [`LOOK_AHEAD_POINTS`] entries apart); without a table (or
     /// on a day too long for it) the sun sampled every 30 minutes.
-    pub(super) fn begin_look_ahead(&mut self, now: UtcTime) {
+    ///
+    /// False while the day's table begins after `now` (a polar day's new
+    /// table, planned minutes before its first entry is due, while the
+    /// last entry of the day before is followed): the search waits for
+    /// that entry, as the branch is the new day's.
+    pub(super) fn begin_look_ahead(&mut self, now: UtcTime) -> bool {
         self.branch_anchor = None;
         self.branch_search = None;
         let here = Pose {
@@ -61,7 +94,7 @@ where
         let sampled = self.scheduler.real_time();
         let (path, first) = if sampled {
             let Some(first) = self.scheduler.applied() else {
-                return;
+                return true;
             };
             (
                 Path::Sampled {
@@ -77,13 +110,18 @@ where
             let Some((i, entry)) = (0..table.len()).find_map(|i| {
                 table
                     .get(i)
-                    .filter(|e| now.seconds_since(&e.time).is_some_and(|late| late <= 60))
+                    .filter(|e| {
+                        now.seconds_since(&e.time)
+                            .is_some_and(|late| (0..=60).contains(&late))
+                    })
                     .map(|e| (i, e))
             }) else {
-                return;
+                // No entry due now: wait for the first if it is still to
+                // come.
+                return table.get(0).is_none_or(|e| e.time <= now);
             };
             let Ok(first) = u16::try_from(i) else {
-                return;
+                return true;
             };
             // The rest of the day at most LOOK_AHEAD_POINTS set-points
             // apart (every entry of a short remainder): which branch
@@ -99,6 +137,7 @@ where
             )
         };
         self.start_branch_search(path, &first, &here);
+        true
     }
 
     /// The branch search along `path` from its first set-point `first`,
@@ -184,6 +223,21 @@ where
         let pose = search.starts.best();
         self.night_pose = Some(NightPose::Found(sunrise, pose));
         Some(pose)
+    }
+
+    /// The branch of the present set-point `first` that serves the next 24
+    /// hours (the sun every 30 minutes from `now`) with the fewest and
+    /// lowest swings: the followed branch runs into a limit that the day's
+    /// search did not foresee (the end of a polar day, a day resumed after
+    /// a stow), so the axes swing now, once, to the branch that needs no
+    /// other swing before the sun's lowest.
+    pub(super) fn begin_swing_search(&mut self, now: UtcTime, first: &SetPoint<T>) {
+        self.branch_anchor = None;
+        let here = Pose {
+            gamma_deg: T::from_f32(self.axes[0].counted_deg()),
+            alpha_deg: T::from_f32(self.axes[1].counted_deg()),
+        };
+        self.start_branch_search(Path::Sampled { from: now, next: 1 }, first, &here);
     }
 
     /// The night search's start: the set-point facing sunrise (one sun
@@ -288,6 +342,9 @@ struct Start<T> {
     prev: Pose<T>,
     /// Degrees travelled to reach it.
     travel: T,
+    /// Its swings so far, each weighted by the sun's height then
+    /// (see the module documentation).
+    swings: T,
 }
 
 /// What the starts are chosen in: the mount, the axes' limits, and the C
@@ -335,6 +392,7 @@ impl<T: Float> Starts<T> {
                         start,
                         prev: start,
                         travel: from.map_or(T::ZERO, |f| start.travel_deg(f)),
+                        swings: T::ZERO,
                     });
                 }
             }
@@ -342,27 +400,59 @@ impl<T: Float> Starts<T> {
         true
     }
 
-    /// Each start follows `sp` by its least-motion pose.
+    /// Each start follows `sp` by its least-motion pose; a move that
+    /// sweeps more than [`SWING_DEG`] is a swing, weighted by the sun's
+    /// height.
     fn visit(&mut self, sp: &SetPoint<T>, attitude: &MountAttitude<T>, limits: &PoseLimits<T>) {
-        let sun = sun_vector_xyz(sp.elevation_deg(), sp.azimuth_deg);
+        let elevation_deg = sp.elevation_deg();
+        let sun = sun_vector_xyz(elevation_deg, sp.azimuth_deg);
+        let weight = elevation_deg.to_radians().sin().max(T::ZERO) + T::from_f32(SWING_FLOOR);
+        let swing = T::from_f32(SWING_DEG);
         for s in self.0.iter_mut().flatten() {
             if let Ok(c) = attitude.choose(&sun, &s.prev, limits) {
-                let p = c.pose();
+                let mut p = c.pose();
+                if p.sweep_deg(&s.prev) > swing {
+                    // The branch runs into a limit. A whole turn of the C
+                    // axis, where the limits allow it, keeps the branch and
+                    // leaves the most room ahead; the least-travel change
+                    // of branch (half a turn) would meet the limit again
+                    // half a day later.
+                    let turn = T::from_f32(360.0);
+                    let turned = Pose {
+                        gamma_deg: if s.prev.gamma_deg < T::ZERO {
+                            s.prev.gamma_deg + turn
+                        } else {
+                            s.prev.gamma_deg - turn
+                        },
+                        ..s.prev
+                    };
+                    if let Ok(Choice::Reachable(q)) = attitude.choose(&sun, &turned, limits) {
+                        if q.sweep_deg(&turned) <= swing {
+                            p = q;
+                        }
+                    }
+                    s.swings += weight;
+                }
                 s.travel += p.travel_deg(&s.prev);
                 s.prev = p;
             }
         }
     }
 
-    /// The start that travelled least (the first of equals).
+    /// The start with the lightest swings, and of those the least travel
+    /// (the first of equals).
     fn best(&self) -> Option<Pose<T>> {
-        let mut best: Option<(T, Pose<T>)> = None;
+        let tie = T::from_f32(SWING_TIE);
+        let mut best: Option<&Start<T>> = None;
         for s in self.0.iter().flatten() {
-            if best.is_none_or(|(t, _)| s.travel < t) {
-                best = Some((s.travel, s.start));
+            let better = best.is_none_or(|b| {
+                s.swings < b.swings - tie || (s.swings <= b.swings + tie && s.travel < b.travel)
+            });
+            if better {
+                best = Some(s);
             }
         }
-        best.map(|(_, p)| p)
+        best.map(|s| s.start)
     }
 }
 

@@ -186,6 +186,12 @@ pub struct Controller<T, P, D, S, const N: usize> {
     attitude: MountAttitude<T>,
     set_point: Option<SetPoint<T>>,
     night: bool,
+    /// A swing to another branch is under way (reported as
+    /// [`Mode::Unwind`] until both axes reach its pose).
+    unwinding: bool,
+    /// The followed branch ran into a limit and the next 24 hours were
+    /// searched for the branch to swing to (once per swing).
+    swing_searched: bool,
     /// Monotonic time (ms) before which a failed homing is not retried,
     /// per axis; `None` once it has passed.
     home_retry_ms: [Option<u32>; 2],
@@ -293,6 +299,8 @@ where
             set_point: None,
             home_set_point: None,
             night: true,
+            unwinding: false,
+            swing_searched: false,
             pose: Pose::default(),
             pose_commanded: false,
             manual: None,

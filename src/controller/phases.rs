@@ -26,7 +26,10 @@ use crate::safety::{select_mode, Fault, Mode, ModeInputs};
 use crate::sun::PositionSource;
 use crate::time::monotonic;
 
-use super::AttitudeSource;
+use super::{look_ahead, AttitudeSource};
+
+/// A swing ends when both axes are this close to its pose, degrees.
+const UNWOUND_DEG: f32 = 1.0;
 
 impl<T, P, D, S, const N: usize> Controller<T, P, D, S, N>
 where
@@ -231,9 +234,11 @@ where
         // The day's comparison once (`UtcTime`s compared field by field):
         // 158 B less on the ATmega2560 than written in both places.
         let new_day = table_day != self.branch_day;
-        if mode == Mode::Tracking && (self.last_mode != Some(Mode::Tracking) || new_day) {
+        if mode == Mode::Tracking
+            && (self.last_mode != Some(Mode::Tracking) || new_day)
+            && self.begin_look_ahead(now)
+        {
             self.branch_day = table_day;
-            self.begin_look_ahead(now);
             if new_day {
                 self.day_start_pose = None;
             }
@@ -247,6 +252,10 @@ where
                 ax.unhome();
             }
         }
+        // Following the sun since the last tick: a new pose far from the
+        // last one is a swing (the move from a stow or the night's pose is
+        // not).
+        let was_tracking = self.last_mode == Some(Mode::Tracking);
         self.last_mode = Some(mode);
         // The pose for the set-point is asked for in one place (its copy
         // and call once in the code): `from_set_point` says the target is
@@ -273,10 +282,31 @@ where
                     (None, None) => (None, true),
                 }
             }
-            Mode::Tracking => (None, !choosing_branch),
+            // (`select_mode` never gives `Unwind`: `unwind_mode` makes it
+            // of tracking.)
+            Mode::Tracking | Mode::Unwind => (None, !choosing_branch),
         };
         let target = if from_set_point {
-            let p = self.set_point.and_then(|sp| self.pose_for(&sp));
+            let anchored = self.branch_anchor.is_some();
+            let mut p = self.set_point.and_then(|sp| self.pose_for(&sp));
+            if let (Mode::Tracking, false, Some(q), Some(sp)) = (mode, anchored, p, self.set_point)
+            {
+                if was_tracking && self.swing_from_last(&q) {
+                    // The branch followed runs into a limit here: swing
+                    // once, to the branch the next 24 hours need.
+                    if !self.swing_searched {
+                        self.swing_searched = true;
+                        self.begin_swing_search(now, &sp);
+                        p = if self.look_ahead_pending() {
+                            None
+                        } else {
+                            self.pose_for(&sp)
+                        };
+                    }
+                } else {
+                    self.swing_searched = false;
+                }
+            }
             if mode == Mode::Tracking && self.day_start_pose.is_none() {
                 self.day_start_pose = p;
             }
@@ -285,7 +315,44 @@ where
             target
         };
         let target = target.map(|p| self.limits().clamp(&p));
+        let mode = self.unwind_mode(mode, was_tracking, target.as_ref());
         (mode, target)
+    }
+
+    /// True when the normal sweeps more than a swing's worth from the last
+    /// commanded pose to `p` ([`look_ahead::SWING_DEG`]).
+    fn swing_from_last(&self, p: &Pose<T>) -> bool {
+        self.pose_commanded && p.sweep_deg(&self.pose) > T::from_f32(look_ahead::SWING_DEG)
+    }
+
+    /// [`Mode::Unwind`] instead of tracking from a swing's first tick
+    /// until both axes are within [`UNWOUND_DEG`] of its pose (their counts
+    /// less the counts their drives have still to run).
+    fn unwind_mode(&mut self, mode: Mode, was_tracking: bool, target: Option<&Pose<T>>) -> Mode {
+        if mode != Mode::Tracking {
+            self.unwinding = false;
+            return mode;
+        }
+        if let Some(p) = target {
+            if was_tracking && self.swing_from_last(p) {
+                self.unwinding = true;
+            }
+            // Where the axis is: its count less the counts still to run.
+            let near = |i: usize, deg: T| {
+                self.axes.get(i).is_some_and(|a| {
+                    let at_deg = a.counted_deg() - a.drive().pending() as f32 / a.counts_per_deg();
+                    (T::from_f32(at_deg) - deg).abs() <= T::from_f32(UNWOUND_DEG)
+                })
+            };
+            if near(0, p.gamma_deg) && near(1, p.alpha_deg) {
+                self.unwinding = false;
+            }
+        }
+        if self.unwinding {
+            Mode::Unwind
+        } else {
+            mode
+        }
     }
 
     /// Phase 7: The axes driven to the target, or held (stopped in a safe stop).
