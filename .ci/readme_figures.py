@@ -104,13 +104,23 @@ COMMANDS = {
 }
 for _id, (_site, _opts) in SIM_RUNS.items():
     COMMANDS["sim_" + _id] = f"{SIM} {_site} {_opts}"
+# Three days of polar day at three sites: the C axis's unwinds.
+POLAR_RUNS = {
+    "tromso": "--lat 69.65 --lon 18.96 --start 2026-06-10",
+    "longyearbyen": "--lat 78.22 --lon 15.65 --start 2026-06-10",
+    "mcmurdo": "--lat -77.85 --lon 166.67 --start 2026-12-10",
+}
+for _id, _opts in POLAR_RUNS.items():
+    COMMANDS["sim_polar_" + _id] = (
+        f"cargo run -q --profile host --example simulate -- {_opts} --days 3"
+    )
 
 # What rewrites a group's figures in the documentation, where a command does
 # (the others are edited by hand): said beside each mismatch.
 REGENERATE = {"sizes_report": "python3 .ci/size_report.py --write"}
 
 # FIGURES_ONLY names groups; a name stands for every group that starts with
-# it (`sim` = the fifteen simulation runs, `setpoints` = both set-point runs).
+# it (`sim` = the eighteen simulation runs, `setpoints` = both set-point runs).
 # A figure read from several groups runs only when all of them are selected.
 
 # ---------------------------------------------------------------- helpers
@@ -478,6 +488,30 @@ for sid, label in [
 ]:
     figure(f"sim.drive.{sid}", "sim_" + sid, sim_drive_row,
            f"| {label} | {{p95}}° | {{ideal}} | {{c}}° / {{a}}° | {{raised}} / {{rec}} |")
+
+
+# --- the polar days: unwinds, the sun's elevation at each, tracking off
+SIM_UNWIND = (
+    r"^unwind: (?P<n>\d+) swings \(sun elevation at each: (?P<elev>[^)]*) deg\); "
+    r"minutes tracking more than 1 deg off the sun: (?P<off>\d+); C axis (?P<cday>\d+) deg a day\s*$"
+)
+
+
+def sim_polar_row(out):
+    u, last = rx(out, SIM_UNWIND), rx(out, SIM_LAST)
+    return {
+        "n": u["n"], "elev": u["elev"].replace(", ", " / "), "off": u["off"],
+        "cday": u["cday"], "ideal": last["ideal"],
+    }
+
+
+for sid, label in [
+    ("tromso", "Tromsø 69.65° N, 10–12 June"),
+    ("longyearbyen", "Longyearbyen 78.22° N, 10–12 June"),
+    ("mcmurdo", "McMurdo 77.85° S, 10–12 December"),
+]:
+    figure(f"sim.polar.{sid}", "sim_polar_" + sid, sim_polar_row,
+           f"| {label} | {{n}} | {{elev}}° | {{off}} | {{cday}}° | {{ideal}} |")
 
 
 def sim_faults(kano, tromso):

@@ -70,15 +70,16 @@ impl<T: Float> Pose<T> {
 
     /// How far the panel normal sweeps, at most, when both axes turn from
     /// `other` to this pose together, degrees: the A axis's turn plus the
-    /// C axis's turn on the cone of the larger tilt (the normal of
-    /// `n(γ, α)` (Choi et al. eq. 15–17) moves `sin α` degrees per degree of
-    /// γ). Small while the panel follows the sun, even where the C axis
-    /// turns fast under a sun near the tracker's axis; large for a change
-    /// of branch (half a turn of C with α changing sign) or a whole turn
-    /// of C at a steep tilt.
+    /// C axis's turn on the cone of the larger tilt α (the normal
+    /// `n(γ, α)` of Choi et al. eq. 15–17 moves `sin α` degrees per degree
+    /// of γ; bounded here by `min(α in radians, 1)`, no sine needed). Small
+    /// while the panel follows the sun, even where the C axis turns fast
+    /// under a sun near the tracker's axis; large for a change of branch
+    /// (half a turn of C with α changing sign) or a whole turn of C at a
+    /// steep tilt.
     pub fn sweep_deg(&self, other: &Pose<T>) -> T {
         let tilt_deg = self.alpha_deg.abs().max(other.alpha_deg.abs());
-        (self.gamma_deg - other.gamma_deg).abs() * tilt_deg.to_radians().sin()
+        (self.gamma_deg - other.gamma_deg).abs() * tilt_deg.to_radians().min(T::ONE)
             + (self.alpha_deg - other.alpha_deg).abs()
     }
 }

@@ -7,7 +7,7 @@
 //! turn of the C axis with the A axis changing sign, or a whole turn of C.
 //! The panel faces away from the sun for that move, so the starts are
 //! ranked first by their swings, each weighted by the sun's height then
-//! (`sin` of its elevation, plus a little so that a swing at the horizon
+//! (its elevation over 90°, plus a little so that a swing at the horizon
 //! still counts), and only among equals by travel. Where the sun never
 //! sets and the C axis turns less than the sun does in a day, some swing
 //! is unavoidable: the path that swings at the sun's lowest wins. The
@@ -87,10 +87,7 @@ where
     pub(super) fn begin_look_ahead(&mut self, now: UtcTime) -> bool {
         self.branch_anchor = None;
         self.branch_search = None;
-        let here = Pose {
-            gamma_deg: T::from_f32(self.axes[0].counted_deg()),
-            alpha_deg: T::from_f32(self.axes[1].counted_deg()),
-        };
+        let here = self.counted_pose();
         let sampled = self.scheduler.real_time();
         let (path, first) = if sampled {
             let Some(first) = self.scheduler.applied() else {
@@ -233,10 +230,7 @@ where
     /// other swing before the sun's lowest.
     pub(super) fn begin_swing_search(&mut self, now: UtcTime, first: &SetPoint<T>) {
         self.branch_anchor = None;
-        let here = Pose {
-            gamma_deg: T::from_f32(self.axes[0].counted_deg()),
-            alpha_deg: T::from_f32(self.axes[1].counted_deg()),
-        };
+        let here = self.counted_pose();
         self.start_branch_search(Path::Sampled { from: now, next: 1 }, first, &here);
     }
 
@@ -406,7 +400,9 @@ impl<T: Float> Starts<T> {
     fn visit(&mut self, sp: &SetPoint<T>, attitude: &MountAttitude<T>, limits: &PoseLimits<T>) {
         let elevation_deg = sp.elevation_deg();
         let sun = sun_vector_xyz(elevation_deg, sp.azimuth_deg);
-        let weight = elevation_deg.to_radians().sin().max(T::ZERO) + T::from_f32(SWING_FLOOR);
+        // Linear in the elevation (no sine: ranking needs only the order).
+        let weight =
+            elevation_deg.max(T::ZERO) * T::from_f32(1.0 / 90.0) + T::from_f32(SWING_FLOOR);
         let swing = T::from_f32(SWING_DEG);
         for s in self.0.iter_mut().flatten() {
             if let Ok(c) = attitude.choose(&sun, &s.prev, limits) {

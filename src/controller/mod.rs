@@ -536,15 +536,22 @@ where
         let sun = sun_vector_xyz(sp.elevation_deg(), sp.azimuth_deg);
         let current = match self.branch_anchor.take() {
             Some(anchor) => anchor,
-            None => Pose {
-                gamma_deg: T::from_f32(self.axes[0].counted_deg()),
-                alpha_deg: T::from_f32(self.axes[1].counted_deg()),
-            },
+            None => self.counted_pose(),
         };
         self.attitude
             .choose(&sun, &current, &self.limits())
             .ok()
             .map(|c| c.pose())
+    }
+
+    /// The pose the axes' counts say. Out of line on the AVR: three
+    /// callers.
+    #[cfg_attr(target_arch = "avr", inline(never))]
+    fn counted_pose(&self) -> Pose<T> {
+        Pose {
+            gamma_deg: T::from_f32(self.axes[0].counted_deg()),
+            alpha_deg: T::from_f32(self.axes[1].counted_deg()),
+        }
     }
 
     fn update_attitude(&mut self, now_ms: u32) {

@@ -326,26 +326,29 @@ where
     }
 
     /// [`Mode::Unwind`] instead of tracking from a swing's first tick
-    /// until both axes are within [`UNWOUND_DEG`] of its pose (their counts
-    /// less the counts their drives have still to run).
+    /// until both axes are within [`UNWOUND_DEG`] of the pose commanded
+    /// last (their counts less the counts their drives have still to
+    /// run), before this tick's target is driven: where the C axis turns a
+    /// few degrees a minute under a high sun, the next target is always
+    /// further than that.
     fn unwind_mode(&mut self, mode: Mode, was_tracking: bool, target: Option<&Pose<T>>) -> Mode {
         if mode != Mode::Tracking {
             self.unwinding = false;
             return mode;
         }
+        // Where an axis is: its count less the counts still to run.
+        let near = |i: usize, deg: T| {
+            self.axes.get(i).is_some_and(|a| {
+                let at_deg = a.counted_deg() - a.drive().pending() as f32 / a.counts_per_deg();
+                (T::from_f32(at_deg) - deg).abs() <= T::from_f32(UNWOUND_DEG)
+            })
+        };
+        if near(0, self.pose.gamma_deg) && near(1, self.pose.alpha_deg) {
+            self.unwinding = false;
+        }
         if let Some(p) = target {
             if was_tracking && self.swing_from_last(p) {
                 self.unwinding = true;
-            }
-            // Where the axis is: its count less the counts still to run.
-            let near = |i: usize, deg: T| {
-                self.axes.get(i).is_some_and(|a| {
-                    let at_deg = a.counted_deg() - a.drive().pending() as f32 / a.counts_per_deg();
-                    (T::from_f32(at_deg) - deg).abs() <= T::from_f32(UNWOUND_DEG)
-                })
-            };
-            if near(0, p.gamma_deg) && near(1, p.alpha_deg) {
-                self.unwinding = false;
             }
         }
         if self.unwinding {
