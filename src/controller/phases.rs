@@ -294,14 +294,12 @@ where
                 if was_tracking && self.swing_from_last(&q) {
                     // The branch followed runs into a limit here: swing
                     // once, to the branch the next 24 hours need.
+                    // The axes hold still this tick; the search goes on
+                    // (or ends) in the next ones, as a day's search does.
                     if !self.swing_searched {
                         self.swing_searched = true;
                         self.begin_swing_search(now, &sp);
-                        p = if self.look_ahead_pending() {
-                            None
-                        } else {
-                            self.pose_for(&sp)
-                        };
+                        p = None;
                     }
                 } else {
                     self.swing_searched = false;
@@ -326,9 +324,9 @@ where
     }
 
     /// [`Mode::Unwind`] instead of tracking from a swing's first tick
-    /// until both axes are within [`UNWOUND_DEG`] of the pose commanded
-    /// last (their counts less the counts their drives have still to
-    /// run), before this tick's target is driven: where the C axis turns a
+    /// until both axes have run their counts and are within
+    /// [`UNWOUND_DEG`] of the pose commanded last, before this tick's
+    /// target is driven: where the C axis turns a
     /// few degrees a minute under a high sun, the next target is always
     /// further than that.
     fn unwind_mode(&mut self, mode: Mode, was_tracking: bool, target: Option<&Pose<T>>) -> Mode {
@@ -336,11 +334,12 @@ where
             self.unwinding = false;
             return mode;
         }
-        // Where an axis is: its count less the counts still to run.
+        // An axis is there when its drive has no counts left to run and
+        // its count is within reach of the pose.
         let near = |i: usize, deg: T| {
             self.axes.get(i).is_some_and(|a| {
-                let at_deg = a.counted_deg() - a.drive().pending() as f32 / a.counts_per_deg();
-                (T::from_f32(at_deg) - deg).abs() <= T::from_f32(UNWOUND_DEG)
+                a.drive().pending() == 0
+                    && (T::from_f32(a.counted_deg()) - deg).abs() <= T::from_f32(UNWOUND_DEG)
             })
         };
         if near(0, self.pose.gamma_deg) && near(1, self.pose.alpha_deg) {
