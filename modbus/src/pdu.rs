@@ -1,0 +1,193 @@
+//! The server side of the Modbus application protocol: function codes 03,
+//! 06 and 16 on a register map, replies built into the caller's buffer.
+//!
+//! Modbus Application Protocol Specification V1.1b3 (modbus.org, 2012):
+//! §6.3 (03 Read Holding Registers, 1 to 125 registers), §6.6 (06 Write
+//! Single Register), §6.12 (16 Write Multiple Registers, 1 to 123
+//! registers), §7 (exception responses). Checks follow the order of the
+//! spec's state diagrams: function code (01), quantity and lengths (03),
+//! address range (02), then the operation itself (its own code, 04 when the
+//! device fails).
+
+use crate::crc::crc16;
+use crate::rtu::MAX_FRAME_BYTES;
+
+/// Read Holding Registers.
+pub const FC_READ_HOLDING: u8 = 0x03;
+/// Write Single Register.
+pub const FC_WRITE_SINGLE: u8 = 0x06;
+/// Write Multiple Registers.
+pub const FC_WRITE_MULTIPLE: u8 = 0x10;
+/// Most registers one 03 request reads (§6.3).
+pub const MAX_READ_REGISTERS: u16 = 125;
+/// Most registers one 16 request writes (§6.12).
+pub const MAX_WRITE_REGISTERS: u16 = 123;
+/// The broadcast address: every server acts, none replies (Modbus over
+/// Serial Line V1.02, §2.2).
+pub const BROADCAST: u8 = 0;
+
+/// A Modbus exception code (Application Protocol V1.1b3, §7).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+#[repr(u8)]
+pub enum Exception {
+    /// 01: the function code is not served, or not in the server's present
+    /// state (writes while they are disabled).
+    IllegalFunction = 1,
+    /// 02: an address, or the range from it, is not in the map (or a write
+    /// covers a read-only register or only part of a point).
+    IllegalDataAddress = 2,
+    /// 03: a quantity, length or value is not allowed.
+    IllegalDataValue = 3,
+    /// 04: the device failed to carry out the request.
+    ServerDeviceFailure = 4,
+    /// 06: the device is busy with a long command; try again later.
+    ServerDeviceBusy = 6,
+}
+
+/// A register space a [`Server`] serves.
+pub trait RegisterMap {
+    /// Checks that `count` registers from `start` may all be read (the
+    /// range lies in the map): [`Exception::IllegalDataAddress`] if not.
+    fn check_read(&mut self, start: u16, count: u16) -> Result<(), Exception>;
+    /// The value of register `addr`, after a successful `check_read` of a
+    /// range that holds it.
+    fn read(&mut self, addr: u16) -> u16;
+    /// Writes `values` (big-endian register pairs) from `start`. `broadcast`
+    /// tells the request came to address 0 (no reply will be sent).
+    fn write(&mut self, start: u16, values: &[u8], broadcast: bool) -> Result<(), Exception>;
+}
+
+/// The Modbus server: its address and whether writes are served.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct Server {
+    /// Our address on the bus, 1 to 247.
+    pub address: u8,
+    /// Writes (06, 16) are served only when set; otherwise they get
+    /// [`Exception::IllegalFunction`], the spec's code for a function the
+    /// server will not perform in its present state (§7: "the server is in
+    /// the wrong state to process a request of this type"). 04 would tell
+    /// the SCADA the device failed, and a master may retry or raise a
+    /// device alarm for that.
+    pub writes_enabled: bool,
+}
+
+fn be16(frame: &[u8], at: usize) -> u16 {
+    match frame.get(at..at + 2) {
+        Some(&[hi, lo]) => u16::from_be_bytes([hi, lo]),
+        _ => 0,
+    }
+}
+
+impl Server {
+    /// The reply to `frame` (address, function code, data; CRC already
+    /// checked and removed, as [`crate::rtu::RtuReceiver::poll`] gives it),
+    /// written into `out` with its CRC: its length, or `None` when nothing
+    /// is to be sent (another server's address, broadcast). `out` needs
+    /// [`MAX_FRAME_BYTES`]; a shorter one gets nothing written.
+    pub fn handle<M: RegisterMap>(
+        &self,
+        frame: &[u8],
+        map: &mut M,
+        out: &mut [u8],
+    ) -> Option<usize> {
+        let (&address, pdu) = frame.split_first()?;
+        if address != self.address && address != BROADCAST {
+            return None;
+        }
+        let broadcast = address == BROADCAST;
+        let &function = pdu.first()?;
+        let out = out.get_mut(..MAX_FRAME_BYTES)?;
+        out[0] = address;
+        out[1] = function;
+        let result = self.serve(function, pdu, map, broadcast, out);
+        if broadcast {
+            return None;
+        }
+        let len = match result {
+            Ok(len) => len,
+            Err(e) => {
+                out[1] = function | 0x80;
+                out[2] = e as u8;
+                3
+            }
+        };
+        let crc = crc16(&out[..len]).to_le_bytes();
+        out[len..len + 2].copy_from_slice(&crc);
+        Some(len + 2)
+    }
+
+    /// Serves the PDU; the reply's length without the CRC (address and
+    /// function code already in `out`).
+    fn serve<M: RegisterMap>(
+        &self,
+        function: u8,
+        pdu: &[u8],
+        map: &mut M,
+        broadcast: bool,
+        out: &mut [u8],
+    ) -> Result<usize, Exception> {
+        let start = be16(pdu, 1);
+        let count = be16(pdu, 3);
+        match function {
+            FC_READ_HOLDING => {
+                if broadcast {
+                    // A read cannot be answered; nothing to do.
+                    return Ok(0);
+                }
+                if pdu.len() != 5 || count == 0 || count > MAX_READ_REGISTERS {
+                    return Err(Exception::IllegalDataValue);
+                }
+                check_range(start, count)?;
+                map.check_read(start, count)?;
+                out[2] = (count * 2) as u8;
+                let mut at = 3;
+                // `start + i` stays within 65,535: `check_range` above.
+                for i in 0..count {
+                    let [hi, lo] = map.read(start + i).to_be_bytes();
+                    out[at] = hi;
+                    out[at + 1] = lo;
+                    at += 2;
+                }
+                Ok(at)
+            }
+            FC_WRITE_SINGLE => {
+                if !self.writes_enabled {
+                    return Err(Exception::IllegalFunction);
+                }
+                if pdu.len() != 5 {
+                    return Err(Exception::IllegalDataValue);
+                }
+                map.write(start, &pdu[3..5], broadcast)?;
+                // The reply echoes the request.
+                out[2..6].copy_from_slice(&pdu[1..5]);
+                Ok(6)
+            }
+            FC_WRITE_MULTIPLE => {
+                if !self.writes_enabled {
+                    return Err(Exception::IllegalFunction);
+                }
+                let byte_count = pdu.get(5).copied().map_or(0, usize::from);
+                if count == 0
+                    || count > MAX_WRITE_REGISTERS
+                    || byte_count != usize::from(count) * 2
+                    || pdu.len() != 6 + byte_count
+                {
+                    return Err(Exception::IllegalDataValue);
+                }
+                check_range(start, count)?;
+                map.write(start, &pdu[6..], broadcast)?;
+                out[2..6].copy_from_slice(&pdu[1..5]);
+                Ok(6)
+            }
+            _ => Err(Exception::IllegalFunction),
+        }
+    }
+}
+
+/// The range must not run past register 65,535.
+fn check_range(start: u16, count: u16) -> Result<(), Exception> {
+    match start.checked_add(count - 1) {
+        Some(_) => Ok(()),
+        None => Err(Exception::IllegalDataAddress),
+    }
+}
