@@ -348,35 +348,34 @@ fn text(s: &[u8], i: u16) -> u16 {
     ])
 }
 
-/// `value` as decimal digits filling `out` (leading zeros).
-fn digits(out: &mut [u8], mut value: u16) {
-    for d in out.iter_mut().rev() {
-        *d = b'0' + (value % 10) as u8;
-        value /= 10;
+/// Two ASCII digits of `value % 100` in one register.
+fn two_digits(value: u16) -> u16 {
+    let v = (value % 100) as u8;
+    u16::from_be_bytes([b'0' + v / 10, b'0' + v % 10])
+}
+
+/// Register `i` of the string `YYYYMMDD` (two digits a register).
+fn date_reg(t: &DateTime, i: u16) -> u16 {
+    match i {
+        0 => two_digits(t.year / 100),
+        1 => two_digits(t.year),
+        2 => two_digits(u16::from(t.month)),
+        3 => two_digits(u16::from(t.day)),
+        _ => 0,
     }
 }
 
-/// `YYYYMMDD`.
-fn date_text(t: &DateTime) -> [u8; 8] {
-    let mut s = [0; 8];
-    digits(&mut s[0..4], t.year);
-    digits(&mut s[4..6], u16::from(t.month));
-    digits(&mut s[6..8], u16::from(t.day));
-    s
-}
-
-/// `hhmmss`, then `.sssZ` when `millis`.
-fn time_text(t: &DateTime, millis: bool) -> [u8; 11] {
-    let mut s = [0; 11];
-    digits(&mut s[0..2], u16::from(t.hour));
-    digits(&mut s[2..4], u16::from(t.minute));
-    digits(&mut s[4..6], u16::from(t.second));
-    if millis {
-        s[6] = b'.';
-        digits(&mut s[7..10], t.millisecond);
-        s[10] = b'Z';
+/// Register `i` of the string `hhmmss`, or `hhmmss.sssZ` when `millis`.
+fn time_reg(t: &DateTime, i: u16, millis: bool) -> u16 {
+    match i {
+        0 => two_digits(u16::from(t.hour)),
+        1 => two_digits(u16::from(t.minute)),
+        2 => two_digits(u16::from(t.second)),
+        3 if millis => u16::from_be_bytes([b'.', b'0' + (t.millisecond / 100 % 10) as u8]),
+        4 if millis => two_digits(t.millisecond),
+        5 if millis => u16::from_be_bytes([b'Z', 0]),
+        _ => 0,
     }
-    s
 }
 
 /// Register `i` (0 or 1) of an int32 point, high word first.
@@ -490,16 +489,18 @@ impl<D: TrackerData> SunSpecMap<D> {
                 word(a.azimuth_cdeg, i - 2)
             }
         };
-        let pairs = [
-            (m601::GLBL_EL_CTL, d.manual_target_cdeg()),
-            (m601::EL_CTL, d.manual_target_cdeg()),
-            (m601::EL_TRGT, d.target_cdeg()),
-            (m601::EL_POS, d.position_cdeg()),
-        ];
-        for (at, value) in pairs {
-            if let Some(i) = in_point(off, at, 4) {
-                return angle(value, i);
-            }
+        // Each value fetched only for its own registers.
+        if let Some(i) = in_point(off, m601::GLBL_EL_CTL, 4) {
+            return angle(d.manual_target_cdeg(), i);
+        }
+        if let Some(i) = in_point(off, m601::EL_CTL, 4) {
+            return angle(d.manual_target_cdeg(), i);
+        }
+        if let Some(i) = in_point(off, m601::EL_TRGT, 4) {
+            return angle(d.target_cdeg(), i);
+        }
+        if let Some(i) = in_point(off, m601::EL_POS, 4) {
+            return angle(d.position_cdeg(), i);
         }
         if let Some(i) = in_point(off, m601::NAM, 8) {
             return text(d.identity().controller_name.as_bytes(), i);
@@ -508,12 +509,10 @@ impl<D: TrackerData> SunSpecMap<D> {
             return text(d.identity().tracker_name.as_bytes(), i);
         }
         if let Some(i) = in_point(off, m601::DT_LOC, 5) {
-            return d.local_time().map_or(0, |t| text(&date_text(&t), i));
+            return d.local_time().map_or(0, |t| date_reg(&t, i));
         }
         if let Some(i) = in_point(off, m601::TM_LOC, 3) {
-            return d
-                .local_time()
-                .map_or(0, |t| text(&time_text(&t, false)[..6], i));
+            return d.local_time().map_or(0, |t| time_reg(&t, i, false));
         }
         match off {
             0 => m601::ID,
@@ -543,10 +542,10 @@ impl<D: TrackerData> SunSpecMap<D> {
             };
         };
         if let Some(i) = in_point(off, m305::TM, 6) {
-            return text(&time_text(&fix.utc, true), i);
+            return time_reg(&fix.utc, i, true);
         }
         if let Some(i) = in_point(off, m305::DATE, 4) {
-            return text(&date_text(&fix.utc), i);
+            return date_reg(&fix.utc, i);
         }
         let numbers = [
             (m305::LAT, fix.latitude_e7deg),
