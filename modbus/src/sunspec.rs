@@ -348,7 +348,10 @@ fn text(s: &[u8], i: u16) -> u16 {
     ])
 }
 
-/// Two ASCII digits of `value % 100` in one register.
+/// Two ASCII digits of `value % 100` in one register. Not inlined: its
+/// divisions by constants expand to multiplications on the AVR, 60-odd
+/// bytes a copy (measured: `modbus/avr_size.sh`).
+#[inline(never)]
 fn two_digits(value: u16) -> u16 {
     let v = (value % 100) as u8;
     u16::from_be_bytes([b'0' + v / 10, b'0' + v % 10])
