@@ -275,7 +275,8 @@ pub struct VendorStatus {
 /// A write from the SCADA, checked against the point's type and range.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum Command {
-    /// Model 1 `DA`: a new Modbus address, 1 to 247.
+    /// Model 1 `DA`: a new Modbus address, 1 to 247. The reply still goes
+    /// out from the old one: change [`crate::Server::address`] after it.
     DeviceAddress(u8),
     /// `GlblElCtl` or `ElCtl`: the manual elevation target, 0.01°, -9,000 to 9,000.
     ManualElevation(i32),

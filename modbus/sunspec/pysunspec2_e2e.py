@@ -33,15 +33,22 @@ def check(what, got, want, tol=None):
     (passed if ok else failures).append(what)
 
 
+def start(server, *args):
+    """The server on a new pty's master, and a pysunspec2 device on its other side."""
+    master, slave = os.openpty()
+    tty.setraw(slave)  # no echo of the server's replies back into it
+    cmd = [server, "--address", str(ADDRESS), "--baud", str(BAUD), *args]
+    proc = subprocess.Popen(cmd, stdin=master, stdout=master)
+    dev = client.SunSpecModbusClientDeviceRTU(slave_id=ADDRESS, name=os.ttyname(slave), baudrate=BAUD, timeout=2)
+    return proc, dev
+
+
 def main():
     server = sys.argv[1]
     # The vendor model's definition beside this script, then pysunspec2's own.
     sunspec2.device.set_model_defs_path([HERE] + sunspec2.device.get_model_defs_path())
-    master, slave = os.openpty()
-    tty.setraw(slave)  # no echo of the server's replies back into it
-    proc = subprocess.Popen([server, "--address", str(ADDRESS), "--baud", str(BAUD)], stdin=master, stdout=master)
+    proc, dev = start(server)
     try:
-        dev = client.SunSpecModbusClientDeviceRTU(slave_id=ADDRESS, name=os.ttyname(slave), baudrate=BAUD, timeout=2)
         dev.scan()
         found = sorted(k for k in dev.models if isinstance(k, int))
         check("models found", found, [1, 305, 601, 64201])
@@ -105,6 +112,18 @@ def main():
             check("601 GlblCtl = 7 refused", "no exception", "Modbus exception: 3")
         except modbus.ModbusClientException as e:
             check("601 GlblCtl = 7 refused", str(e), "Modbus exception: 3")
+        dev.close()
+    finally:
+        proc.terminate()
+        proc.wait()
+
+    # Without a GPS: no model 305, the vendor model right after 601.
+    proc, dev = start(server, "--no-gps")
+    try:
+        dev.scan()
+        found = sorted(k for k in dev.models if isinstance(k, int))
+        check("models found without GPS", found, [1, 601, 64201])
+        check("64201 after 601", dev.models[64201][0].model_addr, dev.models[601][0].model_addr + 50)
         dev.close()
     finally:
         proc.terminate()

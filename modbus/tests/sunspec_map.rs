@@ -283,98 +283,35 @@ fn write_exceptions() {
     let mut map = SunSpecMap::new(Demo::new(ADDRESS, false), false);
     let t = map.tracker_addr();
     let da = map.common_addr() + m1::DA;
-    let exception = |reply: Option<Vec<u8>>| reply.map(|r| (r[1], r[2]));
-    // Half of an int32: 02.
-    assert_eq!(
-        exception(write(
-            &mut map,
-            &WRITER,
-            ADDRESS,
-            t + m601::GLBL_EL_CTL,
-            &[0]
-        )),
-        Some((0x86, 2))
+    let (el, az, ctl) = (
+        t + m601::GLBL_EL_CTL,
+        t + m601::GLBL_AZ_CTL,
+        t + m601::GLBL_CTL,
     );
-    assert_eq!(
-        exception(write(
-            &mut map,
-            &WRITER,
-            ADDRESS,
-            t + m601::GLBL_EL_CTL + 1,
-            &[0, 0]
-        )),
-        Some((0x90, 2))
-    );
-    // A run that ends inside an int32: 02, and nothing of it done.
-    assert_eq!(
-        exception(write(
-            &mut map,
-            &WRITER,
-            ADDRESS,
-            t + m601::GLBL_EL_CTL,
-            &[0, 0, 0]
-        )),
-        Some((0x90, 2))
-    );
-    // Read-only points: 02.
-    assert_eq!(
-        exception(write(
-            &mut map,
-            &WRITER,
-            ADDRESS,
-            t + m601::EL_TRGT,
-            &[0, 0]
-        )),
-        Some((0x90, 2))
-    );
-    assert_eq!(
-        exception(write(&mut map, &WRITER, ADDRESS, 40000, &[0])),
-        Some((0x86, 2))
-    );
-    // Values outside the point's range: 03.
-    assert_eq!(
-        exception(write(&mut map, &WRITER, ADDRESS, t + m601::GLBL_CTL, &[3])),
-        Some((0x86, 3))
-    );
-    assert_eq!(
-        exception(write(
-            &mut map,
-            &WRITER,
-            ADDRESS,
-            t + m601::GLBL_EL_CTL,
-            &[0, 9_001]
-        )),
-        Some((0x90, 3))
-    );
-    assert_eq!(
-        exception(write(
-            &mut map,
-            &WRITER,
-            ADDRESS,
-            t + m601::GLBL_AZ_CTL,
-            &[0xFFFF, 0xFFFF]
-        )),
-        Some((0x90, 3))
-    );
-    assert_eq!(
-        exception(write(&mut map, &WRITER, ADDRESS, da, &[0])),
-        Some((0x86, 3))
-    );
-    assert_eq!(
-        exception(write(&mut map, &WRITER, ADDRESS, da, &[248])),
-        Some((0x86, 3))
-    );
-    // A good value then a bad one in one request: nothing done.
-    assert_eq!(
-        exception(write(
-            &mut map,
-            &WRITER,
-            ADDRESS,
-            t + m601::GLBL_EL_CTL,
-            &[0, 100, 0, 36_001]
-        )),
-        Some((0x90, 3))
-    );
+    // (first register, values, exception code); function 06 for one
+    // register, 16 for more.
+    let cases: &[(u16, &[u16], u8)] = &[
+        // Half of an int32, or a run that ends inside one: 02.
+        (el, &[0], 2),
+        (el + 1, &[0, 0], 2),
+        (el, &[0, 0, 0], 2),
+        // Read-only points: 02.
+        (t + m601::EL_TRGT, &[0, 0], 2),
+        (40000, &[0], 2),
+        // Values outside the point's range: 03.
+        (ctl, &[3], 3),
+        (el, &[0, 9_001], 3),
+        (az, &[0xFFFF, 0xFFFF], 3),
+        (da, &[0], 3),
+        (da, &[248], 3),
+        // A good value then a bad one in one request: 03, nothing done.
+        (el, &[0, 100, 0, 36_001], 3),
+    ];
+    for &(start, values, code) in cases {
+        let reply = write(&mut map, &WRITER, ADDRESS, start, values).unwrap();
+        let function = if values.len() == 1 { 0x86 } else { 0x90 };
+        assert_eq!(reply, [ADDRESS, function, code], "{start} {values:?}");
+    }
     assert!(map.data.commands.is_empty());
     // Writes disabled: 01.
     let reader = Server {
@@ -382,15 +319,15 @@ fn write_exceptions() {
         writes_enabled: false,
     };
     assert_eq!(
-        exception(write(&mut map, &reader, ADDRESS, t + m601::GLBL_CTL, &[1])),
-        Some((0x86, 1))
+        write(&mut map, &reader, ADDRESS, ctl, &[1]).unwrap(),
+        [ADDRESS, 0x86, 1]
     );
     assert!(map.data.commands.is_empty());
     // The tracker's refusal passes through.
     map.data.refuse = Some(suntracker_modbus::Exception::ServerDeviceBusy);
     assert_eq!(
-        exception(write(&mut map, &WRITER, ADDRESS, t + m601::GLBL_CTL, &[2])),
-        Some((0x86, 6))
+        write(&mut map, &WRITER, ADDRESS, ctl, &[2]).unwrap(),
+        [ADDRESS, 0x86, 6]
     );
 }
 
