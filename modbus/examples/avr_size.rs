@@ -73,15 +73,19 @@ mod avr {
         }
     }
 
+    /// The reply written over the request in the receiver's buffer (no
+    /// second 256-byte buffer), sent byte by byte.
     fn serve<D: TrackerData>(
-        frame: &[u8],
+        rx: &mut RtuReceiver,
+        t: u32,
         server: &Server,
         map: &mut SunSpecMap<D>,
-        out: &mut [u8; 256],
     ) {
-        if let Some(len) = server.handle(frame, map, out) {
-            for &b in out.get(..len).unwrap_or(&[]) {
-                black_box(b);
+        if let Some((buf, len)) = rx.poll_in_place(t) {
+            if let Some(len) = server.handle_in_place(buf, len, map) {
+                for &b in buf.get(..len).unwrap_or(&[]) {
+                    black_box(b);
+                }
             }
         }
     }
@@ -117,18 +121,13 @@ mod avr {
             writes_enabled: black_box(true),
         };
         let mut map = SunSpecMap::new(data, black_box(true));
-        let mut out = [0_u8; 256];
         loop {
             let (byte, t) = black_box((0_u8, 0_u32));
             if rx.push(byte, t) == Push::FrameWaiting {
-                if let Some(frame) = rx.poll(t) {
-                    serve(frame, &server, &mut map, &mut out);
-                }
+                serve(&mut rx, t, &server, &mut map);
                 black_box(rx.push(byte, t));
             }
-            if let Some(frame) = rx.poll(black_box(t)) {
-                serve(frame, &server, &mut map, &mut out);
-            }
+            serve(&mut rx, black_box(t), &server, &mut map);
         }
     }
 

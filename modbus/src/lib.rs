@@ -16,8 +16,9 @@
 //!   characters, dropping frames with a gap of over 1.5 characters, over
 //!   256 bytes or with a bad CRC. Every call is O(1), nothing blocks.
 //! - [`pdu`]: the [`Server`] of function codes 03, 06 and 16 on any
-//!   [`RegisterMap`], with exceptions 01 to 04, replying into the caller's
-//!   buffer; nothing for other addresses or broadcast.
+//!   [`RegisterMap`], with exceptions 01 to 04, replying over the request
+//!   in the receiver's buffer (or into the caller's); nothing for other
+//!   addresses or broadcast.
 //! - [`sunspec`]: [`SunSpecMap`], the register map at 40000, computing each
 //!   register on read from a [`TrackerData`] the firmware implements (no
 //!   copy of the map in RAM); writes become [`sunspec::Command`]s.
@@ -40,24 +41,23 @@
 //!     now_us: u32,
 //!     mut send: impl FnMut(&[u8]),
 //! ) {
-//!     let mut reply = [0; 256];
+//!     // The reply is written over the request in the receiver's buffer.
+//!     let mut serve = |receiver: &mut RtuReceiver, t_us: u32| {
+//!         if let Some((buf, len)) = receiver.poll_in_place(t_us) {
+//!             if let Some(len) = server.handle_in_place(buf, len, map) {
+//!                 send(&buf[..len]);
+//!             }
+//!         }
+//!     };
 //!     while let Some(&(byte, t_us)) = queue.peek() {
 //!         if receiver.push(byte, t_us) == Push::FrameWaiting {
 //!             // The previous frame ended before this byte: serve it first.
-//!             if let Some(frame) = receiver.poll(t_us) {
-//!                 if let Some(len) = server.handle(frame, map, &mut reply) {
-//!                     send(&reply[..len]);
-//!                 }
-//!             }
+//!             serve(receiver, t_us);
 //!             continue;
 //!         }
 //!         queue.next();
 //!     }
-//!     if let Some(frame) = receiver.poll(now_us) {
-//!         if let Some(len) = server.handle(frame, map, &mut reply) {
-//!             send(&reply[..len]);
-//!         }
-//!     }
+//!     serve(receiver, now_us);
 //! }
 //! ```
 //!
@@ -67,15 +67,16 @@
 //! profile, opt-level "s", LTO, libgcc's division as the boards link it):
 //! rmodbus 0.13 (no_std, heapless) parsing an RTU frame, processing it on
 //! its register storage and finalising the reply took 2,210 B of flash over
-//! a baseline, against 1,326 B for this crate's [`Server`] on the same
+//! a baseline, against 1,288 B for this crate's [`Server`] on the same
 //! 172-register table (rmodbus serves coils, discrete inputs and input
-//! registers too, which this crate does not). rmodbus's storage also indexes registers by address:
+//! registers too, which this crate does not; the probe was built outside
+//! this repository). rmodbus's storage also indexes registers by address:
 //! serving SunSpec's 40000 needs a 40,172-register array (80 KB of RAM) or
 //! an implementation of its 44-method context trait, while [`SunSpecMap`]
 //! computes each register when read and keeps nothing. rmodbus leaves frame
 //! timing (the 1.5 and 3.5 character silences) to the application; here it
 //! is part of the tested crate. The whole of this crate (receiver, server,
-//! map over a dummy tracker) is 6,456 B on the ATmega2560 (`bash
+//! map over a dummy tracker) is 6,304 B on the ATmega2560 (`bash
 //! modbus/avr_size.sh`).
 //!
 //! # Sources

@@ -71,6 +71,7 @@ pub struct Server {
     pub writes_enabled: bool,
 }
 
+/// The big-endian register at byte `at` of `frame`, 0 past its end.
 fn be16(frame: &[u8], at: usize) -> u16 {
     match frame.get(at..at + 2) {
         Some(&[hi, lo]) => u16::from_be_bytes([hi, lo]),
@@ -82,70 +83,92 @@ impl Server {
     /// The reply to `frame` (address, function code, data; CRC already
     /// checked and removed, as [`crate::rtu::RtuReceiver::poll`] gives it),
     /// written into `out` with its CRC: its length, or `None` when nothing
-    /// is to be sent (another server's address, broadcast). `out` needs
-    /// [`MAX_FRAME_BYTES`]; a shorter one gets nothing written.
+    /// is to be sent (another server's address, broadcast, a frame of fewer
+    /// than 2 or more than 254 bytes). `out` needs [`MAX_FRAME_BYTES`]; a
+    /// shorter one gets nothing written. (The frame is copied into `out`
+    /// and served there: [`Server::handle_in_place`].)
     pub fn handle<M: RegisterMap>(
         &self,
         frame: &[u8],
         map: &mut M,
         out: &mut [u8],
     ) -> Option<usize> {
-        let (&address, pdu) = frame.split_first()?;
+        let out = out.get_mut(..MAX_FRAME_BYTES)?;
+        out.get_mut(..frame.len())?.copy_from_slice(frame);
+        self.handle_in_place(out, frame.len(), map)
+    }
+
+    /// The reply to the frame in `buf[..len]` (as
+    /// [`crate::rtu::RtuReceiver::poll_in_place`] leaves it), written over
+    /// it in `buf` with its CRC: its length, or `None` as for
+    /// [`Server::handle`]. No second 256-byte buffer: the request's fields
+    /// are read before the reply overwrites them.
+    pub fn handle_in_place<M: RegisterMap>(
+        &self,
+        buf: &mut [u8],
+        len: usize,
+        map: &mut M,
+    ) -> Option<usize> {
+        let buf = buf.get_mut(..MAX_FRAME_BYTES)?;
+        if !(2..=MAX_FRAME_BYTES - 2).contains(&len) {
+            return None;
+        }
+        let address = buf[0];
         if address != self.address && address != BROADCAST {
             return None;
         }
         let broadcast = address == BROADCAST;
-        let &function = pdu.first()?;
-        let out = out.get_mut(..MAX_FRAME_BYTES)?;
-        out[0] = address;
-        out[1] = function;
-        let result = self.serve(function, pdu, map, broadcast, out);
+        let function = buf[1];
+        let result = self.serve(function, buf, len, map, broadcast);
         if broadcast {
             return None;
         }
         let len = match result {
             Ok(len) => len,
             Err(e) => {
-                out[1] = function | 0x80;
-                out[2] = e as u8;
+                buf[1] = function | 0x80;
+                buf[2] = e as u8;
                 3
             }
         };
-        let crc = crc16(&out[..len]).to_le_bytes();
-        out[len..len + 2].copy_from_slice(&crc);
+        let crc = crc16(&buf[..len]).to_le_bytes();
+        buf[len..len + 2].copy_from_slice(&crc);
         Some(len + 2)
     }
 
-    /// Serves the PDU; the reply's length without the CRC (address and
-    /// function code already in `out`).
+    /// Serves the request in `buf[..len]`, writing the reply over it from
+    /// byte 2 on (address and function code stay); the reply's length
+    /// without the CRC.
     fn serve<M: RegisterMap>(
         &self,
         function: u8,
-        pdu: &[u8],
+        buf: &mut [u8],
+        len: usize,
         map: &mut M,
         broadcast: bool,
-        out: &mut [u8],
     ) -> Result<usize, Exception> {
-        let start = be16(pdu, 1);
-        let count = be16(pdu, 3);
+        let request = buf.get(..len).unwrap_or(&[]);
+        let start = be16(request, 2);
+        let count = be16(request, 4);
         match function {
             FC_READ_HOLDING => {
                 if broadcast {
                     // A read cannot be answered; nothing to do.
                     return Ok(0);
                 }
-                if pdu.len() != 5 || count == 0 || count > MAX_READ_REGISTERS {
+                if len != 6 || count == 0 || count > MAX_READ_REGISTERS {
                     return Err(Exception::IllegalDataValue);
                 }
                 check_range(start, count)?;
                 map.check_read(start, count)?;
-                out[2] = (count * 2) as u8;
+                // `start` and `count` are read: the reply may overwrite them.
+                buf[2] = (count * 2) as u8;
                 let mut at = 3;
                 // `start + i` stays within 65,535: `check_range` above.
                 for i in 0..count {
                     let [hi, lo] = map.read(start + i).to_be_bytes();
-                    out[at] = hi;
-                    out[at + 1] = lo;
+                    buf[at] = hi;
+                    buf[at + 1] = lo;
                     at += 2;
                 }
                 Ok(at)
@@ -154,29 +177,28 @@ impl Server {
                 if !self.writes_enabled {
                     return Err(Exception::IllegalFunction);
                 }
-                if pdu.len() != 5 {
+                if len != 6 {
                     return Err(Exception::IllegalDataValue);
                 }
-                map.write(start, &pdu[3..5], broadcast)?;
-                // The reply echoes the request.
-                out[2..6].copy_from_slice(&pdu[1..5]);
+                map.write(start, &buf[4..6], broadcast)?;
+                // The reply echoes the request, already in place.
                 Ok(6)
             }
             FC_WRITE_MULTIPLE => {
                 if !self.writes_enabled {
                     return Err(Exception::IllegalFunction);
                 }
-                let byte_count = pdu.get(5).copied().map_or(0, usize::from);
+                let byte_count = request.get(6).copied().map_or(0, usize::from);
                 if count == 0
                     || count > MAX_WRITE_REGISTERS
                     || byte_count != usize::from(count) * 2
-                    || pdu.len() != 6 + byte_count
+                    || len != 7 + byte_count
                 {
                     return Err(Exception::IllegalDataValue);
                 }
                 check_range(start, count)?;
-                map.write(start, &pdu[6..], broadcast)?;
-                out[2..6].copy_from_slice(&pdu[1..5]);
+                map.write(start, &buf[7..len], broadcast)?;
+                // The reply: address, function, start and count, in place.
                 Ok(6)
             }
             _ => Err(Exception::IllegalFunction),

@@ -158,6 +158,15 @@ impl RtuReceiver {
     /// good CRC: address, function code and data, without the CRC. Frames
     /// that fail are dropped without a word.
     pub fn poll(&mut self, now: u32) -> Option<&[u8]> {
+        let (buf, len) = self.poll_in_place(now)?;
+        buf.get(..len)
+    }
+
+    /// As [`RtuReceiver::poll`], but the whole buffer and the frame's
+    /// length (without the CRC), for a reply written over the request
+    /// ([`crate::Server::handle_in_place`]). The buffer is free again at
+    /// the next `push`.
+    pub fn poll_in_place(&mut self, now: u32) -> Option<(&mut [u8; MAX_FRAME_BYTES], usize)> {
         if self.state == State::Idle || now.wrapping_sub(self.last_tick) <= self.timing.t35_ticks {
             return None;
         }
@@ -166,7 +175,7 @@ impl RtuReceiver {
         let len = usize::from(self.len);
         self.len = 0;
         if good {
-            self.buf.get(..len.saturating_sub(2))
+            Some((&mut self.buf, len.saturating_sub(2)))
         } else {
             None
         }

@@ -180,7 +180,8 @@ fn write_multiple_quantity_and_byte_count() {
     // 123 registers, the most (§6.12).
     let reply = transact(&SERVER, &mut t, &request(123, 246, 246)).unwrap();
     assert_eq!(reply, with_crc(&[0x11, 0x10, 0x00, 0x00, 0x00, 123]));
-    for (count, byte_count, data) in [(124, 248, 248), (0, 0, 0), (2, 4, 3), (2, 3, 3), (2, 4, 5)] {
+    // 124 registers (in the most a frame holds: 254 bytes without CRC).
+    for (count, byte_count, data) in [(124, 248, 247), (0, 0, 0), (2, 4, 3), (2, 3, 3), (2, 4, 5)] {
         let reply = transact(&SERVER, &mut t, &request(count, byte_count, data)).unwrap();
         assert_eq!(
             reply,
@@ -270,6 +271,43 @@ fn broadcast_writes_act_without_reply() {
         transact(&SERVER, &mut t, &[0x00, 0x2B, 0x0E, 0x01, 0x00]),
         None
     );
+}
+
+#[test]
+fn frames_no_rtu_line_carries_get_nothing() {
+    let mut t = Table::new();
+    // 255 bytes and a CRC would be 257 on the wire.
+    let mut request = vec![0x11, 0x10, 0x00, 0x00, 0x00, 124, 248];
+    request.resize(255, 0);
+    assert_eq!(transact(&SERVER, &mut t, &request), None);
+    request.truncate(254);
+    assert!(transact(&SERVER, &mut t, &request).is_some());
+}
+
+#[test]
+fn reply_in_place_over_the_request() {
+    let mut t = Table::new();
+    let mut buf = [0xEE_u8; 256];
+    let request = [0x11, 0x03, 0x00, 0x6B, 0x00, 0x03];
+    buf[..6].copy_from_slice(&request);
+    let len = SERVER.handle_in_place(&mut buf, 6, &mut t).unwrap();
+    assert_eq!(
+        buf[..len],
+        with_crc(&[0x11, 0x03, 0x06, 0x02, 0x2B, 0x00, 0x00, 0x00, 0x64])[..]
+    );
+    let request = [
+        0x11, 0x10, 0x00, 0x01, 0x00, 0x02, 0x04, 0x00, 0x0A, 0x01, 0x02,
+    ];
+    buf[..11].copy_from_slice(&request);
+    let len = SERVER.handle_in_place(&mut buf, 11, &mut t).unwrap();
+    assert_eq!(
+        buf[..len],
+        with_crc(&[0x11, 0x10, 0x00, 0x01, 0x00, 0x02])[..]
+    );
+    assert_eq!(t.regs[1..3], [0x000A, 0x0102]);
+    // A length past the buffer, or a buffer too short: nothing.
+    assert_eq!(SERVER.handle_in_place(&mut buf, 300, &mut t), None);
+    assert_eq!(SERVER.handle_in_place(&mut buf[..255], 6, &mut t), None);
 }
 
 #[test]

@@ -168,3 +168,16 @@ fn reset_waits_for_silence() {
     let t = feed(&mut rx, &READ_10, t + 3 * timing.t35_ticks, 100);
     assert_eq!(rx.poll(t + timing.t35_ticks + 1), Some(&READ_10[..6]));
 }
+
+#[test]
+fn frame_in_place() {
+    let timing = RtuTiming::from_baud_us(19_200);
+    let mut rx = RtuReceiver::new(timing);
+    let t = feed(&mut rx, &READ_10, 0, 573);
+    let (buf, len) = rx.poll_in_place(t + timing.t35_ticks + 1).unwrap();
+    assert_eq!((&buf[..len], buf.len()), (&READ_10[..6], MAX_FRAME_BYTES));
+    // Written over, then the next frame.
+    buf.fill(0);
+    let t = feed(&mut rx, &READ_10, t + 10_000, 573);
+    assert_eq!(rx.poll(t + timing.t35_ticks + 1), Some(&READ_10[..6]));
+}
