@@ -458,18 +458,21 @@ impl<D: TrackerData> SunSpecMap<D> {
     }
 
     fn read_common(&self, off: u16) -> u16 {
-        let id = self.data.identity();
-        let strings: [(u16, u16, &str); 5] = [
-            (m1::MN, 16, id.manufacturer),
-            (m1::MD, 16, id.model),
-            (m1::OPT, 8, id.options),
-            (m1::VR, 8, id.version),
-            (m1::SN, 16, id.serial),
-        ];
-        for (at, len, s) in strings {
-            if let Some(i) = in_point(off, at, len) {
-                return text(s.as_bytes(), i);
-            }
+        // The five strings lie end to end from Mn to SN.
+        if (m1::MN..m1::DA).contains(&off) {
+            let id = self.data.identity();
+            let (s, at) = if off < m1::MD {
+                (id.manufacturer, m1::MN)
+            } else if off < m1::OPT {
+                (id.model, m1::MD)
+            } else if off < m1::VR {
+                (id.options, m1::OPT)
+            } else if off < m1::SN {
+                (id.version, m1::VR)
+            } else {
+                (id.serial, m1::SN)
+            };
+            return text(s.as_bytes(), off - at);
         }
         match off {
             0 => m1::ID,
