@@ -392,8 +392,8 @@ fn word(v: i32, i: u16) -> u16 {
     }
 }
 
-/// Register `off` of a string point of `len` registers at `at`, if it is
-/// one of them.
+/// Where register `off` lies in the point of `len` registers at `at`
+/// (0 for its first), if it is one of them.
 fn in_point(off: u16, at: u16, len: u16) -> Option<u16> {
     off.checked_sub(at).filter(|&i| i < len)
 }
