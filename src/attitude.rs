@@ -82,6 +82,23 @@ impl<T: Float> Pose<T> {
         (self.gamma_deg - other.gamma_deg).abs() * tilt_deg.to_radians().min(T::ONE)
             + (self.alpha_deg - other.alpha_deg).abs()
     }
+
+    /// True when turning from `other` to this pose is a swing rather than
+    /// a move after the sun: the normal sweeps ([`Pose::sweep_deg`]) more
+    /// than `margin_deg` beyond twice the angle between where the two poses
+    /// point. A change of branch or a whole turn of C points the panel
+    /// (nearly) the same way at both ends; a move after a sun that went on
+    /// (a clock step, a long stow) sweeps about as far as the sun went.
+    /// Out of line on the AVR (three callers).
+    #[cfg_attr(target_arch = "avr", inline(never))]
+    pub fn swings_from(&self, other: &Pose<T>, margin_deg: T) -> bool {
+        let half_deg = (self.sweep_deg(other) - margin_deg) * T::from_f64(0.5);
+        // The normals closer than `half_deg`: cos of their angle above cos
+        // of it (`half_deg` within 0…180°, where cos falls).
+        half_deg > T::ZERO
+            && dot(&panel_normal(self), &panel_normal(other))
+                > half_deg.min(T::from_f64(180.0)).to_radians().cos()
+    }
 }
 
 /// Mechanical ranges of the two axes, degrees (inclusive).

@@ -45,12 +45,16 @@ fn expected(r: Reason) -> &'static str {
         Reason::BelowMaxDeviation => "must be below safety.max_deviation_deg",
         Reason::TiltOffsetDeg => "-45...45 deg",
         Reason::StatusMin => "0...1,440 min (0: no periodic status line)",
+        Reason::ModbusAddress => "1...247",
+        Reason::ModbusBaud => "1200, 2400, 4800, 9600, 19200, 38400, 57600 or 115200 baud",
+        Reason::ModbusParity => "0 none (2 stop bits), 1 odd, 2 even",
+        Reason::Switch => "0 off, 1 on",
     }
 }
 
 #[test]
 fn every_reason_prints_its_documented_text() {
-    assert_eq!(Reason::ALL.len(), 26);
+    assert_eq!(Reason::ALL.len(), 30);
     let mut wrong = Vec::new();
     for &r in Reason::ALL {
         let text = r.text();
@@ -169,6 +173,16 @@ fn book_rows() -> Vec<(&'static str, Vec<Vec<String>>)> {
         (
             "`log.status_min`",
             vec![book_range(range_text::u16s(r::STATUS_MIN))],
+        ),
+        (
+            "`modbus.address`, `baud`, `parity`, `write`, `timeout_s`",
+            vec![
+                book_range(range_text::u8s(r::MODBUS_ADDRESS)),
+                u(r::MODBUS_BAUD),
+                book_range(range_text::u8s(r::MODBUS_PARITY)),
+                book_range(range_text::u8s(r::SWITCH)),
+                u(r::WIND_RELEASE_S),
+            ],
         ),
     ]
 }

@@ -37,7 +37,11 @@ fn encode_decode_round_trip() {
     let n = c.encode(&mut buf).unwrap();
     assert_eq!(n, PAYLOAD_LEN);
     assert_eq!(Config::decode(&buf[..n]), Some(c));
-    // The operator's hold is the last byte: bit 0 stow, 1 manual, 2 service.
+    // The operator's hold is byte 143, after the fields of layout version
+    // 3: bit 0 stow, 1 manual, 2 service; the Modbus settings (11 bytes)
+    // follow it.
+    const HOLD_AT: usize = 143;
+    assert_eq!(n, HOLD_AT + 1 + 11);
     let mut held = c;
     held.hold = OperatorHold {
         stow: true,
@@ -46,28 +50,38 @@ fn encode_decode_round_trip() {
     };
     let mut hb = [0u8; 200];
     assert_eq!(held.encode(&mut hb), Some(PAYLOAD_LEN));
-    assert_eq!(hb[PAYLOAD_LEN - 1], 0b101);
-    assert_eq!(hb[..PAYLOAD_LEN - 1], buf[..PAYLOAD_LEN - 1]);
+    assert_eq!(hb[HOLD_AT], 0b101);
+    assert_eq!(hb[..HOLD_AT], buf[..HOLD_AT]);
+    assert_eq!(hb[HOLD_AT + 1..n], buf[HOLD_AT + 1..n]);
     assert_eq!(Config::decode(&hb[..n]), Some(held));
     // A flag this firmware does not know: the payload is refused.
-    hb[PAYLOAD_LEN - 1] = 0b1000;
+    hb[HOLD_AT] = 0b1000;
     assert_eq!(Config::decode(&hb[..n]), None);
-    // Layout version 2's payload (no hold byte, 143 bytes) reads with no
-    // hold in force.
-    assert_eq!(n - 1, 143);
-    assert_eq!(Config::decode(&buf[..n - 1]), Some(c));
+    // Layout version 3's payload (no Modbus settings, 144 bytes) reads
+    // with their defaults, version 2's (no hold byte either, 143 bytes)
+    // with no hold in force.
+    let mut on_bus = held;
+    on_bus.modbus.address = 17;
+    on_bus.modbus.write = 1;
+    let mut mb = [0u8; 200];
+    assert_eq!(on_bus.encode(&mut mb), Some(PAYLOAD_LEN));
+    assert_eq!(Config::decode(&mb[..HOLD_AT + 1]), Some(held));
+    assert_eq!(Config::decode(&mb[..HOLD_AT]), Some(c));
     // Other lengths are rejected.
-    assert_eq!(Config::decode(&buf[..n - 2]), None);
+    assert_eq!(Config::decode(&buf[..HOLD_AT - 1]), None);
+    assert_eq!(Config::decode(&buf[..HOLD_AT + 2]), None);
+    assert_eq!(Config::decode(&buf[..n - 1]), None);
     assert_eq!(Config::decode(&buf[..n + 1]), None);
     // Too small a buffer to encode into.
     assert_eq!(c.encode(&mut [0u8; 10]), None);
 }
 
-/// The payload of layout version 3 byte by byte, built here field by
+/// The payload of layout version 4 byte by byte, built here field by
 /// field in the order `src/config/codec.rs` documents (the configuration's
 /// declaration order, little-endian, the derived counts per degree left
-/// out, the hold last), so that a change of the key table that would move
-/// a stored field fails here: every field gets a value of its own.
+/// out, the hold after the fields of version 3, the Modbus settings
+/// after it), so that a change of the key table that would move a stored
+/// field fails here: every field gets a value of its own.
 #[test]
 fn payload_is_the_documented_layout() {
     let mut c = tromso();
@@ -89,6 +103,11 @@ fn payload_is_the_documented_layout() {
     c.calibration.tilt_y_offset_deg = -0.75;
     c.log.status_every_min = 15;
     c.hold.manual = true;
+    c.modbus.address = 23;
+    c.modbus.baud = 9_600;
+    c.modbus.parity = 1;
+    c.modbus.write = 1;
+    c.modbus.timeout_s = 300;
     let mut expected = Vec::new();
     let f = |v: &mut Vec<u8>, x: f32| v.extend_from_slice(&x.to_le_bytes());
     let u = |v: &mut Vec<u8>, x: u32| v.extend_from_slice(&x.to_le_bytes());
@@ -139,6 +158,11 @@ fn payload_is_the_documented_layout() {
     expected.extend_from_slice(&c.log.status_every_min.to_le_bytes());
     // The hold: bit 0 stow, 1 manual, 2 service.
     expected.push(0b010);
+    expected.push(c.modbus.address);
+    u(&mut expected, c.modbus.baud);
+    expected.push(c.modbus.parity);
+    expected.push(c.modbus.write);
+    u(&mut expected, c.modbus.timeout_s);
     assert_eq!(expected.len(), PAYLOAD_LEN);
     let mut buf = [0u8; 200];
     let n = c.encode(&mut buf).unwrap();
@@ -258,22 +282,31 @@ fn old_version_and_bad_values_are_rejected_whole() {
     assert!(l.defaults);
     assert_eq!(l.slots[0], SlotState::OldVersion(0));
 
-    // Layout version 2 (written before the operator's hold existed: the
-    // same fields without the last byte) is still read, so an update keeps
-    // the saved configuration; version 3 with version 2's length is not.
+    // Layouts 2 (written before the operator's hold existed: the fields
+    // before it) and 3 (before the Modbus settings: up to the hold) are
+    // still read, so an update keeps the saved configuration; version 3
+    // with version 2's length is not.
+    let (v2, v3) = (n - 12, n - 11);
     let mut mem = MemStorage::<1024>::new();
-    mem.write(0, &slot(2, &payload[..n - 1])).unwrap();
-    mem.write(SLOT_LEN, &slot(3, &payload[..n - 1])).unwrap();
+    mem.write(0, &slot(2, &payload[..v2])).unwrap();
+    mem.write(SLOT_LEN, &slot(3, &payload[..v2])).unwrap();
     let l = ConfigStore::new(mem).load();
     assert!(!l.defaults);
     assert_eq!(l.config, c);
     assert_eq!(l.slots, [SlotState::Good(9), SlotState::Corrupt]);
-    // Version 2 with version 3's length is not either.
     let mut mem = MemStorage::<1024>::new();
-    mem.write(0, &slot(2, &payload[..n])).unwrap();
+    mem.write(0, &slot(3, &payload[..v3])).unwrap();
     let l = ConfigStore::new(mem).load();
-    assert!(l.defaults);
-    assert_eq!(l.slots[0], SlotState::Corrupt);
+    assert_eq!((l.defaults, l.config), (false, c));
+    // Version 2 with version 3's length is not either, nor version 3 with
+    // version 4's.
+    for (version, len) in [(2, v3), (3, n)] {
+        let mut mem = MemStorage::<1024>::new();
+        mem.write(0, &slot(version, &payload[..len])).unwrap();
+        let l = ConfigStore::new(mem).load();
+        assert!(l.defaults);
+        assert_eq!(l.slots[0], SlotState::Corrupt);
+    }
 
     // Current version, valid CRC, but a latitude of 95°: not applied in part.
     let mut bad = c;

@@ -101,6 +101,11 @@ const DOC_RANGES: &[(&str, &str)] = &[
     ("calibration.tilt_x_offset_deg", "−45…45"),
     ("calibration.tilt_y_offset_deg", "−45…45"),
     ("log.status_min", "0…1,440"),
+    ("modbus.address", "1…247"),
+    ("modbus.baud", "1,200…115,200"),
+    ("modbus.parity", "0…2"),
+    ("modbus.write", "0…1"),
+    ("modbus.timeout_s", "0…86,400"),
 ];
 
 /// The home switch's range is relative to `min_deg` (documented as
@@ -211,6 +216,10 @@ fn valid_values(docs: &str, key: Key) -> Vec<f64> {
             // Whole minutes dividing a day.
             v = vec![lo, hi, 240.0, 3_600.0, 21_600.0];
         }
+        if name == "modbus.baud" {
+            // The standard rates only.
+            v = vec![lo, hi, 9_600.0, 19_200.0, 57_600.0];
+        }
         v
     } else {
         let span = hi - lo;
@@ -245,10 +254,10 @@ fn typed(value: f64, integer: bool) -> String {
 #[test]
 fn key_table_names_every_field_once_and_the_docs_list_them() {
     let mut names: Vec<&str> = KEYS.iter().map(|k| k.name().as_str()).collect();
-    assert_eq!(names.len(), 40);
+    assert_eq!(names.len(), 45);
     names.sort_unstable();
     names.dedup();
-    assert_eq!(names.len(), 40, "duplicate keys");
+    assert_eq!(names.len(), 45, "duplicate keys");
     let docs = config_docs();
     let module =
         std::fs::read_to_string(concat!(env!("CARGO_MANIFEST_DIR"), "/src/console/mod.rs"))

@@ -1,11 +1,13 @@
-//! The configuration's binary payload, layout version 3
-//! ([`super::LAYOUT_VERSION`]): every field of the key table
-//! ([`super::KEYS`], which lists them in declaration order) but the derived
-//! counts per degree, in its order, then the operator's hold; little-endian,
-//! [`PAYLOAD_LEN`] bytes (version 2's, without the
-//! operator's hold, [`PAYLOAD_LEN_V2`], is still read); and the little-endian cursors
-//! that write and read it (the store writes its slot header with the same
-//! writer).
+//! The configuration's binary payload, layout version 4
+//! ([`super::LAYOUT_VERSION`]): the fields of the key table ([`super::KEYS`],
+//! which lists them in declaration order) but the derived counts per
+//! degree, in its order, with the operator's hold after the fields of
+//! version 3 ([`V3_KEYS`]) and the fields added since after it;
+//! little-endian, [`PAYLOAD_LEN`] bytes. The payloads of versions 2
+//! ([`PAYLOAD_LEN_V2`], without the hold) and 3 ([`PAYLOAD_LEN_V3`]) are
+//! still read, the fields they lack at their defaults. Also the
+//! little-endian cursors that write and read it (the store writes its slot
+//! header with the same writer).
 
 use super::{slot, Config, Slot, KEYS};
 use crate::safety::OperatorHold;
@@ -15,7 +17,22 @@ pub const PAYLOAD_LEN_V2: usize = 12 + 20 + 2 * 34 + 12 + 13 + 16 + 2;
 
 /// Payload length of layout version 3: version 2's and the operator's
 /// hold, one byte ([`OperatorHold::to_bits`]).
-pub const PAYLOAD_LEN: usize = PAYLOAD_LEN_V2 + 1;
+pub const PAYLOAD_LEN_V3: usize = PAYLOAD_LEN_V2 + 1;
+
+/// Payload length of layout version 4: version 3's and the Modbus
+/// server's settings (address, baud, parity, write, timeout: 11 bytes).
+pub const PAYLOAD_LEN: usize = PAYLOAD_LEN_V3 + 11;
+
+/// The keys of layout versions 2 and 3, the first of [`KEYS`]: those up to
+/// `log.status_min`. The operator's hold follows them; the keys after are
+/// newer.
+const V3_KEYS: usize = {
+    let mut i = 0;
+    while i < KEYS.len() && KEYS[i] as usize != super::Field::LogStatusMin as usize {
+        i += 1;
+    }
+    i + 1
+};
 
 /// A little-endian writer into `buf` from `pos`; a write past the end
 /// sets `overflow` and writes nothing.
@@ -91,7 +108,10 @@ impl Config {
         // Each field by its slot in the table (a copy: the slots are
         // mutable references).
         let mut fields = *self;
-        for &key in KEYS {
+        for (i, &key) in KEYS.iter().enumerate() {
+            if i == V3_KEYS {
+                w.u8(self.hold.to_bits());
+            }
             match slot(&mut fields, key) {
                 Slot::F32(v) => w.f32(*v),
                 Slot::U32(v) => w.u32(*v),
@@ -100,7 +120,6 @@ impl Config {
                 Slot::Derived => {}
             }
         }
-        w.u8(self.hold.to_bits());
         if w.overflow {
             None
         } else {
@@ -108,14 +127,25 @@ impl Config {
         }
     }
 
-    /// Parses a payload of layout version 3, or of version 2 (which has no
-    /// hold: none is in force), and checks every value; `None` for a
-    /// buffer of another length or any value out of range.
+    /// Parses a payload of layout version 4, or of version 3 (without the
+    /// Modbus settings: their defaults) or 2 (also without the hold: none
+    /// is in force), and checks every value; `None` for a buffer of
+    /// another length or any value out of range.
     pub fn decode(buf: &[u8]) -> Option<Config> {
         let mut r = Reader { buf, pos: 0 };
-        // Every field is read; the defaults only give the value its type.
+        // The fields a payload has are read; the others keep their
+        // defaults.
         let mut cfg = Config::default();
-        for &key in KEYS {
+        for (i, &key) in KEYS.iter().enumerate() {
+            if i == V3_KEYS {
+                if buf.len() == PAYLOAD_LEN_V2 {
+                    break;
+                }
+                cfg.hold = OperatorHold::from_bits(r.u8()?)?;
+                if buf.len() == PAYLOAD_LEN_V3 {
+                    break;
+                }
+            }
             match slot(&mut cfg, key) {
                 Slot::F32(v) => *v = r.f32()?,
                 Slot::U32(v) => *v = r.u32()?,
@@ -124,15 +154,9 @@ impl Config {
                 Slot::Derived => {}
             }
         }
-        let hold = if buf.len() == PAYLOAD_LEN_V2 {
-            OperatorHold::default()
-        } else {
-            OperatorHold::from_bits(r.u8()?)?
-        };
         if r.pos != buf.len() {
             return None;
         }
-        cfg.hold = hold;
         cfg.is_valid().then_some(cfg)
     }
 }

@@ -96,6 +96,11 @@ named! {
         CalibrationTiltXOffsetDeg => "calibration.tilt_x_offset_deg",
         CalibrationTiltYOffsetDeg => "calibration.tilt_y_offset_deg",
         LogStatusMin => "log.status_min",
+        ModbusAddress => "modbus.address",
+        ModbusBaud => "modbus.baud",
+        ModbusParity => "modbus.parity",
+        ModbusWrite => "modbus.write",
+        ModbusTimeoutS => "modbus.timeout_s",
     }
 }
 
@@ -159,6 +164,10 @@ named! {
             u16s(r::STATUS_MIN),
             Str(" min (0: no periodic status line)"),
         ),
+        ModbusAddress => range_text!(u8s(r::MODBUS_ADDRESS)),
+        ModbusBaud => "1200, 2400, 4800, 9600, 19200, 38400, 57600 or 115200 baud",
+        ModbusParity => "0 none (2 stop bits), 1 odd, 2 even",
+        Switch => "0 off, 1 on",
     }
 }
 

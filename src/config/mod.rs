@@ -169,6 +169,29 @@ pub struct LogConfig {
     pub status_every_min: u16,
 }
 
+/// The Modbus RTU server on the RS-485 port (where a board has one):
+/// what a plant's SCADA needs to reach this tracker on its bus.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct ModbusConfig {
+    /// Device address: 1…247 (`modbus.address`); 0 is broadcast and
+    /// 248–255 are reserved (Modbus over Serial Line V1.02 §2.2).
+    pub address: u8,
+    /// Serial rate, baud: 1,200…115,200 (`modbus.baud`), one of 1,200,
+    /// 2,400, 4,800, 9,600, 19,200, 38,400, 57,600 and 115,200.
+    pub baud: u32,
+    /// Parity: 0…2 (`modbus.parity`), 0 none with two stop bits, 1 odd,
+    /// 2 even (the serial line spec's default, §2.5.1).
+    pub parity: u8,
+    /// Writes from the bus (manual mode, manual targets, stow, clearing
+    /// faults): 0…1 (`modbus.write`), 0 refused with an exception, 1
+    /// carried out; off by default, so a bus reads but never moves a
+    /// tracker until its installer allows it.
+    pub write: u8,
+    /// Seconds without a request to this tracker before the master counts
+    /// as silent: 0…86,400 (`modbus.timeout_s`); 0 never.
+    pub timeout_s: u32,
+}
+
 /// The whole configuration.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Config {
@@ -195,6 +218,8 @@ pub struct Config {
     pub calibration: Calibration,
     /// Periodic log lines.
     pub log: LogConfig,
+    /// The Modbus RTU server.
+    pub modbus: ModbusConfig,
     /// Not a setting (no key; `set`, `load` and `defaults` leave the one in
     /// force): the operator's lasting commands, saved in the same record
     /// so that one power-cut-safe store keeps both ([`OperatorHold`]).
@@ -254,6 +279,13 @@ impl Config {
             },
             log: LogConfig {
                 status_every_min: 10,
+            },
+            modbus: ModbusConfig {
+                address: 1,
+                baud: 19_200,
+                parity: 2,
+                write: 0,
+                timeout_s: 0,
             },
             hold: OperatorHold::NONE,
         }

@@ -79,6 +79,20 @@ pub const HEADING_DEG: (f32, f32) = (-180.0, 180.0);
 /// Inclinometer offsets, degrees: a sensor mounted more than 45° off
 /// has its x and y axes swapped, not offset.
 pub const TILT_OFFSET_DEG: (f32, f32) = (-45.0, 45.0);
+/// Modbus device address: 1 to 247 (0 is broadcast, 248 to 255 are
+/// reserved; Modbus over Serial Line V1.02 §2.2).
+pub const MODBUS_ADDRESS: (u8, u8) = (1, 247);
+/// Modbus serial rate, baud: 1,200 to 115,200, and one of the standard
+/// rates ([`MODBUS_BAUDS`]).
+pub const MODBUS_BAUD: (u32, u32) = (1_200, 115_200);
+/// The standard serial rates a Modbus device offers (the serial line
+/// spec requires 9,600 and 19,200, §2.5.1; the others are common).
+pub const MODBUS_BAUDS: [u32; 8] = [1_200, 2_400, 4_800, 9_600, 19_200, 38_400, 57_600, 115_200];
+/// Modbus parity: 0 none (with two stop bits), 1 odd, 2 even (the
+/// default the serial line spec requires, §2.5.1).
+pub const MODBUS_PARITY: (u8, u8) = (0, 2);
+/// An on/off switch: 0 off, 1 on.
+pub const SWITCH: (u8, u8) = (0, 1);
 /// Minutes between periodic `status` log lines; 0 turns them off, a
 /// day is the longest period that still shows a logger the tracker
 /// is alive every day.

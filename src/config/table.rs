@@ -6,8 +6,8 @@
 //! says all three.
 
 use super::{
-    ranges as r, AxisConfig, Calibration, Config, Field, LogConfig, Reason, SafetyConfig,
-    SiteConfig, WindConfig,
+    ranges as r, AxisConfig, Calibration, Config, Field, LogConfig, ModbusConfig, Reason,
+    SafetyConfig, SiteConfig, WindConfig,
 };
 use crate::plan::ScheduleConfig;
 use crate::safety::OperatorHold;
@@ -174,6 +174,11 @@ key_table! { c;
     CalibrationTiltXOffsetDeg F32 c.calibration.tilt_x_offset_deg, TILT_OFFSET_DEG TiltOffsetDeg;
     CalibrationTiltYOffsetDeg F32 c.calibration.tilt_y_offset_deg, TILT_OFFSET_DEG TiltOffsetDeg;
     LogStatusMin U16 c.log.status_every_min, STATUS_MIN StatusMin;
+    ModbusAddress U8 c.modbus.address, MODBUS_ADDRESS ModbusAddress;
+    ModbusBaud U32 c.modbus.baud, MODBUS_BAUD ModbusBaud;
+    ModbusParity U8 c.modbus.parity, MODBUS_PARITY ModbusParity;
+    ModbusWrite U8 c.modbus.write, SWITCH Switch;
+    ModbusTimeoutS U32 c.modbus.timeout_s, WIND_RELEASE_S S0To86400;
 }
 
 crate::progmem! {
@@ -259,6 +264,13 @@ const ZEROS: Config = {
         },
         log: LogConfig {
             status_every_min: 0,
+        },
+        modbus: ModbusConfig {
+            address: 0,
+            baud: 0,
+            parity: 0,
+            write: 0,
+            timeout_s: 0,
         },
         hold: OperatorHold::NONE,
     }

@@ -184,6 +184,9 @@ impl Config {
                 return fail(key, Reason::AboveMinDeg);
             }
         }
+        if key == Field::ModbusBaud && !super::ranges::MODBUS_BAUDS.contains(&self.modbus.baud) {
+            return fail(key, Reason::ModbusBaud);
+        }
         if key == Field::SafetyMaxRetries {
             for (a, k) in self.axes.iter().zip(AXIS_KEYS.iter()) {
                 if a.deadband_deg >= self.safety.max_deviation_deg {

@@ -40,12 +40,13 @@ const LOOK_AHEAD_POINTS: usize = 48;
 /// Half-hour samples over the 24 hours a day is judged on without a table.
 const DAY_SAMPLES: u16 = 48;
 
-/// A move between two poses on a path whose normal sweeps more than this
-/// ([`Pose::sweep_deg`]) is a swing to another branch, not following the
-/// sun: following sweeps at most the sun's own arc between set-points
-/// (7.5° in 30 minutes), and the flip of the A axis under a sun near the
-/// tracker's axis at most twice that; a change of branch with the panel
-/// tilted 20° sweeps 60° or more.
+/// A move between two poses whose normal sweeps more than this beyond
+/// twice the angle between where they point ([`Pose::swings_from`]) is a
+/// swing to another branch, not following the sun: following sweeps about
+/// the sun's own arc between set-points, and the flip of the A axis under
+/// a sun near the tracker's axis little more; a change of branch with the
+/// panel tilted 20° sweeps 60° or more and points the same way at both
+/// ends.
 pub(super) const SWING_DEG: f32 = 30.0;
 
 /// Swing weights within this of each other are equal, and travel decides.
@@ -394,9 +395,9 @@ impl<T: Float> Starts<T> {
         true
     }
 
-    /// Each start follows `sp` by its least-motion pose; a move that
-    /// sweeps more than [`SWING_DEG`] is a swing, weighted by the sun's
-    /// height.
+    /// Each start follows `sp` by its least-motion pose; a swing
+    /// ([`Pose::swings_from`] with [`SWING_DEG`]) is counted, weighted by
+    /// the sun's height.
     fn visit(&mut self, sp: &SetPoint<T>, attitude: &MountAttitude<T>, limits: &PoseLimits<T>) {
         let elevation_deg = sp.elevation_deg();
         let sun = sun_vector_xyz(elevation_deg, sp.azimuth_deg);
@@ -407,7 +408,7 @@ impl<T: Float> Starts<T> {
         for s in self.0.iter_mut().flatten() {
             if let Ok(c) = attitude.choose(&sun, &s.prev, limits) {
                 let mut p = c.pose();
-                if p.sweep_deg(&s.prev) > swing {
+                if p.swings_from(&s.prev, swing) {
                     // The branch runs into a limit. A whole turn of the C
                     // axis, where the limits allow it, keeps the branch and
                     // leaves the most room ahead; the least-travel change
@@ -423,7 +424,7 @@ impl<T: Float> Starts<T> {
                         ..s.prev
                     };
                     if let Ok(Choice::Reachable(q)) = attitude.choose(&sun, &turned, limits) {
-                        if q.sweep_deg(&turned) <= swing {
+                        if !q.swings_from(&turned, swing) {
                             p = q;
                         }
                     }

@@ -317,10 +317,10 @@ where
         (mode, target)
     }
 
-    /// True when the normal sweeps more than a swing's worth from the last
-    /// commanded pose to `p` ([`look_ahead::SWING_DEG`]).
+    /// True when the move from the last commanded pose to `p` is a swing
+    /// ([`Pose::swings_from`], [`look_ahead::SWING_DEG`]).
     fn swing_from_last(&self, p: &Pose<T>) -> bool {
-        self.pose_commanded && p.sweep_deg(&self.pose) > T::from_f32(look_ahead::SWING_DEG)
+        self.pose_commanded && p.swings_from(&self.pose, T::from_f32(look_ahead::SWING_DEG))
     }
 
     /// [`Mode::Unwind`] instead of tracking from a swing's first tick

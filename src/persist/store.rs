@@ -87,9 +87,9 @@ pub trait Record: Copy {
     const VERSION: u16;
     /// Payload bytes of this version.
     const PAYLOAD_LEN: usize;
-    /// An earlier layout version still read, with its payload length:
-    /// [`Record::decode`] takes a payload of that length too.
-    const PREVIOUS: Option<(u16, usize)> = None;
+    /// Earlier layout versions still read, each with its payload length:
+    /// [`Record::decode`] takes a payload of those lengths too.
+    const PREVIOUS: &'static [(u16, usize)] = &[];
     /// Serialises into `buf` (at least [`Record::PAYLOAD_LEN`] bytes);
     /// the length written, or `None` when `buf` is too small.
     fn encode(&self, buf: &mut [u8]) -> Option<usize>;
@@ -314,8 +314,8 @@ impl<S: Storage, R: Record, const N: usize> ConfigStore<S, R, N> {
         // The payload, in small pieces into the CRC; kept when it has this
         // layout's version and length (another one only decides between
         // `OldVersion` and `Corrupt`).
-        let current =
-            (version == R::VERSION && len == R::PAYLOAD_LEN) || R::PREVIOUS == Some((version, len));
+        let current = (version == R::VERSION && len == R::PAYLOAD_LEN)
+            || R::PREVIOUS.contains(&(version, len));
         let mut payload = [0u8; N];
         let mut chunk = [0u8; 16];
         let mut at = HEADER_LEN;
@@ -341,7 +341,7 @@ impl<S: Storage, R: Record, const N: usize> ConfigStore<S, R, N> {
         if !crc != u32::from_le_bytes(stored) {
             return Ok(CORRUPT);
         }
-        if version != R::VERSION && R::PREVIOUS.is_none_or(|(v, _)| v != version) {
+        if version != R::VERSION && !R::PREVIOUS.iter().any(|&(v, _)| v == version) {
             return Ok(SlotState::OldVersion(version));
         }
         if !current {
