@@ -1781,3 +1781,89 @@ fn p_a_night_at_real_time_keeps_every_pass_short() {
         "the ELF changed during the run"
     );
 }
+
+/// The sun's elevation at Tromsø (SPA, geometric, 480 m), degrees.
+fn tromso_elevation_deg(unix_s: i64) -> f64 {
+    let site = Site::with_elevation(TROMSO.0, TROMSO.1, 480.0).unwrap();
+    let p = Algorithm::Spa
+        .position(
+            &UtcTime::from_unix_seconds(unix_s).unwrap(),
+            &site,
+            &Options::default(),
+        )
+        .unwrap();
+    90.0 - p.zenith_deg
+}
+
+/// Tromsø, the site of the polar-day scenario (q).
+const TROMSO: (f64, f64) = (69.65, 18.96);
+
+/// (q) Tromsø in the midnight sun, 2026-06-10 from 22:00Z for 100 minutes,
+/// RTC and GPS. The C axis turns one whole turn (−180…180°) and the sun
+/// circles the sky: once a day the axis must turn back, and the image
+/// must do it at the sun's lowest (about 22:43Z, 2.6° up), logging
+/// `mode unwind` from the swing's start until both axes are on the new
+/// pose, then `mode tracking`. Exactly one unwind; it begins with the sun
+/// within 1° of its lowest over the run (SPA sampled every minute); every
+/// set-point after it is within a step of the axes and 0.03° of SPA's sun.
+#[test]
+fn q_polar_day_unwinds_once_at_the_sun_lowest() {
+    let elf = elf_or_skip!();
+    let start = t("2026-06-10T22:00:00Z");
+    let minutes = 100.0;
+    let feed = lying_feed(start, minutes, LIE_PERIOD_S, |_, u| {
+        (gps_site(TROMSO.0, TROMSO.1), u)
+    });
+    let run = MegaBench::mega(&elf)
+        .field(Field::wmm2025(TROMSO.0, TROMSO.1, 0.48, (2026, 6, 10)))
+        .start(start)
+        .rtc(Rtc::Valid)
+        .gps(feed)
+        .run_minutes(minutes)
+        .unwrap();
+    report("q", &run);
+    let modes = run.modes();
+    println!(
+        "q: modes {modes:?}; faults: {}",
+        faults_summary(&run, start)
+    );
+    let unwinds: Vec<f64> = modes
+        .iter()
+        .filter(|(_, m)| m == "unwind")
+        .map(|(t, _)| *t)
+        .collect();
+    assert_eq!(unwinds.len(), 1, "{modes:?}");
+    let unwind_s = unwinds[0];
+    let lowest_deg = (0..=minutes as i64)
+        .map(|m| tromso_elevation_deg(start + 60 * m))
+        .fold(f64::INFINITY, f64::min);
+    let at_deg = tromso_elevation_deg(unwind_s as i64);
+    println!(
+        "q: unwind at {} with the sun at {at_deg:.2}° (lowest {lowest_deg:.2}°)",
+        format_utc(unwind_s as i64)
+    );
+    assert!(at_deg < lowest_deg + 1.0, "{at_deg} against {lowest_deg}");
+    // Tracking again after it, and then only tracking.
+    let after: Vec<&str> = modes_after(&run, unwind_s + 1.0);
+    assert_eq!(after.first(), Some(&"tracking"), "{modes:?}");
+    assert!(after.iter().all(|m| *m == "tracking"), "{modes:?}");
+    let back_s = modes
+        .iter()
+        .find(|(t, m)| *t > unwind_s && m == "tracking")
+        .map(|(t, _)| *t)
+        .unwrap();
+    // The turn back takes at most a whole turn at the axis's speed.
+    assert!(back_s - unwind_s <= 360.0 / min_axis_deg_s() + 60.0);
+    let sps: Vec<_> = set_points(&run)
+        .into_iter()
+        .filter(|s| s.0.utc_s > back_s)
+        .collect();
+    assert!(sps.len() >= 10, "{} set-points after the unwind", sps.len());
+    check_set_points_of(
+        &sps,
+        &MountAttitude::level(),
+        |u| sun_at(TROMSO.0, TROMSO.1, u),
+        0.03,
+    );
+    assert_no_illegal_steps(&run);
+}
