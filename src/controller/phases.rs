@@ -326,10 +326,18 @@ where
     /// [`Mode::Unwind`] instead of tracking from a swing's first tick
     /// until both axes have run their counts and are within
     /// [`UNWOUND_DEG`] of the pose commanded last, before this tick's
-    /// target is driven: where the C axis turns a
-    /// few degrees a minute under a high sun, the next target is always
-    /// further than that.
+    /// target is driven: where the C axis turns a few degrees a minute
+    /// under a high sun, the next target is always further than that.
+    ///
+    /// Open-loop axes re-homed every day take the day's re-homing at the
+    /// swing's start (the sun is as low as it gets, and on a polar day the
+    /// C axis swings from its home end): homing first, then the swing from
+    /// the switches, still reported as the unwind; the new day's re-homing
+    /// minutes later is then not done twice.
     fn unwind_mode(&mut self, mode: Mode, was_tracking: bool, target: Option<&Pose<T>>) -> Mode {
+        if mode == Mode::Homing {
+            return mode;
+        }
         if mode != Mode::Tracking {
             self.unwinding = false;
             return mode;
@@ -348,6 +356,15 @@ where
         if let Some(p) = target {
             if was_tracking && self.swing_from_last(p) {
                 self.unwinding = true;
+                if self.options.rehome_nightly
+                    && self.options.feedback == FeedbackMode::OpenLoop
+                    && !self.rehomed_tonight
+                {
+                    for ax in self.axes.iter_mut() {
+                        ax.unhome();
+                    }
+                    self.rehomed_tonight = true;
+                }
             }
         }
         if self.unwinding {
@@ -388,7 +405,8 @@ where
     /// A fault found while driving (a deviation, a limit switch) may have
     /// taken an axis's reference: that tick is no longer tracking.
     pub(super) fn mode_after_drive(&mut self, mode: Mode) -> Mode {
-        if mode == Mode::Tracking && self.axes.iter().any(|a| a.home_state() != HomeState::Done) {
+        let following = matches!(mode, Mode::Tracking | Mode::Unwind);
+        if following && self.axes.iter().any(|a| a.home_state() != HomeState::Done) {
             self.last_mode = Some(Mode::Homing);
             Mode::Homing
         } else {
