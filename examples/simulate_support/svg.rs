@@ -364,7 +364,7 @@ fn draw_figure(run: &Run, start: &UtcTime, title: &str) -> Result<String, Box<dy
         // Runs of bins with the same single mode are one rectangle.
         let mut rects: Vec<(f64, f64, f64, f64, usize)> = Vec::new();
         for (a, b) in bins(run.minutes) {
-            let mut count = [0u32; 8];
+            let mut count = [0u32; MODES.len()];
             for &m in &run.modes[a as usize..b as usize] {
                 count[usize::from(m)] += 1;
             }
