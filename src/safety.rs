@@ -11,7 +11,7 @@
 //! clock, never on UTC: a wall clock corrected by hours or days neither
 //! delays nor hastens a stow or a retry.
 
-use crate::config::{SafetyConfig, WindConfig};
+use crate::config::{SafetyConfig, StowConfig, WindConfig};
 use crate::text::FlashStr;
 use crate::time::monotonic;
 use drivers::counter::count_up;
@@ -532,6 +532,90 @@ impl FaultManager {
     }
 }
 
+/// The stow inputs a board reads each tick besides the anemometer: each
+/// `None` where the board has no such input (the default), else the
+/// level read.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub struct StowInputs {
+    /// A snow switch or sensor: true while it reports snow.
+    pub snow: Option<bool>,
+    /// A hail warning input: true while a warning is active.
+    pub hail: Option<bool>,
+    /// The plant's stow contact: true while its pin reads high (its
+    /// active level is `stow.external_active`).
+    pub external_high: Option<bool>,
+}
+
+/// Which weather stows are in force ([`WeatherStow::update`]).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub struct WeatherModes {
+    /// Hail warning (or its release time still running).
+    pub hail: bool,
+    /// The plant's stow contact active.
+    pub external: bool,
+    /// Snow (or its release time still running).
+    pub snow: bool,
+}
+
+/// One latched stow input: on at once, off once the input has been clear
+/// for its release time on the monotonic clock.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+struct Latch {
+    on: bool,
+    clear_since_ms: Option<u32>,
+}
+
+impl Latch {
+    /// Feeds the input (`None`: not wired, never on); true while latched.
+    fn update(&mut self, input: Option<bool>, now_ms: u32, release_s: u32) -> bool {
+        if input == Some(true) {
+            self.on = true;
+            self.clear_since_ms = None;
+        } else if self.on {
+            let since = self.clear_since_ms.get_or_insert(now_ms);
+            if monotonic::age_ms(since, now_ms) >= release_s.saturating_mul(1000) {
+                self.on = false;
+                self.clear_since_ms = None;
+            }
+        }
+        self.on
+    }
+}
+
+/// The weather stows from their inputs: snow and hail latched until clear
+/// for their release times, the plant's contact while active. Durations on
+/// the monotonic clock: a wall-clock step never shortens or lengthens one.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub struct WeatherStow {
+    snow: Latch,
+    hail: Latch,
+    modes: WeatherModes,
+}
+
+impl WeatherStow {
+    /// Feeds this tick's inputs at monotonic `now_ms`; returns the stows in
+    /// force.
+    pub fn update(
+        &mut self,
+        inputs: &StowInputs,
+        now_ms: u32,
+        config: &StowConfig,
+    ) -> WeatherModes {
+        let active_high = config.external_active != 0;
+        self.modes = WeatherModes {
+            hail: self.hail.update(inputs.hail, now_ms, config.hail_release_s),
+            external: inputs.external_high == Some(active_high),
+            snow: self.snow.update(inputs.snow, now_ms, config.snow_release_s),
+        };
+        self.modes
+    }
+
+    /// The stows in force since the last update.
+    pub fn modes(&self) -> WeatherModes {
+        self.modes
+    }
+}
+
 /// Wind stow from an anemometer's pulse rate: stow after the rate stayed
 /// above the threshold for `hold_s`; leave stow after it stayed below for
 /// `release_s`.
@@ -630,6 +714,15 @@ pub enum Mode {
     SafeStop,
     /// Stowed for wind.
     WindStow,
+    /// Stowed steep for a hail warning (`stow.hail_slope_deg`), until the
+    /// warning has been clear for `stow.hail_release_s`.
+    HailStow,
+    /// Stowed on a plant's stow contact (`stow.external_slope_deg`) while
+    /// it is active.
+    ExternalStow,
+    /// Stowed steep to shed snow (`stow.snow_slope_deg`), until the snow
+    /// input has been clear for `stow.snow_release_s`.
+    SnowStow,
     /// Stowed on an operator's command.
     CommandStow,
     /// An operator drives the axes.
@@ -660,6 +753,9 @@ impl Mode {
             "service",
             "safe_stop",
             "wind_stow",
+            "hail_stow",
+            "external_stow",
+            "snow_stow",
             "command_stow",
             "manual",
             "wait_for_time",
@@ -682,6 +778,9 @@ pub struct ModeInputs {
     pub must_stop: bool,
     /// The wind monitor is stowed.
     pub wind_stow: bool,
+    /// Stowed for hail, for the plant's stow contact, for snow
+    /// ([`WeatherStow`]).
+    pub weather: WeatherModes,
     /// An operator commanded stow.
     pub command_stow: bool,
     /// An operator took manual control.
@@ -706,6 +805,12 @@ pub fn select_mode(i: &ModeInputs) -> Mode {
         Mode::SafeStop
     } else if i.wind_stow {
         Mode::WindStow
+    } else if i.weather.hail {
+        Mode::HailStow
+    } else if i.weather.external {
+        Mode::ExternalStow
+    } else if i.weather.snow {
+        Mode::SnowStow
     } else if i.command_stow {
         Mode::CommandStow
     } else if i.manual {

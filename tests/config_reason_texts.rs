@@ -49,12 +49,14 @@ fn expected(r: Reason) -> &'static str {
         Reason::ModbusBaud => "1200, 2400, 4800, 9600, 19200, 38400, 57600 or 115200 baud",
         Reason::ModbusParity => "0 none (2 stop bits), 1 odd, 2 even",
         Reason::Switch => "0 off, 1 on",
+        Reason::SlopeDeg => "0...90 deg",
+        Reason::ActiveLevel => "0 low, 1 high",
     }
 }
 
 #[test]
 fn every_reason_prints_its_documented_text() {
-    assert_eq!(Reason::ALL.len(), 30);
+    assert_eq!(Reason::ALL.len(), 32);
     let mut wrong = Vec::new();
     for &r in Reason::ALL {
         let text = r.text();
@@ -182,6 +184,17 @@ fn book_rows() -> Vec<(&'static str, Vec<Vec<String>>)> {
                 book_range(range_text::u8s(r::MODBUS_PARITY)),
                 book_range(range_text::u8s(r::SWITCH)),
                 u(r::WIND_RELEASE_S),
+            ],
+        ),
+        (
+            "`stow.snow_slope_deg`, `snow_release_s`, `hail_slope_deg`, `hail_release_s`, `external_slope_deg`, `external_active`",
+            vec![
+                f(r::STOW_SLOPE_DEG),
+                u(r::WIND_RELEASE_S),
+                f(r::STOW_SLOPE_DEG),
+                u(r::WIND_RELEASE_S),
+                f(r::STOW_SLOPE_DEG),
+                book_range(range_text::u8s(r::ACTIVE_LEVEL)),
             ],
         ),
     ]

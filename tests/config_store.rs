@@ -39,9 +39,9 @@ fn encode_decode_round_trip() {
     assert_eq!(Config::decode(&buf[..n]), Some(c));
     // The operator's hold is byte 143, after the fields of layout version
     // 3: bit 0 stow, 1 manual, 2 service; the Modbus settings (11 bytes)
-    // follow it.
+    // and the weather stows' (21 bytes) follow it.
     const HOLD_AT: usize = 143;
-    assert_eq!(n, HOLD_AT + 1 + 11);
+    assert_eq!(n, HOLD_AT + 1 + 11 + 21);
     let mut held = c;
     held.hold = OperatorHold {
         stow: true,
@@ -57,12 +57,13 @@ fn encode_decode_round_trip() {
     // A flag this firmware does not know: the payload is refused.
     hb[HOLD_AT] = 0b1000;
     assert_eq!(Config::decode(&hb[..n]), None);
-    // Layout version 3's payload (no Modbus settings, 144 bytes) reads
-    // with their defaults, version 2's (no hold byte either, 143 bytes)
+    // Layout version 3's payload (no Modbus or stow settings, 144 bytes)
+    // reads with their defaults, version 2's (no hold byte either, 143 bytes)
     // with no hold in force.
     let mut on_bus = held;
     on_bus.modbus.address = 17;
     on_bus.modbus.write = 1;
+    on_bus.stow.snow_release_s = 60;
     let mut mb = [0u8; 200];
     assert_eq!(on_bus.encode(&mut mb), Some(PAYLOAD_LEN));
     assert_eq!(Config::decode(&mb[..HOLD_AT + 1]), Some(held));
@@ -79,8 +80,8 @@ fn encode_decode_round_trip() {
 /// The payload of layout version 4 byte by byte, built here field by
 /// field in the order `src/config/codec.rs` documents (the configuration's
 /// declaration order, little-endian, the derived counts per degree left
-/// out, the hold after the fields of version 3, the Modbus settings
-/// after it), so that a change of the key table that would move a stored
+/// out, the hold after the fields of version 3, the Modbus and stow
+/// settings after it), so that a change of the key table that would move a stored
 /// field fails here: every field gets a value of its own.
 #[test]
 fn payload_is_the_documented_layout() {
@@ -108,6 +109,12 @@ fn payload_is_the_documented_layout() {
     c.modbus.parity = 1;
     c.modbus.write = 1;
     c.modbus.timeout_s = 300;
+    c.stow.snow_slope_deg = 75.0;
+    c.stow.snow_release_s = 7_200;
+    c.stow.hail_slope_deg = 55.5;
+    c.stow.hail_release_s = 900;
+    c.stow.external_slope_deg = 10.0;
+    c.stow.external_active = 1;
     let mut expected = Vec::new();
     let f = |v: &mut Vec<u8>, x: f32| v.extend_from_slice(&x.to_le_bytes());
     let u = |v: &mut Vec<u8>, x: u32| v.extend_from_slice(&x.to_le_bytes());
@@ -163,6 +170,13 @@ fn payload_is_the_documented_layout() {
     expected.push(c.modbus.parity);
     expected.push(c.modbus.write);
     u(&mut expected, c.modbus.timeout_s);
+    let w = &c.stow;
+    f(&mut expected, w.snow_slope_deg);
+    u(&mut expected, w.snow_release_s);
+    f(&mut expected, w.hail_slope_deg);
+    u(&mut expected, w.hail_release_s);
+    f(&mut expected, w.external_slope_deg);
+    expected.push(w.external_active);
     assert_eq!(expected.len(), PAYLOAD_LEN);
     let mut buf = [0u8; 200];
     let n = c.encode(&mut buf).unwrap();
@@ -286,7 +300,7 @@ fn old_version_and_bad_values_are_rejected_whole() {
     // before it) and 3 (before the Modbus settings: up to the hold) are
     // still read, so an update keeps the saved configuration; version 3
     // with version 2's length is not.
-    let (v2, v3) = (n - 12, n - 11);
+    let (v2, v3) = (n - 33, n - 32);
     let mut mem = MemStorage::<1024>::new();
     mem.write(0, &slot(2, &payload[..v2])).unwrap();
     mem.write(SLOT_LEN, &slot(3, &payload[..v2])).unwrap();

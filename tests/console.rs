@@ -106,6 +106,12 @@ const DOC_RANGES: &[(&str, &str)] = &[
     ("modbus.parity", "0…2"),
     ("modbus.write", "0…1"),
     ("modbus.timeout_s", "0…86,400"),
+    ("stow.snow_slope_deg", "0…90"),
+    ("stow.snow_release_s", "0…86,400"),
+    ("stow.hail_slope_deg", "0…90"),
+    ("stow.hail_release_s", "0…86,400"),
+    ("stow.external_slope_deg", "0…90"),
+    ("stow.external_active", "0…1"),
 ];
 
 /// The home switch's range is relative to `min_deg` (documented as
@@ -254,10 +260,10 @@ fn typed(value: f64, integer: bool) -> String {
 #[test]
 fn key_table_names_every_field_once_and_the_docs_list_them() {
     let mut names: Vec<&str> = KEYS.iter().map(|k| k.name().as_str()).collect();
-    assert_eq!(names.len(), 45);
+    assert_eq!(names.len(), 51);
     names.sort_unstable();
     names.dedup();
-    assert_eq!(names.len(), 45, "duplicate keys");
+    assert_eq!(names.len(), 51, "duplicate keys");
     let docs = config_docs();
     let module =
         std::fs::read_to_string(concat!(env!("CARGO_MANIFEST_DIR"), "/src/console/mod.rs"))

@@ -67,6 +67,7 @@ fn inputs(now: UtcTime) -> TickInputs {
         gps_position_unstable: false,
         wind_pulses: 300, // 5 Hz: calm
         wind_interval_ms: 60_000,
+        stow_inputs: Default::default(),
     }
 }
 

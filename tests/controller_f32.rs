@@ -90,6 +90,7 @@ where
             gps_position_unstable: false,
             wind_pulses: 0,
             wind_interval_ms: 60_000,
+            stow_inputs: Default::default(),
         });
         if r.mode != Mode::Tracking {
             continue;

@@ -198,6 +198,7 @@ fn run<const N: usize>(seed: u64, ticks: u32, fig: &mut Figures) {
             gps_position_unstable: false,
             wind_pulses: pulses,
             wind_interval_ms: dt_ms as u32,
+            stow_inputs: Default::default(),
         });
         let ctx = || format!("seed {seed} tick {tick} at {now} ({now_ms} ms): {report:?}");
         // Gale held ⇒ stowed (or stopped) on this very tick.

@@ -142,6 +142,7 @@ fn controller_measures_the_mount_and_recovers_from_a_nack() {
             gps_position_unstable: false,
             wind_pulses: 0,
             wind_interval_ms: 60_000,
+            stow_inputs: Default::default(),
         })
     };
 
@@ -206,6 +207,7 @@ fn a_compass_without_a_new_sample_is_read_again_not_a_fault() {
             gps_position_unstable: false,
             wind_pulses: 0,
             wind_interval_ms: 1_000,
+            stow_inputs: Default::default(),
         })
     };
     let not_ready = || vec![acc_read(), I2c::write_read(MAG, vec![0x06], vec![0x00])];

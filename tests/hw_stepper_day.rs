@@ -140,6 +140,7 @@ fn kano_equinox_day_on_real_drivers() {
             gps_position_unstable: false,
             wind_pulses: 0,
             wind_interval_ms: 60_000,
+            stow_inputs: Default::default(),
         });
         if report.homing {
             homing_ticks += 1;

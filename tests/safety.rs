@@ -3,7 +3,7 @@
 use suntracker::config::{Config, WindConfig};
 use suntracker::safety::{
     retry_backoff_ms, select_mode, AxisId, Fault, FaultManager, Mode, ModeInputs, Recovery, Sensor,
-    WindMonitor, RECURRENCE_WINDOW_MS,
+    StowInputs, WeatherModes, WeatherStow, WindMonitor, RECURRENCE_WINDOW_MS,
 };
 
 /// Monotonic milliseconds (the firmware's 32-bit clock) at `s` seconds
@@ -104,6 +104,9 @@ fn every_fault_and_mode_has_its_documented_name() {
         (Mode::Service, "service"),
         (Mode::SafeStop, "safe_stop"),
         (Mode::WindStow, "wind_stow"),
+        (Mode::HailStow, "hail_stow"),
+        (Mode::ExternalStow, "external_stow"),
+        (Mode::SnowStow, "snow_stow"),
         (Mode::CommandStow, "command_stow"),
         (Mode::Manual, "manual"),
         (Mode::WaitForTime, "wait_for_time"),
@@ -222,6 +225,11 @@ fn mode_priorities() {
         service: true,
         must_stop: true,
         wind_stow: true,
+        weather: WeatherModes {
+            hail: true,
+            external: true,
+            snow: true,
+        },
         command_stow: true,
         manual: true,
         time_unknown: true,
@@ -240,10 +248,19 @@ fn mode_priorities() {
         ..i
     };
     assert_eq!(select_mode(&i), Mode::WindStow);
+    // Then hail, the plant's stow contact, snow (the order of the
+    // weather stows' danger to the panel), then the operator's stow.
     let i = ModeInputs {
         wind_stow: false,
         ..i
     };
+    assert_eq!(select_mode(&i), Mode::HailStow);
+    let mut i = i;
+    i.weather.hail = false;
+    assert_eq!(select_mode(&i), Mode::ExternalStow);
+    i.weather.external = false;
+    assert_eq!(select_mode(&i), Mode::SnowStow);
+    i.weather.snow = false;
     assert_eq!(select_mode(&i), Mode::CommandStow);
     let i = ModeInputs {
         command_stow: false,
@@ -513,4 +530,59 @@ fn faults_are_equal_only_to_themselves() {
         // The names are distinct too (one per fault).
         assert_eq!(all.iter().filter(|b| b.name() == a.name()).count(), 1);
     }
+}
+
+/// The weather stows on the monotonic clock: hail and snow latched until
+/// their inputs have been clear for their release times, the plant's
+/// contact only while at its active level; an unwired input never stows.
+#[test]
+fn weather_stows_latch_and_release_on_the_monotonic_clock() {
+    let mut config = Config::default().stow;
+    config.snow_release_s = 600;
+    config.hail_release_s = 60;
+    let mut w = WeatherStow::default();
+    let none = StowInputs::default();
+    assert_eq!(w.update(&none, 0, &config), WeatherModes::default());
+    let snowing = StowInputs {
+        snow: Some(true),
+        hail: Some(false),
+        external_high: Some(true),
+    };
+    // The contact reads high: not its active level (low by default).
+    let m = w.update(&snowing, 1_000, &config);
+    assert!(m.snow && !m.hail && !m.external);
+    let clear = StowInputs {
+        snow: Some(false),
+        hail: Some(false),
+        external_high: Some(false),
+    };
+    // Clear from 2 s: the contact (low) is active at once; snow stays
+    // until 600 s of clear input, counted from the first clear tick.
+    let m = w.update(&clear, 2_000, &config);
+    assert!(m.snow && m.external);
+    assert!(w.update(&clear, 601_999, &config).snow);
+    assert!(!w.update(&clear, 602_000, &config).snow);
+    // Snow again in the release time starts it over.
+    assert!(w.update(&snowing, 603_000, &config).snow);
+    assert!(w.update(&clear, 604_000, &config).snow);
+    assert!(w.update(&snowing, 700_000, &config).snow);
+    assert!(w.update(&clear, 701_000, &config).snow);
+    assert!(w.update(&clear, 1_300_999, &config).snow);
+    assert!(!w.update(&clear, 1_301_000, &config).snow);
+    // Hail over the wrap of the 32-bit clock: released 60 s after clear.
+    let hail = StowInputs {
+        hail: Some(true),
+        ..clear
+    };
+    let t0 = u32::MAX - 10_000;
+    assert!(w.update(&hail, t0, &config).hail);
+    assert!(w.update(&clear, t0.wrapping_add(1_000), &config).hail);
+    assert!(w.update(&clear, t0.wrapping_add(60_999), &config).hail);
+    assert!(!w.update(&clear, t0.wrapping_add(61_000), &config).hail);
+    // Active high: the contact stows while the pin reads high.
+    config.external_active = 1;
+    assert!(!w.update(&clear, 5, &config).external);
+    assert!(w.update(&snowing, 6, &config).external);
+    // Unwired inputs never stow, whatever the configuration.
+    assert!(!w.update(&none, 7, &config).external);
 }

@@ -29,6 +29,12 @@ struct Row {
     zenith: f64,
     pointing: Option<f64>,
     wind_hz: f64,
+    /// Where the panel faces: slope from horizontal, azimuth from north
+    /// through east.
+    panel_slope: f64,
+    panel_azimuth: f64,
+    irradiance_w_m2: f64,
+    supply_mv: f64,
 }
 
 impl Row {
@@ -105,12 +111,16 @@ fn run_scenario_with(name: &str, more: &[&str]) -> Vec<Row> {
     assert_eq!(lines.next(), Some(run::TRACE_HEADER));
     assert_eq!(
         run::TRACE_HEADER,
-        "minute,utc,mode,homing,faults,target_c_deg,target_a_deg,axis_c_deg,axis_a_deg,sun_zenith_deg,sun_azimuth_deg,pointing_error_deg,wind_hz"
+        "minute,utc,mode,homing,faults,target_c_deg,target_a_deg,axis_c_deg,axis_a_deg,sun_zenith_deg,sun_azimuth_deg,pointing_error_deg,wind_hz,\
+         panel_slope_deg,panel_azimuth_deg,irradiance_w_m2,supply_mv"
     );
     let modes = [
         "service",
         "safe_stop",
         "wind_stow",
+        "hail_stow",
+        "external_stow",
+        "snow_stow",
         "command_stow",
         "manual",
         "wait_for_time",
@@ -122,7 +132,7 @@ fn run_scenario_with(name: &str, more: &[&str]) -> Vec<Row> {
     let rows: Vec<Row> = lines
         .map(|l| {
             let f: Vec<&str> = l.split(',').collect();
-            assert_eq!(f.len(), 13, "{name}: {l}");
+            assert_eq!(f.len(), 17, "{name}: {l}");
             let target = match (opt(f[5]), opt(f[6])) {
                 (Some(c), Some(a)) => Some((c, a)),
                 (None, None) => None,
@@ -148,6 +158,10 @@ fn run_scenario_with(name: &str, more: &[&str]) -> Vec<Row> {
                 zenith: f[9].parse().expect("zenith"),
                 pointing: opt(f[11]),
                 wind_hz: f[12].parse().expect("wind_hz"),
+                panel_slope: f[13].parse().expect("panel_slope_deg"),
+                panel_azimuth: f[14].parse().expect("panel_azimuth_deg"),
+                irradiance_w_m2: f[15].parse().expect("irradiance_w_m2"),
+                supply_mv: f[16].parse().expect("supply_mv"),
             }
         })
         .collect();
@@ -173,6 +187,25 @@ fn run_scenario_with(name: &str, more: &[&str]) -> Vec<Row> {
         }
         if r.mode == "tracking" {
             assert!(r.target.is_some(), "{name}: minute {}", r.minute);
+        }
+        // The panel's slope is the A axis's tilt on the level mount; the
+        // clear-sky beam is there with the sun up only; the regulated
+        // supply unless a battery is asked for.
+        assert!(
+            (r.panel_slope - r.axis_a.abs()).abs() < 1e-3,
+            "{name}: slope {} with A at {} (minute {})",
+            r.panel_slope,
+            r.axis_a,
+            r.minute
+        );
+        assert!((0.0..360.0).contains(&r.panel_azimuth), "{name}: {r:?}");
+        assert!(
+            (r.irradiance_w_m2 > 0.0) == (r.zenith < 90.0),
+            "{name}: minute {}",
+            r.minute
+        );
+        if !more.contains(&"battery") {
+            assert_eq!(r.supply_mv, 12_000.0, "{name}: minute {}", r.minute);
         }
         if r.mode == "tracking" && r.zenith < 89.0 {
             assert!(r.pointing.is_some(), "{name}: minute {}", r.minute);
@@ -444,6 +477,77 @@ fn every_scenario_file_has_a_comment_header() {
         n += 1;
     }
     assert!(n >= 7);
+}
+
+/// A weather stow's rows: entered at `on` (the tick that reads the input),
+/// the panel at `slope_deg` within `reach` minutes and held there until
+/// `off` plus the release minutes, but for a gale over `gale` (wind
+/// stow first: the panel flat); tracking again after the release.
+fn weather_stow(name: &str, mode: &str, slope_deg: f64, on: u32, gale: (u32, u32), release: u32) {
+    let rows = run_scenario(name);
+    tracks_well(name, span(&rows, on - 60, on));
+    let reach = 3;
+    // The gale's pulses are counted from the tick after it starts; its
+    // stow ends 10 minutes (wind.release_s) after it drops.
+    let (gale_from, gale_to) = (gale.0 + 1, gale.1 + 10);
+    for r in span(&rows, on, release) {
+        let in_gale = (gale_from..gale_to).contains(&r.minute);
+        let want = if in_gale { "wind_stow" } else { mode };
+        assert_eq!(r.mode, want, "{name}: minute {} {r:?}", r.minute);
+        let settled = r.minute >= on + reach && !(gale_from..gale_to + reach).contains(&r.minute);
+        if settled {
+            let want_slope = if in_gale { 0.0 } else { slope_deg };
+            assert!(
+                (r.panel_slope - want_slope).abs() < 0.05,
+                "{name}: slope {} at minute {} (want {want_slope})",
+                r.panel_slope,
+                r.minute
+            );
+        }
+        if r.minute >= on + reach {
+            // The C axis stays: no swing for a stow.
+            assert!(
+                (r.axis_c - rows[(on + reach) as usize].axis_c).abs() < 0.05,
+                "{name}: {r:?}"
+            );
+        }
+    }
+    assert_eq!(
+        rows[release as usize].mode, "tracking",
+        "{name}: {:?}",
+        rows[release as usize]
+    );
+    tracks_well(name, span(&rows, release + reach, release + 120));
+}
+
+#[test]
+fn snow_stows_steep_until_clear_for_an_hour() {
+    // Snow from 08:00 to 09:00 UTC, a gale 08:20 to 08:30: steep at the A
+    // axis's limit (stow.snow_slope_deg 90), flat for the gale, steep again,
+    // tracking at 10:00 (stow.snow_release_s 3,600 after the input clears).
+    weather_stow("snow_stow.csv", "snow_stow", 90.0, 480, (500, 510), 600);
+}
+
+#[test]
+fn hail_stows_until_clear_for_half_an_hour() {
+    // A hail warning 12:00 to 12:40, a gale 12:10 to 12:20: the panel at
+    // 60° (stow.hail_slope_deg), tracking at 13:10 (stow.hail_release_s 1,800).
+    weather_stow("hail_stow.csv", "hail_stow", 60.0, 720, (730, 740), 790);
+}
+
+#[test]
+fn plant_stow_contact_holds_while_active() {
+    // The plant's stow contact active 14:00 to 14:30, a gale 14:05 to
+    // 14:15: flat (stow.external_slope_deg 0) while active, tracking again
+    // at the first tick after it opens.
+    weather_stow(
+        "external_stow.csv",
+        "external_stow",
+        0.0,
+        840,
+        (845, 855),
+        870,
+    );
 }
 
 #[test]

@@ -26,7 +26,7 @@ use suntracker::config::Config;
 use suntracker::controller::{AttitudeSource, Controller, ControllerOptions};
 use suntracker::motion::FeedbackMode;
 use suntracker::persist::{ConfigStore, MemStorage};
-use suntracker::safety::Mode;
+use suntracker::safety::{Mode, StowInputs};
 use suntracker::site::{follow_gps_site, site_from_config};
 use suntracker::sun::SharedSiteSource;
 use suntracker::sun::{AlgorithmSource, PositionSource};
@@ -43,7 +43,7 @@ pub mod svg;
 use cli::Parsed;
 
 /// The header of `--trace`.
-pub const TRACE_HEADER: &str = "minute,utc,mode,homing,faults,target_c_deg,target_a_deg,axis_c_deg,axis_a_deg,sun_zenith_deg,sun_azimuth_deg,pointing_error_deg,wind_hz";
+pub const TRACE_HEADER: &str = "minute,utc,mode,homing,faults,target_c_deg,target_a_deg,axis_c_deg,axis_a_deg,sun_zenith_deg,sun_azimuth_deg,pointing_error_deg,wind_hz,panel_slope_deg,panel_azimuth_deg,irradiance_w_m2,supply_mv";
 
 /// The program name in messages.
 pub const TOOL: &str = "simulate";
@@ -317,6 +317,10 @@ struct World {
     obstructed: [bool; 2],
     encoder_failed: [bool; 2],
     attitude_failed: bool,
+    /// The snow, hail and plant-stow inputs (`on` = active).
+    snow: bool,
+    hail: bool,
+    stow_input: bool,
 }
 
 type Ctl<'a, P> = Controller<f64, SharedSiteSource<'a, f64>, P, MountSensors, 1441>;
@@ -621,6 +625,9 @@ fn simulate_with<P: SimAxis>(
         obstructed: [false; 2],
         encoder_failed: [false; 2],
         attitude_failed: false,
+        snow: false,
+        hail: false,
+        stow_input: false,
     };
     let mut receiver =
         GpsReceiverModel::new(args.lat, args.lon, f64::from(config.site.elevation_m));
@@ -666,9 +673,13 @@ fn simulate_with<P: SimAxis>(
     // voltages of a 12 V lead-acid battery from 20 % charge (11.9 V) to full
     // (12.7 V), a new one each day.
     let mut supply_rng = SplitMix64::new(args.seed ^ 0x5355_5050_4c59);
+    // The motor supply the trace reports: the regulated 12 V, or the
+    // battery's voltage of the day.
+    let mut supply_v = 12.0;
     for m in 0..minutes {
         if args.supply == Supply::Battery && m % 1440 == 0 {
             let v = supply_rng.uniform(11.9, 12.7);
+            supply_v = v;
             for ax in ctl.axes_mut().iter_mut() {
                 ax.drive_mut().set_supply_v(v);
             }
@@ -707,6 +718,9 @@ fn simulate_with<P: SimAxis>(
                     }
                     Event::Obstruction(ax, on) => world.obstructed[ax.index()] = on,
                     Event::AttitudeSensor(on) => world.attitude_failed = on,
+                    Event::Snow(on) => world.snow = on,
+                    Event::Hail(on) => world.hail = on,
+                    Event::StowInput(on) => world.stow_input = on,
                     Event::Command(c) => {
                         match c {
                             Command::Stow => ctl.command_stow(true),
@@ -863,7 +877,15 @@ fn simulate_with<P: SimAxis>(
             .unwrap_or(args.start);
         let pulses = pulses_per_minute(counted_hz.unwrap_or(wind_hz));
         counted_hz = Some(wind_hz);
-        let inputs = status.tick_inputs(now_ms, fallback, pulses, 60_000);
+        let mut inputs = status.tick_inputs(now_ms, fallback, pulses, 60_000);
+        // The stow inputs as pins: the plant's contact at its active level
+        // while on.
+        let active_high = ctl.config().stow.external_active != 0;
+        inputs.stow_inputs = StowInputs {
+            snow: Some(world.snow),
+            hail: Some(world.hail),
+            external_high: Some(world.stow_input == active_high),
+        };
         let report = ctl.tick(&inputs);
 
         if std::env::var_os("SIM_DEBUG").is_some() && ctl.faults().raised != last_raised {
@@ -949,9 +971,20 @@ fn simulate_with<P: SimAxis>(
                 .map(|a| a.fault.name().as_str())
                 .collect();
             let opt = |v: Option<f64>| v.map(|x| format!("{x:.4}")).unwrap_or_default();
+            // Where the panel faces (its normal in the horizontal frame:
+            // X west, Y south, Z up): slope from horizontal, azimuth from
+            // north through east.
+            let n = truth.normal_xyz(&pose);
+            let slope_deg = n[2].clamp(-1.0, 1.0).acos().to_degrees();
+            let azimuth_deg = (-n[0]).atan2(-n[1]).to_degrees().rem_euclid(360.0);
+            // The clear-sky beam the model gives, the sun up (no weather
+            // in the model yet).
+            let irradiance_w_m2 = sun.filter(|s| s.is_above_horizon()).map_or(0.0, |s| {
+                clear_sky_beam_normal_w_m2(s.zenith_deg, now.day_of_year())
+            });
             let _ = write!(
                 row,
-                "{m},{},{},{},{},{},{},{:.4},{:.4},{},{},{},{:.4}",
+                "{m},{},{},{},{},{},{},{:.4},{:.4},{},{},{},{:.4},{slope_deg:.4},{azimuth_deg:.4},{irradiance_w_m2:.1},{:.0}",
                 iso(&inputs.now),
                 report.mode.name(),
                 u8::from(report.homing),
@@ -963,7 +996,8 @@ fn simulate_with<P: SimAxis>(
                 opt(sun.map(|s| s.zenith_deg)),
                 opt(sun.map(|s| s.azimuth_deg)),
                 opt(pointing),
-                wind_hz
+                wind_hz,
+                supply_v * 1000.0
             );
             writeln!(w, "{row}").map_err(io_err)?;
         }

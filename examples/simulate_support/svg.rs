@@ -21,13 +21,16 @@ use timeline::{FAULT, MODE_COLOURS};
 
 /// Every mode, in the order of the band (bottom up) and the legend (that
 /// of [`MODE_COLOURS`]).
-const MODES: [Mode; 10] = [
+const MODES: [Mode; 13] = [
     Mode::Tracking,
     Mode::Unwind,
     Mode::Homing,
     Mode::Night,
     Mode::WaitForTime,
     Mode::WindStow,
+    Mode::HailStow,
+    Mode::ExternalStow,
+    Mode::SnowStow,
     Mode::CommandStow,
     Mode::Manual,
     Mode::SafeStop,
@@ -44,10 +47,13 @@ fn mode_index(mode: Mode) -> usize {
         Mode::Night => 3,
         Mode::WaitForTime => 4,
         Mode::WindStow => 5,
-        Mode::CommandStow => 6,
-        Mode::Manual => 7,
-        Mode::SafeStop => 8,
-        Mode::Service => 9,
+        Mode::HailStow => 6,
+        Mode::ExternalStow => 7,
+        Mode::SnowStow => 8,
+        Mode::CommandStow => 9,
+        Mode::Manual => 10,
+        Mode::SafeStop => 11,
+        Mode::Service => 12,
     }
 }
 

@@ -24,6 +24,9 @@
 //! 152,obstruction,A,on     # obstruction,C|A,on|off (the axis is held where it is)
 //! 155,hall,C,failed        # hall,C|A,failed|ok (the motor's Hall sensor)
 //! 160,attitude_sensor,failed        # attitude_sensor,failed|ok
+//! 162,snow,on              # snow,on|off (the snow input)
+//! 164,hail,on              # hail,on|off (the hail warning input)
+//! 166,stow_input,on        # stow_input,on|off (the plant's stow contact active)
 //! 170,power_cycle
 //! 180,command,stow         # command,stow|resume|home|clear|service_on|service_off
 //! ```
@@ -134,6 +137,13 @@ pub enum Event {
     Hall(AxisId, bool),
     /// `attitude_sensor,failed|ok`: `true` = failed.
     AttitudeSensor(bool),
+    /// `snow,on|off`: the snow input reports snow (`true` = on).
+    Snow(bool),
+    /// `hail,on|off`: the hail warning input is active (`true` = on).
+    Hail(bool),
+    /// `stow_input,on|off`: the plant's stow contact is active (`true` =
+    /// on), at the level the configuration calls active.
+    StowInput(bool),
     /// `power_cycle`: the controller restarts.
     PowerCycle,
     /// `command,stow|resume|home|clear|service_on|service_off`.
@@ -531,6 +541,21 @@ fn parse_event(name: &str, args: &Args<'_>) -> Result<Event, ScenarioErrorKind> 
                 state,
             )?)
         }
+        "snow" | "hail" | "stow_input" => {
+            // The event's name as a constant (errors keep it).
+            let (event, make): (&'static str, fn(bool) -> Event) = match name {
+                "snow" => ("snow", Event::Snow),
+                "hail" => ("hail", Event::Hail),
+                _ => ("stow_input", Event::StowInput),
+            };
+            let [state] = args.exactly(event)?;
+            make(keyword(
+                &[("on", true), ("off", false)],
+                event,
+                "on or off",
+                state,
+            )?)
+        }
         "power_cycle" => {
             let [] = args.exactly("power_cycle")?;
             Event::PowerCycle
@@ -699,6 +724,14 @@ impl fmt::Display for Event {
             }
             Event::AttitudeSensor(failed) => {
                 write!(f, "attitude_sensor,{}", fault(failed, "failed"))
+            }
+            Event::Snow(on) | Event::Hail(on) | Event::StowInput(on) => {
+                let name = match self {
+                    Event::Snow(_) => "snow",
+                    Event::Hail(_) => "hail",
+                    _ => "stow_input",
+                };
+                write!(f, "{name},{}", if *on { "on" } else { "off" })
             }
             Event::PowerCycle => f.write_str("power_cycle"),
             Event::Command(c) => f.write_str(match c {

@@ -101,6 +101,12 @@ named! {
         ModbusParity => "modbus.parity",
         ModbusWrite => "modbus.write",
         ModbusTimeoutS => "modbus.timeout_s",
+        StowSnowSlopeDeg => "stow.snow_slope_deg",
+        StowSnowReleaseS => "stow.snow_release_s",
+        StowHailSlopeDeg => "stow.hail_slope_deg",
+        StowHailReleaseS => "stow.hail_release_s",
+        StowExternalSlopeDeg => "stow.external_slope_deg",
+        StowExternalActive => "stow.external_active",
     }
 }
 
@@ -168,6 +174,8 @@ named! {
         ModbusBaud => "1200, 2400, 4800, 9600, 19200, 38400, 57600 or 115200 baud",
         ModbusParity => "0 none (2 stop bits), 1 odd, 2 even",
         Switch => "0 off, 1 on",
+        SlopeDeg => range_text!(f32s(r::STOW_SLOPE_DEG), Str(" deg")),
+        ActiveLevel => "0 low, 1 high",
     }
 }
 

@@ -192,6 +192,35 @@ pub struct ModbusConfig {
     pub timeout_s: u32,
 }
 
+/// The weather stows' poses and release times ([`crate::safety::WeatherStow`]):
+/// the panel's slope from horizontal in each (the C axis stays where it is;
+/// the A axis's limits bound the slope), and how long an input must have
+/// been clear before tracking resumes.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct StowConfig {
+    /// Slope for snow, degrees: 0…90 (`stow.snow_slope_deg`); steep, so
+    /// that snow slides off (default 90: the A axis's limit).
+    pub snow_slope_deg: f32,
+    /// Seconds the snow input must be clear before tracking resumes:
+    /// 0…86,400 (`stow.snow_release_s`); default an hour, for the panel to
+    /// shed what lies on it.
+    pub snow_release_s: u32,
+    /// Slope for a hail warning, degrees: 0…90 (`stow.hail_slope_deg`);
+    /// steep, so that hail strikes the glass at a glancing angle (default
+    /// 60).
+    pub hail_slope_deg: f32,
+    /// Seconds the hail warning must be clear before tracking resumes:
+    /// 0…86,400 (`stow.hail_release_s`); default 30 minutes.
+    pub hail_release_s: u32,
+    /// Slope while the plant's stow contact is active, degrees: 0…90
+    /// (`stow.external_slope_deg`); default 0, flat.
+    pub external_slope_deg: f32,
+    /// Active level of the plant's stow contact: 0…1
+    /// (`stow.external_active`), 0 low (a contact closing to ground against
+    /// the pin's pull-up, the default), 1 high.
+    pub external_active: u8,
+}
+
 /// The whole configuration.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Config {
@@ -220,6 +249,8 @@ pub struct Config {
     pub log: LogConfig,
     /// The Modbus RTU server.
     pub modbus: ModbusConfig,
+    /// The weather stows.
+    pub stow: StowConfig,
     /// Not a setting (no key; `set`, `load` and `defaults` leave the one in
     /// force): the operator's lasting commands, saved in the same record
     /// so that one power-cut-safe store keeps both ([`OperatorHold`]).
@@ -286,6 +317,14 @@ impl Config {
                 parity: 2,
                 write: 0,
                 timeout_s: 0,
+            },
+            stow: StowConfig {
+                snow_slope_deg: 90.0,
+                snow_release_s: 3_600,
+                hail_slope_deg: 60.0,
+                hail_release_s: 1_800,
+                external_slope_deg: 0.0,
+                external_active: 0,
             },
             hold: OperatorHold::NONE,
         }

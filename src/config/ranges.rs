@@ -91,6 +91,11 @@ pub const MODBUS_BAUDS: [u32; 8] = [1_200, 2_400, 4_800, 9_600, 19_200, 38_400, 
 /// Modbus parity: 0 none (with two stop bits), 1 odd, 2 even (the
 /// default the serial line spec requires, §2.5.1).
 pub const MODBUS_PARITY: (u8, u8) = (0, 2);
+/// A stow's panel slope from horizontal, degrees: flat to upright (the
+/// A axis's limits bound it further).
+pub const STOW_SLOPE_DEG: (f32, f32) = (0.0, 90.0);
+/// An input's active level: 0 low, 1 high.
+pub const ACTIVE_LEVEL: (u8, u8) = (0, 1);
 /// An on/off switch: 0 off, 1 on.
 pub const SWITCH: (u8, u8) = (0, 1);
 /// Minutes between periodic `status` log lines; 0 turns them off, a

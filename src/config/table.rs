@@ -7,7 +7,7 @@
 
 use super::{
     ranges as r, AxisConfig, Calibration, Config, Field, LogConfig, ModbusConfig, Reason,
-    SafetyConfig, SiteConfig, WindConfig,
+    SafetyConfig, SiteConfig, StowConfig, WindConfig,
 };
 use crate::plan::ScheduleConfig;
 use crate::safety::OperatorHold;
@@ -179,6 +179,12 @@ key_table! { c;
     ModbusParity U8 c.modbus.parity, MODBUS_PARITY ModbusParity;
     ModbusWrite U8 c.modbus.write, SWITCH Switch;
     ModbusTimeoutS U32 c.modbus.timeout_s, WIND_RELEASE_S S0To86400;
+    StowSnowSlopeDeg F32 c.stow.snow_slope_deg, STOW_SLOPE_DEG SlopeDeg;
+    StowSnowReleaseS U32 c.stow.snow_release_s, WIND_RELEASE_S S0To86400;
+    StowHailSlopeDeg F32 c.stow.hail_slope_deg, STOW_SLOPE_DEG SlopeDeg;
+    StowHailReleaseS U32 c.stow.hail_release_s, WIND_RELEASE_S S0To86400;
+    StowExternalSlopeDeg F32 c.stow.external_slope_deg, STOW_SLOPE_DEG SlopeDeg;
+    StowExternalActive U8 c.stow.external_active, ACTIVE_LEVEL ActiveLevel;
 }
 
 crate::progmem! {
@@ -271,6 +277,14 @@ const ZEROS: Config = {
             parity: 0,
             write: 0,
             timeout_s: 0,
+        },
+        stow: StowConfig {
+            snow_slope_deg: 0.0,
+            snow_release_s: 0,
+            hail_slope_deg: 0.0,
+            hail_release_s: 0,
+            external_slope_deg: 0.0,
+            external_active: 0,
         },
         hold: OperatorHold::NONE,
     }

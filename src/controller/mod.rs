@@ -25,7 +25,8 @@ use crate::motion::{
 use crate::plan::{ScheduleError, Scheduler, SetPoint};
 use crate::ports::{AttitudeReading, AttitudeSensor};
 use crate::safety::{
-    AxisId, Fault, FaultManager, Mode, OperatorHold, Recovery, Sensor, WindMonitor,
+    AxisId, Fault, FaultManager, Mode, OperatorHold, Recovery, Sensor, StowInputs, WeatherStow,
+    WindMonitor,
 };
 use crate::sun::PositionSource;
 use crate::time::monotonic;
@@ -151,6 +152,9 @@ pub struct TickInputs {
     pub wind_pulses: u32,
     /// Milliseconds of the monotonic clock those pulses were counted over.
     pub wind_interval_ms: u32,
+    /// The snow, hail and plant-stow inputs (`None` where the board has
+    /// none).
+    pub stow_inputs: StowInputs,
 }
 
 /// What one tick did.
@@ -228,6 +232,7 @@ pub struct Controller<T, P, D, S, const N: usize> {
     config: Config,
     faults: FaultManager,
     wind: WindMonitor,
+    weather: WeatherStow,
     options: ControllerOptions<T>,
     sensors: Option<S>,
     /// The branch search in progress (the module `look_ahead`).
@@ -295,6 +300,7 @@ where
             sensors,
             faults: FaultManager::new(config.safety),
             wind: WindMonitor::new(config.wind),
+            weather: WeatherStow::default(),
             attitude,
             set_point: None,
             home_set_point: None,
@@ -505,6 +511,9 @@ where
         let wind_stow = self
             .wind
             .update_pulses(inp.now_ms, inp.wind_pulses, inp.wind_interval_ms);
+        // Snow, hail and the plant's stow contact (monotonic clock only).
+        self.weather
+            .update(&inp.stow_inputs, inp.now_ms, &self.config.stow);
         // 3. Scheduler (only with a trusted clock), daylight only with a
         // set-point for the present slot, the re-homing of a new day.
         let (clock_jump, schedule_error) = self.schedule(inp);

@@ -208,6 +208,7 @@ where
             service: hold.service,
             must_stop: self.faults.must_stop(),
             wind_stow,
+            weather: self.weather.modes(),
             command_stow: hold.stow,
             manual: hold.manual,
             time_unknown: self.faults.time_unknown(),
@@ -228,6 +229,22 @@ where
             gamma_deg: gamma_now,
             alpha_deg: T::ZERO,
         };
+        // A weather stow's slope, on the side of the A axis's present tilt
+        // (the shorter move; the limits clamp it).
+        let stow_cfg = &self.config.stow;
+        let slope_deg = match mode {
+            Mode::HailStow => Some(stow_cfg.hail_slope_deg),
+            Mode::ExternalStow => Some(stow_cfg.external_slope_deg),
+            Mode::SnowStow => Some(stow_cfg.snow_slope_deg),
+            _ => None,
+        };
+        let weather_stow = slope_deg.map(|s| {
+            let s = T::from_f32(s);
+            Pose {
+                gamma_deg: gamma_now,
+                alpha_deg: if self.pose.alpha_deg < T::ZERO { -s } else { s },
+            }
+        });
         // Entering tracking, or a new day table: pick the branch of the
         // two solutions that serves the rest of the day with least travel.
         let table_day = self.scheduler.day_key();
@@ -246,7 +263,18 @@ where
         // While the day's branch is searched (a few ticks on a slow
         // board), the axes hold still.
         let choosing_branch = mode == Mode::Tracking && self.look_ahead_pending();
-        let stowed = |m: Option<Mode>| matches!(m, Some(Mode::WindStow | Mode::CommandStow));
+        let stowed = |m: Option<Mode>| {
+            matches!(
+                m,
+                Some(
+                    Mode::WindStow
+                        | Mode::HailStow
+                        | Mode::ExternalStow
+                        | Mode::SnowStow
+                        | Mode::CommandStow
+                )
+            )
+        };
         if self.options.rehome_after_stow && stowed(self.last_mode) && !stowed(Some(mode)) {
             for ax in self.axes.iter_mut() {
                 ax.unhome();
@@ -263,6 +291,7 @@ where
         let (target, from_set_point) = match mode {
             Mode::SafeStop | Mode::Homing => (None, false),
             Mode::WindStow | Mode::CommandStow | Mode::WaitForTime => (Some(stow), false),
+            Mode::HailStow | Mode::ExternalStow | Mode::SnowStow => (weather_stow, false),
             Mode::Manual | Mode::Service => (self.manual, false),
             Mode::Night if self.options.night_stow => (Some(stow), false),
             Mode::Night => {

@@ -502,6 +502,7 @@ impl<R: RtcDriver, D: AxisDrive + Motion> ServoTracker<R, D> {
         // The mode choice every board makes; this loop has no fault stop,
         // wind, operator or manual inputs.
         let mode = select_mode(&ModeInputs {
+            weather: Default::default(),
             must_stop: false,
             wind_stow: false,
             service: false,

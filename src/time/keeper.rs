@@ -508,7 +508,8 @@ impl TimeStatus {
 
     /// The controller's inputs for this tick: the monotonic time, UTC and
     /// its validity, the GPS state, and the anemometer pulses counted over
-    /// the last `wind_interval_ms` of the monotonic clock.
+    /// the last `wind_interval_ms` of the monotonic clock; no stow inputs
+    /// (the caller sets those its board has).
     pub fn tick_inputs(
         &self,
         now_ms: u32,
@@ -526,6 +527,7 @@ impl TimeStatus {
             gps_position_unstable: false,
             wind_pulses,
             wind_interval_ms,
+            stow_inputs: crate::safety::StowInputs::default(),
         }
     }
 }

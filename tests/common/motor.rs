@@ -260,6 +260,7 @@ pub fn calm_tick(t: u32) -> TickInputs {
         gps_position_unstable: false,
         wind_pulses: 0,
         wind_interval_ms: 60_000,
+        stow_inputs: Default::default(),
     }
 }
 
