@@ -55,6 +55,11 @@ pub trait Platform {
     fn now_ms(&mut self) -> u64;
     /// Anemometer pulses counted since the last call.
     fn take_wind_pulses(&mut self) -> u32;
+    /// The snow, hail and plant-stow inputs as read now; a board without
+    /// them keeps this default (none wired: they never stow).
+    fn stow_inputs(&mut self) -> crate::safety::StowInputs {
+        crate::safety::StowInputs::default()
+    }
     /// Restarts the watchdog's timeout.
     fn feed_watchdog(&mut self);
     /// Sleeps until the next interrupt (a timer tick at the latest).
@@ -447,7 +452,8 @@ where
                 }
             }
             let pulses = platform.take_wind_pulses();
-            self.tick(now_ms, pulses);
+            let stow_inputs = platform.stow_inputs();
+            self.tick(now_ms, pulses, stow_inputs);
             self.next_tick_ms = Some(now_ms.wrapping_add(tick_ms));
             self.periodic_status(now_ms);
         }
@@ -471,7 +477,7 @@ where
     // than 63 bytes from the frame pointer costs six more instructions at
     // each access there).
     #[cfg_attr(target_arch = "avr", inline(never))]
-    fn tick(&mut self, now_ms: u32, wind_pulses: u32) {
+    fn tick(&mut self, now_ms: u32, wind_pulses: u32, stow_inputs: crate::safety::StowInputs) {
         let interval_ms = monotonic::elapsed_ms(now_ms, self.last_tick_ms);
         self.last_tick_ms = now_ms;
         self.last_wind_hz = (interval_ms > 0 && self.stats.ticks > 0)
@@ -511,6 +517,7 @@ where
         let fallback = self.time.last_valid().unwrap_or(self.boot_fallback);
         let mut inputs = status.tick_inputs(now_ms, fallback, wind_pulses, interval_ms);
         inputs.gps_position_unstable = self.site_filter.unstable();
+        inputs.stow_inputs = stow_inputs;
         self.run_controller(&inputs, status.origin, rejected_before);
     }
 

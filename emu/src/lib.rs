@@ -19,7 +19,7 @@ pub mod sim;
 pub mod twi;
 pub mod uno;
 
-pub use mega::{LogLine, MegaBench, Rtc, Run};
+pub use mega::{Contact, LogLine, MegaBench, Rtc, Run};
 pub use models::mount::{Field, Mount};
 pub use models::nmea::{GpsFeed, GpsSite};
 pub use models::wind::WindProfile;

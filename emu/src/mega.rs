@@ -286,6 +286,33 @@ pub struct MegaBench {
     timescale: Option<f64>,
     /// Console input (USART0) and power cuts.
     script: Script,
+    /// The weather contacts (PC4 snow, PC5 hail, PC6 the plant's stow
+    /// contact): from each emulated minute, closed (low) or open (high,
+    /// the image's pull-up); open until told.
+    contacts: Vec<(f64, Contact, bool)>,
+}
+
+/// A weather contact of the ATmega2560 board (`boards/mega2560`'s pin
+/// table).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Contact {
+    /// The snow switch, PC4 (D33).
+    Snow,
+    /// The hail warning contact, PC5 (D32).
+    Hail,
+    /// The plant's stow contact, PC6 (D31).
+    PlantStow,
+}
+
+impl Contact {
+    /// Its bit of port C.
+    fn bit(self) -> u8 {
+        match self {
+            Contact::Snow => 4,
+            Contact::Hail => 5,
+            Contact::PlantStow => 6,
+        }
+    }
 }
 
 /// The byte the free RAM is painted with before a run.
@@ -314,7 +341,16 @@ impl MegaBench {
             log_file: None,
             timescale: None,
             script: Script::default(),
+            contacts: Vec::new(),
         }
+    }
+
+    /// Closes (`true`: the pin low) or opens (`false`: high) a weather
+    /// contact at emulated `minute`.
+    pub fn contact_at(mut self, minute: f64, contact: Contact, closed: bool) -> Self {
+        self.contacts.push((minute, contact, closed));
+        self.contacts.sort_by(|a, b| a.0.total_cmp(&b.0));
+        self
     }
 
     /// Types `line` (and an end of line) on the console, USART0, at
@@ -478,6 +514,7 @@ impl MegaBench {
 
         let end_emu_s = minutes * 60.0;
         let mut switches = [None::<bool>; 4];
+        let mut contacts = [None::<bool>; 3];
         let mut switch_events = Vec::new();
         let mut line_start = None::<(f64, f64)>;
         let mut wind_level = None::<bool>;
@@ -511,6 +548,7 @@ impl MegaBench {
                 // The reset cleared the PINx registers: drive the switch,
                 // anemometer and real-time levels again.
                 switches = [None; 4];
+                contacts = [None; 3];
                 sim.set_pin('L', 0, real_time);
                 if let Some(l) = wind_level {
                     sim.set_pin('E', 4, l);
@@ -554,6 +592,23 @@ impl MegaBench {
             if wind_level.is_none() {
                 sim.set_pin('E', 4, true);
                 wind_level = Some(true);
+            }
+            // The weather contacts: each at its latest scheduled level
+            // (open before any), driven when it changes or after a reset.
+            for (i, c) in [Contact::Snow, Contact::Hail, Contact::PlantStow]
+                .into_iter()
+                .enumerate()
+            {
+                let closed = self
+                    .contacts
+                    .iter()
+                    .filter(|(m, k, _)| *k == c && now_emu >= m * 60.0)
+                    .next_back()
+                    .is_some_and(|(_, _, closed)| *closed);
+                if contacts[i] != Some(closed) {
+                    sim.set_pin('C', c.bit(), !closed);
+                    contacts[i] = Some(closed);
+                }
             }
             if let Some(l) = wind.advance(utc) {
                 sim.set_pin('E', 4, l);

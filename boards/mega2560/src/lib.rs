@@ -23,6 +23,9 @@
 //! | C high-end limit switch (to GND, pull-up) | PC2 | D35 |
 //! | A high-end limit switch (to GND, pull-up) | PC3 | D34 |
 //! | anemometer reed contact (to GND, pull-up; falling edge) | INT4 (PE4) | D2 |
+//! | snow switch or sensor contact (to GND when snow, pull-up) | PC4 | D33 |
+//! | hail warning contact (to GND while a warning is on, pull-up) | PC5 | D32 |
+//! | plant stow contact (active level `stow.external_active`; pull-up) | PC6 | D31 |
 //!
 //! Wiring sketch (one axis; the other is the same on the next four pins):
 //!
@@ -56,6 +59,7 @@ use drivers::stepper::hbridge::{BridgePins, HBridgeStepper};
 use drivers::stepper::LimitSwitches;
 use drivers::tilt::adxl345::Adxl345;
 
+use embedded_hal::digital::InputPin as _;
 use suntracker::config::Config;
 use suntracker::controller::{ControllerError, ControllerOptions};
 use suntracker::firmware::{AppConfig, ConfigPersist, Firmware, Platform, StartError};
@@ -63,6 +67,7 @@ use suntracker::hw::{MountSensorsHw, StepperAxis};
 use suntracker::log::Sink;
 use suntracker::mechanics::{self, bridge_config};
 use suntracker::persist::{ConfigStore, EepromStorage};
+use suntracker::safety::StowInputs;
 use suntracker_avr::eeprom::Eeprom;
 use suntracker_avr::{
     chip, millis, sleep_until_interrupt, Anemometer, ExtInt, I2c, InputPin, Millis, OutputPin,
@@ -87,17 +92,19 @@ pub const PLAN_POSITIONS_PER_TICK: u16 = 4;
 /// Attitude sensors read every this many ms (see `run`).
 pub const ATTITUDE_EVERY_MS: u32 = 10_000;
 
-/// Monotonic clock, anemometer, watchdog, sleep, console input and the
-/// configuration's EEPROM of the board.
-struct MegaPlatform {
+/// Monotonic clock, anemometer, watchdog, sleep, console input, the
+/// weather contacts and the configuration's EEPROM of the board.
+struct MegaPlatform<'p> {
     _millis: Millis,
     anemometer: Anemometer,
+    /// Snow (PC4), hail (PC5), the plant's stow contact (PC6).
+    stow_pins: [PortInputPin<'p, chip::PORTC>; 3],
     watchdog: Watchdog,
     cpu: chip::CPU,
     store: ConfigStore<EepromStorage<Eeprom>>,
 }
 
-impl Platform for MegaPlatform {
+impl Platform for MegaPlatform<'_> {
     fn console_read(&mut self, buf: &mut [u8]) -> usize {
         Usart0::take_received(buf)
     }
@@ -112,6 +119,17 @@ impl Platform for MegaPlatform {
     }
     fn take_wind_pulses(&mut self) -> u32 {
         u32::from(self.anemometer.take_pulses())
+    }
+    fn stow_inputs(&mut self) -> StowInputs {
+        // Snow and hail are contacts closing to ground: on while low. The
+        // plant's contact is passed as its level (the configuration says
+        // which one is active).
+        let [snow, hail, plant] = &mut self.stow_pins;
+        StowInputs {
+            snow: snow.is_low().ok(),
+            hail: hail.is_low().ok(),
+            external_high: plant.is_high().ok(),
+        }
     }
     fn feed_watchdog(&mut self) {
         self.watchdog.feed();
@@ -230,6 +248,11 @@ fn run_tracker(dp: Parts) -> ! {
     let mut platform = MegaPlatform {
         _millis: millis_clock,
         anemometer,
+        stow_pins: [
+            InputPin::<_, 4>::new(&portc, true).erase(),
+            InputPin::<_, 5>::new(&portc, true).erase(),
+            InputPin::<_, 6>::new(&portc, true).erase(),
+        ],
         watchdog,
         cpu: dp.cpu,
         store,
