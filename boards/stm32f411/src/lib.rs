@@ -18,6 +18,9 @@
 //! | A home switch (low end, to GND, pull-up) | GPIO input | B8 |
 //! | A max-end limit switch (to GND, pull-up) | GPIO input | B9 |
 //! | anemometer reed contact (to GND, pull-up; falling edge) | EXTI8 | A8 |
+//! | snow switch or sensor contact (to GND when snow, pull-up) | GPIO input | B5 |
+//! | hail warning contact (to GND while a warning is on, pull-up) | GPIO input | B10 |
+//! | plant stow contact (active level `stow.external_active`; pull-up) | GPIO input | B3 (SWO, unused by SWD) |
 //! | debug probe (ST-Link, CMSIS-DAP) | SWD | A13 SWDIO, A14 SWCLK |
 //!
 //! Wiring sketch (one axis; the A axis is the same on B12–B15, B8, B9):
@@ -156,6 +159,7 @@ use suntracker::mechanics::{self, bridge_config};
 use suntracker::motion::AxisDrive;
 use suntracker::persist::{ConfigStore, NorFlashStorage};
 use suntracker::ports::AttitudeSensor;
+use suntracker::safety::StowInputs;
 use suntracker::sun::BoardSource;
 
 /// Board name in the boot line.
@@ -470,6 +474,8 @@ type Store = ConfigStore<NorFlashStorage<ConfigSectors>>;
 struct BlackPillPlatform {
     watchdog: IndependentWatchdog,
     store: Option<Store>,
+    /// Snow (B5), hail (B10), the plant's stow contact (B3).
+    stow_pins: [ErasedPin<Input>; 3],
 }
 
 impl Platform for BlackPillPlatform {
@@ -497,6 +503,17 @@ impl Platform for BlackPillPlatform {
     }
     fn take_wind_pulses(&mut self) -> u32 {
         WIND_PULSES.swap(0, Ordering::Relaxed)
+    }
+    fn stow_inputs(&mut self) -> StowInputs {
+        // Snow and hail are contacts closing to ground: on while low. The
+        // plant's contact is passed as its level (the configuration says
+        // which one is active).
+        let [snow, hail, plant] = &self.stow_pins;
+        StowInputs {
+            snow: Some(snow.is_low()),
+            hail: Some(hail.is_low()),
+            external_high: Some(plant.is_high()),
+        }
     }
     fn feed_watchdog(&mut self) {
         self.watchdog.feed();
@@ -692,7 +709,15 @@ pub fn run(dp: pac::Peripherals, cp: cortex_m::Peripherals) -> ! {
         halt(&mut log, "configuration refused");
     }
     let options = mechanics::controller_options();
-    let mut platform = BlackPillPlatform { watchdog, store };
+    let mut platform = BlackPillPlatform {
+        watchdog,
+        store,
+        stow_pins: [
+            gpiob.pb5.into_pull_up_input().erase(),
+            gpiob.pb10.into_pull_up_input().erase(),
+            gpiob.pb3.into_pull_up_input().erase(),
+        ],
+    };
     let mut firmware = Firmware::<f32, _, _, _, _, _, TABLE_LEN>::new(
         AppConfig {
             defaults: mechanics::config,
