@@ -11,7 +11,7 @@
 //! clock, never on UTC: a wall clock corrected by hours or days neither
 //! delays nor hastens a stow or a retry.
 
-use crate::config::{SafetyConfig, StowConfig, WindConfig};
+use crate::config::{SafetyConfig, StowConfig, SupplyConfig, WindConfig};
 use crate::text::FlashStr;
 use crate::time::monotonic;
 use drivers::counter::count_up;
@@ -91,6 +91,10 @@ pub enum Fault {
     /// A move of the axis took longer than its distance at the drive's
     /// slowest expected speed, with a margin (a DC drive's move timeout).
     MoveTimeout(AxisId),
+    /// The supply voltage input reads what no supply gives (its ADC at a
+    /// rail: a divider disconnected or shorted): it causes no stow unless
+    /// `stow.on_sensor_fault` asks for one.
+    SupplyReading,
 }
 
 /// Faults are equal when they are the same fault (`Fault::number` is
@@ -147,6 +151,7 @@ impl Fault {
             "unexpected_motion_a",
             "move_timeout_c",
             "move_timeout_a",
+            "supply_reading",
         )
         .get(self.number())
         .unwrap_or(crate::flash_str!(""))
@@ -181,6 +186,7 @@ impl Fault {
             Fault::Obstruction(a) => 25 + a.index(),
             Fault::UnexpectedMotion(a) => 27 + a.index(),
             Fault::MoveTimeout(a) => 29 + a.index(),
+            Fault::SupplyReading => 31,
         }
     }
 }
@@ -220,6 +226,9 @@ impl Fault {
             | Fault::GpsTimeUnstable
             | Fault::GpsPositionUnstable => Recovery::UseRtcAndStoredSite,
             Fault::TimeOutOfRange | Fault::ScheduleFailed => Recovery::WaitForValidTime,
+            // Read again every tick; what it means for the stow is the
+            // configuration's (`stow.on_sensor_fault`).
+            Fault::SupplyReading => Recovery::Retry,
             Fault::SensorTimeout(Sensor::Rtc)
             | Fault::I2cError(Sensor::Rtc)
             | Fault::RtcInvalid => Recovery::WaitForGps,
@@ -544,6 +553,18 @@ pub struct StowInputs {
     /// The plant's stow contact: true while its pin reads high (its
     /// active level is `stow.external_active`).
     pub external_high: Option<bool>,
+    /// The supply voltage, millivolts, as its ADC channel reads it.
+    pub supply_mv: Option<Reading>,
+}
+
+/// An analog input's reading.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Reading {
+    /// A value in the input's unit.
+    Value(u16),
+    /// What the input cannot read of a working sensor: its converter at a
+    /// rail (0 or full scale), a wire off or shorted.
+    Impossible,
 }
 
 /// Which weather stows are in force ([`WeatherStow::update`]).
@@ -555,6 +576,11 @@ pub struct WeatherModes {
     pub external: bool,
     /// Snow (or its release time still running).
     pub snow: bool,
+    /// The supply is low (below `supply.stow_mv`, not yet back above
+    /// `supply.resume_mv`).
+    pub low_supply: bool,
+    /// The supply input reads an impossible value.
+    pub supply_fault: bool,
 }
 
 /// One latched stow input: on at once, off once the input has been clear
@@ -589,23 +615,39 @@ impl Latch {
 pub struct WeatherStow {
     snow: Latch,
     hail: Latch,
+    low_supply: bool,
     modes: WeatherModes,
 }
 
 impl WeatherStow {
     /// Feeds this tick's inputs at monotonic `now_ms`; returns the stows in
-    /// force.
+    /// force. The supply: low below `supply.stow_mv`, until back at
+    /// `supply.resume_mv` or above (hysteresis); never with
+    /// `supply.stow_mv` 0 or no input; an impossible reading keeps the
+    /// state, or stows when `stow.on_sensor_fault` is 1.
     pub fn update(
         &mut self,
         inputs: &StowInputs,
         now_ms: u32,
         config: &StowConfig,
+        supply: &SupplyConfig,
     ) -> WeatherModes {
         let active_high = config.external_active != 0;
+        self.low_supply = match (inputs.supply_mv, supply.stow_mv) {
+            (None, _) | (_, 0) => false,
+            (Some(Reading::Value(mv)), stow) if mv < stow => true,
+            (Some(Reading::Value(mv)), _) if mv >= supply.resume_mv => false,
+            (Some(Reading::Value(_)), _) => self.low_supply,
+            (Some(Reading::Impossible), _) => self.low_supply || config.on_sensor_fault != 0,
+        };
         self.modes = WeatherModes {
             hail: self.hail.update(inputs.hail, now_ms, config.hail_release_s),
             external: inputs.external_high == Some(active_high),
             snow: self.snow.update(inputs.snow, now_ms, config.snow_release_s),
+            low_supply: self.low_supply,
+            // A fault only where the watch is on: an input nobody wired
+            // reads anything.
+            supply_fault: supply.stow_mv != 0 && inputs.supply_mv == Some(Reading::Impossible),
         };
         self.modes
     }
@@ -723,6 +765,10 @@ pub enum Mode {
     /// Stowed steep to shed snow (`stow.snow_slope_deg`), until the snow
     /// input has been clear for `stow.snow_release_s`.
     SnowStow,
+    /// The supply fell below `supply.stow_mv`: stowed flat while the
+    /// motors can still move, then nothing is driven until it is back
+    /// above `supply.resume_mv`.
+    LowSupplyStow,
     /// Stowed on an operator's command.
     CommandStow,
     /// An operator drives the axes.
@@ -756,6 +802,7 @@ impl Mode {
             "hail_stow",
             "external_stow",
             "snow_stow",
+            "low_supply_stow",
             "command_stow",
             "manual",
             "wait_for_time",
@@ -811,6 +858,8 @@ pub fn select_mode(i: &ModeInputs) -> Mode {
         Mode::ExternalStow
     } else if i.weather.snow {
         Mode::SnowStow
+    } else if i.weather.low_supply {
+        Mode::LowSupplyStow
     } else if i.command_stow {
         Mode::CommandStow
     } else if i.manual {

@@ -51,12 +51,14 @@ fn expected(r: Reason) -> &'static str {
         Reason::Switch => "0 off, 1 on",
         Reason::SlopeDeg => "0...90 deg",
         Reason::ActiveLevel => "0 low, 1 high",
+        Reason::SupplyMv => "0...60,000 mV (0: off)",
+        Reason::AtLeastStowMv => "must be at least supply.stow_mv",
     }
 }
 
 #[test]
 fn every_reason_prints_its_documented_text() {
-    assert_eq!(Reason::ALL.len(), 32);
+    assert_eq!(Reason::ALL.len(), 34);
     let mut wrong = Vec::new();
     for &r in Reason::ALL {
         let text = r.text();
@@ -187,7 +189,7 @@ fn book_rows() -> Vec<(&'static str, Vec<Vec<String>>)> {
             ],
         ),
         (
-            "`stow.snow_slope_deg`, `snow_release_s`, `hail_slope_deg`, `hail_release_s`, `external_slope_deg`, `external_active`",
+            "`stow.snow_slope_deg`, `snow_release_s`, `hail_slope_deg`, `hail_release_s`, `external_slope_deg`, `external_active`, `on_sensor_fault`",
             vec![
                 f(r::STOW_SLOPE_DEG),
                 u(r::WIND_RELEASE_S),
@@ -195,6 +197,14 @@ fn book_rows() -> Vec<(&'static str, Vec<Vec<String>>)> {
                 u(r::WIND_RELEASE_S),
                 f(r::STOW_SLOPE_DEG),
                 book_range(range_text::u8s(r::ACTIVE_LEVEL)),
+                book_range(range_text::u8s(r::SWITCH)),
+            ],
+        ),
+        (
+            "`supply.stow_mv`, `supply.resume_mv`",
+            vec![
+                book_range(range_text::u16s(r::SUPPLY_MV)),
+                book_range(range_text::u16s(r::SUPPLY_MV)),
             ],
         ),
     ]

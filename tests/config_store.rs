@@ -39,9 +39,10 @@ fn encode_decode_round_trip() {
     assert_eq!(Config::decode(&buf[..n]), Some(c));
     // The operator's hold is byte 143, after the fields of layout version
     // 3: bit 0 stow, 1 manual, 2 service; the Modbus settings (11 bytes)
-    // and the weather stows' (21 bytes) follow it.
+    // the weather stows' (22 bytes) and the supply watch's (4 bytes)
+    // follow it.
     const HOLD_AT: usize = 143;
-    assert_eq!(n, HOLD_AT + 1 + 11 + 21);
+    assert_eq!(n, HOLD_AT + 1 + 11 + 22 + 4);
     let mut held = c;
     held.hold = OperatorHold {
         stow: true,
@@ -115,6 +116,9 @@ fn payload_is_the_documented_layout() {
     c.stow.hail_release_s = 900;
     c.stow.external_slope_deg = 10.0;
     c.stow.external_active = 1;
+    c.stow.on_sensor_fault = 1;
+    c.supply.stow_mv = 11_500;
+    c.supply.resume_mv = 12_200;
     let mut expected = Vec::new();
     let f = |v: &mut Vec<u8>, x: f32| v.extend_from_slice(&x.to_le_bytes());
     let u = |v: &mut Vec<u8>, x: u32| v.extend_from_slice(&x.to_le_bytes());
@@ -177,6 +181,9 @@ fn payload_is_the_documented_layout() {
     u(&mut expected, w.hail_release_s);
     f(&mut expected, w.external_slope_deg);
     expected.push(w.external_active);
+    expected.push(w.on_sensor_fault);
+    expected.extend_from_slice(&c.supply.stow_mv.to_le_bytes());
+    expected.extend_from_slice(&c.supply.resume_mv.to_le_bytes());
     assert_eq!(expected.len(), PAYLOAD_LEN);
     let mut buf = [0u8; 200];
     let n = c.encode(&mut buf).unwrap();
@@ -300,7 +307,7 @@ fn old_version_and_bad_values_are_rejected_whole() {
     // before it) and 3 (before the Modbus settings: up to the hold) are
     // still read, so an update keeps the saved configuration; version 3
     // with version 2's length is not.
-    let (v2, v3) = (n - 33, n - 32);
+    let (v2, v3) = (n - 38, n - 37);
     let mut mem = MemStorage::<1024>::new();
     mem.write(0, &slot(2, &payload[..v2])).unwrap();
     mem.write(SLOT_LEN, &slot(3, &payload[..v2])).unwrap();

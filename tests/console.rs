@@ -112,6 +112,9 @@ const DOC_RANGES: &[(&str, &str)] = &[
     ("stow.hail_release_s", "0…86,400"),
     ("stow.external_slope_deg", "0…90"),
     ("stow.external_active", "0…1"),
+    ("stow.on_sensor_fault", "0…1"),
+    ("supply.stow_mv", "0…60,000"),
+    ("supply.resume_mv", "0…60,000"),
 ];
 
 /// The home switch's range is relative to `min_deg` (documented as
@@ -164,6 +167,10 @@ fn axis_of(key: &str) -> usize {
 fn base_for(key: &str, value: f64) -> Config {
     let mut c = Config::default();
     c.safety.max_deviation_deg = 45.0;
+    // The resume level is at least the stow level.
+    if key == "supply.stow_mv" {
+        c.supply.resume_mv = 60_000;
+    }
     let i = axis_of(key);
     let field = key.rsplit('.').next().unwrap();
     if key.starts_with("axis.") {
@@ -260,10 +267,10 @@ fn typed(value: f64, integer: bool) -> String {
 #[test]
 fn key_table_names_every_field_once_and_the_docs_list_them() {
     let mut names: Vec<&str> = KEYS.iter().map(|k| k.name().as_str()).collect();
-    assert_eq!(names.len(), 51);
+    assert_eq!(names.len(), 54);
     names.sort_unstable();
     names.dedup();
-    assert_eq!(names.len(), 51, "duplicate keys");
+    assert_eq!(names.len(), 54, "duplicate keys");
     let docs = config_docs();
     let module =
         std::fs::read_to_string(concat!(env!("CARGO_MANIFEST_DIR"), "/src/console/mod.rs"))

@@ -1183,5 +1183,8 @@ fn the_store_holds_the_record_not_the_slot() {
     let size = std::mem::size_of::<ConfigStore<()>>();
     println!("ConfigStore RAM on this host: {size} B (record {RECORD_LEN} B, slot {SLOT_LEN} B)");
     assert!(size >= RECORD_LEN);
-    assert!(size < SLOT_LEN, "{size} B");
+    // The staged record and the store's bookkeeping (which slot is newest,
+    // the save in progress: some tens of bytes on a 64-bit host), not a
+    // second copy of the record nor a whole slot beside it.
+    assert!(size < RECORD_LEN + 64, "{size} B");
 }

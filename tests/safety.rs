@@ -2,8 +2,8 @@
 
 use suntracker::config::{Config, WindConfig};
 use suntracker::safety::{
-    retry_backoff_ms, select_mode, AxisId, Fault, FaultManager, Mode, ModeInputs, Recovery, Sensor,
-    StowInputs, WeatherModes, WeatherStow, WindMonitor, RECURRENCE_WINDOW_MS,
+    retry_backoff_ms, select_mode, AxisId, Fault, FaultManager, Mode, ModeInputs, Reading,
+    Recovery, Sensor, StowInputs, WeatherModes, WeatherStow, WindMonitor, RECURRENCE_WINDOW_MS,
 };
 
 /// Monotonic milliseconds (the firmware's 32-bit clock) at `s` seconds
@@ -107,6 +107,7 @@ fn every_fault_and_mode_has_its_documented_name() {
         (Mode::HailStow, "hail_stow"),
         (Mode::ExternalStow, "external_stow"),
         (Mode::SnowStow, "snow_stow"),
+        (Mode::LowSupplyStow, "low_supply_stow"),
         (Mode::CommandStow, "command_stow"),
         (Mode::Manual, "manual"),
         (Mode::WaitForTime, "wait_for_time"),
@@ -229,6 +230,8 @@ fn mode_priorities() {
             hail: true,
             external: true,
             snow: true,
+            low_supply: true,
+            supply_fault: false,
         },
         command_stow: true,
         manual: true,
@@ -261,6 +264,8 @@ fn mode_priorities() {
     i.weather.external = false;
     assert_eq!(select_mode(&i), Mode::SnowStow);
     i.weather.snow = false;
+    assert_eq!(select_mode(&i), Mode::LowSupplyStow);
+    i.weather.low_supply = false;
     assert_eq!(select_mode(&i), Mode::CommandStow);
     let i = ModeInputs {
         command_stow: false,
@@ -538,51 +543,111 @@ fn faults_are_equal_only_to_themselves() {
 #[test]
 fn weather_stows_latch_and_release_on_the_monotonic_clock() {
     let mut config = Config::default().stow;
+    let supply = Config::default().supply;
     config.snow_release_s = 600;
     config.hail_release_s = 60;
     let mut w = WeatherStow::default();
     let none = StowInputs::default();
-    assert_eq!(w.update(&none, 0, &config), WeatherModes::default());
+    assert_eq!(
+        w.update(&none, 0, &config, &supply),
+        WeatherModes::default()
+    );
     let snowing = StowInputs {
         snow: Some(true),
         hail: Some(false),
         external_high: Some(true),
+        supply_mv: None,
     };
     // The contact reads high: not its active level (low by default).
-    let m = w.update(&snowing, 1_000, &config);
+    let m = w.update(&snowing, 1_000, &config, &supply);
     assert!(m.snow && !m.hail && !m.external);
     let clear = StowInputs {
         snow: Some(false),
         hail: Some(false),
         external_high: Some(false),
+        supply_mv: None,
     };
     // Clear from 2 s: the contact (low) is active at once; snow stays
     // until 600 s of clear input, counted from the first clear tick.
-    let m = w.update(&clear, 2_000, &config);
+    let m = w.update(&clear, 2_000, &config, &supply);
     assert!(m.snow && m.external);
-    assert!(w.update(&clear, 601_999, &config).snow);
-    assert!(!w.update(&clear, 602_000, &config).snow);
+    assert!(w.update(&clear, 601_999, &config, &supply).snow);
+    assert!(!w.update(&clear, 602_000, &config, &supply).snow);
     // Snow again in the release time starts it over.
-    assert!(w.update(&snowing, 603_000, &config).snow);
-    assert!(w.update(&clear, 604_000, &config).snow);
-    assert!(w.update(&snowing, 700_000, &config).snow);
-    assert!(w.update(&clear, 701_000, &config).snow);
-    assert!(w.update(&clear, 1_300_999, &config).snow);
-    assert!(!w.update(&clear, 1_301_000, &config).snow);
+    assert!(w.update(&snowing, 603_000, &config, &supply).snow);
+    assert!(w.update(&clear, 604_000, &config, &supply).snow);
+    assert!(w.update(&snowing, 700_000, &config, &supply).snow);
+    assert!(w.update(&clear, 701_000, &config, &supply).snow);
+    assert!(w.update(&clear, 1_300_999, &config, &supply).snow);
+    assert!(!w.update(&clear, 1_301_000, &config, &supply).snow);
     // Hail over the wrap of the 32-bit clock: released 60 s after clear.
     let hail = StowInputs {
         hail: Some(true),
         ..clear
     };
     let t0 = u32::MAX - 10_000;
-    assert!(w.update(&hail, t0, &config).hail);
-    assert!(w.update(&clear, t0.wrapping_add(1_000), &config).hail);
-    assert!(w.update(&clear, t0.wrapping_add(60_999), &config).hail);
-    assert!(!w.update(&clear, t0.wrapping_add(61_000), &config).hail);
+    assert!(w.update(&hail, t0, &config, &supply).hail);
+    assert!(
+        w.update(&clear, t0.wrapping_add(1_000), &config, &supply)
+            .hail
+    );
+    assert!(
+        w.update(&clear, t0.wrapping_add(60_999), &config, &supply)
+            .hail
+    );
+    assert!(
+        !w.update(&clear, t0.wrapping_add(61_000), &config, &supply)
+            .hail
+    );
     // Active high: the contact stows while the pin reads high.
     config.external_active = 1;
-    assert!(!w.update(&clear, 5, &config).external);
-    assert!(w.update(&snowing, 6, &config).external);
+    assert!(!w.update(&clear, 5, &config, &supply).external);
+    assert!(w.update(&snowing, 6, &config, &supply).external);
     // Unwired inputs never stow, whatever the configuration.
-    assert!(!w.update(&none, 7, &config).external);
+    assert!(!w.update(&none, 7, &config, &supply).external);
+}
+
+/// The supply watch: low below `supply.stow_mv`, back from
+/// `supply.resume_mv` (hysteresis), off at 0; an impossible reading is a
+/// fault that keeps the state, or stows with `stow.on_sensor_fault`.
+#[test]
+fn low_supply_stows_with_hysteresis_and_sensor_faults() {
+    let mut stow = Config::default().stow;
+    let mut supply = Config::default().supply;
+    let mut w = WeatherStow::default();
+    let at = |mv: u16| StowInputs {
+        supply_mv: Some(Reading::Value(mv)),
+        ..StowInputs::default()
+    };
+    let rail = StowInputs {
+        supply_mv: Some(Reading::Impossible),
+        ..StowInputs::default()
+    };
+    // Off by default, whatever the reading, and no fault.
+    assert!(!w.update(&at(1_000), 0, &stow, &supply).low_supply);
+    assert!(!w.update(&rail, 0, &stow, &supply).supply_fault);
+    supply.stow_mv = 11_500;
+    supply.resume_mv = 12_200;
+    assert!(!w.update(&at(12_000), 1, &stow, &supply).low_supply);
+    assert!(!w.update(&at(11_500), 2, &stow, &supply).low_supply);
+    assert!(w.update(&at(11_499), 3, &stow, &supply).low_supply);
+    // Between the levels it stays low; from the resume level it is not.
+    assert!(w.update(&at(12_199), 4, &stow, &supply).low_supply);
+    assert!(!w.update(&at(12_200), 5, &stow, &supply).low_supply);
+    assert!(!w.update(&at(11_800), 6, &stow, &supply).low_supply);
+    // An impossible reading: a fault, the state kept (not low here).
+    let m = w.update(&rail, 7, &stow, &supply);
+    assert!(m.supply_fault && !m.low_supply);
+    assert!(w.update(&at(11_000), 8, &stow, &supply).low_supply);
+    let m = w.update(&rail, 9, &stow, &supply);
+    assert!(m.supply_fault && m.low_supply);
+    assert!(!w.update(&at(12_500), 10, &stow, &supply).low_supply);
+    // ... or a stow of its own when configured.
+    stow.on_sensor_fault = 1;
+    assert!(w.update(&rail, 11, &stow, &supply).low_supply);
+    // No input wired: never.
+    assert!(
+        !w.update(&StowInputs::default(), 12, &stow, &supply)
+            .low_supply
+    );
 }

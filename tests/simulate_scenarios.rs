@@ -121,6 +121,7 @@ fn run_scenario_with(name: &str, more: &[&str]) -> Vec<Row> {
         "hail_stow",
         "external_stow",
         "snow_stow",
+        "low_supply_stow",
         "command_stow",
         "manual",
         "wait_for_time",
@@ -166,6 +167,11 @@ fn run_scenario_with(name: &str, more: &[&str]) -> Vec<Row> {
         })
         .collect();
     assert_eq!(rows.len(), 1440, "{name}: one row per minute");
+    // Unless the scenario makes the supply input read something else, it
+    // reads the regulated 12 V.
+    let reads_supply = std::fs::read_to_string(&scenario)
+        .expect("scenario")
+        .contains("supply_mv");
     for (i, r) in rows.iter().enumerate() {
         assert_eq!(r.minute as usize, i, "{name}");
         // 2026-06-01T06:04:00Z
@@ -204,7 +210,7 @@ fn run_scenario_with(name: &str, more: &[&str]) -> Vec<Row> {
             "{name}: minute {}",
             r.minute
         );
-        if !more.contains(&"battery") {
+        if !more.contains(&"battery") && !reads_supply {
             assert_eq!(r.supply_mv, 12_000.0, "{name}: minute {}", r.minute);
         }
         if r.mode == "tracking" && r.zenith < 89.0 {
@@ -548,6 +554,50 @@ fn plant_stow_contact_holds_while_active() {
         (845, 855),
         870,
     );
+}
+
+#[test]
+fn low_supply_stows_flat_then_drives_nothing() {
+    let name = "low_supply_stow.csv";
+    let rows = run_scenario(name);
+    tracks_well(name, span(&rows, 600, 660));
+    // Low from the tick that reads 11.4 V; the gale's wind stow above it
+    // (counted from 691, released 10 minutes after it ends); low until the
+    // supply reads the resume level.
+    for r in span(&rows, 660, 760) {
+        let want = if (691..710).contains(&r.minute) {
+            "wind_stow"
+        } else {
+            "low_supply_stow"
+        };
+        assert_eq!(r.mode, want, "{name}: minute {} {r:?}", r.minute);
+        assert_eq!(
+            r.supply_mv,
+            if r.minute < 740 { 11_400.0 } else { 11_900.0 }
+        );
+    }
+    // Flat within three minutes, then not a step more: the axes stand
+    // where they stopped, through the gale (flat already) and after it.
+    let (c, a) = (rows[663].axis_c, rows[663].axis_a);
+    assert!(rows[663].panel_slope < 0.05, "{:?}", rows[663]);
+    for r in span(&rows, 663, 760) {
+        assert_eq!(
+            (r.axis_c, r.axis_a),
+            (c, a),
+            "{name}: moved at minute {}",
+            r.minute
+        );
+    }
+    assert_eq!(rows[760].mode, "tracking", "{:?}", rows[760]);
+    tracks_well(name, span(&rows, 763, 800));
+    // The ADC at its rail: a fault, no stow; cleared when it reads again.
+    for r in span(&rows, 800, 820) {
+        assert!(r.has("supply_reading"), "{name}: minute {} {r:?}", r.minute);
+        assert_eq!(r.supply_mv, 0.0);
+    }
+    tracks_well(name, span(&rows, 800, 820));
+    assert!(!rows[821].has("supply_reading"), "{:?}", rows[821]);
+    tracks_well(name, span(&rows, 820, 900));
 }
 
 #[test]

@@ -290,6 +290,15 @@ pub struct MegaBench {
     /// contact): from each emulated minute, closed (low) or open (high,
     /// the image's pull-up); open until told.
     contacts: Vec<(f64, Contact, bool)>,
+    /// The motor supply on ADC0 behind the board's 100 kΩ / 10 kΩ
+    /// divider, mV from each emulated minute (12,000 until told).
+    supply: Vec<(f64, u32)>,
+}
+
+/// The board's supply divider (`boards/mega2560`'s `SUPPLY_ADC`): the pin
+/// sees 10/110 of the supply.
+fn supply_pin_mv(supply_mv: u32) -> u32 {
+    supply_mv * 10 / 110
 }
 
 /// A weather contact of the ATmega2560 board (`boards/mega2560`'s pin
@@ -342,7 +351,16 @@ impl MegaBench {
             timescale: None,
             script: Script::default(),
             contacts: Vec::new(),
+            supply: Vec::new(),
         }
+    }
+
+    /// The motor supply the board's divider sees from emulated `minute`,
+    /// mV (0: the divider come loose, the ADC at its rail).
+    pub fn supply_at(mut self, minute: f64, supply_mv: u32) -> Self {
+        self.supply.push((minute, supply_mv));
+        self.supply.sort_by(|a, b| a.0.total_cmp(&b.0));
+        self
     }
 
     /// Closes (`true`: the pin low) or opens (`false`: high) a weather
@@ -515,6 +533,8 @@ impl MegaBench {
         let end_emu_s = minutes * 60.0;
         let mut switches = [None::<bool>; 4];
         let mut contacts = [None::<bool>; 3];
+        let mut supply_pin = None::<u32>;
+        sim.set_avcc_mv(5_000);
         let mut switch_events = Vec::new();
         let mut line_start = None::<(f64, f64)>;
         let mut wind_level = None::<bool>;
@@ -549,6 +569,7 @@ impl MegaBench {
                 // anemometer and real-time levels again.
                 switches = [None; 4];
                 contacts = [None; 3];
+                supply_pin = None;
                 sim.set_pin('L', 0, real_time);
                 if let Some(l) = wind_level {
                     sim.set_pin('E', 4, l);
@@ -592,6 +613,17 @@ impl MegaBench {
             if wind_level.is_none() {
                 sim.set_pin('E', 4, true);
                 wind_level = Some(true);
+            }
+            // The supply: its latest scheduled level, 12 V before any.
+            let supply_mv = self
+                .supply
+                .iter()
+                .filter(|(m, _)| now_emu >= m * 60.0)
+                .next_back()
+                .map_or(12_000, |(_, mv)| *mv);
+            if supply_pin != Some(supply_pin_mv(supply_mv)) {
+                sim.set_adc_mv(0, supply_pin_mv(supply_mv));
+                supply_pin = Some(supply_pin_mv(supply_mv));
             }
             // The weather contacts: each at its latest scheduled level
             // (open before any), driven when it changes or after a reset.

@@ -2011,3 +2011,75 @@ fn r_weather_contacts_stow_and_release() {
     check_set_points_of(&sps, &MountAttitude::level(), kano_sun, 0.02);
     assert_no_illegal_steps(&run);
 }
+
+/// (s) The motor supply at Kano, 2026-06-21 from 08:00Z for 80 minutes,
+/// RTC and GPS, `supply.resume_mv 12200` and `supply.stow_mv 11500` typed
+/// at minute 1 (ADC0 behind the board's 100 kΩ / 10 kΩ divider; 12 V
+/// before and after): 11.4 V from minute 20 (`low_supply_stow`: flat
+/// within two minutes, then not a half-step until the supply is back),
+/// 11.9 V from minute 30 (below the resume level: still stowed), 12.3 V
+/// from minute 40 (`tracking` within a minute), 0 V over minutes 55–65 (the
+/// divider come loose: fault `supply_reading` raised and cleared, tracking
+/// goes on).
+#[test]
+fn s_low_supply_stows_then_drives_nothing() {
+    let elf = elf_or_skip!();
+    let start = t("2026-06-21T08:00:00Z");
+    let run = MegaBench::mega(&elf)
+        .start(start)
+        .rtc(Rtc::Valid)
+        .gps(GpsFeed::kano())
+        .type_at(1.0, "set supply.resume_mv 12200")
+        .type_at(1.5, "set supply.stow_mv 11500")
+        .supply_at(20.0, 11_400)
+        .supply_at(30.0, 11_900)
+        .supply_at(40.0, 12_300)
+        .supply_at(55.0, 0)
+        .supply_at(65.0, 12_000)
+        .run_minutes(80.0)
+        .unwrap();
+    report("s", &run);
+    let modes = run.modes();
+    println!(
+        "s: modes {modes:?}; faults: {}",
+        faults_summary(&run, start)
+    );
+    let at = |m: f64| start as f64 + m * 60.0;
+    for (m, want) in [
+        (18.0, "tracking"),
+        (21.0, "low_supply_stow"),
+        (39.5, "low_supply_stow"),
+        (41.0, "tracking"),
+        (70.0, "tracking"),
+    ] {
+        assert_eq!(mode_at(&modes, at(m)), want, "minute {m}: {modes:?}");
+    }
+    // Flat within two minutes, then no step at all until minute 40.
+    let flat = run
+        .angle_trace
+        .iter()
+        .filter(|s| s.utc_s >= at(22.0) && s.utc_s < at(40.0))
+        .all(|s| s.a_deg.abs() <= STEP_DEG);
+    assert!(flat, "A not flat in the stow");
+    let steps = steps_between(&run, at(22.0), at(40.0));
+    assert_eq!(steps, 0, "{steps} half-steps while the supply was low");
+    // The loose divider: a fault raised and cleared, no stow.
+    let raised = fault_raised(&run, "supply_reading");
+    assert_eq!(raised.len(), 1, "{}", faults_summary(&run, start));
+    assert!(raised[0] >= at(55.0) && raised[0] < at(56.5));
+    assert_eq!(
+        modes_after(&run, at(41.0)),
+        vec!["tracking"; modes_after(&run, at(41.0)).len()]
+    );
+    let sps: Vec<_> = set_points(&run)
+        .into_iter()
+        .filter(|s| s.0.utc_s > at(42.0))
+        .collect();
+    assert!(
+        sps.len() >= 5,
+        "{} set-points after the supply came back",
+        sps.len()
+    );
+    check_set_points_of(&sps, &MountAttitude::level(), kano_sun, 0.02);
+    assert_no_illegal_steps(&run);
+}

@@ -23,20 +23,21 @@ use super::plot::{self, font, px, stroke, Area, Swatch};
 
 /// The controller's modes by name, in the order of the band (bottom up)
 /// and of the legend, with their colours.
-pub const MODE_COLOURS: [(&str, RGBColor); 13] = [
-    ("tracking", RGBColor(0x4c, 0xaf, 0x50)),      // green
-    ("unwind", RGBColor(0x00, 0x89, 0x7b)),        // teal
-    ("homing", RGBColor(0x64, 0xb5, 0xf6)),        // light blue
-    ("night", RGBColor(0x45, 0x4f, 0x6b)),         // slate
-    ("wait_for_time", RGBColor(0xfb, 0xc0, 0x2d)), // yellow
-    ("wind_stow", RGBColor(0xff, 0x8f, 0x00)),     // orange
-    ("hail_stow", RGBColor(0x00, 0x83, 0x8f)),     // dark cyan
-    ("external_stow", RGBColor(0x5d, 0x40, 0x37)), // dark brown
-    ("snow_stow", RGBColor(0x90, 0xa4, 0xae)),     // blue grey
-    ("command_stow", RGBColor(0x8e, 0x44, 0xad)),  // purple
-    ("manual", RGBColor(0x8d, 0x6e, 0x63)),        // brown
-    ("safe_stop", RGBColor(0xef, 0x53, 0x50)),     // light red
-    ("service", RGBColor(0x21, 0x21, 0x21)),       // near black
+pub const MODE_COLOURS: [(&str, RGBColor); 14] = [
+    ("tracking", RGBColor(0x4c, 0xaf, 0x50)),        // green
+    ("unwind", RGBColor(0x00, 0x89, 0x7b)),          // teal
+    ("homing", RGBColor(0x64, 0xb5, 0xf6)),          // light blue
+    ("night", RGBColor(0x45, 0x4f, 0x6b)),           // slate
+    ("wait_for_time", RGBColor(0xfb, 0xc0, 0x2d)),   // yellow
+    ("wind_stow", RGBColor(0xff, 0x8f, 0x00)),       // orange
+    ("hail_stow", RGBColor(0x00, 0x83, 0x8f)),       // dark cyan
+    ("external_stow", RGBColor(0x5d, 0x40, 0x37)),   // dark brown
+    ("snow_stow", RGBColor(0x90, 0xa4, 0xae)),       // blue grey
+    ("low_supply_stow", RGBColor(0xc0, 0xca, 0x33)), // lime
+    ("command_stow", RGBColor(0x8e, 0x44, 0xad)),    // purple
+    ("manual", RGBColor(0x8d, 0x6e, 0x63)),          // brown
+    ("safe_stop", RGBColor(0xef, 0x53, 0x50)),       // light red
+    ("service", RGBColor(0x21, 0x21, 0x21)),         // near black
 ];
 
 /// Active faults (bars) and where one was raised (dots).

@@ -26,7 +26,7 @@ use suntracker::config::Config;
 use suntracker::controller::{AttitudeSource, Controller, ControllerOptions};
 use suntracker::motion::FeedbackMode;
 use suntracker::persist::{ConfigStore, MemStorage};
-use suntracker::safety::{Mode, StowInputs};
+use suntracker::safety::{Mode, Reading, StowInputs};
 use suntracker::site::{follow_gps_site, site_from_config};
 use suntracker::sun::SharedSiteSource;
 use suntracker::sun::{AlgorithmSource, PositionSource};
@@ -321,6 +321,9 @@ struct World {
     snow: bool,
     hail: bool,
     stow_input: bool,
+    /// What the supply input reads instead of the supply model, mV (0:
+    /// the ADC at its rail).
+    supply_reading_mv: Option<u16>,
 }
 
 type Ctl<'a, P> = Controller<f64, SharedSiteSource<'a, f64>, P, MountSensors, 1441>;
@@ -628,6 +631,7 @@ fn simulate_with<P: SimAxis>(
         snow: false,
         hail: false,
         stow_input: false,
+        supply_reading_mv: None,
     };
     let mut receiver =
         GpsReceiverModel::new(args.lat, args.lon, f64::from(config.site.elevation_m));
@@ -721,6 +725,17 @@ fn simulate_with<P: SimAxis>(
                     Event::Snow(on) => world.snow = on,
                     Event::Hail(on) => world.hail = on,
                     Event::StowInput(on) => world.stow_input = on,
+                    Event::SupplyMv(mv) => world.supply_reading_mv = mv,
+                    Event::Set(key, value) => {
+                        // As typed on the console: in force, not saved.
+                        let mut config = *ctl.config();
+                        let number = suntracker::console::Decimal::parse(value.as_str())
+                            .map_err(|e| format!("set {}: {e:?}", key.name()))?;
+                        suntracker::console::apply_set(&mut config, key, number)
+                            .map_err(|e| format!("set {}: {e:?}", key.name()))?;
+                        ctl.reconfigure(config)
+                            .map_err(|e| format!("set {}: {e:?}", key.name()))?;
+                    }
                     Event::Command(c) => {
                         match c {
                             Command::Stow => ctl.command_stow(true),
@@ -881,10 +896,20 @@ fn simulate_with<P: SimAxis>(
         // The stow inputs as pins: the plant's contact at its active level
         // while on.
         let active_high = ctl.config().stow.external_active != 0;
+        // The supply input: the model's supply, or what a scenario makes
+        // it read (0: the ADC at its rail).
+        let supply_mv = world
+            .supply_reading_mv
+            .unwrap_or_else(|| (supply_v * 1000.0).round() as u16);
         inputs.stow_inputs = StowInputs {
             snow: Some(world.snow),
             hail: Some(world.hail),
             external_high: Some(world.stow_input == active_high),
+            supply_mv: Some(if supply_mv == 0 {
+                Reading::Impossible
+            } else {
+                Reading::Value(supply_mv)
+            }),
         };
         let report = ctl.tick(&inputs);
 
@@ -997,7 +1022,7 @@ fn simulate_with<P: SimAxis>(
                 opt(sun.map(|s| s.azimuth_deg)),
                 opt(pointing),
                 wind_hz,
-                supply_v * 1000.0
+                f64::from(supply_mv)
             );
             writeln!(w, "{row}").map_err(io_err)?;
         }

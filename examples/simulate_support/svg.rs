@@ -21,7 +21,7 @@ use timeline::{FAULT, MODE_COLOURS};
 
 /// Every mode, in the order of the band (bottom up) and the legend (that
 /// of [`MODE_COLOURS`]).
-const MODES: [Mode; 13] = [
+const MODES: [Mode; 14] = [
     Mode::Tracking,
     Mode::Unwind,
     Mode::Homing,
@@ -31,6 +31,7 @@ const MODES: [Mode; 13] = [
     Mode::HailStow,
     Mode::ExternalStow,
     Mode::SnowStow,
+    Mode::LowSupplyStow,
     Mode::CommandStow,
     Mode::Manual,
     Mode::SafeStop,
@@ -50,10 +51,11 @@ fn mode_index(mode: Mode) -> usize {
         Mode::HailStow => 6,
         Mode::ExternalStow => 7,
         Mode::SnowStow => 8,
-        Mode::CommandStow => 9,
-        Mode::Manual => 10,
-        Mode::SafeStop => 11,
-        Mode::Service => 12,
+        Mode::LowSupplyStow => 9,
+        Mode::CommandStow => 10,
+        Mode::Manual => 11,
+        Mode::SafeStop => 12,
+        Mode::Service => 13,
     }
 }
 

@@ -27,6 +27,9 @@
 //! 162,snow,on              # snow,on|off (the snow input)
 //! 164,hail,on              # hail,on|off (the hail warning input)
 //! 166,stow_input,on        # stow_input,on|off (the plant's stow contact active)
+//! 168,supply_mv,11200      # supply_mv,N: the supply input reads N mV (0: its ADC at the rail)
+//! 169,supply_mv,model      # the supply model again (12 V, or the battery)
+//! 170,set,supply.stow_mv,11500      # set,KEY,VALUE: as typed on the console
 //! 170,power_cycle
 //! 180,command,stow         # command,stow|resume|home|clear|service_on|service_off
 //! ```
@@ -144,6 +147,14 @@ pub enum Event {
     /// `stow_input,on|off`: the plant's stow contact is active (`true` =
     /// on), at the level the configuration calls active.
     StowInput(bool),
+    /// `supply_mv,N|model`: the supply input reads N millivolts (0: an ADC
+    /// at its rail, an impossible reading), or the supply model's again
+    /// (`None`).
+    SupplyMv(Option<u16>),
+    /// `set,KEY,VALUE`: a configuration key set as the console's `set`
+    /// does (its range checked there: a refused value is the run's error);
+    /// the value's text, a number ([`suntracker::console::Decimal`]).
+    Set(suntracker::config::Field, Token),
     /// `power_cycle`: the controller restarts.
     PowerCycle,
     /// `command,stow|resume|home|clear|service_on|service_off`.
@@ -556,6 +567,26 @@ fn parse_event(name: &str, args: &Args<'_>) -> Result<Event, ScenarioErrorKind> 
                 state,
             )?)
         }
+        "supply_mv" => {
+            let [text] = args.exactly("supply_mv")?;
+            if text == "model" {
+                Event::SupplyMv(None)
+            } else {
+                Event::SupplyMv(Some(text.parse::<u16>().map_err(|_| {
+                    bad_value("supply_mv", "millivolts 0 to 65535, or model", text)
+                })?))
+            }
+        }
+        "set" => {
+            let [key, value] = args.exactly("set")?;
+            let field = suntracker::console::key_from_name(key)
+                .ok_or_else(|| bad_value("set", "a configuration key", key))?;
+            let number = Token::new(value);
+            if number.truncated || suntracker::console::Decimal::parse(value).is_err() {
+                return Err(bad_value("set", "a number", value));
+            }
+            Event::Set(field, number)
+        }
         "power_cycle" => {
             let [] = args.exactly("power_cycle")?;
             Event::PowerCycle
@@ -733,6 +764,9 @@ impl fmt::Display for Event {
                 };
                 write!(f, "{name},{}", if *on { "on" } else { "off" })
             }
+            Event::SupplyMv(Some(mv)) => write!(f, "supply_mv,{mv}"),
+            Event::SupplyMv(None) => f.write_str("supply_mv,model"),
+            Event::Set(key, value) => write!(f, "set,{},{}", key.name(), value.as_str()),
             Event::PowerCycle => f.write_str("power_cycle"),
             Event::Command(c) => f.write_str(match c {
                 Command::Stow => "command,stow",

@@ -107,6 +107,9 @@ named! {
         StowHailReleaseS => "stow.hail_release_s",
         StowExternalSlopeDeg => "stow.external_slope_deg",
         StowExternalActive => "stow.external_active",
+        StowOnSensorFault => "stow.on_sensor_fault",
+        SupplyStowMv => "supply.stow_mv",
+        SupplyResumeMv => "supply.resume_mv",
     }
 }
 
@@ -176,6 +179,8 @@ named! {
         Switch => "0 off, 1 on",
         SlopeDeg => range_text!(f32s(r::STOW_SLOPE_DEG), Str(" deg")),
         ActiveLevel => "0 low, 1 high",
+        SupplyMv => range_text!(u16s(r::SUPPLY_MV), Str(" mV (0: off)")),
+        AtLeastStowMv => "must be at least supply.stow_mv",
     }
 }
 

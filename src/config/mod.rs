@@ -219,6 +219,27 @@ pub struct StowConfig {
     /// (`stow.external_active`), 0 low (a contact closing to ground against
     /// the pin's pull-up, the default), 1 high.
     pub external_active: u8,
+    /// A sensor that reads impossible values (an ADC at a rail: the supply
+    /// input's divider off or shorted) stows by itself: 0…1
+    /// (`stow.on_sensor_fault`), 0 no (the default: the fault is raised
+    /// and the tracker goes on), 1 yes.
+    pub on_sensor_fault: u8,
+}
+
+/// The motor supply's watch (`low_supply_stow`), for a tracker on a
+/// battery: below `stow_mv` it stows while the motors can still move, then
+/// drives nothing until the supply is back at `resume_mv`.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct SupplyConfig {
+    /// Stow below this supply, millivolts: 0…60,000 (`supply.stow_mv`); 0
+    /// (the default) turns the watch off. A 12 V lead-acid battery is
+    /// nearly flat at 11,500 (20 % charge near 11.9 V at rest).
+    pub stow_mv: u16,
+    /// Track again from this supply, millivolts: 0…60,000
+    /// (`supply.resume_mv`) and at least `supply.stow_mv`, so that the
+    /// load taken off a sagging battery does not end the stow at once
+    /// (12,200 for a 12 V lead-acid battery, 60 % charge at rest).
+    pub resume_mv: u16,
 }
 
 /// The whole configuration.
@@ -251,6 +272,8 @@ pub struct Config {
     pub modbus: ModbusConfig,
     /// The weather stows.
     pub stow: StowConfig,
+    /// The motor supply's watch.
+    pub supply: SupplyConfig,
     /// Not a setting (no key; `set`, `load` and `defaults` leave the one in
     /// force): the operator's lasting commands, saved in the same record
     /// so that one power-cut-safe store keeps both ([`OperatorHold`]).
@@ -325,6 +348,11 @@ impl Config {
                 hail_release_s: 1_800,
                 external_slope_deg: 0.0,
                 external_active: 0,
+                on_sensor_fault: 0,
+            },
+            supply: SupplyConfig {
+                stow_mv: 0,
+                resume_mv: 0,
             },
             hold: OperatorHold::NONE,
         }

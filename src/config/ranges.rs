@@ -94,6 +94,9 @@ pub const MODBUS_PARITY: (u8, u8) = (0, 2);
 /// A stow's panel slope from horizontal, degrees: flat to upright (the
 /// A axis's limits bound it further).
 pub const STOW_SLOPE_DEG: (f32, f32) = (0.0, 90.0);
+/// Supply thresholds, millivolts: 0 (off) to 60 V, beyond any tracker's
+/// motor supply (12, 24 or 48 V).
+pub const SUPPLY_MV: (u16, u16) = (0, 60_000);
 /// An input's active level: 0 low, 1 high.
 pub const ACTIVE_LEVEL: (u8, u8) = (0, 1);
 /// An on/off switch: 0 off, 1 on.

@@ -7,7 +7,7 @@
 
 use super::{
     ranges as r, AxisConfig, Calibration, Config, Field, LogConfig, ModbusConfig, Reason,
-    SafetyConfig, SiteConfig, StowConfig, WindConfig,
+    SafetyConfig, SiteConfig, StowConfig, SupplyConfig, WindConfig,
 };
 use crate::plan::ScheduleConfig;
 use crate::safety::OperatorHold;
@@ -185,6 +185,9 @@ key_table! { c;
     StowHailReleaseS U32 c.stow.hail_release_s, WIND_RELEASE_S S0To86400;
     StowExternalSlopeDeg F32 c.stow.external_slope_deg, STOW_SLOPE_DEG SlopeDeg;
     StowExternalActive U8 c.stow.external_active, ACTIVE_LEVEL ActiveLevel;
+    StowOnSensorFault U8 c.stow.on_sensor_fault, SWITCH Switch;
+    SupplyStowMv U16 c.supply.stow_mv, SUPPLY_MV SupplyMv;
+    SupplyResumeMv U16 c.supply.resume_mv, SUPPLY_MV SupplyMv;
 }
 
 crate::progmem! {
@@ -285,6 +288,11 @@ const ZEROS: Config = {
             hail_release_s: 0,
             external_slope_deg: 0.0,
             external_active: 0,
+            on_sensor_fault: 0,
+        },
+        supply: SupplyConfig {
+            stow_mv: 0,
+            resume_mv: 0,
         },
         hold: OperatorHold::NONE,
     }

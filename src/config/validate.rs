@@ -184,6 +184,9 @@ impl Config {
                 return fail(key, Reason::AboveMinDeg);
             }
         }
+        if key == Field::SupplyResumeMv && self.supply.resume_mv < self.supply.stow_mv {
+            return fail(key, Reason::AtLeastStowMv);
+        }
         if key == Field::ModbusBaud && !super::ranges::MODBUS_BAUDS.contains(&self.modbus.baud) {
             return fail(key, Reason::ModbusBaud);
         }

@@ -511,9 +511,19 @@ where
         let wind_stow = self
             .wind
             .update_pulses(inp.now_ms, inp.wind_pulses, inp.wind_interval_ms);
-        // Snow, hail and the plant's stow contact (monotonic clock only).
-        self.weather
-            .update(&inp.stow_inputs, inp.now_ms, &self.config.stow);
+        // Snow, hail, the plant's stow contact and the supply (monotonic
+        // clock only); an impossible supply reading is a fault.
+        let weather = self.weather.update(
+            &inp.stow_inputs,
+            inp.now_ms,
+            &self.config.stow,
+            &self.config.supply,
+        );
+        if weather.supply_fault {
+            self.faults.raise(Fault::SupplyReading, inp.now_ms);
+        } else {
+            self.faults.clear(Fault::SupplyReading, inp.now_ms);
+        }
         // 3. Scheduler (only with a trusted clock), daylight only with a
         // set-point for the present slot, the re-homing of a new day.
         let (clock_jump, schedule_error) = self.schedule(inp);

@@ -271,6 +271,7 @@ where
                         | Mode::HailStow
                         | Mode::ExternalStow
                         | Mode::SnowStow
+                        | Mode::LowSupplyStow
                         | Mode::CommandStow
                 )
             )
@@ -292,6 +293,9 @@ where
             Mode::SafeStop | Mode::Homing => (None, false),
             Mode::WindStow | Mode::CommandStow | Mode::WaitForTime => (Some(stow), false),
             Mode::HailStow | Mode::ExternalStow | Mode::SnowStow => (weather_stow, false),
+            // Flat while the motors can still move, then nothing driven.
+            Mode::LowSupplyStow if self.axes_at(&stow) => (None, false),
+            Mode::LowSupplyStow => (Some(stow), false),
             Mode::Manual | Mode::Service => (self.manual, false),
             Mode::Night if self.options.night_stow => (Some(stow), false),
             Mode::Night => {
@@ -346,6 +350,18 @@ where
         (mode, target)
     }
 
+    /// True when both axes have run their counts and are within
+    /// [`UNWOUND_DEG`] of `pose`.
+    fn axes_at(&self, pose: &Pose<T>) -> bool {
+        let near = |i: usize, deg: T| {
+            self.axes.get(i).is_some_and(|a| {
+                a.drive().pending() == 0
+                    && (T::from_f32(a.counted_deg()) - deg).abs() <= T::from_f32(UNWOUND_DEG)
+            })
+        };
+        near(0, pose.gamma_deg) && near(1, pose.alpha_deg)
+    }
+
     /// True when the move from the last commanded pose to `p` is a swing
     /// ([`Pose::swings_from`], [`look_ahead::SWING_DEG`]).
     fn swing_from_last(&self, p: &Pose<T>) -> bool {
@@ -371,15 +387,7 @@ where
             self.unwinding = false;
             return mode;
         }
-        // An axis is there when its drive has no counts left to run and
-        // its count is within reach of the pose.
-        let near = |i: usize, deg: T| {
-            self.axes.get(i).is_some_and(|a| {
-                a.drive().pending() == 0
-                    && (T::from_f32(a.counted_deg()) - deg).abs() <= T::from_f32(UNWOUND_DEG)
-            })
-        };
-        if near(0, self.pose.gamma_deg) && near(1, self.pose.alpha_deg) {
+        if self.axes_at(&self.pose) {
             self.unwinding = false;
         }
         if let Some(p) = target {

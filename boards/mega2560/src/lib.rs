@@ -26,6 +26,7 @@
 //! | snow switch or sensor contact (to GND when snow, pull-up) | PC4 | D33 |
 //! | hail warning contact (to GND while a warning is on, pull-up) | PC5 | D32 |
 //! | plant stow contact (active level `stow.external_active`; pull-up) | PC6 | D31 |
+//! | motor supply through a 100 kΩ / 10 kΩ divider (0–55 V) | ADC0 (PF0) | A0 |
 //!
 //! Wiring sketch (one axis; the other is the same on the next four pins):
 //!
@@ -66,13 +67,15 @@ use suntracker::firmware::{AppConfig, ConfigPersist, Firmware, Platform, StartEr
 use suntracker::hw::{MountSensorsHw, StepperAxis};
 use suntracker::log::Sink;
 use suntracker::mechanics::{self, bridge_config};
+use suntracker::panel::{Divider, PanelAdc};
 use suntracker::persist::{ConfigStore, EepromStorage};
-use suntracker::safety::StowInputs;
+use suntracker::safety::{Reading, StowInputs};
 use suntracker_avr::eeprom::Eeprom;
 use suntracker_avr::{
     chip, millis, sleep_until_interrupt, Anemometer, ExtInt, I2c, InputPin, Millis, OutputPin,
     PortInputPin, PortOutputPin, SharedI2c, Usart0, Usart1, Watchdog, MS_PER_TICK,
 };
+use suntracker_avr::{Adc, ADC_MAX_CODE};
 
 /// Board name in the boot line.
 pub const BOARD: &str = "mega2560";
@@ -91,6 +94,18 @@ pub const TABLE_LEN: usize = 240;
 pub const PLAN_POSITIONS_PER_TICK: u16 = 4;
 /// Attitude sensors read every this many ms (see `run`).
 pub const ATTITUDE_EVERY_MS: u32 = 10_000;
+/// The motor supply's ADC channel (A0).
+pub const SUPPLY_CHANNEL: u8 = 0;
+/// The supply's divider and the ADC in front of it: 100 kΩ over 10 kΩ,
+/// AVcc (5 V) reference, 10 bits: 0–55 V, 54 mV a code.
+pub const SUPPLY_ADC: PanelAdc = PanelAdc {
+    vref_mv: 5_000,
+    bits: 10,
+    divider: Divider {
+        r_top_ohm: 100_000,
+        r_bottom_ohm: 10_000,
+    },
+};
 
 /// Monotonic clock, anemometer, watchdog, sleep, console input, the
 /// weather contacts and the configuration's EEPROM of the board.
@@ -99,6 +114,9 @@ struct MegaPlatform<'p> {
     anemometer: Anemometer,
     /// Snow (PC4), hail (PC5), the plant's stow contact (PC6).
     stow_pins: [PortInputPin<'p, chip::PORTC>; 3],
+    /// The supply's ADC channel and its last reading.
+    adc: Adc,
+    supply: Option<Reading>,
     watchdog: Watchdog,
     cpu: chip::CPU,
     store: ConfigStore<EepromStorage<Eeprom>>,
@@ -125,10 +143,22 @@ impl Platform for MegaPlatform<'_> {
         // plant's contact is passed as its level (the configuration says
         // which one is active).
         let [snow, hail, plant] = &mut self.stow_pins;
+        // The supply: the conversion started a tick ago, and the next one
+        // started (neither waits); a code at a rail is no supply's.
+        if let Some(code) = self.adc.poll() {
+            self.supply = Some(match SUPPLY_ADC.panel_mv(code) {
+                Ok(mv) if code != 0 && code != ADC_MAX_CODE => {
+                    Reading::Value(u16::try_from(mv).unwrap_or(u16::MAX))
+                }
+                _ => Reading::Impossible,
+            });
+        }
+        let _ = self.adc.start(SUPPLY_CHANNEL);
         StowInputs {
             snow: snow.is_low().ok(),
             hail: hail.is_low().ok(),
             external_high: plant.is_high().ok(),
+            supply_mv: self.supply,
         }
     }
     fn feed_watchdog(&mut self) {
@@ -156,6 +186,7 @@ pub fn run(dp: chip::Peripherals) -> ! {
         EXINT,
         TWI,
         EEPROM,
+        ADC,
         ..
     } = dp;
     run_tracker(Parts {
@@ -170,6 +201,7 @@ pub fn run(dp: chip::Peripherals) -> ! {
         exint: EXINT,
         twi: TWI,
         eeprom: EEPROM,
+        adc: ADC,
     })
 }
 
@@ -186,6 +218,7 @@ struct Parts {
     exint: chip::EXINT,
     twi: chip::TWI,
     eeprom: chip::EEPROM,
+    adc: chip::ADC,
 }
 
 /// The configuration at power-on: the copy saved in the EEPROM (console
@@ -253,6 +286,8 @@ fn run_tracker(dp: Parts) -> ! {
             InputPin::<_, 5>::new(&portc, true).erase(),
             InputPin::<_, 6>::new(&portc, true).erase(),
         ],
+        adc: Adc::new(dp.adc),
+        supply: None,
         watchdog,
         cpu: dp.cpu,
         store,
