@@ -618,8 +618,7 @@ impl MegaBench {
             let supply_mv = self
                 .supply
                 .iter()
-                .filter(|(m, _)| now_emu >= m * 60.0)
-                .next_back()
+                .rfind(|(m, _)| now_emu >= m * 60.0)
                 .map_or(12_000, |(_, mv)| *mv);
             if supply_pin != Some(supply_pin_mv(supply_mv)) {
                 sim.set_adc_mv(0, supply_pin_mv(supply_mv));
@@ -634,8 +633,7 @@ impl MegaBench {
                 let closed = self
                     .contacts
                     .iter()
-                    .filter(|(m, k, _)| *k == c && now_emu >= m * 60.0)
-                    .next_back()
+                    .rfind(|(m, k, _)| *k == c && now_emu >= m * 60.0)
                     .is_some_and(|(_, _, closed)| *closed);
                 if contacts[i] != Some(closed) {
                     sim.set_pin('C', c.bit(), !closed);

@@ -513,6 +513,8 @@ impl Platform for BlackPillPlatform {
             snow: Some(snow.is_low()),
             hail: Some(hail.is_low()),
             external_high: Some(plant.is_high()),
+            // No supply divider on this board's pins yet: the watch is off.
+            supply_mv: None,
         }
     }
     fn feed_watchdog(&mut self) {
