@@ -93,10 +93,11 @@ fn every_fault_and_mode_has_its_documented_name() {
         (Fault::GpsPositionUnstable, "gps_position_unstable"),
         (Fault::TimeOutOfRange, "time_out_of_range"),
         (Fault::ScheduleFailed, "schedule_failed"),
+        (Fault::SupplyReading, "supply_reading"),
     ] {
         expected.push((f, name.to_string()));
     }
-    assert_eq!(expected.len(), 31);
+    assert_eq!(expected.len(), 32);
     for (f, name) in &expected {
         assert_eq!(f.name(), name.as_str(), "{f:?}");
     }
