@@ -11,7 +11,7 @@
 //! clock, never on UTC: a wall clock corrected by hours or days neither
 //! delays nor hastens a stow or a retry.
 
-use crate::config::{SafetyConfig, StowConfig, SupplyConfig, WindConfig};
+use crate::config::{OvercastConfig, SafetyConfig, StowConfig, SupplyConfig, WindConfig};
 use crate::text::FlashStr;
 use crate::time::monotonic;
 use drivers::counter::count_up;
@@ -95,6 +95,9 @@ pub enum Fault {
     /// rail: a divider disconnected or shorted): it causes no stow unless
     /// `stow.on_sensor_fault` asks for one.
     SupplyReading,
+    /// The irradiance input reads what no sky gives (its ADC at a rail):
+    /// the overcast mode is not entered on it.
+    IrradianceReading,
 }
 
 /// Faults are equal when they are the same fault (`Fault::number` is
@@ -152,6 +155,7 @@ impl Fault {
             "move_timeout_c",
             "move_timeout_a",
             "supply_reading",
+            "irradiance_reading",
         )
         .get(self.number())
         .unwrap_or(crate::flash_str!(""))
@@ -187,6 +191,7 @@ impl Fault {
             Fault::UnexpectedMotion(a) => 27 + a.index(),
             Fault::MoveTimeout(a) => 29 + a.index(),
             Fault::SupplyReading => 31,
+            Fault::IrradianceReading => 32,
         }
     }
 }
@@ -228,7 +233,7 @@ impl Fault {
             Fault::TimeOutOfRange | Fault::ScheduleFailed => Recovery::WaitForValidTime,
             // Read again every tick; what it means for the stow is the
             // configuration's (`stow.on_sensor_fault`).
-            Fault::SupplyReading => Recovery::Retry,
+            Fault::SupplyReading | Fault::IrradianceReading => Recovery::Retry,
             Fault::SensorTimeout(Sensor::Rtc)
             | Fault::I2cError(Sensor::Rtc)
             | Fault::RtcInvalid => Recovery::WaitForGps,
@@ -555,6 +560,8 @@ pub struct StowInputs {
     pub external_high: Option<bool>,
     /// The supply voltage, millivolts, as its ADC channel reads it.
     pub supply_mv: Option<Reading>,
+    /// The irradiance on a horizontal pyranometer or reference cell, W/m².
+    pub irradiance_w_m2: Option<Reading>,
 }
 
 /// An analog input's reading.
@@ -655,6 +662,96 @@ impl WeatherStow {
     /// The stows in force since the last update.
     pub fn modes(&self) -> WeatherModes {
         self.modes
+    }
+}
+
+/// The clear sky's global horizontal irradiance, W/m², for the sun's
+/// zenith angle: B. Haurwitz (1945), "Insolation in relation to cloudiness
+/// and cloud density", J. Meteorology 2: `1098 · cos z · exp(−0.059 / cos
+/// z)` (the coefficients as pvlib's `clearsky.haurwitz` uses them); 0 with
+/// the sun at or below the horizon.
+pub fn clear_sky_ghi_w_m2(zenith_deg: f32) -> f32 {
+    let cos_z = libm::cosf(zenith_deg.to_radians());
+    if !(cos_z > 0.0) {
+        return 0.0;
+    }
+    1098.0 * cos_z * libm::expf(-0.059 / cos_z)
+}
+
+/// The overcast mode from measured irradiance: in after the measured
+/// irradiance stayed below `overcast.ratio` of the clear sky's
+/// ([`clear_sky_ghi_w_m2`]) for `overcast.enter_s`, out after it stayed at
+/// or above for `overcast.leave_s`, and never more than
+/// `overcast.max_moves_per_hour` changes in an hour (each is a move of the
+/// panel). Durations on the monotonic clock.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub struct OvercastMonitor {
+    on: bool,
+    /// Since when the sky has read the other way (monotonic ms).
+    other_since_ms: Option<u32>,
+    /// When the changes of the last hour were made, newest first (at most
+    /// 60: `overcast.max_moves_per_hour`'s range).
+    changes_ms: [Option<u32>; 8],
+    /// True while the input reads impossible values.
+    fault: bool,
+}
+
+impl OvercastMonitor {
+    /// Feeds the irradiance read at monotonic `now_ms` with the sun at
+    /// `zenith_deg` (none: no set-point, night); returns true while
+    /// overcast. Off (`overcast.ratio` 0), without an input or without a
+    /// sun, never overcast; an impossible reading keeps the state.
+    pub fn update(
+        &mut self,
+        reading: Option<Reading>,
+        zenith_deg: Option<f32>,
+        now_ms: u32,
+        config: &OvercastConfig,
+    ) -> bool {
+        self.fault = config.ratio > 0.0 && reading == Some(Reading::Impossible);
+        let (Some(Reading::Value(w_m2)), Some(z), true) = (reading, zenith_deg, config.ratio > 0.0)
+        else {
+            if reading.is_none() || zenith_deg.is_none() || config.ratio <= 0.0 {
+                self.on = false;
+                self.other_since_ms = None;
+            }
+            return self.on;
+        };
+        let dark = f32::from(w_m2) < config.ratio * clear_sky_ghi_w_m2(z);
+        if dark == self.on {
+            self.other_since_ms = None;
+            return self.on;
+        }
+        let since = self.other_since_ms.get_or_insert(now_ms);
+        let need_s = if dark { config.enter_s } else { config.leave_s };
+        let recent = self
+            .changes_ms
+            .iter()
+            .flatten()
+            .filter(|t| monotonic::elapsed_ms(now_ms, **t) < 3_600_000)
+            .count();
+        if monotonic::age_ms(since, now_ms) >= need_s.saturating_mul(1000)
+            && recent < usize::from(config.max_moves_per_hour)
+        {
+            self.on = dark;
+            self.other_since_ms = None;
+            self.changes_ms.rotate_right(1);
+            if let Some(first) = self.changes_ms.first_mut() {
+                *first = Some(now_ms);
+            }
+        }
+        self.on
+    }
+
+    /// True while the irradiance input reads impossible values (and the
+    /// mode is on).
+    pub fn fault(&self) -> bool {
+        self.fault
+    }
+
+    /// True while overcast (since the last update).
+    pub fn is_on(&self) -> bool {
+        self.on
     }
 }
 
@@ -780,6 +877,11 @@ pub enum Mode {
     /// Daylight, but an axis has no position reference yet: it is seeking
     /// its home switch and nothing tracks until it has one.
     Homing,
+    /// Daylight under an overcast sky (measured irradiance below
+    /// `overcast.ratio` of the clear sky's for `overcast.enter_s`): the
+    /// panel lies flat, facing the whole sky, until the sky has been bright
+    /// again for `overcast.leave_s`.
+    Overcast,
     /// Following the sun, but the axes are turning to another branch of
     /// the mount's two solutions (or another turn of the C axis) because
     /// the one followed runs into a limit: a long move during which the
@@ -808,6 +910,7 @@ impl Mode {
             "wait_for_time",
             "night",
             "homing",
+            "overcast",
             "unwind",
             "tracking",
         )
@@ -839,6 +942,8 @@ pub struct ModeInputs {
     pub night: bool,
     /// An axis has no position reference.
     pub unhomed: bool,
+    /// The sky is overcast ([`OvercastMonitor`]).
+    pub overcast: bool,
 }
 
 /// The mode for the inputs. The service lock first (a person may be at the
@@ -870,6 +975,8 @@ pub fn select_mode(i: &ModeInputs) -> Mode {
         Mode::Night
     } else if i.unhomed {
         Mode::Homing
+    } else if i.overcast {
+        Mode::Overcast
     } else {
         Mode::Tracking
     }

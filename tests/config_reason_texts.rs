@@ -53,12 +53,14 @@ fn expected(r: Reason) -> &'static str {
         Reason::ActiveLevel => "0 low, 1 high",
         Reason::SupplyMv => "0...60,000 mV (0: off)",
         Reason::AtLeastStowMv => "must be at least supply.stow_mv",
+        Reason::OvercastRatio => "0...1 of the clear sky (0: off)",
+        Reason::OvercastMoves => "1...8 changes an hour",
     }
 }
 
 #[test]
 fn every_reason_prints_its_documented_text() {
-    assert_eq!(Reason::ALL.len(), 34);
+    assert_eq!(Reason::ALL.len(), 36);
     let mut wrong = Vec::new();
     for &r in Reason::ALL {
         let text = r.text();
@@ -205,6 +207,15 @@ fn book_rows() -> Vec<(&'static str, Vec<Vec<String>>)> {
             vec![
                 book_range(range_text::u16s(r::SUPPLY_MV)),
                 book_range(range_text::u16s(r::SUPPLY_MV)),
+            ],
+        ),
+        (
+            "`overcast.ratio`, `enter_s`, `leave_s`, `max_moves_per_hour`",
+            vec![
+                f(r::OVERCAST_RATIO),
+                u(r::WIND_RELEASE_S),
+                u(r::WIND_RELEASE_S),
+                book_range(range_text::u8s(r::OVERCAST_MOVES)),
             ],
         ),
     ]

@@ -39,10 +39,10 @@ fn encode_decode_round_trip() {
     assert_eq!(Config::decode(&buf[..n]), Some(c));
     // The operator's hold is byte 143, after the fields of layout version
     // 3: bit 0 stow, 1 manual, 2 service; the Modbus settings (11 bytes)
-    // the weather stows' (22 bytes) and the supply watch's (4 bytes)
-    // follow it.
+    // the weather stows' (22 bytes), the supply watch's (4 bytes) and the
+    // overcast mode's (13 bytes) follow it.
     const HOLD_AT: usize = 143;
-    assert_eq!(n, HOLD_AT + 1 + 11 + 22 + 4);
+    assert_eq!(n, HOLD_AT + 1 + 11 + 22 + 4 + 13);
     let mut held = c;
     held.hold = OperatorHold {
         stow: true,
@@ -119,6 +119,10 @@ fn payload_is_the_documented_layout() {
     c.stow.on_sensor_fault = 1;
     c.supply.stow_mv = 11_500;
     c.supply.resume_mv = 12_200;
+    c.overcast.ratio = 0.45;
+    c.overcast.enter_s = 900;
+    c.overcast.leave_s = 1_200;
+    c.overcast.max_moves_per_hour = 3;
     let mut expected = Vec::new();
     let f = |v: &mut Vec<u8>, x: f32| v.extend_from_slice(&x.to_le_bytes());
     let u = |v: &mut Vec<u8>, x: u32| v.extend_from_slice(&x.to_le_bytes());
@@ -184,6 +188,10 @@ fn payload_is_the_documented_layout() {
     expected.push(w.on_sensor_fault);
     expected.extend_from_slice(&c.supply.stow_mv.to_le_bytes());
     expected.extend_from_slice(&c.supply.resume_mv.to_le_bytes());
+    f(&mut expected, c.overcast.ratio);
+    u(&mut expected, c.overcast.enter_s);
+    u(&mut expected, c.overcast.leave_s);
+    expected.push(c.overcast.max_moves_per_hour);
     assert_eq!(expected.len(), PAYLOAD_LEN);
     let mut buf = [0u8; 200];
     let n = c.encode(&mut buf).unwrap();
@@ -307,7 +315,7 @@ fn old_version_and_bad_values_are_rejected_whole() {
     // before it) and 3 (before the Modbus settings: up to the hold) are
     // still read, so an update keeps the saved configuration; version 3
     // with version 2's length is not.
-    let (v2, v3) = (n - 38, n - 37);
+    let (v2, v3) = (n - 51, n - 50);
     let mut mem = MemStorage::<1024>::new();
     mem.write(0, &slot(2, &payload[..v2])).unwrap();
     mem.write(SLOT_LEN, &slot(3, &payload[..v2])).unwrap();

@@ -2,8 +2,9 @@
 
 use suntracker::config::{Config, WindConfig};
 use suntracker::safety::{
-    retry_backoff_ms, select_mode, AxisId, Fault, FaultManager, Mode, ModeInputs, Reading,
-    Recovery, Sensor, StowInputs, WeatherModes, WeatherStow, WindMonitor, RECURRENCE_WINDOW_MS,
+    clear_sky_ghi_w_m2, retry_backoff_ms, select_mode, AxisId, Fault, FaultManager, Mode,
+    ModeInputs, OvercastMonitor, Reading, Recovery, Sensor, StowInputs, WeatherModes, WeatherStow,
+    WindMonitor, RECURRENCE_WINDOW_MS,
 };
 
 /// Monotonic milliseconds (the firmware's 32-bit clock) at `s` seconds
@@ -94,10 +95,11 @@ fn every_fault_and_mode_has_its_documented_name() {
         (Fault::TimeOutOfRange, "time_out_of_range"),
         (Fault::ScheduleFailed, "schedule_failed"),
         (Fault::SupplyReading, "supply_reading"),
+        (Fault::IrradianceReading, "irradiance_reading"),
     ] {
         expected.push((f, name.to_string()));
     }
-    assert_eq!(expected.len(), 32);
+    assert_eq!(expected.len(), 33);
     for (f, name) in &expected {
         assert_eq!(f.name(), name.as_str(), "{f:?}");
     }
@@ -114,6 +116,7 @@ fn every_fault_and_mode_has_its_documented_name() {
         (Mode::WaitForTime, "wait_for_time"),
         (Mode::Night, "night"),
         (Mode::Homing, "homing"),
+        (Mode::Overcast, "overcast"),
         (Mode::Unwind, "unwind"),
         (Mode::Tracking, "tracking"),
     ] {
@@ -239,6 +242,7 @@ fn mode_priorities() {
         time_unknown: true,
         night: true,
         unhomed: true,
+        overcast: true,
     };
     // The service lock above everything, a gale and a fault stop included.
     assert_eq!(select_mode(&all), Mode::Service);
@@ -284,6 +288,11 @@ fn mode_priorities() {
     assert_eq!(select_mode(&i), Mode::Homing);
     let i = ModeInputs {
         unhomed: false,
+        ..i
+    };
+    assert_eq!(select_mode(&i), Mode::Overcast);
+    let i = ModeInputs {
+        overcast: false,
         ..i
     };
     assert_eq!(select_mode(&i), Mode::Tracking);
@@ -558,6 +567,7 @@ fn weather_stows_latch_and_release_on_the_monotonic_clock() {
         hail: Some(false),
         external_high: Some(true),
         supply_mv: None,
+        irradiance_w_m2: None,
     };
     // The contact reads high: not its active level (low by default).
     let m = w.update(&snowing, 1_000, &config, &supply);
@@ -567,6 +577,7 @@ fn weather_stows_latch_and_release_on_the_monotonic_clock() {
         hail: Some(false),
         external_high: Some(false),
         supply_mv: None,
+        irradiance_w_m2: None,
     };
     // Clear from 2 s: the contact (low) is active at once; snow stays
     // until 600 s of clear input, counted from the first clear tick.
@@ -651,4 +662,69 @@ fn low_supply_stows_with_hysteresis_and_sensor_faults() {
         !w.update(&StowInputs::default(), 12, &stow, &supply)
             .low_supply
     );
+}
+
+/// The clear sky of B. Haurwitz (1945), `1098 · cos z · exp(−0.059 / cos
+/// z)` W/m², written out here from the formula, and pvlib 0.11's
+/// `clearsky.haurwitz` at 0°, 30° and 60° (1,035.092, 888.271 and 487.894
+/// W/m²); none at and below the horizon.
+#[test]
+fn clear_sky_is_haurwitz() {
+    let f = |z: f64| 1098.0 * z.to_radians().cos() * (-0.059 / z.to_radians().cos()).exp();
+    for z in [0.0f32, 30.0, 60.0, 80.0, 89.0] {
+        let want = f(f64::from(z));
+        assert!(
+            (f64::from(clear_sky_ghi_w_m2(z)) - want).abs() < 0.01 * want.max(1.0),
+            "{z}"
+        );
+    }
+    for (z, pvlib) in [(0.0f32, 1035.092), (30.0, 888.271), (60.0, 487.894)] {
+        assert!(
+            (f64::from(clear_sky_ghi_w_m2(z)) - pvlib).abs() < 0.05,
+            "{z}"
+        );
+    }
+    assert_eq!(clear_sky_ghi_w_m2(90.0), 0.0);
+    assert_eq!(clear_sky_ghi_w_m2(120.0), 0.0);
+    assert_eq!(clear_sky_ghi_w_m2(f32::NAN), 0.0);
+}
+
+/// The overcast mode: in after `enter_s` below the ratio of the clear sky,
+/// out after `leave_s` at or above it, at most `max_moves_per_hour`
+/// changes an hour; off without an input, a sun or a ratio.
+#[test]
+fn overcast_enters_leaves_and_limits_its_moves() {
+    let mut config = Config::default().overcast;
+    config.enter_s = 60;
+    config.leave_s = 120;
+    config.max_moves_per_hour = 2;
+    let mut o = OvercastMonitor::default();
+    // The sun at 30° from the zenith: the clear sky gives 888 W/m², the
+    // threshold (0.3) 266.
+    let z = Some(30.0f32);
+    let w = |v: u16| Some(Reading::Value(v));
+    assert!(!o.update(w(900), z, 0, &config));
+    assert!(!o.update(w(200), z, 1_000, &config));
+    assert!(!o.update(w(200), z, 60_999, &config));
+    assert!(o.update(w(200), z, 61_000, &config));
+    // A moment of sun does not end it; 120 s of it does.
+    assert!(o.update(w(800), z, 70_000, &config));
+    assert!(o.update(w(200), z, 80_000, &config));
+    assert!(o.update(w(800), z, 90_000, &config));
+    assert!(o.update(w(800), z, 209_999, &config));
+    assert!(!o.update(w(800), z, 210_000, &config));
+    // Two changes this hour: the third waits until the first is an hour
+    // old (61 s + 1 h).
+    assert!(!o.update(w(100), z, 300_000, &config));
+    assert!(!o.update(w(100), z, 3_660_999, &config));
+    assert!(o.update(w(100), z, 3_661_000, &config));
+    // An impossible reading: a fault, the state kept.
+    assert!(o.update(Some(Reading::Impossible), z, 3_700_000, &config));
+    assert!(o.fault());
+    // No sun (night), no input, or off: never overcast.
+    assert!(!o.update(w(100), None, 3_800_000, &config));
+    assert!(!o.update(None, z, 3_900_000, &config));
+    config.ratio = 0.0;
+    assert!(!o.update(w(0), z, 4_000_000, &config));
+    assert!(!o.fault());
 }

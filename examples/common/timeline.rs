@@ -23,9 +23,10 @@ use super::plot::{self, font, px, stroke, Area, Swatch};
 
 /// The controller's modes by name, in the order of the band (bottom up)
 /// and of the legend, with their colours.
-pub const MODE_COLOURS: [(&str, RGBColor); 14] = [
+pub const MODE_COLOURS: [(&str, RGBColor); 15] = [
     ("tracking", RGBColor(0x4c, 0xaf, 0x50)),        // green
     ("unwind", RGBColor(0x00, 0x89, 0x7b)),          // teal
+    ("overcast", RGBColor(0xbd, 0xbd, 0xbd)),        // grey
     ("homing", RGBColor(0x64, 0xb5, 0xf6)),          // light blue
     ("night", RGBColor(0x45, 0x4f, 0x6b)),           // slate
     ("wait_for_time", RGBColor(0xfb, 0xc0, 0x2d)),   // yellow

@@ -26,7 +26,7 @@ use suntracker::config::Config;
 use suntracker::controller::{AttitudeSource, Controller, ControllerOptions};
 use suntracker::motion::FeedbackMode;
 use suntracker::persist::{ConfigStore, MemStorage};
-use suntracker::safety::{Mode, Reading, StowInputs};
+use suntracker::safety::{clear_sky_ghi_w_m2, Mode, Reading, StowInputs};
 use suntracker::site::{follow_gps_site, site_from_config};
 use suntracker::sun::SharedSiteSource;
 use suntracker::sun::{AlgorithmSource, PositionSource};
@@ -324,6 +324,9 @@ struct World {
     /// What the supply input reads instead of the supply model, mV (0:
     /// the ADC at its rail).
     supply_reading_mv: Option<u16>,
+    /// What the pyranometer reads instead of the clear sky, W/m² (0: the
+    /// ADC at its rail).
+    irradiance_w_m2: Option<u16>,
 }
 
 type Ctl<'a, P> = Controller<f64, SharedSiteSource<'a, f64>, P, MountSensors, 1441>;
@@ -632,6 +635,7 @@ fn simulate_with<P: SimAxis>(
         hail: false,
         stow_input: false,
         supply_reading_mv: None,
+        irradiance_w_m2: None,
     };
     let mut receiver =
         GpsReceiverModel::new(args.lat, args.lon, f64::from(config.site.elevation_m));
@@ -726,6 +730,7 @@ fn simulate_with<P: SimAxis>(
                     Event::Hail(on) => world.hail = on,
                     Event::StowInput(on) => world.stow_input = on,
                     Event::SupplyMv(mv) => world.supply_reading_mv = mv,
+                    Event::Irradiance(w) => world.irradiance_w_m2 = w,
                     Event::Set(key, value) => {
                         // As typed on the console: in force, not saved.
                         let mut config = *ctl.config();
@@ -901,15 +906,26 @@ fn simulate_with<P: SimAxis>(
         let supply_mv = world
             .supply_reading_mv
             .unwrap_or_else(|| (supply_v * 1000.0).round() as u16);
+        // The horizontal pyranometer: the clear sky's global irradiance at
+        // the true sun (B. Haurwitz (1945)), or what a scenario makes it
+        // read.
+        let true_zenith_deg = truth_sun.position(&now).ok().map(|s| s.zenith_deg);
+        let irradiance_w_m2 = world.irradiance_w_m2.unwrap_or_else(|| {
+            true_zenith_deg.map_or(0, |z| clear_sky_ghi_w_m2(z as f32).round() as u16)
+        });
+        let reading = |v: u16, rail: bool| {
+            if rail {
+                Reading::Impossible
+            } else {
+                Reading::Value(v)
+            }
+        };
         inputs.stow_inputs = StowInputs {
+            irradiance_w_m2: Some(reading(irradiance_w_m2, world.irradiance_w_m2 == Some(0))),
             snow: Some(world.snow),
             hail: Some(world.hail),
             external_high: Some(world.stow_input == active_high),
-            supply_mv: Some(if supply_mv == 0 {
-                Reading::Impossible
-            } else {
-                Reading::Value(supply_mv)
-            }),
+            supply_mv: Some(reading(supply_mv, supply_mv == 0)),
         };
         let report = ctl.tick(&inputs);
 
@@ -1002,14 +1018,9 @@ fn simulate_with<P: SimAxis>(
             let n = truth.normal_xyz(&pose);
             let slope_deg = n[2].clamp(-1.0, 1.0).acos().to_degrees();
             let azimuth_deg = (-n[0]).atan2(-n[1]).to_degrees().rem_euclid(360.0);
-            // The clear-sky beam the model gives, the sun up (no weather
-            // in the model yet).
-            let irradiance_w_m2 = sun.filter(|s| s.is_above_horizon()).map_or(0.0, |s| {
-                clear_sky_beam_normal_w_m2(s.zenith_deg, now.day_of_year())
-            });
             let _ = write!(
                 row,
-                "{m},{},{},{},{},{},{},{:.4},{:.4},{},{},{},{:.4},{slope_deg:.4},{azimuth_deg:.4},{irradiance_w_m2:.1},{:.0}",
+                "{m},{},{},{},{},{},{},{:.4},{:.4},{},{},{},{:.4},{slope_deg:.4},{azimuth_deg:.4},{irradiance_w_m2},{:.0}",
                 iso(&inputs.now),
                 report.mode.name(),
                 u8::from(report.homing),

@@ -21,9 +21,10 @@ use timeline::{FAULT, MODE_COLOURS};
 
 /// Every mode, in the order of the band (bottom up) and the legend (that
 /// of [`MODE_COLOURS`]).
-const MODES: [Mode; 14] = [
+const MODES: [Mode; 15] = [
     Mode::Tracking,
     Mode::Unwind,
+    Mode::Overcast,
     Mode::Homing,
     Mode::Night,
     Mode::WaitForTime,
@@ -44,18 +45,19 @@ fn mode_index(mode: Mode) -> usize {
     match mode {
         Mode::Tracking => 0,
         Mode::Unwind => 1,
-        Mode::Homing => 2,
-        Mode::Night => 3,
-        Mode::WaitForTime => 4,
-        Mode::WindStow => 5,
-        Mode::HailStow => 6,
-        Mode::ExternalStow => 7,
-        Mode::SnowStow => 8,
-        Mode::LowSupplyStow => 9,
-        Mode::CommandStow => 10,
-        Mode::Manual => 11,
-        Mode::SafeStop => 12,
-        Mode::Service => 13,
+        Mode::Overcast => 2,
+        Mode::Homing => 3,
+        Mode::Night => 4,
+        Mode::WaitForTime => 5,
+        Mode::WindStow => 6,
+        Mode::HailStow => 7,
+        Mode::ExternalStow => 8,
+        Mode::SnowStow => 9,
+        Mode::LowSupplyStow => 10,
+        Mode::CommandStow => 11,
+        Mode::Manual => 12,
+        Mode::SafeStop => 13,
+        Mode::Service => 14,
     }
 }
 

@@ -30,6 +30,8 @@
 //! 168,supply_mv,11200      # supply_mv,N: the supply input reads N mV (0: its ADC at the rail)
 //! 169,supply_mv,model      # the supply model again (12 V, or the battery)
 //! 170,set,supply.stow_mv,11500      # set,KEY,VALUE: as typed on the console
+//! 172,irradiance_w_m2,150  # the pyranometer reads N W/m² (0: its ADC at the rail)
+//! 175,irradiance,clear     # the clear sky's irradiance again
 //! 170,power_cycle
 //! 180,command,stow         # command,stow|resume|home|clear|service_on|service_off
 //! ```
@@ -151,6 +153,10 @@ pub enum Event {
     /// at its rail, an impossible reading), or the supply model's again
     /// (`None`).
     SupplyMv(Option<u16>),
+    /// `irradiance_w_m2,N` / `irradiance,clear`: the pyranometer reads N
+    /// W/m² (0: its ADC at the rail, an impossible reading), or the clear
+    /// sky's again (`None`).
+    Irradiance(Option<u16>),
     /// `set,KEY,VALUE`: a configuration key set as the console's `set`
     /// does (its range checked there: a refused value is the run's error);
     /// the value's text, a number ([`suntracker::console::Decimal`]).
@@ -577,6 +583,22 @@ fn parse_event(name: &str, args: &Args<'_>) -> Result<Event, ScenarioErrorKind> 
                 })?))
             }
         }
+        "irradiance_w_m2" => {
+            let [text] = args.exactly("irradiance_w_m2")?;
+            Event::Irradiance(Some(
+                text.parse::<u16>()
+                    .map_err(|_| bad_value("irradiance_w_m2", "W/m² 0 to 65535", text))?,
+            ))
+        }
+        "irradiance" => {
+            let [text] = args.exactly("irradiance")?;
+            keyword(
+                &[("clear", Event::Irradiance(None))],
+                "irradiance",
+                "clear",
+                text,
+            )?
+        }
         "set" => {
             let [key, value] = args.exactly("set")?;
             let field = suntracker::console::key_from_name(key)
@@ -766,6 +788,8 @@ impl fmt::Display for Event {
             }
             Event::SupplyMv(Some(mv)) => write!(f, "supply_mv,{mv}"),
             Event::SupplyMv(None) => f.write_str("supply_mv,model"),
+            Event::Irradiance(Some(w)) => write!(f, "irradiance_w_m2,{w}"),
+            Event::Irradiance(None) => f.write_str("irradiance,clear"),
             Event::Set(key, value) => write!(f, "set,{},{}", key.name(), value.as_str()),
             Event::PowerCycle => f.write_str("power_cycle"),
             Event::Command(c) => f.write_str(match c {

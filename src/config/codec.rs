@@ -3,7 +3,7 @@
 //! which lists them in declaration order) but the derived counts per
 //! degree, in its order, with the operator's hold after the fields of
 //! version 3 ([`V3_KEYS`]) and the fields added since (`modbus.*`,
-//! `stow.*`, `supply.*`) after it;
+//! `stow.*`, `supply.*`, `overcast.*`) after it;
 //! little-endian, [`PAYLOAD_LEN`] bytes. The payloads of versions 2
 //! ([`PAYLOAD_LEN_V2`], without the hold) and 3 ([`PAYLOAD_LEN_V3`]) are
 //! still read, the fields they lack at their defaults. Also the
@@ -23,8 +23,9 @@ pub const PAYLOAD_LEN_V3: usize = PAYLOAD_LEN_V2 + 1;
 /// Payload length of layout version 4: version 3's, the Modbus server's
 /// settings (address, baud, parity, write, timeout: 11 bytes), the weather
 /// stows' (three slopes, two release times, a level, the sensor-fault
-/// switch: 22 bytes) and the supply watch's (two thresholds: 4 bytes).
-pub const PAYLOAD_LEN: usize = PAYLOAD_LEN_V3 + 11 + 22 + 4;
+/// switch: 22 bytes), the supply watch's (two thresholds: 4 bytes) and
+/// the overcast mode's (a ratio, two times, a count: 13 bytes).
+pub const PAYLOAD_LEN: usize = PAYLOAD_LEN_V3 + 11 + 22 + 4 + 13;
 
 /// The keys of layout versions 2 and 3, the first of [`KEYS`]: those up to
 /// `log.status_min`. The operator's hold follows them; the keys after are
@@ -131,7 +132,7 @@ impl Config {
     }
 
     /// Parses a payload of layout version 4, or of version 3 (without the
-    /// Modbus, stow and supply settings: their defaults) or 2 (also without the hold: none
+    /// Modbus, stow, supply and overcast settings: their defaults) or 2 (also without the hold: none
     /// is in force), and checks every value; `None` for a buffer of
     /// another length or any value out of range.
     pub fn decode(buf: &[u8]) -> Option<Config> {

@@ -110,6 +110,10 @@ named! {
         StowOnSensorFault => "stow.on_sensor_fault",
         SupplyStowMv => "supply.stow_mv",
         SupplyResumeMv => "supply.resume_mv",
+        OvercastRatio => "overcast.ratio",
+        OvercastEnterS => "overcast.enter_s",
+        OvercastLeaveS => "overcast.leave_s",
+        OvercastMaxMovesPerHour => "overcast.max_moves_per_hour",
     }
 }
 
@@ -181,6 +185,8 @@ named! {
         ActiveLevel => "0 low, 1 high",
         SupplyMv => range_text!(u16s(r::SUPPLY_MV), Str(" mV (0: off)")),
         AtLeastStowMv => "must be at least supply.stow_mv",
+        OvercastRatio => range_text!(f32s(r::OVERCAST_RATIO), Str(" of the clear sky (0: off)")),
+        OvercastMoves => range_text!(u8s(r::OVERCAST_MOVES), Str(" changes an hour")),
     }
 }
 

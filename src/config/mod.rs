@@ -242,6 +242,30 @@ pub struct SupplyConfig {
     pub resume_mv: u16,
 }
 
+/// The overcast mode (`overcast`): under a sky whose measured irradiance
+/// (a horizontal pyranometer or reference cell) stays below a fraction of
+/// the clear sky's, the panel lies flat and collects the diffuse light of
+/// the whole sky rather than pointing at a hidden sun.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct OvercastConfig {
+    /// The threshold as a fraction of the clear sky's global horizontal
+    /// irradiance (B. Haurwitz (1945)): 0…1 (`overcast.ratio`); 0 turns
+    /// the mode off. Default 0.3: under heavy cloud the global irradiance
+    /// is a quarter to a third of the clear sky's and nearly all diffuse.
+    pub ratio: f32,
+    /// Seconds below the threshold before lying flat: 0…86,400
+    /// (`overcast.enter_s`); default 10 minutes, longer than a passing
+    /// cloud's shadow.
+    pub enter_s: u32,
+    /// Seconds at or above it before tracking again: 0…86,400
+    /// (`overcast.leave_s`); default 10 minutes.
+    pub leave_s: u32,
+    /// Changes between tracking and flat an hour, at most: 1…8
+    /// (`overcast.max_moves_per_hour`); default 4 (each change moves the
+    /// panel: the motors cost energy).
+    pub max_moves_per_hour: u8,
+}
+
 /// The whole configuration.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Config {
@@ -274,6 +298,8 @@ pub struct Config {
     pub stow: StowConfig,
     /// The motor supply's watch.
     pub supply: SupplyConfig,
+    /// The overcast mode.
+    pub overcast: OvercastConfig,
     /// Not a setting (no key; `set`, `load` and `defaults` leave the one in
     /// force): the operator's lasting commands, saved in the same record
     /// so that one power-cut-safe store keeps both ([`OperatorHold`]).
@@ -353,6 +379,12 @@ impl Config {
             supply: SupplyConfig {
                 stow_mv: 0,
                 resume_mv: 0,
+            },
+            overcast: OvercastConfig {
+                ratio: 0.3,
+                enter_s: 600,
+                leave_s: 600,
+                max_moves_per_hour: 4,
             },
             hold: OperatorHold::NONE,
         }

@@ -97,6 +97,12 @@ pub const STOW_SLOPE_DEG: (f32, f32) = (0.0, 90.0);
 /// Supply thresholds, millivolts: 0 (off) to 60 V, beyond any tracker's
 /// motor supply (12, 24 or 48 V).
 pub const SUPPLY_MV: (u16, u16) = (0, 60_000);
+/// The overcast threshold, a fraction of the clear sky's irradiance: 0
+/// (off) to 1.
+pub const OVERCAST_RATIO: (f32, f32) = (0.0, 1.0);
+/// Changes of the overcast mode an hour: at least one, at most 8 (the
+/// monitor keeps that many change times).
+pub const OVERCAST_MOVES: (u8, u8) = (1, 8);
 /// An input's active level: 0 low, 1 high.
 pub const ACTIVE_LEVEL: (u8, u8) = (0, 1);
 /// An on/off switch: 0 off, 1 on.

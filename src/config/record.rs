@@ -8,8 +8,8 @@ use crate::persist::{record_len, ConfigStore, Record, SLOT_LEN};
 use crate::ports::Storage;
 
 /// Layout version written by this firmware: 2 added `log.status_min`, 3
-/// the operator's hold, 4 the Modbus, weather-stow and supply settings
-/// (`modbus.*`, `stow.*`, `supply.*`). Slots of
+/// the operator's hold, 4 the Modbus, weather-stow, supply and overcast
+/// settings (`modbus.*`, `stow.*`, `supply.*`, `overcast.*`). Slots of
 /// versions 2 and 3 are read (with the defaults of what they lack, and no
 /// hold in force from version 2), so a configuration saved before survives
 /// the update; one of version 1 is reported as

@@ -6,8 +6,8 @@
 //! says all three.
 
 use super::{
-    ranges as r, AxisConfig, Calibration, Config, Field, LogConfig, ModbusConfig, Reason,
-    SafetyConfig, SiteConfig, StowConfig, SupplyConfig, WindConfig,
+    ranges as r, AxisConfig, Calibration, Config, Field, LogConfig, ModbusConfig, OvercastConfig,
+    Reason, SafetyConfig, SiteConfig, StowConfig, SupplyConfig, WindConfig,
 };
 use crate::plan::ScheduleConfig;
 use crate::safety::OperatorHold;
@@ -188,6 +188,10 @@ key_table! { c;
     StowOnSensorFault U8 c.stow.on_sensor_fault, SWITCH Switch;
     SupplyStowMv U16 c.supply.stow_mv, SUPPLY_MV SupplyMv;
     SupplyResumeMv U16 c.supply.resume_mv, SUPPLY_MV SupplyMv;
+    OvercastRatio F32 c.overcast.ratio, OVERCAST_RATIO OvercastRatio;
+    OvercastEnterS U32 c.overcast.enter_s, WIND_RELEASE_S S0To86400;
+    OvercastLeaveS U32 c.overcast.leave_s, WIND_RELEASE_S S0To86400;
+    OvercastMaxMovesPerHour U8 c.overcast.max_moves_per_hour, OVERCAST_MOVES OvercastMoves;
 }
 
 crate::progmem! {
@@ -293,6 +297,12 @@ const ZEROS: Config = {
         supply: SupplyConfig {
             stow_mv: 0,
             resume_mv: 0,
+        },
+        overcast: OvercastConfig {
+            ratio: 0.0,
+            enter_s: 0,
+            leave_s: 0,
+            max_moves_per_hour: 0,
         },
         hold: OperatorHold::NONE,
     }

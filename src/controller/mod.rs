@@ -25,8 +25,8 @@ use crate::motion::{
 use crate::plan::{ScheduleError, Scheduler, SetPoint};
 use crate::ports::{AttitudeReading, AttitudeSensor};
 use crate::safety::{
-    AxisId, Fault, FaultManager, Mode, OperatorHold, Recovery, Sensor, StowInputs, WeatherStow,
-    WindMonitor,
+    AxisId, Fault, FaultManager, Mode, OperatorHold, OvercastMonitor, Recovery, Sensor, StowInputs,
+    WeatherStow, WindMonitor,
 };
 use crate::sun::PositionSource;
 use crate::time::monotonic;
@@ -233,6 +233,7 @@ pub struct Controller<T, P, D, S, const N: usize> {
     faults: FaultManager,
     wind: WindMonitor,
     weather: WeatherStow,
+    overcast: OvercastMonitor,
     options: ControllerOptions<T>,
     sensors: Option<S>,
     /// The branch search in progress (the module `look_ahead`).
@@ -301,6 +302,7 @@ where
             faults: FaultManager::new(config.safety),
             wind: WindMonitor::new(config.wind),
             weather: WeatherStow::default(),
+            overcast: OvercastMonitor::default(),
             attitude,
             set_point: None,
             home_set_point: None,
@@ -519,10 +521,26 @@ where
             &self.config.stow,
             &self.config.supply,
         );
-        if weather.supply_fault {
-            self.faults.raise(Fault::SupplyReading, inp.now_ms);
-        } else {
-            self.faults.clear(Fault::SupplyReading, inp.now_ms);
+        // The sky: with the sun of the set-point in force by day.
+        let zenith_deg = self
+            .set_point
+            .filter(|_| !self.night)
+            .map(|sp| sp.slope_deg.to_f32());
+        self.overcast.update(
+            inp.stow_inputs.irradiance_w_m2,
+            zenith_deg,
+            inp.now_ms,
+            &self.config.overcast,
+        );
+        for (on, fault) in [
+            (weather.supply_fault, Fault::SupplyReading),
+            (self.overcast.fault(), Fault::IrradianceReading),
+        ] {
+            if on {
+                self.faults.raise(fault, inp.now_ms);
+            } else {
+                self.faults.clear(fault, inp.now_ms);
+            }
         }
         // 3. Scheduler (only with a trusted clock), daylight only with a
         // set-point for the present slot, the re-homing of a new day.

@@ -214,6 +214,7 @@ where
             time_unknown: self.faults.time_unknown(),
             night: self.night,
             unhomed,
+            overcast: self.overcast.is_on(),
         });
         // Stow: the panel flat (α = 0), the C axis at the last commanded
         // azimuth; before any pose was commanded (just homed, no trusted
@@ -293,6 +294,8 @@ where
             Mode::SafeStop | Mode::Homing => (None, false),
             Mode::WindStow | Mode::CommandStow | Mode::WaitForTime => (Some(stow), false),
             Mode::HailStow | Mode::ExternalStow | Mode::SnowStow => (weather_stow, false),
+            // Flat under an overcast sky, facing all of it.
+            Mode::Overcast => (Some(stow), false),
             // Flat while the motors can still move, then nothing driven.
             Mode::LowSupplyStow if self.axes_at(&stow) => (None, false),
             Mode::LowSupplyStow => (Some(stow), false),

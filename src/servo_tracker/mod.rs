@@ -503,6 +503,7 @@ impl<R: RtcDriver, D: AxisDrive + Motion> ServoTracker<R, D> {
         // wind, operator or manual inputs.
         let mode = select_mode(&ModeInputs {
             weather: Default::default(),
+            overcast: false,
             must_stop: false,
             wind_stow: false,
             service: false,
