@@ -672,7 +672,8 @@ impl WeatherStow {
 /// the sun at or below the horizon.
 pub fn clear_sky_ghi_w_m2(zenith_deg: f32) -> f32 {
     let cos_z = libm::cosf(zenith_deg.to_radians());
-    if !(cos_z > 0.0) {
+    // Also a zenith that is not a number: no sun.
+    if cos_z.is_nan() || cos_z <= 0.0 {
         return 0.0;
     }
     1098.0 * cos_z * libm::expf(-0.059 / cos_z)
