@@ -669,15 +669,49 @@ impl WeatherStow {
 /// zenith angle: B. Haurwitz (1945), "Insolation in relation to cloudiness
 /// and cloud density", J. Meteorology 2: `1098 · cos z · exp(−0.059 / cos
 /// z)` (the coefficients as pvlib's `clearsky.haurwitz` uses them); 0 with
-/// the sun at or below the horizon.
+/// the sun at or below the horizon. The cosine is the board's
+/// ([`sun_algos::Float`]: avr-libc on the AVR), the exponential
+/// [`exp_neg`]'s: no library exponential, whose f32 version computes in
+/// software `f64` on an 8-bit part.
 pub fn clear_sky_ghi_w_m2(zenith_deg: f32) -> f32 {
-    let cos_z = libm::cosf(zenith_deg.to_radians());
+    let cos_z = sun_algos::Float::cos(zenith_deg.to_radians());
     // Also a zenith that is not a number: no sun.
     if cos_z.is_nan() || cos_z <= 0.0 {
         return 0.0;
     }
-    1098.0 * cos_z * libm::expf(-0.059 / cos_z)
+    1098.0 * cos_z * exp_neg(0.059 / cos_z)
 }
+
+/// `e^(−x)` for `x ≥ 0` in `f32` arithmetic alone: `x` halved until at
+/// most 1/4, its Taylor series to the sixth power there (remainder under
+/// 2e-7), squared back; within 1e-6 of `e^(−x)` relatively for `x` up to
+/// 20 (below that `e^(−x)` is under 2e-9, and 0 is returned from 88 on).
+fn exp_neg(x: f32) -> f32 {
+    if x.is_nan() || x >= 88.0 {
+        return 0.0;
+    }
+    let mut x = x.max(0.0);
+    let mut halvings = 0u8;
+    while x > 0.25 {
+        x *= 0.5;
+        halvings += 1;
+    }
+    // 1 − x + x²/2 − x³/6 + x⁴/24 − x⁵/120 + x⁶/720, by Horner.
+    let mut e = 1.0
+        - x * (1.0
+            - x * (0.5 - x * (1.0 / 6.0 - x * (1.0 / 24.0 - x * (1.0 / 120.0 - x / 720.0)))));
+    for _ in 0..halvings {
+        e *= e;
+    }
+    e
+}
+
+/// Below this a sky is not, with the sun up ([`SUN_UP_W_M2`] of clear
+/// sky): the diffuse light under the heaviest overcast is tens of W/m².
+const DARKEST_SKY_W_M2: u16 = 5;
+/// The clear sky's irradiance above which [`DARKEST_SKY_W_M2`] is judged
+/// (the sun some 12° up).
+const SUN_UP_W_M2: f32 = 200.0;
 
 /// The overcast mode from measured irradiance: in after the measured
 /// irradiance stayed below `overcast.ratio` of the clear sky's
@@ -718,7 +752,15 @@ impl OvercastMonitor {
             }
             return self.on;
         };
-        let dark = f32::from(w_m2) < config.ratio * clear_sky_ghi_w_m2(z);
+        let clear_w_m2 = clear_sky_ghi_w_m2(z);
+        // No sky gives less than the diffuse light of the heaviest cloud
+        // with the sun well up: a reading of (nearly) nothing then is a
+        // sensor disconnected, not darkness.
+        if w_m2 < DARKEST_SKY_W_M2 && clear_w_m2 > SUN_UP_W_M2 {
+            self.fault = true;
+            return self.on;
+        }
+        let dark = f32::from(w_m2) < config.ratio * clear_w_m2;
         if dark == self.on {
             self.other_since_ms = None;
             return self.on;
@@ -744,8 +786,9 @@ impl OvercastMonitor {
         self.on
     }
 
-    /// True while the irradiance input reads impossible values (and the
-    /// mode is on).
+    /// True while the irradiance input reads impossible values (its ADC
+    /// at a rail, or nothing at all with the sun well up) and the mode is
+    /// on.
     pub fn fault(&self) -> bool {
         self.fault
     }

@@ -695,6 +695,9 @@ fn clear_sky_is_haurwitz() {
 #[test]
 fn overcast_enters_leaves_and_limits_its_moves() {
     let mut config = Config::default().overcast;
+    // Off by default (no pyranometer); an installer's threshold.
+    assert_eq!(config.ratio, 0.0);
+    config.ratio = 0.3;
     config.enter_s = 60;
     config.leave_s = 120;
     config.max_moves_per_hour = 2;
@@ -720,6 +723,11 @@ fn overcast_enters_leaves_and_limits_its_moves() {
     assert!(o.update(w(100), z, 3_661_000, &config));
     // An impossible reading: a fault, the state kept.
     assert!(o.update(Some(Reading::Impossible), z, 3_700_000, &config));
+    assert!(o.fault());
+    // Nothing at all with the sun up: a sensor come loose, not a sky.
+    assert!(o.update(w(100), z, 3_750_000, &config));
+    assert!(!o.fault());
+    assert!(o.update(w(2), z, 3_760_000, &config), "the state is kept");
     assert!(o.fault());
     // No sun (night), no input, or off: never overcast.
     assert!(!o.update(w(100), None, 3_800_000, &config));

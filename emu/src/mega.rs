@@ -293,6 +293,9 @@ pub struct MegaBench {
     /// The motor supply on ADC0 behind the board's 100 kΩ / 10 kΩ
     /// divider, mV from each emulated minute (12,000 until told).
     supply: Vec<(f64, u32)>,
+    /// The pyranometer on ADC1 (2 mV per W/m²), W/m² from each emulated
+    /// minute (0 until told).
+    irradiance: Vec<(f64, u32)>,
 }
 
 /// The board's supply divider (`boards/mega2560`'s `SUPPLY_ADC`): the pin
@@ -352,7 +355,16 @@ impl MegaBench {
             script: Script::default(),
             contacts: Vec::new(),
             supply: Vec::new(),
+            irradiance: Vec::new(),
         }
+    }
+
+    /// What the pyranometer reads from emulated `minute`, W/m² (the board's
+    /// 2 mV per W/m² on ADC1).
+    pub fn irradiance_at(mut self, minute: f64, w_m2: u32) -> Self {
+        self.irradiance.push((minute, w_m2));
+        self.irradiance.sort_by(|a, b| a.0.total_cmp(&b.0));
+        self
     }
 
     /// The motor supply the board's divider sees from emulated `minute`,
@@ -534,6 +546,7 @@ impl MegaBench {
         let mut switches = [None::<bool>; 4];
         let mut contacts = [None::<bool>; 3];
         let mut supply_pin = None::<u32>;
+        let mut irradiance_pin = None::<u32>;
         sim.set_avcc_mv(5_000);
         let mut switch_events = Vec::new();
         let mut line_start = None::<(f64, f64)>;
@@ -570,6 +583,7 @@ impl MegaBench {
                 switches = [None; 4];
                 contacts = [None; 3];
                 supply_pin = None;
+                irradiance_pin = None;
                 sim.set_pin('L', 0, real_time);
                 if let Some(l) = wind_level {
                     sim.set_pin('E', 4, l);
@@ -623,6 +637,15 @@ impl MegaBench {
             if supply_pin != Some(supply_pin_mv(supply_mv)) {
                 sim.set_adc_mv(0, supply_pin_mv(supply_mv));
                 supply_pin = Some(supply_pin_mv(supply_mv));
+            }
+            let w_m2 = self
+                .irradiance
+                .iter()
+                .rfind(|(m, _)| now_emu >= m * 60.0)
+                .map_or(0, |(_, w)| *w);
+            if irradiance_pin != Some(w_m2 * 2) {
+                sim.set_adc_mv(1, w_m2 * 2);
+                irradiance_pin = Some(w_m2 * 2);
             }
             // The weather contacts: each at its latest scheduled level
             // (open before any), driven when it changes or after a reset.

@@ -2083,3 +2083,79 @@ fn s_low_supply_stows_then_drives_nothing() {
     check_set_points_of(&sps, &MountAttitude::level(), kano_sun, 0.02);
     assert_no_illegal_steps(&run);
 }
+
+/// (t) The pyranometer at Kano, 2026-06-21 from 08:00Z for 90 minutes, RTC
+/// and GPS, `overcast.ratio 0.3`, `enter_s 300` and `leave_s 300` typed at
+/// minutes 1–2 (ADC1, 2 mV per W/m²): 800 W/m² (clear), 150 from minute
+/// 20 (`overcast` 5 minutes later: flat within two more, the C axis
+/// unmoved), 800 from minute 50 (`tracking` 5 minutes later), 0 over
+/// minutes 70–75 with the sun well up (a sensor come loose: fault
+/// `irradiance_reading` once, tracking goes on).
+#[test]
+fn t_overcast_lies_flat_and_returns() {
+    let elf = elf_or_skip!();
+    let start = t("2026-06-21T08:00:00Z");
+    let run = MegaBench::mega(&elf)
+        .start(start)
+        .rtc(Rtc::Valid)
+        .gps(GpsFeed::kano())
+        .type_at(1.0, "set overcast.ratio 0.3")
+        .type_at(1.5, "set overcast.enter_s 300")
+        .type_at(2.0, "set overcast.leave_s 300")
+        .irradiance_at(0.0, 800)
+        .irradiance_at(20.0, 150)
+        .irradiance_at(50.0, 800)
+        .irradiance_at(70.0, 0)
+        .irradiance_at(75.0, 800)
+        .run_minutes(90.0)
+        .unwrap();
+    report("t", &run);
+    let modes = run.modes();
+    println!(
+        "t: modes {modes:?}; faults: {}",
+        faults_summary(&run, start)
+    );
+    let at = |m: f64| start as f64 + m * 60.0;
+    for (m, want) in [
+        (19.0, "tracking"),
+        (24.0, "tracking"),
+        (26.5, "overcast"),
+        (54.0, "overcast"),
+        (56.5, "tracking"),
+        (85.0, "tracking"),
+    ] {
+        assert_eq!(mode_at(&modes, at(m)), want, "minute {m}: {modes:?}");
+    }
+    let c_before = run
+        .angle_trace
+        .iter()
+        .rfind(|s| s.utc_s <= at(25.0))
+        .map(|s| s.c_deg)
+        .unwrap();
+    for s in run
+        .angle_trace
+        .iter()
+        .filter(|s| s.utc_s >= at(28.0) && s.utc_s < at(54.0))
+    {
+        assert!(s.a_deg.abs() <= STEP_DEG, "A at {} while overcast", s.a_deg);
+        assert!(
+            (s.c_deg - c_before).abs() <= STEP_DEG,
+            "C moved to {}",
+            s.c_deg
+        );
+    }
+    let raised = fault_raised(&run, "irradiance_reading");
+    assert_eq!(raised.len(), 1, "{}", faults_summary(&run, start));
+    assert!(raised[0] >= at(70.0) && raised[0] < at(71.5));
+    let sps: Vec<_> = set_points(&run)
+        .into_iter()
+        .filter(|s| s.0.utc_s > at(57.0))
+        .collect();
+    assert!(
+        sps.len() >= 5,
+        "{} set-points after the sky cleared",
+        sps.len()
+    );
+    check_set_points_of(&sps, &MountAttitude::level(), kano_sun, 0.02);
+    assert_no_illegal_steps(&run);
+}

@@ -249,9 +249,11 @@ pub struct SupplyConfig {
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct OvercastConfig {
     /// The threshold as a fraction of the clear sky's global horizontal
-    /// irradiance (B. Haurwitz (1945)): 0…1 (`overcast.ratio`); 0 turns
-    /// the mode off. Default 0.3: under heavy cloud the global irradiance
-    /// is a quarter to a third of the clear sky's and nearly all diffuse.
+    /// irradiance (B. Haurwitz (1945)): 0…1 (`overcast.ratio`); 0 (the
+    /// default) turns the mode off, for a tracker without a pyranometer:
+    /// an installer who wires one sets it, 0.3 for instance (under heavy
+    /// cloud the global irradiance is a quarter to a third of the clear
+    /// sky's, nearly all of it diffuse).
     pub ratio: f32,
     /// Seconds below the threshold before lying flat: 0…86,400
     /// (`overcast.enter_s`); default 10 minutes, longer than a passing
@@ -381,7 +383,7 @@ impl Config {
                 resume_mv: 0,
             },
             overcast: OvercastConfig {
-                ratio: 0.3,
+                ratio: 0.0,
                 enter_s: 600,
                 leave_s: 600,
                 max_moves_per_hour: 4,

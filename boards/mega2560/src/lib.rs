@@ -27,6 +27,7 @@
 //! | hail warning contact (to GND while a warning is on, pull-up) | PC5 | D32 |
 //! | plant stow contact (active level `stow.external_active`; pull-up) | PC6 | D31 |
 //! | motor supply through a 100 kΩ / 10 kΩ divider (0–55 V) | ADC0 (PF0) | A0 |
+//! | horizontal pyranometer or reference cell, amplified to 2 mV per W/m² (0–2.5 V) | ADC1 (PF1) | A1 |
 //!
 //! Wiring sketch (one axis; the other is the same on the next four pins):
 //!
@@ -96,6 +97,20 @@ pub const PLAN_POSITIONS_PER_TICK: u16 = 4;
 pub const ATTITUDE_EVERY_MS: u32 = 10_000;
 /// The motor supply's ADC channel (A0).
 pub const SUPPLY_CHANNEL: u8 = 0;
+/// The pyranometer's ADC channel (A1).
+pub const PYRANOMETER_CHANNEL: u8 = 1;
+/// The pyranometer's output, mV per W/m² (an amplified sensor: 0–2.5 V for
+/// 0–1,250 W/m²; another sensor, another constant).
+pub const PYRANOMETER_MV_PER_W_M2: u32 = 2;
+/// The pyranometer's ADC: straight to the pin, AVcc reference, 10 bits.
+pub const PYRANOMETER_ADC: PanelAdc = PanelAdc {
+    vref_mv: 5_000,
+    bits: 10,
+    divider: Divider {
+        r_top_ohm: 0,
+        r_bottom_ohm: 1,
+    },
+};
 /// The supply's divider and the ADC in front of it: 100 kΩ over 10 kΩ,
 /// AVcc (5 V) reference, 10 bits: 0–55 V, 54 mV a code.
 pub const SUPPLY_ADC: PanelAdc = PanelAdc {
@@ -114,9 +129,12 @@ struct MegaPlatform<'p> {
     anemometer: Anemometer,
     /// Snow (PC4), hail (PC5), the plant's stow contact (PC6).
     stow_pins: [PortInputPin<'p, chip::PORTC>; 3],
-    /// The supply's ADC channel and its last reading.
+    /// The ADC, the channel its conversion runs on, and the last readings
+    /// of the supply and the pyranometer.
     adc: Adc,
+    adc_channel: u8,
     supply: Option<Reading>,
+    irradiance: Option<Reading>,
     watchdog: Watchdog,
     cpu: chip::CPU,
     store: ConfigStore<EepromStorage<Eeprom>>,
@@ -143,22 +161,37 @@ impl Platform for MegaPlatform<'_> {
         // plant's contact is passed as its level (the configuration says
         // which one is active).
         let [snow, hail, plant] = &mut self.stow_pins;
-        // The supply: the conversion started a tick ago, and the next one
-        // started (neither waits); a code at a rail is no supply's.
+        // The supply and the pyranometer in turn: the conversion started a
+        // tick ago read, the other channel's started (neither waits). A
+        // supply code at a rail is no supply's; the pyranometer's output
+        // never reaches full scale (2.5 V of 5).
         if let Some(code) = self.adc.poll() {
-            self.supply = Some(match SUPPLY_ADC.panel_mv(code) {
-                Ok(mv) if code != 0 && code != ADC_MAX_CODE => {
-                    Reading::Value(u16::try_from(mv).unwrap_or(u16::MAX))
+            let reading = |v: Option<u32>| match v {
+                Some(v) if code != ADC_MAX_CODE => {
+                    Reading::Value(u16::try_from(v).unwrap_or(u16::MAX))
                 }
                 _ => Reading::Impossible,
-            });
+            };
+            if self.adc_channel == SUPPLY_CHANNEL {
+                let mv = SUPPLY_ADC.panel_mv(code).ok().filter(|_| code != 0);
+                self.supply = Some(reading(mv));
+            } else {
+                let mv = PYRANOMETER_ADC.panel_mv(code).ok();
+                self.irradiance = Some(reading(mv.map(|mv| mv / PYRANOMETER_MV_PER_W_M2)));
+            }
         }
-        let _ = self.adc.start(SUPPLY_CHANNEL);
+        self.adc_channel = if self.adc_channel == SUPPLY_CHANNEL {
+            PYRANOMETER_CHANNEL
+        } else {
+            SUPPLY_CHANNEL
+        };
+        let _ = self.adc.start(self.adc_channel);
         StowInputs {
             snow: snow.is_low().ok(),
             hail: hail.is_low().ok(),
             external_high: plant.is_high().ok(),
             supply_mv: self.supply,
+            irradiance_w_m2: self.irradiance,
         }
     }
     fn feed_watchdog(&mut self) {
@@ -287,7 +320,9 @@ fn run_tracker(dp: Parts) -> ! {
             InputPin::<_, 6>::new(&portc, true).erase(),
         ],
         adc: Adc::new(dp.adc),
+        adc_channel: SUPPLY_CHANNEL,
         supply: None,
+        irradiance: None,
         watchdog,
         cpu: dp.cpu,
         store,

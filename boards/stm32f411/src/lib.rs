@@ -513,8 +513,10 @@ impl Platform for BlackPillPlatform {
             snow: Some(snow.is_low()),
             hail: Some(hail.is_low()),
             external_high: Some(plant.is_high()),
-            // No supply divider on this board's pins yet: the watch is off.
+            // No supply divider nor pyranometer on this board's pins yet:
+            // the supply watch and the overcast mode are off.
             supply_mv: None,
+            irradiance_w_m2: None,
         }
     }
     fn feed_watchdog(&mut self) {
