@@ -104,6 +104,10 @@ COMMANDS = {
 }
 for _id, (_site, _opts) in SIM_RUNS.items():
     COMMANDS["sim_" + _id] = f"{SIM} {_site} {_opts}"
+# A year at Kano with a sky of clear and overcast days, the overcast mode
+# off and on.
+COMMANDS["sim_weather_tracking"] = f"{SIM} {KANO} --weather"
+COMMANDS["sim_weather_overcast"] = f"{SIM} {KANO} --weather --overcast-ratio 0.3"
 # Three days of polar day at three sites: the C axis's unwinds.
 POLAR_RUNS = {
     "tromso": "--lat 69.65 --lon 18.96 --start 2026-06-10",
@@ -120,7 +124,7 @@ for _id, _opts in POLAR_RUNS.items():
 REGENERATE = {"sizes_report": "python3 .ci/size_report.py --write"}
 
 # FIGURES_ONLY names groups; a name stands for every group that starts with
-# it (`sim` = the eighteen simulation runs, `setpoints` = both set-point runs).
+# it (`sim` = the twenty simulation runs, `setpoints` = both set-point runs).
 # A figure read from several groups runs only when all of them are selected.
 
 # ---------------------------------------------------------------- helpers
@@ -512,6 +516,15 @@ for sid, label in [
 ]:
     figure(f"sim.polar.{sid}", "sim_polar_" + sid, sim_polar_row,
            f"| {label} | {{n}} | {{elev}}° | {{off}} | {{cday}}° | {{ideal}} |")
+
+
+SIM_WEATHER = (
+    r"^weather: (?P<days>\d+) overcast days of \d+; energy with diffuse light (?P<e>[0-9.]+) kWh/m2; "
+    r"overcast mode (?P<h>[0-9.]+) h; motor moves per day (?P<moves>\d+)\s*$"
+)
+for sid, label in [("tracking", "tracking always"), ("overcast", "`overcast.ratio` 0.3")]:
+    figure(f"sim.weather.{sid}", "sim_weather_" + sid, regex_reader(SIM_WEATHER),
+           f"| Kano 2026, {label} | {{days}} | {{e}} kWh/m² | {{h}} h | {{moves}} |")
 
 
 def sim_faults(kano, tromso):

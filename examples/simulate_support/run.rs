@@ -45,12 +45,19 @@ use cli::Parsed;
 /// The header of `--trace`.
 pub const TRACE_HEADER: &str = "minute,utc,mode,homing,faults,target_c_deg,target_a_deg,axis_c_deg,axis_a_deg,sun_zenith_deg,sun_azimuth_deg,pointing_error_deg,wind_hz,panel_slope_deg,panel_azimuth_deg,irradiance_w_m2,supply_mv";
 
+/// `--weather`: an overcast day's global irradiance, a fraction of the
+/// clear sky's (heavy stratus lets through a fifth to a third).
+const OVERCAST_GHI_FRACTION: f64 = 0.25;
+/// `--weather`: a clear day's diffuse irradiance, a fraction of the clear
+/// sky's global (about a tenth under a clean sky).
+const CLEAR_DIFFUSE_FRACTION: f64 = 0.1;
+
 /// The program name in messages.
 pub const TOOL: &str = "simulate";
 
 /// The synopsis of `--help`.
 pub const USAGE: &str = "[--lat DEG] [--lon DEG] [--start YYYY-MM-DD] [--days N] \
-[--drive stepper|servo|dc-hall|timed] [--supply regulated|battery] [--feedback encoder|sensors] [--mount level|portable] [--faults] [--seed N] \
+[--drive stepper|servo|dc-hall|timed] [--supply regulated|battery] [--feedback encoder|sensors] [--mount level|portable] [--faults] [--weather] [--overcast-ratio R] [--seed N] \
 [--scenario FILE] [--trace OUT.csv] [--svg OUT.svg]";
 
 /// The text of `--help`.
@@ -92,6 +99,19 @@ stow times; its last line holds the figures as key=value.",
                 "--mount level|portable",
                 "a level mount, or one tilted and turned (read by the attitude sensors)",
                 "level",
+            ),
+            opt(
+                "--weather",
+                "a sky of clear and overcast days (three in ten overcast, on their own random \
+                 stream): the pyranometer reads a quarter of the clear sky's irradiance on an \
+                 overcast day, all of it diffuse; a line reports the energy on the panel with \
+                 the diffuse light (isotropic sky) and the motor moves a day",
+                "off",
+            ),
+            opt(
+                "--overcast-ratio R",
+                "overcast.ratio for the run, 0 to 1 (the overcast mode; 0: off)",
+                "the configuration's (0)",
             ),
             opt(
                 "--faults",
@@ -170,6 +190,10 @@ pub struct Args {
     encoder: bool,
     portable: bool,
     faults: bool,
+    /// A sky of clear and overcast days (`--weather`).
+    weather: bool,
+    /// `overcast.ratio` for the run (`--overcast-ratio`).
+    overcast_ratio: Option<f32>,
     seed: u64,
     scenario: Option<String>,
     trace: Option<String>,
@@ -189,6 +213,8 @@ pub fn parse_args(args: &[String]) -> Result<Parsed<Args>, String> {
         encoder: true,
         portable: false,
         faults: false,
+        weather: false,
+        overcast_ratio: None,
         seed: 1,
         scenario: None,
         trace: None,
@@ -244,6 +270,12 @@ pub fn parse_args(args: &[String]) -> Result<Parsed<Args>, String> {
                     cli::choice(&mut p, "--mount", &[("level", false), ("portable", true)])?
             }
             Long("faults") => a.faults = true,
+            Long("weather") => a.weather = true,
+            Long("overcast-ratio") => {
+                a.overcast_ratio = Some(cli::value(&mut p, "--overcast-ratio", "0..1", |v| {
+                    v.parse::<f32>().ok().filter(|r| (0.0..=1.0).contains(r))
+                })?)
+            }
             Long("seed") => {
                 a.seed = cli::value(&mut p, "--seed", "an integer 0..2^64", |v| v.parse().ok())?
             }
@@ -529,6 +561,9 @@ fn simulate_with<P: SimAxis>(
     for ax in config.axes.iter_mut() {
         ax.deadband_deg = 0.02;
     }
+    if let Some(r) = args.overcast_ratio {
+        config.overcast.ratio = r;
+    }
     match args.drive {
         Drive::Servo => {
             for ax in config.axes.iter_mut() {
@@ -684,7 +719,20 @@ fn simulate_with<P: SimAxis>(
     // The motor supply the trace reports: the regulated 12 V, or the
     // battery's voltage of the day.
     let mut supply_v = 12.0;
+    // The sky of `--weather`: a day overcast three times in ten, on its own
+    // random stream; the energy on the panel with the diffuse light (an
+    // isotropic sky: B. Y. H. Liu and R. C. Jordan (1960)); the motor moves
+    // (ticks whose target differs from the last one).
+    let mut sky_rng = SplitMix64::new(args.seed ^ 0x534b_5944_4159);
+    let mut overcast_day = false;
+    let (mut overcast_days, mut overcast_min, mut moves) = (0u32, 0u32, 0u32);
+    let mut e_sky = 0.0f64;
+    let mut last_target: Option<Pose<f64>> = None;
     for m in 0..minutes {
+        if args.weather && m % 1440 == 0 {
+            overcast_day = sky_rng.uniform(0.0, 1.0) < 0.3;
+            overcast_days += u32::from(overcast_day);
+        }
         if args.supply == Supply::Battery && m % 1440 == 0 {
             let v = supply_rng.uniform(11.9, 12.7);
             supply_v = v;
@@ -910,8 +958,15 @@ fn simulate_with<P: SimAxis>(
         // the true sun (B. Haurwitz (1945)), or what a scenario makes it
         // read.
         let true_zenith_deg = truth_sun.position(&now).ok().map(|s| s.zenith_deg);
+        let sky_factor = if overcast_day {
+            OVERCAST_GHI_FRACTION
+        } else {
+            1.0
+        };
         let irradiance_w_m2 = world.irradiance_w_m2.unwrap_or_else(|| {
-            true_zenith_deg.map_or(0, |z| clear_sky_ghi_w_m2(z as f32).round() as u16)
+            true_zenith_deg.map_or(0, |z| {
+                (f64::from(clear_sky_ghi_w_m2(z as f32)) * sky_factor).round() as u16
+            })
         });
         let reading = |v: u16, rail: bool| {
             if rail {
@@ -975,10 +1030,36 @@ fn simulate_with<P: SimAxis>(
         }
         last_mode = Some(report.mode);
         settled &= matches!(report.mode, Mode::Tracking | Mode::Unwind);
+        if report.mode == Mode::Overcast {
+            overcast_min += 1;
+        }
+        if let Some(t) = report.target {
+            let moved = last_target.is_none_or(|l| {
+                (l.gamma_deg - t.gamma_deg).abs() > 0.01 || (l.alpha_deg - t.alpha_deg).abs() > 0.01
+            });
+            moves += u32::from(moved);
+            last_target = Some(t);
+        }
         if let Some(sun) = sun.filter(|s| s.is_above_horizon()) {
             let s = sun_vector_xyz(sun.elevation_deg(), sun.azimuth_deg);
             let n = truth.normal_xyz(&pose);
             let err = angle_between_deg(&n, &s);
+            if args.weather {
+                // Clear: the beam and a tenth of the clear sky's global as
+                // diffuse; overcast: no beam, the measured global all
+                // diffuse. On the panel: the beam at its incidence, the
+                // diffuse by the sky it sees, (1 + cos β) / 2.
+                let ghi_cs = f64::from(clear_sky_ghi_w_m2(sun.zenith_deg as f32));
+                let (dni, dhi) = if overcast_day {
+                    (0.0, ghi_cs * OVERCAST_GHI_FRACTION)
+                } else {
+                    (
+                        clear_sky_beam_normal_w_m2(sun.zenith_deg, now.day_of_year()),
+                        ghi_cs * CLEAR_DIFFUSE_FRACTION,
+                    )
+                };
+                e_sky += dni * err.to_radians().cos().max(0.0) + dhi * (1.0 + n[2]) / 2.0;
+            }
             if report.mode == Mode::Tracking {
                 errors.push(err);
                 pointing = Some(err);
@@ -1145,6 +1226,18 @@ fn simulate_with<P: SimAxis>(
             travel.get(1).copied().unwrap_or(0.0)
         ),
     )?;
+    if args.weather {
+        p(
+            out,
+            format!(
+                "weather: {overcast_days} overcast days of {}; energy with diffuse light {:.1} kWh/m2; overcast mode {:.1} h; motor moves per day {:.0}",
+                args.days,
+                e_sky / 60.0 / 1000.0,
+                f64::from(overcast_min) / 60.0,
+                f64::from(moves) / f64::from(args.days.max(1)),
+            ),
+        )?;
+    }
     let elevations: Vec<String> = unwind_elevations_deg
         .iter()
         .map(|e| format!("{e:.1}"))
