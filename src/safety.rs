@@ -724,9 +724,12 @@ pub struct OvercastMonitor {
     on: bool,
     /// Since when the sky has read the other way (monotonic ms).
     other_since_ms: Option<u32>,
-    /// When the changes of the last hour were made, newest first (at most
-    /// 60: `overcast.max_moves_per_hour`'s range).
-    changes_ms: [Option<u32>; 8],
+    /// When the last changes were made (monotonic ms), a ring of
+    /// `overcast.max_moves_per_hour`'s largest value: `changes` of them
+    /// kept, the next written at `next`.
+    changes_ms: [u32; 8],
+    changes: u8,
+    next: u8,
     /// True while the input reads impossible values.
     fault: bool,
 }
@@ -767,10 +770,12 @@ impl OvercastMonitor {
         }
         let since = self.other_since_ms.get_or_insert(now_ms);
         let need_s = if dark { config.enter_s } else { config.leave_s };
-        let recent = self
+        let kept = self
             .changes_ms
+            .get(..usize::from(self.changes))
+            .unwrap_or(&[]);
+        let recent = kept
             .iter()
-            .flatten()
             .filter(|t| monotonic::elapsed_ms(now_ms, **t) < 3_600_000)
             .count();
         if monotonic::age_ms(since, now_ms) >= need_s.saturating_mul(1000)
@@ -778,10 +783,11 @@ impl OvercastMonitor {
         {
             self.on = dark;
             self.other_since_ms = None;
-            self.changes_ms.rotate_right(1);
-            if let Some(first) = self.changes_ms.first_mut() {
-                *first = Some(now_ms);
+            if let Some(slot) = self.changes_ms.get_mut(usize::from(self.next)) {
+                *slot = now_ms;
             }
+            self.next = (self.next + 1) % 8;
+            self.changes = (self.changes + 1).min(8);
         }
         self.on
     }
