@@ -402,6 +402,24 @@ where
     pub fn last_report(&self) -> Option<TickReport<T>> {
         self.last_report
     }
+    /// The trusted time at the last tick, where it came from, and the
+    /// tick's monotonic ms ([`crate::time::monotonic`]); `None` while no
+    /// time is trusted.
+    pub fn last_time(&self) -> Option<(UtcTime, TimeOrigin, u32)> {
+        self.last_time.map(|(t, o)| (t, o, self.last_tick_ms))
+    }
+    /// The GPS receiver's latest fix (`GpsFix::NONE` before any).
+    pub fn gps_fix(&self) -> &GpsFix {
+        &self.fix
+    }
+    /// The anemometer's pulse rate over the last tick, Hz.
+    pub fn wind_hz(&self) -> Option<f32> {
+        self.last_wind_hz
+    }
+    /// The loop's own settings (board name, tick).
+    pub fn app(&self) -> &AppConfig {
+        &self.app
+    }
 
     /// Runs forever, sleeping between passes. Takes `&mut self`: moving
     /// the firmware (kilobytes) into the call would copy it on the stack.

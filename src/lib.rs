@@ -28,6 +28,7 @@ pub mod safety;
 pub mod servo_tracker;
 pub mod site;
 pub mod sun;
+pub mod sunspec;
 pub mod time;
 
 /// Constant text and tables kept in program memory on AVR (the progmem

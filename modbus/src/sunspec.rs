@@ -145,12 +145,15 @@ pub mod m64201 {
     pub const ID: u16 = super::VENDOR_MODEL_ID;
     /// Model length.
     pub const LEN: u16 = 10;
-    /// The tracker's mode code, enum16 (the order of suntracker's
-    /// `safety::Mode`: 0 service, 1 safe_stop, 2 wind_stow, 3 command_stow,
-    /// 4 manual, 5 wait_for_time, 6 night, 7 homing, 8 tracking).
+    /// The tracker's mode code, enum16 (0 service, 1 safe_stop, 2
+    /// wind_stow, 3 command_stow, 4 manual, 5 wait_for_time, 6 night, 7
+    /// homing, 8 tracking, 9 hail_stow, 10 external_stow, 11 snow_stow, 12
+    /// low_supply_stow, 13 overcast: suntracker's `safety::Mode`, the codes
+    /// kept as first published).
     pub const MODE: u16 = 2;
     /// Why the tracker is stowed, enum16 (0 not stowed, 1 wind, 2 command,
-    /// 3 night, 4 fault, 5 time unknown).
+    /// 3 night, 4 fault, 5 time unknown, 6 hail, 7 the plant's stow
+    /// contact, 8 snow, 9 low supply, 10 overcast).
     pub const STOW_RSN: u16 = 3;
     /// Wind speed, uint16, `WndSpd_SF` m/s.
     pub const WND_SPD: u16 = 4;
