@@ -47,6 +47,7 @@ use suntracker_modbus::sunspec::{
 use suntracker_modbus::{Exception, Push, RtuReceiver, RtuTiming, Server, SunSpecMap, TrackerData};
 
 use crate::attitude::{sun_vector_xyz, Choice, MountAttitude, Pose, PoseLimits, Vec3};
+use crate::config::{Config, ModbusConfig};
 use crate::firmware::{Firmware, Motion};
 use crate::log::Sink;
 use crate::motion::AxisDrive;
@@ -70,22 +71,35 @@ pub struct ModbusSettings {
     pub timeout_s: u32,
 }
 
-/// The settings until the configuration holds its own `modbus` keys: the
-/// serial line spec's defaults (19,200 baud, even parity), address 1,
-/// writes refused, no time-out.
-pub const MODBUS_DEFAULTS: ModbusSettings = ModbusSettings {
-    address: 1,
-    baud: 19_200,
-    parity: 2,
-    write: false,
-    timeout_s: 0,
-};
+/// The settings of a configuration's `modbus` keys.
+pub const fn settings_of(m: &ModbusConfig) -> ModbusSettings {
+    ModbusSettings {
+        address: m.address,
+        baud: m.baud,
+        parity: m.parity,
+        write: m.write != 0,
+        timeout_s: m.timeout_s,
+    }
+}
 
-/// The settings in force for `fw` (the one place they are read from).
+/// The default configuration's settings (the serial line spec's 19,200
+/// baud with even parity, address 1, writes refused, no time-out): what
+/// the port starts with before its first poll.
+pub const MODBUS_DEFAULTS: ModbusSettings = settings_of(&Config::DEFAULT.modbus);
+
+/// The settings in force for `fw`: its configuration's `modbus` keys.
 pub fn settings_in_force<T, R, G, D, S, L, const N: usize>(
-    _fw: &Firmware<T, R, G, D, S, L, N>,
-) -> ModbusSettings {
-    MODBUS_DEFAULTS
+    fw: &Firmware<T, R, G, D, S, L, N>,
+) -> ModbusSettings
+where
+    T: Float,
+    R: RtcDriver,
+    G: Read + ReadReady,
+    D: AxisDrive + Motion,
+    S: AttitudeSensor<T>,
+    L: Sink,
+{
+    settings_of(&fw.controller().config().modbus)
 }
 
 /// Bytes a pass takes from the line at most (a whole frame is 256).
