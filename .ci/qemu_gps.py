@@ -45,14 +45,37 @@ file I/O), so every run starts with none (`config source=defaults`) unless
 kept after the run): a later run on the same file boots with what an
 earlier one saved (`config source=stored`).
 
+The Modbus port: `--modbus-pty PATH` connects the image's RS-485 port
+(UART3, QEMU's fourth `-serial`) to a new pseudo-terminal, symlinked at PATH,
+for a Modbus RTU master (pysunspec2, mbpoll, a SCADA) to open. While a
+client holds the terminal open (no hang-up on its master side) the script
+paces the emulation to the wall clock: it answers each gate with a third
+number and a fourth, `<gps>,<console>,<pace ms>,<modbus>`, and the image then gates every
+`--modbus-pace-ms` emulated ms (default 20) instead of every 10 s and never
+sleeps in `wfi` between them; the answer to a gate waits until as much wall
+time has passed since pacing began as emulated time has, so the emulated
+clock runs at most one pace ahead of the wall's and a master's time-outs
+(hundreds of ms) mean what they say. Meanwhile the GPS epoch still goes in
+every 10 emulated s, at the first gate at or after it. The client's
+requests go into UART3 at the gates too (`<modbus>` bytes, which the image
+waits for as for the others): QEMU's UART hands the guest each byte when
+its main loop gets round to it, so bytes fed while the clock runs may lie
+further apart in emulated time than the 1.5 characters that end an RTU
+frame; put in while the clock stands still, a request's bytes arrive at one
+instant, and the silence after them ends the frame (a request waits for the
+next gate: at most one pace). The replies go out as the image writes them. Without a client (or
+without the option) the run is not paced and the answers are as before.
+SIGTERM or SIGINT ends a run at its next gate (the `stop` answer: the image
+writes its `end` line), for a run whose length the client decides.
+
 The log (semihosting output, QEMU's stdout here) is printed and, with
-`--log OUT`, written to OUT.
+`--log OUT`, written to OUT (line by line, flushed).
 
   python3 .ci/qemu_gps.py ELF [--nmea FILE | --no-gps] [--start UTC]
                           [--minutes N] [--type MINUTE:LINE]...
                           [--move MINUTE:LAT,LON]... [--time-lie MINUTE:SECONDS]
                           [--config-file PATH] [--log OUT] [--quiet]
-                          [--timeout S]
+                          [--timeout S] [--modbus-pty PATH [--modbus-pace-ms MS]]
 
 Any ELF that does not gate (qemu_bench) just runs to its exit.
 """
@@ -61,11 +84,13 @@ import datetime as dt
 import os
 import select
 import shutil
+import signal
 import socket
 import subprocess
 import sys
 import tempfile
 import time
+import tty
 
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 DEFAULT_NMEA = os.path.join(ROOT, "tests", "firmware", "gps_kano_2026-03-20.nmea")
@@ -75,6 +100,55 @@ CONSOLE_RING_LEN = 256
 # The image's configuration file, in QEMU's working directory (CONFIG_FILE
 # in boards/mps2_an386/src/lib.rs).
 CONFIG_FILE = "suntracker-config.bin"
+# Emulated ms between two gates of the image when not paced (GATE_MS in
+# boards/mps2_an386/src/lib.rs): one GPS epoch each.
+GATE_MS = 10_000
+# The image's Modbus receive ring (MODBUS_RING_LEN in
+# boards/mps2_an386/src/lib.rs): the most request bytes put in at one gate.
+MODBUS_RING_LEN = 256
+
+
+class ModbusPty:
+    """A pseudo-terminal for a Modbus master, bridged to the image's UART3
+    socket. Its slave side is closed here: the master side reports a
+    hang-up exactly while no client holds the terminal open."""
+
+    def __init__(self, link):
+        self.master, slave = os.openpty()
+        # Raw: no line discipline between the master and the image.
+        tty.setraw(slave)
+        self.name = os.ttyname(slave)
+        os.close(slave)
+        os.set_blocking(self.master, False)
+        self.link = link
+        if os.path.lexists(link):
+            os.unlink(link)
+        os.symlink(self.name, link)
+        self.poller = select.poll()
+        self.poller.register(self.master, select.POLLIN)
+
+    def attached(self):
+        return not any(ev & select.POLLHUP for _, ev in self.poller.poll(0))
+
+    def read(self):
+        """Bytes the client wrote (b"" when none or none attached)."""
+        try:
+            return os.read(self.master, 4096)
+        except (BlockingIOError, OSError):
+            return b""
+
+    def write(self, data):
+        """Passes the image's bytes on; dropped while no client is there."""
+        if self.attached():
+            try:
+                os.write(self.master, data)
+            except OSError:
+                pass
+
+    def close(self):
+        os.close(self.master)
+        if os.path.islink(self.link):
+            os.unlink(self.link)
 
 
 def checksum(body):
@@ -220,7 +294,14 @@ def main():
                     help="from that emulated minute the receiver reports this position")
     ap.add_argument("--config-file", metavar="PATH",
                     help="the image's configuration file (default: a new one per run)")
+    ap.add_argument("--modbus-pty", metavar="PATH",
+                    help="bridge the image's RS-485 port (UART3) to a pseudo-terminal linked "
+                         "at PATH; paced to the wall clock while a client has it open")
+    ap.add_argument("--modbus-pace-ms", type=int, default=20, metavar="MS",
+                    help="emulated ms between two gates while paced (default 20)")
     a = ap.parse_args()
+    if not 1 <= a.modbus_pace_ms <= GATE_MS:
+        ap.error(f"--modbus-pace-ms must lie in 1..{GATE_MS}")
 
     gga, rmc, first = parse_template(a.nmea)
     if a.start:
@@ -245,7 +326,8 @@ def main():
         path = os.path.abspath(a.config_file)
         open(path, "ab").close()
         os.symlink(path, os.path.join(tmp, CONFIG_FILE))
-    paths = {k: os.path.join(tmp, k + ".sock") for k in ("gps", "gate", "console")}
+    names = ("gps", "gate", "console") + (("modbus",) if a.modbus_pty else ())
+    paths = {k: os.path.join(tmp, k + ".sock") for k in names}
     listeners = {}
     for k, p in paths.items():
         s = socket.socket(socket.AF_UNIX, socket.SOCK_STREAM)
@@ -258,6 +340,8 @@ def main():
            "-chardev", f"socket,id=gps,path={paths['gps']}", "-serial", "chardev:gps",
            "-chardev", f"socket,id=gate,path={paths['gate']}", "-serial", "chardev:gate",
            "-chardev", f"socket,id=console,path={paths['console']}", "-serial", "chardev:console",
+           *(["-chardev", f"socket,id=modbus,path={paths['modbus']}",
+              "-serial", "chardev:modbus"] if a.modbus_pty else []),
            "-semihosting-config", "enable=on,target=native",
            "-kernel", os.path.abspath(a.elf), *a.qemu_arg]
     t0 = time.monotonic()
@@ -268,22 +352,117 @@ def main():
         gps, _ = listeners["gps"].accept()
         gate, _ = listeners["gate"].accept()
         console, _ = listeners["console"].accept()
+        modbus = listeners["modbus"].accept()[0] if a.modbus_pty else None
     except OSError as e:
         qemu.kill()
         raise SystemExit(f"qemu_gps: QEMU did not connect: {e}") from None
     log = open(a.log, "w", encoding="utf-8") if a.log else None
+    pty = ModbusPty(a.modbus_pty) if a.modbus_pty else None
+    stop_asked = False
+
+    def ask_stop(_signum, _frame):
+        nonlocal stop_asked
+        stop_asked = True
+
+    signal.signal(signal.SIGTERM, ask_stop)
+    signal.signal(signal.SIGINT, ask_stop)
+    # While paced: (emulated ms, wall clock) when pacing began.
+    pace = None
+    # A gate whose answer waits for the wall clock (its emulated ms).
+    waiting = None
+    last_epoch_ms = None
+    paced_gates = 0
+    # What the Modbus client wrote, write by write, for the next gate.
+    mb_in = []
+
+    def answer(ms):
+        nonlocal lies, last_epoch_ms
+        if ms >= end_ms or stop_asked:
+            gate.sendall(b"stop\n")
+            return
+        paced = pace is not None
+        # Unpaced, every gate is an epoch's (the image gates every 10 s);
+        # paced, the first gate at or after each 10 s.
+        due_epoch = (not paced or last_epoch_ms is None
+                     or ms // GATE_MS > last_epoch_ms // GATE_MS)
+        nmea = b""
+        if due_epoch:
+            last_epoch_ms = ms
+            position = None
+            for at_ms, p in moves:
+                if at_ms <= ms:
+                    position = p
+            when = first + dt.timedelta(milliseconds=ms)
+            if lie is not None and ms >= lie[0]:
+                lies += 1
+                when += dt.timedelta(seconds=lie[1] if lies % 2 else -lie[1])
+            nmea = b"" if a.no_gps else epoch(gga, rmc, when, position)
+        if nmea:
+            gps.sendall(nmea)
+        while typed and typed[0][0] <= ms:
+            pending.append(typed.pop(0)[1])
+        keys = take_console(pending)
+        if keys:
+            console.sendall(keys)
+        # The client's requests: whole writes (a master writes a request
+        # at once) that fit the image's ring together. At one gate they
+        # arrive at one emulated instant (its clock stands still), so a
+        # request is one frame however QEMU's UART spaces its bytes.
+        frames = b""
+        while mb_in and len(frames) + len(mb_in[0]) <= MODBUS_RING_LEN:
+            frames += mb_in.pop(0)
+        if mb_in and not frames:
+            # Longer than a frame can be: dropped (the master times out).
+            mb_in.pop(0)
+        if frames:
+            modbus.sendall(frames)
+        fields = [len(nmea), len(keys), a.modbus_pace_ms if paced else 0, len(frames)]
+        while len(fields) > 1 and fields[-1] == 0:
+            fields.pop()
+        gate.sendall((",".join(str(f) for f in fields) + "\n").encode())
+
     buf = b""
     gbuf = b""
     gates = 0
     ended = False
     timed_out = False
     out_open = True
+    modbus_open = modbus is not None
     while out_open:
-        left = a.timeout - (time.monotonic() - t0)
+        now = time.monotonic()
+        left = a.timeout - (now - t0)
         if left <= 0:
             timed_out = True
             break
-        r, _, _ = select.select([out, gate], [], [], min(left, 1.0))
+        attached = pty is not None and pty.attached()
+        if waiting is not None and (stop_asked or not attached):
+            # The client left (or the run ends): unpaced from here on.
+            pace = None
+            answer(waiting)
+            waiting = None
+        wait_s = min(left, 1.0)
+        if waiting is not None:
+            due = pace[1] + (waiting - pace[0]) / 1000
+            wait_s = max(0.0, min(wait_s, due - now))
+        rlist = [out, gate]
+        if modbus_open:
+            rlist.append(modbus)
+        if attached:
+            rlist.append(pty.master)
+        r, _, _ = select.select(rlist, [], [], wait_s)
+        if modbus_open and modbus in r:
+            data = modbus.recv(65536)
+            if data:
+                pty.write(data)
+            else:
+                modbus_open = False
+        if attached and pty.master in r:
+            data = pty.read()
+            if data and modbus_open:
+                mb_in.append(data)
+        if waiting is not None and time.monotonic() >= pace[1] + (waiting - pace[0]) / 1000:
+            answer(waiting)
+            waiting = None
         if gate in r:
             data = gate.recv(65536)
             gbuf += data
@@ -291,28 +470,14 @@ def main():
                 req, gbuf = gbuf.split(b"\n", 1)
                 ms = int(req.decode("ascii").lstrip("T"))
                 gates += 1
-                if ms >= end_ms:
-                    gate.sendall(b"stop\n")
-                    continue
-                position = None
-                for at_ms, p in moves:
-                    if at_ms <= ms:
-                        position = p
-                when = first + dt.timedelta(milliseconds=ms)
-                if lie is not None and ms >= lie[0]:
-                    lies += 1
-                    when += dt.timedelta(seconds=lie[1] if lies % 2 else -lie[1])
-                nmea = b"" if a.no_gps else epoch(gga, rmc, when, position)
-                if nmea:
-                    gps.sendall(nmea)
-                while typed and typed[0][0] <= ms:
-                    pending.append(typed.pop(0)[1])
-                keys = take_console(pending)
-                if keys:
-                    console.sendall(keys)
-                    gate.sendall(f"{len(nmea)},{len(keys)}\n".encode())
+                if attached and not stop_asked and ms < end_ms:
+                    if pace is None:
+                        pace = (ms, time.monotonic())
+                    paced_gates += 1
+                    waiting = ms
                 else:
-                    gate.sendall(f"{len(nmea)}\n".encode())
+                    pace = None
+                    answer(ms)
         if out in r:
             data = os.read(out, 65536)
             if not data:
@@ -327,6 +492,7 @@ def main():
                     print(line, flush=False)
                 if log:
                     log.write(line + "\n")
+                    log.flush()
     if timed_out:
         qemu.kill()
     rc = qemu.wait()
@@ -335,6 +501,10 @@ def main():
         log.close()
     for s in (gps, gate, console, *listeners.values()):
         s.close()
+    if modbus is not None:
+        modbus.close()
+    if pty is not None:
+        pty.close()
     # The sockets, the image's file or the link to --config-file (not its
     # target).
     shutil.rmtree(tmp)
@@ -342,7 +512,8 @@ def main():
         print(f"qemu_gps: {len(pending) + len(typed)} typed line(s) not sent before the end",
               file=sys.stderr)
     wall = time.monotonic() - t0
-    print(f"qemu_gps: {gates} gates, {wall:.1f} s wall, exit {rc}"
+    print(f"qemu_gps: {gates} gates" + (f" ({paced_gates} paced)" if pty else "")
+          + f", {wall:.1f} s wall, exit {rc}"
           + (" (timed out)" if timed_out else ""), file=sys.stderr)
     if timed_out or (gates > 0 and not ended):
         return 3

@@ -8,6 +8,7 @@
 //! | emulator gate | CMSDK APB UART1 at 0x4000_5000, polled |
 //! | GPS port | CMSDK APB UART0 at 0x4000_4000 (ARM DDI 0479), 9600 baud, receive interrupt (IRQ 0) into a 512-byte ring |
 //! | console (input) | CMSDK APB UART2 at 0x4000_6000, 115200 baud, receive interrupt (IRQ 4) into a [`CONSOLE_RING_LEN`]-byte ring, read by [`Platform::console_read`]; the replies go to the log |
+//! | RS-485 (Modbus RTU server) | CMSDK APB UART3 at 0x4000_7000 (QEMU's fourth `-serial`), `modbus.baud` (19,200), receive interrupt (IRQ 18) into a [`MODBUS_RING_LEN`]-byte ring of bytes with their µs stamps, served by [`suntracker::sunspec::ModbusPort`] after each pass; the driver enable on GPIO0 pin 0 (unimplemented in QEMU: its writes are dropped) |
 //! | log | semihosting (`SYS_WRITE` to `:tt`) |
 //! | configuration storage | a host file through semihosting, [`CONFIG_FILE`] in QEMU's working directory ([`SemihostingFile`]; why: below) |
 //! | monotonic ms | SysTick (ARMv7-M ARM B3.3) on the 25 MHz core clock, one interrupt every 500 ms, the count in between |
@@ -20,8 +21,9 @@
 //!
 //! The interrupt numbers are QEMU's wiring of the an386 (`hw/arm/mps2.c`,
 //! `uartirq[] = {0, 2, 4, 18, 20}`: UART*n*'s receive interrupt, its
-//! transmit interrupt the next number). QEMU connects UART0, UART1 and
-//! UART2 to its first, second and third `-serial` in that order.
+//! transmit interrupt the next number). QEMU connects UART0, UART1, UART2
+//! and UART3 to its first, second, third and fourth `-serial` in that
+//! order.
 //!
 //! # Emulated time: the gate
 //!
@@ -40,7 +42,14 @@
 //! cannot be paused (its CONTROL register does not stop the counter), and
 //! a `wfi` would let the emulated clock jump to its deadline; the busy
 //! wait costs the watchdog some emulated microseconds per gate, nothing
-//! the firmware's clock sees. So the NMEA of an epoch arrives at the emulated
+//! the firmware's clock sees. The answer may carry two more numbers,
+//! `<n>,<m>,<p>,<k>`: `p` > 0 asks the image to gate again `p` emulated ms
+//! later (instead of at the next [`GATE_MS`]) and not to sleep in `wfi`
+//! until an answer without it (the host paces the emulation to its wall
+//! clock while a Modbus master is attached; a `wfi` would let the clock
+//! jump to the next SysTick), and `k` counts the Modbus request bytes the
+//! host has written into UART3, waited for as the others (they then all
+//! carry the instant of the gate: one frame). So the NMEA of an epoch arrives at the emulated
 //! instant its UTC says, and a console line at the instant the host chose,
 //! whatever the host's scheduling, and a run is
 //! repeatable. On `stop` the image writes an `end …` summary and exits
@@ -108,7 +117,9 @@ use suntracker::motion::FeedbackMode;
 use suntracker::persist::{ConfigStore, SLOT_LEN};
 use suntracker::ports::Storage;
 use suntracker::safety::Mode;
+use suntracker::sunspec::ModbusPort;
 use suntracker::time::{datetime_from_utc, utc_from_datetime};
+use suntracker_modbus::sunspec::Identity;
 
 /// Board name in the boot line.
 pub const BOARD: &str = "mps2-an386";
@@ -152,6 +163,17 @@ pub const CONSOLE_RING_LEN: usize = 256;
 pub const CONFIG_FILE: &str = "suntracker-config.bin";
 const CONFIG_FILE_C: &[u8] = b"suntracker-config.bin\0";
 
+/// Model 1's and model 601's names of this image.
+const MODBUS_IDENTITY: Identity<'static> = Identity {
+    manufacturer: "suntracker",
+    model: BOARD,
+    options: "qemu",
+    version: env!("CARGO_PKG_VERSION"),
+    serial: "0",
+    controller_name: "suntracker",
+    tracker_name: "tracker-1",
+};
+
 /// Homing chunk: the fine approach (chunk/50) is one step.
 const HOMING_CHUNK_DEG: f32 = 0.9;
 
@@ -160,6 +182,17 @@ const UART0: usize = 0x4000_4000;
 const UART1: usize = 0x4000_5000;
 /// The console (QEMU's third `-serial`).
 const UART2: usize = 0x4000_6000;
+/// The RS-485 port of the Modbus server (QEMU's fourth `-serial`).
+const UART3: usize = 0x4000_7000;
+/// CMSDK AHB GPIO0 (ARM DDI 0479): the RS-485 transceiver's driver
+/// enable on [`DE_PIN`]. QEMU 7.2 leaves the an386's GPIO unimplemented
+/// (its writes are dropped, its reads 0): the switching stays in the code
+/// as on a board with a transceiver.
+const GPIO0: usize = 0x4001_0000;
+const GPIO_DATAOUT: usize = 0x04;
+const GPIO_OUTENSET: usize = 0x10;
+/// GPIO0 pin of the RS-485 driver enable.
+const DE_PIN: u32 = 1 << 0;
 const UART_DATA: usize = 0x00;
 const UART_STATE: usize = 0x04;
 const UART_CTRL: usize = 0x08;
@@ -198,9 +231,11 @@ fn reg_read(addr: usize) -> u32 {
 #[repr(u16)]
 enum Irq {
     /// UART0 receive (QEMU `hw/arm/mps2.c`: UART0 RX is IRQ 0).
-    Uart0Rx = 0,
+    GpsRx0 = 0,
     /// UART2 receive (QEMU `hw/arm/mps2.c`: UART2 RX is IRQ 4).
-    Uart2Rx = 4,
+    ConsoleRx2 = 4,
+    /// UART3 receive (QEMU `hw/arm/mps2.c`: UART3 RX is IRQ 18).
+    Rs485Rx3 = 18,
 }
 
 // SAFETY: `number` returns a valid interrupt number of this board.
@@ -256,6 +291,63 @@ impl<const N: usize> Ring<N> {
 
 static RX: Mutex<RefCell<Ring<GPS_RING_LEN>>> = Mutex::new(RefCell::new(Ring::new()));
 static CONSOLE_RX: Mutex<RefCell<Ring<CONSOLE_RING_LEN>>> = Mutex::new(RefCell::new(Ring::new()));
+static MODBUS_RX: Mutex<RefCell<StampedRing>> = Mutex::new(RefCell::new(StampedRing::new()));
+
+/// Bytes of the RS-485 port with their arrival times: a whole frame (256
+/// bytes) fits.
+pub const MODBUS_RING_LEN: usize = 256;
+
+/// The RS-485 port's received bytes, each with the µs it arrived at
+/// ([`monotonic_us`], read in the receive interrupt): the Modbus RTU frame
+/// layer tells frames apart by the silences between bytes. A full ring
+/// drops the newest bytes (the frame they belong to then fails its CRC).
+struct StampedRing {
+    bytes: [u8; MODBUS_RING_LEN],
+    stamps_us: [u32; MODBUS_RING_LEN],
+    head: usize,
+    len: usize,
+    /// The latest stamp (stamps never go back).
+    last_us: u32,
+    /// Bytes received since boot (the gate counts them).
+    received: u32,
+}
+
+impl StampedRing {
+    const fn new() -> Self {
+        StampedRing {
+            bytes: [0; MODBUS_RING_LEN],
+            stamps_us: [0; MODBUS_RING_LEN],
+            head: 0,
+            len: 0,
+            last_us: 0,
+            received: 0,
+        }
+    }
+
+    fn push(&mut self, b: u8, t_us: u32) {
+        self.received = self.received.wrapping_add(1);
+        // A stamp before the last one (over 2^31 µs behind) is the last.
+        if t_us.wrapping_sub(self.last_us) < 1 << 31 {
+            self.last_us = t_us;
+        }
+        if self.len < MODBUS_RING_LEN {
+            let at = (self.head + self.len) % MODBUS_RING_LEN;
+            self.bytes[at] = b;
+            self.stamps_us[at] = self.last_us;
+            self.len += 1;
+        }
+    }
+
+    fn pop(&mut self) -> Option<(u8, u32)> {
+        if self.len == 0 {
+            return None;
+        }
+        let at = self.head;
+        self.head = (self.head + 1) % MODBUS_RING_LEN;
+        self.len -= 1;
+        Some((self.bytes[at], self.stamps_us[at]))
+    }
+}
 
 /// SysTick periods since start.
 static PERIODS: AtomicU32 = AtomicU32::new(0);
@@ -297,7 +389,7 @@ pub fn on_interrupt(irqn: i16) {
         out.text("watchdog timeout\n");
         debug::exit(debug::EXIT_FAILURE);
     }
-    if irqn == Irq::Uart0Rx as i16 {
+    if irqn == Irq::GpsRx0 as i16 {
         reg_write(UART0 + UART_INTCLEAR, INT_RX);
         cortex_m::interrupt::free(|cs| {
             // Never borrowed elsewhere inside a critical section: the
@@ -307,7 +399,18 @@ pub fn on_interrupt(irqn: i16) {
             }
         });
     }
-    if irqn == Irq::Uart2Rx as i16 {
+    if irqn == Irq::Rs485Rx3 as i16 {
+        reg_write(UART3 + UART_INTCLEAR, INT_RX);
+        let t_us = monotonic_us();
+        cortex_m::interrupt::free(|cs| {
+            if let Ok(mut r) = MODBUS_RX.borrow(cs).try_borrow_mut() {
+                while reg_read(UART3 + UART_STATE) & STATE_RX_FULL != 0 {
+                    r.push(reg_read(UART3 + UART_DATA) as u8, t_us);
+                }
+            }
+        });
+    }
+    if irqn == Irq::ConsoleRx2 as i16 {
         reg_write(UART2 + UART_INTCLEAR, INT_RX);
         cortex_m::interrupt::free(|cs| {
             if let Ok(mut r) = CONSOLE_RX.borrow(cs).try_borrow_mut() {
@@ -329,7 +432,7 @@ impl GpsUart {
         reg_write(UART1 + UART_CTRL, CTRL_TX_EN | CTRL_RX_EN);
         // SAFETY: the handler (`on_interrupt`) only touches the ring,
         // through a critical section.
-        unsafe { NVIC::unmask(Irq::Uart0Rx) };
+        unsafe { NVIC::unmask(Irq::GpsRx0) };
         GpsUart
     }
 }
@@ -362,7 +465,7 @@ fn start_console() {
     reg_write(UART2 + UART_CTRL, CTRL_RX_EN | CTRL_RX_INTEN);
     // SAFETY: the handler (`on_interrupt`) only touches the console ring,
     // through a critical section.
-    unsafe { NVIC::unmask(Irq::Uart2Rx) };
+    unsafe { NVIC::unmask(Irq::ConsoleRx2) };
 }
 
 /// (bytes received since boot, bytes in the ring, bytes lost) of the GPS
@@ -409,6 +512,85 @@ fn monotonic_ms() -> u64 {
             let in_period = u64::from(counts / (CORE_HZ / 1000));
             break u64::from(p1) * u64::from(SYSTICK_MS) + in_period;
         }
+    }
+}
+
+/// Microseconds since SysTick started, wrapping at 2^32 (71 minutes): the
+/// time stamps of the RS-485 port's bytes. A wrap whose interrupt is still
+/// pending (read from an interrupt handler of SysTick's priority) counts.
+fn monotonic_us() -> u32 {
+    let reload = (SYST::get_reload() & 0x00FF_FFFF) + 1;
+    loop {
+        let p1 = PERIODS.load(Ordering::Relaxed);
+        let pending1 = cortex_m::peripheral::SCB::is_pendst_pending();
+        let cvr = SYST::get_current();
+        let pending2 = cortex_m::peripheral::SCB::is_pendst_pending();
+        let p2 = PERIODS.load(Ordering::Relaxed);
+        if p1 == p2 && pending1 == pending2 {
+            let periods = p1.wrapping_add(u32::from(pending1));
+            let in_period_us = reload.saturating_sub(cvr) / (CORE_HZ / 1_000_000);
+            break periods
+                .wrapping_mul(SYSTICK_MS * 1000)
+                .wrapping_add(in_period_us);
+        }
+    }
+}
+
+/// The RS-485 port (UART3) as the Modbus server's line
+/// ([`suntracker::sunspec::ModbusLine`]).
+pub struct Rs485;
+
+impl Rs485 {
+    /// Starts UART3 at `baud` (the configuration's `modbus.baud`; QEMU's
+    /// UART moves bytes at its own pace, the divider is set as on
+    /// hardware; its model has no parity), its receive interrupt, and the
+    /// driver-enable pin, released (receiving).
+    fn start(baud: u32) -> Self {
+        reg_write(UART3 + UART_BAUDDIV, CORE_HZ / baud.max(1200));
+        reg_write(UART3 + UART_CTRL, CTRL_TX_EN | CTRL_RX_EN | CTRL_RX_INTEN);
+        reg_write(GPIO0 + GPIO_OUTENSET, DE_PIN);
+        reg_write(GPIO0 + GPIO_DATAOUT, 0);
+        // SAFETY: the handler (`on_interrupt`) only touches the Modbus
+        // ring, through a critical section.
+        unsafe { NVIC::unmask(Irq::Rs485Rx3) };
+        Rs485
+    }
+
+    /// (bytes received since boot, bytes in the ring).
+    fn counts() -> (u32, usize) {
+        cortex_m::interrupt::free(|cs| {
+            MODBUS_RX
+                .borrow(cs)
+                .try_borrow()
+                .map_or((0, 0), |r| (r.received, r.len))
+        })
+    }
+}
+
+impl suntracker::sunspec::ModbusLine for Rs485 {
+    fn receive(&mut self) -> Option<(u8, u32)> {
+        cortex_m::interrupt::free(|cs| {
+            MODBUS_RX
+                .borrow(cs)
+                .try_borrow_mut()
+                .ok()
+                .and_then(|mut r| r.pop())
+        })
+    }
+    fn now_us(&mut self) -> u32 {
+        monotonic_us()
+    }
+    fn send(&mut self, frame: &[u8]) {
+        // Driver on, the frame, driver off once the transmitter has taken
+        // the last byte (QEMU's UART passes each byte on at once; on a
+        // chip the release waits for the shift register to empty).
+        reg_write(GPIO0 + GPIO_DATAOUT, DE_PIN);
+        for &b in frame {
+            while reg_read(UART3 + UART_STATE) & STATE_TX_FULL != 0 {}
+            reg_write(UART3 + UART_DATA, u32::from(b));
+        }
+        while reg_read(UART3 + UART_STATE) & STATE_TX_FULL != 0 {}
+        reg_write(GPIO0 + GPIO_DATAOUT, 0);
     }
 }
 
@@ -589,6 +771,10 @@ struct Board {
     next_gate_ms: u64,
     log: Semihosting,
     stop: bool,
+    /// The host paces the emulation to its wall clock (a Modbus client is
+    /// attached): the next gate this many emulated ms after the last, and
+    /// no `wfi` between passes (see the module documentation).
+    pace_ms: Option<u32>,
     store: &'static mut Store,
 }
 
@@ -610,6 +796,7 @@ impl Board {
             next_gate_ms: 0,
             log: Semihosting(hio::hstdout().ok()),
             stop: false,
+            pace_ms: None,
             store,
         }
     }
@@ -623,12 +810,14 @@ impl Board {
         // interrupts) while the answer is read.
         let (gps_start, _, _) = rx_counts();
         let (console_start, _, _) = console_counts();
+        let (modbus_start, _) = Rs485::counts();
         let mut req = GateLine;
         req.text("T");
         put_u64(&mut req, now_ms);
         req.text("\n");
-        // [GPS bytes, console bytes]; the answer's numbers in that order.
-        let mut counts: [u32; 2] = [0, 0];
+        // [GPS bytes, console bytes, pace ms, Modbus bytes]; the answer's
+        // numbers in that order.
+        let mut counts: [u32; 4] = [0; 4];
         let mut field = 0;
         let mut digits = 0;
         loop {
@@ -642,19 +831,21 @@ impl Board {
                     }
                     digits += 1;
                 }
-                b',' => field = 1,
+                b',' => field += 1,
                 b'\n' if digits > 0 || self.stop => break,
                 b's' => self.stop = true,
                 _ => {}
             }
         }
-        let [gps, console] = counts;
+        let [gps, console, pace_ms, modbus] = counts;
+        self.pace_ms = (pace_ms > 0).then_some(pace_ms);
         // Busy as well (a `wfi` here would let QEMU jump the emulated
         // clock to the watchdog's deadline): the receive interrupts fill
         // the rings meanwhile. Console bytes beyond the ring's room are
         // counted as received (and lost), so this ends either way.
         while rx_counts().0.wrapping_sub(gps_start) < gps
             || console_counts().0.wrapping_sub(console_start) < console
+            || Rs485::counts().0.wrapping_sub(modbus_start) < modbus
         {}
         self.syst.enable_counter();
     }
@@ -688,15 +879,26 @@ impl Platform for Board {
         reg_write(WDOG + WDOG_LOCK, 0);
     }
     fn wait_for_interrupt(&mut self) {
-        // Bytes still in a ring (more than a pass reads): no sleep.
-        if rx_counts().1 == 0 && console_counts().1 == 0 {
+        // Bytes still in a ring (more than a pass reads), or the host
+        // pacing the emulation (a `wfi` would let the emulated clock jump
+        // to the next SysTick, 500 ms): no sleep.
+        if rx_counts().1 == 0
+            && console_counts().1 == 0
+            && Rs485::counts().1 == 0
+            && self.pace_ms.is_none()
+        {
             cortex_m::asm::wfi();
         }
         let now = self.now_ms();
         if now >= self.next_gate_ms {
             self.gate(now);
-            let into_gate = div_rem_u64(now, GATE_MS_U32).map_or(0, |(_, r)| u64::from(r));
-            self.next_gate_ms = now - into_gate + GATE_MS;
+            self.next_gate_ms = match self.pace_ms {
+                Some(p) => now + u64::from(p),
+                None => {
+                    let into_gate = div_rem_u64(now, GATE_MS_U32).map_or(0, |(_, r)| u64::from(r));
+                    now - into_gate + GATE_MS
+                }
+            };
         }
     }
     fn console_read(&mut self, buf: &mut [u8]) -> usize {
@@ -846,6 +1048,7 @@ pub fn run() -> ! {
     let mut board = Board::start(cp.SYST, store);
     let gps = GpsUart::start();
     start_console();
+    let mut rs485 = Rs485::start(config.modbus.baud);
     let [c, a] = config.axes;
     // Power-on angles, steps above the home switches (the fine homing
     // approach then lands on the switch to the step).
@@ -910,6 +1113,8 @@ pub fn run() -> ! {
     board.log.text(" axis_step_deg=");
     board.log.fixed(mount::STEP_DEG, 3);
     board.log.text("\n");
+    // The Modbus server on UART3, with model 305: this board has a GPS.
+    let mut modbus = ModbusPort::new(MODBUS_IDENTITY, true);
     // The first epoch before the first pass.
     board.gate(0);
     board.next_gate_ms = GATE_MS;
@@ -929,7 +1134,10 @@ pub fn run() -> ! {
             halt()
         }
         let setpoints = fw.stats().setpoints;
-        if fw.poll(&mut board) {
+        let ticked = fw.poll(&mut board);
+        let now_ms = board.now_ms();
+        modbus.poll(fw, &mut rs485, now_ms);
+        if ticked {
             let now_tracking = fw.last_report().is_some_and(|r| r.mode == Mode::Tracking);
             let ended = fw.stats().setpoints != setpoints || (tracking && !now_tracking);
             if let (true, Some(t)) = (ended && tracking, applied) {
