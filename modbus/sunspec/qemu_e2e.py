@@ -1,0 +1,293 @@
+#!/usr/bin/env python3
+"""End to end: pysunspec2 reads and commands the QEMU image's Modbus server.
+
+Runs the qemu_tracker ELF under .ci/qemu_gps.py with `--modbus-pty` (Kano,
+GPS from 2026-03-20 09:00 UTC), waits in the log until the tracker tracks,
+then opens the pseudo-terminal with the SunSpec Alliance's pysunspec2
+(SunSpecModbusClientDeviceRTU, scan()); the harness paces the emulation to
+the wall clock while it is open. Two runs:
+
+1. The default configuration (`modbus.write` 0): models 1, 601, 305 and
+   64201 found; model 601's ElTrgt/AzTrgt (the set-point in force) against
+   pvlib's NREL SPA at that set-point's time (the last `setpoint` line of the
+   log at or before the instant model 601 says), within 0.05 deg, and the
+   difference from SPA at the instant read reported; the position within a
+   step of the target; model 305 the GPS stream's fix; the vendor model
+   tracking. A write of GlblCtl=Manual gets exception 01 and changes
+   nothing (no `mode manual` in the log, the axes where they were).
+2. `set modbus.write 1` typed on the console at boot: a manual target and
+   GlblCtl=Manual in one write move the axes there (ElPos/AzPos within
+   0.05 deg of it) and the log says `mode manual`; a target below the
+   horizon (out of the A axis's limits) gets exception 03 and nothing moves;
+   GlblCtl=Automatic: tracking again; the vendor Stow: `mode command_stow`.
+
+  python3 modbus/sunspec/qemu_e2e.py ELF WORKDIR
+"""
+import datetime as dt
+import os
+import re
+import signal
+import subprocess
+import sys
+import time
+
+import pandas as pd
+import sunspec2.device
+import sunspec2.modbus.client as client
+from pvlib import solarposition
+
+HERE = os.path.dirname(os.path.abspath(__file__))
+ROOT = os.path.dirname(os.path.dirname(HERE))
+HARNESS = os.path.join(ROOT, ".ci", "qemu_gps.py")
+START = "2026-03-20T09:00:00Z"
+# The GPS stream's position (tests/firmware/gps_kano_2026-03-20.nmea).
+LAT, LON, ALT_M = 11.9683, 8.4261, 472
+ADDRESS = 1
+BAUD = 19200
+SPA_TOL_DEG = 0.05
+# One step of the simulated axes (boards/mps2_an386/src/mount.rs), with
+# the map's 0.01 deg rounding.
+STEP_DEG = 0.018 + 0.01
+
+failures = []
+passed = []
+
+
+def check(what, ok, detail=""):
+    print("%-4s %s%s" % ("ok" if ok else "FAIL", what, (": " + detail) if detail else ""), flush=True)
+    (passed if ok else failures).append(what)
+
+
+def angle_diff(a, b):
+    d = abs(a - b) % 360.0
+    return min(d, 360.0 - d)
+
+
+class Run:
+    """One harness run with the Modbus pseudo-terminal."""
+
+    def __init__(self, elf, workdir, name, *args):
+        self.log = os.path.join(workdir, name + ".log")
+        self.tty = os.path.join(workdir, name + ".tty")
+        self.err = open(os.path.join(workdir, name + ".harness.txt"), "w")
+        cmd = [sys.executable, HARNESS, elf, "--start", START, "--minutes", "600", "--quiet",
+               "--timeout", "600", "--log", self.log, "--modbus-pty", self.tty, *args]
+        self.proc = subprocess.Popen(cmd, stdout=self.err, stderr=subprocess.STDOUT)
+        self.dev = None
+
+    def lines(self):
+        try:
+            with open(self.log, encoding="utf-8") as f:
+                return f.read().splitlines()
+        except FileNotFoundError:
+            return []
+
+    def wait_for(self, pattern, timeout_s=120):
+        rx = re.compile(pattern)
+        end = time.monotonic() + timeout_s
+        while time.monotonic() < end:
+            if any(rx.search(l) for l in self.lines()):
+                return True
+            if self.proc.poll() is not None:
+                break
+            time.sleep(0.2)
+        return False
+
+    def open(self):
+        self.dev = client.SunSpecModbusClientDeviceRTU(
+            slave_id=ADDRESS, name=self.tty, baudrate=BAUD, timeout=2)
+        self.dev.scan()
+        return self.dev
+
+    def stop(self):
+        if self.dev is not None:
+            self.dev.close()
+        # The harness stops the image at its next gate (`end` line).
+        self.proc.send_signal(signal.SIGTERM)
+        rc = self.proc.wait(timeout=60)
+        self.err.close()
+        return rc
+
+
+def setpoint_before(lines, t):
+    """The last `setpoint` line's UTC at or before `t`."""
+    best = None
+    for l in lines:
+        m = re.match(r"^setpoint utc=(\S+)Z ", l)
+        if m:
+            u = dt.datetime.fromisoformat(m.group(1)).replace(tzinfo=dt.timezone.utc)
+            if u <= t:
+                best = u
+    return best
+
+
+def spa(t):
+    sp = solarposition.spa_python(pd.DatetimeIndex([t]), LAT, LON, altitude=0, pressure=0,
+                                  temperature=12, delta_t=69.2, how="numpy")
+    return 90.0 - float(sp["zenith"].iloc[0]), float(sp["azimuth"].iloc[0])
+
+
+def read_instant(tc):
+    d, t = tc.DtLoc.value, tc.TmLoc.value
+    return dt.datetime.strptime(d + t, "%Y%m%d%H%M%S").replace(tzinfo=dt.timezone.utc)
+
+
+def modbus_exception(fn):
+    """The Modbus exception code `fn` raised (pysunspec2's text), or None."""
+    try:
+        fn()
+    except Exception as e:  # pysunspec2 raises ModbusClientException("Modbus exception N")
+        m = re.search(r"exception[^0-9]*(\d+)", str(e), re.I)
+        return int(m.group(1)) if m else str(e)
+    return None
+
+
+def wait_position(tc, el, az, timeout_s=90):
+    end = time.monotonic() + timeout_s
+    while time.monotonic() < end:
+        tc.read()
+        trk = tc.tracker[0]
+        if (trk.ElPos.cvalue is not None and abs(trk.ElPos.cvalue - el) <= STEP_DEG
+                and angle_diff(trk.AzPos.cvalue, az) <= STEP_DEG):
+            return trk.ElPos.cvalue, trk.AzPos.cvalue
+        time.sleep(0.5)
+    return trk.ElPos.cvalue, trk.AzPos.cvalue
+
+
+def run_read_only(elf, workdir):
+    run = Run(elf, workdir, "writes_off")
+    try:
+        check("run 1: the tracker tracks (log)", run.wait_for(r"^setpoint "))
+        t0 = time.monotonic()
+        dev = run.open()
+        found = sorted(k for k in dev.models if isinstance(k, int))
+        check("models found", found == [1, 305, 601, 64201], str(found))
+        print("     scan took %.2f s" % (time.monotonic() - t0))
+        common = dev.models[1][0]
+        check("1 Mn, Md, DA", (common.Mn.value, common.Md.value, common.DA.value)
+              == ("suntracker", "mps2-an386", ADDRESS),
+              "%s %s %s" % (common.Mn.value, common.Md.value, common.DA.value))
+        tc = dev.models[601][0]
+        tc.read()
+        trk = tc.tracker[0]
+        t_read = read_instant(tc)
+        el, az = trk.ElTrgt.cvalue, trk.AzTrgt.cvalue
+        time.sleep(0.5)  # the log line of that set-point is written by now
+        t_sp = setpoint_before(run.lines(), t_read)
+        check("601 Typ Dual, GlblCtl Automatic", (tc.Typ.value, tc.GlblCtl.value) == (5, 0))
+        if t_sp is None:
+            check("a set-point before the instant read", False, str(t_read))
+        else:
+            sel, saz = spa(t_sp)
+            de, da = abs(el - sel), angle_diff(az, saz)
+            check("601 ElTrgt/AzTrgt vs pvlib SPA at the set-point's time within %.2f deg" % SPA_TOL_DEG,
+                  de <= SPA_TOL_DEG and da <= SPA_TOL_DEG,
+                  "read %s, set-point %s: El %.2f vs %.4f (%.4f), Az %.2f vs %.4f (%.4f)"
+                  % (t_read.strftime("%H:%M:%S"), t_sp.strftime("%H:%M:%S"), el, sel, de, az, saz, da))
+            iel, iaz = spa(t_read)
+            print("     at the instant read (%s) SPA says El %.4f Az %.4f: the set-point differs by "
+                  "%.3f / %.3f deg (the table's 4-minute step)"
+                  % (t_read.strftime("%H:%M:%S"), iel, iaz, abs(el - iel), angle_diff(az, iaz)))
+        pe, pa = trk.ElPos.cvalue, trk.AzPos.cvalue
+        check("601 ElPos/AzPos at the target within a step",
+              abs(pe - el) <= STEP_DEG and angle_diff(pa, az) <= STEP_DEG,
+              "pos %.2f %.2f, target %.2f %.2f" % (pe, pa, el, az))
+        gps = dev.models[305][0]
+        check("305 Lat, Long, Alt (the stream's fix)",
+              abs(gps.Lat.cvalue - LAT) < 1e-6 and abs(gps.Long.cvalue - LON) < 1e-6
+              and gps.Alt.value == ALT_M and gps.Date.value == t_read.strftime("%Y%m%d"),
+              "%s %s %s %s %s" % (gps.Lat.cvalue, gps.Long.cvalue, gps.Alt.value, gps.Date.value, gps.Tm.value))
+        v = dev.models[64201][0]
+        check("64201 Mode tracking, no stow, no fault",
+              (v.Mode.value, v.StowRsn.value, v.Flt.value) == (8, 0, 0),
+              "%s %s %s" % (v.Mode.value, v.StowRsn.value, v.Flt.value))
+        # Writes are off: exception 01, nothing moves.
+        tc.GlblCtl.value = 1
+        code = modbus_exception(tc.write)
+        check("GlblCtl=Manual with writes off: exception 01", code == 1, str(code))
+        time.sleep(2)
+        tc.read()
+        v.read()
+        check("nothing changed: GlblCtl Automatic, Mode tracking",
+              (tc.GlblCtl.value, v.Mode.value) == (0, 8), "%s %s" % (tc.GlblCtl.value, v.Mode.value))
+    finally:
+        rc = run.stop()
+    lines = run.lines()
+    check("run 1: no `mode manual` in the log", "mode manual" not in lines)
+    check("run 1: ends (`end` line, exit 0)", rc == 0 and any(l.startswith("end ") for l in lines),
+          "exit %s" % rc)
+
+
+def run_writes(elf, workdir):
+    run = Run(elf, workdir, "writes_on", "--type", "0:set modbus.write 1")
+    try:
+        check("run 2: `ok modbus.write=1`", run.wait_for(r"^ok modbus\.write=1$"))
+        check("run 2: the tracker tracks (log)", run.wait_for(r"^setpoint "))
+        dev = run.open()
+        tc = dev.models[601][0]
+        tc.read()
+        trk = tc.tracker[0]
+        el0, az0 = trk.ElPos.cvalue, trk.AzPos.cvalue
+        el, az = round(el0 + 8.0, 2), round((az0 - 8.0) % 360.0, 2)
+        tc.GlblElCtl.cvalue = el
+        tc.GlblAzCtl.cvalue = az
+        tc.GlblCtl.value = 1
+        code = modbus_exception(tc.write)
+        check("GlblElCtl, GlblAzCtl, GlblCtl=Manual written", code is None, str(code))
+        check("the log says `mode manual`", run.wait_for(r"^mode manual$", 30))
+        pe, pa = wait_position(tc, el, az)
+        check("the axes move there (ElPos/AzPos)",
+              abs(pe - el) <= STEP_DEG and angle_diff(pa, az) <= STEP_DEG,
+              "target %.2f %.2f from %.2f %.2f, now %.2f %.2f" % (el, az, el0, az0, pe, pa))
+        v = dev.models[64201][0]
+        v.read()
+        check("601 GlblCtl Manual, 64201 Mode manual", (tc.GlblCtl.value, v.Mode.value) == (1, 4),
+              "%s %s" % (tc.GlblCtl.value, v.Mode.value))
+        # Below the horizon: out of the A axis's limits.
+        tc.read()
+        tc.GlblElCtl.cvalue = -80.0
+        code = modbus_exception(tc.write)
+        check("a target below the horizon: exception 03", code == 3, str(code))
+        time.sleep(3)
+        tc.read()
+        trk = tc.tracker[0]
+        check("nothing moved, the target kept",
+              abs(trk.ElPos.cvalue - pe) <= 0.005 and angle_diff(trk.AzPos.cvalue, pa) <= 0.005
+              and abs(tc.GlblElCtl.cvalue - el) <= 0.005,
+              "pos %.2f %.2f, GlblElCtl %.2f" % (trk.ElPos.cvalue, trk.AzPos.cvalue, tc.GlblElCtl.cvalue))
+        n_tracking = run.lines().count("mode tracking")
+        tc.GlblCtl.value = 0
+        code = modbus_exception(tc.write)
+        check("GlblCtl=Automatic written", code is None, str(code))
+        end = time.monotonic() + 60
+        while time.monotonic() < end and run.lines().count("mode tracking") == n_tracking:
+            time.sleep(0.5)
+        check("tracking again (`mode tracking` after manual)", run.lines().count("mode tracking") > n_tracking)
+        v.read()
+        v.Stow.value = 1
+        code = modbus_exception(v.write)
+        check("64201 Stow=1 written", code is None, str(code))
+        check("the log says `mode command_stow`", run.wait_for(r"^mode command_stow$", 30))
+        v.read()
+        check("64201 Mode command_stow, StowRsn command", (v.Mode.value, v.StowRsn.value) == (3, 2),
+              "%s %s" % (v.Mode.value, v.StowRsn.value))
+    finally:
+        rc = run.stop()
+    lines = run.lines()
+    check("run 2: ends (`end` line)", any(l.startswith("end ") for l in lines), "exit %s" % rc)
+
+
+def main():
+    elf, workdir = sys.argv[1], sys.argv[2]
+    os.makedirs(workdir, exist_ok=True)
+    # The vendor model's definition beside this script, then pysunspec2's own.
+    sunspec2.device.set_model_defs_path([HERE] + sunspec2.device.get_model_defs_path())
+    run_read_only(elf, workdir)
+    run_writes(elf, workdir)
+    print("%d passed, %d failed%s" % (len(passed), len(failures),
+                                      (": " + ", ".join(failures)) if failures else ""))
+    return 1 if failures else 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
