@@ -174,7 +174,10 @@ impl ModbusPort {
 
     /// One pass: takes at most [`MODBUS_BYTES_PER_PASS`] bytes from `line`
     /// and serves at most one request; never waits. `board_ms` is the
-    /// board's monotonic ms ([`crate::firmware::Platform::now_ms`]).
+    /// board's monotonic ms ([`crate::firmware::Platform::now_ms`]). Not
+    /// inlined: its frame (the map, the request's values) is then on the
+    /// stack only during the call, not in the caller's for good.
+    #[inline(never)]
     pub fn poll<T, R, G, D, S, L, const N: usize>(
         &mut self,
         fw: &mut Firmware<T, R, G, D, S, L, N>,
@@ -210,6 +213,7 @@ impl ModbusPort {
                     fw: &mut *fw,
                     remote: &mut self.remote,
                     identity: &self.identity,
+                    address: self.server.address,
                     now_ms,
                 },
                 self.gps,
@@ -278,6 +282,8 @@ struct FirmwareData<'a, T, R, G, D, S, L, const N: usize> {
     fw: &'a mut Firmware<T, R, G, D, S, L, N>,
     remote: &'a mut Remote,
     identity: &'a Identity<'static>,
+    /// The address answered.
+    address: u8,
     now_ms: u32,
 }
 
@@ -537,10 +543,8 @@ where
     }
 
     fn device_address(&self) -> u8 {
-        // Only requests to our address are served.
-        self.remote
-            .new_address
-            .unwrap_or(settings_in_force(self.fw).address)
+        // A new one written in this request: answered from the next.
+        self.remote.new_address.unwrap_or(self.address)
     }
 
     fn local_time(&self) -> Option<DateTime> {
