@@ -69,6 +69,10 @@ class Run:
     def __init__(self, elf, workdir, name, *args):
         self.log = os.path.join(workdir, name + ".log")
         self.tty = os.path.join(workdir, name + ".tty")
+        # A log or link of an earlier run would be read as this one's.
+        for old in (self.log, self.tty):
+            if os.path.lexists(old):
+                os.unlink(old)
         self.err = open(os.path.join(workdir, name + ".harness.txt"), "w")
         cmd = [sys.executable, HARNESS, elf, "--start", START, "--minutes", "600", "--quiet",
                "--timeout", "600", "--log", self.log, "--modbus-pty", self.tty, *args]
@@ -94,6 +98,9 @@ class Run:
         return False
 
     def open(self):
+        end = time.monotonic() + 30
+        while not os.path.exists(self.tty) and time.monotonic() < end:
+            time.sleep(0.1)
         self.dev = client.SunSpecModbusClientDeviceRTU(
             slave_id=ADDRESS, name=self.tty, baudrate=BAUD, timeout=2)
         self.dev.scan()
