@@ -87,21 +87,6 @@ pub const fn settings_of(m: &ModbusConfig) -> ModbusSettings {
 /// the port starts with before its first poll.
 pub const MODBUS_DEFAULTS: ModbusSettings = settings_of(&Config::DEFAULT.modbus);
 
-/// The settings in force for `fw`: its configuration's `modbus` keys.
-pub fn settings_in_force<T, R, G, D, S, L, const N: usize>(
-    fw: &Firmware<T, R, G, D, S, L, N>,
-) -> ModbusSettings
-where
-    T: Float,
-    R: RtcDriver,
-    G: Read + ReadReady,
-    D: AxisDrive + Motion,
-    S: AttitudeSensor<T>,
-    L: Sink,
-{
-    settings_of(&fw.controller().config().modbus)
-}
-
 /// Bytes a pass takes from the line at most (a whole frame is 256).
 pub const MODBUS_BYTES_PER_PASS: usize = 64;
 
@@ -192,7 +177,9 @@ impl ModbusPort {
         L: Sink,
     {
         let now_ms = monotonic::from_board_ms(board_ms);
-        self.apply_settings(settings_in_force(fw), line.now_us());
+        // The settings in force: the configuration's `modbus` keys.
+        let settings = settings_of(&fw.controller().config().modbus);
+        self.apply_settings(settings, line.now_us());
         let mut frame_at = None;
         for _ in 0..MODBUS_BYTES_PER_PASS {
             let Some((byte, t_us)) = self.held.take().or_else(|| line.receive()) else {
@@ -229,7 +216,9 @@ impl ModbusPort {
                 self.server.address = a;
             }
         }
-        self.check_timeout(fw, now_ms);
+        if self.timed_out(fw.controller().hold().manual, now_ms) {
+            fw.controller_mut().manual(None);
+        }
     }
 
     /// Takes new settings: the address and writes at once, the frame
@@ -248,32 +237,20 @@ impl ModbusPort {
         self.settings = s;
     }
 
-    /// A manual mode the bus set ends after `timeout_s` without a request.
-    fn check_timeout<T, R, G, D, S, L, const N: usize>(
-        &mut self,
-        fw: &mut Firmware<T, R, G, D, S, L, N>,
-        now_ms: u32,
-    ) where
-        T: Float,
-        R: RtcDriver,
-        G: Read + ReadReady,
-        D: AxisDrive + Motion,
-        S: AttitudeSensor<T>,
-        L: Sink,
-    {
+    /// True when a manual mode the bus set (`manual`: the hold in force
+    /// is manual) ends: `timeout_s` without a request to us.
+    fn timed_out(&mut self, manual: bool, now_ms: u32) -> bool {
         let timeout_ms = self.settings.timeout_s.saturating_mul(1000);
         if !self.remote.manual_by_bus || timeout_ms == 0 {
-            return;
+            return false;
         }
-        if !fw.controller().hold().manual {
-            // Ended otherwise (the console).
-            self.remote.manual_by_bus = false;
-            return;
-        }
-        if monotonic::elapsed_ms(now_ms, self.remote.last_request_ms) > timeout_ms {
-            fw.controller_mut().manual(None);
+        // Ended otherwise (the console), or by the time-out now.
+        let ended =
+            !manual || monotonic::elapsed_ms(now_ms, self.remote.last_request_ms) > timeout_ms;
+        if ended {
             self.remote.manual_by_bus = false;
         }
+        ended && manual
     }
 }
 

@@ -13,6 +13,8 @@
 //!   motors until the panel normal points there (within one step), a target
 //!   below the horizon gets exception 03 and moves nothing, Automatic
 //!   tracks again, and the vendor `Stow` stows;
+//! - `modbus.timeout_s` 60: a manual mode the bus set holds while the
+//!   master reads, and ends 60 s after its last request;
 //! - a request every 3 ms (each a read of 125 registers) delays no
 //!   set-point: every set-point of the undisturbed run is logged at the same
 //!   monotonic millisecond.
@@ -105,11 +107,16 @@ const IDENTITY: Identity<'static> = Identity {
 
 impl Bench {
     fn new(write: u8) -> Bench {
+        Bench::with_timeout(write, 0)
+    }
+
+    fn with_timeout(write: u8, timeout_s: u32) -> Bench {
         let (mut config, _): (Config, _) = common::motor::tracker_config();
         config.site.latitude_deg = KANO.0;
         config.site.longitude_deg = KANO.1;
         config.site.elevation_m = 0.0;
         config.modbus.write = write;
+        config.modbus.timeout_s = timeout_s;
         let options = ControllerOptions::<f32> {
             feedback: suntracker::motion::FeedbackMode::OpenLoop,
             homing_chunk_deg: 0.45,
@@ -331,6 +338,25 @@ fn writes_refused_when_off_and_carried_out_when_on() {
     assert_eq!(b.write(M64201 - 38 + 11, &[1]), 0);
     b.run_until(b.clock.now_ms + 20_000, |_| {});
     assert!(b.lines()[from..].contains(&"mode command_stow"));
+}
+
+#[test]
+fn a_silent_master_ends_the_manual_mode_it_set() {
+    let mut b = Bench::with_timeout(1, 60);
+    b.run_until(30 * 60_000, |_| {});
+    assert_eq!(b.write(M601 + 24, &[1]), 0, "Manual, where the axes stand");
+    let from = b.stamps.len();
+    // Reads keep the master present.
+    for _ in 0..10 {
+        b.read(M601, 2);
+        b.run_until(b.clock.now_ms + 10_000, |_| {});
+    }
+    assert!(b.lines()[from..].contains(&"mode manual"));
+    assert!(!b.lines()[from..].contains(&"mode tracking"));
+    // Silent for 70 s: automatic again.
+    b.run_until(b.clock.now_ms + 70_000, |_| {});
+    assert!(b.lines()[from..].contains(&"mode tracking"));
+    assert_eq!(b.read(M601 + 24, 1), [0], "GlblCtl Automatic");
 }
 
 #[test]
