@@ -671,7 +671,7 @@ impl WeatherStow {
 /// z)` (the coefficients as pvlib's `clearsky.haurwitz` uses them); 0 with
 /// the sun at or below the horizon. The cosine is the board's
 /// ([`sun_algos::Float`]: avr-libc on the AVR), the exponential
-/// [`exp_neg`]'s: no library exponential, whose f32 version computes in
+/// `exp_neg`'s: no library exponential, whose f32 version computes in
 /// software `f64` on an 8-bit part.
 pub fn clear_sky_ghi_w_m2(zenith_deg: f32) -> f32 {
     let cos_z = sun_algos::Float::cos(zenith_deg.to_radians());
