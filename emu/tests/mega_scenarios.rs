@@ -1901,6 +1901,48 @@ fn mode_at(modes: &[(f64, String)], at_s: f64) -> &str {
         .map_or("", |(_, m)| m.as_str())
 }
 
+/// Kano from 2026-06-21T08:00Z, RTC valid and GPS (the weather and supply
+/// scenarios' morning).
+fn kano_morning(elf: &Path) -> (i64, MegaBench) {
+    let start = t("2026-06-21T08:00:00Z");
+    let bench = MegaBench::mega(elf)
+        .start(start)
+        .rtc(Rtc::Valid)
+        .gps(GpsFeed::kano());
+    (start, bench)
+}
+
+/// Prints the run's modes and faults, and checks the mode in force at
+/// each (minute, mode) of `want`; returns the modes.
+fn modes_at_minutes(name: &str, run: &Run, start: i64, want: &[(f64, &str)]) -> Vec<(f64, String)> {
+    let modes = run.modes();
+    println!(
+        "{name}: modes {modes:?}; faults: {}",
+        faults_summary(run, start)
+    );
+    for &(m, mode) in want {
+        let at = start as f64 + m * 60.0;
+        assert_eq!(mode_at(&modes, at), mode, "{name}: minute {m}: {modes:?}");
+    }
+    modes
+}
+
+/// Tracking again from `minute`: at least five set-points, each within a
+/// step of the axes and 0.02° of SPA's sun at Kano; no illegal step.
+fn tracks_after(run: &Run, start: i64, minute: f64) {
+    let sps: Vec<_> = set_points(run)
+        .into_iter()
+        .filter(|s| s.0.utc_s > start as f64 + minute * 60.0)
+        .collect();
+    assert!(
+        sps.len() >= 5,
+        "{} set-points after minute {minute}",
+        sps.len()
+    );
+    check_set_points_of(&sps, &MountAttitude::level(), kano_sun, 0.02);
+    assert_no_illegal_steps(run);
+}
+
 /// (r) The weather contacts at Kano, 2026-06-21 from 08:00Z for 105
 /// minutes, RTC and GPS, both release times typed down to 300 s at
 /// minute 1: the snow switch closed over minutes 20–30 (`snow_stow`, the
@@ -1918,11 +1960,8 @@ fn mode_at(modes: &[(f64, String)], at_s: f64) -> &str {
 #[test]
 fn r_weather_contacts_stow_and_release() {
     let elf = elf_or_skip!();
-    let start = t("2026-06-21T08:00:00Z");
-    let run = MegaBench::mega(&elf)
-        .start(start)
-        .rtc(Rtc::Valid)
-        .gps(GpsFeed::kano())
+    let (start, bench) = kano_morning(&elf);
+    let run = bench
         .type_at(1.0, "set stow.snow_release_s 300")
         .type_at(1.5, "set stow.hail_release_s 300")
         .contact_at(20.0, Contact::Snow, true)
@@ -1938,33 +1977,30 @@ fn r_weather_contacts_stow_and_release() {
         .run_minutes(105.0)
         .unwrap();
     report("r", &run);
-    let modes = run.modes();
-    println!(
-        "r: modes {modes:?}; faults: {}",
-        faults_summary(&run, start)
-    );
     println!("r: wind pulses {}", run.wind_pulses);
+    let modes = modes_at_minutes(
+        "r",
+        &run,
+        start,
+        &[
+            (18.0, "tracking"),
+            (21.5, "snow_stow"),
+            (33.0, "snow_stow"),
+            (36.5, "tracking"),
+            (46.5, "wind_stow"),
+            (66.0, "hail_stow"),
+            (81.5, "tracking"),
+            (86.5, "external_stow"),
+            (96.5, "tracking"),
+        ],
+    );
     // Hail first (its contact and the gust's first pulses come together;
     // the wind stow waits for its 3 s hold).
     let hail = modes.iter().position(|(_, m)| m == "hail_stow").unwrap();
     assert_eq!(modes[hail + 1].1, "wind_stow", "{modes:?}");
     let at = |m: f64| start as f64 + m * 60.0;
-    // (minute, mode in force): a minute after each change.
-    for (m, want) in [
-        (18.0, "tracking"),
-        (21.5, "snow_stow"),
-        (33.0, "snow_stow"),
-        (36.5, "tracking"),
-        (46.5, "wind_stow"),
-        (66.0, "hail_stow"),
-        (81.5, "tracking"),
-        (86.5, "external_stow"),
-        (96.5, "tracking"),
-    ] {
-        assert_eq!(mode_at(&modes, at(m)), want, "minute {m}: {modes:?}");
-    }
-    // The A axis at each stow's slope once there (two minutes in), the C
-    // axis where it stood when the first stow began.
+    // The A axis at each stow's slope once there, the C axis where it stood
+    // when the first stow began.
     let c_before = run
         .angle_trace
         .iter()
@@ -1990,18 +2026,12 @@ fn r_weather_contacts_stow_and_release() {
                 s.a_deg,
                 format_utc(s.utc_s as i64)
             );
+            assert!(
+                (s.c_deg - c_before).abs() <= STEP_DEG,
+                "C moved to {}",
+                s.c_deg
+            );
         }
-    }
-    for s in run
-        .angle_trace
-        .iter()
-        .filter(|s| s.utc_s >= at(22.0) && s.utc_s < at(30.0))
-    {
-        assert!(
-            (s.c_deg - c_before).abs() <= STEP_DEG,
-            "C moved to {}",
-            s.c_deg
-        );
     }
     let sps: Vec<_> = set_points(&run)
         .into_iter()
@@ -2024,11 +2054,8 @@ fn r_weather_contacts_stow_and_release() {
 #[test]
 fn s_low_supply_stows_then_drives_nothing() {
     let elf = elf_or_skip!();
-    let start = t("2026-06-21T08:00:00Z");
-    let run = MegaBench::mega(&elf)
-        .start(start)
-        .rtc(Rtc::Valid)
-        .gps(GpsFeed::kano())
+    let (start, bench) = kano_morning(&elf);
+    let run = bench
         .type_at(1.0, "set supply.resume_mv 12200")
         .type_at(1.5, "set supply.stow_mv 11500")
         .supply_at(20.0, 11_400)
@@ -2039,21 +2066,19 @@ fn s_low_supply_stows_then_drives_nothing() {
         .run_minutes(80.0)
         .unwrap();
     report("s", &run);
-    let modes = run.modes();
-    println!(
-        "s: modes {modes:?}; faults: {}",
-        faults_summary(&run, start)
+    let modes = modes_at_minutes(
+        "s",
+        &run,
+        start,
+        &[
+            (18.0, "tracking"),
+            (21.0, "low_supply_stow"),
+            (39.5, "low_supply_stow"),
+            (41.0, "tracking"),
+            (70.0, "tracking"),
+        ],
     );
     let at = |m: f64| start as f64 + m * 60.0;
-    for (m, want) in [
-        (18.0, "tracking"),
-        (21.0, "low_supply_stow"),
-        (39.5, "low_supply_stow"),
-        (41.0, "tracking"),
-        (70.0, "tracking"),
-    ] {
-        assert_eq!(mode_at(&modes, at(m)), want, "minute {m}: {modes:?}");
-    }
     // Flat within two minutes, then no step at all until minute 40.
     let flat = run
         .angle_trace
@@ -2067,21 +2092,11 @@ fn s_low_supply_stows_then_drives_nothing() {
     let raised = fault_raised(&run, "supply_reading");
     assert_eq!(raised.len(), 1, "{}", faults_summary(&run, start));
     assert!(raised[0] >= at(55.0) && raised[0] < at(56.5));
-    assert_eq!(
-        modes_after(&run, at(41.0)),
-        vec!["tracking"; modes_after(&run, at(41.0)).len()]
-    );
-    let sps: Vec<_> = set_points(&run)
-        .into_iter()
-        .filter(|s| s.0.utc_s > at(42.0))
-        .collect();
-    assert!(
-        sps.len() >= 5,
-        "{} set-points after the supply came back",
-        sps.len()
-    );
-    check_set_points_of(&sps, &MountAttitude::level(), kano_sun, 0.02);
-    assert_no_illegal_steps(&run);
+    assert!(modes
+        .iter()
+        .filter(|(t, _)| *t > at(41.0))
+        .all(|(_, m)| m == "tracking"));
+    tracks_after(&run, start, 42.0);
 }
 
 /// (t) The pyranometer at Kano, 2026-06-21 from 08:00Z for 90 minutes, RTC
@@ -2094,11 +2109,8 @@ fn s_low_supply_stows_then_drives_nothing() {
 #[test]
 fn t_overcast_lies_flat_and_returns() {
     let elf = elf_or_skip!();
-    let start = t("2026-06-21T08:00:00Z");
-    let run = MegaBench::mega(&elf)
-        .start(start)
-        .rtc(Rtc::Valid)
-        .gps(GpsFeed::kano())
+    let (start, bench) = kano_morning(&elf);
+    let run = bench
         .type_at(1.0, "set overcast.ratio 0.3")
         .type_at(1.5, "set overcast.enter_s 300")
         .type_at(2.0, "set overcast.leave_s 300")
@@ -2110,22 +2122,20 @@ fn t_overcast_lies_flat_and_returns() {
         .run_minutes(90.0)
         .unwrap();
     report("t", &run);
-    let modes = run.modes();
-    println!(
-        "t: modes {modes:?}; faults: {}",
-        faults_summary(&run, start)
+    modes_at_minutes(
+        "t",
+        &run,
+        start,
+        &[
+            (19.0, "tracking"),
+            (24.0, "tracking"),
+            (26.5, "overcast"),
+            (54.0, "overcast"),
+            (56.5, "tracking"),
+            (85.0, "tracking"),
+        ],
     );
     let at = |m: f64| start as f64 + m * 60.0;
-    for (m, want) in [
-        (19.0, "tracking"),
-        (24.0, "tracking"),
-        (26.5, "overcast"),
-        (54.0, "overcast"),
-        (56.5, "tracking"),
-        (85.0, "tracking"),
-    ] {
-        assert_eq!(mode_at(&modes, at(m)), want, "minute {m}: {modes:?}");
-    }
     let c_before = run
         .angle_trace
         .iter()
@@ -2147,15 +2157,5 @@ fn t_overcast_lies_flat_and_returns() {
     let raised = fault_raised(&run, "irradiance_reading");
     assert_eq!(raised.len(), 1, "{}", faults_summary(&run, start));
     assert!(raised[0] >= at(70.0) && raised[0] < at(71.5));
-    let sps: Vec<_> = set_points(&run)
-        .into_iter()
-        .filter(|s| s.0.utc_s > at(57.0))
-        .collect();
-    assert!(
-        sps.len() >= 5,
-        "{} set-points after the sky cleared",
-        sps.len()
-    );
-    check_set_points_of(&sps, &MountAttitude::level(), kano_sun, 0.02);
-    assert_no_illegal_steps(&run);
+    tracks_after(&run, start, 57.0);
 }
