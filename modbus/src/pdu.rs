@@ -131,9 +131,14 @@ impl Server {
                 3
             }
         };
-        let crc = crc16(&buf[..len]).to_le_bytes();
-        buf[len..len + 2].copy_from_slice(&crc);
-        Some(len + 2)
+        // Checked, not indexed: no panic path in a firmware image.
+        let [lo, hi] = crc16(buf.get(..len)?).to_le_bytes();
+        let end = len.checked_add(2)?;
+        if let [a, b] = buf.get_mut(len..end)? {
+            *a = lo;
+            *b = hi;
+        }
+        Some(end)
     }
 
     /// Serves the request in `buf[..len]`, writing the reply over it from
@@ -162,16 +167,20 @@ impl Server {
                 check_range(start, count)?;
                 map.check_read(start, count)?;
                 // `start` and `count` are read: the reply may overwrite them.
-                buf[2] = (count * 2) as u8;
-                let mut at = 3;
+                // At most 125 registers: 250 bytes after the 3 of the
+                // header, inside the 256-byte frame (checked, not indexed).
+                let bytes = usize::from(count) * 2;
+                *buf.get_mut(2).ok_or(Exception::IllegalDataValue)? = bytes as u8;
+                let reply = buf
+                    .get_mut(3..3 + bytes)
+                    .ok_or(Exception::IllegalDataValue)?;
                 // `start + i` stays within 65,535: `check_range` above.
-                for i in 0..count {
-                    let [hi, lo] = map.read(start + i).to_be_bytes();
-                    buf[at] = hi;
-                    buf[at + 1] = lo;
-                    at += 2;
+                for (i, pair) in (0..count).zip(reply.chunks_exact_mut(2)) {
+                    if let [hi, lo] = pair {
+                        [*hi, *lo] = map.read(start + i).to_be_bytes();
+                    }
                 }
-                Ok(at)
+                Ok(3 + bytes)
             }
             FC_WRITE_SINGLE => {
                 if !self.writes_enabled {
@@ -180,7 +189,8 @@ impl Server {
                 if len != 6 {
                     return Err(Exception::IllegalDataValue);
                 }
-                map.write(start, &buf[4..6], broadcast)?;
+                let value = buf.get(4..6).ok_or(Exception::IllegalDataValue)?;
+                map.write(start, value, broadcast)?;
                 // The reply echoes the request, already in place.
                 Ok(6)
             }
@@ -197,7 +207,8 @@ impl Server {
                     return Err(Exception::IllegalDataValue);
                 }
                 check_range(start, count)?;
-                map.write(start, &buf[7..len], broadcast)?;
+                let values = buf.get(7..len).ok_or(Exception::IllegalDataValue)?;
+                map.write(start, values, broadcast)?;
                 // The reply: address, function, start and count, in place.
                 Ok(6)
             }

@@ -343,9 +343,11 @@ impl StampedRing {
             return None;
         }
         let at = self.head;
+        // Checked, not indexed: no panic path in the image.
+        let popped = (*self.bytes.get(at)?, *self.stamps_us.get(at)?);
         self.head = (self.head + 1) % MODBUS_RING_LEN;
         self.len -= 1;
-        Some((self.bytes[at], self.stamps_us[at]))
+        Some(popped)
     }
 }
 
