@@ -622,7 +622,6 @@ impl Latch {
 pub struct WeatherStow {
     snow: Latch,
     hail: Latch,
-    low_supply: bool,
     modes: WeatherModes,
 }
 
@@ -640,18 +639,19 @@ impl WeatherStow {
         supply: &SupplyConfig,
     ) -> WeatherModes {
         let active_high = config.external_active != 0;
-        self.low_supply = match (inputs.supply_mv, supply.stow_mv) {
+        let was_low = self.modes.low_supply;
+        let low_supply = match (inputs.supply_mv, supply.stow_mv) {
             (None, _) | (_, 0) => false,
             (Some(Reading::Value(mv)), stow) if mv < stow => true,
             (Some(Reading::Value(mv)), _) if mv >= supply.resume_mv => false,
-            (Some(Reading::Value(_)), _) => self.low_supply,
-            (Some(Reading::Impossible), _) => self.low_supply || config.on_sensor_fault != 0,
+            (Some(Reading::Value(_)), _) => was_low,
+            (Some(Reading::Impossible), _) => was_low || config.on_sensor_fault != 0,
         };
         self.modes = WeatherModes {
             hail: self.hail.update(inputs.hail, now_ms, config.hail_release_s),
             external: inputs.external_high == Some(active_high),
             snow: self.snow.update(inputs.snow, now_ms, config.snow_release_s),
-            low_supply: self.low_supply,
+            low_supply,
             // A fault only where the watch is on: an input nobody wired
             // reads anything.
             supply_fault: supply.stow_mv != 0 && inputs.supply_mv == Some(Reading::Impossible),

@@ -52,7 +52,7 @@ pub(super) const SWING_DEG: f32 = 30.0;
 /// Swing weights within this of each other are equal, and travel decides.
 const SWING_TIE: f32 = 0.01;
 
-/// A swing's weight besides the sine of the sun's elevation.
+/// A swing's weight besides the sun's elevation over 90°.
 const SWING_FLOOR: f32 = 0.05;
 
 impl<T, P, D, S, const N: usize> Controller<T, P, D, S, N>

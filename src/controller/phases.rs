@@ -322,12 +322,17 @@ where
             // of tracking.)
             Mode::Tracking | Mode::Unwind => (None, !choosing_branch),
         };
+        // Whether this tick's pose is a swing from the last one, judged
+        // once (the pose for a set-point lies inside the limits already).
+        let mut swing = false;
         let target = if from_set_point {
             let anchored = self.branch_anchor.is_some();
             let mut p = self.set_point.and_then(|sp| self.pose_for(&sp));
-            if let (Mode::Tracking, false, Some(q), Some(sp)) = (mode, anchored, p, self.set_point)
-            {
-                if was_tracking && self.swing_from_last(&q) {
+            if let (Mode::Tracking, Some(q), Some(sp)) = (mode, p, self.set_point) {
+                swing = was_tracking && self.swing_from_last(&q);
+                if anchored {
+                    // The pose of a branch chosen on purpose.
+                } else if swing {
                     // The branch followed runs into a limit here: swing
                     // once, to the branch the next 24 hours need.
                     // The axes hold still this tick; the search goes on
@@ -336,6 +341,7 @@ where
                         self.swing_searched = true;
                         self.begin_swing_search(now, &sp);
                         p = None;
+                        swing = false;
                     }
                 } else {
                     self.swing_searched = false;
@@ -349,7 +355,7 @@ where
             target
         };
         let target = target.map(|p| self.limits().clamp(&p));
-        let mode = self.unwind_mode(mode, was_tracking, target.as_ref());
+        let mode = self.unwind_mode(mode, swing);
         (mode, target)
     }
 
@@ -382,7 +388,7 @@ where
     /// C axis swings from its home end): homing first, then the swing from
     /// the switches, still reported as the unwind; the new day's re-homing
     /// minutes later is then not done twice.
-    fn unwind_mode(&mut self, mode: Mode, was_tracking: bool, target: Option<&Pose<T>>) -> Mode {
+    fn unwind_mode(&mut self, mode: Mode, swing: bool) -> Mode {
         if mode == Mode::Homing {
             return mode;
         }
@@ -393,18 +399,16 @@ where
         if self.axes_at(&self.pose) {
             self.unwinding = false;
         }
-        if let Some(p) = target {
-            if was_tracking && self.swing_from_last(p) {
-                self.unwinding = true;
-                if self.options.rehome_nightly
-                    && self.options.feedback == FeedbackMode::OpenLoop
-                    && !self.rehomed_tonight
-                {
-                    for ax in self.axes.iter_mut() {
-                        ax.unhome();
-                    }
-                    self.rehomed_tonight = true;
+        if swing {
+            self.unwinding = true;
+            if self.options.rehome_nightly
+                && self.options.feedback == FeedbackMode::OpenLoop
+                && !self.rehomed_tonight
+            {
+                for ax in self.axes.iter_mut() {
+                    ax.unhome();
                 }
+                self.rehomed_tonight = true;
             }
         }
         if self.unwinding {
