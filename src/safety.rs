@@ -1021,10 +1021,10 @@ pub fn select_mode(i: &ModeInputs) -> Mode {
         Mode::Manual
     } else if i.time_unknown {
         Mode::WaitForTime
-    } else if i.night {
-        Mode::Night
     } else if i.unhomed {
         Mode::Homing
+    } else if i.night {
+        Mode::Night
     } else if i.overcast {
         Mode::Overcast
     } else {

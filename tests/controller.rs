@@ -121,7 +121,9 @@ fn full_day_on_a_level_mount_with_encoders() {
     errs.sort_by(f64::total_cmp);
     let p95 = errs[errs.len() * 95 / 100];
     assert!(p95 < 0.05, "p95 {p95}");
-    assert_eq!(modes[0], Mode::Night);
+    // Power-on at night: the axes home first (homing ranks above night).
+    assert_eq!(modes[0], Mode::Homing);
+    assert_eq!(modes[1], Mode::Night);
     assert_eq!(*modes.last().unwrap(), Mode::Night);
     assert_eq!(ctl.faults().raised, 0);
 }
@@ -156,8 +158,9 @@ fn wind_and_command_stow_and_manual_override() {
     let mut ctl = controller(true, AttitudeSource::Fixed(truth), truth);
     let now0 = t("2026-03-20T09:00:00Z");
     let at = |m: i64| now0.add_seconds(m * 60).unwrap();
-    // Power-on: set-points zero (Jimoh & Aliyu 2019 step 1), not yet tracking.
-    assert_eq!(step(&mut ctl, &inputs(at(-1))).mode, Mode::Night);
+    // Power-on: set-points zero (Jimoh & Aliyu 2019 step 1), not yet
+    // tracking; the axes home first.
+    assert_eq!(step(&mut ctl, &inputs(at(-1))).mode, Mode::Homing);
     for m in 0..5 {
         assert_eq!(step(&mut ctl, &inputs(at(m))).mode, Mode::Tracking);
     }

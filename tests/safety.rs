@@ -283,13 +283,14 @@ fn mode_priorities() {
         time_unknown: false,
         ..i
     };
-    assert_eq!(select_mode(&i), Mode::Night);
-    let i = ModeInputs { night: false, ..i };
+    // An axis homes by night too, and says so.
     assert_eq!(select_mode(&i), Mode::Homing);
     let i = ModeInputs {
         unhomed: false,
         ..i
     };
+    assert_eq!(select_mode(&i), Mode::Night);
+    let i = ModeInputs { night: false, ..i };
     assert_eq!(select_mode(&i), Mode::Overcast);
     let i = ModeInputs {
         overcast: false,

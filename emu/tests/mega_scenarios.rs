@@ -1146,8 +1146,8 @@ fn clock_jump_from_to(line: &LogLine) -> Option<(i64, i64)> {
     Some((kv("from")?, kv("to")?))
 }
 
-/// How many times the C and the A home switch closed (the image logs no
-/// `mode homing` for its power-on homing: it homes under `mode night`).
+/// How many times the C and the A home switch closed (the image logs
+/// `mode homing` at each homing, by night too).
 fn home_closings(run: &Run) -> (usize, usize) {
     let n = |sw: usize| {
         run.switch_events

@@ -214,7 +214,9 @@ where
             time_unknown: self.faults.time_unknown(),
             night: self.night,
             unhomed,
-            overcast: self.overcast.is_on(),
+            // An unwind under way ends first: the C axis then does not
+            // turn through its range again when the sky clears.
+            overcast: self.overcast.is_on() && !self.unwinding,
         });
         // Stow: the panel flat (α = 0), the C axis at the last commanded
         // azimuth; before any pose was commanded (just homed, no trusted
