@@ -35,6 +35,7 @@ pub fn axis_configs() -> [AxisConfig; 2] {
         max_speed_deg_s: MAX_SPEED_DEG_S,
         // Open loop: every set-point is driven to the nearest step.
         deadband_deg: 0.0,
+        continuous: 0,
     };
     let a = AxisConfig {
         min_deg: -90.0,

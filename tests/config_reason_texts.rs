@@ -55,12 +55,15 @@ fn expected(r: Reason) -> &'static str {
         Reason::AtLeastStowMv => "must be at least supply.stow_mv",
         Reason::OvercastRatio => "0...1 of the clear sky (0: off)",
         Reason::OvercastMoves => "1...8 changes an hour",
+        Reason::WholeCountsPerTurn => {
+            "needs a whole axis.c.gear_ratio (whole motor counts per turn)"
+        }
     }
 }
 
 #[test]
 fn every_reason_prints_its_documented_text() {
-    assert_eq!(Reason::ALL.len(), 36);
+    assert_eq!(Reason::ALL.len(), 37);
     let mut wrong = Vec::new();
     for &r in Reason::ALL {
         let text = r.text();

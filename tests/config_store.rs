@@ -40,9 +40,10 @@ fn encode_decode_round_trip() {
     // The operator's hold is byte 143, after the fields of layout version
     // 3: bit 0 stow, 1 manual, 2 service; the Modbus settings (11 bytes)
     // the weather stows' (22 bytes), the supply watch's (4 bytes) and the
-    // overcast mode's (13 bytes) follow it.
+    // overcast mode's (13 bytes) and the C axis's `continuous` (1 byte)
+    // follow it.
     const HOLD_AT: usize = 143;
-    assert_eq!(n, HOLD_AT + 1 + 11 + 22 + 4 + 13);
+    assert_eq!(n, HOLD_AT + 1 + 11 + 22 + 4 + 13 + 1);
     let mut held = c;
     held.hold = OperatorHold {
         stow: true,
@@ -72,17 +73,20 @@ fn encode_decode_round_trip() {
     // Other lengths are rejected.
     assert_eq!(Config::decode(&buf[..HOLD_AT - 1]), None);
     assert_eq!(Config::decode(&buf[..HOLD_AT + 2]), None);
-    assert_eq!(Config::decode(&buf[..n - 1]), None);
+    // Layout version 4's payload (without `axis.c.continuous`) reads with
+    // it off.
+    assert_eq!(Config::decode(&buf[..n - 1]), Some(c));
+    assert_eq!(Config::decode(&buf[..n - 2]), None);
     assert_eq!(Config::decode(&buf[..n + 1]), None);
     // Too small a buffer to encode into.
     assert_eq!(c.encode(&mut [0u8; 10]), None);
 }
 
-/// The payload of layout version 4 byte by byte, built here field by
+/// The payload of layout version 5 byte by byte, built here field by
 /// field in the order `src/config/codec.rs` documents (the configuration's
 /// declaration order, little-endian, the derived counts per degree left
 /// out, the hold after the fields of version 3, the Modbus and stow
-/// settings after it), so that a change of the key table that would move a stored
+/// settings after it, the C axis's `continuous` last), so that a change of the key table that would move a stored
 /// field fails here: every field gets a value of its own.
 #[test]
 fn payload_is_the_documented_layout() {
@@ -123,6 +127,7 @@ fn payload_is_the_documented_layout() {
     c.overcast.enter_s = 900;
     c.overcast.leave_s = 1_200;
     c.overcast.max_moves_per_hour = 3;
+    c.axes[0].continuous = 1;
     let mut expected = Vec::new();
     let f = |v: &mut Vec<u8>, x: f32| v.extend_from_slice(&x.to_le_bytes());
     let u = |v: &mut Vec<u8>, x: u32| v.extend_from_slice(&x.to_le_bytes());
@@ -192,6 +197,7 @@ fn payload_is_the_documented_layout() {
     u(&mut expected, c.overcast.enter_s);
     u(&mut expected, c.overcast.leave_s);
     expected.push(c.overcast.max_moves_per_hour);
+    expected.push(c.axes[0].continuous);
     assert_eq!(expected.len(), PAYLOAD_LEN);
     let mut buf = [0u8; 200];
     let n = c.encode(&mut buf).unwrap();
@@ -312,10 +318,10 @@ fn old_version_and_bad_values_are_rejected_whole() {
     assert_eq!(l.slots[0], SlotState::OldVersion(0));
 
     // Layouts 2 (written before the operator's hold existed: the fields
-    // before it) and 3 (before the Modbus settings: up to the hold) are
-    // still read, so an update keeps the saved configuration; version 3
-    // with version 2's length is not.
-    let (v2, v3) = (n - 51, n - 50);
+    // before it), 3 (before the Modbus settings: up to the hold) and 4
+    // (before `axis.c.continuous`) are still read, so an update keeps the
+    // saved configuration; version 3 with version 2's length is not.
+    let (v2, v3, v4) = (n - 52, n - 51, n - 1);
     let mut mem = MemStorage::<1024>::new();
     mem.write(0, &slot(2, &payload[..v2])).unwrap();
     mem.write(SLOT_LEN, &slot(3, &payload[..v2])).unwrap();
@@ -327,9 +333,13 @@ fn old_version_and_bad_values_are_rejected_whole() {
     mem.write(0, &slot(3, &payload[..v3])).unwrap();
     let l = ConfigStore::new(mem).load();
     assert_eq!((l.defaults, l.config), (false, c));
+    let mut mem = MemStorage::<1024>::new();
+    mem.write(0, &slot(4, &payload[..v4])).unwrap();
+    let l = ConfigStore::new(mem).load();
+    assert_eq!((l.defaults, l.config), (false, c));
     // Version 2 with version 3's length is not either, nor version 3 with
-    // version 4's.
-    for (version, len) in [(2, v3), (3, n)] {
+    // version 4's, nor version 4 with version 5's.
+    for (version, len) in [(2, v3), (3, v4), (4, n)] {
         let mut mem = MemStorage::<1024>::new();
         mem.write(0, &slot(version, &payload[..len])).unwrap();
         let l = ConfigStore::new(mem).load();

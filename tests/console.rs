@@ -119,6 +119,7 @@ const DOC_RANGES: &[(&str, &str)] = &[
     ("overcast.enter_s", "0…86,400"),
     ("overcast.leave_s", "0…86,400"),
     ("overcast.max_moves_per_hour", "1…8"),
+    ("axis.c.continuous", "0…1"),
 ];
 
 /// The home switch's range is relative to `min_deg` (documented as
@@ -271,10 +272,10 @@ fn typed(value: f64, integer: bool) -> String {
 #[test]
 fn key_table_names_every_field_once_and_the_docs_list_them() {
     let mut names: Vec<&str> = KEYS.iter().map(|k| k.name().as_str()).collect();
-    assert_eq!(names.len(), 58);
+    assert_eq!(names.len(), 59);
     names.sort_unstable();
     names.dedup();
-    assert_eq!(names.len(), 58, "duplicate keys");
+    assert_eq!(names.len(), 59, "duplicate keys");
     let docs = config_docs();
     let module =
         std::fs::read_to_string(concat!(env!("CARGO_MANIFEST_DIR"), "/src/console/mod.rs"))

@@ -79,6 +79,7 @@ fn axis_config(min_deg: f32, max_deg: f32) -> AxisConfig {
         backlash_deg: 0.0,
         max_speed_deg_s: 4.0,
         deadband_deg: 0.05,
+        continuous: 0,
     }
 }
 

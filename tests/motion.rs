@@ -689,6 +689,7 @@ fn invalid_configurations_do_not_panic() {
             backlash_deg: f32::from_bits(r.next_u64() as u32),
             max_speed_deg_s: f32::from_bits(r.next_u64() as u32),
             deadband_deg: f32::from_bits(r.next_u64() as u32),
+            continuous: r.next_u64() as u8,
         };
         let mut d = Mock::new(0, Switch::Normal, -1_000_000, 1_000_000);
         d.pos = (r.next_u64() % 2_000_000) as i64 - 1_000_000;

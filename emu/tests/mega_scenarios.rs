@@ -1847,10 +1847,15 @@ fn q_polar_day_unwinds_once_at_the_sun_lowest() {
         format_utc(unwind_s as i64)
     );
     assert!(at_deg < lowest_deg + 1.0, "{at_deg} against {lowest_deg}");
-    // Homing (the day's, for open-loop axes) just before it, none after.
+    // Homing (the day's, for open-loop axes) just before it, none after;
+    // the power-on homing (before the first tracking) aside.
+    let first_tracking_s = modes
+        .iter()
+        .find(|(_, m)| m == "tracking")
+        .map_or(0.0, |(t, _)| *t);
     let homings: Vec<f64> = modes
         .iter()
-        .filter(|(_, m)| m == "homing")
+        .filter(|(t, m)| m == "homing" && *t > first_tracking_s)
         .map(|(t, _)| *t)
         .collect();
     assert!(

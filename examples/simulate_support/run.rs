@@ -57,7 +57,7 @@ pub const TOOL: &str = "simulate";
 
 /// The synopsis of `--help`.
 pub const USAGE: &str = "[--lat DEG] [--lon DEG] [--start YYYY-MM-DD] [--days N] \
-[--drive stepper|servo|dc-hall|timed] [--supply regulated|battery] [--feedback encoder|sensors] [--mount level|portable] [--faults] [--weather] [--overcast-ratio R] [--seed N] \
+[--drive stepper|servo|dc-hall|timed] [--c-axis limited|continuous] [--supply regulated|battery] [--feedback encoder|sensors] [--mount level|portable] [--faults] [--weather] [--overcast-ratio R] [--seed N] \
 [--scenario FILE] [--trace OUT.csv] [--svg OUT.svg]";
 
 /// The text of `--help`.
@@ -99,6 +99,13 @@ stow times; its last line holds the figures as key=value.",
                 "--mount level|portable",
                 "a level mount, or one tilted and turned (read by the attitude sensors)",
                 "level",
+            ),
+            opt(
+                "--c-axis limited|continuous",
+                "the C axis between its limits (−180…180°), or turning without end on a slip \
+                 ring (axis.c.continuous on; stepper and servo drives: no end stops, the home \
+                 switch an index cam, the encoder absolute within a turn)",
+                "limited",
             ),
             opt(
                 "--weather",
@@ -189,6 +196,8 @@ pub struct Args {
     supply: Supply,
     encoder: bool,
     portable: bool,
+    /// The C axis turns without end (`--c-axis continuous`).
+    continuous_c: bool,
     faults: bool,
     /// A sky of clear and overcast days (`--weather`).
     weather: bool,
@@ -212,6 +221,7 @@ pub fn parse_args(args: &[String]) -> Result<Parsed<Args>, String> {
         supply: Supply::Regulated,
         encoder: true,
         portable: false,
+        continuous_c: false,
         faults: false,
         weather: false,
         overcast_ratio: None,
@@ -269,6 +279,13 @@ pub fn parse_args(args: &[String]) -> Result<Parsed<Args>, String> {
                 a.portable =
                     cli::choice(&mut p, "--mount", &[("level", false), ("portable", true)])?
             }
+            Long("c-axis") => {
+                a.continuous_c = cli::choice(
+                    &mut p,
+                    "--c-axis",
+                    &[("limited", false), ("continuous", true)],
+                )?
+            }
             Long("faults") => a.faults = true,
             Long("weather") => a.weather = true,
             Long("overcast-ratio") => {
@@ -287,6 +304,9 @@ pub fn parse_args(args: &[String]) -> Result<Parsed<Args>, String> {
     }
     if a.days == 0 || a.days > 3660 {
         return Err("--days 1..3660".into());
+    }
+    if a.continuous_c && matches!(a.drive, Drive::DcHall | Drive::Timed) {
+        return Err("--c-axis continuous: with --drive stepper or servo".into());
     }
     Site::new(a.lat, a.lon).map_err(|e| format!("site: {e}"))?;
     Ok(Parsed::Run(a))
@@ -467,10 +487,11 @@ fn motor_plants(args: &Args, config: &Config) -> Result<[MotorPlant; 2], String>
         _ => MotorPlant::stepper(1.8, 16, 100.0, 0.2, 2.0, encoder, min, max, start),
     };
     let [c, a] = config.axes;
-    Ok([
-        plant(f64::from(c.min_deg), f64::from(c.max_deg), 10.0),
-        plant(f64::from(a.min_deg), f64::from(a.max_deg), 20.0),
-    ])
+    let mut c_plant = plant(f64::from(c.min_deg), f64::from(c.max_deg), 10.0);
+    if c.continuous != 0 {
+        c_plant.make_continuous();
+    }
+    Ok([c_plant, plant(f64::from(a.min_deg), f64::from(a.max_deg), 20.0)])
 }
 
 /// The DC axis: `sim::dc_drive`'s worm slew axis on a BTS7960 with a
@@ -564,6 +585,7 @@ fn simulate_with<P: SimAxis>(
     if let Some(r) = args.overcast_ratio {
         config.overcast.ratio = r;
     }
+    config.axes[0].continuous = u8::from(args.continuous_c);
     match args.drive {
         Drive::Servo => {
             for ax in config.axes.iter_mut() {

@@ -87,6 +87,7 @@ pub fn worm_slew_axis_config(min_deg: f32, max_deg: f32) -> AxisConfig {
         backlash_deg: 0.0,
         max_speed_deg_s: 7.0,
         deadband_deg: 0.05,
+        continuous: 0,
     }
 }
 
@@ -511,6 +512,12 @@ macro_rules! drive_over {
             }
             fn clear_fault(&mut self) {
                 AxisDrive::clear_fault(&mut self.axis);
+            }
+            fn rebase_counts(&mut self, counts: i32) {
+                self.axis.rebase_counts(counts);
+            }
+            fn switch_stops(&mut self, on: bool) {
+                self.axis.switch_stops(on);
             }
         }
     };

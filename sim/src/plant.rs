@@ -15,6 +15,11 @@ use suntracker::motion::AxisDrive;
 /// its steps, above or below; this closes the switch there either way.
 const SWITCH_TOL_DEG: f64 = 1e-9;
 
+/// On an axis that turns without end ([`MotorPlant::make_continuous`]) the
+/// home switch is an index cam: closed from this far below its angle up
+/// to it, once a turn, degrees.
+const INDEX_ARC_DEG: f64 = 5.0;
+
 /// Faults a run injects into one axis's hardware.
 #[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
 pub struct Injected {
@@ -112,6 +117,9 @@ pub struct MotorPlant {
     pub travel_deg: f64,
     /// Monotonic time of the last [`Motion::service`], µs.
     last_service_us: Option<u64>,
+    /// The axis turns without end (a slip ring): no end stops, the switch
+    /// an index once a turn, an absolute single-turn output encoder.
+    continuous: bool,
 }
 
 impl MotorPlant {
@@ -152,6 +160,7 @@ impl MotorPlant {
             stops_at_switch: true,
             travel_deg: 0.0,
             last_service_us: None,
+            continuous: false,
         }
     }
 
@@ -184,7 +193,18 @@ impl MotorPlant {
             stops_at_switch: true,
             travel_deg: 0.0,
             last_service_us: None,
+            continuous: false,
         }
+    }
+
+    /// Makes the axis one that turns without end (a slip ring or an
+    /// unlimited slewing drive): no end stops, the home switch an index
+    /// cam closed over the [`INDEX_ARC_DEG`] below its angle once a turn,
+    /// the output encoder (if any) absolute within a turn.
+    pub fn make_continuous(&mut self) {
+        self.continuous = true;
+        self.hard_min_deg = f64::NEG_INFINITY;
+        self.hard_max_deg = f64::INFINITY;
     }
 
     /// The true output angle, degrees.
@@ -231,8 +251,15 @@ impl MotorPlant {
 
     /// The limit switch reads closed.
     fn switch_closed(&self) -> bool {
-        self.switch_stuck
-            || (!self.switch_stuck_open && self.output_deg <= self.switch_deg + SWITCH_TOL_DEG)
+        let at = if self.continuous {
+            // Above the switch within the turn, `INDEX_ARC_DEG` below it
+            // counted as 360° − that.
+            let w = (self.output_deg - self.switch_deg - SWITCH_TOL_DEG).rem_euclid(360.0);
+            w == 0.0 || w >= 360.0 - INDEX_ARC_DEG - SWITCH_TOL_DEG
+        } else {
+            self.output_deg <= self.switch_deg + SWITCH_TOL_DEG
+        };
+        self.switch_stuck || (!self.switch_stuck_open && at)
     }
 
     /// Motor counts down to where the switch reads closed (0 when it does).
@@ -247,7 +274,13 @@ impl MotorPlant {
             DriveKind::Servo => 0.0,
         };
         let motor_at_switch = self.switch_deg + SWITCH_TOL_DEG - half;
-        let d = (self.motor_deg - motor_at_switch) * self.counts_per_deg;
+        let above_deg = if self.continuous {
+            // The index next met turning down.
+            (self.motor_deg - motor_at_switch).rem_euclid(360.0)
+        } else {
+            self.motor_deg - motor_at_switch
+        };
+        let d = above_deg * self.counts_per_deg;
         // At least one count: the motor may sit in the slack above it.
         (libm::ceil(d) as i64).max(1)
     }
@@ -315,13 +348,24 @@ impl AxisDrive for MotorPlant {
     fn at_limit(&mut self) -> Result<bool, SimError> {
         Ok(self.switch_closed())
     }
+    /// The driver stops at the switch, or (an axis that turns without end,
+    /// homed) passes it.
+    fn switch_stops(&mut self, on: bool) {
+        self.stops_at_switch = on;
+    }
     fn encoder_deg(&mut self) -> Result<Option<f32>, SimError> {
         if self.encoder_timeout {
             return Err(SimError::Timeout);
         }
+        // Absolute within a turn on an axis that turns without end.
+        let deg = if self.continuous {
+            self.output_deg.rem_euclid(360.0)
+        } else {
+            self.output_deg
+        };
         Ok(self.encoder_cpr.map(|cpr| {
             let cpd = f64::from(cpr) / 360.0;
-            (libm::floor(self.output_deg * cpd) / cpd) as f32
+            (libm::floor(deg * cpd) / cpd) as f32
         }))
     }
 }

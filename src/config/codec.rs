@@ -1,12 +1,14 @@
-//! The configuration's binary payload, layout version 4
+//! The configuration's binary payload, layout version 5
 //! ([`super::LAYOUT_VERSION`]): the fields of the key table ([`super::KEYS`],
 //! which lists them in declaration order) but the derived counts per
 //! degree, in its order, with the operator's hold after the fields of
 //! version 3 ([`V3_KEYS`]) and the fields added since (`modbus.*`,
-//! `stow.*`, `supply.*`, `overcast.*`) after it;
+//! `stow.*`, `supply.*`, `overcast.*` in version 4, `axis.c.continuous`
+//! in version 5) after it;
 //! little-endian, [`PAYLOAD_LEN`] bytes. The payloads of versions 2
-//! ([`PAYLOAD_LEN_V2`], without the hold) and 3 ([`PAYLOAD_LEN_V3`]) are
-//! still read, the fields they lack at their defaults. Also the
+//! ([`PAYLOAD_LEN_V2`], without the hold), 3 ([`PAYLOAD_LEN_V3`]) and 4
+//! ([`PAYLOAD_LEN_V4`]) are still read, the fields they lack at their
+//! defaults. Also the
 //! little-endian cursors that write and read it (the store writes its slot
 //! header with the same writer).
 
@@ -25,7 +27,21 @@ pub const PAYLOAD_LEN_V3: usize = PAYLOAD_LEN_V2 + 1;
 /// stows' (three slopes, two release times, a level, the sensor-fault
 /// switch: 22 bytes), the supply watch's (two thresholds: 4 bytes) and
 /// the overcast mode's (a ratio, two times, a count: 13 bytes).
-pub const PAYLOAD_LEN: usize = PAYLOAD_LEN_V3 + 11 + 22 + 4 + 13;
+pub const PAYLOAD_LEN_V4: usize = PAYLOAD_LEN_V3 + 11 + 22 + 4 + 13;
+
+/// Payload length of layout version 5: version 4's and the C axis's
+/// `continuous` switch (1 byte).
+pub const PAYLOAD_LEN: usize = PAYLOAD_LEN_V4 + 1;
+
+/// The keys of layout version 4, the first of [`KEYS`]: those up to
+/// `overcast.max_moves_per_hour`.
+const V4_KEYS: usize = {
+    let mut i = 0;
+    while i < KEYS.len() && KEYS[i] as usize != super::Field::OvercastMaxMovesPerHour as usize {
+        i += 1;
+    }
+    i + 1
+};
 
 /// The keys of layout versions 2 and 3, the first of [`KEYS`]: those up to
 /// `log.status_min`. The operator's hold follows them; the keys after are
@@ -131,9 +147,10 @@ impl Config {
         }
     }
 
-    /// Parses a payload of layout version 4, or of version 3 (without the
-    /// Modbus, stow, supply and overcast settings: their defaults) or 2 (also without the hold: none
-    /// is in force), and checks every value; `None` for a buffer of
+    /// Parses a payload of layout version 5, or of version 4 (without
+    /// `axis.c.continuous`: off), 3 (also without the Modbus, stow, supply
+    /// and overcast settings: their defaults) or 2 (also without the hold:
+    /// none is in force), and checks every value; `None` for a buffer of
     /// another length or any value out of range.
     pub fn decode(buf: &[u8]) -> Option<Config> {
         let mut r = Reader { buf, pos: 0 };
@@ -141,6 +158,9 @@ impl Config {
         // defaults.
         let mut cfg = Config::default();
         for (i, &key) in KEYS.iter().enumerate() {
+            if i == V4_KEYS && buf.len() == PAYLOAD_LEN_V4 {
+                break;
+            }
             if i == V3_KEYS {
                 if buf.len() == PAYLOAD_LEN_V2 {
                     break;

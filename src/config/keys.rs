@@ -114,6 +114,7 @@ named! {
         OvercastEnterS => "overcast.enter_s",
         OvercastLeaveS => "overcast.leave_s",
         OvercastMaxMovesPerHour => "overcast.max_moves_per_hour",
+        AxisCContinuous => "axis.c.continuous",
     }
 }
 
@@ -187,6 +188,7 @@ named! {
         AtLeastStowMv => "must be at least supply.stow_mv",
         OvercastRatio => range_text!(f32s(r::OVERCAST_RATIO), Str(" of the clear sky (0: off)")),
         OvercastMoves => range_text!(u8s(r::OVERCAST_MOVES), Str(" changes an hour")),
+        WholeCountsPerTurn => "needs a whole axis.c.gear_ratio (whole motor counts per turn)",
     }
 }
 

@@ -97,6 +97,15 @@ pub struct AxisConfig {
     /// `safety.max_deviation_deg`, or a deviation fault would be raised for
     /// an error the loop does not correct.
     pub deadband_deg: f32,
+    /// The axis turns without end: 0…1 (`axis.c.continuous`), 1 on, 0 off
+    /// (the C axis only; the A axis's is always 0): a slip ring or an
+    /// unlimited drive. The soft limits then
+    /// bound nothing but homing's seek; the axis takes the shorter way to
+    /// each target and never unwinds, its count kept within one turn of
+    /// the home switch by whole turns. On needs a whole number of motor
+    /// counts per turn of the axis (an integer `gear_ratio`), or the count
+    /// would drift by the fraction at each turn.
+    pub continuous: u8,
 }
 
 impl AxisConfig {
@@ -325,6 +334,7 @@ impl Config {
             backlash_deg: 0.2,
             max_speed_deg_s: 2.0,
             deadband_deg: 0.05,
+            continuous: 0,
         };
         Config {
             site: SiteConfig {

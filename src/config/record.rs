@@ -2,19 +2,19 @@
 //! ([`crate::persist::ConfigStore`]): its magic, layout version and
 //! length, and the store of a [`Config`] ([`ConfigStore::new`]).
 
-use super::codec::{PAYLOAD_LEN_V2, PAYLOAD_LEN_V3};
+use super::codec::{PAYLOAD_LEN_V2, PAYLOAD_LEN_V3, PAYLOAD_LEN_V4};
 use super::{Config, PAYLOAD_LEN};
 use crate::persist::{record_len, ConfigStore, Record, SLOT_LEN};
 use crate::ports::Storage;
 
 /// Layout version written by this firmware: 2 added `log.status_min`, 3
 /// the operator's hold, 4 the Modbus, weather-stow, supply and overcast
-/// settings (`modbus.*`, `stow.*`, `supply.*`, `overcast.*`). Slots of
-/// versions 2 and 3 are read (with the defaults of what they lack, and no
+/// settings (`modbus.*`, `stow.*`, `supply.*`, `overcast.*`), 5 the C
+/// axis's `axis.c.continuous`. Slots of versions 2, 3 and 4 are read (with the defaults of what they lack, and no
 /// hold in force from version 2), so a configuration saved before survives
 /// the update; one of version 1 is reported as
 /// [`SlotState::OldVersion`](crate::persist::SlotState::OldVersion) and not used.
-pub const LAYOUT_VERSION: u16 = 4;
+pub const LAYOUT_VERSION: u16 = 5;
 
 /// The first four bytes of a slot holding a [`Config`].
 const MAGIC: [u8; 4] = *b"STCF";
@@ -31,7 +31,7 @@ impl Record for Config {
     const MAGIC: [u8; 4] = MAGIC;
     const VERSION: u16 = LAYOUT_VERSION;
     const PAYLOAD_LEN: usize = PAYLOAD_LEN;
-    const PREVIOUS: &'static [(u16, usize)] = &[(3, PAYLOAD_LEN_V3), (2, PAYLOAD_LEN_V2)];
+    const PREVIOUS: &'static [(u16, usize)] = &[(4, PAYLOAD_LEN_V4), (3, PAYLOAD_LEN_V3), (2, PAYLOAD_LEN_V2)];
     fn encode(&self, buf: &mut [u8]) -> Option<usize> {
         Config::encode(self, buf)
     }

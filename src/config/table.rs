@@ -192,6 +192,7 @@ key_table! { c;
     OvercastEnterS U32 c.overcast.enter_s, WIND_RELEASE_S S0To86400;
     OvercastLeaveS U32 c.overcast.leave_s, WIND_RELEASE_S S0To86400;
     OvercastMaxMovesPerHour U8 c.overcast.max_moves_per_hour, OVERCAST_MOVES OvercastMoves;
+    AxisCContinuous U8 c.axes[0].continuous, SWITCH Switch;
 }
 
 crate::progmem! {
@@ -243,6 +244,7 @@ const ZEROS: Config = {
         backlash_deg: 0.0,
         max_speed_deg_s: 0.0,
         deadband_deg: 0.0,
+        continuous: 0,
     };
     Config {
         site: SiteConfig {

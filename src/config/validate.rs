@@ -184,6 +184,17 @@ impl Config {
                 return fail(key, Reason::AboveMinDeg);
             }
         }
+        if key == Field::AxisCContinuous {
+            if let Some(c) = self.axes.first() {
+                // The count is kept within a turn by whole turns: exact
+                // only for a whole number of counts per turn (motor counts
+                // and microsteps are integers; the gear ratio, 1…10,000,
+                // converts to `i32` exactly when whole).
+                if c.continuous != 0 && c.gear_ratio != (c.gear_ratio as i32) as f32 {
+                    return fail(key, Reason::WholeCountsPerTurn);
+                }
+            }
+        }
         if key == Field::SupplyResumeMv && self.supply.resume_mv < self.supply.stow_mv {
             return fail(key, Reason::AtLeastStowMv);
         }

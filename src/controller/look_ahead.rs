@@ -260,9 +260,20 @@ where
                 starts: Starts([None; 6]),
             },
         ));
+        // A C axis that turns without end leaves both branches free, with
+        // the same swings and travel through the day: the one nearer the
+        // home switches is taken (the night's re-homing then moves least),
+        // not the first of equals.
+        let home = match &self.axes {
+            [c, a] if c.is_continuous() => Some(Pose {
+                gamma_deg: T::from_f32(c.home_deg()),
+                alpha_deg: T::from_f32(a.home_deg()),
+            }),
+            _ => None,
+        };
         let started = match (slot, first) {
             (NightPose::Searching(_, search), Some(first)) => {
-                let ok = search.starts.fill(&frame, &first, None);
+                let ok = search.starts.fill(&frame, &first, home.as_ref());
                 if ok {
                     search.starts.visit(&first, &self.attitude, limits);
                 }

@@ -55,6 +55,12 @@ pub const STALL_MIN_COMMAND_DEG: f32 = 0.5;
 /// feedback, seen at the next tick.
 pub const STALL_MIN_MOTION_DEG: f32 = 0.05;
 
+/// The C axis's limits for the choice of a pose when it turns without end
+/// (`axis.c.continuous`), degrees: beyond any pose it is driven to (its
+/// count is kept within a turn of the switch, its targets within half a
+/// turn of that, a day's search a turn or two further).
+const UNLIMITED_DEG: f32 = 10_000.0;
+
 /// Choices of a tracker build.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct ControllerOptions<T> {
@@ -479,15 +485,59 @@ where
     #[cfg_attr(target_arch = "avr", inline(never))]
     fn limits(&self) -> PoseLimits<T> {
         let c = &self.config.axes;
+        // A C axis that turns without end has no limit to meet: of the
+        // poses for a sun, the one of least travel (never an unwind).
+        let (gamma_min_deg, gamma_max_deg) = if c[0].continuous != 0 {
+            (-UNLIMITED_DEG, UNLIMITED_DEG)
+        } else {
+            (c[0].min_deg, c[0].max_deg)
+        };
         PoseLimits {
-            gamma_min_deg: T::from_f32(c[0].min_deg),
-            gamma_max_deg: T::from_f32(c[0].max_deg),
+            gamma_min_deg: T::from_f32(gamma_min_deg),
+            gamma_max_deg: T::from_f32(gamma_max_deg),
             alpha_min_deg: T::from_f32(c[1].min_deg),
             alpha_max_deg: T::from_f32(c[1].max_deg),
         }
     }
 
-    /// One pass of the main loop.
+    /// A C axis that turns without end ([`AxisController::rebase`]): its
+    /// count taken back within the turn above its switch, and every pose
+    /// kept in degrees by as many turns, so that counts and poses stay in
+    /// one frame (and small) however many turns the axis makes. Not while
+    /// a search holds poses of its own (a few ticks).
+    fn keep_c_within_a_turn(&mut self) {
+        let searching = matches!(self.night_pose, Some(look_ahead::NightPose::Searching(..)));
+        if self.branch_search.is_some() || searching {
+            return;
+        }
+        let Some(c) = self.axes.first_mut() else {
+            return;
+        };
+        let turns = c.rebase();
+        if turns == 0 {
+            return;
+        }
+        let off = T::from_i32(turns) * T::from_f32(360.0);
+        let shift = |p: &mut Pose<T>| p.gamma_deg = p.gamma_deg - off;
+        shift(&mut self.pose);
+        for p in [
+            &mut self.day_start_pose,
+            &mut self.branch_anchor,
+            &mut self.manual,
+        ] {
+            if let Some(p) = p.as_mut() {
+                shift(p);
+            }
+        }
+        if let Some(look_ahead::NightPose::Found(_, Some(p))) = self.night_pose.as_mut() {
+            shift(p);
+        }
+        // The watch's origin was measured in the old frame.
+        if let Some(w) = self.stall_watch.first_mut() {
+            w.disarm();
+        }
+    }
+
     /// One pass of the main loop, phase by phase (the module docs list
     /// them); never blocks.
     // Its own frame on the AVR (see the phases module).
@@ -556,6 +606,7 @@ where
         let (mode, target) = self.mode_and_target(wind_stow, inp.now);
         // 7. Drive.
         self.drive(target, mode, inp.now_ms);
+        self.keep_c_within_a_turn();
         let mode = self.mode_after_drive(mode);
         TickReport {
             mode,
@@ -824,11 +875,12 @@ where
         if D::SELF_WATCHED && drive_watch(&mut self.faults, ax.drive_mut(), id, now_ms) {
             return; // a latched motor fault waits for its retry
         }
-        // Unexpected limit switch: closed far from the home angle.
-        let counted = ax.counted_deg();
-        let home = ax.home_deg();
+        // Unexpected limit switch: closed far from the home angle (within
+        // the turn on an axis that turns without end: it passes its
+        // switch once a turn).
+        let above_home_deg = ax.above_home_deg();
         match ax.drive_mut().at_limit() {
-            Ok(true) if counted > home + 2.0 => {
+            Ok(true) if above_home_deg > 2.0 => {
                 let _ = ax.stop();
                 if let Recovery::Rehome(_) = self.faults.raise(Fault::LimitSwitchHit(id), now_ms) {
                     ax.unhome();
@@ -855,7 +907,9 @@ where
                     if enc_degraded {
                         None
                     } else {
-                        v
+                        // In the turn the count is in (an axis that turns
+                        // without end).
+                        v.map(|d| ax.near_count(d))
                     }
                 }
                 Err(_) => {

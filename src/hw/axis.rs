@@ -137,6 +137,12 @@ where
         Ok(high != self.home_active_low)
     }
 
+    /// The driver's `min` switch (the home switch, as [`StepperAxis`]
+    /// asks) on or off.
+    fn switch_stops(&mut self, on: bool) {
+        self.stepper.set_min_limit(on);
+    }
+
     /// The H-bridge axis has no encoder (Li et al. 2022 runs it open loop).
     fn encoder_deg(&mut self) -> Result<Option<f32>, Self::Error> {
         Ok(None)

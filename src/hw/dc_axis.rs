@@ -325,6 +325,8 @@ pub struct DcAxis<B: Bridge, E, H, C> {
     count_at_switch: Option<i32>,
     /// The switch at its last reading.
     switch_was_closed: bool,
+    /// Motion toward the closed switch stops ([`AxisDrive::switch_stops`]).
+    switch_stops: bool,
     home_deg: f32,
     counts_per_deg: f32,
     /// A fault not yet taken by [`AxisDrive::take_fault`].
@@ -404,6 +406,7 @@ where
             approach: (0, u32::MAX),
             count_at_switch: None,
             switch_was_closed: false,
+            switch_stops: true,
             home_deg: axis.home_deg,
             unseen: None,
             last_poll_ms: 0,
@@ -625,7 +628,7 @@ where
                 self.over_since_ms = None;
             }
         }
-        if dir < 0 && self.switch_closed()? {
+        if dir < 0 && self.switch_closed()? && self.switch_stops {
             // At the switch: stop here, no re-approach past it.
             self.target = count;
             self.brake_at = None;
@@ -783,9 +786,19 @@ where
 
     fn encoder_deg(&mut self) -> Result<Option<f32>, Self::Error> {
         Ok(self.count_at_switch.map(|c0| {
-            let d = self.hall.count().saturating_sub(c0);
+            // Wraps with the Hall count: an axis that turns without end is
+            // kept within a turn of its switch (`rebase_counts`).
+            let d = self.hall.count().wrapping_sub(c0);
             self.home_deg + d as f32 / self.counts_per_deg
         }))
+    }
+
+    fn rebase_counts(&mut self, counts: i32) {
+        self.count_at_switch = self.count_at_switch.map(|c0| c0.wrapping_add(counts));
+    }
+
+    fn switch_stops(&mut self, on: bool) {
+        self.switch_stops = on;
     }
 
     /// A stall, overcurrent or unexpected motion seen by `poll` since the

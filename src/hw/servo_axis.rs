@@ -77,6 +77,8 @@ pub struct ServoAxis<'a, P, E, H> {
     count_at_switch: Option<i32>,
     home_deg: f32,
     counts_per_deg: f32,
+    /// Motion toward the closed switch stops ([`AxisDrive::switch_stops`]).
+    switch_stops: bool,
 }
 
 impl<'a, P, E, H> ServoAxis<'a, P, E, H>
@@ -105,6 +107,7 @@ where
             target: encoder.count(),
             resting: None,
             count_at_switch: None,
+            switch_stops: true,
             home_deg: axis.home_deg,
             counts_per_deg: if cpd.is_finite() && cpd > 0.0 {
                 cpd
@@ -137,7 +140,7 @@ where
             return Ok(0.0);
         }
         let mut speed = self.control.update(self.target, count);
-        if speed < 0.0 && self.switch_closed()? {
+        if speed < 0.0 && self.switch_stops && self.switch_closed()? {
             self.target = count;
             speed = 0.0;
         }
@@ -209,10 +212,20 @@ where
     #[inline(never)]
     fn encoder_deg(&mut self) -> Result<Option<f32>, Self::Error> {
         Ok(self.count_at_switch.map(|c0| {
-            // 32 bits: an axis turns a few times 1,200 counts from its
-            // switch; saturating beyond.
-            let d = self.encoder.count().saturating_sub(c0);
+            // 32 bits: an axis between limits turns a few times 1,200
+            // counts from its switch, one that turns without end is kept
+            // within a turn of it (`rebase_counts`); the difference wraps
+            // with the encoder's count.
+            let d = self.encoder.count().wrapping_sub(c0);
             self.home_deg + d as f32 / self.counts_per_deg
         }))
+    }
+
+    fn rebase_counts(&mut self, counts: i32) {
+        self.count_at_switch = self.count_at_switch.map(|c0| c0.wrapping_add(counts));
+    }
+
+    fn switch_stops(&mut self, on: bool) {
+        self.switch_stops = on;
     }
 }

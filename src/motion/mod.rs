@@ -55,6 +55,17 @@ pub trait AxisDrive {
     /// Ends a latched fault: the drive rests where it is and takes moves
     /// again (a retry).
     fn clear_fault(&mut self) {}
+    /// The axis's count was taken back by `counts` (whole turns of an
+    /// axis that turns without end, [`AxisController::rebase`]): a drive
+    /// that counts its own feedback from the home switch takes its
+    /// reference back as much, so that its angle stays within a turn of
+    /// the switch (and exact in `f32`) however many turns the axis makes.
+    fn rebase_counts(&mut self, _counts: i32) {}
+    /// Whether the home switch stops motion toward it (on from power-on,
+    /// as every drive here does). [`AxisController`] turns it off on an
+    /// axis that turns without end once it is homed (the switch is then an
+    /// index it passes once a turn) and on again to home.
+    fn switch_stops(&mut self, _on: bool) {}
 }
 
 /// A fault seen by the drive itself ([`AxisDrive::take_fault`]).
@@ -207,6 +218,10 @@ struct Geometry {
     backlash_deg: f32,
     deadband_deg: f32,
     speed_deg_s: f32,
+    /// Motor counts per turn of an axis that turns without end
+    /// (`continuous` on, a whole number of counts per turn); 0 for an
+    /// axis between limits.
+    turn_counts: i32,
 }
 
 impl Geometry {
@@ -249,6 +264,21 @@ impl Geometry {
                 SPEED_RANGE_DEG_S.0,
                 SPEED_RANGE_DEG_S.1,
             ),
+            turn_counts: if c.continuous != 0 {
+                turn_counts(c)
+            } else {
+                0
+            },
+        }
+    }
+
+    /// `target_deg` inside the soft limits; as it is on an axis that turns
+    /// without end (the limits bound its homing only).
+    fn limit(&self, target_deg: f32) -> f32 {
+        if self.turn_counts != 0 {
+            target_deg
+        } else {
+            within(target_deg, self.min_deg, self.max_deg)
         }
     }
 
@@ -277,6 +307,28 @@ impl Geometry {
         (if c < 0.0 { c - 0.5 } else { c + 0.5 }) as i32
     }
 }
+
+/// Motor counts per turn of the axis, when whole and at most
+/// [`MAX_TURN_COUNTS`] (what a configuration that passes
+/// `Config::validate` with `continuous` on has: its counts per degree are
+/// at most 10^6); else 0. In integers: the product in `f32` is not exact
+/// beyond 2^24.
+fn turn_counts(c: &AxisConfig) -> i32 {
+    let gear = c.gear_ratio as i32;
+    if gear as f32 != c.gear_ratio {
+        return 0;
+    }
+    i32::try_from(c.counts_per_motor_rev)
+        .ok()
+        .and_then(|n| n.checked_mul(i32::from(c.microsteps)))
+        .and_then(|n| n.checked_mul(gear))
+        .filter(|&n| n > 0 && n <= MAX_TURN_COUNTS)
+        .unwrap_or(0)
+}
+
+/// Largest turn of an axis that turns without end, motor counts: 360° at
+/// the highest counts per degree the configuration allows (10^6).
+const MAX_TURN_COUNTS: i32 = 360_000_000;
 
 /// An axis under control.
 ///
@@ -432,6 +484,66 @@ impl<D: AxisDrive> AxisController<D> {
         self.position_counts
     }
 
+    /// True for an axis that turns without end (`continuous` on).
+    pub fn is_continuous(&self) -> bool {
+        self.geo.turn_counts != 0
+    }
+
+    /// `deg`, an angle of the axis measured (an encoder's, the compass's),
+    /// on an axis that turns without end by whole turns to within half a
+    /// turn of the counted position (where the counts say the axis is,
+    /// whatever turn the measurement counts from); unchanged on an axis
+    /// between limits, and when not finite.
+    pub fn near_count(&self, deg: f32) -> f32 {
+        if self.geo.turn_counts == 0 || !deg.is_finite() {
+            return deg;
+        }
+        let d = deg - self.counted_deg();
+        // Whole turns, to the nearest (halves away from zero); `as`
+        // saturates for an absurd reading, which `reanchor` clamps.
+        let turns = (d / 360.0 + if d < 0.0 { -0.5 } else { 0.5 }) as i32;
+        deg - turns as f32 * 360.0
+    }
+
+    /// How far above its home switch the axis is, degrees: on an axis
+    /// that turns without end, within the turn (the switch is passed once
+    /// a turn; within [`HOMING_BACKOFF_MAX_DEG`] below it counts as at
+    /// it, negative).
+    pub fn above_home_deg(&self) -> f32 {
+        let turn = self.geo.turn_counts;
+        if turn == 0 {
+            return self.counted_deg() - self.geo.home_deg;
+        }
+        let d = self.position_counts.rem_euclid(turn) as f32 / self.geo.counts_per_deg;
+        if d > 360.0 - HOMING_BACKOFF_MAX_DEG {
+            d - 360.0
+        } else {
+            d
+        }
+    }
+
+    /// On a homed axis that turns without end, takes whole turns off the
+    /// count so that it lies within the turn above the home switch
+    /// (nothing moves; the drive takes its own count back as much,
+    /// [`AxisDrive::rebase_counts`]) and returns the turns taken off
+    /// (negative when added); 0 otherwise. Exact: a turn is a whole number
+    /// of counts. The owner of targets in degrees takes as many turns off
+    /// them.
+    pub fn rebase(&mut self) -> i32 {
+        let turn = self.geo.turn_counts;
+        if turn == 0 || self.home != HomeState::Done {
+            return 0;
+        }
+        let within = self.position_counts.rem_euclid(turn);
+        let shift = sat_sub(self.position_counts, within);
+        if shift == 0 {
+            return 0;
+        }
+        self.position_counts = within;
+        self.drive.rebase_counts(shift);
+        shift / turn
+    }
+
     /// Commands `c` counts and returns them; the caller accounts the
     /// position.
     fn command(&mut self, c: i32) -> Result<i32, AxisError<D::Error>> {
@@ -450,10 +562,17 @@ impl<D: AxisDrive> AxisController<D> {
     pub fn reanchor(&mut self, feedback_deg: f32) {
         if feedback_deg.is_finite() {
             let g = &self.geo;
+            // An axis that turns without end is kept within a turn above
+            // its switch, and its targets within half a turn of that.
+            let (lo, hi) = if g.turn_counts != 0 {
+                (g.home_deg - 180.0, g.home_deg + 540.0)
+            } else {
+                (g.min_deg, g.max_deg)
+            };
             let fb = within(
                 feedback_deg,
-                g.min_deg - FEEDBACK_MARGIN_DEG,
-                g.max_deg + FEEDBACK_MARGIN_DEG,
+                lo - FEEDBACK_MARGIN_DEG,
+                hi + FEEDBACK_MARGIN_DEG,
             );
             self.position_counts = g.counts(fb - g.home_deg);
         }
@@ -479,11 +598,13 @@ impl<D: AxisDrive> AxisController<D> {
 
     /// Counts a back-off may still move up: within
     /// [`HOMING_BACKOFF_MAX_DEG`] of the lowest point of homing and, with a
-    /// reference, not beyond `max_deg`.
+    /// reference, not beyond `max_deg` (an axis that turns without end has
+    /// no end there: it may rest just below its switch, a turn above it
+    /// by the count).
     fn backoff_room_counts(&self) -> i32 {
         let low = self.homing_low_counts.unwrap_or(self.position_counts);
         let mut ceiling = sat_add(low, self.geo.counts(HOMING_BACKOFF_MAX_DEG));
-        if self.referenced {
+        if self.referenced && self.geo.turn_counts == 0 {
             ceiling = ceiling.min(self.geo.counts(self.geo.max_deg - self.geo.home_deg));
         }
         sat_sub(ceiling, self.position_counts)
@@ -494,7 +615,13 @@ impl<D: AxisDrive> AxisController<D> {
     /// more than [`HOMING_SEEK_MARGIN_DEG`] + backlash.
     fn seek_room_counts(&self) -> i32 {
         let g = &self.geo;
-        let travel_deg = (g.max_deg - g.min_deg) + HOMING_SEEK_EXTRA_DEG + g.backlash_deg;
+        // A whole turn finds the switch of an axis that turns without end.
+        let span_deg = if g.turn_counts != 0 {
+            360.0
+        } else {
+            g.max_deg - g.min_deg
+        };
+        let travel_deg = span_deg + HOMING_SEEK_EXTRA_DEG + g.backlash_deg;
         let below_start = sat_sub(self.attempt_start_counts, self.position_counts);
         let mut room = sat_sub(g.counts(travel_deg), below_start);
         if self.referenced {
@@ -601,6 +728,9 @@ impl<D: AxisDrive> AxisController<D> {
             self.fine = false;
             self.homing_last_ms = None;
             self.note_low();
+            if self.geo.turn_counts != 0 {
+                self.drive.switch_stops(true);
+            }
             // Approach the switch from the open side: a switch already
             // closed (or stuck) is first backed away from.
             self.home = if closed {
@@ -648,6 +778,10 @@ impl<D: AxisDrive> AxisController<D> {
                 self.homing_low_counts = None;
                 self.homing_last_ms = None;
                 self.home = HomeState::Done;
+                if self.geo.turn_counts != 0 {
+                    // Passed once a turn from now on.
+                    self.drive.switch_stops(false);
+                }
                 return Ok(HomeState::Done);
             }
             // Still running up (the tail of a ramped stop): wait.
@@ -701,7 +835,7 @@ impl<D: AxisDrive> AxisController<D> {
             return Err(AxisError::NotFinite);
         }
         let g = self.geo;
-        let t = within(target_deg, g.min_deg, g.max_deg);
+        let t = g.limit(target_deg);
         let clamped = t != target_deg;
         let deviation = feedback_deg.map(|f| f - t);
         let goal_counts = g.counts(t - g.home_deg);
@@ -745,7 +879,7 @@ impl<D: AxisDrive> AxisController<D> {
             return Err(AxisError::NotFinite);
         }
         let g = &self.geo;
-        let goal_counts = g.counts(within(target_deg, g.min_deg, g.max_deg) - g.home_deg);
+        let goal_counts = g.counts(g.limit(target_deg) - g.home_deg);
         self.move_counted_to(goal_counts).map(|_| ())
     }
 

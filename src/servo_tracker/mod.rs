@@ -139,6 +139,7 @@ pub fn axis_configs_geared(gear_ratio: [f32; 2]) -> [AxisConfig; 2] {
         backlash_deg: 0.0,
         max_speed_deg_s: HOMING_SPEED_DEG_S / if gear >= 1.0 { gear } else { 1.0 },
         deadband_deg: 0.0,
+        continuous: 0,
     };
     [axis(gear_c, -180.0, 180.0), axis(gear_a, -90.0, 90.0)]
 }

@@ -194,6 +194,9 @@ pub struct HBridgeStepper<P, L> {
     config: Config,
     pins: BridgePins<P>,
     limits: LimitSwitches<L>,
+    /// The `min` switch stops motion toward it (see
+    /// [`HBridgeStepper::set_min_limit`]).
+    min_limit_on: bool,
 }
 
 impl<P, L, E> HBridgeStepper<P, L>
@@ -237,7 +240,16 @@ where
             energised: false,
             rotor_at_phase: false,
             release_at_us: None,
+            min_limit_on: true,
         })
+    }
+
+    /// Whether the `min` switch stops motion toward it: on from
+    /// [`HBridgeStepper::new`]. Off for an axis that turns without end,
+    /// whose home switch is an index it passes once a turn: its owner
+    /// turns it on for homing only. The `max` switch always stops.
+    pub fn set_min_limit(&mut self, on: bool) {
+        self.min_limit_on = on;
     }
 
     /// Gives the pins back.
@@ -584,7 +596,13 @@ where
             }
             Due::Wait => Ok(Event::Waiting),
             Due::Step(dir) => {
-                if let Some(limit) = self.limits.blocking(dir).map_err(Error::Comm)? {
+                let watched = self.min_limit_on || dir == Direction::Forward;
+                let blocked = if watched {
+                    self.limits.blocking(dir).map_err(Error::Comm)?
+                } else {
+                    None
+                };
+                if let Some(limit) = blocked {
                     self.planner.halt();
                     self.release()?;
                     return Ok(Event::LimitReached(limit));
