@@ -38,7 +38,13 @@ F64_RE='__(add|sub|mul|div|neg)df3|__(extendsfdf2|truncdfsf2)|__(fix|fixuns)df[s
 # 64-bit (and 128-bit) division: libgcc's entry points and AVR helpers,
 # compiler_builtins' specialised u64/i64/u128/i128 division.
 DIV64_RE='__u?(div|mod)(di|ti)3|__u?divmod(di|ti)4|__u?divmod64|__divdi3_moddi3|__udivdi3_umoddi3|[iu](64|128)_div_rem'
-WIDE_RE="(${F64_RE}|${DIV64_RE})\$"
+# compiler_builtins' overflow-checked products (`checked_mul`,
+# `overflowing_mul` on i32/i64): on the ATmega2560 a `checked_mul` through
+# __mulosi4 was seen to overwrite static RAM (the configuration's site
+# read back as 0°, 0° and the stack ran into .bss); the firmware bounds its
+# operands first and multiplies plainly instead.
+MULO_RE='__mulo[sdt]i4'
+WIDE_RE="(${F64_RE}|${DIV64_RE}|${MULO_RE})\$"
 
 die() { echo "avr_wide_math: $*" >&2; exit 2; }
 
@@ -73,12 +79,12 @@ check_elf() { # label elf
   fi
   hits=$(grep -E "$WIDE_RE" <<<"$syms" | sort -u || true)
   if [ -n "$hits" ]; then
-    echo "FAIL $label: software f64 or 64-bit division in ${elf#"$PWD"/}:"
+    echo "FAIL $label: software f64, 64-bit division or an overflow-checked product in ${elf#"$PWD"/}:"
     sed 's/^/    defines  /' <<<"$hits"
     callers "$elf" | sed 's/^/    called   /'
     return 1
   fi
-  echo "ok   $label: no software f64, no 64-bit division ($(wc -l <<<"$syms") symbols)"
+  echo "ok   $label: no software f64, no 64-bit division, no overflow-checked product ($(wc -l <<<"$syms") symbols)"
 }
 
 check_all() {

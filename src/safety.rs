@@ -922,16 +922,12 @@ pub enum Mode {
     Manual,
     /// The time is unknown (RTC invalid, no GPS): stowed, waiting.
     WaitForTime,
+    /// An axis has no position reference yet (at power-on, after a fault,
+    /// the nightly re-homing of open-loop axes): it is seeking its home
+    /// switch and nothing tracks until it has one.
+    Homing,
     /// Outside daylight: stowed or parked at home.
     Night,
-    /// Daylight, but an axis has no position reference yet: it is seeking
-    /// its home switch and nothing tracks until it has one.
-    Homing,
-    /// Daylight under an overcast sky (measured irradiance below
-    /// `overcast.ratio` of the clear sky's for `overcast.enter_s`): the
-    /// panel lies flat, facing the whole sky, until the sky has been bright
-    /// again for `overcast.leave_s`.
-    Overcast,
     /// Following the sun, but the axes are turning to another branch of
     /// the mount's two solutions (or another turn of the C axis) because
     /// the one followed runs into a limit: a long move during which the
@@ -939,6 +935,11 @@ pub enum Mode {
     /// the controller's look-ahead); the controller reports it from the
     /// move's start until both axes reach the new pose.
     Unwind,
+    /// Daylight under an overcast sky (measured irradiance below
+    /// `overcast.ratio` of the clear sky's for `overcast.enter_s`): the
+    /// panel lies flat, facing the whole sky, until the sky has been bright
+    /// again for `overcast.leave_s`.
+    Overcast,
     /// Following the sun.
     Tracking,
 }
@@ -958,10 +959,10 @@ impl Mode {
             "command_stow",
             "manual",
             "wait_for_time",
-            "night",
             "homing",
-            "overcast",
+            "night",
             "unwind",
+            "overcast",
             "tracking",
         )
         .get(self as usize)

@@ -163,6 +163,10 @@ fn book_rows() -> Vec<(&'static str, Vec<Vec<String>>)> {
             ],
         ),
         (
+            "`axis.c.continuous`",
+            vec![book_range(range_text::u8s(r::SWITCH))],
+        ),
+        (
             "`wind.stow_hz`, `wind.hold_s`, `wind.release_s`",
             vec![f(r::STOW_HZ), u(r::WIND_HOLD_S), u(r::WIND_RELEASE_S)],
         ),

@@ -280,6 +280,8 @@ pub struct MegaBench {
     mount: Mount,
     field: Field,
     power_on: (f64, f64),
+    /// The C axis turns without end ([`MegaBench::continuous_c`]).
+    continuous_c: bool,
     echo: bool,
     log_file: Option<PathBuf>,
     /// Timescale until the image logs one; `None`: [`timescale_of`] the ELF.
@@ -349,6 +351,7 @@ impl MegaBench {
             mount: Mount::level(),
             field: Field::kano_2026(),
             power_on: (30.0, 20.0),
+            continuous_c: false,
             echo: false,
             log_file: None,
             timescale: None,
@@ -446,6 +449,14 @@ impl MegaBench {
         self
     }
 
+    /// A C axis that turns without end (a slip ring): no max-end switch,
+    /// the home switch an index cam passed once a turn
+    /// ([`AxisGeometry::c_axis_continuous`]).
+    pub fn continuous_c(mut self) -> Self {
+        self.continuous_c = true;
+        self
+    }
+
     /// Axis angles at power-on (C, A), degrees.
     pub fn power_on_angles(mut self, c_deg: f64, a_deg: f64) -> Self {
         self.power_on = (c_deg, a_deg);
@@ -504,7 +515,12 @@ impl MegaBench {
         bus.borrow_mut().attach(Box::new(Adxl345::new(&self.mount)));
         sim.attach_twi(bus.clone())?;
 
-        let mut c_axis = StepperDecoder::new(AxisGeometry::c_axis(), self.power_on.0);
+        let c_geometry = if self.continuous_c {
+            AxisGeometry::c_axis_continuous()
+        } else {
+            AxisGeometry::c_axis()
+        };
+        let mut c_axis = StepperDecoder::new(c_geometry, self.power_on.0);
         let mut a_axis = StepperDecoder::new(AxisGeometry::a_axis(), self.power_on.1);
         let mut timescale = match self.timescale {
             Some(n) => n,

@@ -1896,6 +1896,129 @@ fn q_polar_day_unwinds_once_at_the_sun_lowest() {
     assert_no_illegal_steps(&run);
 }
 
+/// (u) The midnight sun of (q) on a C axis that turns without end: a slip
+/// ring, the bench's C axis with an index cam once a turn at −180° (≡
+/// 180°) and no end switch, `set axis.c.continuous 1` typed into the
+/// running image. No unwind, no fault, no homing after the first
+/// set-point but the open-loop axes' day re-homing (which seeks the index
+/// and returns to the branch followed): the axis follows the sun round
+/// past its index (the switch closes as it passes, and the drive does not
+/// stop there), ends beyond ±180°, and every
+/// set-point is reached (the decoded angle within a step of it, modulo a
+/// turn) with its panel normal within 0.05° of SPA's sun, as in (q).
+#[test]
+fn u_continuous_c_axis_passes_its_index_and_never_unwinds() {
+    let elf = elf_or_skip!();
+    let start = t("2026-06-10T22:00:00Z");
+    let minutes = 100.0;
+    let feed = lying_feed(start, minutes, LIE_PERIOD_S, |_, u| {
+        (gps_site(TROMSO.0, TROMSO.1), u)
+    });
+    let run = MegaBench::mega(&elf)
+        .field(Field::wmm2025(TROMSO.0, TROMSO.1, 0.48, (2026, 6, 10)))
+        .start(start)
+        .rtc(Rtc::Valid)
+        .gps(feed)
+        .continuous_c()
+        .type_at(0.5, "set axis.c.continuous 1")
+        .run_minutes(minutes)
+        .unwrap();
+    report("u", &run);
+    let modes = run.modes();
+    println!(
+        "u: modes {modes:?}; faults: {}",
+        faults_summary(&run, start)
+    );
+    assert!(
+        run.lines.iter().any(|l| l.text == "ok axis.c.continuous=1"),
+        "the key was not taken"
+    );
+    assert!(modes.iter().all(|(_, m)| m != "unwind"), "{modes:?}");
+    let first_tracking_s = modes
+        .iter()
+        .find(|(_, m)| m == "tracking")
+        .map(|(t, _)| *t)
+        .expect("tracking");
+    // Tracking throughout but for the open-loop axes' one re-homing of
+    // the new day (a few minutes after 22:44Z, the scheduler's day
+    // boundary near the sun's lowest).
+    let after = modes_after(&run, first_tracking_s + 1.0);
+    assert!(
+        after.iter().all(|m| *m == "tracking" || *m == "homing")
+            && after.iter().filter(|m| **m == "homing").count() <= 1
+            && after.last() == Some(&"tracking"),
+        "{modes:?}"
+    );
+    assert!(
+        !run.lines
+            .iter()
+            .any(|l| l.utc_s > first_tracking_s
+                && matches!(l.event, Event::Fault { raised: true, .. })),
+        "faults: {}",
+        faults_summary(&run, start)
+    );
+    // The index passed while tracking, and the axis on beyond it.
+    let passes = run
+        .switch_events
+        .iter()
+        .filter(|e| e.switch == 0 && e.closed && e.utc_s > first_tracking_s)
+        .count();
+    println!(
+        "u: index passed {passes} times; final C {:.3}",
+        run.final_angles.0
+    );
+    assert!(passes >= 1);
+    assert!(run.final_angles.0.abs() > 180.0);
+    // Every set-point reached and on the sun; the decoded angle counts
+    // turns, the set-points do not.
+    let sps: Vec<_> = set_points(&run)
+        .into_iter()
+        .filter(|s| s.0.utc_s > first_tracking_s)
+        .collect();
+    // The 4-minute table over some 90 minutes of tracking.
+    assert!(sps.len() >= 20, "{} set-points", sps.len());
+    let homings: Vec<f64> = modes
+        .iter()
+        .filter(|(t, m)| m == "homing" && *t > first_tracking_s)
+        .map(|(t, _)| *t)
+        .collect();
+    let mut worst_pointing: f64 = 0.0;
+    for w in sps.windows(2) {
+        let (line, utc, c, a) = w[0];
+        let next = w[1].0;
+        // (The axes leave a set-point for the day's re-homing.)
+        if homings.iter().any(|h| *h > line.utc_s && *h < next.utc_s) {
+            continue;
+        }
+        let dc = (next.c_start_deg - c + 540.0).rem_euclid(360.0) - 180.0;
+        let da = next.a_start_deg - a;
+        assert!(
+            dc.abs() <= ANGLE_TOL_DEG && da.abs() <= ANGLE_TOL_DEG,
+            "set-point {} c={c} a={a}: axes at C {:.4} A {:.4} before the next one",
+            format_utc(utc),
+            next.c_start_deg,
+            next.a_start_deg
+        );
+        let pose = Pose {
+            gamma_deg: c,
+            alpha_deg: a,
+        };
+        let normal = MountAttitude::level().normal_xyz(&pose);
+        let err = angle_between_deg(&normal, &sun_at(TROMSO.0, TROMSO.1, utc));
+        worst_pointing = worst_pointing.max(err);
+        assert!(
+            err <= LIE_POINTING_TOL_DEG,
+            "{}: {err:.4}°",
+            format_utc(utc)
+        );
+    }
+    println!(
+        "u: {} set-points, worst pointing {worst_pointing:.4}°",
+        sps.len()
+    );
+    assert_no_illegal_steps(&run);
+}
+
 /// The mode logged last at or before emulated UTC `at_s` (the power-on
 /// mode before the first).
 fn mode_at(modes: &[(f64, String)], at_s: f64) -> &str {

@@ -491,7 +491,10 @@ fn motor_plants(args: &Args, config: &Config) -> Result<[MotorPlant; 2], String>
     if c.continuous != 0 {
         c_plant.make_continuous();
     }
-    Ok([c_plant, plant(f64::from(a.min_deg), f64::from(a.max_deg), 20.0)])
+    Ok([
+        c_plant,
+        plant(f64::from(a.min_deg), f64::from(a.max_deg), 20.0),
+    ])
 }
 
 /// The DC axis: `sim::dc_drive`'s worm slew axis on a BTS7960 with a

@@ -20,6 +20,11 @@ const SWITCH_TOL_DEG: f64 = 1e-9;
 /// to it, once a turn, degrees.
 const INDEX_ARC_DEG: f64 = 5.0;
 
+/// `deg` within the turn, 0 ≤ … < 360°.
+fn turn_of(deg: f64) -> f64 {
+    deg - 360.0 * libm::floor(deg / 360.0)
+}
+
 /// Faults a run injects into one axis's hardware.
 #[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
 pub struct Injected {
@@ -254,7 +259,7 @@ impl MotorPlant {
         let at = if self.continuous {
             // Above the switch within the turn, `INDEX_ARC_DEG` below it
             // counted as 360° − that.
-            let w = (self.output_deg - self.switch_deg - SWITCH_TOL_DEG).rem_euclid(360.0);
+            let w = turn_of(self.output_deg - self.switch_deg - SWITCH_TOL_DEG);
             w == 0.0 || w >= 360.0 - INDEX_ARC_DEG - SWITCH_TOL_DEG
         } else {
             self.output_deg <= self.switch_deg + SWITCH_TOL_DEG
@@ -276,7 +281,7 @@ impl MotorPlant {
         let motor_at_switch = self.switch_deg + SWITCH_TOL_DEG - half;
         let above_deg = if self.continuous {
             // The index next met turning down.
-            (self.motor_deg - motor_at_switch).rem_euclid(360.0)
+            turn_of(self.motor_deg - motor_at_switch)
         } else {
             self.motor_deg - motor_at_switch
         };
@@ -359,7 +364,7 @@ impl AxisDrive for MotorPlant {
         }
         // Absolute within a turn on an axis that turns without end.
         let deg = if self.continuous {
-            self.output_deg.rem_euclid(360.0)
+            turn_of(self.output_deg)
         } else {
             self.output_deg
         };

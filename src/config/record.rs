@@ -31,7 +31,11 @@ impl Record for Config {
     const MAGIC: [u8; 4] = MAGIC;
     const VERSION: u16 = LAYOUT_VERSION;
     const PAYLOAD_LEN: usize = PAYLOAD_LEN;
-    const PREVIOUS: &'static [(u16, usize)] = &[(4, PAYLOAD_LEN_V4), (3, PAYLOAD_LEN_V3), (2, PAYLOAD_LEN_V2)];
+    const PREVIOUS: &'static [(u16, usize)] = &[
+        (4, PAYLOAD_LEN_V4),
+        (3, PAYLOAD_LEN_V3),
+        (2, PAYLOAD_LEN_V2),
+    ];
     fn encode(&self, buf: &mut [u8]) -> Option<usize> {
         Config::encode(self, buf)
     }

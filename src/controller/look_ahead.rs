@@ -88,7 +88,14 @@ where
     pub(super) fn begin_look_ahead(&mut self, now: UtcTime) -> bool {
         self.branch_anchor = None;
         self.branch_search = None;
-        let here = self.counted_pose();
+        // A C axis that turns without end keeps the branch it followed
+        // (the last pose commanded) through a night's re-homing: both
+        // branches serve the day alike, and the homed pose would pick the
+        // other one (a swing for nothing).
+        let here = match self.axes.first() {
+            Some(c) if c.is_continuous() && self.pose_commanded => self.pose,
+            _ => self.counted_pose(),
+        };
         let sampled = self.scheduler.real_time();
         let (path, first) = if sampled {
             let Some(first) = self.scheduler.applied() else {

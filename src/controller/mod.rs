@@ -504,7 +504,9 @@ where
     /// count taken back within the turn above its switch, and every pose
     /// kept in degrees by as many turns, so that counts and poses stay in
     /// one frame (and small) however many turns the axis makes. Not while
-    /// a search holds poses of its own (a few ticks).
+    /// a search holds poses of its own (a few ticks). Out of line on the
+    /// AVR: once a tick, not in `tick`'s frame.
+    #[cfg_attr(target_arch = "avr", inline(never))]
     fn keep_c_within_a_turn(&mut self) {
         let searching = matches!(self.night_pose, Some(look_ahead::NightPose::Searching(..)));
         if self.branch_search.is_some() || searching {

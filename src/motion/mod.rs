@@ -264,11 +264,7 @@ impl Geometry {
                 SPEED_RANGE_DEG_S.0,
                 SPEED_RANGE_DEG_S.1,
             ),
-            turn_counts: if c.continuous != 0 {
-                turn_counts(c)
-            } else {
-                0
-            },
+            turn_counts: if c.continuous != 0 { turn_counts(c) } else { 0 },
         }
     }
 
@@ -315,15 +311,24 @@ impl Geometry {
 /// beyond 2^24.
 fn turn_counts(c: &AxisConfig) -> i32 {
     let gear = c.gear_ratio as i32;
-    if gear as f32 != c.gear_ratio {
+    let cpd = c.counts_per_deg();
+    // Bounded first by the counts per degree (in `f32`, within a
+    // millionth): the exact product below is then under 3.6 × 10^8 × (1 +
+    // 10^-6), far inside `i32`, and plain (wrapping) products compute it.
+    // (`checked_mul` links the runtime's overflow-checking product, which
+    // on the AVR ran the stack into the static RAM.)
+    if gear as f32 != c.gear_ratio || gear <= 0 || !(cpd > 0.0 && cpd <= 1e6) {
         return 0;
     }
-    i32::try_from(c.counts_per_motor_rev)
-        .ok()
-        .and_then(|n| n.checked_mul(i32::from(c.microsteps)))
-        .and_then(|n| n.checked_mul(gear))
-        .filter(|&n| n > 0 && n <= MAX_TURN_COUNTS)
-        .unwrap_or(0)
+    let n = c
+        .counts_per_motor_rev
+        .wrapping_mul(u32::from(c.microsteps))
+        .wrapping_mul(gear as u32);
+    if n > 0 && n <= MAX_TURN_COUNTS as u32 {
+        n as i32
+    } else {
+        0
+    }
 }
 
 /// Largest turn of an axis that turns without end, motor counts: 360° at
@@ -417,12 +422,18 @@ impl<D: AxisDrive> AxisController<D> {
     /// counts per motor revolution, microsteps and gear ratio; the home
     /// switch's angle), the counted position no longer means the same
     /// angle: the axis forgets its reference and homes again as at
-    /// power-on. New limits, speed, dead band or backlash apply from the
-    /// next move.
+    /// power-on. New limits, speed, dead band, backlash or `continuous`
+    /// apply from the next move.
     pub fn set_config(&mut self, config: AxisConfig) {
         let new = Geometry::of(&config);
         let scale_same =
             new.counts_per_deg == self.geo.counts_per_deg && new.home_deg == self.geo.home_deg;
+        // A homed axis made one that turns without end passes its switch
+        // from now on; made one between limits, stops at it again.
+        let endless = new.turn_counts != 0;
+        if endless != (self.geo.turn_counts != 0) && self.home == HomeState::Done {
+            self.drive.switch_stops(!endless);
+        }
         self.geo = new;
         if !scale_same {
             self.home = HomeState::Idle;
@@ -506,15 +517,17 @@ impl<D: AxisDrive> AxisController<D> {
     }
 
     /// How far above its home switch the axis is, degrees: on an axis
-    /// that turns without end, within the turn (the switch is passed once
-    /// a turn; within [`HOMING_BACKOFF_MAX_DEG`] below it counts as at
-    /// it, negative).
+    /// that turns without end, where it is now (the counted position less
+    /// the counts the drive has still to run: a move passes the switch
+    /// once a turn) within the turn, within [`HOMING_BACKOFF_MAX_DEG`]
+    /// below the switch counting as at it (negative).
     pub fn above_home_deg(&self) -> f32 {
         let turn = self.geo.turn_counts;
         if turn == 0 {
             return self.counted_deg() - self.geo.home_deg;
         }
-        let d = self.position_counts.rem_euclid(turn) as f32 / self.geo.counts_per_deg;
+        let now = sat_sub(self.position_counts, self.drive.pending());
+        let d = now.wrapping_rem_euclid(turn) as f32 / self.geo.counts_per_deg;
         if d > 360.0 - HOMING_BACKOFF_MAX_DEG {
             d - 360.0
         } else {
@@ -534,14 +547,15 @@ impl<D: AxisDrive> AxisController<D> {
         if turn == 0 || self.home != HomeState::Done {
             return 0;
         }
-        let within = self.position_counts.rem_euclid(turn);
+        let within = self.position_counts.wrapping_rem_euclid(turn);
         let shift = sat_sub(self.position_counts, within);
         if shift == 0 {
             return 0;
         }
         self.position_counts = within;
         self.drive.rebase_counts(shift);
-        shift / turn
+        // `turn` > 0 (no overflow: the wrapping forms have no panic path).
+        shift.wrapping_div(turn)
     }
 
     /// Commands `c` counts and returns them; the caller accounts the

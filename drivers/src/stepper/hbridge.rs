@@ -189,14 +189,14 @@ pub struct HBridgeStepper<P, L> {
     /// The coils have been energised at `phase` since power-on: the rotor
     /// rests there (before that its phase is unknown).
     rotor_at_phase: bool,
+    /// The `min` switch does not stop motion toward it (see
+    /// [`HBridgeStepper::set_min_limit`]).
+    min_limit_off: bool,
     release_at_us: Option<u64>,
     planner: Planner,
     config: Config,
     pins: BridgePins<P>,
     limits: LimitSwitches<L>,
-    /// The `min` switch stops motion toward it (see
-    /// [`HBridgeStepper::set_min_limit`]).
-    min_limit_on: bool,
 }
 
 impl<P, L, E> HBridgeStepper<P, L>
@@ -240,7 +240,7 @@ where
             energised: false,
             rotor_at_phase: false,
             release_at_us: None,
-            min_limit_on: true,
+            min_limit_off: false,
         })
     }
 
@@ -249,7 +249,7 @@ where
     /// whose home switch is an index it passes once a turn: its owner
     /// turns it on for homing only. The `max` switch always stops.
     pub fn set_min_limit(&mut self, on: bool) {
-        self.min_limit_on = on;
+        self.min_limit_off = !on;
     }
 
     /// Gives the pins back.
@@ -596,11 +596,10 @@ where
             }
             Due::Wait => Ok(Event::Waiting),
             Due::Step(dir) => {
-                let watched = self.min_limit_on || dir == Direction::Forward;
-                let blocked = if watched {
-                    self.limits.blocking(dir).map_err(Error::Comm)?
-                } else {
+                let blocked = if dir == Direction::Backward && self.min_limit_off {
                     None
+                } else {
+                    self.limits.blocking(dir).map_err(Error::Comm)?
                 };
                 if let Some(limit) = blocked {
                     self.planner.halt();

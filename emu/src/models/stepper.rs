@@ -61,7 +61,14 @@ pub struct AxisGeometry {
     pub home_deg: f64,
     /// Max-end switch closed at and above this angle.
     pub max_deg: f64,
+    /// The axis turns without end (a slip ring): no max-end switch, and
+    /// the home switch an index cam closed from [`INDEX_ARC_DEG`] below
+    /// `home_deg` up to it, once a turn.
+    pub continuous: bool,
 }
+
+/// Arc of the index cam of an axis that turns without end, degrees.
+pub const INDEX_ARC_DEG: f64 = 5.0;
 
 impl AxisGeometry {
     /// 200-step motor, 50:1 gear: 10,000 full steps per turn.
@@ -73,6 +80,15 @@ impl AxisGeometry {
             half_steps_per_deg: Self::HALF_STEPS_PER_DEG,
             home_deg: -180.0,
             max_deg: 181.0,
+            continuous: false,
+        }
+    }
+
+    /// C axis turning without end: the index at −180° (≡ 180°).
+    pub fn c_axis_continuous() -> Self {
+        AxisGeometry {
+            continuous: true,
+            ..Self::c_axis()
         }
     }
 
@@ -82,6 +98,7 @@ impl AxisGeometry {
             half_steps_per_deg: Self::HALF_STEPS_PER_DEG,
             home_deg: -90.0,
             max_deg: 91.0,
+            continuous: false,
         }
     }
 }
@@ -143,12 +160,19 @@ impl StepperDecoder {
 
     /// Home switch closed (angle at or below the home angle).
     pub fn home_closed(&self) -> bool {
-        self.angle_deg() <= self.geometry.home_deg + 1e-9
+        let g = &self.geometry;
+        if g.continuous {
+            // Above the index within the turn; the cam's arc below it
+            // counts as 360° − that.
+            let w = (self.angle_deg() - g.home_deg - 1e-9).rem_euclid(360.0);
+            return w == 0.0 || w >= 360.0 - INDEX_ARC_DEG - 1e-9;
+        }
+        self.angle_deg() <= g.home_deg + 1e-9
     }
 
-    /// Max-end switch closed.
+    /// Max-end switch closed (never on an axis that turns without end).
     pub fn max_closed(&self) -> bool {
-        self.angle_deg() >= self.geometry.max_deg - 1e-9
+        !self.geometry.continuous && self.angle_deg() >= self.geometry.max_deg - 1e-9
     }
 
     /// The power was cut at CPU cycle `cycle`: the bridge inputs fall
