@@ -774,8 +774,6 @@ fn simulate_with<P: SimAxis>(
     // The motor supply the trace reports: the regulated 12 V, or the
     // battery's voltage of the day.
     let mut supply_v = 12.0;
-    // The supply the plants have: the model's, or a weather day's sag.
-    let mut plant_supply_v = supply_v;
     // The sky of `--weather`: a day overcast three times in ten, on its own
     // random stream; the energy on the panel with the diffuse light (an
     // isotropic sky: B. Y. H. Liu and R. C. Jordan (1960)); the motor moves
@@ -791,7 +789,11 @@ fn simulate_with<P: SimAxis>(
             overcast_days += u32::from(overcast_day);
         }
         if args.supply == Supply::Battery && m % 1440 == 0 {
-            supply_v = supply_rng.uniform(11.9, 12.7);
+            let v = supply_rng.uniform(11.9, 12.7);
+            supply_v = v;
+            for ax in ctl.axes_mut().iter_mut() {
+                ax.drive_mut().set_supply_v(v);
+            }
         }
         let now = args
             .start
@@ -921,17 +923,10 @@ fn simulate_with<P: SimAxis>(
             None => CALM_M_S * anemometer.hz_per_m_s,
         };
         receiver.fix = world.gps_on && !active(&|k| k == Kind::GpsLost);
-        // The weather days of --faults: the stow inputs, the supply (the
-        // motors' too) and the sky.
+        // The weather days of --faults: the stow inputs, the supply input
+        // (what it reads, as a scenario's `supply_mv` sets it: the motors
+        // keep the model's supply) and the sky.
         let weather_on = |k: Kind| weather.iter().any(|w| w.kind == k && w.covers(m));
-        let supply_now_v =
-            schedule::supply_mv(&weather, m).map_or(supply_v, |mv| f64::from(mv) / 1000.0);
-        if supply_now_v != plant_supply_v {
-            plant_supply_v = supply_now_v;
-            for ax in ctl.axes_mut().iter_mut() {
-                ax.drive_mut().set_supply_v(plant_supply_v);
-            }
-        }
         let sky_factor = schedule::sky_fraction(&weather, m)
             .unwrap_or(1.0)
             .min(if overcast_day {
@@ -1020,11 +1015,12 @@ fn simulate_with<P: SimAxis>(
         // The stow inputs as pins: the plant's contact at its active level
         // while on.
         let active_high = ctl.config().stow.external_active != 0;
-        // The supply input: the model's supply, or what a scenario makes
-        // it read (0: the ADC at its rail).
+        // The supply input: the model's supply, or what a scenario or a
+        // weather day makes it read (0: the ADC at its rail).
         let supply_mv = world
             .supply_reading_mv
-            .unwrap_or_else(|| (plant_supply_v * 1000.0).round() as u16);
+            .or_else(|| schedule::supply_mv(&weather, m))
+            .unwrap_or_else(|| (supply_v * 1000.0).round() as u16);
         // The horizontal pyranometer: the clear sky's global irradiance at
         // the true sun (B. Haurwitz (1945)), or what a scenario makes it
         // read.
