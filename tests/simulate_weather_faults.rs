@@ -17,44 +17,43 @@ mod run;
 #[allow(dead_code)]
 mod schedule;
 
+use std::io::BufRead;
+
 use schedule::{Kind, Window};
+use suntracker::safety::Mode;
 
 /// Kano (the tool's default site), a year of 2026.
 const LON_DEG: f64 = 8.4261;
 const DAYS: u32 = 365;
 const SEED: u64 = 1;
 
-/// The modes in `safety::select_mode`'s order: each outranks those after
-/// it (`unwind` is tracking's move to another branch).
-const PRIORITY: [&str; 15] = [
-    "service",
-    "safe_stop",
-    "wind_stow",
-    "hail_stow",
-    "external_stow",
-    "snow_stow",
-    "low_supply_stow",
-    "command_stow",
-    "manual",
-    "wait_for_time",
-    "night",
-    "homing",
-    "overcast",
-    "tracking",
-    "unwind",
+/// The weather stows' modes.
+const WEATHER_MODES: [Mode; 5] = [
+    Mode::SnowStow,
+    Mode::HailStow,
+    Mode::ExternalStow,
+    Mode::LowSupplyStow,
+    Mode::Overcast,
 ];
 
-fn rank(mode: &str) -> usize {
-    let i = PRIORITY
-        .iter()
-        .position(|m| *m == mode)
-        .unwrap_or_else(|| panic!("unknown mode {mode}"));
-    i.min(13)
+/// The mode a trace names.
+fn mode(name: &str) -> Mode {
+    run::svg::MODES
+        .into_iter()
+        .find(|m| m.name().as_str() == name)
+        .unwrap_or_else(|| panic!("unknown mode {name}"))
+}
+
+/// A mode's priority, 0 the highest: `Mode` is declared in
+/// `safety::select_mode`'s order (`unwind`, tracking's move to another
+/// branch, after tracking).
+fn rank(m: Mode) -> usize {
+    (m as usize).min(Mode::Tracking as usize)
 }
 
 /// The trace's columns these checks read.
 struct Row {
-    mode: &'static str,
+    mode: Mode,
     zenith_deg: f64,
     pointing_deg: Option<f64>,
     supply_mv: f64,
@@ -63,83 +62,70 @@ struct Row {
 /// A weather spell's mode, and how long after its input clears the mode
 /// may last (`stow.snow_release_s`, `stow.hail_release_s`,
 /// `overcast.leave_s` at their defaults), minutes.
-fn mode_of(kind: Kind) -> Option<(&'static str, u32)> {
+fn mode_of(kind: Kind) -> Option<(Mode, u32)> {
     match kind {
-        Kind::Snow => Some(("snow_stow", 60)),
-        Kind::Hail => Some(("hail_stow", 30)),
-        Kind::StowContact => Some(("external_stow", 0)),
-        Kind::LowSupply(_) => Some(("low_supply_stow", 0)),
-        Kind::Overcast(_) => Some(("overcast", 10)),
+        Kind::Snow => Some((Mode::SnowStow, 60)),
+        Kind::Hail => Some((Mode::HailStow, 30)),
+        Kind::StowContact => Some((Mode::ExternalStow, 0)),
+        Kind::LowSupply(_) => Some((Mode::LowSupplyStow, 0)),
+        Kind::Overcast(_) => Some((Mode::Overcast, 10)),
         _ => None,
     }
 }
 
+/// The year's summary and its trace's rows.
 fn run_year() -> (String, Vec<Row>) {
     let mut trace = std::env::temp_dir();
     trace.push(format!(
         "simulate_weather_faults_{}.csv",
         std::process::id()
     ));
-    let trace_s = trace.to_string_lossy().to_string();
     let days = DAYS.to_string();
-    let args: Vec<String> = [
-        "--start",
-        "2026-01-01",
-        "--days",
-        &days,
-        "--faults",
-        "--trace",
-        &trace_s,
-    ]
-    .iter()
-    .map(|s| s.to_string())
-    .collect();
-    let (mut out, mut err) = (Vec::new(), Vec::new());
+    let args: Vec<String> = vec![
+        "--start".into(),
+        "2026-01-01".into(),
+        "--days".into(),
+        days,
+        "--faults".into(),
+        "--trace".into(),
+        trace.to_string_lossy().into_owned(),
+    ];
+    let mut out = Vec::new();
+    let mut err = Vec::new();
     let code = run::run(&args, &mut out, &mut err);
     assert_eq!(code, 0, "{}", String::from_utf8_lossy(&err));
-    let out = String::from_utf8(out).expect("utf8");
-    let text = std::fs::read_to_string(&trace).expect("trace written");
+    // Read as it streams: a year is half a million rows.
+    let file = std::fs::File::open(&trace).expect("trace written");
+    let mut rows = Vec::with_capacity((DAYS * 1440) as usize);
+    for line in std::io::BufReader::new(file).lines().skip(1) {
+        let l = line.expect("trace line");
+        let f: Vec<&str> = l.split(',').collect();
+        assert_eq!(f.len(), 17, "{l}");
+        let number = |s: &str| s.parse::<f64>().unwrap_or_else(|_| panic!("{l}"));
+        rows.push(Row {
+            mode: mode(f[2]),
+            zenith_deg: number(f[9]),
+            pointing_deg: (!f[11].is_empty()).then(|| number(f[11])),
+            supply_mv: number(f[16]),
+        });
+    }
     let _ = std::fs::remove_file(&trace);
-    let rows = text
-        .lines()
-        .skip(1)
-        .map(|l| {
-            let f: Vec<&str> = l.split(',').collect();
-            assert_eq!(f.len(), 17, "{l}");
-            let number = |s: &str| s.parse::<f64>().unwrap_or_else(|_| panic!("{l}"));
-            Row {
-                mode: PRIORITY[PRIORITY
-                    .iter()
-                    .position(|m| *m == f[2])
-                    .unwrap_or_else(|| panic!("mode: {l}"))],
-                zenith_deg: number(f[9]),
-                pointing_deg: (!f[11].is_empty()).then(|| number(f[11])),
-                supply_mv: number(f[16]),
-            }
-        })
-        .collect();
-    (out, rows)
+    (String::from_utf8(out).expect("utf8"), rows)
 }
 
 #[test]
 fn a_faults_year_enters_every_weather_stow_and_tracks_again_after_each() {
     let draws = run::draws(SEED, DAYS, LON_DEG, true);
-    let spells: Vec<(Window, &str, u32)> = draws
+    let spells: Vec<(Window, Mode, u32)> = draws
         .weather
         .iter()
         .filter_map(|w| mode_of(w.kind).map(|(mode, release)| (*w, mode, release)))
         .collect();
     assert_eq!(spells.len(), draws.weather.len());
     // A handful of each a year, and some of them meet a fault.
-    for mode in [
-        "snow_stow",
-        "hail_stow",
-        "external_stow",
-        "low_supply_stow",
-        "overcast",
-    ] {
-        let n = spells.iter().filter(|s| s.1 == mode).count();
-        assert!((3..=10).contains(&n), "{n} spells of {mode}");
+    for want in WEATHER_MODES {
+        let n = spells.iter().filter(|s| s.1 == want).count();
+        assert!((3..=10).contains(&n), "{n} spells of {want:?}");
     }
     assert!(
         spells.iter().any(|(w, _, _)| draws
@@ -157,13 +143,13 @@ fn a_faults_year_enters_every_weather_stow_and_tracks_again_after_each() {
     );
     assert_eq!(rows.len(), (DAYS * 1440) as usize);
     let daylight = |m: u32| rows[m as usize].zenith_deg < 90.0;
+    let at = |m: u32| rows[m as usize].mode;
 
-    let mut entered = std::collections::BTreeMap::<&str, u32>::new();
-    for (w, mode, release) in &spells {
+    let mut entered = [0u32; WEATHER_MODES.len()];
+    for &(w, want, release) in &spells {
         let (from, until) = (w.from, w.until);
-        let outranked = |m: u32| rank(rows[m as usize].mode) < rank(mode);
-        let spell = |m: u32| rows[m as usize].mode == *mode;
-        if *mode == "overcast" {
+        let outranked = |m: u32| rank(at(m)) < rank(want);
+        if want == Mode::Overcast {
             // The pyranometer reads a tenth to a quarter of the clear sky:
             // under overcast.ratio 0.3, flat after overcast.enter_s (10
             // minutes) of daylight, never tracking once in. Within a few
@@ -174,13 +160,12 @@ fn a_faults_year_enters_every_weather_stow_and_tracks_again_after_each() {
             let mut since_in: Option<u32> = None;
             for m in from..until {
                 daylight_min = if daylight(m) { daylight_min + 1 } else { 0 };
-                since_in = if spell(m) {
+                since_in = if at(m) == want {
                     Some(m)
                 } else {
                     since_in.filter(|_| daylight(m))
                 };
-                let r = &rows[m as usize];
-                if matches!(r.mode, "tracking" | "unwind") {
+                if matches!(at(m), Mode::Tracking | Mode::Unwind) {
                     assert!(
                         since_in.is_none() && daylight_min <= 30,
                         "overcast spell {from}..{until}: tracking at minute {m}"
@@ -192,19 +177,20 @@ fn a_faults_year_enters_every_weather_stow_and_tracks_again_after_each() {
             // above it, from then to its end.
             for m in from..until {
                 assert!(
-                    spell(m) || outranked(m),
-                    "{mode} spell {from}..{until}: {} at minute {m}",
-                    rows[m as usize].mode
+                    at(m) == want || outranked(m),
+                    "{want:?} spell {from}..{until}: {:?} at minute {m}",
+                    at(m)
                 );
             }
         }
-        let was_entered = (from..until + release).any(spell);
-        if was_entered {
-            *entered.entry(mode).or_default() += 1;
+        if (from..until + release).any(|m| at(m) == want) {
+            if let Some(i) = WEATHER_MODES.iter().position(|x| *x == want) {
+                entered[i] += 1;
+            }
         } else {
             assert!(
                 (from..until).all(outranked),
-                "{mode} spell {from}..{until} never entered"
+                "{want:?} spell {from}..{until} never entered"
             );
         }
         if let Kind::LowSupply(sag_mv) = w.kind {
@@ -218,47 +204,38 @@ fn a_faults_year_enters_every_weather_stow_and_tracks_again_after_each() {
                 // Below the stow level, then between the levels (held by
                 // hysteresis), then charged above the resume level; then
                 // the regulated 12 V again.
-                assert_eq!(rows[from as usize].supply_mv, f64::from(sag_mv));
+                let mv = |m: u32| rows[m as usize].supply_mv;
                 assert!(f64::from(sag_mv) < 11_500.0);
-                assert_eq!(rows[until as usize - 1].supply_mv, 11_900.0);
-                assert_eq!(rows[until as usize].supply_mv, 12_600.0);
-                assert_eq!(rows[until as usize + 60].supply_mv, 12_000.0);
-                assert_ne!(rows[until as usize].mode, "low_supply_stow");
+                assert_eq!(mv(from), f64::from(sag_mv));
+                assert_eq!(mv(until - 1), 11_900.0);
+                assert_eq!(mv(until), 12_600.0);
+                assert_eq!(mv(until + 60), 12_000.0);
+                assert_ne!(at(until), Mode::LowSupplyStow);
             }
         }
         // Tracking again within two days of the release (a night, a safe
         // stop until the technician's visit the next morning).
         let after = until + release;
-        let back = (after..after + 2 * 1440).find(|m| rows[*m as usize].mode == "tracking");
         assert!(
-            back.is_some(),
-            "{mode} spell {from}..{until}: no tracking in the two days after"
+            (after..after + 2 * 1440).any(|m| at(m) == Mode::Tracking),
+            "{want:?} spell {from}..{until}: no tracking in the two days after"
         );
     }
-    for mode in [
-        "snow_stow",
-        "hail_stow",
-        "external_stow",
-        "low_supply_stow",
-        "overcast",
-    ] {
-        assert!(
-            entered.get(mode).copied().unwrap_or(0) >= 1,
-            "{mode}: {entered:?}"
-        );
-    }
+    assert!(entered.iter().all(|n| *n >= 1), "entered {entered:?}");
 
     // The summary's minutes and entries per mode are the trace's.
     let line = out
         .lines()
         .find_map(|l| l.strip_prefix("modes (minutes / entries): "))
         .unwrap_or_else(|| panic!("no modes line: {out}"));
+    assert_eq!(line.split(", ").count(), run::svg::MODES.len(), "{line}");
     for item in line.split(", ") {
         let (name, figures) = item.split_once(' ').expect("mode figures");
         let (minutes, entries) = figures.split_once(" / ").expect("minutes / entries");
-        let in_mode = rows.iter().filter(|r| r.mode == name).count();
+        let named = mode(name);
+        let in_mode = rows.iter().filter(|r| r.mode == named).count();
         let entries_in_trace = (0..rows.len())
-            .filter(|&m| rows[m].mode == name && (m == 0 || rows[m - 1].mode != name))
+            .filter(|&m| rows[m].mode == named && (m == 0 || rows[m - 1].mode != named))
             .count();
         assert_eq!(minutes.parse::<usize>().ok(), Some(in_mode), "{item}");
         assert_eq!(
@@ -267,12 +244,11 @@ fn a_faults_year_enters_every_weather_stow_and_tracks_again_after_each() {
             "{item}"
         );
     }
-    assert_eq!(line.split(", ").count(), PRIORITY.len(), "{line}");
 
     // Pointing while tracking, from the trace.
     let mut errors: Vec<f64> = rows
         .iter()
-        .filter(|r| r.mode == "tracking")
+        .filter(|r| r.mode == Mode::Tracking)
         .filter_map(|r| r.pointing_deg)
         .collect();
     errors.sort_by(f64::total_cmp);
