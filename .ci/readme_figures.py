@@ -546,6 +546,46 @@ figure(
 )
 
 
+# --- a --faults year's modes: minutes in each and times entered, at Kano
+# and Tromsø (one table), and the weather days of the schedule
+SIM_MODES = r"^modes \(minutes / entries\): (?P<modes>.*?)\s*$"
+
+
+def sim_modes(kano, tromso):
+    def parse(out):
+        items = [m.rsplit(" ", 3) for m in rx(out, SIM_MODES)["modes"].split(", ")]
+        return {name: (int(minutes), int(entries)) for name, minutes, _, entries in items}
+
+    k, t = parse(kano), parse(tromso)
+    if list(k) != list(t):
+        raise Unreadable("the two runs list different modes")
+    rows = [
+        f"| {name} | {thousands(k[name][0])} | {k[name][1]} | {thousands(t[name][0])} | {t[name][1]} |"
+        for name in k
+    ]
+    return {"rows": "\n".join(rows)}
+
+
+figure(
+    "sim.faults_modes",
+    ("sim_kano_stepper_encoder_faults", "sim_tromso_stepper_encoder_faults"),
+    sim_modes,
+    "| mode | Kano: minutes | entries | Tromsø: minutes | entries |\n|---|---|---|---|---|\n{rows}",
+)
+
+SIM_WEATHER_DAYS = (
+    r"^weather days \(--faults\): (?P<days>snow .* overcast \d+ days); for the run supply.stow_mv "
+    r"(?P<stow>\d+), supply.resume_mv (?P<resume>\d+), overcast.ratio (?P<ratio>[0-9.]+)\s*$"
+)
+figure(
+    "sim.faults_weather_days",
+    "sim_kano_stepper_encoder_faults",
+    regex_reader(SIM_WEATHER_DAYS, stow=lambda s: thousands(int(s)), resume=lambda s: thousands(int(s))),
+    "`weather days (--faults): {days}` (the same at both sites); `supply.stow_mv` {stow}, "
+    "`supply.resume_mv` {resume}, `overcast.ratio` {ratio}",
+)
+
+
 # --- QEMU day summary
 def qemu_day(out):
     end = rx(out, r"^end ms=\d+ ticks=\d+ setpoints=(?P<n>\d+) faults_active=(?P<faults>\d+) ")

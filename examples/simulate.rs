@@ -30,7 +30,11 @@
 //! once a year each, clock steps both ways, a week-rollover GPS date, an
 //! impossible GPS position, a limit switch stuck closed and an RTC power
 //! loss while GPS is off; a technician clears a safe stop the next morning
-//! once the injected cause is gone.
+//! once the injected cause is gone. It adds weather days too, a handful of
+//! each kind a year (`simulate_support/schedule.rs`): snow, hail warnings,
+//! the plant's stow contact, a sagging supply and overcast days, with the
+//! supply watch and the overcast mode turned on for the run. The summary
+//! counts the minutes in each mode and the times each was entered.
 //!
 //! `--svg OUT.svg` draws the run (`simulate_support/svg.rs`): the pointing
 //! error while tracking, the controller's mode and the active faults over

@@ -52,6 +52,11 @@ const OVERCAST_GHI_FRACTION: f64 = 0.25;
 /// sky's global (about a tenth under a clean sky).
 const CLEAR_DIFFUSE_FRACTION: f64 = 0.1;
 
+/// `--faults`: `overcast.ratio` for the run's overcast days (the
+/// configuration's default 0 turns the mode off), as an installer with a
+/// pyranometer would set it.
+const FAULTS_OVERCAST_RATIO: f32 = 0.3;
+
 /// The program name in messages.
 pub const TOOL: &str = "simulate";
 
@@ -122,8 +127,11 @@ stow times; its last line holds the figures as key=value.",
             ),
             opt(
                 "--faults",
-                "add random daily conditions and yearly field incidents (a technician clears a \
-                 safe stop the next morning)",
+                "add random daily conditions, yearly field incidents (a technician clears a \
+                 safe stop the next morning) and weather days: snow, hail warnings, the plant's \
+                 stow contact, a low supply and overcast days, a handful of each a year, with \
+                 supply.stow_mv 11500, supply.resume_mv 12200 and overcast.ratio 0.3 for the run \
+                 (where not set otherwise)",
                 "off",
             ),
             opt("--seed N", "seed of the random sensor errors and faults", "1"),
@@ -310,6 +318,41 @@ pub fn parse_args(args: &[String]) -> Result<Parsed<Args>, String> {
     }
     Site::new(a.lat, a.lon).map_err(|e| format!("site: {e}"))?;
     Ok(Parsed::Run(a))
+}
+
+/// A run's seeded draws from `--seed`'s generator, in the order drawn: the
+/// attitude sensors' errors and noise seed, then with `--faults` the daily
+/// conditions, the incidents and the weather days (`schedule::weather`).
+/// The battery's charge and the sky of `--weather` have streams of their
+/// own.
+pub struct Draws {
+    pub accuracy: SensorAccuracy,
+    pub sensor_seed: u64,
+    pub windows: Vec<Window>,
+    pub incidents: Vec<Timed>,
+    pub weather: Vec<Window>,
+}
+
+/// The draws of a run of `days` at longitude `lon_deg`.
+pub fn draws(seed: u64, days: u32, lon_deg: f64, faults: bool) -> Draws {
+    let mut rng = SplitMix64::new(seed);
+    let accuracy = SensorAccuracy::li_2022(&mut rng);
+    let sensor_seed = rng.next_u64();
+    let (windows, incidents, weather) = if faults {
+        let windows = schedule::daily(days, &mut rng);
+        let incidents = schedule::incidents(days, &mut rng);
+        let weather = schedule::weather(days, lon_deg, &windows, &mut rng);
+        (windows, incidents, weather)
+    } else {
+        Default::default()
+    };
+    Draws {
+        accuracy,
+        sensor_seed,
+        windows,
+        incidents,
+        weather,
+    }
 }
 
 /// Reads and parses a scenario file; every bad line is reported.
@@ -543,7 +586,7 @@ fn simulate_with<P: SimAxis>(
     };
     let io_err = |e: std::io::Error| format!("write: {e}");
 
-    let mut rng = SplitMix64::new(args.seed);
+    let draws = draws(args.seed, args.days, args.lon, args.faults);
     let site = Site::new(args.lat, args.lon).map_err(|e| e.to_string())?;
     let algorithm = Algorithm::Psa2020;
     let mut truth_sun = AlgorithmSource {
@@ -585,6 +628,17 @@ fn simulate_with<P: SimAxis>(
     for ax in config.axes.iter_mut() {
         ax.deadband_deg = 0.02;
     }
+    if args.faults {
+        // The weather days' stows: the supply watch and the overcast mode,
+        // off by default, on for the run.
+        if config.supply.stow_mv == 0 {
+            config.supply.stow_mv = schedule::SUPPLY_STOW_MV;
+            config.supply.resume_mv = schedule::SUPPLY_RESUME_MV;
+        }
+        if config.overcast.ratio == 0.0 {
+            config.overcast.ratio = FAULTS_OVERCAST_RATIO;
+        }
+    }
     if let Some(r) = args.overcast_ratio {
         config.overcast.ratio = r;
     }
@@ -611,6 +665,7 @@ fn simulate_with<P: SimAxis>(
         }
         Drive::Stepper => {}
     }
+    let (run_supply, run_overcast_ratio) = (config.supply, config.overcast.ratio);
     // The configuration as stored on the board: a power cycle reloads it.
     let mut store = ConfigStore::new(MemStorage::<512>::new());
     store
@@ -628,8 +683,7 @@ fn simulate_with<P: SimAxis>(
     } else {
         MountAttitude::level()
     };
-    let accuracy = SensorAccuracy::li_2022(&mut rng);
-    let sensors = MountSensors::new(truth, accuracy, rng.next_u64());
+    let sensors = MountSensors::new(truth, draws.accuracy, draws.sensor_seed);
     // The timed drive has no feedback: open loop, re-homed every night
     // and after every stow.
     let timed = args.drive == Drive::Timed;
@@ -660,16 +714,15 @@ fn simulate_with<P: SimAxis>(
     };
     let mut ctl: Ctl<P> = new_controller(config, plants, Some(sensors))?;
 
-    let windows: Vec<Window> = if args.faults {
-        schedule::daily(args.days, &mut rng)
-    } else {
-        Vec::new()
-    };
+    let Draws {
+        windows,
+        incidents,
+        weather,
+        ..
+    } = draws;
     // Scenario events first (file order within a minute), then incidents.
     let mut events = scenario;
-    if args.faults {
-        events.extend(schedule::incidents(args.days, &mut rng));
-    }
+    events.extend(incidents);
     events.sort_by_key(|t| t.minute);
     let minutes = args.days * 1440;
     let ignored = events.iter().filter(|t| t.minute >= minutes).count();
@@ -720,6 +773,8 @@ fn simulate_with<P: SimAxis>(
     let (mut e_act, mut e_ideal, mut e_fixed) = (0.0f64, 0.0f64, 0.0f64);
     let (mut wind_min, mut cmd_min, mut wait_min, mut stop_min, mut home_min) = (0u32, 0, 0, 0, 0);
     let mut sched_errors = 0u32;
+    // Minutes in each mode and times it was entered (svg::MODES's order).
+    let (mut mode_min, mut mode_entries) = ([0u32; svg::MODES.len()], [0u32; svg::MODES.len()]);
     // Swings to another branch: the sun's elevation as each began; and
     // the minutes in tracking with the panel more than 1° off the sun,
     // once the first set-point after homing, a night or a stow was
@@ -893,6 +948,17 @@ fn simulate_with<P: SimAxis>(
             None => CALM_M_S * anemometer.hz_per_m_s,
         };
         receiver.fix = world.gps_on && !active(&|k| k == Kind::GpsLost);
+        // The weather days of --faults: the stow inputs, the supply input
+        // (what it reads, as a scenario's `supply_mv` sets it: the motors
+        // keep the model's supply) and the sky.
+        let weather_on = |k: Kind| weather.iter().any(|w| w.kind == k && w.covers(m));
+        let sky_factor = schedule::sky_fraction(&weather, m)
+            .unwrap_or(1.0)
+            .min(if overcast_day {
+                OVERCAST_GHI_FRACTION
+            } else {
+                1.0
+            });
         // A technician comes by the morning after a safe stop and clears it
         // once the hardware is repaired (the injected cause is gone).
         if args.faults {
@@ -974,20 +1040,16 @@ fn simulate_with<P: SimAxis>(
         // The stow inputs as pins: the plant's contact at its active level
         // while on.
         let active_high = ctl.config().stow.external_active != 0;
-        // The supply input: the model's supply, or what a scenario makes
-        // it read (0: the ADC at its rail).
+        // The supply input: the model's supply, or what a scenario or a
+        // weather day makes it read (0: the ADC at its rail).
         let supply_mv = world
             .supply_reading_mv
+            .or_else(|| schedule::supply_mv(&weather, m))
             .unwrap_or_else(|| (supply_v * 1000.0).round() as u16);
         // The horizontal pyranometer: the clear sky's global irradiance at
         // the true sun (B. Haurwitz (1945)), or what a scenario makes it
         // read.
         let true_zenith_deg = truth_sun.position(&now).ok().map(|s| s.zenith_deg);
-        let sky_factor = if overcast_day {
-            OVERCAST_GHI_FRACTION
-        } else {
-            1.0
-        };
         let irradiance_w_m2 = world.irradiance_w_m2.unwrap_or_else(|| {
             true_zenith_deg.map_or(0, |z| {
                 (f64::from(clear_sky_ghi_w_m2(z as f32)) * sky_factor).round() as u16
@@ -1002,9 +1064,9 @@ fn simulate_with<P: SimAxis>(
         };
         inputs.stow_inputs = StowInputs {
             irradiance_w_m2: Some(reading(irradiance_w_m2, world.irradiance_w_m2 == Some(0))),
-            snow: Some(world.snow),
-            hail: Some(world.hail),
-            external_high: Some(world.stow_input == active_high),
+            snow: Some(world.snow || weather_on(Kind::Snow)),
+            hail: Some(world.hail || weather_on(Kind::Hail)),
+            external_high: Some((world.stow_input || weather_on(Kind::StowContact)) == active_high),
             supply_mv: Some(reading(supply_mv, supply_mv == 0)),
         };
         let report = ctl.tick(&inputs);
@@ -1053,6 +1115,11 @@ fn simulate_with<P: SimAxis>(
         if report.mode == Mode::Unwind && last_mode != Some(Mode::Unwind) {
             unwind_elevations_deg.push(sun.map_or(f64::NAN, |s| s.elevation_deg()));
         }
+        let i = svg::mode_index(report.mode);
+        mode_min[i] += 1;
+        if last_mode != Some(report.mode) {
+            mode_entries[i] += 1;
+        }
         last_mode = Some(report.mode);
         settled &= matches!(report.mode, Mode::Tracking | Mode::Unwind);
         if report.mode == Mode::Overcast {
@@ -1075,8 +1142,8 @@ fn simulate_with<P: SimAxis>(
                 // diffuse. On the panel: the beam at its incidence, the
                 // diffuse by the sky it sees, (1 + cos β) / 2.
                 let ghi_cs = f64::from(clear_sky_ghi_w_m2(sun.zenith_deg as f32));
-                let (dni, dhi) = if overcast_day {
-                    (0.0, ghi_cs * OVERCAST_GHI_FRACTION)
+                let (dni, dhi) = if sky_factor < 1.0 {
+                    (0.0, ghi_cs * sky_factor)
                 } else {
                     (
                         clear_sky_beam_normal_w_m2(sun.zenith_deg, now.day_of_year()),
@@ -1243,6 +1310,34 @@ fn simulate_with<P: SimAxis>(
             sched_errors
         ),
     )?;
+    let modes: Vec<String> = svg::MODES
+        .iter()
+        .zip(mode_min.iter().zip(mode_entries.iter()))
+        .map(|(mode, (min, n))| format!("{} {min} / {n}", mode.name()))
+        .collect();
+    p(
+        out,
+        format!("modes (minutes / entries): {}", modes.join(", ")),
+    )?;
+    if args.faults {
+        let spells = |pick: &dyn Fn(Kind) -> bool| {
+            let ws: Vec<&Window> = weather.iter().filter(|w| pick(w.kind)).collect();
+            let hours = ws.iter().map(|w| f64::from(w.until - w.from)).sum::<f64>() / 60.0;
+            (ws.len(), hours)
+        };
+        let (snow, snow_h) = spells(&|k| k == Kind::Snow);
+        let (hail, hail_h) = spells(&|k| k == Kind::Hail);
+        let (contact, contact_h) = spells(&|k| k == Kind::StowContact);
+        let (low, low_h) = spells(&|k| matches!(k, Kind::LowSupply(_)));
+        let (overcast, _) = spells(&|k| matches!(k, Kind::Overcast(_)));
+        p(
+            out,
+            format!(
+                "weather days (--faults): snow {snow} ({snow_h:.1} h), hail {hail} ({hail_h:.1} h), stow contact {contact} ({contact_h:.1} h), low supply {low} ({low_h:.1} h), overcast {overcast} days; for the run supply.stow_mv {}, supply.resume_mv {}, overcast.ratio {}",
+                run_supply.stow_mv, run_supply.resume_mv, run_overcast_ratio
+            ),
+        )?;
+    }
     p(
         out,
         format!(

@@ -1,6 +1,8 @@
 //! The random fault schedule of `simulate --faults`: the daily random
-//! conditions (wind, bus errors, stalls, ...) and, per year, field incidents
-//! of the time and site chain written as scenario events.
+//! conditions (wind, bus errors, stalls, ...), per year, field incidents
+//! of the time and site chain written as scenario events, and the weather
+//! days (snow, hail warnings, the plant's stow contact, a sagging supply,
+//! overcast days).
 
 use sim::rng::SplitMix64;
 use sim::scenario::{Event, RtcState, SwitchState};
@@ -25,6 +27,27 @@ pub enum Kind {
     GpsLost,
     RtcPowerLoss,
     CommandStow,
+    /// The snow input on.
+    Snow,
+    /// A hail warning.
+    Hail,
+    /// The plant's stow contact at its active level.
+    StowContact,
+    /// The supply sags to this many millivolts (below [`SUPPLY_STOW_MV`])
+    /// for the first half of the window, reads [`SUPPLY_HELD_MV`] (between
+    /// the thresholds) for the second half, and [`SUPPLY_RECHARGED_MV`]
+    /// (above [`SUPPLY_RESUME_MV`]) for [`SUPPLY_RECHARGED_MIN`] minutes
+    /// after it: [`supply_mv`].
+    LowSupply(u16),
+    /// The pyranometer reads this fraction of the clear sky's irradiance.
+    Overcast(f64),
+}
+
+impl Window {
+    /// True at minute `m` of the run.
+    pub fn covers(&self, m: u32) -> bool {
+        self.from <= m && m < self.until
+    }
 }
 
 /// What happens at a minute: a scenario event, or the end of an incident
@@ -169,4 +192,169 @@ pub fn incidents(days: u32, rng: &mut SplitMix64) -> Vec<Timed> {
     }
     out.sort_by_key(|t| t.minute);
     out
+}
+
+/// `supply.stow_mv` of a `--faults` run (the configuration's default 0
+/// turns the watch off): a 12 V lead-acid battery nearly flat (20 % charge
+/// near 11.9 V at rest; `config::SupplyConfig`).
+pub const SUPPLY_STOW_MV: u16 = 11_500;
+/// `supply.resume_mv` of a `--faults` run: 60 % charge at rest.
+pub const SUPPLY_RESUME_MV: u16 = 12_200;
+/// The supply in the second half of a low-supply window: above the stow
+/// level, below the resume level (the stow holds by hysteresis).
+pub const SUPPLY_HELD_MV: u16 = 11_900;
+/// The supply once charged again, after a low-supply window.
+pub const SUPPLY_RECHARGED_MV: u16 = 12_600;
+/// How long the supply reads [`SUPPLY_RECHARGED_MV`] after a low-supply
+/// window, minutes; then the run's supply model again.
+pub const SUPPLY_RECHARGED_MIN: u32 = 60;
+
+/// One kind of weather spell: how many a year, how long (minutes), when,
+/// and its kind (with what it draws: a sag, a sky).
+struct Spell {
+    per_year: f64,
+    min_minutes: f64,
+    max_minutes: f64,
+    /// Starts between these local solar hours (a hail storm's afternoon;
+    /// 0 to 24: at any time).
+    local_hours: (f64, f64),
+    kind: fn(&mut SplitMix64) -> Kind,
+}
+
+/// Weather spells of `--faults`, a handful of each kind a year (a stress
+/// test of every stow mode, not a climate), each ending at least a day
+/// before the run does:
+/// - snow: the input on for 2–10 h (then `stow.snow_release_s`), 5 a year;
+/// - hail warnings: 10–50 min, starting between 11:00 and 18:00 local
+///   solar time, 6 a year;
+/// - the plant's stow contact: 1–2 h, 5 a year;
+/// - a low supply: 1–4 h below the stow level, then between the levels,
+///   then charged ([`Kind::LowSupply`]), 5 a year;
+/// - overcast days: from local solar midnight for 24 h the pyranometer
+///   reads 10–25 % of the clear sky's irradiance, 6 a year.
+///
+/// A run of N days gets N/365 of each rate, the fraction drawn at random.
+/// A spell starts at a random time (hail: of the afternoon), or, one time
+/// in three, up to an hour before a random window of `faults` (the daily
+/// conditions; an overcast day: that window's day), so that weather and
+/// faults meet. `lon_deg` gives local solar time.
+pub fn weather(days: u32, lon_deg: f64, faults: &[Window], rng: &mut SplitMix64) -> Vec<Window> {
+    const ANY_TIME: (f64, f64) = (0.0, 24.0);
+    let spells = [
+        Spell {
+            per_year: 5.0,
+            min_minutes: 120.0,
+            max_minutes: 600.0,
+            local_hours: ANY_TIME,
+            kind: |_| Kind::Snow,
+        },
+        Spell {
+            per_year: 6.0,
+            min_minutes: 10.0,
+            max_minutes: 50.0,
+            local_hours: (11.0, 18.0),
+            kind: |_| Kind::Hail,
+        },
+        Spell {
+            per_year: 5.0,
+            min_minutes: 60.0,
+            max_minutes: 120.0,
+            local_hours: ANY_TIME,
+            kind: |_| Kind::StowContact,
+        },
+        Spell {
+            per_year: 5.0,
+            min_minutes: 60.0,
+            max_minutes: 240.0,
+            local_hours: ANY_TIME,
+            kind: |r| Kind::LowSupply(r.uniform(10_800.0, 11_400.0) as u16),
+        },
+        Spell {
+            per_year: 6.0,
+            min_minutes: 1440.0,
+            max_minutes: 1440.0,
+            local_hours: (0.0, 0.0),
+            kind: |r| Kind::Overcast(r.uniform(0.10, 0.25)),
+        },
+    ];
+    let mut out = Vec::new();
+    let end_limit = days.saturating_sub(1) * 1440;
+    // Local solar midnight, minutes after UTC midnight.
+    let midnight_utc_min = (-lon_deg * 4.0).round() as i64;
+    for spell in spells.iter() {
+        let expected = spell.per_year * f64::from(days) / 365.0;
+        let mut n = expected.floor() as u32;
+        if rng.next_f64() < expected.fract() {
+            n += 1;
+        }
+        for _ in 0..n {
+            let kind = (spell.kind)(rng);
+            let dur = (rng.uniform(spell.min_minutes, spell.max_minutes) as u32).max(1);
+            let near_fault = rng.next_f64() < 1.0 / 3.0;
+            let pick = rng.next_u64();
+            let lead_min = rng.uniform(0.0, 60.0) as i64;
+            let day = rng.uniform(0.0, f64::from(days.saturating_sub(1))) as i64;
+            let (lo, hi) = spell.local_hours;
+            let local_min = (rng.uniform(lo, hi) * 60.0) as i64;
+            if end_limit <= dur + 1 {
+                continue;
+            }
+            let start = match faults
+                .get((pick % faults.len().max(1) as u64) as usize)
+                .filter(|_| near_fault)
+            {
+                // An overcast day: the local day of the window.
+                Some(w) if matches!(kind, Kind::Overcast(_)) => {
+                    let d = (i64::from(w.from) - midnight_utc_min).div_euclid(1440);
+                    d * 1440 + midnight_utc_min
+                }
+                Some(w) => i64::from(w.from) - lead_min,
+                None => day * 1440 + midnight_utc_min + local_min,
+            };
+            let from = start.clamp(0, i64::from(end_limit - dur)) as u32;
+            out.push(Window {
+                kind,
+                from,
+                until: from + dur,
+            });
+        }
+    }
+    out.sort_by_key(|w| w.from);
+    out
+}
+
+/// What the supply input reads at minute `m` in the low-supply windows of
+/// `weather` (the lowest where they overlap); `None` outside them.
+pub fn supply_mv(weather: &[Window], m: u32) -> Option<u16> {
+    weather
+        .iter()
+        .filter_map(|w| match w.kind {
+            Kind::LowSupply(sag_mv) => {
+                let mid = w.from + (w.until - w.from) / 2;
+                if (w.from..mid).contains(&m) {
+                    Some(sag_mv)
+                } else if w.covers(m) {
+                    Some(SUPPLY_HELD_MV)
+                } else if (w.until..w.until + SUPPLY_RECHARGED_MIN).contains(&m) {
+                    Some(SUPPLY_RECHARGED_MV)
+                } else {
+                    None
+                }
+            }
+            _ => None,
+        })
+        .min()
+}
+
+/// The fraction of the clear sky's irradiance the pyranometer reads at
+/// minute `m` in the overcast windows of `weather`; `None` outside them.
+pub fn sky_fraction(weather: &[Window], m: u32) -> Option<f64> {
+    weather
+        .iter()
+        .filter(|w| w.covers(m))
+        .filter_map(|w| match w.kind {
+            Kind::Overcast(f) => Some(f),
+            _ => None,
+        })
+        .reduce(f64::min)
 }

@@ -21,7 +21,7 @@ use timeline::{FAULT, MODE_COLOURS};
 
 /// Every mode, in the order of the band (bottom up) and the legend (that
 /// of [`MODE_COLOURS`]).
-const MODES: [Mode; 15] = [
+pub const MODES: [Mode; 15] = [
     Mode::Tracking,
     Mode::Unwind,
     Mode::Overcast,
@@ -41,7 +41,7 @@ const MODES: [Mode; 15] = [
 
 /// The position of `mode` in [`MODES`] and [`MODE_COLOURS`] (exhaustive: a
 /// new mode must be given a place and a colour).
-fn mode_index(mode: Mode) -> usize {
+pub fn mode_index(mode: Mode) -> usize {
     match mode {
         Mode::Tracking => 0,
         Mode::Unwind => 1,
