@@ -709,8 +709,8 @@ fn exp_neg(x: f32) -> f32 {
 /// Below this a sky is not, with the sun up ([`SUN_UP_W_M2`] of clear
 /// sky): the diffuse light under the heaviest overcast is tens of W/m².
 const DARKEST_SKY_W_M2: u16 = 5;
-/// The clear sky's irradiance above which [`DARKEST_SKY_W_M2`] is judged
-/// (the sun some 12° up).
+/// The clear sky's irradiance above which [`DARKEST_SKY_W_M2`] is judged,
+/// and the sky at all (Haurwitz (1945): the sun 13.4° up).
 const SUN_UP_W_M2: f32 = 200.0;
 
 /// The overcast mode from measured irradiance: in after the measured
@@ -761,6 +761,14 @@ impl OvercastMonitor {
         // sensor disconnected, not darkness.
         if w_m2 < DARKEST_SKY_W_M2 && clear_w_m2 > SUN_UP_W_M2 {
             self.fault = true;
+            return self.on;
+        }
+        // A low sun's sky is not judged (its few W/m² against a clear
+        // sky of a few W/m², the sensor's cosine error, the horizon's
+        // obstructions would call it dark many times a day where the sun
+        // skims the horizon): the state is kept until the sun is 13.4° up.
+        if clear_w_m2 <= SUN_UP_W_M2 {
+            self.other_since_ms = None;
             return self.on;
         }
         let dark = f32::from(w_m2) < config.ratio * clear_w_m2;
