@@ -32,6 +32,7 @@ use crate::attitude::{sun_vector_xyz, Choice, MountAttitude, Pose, PoseLimits};
 use crate::motion::AxisDrive;
 use crate::plan::{Scheduler, SetPoint};
 use crate::ports::AttitudeSensor;
+use crate::safety::Mode;
 use crate::sun::PositionSource;
 
 /// Set-points of the day's remainder the look-ahead follows, at most.
@@ -88,13 +89,16 @@ where
     pub(super) fn begin_look_ahead(&mut self, now: UtcTime) -> bool {
         self.branch_anchor = None;
         self.branch_search = None;
-        // A C axis that turns without end keeps the branch it followed
-        // (the last pose commanded) through a night's re-homing: both
-        // branches serve the day alike, and the homed pose would pick the
-        // other one (a swing for nothing).
-        let here = match self.axes.first() {
-            Some(c) if c.is_continuous() && self.pose_commanded => self.pose,
-            _ => self.counted_pose(),
+        // A C axis that turns without end has both branches serve the day
+        // alike. Tracking on (a polar day's new table), the branch
+        // followed is kept: a change would be a swing for nothing. After
+        // a break (the night, a re-homing, a stow) the one nearer the home
+        // switches is taken, as the night's search does: the axes move
+        // there anyway, and the night's re-homing then moves least.
+        let here = match self.continuous_home() {
+            Some(_) if self.pose_commanded && self.last_mode == Some(Mode::Tracking) => self.pose,
+            Some(home) => home,
+            None => self.counted_pose(),
         };
         let sampled = self.scheduler.real_time();
         let (path, first) = if sampled {
@@ -143,6 +147,18 @@ where
         };
         self.start_branch_search(path, &first, &here);
         true
+    }
+
+    /// The home switches' pose when the C axis turns without end (the
+    /// searches then charge the move from there); `None` otherwise.
+    fn continuous_home(&self) -> Option<Pose<T>> {
+        match &self.axes {
+            [c, a] if c.is_continuous() => Some(Pose {
+                gamma_deg: T::from_f32(c.home_deg()),
+                alpha_deg: T::from_f32(a.home_deg()),
+            }),
+            _ => None,
+        }
     }
 
     /// The branch search along `path` from its first set-point `first`,
@@ -252,6 +268,11 @@ where
             .position(&sunrise)
             .ok()
             .map(|p| SetPoint::facing(&p));
+        // A C axis that turns without end leaves both branches free, with
+        // the same swings and travel through the day: the one nearer the
+        // home switches is taken (the night's re-homing then moves least),
+        // not the first of equals.
+        let home = self.continuous_home();
         let frame = Frame {
             attitude: &self.attitude,
             limits,
@@ -267,17 +288,6 @@ where
                 starts: Starts([None; 6]),
             },
         ));
-        // A C axis that turns without end leaves both branches free, with
-        // the same swings and travel through the day: the one nearer the
-        // home switches is taken (the night's re-homing then moves least),
-        // not the first of equals.
-        let home = match &self.axes {
-            [c, a] if c.is_continuous() => Some(Pose {
-                gamma_deg: T::from_f32(c.home_deg()),
-                alpha_deg: T::from_f32(a.home_deg()),
-            }),
-            _ => None,
-        };
         let started = match (slot, first) {
             (NightPose::Searching(_, search), Some(first)) => {
                 let ok = search.starts.fill(&frame, &first, home.as_ref());

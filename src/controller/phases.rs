@@ -331,7 +331,11 @@ where
             let anchored = self.branch_anchor.is_some();
             let mut p = self.set_point.and_then(|sp| self.pose_for(&sp));
             if let (Mode::Tracking, Some(q), Some(sp)) = (mode, p, self.set_point) {
-                swing = was_tracking && self.swing_from_last(&q);
+                // A C axis that turns without end meets no limit: a large
+                // move (from a night pose faced for another site, say) is
+                // never an unwind there.
+                let endless = self.axes.first().is_some_and(|c| c.is_continuous());
+                swing = was_tracking && !endless && self.swing_from_last(&q);
                 if anchored {
                     // The pose of a branch chosen on purpose.
                 } else if swing {
