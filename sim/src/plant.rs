@@ -204,7 +204,7 @@ impl MotorPlant {
 
     /// Makes the axis one that turns without end (a slip ring or an
     /// unlimited slewing drive): no end stops, the home switch an index
-    /// cam closed over the [`INDEX_ARC_DEG`] below its angle once a turn,
+    /// cam closed over the 5° below its angle once a turn,
     /// the output encoder (if any) absolute within a turn.
     pub fn make_continuous(&mut self) {
         self.continuous = true;

@@ -520,7 +520,7 @@ where
             return;
         }
         let off = T::from_i32(turns) * T::from_f32(360.0);
-        let shift = |p: &mut Pose<T>| p.gamma_deg = p.gamma_deg - off;
+        let shift = |p: &mut Pose<T>| p.gamma_deg -= off;
         shift(&mut self.pose);
         for p in [
             &mut self.day_start_pose,
