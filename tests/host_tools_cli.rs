@@ -99,6 +99,24 @@ fn help_goes_to_stdout_with_exit_0_for_every_tool() {
     }
 }
 
+/// The book's chapter on the host tools quotes each tool's `--help` as
+/// the tool prints it (a new option shows there too).
+#[test]
+fn the_book_quotes_every_tool_help_as_printed() {
+    let book = std::fs::read_to_string(concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/docs/src/host-tools.md"
+    ))
+    .expect("docs/src/host-tools.md");
+    for (name, f) in TOOLS {
+        let help = run(f, &["--help"]).out;
+        assert!(
+            book.contains(help.trim_end()),
+            "docs/src/host-tools.md does not quote `{name} --help` as printed:\n{help}"
+        );
+    }
+}
+
 /// The options that `tests/` and `.ci/readme_figures.py` (and the README)
 /// pass to the tools, each of which the help must list with its default.
 const DOCUMENTED: [(&str, &[&str]); 4] = [
