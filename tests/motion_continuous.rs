@@ -168,8 +168,7 @@ fn a_limited_axis_is_unchanged() {
         continuous: 0,
         ..cfg()
     };
-    let mut p = MotorPlant::stepper(1.8, 16, 100.0, 0.0, 5.0, None, -180.0, 180.0, 0.0);
-    p.stops_at_switch = true;
+    let p = MotorPlant::stepper(1.8, 16, 100.0, 0.0, 5.0, None, -180.0, 180.0, 0.0);
     let mut ax = AxisController::new(p, c);
     assert!(!ax.is_continuous());
     home(&mut ax);

@@ -487,7 +487,7 @@ where
         let c = &self.config.axes;
         // A C axis that turns without end has no limit to meet: of the
         // poses for a sun, the one of least travel (never an unwind).
-        let (gamma_min_deg, gamma_max_deg) = if c[0].continuous != 0 {
+        let (gamma_min_deg, gamma_max_deg) = if self.c_is_continuous() {
             (-UNLIMITED_DEG, UNLIMITED_DEG)
         } else {
             (c[0].min_deg, c[0].max_deg)
@@ -498,6 +498,12 @@ where
             alpha_min_deg: T::from_f32(c[1].min_deg),
             alpha_max_deg: T::from_f32(c[1].max_deg),
         }
+    }
+
+    /// True when the C axis turns without end (its controller's geometry,
+    /// the one place that says so).
+    fn c_is_continuous(&self) -> bool {
+        self.axes.first().is_some_and(|c| c.is_continuous())
     }
 
     /// A C axis that turns without end ([`AxisController::rebase`]): its

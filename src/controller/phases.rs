@@ -334,8 +334,7 @@ where
                 // A C axis that turns without end meets no limit: a large
                 // move (from a night pose faced for another site, say) is
                 // never an unwind there.
-                let endless = self.axes.first().is_some_and(|c| c.is_continuous());
-                swing = was_tracking && !endless && self.swing_from_last(&q);
+                swing = was_tracking && !self.c_is_continuous() && self.swing_from_last(&q);
                 if anchored {
                     // The pose of a branch chosen on purpose.
                 } else if swing {
