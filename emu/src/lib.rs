@@ -14,6 +14,7 @@ pub mod ihex;
 pub mod log;
 pub mod mega;
 pub mod models;
+pub mod pty;
 pub mod script;
 pub mod sim;
 pub mod twi;

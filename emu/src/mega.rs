@@ -35,6 +35,7 @@ use std::time::{Duration, Instant};
 use crate::log::{parse_line, Event, LineAssembler};
 use crate::models::adxl345::Adxl345;
 use crate::models::ds3231::Ds3231;
+use crate::models::modbus_master::{self, ModbusMaster, Step};
 use crate::models::mount::{Field, Mount};
 use crate::models::nmea::{GpsFeed, NmeaFeeder};
 use crate::models::qmc5883l::Qmc5883l;
@@ -90,6 +91,9 @@ pub fn timescale_of_bytes(elf: &[u8]) -> f64 {
 /// released (the tracker's moves come in bursts: homing, back-off, the
 /// next set-point).
 pub const REAL_TIME_HOLD_S: f64 = 2.0;
+/// How far a paced run ([`MegaBench::modbus_pty`] with a client attached)
+/// may run ahead of the wall clock before it sleeps.
+pub const PACE_SLACK: Duration = Duration::from_millis(2);
 
 /// One piece of the cycle → emulated-time map: from `cycle` on, emulated
 /// time runs `timescale` × CPU time from `emu_s`.
@@ -210,6 +214,9 @@ pub struct Run {
     pub twi_starts: Vec<(u8, u32)>,
     /// RAM: static, the stack's peak (painted and lowest SP), untouched.
     pub ram: RamUse,
+    /// The Modbus master on USART2 after the run: its transactions, with
+    /// what the pins did ([`MegaBench::modbus_at`]).
+    pub modbus: ModbusMaster,
     /// The longest the CPU ran without sleeping (a loop pass with the
     /// interrupts inside it), CPU seconds at the part's 16 MHz, and the
     /// emulated UTC (Unix seconds) it ended at.
@@ -298,6 +305,10 @@ pub struct MegaBench {
     /// The pyranometer on ADC1 (2 mV per W/m²), W/m² from each emulated
     /// minute (0 until told).
     irradiance: Vec<(f64, u32)>,
+    /// A Modbus RTU master on USART2 ([`MegaBench::modbus_at`]).
+    modbus: ModbusMaster,
+    /// A pseudo-terminal bridged to USART2 ([`MegaBench::modbus_pty`]).
+    modbus_pty: Option<PathBuf>,
 }
 
 /// The board's supply divider (`boards/mega2560`'s `SUPPLY_ADC`): the pin
@@ -359,7 +370,30 @@ impl MegaBench {
             contacts: Vec::new(),
             supply: Vec::new(),
             irradiance: Vec::new(),
+            modbus: ModbusMaster::default(),
+            modbus_pty: None,
         }
+    }
+
+    /// Puts `step` on the RS-485 bus (USART2, DE on PH3) at emulated
+    /// `minute`, a Modbus RTU master's request (or noise), shown in the
+    /// run's lines as `# modbus <label>` ([`ModbusMaster`]; the run's
+    /// [`Run::modbus`] holds each transaction and what the pins did). The
+    /// bench runs at real time from the request until the transaction is
+    /// over.
+    pub fn modbus_at(mut self, minute: f64, step: Step, label: &str) -> Self {
+        self.modbus.at(minute, step, label);
+        self
+    }
+
+    /// Bridges USART2 to a new pseudo-terminal linked at `path`
+    /// ([`crate::pty::ModbusPty`]): what a client writes goes to the
+    /// image's receiver, what the image sends to the client. While a client
+    /// holds it open the bench runs at real time (an emulation build: PL0
+    /// held high) and no faster than the wall clock.
+    pub fn modbus_pty(mut self, path: PathBuf) -> Self {
+        self.modbus_pty = Some(path);
+        self
     }
 
     /// What the pyranometer reads from emulated `minute`, W/m² (the board's
@@ -494,7 +528,18 @@ impl MegaBench {
         sim.paint_ram(static_end, ram_top, PAINT);
         sim.attach_uart('0')?;
         sim.attach_uart('1')?;
+        sim.attach_uart(modbus_master::UART)?;
+        sim.watch_pin(modbus_master::DE_PIN.0, modbus_master::DE_PIN.1)?;
         sim.watch_port('A')?;
+        let mut master = self.modbus.clone();
+        let mut pty = match &self.modbus_pty {
+            Some(p) => Some(crate::pty::ModbusPty::open(p)?),
+            None => None,
+        };
+        // While a client holds the terminal: (emulated s, wall instant)
+        // when pacing began.
+        let mut pace: Option<(f64, Instant)> = None;
+        let mut shown_modbus = 0usize;
         if std::env::var_os("SUNTRACKER_EMU_PROFILE").is_some() {
             sim.enable_profile();
         }
@@ -547,6 +592,8 @@ impl MegaBench {
         }];
         let mut compressed = timescale;
         let mut real_time = false;
+        // The cycle the bench last switched to real time.
+        let mut real_since = 0u64;
         let mut real_time_s = 0.0;
         let mut coils = 0u8;
         let mut coils_off_emu = 0.0f64;
@@ -696,9 +743,12 @@ impl MegaBench {
             }
             // Real time while a coil is driven and REAL_TIME_HOLD_S after,
             // and while a GPS epoch is on the wire.
+            let attached = pty.as_mut().is_some_and(|p| p.attached());
             let want_real = coils != 0
                 || now_emu - coils_off_emu < REAL_TIME_HOLD_S
-                || utc < gps_end_utc + GPS_END_MARGIN_S;
+                || utc < gps_end_utc + GPS_END_MARGIN_S
+                || master.wants_real_time(now_emu)
+                || attached;
             if want_real != real_time && compressed > 1.0 {
                 real_time = want_real;
                 if real_time {
@@ -707,6 +757,7 @@ impl MegaBench {
                     real_time_s += now_emu;
                 }
                 timescale = if real_time { 1.0 } else { compressed };
+                real_since = now_cycle;
                 segments.push(TimeSegment {
                     cycle: now_cycle,
                     emu_s: now_emu,
@@ -723,6 +774,51 @@ impl MegaBench {
                 SERVICE_CYCLES
             };
             cpu = sim.run_until(now_cycle + span);
+            let after_emu = segments[segments.len() - 1].emu_s_at(sim.cycle());
+            if let Some(p) = pty.as_mut() {
+                // The bridge: the client's bytes to USART2 as they come
+                // (a request is one write), the image's back.
+                p.pass(&mut sim);
+                // Paced: never ahead of the wall clock since pacing began.
+                match (attached, pace) {
+                    (true, None) => pace = Some((after_emu, Instant::now())),
+                    (true, Some((emu0, wall0))) => {
+                        let due = wall0 + Duration::from_secs_f64((after_emu - emu0).max(0.0));
+                        let now = Instant::now();
+                        if due > now + PACE_SLACK {
+                            std::thread::sleep(due - now);
+                        }
+                    }
+                    (false, _) => pace = None,
+                }
+                if crate::pty::stop_requested() {
+                    break;
+                }
+            } else {
+                let real_for = if compressed <= 1.0 {
+                    Some(u64::MAX)
+                } else if real_time {
+                    Some(sim.cycle().saturating_sub(real_since))
+                } else {
+                    None
+                };
+                master.service(&mut sim, after_emu, real_for);
+                // The harness's own lines: each transaction when it ends.
+                for t in &master.transactions[shown_modbus..] {
+                    let line = LogLine {
+                        utc_s: self.start_unix_s as f64 + after_emu,
+                        text: format!("# modbus {}", t.summary()),
+                        event: Event::Other,
+                        c_deg: c_axis.angle_deg(),
+                        a_deg: a_axis.angle_deg(),
+                        c_start_deg: c_axis.angle_deg(),
+                        a_start_deg: a_axis.angle_deg(),
+                    };
+                    show_line(&line, self.echo, log_file.as_mut());
+                    lines.push(line);
+                }
+                shown_modbus = master.transactions.len();
+            }
             for (cycle, value) in sim.port_changes('A') {
                 let t = segments[segments.len() - 1].emu_s_at(cycle);
                 for (k, (axis, bits)) in [(&mut c_axis, value & 0x0F), (&mut a_axis, value >> 4)]
@@ -882,6 +978,7 @@ impl MegaBench {
             twi_starts,
             longest_awake,
             long_passes,
+            modbus: master,
         })
     }
 }

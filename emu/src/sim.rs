@@ -45,11 +45,15 @@ pub enum CpuState {
 }
 
 /// The receive side of one USART as seen from outside (bytes the AVR sent).
-#[derive(Default)]
 struct UartState {
-    from_avr: VecDeque<u8>,
+    /// Bytes the AVR sent, each with the cycle its UDRn write raised the
+    /// output IRQ at (simavr sends a byte the instant it is written).
+    from_avr: VecDeque<(u64, u8)>,
     to_avr: VecDeque<u8>,
     xon: bool,
+    avr: NonNull<ffi::avr_t>,
+    /// Cycles before the last power cycle ([`Sim::power_cycle`]).
+    base: Rc<std::cell::Cell<u64>>,
 }
 
 struct UartHandle {
@@ -147,7 +151,8 @@ unsafe extern "C" fn on_uart_output(
 ) {
     let state = unsafe { &*(param as *const RefCell<UartState>) };
     if let Ok(mut s) = state.try_borrow_mut() {
-        s.from_avr.push_back(value as u8);
+        let cycle = s.base.get() + unsafe { s.avr.as_ref().cycle };
+        s.from_avr.push_back((cycle, value as u8));
     }
 }
 
@@ -258,8 +263,11 @@ impl Sim {
         unsafe { ffi::avr_ioctl(self.avr.as_ptr(), set, &mut flags as *mut u32 as *mut _) };
         let irq = ioctl_code(b'u', b'a', b'r', id as u8);
         let state = Box::new(RefCell::new(UartState {
+            from_avr: VecDeque::new(),
+            to_avr: VecDeque::new(),
             xon: true,
-            ..Default::default()
+            avr: self.avr,
+            base: self.cycle_base.clone(),
         }));
         let p = &*state as *const RefCell<UartState> as *mut std::ffi::c_void;
         let out = self.getirq(irq, ffi::UART_IRQ_OUTPUT).ok_or("uart irq")?;
@@ -290,6 +298,14 @@ impl Sim {
         if s.from_avr.is_empty() {
             return Vec::new();
         }
+        s.from_avr.drain(..).map(|(_, b)| b).collect()
+    }
+
+    /// [`Sim::uart_take`] with the cycle each byte was written to UDRn at
+    /// (simavr raises the output at the write; the byte's frame on the line
+    /// follows, one character time, `cycles_per_byte`, from then).
+    pub fn uart_take_timed(&mut self, id: char) -> Vec<(u64, u8)> {
+        let mut s = self.uart(id).state.borrow_mut();
         s.from_avr.drain(..).collect()
     }
 
