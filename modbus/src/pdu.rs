@@ -175,9 +175,14 @@ impl Server {
                     .get_mut(3..3 + bytes)
                     .ok_or(Exception::IllegalDataValue)?;
                 // `start + i` stays within 65,535: `check_range` above.
-                for (i, pair) in (0..count).zip(reply.chunks_exact_mut(2)) {
-                    if let [hi, lo] = pair {
-                        [*hi, *lo] = map.read(start + i).to_be_bytes();
+                // Two bytes a register, without `chunks_exact_mut`'s
+                // check of its chunk size (a panic path where not inlined).
+                let mut out = reply.iter_mut();
+                for i in 0..count {
+                    for byte in map.read(start + i).to_be_bytes() {
+                        if let Some(o) = out.next() {
+                            *o = byte;
+                        }
                     }
                 }
                 Ok(3 + bytes)

@@ -16,6 +16,7 @@
 //! | Timer1, fast PWM mode 14, 50 Hz | [`Timer1Pwm`]: [`Oc1a`], [`Oc1b`] | `embedded_hal::pwm::SetDutyCycle` (max duty 40,000 = one 0.5 µs count per duty step) |
 //! | PCINT23:16 (PD4–PD7; PK4–PK7 on the 2560) | [`PinChangeEncoders`] | two `drivers::encoder::SharedEncoder`s (`suntracker::hw::EncoderCount`) |
 //! | ADC, AVcc reference, 125 kHz | [`Adc`] | [`Adc::start`] / [`Adc::poll`], no waiting |
+//! | USART2 with a driver enable on PH3, Timer5 (2560 only) | [`Rs485`] | [`suntracker::sunspec::ModbusLine`]: bytes with µs stamps in, a reply sent by interrupts |
 //!
 //! Interrupts: the layer defines no interrupt vector itself (an image that
 //! does not use a part keeps its vector and its flash); an image binds the
@@ -26,7 +27,8 @@
 //! `unsafe` in this module: only raw register writes (`W::bits`) to
 //! registers whose every bit pattern is valid, the receive interrupts'
 //! access to the data register of a USART that the interrupt's owner
-//! configured, and the pin-change handler's read of the encoder port's
+//! configured, the RS-485 interrupts' access to USART2, Timer5's count and
+//! the driver-enable bit, and the pin-change handler's read of the encoder port's
 //! input register; each block carries a SAFETY comment.
 //!
 //! The encoder handler ([`on_encoder_pin_change`], vector PCINT2), counted
@@ -72,6 +74,8 @@ mod gpio;
 mod millis;
 mod pcint;
 mod pwm;
+#[cfg(avr_atmega2560)]
+mod rs485;
 mod serial;
 mod twi;
 mod watchdog;
@@ -93,6 +97,8 @@ pub use pwm::{
 pub use serial::{on_usart0_rx, SerialError, Usart0};
 #[cfg(avr_atmega2560)]
 pub use serial::{on_usart1_rx, Usart1};
+#[cfg(avr_atmega2560)]
+pub use rs485::{on_usart2_rx, on_usart2_tx, on_usart2_udre, Parity, Rs485, RX_ENTRIES, US_PER_COUNT};
 pub use twi::{I2c, SharedI2c, TwiError};
 pub use watchdog::Watchdog;
 
@@ -105,6 +111,8 @@ pub const CPU_HZ: u32 = 16_000_000;
 /// * `timer0` — TIMER0_COMPA → [`Millis`] tick;
 /// * `usart0` — USART0 RX complete (vector `USART_RX` on the 328P) → [`Usart0`];
 /// * `usart1` — USART1 RX complete (2560 only) → [`Usart1`];
+/// * `usart2` — USART2 RX complete, data register empty and TX complete
+///   (2560 only) → [`Rs485`];
 /// * `int0` … `int7` — the external interrupt the [`Anemometer`] listens on
 ///   (`int0`, `int1` on the 328P);
 /// * `pcint2` — PCINT2 (pins PCINT23:16) → [`PinChangeEncoders`].
@@ -155,6 +163,23 @@ macro_rules! __avr_board_isr {
         #[allow(non_snake_case)]
         fn USART1_RX() {
             $crate::on_usart1_rx();
+        }
+    };
+    (usart2) => {
+        #[avr_device::interrupt(atmega2560)]
+        #[allow(non_snake_case)]
+        fn USART2_RX() {
+            $crate::on_usart2_rx();
+        }
+        #[avr_device::interrupt(atmega2560)]
+        #[allow(non_snake_case)]
+        fn USART2_UDRE() {
+            $crate::on_usart2_udre();
+        }
+        #[avr_device::interrupt(atmega2560)]
+        #[allow(non_snake_case)]
+        fn USART2_TX() {
+            $crate::on_usart2_tx();
         }
     };
     (pcint2) => {

@@ -53,7 +53,7 @@ const READ_BURST: usize = 8;
 /// UBRR for `baud_hz` in double-speed mode (U2Xn = 1), rounded to nearest:
 /// UBRR = CPU / (8 · baud) − 1 (115200 → 16, 2.1 % error as on every
 /// Arduino; 9600 → 207, 0.2 %). Clamped to the 12-bit register.
-fn ubrr_u2x(baud_hz: u32) -> u16 {
+pub(crate) fn ubrr_u2x(baud_hz: u32) -> u16 {
     let divisor = baud_hz.saturating_mul(8);
     let ratio = (CPU_HZ + divisor / 2)
         .checked_div(divisor)

@@ -28,6 +28,8 @@
 //! | plant stow contact (active level `stow.external_active`; pull-up) | PC6 | D31 |
 //! | motor supply through a 100 kΩ / 10 kΩ divider (0–55 V) | ADC0 (PF0) | A0 |
 //! | horizontal pyranometer or reference cell, amplified to 2 mV per W/m² (0–2.5 V) | ADC1 (PF1) | A1 |
+//! | RS-485 transceiver (MAX485 or kin) RO/DI: the Modbus RTU server, `modbus.baud` and `modbus.parity` (19,200 8E1) | USART2 RXD2/TXD2 (PH0/PH1) | D17/D16 |
+//! | RS-485 transceiver DE and /RE tied (high while a reply is sent) | PH3 | D6 |
 //!
 //! Wiring sketch (one axis; the other is the same on the next four pins):
 //!
@@ -40,6 +42,9 @@
 //!  Mega D35 ─┴─ limit switch (closed at the high stop) ─ GND
 //!  Mega D20/D21 ─ SDA/SCL ─ DS3231 · QMC5883L · ADXL345 (3.3 V modules with level shifters)
 //!  Mega D19 ─ GPS TX      Mega D2 ─ anemometer reed ─ GND
+//!  Mega D17 ─ RO ┐ MAX485 ┌ A ─ RS-485 bus (the plant's Modbus master)
+//!  Mega D16 ─ DI │        │
+//!  Mega D6 ─ DE,/RE ┘     └ B
 //! ```
 //!
 //! Drives and axes: Li et al.'s (2022) mechanics, [`suntracker::mechanics`] (200-step
@@ -50,6 +55,12 @@
 //! the mount's attitude is measured every 10 s (Choi et al. (portable tracker))
 //! with the WMM2025 declination of the site; else a level mount facing
 //! north is assumed and fault `timeout_inclinometer` says so.
+//!
+//! The Modbus RTU server ([`suntracker::sunspec::ModbusPort`], the SunSpec
+//! map with model 305: this board has a GPS) is served after each pass of
+//! the loop on USART2 ([`suntracker_avr::Rs485`]: bytes stamped in the
+//! receive interrupt, the reply sent by interrupts with the driver enable
+//! around it). Its baud rate and parity are read at power-on.
 #![no_std]
 
 use core::cell::RefCell;
@@ -71,10 +82,12 @@ use suntracker::mechanics::{self, bridge_config};
 use suntracker::panel::{Divider, PanelAdc};
 use suntracker::persist::{ConfigStore, EepromStorage};
 use suntracker::safety::{Reading, StowInputs};
+use suntracker::sunspec::ModbusPort;
+use suntracker_modbus::sunspec::Identity;
 use suntracker_avr::eeprom::Eeprom;
 use suntracker_avr::{
     chip, millis, sleep_until_interrupt, Anemometer, ExtInt, I2c, InputPin, Millis, OutputPin,
-    PortInputPin, PortOutputPin, SharedI2c, Usart0, Usart1, Watchdog, MS_PER_TICK,
+    Parity, PortInputPin, PortOutputPin, Rs485, SharedI2c, Usart0, Usart1, Watchdog, MS_PER_TICK,
 };
 use suntracker_avr::{Adc, ADC_MAX_CODE};
 
@@ -120,6 +133,17 @@ pub const SUPPLY_ADC: PanelAdc = PanelAdc {
         r_top_ohm: 100_000,
         r_bottom_ohm: 10_000,
     },
+};
+
+/// Model 1's and model 601's names of this image.
+const MODBUS_IDENTITY: Identity<'static> = Identity {
+    manufacturer: "suntracker",
+    model: BOARD,
+    options: "avr",
+    version: env!("CARGO_PKG_VERSION"),
+    serial: "0",
+    controller_name: "suntracker",
+    tracker_name: "tracker-1",
 };
 
 /// Monotonic clock, anemometer, watchdog, sleep, console input, the
@@ -210,12 +234,15 @@ pub fn run(dp: chip::Peripherals) -> ! {
     let chip::Peripherals {
         USART0,
         USART1,
+        USART2,
         TC0,
+        TC5,
         WDT,
         CPU,
         PORTA,
         PORTC,
         PORTE,
+        PORTH,
         EXINT,
         TWI,
         EEPROM,
@@ -225,12 +252,15 @@ pub fn run(dp: chip::Peripherals) -> ! {
     run_tracker(Parts {
         usart0: USART0,
         usart1: USART1,
+        usart2: USART2,
         tc0: TC0,
+        tc5: TC5,
         wdt: WDT,
         cpu: CPU,
         porta: PORTA,
         portc: PORTC,
         porte: PORTE,
+        porth: PORTH,
         exint: EXINT,
         twi: TWI,
         eeprom: EEPROM,
@@ -242,12 +272,15 @@ pub fn run(dp: chip::Peripherals) -> ! {
 struct Parts {
     usart0: chip::USART0,
     usart1: chip::USART1,
+    usart2: chip::USART2,
     tc0: chip::TC0,
+    tc5: chip::TC5,
     wdt: chip::WDT,
     cpu: chip::CPU,
     porta: chip::PORTA,
     portc: chip::PORTC,
     porte: chip::PORTE,
+    porth: chip::PORTH,
     exint: chip::EXINT,
     twi: chip::TWI,
     eeprom: chip::EEPROM,
@@ -311,6 +344,14 @@ fn run_tracker(dp: Parts) -> ! {
     if config.validate().is_err() {
         halt(&mut log, "configuration refused");
     }
+    let mut rs485 = Rs485::new(
+        dp.usart2,
+        dp.tc5,
+        &dp.porth,
+        config.modbus.baud,
+        Parity::from_code(config.modbus.parity),
+    );
+    let mut modbus = ModbusPort::new(MODBUS_IDENTITY, true);
     let mut platform = MegaPlatform {
         _millis: millis_clock,
         anemometer,
@@ -340,7 +381,14 @@ fn run_tracker(dp: Parts) -> ! {
     // Run it where it is, inside the result: moving it out would put a
     // second copy of its kilobytes on the stack.
     match &mut firmware {
-        Ok(fw) => fw.run(&mut platform),
+        Ok(fw) => loop {
+            // The loop's pass, the Modbus port's (at most one request
+            // served), then sleep until the next interrupt.
+            fw.poll(&mut platform);
+            let now_ms = platform.now_ms();
+            modbus.poll(fw, &mut rs485, now_ms);
+            platform.wait_for_interrupt();
+        },
         // The board's own configuration was checked above; the scheduler's
         // intervals are the defaults. Nothing is driven; the watchdog,
         // no longer fed, resets the board.

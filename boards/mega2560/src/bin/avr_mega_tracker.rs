@@ -8,9 +8,9 @@
 
 use suntracker_avr::chip;
 
-// Timer0 millisecond clock, log and console USART0, GPS USART1, anemometer
-// on INT4.
-suntracker_avr::avr_board_interrupts!(timer0, usart0, usart1, int4);
+// Timer0 millisecond clock, log and console USART0, GPS USART1, the
+// RS-485 port's USART2, anemometer on INT4.
+suntracker_avr::avr_board_interrupts!(timer0, usart0, usart1, usart2, int4);
 
 #[avr_device::entry]
 fn main() -> ! {

@@ -1,0 +1,307 @@
+//! The ATmega2560's RS-485 port for a Modbus RTU server: USART2 (RXD2 PH0,
+//! TXD2 PH1) with the transceiver's driver enable on PH3, and Timer/Counter5
+//! free-running as the line's microsecond clock (ATmega2560 datasheet §22
+//! "USART": "Parity Generator", "Frame Formats", "Transmitter Flags and
+//! Interrupts" (UDREn, TXCn), "Receiver Error Flags" (FEn, DORn, UPEn),
+//! UCSRnA/B/C; §17 "16-bit Timer/Counter": "Normal Mode", "Accessing 16-bit
+//! Registers").
+//!
+//! **Half duplex in one buffer.** The port either receives or sends, as the
+//! bus does: a master waits for the reply before it speaks again (Modbus
+//! over Serial Line, §2.5.1). So one 256-byte buffer serves both ways: while
+//! receiving, a ring of [`RX_ENTRIES`] bytes with their arrival times (byte
+//! and a 16-bit stamp of Timer5 in 16 µs units, four bytes an entry); while
+//! sending, the reply (at most 256 bytes, the RTU maximum). A send starts
+//! with the receiver off and the ring emptied (what is in it then is not for
+//! us: the master waits for our reply), the driver enable high, and the
+//! bytes moved to the transmitter by the data-register-empty interrupt (no
+//! gap between them, whatever the main loop does); the transmit-complete
+//! interrupt, once the last stop bit has left, releases the driver enable
+//! and turns the receiver on again. With /RE tied to DE the transceiver
+//! gives no echo either.
+//!
+//! **Times.** Timer5 counts at 16 MHz / 256, 16 µs a count, and wraps every
+//! 1.05 s; the receive interrupt stamps each byte with the count. The line
+//! ([`Rs485`]) extends the count to 32 bits each time it is read (the
+//! Modbus port reads it every pass, far more often than once a second) and
+//! dates each byte back from the present by its stamp's age, so a byte read
+//! within 1.05 s of its arrival has its true time to 16 µs, which the frame
+//! layer's 1.5- and 3.5-character silences (859 µs and 2 ms at 19,200 baud)
+//! need. Timer5 runs on the CPU clock, also in an emulator build whose
+//! millisecond clock is scaled.
+//!
+//! **Errors.** A byte with a framing or parity error, one the hardware
+//! overran, and one the full ring cannot take are dropped and counted: the
+//! frame then misses a byte, and the frame layer drops it (the gap, or the
+//! CRC), as the specification asks of a frame with a parity error.
+
+use core::cell::RefCell;
+
+use avr_device::interrupt::{self, Mutex};
+
+use super::{chip, CPU_HZ};
+
+/// Receive ring entries (bytes waiting with their stamps): 64 bytes are
+/// 33 ms of the line at 19,200 baud.
+pub const RX_ENTRIES: usize = 64;
+/// The buffer: the ring's entries of four bytes, or one reply.
+const BUF_LEN: usize = 256;
+/// Microseconds a Timer5 count (prescaler 256 at 16 MHz).
+pub const US_PER_COUNT: u32 = 256 / (CPU_HZ / 1_000_000);
+/// The driver-enable pin's bit in port H (PH3, Mega D6).
+const DE_BIT: u8 = 1 << 3;
+
+/// What the interrupts and the line share.
+struct Line {
+    buf: [u8; BUF_LEN],
+    /// Receiving: the ring's first entry and its length. Sending: the next
+    /// byte to send and the reply's length.
+    head: u16,
+    len: u16,
+    sending: bool,
+    /// Bytes dropped (errors, overrun, a full ring) since start.
+    dropped: u16,
+}
+
+static LINE: Mutex<RefCell<Line>> = Mutex::new(RefCell::new(Line {
+    buf: [0; BUF_LEN],
+    head: 0,
+    len: 0,
+    sending: false,
+    dropped: 0,
+}));
+
+/// Parity of the line (Modbus over Serial Line §2.5.1: even by default; no
+/// parity takes two stop bits).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Parity {
+    /// No parity, two stop bits.
+    None,
+    /// Odd parity, one stop bit.
+    Odd,
+    /// Even parity, one stop bit.
+    Even,
+}
+
+impl Parity {
+    /// The configuration's `modbus.parity` code: 0 none, 1 odd, 2 even
+    /// (anything else even, the default).
+    pub fn from_code(code: u8) -> Self {
+        match code {
+            0 => Parity::None,
+            1 => Parity::Odd,
+            _ => Parity::Even,
+        }
+    }
+}
+
+/// The RS-485 port: USART2, the driver enable on PH3, Timer5's count.
+pub struct Rs485 {
+    usart: chip::USART2,
+    _tc5: chip::TC5,
+    /// The 32-bit count: the high half counts Timer5's wraps seen.
+    high: u16,
+    last_count: u16,
+}
+
+impl Rs485 {
+    /// Starts the port at `baud` and `parity`: Timer5 free-running, PH3 an
+    /// output driven low (receiving), USART2 receiving with its interrupt.
+    /// Needs the vectors of `avr_board_interrupts!(usart2)`.
+    pub fn new(usart: chip::USART2, tc5: chip::TC5, porth: &chip::PORTH, baud: u32, parity: Parity) -> Self {
+        tc5.tccr5a().reset();
+        tc5.tccr5b().write(|w| w.cs5().prescale_256());
+        // SAFETY (both writes): every bit pattern of PORTH and DDRH is valid;
+        // only PH3's bit changes, with interrupts off.
+        interrupt::free(|_| {
+            porth.porth().modify(|r, w| unsafe { w.bits(r.bits() & !DE_BIT) });
+            porth.ddrh().modify(|r, w| unsafe { w.bits(r.bits() | DE_BIT) });
+        });
+        usart.ubrr2().write(|w| w.set(super::serial::ubrr_u2x(baud)));
+        usart.ucsr2a().write(|w| w.u2x2().set_bit());
+        usart.ucsr2c().write(|w| {
+            let w = w.ucsz2().chr8();
+            match parity {
+                Parity::None => w.usbs2().set_bit().upm2().disabled(),
+                Parity::Odd => w.upm2().parity_odd(),
+                Parity::Even => w.upm2().parity_even(),
+            }
+        });
+        usart.ucsr2b().write(|w| w.txen2().set_bit().rxen2().set_bit().rxcie2().set_bit());
+        Rs485 {
+            usart,
+            _tc5: tc5,
+            high: 0,
+            last_count: 0,
+        }
+    }
+
+    /// Timer5's count; read with interrupts off (the receive interrupt's
+    /// read of the same 16-bit register shares the TEMP byte).
+    fn count() -> u16 {
+        interrupt::free(|_| timer5_count())
+    }
+
+    /// Bytes dropped since start (errors, overrun, a full ring).
+    pub fn dropped(&self) -> u16 {
+        interrupt::free(|cs| LINE.borrow(cs).try_borrow().map_or(0, |l| l.dropped))
+    }
+
+    /// A reply is being sent (the driver enable is high).
+    pub fn sending(&self) -> bool {
+        interrupt::free(|cs| LINE.borrow(cs).try_borrow().map_or(false, |l| l.sending))
+    }
+
+    /// Bytes waiting in the receive ring.
+    pub fn waiting(&self) -> usize {
+        interrupt::free(|cs| {
+            LINE.borrow(cs)
+                .try_borrow()
+                .map_or(0, |l| if l.sending { 0 } else { usize::from(l.len) })
+        })
+    }
+
+    /// The 32-bit count of `count` (the present), its wraps counted.
+    fn extend(&mut self, count: u16) -> u32 {
+        if count < self.last_count {
+            self.high = self.high.wrapping_add(1);
+        }
+        self.last_count = count;
+        (u32::from(self.high) << 16) | u32::from(count)
+    }
+}
+
+/// Timer5's count (TCNT5L first, then the high byte from TEMP).
+#[inline(always)]
+fn timer5_count() -> u16 {
+    // SAFETY: a read of TCNT5, which has no side effect but on TEMP; every
+    // reader runs with interrupts off.
+    let tc5 = unsafe { chip::TC5::steal() };
+    tc5.tcnt5().read().bits()
+}
+
+impl suntracker::sunspec::ModbusLine for Rs485 {
+    fn receive(&mut self) -> Option<(u8, u32)> {
+        let (byte, stamp, now) = interrupt::free(|cs| {
+            let mut line = LINE.borrow(cs).try_borrow_mut().ok()?;
+            if line.sending || line.len == 0 {
+                return None;
+            }
+            let at = usize::from(line.head) * 4;
+            let &[byte, lo, hi] = line.buf.get(at..at + 3)? else {
+                return None;
+            };
+            let stamp = u16::from_le_bytes([lo, hi]);
+            line.head = (line.head + 1) % RX_ENTRIES as u16;
+            line.len -= 1;
+            Some((byte, stamp, timer5_count()))
+        })?;
+        let now32 = self.extend(now);
+        let age = u32::from(now.wrapping_sub(stamp));
+        Some((byte, now32.wrapping_sub(age).wrapping_mul(US_PER_COUNT)))
+    }
+
+    fn now_us(&mut self) -> u32 {
+        let count = Self::count();
+        self.extend(count).wrapping_mul(US_PER_COUNT)
+    }
+
+    fn send(&mut self, frame: &[u8]) {
+        let n = frame.len().min(BUF_LEN);
+        interrupt::free(|cs| {
+            let Ok(mut line) = LINE.borrow(cs).try_borrow_mut() else {
+                return;
+            };
+            if line.sending || n == 0 {
+                return;
+            }
+            for (to, &from) in line.buf.iter_mut().zip(frame) {
+                *to = from;
+            }
+            line.head = 0;
+            line.len = n as u16;
+            line.sending = true;
+            // Receiver off, the transmit-complete flag cleared (written 1),
+            // the driver on, then the data-register-empty interrupt moves
+            // the bytes.
+            self.usart
+                .ucsr2a()
+                .write(|w| w.u2x2().set_bit().txc2().set_bit());
+            self.usart.ucsr2b().write(|w| w.txen2().set_bit().udrie2().set_bit());
+            // SAFETY: PORTH's output register, every bit pattern valid;
+            // only PH3's bit changes, in this critical section.
+            let porth = unsafe { chip::PORTH::steal() };
+            porth.porth().modify(|r, w| unsafe { w.bits(r.bits() | DE_BIT) });
+        });
+    }
+}
+
+/// USART2 receive complete: the byte and its stamp into the ring.
+#[inline(always)]
+pub fn on_usart2_rx() {
+    // SAFETY: the receive path's registers; UDR2 read once here.
+    let usart = unsafe { chip::USART2::steal() };
+    let status = usart.ucsr2a().read();
+    let byte = usart.udr2().read().bits();
+    let stamp = timer5_count();
+    interrupt::free(|cs| {
+        let Ok(mut line) = LINE.borrow(cs).try_borrow_mut() else {
+            return;
+        };
+        let bad = status.fe2().bit_is_set() || status.dor2().bit_is_set() || status.upe2().bit_is_set();
+        if line.sending || bad || usize::from(line.len) >= RX_ENTRIES {
+            line.dropped = line.dropped.wrapping_add(1);
+            return;
+        }
+        let at = ((usize::from(line.head) + usize::from(line.len)) % RX_ENTRIES) * 4;
+        if let Some([b, lo, hi]) = line.buf.get_mut(at..at + 3) {
+            [*lo, *hi] = stamp.to_le_bytes();
+            *b = byte;
+            line.len += 1;
+        }
+    });
+}
+
+/// USART2 data register empty: the reply's next byte, or, after the last,
+/// the transmit-complete interrupt armed.
+#[inline(always)]
+pub fn on_usart2_udre() {
+    // SAFETY: the transmit path's registers, owned by the send under way.
+    let usart = unsafe { chip::USART2::steal() };
+    interrupt::free(|cs| {
+        let Ok(mut line) = LINE.borrow(cs).try_borrow_mut() else {
+            return;
+        };
+        match line.buf.get(usize::from(line.head)) {
+            Some(&byte) if line.head < line.len => {
+                line.head += 1;
+                usart.udr2().write(|w| w.set(byte));
+            }
+            _ => {
+                usart.ucsr2b().write(|w| w.txen2().set_bit().txcie2().set_bit());
+            }
+        }
+    });
+}
+
+/// USART2 transmit complete (the last stop bit out): the driver released,
+/// the receiver on again with an empty ring.
+#[inline(always)]
+pub fn on_usart2_tx() {
+    // SAFETY: the port's registers and PORTH's output register (every bit
+    // pattern valid; only PH3's bit changes, with interrupts off); the send
+    // under way has ended.
+    let usart = unsafe { chip::USART2::steal() };
+    let porth = unsafe { chip::PORTH::steal() };
+    interrupt::free(|cs| {
+        porth.porth().modify(|r, w| unsafe { w.bits(r.bits() & !DE_BIT) });
+        usart
+            .ucsr2b()
+            .write(|w| w.txen2().set_bit().rxen2().set_bit().rxcie2().set_bit());
+        if let Ok(mut line) = LINE.borrow(cs).try_borrow_mut() {
+            line.sending = false;
+            line.head = 0;
+            line.len = 0;
+        }
+    });
+}
