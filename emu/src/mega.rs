@@ -530,6 +530,9 @@ impl MegaBench {
         sim.attach_uart('1')?;
         sim.attach_uart(modbus_master::UART)?;
         sim.watch_pin(modbus_master::DE_PIN.0, modbus_master::DE_PIN.1)?;
+        // TXC2 (UCSR2A bit 6): the image enables its interrupt after the
+        // flag is set (see `Sim::fire_on_enable`).
+        sim.fire_on_enable(modbus_master::UCSR2A, 6)?;
         sim.watch_port('A')?;
         let mut master = self.modbus.clone();
         let mut pty = match &self.modbus_pty {

@@ -123,6 +123,8 @@ impl ModbusPty {
             if n <= 0 {
                 break;
             }
+            // The line at the rate the registers say (`Sim::retime_uart`).
+            sim.retime_uart(UART);
             sim.uart_send(UART, &buf[..n as usize]);
         }
         let out = sim.uart_take(UART);

@@ -114,6 +114,9 @@ pub struct Sim {
     /// Every stretch awake longer than [`LONG_AWAKE_CYCLES`] (cycles, end
     /// cycle), the first [`LONG_AWAKE_KEPT`].
     long_awake: Vec<(u64, u64)>,
+    /// Interrupt vectors that fire when enabled with their flag already
+    /// set ([`Sim::fire_on_enable`]).
+    fire_on_enable: Vec<NonNull<ffi::avr_int_vector_t>>,
     _firmware: Box<ffi::elf_firmware_t>,
 }
 
@@ -240,6 +243,7 @@ impl Sim {
             long_awake: Vec::new(),
             cycle_base: Rc::new(std::cell::Cell::new(0)),
             profile: None,
+            fire_on_enable: Vec::new(),
             _firmware: firmware,
         })
     }
@@ -307,6 +311,78 @@ impl Sim {
     pub fn uart_take_timed(&mut self, id: char) -> Vec<(u64, u8)> {
         let mut s = self.uart(id).state.borrow_mut();
         s.from_avr.drain(..).collect()
+    }
+
+    /// Makes simavr time USART `id`'s line from its registers as they are
+    /// now. simavr computes a USART's character time only when UBRRnL is
+    /// written (`avr_uart_baud_write`, reading U2Xn, UCSZn and USBSn then);
+    /// the chip's baud generator follows U2Xn at once (ATmega2560 datasheet
+    /// §22.3.2, "Double Speed Operation"). An image that writes UBRRn before
+    /// it sets U2Xn runs at the rate it asked on a board, but at half of it
+    /// under simavr. This replays the UBRRnL write through simavr's own
+    /// handler with the value in the register. An unknown USART: nothing.
+    pub fn retime_uart(&mut self, id: char) {
+        // UBRRnL of the ATmega2560's USART0–3 (datasheet §33, register
+        // summary).
+        let ubrrl: u16 = match id {
+            '0' => 0xC4,
+            '1' => 0xCC,
+            '2' => 0xD4,
+            '3' => 0x134,
+            _ => return,
+        };
+        let value = self.peek(ubrrl);
+        // SAFETY: `io` is simavr's table of I/O write handlers, indexed by
+        // data address − 32; the handler and its parameter are simavr's.
+        unsafe {
+            let avr = self.avr.as_ptr();
+            let slot = usize::from(ubrrl - 32);
+            if let Some(w) = (*avr).io.get(slot) {
+                if let Some(c) = w.w.c {
+                    c(avr, ubrrl, value, w.w.param);
+                }
+            }
+        }
+    }
+
+    /// Makes the interrupt whose flag is bit `bit` of the I/O register at
+    /// data address `flag_reg` fire when its enable bit is set while the
+    /// flag already is, as the chip does (an interrupt is requested while
+    /// flag and enable are both set: ATmega2560 datasheet §7.8 "Reset and
+    /// Interrupt Handling"). simavr requests an interrupt only when the flag
+    /// is raised (`avr_raise_interrupt`), so one enabled after its flag
+    /// never fires — e.g. TXCn, which simavr raises at the same tick as
+    /// UDREn after a frame's last byte (it has no transmit double buffer),
+    /// before the UDRE interrupt can enable TXCIEn. Checked after every
+    /// instruction. Errors when no vector has that flag.
+    pub fn fire_on_enable(&mut self, flag_reg: u16, bit: u8) -> Result<(), String> {
+        let table = unsafe { &self.avr.as_ref().interrupts };
+        let found = table
+            .vector
+            .iter()
+            .take(usize::from(table.vector_count))
+            .filter_map(|v| NonNull::new(*v))
+            .find(|v| {
+                let r = unsafe { &v.as_ref().raised };
+                r.reg() == u32::from(flag_reg) && r.bit() == u32::from(bit)
+            })
+            .ok_or_else(|| format!("no interrupt flagged at {flag_reg:#x} bit {bit}"))?;
+        self.fire_on_enable.push(found);
+        Ok(())
+    }
+
+    fn regbit(&self, r: &ffi::avr_regbit_t) -> bool {
+        r.reg() != 0 && (u32::from(self.peek(r.reg() as u16)) >> r.bit()) & r.mask() != 0
+    }
+
+    /// [`Sim::fire_on_enable`]'s check.
+    fn raise_enabled_flags(&mut self) {
+        for v in &self.fire_on_enable {
+            let vec = unsafe { v.as_ref() };
+            if vec.pending() == 0 && self.regbit(&vec.enable) && self.regbit(&vec.raised) {
+                unsafe { ffi::avr_raise_interrupt(self.avr.as_ptr(), v.as_ptr()) };
+            }
+        }
     }
 
     /// Queues bytes for the AVR's receiver on USART `id`.
@@ -669,6 +745,9 @@ impl Sim {
             let before = self.cycle();
             let pc_before = unsafe { self.avr.as_ref().pc };
             let state = unsafe { ffi::avr_run(self.avr.as_ptr()) } as u32;
+            if !self.fire_on_enable.is_empty() {
+                self.raise_enabled_flags();
+            }
             if self.cycle() < before {
                 return CpuState::Reset;
             }

@@ -20,6 +20,7 @@ use sun_algos::{Algorithm, Options, Site, UtcTime};
 use suntracker::attitude::{angle_between_deg, sun_vector_xyz, MountAttitude, Pose};
 use suntracker_emu::log::{format_utc, parse_utc, Event};
 use suntracker_emu::mega::SwitchEvent;
+use suntracker_emu::models::modbus_master;
 use suntracker_emu::models::nmea::lying_epochs;
 use suntracker_emu::script::xorshift32_noise;
 use suntracker_emu::sim::{CpuState, ElfIdentity};
@@ -2280,4 +2281,435 @@ fn t_overcast_lies_flat_and_returns() {
     assert_eq!(raised.len(), 1, "{}", faults_summary(&run, start));
     assert!(raised[0] >= at(70.0) && raised[0] < at(71.5));
     tracks_after(&run, start, 57.0);
+}
+
+/// SunSpec register of a point: 40000 + `offset` (the map's base, `SunS`).
+const SUNS: u16 = 40_000;
+/// Model 601's ID register, and its length with the ID and L (2 + 48).
+const M601: u16 = 40_070;
+const M601_REGS: u16 = 50;
+/// Model 64201's ID register, and its length with the ID and L (2 + 10).
+const M64201: u16 = 40_158;
+const M64201_REGS: u16 = 12;
+/// The tolerance of model 601's angles against the set-point and SPA: the
+/// map's 0.01° steps and the firmware's f32 table.
+const MODBUS_ANGLE_TOL_DEG: f64 = 0.05;
+/// The emulated minute (v) starts its 10 KB of noise at.
+const NOISE_MIN: f64 = 9.0;
+
+/// A reply's registers, or a panic naming the transaction.
+fn registers(t: &modbus_master::Transaction) -> Vec<u16> {
+    match t.parsed() {
+        Some(modbus_master::Reply::Registers(r)) => r,
+        other => panic!("{}: {other:?}", t.summary()),
+    }
+}
+
+/// An int32 point (high word first) scaled by 10^sf.
+fn i32_point(r: &[u16], at: usize, sf: i16) -> f64 {
+    let v = ((u32::from(r[at]) << 16) | u32::from(r[at + 1])) as i32;
+    f64::from(v) * 10f64.powi(i32::from(sf))
+}
+
+/// Model 601 read whole (from its ID): the instant its DtLoc/TmLoc say
+/// (Unix s), and ElTrgt, AzTrgt, ElPos, AzPos, GlblElCtl, GlblAzCtl
+/// (degrees, Dgr_SF applied) and GlblCtl.
+struct Tracker601 {
+    unix_s: i64,
+    el_trgt: f64,
+    az_trgt: f64,
+    el_pos: f64,
+    az_pos: f64,
+    glbl_el: f64,
+    glbl_az: f64,
+    glbl_ctl: u16,
+}
+
+fn tracker_601(t: &modbus_master::Transaction) -> Tracker601 {
+    let r = registers(t);
+    assert_eq!((r[0], r[1], r.len()), (601, 48, 50), "{}", t.summary());
+    let text = |from: usize, n: usize| -> String {
+        r[from..from + n]
+            .iter()
+            .flat_map(|w| w.to_be_bytes())
+            .take_while(|b| *b != 0)
+            .map(char::from)
+            .collect()
+    };
+    let (d, tm) = (text(11, 5), text(16, 3));
+    let unix_s = t_compact(&d, &tm).unwrap_or_else(|| panic!("DtLoc {d:?} TmLoc {tm:?}"));
+    let sf = r[26] as i16;
+    assert_eq!(sf, -2, "Dgr_SF");
+    Tracker601 {
+        unix_s,
+        glbl_el: i32_point(&r, 20, sf),
+        glbl_az: i32_point(&r, 22, sf),
+        glbl_ctl: r[24],
+        el_trgt: i32_point(&r, 36, sf),
+        az_trgt: i32_point(&r, 38, sf),
+        el_pos: i32_point(&r, 40, sf),
+        az_pos: i32_point(&r, 42, sf),
+    }
+}
+
+/// `YYYYMMDD` and `hhmmss` → Unix seconds.
+fn t_compact(d: &str, tm: &str) -> Option<i64> {
+    if d.len() != 8 || tm.len() != 6 {
+        return None;
+    }
+    parse_utc(&format!(
+        "{}-{}-{}T{}:{}:{}Z",
+        &d[0..4],
+        &d[4..6],
+        &d[6..8],
+        &tm[0..2],
+        &tm[2..4],
+        &tm[4..6]
+    ))
+}
+
+/// Elevation and azimuth (degrees) of a unit vector in the horizontal
+/// frame (X west, Y south, Z up: `suntracker::attitude`).
+fn el_az(v: &[f64; 3]) -> (f64, f64) {
+    let el = v[2].atan2(v[0].hypot(v[1])).to_degrees();
+    let az = (-v[0]).atan2(-v[1]).to_degrees().rem_euclid(360.0);
+    (el, az)
+}
+
+fn az_diff(a: f64, b: f64) -> f64 {
+    let d = (a - b).rem_euclid(360.0);
+    d.min(360.0 - d)
+}
+
+/// (v) A Modbus RTU master on the RS-485 port (USART2, DE on PH3) at Kano,
+/// 2026-06-21 from 08:00Z, RTC and GPS, 32 minutes. At minute 3 it reads
+/// `SunS` and walks the model chain from 40002 as a SunSpec client does
+/// (1, 601, 305, 64201, the end marker 0xFFFF); at 6 it reads model 601:
+/// its ElTrgt/AzTrgt (Dgr_SF −2) within 0.05° of the set-point in force at
+/// the instant its DtLoc/TmLoc say (the last `setpoint` line at or before
+/// it: the normal of its pose and its sun) and of SPA's sun at that
+/// set-point's time, computed here; GlblCtl = Manual (06) with
+/// `modbus.write` 0 gets exception 01 and nothing changes; a frame with a
+/// bad CRC and one to address 7 get no reply; 10 KB of noise at the line's
+/// rate over minutes 9–15 delay no set-point by more than a tick (1 s),
+/// and model 601 reads right again after it; `set modbus.write 1` typed at
+/// 18: manual targets and GlblCtl = Manual in one write (16) → `mode
+/// manual`, the axes there (the normal of the decoded pose, and ElPos/AzPos,
+/// within 0.05° + a step); a target below the horizon: exception 03,
+/// nothing moves; the vendor model's Stow broadcast (address 0): no reply,
+/// `mode command_stow`. Every transaction's pins: DE high over every reply
+/// byte, low before and after, the reply ≥ 3.5 characters after the
+/// request, its bytes back to back ([`modbus_master::Transaction`]).
+#[test]
+fn v_modbus_master_reads_and_commands() {
+    use modbus_master::{read_holding, write_multiple, write_single, Reply, Step};
+    let elf = elf_or_skip!();
+    let (start, bench) = kano_morning(&elf);
+    let frame = |bytes: Vec<u8>| Step::Frame {
+        bytes,
+        expect_reply: true,
+    };
+    let silent = |bytes: Vec<u8>| Step::Frame {
+        bytes,
+        expect_reply: false,
+    };
+    let mut bad_crc = read_holding(1, SUNS, 2);
+    *bad_crc.last_mut().unwrap() ^= 0x5A;
+    let (el_manual, az_manual) = (55.0, 85.0);
+    let [eh, el] = modbus_master::i32_registers((el_manual * 100.0) as i32);
+    let [ah, al] = modbus_master::i32_registers((az_manual * 100.0) as i32);
+    let [bh, bl] = modbus_master::i32_registers(-8_000);
+    let steps = vec![
+        (3.0, frame(read_holding(1, SUNS, 2)), "SunS"),
+        (
+            3.1,
+            Step::Walk {
+                unit: 1,
+                from: SUNS + 2,
+            },
+            "walk",
+        ),
+        (6.0, frame(read_holding(1, M601, M601_REGS)), "601 tracking"),
+        (
+            6.5,
+            frame(read_holding(1, M64201, M64201_REGS)),
+            "64201 tracking",
+        ),
+        (
+            7.0,
+            frame(write_single(1, M601 + 24, 1)),
+            "GlblCtl manual, writes off",
+        ),
+        (8.0, silent(bad_crc), "bad CRC"),
+        (8.5, silent(read_holding(7, SUNS, 2)), "address 7"),
+        (
+            NOISE_MIN,
+            Step::Noise(xorshift32_noise(0x2545_f491, 10_240)),
+            "noise",
+        ),
+        (
+            17.0,
+            frame(read_holding(1, M601, M601_REGS)),
+            "601 after the noise",
+        ),
+        (
+            19.0,
+            frame(write_multiple(1, M601 + 20, &[eh, el, ah, al, 1])),
+            "manual targets",
+        ),
+        (22.0, frame(read_holding(1, M601, M601_REGS)), "601 manual"),
+        (
+            23.0,
+            frame(write_multiple(1, M601 + 20, &[bh, bl])),
+            "below the horizon",
+        ),
+        (
+            24.5,
+            frame(read_holding(1, M601, M601_REGS)),
+            "601 after 03",
+        ),
+        (
+            25.0,
+            silent(write_single(0, M64201 + 11, 1)),
+            "broadcast stow",
+        ),
+        (
+            28.0,
+            frame(read_holding(1, M64201, M64201_REGS)),
+            "64201 stowed",
+        ),
+    ];
+    // The same bench without the noise, to minute 17: the set-points'
+    // lateness without it.
+    let quiet = steps
+        .iter()
+        .filter(|s| s.0 < NOISE_MIN)
+        .fold(bench.clone(), |b, (m, step, label)| {
+            b.modbus_at(*m, step.clone(), label)
+        })
+        .run_minutes(17.0)
+        .unwrap();
+    let run = steps
+        .into_iter()
+        .fold(bench, |b, (m, step, label)| b.modbus_at(m, step, label))
+        .type_at(18.0, "set modbus.write 1")
+        .run_minutes(32.0)
+        .unwrap();
+    report("v", &run);
+    let m = &run.modbus;
+    for t in &m.transactions {
+        println!("v: {:.1} min {}", t.sent_emu_s / 60.0, t.summary());
+    }
+    let at = |min: f64| start as f64 + min * 60.0;
+    let one = |label: &str| {
+        let ts = m.labelled(label);
+        assert_eq!(ts.len(), 1, "transactions {label}");
+        ts[0]
+    };
+    // The pins, on every transaction.
+    let bad: Vec<String> = m
+        .transactions
+        .iter()
+        .filter(|t| !t.violations.is_empty())
+        .map(|t| format!("{}: {:?}", t.summary(), t.violations))
+        .collect();
+    assert!(bad.is_empty(), "{bad:#?}");
+    assert!(
+        m.unsolicited.is_empty() && m.unsolicited_de.is_empty(),
+        "bytes {:?} / DE {:?} outside any transaction",
+        m.unsolicited,
+        m.unsolicited_de
+    );
+    let turnaround: Vec<f64> = m
+        .transactions
+        .iter()
+        .filter_map(|t| t.turnaround_chars())
+        .collect();
+    println!(
+        "v: {} transactions, replies {:.2} to {:.2} characters after the request",
+        m.transactions.len(),
+        turnaround.iter().copied().fold(f64::INFINITY, f64::min),
+        turnaround.iter().copied().fold(0.0, f64::max)
+    );
+    // SunS and the model chain.
+    assert_eq!(registers(one("SunS")), [0x5375, 0x6E53]);
+    let chain: Vec<(u16, u16, u16)> = m
+        .labelled("walk ")
+        .into_iter()
+        .map(|t| {
+            let r = registers(t);
+            (t.label[5..].parse().unwrap(), r[0], r[1])
+        })
+        .collect();
+    assert_eq!(
+        chain,
+        [
+            (40_002, 1, 66),
+            (40_070, 601, 48),
+            (40_120, 305, 36),
+            (40_158, 64201, 10),
+            (40_170, 0xFFFF, 0)
+        ]
+    );
+    // Model 601 against the set-point in force and SPA.
+    let sps = set_points(&run);
+    let check_601 = |label: &str| -> (f64, f64) {
+        let p = tracker_601(one(label));
+        let (line, sp_utc, c, a) = *sps
+            .iter()
+            .rfind(|s| s.1 <= p.unix_s)
+            .unwrap_or_else(|| panic!("{label}: no set-point before {}", format_utc(p.unix_s)));
+        let Event::SetPoint {
+            zenith_deg,
+            azimuth_deg,
+            ..
+        } = line.event
+        else {
+            unreachable!()
+        };
+        let pose = Pose {
+            gamma_deg: c,
+            alpha_deg: a,
+        };
+        let (nel, naz) = el_az(&MountAttitude::level().normal_xyz(&pose));
+        let (sel, saz) = el_az(&kano_sun(sp_utc));
+        let dev_log = (p.el_trgt - (90.0 - zenith_deg))
+            .abs()
+            .max(az_diff(p.az_trgt, azimuth_deg));
+        let dev_pose = (p.el_trgt - nel).abs().max(az_diff(p.az_trgt, naz));
+        let dev_spa = ((p.el_trgt - sel).abs(), az_diff(p.az_trgt, saz));
+        println!(
+            "v: {label}: read at {} (DtLoc/TmLoc), set-point {}: ElTrgt {:.2} AzTrgt {:.2}; \
+             log's sun {:.4} {:.4} (off {dev_log:.4}), pose's normal {nel:.4} {naz:.4} (off \
+             {dev_pose:.4}), SPA {sel:.4} {saz:.4} (off {:.4} / {:.4})",
+            format_utc(p.unix_s),
+            format_utc(sp_utc),
+            p.el_trgt,
+            p.az_trgt,
+            90.0 - zenith_deg,
+            azimuth_deg,
+            dev_spa.0,
+            dev_spa.1
+        );
+        assert!(
+            dev_log <= MODBUS_ANGLE_TOL_DEG && dev_pose <= MODBUS_ANGLE_TOL_DEG,
+            "{label}"
+        );
+        assert!(
+            dev_spa.0.max(dev_spa.1) <= MODBUS_ANGLE_TOL_DEG,
+            "{label}: SPA"
+        );
+        assert_eq!(p.glbl_ctl, 0, "{label}: GlblCtl Automatic");
+        dev_spa
+    };
+    check_601("601 tracking");
+    check_601("601 after the noise");
+    let vendor = registers(one("64201 tracking"));
+    assert_eq!(
+        (vendor[0], vendor[2], vendor[3]),
+        (64201, 8, 0),
+        "tracking, no stow"
+    );
+    // Writes off: 01, nothing changes.
+    assert_eq!(
+        one("GlblCtl manual, writes off").parsed(),
+        Some(Reply::Exception(1))
+    );
+    assert!(
+        line_after(&run, at(7.0), "mode manual") >= Some(at(19.0)),
+        "manual before the writes were on"
+    );
+    // No reply to a bad CRC, nor to another address (checked as no reply
+    // and DE low above).
+    assert!(one("bad CRC").reply.is_empty() && one("address 7").reply.is_empty());
+    // The noise: each set-point whose slot came while it was on the line
+    // logged at most a controller tick (1 s) later than in the run without
+    // it.
+    let (noise_s, noise_len) = m.noise_sent[0];
+    assert_eq!(noise_len, 10_240);
+    let noise_end_s = run.emu_s_at(m.noise_fed_cycles[0]);
+    println!(
+        "v: noise from {} to {}",
+        format_utc((start as f64 + noise_s) as i64),
+        format_utc((start as f64 + noise_end_s) as i64)
+    );
+    let quiet_sps = set_points(&quiet);
+    let mut over_noise = 0;
+    for (l, utc, ..) in sps
+        .iter()
+        .filter(|s| (s.1 as f64) >= at(NOISE_MIN) && (s.1 as f64) < at(17.0))
+    {
+        let (q, ..) = quiet_sps
+            .iter()
+            .find(|q| q.1 == *utc)
+            .unwrap_or_else(|| panic!("no set-point {} without the noise", format_utc(*utc)));
+        let (d, dq) = (l.utc_s - *utc as f64, q.utc_s - *utc as f64);
+        println!(
+            "v: set-point {} logged {d:.3} s after its slot with the noise, {dq:.3} s without",
+            format_utc(*utc)
+        );
+        assert!(
+            d - dq <= 1.0,
+            "set-point {} delayed {:.3} s by the noise",
+            format_utc(*utc),
+            d - dq
+        );
+        if (*utc as f64) < start as f64 + noise_end_s {
+            over_noise += 1;
+        }
+    }
+    assert!(
+        over_noise >= 1,
+        "no set-point while the noise was on the line"
+    );
+    // Writes on: manual.
+    assert!(line_after(&run, at(18.0), "ok modbus.write=1").is_some());
+    assert_eq!(one("manual targets").parsed(), Some(Reply::Written));
+    let manual_at = line_after(&run, at(19.0), "mode manual").expect("mode manual");
+    assert!(
+        manual_at < at(19.5),
+        "mode manual at {}",
+        format_utc(manual_at as i64)
+    );
+    let p = tracker_601(one("601 manual"));
+    let pos_tol = MODBUS_ANGLE_TOL_DEG + STEP_DEG;
+    assert_eq!(p.glbl_ctl, 1);
+    assert!((p.glbl_el - el_manual).abs() < 0.005 && (p.glbl_az - az_manual).abs() < 0.005);
+    assert!(
+        (p.el_pos - el_manual).abs() <= pos_tol && az_diff(p.az_pos, az_manual) <= pos_tol,
+        "ElPos/AzPos {} {}",
+        p.el_pos,
+        p.az_pos
+    );
+    let l = run
+        .lines
+        .iter()
+        .find(|l| l.text.starts_with("# modbus 601 manual"))
+        .unwrap();
+    let pose = Pose {
+        gamma_deg: l.c_deg,
+        alpha_deg: l.a_deg,
+    };
+    let (nel, naz) = el_az(&MountAttitude::level().normal_xyz(&pose));
+    println!("v: manual {el_manual} {az_manual}: ElPos {:.2} AzPos {:.2}, decoded pose's normal {nel:.3} {naz:.3}", p.el_pos, p.az_pos);
+    assert!((nel - el_manual).abs() <= pos_tol && az_diff(naz, az_manual) <= pos_tol);
+    // Below the horizon: 03, nothing moves, the target kept.
+    assert_eq!(one("below the horizon").parsed(), Some(Reply::Exception(3)));
+    assert_eq!(steps_between(&run, at(23.0), at(25.0)), 0, "moved after 03");
+    let p = tracker_601(one("601 after 03"));
+    assert!(
+        (p.glbl_el - el_manual).abs() < 0.005,
+        "GlblElCtl {}",
+        p.glbl_el
+    );
+    // The broadcast stow: no reply, command_stow.
+    let stow_at = line_after(&run, at(25.0), "mode command_stow").expect("mode command_stow");
+    assert!(stow_at < at(25.5));
+    let vendor = registers(one("64201 stowed"));
+    assert_eq!(
+        (vendor[2], vendor[3]),
+        (3, 2),
+        "command_stow, reason command"
+    );
+    assert_no_illegal_steps(&run);
 }

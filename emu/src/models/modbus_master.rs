@@ -32,6 +32,8 @@ use crate::sim::Sim;
 pub const UART: char = '2';
 /// DE (and /RE) of the transceiver: PH3 (Mega D6), active high.
 pub const DE_PIN: (char, u8) = ('H', 3);
+/// UCSR2A's data address (RXC2, TXC2, UDRE2, U2X2; datasheet §33).
+pub const UCSR2A: u16 = 0xD0;
 /// CPU cycles a transaction waits for the first byte of a reply (1 s at
 /// 16 MHz: the order of a SCADA's response time-out).
 pub const REPLY_TIMEOUT_CYCLES: u64 = 16_000_000;
@@ -344,7 +346,7 @@ impl Transaction {
 /// (simavr always counts a parity bit).
 pub fn usart2_char_cycles(sim: &Sim) -> u64 {
     let ubrr = u64::from(sim.peek(0xD4)) | u64::from(sim.peek(0xD5) & 0x0F) << 8;
-    let u2x = sim.peek(0xD0) & 0x02 != 0;
+    let u2x = sim.peek(UCSR2A) & 0x02 != 0;
     let ucsrc = sim.peek(0xD2);
     let data_bits = 5 + u64::from((ucsrc >> 1) & 3);
     let stop_bits = 1 + u64::from((ucsrc >> 3) & 1);
@@ -373,6 +375,9 @@ pub struct ModbusMaster {
     de_high: bool,
     /// Noise bursts sent: (emulated s, bytes).
     pub noise_sent: Vec<(f64, usize)>,
+    /// The cycle each burst's last byte was handed to simavr's receive
+    /// FIFO at (it is on the line 64 characters more at most).
+    pub noise_fed_cycles: Vec<u64>,
 }
 
 impl ModbusMaster {
@@ -426,7 +431,12 @@ impl ModbusMaster {
         if let Some(t) = &self.current {
             let c = t.char_cycles;
             let over = match t.reply.last() {
-                Some(&(last, _)) => now >= last + (1 + END_OF_FRAME_CHARS) * c && !self.de_high,
+                // Over at a silence with DE low; a DE stuck high ends it a
+                // time-out later (its check then says so).
+                Some(&(last, _)) => {
+                    (now >= last + (1 + END_OF_FRAME_CHARS) * c && !self.de_high)
+                        || now >= last + REPLY_TIMEOUT_CYCLES
+                }
                 None => now >= t.end_cycle + REPLY_TIMEOUT_CYCLES,
             };
             if over {
@@ -450,6 +460,8 @@ impl ModbusMaster {
             if sim.uart_pending(UART) > 0 {
                 // 64 bytes in simavr's FIFO behind the queue, and a silence.
                 self.noise_until_cycle = Some(now + 70 * usart2_char_cycles(sim));
+            } else if self.noise_fed_cycles.len() < self.noise_sent.len() {
+                self.noise_fed_cycles.push(now);
             } else if now >= end {
                 self.noise_until_cycle = None;
             }
@@ -489,6 +501,9 @@ impl ModbusMaster {
                 }
             }
         };
+        // The line at the rate the registers say (see
+        // `Sim::retime_uart`): the image writes UBRR2 before U2X2.
+        sim.retime_uart(UART);
         let char_cycles = usart2_char_cycles(sim);
         // simavr's FIFO takes 64 bytes at once: a longer frame would be
         // fed in pieces, and its end not known here.
@@ -510,10 +525,11 @@ impl ModbusMaster {
     }
 
     /// Transactions whose label starts with `prefix`.
-    pub fn labelled<'a>(&'a self, prefix: &'a str) -> impl Iterator<Item = &'a Transaction> + 'a {
+    pub fn labelled(&self, prefix: &str) -> Vec<&Transaction> {
         self.transactions
             .iter()
-            .filter(move |t| t.label.starts_with(prefix))
+            .filter(|t| t.label.starts_with(prefix))
+            .collect()
     }
 }
 
