@@ -38,6 +38,8 @@ OPTIONS:
   --nmea FILE           feed this recorded NMEA log on USART1 (default: a
                         generated Kano fix, 11.9683 N 8.4261 E, 480 m)
   --no-gps              keep USART1 silent
+  --gps-period-s S      seconds between two epochs of the generated fix
+                        (default 30; 1 as most receivers send them)
   --start UTC           power-on time, YYYY-MM-DDTHH:MM:SSZ (default: the
                         first NMEA time, else 2026-06-21T05:00:00Z)
   --rtc valid|lost|absent   DS3231 state at power-on (default valid)
@@ -76,6 +78,14 @@ OPTIONS:
                         records 00 and 01); default all erased (0xFF)
   --eeprom-out FILE     uno, uno-settings: write the EEPROM at the end of
                         the run to FILE, Intel HEX (1,024 bytes)
+  --modbus-pty PATH     mega: a pseudo-terminal linked at PATH bridged to
+                        the RS-485 port (USART2, the image's Modbus RTU
+                        server, 19200 8E1 by default) for a Modbus master
+                        (pysunspec2, mbpoll) to open; while a client holds
+                        it open the run is at real time (an emulation build
+                        at 1:1) and paced to the wall clock, never ahead of
+                        it by more than 2 ms. SIGTERM or SIGINT ends the run
+                        with its summary (exit 0)
   --quiet               do not print the log lines
   -h, --help            this text
 
@@ -125,6 +135,8 @@ fn run() -> Result<ExitCode, String> {
     let mut ds1302 = false;
     let mut eeprom_out = None::<PathBuf>;
     let mut site = None::<(f64, f64)>;
+    let mut modbus_pty = None::<PathBuf>;
+    let mut gps_period_s = None::<f64>;
     let mut p = lexopt::Parser::from_env();
     let err = |e: lexopt::Error| e.to_string();
     let utc = |s: String| parse_utc(&s).ok_or(format!("bad time {s}, want YYYY-MM-DDTHH:MM:SSZ"));
@@ -188,6 +200,16 @@ fn run() -> Result<ExitCode, String> {
                 });
                 start_deg = Some(pair.ok_or(format!("--start-deg {v}: want C,A in degrees"))?);
             }
+            Long("gps-period-s") => {
+                let v = p.value().map_err(err)?.string().map_err(err)?;
+                gps_period_s = Some(
+                    v.parse()
+                        .ok()
+                        .filter(|s: &f64| s.is_finite() && *s >= 1.0)
+                        .ok_or(format!("--gps-period-s {v}: want seconds >= 1"))?,
+                );
+            }
+            Long("modbus-pty") => modbus_pty = Some(p.value().map_err(err)?.into()),
             Long("eeprom") => eeprom = Some(p.value().map_err(err)?.into()),
             Long("eeprom-out") => eeprom_out = Some(p.value().map_err(err)?.into()),
             Long("site") => {
@@ -253,6 +275,9 @@ fn run() -> Result<ExitCode, String> {
     });
     if image != Image::Uno && (!stalls.is_empty() || start_deg.is_some() || site.is_some()) {
         return Err("--stall, --start-deg and --site: --image uno only".into());
+    }
+    if image != Image::Mega && modbus_pty.is_some() {
+        return Err("--modbus-pty: --image mega only".into());
     }
     if image == Image::Mega && ds1302 {
         return Err("--ds1302: --image uno or uno-settings only".into());
@@ -421,6 +446,19 @@ fn run() -> Result<ExitCode, String> {
         }
         (None, false) => (GpsFeed::kano(), None),
     };
+    let feed = match (feed, gps_period_s) {
+        (GpsFeed::Generated { site, fix, .. }, Some(period_s)) => GpsFeed::Generated {
+            site,
+            fix,
+            period_s,
+        },
+        (_, Some(_)) => {
+            return Err(
+                "--gps-period-s: for the generated fix only (not with --nmea or --no-gps)".into(),
+            )
+        }
+        (feed, None) => feed,
+    };
     let start = start.or(first).unwrap_or(default_start);
     let wind = gale.map_or_else(WindProfile::calm, |t| WindProfile::gust(t, 10, 40.0));
     let mut bench = MegaBench::mega(&elf);
@@ -429,6 +467,10 @@ fn run() -> Result<ExitCode, String> {
     }
     for minute in &resets {
         bench = bench.reset_at(*minute);
+    }
+    if let Some(path) = modbus_pty {
+        suntracker_emu::pty::install_stop_handler();
+        bench = bench.modbus_pty(path);
     }
     let run = bench
         .start(start)
@@ -459,6 +501,18 @@ fn run() -> Result<ExitCode, String> {
         run.wind_pulses,
         run.cpu
     );
+    if let Some((paced_s, behind_s)) = run.paced {
+        eprintln!(
+            "suntracker-emu: Modbus pseudo-terminal: {paced_s:.1} emulated s paced to the wall clock, \
+             at most {:.1} ms behind it{}",
+            behind_s * 1e3,
+            if suntracker_emu::pty::stop_requested() {
+                "; stopped by a signal"
+            } else {
+                ""
+            }
+        );
+    }
     if std::env::var_os("SUNTRACKER_EMU_TRACE").is_some() {
         // Motion starts and minute samples, then switch changes.
         for t in &run.angle_trace {

@@ -217,6 +217,10 @@ pub struct Run {
     /// The Modbus master on USART2 after the run: its transactions, with
     /// what the pins did ([`MegaBench::modbus_at`]).
     pub modbus: ModbusMaster,
+    /// With [`MegaBench::modbus_pty`]: emulated seconds run paced (a
+    /// client attached), and the most the emulation fell behind the wall
+    /// clock then (it is never ahead by more than [`PACE_SLACK`]).
+    pub paced: Option<(f64, f64)>,
     /// The longest the CPU ran without sleeping (a loop pass with the
     /// interrupts inside it), CPU seconds at the part's 16 MHz, and the
     /// emulated UTC (Unix seconds) it ended at.
@@ -542,6 +546,9 @@ impl MegaBench {
         // While a client holds the terminal: (emulated s, wall instant)
         // when pacing began.
         let mut pace: Option<(f64, Instant)> = None;
+        // Emulated s paced in earlier stretches, in this one; the most
+        // behind the wall clock.
+        let (mut paced_done_s, mut paced_s, mut behind_s) = (0.0f64, 0.0f64, 0.0f64);
         let mut shown_modbus = 0usize;
         if std::env::var_os("SUNTRACKER_EMU_PROFILE").is_some() {
             sim.enable_profile();
@@ -790,9 +797,17 @@ impl MegaBench {
                         let now = Instant::now();
                         if due > now + PACE_SLACK {
                             std::thread::sleep(due - now);
+                        } else if now > due {
+                            behind_s = behind_s.max((now - due).as_secs_f64());
                         }
+                        paced_s = after_emu - emu0;
                     }
-                    (false, _) => pace = None,
+                    (false, Some(_)) => {
+                        paced_done_s += paced_s;
+                        paced_s = 0.0;
+                        pace = None;
+                    }
+                    (false, None) => {}
                 }
                 if crate::pty::stop_requested() {
                     break;
@@ -982,6 +997,10 @@ impl MegaBench {
             longest_awake,
             long_passes,
             modbus: master,
+            paced: self
+                .modbus_pty
+                .is_some()
+                .then_some((paced_done_s + paced_s, behind_s)),
         })
     }
 }

@@ -1,11 +1,20 @@
 #!/usr/bin/env python3
-"""End to end: pysunspec2 reads and commands the QEMU image's Modbus server.
+"""End to end: pysunspec2 reads and commands an image's Modbus server.
 
-Runs the qemu_tracker ELF under .ci/qemu_gps.py with `--modbus-pty` (Kano,
-GPS from 2026-03-20 09:00 UTC), waits in the log until the tracker tracks,
-then opens the pseudo-terminal with the SunSpec Alliance's pysunspec2
+Two targets, one test:
+
+* `qemu`: the qemu_tracker ELF under .ci/qemu_gps.py with `--modbus-pty`
+  (Kano, the GPS stream of 2026-03-20 from 09:00 UTC, 472 m);
+* `mega`: the ATmega2560 image (the board ELF a user flashes, 1:1) under
+  `suntracker-emu --image mega --modbus-pty` (Kano, the harness's generated
+  GPS fix, 480 m, an epoch a second, from 2026-03-20 09:00 UTC): its
+  RS-485 port, USART2.
+
+Each run waits in the log until the tracker tracks, then opens the
+pseudo-terminal with the SunSpec Alliance's pysunspec2
 (SunSpecModbusClientDeviceRTU, scan()); the harness paces the emulation to
-the wall clock while it is open. Two runs:
+the wall clock while it is open. Both runs start at once (each harness is
+one process; the second boots while the first is read). Two runs:
 
 1. The default configuration (`modbus.write` 0): models 1, 601, 305 and
    64201 found; model 601's ElTrgt/AzTrgt (the set-point in force) against
@@ -21,7 +30,9 @@ the wall clock while it is open. Two runs:
    horizon (out of the A axis's limits) gets exception 03 and nothing moves;
    GlblCtl=Automatic: tracking again; the vendor Stow: `mode command_stow`.
 
-  python3 modbus/sunspec/qemu_e2e.py ELF WORKDIR
+  python3 modbus/sunspec/sunspec_e2e.py qemu|mega ELF WORKDIR [HARNESS]
+
+HARNESS: the suntracker-emu binary for `mega`.
 """
 import datetime as dt
 import os
@@ -38,16 +49,66 @@ from pvlib import solarposition
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 ROOT = os.path.dirname(os.path.dirname(HERE))
-HARNESS = os.path.join(ROOT, ".ci", "qemu_gps.py")
 START = "2026-03-20T09:00:00Z"
-# The GPS stream's position (tests/firmware/gps_kano_2026-03-20.nmea).
-LAT, LON, ALT_M = 11.9683, 8.4261, 472
+LAT, LON = 11.9683, 8.4261
 ADDRESS = 1
 BAUD = 19200
 SPA_TOL_DEG = 0.05
-# One step of the simulated axes (boards/mps2_an386/src/mount.rs), with
-# the map's 0.01 deg rounding.
-STEP_DEG = 0.018 + 0.01
+
+
+class Target:
+    """What differs between the images: the harness, the identity, the
+    GPS altitude, an axis step, how a run ends, how long a boot takes."""
+
+    def __init__(self, name, elf, harness):
+        self.name = name
+        common = ["--start", START, "--minutes", "600", "--quiet"]
+        if name == "qemu":
+            self.cmd = [sys.executable, os.path.join(ROOT, ".ci", "qemu_gps.py"), elf, *common,
+                        "--timeout", "600"]
+            self.model = "mps2-an386"
+            # The GPS stream's altitude (tests/firmware/gps_kano_2026-03-20.nmea).
+            self.alt_m = 472
+            # One step of the simulated axes (boards/mps2_an386/src/mount.rs),
+            # with the map's 0.01 deg rounding.
+            self.step_deg = 0.018 + 0.01
+            self.boot_s = 120
+            # The console is read from the first instant.
+            self.type_at_min = "0"
+        elif name == "mega":
+            # A fix a second, as most receivers send them: model 305 shows a
+            # fix only while it is fresh (the GPS reader's staleness).
+            self.cmd = [harness, "--image", "mega", "--elf", elf, *common, "--gps-period-s", "1"]
+            self.model = "mega2560"
+            # The harness's generated Kano fix (emu/src/models/nmea.rs).
+            self.alt_m = 480
+            # One step of the stepper axes (10,000 full steps a turn), with
+            # the map's rounding.
+            self.step_deg = 0.036 + 0.01
+            # Homing at 1:1 from the bench's power-on angles, then the first
+            # set-point: some 6 emulated minutes, several times faster than
+            # the wall clock unpaced.
+            self.boot_s = 240
+            # Bytes before the image turns its console's receiver on are
+            # lost, as on a board: typed 3 emulated seconds after power-on.
+            self.type_at_min = "0.05"
+        else:
+            raise SystemExit("target %r: want qemu or mega" % name)
+
+    def text(self, line):
+        """A log line's text: suntracker-emu's log prefixes `<utc> c=… a=… | `."""
+        return line.split(" | ", 1)[1] if self.name == "mega" and " | " in line else line
+
+    def ended(self, rc, lines, harness_out):
+        """Whether the run ended as asked: QEMU's image writes `end` at the
+        gate after SIGTERM; suntracker-emu stops at its next service and
+        says so in its summary."""
+        if self.name == "qemu":
+            return any(l.startswith("end ") for l in lines)
+        return rc == 0 and "stopped by a signal" in harness_out
+
+
+T = None
 
 failures = []
 passed = []
@@ -66,27 +127,28 @@ def angle_diff(a, b):
 class Run:
     """One harness run with the Modbus pseudo-terminal."""
 
-    def __init__(self, elf, workdir, name, *args):
+    def __init__(self, workdir, name, *args):
         self.log = os.path.join(workdir, name + ".log")
         self.tty = os.path.join(workdir, name + ".tty")
         # A log or link of an earlier run would be read as this one's.
         for old in (self.log, self.tty):
             if os.path.lexists(old):
                 os.unlink(old)
-        self.err = open(os.path.join(workdir, name + ".harness.txt"), "w")
-        cmd = [sys.executable, HARNESS, elf, "--start", START, "--minutes", "600", "--quiet",
-               "--timeout", "600", "--log", self.log, "--modbus-pty", self.tty, *args]
+        self.out = os.path.join(workdir, name + ".harness.txt")
+        self.err = open(self.out, "w")
+        cmd = [*T.cmd, "--log", self.log, "--modbus-pty", self.tty, *args]
         self.proc = subprocess.Popen(cmd, stdout=self.err, stderr=subprocess.STDOUT)
         self.dev = None
 
     def lines(self):
         try:
             with open(self.log, encoding="utf-8") as f:
-                return f.read().splitlines()
+                return [T.text(l) for l in f.read().splitlines()]
         except FileNotFoundError:
             return []
 
-    def wait_for(self, pattern, timeout_s=120):
+    def wait_for(self, pattern, timeout_s=None):
+        timeout_s = T.boot_s if timeout_s is None else timeout_s
         rx = re.compile(pattern)
         end = time.monotonic() + timeout_s
         while time.monotonic() < end:
@@ -114,6 +176,10 @@ class Run:
         rc = self.proc.wait(timeout=60)
         self.err.close()
         return rc
+
+    def ended(self, rc):
+        with open(self.out, encoding="utf-8", errors="replace") as f:
+            return T.ended(rc, self.lines(), f.read())
 
 
 def setpoint_before(lines, t):
@@ -154,15 +220,14 @@ def wait_position(tc, el, az, timeout_s=90):
     while time.monotonic() < end:
         tc.read()
         trk = tc.tracker[0]
-        if (trk.ElPos.cvalue is not None and abs(trk.ElPos.cvalue - el) <= STEP_DEG
-                and angle_diff(trk.AzPos.cvalue, az) <= STEP_DEG):
+        if (trk.ElPos.cvalue is not None and abs(trk.ElPos.cvalue - el) <= T.step_deg
+                and angle_diff(trk.AzPos.cvalue, az) <= T.step_deg):
             return trk.ElPos.cvalue, trk.AzPos.cvalue
         time.sleep(0.5)
     return trk.ElPos.cvalue, trk.AzPos.cvalue
 
 
-def run_read_only(elf, workdir):
-    run = Run(elf, workdir, "writes_off")
+def run_read_only(run):
     try:
         check("run 1: the tracker tracks (log)", run.wait_for(r"^setpoint "))
         t0 = time.monotonic()
@@ -172,7 +237,7 @@ def run_read_only(elf, workdir):
         print("     scan took %.2f s" % (time.monotonic() - t0))
         common = dev.models[1][0]
         check("1 Mn, Md, DA", (common.Mn.value, common.Md.value, common.DA.value)
-              == ("suntracker", "mps2-an386", ADDRESS),
+              == ("suntracker", T.model, ADDRESS),
               "%s %s %s" % (common.Mn.value, common.Md.value, common.DA.value))
         tc = dev.models[601][0]
         tc.read()
@@ -197,12 +262,12 @@ def run_read_only(elf, workdir):
                   % (t_read.strftime("%H:%M:%S"), iel, iaz, abs(el - iel), angle_diff(az, iaz)))
         pe, pa = trk.ElPos.cvalue, trk.AzPos.cvalue
         check("601 ElPos/AzPos at the target within a step",
-              abs(pe - el) <= STEP_DEG and angle_diff(pa, az) <= STEP_DEG,
+              abs(pe - el) <= T.step_deg and angle_diff(pa, az) <= T.step_deg,
               "pos %.2f %.2f, target %.2f %.2f" % (pe, pa, el, az))
         gps = dev.models[305][0]
         check("305 Lat, Long, Alt (the stream's fix)",
               abs(gps.Lat.cvalue - LAT) < 1e-6 and abs(gps.Long.cvalue - LON) < 1e-6
-              and gps.Alt.value == ALT_M and gps.Date.value == t_read.strftime("%Y%m%d"),
+              and gps.Alt.value == T.alt_m and gps.Date.value == t_read.strftime("%Y%m%d"),
               "%s %s %s %s %s" % (gps.Lat.cvalue, gps.Long.cvalue, gps.Alt.value, gps.Date.value, gps.Tm.value))
         v = dev.models[64201][0]
         check("64201 Mode tracking, no stow, no fault",
@@ -221,12 +286,10 @@ def run_read_only(elf, workdir):
         rc = run.stop()
     lines = run.lines()
     check("run 1: no `mode manual` in the log", "mode manual" not in lines)
-    check("run 1: ends (`end` line, exit 0)", rc == 0 and any(l.startswith("end ") for l in lines),
-          "exit %s" % rc)
+    check("run 1: ends when asked, exit 0", rc == 0 and run.ended(rc), "exit %s" % rc)
 
 
-def run_writes(elf, workdir):
-    run = Run(elf, workdir, "writes_on", "--type", "0:set modbus.write 1")
+def run_writes(run):
     try:
         check("run 2: `ok modbus.write=1`", run.wait_for(r"^ok modbus\.write=1$"))
         check("run 2: the tracker tracks (log)", run.wait_for(r"^setpoint "))
@@ -244,7 +307,7 @@ def run_writes(elf, workdir):
         check("the log says `mode manual`", run.wait_for(r"^mode manual$", 30))
         pe, pa = wait_position(tc, el, az)
         check("the axes move there (ElPos/AzPos)",
-              abs(pe - el) <= STEP_DEG and angle_diff(pa, az) <= STEP_DEG,
+              abs(pe - el) <= T.step_deg and angle_diff(pa, az) <= T.step_deg,
               "target %.2f %.2f from %.2f %.2f, now %.2f %.2f" % (el, az, el0, az0, pe, pa))
         v = dev.models[64201][0]
         v.read()
@@ -280,17 +343,29 @@ def run_writes(elf, workdir):
               "%s %s" % (v.Mode.value, v.StowRsn.value))
     finally:
         rc = run.stop()
-    lines = run.lines()
-    check("run 2: ends (`end` line)", any(l.startswith("end ") for l in lines), "exit %s" % rc)
+    check("run 2: ends when asked", run.ended(rc), "exit %s" % rc)
 
 
 def main():
-    elf, workdir = sys.argv[1], sys.argv[2]
+    global T
+    if len(sys.argv) not in (4, 5):
+        raise SystemExit(__doc__)
+    name, elf, workdir = sys.argv[1:4]
+    T = Target(name, elf, sys.argv[4] if len(sys.argv) == 5 else None)
     os.makedirs(workdir, exist_ok=True)
+    t0 = time.monotonic()
     # The vendor model's definition beside this script, then pysunspec2's own.
     sunspec2.device.set_model_defs_path([HERE] + sunspec2.device.get_model_defs_path())
-    run_read_only(elf, workdir)
-    run_writes(elf, workdir)
+    read_only = Run(workdir, "writes_off")
+    writes = Run(workdir, "writes_on", "--type", T.type_at_min + ":set modbus.write 1")
+    try:
+        run_read_only(read_only)
+        run_writes(writes)
+    finally:
+        for r in (read_only, writes):
+            if r.proc.poll() is None:
+                r.proc.kill()
+    print("%s: %.1f s wall" % (name, time.monotonic() - t0))
     print("%d passed, %d failed%s" % (len(passed), len(failures),
                                       (": " + ", ".join(failures)) if failures else ""))
     return 1 if failures else 0
