@@ -145,6 +145,22 @@ pub struct LogLine {
     pub a_start_deg: f64,
 }
 
+impl LogLine {
+    /// A line of the harness itself (`> typed`, `# power cut`, `# modbus
+    /// …`) at `utc_s`, the axes at `(c, a)` degrees.
+    fn harness(utc_s: f64, text: String, (c_deg, a_deg): (f64, f64)) -> Self {
+        LogLine {
+            utc_s,
+            event: parse_line(&text),
+            text,
+            c_deg,
+            a_deg,
+            c_start_deg: c_deg,
+            a_start_deg: a_deg,
+        }
+    }
+}
+
 /// A switch changing state.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct SwitchEvent {
@@ -663,15 +679,7 @@ impl MegaBench {
                 }
             }
             for text in due.lines {
-                let line = LogLine {
-                    utc_s: utc,
-                    event: parse_line(&text),
-                    text,
-                    c_deg: c_axis.angle_deg(),
-                    a_deg: a_axis.angle_deg(),
-                    c_start_deg: c_axis.angle_deg(),
-                    a_start_deg: a_axis.angle_deg(),
-                };
+                let line = LogLine::harness(utc, text, (c_axis.angle_deg(), a_axis.angle_deg()));
                 show_line(&line, self.echo, log_file.as_mut());
                 lines.push(line);
             }
@@ -823,15 +831,11 @@ impl MegaBench {
                 master.service(&mut sim, after_emu, real_for);
                 // The harness's own lines: each transaction when it ends.
                 for t in &master.transactions[shown_modbus..] {
-                    let line = LogLine {
-                        utc_s: self.start_unix_s as f64 + after_emu,
-                        text: format!("# modbus {}", t.summary()),
-                        event: Event::Other,
-                        c_deg: c_axis.angle_deg(),
-                        a_deg: a_axis.angle_deg(),
-                        c_start_deg: c_axis.angle_deg(),
-                        a_start_deg: a_axis.angle_deg(),
-                    };
+                    let line = LogLine::harness(
+                        self.start_unix_s as f64 + after_emu,
+                        format!("# modbus {}", t.summary()),
+                        (c_axis.angle_deg(), a_axis.angle_deg()),
+                    );
                     show_line(&line, self.echo, log_file.as_mut());
                     lines.push(line);
                 }

@@ -2419,6 +2419,8 @@ fn v_modbus_master_reads_and_commands() {
     let [eh, el] = modbus_master::i32_registers((el_manual * 100.0) as i32);
     let [ah, al] = modbus_master::i32_registers((az_manual * 100.0) as i32);
     let [bh, bl] = modbus_master::i32_registers(-8_000);
+    let read_601 = || frame(read_holding(1, M601, M601_REGS));
+    let read_vendor = || frame(read_holding(1, M64201, M64201_REGS));
     let steps = vec![
         (3.0, frame(read_holding(1, SUNS, 2)), "SunS"),
         (
@@ -2429,12 +2431,8 @@ fn v_modbus_master_reads_and_commands() {
             },
             "walk",
         ),
-        (6.0, frame(read_holding(1, M601, M601_REGS)), "601 tracking"),
-        (
-            6.5,
-            frame(read_holding(1, M64201, M64201_REGS)),
-            "64201 tracking",
-        ),
+        (6.0, read_601(), "601 tracking"),
+        (6.5, read_vendor(), "64201 tracking"),
         (
             7.0,
             frame(write_single(1, M601 + 24, 1)),
@@ -2447,37 +2445,25 @@ fn v_modbus_master_reads_and_commands() {
             Step::Noise(xorshift32_noise(0x2545_f491, 10_240)),
             "noise",
         ),
-        (
-            17.0,
-            frame(read_holding(1, M601, M601_REGS)),
-            "601 after the noise",
-        ),
+        (17.0, read_601(), "601 after the noise"),
         (
             19.0,
             frame(write_multiple(1, M601 + 20, &[eh, el, ah, al, 1])),
             "manual targets",
         ),
-        (22.0, frame(read_holding(1, M601, M601_REGS)), "601 manual"),
+        (22.0, read_601(), "601 manual"),
         (
             23.0,
             frame(write_multiple(1, M601 + 20, &[bh, bl])),
             "below the horizon",
         ),
-        (
-            24.5,
-            frame(read_holding(1, M601, M601_REGS)),
-            "601 after 03",
-        ),
+        (24.5, read_601(), "601 after 03"),
         (
             25.0,
             silent(write_single(0, M64201 + 11, 1)),
             "broadcast stow",
         ),
-        (
-            28.0,
-            frame(read_holding(1, M64201, M64201_REGS)),
-            "64201 stowed",
-        ),
+        (28.0, read_vendor(), "64201 stowed"),
     ];
     // The same bench without the noise, to minute 17: the set-points'
     // lateness without it.
