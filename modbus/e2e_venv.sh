@@ -1,3 +1,4 @@
+# shellcheck shell=bash
 # The virtual environment of the pysunspec2 end-to-end tests
 # (modbus/e2e_qemu.sh, modbus/e2e_mega.sh): pysunspec2 1.3.7, pyserial 3.5
 # and pvlib under the target directory, made once. Sourced after
