@@ -549,10 +549,14 @@ impl MegaBench {
         sim.attach_uart('0')?;
         sim.attach_uart('1')?;
         sim.attach_uart(modbus_master::UART)?;
-        sim.watch_pin(modbus_master::DE_PIN.0, modbus_master::DE_PIN.1)?;
-        // TXC2 (UCSR2A bit 6): the image enables its interrupt after the
-        // flag is set (see `Sim::fire_on_enable`).
-        sim.fire_on_enable(modbus_master::UCSR2A, 6)?;
+        // The RS-485 port, when something is on the bus.
+        let rs485 = !self.modbus.is_empty() || self.modbus_pty.is_some();
+        if rs485 {
+            sim.watch_pin(modbus_master::DE_PIN.0, modbus_master::DE_PIN.1)?;
+            // TXC2 (UCSR2A bit 6): the image enables its interrupt after
+            // the flag is set (see `Sim::fire_on_enable`).
+            sim.fire_on_enable(modbus_master::UCSR2A, 6)?;
+        }
         sim.watch_port('A')?;
         let mut master = self.modbus.clone();
         let mut pty = match &self.modbus_pty {
@@ -820,7 +824,7 @@ impl MegaBench {
                 if crate::pty::stop_requested() {
                     break;
                 }
-            } else {
+            } else if rs485 {
                 let real_for = if compressed <= 1.0 {
                     Some(u64::MAX)
                 } else if real_time {
