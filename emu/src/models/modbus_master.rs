@@ -506,8 +506,11 @@ impl ModbusMaster {
         sim.retime_uart(UART);
         let char_cycles = usart2_char_cycles(sim);
         // simavr's FIFO takes 64 bytes at once: a longer frame would be
-        // fed in pieces, and its end not known here.
-        debug_assert!(bytes.len() <= 64);
+        // fed in pieces, and its end not known here (a scenario's mistake).
+        assert!(
+            bytes.len() <= 64,
+            "{label}: a frame of over 64 bytes (use Step::Noise)"
+        );
         sim.uart_send(UART, &bytes);
         self.current = Some(Transaction {
             label,
