@@ -98,8 +98,23 @@ pub trait ModbusLine {
     /// The present time on that clock.
     fn now_us(&mut self) -> u32;
     /// Sends a reply: the transceiver's driver enabled, the bytes out, the
-    /// driver released once the last one has left.
+    /// driver released once the last one has left. The port leaves the
+    /// bytes of `frame` (its receive buffer) as they are while [`busy`]
+    /// says true, so a line may go on sending from them after it returns,
+    /// by interrupts, as long as the port itself stays where it is (the
+    /// ATmega2560's line does, from a port that is a local of the loop
+    /// that never returns).
+    ///
+    /// [`busy`]: ModbusLine::busy
     fn send(&mut self, frame: &[u8]);
+    /// A reply is still going out: the port then takes no byte and serves
+    /// nothing. A line that has sent everything when [`send`] returns
+    /// (the default) is never busy.
+    ///
+    /// [`send`]: ModbusLine::send
+    fn busy(&mut self) -> bool {
+        false
+    }
 }
 
 /// What the bus set, kept between requests.
@@ -158,7 +173,8 @@ impl ModbusPort {
     }
 
     /// One pass: takes at most [`MODBUS_BYTES_PER_PASS`] bytes from `line`
-    /// and serves at most one request; never waits. `board_ms` is the
+    /// and serves at most one request; never waits; nothing while the
+    /// line is sending the last reply ([`ModbusLine::busy`]). `board_ms` is the
     /// board's monotonic ms ([`crate::firmware::Platform::now_ms`]). Not
     /// inlined: its frame (the map, the request's values) is then on the
     /// stack only during the call, not in the caller's for good.
@@ -176,6 +192,9 @@ impl ModbusPort {
         S: AttitudeSensor<T>,
         L: Sink,
     {
+        if line.busy() {
+            return;
+        }
         let now_ms = monotonic::from_board_ms(board_ms);
         // The settings in force: the configuration's `modbus` keys.
         let settings = settings_of(&fw.controller().config().modbus);
