@@ -142,9 +142,11 @@ impl Rs485 {
                 .ddrh()
                 .modify(|r, w| unsafe { w.bits(r.bits() | DE_BIT) });
         });
-        usart
-            .ubrr2()
-            .write(|w| w.set(super::serial::ubrr_u2x(baud)));
+        // Double speed and the frame format before the rate: the chip does
+        // not mind the order, simavr computes a byte's time when UBRR is
+        // written, from the bits set then (written after, U2X would leave
+        // its bytes at half the rate, 2 characters apart: every frame
+        // broken by the 1.5-character rule).
         usart.ucsr2a().write(|w| w.u2x2().set_bit());
         usart.ucsr2c().write(|w| {
             let w = w.ucsz2().chr8();
@@ -154,6 +156,9 @@ impl Rs485 {
                 Parity::Even => w.upm2().parity_even(),
             }
         });
+        usart
+            .ubrr2()
+            .write(|w| w.set(super::serial::ubrr_u2x(baud)));
         usart
             .ucsr2b()
             .write(|w| w.txen2().set_bit().rxen2().set_bit().rxcie2().set_bit());
@@ -305,8 +310,8 @@ pub fn on_usart2_rx() {
     });
 }
 
-/// USART2 data register empty: the reply's next byte, or, after the last,
-/// the transmit-complete interrupt armed.
+/// USART2 data register empty: the reply's next byte; with the last, the
+/// transmit-complete interrupt armed in place of this one.
 #[inline(always)]
 pub fn on_usart2_udre() {
     // SAFETY: the transmit path's registers, owned by the send under way.
@@ -320,8 +325,24 @@ pub fn on_usart2_udre() {
             // place and unchanged while `sending` (see `send`).
             let byte = unsafe { line.reply.0.add(usize::from(line.next)).read() };
             line.next += 1;
+            if line.next == line.reply_len {
+                // The last byte: the transmit-complete flag cleared (it may
+                // be set if the line ran idle before this interrupt) and its
+                // interrupt on, this one off, before the byte goes in; the
+                // flag then rises when this byte's stop bit is out. (Not
+                // armed afterwards: simavr raises an interrupt only at the
+                // flag's rise, not when its enable comes on later.)
+                usart
+                    .ucsr2a()
+                    .write(|w| w.u2x2().set_bit().txc2().set_bit());
+                usart
+                    .ucsr2b()
+                    .write(|w| w.txen2().set_bit().txcie2().set_bit());
+            }
             usart.udr2().write(|w| w.set(byte));
         } else {
+            // Nothing to send (cannot happen: `send` starts no empty
+            // reply): let the transmit-complete interrupt end the send.
             usart
                 .ucsr2b()
                 .write(|w| w.txen2().set_bit().txcie2().set_bit());
