@@ -147,6 +147,7 @@ pub struct ModbusPort {
 impl ModbusPort {
     /// The port of a board: its identity strings, and whether it has a
     /// GPS (model 305 in the map). Takes its settings at the first poll.
+    #[cfg_attr(target_arch = "avr", inline(never))]
     pub fn new(identity: Identity<'static>, gps: bool) -> Self {
         ModbusPort {
             receiver: RtuReceiver::new(RtuTiming::from_baud_us(MODBUS_DEFAULTS.baud)),

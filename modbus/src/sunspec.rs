@@ -659,6 +659,7 @@ impl<D: TrackerData> RegisterMap for SunSpecMap<D> {
         }
     }
 
+    #[cfg_attr(target_arch = "avr", inline(never))]
     fn read(&mut self, addr: u16) -> u16 {
         match self.place(addr) {
             Some(Place::Marker(i)) => SUNS_MARKER[usize::from(i & 1)],
@@ -678,6 +679,7 @@ impl<D: TrackerData> RegisterMap for SunSpecMap<D> {
     /// is carried out; the tracker then takes them in order and its first
     /// refusal ends the request (the points before it stay written). A
     /// broadcast may write only the stow command.
+    #[cfg_attr(target_arch = "avr", inline(never))]
     fn write(&mut self, start: u16, values: &[u8], broadcast: bool) -> Result<(), Exception> {
         let count = values.len() / 2;
         for apply in [false, true] {

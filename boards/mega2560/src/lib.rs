@@ -393,11 +393,12 @@ type MegaFirmware<'p, 'b> =
 
 /// The firmware on the board's axes, devices and stored configuration (the
 /// log says where it came from; a configuration the checks refuse halts).
-/// Not inlined: the configuration, the axes and the sensors are built in
-/// this frame and moved into the firmware, which is written straight into
-/// the caller's place for it; this frame then leaves the stack, where
-/// inlined into `run_tracker` its some 800 bytes stayed under every call
-/// of the loop.
+/// Not inlined: the configuration is read here, the axes and the sensors
+/// are built in [`assemble_firmware`], and the firmware is written straight
+/// into the caller's place for it; these frames then leave the stack (inlined
+/// into `run_tracker`, some 800 bytes stayed under every call of the loop).
+/// The store's read (its slot buffers and the record's checks, the deepest
+/// stack at power-on) runs with only the configuration in this frame.
 #[inline(never)]
 fn build_firmware<'p, 'b>(
     porta: &'p chip::PORTA,
@@ -407,13 +408,27 @@ fn build_firmware<'p, 'b>(
     gps: Usart1,
     mut log: Usart0,
 ) -> Result<MegaFirmware<'p, 'b>, StartError> {
-    let axes = stepper_axes(porta, portc, &mut log);
-    let rtc = Ds3231::new(SharedI2c::new(bus));
-    let sensors = attitude_sensors(bus, &mut log);
     let config = stored_config(store, &mut log);
     if config.validate().is_err() {
         halt(&mut log, "configuration refused");
     }
+    assemble_firmware(porta, portc, bus, config, gps, log)
+}
+
+/// The firmware on the board's axes and devices with `config`. Not
+/// inlined: see [`build_firmware`].
+#[inline(never)]
+fn assemble_firmware<'p, 'b>(
+    porta: &'p chip::PORTA,
+    portc: &'p chip::PORTC,
+    bus: &'b RefCell<I2c>,
+    config: Config,
+    gps: Usart1,
+    mut log: Usart0,
+) -> Result<MegaFirmware<'p, 'b>, StartError> {
+    let axes = stepper_axes(porta, portc, &mut log);
+    let rtc = Ds3231::new(SharedI2c::new(bus));
+    let sensors = attitude_sensors(bus, &mut log);
     Firmware::new(
         app_config(),
         config,
@@ -427,8 +442,8 @@ fn build_firmware<'p, 'b>(
 }
 
 /// The loop: its pass, the Modbus port's (at most one request served),
-/// then sleep until the next interrupt. Inlined: its own frame would add
-/// to every call of the loop.
+/// then sleep until the next interrupt. Inlined: a frame of its own would
+/// add to the deepest stack (the console's, below `Firmware::poll`).
 #[inline(always)]
 fn serve(
     fw: &mut MegaFirmware<'_, '_>,
