@@ -534,8 +534,14 @@ fn summary(m: &Monitor) -> Vec<String> {
     });
     v.push(format!("at the end: {}", state.join(", ")));
     if let (Some(a), Some(b)) = (m.rows.first(), m.rows.last()) {
+        // A `--modbus` session's rows are its polls in tracking mode.
+        let what = if a.setpoint.c_deg.is_none() {
+            "polls in tracking mode"
+        } else {
+            "set-points"
+        };
         v.push(format!(
-            "set-points from {} to {}",
+            "{what} from {} to {}",
             a.setpoint.utc.text, b.setpoint.utc.text
         ));
     }
