@@ -19,6 +19,7 @@ use super::{run, temp};
 use modbus_client::{Client, Error};
 use serialport::{SerialPort, TTYPort};
 use sunspec_client::{Model, PollError};
+use suntracker_modbus::crc::crc16;
 use suntracker_modbus::rtu::{Push, RtuReceiver, RtuTiming};
 use suntracker_modbus::sunspec::{m1, m305, m601, m64201, SunSpecMap, BASE_ADDR, SUNS_MARKER};
 use suntracker_modbus::{Exception, Server};
@@ -35,6 +36,9 @@ struct Serve {
     /// Spoil the CRC of every reply whose number (from 1) is a multiple
     /// of this (0: none).
     bad_crc_every: usize,
+    /// Answer every request whose number (from 1) is a multiple of this
+    /// with exception 06, server device busy (0: none).
+    busy_every: usize,
 }
 
 impl Default for Serve {
@@ -43,6 +47,7 @@ impl Default for Serve {
             address: 1,
             gps: true,
             bad_crc_every: 0,
+            busy_every: 0,
         }
     }
 }
@@ -85,8 +90,15 @@ fn serve(how: Serve) -> Running {
         let (mut buf, mut out) = ([0_u8; 256], [0_u8; 256]);
         let mut replies = 0;
         let mut reply = |frame: &[u8], master: &mut TTYPort| {
-            if let Some(len) = server.handle(frame, &mut map, &mut out) {
+            if let Some(mut len) = server.handle(frame, &mut map, &mut out) {
                 replies += 1;
+                if how.busy_every != 0 && replies % how.busy_every == 0 {
+                    out[1] |= 0x80;
+                    out[2] = Exception::ServerDeviceBusy as u8;
+                    let crc = crc16(&out[..3]).to_le_bytes();
+                    out[3..5].copy_from_slice(&crc);
+                    len = 5;
+                }
                 if how.bad_crc_every != 0 && replies % how.bad_crc_every == 0 {
                     out[len - 1] ^= 0x5A;
                 }
@@ -307,6 +319,29 @@ fn a_reply_with_a_bad_crc_is_rejected() {
     assert_eq!(c.read_holding(BASE_ADDR, 2), Ok(SUNS_MARKER.to_vec()));
 }
 
+/// A `--modbus` session of the tool with address 1 on `s`: `--every-s`,
+/// `--seconds` and `--reply-timeout` as given, then `more` arguments.
+fn session(
+    s: &Running,
+    (every, seconds, timeout): (&str, &str, &str),
+    more: &[&str],
+) -> super::Outcome {
+    let mut args = vec![
+        "--modbus",
+        &s.path,
+        "--address",
+        "1",
+        "--every-s",
+        every,
+        "--seconds",
+        seconds,
+        "--reply-timeout",
+        timeout,
+    ];
+    args.extend_from_slice(more);
+    run(&args)
+}
+
 /// A session: a status line per answered poll, the spoilt replies counted
 /// and the polls going on after them, a CSV row per poll in tracking mode
 /// (zenith 90° − the target's elevation, the position), a figure; the
@@ -320,22 +355,7 @@ fn a_session_polls_on_after_missed_replies_into_csv_and_svg() {
         ..Serve::default()
     });
     let (csv, svg) = (temp("session.csv"), temp("session.svg"));
-    let o = run(&[
-        "--modbus",
-        &s.path,
-        "--address",
-        "1",
-        "--every-s",
-        "0.2",
-        "--seconds",
-        "2",
-        "--reply-timeout",
-        "0.3",
-        "--csv",
-        &csv,
-        "--svg",
-        &svg,
-    ]);
+    let o = session(&s, ("0.2", "2", "0.3"), &["--csv", &csv, "--svg", &svg]);
     assert_eq!(o.code, 0, "{}\n{}", o.out, o.err);
     let polls: Vec<&str> = o
         .out
@@ -414,24 +434,42 @@ fn a_session_polls_on_after_missed_replies_into_csv_and_svg() {
     }
 }
 
+/// An exception in a session is named and counted, and the map is looked
+/// for again at the next poll.
+#[test]
+fn a_session_finds_the_map_again_after_an_exception() {
+    // The map found in 7 requests, a poll takes 3: the 12th reply (the
+    // second poll's vendor model) is an exception, and so on.
+    let s = serve(Serve {
+        busy_every: 12,
+        ..Serve::default()
+    });
+    let o = session(&s, ("0.2", "1.5", "0.3"), &[]);
+    assert_eq!(o.code, 0, "{}\n{}", o.out, o.err);
+    assert!(
+        o.err
+            .contains("exception 06 (server device busy) to function 03"),
+        "{}",
+        o.err
+    );
+    let found = o
+        .out
+        .lines()
+        .filter(|l| l.starts_with("monitor: modbus: SunS at 40000"))
+        .count();
+    assert!(found >= 2, "{}", o.out);
+    let polls = o.out.lines().filter(|l| l.starts_with("status ")).count();
+    assert!(polls >= 3, "{}", o.out);
+    assert!(!o.out.contains(" 0 exceptions"), "{}", o.out);
+}
+
 #[test]
 fn a_session_without_any_reply_exits_1() {
     let s = serve(Serve {
         address: 9,
         ..Serve::default()
     });
-    let o = run(&[
-        "--modbus",
-        &s.path,
-        "--address",
-        "1",
-        "--every-s",
-        "0.3",
-        "--seconds",
-        "1",
-        "--reply-timeout",
-        "0.2",
-    ]);
+    let o = session(&s, ("0.3", "1", "0.2"), &[]);
     assert_eq!(o.code, 1, "{}\n{}", o.out, o.err);
     assert!(o.err.contains("time-out: no reply"), "{}", o.err);
     assert!(o.out.contains(" polls: 0 answered, "), "{}", o.out);
