@@ -586,6 +586,14 @@ impl Monitor {
         self.settle(false);
     }
 
+    /// Are the rows a `--modbus` session's polls (no axis angles), not
+    /// the board's set-point lines?
+    pub fn rows_are_polls(&self) -> bool {
+        self.rows
+            .first()
+            .is_some_and(|r| r.setpoint.c_deg.is_none())
+    }
+
     /// The first board time in the log, if any.
     pub fn first_time_s(&self) -> Option<i64> {
         self.events

@@ -534,8 +534,7 @@ fn summary(m: &Monitor) -> Vec<String> {
     });
     v.push(format!("at the end: {}", state.join(", ")));
     if let (Some(a), Some(b)) = (m.rows.first(), m.rows.last()) {
-        // A `--modbus` session's rows are its polls in tracking mode.
-        let what = if a.setpoint.c_deg.is_none() {
+        let what = if m.rows_are_polls() {
             "polls in tracking mode"
         } else {
             "set-points"
@@ -568,7 +567,12 @@ fn title(m: &Monitor, d: &svg::Day) -> String {
         let (y, mo, dd) = day.ymd();
         t.push_str(&format!(", {y:04}-{mo:02}-{dd:02}"));
     }
-    t.push_str(&format!(", {} set-points", d.setpoints));
+    let what = if m.rows_are_polls() {
+        "polls in tracking mode"
+    } else {
+        "set-points"
+    };
+    t.push_str(&format!(", {} {what}", d.setpoints));
     t
 }
 

@@ -419,6 +419,10 @@ fn a_session_polls_on_after_missed_replies_into_csv_and_svg() {
     }
     let picture = std::fs::read_to_string(&svg).expect("svg");
     assert!(picture.contains("panel elevation (ElPos"), "legend");
+    assert!(
+        picture.contains(&format!("{} polls in tracking mode", rows.len())),
+        "title"
+    );
     // The session's output is a log the monitor reads back.
     let log = temp("session.log");
     std::fs::write(&log, &o.out).expect("log");
