@@ -238,15 +238,15 @@ pub struct Reading {
     /// 601's local date and time.
     pub utc: Option<String>,
     /// 601 `ElTrgt`, `AzTrgt`, degrees as text.
-    pub target: Option<(String, String)>,
+    pub target_deg: Option<(String, String)>,
     /// 601 `ElPos`, `AzPos`.
-    pub position: Option<(String, String)>,
+    pub position_deg: Option<(String, String)>,
     /// The vendor model's mode, by name.
     pub mode: String,
     /// The vendor model's faults, by name.
     pub faults: Vec<String>,
     /// Model 305's latitude and longitude, degrees.
-    pub site: Option<(String, String)>,
+    pub site_deg: Option<(String, String)>,
 }
 
 impl Reading {
@@ -254,7 +254,7 @@ impl Reading {
     pub fn line(&self) -> String {
         let mut l = format!("status mode={}", self.mode);
         l.push_str(&format!(" utc={}", self.utc.as_deref().unwrap_or("none")));
-        if let Some((lat, lon)) = &self.site {
+        if let Some((lat, lon)) = &self.site_deg {
             l.push_str(&format!(" lat={lat} lon={lon} site=gps"));
         }
         let faults = if self.faults.is_empty() {
@@ -267,8 +267,8 @@ impl Reading {
             Some((e, a)) => (e.clone(), a.clone()),
             None => ("none".into(), "none".into()),
         };
-        let (te, ta) = pair(&self.target);
-        let (pe, pa) = pair(&self.position);
+        let (te, ta) = pair(&self.target_deg);
+        let (pe, pa) = pair(&self.position_deg);
         l.push_str(&format!(" target_el={te} target_az={ta} el={pe} az={pa}"));
         l
     }
@@ -330,7 +330,7 @@ pub fn poll(c: &mut Client, map: &Map) -> Result<Reading, PollError> {
         )));
     }
     let flt = (u32::from(v[at(m64201::FLT)]) << 16) | u32::from(v[at(m64201::FLT) + 1]);
-    let site = match map.find(m305::ID) {
+    let site_deg = match map.find(m305::ID) {
         Some(g) => {
             let r = read_model(c, g, m305::LEN)?;
             match (int32(&r, at(m305::LAT)), int32(&r, at(m305::LONG))) {
@@ -345,11 +345,11 @@ pub fn poll(c: &mut Client, map: &Map) -> Result<Reading, PollError> {
             &t[at(m601::DT_LOC)..at(m601::DT_LOC + 5)],
             &t[at(m601::TM_LOC)..at(m601::TM_LOC + 3)],
         ),
-        target: angles(m601::EL_TRGT),
-        position: angles(m601::EL_POS),
+        target_deg: angles(m601::EL_TRGT),
+        position_deg: angles(m601::EL_POS),
         mode: mode_name(v[at(m64201::MODE)]),
         faults: fault_names(flt),
-        site,
+        site_deg,
     })
 }
 

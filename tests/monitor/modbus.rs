@@ -221,8 +221,8 @@ fn model_601_and_the_vendor_model_are_decoded() {
         // position 77.30 / 180.41, tracking (8), faults 0x8000_0005, the fix
         // at 12.0022 N 8.5919 E.
         assert_eq!(r.utc.as_deref(), Some("2026-03-20T12:34:56Z"));
-        assert_eq!(r.target, Some(("77.34".into(), "180.50".into())));
-        assert_eq!(r.position, Some(("77.30".into(), "180.41".into())));
+        assert_eq!(r.target_deg, Some(("77.34".into(), "180.50".into())));
+        assert_eq!(r.position_deg, Some(("77.30".into(), "180.41".into())));
         assert_eq!(r.mode, "tracking");
         assert_eq!(
             r.faults,
@@ -233,7 +233,7 @@ fn model_601_and_the_vendor_model_are_decoded() {
             ]
         );
         let site = gps.then(|| ("12.0022".to_string(), "8.5919".to_string()));
-        assert_eq!(r.site, site);
+        assert_eq!(r.site_deg, site);
         let line = r.line();
         let want_site = if gps {
             " lat=12.0022 lon=8.5919 site=gps"
