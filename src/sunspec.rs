@@ -466,6 +466,70 @@ fn wind_speed_dms(hz: Option<f32>, m_s_per_hz: f32) -> Option<u16> {
     Some(dms.clamp(0.0, 65_534.0) as u16)
 }
 
+/// The mode a vendor model `Mode` code stands for, the inverse of
+/// [`mode_code`] for a client (the PC monitor's `--modbus`): 8 reads as
+/// [`Mode::Tracking`] (unwinding shares its code); `None` for a code no
+/// mode has.
+pub fn mode_of_code(code: u16) -> Option<Mode> {
+    Some(match code {
+        0 => Mode::Service,
+        1 => Mode::SafeStop,
+        2 => Mode::WindStow,
+        3 => Mode::CommandStow,
+        4 => Mode::Manual,
+        5 => Mode::WaitForTime,
+        6 => Mode::Night,
+        7 => Mode::Homing,
+        8 => Mode::Tracking,
+        9 => Mode::HailStow,
+        10 => Mode::ExternalStow,
+        11 => Mode::SnowStow,
+        12 => Mode::LowSupplyStow,
+        13 => Mode::Overcast,
+        _ => return None,
+    })
+}
+
+/// The sensors in the order of their faults' numbers ([`fault_bit`]).
+const SENSORS: [Sensor; 6] = [
+    Sensor::Inclinometer,
+    Sensor::Compass,
+    Sensor::Encoder(AxisId::C),
+    Sensor::Encoder(AxisId::A),
+    Sensor::Rtc,
+    Sensor::Gps,
+];
+
+/// The fault numbered `bit` ([`fault_bit`]: bit `bit` of the vendor
+/// model's `Flt` below 32, bit `bit` − 32 of `Flt2` from 32), the inverse
+/// of [`fault_bit`] for a client (the PC monitor's `--modbus`); `None` for
+/// a number no fault has.
+pub fn fault_of_bit(bit: u32) -> Option<Fault> {
+    use AxisId::{A, C};
+    let sensor = |first: u32| SENSORS.get(usize::try_from(bit - first).ok()?).copied();
+    let axis = |first: u32| if bit == first { C } else { A };
+    Some(match bit {
+        0..=5 => Fault::SensorTimeout(sensor(0)?),
+        6..=11 => Fault::I2cError(sensor(6)?),
+        12 => Fault::GpsLost,
+        13 => Fault::RtcInvalid,
+        14 | 15 => Fault::MotorStalled(axis(14)),
+        16 | 17 => Fault::SetPointDeviation(axis(16)),
+        18 | 19 => Fault::LimitSwitchHit(axis(18)),
+        20 => Fault::GpsTimeImplausible,
+        21 => Fault::GpsTimeUnstable,
+        22 => Fault::GpsPositionUnstable,
+        23 => Fault::TimeOutOfRange,
+        24 => Fault::ScheduleFailed,
+        25 | 26 => Fault::Obstruction(axis(25)),
+        27 | 28 => Fault::UnexpectedMotion(axis(27)),
+        29 | 30 => Fault::MoveTimeout(axis(29)),
+        31 => Fault::SupplyReading,
+        32 => Fault::IrradianceReading,
+        _ => return None,
+    })
+}
+
 /// Model 601's alarm bits of one fault.
 fn alarm_bits(fault: Fault) -> u16 {
     match fault {
@@ -774,14 +838,7 @@ mod tests {
     #[test]
     fn fault_numbers_follow_the_names_and_bits_fit_32() {
         use AxisId::{A, C};
-        let sensors = [
-            Sensor::Inclinometer,
-            Sensor::Compass,
-            Sensor::Encoder(C),
-            Sensor::Encoder(A),
-            Sensor::Rtc,
-            Sensor::Gps,
-        ];
+        let sensors = SENSORS;
         let mut all = [Fault::GpsLost; 33];
         let mut n = 0;
         let mut put = |f: Fault| {
@@ -834,10 +891,25 @@ mod tests {
             assert_eq!(lo.count_ones() + hi.count_ones(), 1);
             assert_eq!((seen.0 & lo, seen.1 & hi), (0, 0));
             seen = (seen.0 | lo, seen.1 | hi);
+            // A client reads the number back as the same fault.
+            assert_eq!(fault_of_bit(b), Some(*f));
         }
         // Bits 0 to 31 of `Flt` taken, the 33rd fault bit 0 of `Flt2`.
         assert_eq!(seen, (u32::MAX, 1));
         assert_eq!(fault_bits([Fault::IrradianceReading].iter()), (0, 1));
+    }
+
+    #[test]
+    fn every_mode_code_reads_back_as_its_mode() {
+        for code in 0..=u16::MAX {
+            match mode_of_code(code) {
+                Some(m) => assert_eq!(mode_code(m), code),
+                None => assert!(code > 13, "{code}"),
+            }
+        }
+        assert_eq!(mode_of_code(mode_code(Mode::Unwind)), Some(Mode::Tracking));
+        assert_eq!(fault_of_bit(32), Some(Fault::IrradianceReading));
+        assert_eq!(fault_of_bit(33), None);
     }
 
     #[test]
