@@ -138,6 +138,10 @@ check("each poll's target is the set-point logged last at or before its time, wi
 check("the position within a step of the target a tick after the set-point", worst_pos <= STEP_DEG, "worst %.3f deg" % worst_pos)
 check("the site the GPS stream's (11.9683 N, 8.4261 E)",
       "site 11.9683 N 8.4261 E (gps)" in out)
+statuses = [l for l in out.splitlines() if l.startswith("status ")]
+check("model 305's fix in every poll, between GPS epochs too (10 s apart here)",
+      statuses and all("lat=11.9683 lon=8.4261" in l for l in statuses),
+      "%d of %d polls" % (sum("lat=11.9683 lon=8.4261" in l for l in statuses), len(statuses)))
 print("%d checks failed" % len(failures) if failures else "all checks passed")
 sys.exit(1 if failures else 0)
 EOF

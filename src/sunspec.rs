@@ -16,7 +16,7 @@
 //! | 601 `GlblCtl`, `Ctl` | Manual under the operator's manual hold, Calibrate while homing, else Automatic |
 //! | 601 `GlblElCtl`, `GlblAzCtl` | the manual pose's normal, else the targets last written |
 //! | 601 `GlblAlm` | `SetPoint` for a deviation, stall or move time-out; `ObsEl` / `ObsAz` for an obstruction of the A / C axis |
-//! | 305 | the GPS receiver's last fix with a position (when the board has a GPS) |
+//! | 305 | the GPS receiver's last fix with a position (when the board has a GPS), kept by the port: the loop's own fix expires a moment after each epoch |
 //! | 64201 | the mode ([`mode_code`]), why stowed, the wind speed (the anemometer's rate times `wind.m_s_per_hz`), the active faults as bits ([`fault_bit`]), the version, the stow command, the fault clearing |
 //!
 //! Writes (when the settings allow them: [`ModbusSettings::write`]) do what
@@ -155,6 +155,11 @@ pub struct ModbusPort {
     /// A byte taken from the line that begins the next frame, while the
     /// frame before it waits to be served.
     held: Option<(u8, u32)>,
+    /// The receiver's last fix with a position, for model 305 (the loop's
+    /// fix expires a moment after each epoch), and the monotonic ms its
+    /// time was received at (a new fix is converted once).
+    last_fix: Option<GpsFix>,
+    last_fix_ms: Option<u32>,
     settings: ModbusSettings,
 }
 
@@ -173,6 +178,8 @@ impl ModbusPort {
             gps,
             remote: Remote::default(),
             held: None,
+            last_fix: None,
+            last_fix_ms: None,
             settings: MODBUS_DEFAULTS,
         }
     }
@@ -211,6 +218,13 @@ impl ModbusPort {
             return;
         }
         let now_ms = monotonic::from_board_ms(board_ms);
+        let fix = fw.gps_fix();
+        if fix.utc_received_ms != self.last_fix_ms {
+            if let Some(f) = model_305_fix(fix) {
+                self.last_fix = Some(f);
+                self.last_fix_ms = fix.utc_received_ms;
+            }
+        }
         // The settings in force: the configuration's `modbus` keys.
         let settings = settings_of(&fw.controller().config().modbus);
         self.apply_settings(settings, line.now_us());
@@ -236,6 +250,7 @@ impl ModbusPort {
                     identity: &self.identity,
                     address: self.server.address,
                     now_ms,
+                    gps: self.last_fix,
                 },
                 self.gps,
             );
@@ -313,6 +328,32 @@ impl ModbusPort {
     }
 }
 
+/// Model 305's fix of a receiver's fix: `None` unless it is valid, with a
+/// position and a time.
+fn model_305_fix(fix: &drivers::gps::GpsFix) -> Option<GpsFix> {
+    if fix.quality == FixQuality::Invalid {
+        return None;
+    }
+    let (lat, lon) = (fix.latitude_deg?, fix.longitude_deg?);
+    let utc = fix.utc?;
+    let alt = fix.altitude_m.map_or(0.0, |m| m + 0.5);
+    Some(GpsFix {
+        utc: DateTime {
+            year: utc.year(),
+            month: utc.month(),
+            day: utc.day(),
+            hour: utc.hour(),
+            minute: utc.minute(),
+            second: utc.second(),
+            millisecond: utc.millis(),
+            day_of_year: 0,
+        },
+        latitude_e7deg: e7_deg(lat),
+        longitude_e7deg: e7_deg(lon),
+        altitude_m: Float::floor(alt) as i32,
+    })
+}
+
 /// The firmware as the map's [`TrackerData`], for one request.
 struct FirmwareData<'a, T, R, G, D, S, L, const N: usize> {
     fw: &'a mut Firmware<T, R, G, D, S, L, N>,
@@ -321,6 +362,8 @@ struct FirmwareData<'a, T, R, G, D, S, L, const N: usize> {
     /// The address answered.
     address: u8,
     now_ms: u32,
+    /// The receiver's last fix with a position (model 305).
+    gps: Option<GpsFix>,
 }
 
 /// Hundredths of a degree, rounded (saturating; 0 for NaN).
@@ -728,28 +771,7 @@ where
     }
 
     fn gps_fix(&self) -> Option<GpsFix> {
-        let fix = self.fw.gps_fix();
-        if fix.quality == FixQuality::Invalid {
-            return None;
-        }
-        let (lat, lon) = (fix.latitude_deg?, fix.longitude_deg?);
-        let utc = fix.utc?;
-        let alt = fix.altitude_m.map_or(0.0, |m| m + 0.5);
-        Some(GpsFix {
-            utc: DateTime {
-                year: utc.year(),
-                month: utc.month(),
-                day: utc.day(),
-                hour: utc.hour(),
-                minute: utc.minute(),
-                second: utc.second(),
-                millisecond: utc.millis(),
-                day_of_year: 0,
-            },
-            latitude_e7deg: e7_deg(lat),
-            longitude_e7deg: e7_deg(lon),
-            altitude_m: T::from_f32(alt).floor().to_f32() as i32,
-        })
+        self.gps
     }
 
     fn vendor(&self) -> VendorStatus {
