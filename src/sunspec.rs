@@ -501,7 +501,8 @@ fn utc_offset_s(hours: f32) -> i32 {
 /// rate and the factor (`wind.m_s_per_hz`, 0: not known) are known.
 fn wind_speed_dms(hz: Option<f32>, m_s_per_hz: f32) -> Option<u16> {
     let hz = hz?;
-    if !(m_s_per_hz > 0.0) || !hz.is_finite() {
+    // A factor of 0 (not known) or NaN, or a rate that is not a number.
+    if m_s_per_hz.partial_cmp(&0.0) != Some(core::cmp::Ordering::Greater) || !hz.is_finite() {
         return None;
     }
     let dms = (hz * m_s_per_hz * 10.0 + 0.5).floor();
