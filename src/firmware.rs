@@ -431,7 +431,10 @@ where
     }
 
     /// One pass of the main loop; never blocks. Returns true when a
-    /// controller tick ran in it.
+    /// controller tick ran in it. Not inlined on the AVR: a board's loop
+    /// that calls it sits in the frame that holds the firmware, where its
+    /// spills would lie beyond the 63 bytes `ldd`/`std` reach.
+    #[cfg_attr(target_arch = "avr", inline(never))]
     pub fn poll<P: Platform>(&mut self, platform: &mut P) -> bool {
         let board_ms = platform.now_ms();
         let now_ms = monotonic::from_board_ms(board_ms);

@@ -12,23 +12,29 @@
 //! |---|---|
 //! | 601 `ElTrgt`, `AzTrgt` | while tracking: the set-point in force (Jimoh & Aliyu 2019: the panel normal toward the sun of its table time; elevation = 90° − slope); otherwise the normal of the pose commanded (stow, night, manual) |
 //! | 601 `ElPos`, `AzPos` | the normal of the counted pose, through the mount's attitude ([`panel_normal_angles`]); unknown until both axes have homed |
-//! | 601 `DtLoc`, `TmLoc`, `Day` | the trusted UTC of the last tick plus the monotonic time since (UTC: no UTC offset is configured yet) |
+//! | 601 `DtLoc`, `TmLoc`, `Day` | the trusted UTC of the last tick plus the monotonic time since, moved by `site.utc_offset_h` (0 by default: UTC) |
 //! | 601 `GlblCtl`, `Ctl` | Manual under the operator's manual hold, Calibrate while homing, else Automatic |
 //! | 601 `GlblElCtl`, `GlblAzCtl` | the manual pose's normal, else the targets last written |
 //! | 601 `GlblAlm` | `SetPoint` for a deviation, stall or move time-out; `ObsEl` / `ObsAz` for an obstruction of the A / C axis |
-//! | 305 | the GPS receiver's last fix with a position (when the board has a GPS) |
-//! | 64201 | the mode ([`mode_code`]), why stowed, the active faults as bits ([`fault_bit`]), the version, the stow command |
+//! | 305 | the GPS receiver's last fix with a position (when the board has a GPS), kept by the port: the loop's own fix expires a moment after each epoch |
+//! | 64201 | the mode ([`mode_code`]), why stowed, the wind speed (the anemometer's rate times `wind.m_s_per_hz`), the active faults as bits ([`fault_bit`]), the version, the stow command, the fault clearing |
 //!
 //! Writes (when the settings allow them: [`ModbusSettings::write`]) do what
 //! the console does: `GlblCtl` Manual is `jog`'s manual mode (to the targets
 //! written, or where the axes stand), Automatic is `manual off`, Calibrate
-//! is `home`, `Stow` is `stow` and its release; a manual target is turned
+//! is `home`, `Stow` is `stow` and its release, `ClrFlt` is `clear`; a
+//! manual target is turned
 //! into a pose by the same solver the tracker uses for the sun
 //! ([`MountAttitude::choose`]) and refused with exception 03 when no pose
 //! within the axes' soft limits reaches it (nothing moves). Inside the
 //! service lock only the stow command is taken (exception 06 for the rest).
 //! A command from the bus changes the hold in force but does not store it
 //! (a power cut ends it), unlike the console's.
+//!
+//! A master that falls silent: `modbus.timeout_s` without a request to this
+//! tracker ends a manual mode the bus set, and with `modbus.timeout_stow`
+//! (once a master has been heard) commands a stow, which its next request
+//! releases.
 //!
 //! Bounded work a pass: at most [`MODBUS_BYTES_PER_PASS`] bytes are taken
 //! and at most one request served (a read of 125 registers computes 125
@@ -69,6 +75,9 @@ pub struct ModbusSettings {
     /// Seconds without a request to us after which a manual mode set over
     /// the bus ends (back to Automatic); 0 never.
     pub timeout_s: u32,
+    /// The silence (`timeout_s`, once a master has been heard) also
+    /// commands a stow, released by the master's next request.
+    pub timeout_stow: bool,
 }
 
 /// The settings of a configuration's `modbus` keys.
@@ -79,6 +88,7 @@ pub const fn settings_of(m: &ModbusConfig) -> ModbusSettings {
         parity: m.parity,
         write: m.write != 0,
         timeout_s: m.timeout_s,
+        timeout_stow: m.timeout_stow != 0,
     }
 }
 
@@ -98,8 +108,23 @@ pub trait ModbusLine {
     /// The present time on that clock.
     fn now_us(&mut self) -> u32;
     /// Sends a reply: the transceiver's driver enabled, the bytes out, the
-    /// driver released once the last one has left.
+    /// driver released once the last one has left. The port leaves the
+    /// bytes of `frame` (its receive buffer) as they are while [`busy`]
+    /// says true, so a line may go on sending from them after it returns,
+    /// by interrupts, as long as the port itself stays where it is (the
+    /// ATmega2560's line does, from a port that is a local of the loop
+    /// that never returns).
+    ///
+    /// [`busy`]: ModbusLine::busy
     fn send(&mut self, frame: &[u8]);
+    /// A reply is still going out: the port then takes no byte and serves
+    /// nothing. A line that has sent everything when [`send`] returns
+    /// (the default) is never busy.
+    ///
+    /// [`send`]: ModbusLine::send
+    fn busy(&mut self) -> bool {
+        false
+    }
 }
 
 /// What the bus set, kept between requests.
@@ -113,6 +138,10 @@ struct Remote {
     manual_by_bus: bool,
     /// Monotonic ms of the last request to us.
     last_request_ms: u32,
+    /// A request to us has come since start.
+    heard: bool,
+    /// The master's silence commanded the stow in force.
+    silence_stow: bool,
 }
 
 /// The Modbus RTU server of a board's RS-485 port: receiver, server and
@@ -126,12 +155,18 @@ pub struct ModbusPort {
     /// A byte taken from the line that begins the next frame, while the
     /// frame before it waits to be served.
     held: Option<(u8, u32)>,
+    /// The receiver's last fix with a position, for model 305 (the loop's
+    /// fix expires a moment after each epoch), and the monotonic ms its
+    /// time was received at (a new fix is converted once).
+    last_fix: Option<GpsFix>,
+    last_fix_ms: Option<u32>,
     settings: ModbusSettings,
 }
 
 impl ModbusPort {
     /// The port of a board: its identity strings, and whether it has a
     /// GPS (model 305 in the map). Takes its settings at the first poll.
+    #[cfg_attr(target_arch = "avr", inline(never))]
     pub fn new(identity: Identity<'static>, gps: bool) -> Self {
         ModbusPort {
             receiver: RtuReceiver::new(RtuTiming::from_baud_us(MODBUS_DEFAULTS.baud)),
@@ -143,6 +178,8 @@ impl ModbusPort {
             gps,
             remote: Remote::default(),
             held: None,
+            last_fix: None,
+            last_fix_ms: None,
             settings: MODBUS_DEFAULTS,
         }
     }
@@ -158,7 +195,8 @@ impl ModbusPort {
     }
 
     /// One pass: takes at most [`MODBUS_BYTES_PER_PASS`] bytes from `line`
-    /// and serves at most one request; never waits. `board_ms` is the
+    /// and serves at most one request; never waits; nothing while the
+    /// line is sending the last reply ([`ModbusLine::busy`]). `board_ms` is the
     /// board's monotonic ms ([`crate::firmware::Platform::now_ms`]). Not
     /// inlined: its frame (the map, the request's values) is then on the
     /// stack only during the call, not in the caller's for good.
@@ -176,7 +214,17 @@ impl ModbusPort {
         S: AttitudeSensor<T>,
         L: Sink,
     {
+        if line.busy() {
+            return;
+        }
         let now_ms = monotonic::from_board_ms(board_ms);
+        let fix = fw.gps_fix();
+        if fix.utc_received_ms != self.last_fix_ms {
+            if let Some(f) = model_305_fix(fix) {
+                self.last_fix = Some(f);
+                self.last_fix_ms = fix.utc_received_ms;
+            }
+        }
         // The settings in force: the configuration's `modbus` keys.
         let settings = settings_of(&fw.controller().config().modbus);
         self.apply_settings(settings, line.now_us());
@@ -202,6 +250,7 @@ impl ModbusPort {
                     identity: &self.identity,
                     address: self.server.address,
                     now_ms,
+                    gps: self.last_fix,
                 },
                 self.gps,
             );
@@ -211,6 +260,13 @@ impl ModbusPort {
             }
             if to_us {
                 self.remote.last_request_ms = now_ms;
+                self.remote.heard = true;
+                if self.remote.silence_stow {
+                    // The master speaks again: the stow its silence made
+                    // is released.
+                    self.remote.silence_stow = false;
+                    fw.controller_mut().command_stow(false);
+                }
             }
             if let Some(a) = self.remote.new_address.take() {
                 self.server.address = a;
@@ -219,6 +275,24 @@ impl ModbusPort {
         if self.timed_out(fw.controller().hold().manual, now_ms) {
             fw.controller_mut().manual(None);
         }
+        if self.silence_stows(now_ms) {
+            fw.controller_mut().command_stow(true);
+        }
+    }
+
+    /// True once when a master heard before has been silent for
+    /// `timeout_s` and the settings ask for a stow then.
+    fn silence_stows(&mut self, now_ms: u32) -> bool {
+        let timeout_ms = self.settings.timeout_s.saturating_mul(1000);
+        let due = self.settings.timeout_stow
+            && timeout_ms > 0
+            && self.remote.heard
+            && !self.remote.silence_stow
+            && monotonic::elapsed_ms(now_ms, self.remote.last_request_ms) > timeout_ms;
+        if due {
+            self.remote.silence_stow = true;
+        }
+        due
     }
 
     /// Takes new settings: the address and writes at once, the frame
@@ -254,6 +328,32 @@ impl ModbusPort {
     }
 }
 
+/// Model 305's fix of a receiver's fix: `None` unless it is valid, with a
+/// position and a time.
+fn model_305_fix(fix: &drivers::gps::GpsFix) -> Option<GpsFix> {
+    if fix.quality == FixQuality::Invalid {
+        return None;
+    }
+    let (lat, lon) = (fix.latitude_deg?, fix.longitude_deg?);
+    let utc = fix.utc?;
+    let alt = fix.altitude_m.map_or(0.0, |m| m + 0.5);
+    Some(GpsFix {
+        utc: DateTime {
+            year: utc.year(),
+            month: utc.month(),
+            day: utc.day(),
+            hour: utc.hour(),
+            minute: utc.minute(),
+            second: utc.second(),
+            millisecond: utc.millis(),
+            day_of_year: 0,
+        },
+        latitude_e7deg: e7_deg(lat),
+        longitude_e7deg: e7_deg(lon),
+        altitude_m: Float::floor(alt) as i32,
+    })
+}
+
 /// The firmware as the map's [`TrackerData`], for one request.
 struct FirmwareData<'a, T, R, G, D, S, L, const N: usize> {
     fw: &'a mut Firmware<T, R, G, D, S, L, N>,
@@ -262,6 +362,8 @@ struct FirmwareData<'a, T, R, G, D, S, L, const N: usize> {
     /// The address answered.
     address: u8,
     now_ms: u32,
+    /// The receiver's last fix with a position (model 305).
+    gps: Option<GpsFix>,
 }
 
 /// Hundredths of a degree, rounded (saturating; 0 for NaN).
@@ -340,7 +442,8 @@ pub fn stow_reason(mode: Mode) -> u16 {
 /// (`Fault::name`: the sensor time-outs and bus errors by sensor,
 /// inclinometer, compass, encoder C, encoder A, RTC, GPS; then each axis
 /// fault C before A; the supply reading 31, the irradiance reading 32):
-/// its bit in the vendor model's `Flt` when under 32 ([`fault_bits`]).
+/// its bit in the vendor model's `Flt` when under 32, in `Flt2` (less 32)
+/// from 32 ([`fault_bits`]).
 pub fn fault_bit(fault: Fault) -> u32 {
     let sensor = |s: Sensor| match s {
         Sensor::Inclinometer => 0,
@@ -372,12 +475,102 @@ pub fn fault_bit(fault: Fault) -> u32 {
     }
 }
 
-/// The vendor model's `Flt` of active faults: bit n for fault number n
-/// ([`fault_bit`]); a fault numbered 32 or more has no bit in the 32 (the
-/// irradiance reading).
-pub fn fault_bits<'a>(faults: impl Iterator<Item = &'a Fault>) -> u32 {
-    faults.fold(0, |bits, f| {
-        bits | 1u32.checked_shl(fault_bit(*f)).unwrap_or(0)
+/// The vendor model's `Flt` and `Flt2` of active faults: bit n of `Flt`
+/// for fault number n under 32, bit n − 32 of `Flt2` from 32
+/// ([`fault_bit`]).
+pub fn fault_bits<'a>(faults: impl Iterator<Item = &'a Fault>) -> (u32, u16) {
+    faults.fold((0, 0), |(lo, hi), f| {
+        let n = fault_bit(*f);
+        match n.checked_sub(32) {
+            None => (lo | 1u32.checked_shl(n).unwrap_or(0), hi),
+            Some(m) => (lo, hi | 1u16.checked_shl(m).unwrap_or(0)),
+        }
+    })
+}
+
+/// Seconds east of UTC of an offset in hours (`site.utc_offset_h`,
+/// −12…14: whole minutes, rounded).
+fn utc_offset_s(hours: f32) -> i32 {
+    let minutes = (hours * 60.0 + 0.5).floor();
+    // Within ±841 for a configuration that passed its checks; clamped for
+    // any other.
+    (minutes.clamp(-900.0, 900.0) as i32) * 60
+}
+
+/// The wind speed in 0.1 m/s of the anemometer's pulse rate, when both the
+/// rate and the factor (`wind.m_s_per_hz`, 0: not known) are known.
+fn wind_speed_dms(hz: Option<f32>, m_s_per_hz: f32) -> Option<u16> {
+    let hz = hz?;
+    // A factor of 0 (not known) or NaN, or a rate that is not a number.
+    if m_s_per_hz.partial_cmp(&0.0) != Some(core::cmp::Ordering::Greater) || !hz.is_finite() {
+        return None;
+    }
+    let dms = (hz * m_s_per_hz * 10.0 + 0.5).floor();
+    // 0xFFFF is SunSpec's "not implemented".
+    Some(dms.clamp(0.0, 65_534.0) as u16)
+}
+
+/// The mode a vendor model `Mode` code stands for, the inverse of
+/// [`mode_code`] for a client (the PC monitor's `--modbus`): 8 reads as
+/// [`Mode::Tracking`] (unwinding shares its code); `None` for a code no
+/// mode has.
+pub fn mode_of_code(code: u16) -> Option<Mode> {
+    Some(match code {
+        0 => Mode::Service,
+        1 => Mode::SafeStop,
+        2 => Mode::WindStow,
+        3 => Mode::CommandStow,
+        4 => Mode::Manual,
+        5 => Mode::WaitForTime,
+        6 => Mode::Night,
+        7 => Mode::Homing,
+        8 => Mode::Tracking,
+        9 => Mode::HailStow,
+        10 => Mode::ExternalStow,
+        11 => Mode::SnowStow,
+        12 => Mode::LowSupplyStow,
+        13 => Mode::Overcast,
+        _ => return None,
+    })
+}
+
+/// The sensors in the order of their faults' numbers ([`fault_bit`]).
+const SENSORS: [Sensor; 6] = [
+    Sensor::Inclinometer,
+    Sensor::Compass,
+    Sensor::Encoder(AxisId::C),
+    Sensor::Encoder(AxisId::A),
+    Sensor::Rtc,
+    Sensor::Gps,
+];
+
+/// The fault numbered `bit` ([`fault_bit`]: bit `bit` of the vendor
+/// model's `Flt` below 32, bit `bit` − 32 of `Flt2` from 32), the inverse
+/// of [`fault_bit`] for a client (the PC monitor's `--modbus`); `None` for
+/// a number no fault has.
+pub fn fault_of_bit(bit: u32) -> Option<Fault> {
+    use AxisId::{A, C};
+    let sensor = |first: u32| SENSORS.get(usize::try_from(bit - first).ok()?).copied();
+    let axis = |first: u32| if bit == first { C } else { A };
+    Some(match bit {
+        0..=5 => Fault::SensorTimeout(sensor(0)?),
+        6..=11 => Fault::I2cError(sensor(6)?),
+        12 => Fault::GpsLost,
+        13 => Fault::RtcInvalid,
+        14 | 15 => Fault::MotorStalled(axis(14)),
+        16 | 17 => Fault::SetPointDeviation(axis(16)),
+        18 | 19 => Fault::LimitSwitchHit(axis(18)),
+        20 => Fault::GpsTimeImplausible,
+        21 => Fault::GpsTimeUnstable,
+        22 => Fault::GpsPositionUnstable,
+        23 => Fault::TimeOutOfRange,
+        24 => Fault::ScheduleFailed,
+        25 | 26 => Fault::Obstruction(axis(25)),
+        27 | 28 => Fault::UnexpectedMotion(axis(27)),
+        29 | 30 => Fault::MoveTimeout(axis(29)),
+        31 => Fault::SupplyReading,
+        32 => Fault::IrradianceReading,
+        _ => return None,
     })
 }
 
@@ -526,8 +719,10 @@ where
 
     fn local_time(&self) -> Option<DateTime> {
         let (t, _, tick_ms) = self.fw.last_time()?;
+        let offset_s = utc_offset_s(self.fw.controller().config().site.utc_offset_h);
         let now = t
             .add_millis_u32(monotonic::elapsed_ms(self.now_ms, tick_ms))
+            .and_then(|u| u.add_seconds_i32(offset_s))
             .ok()?;
         map_datetime(&now)
     }
@@ -577,40 +772,19 @@ where
     }
 
     fn gps_fix(&self) -> Option<GpsFix> {
-        let fix = self.fw.gps_fix();
-        if fix.quality == FixQuality::Invalid {
-            return None;
-        }
-        let (lat, lon) = (fix.latitude_deg?, fix.longitude_deg?);
-        let utc = fix.utc?;
-        let alt = fix.altitude_m.map_or(0.0, |m| m + 0.5);
-        Some(GpsFix {
-            utc: DateTime {
-                year: utc.year(),
-                month: utc.month(),
-                day: utc.day(),
-                hour: utc.hour(),
-                minute: utc.minute(),
-                second: utc.second(),
-                millisecond: utc.millis(),
-                day_of_year: 0,
-            },
-            latitude_e7deg: e7_deg(lat),
-            longitude_e7deg: e7_deg(lon),
-            altitude_m: T::from_f32(alt).floor().to_f32() as i32,
-        })
+        self.gps
     }
 
     fn vendor(&self) -> VendorStatus {
         let c = self.fw.controller();
         let mode = self.fw.last_report().map_or(Mode::WaitForTime, |r| r.mode);
+        let (fault_bits, fault_bits_hi) = fault_bits(c.faults().active().map(|a| &a.fault));
         VendorStatus {
             mode_code: mode_code(mode),
             stow_reason: stow_reason(mode),
-            // The configuration has no anemometer factor (pulses to m/s):
-            // "not implemented" until it has.
-            wind_speed_dms: None,
-            fault_bits: fault_bits(c.faults().active().map(|a| &a.fault)),
+            wind_speed_dms: wind_speed_dms(self.fw.wind_hz(), c.config().wind.m_s_per_hz),
+            fault_bits,
+            fault_bits_hi,
             firmware: FIRMWARE_VERSION,
             stow_commanded: c.hold().stow,
         }
@@ -656,6 +830,7 @@ where
                 self.remote.manual_by_bus = false;
             }
             Command::Control(Control::Calibrate) => self.fw.controller_mut().rehome(),
+            Command::ClearFaults => self.fw.controller_mut().reset_faults(),
         }
         Ok(())
     }
@@ -686,14 +861,7 @@ mod tests {
     #[test]
     fn fault_numbers_follow_the_names_and_bits_fit_32() {
         use AxisId::{A, C};
-        let sensors = [
-            Sensor::Inclinometer,
-            Sensor::Compass,
-            Sensor::Encoder(C),
-            Sensor::Encoder(A),
-            Sensor::Rtc,
-            Sensor::Gps,
-        ];
+        let sensors = SENSORS;
         let mut all = [Fault::GpsLost; 33];
         let mut n = 0;
         let mut put = |f: Fault| {
@@ -736,18 +904,35 @@ mod tests {
         put(Fault::SupplyReading);
         put(Fault::IrradianceReading);
         assert_eq!(n, 33);
-        let mut seen = 0u32;
+        let mut seen = (0u32, 0u16);
         for (i, f) in all.iter().enumerate() {
             let b = fault_bit(*f);
             // In the order the names are listed.
             assert_eq!(b as usize, i, "{}", f.name().as_str());
-            let bit = fault_bits([*f].iter());
-            assert_eq!(seen & bit, 0);
-            seen |= bit;
+            let (lo, hi) = fault_bits([*f].iter());
+            // One bit each, of `Flt` below 32, of `Flt2` from 32.
+            assert_eq!(lo.count_ones() + hi.count_ones(), 1);
+            assert_eq!((seen.0 & lo, seen.1 & hi), (0, 0));
+            seen = (seen.0 | lo, seen.1 | hi);
+            // A client reads the number back as the same fault.
+            assert_eq!(fault_of_bit(b), Some(*f));
         }
-        // Bits 0 to 31 taken, the 33rd fault without one.
-        assert_eq!(seen, u32::MAX);
-        assert_eq!(fault_bits([Fault::IrradianceReading].iter()), 0);
+        // Bits 0 to 31 of `Flt` taken, the 33rd fault bit 0 of `Flt2`.
+        assert_eq!(seen, (u32::MAX, 1));
+        assert_eq!(fault_bits([Fault::IrradianceReading].iter()), (0, 1));
+    }
+
+    #[test]
+    fn every_mode_code_reads_back_as_its_mode() {
+        for code in 0..=u16::MAX {
+            match mode_of_code(code) {
+                Some(m) => assert_eq!(mode_code(m), code),
+                None => assert!(code > 13, "{code}"),
+            }
+        }
+        assert_eq!(mode_of_code(mode_code(Mode::Unwind)), Some(Mode::Tracking));
+        assert_eq!(fault_of_bit(32), Some(Fault::IrradianceReading));
+        assert_eq!(fault_of_bit(33), None);
     }
 
     #[test]

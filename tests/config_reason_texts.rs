@@ -58,12 +58,14 @@ fn expected(r: Reason) -> &'static str {
         Reason::WholeCountsPerTurn => {
             "needs a whole axis.c.gear_ratio (whole motor counts per turn)"
         }
+        Reason::UtcOffsetH => "-12...14 h east of UTC",
+        Reason::WindMSPerHz => "0...10 m/s per Hz (0: not known)",
     }
 }
 
 #[test]
 fn every_reason_prints_its_documented_text() {
-    assert_eq!(Reason::ALL.len(), 37);
+    assert_eq!(Reason::ALL.len(), 39);
     let mut wrong = Vec::new();
     for &r in Reason::ALL {
         let text = r.text();
@@ -121,8 +123,13 @@ fn book_rows() -> Vec<(&'static str, Vec<Vec<String>>)> {
     let home = |x: f32| vec![book(&[Piece::Str("min_deg"), Piece::Offset(Num::f32(x))])];
     vec![
         (
-            "`site.lat_deg`, `site.lon_deg`, `site.elevation_m`",
-            vec![f(r::LAT_DEG), f(r::LON_DEG), f(r::ELEVATION_M)],
+            "`site.lat_deg`, `site.lon_deg`, `site.elevation_m`, `site.utc_offset_h`",
+            vec![
+                f(r::LAT_DEG),
+                f(r::LON_DEG),
+                f(r::ELEVATION_M),
+                f(r::UTC_OFFSET_H),
+            ],
         ),
         (
             "`schedule.table_step_s`",
@@ -167,8 +174,13 @@ fn book_rows() -> Vec<(&'static str, Vec<Vec<String>>)> {
             vec![book_range(range_text::u8s(r::SWITCH))],
         ),
         (
-            "`wind.stow_hz`, `wind.hold_s`, `wind.release_s`",
-            vec![f(r::STOW_HZ), u(r::WIND_HOLD_S), u(r::WIND_RELEASE_S)],
+            "`wind.stow_hz`, `wind.hold_s`, `wind.release_s`, `wind.m_s_per_hz`",
+            vec![
+                f(r::STOW_HZ),
+                u(r::WIND_HOLD_S),
+                u(r::WIND_RELEASE_S),
+                f(r::WIND_M_S_PER_HZ),
+            ],
         ),
         (
             "`safety.max_deviation_deg`, `stall_timeout_s`, `sensor_timeout_s`, `max_retries`",
@@ -188,13 +200,14 @@ fn book_rows() -> Vec<(&'static str, Vec<Vec<String>>)> {
             vec![book_range(range_text::u16s(r::STATUS_MIN))],
         ),
         (
-            "`modbus.address`, `baud`, `parity`, `write`, `timeout_s`",
+            "`modbus.address`, `baud`, `parity`, `write`, `timeout_s`, `timeout_stow`",
             vec![
                 book_range(range_text::u8s(r::MODBUS_ADDRESS)),
                 u(r::MODBUS_BAUD),
                 book_range(range_text::u8s(r::MODBUS_PARITY)),
                 book_range(range_text::u8s(r::SWITCH)),
                 u(r::WIND_RELEASE_S),
+                book_range(range_text::u8s(r::SWITCH)),
             ],
         ),
         (

@@ -33,24 +33,25 @@ fn tromso() -> Config {
 #[test]
 fn encode_decode_round_trip() {
     let c = tromso();
-    let mut buf = [0u8; 200];
+    let mut buf = [0u8; 256];
     let n = c.encode(&mut buf).unwrap();
     assert_eq!(n, PAYLOAD_LEN);
     assert_eq!(Config::decode(&buf[..n]), Some(c));
     // The operator's hold is byte 143, after the fields of layout version
     // 3: bit 0 stow, 1 manual, 2 service; the Modbus settings (11 bytes)
     // the weather stows' (22 bytes), the supply watch's (4 bytes) and the
-    // overcast mode's (13 bytes) and the C axis's `continuous` (1 byte)
-    // follow it.
+    // overcast mode's (13 bytes), the C axis's `continuous` (1 byte), the
+    // site's UTC offset (4), the anemometer's factor (4) and the Modbus
+    // silence's stow (1) follow it.
     const HOLD_AT: usize = 143;
-    assert_eq!(n, HOLD_AT + 1 + 11 + 22 + 4 + 13 + 1);
+    assert_eq!(n, HOLD_AT + 1 + 11 + 22 + 4 + 13 + 1 + 9);
     let mut held = c;
     held.hold = OperatorHold {
         stow: true,
         manual: false,
         service: true,
     };
-    let mut hb = [0u8; 200];
+    let mut hb = [0u8; 256];
     assert_eq!(held.encode(&mut hb), Some(PAYLOAD_LEN));
     assert_eq!(hb[HOLD_AT], 0b101);
     assert_eq!(hb[..HOLD_AT], buf[..HOLD_AT]);
@@ -66,27 +67,31 @@ fn encode_decode_round_trip() {
     on_bus.modbus.address = 17;
     on_bus.modbus.write = 1;
     on_bus.stow.snow_release_s = 60;
-    let mut mb = [0u8; 200];
+    let mut mb = [0u8; 256];
     assert_eq!(on_bus.encode(&mut mb), Some(PAYLOAD_LEN));
     assert_eq!(Config::decode(&mb[..HOLD_AT + 1]), Some(held));
     assert_eq!(Config::decode(&mb[..HOLD_AT]), Some(c));
     // Other lengths are rejected.
     assert_eq!(Config::decode(&buf[..HOLD_AT - 1]), None);
     assert_eq!(Config::decode(&buf[..HOLD_AT + 2]), None);
-    // Layout version 4's payload (without `axis.c.continuous`) reads with
-    // it off.
-    assert_eq!(Config::decode(&buf[..n - 1]), Some(c));
-    assert_eq!(Config::decode(&buf[..n - 2]), None);
+    // Layout version 5's payload (without the UTC offset, the anemometer's
+    // factor and the silence's stow) and version 4's (also without
+    // `axis.c.continuous`) read with them at 0.
+    assert_eq!(Config::decode(&buf[..n - 9]), Some(c));
+    assert_eq!(Config::decode(&buf[..n - 10]), Some(c));
+    assert_eq!(Config::decode(&buf[..n - 1]), None);
+    assert_eq!(Config::decode(&buf[..n - 11]), None);
     assert_eq!(Config::decode(&buf[..n + 1]), None);
     // Too small a buffer to encode into.
     assert_eq!(c.encode(&mut [0u8; 10]), None);
 }
 
-/// The payload of layout version 5 byte by byte, built here field by
+/// The payload of layout version 6 byte by byte, built here field by
 /// field in the order `src/config/codec.rs` documents (the configuration's
 /// declaration order, little-endian, the derived counts per degree left
 /// out, the hold after the fields of version 3, the Modbus and stow
-/// settings after it, the C axis's `continuous` last), so that a change of the key table that would move a stored
+/// settings after it, the C axis's `continuous`, the UTC offset, the
+/// anemometer's factor and the Modbus silence's stow last), so that a change of the key table that would move a stored
 /// field fails here: every field gets a value of its own.
 #[test]
 fn payload_is_the_documented_layout() {
@@ -128,6 +133,9 @@ fn payload_is_the_documented_layout() {
     c.overcast.leave_s = 1_200;
     c.overcast.max_moves_per_hour = 3;
     c.axes[0].continuous = 1;
+    c.site.utc_offset_h = 5.75;
+    c.wind.m_s_per_hz = 0.667;
+    c.modbus.timeout_stow = 1;
     let mut expected = Vec::new();
     let f = |v: &mut Vec<u8>, x: f32| v.extend_from_slice(&x.to_le_bytes());
     let u = |v: &mut Vec<u8>, x: u32| v.extend_from_slice(&x.to_le_bytes());
@@ -198,8 +206,11 @@ fn payload_is_the_documented_layout() {
     u(&mut expected, c.overcast.leave_s);
     expected.push(c.overcast.max_moves_per_hour);
     expected.push(c.axes[0].continuous);
+    f(&mut expected, c.site.utc_offset_h);
+    f(&mut expected, c.wind.m_s_per_hz);
+    expected.push(c.modbus.timeout_stow);
     assert_eq!(expected.len(), PAYLOAD_LEN);
-    let mut buf = [0u8; 200];
+    let mut buf = [0u8; 256];
     let n = c.encode(&mut buf).unwrap();
     assert_eq!(&buf[..n], &expected[..]);
     assert_eq!(Config::decode(&expected), Some(c));
@@ -298,7 +309,7 @@ fn one_corrupt_slot_uses_the_other() {
 fn old_version_and_bad_values_are_rejected_whole() {
     // Build a slot by hand: layout version 0 with a valid CRC.
     let c = tromso();
-    let mut payload = [0u8; 200];
+    let mut payload = [0u8; 256];
     let n = c.encode(&mut payload).unwrap();
     let slot = |version: u16, body: &[u8]| {
         let mut s = Vec::new();
@@ -319,9 +330,11 @@ fn old_version_and_bad_values_are_rejected_whole() {
 
     // Layouts 2 (written before the operator's hold existed: the fields
     // before it), 3 (before the Modbus settings: up to the hold) and 4
-    // (before `axis.c.continuous`) are still read, so an update keeps the
-    // saved configuration; version 3 with version 2's length is not.
-    let (v2, v3, v4) = (n - 52, n - 51, n - 1);
+    // (before `axis.c.continuous`) and 5 (before the UTC offset, the
+    // anemometer's factor and the silence's stow) are still read, so an
+    // update keeps the saved configuration; version 3 with version 2's
+    // length is not.
+    let (v2, v3, v4, v5) = (n - 61, n - 60, n - 10, n - 9);
     let mut mem = MemStorage::<1024>::new();
     mem.write(0, &slot(2, &payload[..v2])).unwrap();
     mem.write(SLOT_LEN, &slot(3, &payload[..v2])).unwrap();
@@ -333,13 +346,15 @@ fn old_version_and_bad_values_are_rejected_whole() {
     mem.write(0, &slot(3, &payload[..v3])).unwrap();
     let l = ConfigStore::new(mem).load();
     assert_eq!((l.defaults, l.config), (false, c));
-    let mut mem = MemStorage::<1024>::new();
-    mem.write(0, &slot(4, &payload[..v4])).unwrap();
-    let l = ConfigStore::new(mem).load();
-    assert_eq!((l.defaults, l.config), (false, c));
+    for (version, len) in [(4, v4), (5, v5)] {
+        let mut mem = MemStorage::<1024>::new();
+        mem.write(0, &slot(version, &payload[..len])).unwrap();
+        let l = ConfigStore::new(mem).load();
+        assert_eq!((l.defaults, l.config), (false, c));
+    }
     // Version 2 with version 3's length is not either, nor version 3 with
-    // version 4's, nor version 4 with version 5's.
-    for (version, len) in [(2, v3), (3, v4), (4, n)] {
+    // version 4's, nor 4 with 5's, nor 5 with 6's.
+    for (version, len) in [(2, v3), (3, v4), (4, v5), (5, n)] {
         let mut mem = MemStorage::<1024>::new();
         mem.write(0, &slot(version, &payload[..len])).unwrap();
         let l = ConfigStore::new(mem).load();
@@ -370,11 +385,11 @@ fn old_version_and_bad_values_are_rejected_whole() {
 fn sequence_wraps_around() {
     // Slot 0 holds sequence u32::MAX, slot 1 sequence 0 (written after it).
     let c = tromso();
-    let mut payload = [0u8; 200];
+    let mut payload = [0u8; 256];
     let n = c.encode(&mut payload).unwrap();
     let mut newer = c;
     newer.wind.release_s = 1234;
-    let mut payload2 = [0u8; 200];
+    let mut payload2 = [0u8; 256];
     let n2 = newer.encode(&mut payload2).unwrap();
     let slot = |seq: u32, body: &[u8]| {
         let mut s = Vec::new();

@@ -120,6 +120,9 @@ const DOC_RANGES: &[(&str, &str)] = &[
     ("overcast.leave_s", "0…86,400"),
     ("overcast.max_moves_per_hour", "1…8"),
     ("axis.c.continuous", "0…1"),
+    ("site.utc_offset_h", "−12…14"),
+    ("wind.m_s_per_hz", "0…10"),
+    ("modbus.timeout_stow", "0…1"),
 ];
 
 /// The home switch's range is relative to `min_deg` (documented as
@@ -272,10 +275,10 @@ fn typed(value: f64, integer: bool) -> String {
 #[test]
 fn key_table_names_every_field_once_and_the_docs_list_them() {
     let mut names: Vec<&str> = KEYS.iter().map(|k| k.name().as_str()).collect();
-    assert_eq!(names.len(), 59);
+    assert_eq!(names.len(), 62);
     names.sort_unstable();
     names.dedup();
-    assert_eq!(names.len(), 59, "duplicate keys");
+    assert_eq!(names.len(), 62, "duplicate keys");
     let docs = config_docs();
     let module =
         std::fs::read_to_string(concat!(env!("CARGO_MANIFEST_DIR"), "/src/console/mod.rs"))

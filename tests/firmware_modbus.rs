@@ -43,9 +43,14 @@ const KANO: (f32, f32) = (11.9683, 8.4261);
 const M601: u16 = 40070;
 /// Register of the vendor model's ID with model 305 in the map.
 const M64201: u16 = 40158;
+/// Register of the vendor model's ID without model 305 (the bench's map:
+/// no GPS).
+const VENDOR: u16 = M64201 - 38;
 
 struct Clock {
     now_ms: u64,
+    /// Anemometer pulses each tick takes.
+    wind_pulses: u32,
 }
 
 impl Platform for Clock {
@@ -53,7 +58,7 @@ impl Platform for Clock {
         self.now_ms
     }
     fn take_wind_pulses(&mut self) -> u32 {
-        0
+        self.wind_pulses
     }
     fn feed_watchdog(&mut self) {}
     fn wait_for_interrupt(&mut self) {}
@@ -111,12 +116,19 @@ impl Bench {
     }
 
     fn with_timeout(write: u8, timeout_s: u32) -> Bench {
+        Bench::with_config(|c| {
+            c.modbus.write = write;
+            c.modbus.timeout_s = timeout_s;
+        })
+    }
+
+    /// Kano, writes off, no time-out, then `edit`.
+    fn with_config(edit: impl FnOnce(&mut Config)) -> Bench {
         let (mut config, _): (Config, _) = common::motor::tracker_config();
         config.site.latitude_deg = KANO.0;
         config.site.longitude_deg = KANO.1;
         config.site.elevation_m = 0.0;
-        config.modbus.write = write;
-        config.modbus.timeout_s = timeout_s;
+        edit(&mut config);
         let options = ControllerOptions::<f32> {
             feedback: suntracker::motion::FeedbackMode::OpenLoop,
             homing_chunk_deg: 0.45,
@@ -140,7 +152,10 @@ impl Bench {
         Bench {
             fw,
             port: ModbusPort::new(IDENTITY, false),
-            clock: Clock { now_ms: 0 },
+            clock: Clock {
+                now_ms: 0,
+                wind_pulses: 0,
+            },
             line: Line::default(),
             c,
             a,
@@ -388,4 +403,99 @@ fn a_request_every_three_milliseconds_delays_no_setpoint() {
     assert_eq!(setpoints(&flooded), want);
     // Every request of the 20 minutes answered.
     assert_eq!(replies, 20 * 60_000 / 3 - 1);
+}
+
+/// Model 601's `DtLoc` (YYYYMMDD) and `TmLoc` (hhmmss) as text.
+fn local_date_time(b: &mut Bench) -> (String, String) {
+    let regs = b.read(M601 + 11, 8);
+    let text = |r: &[u16]| -> String {
+        r.iter()
+            .flat_map(|w| w.to_be_bytes())
+            .filter(|&c| c != 0)
+            .map(char::from)
+            .collect()
+    };
+    (text(&regs[..5]), text(&regs[5..]))
+}
+
+/// Seconds of the day of `hhmmss`.
+fn seconds_of_day(hhmmss: &str) -> i64 {
+    let n: i64 = hhmmss.parse().unwrap();
+    n / 10_000 * 3_600 + n / 100 % 100 * 60 + n % 100
+}
+
+#[test]
+fn local_time_is_utc_moved_by_the_configured_offset() {
+    // At 06:30 UTC on 2026-03-20 (the bench's start plus 30 minutes): UTC
+    // by default, 12:15 in Nepal (UTC+5:45), 21:00 the day before at
+    // UTC−9:30 (the Marquesas).
+    for (offset_h, date, time) in [
+        (0.0, "20260320", "063000"),
+        (5.75, "20260320", "121500"),
+        (-9.5, "20260319", "210000"),
+    ] {
+        let mut b = Bench::with_config(|c| c.site.utc_offset_h = offset_h);
+        b.run_until(30 * 60_000, |_| {});
+        let (d, t) = local_date_time(&mut b);
+        assert_eq!(d, date, "offset {offset_h}");
+        // The read is served a few ms after 06:30:00.
+        let late_s = seconds_of_day(&t) - seconds_of_day(time);
+        assert!((0..=1).contains(&late_s), "offset {offset_h}: {t}");
+    }
+}
+
+#[test]
+fn wind_speed_from_the_pulse_rate_and_the_factor() {
+    // 9 pulses a 1-second tick: 9 Hz. Without a factor "not implemented";
+    // with the common cup anemometer's 2.4 km/h per Hz (0.667 m/s per
+    // Hz), 6.0 m/s (9 × 0.667 = 6.003).
+    for (factor, expected) in [(0.0, 0xFFFF), (0.667, 60)] {
+        let mut b = Bench::with_config(|c| c.wind.m_s_per_hz = factor);
+        b.clock.wind_pulses = 9;
+        b.run_until(60_000, |_| {});
+        let regs = b.read(VENDOR + 4, 2);
+        assert_eq!(regs[0], expected, "factor {factor}");
+        assert_eq!(regs[1] as i16, -1, "WndSpd_SF");
+    }
+}
+
+#[test]
+fn a_silent_master_stows_when_configured_and_its_return_releases() {
+    let mut b = Bench::with_config(|c| {
+        c.modbus.timeout_s = 60;
+        c.modbus.timeout_stow = 1;
+    });
+    // No master heard yet: no stow, however long.
+    b.run_until(30 * 60_000, |_| {});
+    assert!(!b.lines().contains(&"mode command_stow"));
+    // Heard, then silent for 70 s: stowed.
+    b.read(M601, 2);
+    let heard = b.stamps.len();
+    b.run_until(b.clock.now_ms + 50_000, |_| {});
+    assert!(!b.lines()[heard..].contains(&"mode command_stow"));
+    b.run_until(b.clock.now_ms + 20_000, |_| {});
+    assert!(b.lines()[heard..].contains(&"mode command_stow"));
+    assert_eq!(b.read(VENDOR + 3, 1), [2], "StowRsn command");
+    // Its next request releases the stow (writes are off: a read will do).
+    let back = b.stamps.len();
+    b.run_until(b.clock.now_ms + 10_000, |_| {});
+    assert!(b.lines()[back..].contains(&"mode tracking"));
+}
+
+#[test]
+fn clearing_the_faults_from_the_bus() {
+    let mut b = Bench::with_config(|c| c.modbus.write = 1);
+    b.run_until(30 * 60_000, |_| {});
+    // The bench has no GPS: `gps_lost` (fault number 12) is active.
+    let gps_lost = 1 << 12;
+    let flt = b.read(VENDOR + 6, 2);
+    assert_eq!(int32(&flt, 0), gps_lost, "{flt:?}");
+    // Cleared (the reads come before the next tick, every 1,000 ms from
+    // the start) ...
+    assert_eq!(b.write(VENDOR + 13, &[1]), 0, "ClrFlt = 1");
+    assert_eq!(b.read(VENDOR + 6, 2), [0, 0], "no fault left");
+    assert_eq!(b.read(VENDOR + 13, 1), [0], "ClrFlt reads 0");
+    // ... and raised again while its cause is there.
+    b.run_until(b.clock.now_ms + 60_000, |_| {});
+    assert_eq!(int32(&b.read(VENDOR + 6, 2), 0), gps_lost);
 }

@@ -20,6 +20,10 @@
 #[allow(dead_code)]
 mod monitor;
 
+/// `--modbus` against the repository's own Modbus server.
+#[path = "monitor/modbus.rs"]
+mod modbus;
+
 use std::io::{Read, Write};
 use std::time::{Duration, Instant};
 
@@ -144,7 +148,9 @@ fn csv_matches_log(name: &str) -> Vec<Vec<String>> {
             "a_deg",
             "panel_mv",
             "mode",
-            "faults"
+            "faults",
+            "el_deg",
+            "az_deg"
         ]
     );
     assert_eq!(rows.len(), want.len(), "{name}: one row per set-point line");

@@ -185,6 +185,7 @@ fn wind() -> WindConfig {
         threshold_hz: 25.0,
         hold_s: 3,
         release_s: 600,
+        m_s_per_hz: 0.0,
     }
 }
 

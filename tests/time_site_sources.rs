@@ -259,6 +259,7 @@ fn site_from_gps_then_stored_then_postal_code() {
         latitude_deg: 36.75,
         longitude_deg: 3.06,
         elevation_m: 10.0,
+        utc_offset_h: 0.0,
     };
     let (s, o) = resolve_site::<f64>(&kano_fix(T0), Some(&stored), Some("DZ:16000")).unwrap();
     assert_eq!(o, SiteOrigin::Gps);
@@ -457,6 +458,7 @@ fn a_fix_with_an_impossible_position_gives_neither_site_nor_time() {
             latitude_deg: 11.9683,
             longitude_deg: 8.4261,
             elevation_m: 480.0,
+            utc_offset_h: 0.0,
         };
         let (_, origin) = resolve_site::<f64>(&bad, Some(&stored), None).unwrap();
         assert_eq!(origin, SiteOrigin::Stored);

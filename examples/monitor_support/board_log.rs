@@ -17,11 +17,18 @@
 //! | `ok …`, `error …` | the console's replies (`src/console/reply.rs`) |
 //! | `ok mode=… utc=… time=… lat=… lon=… site=… c=… a=… faults=… wind_hz=…` | `suntracker::console::write_status` |
 //! | `status mode=…` with the same fields | the periodic status line |
+//! | `status mode=… utc=… faults=… target_el=… target_az=… el=… az=…` | the monitor's own `--modbus` poll (`sunspec_client.rs`) |
 //!
 //! Anything else is an other line: passed through, counted, never an
 //! error. A line that starts with one of the words above but does not have
 //! its shape (a line cut short by a reset, noise on the wire) is counted as
 //! malformed and passed through too.
+//!
+//! A status line with `target_el=`/`target_az=` (the monitor's `--modbus`
+//! poll: model 601's `ElTrgt`/`AzTrgt`, and `el=`/`az=` its
+//! `ElPos`/`AzPos`) in tracking mode is also a row of the CSV: the target
+//! is the set-point in force, its zenith 90° − `target_el`; its time is the
+//! poll's, and it has no axis angles c and a.
 //!
 //! Numbers are read as the board writes them (`suntracker::log::Sink::fixed`:
 //! an optional `-`, digits, an optional fraction; `nan` for a value out of
@@ -87,10 +94,14 @@ pub struct SetPoint {
     pub utc: Utc,
     pub zenith_deg: Number,
     pub azimuth_deg: Number,
-    pub c_deg: Number,
-    pub a_deg: Number,
+    /// The axis angles (`None` from a `--modbus` poll: the map has none).
+    pub c_deg: Option<Number>,
+    pub a_deg: Option<Number>,
     /// ` panel_mv=<int>` when the image reads a panel voltage.
     pub panel_mv: Option<u32>,
+    /// Where the panel points, elevation and azimuth (a `--modbus` poll's
+    /// `ElPos`/`AzPos`; `None` from the board's log).
+    pub position_deg: Option<(Number, Number)>,
 }
 
 /// The fields of a status line (`status …` or the `ok mode=…` reply); every
@@ -112,6 +123,10 @@ pub struct Status {
     /// `None` when there is no `faults=` field; empty for `faults=none`.
     pub faults: Option<Vec<String>>,
     pub wind_hz: Option<Number>,
+    /// `target_el=`, `target_az=` (a `--modbus` poll); `None` for `none`.
+    pub target_deg: Option<(Number, Number)>,
+    /// `el=`, `az=` (a `--modbus` poll); `None` for `none`.
+    pub position_deg: Option<(Number, Number)>,
 }
 
 /// What a line is.
@@ -278,6 +293,16 @@ fn opt_number(v: &str) -> Option<Option<Number>> {
     }
 }
 
+/// The zenith of an elevation, with as many decimals.
+fn zenith_of(el: &Number) -> Number {
+    let decimals = el.text.split_once('.').map_or(0, |(_, f)| f.len());
+    let text = format!("{:.decimals$}", 90.0 - el.value);
+    Number {
+        value: text.parse().unwrap_or(f64::NAN),
+        text,
+    }
+}
+
 /// The fields of a status line after its first word (`status` or `ok`).
 fn status(words: &[&str]) -> Option<Status> {
     let f = fields(words)?;
@@ -316,6 +341,16 @@ fn status(words: &[&str]) -> Option<Status> {
     if let Some(v) = get(&f, "wind_hz") {
         s.wind_hz = opt_number(v)?;
     }
+    // Both of a pair or neither.
+    let pair = |a: &str, b: &str| -> Option<Option<(Number, Number)>> {
+        match (get(&f, a), get(&f, b)) {
+            (None, None) => Some(None),
+            (Some(x), Some(y)) => Some(opt_number(x)?.zip(opt_number(y)?)),
+            _ => None,
+        }
+    };
+    s.target_deg = pair("target_el", "target_az")?;
+    s.position_deg = pair("el", "az")?;
     Some(s)
 }
 
@@ -335,9 +370,10 @@ fn setpoint(words: &[&str]) -> Option<SetPoint> {
         utc: utc(get(&f, "utc")?)?,
         zenith_deg: number(get(&f, "zenith")?)?,
         azimuth_deg: number(get(&f, "azimuth")?)?,
-        c_deg: number(get(&f, "c")?)?,
-        a_deg: number(get(&f, "a")?)?,
+        c_deg: Some(number(get(&f, "c")?)?),
+        a_deg: Some(number(get(&f, "a")?)?),
         panel_mv,
+        position_deg: None,
     })
 }
 
@@ -550,6 +586,14 @@ impl Monitor {
         self.settle(false);
     }
 
+    /// Are the rows a `--modbus` session's polls (no axis angles), not
+    /// the board's set-point lines?
+    pub fn rows_are_polls(&self) -> bool {
+        self.rows
+            .first()
+            .is_some_and(|r| r.setpoint.c_deg.is_none())
+    }
+
     /// The first board time in the log, if any.
     pub fn first_time_s(&self) -> Option<i64> {
         self.events
@@ -629,6 +673,22 @@ impl Monitor {
             }
         }
         self.set_mode(Some(s.mode.clone()));
+        // A `--modbus` poll while tracking: the set-point in force.
+        if let (Some(utc), Some((el, az)), "tracking") = (&s.utc, &s.target_deg, s.mode.as_str()) {
+            self.rows.push(Row {
+                setpoint: SetPoint {
+                    utc: utc.clone(),
+                    zenith_deg: zenith_of(el),
+                    azimuth_deg: az.clone(),
+                    c_deg: None,
+                    a_deg: None,
+                    panel_mv: None,
+                    position_deg: s.position_deg.clone(),
+                },
+                mode: self.mode.clone(),
+                faults: self.faults.clone(),
+            });
+        }
     }
 
     fn apply(&mut self, line: &Line) {

@@ -1,6 +1,6 @@
 //! The `monitor` tool: arguments, the source of the lines (a file, standard
-//! input or the serial port), the pass-through, the CSV, the figure and
-//! the summary. `examples/monitor.rs` calls [`run`]; so does
+//! input, the serial port, or the polls of a Modbus session), the
+//! pass-through, the CSV, the figure and the summary. `examples/monitor.rs` calls [`run`]; so does
 //! `tests/monitor_cli.rs`.
 
 use std::fs::File;
@@ -10,8 +10,12 @@ use std::io::{BufRead, BufReader, Write};
 pub mod board_log;
 #[path = "../common/cli.rs"]
 pub mod cli;
+#[path = "modbus_client.rs"]
+pub mod modbus_client;
 #[path = "port.rs"]
 pub mod port;
+#[path = "sunspec_client.rs"]
+pub mod sunspec_client;
 #[path = "svg.rs"]
 pub mod svg;
 
@@ -28,9 +32,15 @@ pub const DEFAULT_BAUD: u32 = 115_200;
 pub const DEFAULT_SETTLE_S: f64 = 2.0;
 /// Default of `--reply-timeout`, seconds.
 pub const DEFAULT_REPLY_TIMEOUT_S: f64 = 2.0;
+/// Default of `--reply-timeout` with `--modbus`, seconds.
+pub const DEFAULT_MODBUS_REPLY_TIMEOUT_S: f64 = 1.0;
+/// Default of `--baud` with `--modbus` (the firmware's `modbus.baud`).
+pub const DEFAULT_MODBUS_BAUD: u32 = 19_200;
+/// Default of `--every-s`, seconds.
+pub const DEFAULT_EVERY_S: f64 = 10.0;
 
 /// The CSV header of `--csv`.
-pub const CSV_HEADER: [&str; 8] = [
+pub const CSV_HEADER: [&str; 10] = [
     "utc",
     "zenith_deg",
     "azimuth_deg",
@@ -39,6 +49,8 @@ pub const CSV_HEADER: [&str; 8] = [
     "panel_mv",
     "mode",
     "faults",
+    "el_deg",
+    "az_deg",
 ];
 
 /// Where the lines come from.
@@ -48,6 +60,8 @@ pub enum Source {
     File(String),
     /// The board's serial port.
     Port(port::Session),
+    /// The tracker's Modbus RTU server.
+    Modbus(sunspec_client::Session),
 }
 
 /// Parsed command line.
@@ -67,14 +81,17 @@ pub fn help() -> cli::Help {
         tool: TOOL,
         synopsis:
             "(--file LOG | --port DEVICE [--baud N] [--send LINE]... [--seconds S] [--settle S] \
-[--reply-timeout S]) [--csv OUT.csv] [--svg OUT.svg] [--quiet]",
+[--reply-timeout S] | --modbus DEVICE --address N [--baud N] [--parity P] [--every-s S] \
+[--seconds S] [--reply-timeout S]) [--csv OUT.csv] [--svg OUT.svg] [--quiet]",
         about: "\
 Reads the tracker's serial log (the line format of src/log.rs that every image writes: boot, time,
 site, setpoint, mode, fault, day_energy, clock jump, status and the console's ok/error replies)
 from the board's serial port or from a file, echoes every line to stdout (lines it does not know
 are passed through), follows the mode and the active faults, and writes the set-points as CSV and
 the day as an SVG figure. With --send it types lines into the board's console and shows the
-replies.",
+replies. With --modbus it reads the tracker's Modbus RTU server instead, as a SunSpec client does
+(the SunS marker, the model chain; models 601, 305 and the vendor model 64201 polled), and prints
+each poll as a status line: mode, time, site, faults, target and position.",
         options: vec![
             opt(
                 "--file LOG",
@@ -86,7 +103,27 @@ replies.",
                 "read the board's serial port (/dev/ttyUSB0, /dev/ttyACM0)",
                 "",
             ),
-            opt("--baud N", "baud rate of --port (8N1)", "115200"),
+            opt(
+                "--modbus DEVICE",
+                "read the tracker's Modbus RTU server on this serial port (an RS-485 adapter)",
+                "",
+            ),
+            opt(
+                "--address N",
+                "with --modbus: the tracker's Modbus address, 1 to 247",
+                "",
+            ),
+            opt(
+                "--baud N",
+                "baud rate of --port (8N1) or --modbus",
+                "115200 with --port, 19200 with --modbus",
+            ),
+            opt(
+                "--parity P",
+                "with --modbus: even, odd or none (two stop bits)",
+                "even",
+            ),
+            opt("--every-s S", "with --modbus: seconds between polls", "10"),
             opt(
                 "--send LINE",
                 "with --port: write LINE and a newline to the board's console and wait for its \
@@ -95,7 +132,8 @@ replies (lines starting with ok or error); repeat for several lines, sent in ord
             ),
             opt(
                 "--seconds S",
-                "with --port: stop S seconds after opening the port",
+                "with --port or --modbus: stop S seconds after opening the port (a --modbus run \
+without it polls until Ctrl-C)",
                 "after the replies with --send, else when the port closes",
             ),
             opt(
@@ -106,20 +144,23 @@ line (opening the port resets an Arduino)",
             ),
             opt(
                 "--reply-timeout S",
-                "with --send: how long to wait for the first reply to each line",
-                "2",
+                "with --send: how long to wait for the first reply to each line; with --modbus: \
+for each reply",
+                "2 with --send, 1 with --modbus",
             ),
             opt(
                 "--csv OUT.csv",
                 "write one row per set-point: utc, zenith_deg, azimuth_deg, c_deg, a_deg, \
-panel_mv (empty when not logged), the mode in force, the active faults (;-separated); rows are \
-written as they arrive",
+panel_mv (empty when not logged), the mode in force, the active faults (;-separated), el_deg, \
+az_deg (where the panel points: --modbus only); rows are written as they arrive; with --modbus a \
+row per poll in tracking mode (zenith and azimuth of 601's target, no c and a)",
                 "",
             ),
             opt(
                 "--svg OUT.svg",
-                "draw the log over UTC time: sun elevation and azimuth, commanded c and a, \
-mode band, fault rows, legend; written at the end (with --port, give --seconds or --send)",
+                "draw the log over UTC time: sun elevation and azimuth, commanded c and a (with \
+--modbus: the panel's elevation and azimuth), mode band, fault rows, legend; written at the end \
+(with --port, give --seconds or --send; with --modbus, --seconds)",
                 "",
             ),
             opt(
@@ -130,12 +171,14 @@ mode band, fault rows, legend; written at the end (with --port, give --seconds o
         ],
         algorithms: false,
         notes: "\
-stdout: every line read, as read; `> LINE` for each line sent; at the end `monitor: ...` summary
-lines and `monitor: wrote FILE` for each output. stderr: `monitor: ...` for an error, and for each
---send line that got no reply or an error reply. Exit status: 0 done; 1 a --send line got no reply
-or an error reply; 2 a usage error, an input that cannot be opened or read, an output that cannot
-be written. Ctrl-C ends a --port run at once: the CSV has every row up to then, no figure is
-drawn.",
+stdout: every line read, as read; `> LINE` for each line sent; with --modbus `monitor: modbus: ...`
+where the map was found and a status line per poll; at the end `monitor: ...` summary lines and
+`monitor: wrote FILE` for each output. stderr: `monitor: ...` for an error, for each --send line
+that got no reply or an error reply, and for each missed poll (a time-out, a CRC error, an exception
+by its code and name). Exit status: 0 done; 1 a --send line got no reply or an error reply, or no
+poll was answered; 2 a usage error, an input that cannot be opened or read, an output that cannot
+be written. Ctrl-C ends a --port or --modbus run at once: the CSV has every row up to then, no
+figure is drawn.",
     }
 }
 
@@ -152,8 +195,9 @@ fn secs(p: &mut cli::Parser, opt: &str) -> Result<f64, String> {
 /// Parses the arguments (without the program name).
 pub fn parse(argv: &[String]) -> Result<Parsed<Args>, String> {
     use cli::Long;
-    let (mut file, mut path) = (None, None);
+    let (mut file, mut path, mut modbus) = (None, None, None);
     let (mut baud, mut seconds, mut settle, mut reply) = (None, None, None, None);
+    let (mut address, mut parity, mut every) = (None, None, None);
     let mut send: Vec<String> = Vec::new();
     let (mut csv, mut svg, mut quiet) = (None, None, false);
     let mut p = cli::parser(argv);
@@ -162,6 +206,7 @@ pub fn parse(argv: &[String]) -> Result<Parsed<Args>, String> {
             cli::Short('h') | Long("help") => return Ok(Parsed::Help),
             Long("file") => file = Some(cli::text(&mut p, "--file")?),
             Long("port") => path = Some(cli::text(&mut p, "--port")?),
+            Long("modbus") => modbus = Some(cli::text(&mut p, "--modbus")?),
             Long("baud") => {
                 baud = Some(cli::value(
                     &mut p,
@@ -173,6 +218,33 @@ pub fn parse(argv: &[String]) -> Result<Parsed<Args>, String> {
                             .filter(|b| (50..=4_000_000).contains(b))
                     },
                 )?)
+            }
+            Long("address") => {
+                address = Some(cli::value(
+                    &mut p,
+                    "--address",
+                    "an address of 1 to 247",
+                    |v| v.parse::<u8>().ok().filter(|a| (1..=247).contains(a)),
+                )?)
+            }
+            Long("parity") => {
+                use serialport::Parity;
+                parity = Some(cli::choice(
+                    &mut p,
+                    "--parity",
+                    &[
+                        ("even", Parity::Even),
+                        ("odd", Parity::Odd),
+                        ("none", Parity::None),
+                    ],
+                )?)
+            }
+            Long("every-s") => {
+                let v = secs(&mut p, "--every-s")?;
+                if v < 0.05 {
+                    return Err(format!("--every-s {v}: want at least 0.05 seconds"));
+                }
+                every = Some(v);
             }
             Long("send") => {
                 let line = cli::text(&mut p, "--send")?;
@@ -192,14 +264,31 @@ pub fn parse(argv: &[String]) -> Result<Parsed<Args>, String> {
             other => return Err(cli::unexpected(other)),
         }
     }
-    let source = match (file, path) {
-        (Some(_), Some(_)) => {
-            return Err("--file conflicts with --port: read one of them".into());
+    let given = |o: &Option<String>, name: &'static str| o.as_ref().map(|_| name);
+    let sources: Vec<&str> = [
+        given(&file, "--file"),
+        given(&path, "--port"),
+        given(&modbus, "--modbus"),
+    ]
+    .into_iter()
+    .flatten()
+    .collect();
+    if let [a, b, ..] = sources[..] {
+        return Err(format!("{a} conflicts with {b}: read one of them"));
+    }
+    let first_given = |opts: &[(&'static str, bool)]| opts.iter().find(|o| o.1).map(|o| o.0);
+    let modbus_only = [
+        ("--address", address.is_some()),
+        ("--parity", parity.is_some()),
+        ("--every-s", every.is_some()),
+    ];
+    if modbus.is_none() {
+        if let Some(name) = first_given(&modbus_only) {
+            return Err(format!("{name} needs --modbus"));
         }
-        (None, None) => {
-            return Err("give --file LOG or --port DEVICE (--help lists the options)".into())
-        }
-        (Some(f), None) => {
+    }
+    let source = match (file, path, modbus) {
+        (Some(f), _, _) => {
             let port_only = [
                 ("--baud", baud.is_some()),
                 ("--send", !send.is_empty()),
@@ -207,12 +296,12 @@ pub fn parse(argv: &[String]) -> Result<Parsed<Args>, String> {
                 ("--settle", settle.is_some()),
                 ("--reply-timeout", reply.is_some()),
             ];
-            if let Some((name, _)) = port_only.iter().find(|o| o.1) {
+            if let Some(name) = first_given(&port_only) {
                 return Err(format!("{name} needs --port (it does not apply to --file)"));
             }
             Source::File(f)
         }
-        (None, Some(path)) => {
+        (None, Some(path), _) => {
             if send.is_empty() && (settle.is_some() || reply.is_some()) {
                 let name = if settle.is_some() {
                     "--settle"
@@ -236,6 +325,36 @@ pub fn parse(argv: &[String]) -> Result<Parsed<Args>, String> {
                 reply_timeout_s: reply.unwrap_or(DEFAULT_REPLY_TIMEOUT_S),
             })
         }
+        (None, None, Some(path)) => {
+            let console_only = [("--send", !send.is_empty()), ("--settle", settle.is_some())];
+            if let Some(name) = first_given(&console_only) {
+                return Err(format!(
+                    "{name} needs --port (it does not apply to --modbus)"
+                ));
+            }
+            let address = address.ok_or("--modbus needs --address N (the tracker's, 1 to 247)")?;
+            if svg.is_some() && seconds.is_none() {
+                return Err(
+                    "--svg with --modbus needs --seconds (the figure is drawn when the run ends)"
+                        .into(),
+                );
+            }
+            Source::Modbus(sunspec_client::Session {
+                path,
+                baud: baud.unwrap_or(DEFAULT_MODBUS_BAUD),
+                parity: parity.unwrap_or(serialport::Parity::Even),
+                address,
+                every_s: every.unwrap_or(DEFAULT_EVERY_S),
+                seconds,
+                reply_timeout_s: reply.unwrap_or(DEFAULT_MODBUS_REPLY_TIMEOUT_S),
+            })
+        }
+        (None, None, None) => {
+            return Err(
+                "give --file LOG, --port DEVICE or --modbus DEVICE (--help lists the options)"
+                    .into(),
+            )
+        }
     };
     Ok(Parsed::Run(Args {
         source,
@@ -246,23 +365,28 @@ pub fn parse(argv: &[String]) -> Result<Parsed<Args>, String> {
 }
 
 /// The CSV record of a row.
-pub fn csv_record(r: &Row) -> [String; 8] {
+pub fn csv_record(r: &Row) -> [String; 10] {
     let s = &r.setpoint;
+    let text = |n: Option<&board_log::Number>| n.map(|n| n.text.clone()).unwrap_or_default();
+    let position = s.position_deg.as_ref();
     [
         s.utc.text.clone(),
         s.zenith_deg.text.clone(),
         s.azimuth_deg.text.clone(),
-        s.c_deg.text.clone(),
-        s.a_deg.text.clone(),
+        text(s.c_deg.as_ref()),
+        text(s.a_deg.as_ref()),
         s.panel_mv.map(|v| v.to_string()).unwrap_or_default(),
         r.mode.clone().unwrap_or_default(),
         r.faults.join(";"),
+        text(position.map(|p| &p.0)),
+        text(position.map(|p| &p.1)),
     ]
 }
 
 /// Where the lines go: the echo, the monitor, the CSV.
 struct Handler<'a> {
     out: &'a mut dyn Write,
+    err: &'a mut dyn Write,
     quiet: bool,
     monitor: Monitor,
     csv: Option<(String, csv::Writer<File>)>,
@@ -314,6 +438,30 @@ impl port::Lines for Handler<'_> {
         writeln!(self.out, "> {text}")
             .and_then(|()| self.out.flush())
             .map_err(Self::out_err)
+    }
+}
+
+impl sunspec_client::Polls for Handler<'_> {
+    fn line(&mut self, text: &str) -> Result<(), String> {
+        port::Lines::line(self, text).map(|_| ())
+    }
+
+    fn found(
+        &mut self,
+        map: &sunspec_client::Map,
+        identity: Option<(String, String)>,
+    ) -> Result<(), String> {
+        if let Some((model, version)) = identity {
+            self.monitor.board = Some((model, version));
+        }
+        writeln!(self.out, "{TOOL}: modbus: {map}")
+            .and_then(|()| self.out.flush())
+            .map_err(Self::out_err)
+    }
+
+    fn missed(&mut self, at_s: f64, error: &sunspec_client::PollError) {
+        // Best effort: nothing else can be done with a closed stderr.
+        let _ = writeln!(self.err, "{TOOL}: modbus: poll at {at_s:.1} s: {error}");
     }
 }
 
@@ -386,8 +534,13 @@ fn summary(m: &Monitor) -> Vec<String> {
     });
     v.push(format!("at the end: {}", state.join(", ")));
     if let (Some(a), Some(b)) = (m.rows.first(), m.rows.last()) {
+        let what = if m.rows_are_polls() {
+            "polls in tracking mode"
+        } else {
+            "set-points"
+        };
         v.push(format!(
-            "set-points from {} to {}",
+            "{what} from {} to {}",
             a.setpoint.utc.text, b.setpoint.utc.text
         ));
     }
@@ -414,7 +567,12 @@ fn title(m: &Monitor, d: &svg::Day) -> String {
         let (y, mo, dd) = day.ymd();
         t.push_str(&format!(", {y:04}-{mo:02}-{dd:02}"));
     }
-    t.push_str(&format!(", {} set-points", d.setpoints));
+    let what = if m.rows_are_polls() {
+        "polls in tracking mode"
+    } else {
+        "set-points"
+    };
+    t.push_str(&format!(", {} {what}", d.setpoints));
     t
 }
 
@@ -442,6 +600,7 @@ fn monitor(a: &Args, out: &mut dyn Write, err: &mut dyn Write) -> Result<u8, (u8
     enum Input<'s> {
         File(Box<dyn BufRead>, &'s str),
         Port(&'s port::Session),
+        Modbus(&'s sunspec_client::Session),
     }
     let input = match &a.source {
         Source::File(f) if f == "-" => Input::File(Box::new(BufReader::new(std::io::stdin())), f),
@@ -452,6 +611,7 @@ fn monitor(a: &Args, out: &mut dyn Write, err: &mut dyn Write) -> Result<u8, (u8
             f,
         ),
         Source::Port(s) => Input::Port(s),
+        Source::Modbus(s) => Input::Modbus(s),
     };
     let csv = match &a.csv {
         Some(path) => {
@@ -466,6 +626,7 @@ fn monitor(a: &Args, out: &mut dyn Write, err: &mut dyn Write) -> Result<u8, (u8
     };
     let mut h = Handler {
         out,
+        err,
         quiet: a.quiet,
         monitor: Monitor::new(),
         csv,
@@ -474,6 +635,7 @@ fn monitor(a: &Args, out: &mut dyn Write, err: &mut dyn Write) -> Result<u8, (u8
     // An error while reading ends the input; what was read is still
     // summarised and drawn, then the error is reported.
     let mut code = 0;
+    let mut polled = None;
     let failed = match input {
         Input::File(mut reader, name) => read_all(reader.as_mut(), name, &mut h).err(),
         Input::Port(session) => {
@@ -487,14 +649,25 @@ fn monitor(a: &Args, out: &mut dyn Write, err: &mut dyn Write) -> Result<u8, (u8
                     }
                 };
                 // Best effort: nothing else can be done with a closed stderr.
-                let _ = writeln!(err, "{TOOL}: {note}");
+                let _ = writeln!(h.err, "{TOOL}: {note}");
                 code = 1;
             }
             ended.error
         }
+        Input::Modbus(session) => {
+            let (counts, error) = sunspec_client::run(session, &mut h).map_err(fail)?;
+            if counts.answered == 0 {
+                code = 1;
+            }
+            polled = Some(counts);
+            error
+        }
     };
     h.finish().map_err(fail)?;
     let mut report = summary(&h.monitor);
+    if let Some(counts) = polled {
+        report.insert(0, format!("modbus: {counts}"));
+    }
     if let Some((path, _)) = &h.csv {
         report.push(format!("wrote {path} ({} rows)", h.written));
     }

@@ -1,6 +1,8 @@
 //! `monitor --svg`: the log as a picture over the board's UTC time. Panels,
 //! top down: the sun's elevation (90° − the logged zenith) and azimuth
-//! with the commanded axis angles c and a of every set-point; the panel
+//! with the commanded axis angles c and a of every set-point (from a
+//! `--modbus` session: the target's elevation and azimuth, and where the
+//! panel points, 601's `ElPos`/`AzPos`, at every poll); the panel
 //! voltage when the set-points carry one; the mode in force (a band); one
 //! row per fault (a bar while active, a dot where it was raised). Both axes
 //! of the top panel are scaled from the data; the legend names every
@@ -64,6 +66,9 @@ pub struct Day {
     pub azimuth: Curves,
     pub c: Curves,
     pub a: Curves,
+    /// Where the panel points (a `--modbus` session's `ElPos`, `AzPos`).
+    pub el: Curves,
+    pub az: Curves,
     /// Panel voltage (V), when the set-points carry one.
     pub panel_v: Curves,
     /// Mode bands: from, to (hours), mode.
@@ -73,6 +78,19 @@ pub struct Day {
     /// Boots after the first line with a time (hours).
     pub boots: Vec<f64>,
     pub setpoints: usize,
+}
+
+impl Day {
+    /// Every curve in degrees.
+    fn degree_curves(&self) -> impl Iterator<Item = &Vec<(f64, f64)>> {
+        self.elevation
+            .iter()
+            .chain(&self.azimuth)
+            .chain(&self.c)
+            .chain(&self.a)
+            .chain(&self.el)
+            .chain(&self.az)
+    }
 }
 
 /// The longest pause between set-points that a curve bridges: three times
@@ -137,8 +155,10 @@ pub fn day(m: &Monitor) -> Option<Day> {
         span_h: (x(first), x(last)),
         elevation: series(&|r| Some(90.0 - r.setpoint.zenith_deg.value)),
         azimuth: series(&|r| Some(r.setpoint.azimuth_deg.value)),
-        c: series(&|r| Some(r.setpoint.c_deg.value)),
-        a: series(&|r| Some(r.setpoint.a_deg.value)),
+        c: series(&|r| r.setpoint.c_deg.as_ref().map(|n| n.value)),
+        a: series(&|r| r.setpoint.a_deg.as_ref().map(|n| n.value)),
+        el: series(&|r| r.setpoint.position_deg.as_ref().map(|p| p.0.value)),
+        az: series(&|r| r.setpoint.position_deg.as_ref().map(|p| p.1.value)),
         panel_v: series(&|r| r.setpoint.panel_mv.map(|mv| f64::from(mv) / 1000.0)),
         setpoints: m.rows.len(),
         ..Day::default()
@@ -240,7 +260,7 @@ pub fn ranges(d: &Day) -> Ranges {
     } else {
         0.25
     };
-    let degrees = extent(d.elevation.iter().chain(&d.azimuth).chain(&d.c).chain(&d.a));
+    let degrees = extent(d.degree_curves());
     Ranges {
         x_h: plot::padded_range(d.span_h.0, d.span_h.1, 0.0, x_step),
         y_deg: degrees.map_or((0.0, 90.0), |(lo, hi)| {
@@ -261,7 +281,7 @@ fn draw_figure(d: &Day, title: &str) -> Result<String, Box<dyn Error>> {
     let ((x0, x1), (y0, y1), panel) = (r.x_h, r.y_deg, r.panel_v);
     // plotters picks round steps for at most this many labels.
     let x_labels = 13;
-    let degrees = extent(d.elevation.iter().chain(&d.azimuth).chain(&d.c).chain(&d.a));
+    let degrees = extent(d.degree_curves());
     let fault_rows = timeline::fault_rows(d.faults.iter().map(|f| f.0.as_str()));
 
     let mut entries: Vec<(Swatch, String)> = vec![
@@ -273,15 +293,23 @@ fn draw_figure(d: &Day, title: &str) -> Result<String, Box<dyn Error>> {
             Swatch::Line(AZIMUTH, 2),
             "sun azimuth (east of north)".into(),
         ),
-        (
-            Swatch::LineDots(AXIS_C, 2, 2),
-            "commanded c (dot: set-point)".into(),
-        ),
-        (
-            Swatch::LineDots(AXIS_A, 2, 2),
-            "commanded a (dot: set-point)".into(),
-        ),
     ];
+    // The axis angles of the log; a `--modbus` session has the panel's
+    // elevation and azimuth instead.
+    let modbus = d.c.is_empty() && d.a.is_empty() && !(d.el.is_empty() && d.az.is_empty());
+    let (c_label, a_label) = if modbus {
+        (
+            "panel elevation (ElPos; dot: poll)",
+            "panel azimuth (AzPos; dot: poll)",
+        )
+    } else {
+        (
+            "commanded c (dot: set-point)",
+            "commanded a (dot: set-point)",
+        )
+    };
+    entries.push((Swatch::LineDots(AXIS_C, 2, 2), c_label.into()));
+    entries.push((Swatch::LineDots(AXIS_A, 2, 2), a_label.into()));
     if panel.is_some() {
         entries.push((Swatch::Line(PANEL, 2), "panel voltage".into()));
     }
@@ -350,7 +378,12 @@ fn draw_figure(d: &Day, title: &str) -> Result<String, Box<dyn Error>> {
                 c.draw_series(LineSeries::new(l.clone(), stroke(colour, 2)))?;
             }
         }
-        for (set, colour) in [(&d.c, AXIS_C), (&d.a, AXIS_A)] {
+        for (set, colour) in [
+            (&d.c, AXIS_C),
+            (&d.a, AXIS_A),
+            (&d.el, AXIS_C),
+            (&d.az, AXIS_A),
+        ] {
             for l in set {
                 c.draw_series(LineSeries::new(l.clone(), stroke(colour, 2)))?;
                 c.draw_series(l.iter().map(|&p| Circle::new(p, px(2), colour.filled())))?;

@@ -111,6 +111,7 @@ mod avr {
                 stow_reason: 0,
                 wind_speed_dms: None,
                 fault_bits: 0,
+                fault_bits_hi: 0,
                 firmware: [0; 3],
                 stow_commanded: false,
             },

@@ -144,7 +144,7 @@ pub mod m64201 {
     /// Model ID.
     pub const ID: u16 = super::VENDOR_MODEL_ID;
     /// Model length.
-    pub const LEN: u16 = 10;
+    pub const LEN: u16 = 12;
     /// The tracker's mode code, enum16 (0 service, 1 safe_stop, 2
     /// wind_stow, 3 command_stow, 4 manual, 5 wait_for_time, 6 night, 7
     /// homing, 8 tracking, 9 hail_stow, 10 external_stow, 11 snow_stow, 12
@@ -170,6 +170,13 @@ pub mod m64201 {
     /// Stow command, enum16, read-write: 1 stows, 0 releases the command.
     /// The only point a broadcast may write.
     pub const STOW: u16 = 11;
+    /// Active faults numbered 32 to 47, bitfield16 (bit n: the tracker's
+    /// fault number 32 + n).
+    pub const FLT2: u16 = 12;
+    /// Clear the faults, enum16, read-write: 1 clears the tracker's fault
+    /// list as its console's `clear` does (a fault whose cause is still
+    /// there is raised again); 0 does nothing; reads 0.
+    pub const CLR_FLT: u16 = 13;
 }
 
 /// The identity strings of model 1 and the names of model 601 (ASCII;
@@ -267,8 +274,10 @@ pub struct VendorStatus {
     pub stow_reason: u16,
     /// Wind speed, 0.1 m/s, when an anemometer is fitted.
     pub wind_speed_dms: Option<u16>,
-    /// Active fault bits ([`m64201::FLT`]).
+    /// Active fault bits ([`m64201::FLT`]: faults 0 to 31).
     pub fault_bits: u32,
+    /// Active fault bits of faults 32 to 47 ([`m64201::FLT2`]).
+    pub fault_bits_hi: u16,
     /// Firmware version: major, minor, patch.
     pub firmware: [u16; 3],
     /// The stow command is on.
@@ -289,6 +298,8 @@ pub enum Command {
     Control(Control),
     /// Vendor `Stow`: stow (true) or release the stow command (false).
     Stow(bool),
+    /// Vendor `ClrFlt` = 1: clear the fault list.
+    ClearFaults,
 }
 
 /// What the tracker gives the map, and takes from it.
@@ -587,6 +598,8 @@ impl<D: TrackerData> SunSpecMap<D> {
             m64201::FW_MIN => v.firmware[1],
             m64201::FW_PAT => v.firmware[2],
             m64201::STOW => u16::from(v.stow_commanded),
+            m64201::FLT2 => v.fault_bits_hi,
+            m64201::CLR_FLT => 0,
             _ => PAD,
         }
     }
@@ -600,6 +613,7 @@ impl<D: TrackerData> SunSpecMap<D> {
             Place::Tracker(m601::GLBL_AZ_CTL | m601::AZ_CTL) => (2, Writable::Azimuth),
             Place::Tracker(m601::GLBL_CTL | m601::CTL) => (1, Writable::Control),
             Place::Vendor(m64201::STOW) => (1, Writable::Stow),
+            Place::Vendor(m64201::CLR_FLT) => (1, Writable::ClearFaults),
             _ => return None,
         })
     }
@@ -613,14 +627,17 @@ enum Writable {
     Azimuth,
     Control,
     Stow,
+    ClearFaults,
 }
 
 impl Writable {
-    fn command(self, raw: u32) -> Result<Command, Exception> {
+    /// The command a value written asks for (`None`: nothing to do), or
+    /// exception 03 for a value outside the point's range.
+    fn command(self, raw: u32) -> Result<Option<Command>, Exception> {
         let signed = raw as i32;
         let value = raw as u16;
         let bad = Exception::IllegalDataValue;
-        Ok(match self {
+        Ok(Some(match self {
             Writable::Address => match value {
                 1..=247 => Command::DeviceAddress(value as u8),
                 _ => return Err(bad),
@@ -643,7 +660,12 @@ impl Writable {
                 0 | 1 => Command::Stow(value == 1),
                 _ => return Err(bad),
             },
-        })
+            Writable::ClearFaults => match value {
+                0 => return Ok(None),
+                1 => Command::ClearFaults,
+                _ => return Err(bad),
+            },
+        }))
     }
 }
 
@@ -659,6 +681,7 @@ impl<D: TrackerData> RegisterMap for SunSpecMap<D> {
         }
     }
 
+    #[cfg_attr(target_arch = "avr", inline(never))]
     fn read(&mut self, addr: u16) -> u16 {
         match self.place(addr) {
             Some(Place::Marker(i)) => SUNS_MARKER[usize::from(i & 1)],
@@ -678,6 +701,7 @@ impl<D: TrackerData> RegisterMap for SunSpecMap<D> {
     /// is carried out; the tracker then takes them in order and its first
     /// refusal ends the request (the points before it stay written). A
     /// broadcast may write only the stow command.
+    #[cfg_attr(target_arch = "avr", inline(never))]
     fn write(&mut self, start: u16, values: &[u8], broadcast: bool) -> Result<(), Exception> {
         let count = values.len() / 2;
         for apply in [false, true] {
@@ -698,7 +722,7 @@ impl<D: TrackerData> RegisterMap for SunSpecMap<D> {
                 if broadcast && kind != Writable::Stow {
                     return Err(Exception::IllegalFunction);
                 }
-                if apply {
+                if let (true, Some(command)) = (apply, command) {
                     self.data.command(command)?;
                 }
                 i += size;

@@ -87,6 +87,8 @@ def main():
         check("64201 Mode (TRACKING)", vendor.Mode.value, 8)
         check("64201 WndSpd m/s", vendor.WndSpd.cvalue, 5.3, 1e-9)
         check("64201 Flt", vendor.Flt.value, 0x80000005)
+        check("64201 Flt2", vendor.Flt2.value, 0x0001)
+        check("64201 ClrFlt reads 0", vendor.ClrFlt.value, 0)
         check("64201 FwMin", vendor.FwMin.value, 1)
 
         # Writes (function code 16): manual targets, Manual, then stow.
@@ -104,6 +106,10 @@ def main():
         vendor.read()
         check("64201 Stow written", vendor.Stow.value, 1)
         check("64201 StowRsn (COMMAND)", vendor.StowRsn.value, 2)
+        vendor.ClrFlt.value = 1
+        vendor.ClrFlt.write()
+        vendor.read()
+        check("64201 ClrFlt written (the server took it)", vendor.ClrFlt.value, 0)
 
         # A value outside the enumeration (function code 06): exception 03.
         try:

@@ -98,6 +98,8 @@ const OURS: &[(u16, &str, u16, u16)] = &[
     (64201, "FwMin", m64201::FW_MIN, 1),
     (64201, "FwPat", m64201::FW_PAT, 1),
     (64201, "Stow", m64201::STOW, 1),
+    (64201, "Flt2", m64201::FLT2, 1),
+    (64201, "ClrFlt", m64201::CLR_FLT, 1),
 ];
 
 #[test]

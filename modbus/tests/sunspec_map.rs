@@ -163,10 +163,10 @@ fn vendor_model() {
     let regs = whole(&mut map);
     let m = &regs[base..];
     assert_eq!(
-        m[..12],
+        m[..14],
         [
             64201,
-            10,
+            12,
             8,
             0,
             53,
@@ -176,10 +176,29 @@ fn vendor_model() {
             0,
             1,
             0,
+            0,
+            // Flt2: fault 32; ClrFlt reads 0.
+            0x0001,
             0
         ]
     );
-    assert_eq!(m[12..], [0xFFFF, 0]);
+    assert_eq!(m[14..], [0xFFFF, 0]);
+}
+
+#[test]
+fn clearing_the_faults() {
+    let mut map = SunSpecMap::new(Demo::new(ADDRESS, false), false);
+    let clr = map.vendor_addr() + m64201::CLR_FLT;
+    // 1 clears, 0 does nothing, anything else is refused (03).
+    write(&mut map, &WRITER, ADDRESS, clr, &[1]).unwrap();
+    assert_eq!(map.data.commands, [Command::ClearFaults]);
+    write(&mut map, &WRITER, ADDRESS, clr, &[0]).unwrap();
+    assert_eq!(map.data.commands, [Command::ClearFaults]);
+    let refused = write(&mut map, &WRITER, ADDRESS, clr, &[2]).unwrap();
+    assert_eq!(refused[..3], [ADDRESS, 0x86, 3]);
+    // Not by broadcast.
+    assert_eq!(write(&mut map, &WRITER, 0, clr, &[1]), None);
+    assert_eq!(map.data.commands, [Command::ClearFaults]);
 }
 
 #[test]

@@ -1,13 +1,14 @@
-//! The configuration's binary payload, layout version 5
+//! The configuration's binary payload, layout version 6
 //! ([`super::LAYOUT_VERSION`]): the fields of the key table ([`super::KEYS`],
 //! which lists them in declaration order) but the derived counts per
 //! degree, in its order, with the operator's hold after the fields of
 //! version 3 ([`V3_KEYS`]) and the fields added since (`modbus.*`,
 //! `stow.*`, `supply.*`, `overcast.*` in version 4, `axis.c.continuous`
-//! in version 5) after it;
+//! in version 5, `site.utc_offset_h`, `wind.m_s_per_hz` and
+//! `modbus.timeout_stow` in version 6) after it;
 //! little-endian, [`PAYLOAD_LEN`] bytes. The payloads of versions 2
-//! ([`PAYLOAD_LEN_V2`], without the hold), 3 ([`PAYLOAD_LEN_V3`]) and 4
-//! ([`PAYLOAD_LEN_V4`]) are still read, the fields they lack at their
+//! ([`PAYLOAD_LEN_V2`], without the hold), 3 ([`PAYLOAD_LEN_V3`]), 4
+//! ([`PAYLOAD_LEN_V4`]) and 5 ([`PAYLOAD_LEN_V5`]) are still read, the fields they lack at their
 //! defaults. Also the
 //! little-endian cursors that write and read it (the store writes its slot
 //! header with the same writer).
@@ -31,7 +32,22 @@ pub const PAYLOAD_LEN_V4: usize = PAYLOAD_LEN_V3 + 11 + 22 + 4 + 13;
 
 /// Payload length of layout version 5: version 4's and the C axis's
 /// `continuous` switch (1 byte).
-pub const PAYLOAD_LEN: usize = PAYLOAD_LEN_V4 + 1;
+pub const PAYLOAD_LEN_V5: usize = PAYLOAD_LEN_V4 + 1;
+
+/// Payload length of layout version 6: version 5's, the site's UTC offset
+/// (4 bytes), the anemometer's m/s per Hz (4 bytes) and the Modbus
+/// silence's stow switch (1 byte).
+pub const PAYLOAD_LEN: usize = PAYLOAD_LEN_V5 + 4 + 4 + 1;
+
+/// The keys of layout version 5, the first of [`KEYS`]: those up to
+/// `axis.c.continuous`.
+const V5_KEYS: usize = {
+    let mut i = 0;
+    while i < KEYS.len() && KEYS[i] as usize != super::Field::AxisCContinuous as usize {
+        i += 1;
+    }
+    i + 1
+};
 
 /// The keys of layout version 4, the first of [`KEYS`]: those up to
 /// `overcast.max_moves_per_hour`.
@@ -147,8 +163,9 @@ impl Config {
         }
     }
 
-    /// Parses a payload of layout version 5, or of version 4 (without
-    /// `axis.c.continuous`: off), 3 (also without the Modbus, stow, supply
+    /// Parses a payload of layout version 6, or of version 5 (without the
+    /// UTC offset, the anemometer's factor and the Modbus silence's stow:
+    /// 0, 0, off), 4 (also without `axis.c.continuous`: off), 3 (also without the Modbus, stow, supply
     /// and overcast settings: their defaults) or 2 (also without the hold:
     /// none is in force), and checks every value; `None` for a buffer of
     /// another length or any value out of range.
@@ -158,7 +175,9 @@ impl Config {
         // defaults.
         let mut cfg = Config::default();
         for (i, &key) in KEYS.iter().enumerate() {
-            if i == V4_KEYS && buf.len() == PAYLOAD_LEN_V4 {
+            if (i == V4_KEYS && buf.len() == PAYLOAD_LEN_V4)
+                || (i == V5_KEYS && buf.len() == PAYLOAD_LEN_V5)
+            {
                 break;
             }
             if i == V3_KEYS {

@@ -115,6 +115,9 @@ named! {
         OvercastLeaveS => "overcast.leave_s",
         OvercastMaxMovesPerHour => "overcast.max_moves_per_hour",
         AxisCContinuous => "axis.c.continuous",
+        SiteUtcOffsetH => "site.utc_offset_h",
+        WindMSPerHz => "wind.m_s_per_hz",
+        ModbusTimeoutStow => "modbus.timeout_stow",
     }
 }
 
@@ -189,6 +192,8 @@ named! {
         OvercastRatio => range_text!(f32s(r::OVERCAST_RATIO), Str(" of the clear sky (0: off)")),
         OvercastMoves => range_text!(u8s(r::OVERCAST_MOVES), Str(" changes an hour")),
         WholeCountsPerTurn => "needs a whole axis.c.gear_ratio (whole motor counts per turn)",
+        UtcOffsetH => range_text!(f32s(r::UTC_OFFSET_H), Str(" h east of UTC")),
+        WindMSPerHz => range_text!(f32s(r::WIND_M_S_PER_HZ), Str(" m/s per Hz (0: not known)")),
     }
 }
 

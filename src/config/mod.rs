@@ -50,6 +50,11 @@ pub struct SiteConfig {
     /// Elevation, metres: −500…10,000 (`site.elevation_m`), from below the
     /// Dead Sea shore (−430 m) to above Everest (8,849 m).
     pub elevation_m: f32,
+    /// Local time's offset from UTC, hours east: −12…14
+    /// (`site.utc_offset_h`); the local date and time the Modbus map gives
+    /// (SunSpec model 601's `DtLoc`, `TmLoc`, `Day`). Nothing else uses
+    /// it: the sun and the schedule run on UTC.
+    pub utc_offset_h: f32,
 }
 
 /// Mechanics and limits of one axis.
@@ -128,6 +133,10 @@ pub struct WindConfig {
     /// Seconds of calm (below the threshold) before leaving stow: 0…86,400
     /// (`wind.release_s`), at once up to one day.
     pub release_s: u32,
+    /// Wind speed per pulse rate, m/s per Hz: 0…10 (`wind.m_s_per_hz`);
+    /// 0 when not known. Only reported (the Modbus map's wind speed): the
+    /// stow works on the pulse rate.
+    pub m_s_per_hz: f32,
 }
 
 /// Fault thresholds.
@@ -199,6 +208,11 @@ pub struct ModbusConfig {
     /// Seconds without a request to this tracker before the master counts
     /// as silent: 0…86,400 (`modbus.timeout_s`); 0 never.
     pub timeout_s: u32,
+    /// A silent master stows the tracker: 0…1 (`modbus.timeout_stow`);
+    /// 1: once a master has been heard, `timeout_s` without a request to
+    /// this tracker commands a stow, which the master's next request
+    /// releases; 0: the silence only ends a manual mode the bus set.
+    pub timeout_stow: u8,
 }
 
 /// The weather stows' poses and release times ([`crate::safety::WeatherStow`]):
@@ -341,6 +355,7 @@ impl Config {
                 latitude_deg: 11.9683,
                 longitude_deg: 8.4261,
                 elevation_m: 480.0,
+                utc_offset_h: 0.0,
             },
             schedule: ScheduleConfig::DEFAULT,
             axes: [
@@ -356,6 +371,7 @@ impl Config {
                 threshold_hz: 25.0,
                 hold_s: 3,
                 release_s: 600,
+                m_s_per_hz: 0.0,
             },
             safety: SafetyConfig {
                 max_deviation_deg: 5.0,
@@ -378,6 +394,7 @@ impl Config {
                 parity: 2,
                 write: 0,
                 timeout_s: 0,
+                timeout_stow: 0,
             },
             stow: StowConfig {
                 snow_slope_deg: 90.0,

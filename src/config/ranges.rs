@@ -103,6 +103,14 @@ pub const OVERCAST_RATIO: (f32, f32) = (0.0, 1.0);
 /// Changes of the overcast mode an hour: at least one, at most 8 (the
 /// monitor keeps that many change times).
 pub const OVERCAST_MOVES: (u8, u8) = (1, 8);
+/// The site's offset of local time from UTC, hours: UTC−12 (Baker Island)
+/// to UTC+14 (Line Islands), the time zones in use; quarter hours are
+/// exact in `f32` (India +5.5, Nepal +5.75, the Chatham Islands +12.75).
+pub const UTC_OFFSET_H: (f32, f32) = (-12.0, 14.0);
+/// The anemometer's wind speed per pulse rate, m/s per Hz: 0 (not known)
+/// to 10 (cup anemometers give 0.3–2.5: the common 2.4 km/h per Hz type
+/// 0.667).
+pub const WIND_M_S_PER_HZ: (f32, f32) = (0.0, 10.0);
 /// An input's active level: 0 low, 1 high.
 pub const ACTIVE_LEVEL: (u8, u8) = (0, 1);
 /// An on/off switch: 0 off, 1 on.

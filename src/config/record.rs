@@ -2,7 +2,7 @@
 //! ([`crate::persist::ConfigStore`]): its magic, layout version and
 //! length, and the store of a [`Config`] ([`ConfigStore::new`]).
 
-use super::codec::{PAYLOAD_LEN_V2, PAYLOAD_LEN_V3, PAYLOAD_LEN_V4};
+use super::codec::{PAYLOAD_LEN_V2, PAYLOAD_LEN_V3, PAYLOAD_LEN_V4, PAYLOAD_LEN_V5};
 use super::{Config, PAYLOAD_LEN};
 use crate::persist::{record_len, ConfigStore, Record, SLOT_LEN};
 use crate::ports::Storage;
@@ -10,11 +10,13 @@ use crate::ports::Storage;
 /// Layout version written by this firmware: 2 added `log.status_min`, 3
 /// the operator's hold, 4 the Modbus, weather-stow, supply and overcast
 /// settings (`modbus.*`, `stow.*`, `supply.*`, `overcast.*`), 5 the C
-/// axis's `axis.c.continuous`. Slots of versions 2, 3 and 4 are read (with the defaults of what they lack, and no
-/// hold in force from version 2), so a configuration saved before survives
-/// the update; one of version 1 is reported as
-/// [`SlotState::OldVersion`](crate::persist::SlotState::OldVersion) and not used.
-pub const LAYOUT_VERSION: u16 = 5;
+/// axis's `axis.c.continuous`, 6 `site.utc_offset_h`, `wind.m_s_per_hz`
+/// and `modbus.timeout_stow`. Slots of versions 2 to 5 are read (with the
+/// defaults of what they lack, and no hold in force from version 2), so a
+/// configuration saved before survives the update; one of version 1 is
+/// reported as [`SlotState::OldVersion`](crate::persist::SlotState::OldVersion)
+/// and not used.
+pub const LAYOUT_VERSION: u16 = 6;
 
 /// The first four bytes of a slot holding a [`Config`].
 const MAGIC: [u8; 4] = *b"STCF";
@@ -32,6 +34,7 @@ impl Record for Config {
     const VERSION: u16 = LAYOUT_VERSION;
     const PAYLOAD_LEN: usize = PAYLOAD_LEN;
     const PREVIOUS: &'static [(u16, usize)] = &[
+        (5, PAYLOAD_LEN_V5),
         (4, PAYLOAD_LEN_V4),
         (3, PAYLOAD_LEN_V3),
         (2, PAYLOAD_LEN_V2),

@@ -193,6 +193,9 @@ key_table! { c;
     OvercastLeaveS U32 c.overcast.leave_s, WIND_RELEASE_S S0To86400;
     OvercastMaxMovesPerHour U8 c.overcast.max_moves_per_hour, OVERCAST_MOVES OvercastMoves;
     AxisCContinuous U8 c.axes[0].continuous, SWITCH Switch;
+    SiteUtcOffsetH F32 c.site.utc_offset_h, UTC_OFFSET_H UtcOffsetH;
+    WindMSPerHz F32 c.wind.m_s_per_hz, WIND_M_S_PER_HZ WindMSPerHz;
+    ModbusTimeoutStow U8 c.modbus.timeout_stow, SWITCH Switch;
 }
 
 crate::progmem! {
@@ -251,6 +254,7 @@ const ZEROS: Config = {
             latitude_deg: 0.0,
             longitude_deg: 0.0,
             elevation_m: 0.0,
+            utc_offset_h: 0.0,
         },
         schedule: ScheduleConfig {
             table_step_s: 0,
@@ -264,6 +268,7 @@ const ZEROS: Config = {
             threshold_hz: 0.0,
             hold_s: 0,
             release_s: 0,
+            m_s_per_hz: 0.0,
         },
         safety: SafetyConfig {
             max_deviation_deg: 0.0,
@@ -286,6 +291,7 @@ const ZEROS: Config = {
             parity: 0,
             write: 0,
             timeout_s: 0,
+            timeout_stow: 0,
         },
         stow: StowConfig {
             snow_slope_deg: 0.0,

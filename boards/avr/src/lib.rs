@@ -28,7 +28,8 @@
 //! registers whose every bit pattern is valid, the receive interrupts'
 //! access to the data register of a USART that the interrupt's owner
 //! configured, the RS-485 interrupts' access to USART2, Timer5's count and
-//! the driver-enable bit, and the pin-change handler's read of the encoder port's
+//! the driver-enable bit and their read of the reply where the Modbus port
+//! built it ([`Rs485`]), and the pin-change handler's read of the encoder port's
 //! input register; each block carries a SAFETY comment.
 //!
 //! The encoder handler ([`on_encoder_pin_change`], vector PCINT2), counted
@@ -94,11 +95,13 @@ pub use pcint::{on_encoder_pin_change, EncoderPort, PinChangeEncoders};
 pub use pwm::{
     Oc1a, Oc1b, PulseWidth, PwmError, Timer1Pwm, COUNTS_PER_US, FRAME_TOP, FRAME_US, MAX_DUTY,
 };
+#[cfg(avr_atmega2560)]
+pub use rs485::{
+    on_usart2_rx, on_usart2_tx, on_usart2_udre, Parity, Rs485, RX_ENTRIES, US_PER_COUNT,
+};
 pub use serial::{on_usart0_rx, SerialError, Usart0};
 #[cfg(avr_atmega2560)]
 pub use serial::{on_usart1_rx, Usart1};
-#[cfg(avr_atmega2560)]
-pub use rs485::{on_usart2_rx, on_usart2_tx, on_usart2_udre, Parity, Rs485, RX_ENTRIES, US_PER_COUNT};
 pub use twi::{I2c, SharedI2c, TwiError};
 pub use watchdog::Watchdog;
 

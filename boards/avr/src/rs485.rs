@@ -6,19 +6,21 @@
 //! UCSRnA/B/C; §17 "16-bit Timer/Counter": "Normal Mode", "Accessing 16-bit
 //! Registers").
 //!
-//! **Half duplex in one buffer.** The port either receives or sends, as the
-//! bus does: a master waits for the reply before it speaks again (Modbus
-//! over Serial Line, §2.5.1). So one 256-byte buffer serves both ways: while
-//! receiving, a ring of [`RX_ENTRIES`] bytes with their arrival times (byte
-//! and a 16-bit stamp of Timer5 in 16 µs units, four bytes an entry); while
-//! sending, the reply (at most 256 bytes, the RTU maximum). A send starts
-//! with the receiver off and the ring emptied (what is in it then is not for
-//! us: the master waits for our reply), the driver enable high, and the
-//! bytes moved to the transmitter by the data-register-empty interrupt (no
-//! gap between them, whatever the main loop does); the transmit-complete
-//! interrupt, once the last stop bit has left, releases the driver enable
-//! and turns the receiver on again. With /RE tied to DE the transceiver
-//! gives no echo either.
+//! **Half duplex, no copy of the reply.** The port either receives or
+//! sends, as the bus does: a master waits for the reply before it speaks
+//! again (Modbus over Serial Line, §2.5.1). While receiving, the receive
+//! interrupt puts each byte with its arrival time (a 16-bit stamp of Timer5
+//! in 16 µs units) into a ring of [`RX_ENTRIES`]; the Modbus port takes
+//! them each pass and frames them. A reply is sent from where the port built
+//! it, its receive buffer (`ModbusLine::send`: the port leaves those bytes
+//! alone while the line is busy): the receiver off and the ring emptied
+//! (what is in it then is not for us: the master waits for our reply), the
+//! driver enable high, and the bytes moved to the transmitter by the
+//! data-register-empty interrupt (no gap between them, whatever the main
+//! loop does); the transmit-complete interrupt, once the last stop bit has
+//! left, releases the driver enable and turns the receiver on again. With
+//! /RE tied to DE the transceiver gives no echo either. No second 256-byte
+//! buffer: on this part's 8 KB of RAM that mattered.
 //!
 //! **Times.** Timer5 counts at 16 MHz / 256, 16 µs a count, and wraps every
 //! 1.05 s; the receive interrupt stamps each byte with the count. The line
@@ -41,32 +43,45 @@ use avr_device::interrupt::{self, Mutex};
 
 use super::{chip, CPU_HZ};
 
-/// Receive ring entries (bytes waiting with their stamps): 64 bytes are
-/// 33 ms of the line at 19,200 baud.
-pub const RX_ENTRIES: usize = 64;
-/// The buffer: the ring's entries of four bytes, or one reply.
-const BUF_LEN: usize = 256;
+/// Receive ring entries (bytes waiting with their stamps): 32 bytes are
+/// 17 ms of the line at 19,200 baud, more than any request a master sends
+/// to read (8 bytes) or to write the tracker's controls (at most 21).
+pub const RX_ENTRIES: usize = 32;
 /// Microseconds a Timer5 count (prescaler 256 at 16 MHz).
 pub const US_PER_COUNT: u32 = 256 / (CPU_HZ / 1_000_000);
 /// The driver-enable pin's bit in port H (PH3, Mega D6).
 const DE_BIT: u8 = 1 << 3;
 
+/// The reply being sent: where its bytes are.
+#[derive(Clone, Copy)]
+struct Reply(*const u8);
+
+// SAFETY: the pointer is only read, by the data-register-empty interrupt,
+// while the reply it points into stays in place and unchanged (`send`).
+unsafe impl Send for Reply {}
+
 /// What the interrupts and the line share.
 struct Line {
-    buf: [u8; BUF_LEN],
-    /// Receiving: the ring's first entry and its length. Sending: the next
-    /// byte to send and the reply's length.
-    head: u16,
-    len: u16,
+    /// Receiving: three bytes an entry, the byte and its stamp.
+    ring: [u8; RX_ENTRIES * 3],
+    head: u8,
+    len: u8,
+    /// Sending: the reply, its length and the next byte's index.
+    reply: Reply,
+    reply_len: u16,
+    next: u16,
     sending: bool,
     /// Bytes dropped (errors, overrun, a full ring) since start.
     dropped: u16,
 }
 
 static LINE: Mutex<RefCell<Line>> = Mutex::new(RefCell::new(Line {
-    buf: [0; BUF_LEN],
+    ring: [0; RX_ENTRIES * 3],
     head: 0,
     len: 0,
+    reply: Reply(core::ptr::null()),
+    reply_len: 0,
+    next: 0,
     sending: false,
     dropped: 0,
 }));
@@ -108,16 +123,30 @@ impl Rs485 {
     /// Starts the port at `baud` and `parity`: Timer5 free-running, PH3 an
     /// output driven low (receiving), USART2 receiving with its interrupt.
     /// Needs the vectors of `avr_board_interrupts!(usart2)`.
-    pub fn new(usart: chip::USART2, tc5: chip::TC5, porth: &chip::PORTH, baud: u32, parity: Parity) -> Self {
+    pub fn new(
+        usart: chip::USART2,
+        tc5: chip::TC5,
+        porth: &chip::PORTH,
+        baud: u32,
+        parity: Parity,
+    ) -> Self {
         tc5.tccr5a().reset();
         tc5.tccr5b().write(|w| w.cs5().prescale_256());
         // SAFETY (both writes): every bit pattern of PORTH and DDRH is valid;
         // only PH3's bit changes, with interrupts off.
         interrupt::free(|_| {
-            porth.porth().modify(|r, w| unsafe { w.bits(r.bits() & !DE_BIT) });
-            porth.ddrh().modify(|r, w| unsafe { w.bits(r.bits() | DE_BIT) });
+            porth
+                .porth()
+                .modify(|r, w| unsafe { w.bits(r.bits() & !DE_BIT) });
+            porth
+                .ddrh()
+                .modify(|r, w| unsafe { w.bits(r.bits() | DE_BIT) });
         });
-        usart.ubrr2().write(|w| w.set(super::serial::ubrr_u2x(baud)));
+        // Double speed and the frame format before the rate: the chip does
+        // not mind the order, simavr computes a byte's time when UBRR is
+        // written, from the bits set then (written after, U2X would leave
+        // its bytes at half the rate, 2 characters apart: every frame
+        // broken by the 1.5-character rule).
         usart.ucsr2a().write(|w| w.u2x2().set_bit());
         usart.ucsr2c().write(|w| {
             let w = w.ucsz2().chr8();
@@ -127,7 +156,12 @@ impl Rs485 {
                 Parity::Even => w.upm2().parity_even(),
             }
         });
-        usart.ucsr2b().write(|w| w.txen2().set_bit().rxen2().set_bit().rxcie2().set_bit());
+        usart
+            .ubrr2()
+            .write(|w| w.set(super::serial::ubrr_u2x(baud)));
+        usart
+            .ucsr2b()
+            .write(|w| w.txen2().set_bit().rxen2().set_bit().rxcie2().set_bit());
         Rs485 {
             usart,
             _tc5: tc5,
@@ -187,12 +221,12 @@ impl suntracker::sunspec::ModbusLine for Rs485 {
             if line.sending || line.len == 0 {
                 return None;
             }
-            let at = usize::from(line.head) * 4;
-            let &[byte, lo, hi] = line.buf.get(at..at + 3)? else {
+            let at = usize::from(line.head) * 3;
+            let &[byte, lo, hi] = line.ring.get(at..at + 3)? else {
                 return None;
             };
             let stamp = u16::from_le_bytes([lo, hi]);
-            line.head = (line.head + 1) % RX_ENTRIES as u16;
+            line.head = (line.head + 1) % RX_ENTRIES as u8;
             line.len -= 1;
             Some((byte, stamp, timer5_count()))
         })?;
@@ -207,7 +241,9 @@ impl suntracker::sunspec::ModbusLine for Rs485 {
     }
 
     fn send(&mut self, frame: &[u8]) {
-        let n = frame.len().min(BUF_LEN);
+        let Ok(n) = u16::try_from(frame.len()) else {
+            return;
+        };
         interrupt::free(|cs| {
             let Ok(mut line) = LINE.borrow(cs).try_borrow_mut() else {
                 return;
@@ -215,11 +251,14 @@ impl suntracker::sunspec::ModbusLine for Rs485 {
             if line.sending || n == 0 {
                 return;
             }
-            for (to, &from) in line.buf.iter_mut().zip(frame) {
-                *to = from;
-            }
+            // The interrupt reads the reply where it is: the Modbus port
+            // leaves it unchanged while `busy` says so, and the board keeps
+            // the port in place (a local of its loop, which never returns).
+            line.reply = Reply(frame.as_ptr());
+            line.reply_len = n;
+            line.next = 0;
             line.head = 0;
-            line.len = n as u16;
+            line.len = 0;
             line.sending = true;
             // Receiver off, the transmit-complete flag cleared (written 1),
             // the driver on, then the data-register-empty interrupt moves
@@ -227,12 +266,20 @@ impl suntracker::sunspec::ModbusLine for Rs485 {
             self.usart
                 .ucsr2a()
                 .write(|w| w.u2x2().set_bit().txc2().set_bit());
-            self.usart.ucsr2b().write(|w| w.txen2().set_bit().udrie2().set_bit());
+            self.usart
+                .ucsr2b()
+                .write(|w| w.txen2().set_bit().udrie2().set_bit());
             // SAFETY: PORTH's output register, every bit pattern valid;
             // only PH3's bit changes, in this critical section.
             let porth = unsafe { chip::PORTH::steal() };
-            porth.porth().modify(|r, w| unsafe { w.bits(r.bits() | DE_BIT) });
+            porth
+                .porth()
+                .modify(|r, w| unsafe { w.bits(r.bits() | DE_BIT) });
         });
+    }
+
+    fn busy(&mut self) -> bool {
+        self.sending()
     }
 }
 
@@ -248,13 +295,14 @@ pub fn on_usart2_rx() {
         let Ok(mut line) = LINE.borrow(cs).try_borrow_mut() else {
             return;
         };
-        let bad = status.fe2().bit_is_set() || status.dor2().bit_is_set() || status.upe2().bit_is_set();
+        let bad =
+            status.fe2().bit_is_set() || status.dor2().bit_is_set() || status.upe2().bit_is_set();
         if line.sending || bad || usize::from(line.len) >= RX_ENTRIES {
             line.dropped = line.dropped.wrapping_add(1);
             return;
         }
-        let at = ((usize::from(line.head) + usize::from(line.len)) % RX_ENTRIES) * 4;
-        if let Some([b, lo, hi]) = line.buf.get_mut(at..at + 3) {
+        let at = ((usize::from(line.head) + usize::from(line.len)) % RX_ENTRIES) * 3;
+        if let Some([b, lo, hi]) = line.ring.get_mut(at..at + 3) {
             [*lo, *hi] = stamp.to_le_bytes();
             *b = byte;
             line.len += 1;
@@ -262,8 +310,8 @@ pub fn on_usart2_rx() {
     });
 }
 
-/// USART2 data register empty: the reply's next byte, or, after the last,
-/// the transmit-complete interrupt armed.
+/// USART2 data register empty: the reply's next byte; with the last, the
+/// transmit-complete interrupt armed in place of this one.
 #[inline(always)]
 pub fn on_usart2_udre() {
     // SAFETY: the transmit path's registers, owned by the send under way.
@@ -272,14 +320,32 @@ pub fn on_usart2_udre() {
         let Ok(mut line) = LINE.borrow(cs).try_borrow_mut() else {
             return;
         };
-        match line.buf.get(usize::from(line.head)) {
-            Some(&byte) if line.head < line.len => {
-                line.head += 1;
-                usart.udr2().write(|w| w.set(byte));
+        if line.next < line.reply_len {
+            // SAFETY: `next` < the reply's length, and the reply stays in
+            // place and unchanged while `sending` (see `send`).
+            let byte = unsafe { line.reply.0.add(usize::from(line.next)).read() };
+            line.next += 1;
+            if line.next == line.reply_len {
+                // The last byte: the transmit-complete flag cleared (it may
+                // be set if the line ran idle before this interrupt) and its
+                // interrupt on, this one off, before the byte goes in; the
+                // flag then rises when this byte's stop bit is out. (Not
+                // armed afterwards: simavr raises an interrupt only at the
+                // flag's rise, not when its enable comes on later.)
+                usart
+                    .ucsr2a()
+                    .write(|w| w.u2x2().set_bit().txc2().set_bit());
+                usart
+                    .ucsr2b()
+                    .write(|w| w.txen2().set_bit().txcie2().set_bit());
             }
-            _ => {
-                usart.ucsr2b().write(|w| w.txen2().set_bit().txcie2().set_bit());
-            }
+            usart.udr2().write(|w| w.set(byte));
+        } else {
+            // Nothing to send (cannot happen: `send` starts no empty
+            // reply): let the transmit-complete interrupt end the send.
+            usart
+                .ucsr2b()
+                .write(|w| w.txen2().set_bit().txcie2().set_bit());
         }
     });
 }
@@ -294,12 +360,15 @@ pub fn on_usart2_tx() {
     let usart = unsafe { chip::USART2::steal() };
     let porth = unsafe { chip::PORTH::steal() };
     interrupt::free(|cs| {
-        porth.porth().modify(|r, w| unsafe { w.bits(r.bits() & !DE_BIT) });
+        porth
+            .porth()
+            .modify(|r, w| unsafe { w.bits(r.bits() & !DE_BIT) });
         usart
             .ucsr2b()
             .write(|w| w.txen2().set_bit().rxen2().set_bit().rxcie2().set_bit());
         if let Ok(mut line) = LINE.borrow(cs).try_borrow_mut() {
             line.sending = false;
+            line.reply = Reply(core::ptr::null());
             line.head = 0;
             line.len = 0;
         }

@@ -83,13 +83,13 @@ use suntracker::panel::{Divider, PanelAdc};
 use suntracker::persist::{ConfigStore, EepromStorage};
 use suntracker::safety::{Reading, StowInputs};
 use suntracker::sunspec::ModbusPort;
-use suntracker_modbus::sunspec::Identity;
 use suntracker_avr::eeprom::Eeprom;
 use suntracker_avr::{
     chip, millis, sleep_until_interrupt, Anemometer, ExtInt, I2c, InputPin, Millis, OutputPin,
     Parity, PortInputPin, PortOutputPin, Rs485, SharedI2c, Usart0, Usart1, Watchdog, MS_PER_TICK,
 };
 use suntracker_avr::{Adc, ADC_MAX_CODE};
+use suntracker_modbus::sunspec::Identity;
 
 /// Board name in the boot line.
 pub const BOARD: &str = "mega2560";
@@ -332,26 +332,8 @@ fn run_tracker(dp: Parts) -> ! {
     // SAFETY: every part the vectors touch is set up above.
     unsafe { avr_device::interrupt::enable() };
 
-    let axes = stepper_axes(&porta, &portc, &mut log);
-
     // The I²C devices.
     let bus = RefCell::new(I2c::new(dp.twi));
-    let rtc = Ds3231::new(SharedI2c::new(&bus));
-    let sensors = attitude_sensors(&bus, &mut log);
-
-    let mut store = ConfigStore::new(Eeprom::storage(dp.eeprom));
-    let config = stored_config(&mut store, &mut log);
-    if config.validate().is_err() {
-        halt(&mut log, "configuration refused");
-    }
-    let mut rs485 = Rs485::new(
-        dp.usart2,
-        dp.tc5,
-        &dp.porth,
-        config.modbus.baud,
-        Parity::from_code(config.modbus.parity),
-    );
-    let mut modbus = ModbusPort::new(MODBUS_IDENTITY, true);
     let mut platform = MegaPlatform {
         _millis: millis_clock,
         anemometer,
@@ -366,29 +348,24 @@ fn run_tracker(dp: Parts) -> ! {
         irradiance: None,
         watchdog,
         cpu: dp.cpu,
-        store,
+        store: ConfigStore::new(Eeprom::storage(dp.eeprom)),
     };
-    let mut firmware = Firmware::<f32, _, _, _, _, _, TABLE_LEN>::new(
-        app_config(),
-        config,
-        controller_options(),
-        rtc,
-        gps,
-        axes,
-        sensors,
-        log,
-    );
+    let mut firmware = build_firmware(&porta, &portc, &bus, &mut platform.store, gps, log);
     // Run it where it is, inside the result: moving it out would put a
     // second copy of its kilobytes on the stack.
     match &mut firmware {
-        Ok(fw) => loop {
-            // The loop's pass, the Modbus port's (at most one request
-            // served), then sleep until the next interrupt.
-            fw.poll(&mut platform);
-            let now_ms = platform.now_ms();
-            modbus.poll(fw, &mut rs485, now_ms);
-            platform.wait_for_interrupt();
-        },
+        Ok(fw) => {
+            let modbus_config = fw.controller().config().modbus;
+            let mut rs485 = Rs485::new(
+                dp.usart2,
+                dp.tc5,
+                &dp.porth,
+                modbus_config.baud,
+                Parity::from_code(modbus_config.parity),
+            );
+            let mut modbus = ModbusPort::new(MODBUS_IDENTITY, true);
+            serve(fw, &mut platform, &mut modbus, &mut rs485)
+        }
         // The board's own configuration was checked above; the scheduler's
         // intervals are the defaults. Nothing is driven; the watchdog,
         // no longer fed, resets the board.
@@ -404,6 +381,81 @@ fn run_tracker(dp: Parts) -> ! {
             };
             halt(&mut log, why)
         }
+    }
+}
+
+/// The mount's attitude sensors of this board.
+type MegaSensors<'b> = MountSensorsHw<Adxl345<SharedI2c<'b>>, Qmc5883l<SharedI2c<'b>>>;
+
+/// The firmware loop on this board's parts.
+type MegaFirmware<'p, 'b> =
+    Firmware<f32, Ds3231<SharedI2c<'b>>, Usart1, MegaAxis<'p>, MegaSensors<'b>, Usart0, TABLE_LEN>;
+
+/// The firmware on the board's axes, devices and stored configuration (the
+/// log says where it came from; a configuration the checks refuse halts).
+/// Not inlined: the configuration is read here, the axes and the sensors
+/// are built in [`assemble_firmware`], and the firmware is written straight
+/// into the caller's place for it; these frames then leave the stack (inlined
+/// into `run_tracker`, some 800 bytes stayed under every call of the loop).
+/// The store's read (its slot buffers and the record's checks, the deepest
+/// stack at power-on) runs with only the configuration in this frame.
+#[inline(never)]
+fn build_firmware<'p, 'b>(
+    porta: &'p chip::PORTA,
+    portc: &'p chip::PORTC,
+    bus: &'b RefCell<I2c>,
+    store: &mut ConfigStore<EepromStorage<Eeprom>>,
+    gps: Usart1,
+    mut log: Usart0,
+) -> Result<MegaFirmware<'p, 'b>, StartError> {
+    let config = stored_config(store, &mut log);
+    if config.validate().is_err() {
+        halt(&mut log, "configuration refused");
+    }
+    assemble_firmware(porta, portc, bus, config, gps, log)
+}
+
+/// The firmware on the board's axes and devices with `config`. Not
+/// inlined: see [`build_firmware`].
+#[inline(never)]
+fn assemble_firmware<'p, 'b>(
+    porta: &'p chip::PORTA,
+    portc: &'p chip::PORTC,
+    bus: &'b RefCell<I2c>,
+    config: Config,
+    gps: Usart1,
+    mut log: Usart0,
+) -> Result<MegaFirmware<'p, 'b>, StartError> {
+    let axes = stepper_axes(porta, portc, &mut log);
+    let rtc = Ds3231::new(SharedI2c::new(bus));
+    let sensors = attitude_sensors(bus, &mut log);
+    Firmware::new(
+        app_config(),
+        config,
+        controller_options(),
+        rtc,
+        gps,
+        axes,
+        sensors,
+        log,
+    )
+}
+
+/// The loop: its pass, the Modbus port's (at most one request served),
+/// then sleep until the next interrupt. Inlined: a frame of its own would
+/// add to the deepest stack (the console's, below `Firmware::poll`).
+#[inline(always)]
+fn serve(
+    fw: &mut MegaFirmware<'_, '_>,
+    platform: &mut MegaPlatform<'_>,
+    modbus: &mut ModbusPort,
+    rs485: &mut Rs485,
+) -> ! {
+    loop {
+        fw.poll(platform);
+        let now_ms = platform.now_ms();
+        modbus.poll(fw, rs485, now_ms);
+        platform.wait_for_interrupt();
     }
 }
 

@@ -102,6 +102,7 @@ impl TrackerData for Demo {
             stow_reason: if self.stow { 2 } else { 0 },
             wind_speed_dms: Some(53),
             fault_bits: 0x8000_0005,
+            fault_bits_hi: 0x0001,
             firmware: [0, 1, 0],
             stow_commanded: self.stow,
         }
@@ -128,6 +129,7 @@ impl TrackerData for Demo {
             }
             Command::Control(c) => self.control = c,
             Command::Stow(on) => self.stow = on,
+            Command::ClearFaults => {}
         }
         self.commands.push(command);
         Ok(())
