@@ -57,7 +57,7 @@ import csv, datetime as dt, re, sys
 
 log_path, csv_path, out_path = sys.argv[1:4]
 # One step of the simulated axes (boards/mps2_an386/src/mount.rs) and the
-# map's 0.01 deg (as modbus/sunspec/qemu_e2e.py).
+# map's 0.01 deg (as modbus/sunspec/sunspec_e2e.py).
 STEP_DEG = 0.018 + 0.01
 failures = []
 
