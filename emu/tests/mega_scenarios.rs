@@ -2288,9 +2288,9 @@ const SUNS: u16 = 40_000;
 /// Model 601's ID register, and its length with the ID and L (2 + 48).
 const M601: u16 = 40_070;
 const M601_REGS: u16 = 50;
-/// Model 64201's ID register, and its length with the ID and L (2 + 10).
+/// Model 64201's ID register, and its length with the ID and L (2 + 12).
 const M64201: u16 = 40_158;
-const M64201_REGS: u16 = 12;
+const M64201_REGS: u16 = 14;
 /// The tolerance of model 601's angles against the set-point and SPA: the
 /// map's 0.01° steps and the firmware's f32 table.
 const MODBUS_ANGLE_TOL_DEG: f64 = 0.05;
@@ -2533,8 +2533,8 @@ fn v_modbus_master_reads_and_commands() {
             (40_002, 1, 66),
             (40_070, 601, 48),
             (40_120, 305, 36),
-            (40_158, 64201, 10),
-            (40_170, 0xFFFF, 0)
+            (40_158, 64201, 12),
+            (40_172, 0xFFFF, 0)
         ]
     );
     // Model 601 against the set-point in force and SPA.
