@@ -553,8 +553,8 @@ impl MegaBench {
         let rs485 = !self.modbus.is_empty() || self.modbus_pty.is_some();
         if rs485 {
             sim.watch_pin(modbus_master::DE_PIN.0, modbus_master::DE_PIN.1)?;
-            // TXC2 (UCSR2A bit 6): the image enables its interrupt after
-            // the flag is set (see `Sim::fire_on_enable`).
+            // TXC2 (UCSR2A bit 6) requested as the chip does when its
+            // interrupt is enabled with the flag set (`Sim::fire_on_enable`).
             sim.fire_on_enable(modbus_master::UCSR2A, 6)?;
         }
         sim.watch_port('A')?;

@@ -502,7 +502,7 @@ impl ModbusMaster {
             }
         };
         // The line at the rate the registers say (see
-        // `Sim::retime_uart`): the image writes UBRR2 before U2X2.
+        // `Sim::retime_uart`), whatever order the image wrote UBRR2 and U2X2 in.
         sim.retime_uart(UART);
         let char_cycles = usart2_char_cycles(sim);
         // simavr's FIFO takes 64 bytes at once: a longer frame would be
