@@ -162,8 +162,11 @@ where
                     ax.unhome();
                 }
             }
+            // The first day after power-on: the axes homed at power-on, and
+            // that homing counts as tonight's (a swing on this day would
+            // otherwise home them again minutes later).
+            self.rehomed_tonight = self.rehome_day.is_none();
             self.rehome_day = table_day;
-            self.rehomed_tonight = false;
         }
     }
 
