@@ -662,6 +662,33 @@ fn g_daylight_power_on_homes_at_speed() {
     assert_no_illegal_steps(&run);
 }
 
+/// (g2) Powered on in daylight at Kano on 2026-03-20 at 09:00Z: the axes
+/// home once. The first move of the day, from the pose the tracker waited
+/// in for the first slot to the day's branch, is a swing, and a swing
+/// re-homes open-loop axes unless they were homed since the last night, as
+/// the power-on homing did (they homed a second time at 09:04, and the
+/// first set-point came 50 s later).
+#[test]
+fn g2_daylight_power_on_homes_once() {
+    let elf = elf_or_skip!();
+    let start = t("2026-03-20T09:00:00Z");
+    let run = MegaBench::mega(&elf)
+        .start(start)
+        .rtc(Rtc::Valid)
+        .gps(GpsFeed::kano())
+        .run_minutes(12.0)
+        .unwrap();
+    report("g2", &run);
+    let modes = run.modes();
+    let homings = modes.iter().filter(|(_, m)| m == "homing").count();
+    assert_eq!(homings, 1, "{modes:?}");
+    let sps = set_points(&run);
+    let first_s = sps.first().expect("a set-point").0.utc_s - start as f64;
+    println!("g2: modes {modes:?}; first set-point after {first_s:.1} s");
+    check_set_points(&run, &MountAttitude::level(), 0.02);
+    assert_no_illegal_steps(&run);
+}
+
 /// Emulated UTC of the first line after `after_s` whose text is `text`.
 fn line_after(run: &Run, after_s: f64, text: &str) -> Option<f64> {
     run.lines
