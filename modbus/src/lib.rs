@@ -11,6 +11,10 @@
 //! # Layers
 //!
 //! - [`crc`]: the CRC-16 of Modbus RTU.
+//! - [`line`](mod@line): [`HalfDuplexLine`], an RS-485 port driven by a UART's
+//!   interrupts (replies sent and the driver released without the loop).
+//! - [`ring`]: [`StampedRing`], the queue of received bytes with their
+//!   arrival times between a UART's receive interrupt and the frame layer.
 //! - [`rtu`]: the frame layer. [`RtuReceiver`] takes each byte with its
 //!   arrival time and hands out whole frames after the silence of 3.5
 //!   characters, dropping frames with a gap of over 1.5 characters, over
@@ -96,10 +100,14 @@
 #![deny(missing_docs)]
 
 pub mod crc;
+pub mod line;
 pub mod pdu;
+pub mod ring;
 pub mod rtu;
 pub mod sunspec;
 
+pub use line::{HalfDuplexLine, UartIo};
 pub use pdu::{Exception, RegisterMap, Server};
+pub use ring::StampedRing;
 pub use rtu::{Push, RtuReceiver, RtuTiming};
 pub use sunspec::{SunSpecMap, TrackerData};

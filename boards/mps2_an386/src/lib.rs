@@ -120,6 +120,7 @@ use suntracker::safety::Mode;
 use suntracker::sunspec::ModbusPort;
 use suntracker::time::{datetime_from_utc, utc_from_datetime};
 use suntracker_modbus::sunspec::Identity;
+use suntracker_modbus::StampedRing;
 
 /// Board name in the boot line.
 pub const BOARD: &str = "mps2-an386";
@@ -291,65 +292,14 @@ impl<const N: usize> Ring<N> {
 
 static RX: Mutex<RefCell<Ring<GPS_RING_LEN>>> = Mutex::new(RefCell::new(Ring::new()));
 static CONSOLE_RX: Mutex<RefCell<Ring<CONSOLE_RING_LEN>>> = Mutex::new(RefCell::new(Ring::new()));
-static MODBUS_RX: Mutex<RefCell<StampedRing>> = Mutex::new(RefCell::new(StampedRing::new()));
+/// The RS-485 port's received bytes, each with the µs it arrived at
+/// ([`monotonic_us`], read in the receive interrupt).
+static MODBUS_RX: Mutex<RefCell<StampedRing<MODBUS_RING_LEN>>> =
+    Mutex::new(RefCell::new(StampedRing::new()));
 
 /// Bytes of the RS-485 port with their arrival times: a whole frame (256
 /// bytes) fits.
 pub const MODBUS_RING_LEN: usize = 256;
-
-/// The RS-485 port's received bytes, each with the µs it arrived at
-/// ([`monotonic_us`], read in the receive interrupt): the Modbus RTU frame
-/// layer tells frames apart by the silences between bytes. A full ring
-/// drops the newest bytes (the frame they belong to then fails its CRC).
-struct StampedRing {
-    bytes: [u8; MODBUS_RING_LEN],
-    stamps_us: [u32; MODBUS_RING_LEN],
-    head: usize,
-    len: usize,
-    /// The latest stamp (stamps never go back).
-    last_us: u32,
-    /// Bytes received since boot (the gate counts them).
-    received: u32,
-}
-
-impl StampedRing {
-    const fn new() -> Self {
-        StampedRing {
-            bytes: [0; MODBUS_RING_LEN],
-            stamps_us: [0; MODBUS_RING_LEN],
-            head: 0,
-            len: 0,
-            last_us: 0,
-            received: 0,
-        }
-    }
-
-    fn push(&mut self, b: u8, t_us: u32) {
-        self.received = self.received.wrapping_add(1);
-        // A stamp before the last one (over 2^31 µs behind) is the last.
-        if t_us.wrapping_sub(self.last_us) < 1 << 31 {
-            self.last_us = t_us;
-        }
-        if self.len < MODBUS_RING_LEN {
-            let at = (self.head + self.len) % MODBUS_RING_LEN;
-            self.bytes[at] = b;
-            self.stamps_us[at] = self.last_us;
-            self.len += 1;
-        }
-    }
-
-    fn pop(&mut self) -> Option<(u8, u32)> {
-        if self.len == 0 {
-            return None;
-        }
-        let at = self.head;
-        // Checked, not indexed: no panic path in the image.
-        let popped = (*self.bytes.get(at)?, *self.stamps_us.get(at)?);
-        self.head = (self.head + 1) % MODBUS_RING_LEN;
-        self.len -= 1;
-        Some(popped)
-    }
-}
 
 /// SysTick periods since start.
 static PERIODS: AtomicU32 = AtomicU32::new(0);
@@ -564,7 +514,7 @@ impl Rs485 {
             MODBUS_RX
                 .borrow(cs)
                 .try_borrow()
-                .map_or((0, 0), |r| (r.received, r.len))
+                .map_or((0, 0), |r| (r.received(), r.len()))
         })
     }
 }
