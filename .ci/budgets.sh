@@ -193,10 +193,15 @@ check avr_mega_tracker "ATmega2560 (Mega)" "$ELF_AVR_MEGA" 245760 3072 || status
 # Cortex-M images: 32 KiB static RAM. Flash: 64 KiB, the goal for the
 # Cortex-M images, for the QEMU image and the Black Pill's; the Black Pill
 # with its log over defmt (a debugging build: defmt's formatting and RTT
-# buffers) 128 KiB (the STM32F411CE has 512 KiB).
+# buffers) 128 KiB (the STM32F411CE has 512 KiB). The Black Pill with the
+# Modbus server 80 KiB: it misses the 64 KiB goal (the server adds some
+# 9 KB to an image 52 B under it), and this budget holds it where it is
+# measured, so that growth fails the run, until the Black Pill's image is
+# made smaller.
 check qemu_tracker "Cortex-M4F (QEMU an386)" "$ELF_QEMU" 65536 32768 || status=1
 check blackpill_tracker "STM32F411 (Black Pill)" "$ELF_BLACKPILL" 65536 32768 || status=1
 check blackpill_tracker_defmt "STM32F411 (Black Pill, defmt)" "$ELF_BLACKPILL_DEFMT" 131072 32768 || status=1
+check blackpill_tracker_modbus "STM32F411 (Black Pill, modbus)" "$ELF_BLACKPILL_MODBUS" 81920 32768 || status=1
 
 if [ "$status" -ne 0 ]; then
   echo "budgets: FAILED (an image is over budget or missing)" >&2

@@ -193,6 +193,7 @@ check avr_settings "$ELF_AVR_SETTINGS"
 check avr_mega_tracker "$ELF_AVR_MEGA"
 check qemu_tracker "$ELF_QEMU"
 check blackpill_tracker "$ELF_BLACKPILL"
+check blackpill_tracker_modbus "$ELF_BLACKPILL_MODBUS"
 summary
 
 for i in "${!AL_LINE[@]}"; do

@@ -182,6 +182,7 @@ for name, label, ram_fmt in [
     ("qemu_tracker", "qemu_tracker, Cortex-M4F", "{ram} + stack"),
     ("blackpill_tracker", "blackpill_tracker, STM32F411", "{ram} + stack"),
     ("blackpill_tracker_defmt", "blackpill_tracker with `defmt`, STM32F411", "{ram} + stack"),
+    ("blackpill_tracker_modbus", "blackpill_tracker with `modbus`, STM32F411", "{ram} + stack"),
 ]:
     SIZE_IMAGES.append(name)
     figure(
@@ -197,7 +198,15 @@ for name, label, ram_fmt in [
         f"| {label} | {{flash}} ({{fb}}) | {ram_fmt} ({{rb}}) |",
     )
     # The README's table of boards: the images a user flashes.
-    if name in ("avr_tracker", "avr_settings", "avr_mega_tracker", "blackpill_tracker", "qemu_tracker"):
+    readme_images = {
+        "avr_tracker": "`avr_tracker`",
+        "avr_settings": "`avr_settings`",
+        "avr_mega_tracker": "`avr_mega_tracker`",
+        "blackpill_tracker": "`blackpill_tracker`",
+        "blackpill_tracker_modbus": "`blackpill_tracker` with `modbus`",
+        "qemu_tracker": "`qemu_tracker`",
+    }
+    if name in readme_images:
         figure(
             f"readme.size.{name}",
             "sizes",
@@ -208,7 +217,7 @@ for name, label, ram_fmt in [
                 ram=lambda s: thousands(int(s)),
                 rb=lambda s: thousands(int(s)),
             ),
-            f"| `{name}` | {{flash}} ({{fb}}) / {ram_fmt} ({{rb}}) |",
+            f"| {readme_images[name]} | {{flash}} ({{fb}}) / {ram_fmt} ({{rb}}) |",
         )
 
 

@@ -145,7 +145,7 @@ struct Remote {
 }
 
 /// The Modbus RTU server of a board's RS-485 port: receiver, server and
-/// what the bus set (about 300 bytes of RAM).
+/// what the bus set (about 360 bytes of RAM).
 pub struct ModbusPort {
     receiver: RtuReceiver,
     server: Server,

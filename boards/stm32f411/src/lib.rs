@@ -11,6 +11,7 @@
 //! | GPS NMEA in, 9600 8N1 (receiver TX → A10) | USART1 RX, interrupt-driven | A10 |
 //! | I²C 100 kHz: DS3231 0x68, QMC5883L 0x0D, ADXL345 0x53 (one bus, shared with `embedded_hal_bus::i2c::AtomicDevice`) | I2C1 | B6 SCL, B7 SDA |
 //! | WitMotion RS-485 inclinometer, Modbus RTU 9600 8N1 | USART2 + MAX485 DE/RE | A2 TX (DI), A3 RX (RO), A1 DE+/RE |
+//! | or, with the feature `modbus`: the plant's RS-485 bus, Modbus RTU server at `modbus.baud` and `modbus.parity` ([`modbus_line`]) | USART2 + MAX485 DE/RE, TIM5 the µs clock | A2 TX (DI), A3 RX (RO), A1 DE+/RE |
 //! | C axis (azimuth rotation γ) H-bridge IN1–IN4 | GPIO push-pull | A4, A5, A6, A7 |
 //! | A axis (tilt α) H-bridge IN1–IN4 | GPIO push-pull | B12, B13, B14, B15 |
 //! | C home switch (low end, to GND, pull-up) | GPIO input | B0 |
@@ -98,6 +99,14 @@
 //! stops the driver at the high end. Open loop (no encoder): homed at
 //! power-on and at every end of day.
 //!
+//! **The Modbus server** (feature `modbus`, `cargo board-run-modbus`): the
+//! transceiver on USART2 serves the SunSpec map of
+//! [`suntracker::sunspec::ModbusPort`] (models 1, 601, 305 and the vendor
+//! model) to the plant's SCADA instead of polling the WitMotion
+//! inclinometer: the three USARTs are taken (GPS, console, RS-485), so that
+//! image's tilt comes from the ADXL345. The loop serves the port after each
+//! pass; the replies go out by interrupts ([`modbus_line`]).
+//!
 //! Attitude sensors, probed at power-on, in this order: the WitMotion
 //! inclinometer (one Modbus read of roll and pitch at address 0x50 over
 //! RS-485; up to 100 ms when nothing answers), then an ADXL345 on I²C
@@ -116,6 +125,8 @@
 mod defmt_log;
 pub mod flash;
 mod mem;
+#[cfg(feature = "modbus")]
+pub mod modbus_line;
 
 use core::cell::{Cell, RefCell};
 use core::convert::Infallible;
@@ -131,20 +142,27 @@ use drivers::rtc::Ds3231;
 use drivers::stepper::hbridge::{BridgePins, HBridgeStepper};
 use drivers::stepper::LimitSwitches;
 use drivers::tilt::adxl345::Adxl345;
+#[cfg(not(feature = "modbus"))]
 use drivers::tilt::modbus::Timeout;
+#[cfg(not(feature = "modbus"))]
 use drivers::tilt::witmotion::{WitInclinometer, DEFAULT_ADDRESS as WIT_ADDRESS};
 use embedded_hal_bus::i2c::AtomicDevice;
 use embedded_hal_bus::util::AtomicCell;
 use stm32f4xx_hal as hal;
 
-use hal::gpio::{Edge, ErasedPin, ExtiPin, Input, Output, PA1, PA8};
+use hal::gpio::{Edge, ErasedPin, ExtiPin, Input, PA8};
+#[cfg(not(feature = "modbus"))]
+use hal::gpio::{Output, PA1};
 use hal::i2c::{I2c, Mode as I2cMode};
 use hal::pac::{self, interrupt, Interrupt};
 use hal::prelude::*;
 use hal::rcc::Config as RccConfig;
+#[cfg(not(feature = "modbus"))]
+use hal::serial::Serial;
 #[cfg(not(feature = "defmt"))]
 use hal::serial::Tx;
-use hal::serial::{Rx, RxListen, Serial};
+use hal::serial::{Rx, RxListen};
+#[cfg(not(feature = "modbus"))]
 use hal::timer::DelayUs;
 use hal::watchdog::IndependentWatchdog;
 
@@ -153,7 +171,9 @@ use suntracker::config::Config;
 use suntracker::console::RxRing;
 use suntracker::controller::Controller;
 use suntracker::firmware::{AppConfig, ConfigPersist, Firmware, Platform};
-use suntracker::hw::{EitherTilt, MountSensorsHw, StepperAxis};
+#[cfg(not(feature = "modbus"))]
+use suntracker::hw::EitherTilt;
+use suntracker::hw::{MountSensorsHw, StepperAxis};
 use suntracker::log::Sink;
 use suntracker::mechanics::{self, bridge_config};
 use suntracker::motion::AxisDrive;
@@ -161,6 +181,10 @@ use suntracker::persist::{ConfigStore, NorFlashStorage};
 use suntracker::ports::AttitudeSensor;
 use suntracker::safety::StowInputs;
 use suntracker::sun::BoardSource;
+#[cfg(feature = "modbus")]
+use suntracker::sunspec::ModbusPort;
+#[cfg(feature = "modbus")]
+use suntracker_modbus::sunspec::Identity;
 
 /// Board name in the boot line.
 pub const BOARD: &str = "stm32f411";
@@ -190,6 +214,36 @@ pub const GPS_RING_LEN: usize = 512;
 /// ([`suntracker::console::LINE_LEN`]) pasted at once, or 22 ms at 115200 baud
 /// while a long pass (a day plan's step) keeps the loop away.
 pub const CONSOLE_RING_LEN: usize = 256;
+/// Model 1's and model 601's names of the `modbus` image.
+#[cfg(feature = "modbus")]
+const MODBUS_IDENTITY: Identity<'static> = Identity {
+    manufacturer: "suntracker",
+    model: BOARD,
+    options: "blackpill",
+    version: env!("CARGO_PKG_VERSION"),
+    serial: "0",
+    controller_name: "suntracker",
+    tracker_name: "tracker-1",
+};
+
+/// USART2's frame for the Modbus server: `baud`, and `parity` (the
+/// configuration's code: 0 none, 1 odd, 2 even) with one stop bit in the
+/// 9-bit word (8 data bits and the parity bit), or none with two stop bits
+/// (Modbus over Serial Line §2.5.1; RM0383 §19.3.7 "Parity control").
+#[cfg(feature = "modbus")]
+fn modbus_serial_config(baud: u32, parity: u8) -> hal::serial::Config {
+    use hal::serial::config::StopBits;
+    let config = hal::serial::Config::default().baudrate(baud.bps());
+    match parity {
+        0 => config
+            .parity_none()
+            .wordlength_8()
+            .stopbits(StopBits::STOP2),
+        1 => config.parity_odd().wordlength_9(),
+        _ => config.parity_even().wordlength_9(),
+    }
+}
+
 /// Start of the flash (RM0383 §2.3 "Memory map"; the configuration
 /// sectors are at offsets from it).
 const FLASH_BASE: usize = 0x0800_0000;
@@ -396,14 +450,17 @@ impl Sink for LogUart {
 /// USART2 for the Modbus master, which drives the RS-485 direction pin
 /// itself and waits for `flush` (transmission complete) before releasing
 /// the bus.
+#[cfg(not(feature = "modbus"))]
 pub struct Rs485 {
     serial: Serial<pac::USART2>,
 }
 
+#[cfg(not(feature = "modbus"))]
 impl embedded_io::ErrorType for Rs485 {
     type Error = hal::serial::Error;
 }
 
+#[cfg(not(feature = "modbus"))]
 impl embedded_io::Read for Rs485 {
     fn read(&mut self, buf: &mut [u8]) -> Result<usize, Self::Error> {
         let Some(first) = buf.first_mut() else {
@@ -416,6 +473,7 @@ impl embedded_io::Read for Rs485 {
     }
 }
 
+#[cfg(not(feature = "modbus"))]
 impl embedded_io::ReadReady for Rs485 {
     fn read_ready(&mut self) -> Result<bool, Self::Error> {
         use hal::serial::RxISR;
@@ -423,6 +481,7 @@ impl embedded_io::ReadReady for Rs485 {
     }
 }
 
+#[cfg(not(feature = "modbus"))]
 impl embedded_io::Write for Rs485 {
     fn write(&mut self, buf: &[u8]) -> Result<usize, Self::Error> {
         let Some(&first) = buf.first() else {
@@ -462,9 +521,14 @@ impl embedded_hal::digital::InputPin for Switch<'_> {
 /// none: only the main loop talks I²C).
 type Bus<'a> = AtomicDevice<'a, I2c<pac::I2C1>>;
 /// The RS-485 inclinometer.
+#[cfg(not(feature = "modbus"))]
 type Inclinometer = WitInclinometer<Rs485, PA1<Output>, DelayUs<pac::TIM5>>;
 /// Whichever tilt sensor answered.
+#[cfg(not(feature = "modbus"))]
 type Tilt<'a> = EitherTilt<Inclinometer, Adxl345<Bus<'a>>>;
+/// The tilt sensor: USART2's transceiver serves the plant's Modbus bus.
+#[cfg(feature = "modbus")]
+type Tilt<'a> = Adxl345<Bus<'a>>;
 
 /// The configuration's storage: flash sectors 1 and 2.
 type Store = ConfigStore<NorFlashStorage<ConfigSectors>>;
@@ -664,9 +728,13 @@ pub fn run(dp: pac::Peripherals, cp: cortex_m::Peripherals) -> ! {
 
     // The tilt sensor: the RS-485 inclinometer if it answers, else an
     // ADXL345.
+    #[cfg(not(feature = "modbus"))]
     let de = gpioa.pa1.into_push_pull_output();
+    #[cfg(not(feature = "modbus"))]
     let delay = dp.TIM5.delay_us(&mut rcc);
+    #[cfg(not(feature = "modbus"))]
     let mut tilt: Option<Tilt<'_>> = None;
+    #[cfg(not(feature = "modbus"))]
     if let Ok(serial) =
         dp.USART2
             .serial((gpioa.pa2, gpioa.pa3), INCLINOMETER_BAUD_HZ.bps(), &mut rcc)
@@ -678,6 +746,7 @@ pub fn run(dp: pac::Peripherals, cp: cortex_m::Peripherals) -> ! {
             tilt = Some(EitherTilt::First(wit));
         }
     }
+    #[cfg(not(feature = "modbus"))]
     if tilt.is_none() {
         let mut adxl = Adxl345::new(AtomicDevice::new(&bus), ADXL345_ADDRESS);
         if adxl.init().is_ok() {
@@ -685,6 +754,17 @@ pub fn run(dp: pac::Peripherals, cp: cortex_m::Peripherals) -> ! {
             tilt = Some(EitherTilt::Second(adxl));
         }
     }
+    #[cfg(feature = "modbus")]
+    let tilt: Option<Tilt<'_>> = {
+        let mut adxl = Adxl345::new(AtomicDevice::new(&bus), ADXL345_ADDRESS);
+        match adxl.init() {
+            Ok(()) => {
+                log.text("tilt sensor: adxl345\n");
+                Some(adxl)
+            }
+            Err(_) => None,
+        }
+    };
     let sensors = match (tilt, compass) {
         (Some(tilt), Ok(compass)) => Some(MountSensorsHw::new(
             tilt,
@@ -722,6 +802,38 @@ pub fn run(dp: pac::Peripherals, cp: cortex_m::Peripherals) -> ! {
             gpiob.pb3.into_pull_up_input().erase(),
         ],
     };
+    // The Modbus server's port, its frame format from the configuration.
+    #[cfg(feature = "modbus")]
+    let (mut rs485, modbus) = {
+        let settings = suntracker::sunspec::settings_of(&config.modbus);
+        let modbus = match cortex_m::singleton!(
+            : ModbusPort = ModbusPort::new(MODBUS_IDENTITY, true)
+        ) {
+            Some(port) => port,
+            // Taken once: never reached.
+            None => halt(&mut log, "Modbus port taken"),
+        };
+        let serial = match dp.USART2.serial(
+            (gpioa.pa2, gpioa.pa3),
+            modbus_serial_config(settings.baud, settings.parity),
+            &mut rcc,
+        ) {
+            Ok(serial) => serial,
+            Err(_) => halt(&mut log, "USART2 configuration refused"),
+        };
+        let line = modbus_line::Rs485Server::start(
+            serial,
+            gpioa.pa1.into_push_pull_output(),
+            dp.TIM5.counter_us(&mut rcc),
+        );
+        // SAFETY: as for the interrupts above: the handler touches only
+        // the line's static, through `free`, and it is set.
+        #[allow(unsafe_code)]
+        unsafe {
+            NVIC::unmask(Interrupt::USART2);
+        }
+        (line, modbus)
+    };
     let mut firmware = Firmware::<f32, _, _, _, _, _, TABLE_LEN>::new(
         AppConfig {
             defaults: mechanics::config,
@@ -744,7 +856,15 @@ pub fn run(dp: pac::Peripherals, cp: cortex_m::Peripherals) -> ! {
             } else {
                 "config source=defaults\n"
             });
-            fw.run(&mut platform)
+            #[cfg(not(feature = "modbus"))]
+            fw.run(&mut platform);
+            #[cfg(feature = "modbus")]
+            loop {
+                fw.poll(&mut platform);
+                let now_ms = platform.now_ms();
+                modbus.poll(fw, &mut rs485, now_ms);
+                platform.wait_for_interrupt();
+            }
         }
         // The board's own configuration was checked above. Nothing is
         // driven; the watchdog, no longer fed, resets the board.
