@@ -176,23 +176,9 @@ impl Rs485 {
         interrupt::free(|_| timer5_count())
     }
 
-    /// Bytes dropped since start (errors, overrun, a full ring).
-    pub fn dropped(&self) -> u16 {
-        interrupt::free(|cs| LINE.borrow(cs).try_borrow().map_or(0, |l| l.dropped))
-    }
-
     /// A reply is being sent (the driver enable is high).
     pub fn sending(&self) -> bool {
         interrupt::free(|cs| LINE.borrow(cs).try_borrow().map_or(false, |l| l.sending))
-    }
-
-    /// Bytes waiting in the receive ring.
-    pub fn waiting(&self) -> usize {
-        interrupt::free(|cs| {
-            LINE.borrow(cs)
-                .try_borrow()
-                .map_or(0, |l| if l.sending { 0 } else { usize::from(l.len) })
-        })
     }
 
     /// The 32-bit count of `count` (the present), its wraps counted.

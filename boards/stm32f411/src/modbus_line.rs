@@ -154,13 +154,6 @@ impl Rs485Server {
         });
         Rs485Server { _private: () }
     }
-
-    /// Bytes received since start, and those lost (the ring full, or the
-    /// USART's errors).
-    pub fn counts(&self) -> (u32, u32) {
-        with_line(|l| (l.state.received().received(), l.state.received().dropped()))
-            .unwrap_or((0, 0))
-    }
 }
 
 impl ModbusLine for Rs485Server {
