@@ -489,8 +489,9 @@ pub fn fault_bits<'a>(faults: impl Iterator<Item = &'a Fault>) -> (u32, u16) {
 }
 
 /// Seconds east of UTC of an offset in hours (`site.utc_offset_h`,
-/// −12…14: whole minutes, rounded).
-fn utc_offset_s(hours: f32) -> i32 {
+/// −12…14: whole minutes, rounded), as model 601's local date and time
+/// are moved by it (a client turns them back to UTC with it).
+pub fn utc_offset_s(hours: f32) -> i32 {
     let minutes = (hours * 60.0 + 0.5).floor();
     // Within ±841 for a configuration that passed its checks; clamped for
     // any other.

@@ -82,7 +82,7 @@ pub fn help() -> cli::Help {
         synopsis:
             "(--file LOG | --port DEVICE [--baud N] [--send LINE]... [--seconds S] [--settle S] \
 [--reply-timeout S] | --modbus DEVICE --address N [--baud N] [--parity P] [--every-s S] \
-[--seconds S] [--reply-timeout S]) [--csv OUT.csv] [--svg OUT.svg] [--quiet]",
+[--utc-offset-h H] [--seconds S] [--reply-timeout S]) [--csv OUT.csv] [--svg OUT.svg] [--quiet]",
         about: "\
 Reads the tracker's serial log (the line format of src/log.rs that every image writes: boot, time,
 site, setpoint, mode, fault, day_energy, clock jump, status and the console's ok/error replies)
@@ -124,6 +124,12 @@ each poll as a status line: mode, time, site, faults, target and position.",
                 "even",
             ),
             opt("--every-s S", "with --modbus: seconds between polls", "10"),
+            opt(
+                "--utc-offset-h H",
+                "with --modbus: the tracker's site.utc_offset_h (-12 to 14): model 601 gives \
+local time, the status line UTC",
+                "0",
+            ),
             opt(
                 "--send LINE",
                 "with --port: write LINE and a newline to the board's console and wait for its \
@@ -197,7 +203,7 @@ pub fn parse(argv: &[String]) -> Result<Parsed<Args>, String> {
     use cli::Long;
     let (mut file, mut path, mut modbus) = (None, None, None);
     let (mut baud, mut seconds, mut settle, mut reply) = (None, None, None, None);
-    let (mut address, mut parity, mut every) = (None, None, None);
+    let (mut address, mut parity, mut every, mut offset_h) = (None, None, None, None);
     let mut send: Vec<String> = Vec::new();
     let (mut csv, mut svg, mut quiet) = (None, None, false);
     let mut p = cli::parser(argv);
@@ -246,6 +252,14 @@ pub fn parse(argv: &[String]) -> Result<Parsed<Args>, String> {
                 }
                 every = Some(v);
             }
+            Long("utc-offset-h") => {
+                offset_h = Some(cli::value(
+                    &mut p,
+                    "--utc-offset-h",
+                    "hours east of UTC, -12 to 14",
+                    |v| v.parse::<f32>().ok().filter(|h| (-12.0..=14.0).contains(h)),
+                )?)
+            }
             Long("send") => {
                 let line = cli::text(&mut p, "--send")?;
                 if line.contains(['\n', '\r']) {
@@ -281,6 +295,7 @@ pub fn parse(argv: &[String]) -> Result<Parsed<Args>, String> {
         ("--address", address.is_some()),
         ("--parity", parity.is_some()),
         ("--every-s", every.is_some()),
+        ("--utc-offset-h", offset_h.is_some()),
     ];
     if modbus.is_none() {
         if let Some(name) = first_given(&modbus_only) {
@@ -347,6 +362,7 @@ pub fn parse(argv: &[String]) -> Result<Parsed<Args>, String> {
                 every_s: every.unwrap_or(DEFAULT_EVERY_S),
                 seconds,
                 reply_timeout_s: reply.unwrap_or(DEFAULT_MODBUS_REPLY_TIMEOUT_S),
+                utc_offset_s: suntracker::sunspec::utc_offset_s(offset_h.unwrap_or(0.0)),
             })
         }
         (None, None, None) => {

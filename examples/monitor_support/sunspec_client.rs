@@ -11,7 +11,8 @@
 //! when present, model 305, and decodes them with the point offsets and
 //! "not implemented" values of the `suntracker-modbus` crate
 //! (`modbus/src/sunspec.rs`, `docs/src/modbus.md`): the angles with 601's
-//! `Dgr_SF`, the local date and time from `DtLoc`/`TmLoc`, the vendor
+//! `Dgr_SF`, the UTC of the local date and time in `DtLoc`/`TmLoc` (less
+//! the tracker's UTC offset, `--utc-offset-h`), the vendor
 //! model's `Mode` code and `Flt`/`Flt2` bits by the core crate's names
 //! (`suntracker::sunspec::mode_of_code`, `fault_of_bit`, `Mode::name`,
 //! `Fault::name`).
@@ -32,6 +33,7 @@
 use std::fmt;
 use std::time::{Duration, Instant};
 
+use sun_algos::UtcTime;
 use suntracker::sunspec::{fault_of_bit, mode_of_code};
 use suntracker_modbus::sunspec::{
     m1, m305, m601, m64201, END_MODEL_ID, NOT_IMPL_INT32, PAD, SUNS_MARKER,
@@ -198,10 +200,11 @@ fn e7_degrees(raw: i32) -> Option<String> {
     )
 }
 
-/// 601's `DtLoc` (`YYYYMMDD`) and `TmLoc` (`hhmmss`) as
-/// `YYYY-MM-DDTHH:MM:SSZ`; `None` when not set (NUL: the time is unknown)
-/// or not a real instant.
-pub fn local_time(date: &[u16], time: &[u16]) -> Option<String> {
+/// 601's `DtLoc` (`YYYYMMDD`) and `TmLoc` (`hhmmss`), the tracker's local
+/// time `offset_s` east of UTC (its `site.utc_offset_h`), as the UTC
+/// instant `YYYY-MM-DDTHH:MM:SSZ`; `None` when not set (NUL: the time is
+/// unknown) or not a real instant.
+pub fn utc_of_local(date: &[u16], time: &[u16], offset_s: i32) -> Option<String> {
     let (d, t) = (text(date), text(time));
     let digits = |s: &str, n: usize| s.len() == n && s.bytes().all(|b| b.is_ascii_digit());
     if !digits(&d, 8) || !digits(&t, 6) {
@@ -216,7 +219,12 @@ pub fn local_time(date: &[u16], time: &[u16]) -> Option<String> {
         &t[2..4],
         &t[4..6]
     );
-    super::board_log::utc(&s).map(|u| u.text)
+    let local = super::board_log::utc(&s)?;
+    if offset_s == 0 {
+        return Some(local.text);
+    }
+    let utc = UtcTime::from_unix_seconds(local.unix_s.checked_sub(i64::from(offset_s))?).ok()?;
+    Some(utc.to_string())
 }
 
 /// The name of the vendor model's mode code.
@@ -301,7 +309,7 @@ pub fn identity(c: &mut Client, map: &Map) -> Result<Option<(String, String)>, P
 }
 
 /// One poll: models 601, 64201 and 305.
-pub fn poll(c: &mut Client, map: &Map) -> Result<Reading, PollError> {
+pub fn poll(c: &mut Client, map: &Map, utc_offset_s: i32) -> Result<Reading, PollError> {
     let tracker = map
         .find(m601::ID)
         .ok_or_else(|| PollError::Map("no model 601 in the map".into()))?;
@@ -344,9 +352,10 @@ pub fn poll(c: &mut Client, map: &Map) -> Result<Reading, PollError> {
         None => None,
     };
     Ok(Reading {
-        utc: local_time(
+        utc: utc_of_local(
             &t[at(m601::DT_LOC)..at(m601::DT_LOC + 5)],
             &t[at(m601::TM_LOC)..at(m601::TM_LOC + 3)],
+            utc_offset_s,
         ),
         target_deg: angles(m601::EL_TRGT),
         position_deg: angles(m601::EL_POS),
@@ -369,6 +378,10 @@ pub struct Session {
     pub seconds: Option<f64>,
     /// Longest wait for a reply.
     pub reply_timeout_s: f64,
+    /// The tracker's `site.utc_offset_h` as seconds east of UTC
+    /// (`suntracker::sunspec::utc_offset_s`): 601's local time less it is
+    /// the UTC printed.
+    pub utc_offset_s: i32,
 }
 
 /// Polls by outcome.
@@ -457,7 +470,7 @@ pub fn run(s: &Session, out: &mut dyn Polls) -> Result<(Counts, Option<String>),
                     m
                 }
             };
-            let r = poll(&mut client, &m);
+            let r = poll(&mut client, &m, s.utc_offset_s);
             // An exception or a map that no longer fits: find it again
             // (the board may have restarted with another map).
             if !matches!(

@@ -216,7 +216,7 @@ fn the_chain_is_walked_with_and_without_the_gps_model() {
 fn model_601_and_the_vendor_model_are_decoded() {
     for gps in [true, false] {
         let (_server, mut c, map) = found(gps);
-        let r = sunspec_client::poll(&mut c, &map).expect("poll");
+        let r = sunspec_client::poll(&mut c, &map, 0).expect("poll");
         // modbus/tests/common: 2026-03-20 12:34:56, target 77.34 / 180.50,
         // position 77.30 / 180.41, tracking (8), faults 0x8000_0005 and Flt2 0x0001, the fix
         // at 12.0022 N 8.5919 E.
@@ -250,6 +250,41 @@ el=77.30 az=180.41"
             )
         );
     }
+}
+
+/// 601's local date and time back to UTC with the tracker's offset,
+/// `site.utc_offset_h` (worked by hand: 12:34:56 local at UTC+5:45 is
+/// 06:49:56 UTC; 21:30 on 19 March at UTC−9:30 is 07:00 on 20 March UTC,
+/// and 00:10 on 1 January 2027 at UTC+14 is 10:10 on 31 December 2026).
+#[test]
+fn the_local_time_is_turned_back_to_utc_by_the_offset() {
+    let (_server, mut c, map) = found(false);
+    let nepal_s = suntracker::sunspec::utc_offset_s(5.75);
+    assert_eq!(nepal_s, 20_700);
+    let r = sunspec_client::poll(&mut c, &map, nepal_s).expect("poll");
+    assert_eq!(r.utc.as_deref(), Some("2026-03-20T06:49:56Z"));
+    let regs = |s: &str| -> Vec<u16> {
+        let b = s.as_bytes();
+        b.chunks(2)
+            .map(|p| u16::from(p[0]) << 8 | u16::from(*p.get(1).unwrap_or(&0)))
+            .collect()
+    };
+    let marquesas_s = suntracker::sunspec::utc_offset_s(-9.5);
+    assert_eq!(
+        sunspec_client::utc_of_local(&regs("20260319\0\0"), &regs("213000"), marquesas_s)
+            .as_deref(),
+        Some("2026-03-20T07:00:00Z")
+    );
+    assert_eq!(
+        sunspec_client::utc_of_local(&regs("20270101\0\0"), &regs("001000"), 14 * 3600).as_deref(),
+        Some("2026-12-31T10:10:00Z")
+    );
+    // Not set (NUL), or not a date: none.
+    assert_eq!(sunspec_client::utc_of_local(&[0; 5], &[0; 3], 0), None);
+    assert_eq!(
+        sunspec_client::utc_of_local(&regs("20260230\0\0"), &regs("120000"), 0),
+        None
+    );
 }
 
 /// The names come from the core crate: every mode code and fault bit.
