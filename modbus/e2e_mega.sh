@@ -20,5 +20,5 @@ if [ "${NO_BUILD:-}" != 1 ]; then
   build_avr_mega
   cargo build --release -p suntracker-emu
 fi
-timeout 600 "$VENV/bin/python" modbus/sunspec/sunspec_e2e.py mega "$ELF_AVR_MEGA" \
+timeout 900 "$VENV/bin/python" modbus/sunspec/sunspec_e2e.py mega "$ELF_AVR_MEGA" \
   "$FW_TARGET_DIR/mega-modbus-e2e" "$TARGET_DIR/release/suntracker-emu"

@@ -13,17 +13,22 @@ Two targets, one test:
 Each run waits in the log until the tracker tracks, then opens the
 pseudo-terminal with the SunSpec Alliance's pysunspec2
 (SunSpecModbusClientDeviceRTU, scan()); the harness paces the emulation to
-the wall clock while it is open. Both runs start at once (each harness is
-one process; the second boots while the first is read). Two runs:
+the wall clock while it is open. Two runs, one after the other (an image
+without a client attached runs unpaced, faster than the wall clock):
 
 1. The default configuration (`modbus.write` 0): models 1, 601, 305 and
    64201 found; model 601's ElTrgt/AzTrgt (the set-point in force) against
    pvlib's NREL SPA at that set-point's time (the last `setpoint` line of the
-   log at or before the instant model 601 says), within 0.05 deg, and the
-   difference from SPA at the instant read reported; the position within a
-   step of the target; model 305 the GPS stream's fix; the vendor model
-   tracking. A write of GlblCtl=Manual gets exception 01 and changes
-   nothing (no `mode manual` in the log, the axes where they were).
+   log at or before the instant model 601 says), within 0.05 deg; then, the
+   client attached (the emulation paced to the wall clock), model 601 read
+   again as soon as the log shows the next set-point, against SPA at the
+   instant read (601's DtLoc/TmLoc), within 0.05 deg (the tracker steps to
+   a new set-point each 4 minutes of its day table and holds it between:
+   read later in a step, the target lags the sun by up to a step's motion,
+   which is reported); the position within a step of the target; model 305
+   the GPS stream's fix; the vendor model tracking. A write of
+   GlblCtl=Manual gets exception 01 and changes nothing (no `mode manual`
+   in the log, the axes where they were).
 2. `set modbus.write 1` typed on the console at boot: a manual target and
    GlblCtl=Manual in one write move the axes there (ElPos/AzPos within
    0.05 deg of it) and the log says `mode manual`; a target below the
@@ -194,6 +199,17 @@ def setpoint_before(lines, t):
     return best
 
 
+def setpoint_after(lines, t):
+    """The first `setpoint` line's UTC after `t`."""
+    for l in lines:
+        m = re.match(r"^setpoint utc=(\S+)Z ", l)
+        if m:
+            u = dt.datetime.fromisoformat(m.group(1)).replace(tzinfo=dt.timezone.utc)
+            if u > t:
+                return u
+    return None
+
+
 def spa(t):
     sp = solarposition.spa_python(pd.DatetimeIndex([t]), LAT, LON, altitude=0, pressure=0,
                                   temperature=12, delta_t=69.2, how="numpy")
@@ -264,6 +280,26 @@ def run_read_only(run):
         check("601 ElPos/AzPos at the target within a step",
               abs(pe - el) <= T.step_deg and angle_diff(pa, az) <= T.step_deg,
               "pos %.2f %.2f, target %.2f %.2f" % (pe, pa, el, az))
+        # The next set-point, read as soon as the log shows it (a step is
+        # 4 minutes: at most that long, paced to the wall clock).
+        t_next, end = None, time.monotonic() + 300
+        while t_next is None and time.monotonic() < end:
+            time.sleep(0.1)
+            t_next = setpoint_after(run.lines(), t_sp or t_read)
+        if t_next is None:
+            check("a new set-point within a step", False, "none after %s" % (t_sp or t_read))
+        else:
+            tc.read()
+            t_now = read_instant(tc)
+            trk = tc.tracker[0]
+            nel, naz = trk.ElTrgt.cvalue, trk.AzTrgt.cvalue
+            iel, iaz = spa(t_now)
+            de, da = abs(nel - iel), angle_diff(naz, iaz)
+            check("601 ElTrgt/AzTrgt vs pvlib SPA at the instant read within %.2f deg" % SPA_TOL_DEG,
+                  de <= SPA_TOL_DEG and da <= SPA_TOL_DEG,
+                  "set-point %s, read %s (%d s later): El %.2f vs %.4f (%.4f), Az %.2f vs %.4f (%.4f)"
+                  % (t_next.strftime("%H:%M:%S"), t_now.strftime("%H:%M:%S"),
+                     (t_now - t_next).total_seconds(), nel, iel, de, naz, iaz, da))
         gps = dev.models[305][0]
         check("305 Lat, Long, Alt (the stream's fix)",
               abs(gps.Lat.cvalue - LAT) < 1e-6 and abs(gps.Long.cvalue - LON) < 1e-6
@@ -356,13 +392,16 @@ def main():
     t0 = time.monotonic()
     # The vendor model's definition beside this script, then pysunspec2's own.
     sunspec2.device.set_model_defs_path([HERE] + sunspec2.device.get_model_defs_path())
-    read_only = Run(workdir, "writes_off")
-    writes = Run(workdir, "writes_on", "--type", T.type_at_min + ":set modbus.write 1")
+    # One after the other: an image without a client runs unpaced, and the
+    # first run waits up to a table step (4 minutes) with its client
+    # attached, in which the second would run on to the evening.
+    runs = [Run(workdir, "writes_off")]
     try:
-        run_read_only(read_only)
-        run_writes(writes)
+        run_read_only(runs[0])
+        runs.append(Run(workdir, "writes_on", "--type", T.type_at_min + ":set modbus.write 1"))
+        run_writes(runs[1])
     finally:
-        for r in (read_only, writes):
+        for r in runs:
             if r.proc.poll() is None:
                 r.proc.kill()
     print("%s: %.1f s wall" % (name, time.monotonic() - t0))
