@@ -692,6 +692,11 @@ where
         self.count_at_switch
     }
 
+    /// The counter.
+    pub fn encoder(&self) -> &E {
+        &self.hall
+    }
+
     /// The counter (a feedback that needs reading before each poll, as
     /// [`super::LinearAxis`]'s potentiometer does).
     pub fn encoder_mut(&mut self) -> &mut E {

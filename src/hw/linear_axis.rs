@@ -81,6 +81,11 @@ pub trait LinearFeedback: EncoderCount {
     fn refresh(&mut self) -> Result<(), Self::Error>;
     /// Counts per mm of extension.
     fn counts_per_mm(&self) -> f32;
+    /// The count to stop at for an extension (0..=stroke), from fully
+    /// retracted: the nearest count the feedback can read there.
+    fn counts_for(&self, extension_mm: f32) -> Result<i32, LinearError> {
+        PulseScale::new(self.counts_per_mm())?.pulses(extension_mm)
+    }
 }
 
 /// Hall pulses counted by the commanded direction (by the board's
@@ -137,6 +142,11 @@ impl<E: EncoderCount> LinearFeedback for HallFeedback<E> {
     }
     fn counts_per_mm(&self) -> f32 {
         2.0 * self.scale.pulses_per_mm()
+    }
+    /// The nearest pulse edge (an even count of half pulses).
+    fn counts_for(&self, extension_mm: f32) -> Result<i32, LinearError> {
+        let pulses = self.scale.pulses(extension_mm)?;
+        pulses.checked_mul(2).ok_or(LinearError::TooManyPulses)
     }
 }
 
@@ -522,7 +532,8 @@ where
         let (lo, hi) = self.range_deg;
         let g = &self.geometry;
         let length = g.length_mm(self.target_deg().clamp(lo, hi)).ok()?;
-        let counts = self.scale.pulses(g.extension_mm(length).ok()?).ok()?;
+        let ext = g.extension_mm(length).ok()?;
+        let counts = self.inner.encoder().counts_for(ext).ok()?;
         Some(origin.saturating_add(counts))
     }
 
