@@ -35,7 +35,7 @@ use embedded_hal::digital::InputPin;
 use sim::linear_actuator::{ActuatorSpec, LinearActuator};
 use sim::linear_drive::{
     adc_counts, ActuatorBridge, ActuatorHardware, AdcFailed, PotAdc, PulseCounter, RetractedSwitch,
-    SharedActuator as Shared,
+    SharedActuator as Shared, LA12_HALL_LOOP, LA12_POT_LOOP, LA12_POT_READING,
 };
 use suntracker::config::AxisConfig;
 use suntracker::hw::{
@@ -81,44 +81,13 @@ fn motor(plant: &Shared) -> DcMotor<ActuatorBridge> {
     .unwrap()
 }
 
-/// In Hall pulses (1 mm): full duty beyond 5 mm, 40 % at the target;
-/// done within a pulse; the rod stops when braked (self-locking spindle):
-/// no stopping lead. The slowest pulse: 40 % of 26 mm/s against the rated
-/// load (droop 12 mm/s) is 10.4 − 12 < 0: held at 40 % by rated load, so
-/// stall after 1 s (a pulse every 100 ms at 10 mm/s).
-const HALL_LOOP: DcAxisConfig = DcAxisConfig {
-    max_duty_permille: 1_000,
-    min_duty_permille: 400,
-    slow_band_counts: 5,
-    deadband_counts: 1,
-    brake_lead_ms: 0,
-    settle_ms: 100,
-    max_reapproaches: 2,
-    stall_ms: 1_000,
-    drive_threshold_permille: 100,
-    max_idle_counts: 2,
-    max_current_ma: 6_000,
-    overcurrent_ms: 200,
-    min_speed_cps: 5,
-    move_margin_ms: 3_000,
-};
-
-/// The same in tenths of a mm of the potentiometer.
-const POT_LOOP: DcAxisConfig = DcAxisConfig {
-    slow_band_counts: 50,
-    deadband_counts: 2,
-    max_idle_counts: 20,
-    min_speed_cps: 50,
-    ..HALL_LOOP
-};
-
-/// Sixteen conversions a poll: one count rms of noise becomes a quarter
-/// (0.03 mm), a third of the 0.1 mm hysteresis.
-const POT: PotConfig = PotConfig {
-    samples: 16,
-    hysteresis_mm: 0.1,
-    end_margin_counts: 8,
-};
+/// The loops and the reading of `simulate`'s A axis (their documentation
+/// gives each value's reason): on Hall pulses done on the target's edge,
+/// stall after 1 s without a pulse; on the potentiometer done within
+/// 0.1 mm, sixteen conversions a poll and a hysteresis of 0.1 mm.
+const HALL_LOOP: DcAxisConfig = LA12_HALL_LOOP;
+const POT_LOOP: DcAxisConfig = LA12_POT_LOOP;
+const POT: PotConfig = LA12_POT_READING;
 
 type HallAxis =
     LinearAxis<ActuatorBridge, HallFeedback<PulseCounter>, RetractedSwitch, NoCurrentSense>;
@@ -284,7 +253,7 @@ fn pot_axis_reaches_15_degrees_within_an_adc_count() {
     axis.move_counts(counts).unwrap();
     run(&plant, &mut axis, &now, 20_000);
     // 90.41 mm; the ADC resolves 100 / 819 = 0.12 mm, the loop's deadband
-    // is 0.2 mm and the hysteresis 0.1 mm.
+    // is 0.1 mm and the hysteresis 0.1 mm.
     let ext = plant.borrow().actuator.extension_mm();
     assert!((ext - 90.41).abs() < 0.4, "{ext} mm");
     let truth = plant.borrow().actuator.axis_deg(&GEOMETRY).unwrap();
@@ -472,7 +441,7 @@ fn a_day_of_set_points_on_the_potentiometer() {
     let mut axis = pot_axis(&plant);
     let (p95, max) = follow_day(&plant, &mut axis);
     println!("linear axis, potentiometer 10-bit: p95 {p95:.3} deg, max {max:.3} deg");
-    // Deadband 0.2 mm, hysteresis 0.1 mm, an ADC count 0.12 mm: within
+    // Deadband 0.1 mm, hysteresis 0.1 mm, an ADC count 0.12 mm: within
     // about 0.4 mm, 0.22° at 0.54°/mm.
     assert!(max < 0.22, "{max}");
 }
