@@ -86,11 +86,12 @@ stow times; its last line holds the figures as key=value.",
             opt("--start YYYY-MM-DD", "first day of the run (00:00 UTC)", "2026-01-01"),
             opt("--days N", "length of the run in days, 1 to 3660", "1"),
             opt(
-                "--drive stepper|servo|dc-hall|timed|linear-hall|linear-pot",
-                "axis drives: steppers through a gear, servos on output encoders, DC gear motors \
-                 with motor-shaft Hall encoders, or the same motors run by time with no feedback \
-                 (sim::dc_drive); linear-*: the C axis as dc-hall, the A axis a LINAK LA12 linear \
-                 actuator on Hall pulses or its potentiometer (sim::linear_drive)",
+                "--drive KIND",
+                "axis drives: stepper (steppers through a gear), servo (servos on output \
+                 encoders), dc-hall (DC gear motors with motor-shaft Hall encoders), timed (the \
+                 same motors run by time with no feedback; sim::dc_drive), linear-hall or \
+                 linear-pot (the C axis as dc-hall, the A axis a LINAK LA12 linear actuator on its \
+                 Hall pulses or its potentiometer; sim::linear_drive)",
                 "stepper",
             ),
             opt(
