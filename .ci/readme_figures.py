@@ -68,6 +68,8 @@ SIM_RUNS = {
     "kano_timed_faults": (KANO, "--drive timed --mount level --faults"),
     "kano_timed_battery_faults": (KANO, "--drive timed --supply battery --mount level --faults"),
     "tromso_timed_faults": (TROMSO, "--drive timed --mount level --faults"),
+    "kano_linearpot_faults": (KANO, "--drive linear-pot --feedback encoder --mount level --faults"),
+    "tromso_linearpot_faults": (TROMSO, "--drive linear-pot --feedback encoder --mount level --faults"),
 }
 
 # group -> shell command (run from the repository root, stdout + stderr).
@@ -124,7 +126,7 @@ for _id, _opts in POLAR_RUNS.items():
 REGENERATE = {"sizes_report": "python3 .ci/size_report.py --write"}
 
 # FIGURES_ONLY names groups; a name stands for every group that starts with
-# it (`sim` = the twenty simulation runs, `setpoints` = both set-point runs).
+# it (`sim` = the twenty-two simulation runs, `setpoints` = both set-point runs).
 # A figure read from several groups runs only when all of them are selected.
 
 # ---------------------------------------------------------------- helpers
@@ -462,6 +464,8 @@ SIM_LABELS = {
     "kano_timed_faults": "Kano, DC gear motor timed (no feedback), level, `--faults`",
     "kano_timed_battery_faults": "Kano, DC gear motor timed, battery, level, `--faults`",
     "tromso_timed_faults": "Tromsø, DC gear motor timed (no feedback), level, `--faults`",
+    "kano_linearpot_faults": "Kano, A axis LA12 + potentiometer, level, `--faults`",
+    "tromso_linearpot_faults": "Tromsø, A axis LA12 + potentiometer, level, `--faults`",
 }
 SIM_LAST = (
     r"^simulate: pointing_p95_deg=(?P<p95>[0-9.]+) energy_vs_ideal=(?P<ideal>[0-9.]+) "
@@ -498,6 +502,8 @@ for sid, label in [
     ("tromso_stepper_encoder_faults", "Tromsø, stepper"),
     ("tromso_dchall_encoder_faults", "Tromsø, DC gear motor + Hall"),
     ("tromso_timed_faults", "Tromsø, DC gear motor timed"),
+    ("kano_linearpot_faults", "Kano, A axis LA12 + potentiometer"),
+    ("tromso_linearpot_faults", "Tromsø, A axis LA12 + potentiometer"),
 ]:
     figure(f"sim.drive.{sid}", "sim_" + sid, sim_drive_row,
            f"| {label} | {{p95}}° | {{ideal}} | {{c}}° / {{a}}° | {{raised}} / {{rec}} |")

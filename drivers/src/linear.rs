@@ -109,6 +109,27 @@ pub struct ActuatorGeometry {
 }
 
 impl ActuatorGeometry {
+    /// The worked example of the tests and the book: a LINAK LA12 of
+    /// 100 mm stroke (its manual's "I/O specifications": the longest stroke
+    /// its potentiometer covers) between pivots 300 mm and 150 mm from the
+    /// hinge, γ = 75° at the axis's zero. The 245 mm retracted length is an
+    /// assumption (the manual's dimension drawing was not available), not a
+    /// data-sheet figure. The stroke spans −20.666° (L = 245 mm) to
+    /// +19.158° (L = 345 mm).
+    ///
+    /// ```
+    /// use drivers::linear::ActuatorGeometry;
+    ///
+    /// assert_eq!(ActuatorGeometry::LA12_EXAMPLE.validate(), Ok(()));
+    /// ```
+    pub const LA12_EXAMPLE: ActuatorGeometry = ActuatorGeometry {
+        a_mm: 300.0,
+        b_mm: 150.0,
+        offset_deg: 75.0,
+        retracted_mm: 245.0,
+        stroke_mm: 100.0,
+    };
+
     /// Checks that every value is finite, the lengths positive, and that the
     /// whole stroke lies strictly inside the triangle inequality (so γ stays
     /// strictly between 0° and 180°, where `acos` is well conditioned).

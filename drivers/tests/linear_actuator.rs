@@ -14,13 +14,7 @@
 
 use drivers::linear::{ActuatorGeometry, LinearError, PotCalibration, PulseScale};
 
-const GEOMETRY: ActuatorGeometry = ActuatorGeometry {
-    a_mm: 300.0,
-    b_mm: 150.0,
-    offset_deg: 75.0,
-    retracted_mm: 245.0,
-    stroke_mm: 100.0,
-};
+const GEOMETRY: ActuatorGeometry = ActuatorGeometry::LA12_EXAMPLE;
 
 /// Stated tolerances of the f32 round trips: 0.001° and 0.001 mm. Over this
 /// stroke dγ/dL = L / (ab · sin γ) ≤ 345 / (45 000 · sin 54.3°) = 0.0094

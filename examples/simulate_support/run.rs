@@ -14,6 +14,9 @@ use sim::dc_drive::{
 };
 use sim::dc_motor::MotorSpec;
 use sim::gps::{GpsReceiverModel, EPOCH_BUF_LEN};
+use sim::linear_drive::{
+    la12_tilt_axis_config, la12_tilt_spec, FeedbackKind, LinearDrive, SlewTilt,
+};
 use sim::plant::{Injected, MotorPlant, SimAxis};
 use sim::rng::SplitMix64;
 use sim::rtc::SimRtc;
@@ -62,7 +65,7 @@ pub const TOOL: &str = "simulate";
 
 /// The synopsis of `--help`.
 pub const USAGE: &str = "[--lat DEG] [--lon DEG] [--start YYYY-MM-DD] [--days N] \
-[--drive stepper|servo|dc-hall|timed] [--c-axis limited|continuous] [--supply regulated|battery] [--feedback encoder|sensors] [--mount level|portable] [--faults] [--weather] [--overcast-ratio R] [--seed N] \
+[--drive stepper|servo|dc-hall|timed|linear-hall|linear-pot] [--c-axis limited|continuous] [--supply regulated|battery] [--feedback encoder|sensors] [--mount level|portable] [--faults] [--weather] [--overcast-ratio R] [--seed N] \
 [--scenario FILE] [--trace OUT.csv] [--svg OUT.svg]";
 
 /// The text of `--help`.
@@ -83,10 +86,12 @@ stow times; its last line holds the figures as key=value.",
             opt("--start YYYY-MM-DD", "first day of the run (00:00 UTC)", "2026-01-01"),
             opt("--days N", "length of the run in days, 1 to 3660", "1"),
             opt(
-                "--drive stepper|servo|dc-hall|timed",
-                "axis drives: steppers through a gear, servos on output encoders, DC gear motors \
-                 with motor-shaft Hall encoders, or the same motors run by time with no feedback \
-                 (sim::dc_drive)",
+                "--drive KIND",
+                "axis drives: stepper (steppers through a gear), servo (servos on output \
+                 encoders), dc-hall (DC gear motors with motor-shaft Hall encoders), timed (the \
+                 same motors run by time with no feedback; sim::dc_drive), linear-hall or \
+                 linear-pot (the C axis as dc-hall, the A axis a LINAK LA12 linear actuator on its \
+                 Hall pulses or its potentiometer; sim::linear_drive)",
                 "stepper",
             ),
             opt(
@@ -172,6 +177,8 @@ enum Drive {
     Servo,
     DcHall,
     Timed,
+    LinearHall,
+    LinearPot,
 }
 
 impl Drive {
@@ -181,6 +188,8 @@ impl Drive {
             Drive::Servo => "servo",
             Drive::DcHall => "dc-hall",
             Drive::Timed => "timed",
+            Drive::LinearHall => "linear-hall",
+            Drive::LinearPot => "linear-pot",
         }
     }
 }
@@ -263,6 +272,8 @@ pub fn parse_args(args: &[String]) -> Result<Parsed<Args>, String> {
                         ("servo", Drive::Servo),
                         ("dc-hall", Drive::DcHall),
                         ("timed", Drive::Timed),
+                        ("linear-hall", Drive::LinearHall),
+                        ("linear-pot", Drive::LinearPot),
                     ],
                 )?
             }
@@ -313,7 +324,12 @@ pub fn parse_args(args: &[String]) -> Result<Parsed<Args>, String> {
     if a.days == 0 || a.days > 3660 {
         return Err("--days 1..3660".into());
     }
-    if a.continuous_c && matches!(a.drive, Drive::DcHall | Drive::Timed) {
+    if a.continuous_c
+        && matches!(
+            a.drive,
+            Drive::DcHall | Drive::Timed | Drive::LinearHall | Drive::LinearPot
+        )
+    {
         return Err("--c-axis continuous: with --drive stepper or servo".into());
     }
     Site::new(a.lat, a.lon).map_err(|e| format!("site: {e}"))?;
@@ -445,6 +461,7 @@ fn simulate(args: &Args, out: &mut dyn Write, err: &mut dyn Write) -> Result<(),
         Drive::Stepper | Drive::Servo => simulate_with(args, out, err, motor_plants),
         Drive::DcHall => simulate_with(args, out, err, dc_plants),
         Drive::Timed => simulate_with(args, out, err, timed_plants),
+        Drive::LinearHall | Drive::LinearPot => simulate_with(args, out, err, linear_plants),
     }
 }
 
@@ -555,6 +572,24 @@ fn dc_plants(_: &Args, config: &Config) -> Result<[DcDrive; 2], String> {
     dc_drives(dc_spec(), config)
 }
 
+/// The C axis as `dc_plants`'s; the A axis an LA12 on `la12_tilt_spec`'s
+/// mount, 20 mm out.
+fn linear_plants(args: &Args, config: &Config) -> Result<[SlewTilt; 2], String> {
+    let [c, _] = dc_drives(dc_spec(), config)?;
+    let spec = la12_tilt_spec(linear_feedback(args.drive), args.seed);
+    let a = LinearDrive::new(spec, &config.axes[1], 20.0)?;
+    Ok([SlewTilt::Slew(c), SlewTilt::Tilt(a)])
+}
+
+/// The feedback of a linear drive kind.
+fn linear_feedback(drive: Drive) -> FeedbackKind {
+    if drive == Drive::LinearPot {
+        FeedbackKind::Pot
+    } else {
+        FeedbackKind::Hall
+    }
+}
+
 fn simulate_with<P: SimAxis>(
     args: &Args,
     out: &mut dyn Write,
@@ -652,7 +687,7 @@ fn simulate_with<P: SimAxis>(
                 ax.backlash_deg = 0.0;
             }
         }
-        Drive::DcHall | Drive::Timed => {
+        Drive::DcHall | Drive::Timed | Drive::LinearHall | Drive::LinearPot => {
             // Hall counts: 64 per motor turn, 7,875:1 (dc_spec); the timed
             // drive's counts are the same scale, run by time.
             for ax in config.axes.iter_mut() {
@@ -664,6 +699,11 @@ fn simulate_with<P: SimAxis>(
             }
         }
         Drive::Stepper => {}
+    }
+    if matches!(args.drive, Drive::LinearHall | Drive::LinearPot) {
+        // The A axis in degrees of tilt, its limits the stroke's ends.
+        config.axes[1] = la12_tilt_axis_config(linear_feedback(args.drive))
+            .map_err(|e| format!("A axis: {e}"))?;
     }
     let (run_supply, run_overcast_ratio) = (config.supply, config.overcast.ratio);
     // The configuration as stored on the board: a power cycle reloads it.

@@ -456,6 +456,21 @@ pub fn supply_adc_mv(supply_v: f64) -> u32 {
     libm::round(counts * 20_000.0 / 1_023.0) as u32
 }
 
+/// Starts a tick of `dt_s` seconds on an axis's millisecond clock: the
+/// budget left of the last tick passes (time at rest is not stepped), the
+/// new one is `dt_s` in whole milliseconds (negative: 0; beyond the `u32`
+/// range: its largest). True when the tick has time for a poll.
+pub(crate) fn start_tick(now_ms: &mut u32, budget_ms: &mut u32, dt_s: f64) -> bool {
+    *now_ms = now_ms.wrapping_add(*budget_ms);
+    let ms = (dt_s.max(0.0) * 1e3).round();
+    *budget_ms = if ms < f64::from(u32::MAX) {
+        ms as u32
+    } else {
+        u32::MAX
+    };
+    *budget_ms > 0
+}
+
 /// No duty applied (braked or coasting).
 fn duty_free(output: Output) -> bool {
     matches!(output, Output::Brake | Output::Coast)
@@ -534,14 +549,7 @@ where
     /// poll looks at the counts (a back-driven axis), then pending motion
     /// runs.
     fn begin_tick(&mut self, dt_s: f64) {
-        self.now_ms = self.now_ms.wrapping_add(self.budget_ms);
-        let ms = (dt_s.max(0.0) * 1e3).round();
-        self.budget_ms = if ms < f64::from(u32::MAX) {
-            ms as u32
-        } else {
-            u32::MAX
-        };
-        if self.budget_ms > 0 {
+        if start_tick(&mut self.now_ms, &mut self.budget_ms, dt_s) {
             self.step_ms();
         }
         self.run();

@@ -24,6 +24,9 @@ pub mod encoder;
 pub mod gps;
 #[cfg(not(target_arch = "avr"))]
 pub mod linear_actuator;
+// The linear actuator's ports share it through `Rc`.
+#[cfg(feature = "std")]
+pub mod linear_drive;
 pub mod plant;
 pub mod rng;
 #[cfg(not(target_arch = "avr"))]

@@ -299,6 +299,12 @@ impl LinearActuator {
         phase - libm::floor(phase) < 0.5
     }
 
+    /// Moves the rod to `extension_mm` (clamped to the stroke) without
+    /// driving it: an external force.
+    pub fn set_extension_mm(&mut self, extension_mm: f64) {
+        self.extension_mm = self.clamp_stroke(extension_mm);
+    }
+
     /// Fails the Hall sensor (no more pulses, output low) or recovers it.
     pub fn set_hall_failed(&mut self, failed: bool) {
         self.hall_frozen = None;

@@ -687,6 +687,22 @@ where
         self.hall.count()
     }
 
+    /// The count where the home switch was first found closed, if it was.
+    pub fn count_at_switch(&self) -> Option<i32> {
+        self.count_at_switch
+    }
+
+    /// The counter.
+    pub fn encoder(&self) -> &E {
+        &self.hall
+    }
+
+    /// The counter (a feedback that needs reading before each poll, as
+    /// [`super::LinearAxis`]'s potentiometer does).
+    pub fn encoder_mut(&mut self) -> &mut E {
+        &mut self.hall
+    }
+
     /// The target count.
     pub fn target(&self) -> i32 {
         self.target

@@ -9,6 +9,7 @@
 //! | [`MountSensorsHw`] | [`crate::ports::AttitudeSensor`] | a tilt sensor ([`AxisAngles`]: ADXL345, WitMotion inclinometer) + any [`drivers::compass::Magnetometer`] |
 //! | [`ServoAxis`] | [`crate::motion::AxisDrive`] | [`drivers::servo::ContinuousServo`] + a quadrature encoder ([`EncoderCount`]) + home switch |
 //! | [`DcAxis`] | [`crate::motion::AxisDrive`] | [`drivers::dc_motor::DcMotor`] (BTS7960, L298N) + a Hall count ([`EncoderCount`]) + home switch + optional current sense ([`MotorCurrent`]) |
+//! | [`LinearAxis`] | [`crate::motion::AxisDrive`] | a [`DcAxis`] on a linear actuator between two pivots ([`drivers::linear::ActuatorGeometry`]), Hall pulses ([`HallFeedback`]) or a potentiometer ([`PotFeedback`]) |
 //! | [`TimedAxis`] | [`crate::motion::AxisDrive`] | [`drivers::dc_motor::DcMotor`] + home switch + optional current sense, no feedback: runs timed at calibrated speeds |
 //! | [`StepperAxis`] | [`crate::motion::AxisDrive`] | [`drivers::stepper::hbridge::HBridgeStepper`] + home switch |
 //!
@@ -19,6 +20,7 @@ mod attitude;
 mod axis;
 mod dc_axis;
 mod gps;
+mod linear_axis;
 mod rtc;
 mod servo_axis;
 mod timed_axis;
@@ -33,6 +35,10 @@ pub use dc_axis::{
     SPEED_WINDOW_MS, STOP_LEADS,
 };
 pub use gps::GpsPort;
+pub use linear_axis::{
+    HallFeedback, LinearAxis, LinearAxisConfig, LinearAxisConfigError, LinearAxisError,
+    LinearFeedback, NoEndSwitch, PotConfig, PotError, PotFeedback, POT_COUNTS_PER_MM,
+};
 pub use rtc::{ClockError, RtcClock};
 pub use servo_axis::{EncoderCount, ServoAxis, ServoAxisError};
 pub use timed_axis::{
