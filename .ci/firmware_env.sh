@@ -26,6 +26,7 @@ ELF_AVR_MEGA_EMU="$FW_TARGET_DIR/mega-emu/avr-none/release/avr_mega_tracker.elf"
 # move-time estimates), which links __udivdi3/__divdi3 into this image.
 # The budget, panic and code-generation checks do run on it.
 ELF_MEGA_DC="$FW_TARGET_DIR/mega-dc/avr-none/release/avr_mega_tracker.elf"
+ELF_MEGA_DC_EMU="$FW_TARGET_DIR/mega-dc-emu/avr-none/release/avr_mega_tracker.elf"
 ELF_AVR_UNO_EMU="$FW_TARGET_DIR/uno-emu/avr-none/release/avr_tracker.elf"
 ELF_AVR_UNO_PSA2020="$FW_TARGET_DIR/uno-psa2020/avr-none/release/avr_tracker.elf"
 ELF_AVR_UNO_DS1302="$FW_TARGET_DIR/uno-ds1302/avr-none/release/avr_tracker.elf"
@@ -101,6 +102,13 @@ build_avr_mega_emu() {
     cargo +nightly build --release --target avr-none -Z build-std=core -p suntracker-mega2560 \
     --bin avr_mega_tracker --target-dir "$FW_TARGET_DIR/mega-emu"
 }
+# The `dc` image for the emulator harness, the same way (the harness holds
+# PL0 high, real time, while a motor is driven or turns).
+build_avr_mega_dc_emu() {
+  SUNTRACKER_EMU_MS_PER_TICK=$EMU_MS_PER_TICK RUSTFLAGS="$AVR_MEGA_RUSTFLAGS" \
+    cargo +nightly build --release --target avr-none -Z build-std=core -p suntracker-mega2560 --features dc \
+    --bin avr_mega_tracker --target-dir "$FW_TARGET_DIR/mega-dc-emu"
+}
 # The Uno images for the emulator harness, the same way.
 build_avr_uno_emu() {
   SUNTRACKER_EMU_MS_PER_TICK=$EMU_MS_PER_TICK \
@@ -124,6 +132,7 @@ build_all_firmware() {
   build_avr_mega
   build_avr_mega_dc
   build_avr_mega_emu
+  build_avr_mega_dc_emu
   build_avr_uno_emu
   build_avr_uno_ds1302_emu
 }

@@ -195,14 +195,17 @@ pub struct DcParts {
     pub timer4: Timer4MotorPwm,
     /// Both axes' Hall encoders.
     pub encoders: PinChangeEncoders,
+    /// The ADC, shared by the current senses and the board's own readings.
+    pub adc: RefCell<Adc>,
 }
 
 impl DcParts {
-    /// Starts both timers (duty 0) and the encoders' interrupt (pull-ups
-    /// on: the Hall outputs are then never left floating).
+    /// Starts both timers (duty 0), the encoders' interrupt (pull-ups on:
+    /// the Hall outputs are then never left floating) and the ADC.
     pub fn start(
         tc1: chip::TC1,
         tc4: chip::TC4,
+        adc: chip::ADC,
         portb: &chip::PORTB,
         porth: &chip::PORTH,
         portk: &chip::PORTK,
@@ -212,8 +215,20 @@ impl DcParts {
             timer1: Timer1MotorPwm::start(tc1, portb),
             timer4: Timer4MotorPwm::start(tc4, porth),
             encoders: PinChangeEncoders::start(exint, portk, true),
+            adc: RefCell::new(Adc::new(adc)),
         }
     }
+}
+
+/// What the axes borrow: the motor parts and the ports of their enables
+/// and switches.
+pub struct DcBoard<'p> {
+    /// Timers, encoders, ADC.
+    pub parts: &'p DcParts,
+    /// The bridges' enables.
+    pub porta: &'p chip::PORTA,
+    /// The home switches.
+    pub portc: &'p chip::PORTC,
 }
 
 /// The two DC axes: C on Timer1, PA0/PA1, A2, PK4/PK5 and the home switch
@@ -221,13 +236,16 @@ impl DcParts {
 /// switch angle and scale. Not inlined, as the stepper image's axes.
 #[inline(never)]
 pub fn dc_axes<'p>(
-    parts: &'p DcParts,
-    porta: &'p chip::PORTA,
-    portc: &'p chip::PORTC,
-    adc: &'p RefCell<Adc>,
+    board: &'p DcBoard<'p>,
     axes: &[AxisConfig; 2],
     log: &mut Usart0,
 ) -> [MegaDcAxis<'p>; 2] {
+    let DcBoard {
+        parts,
+        porta,
+        portc,
+    } = *board;
+    let adc = &parts.adc;
     let (c_rpwm, c_lpwm) = parts.timer1.channels();
     let (a_rpwm, a_lpwm) = parts.timer4.channels();
     let bridge = BridgeConfig {

@@ -388,7 +388,9 @@ fn run_tracker(dp: Parts) -> ! {
     // The motors' timers and the Hall encoders' pin-change interrupt
     // (before the anemometer takes the external-interrupt block).
     #[cfg(feature = "dc")]
-    let dc_parts = dc::DcParts::start(dp.tc1, dp.tc4, &dp.portb, &dp.porth, &dp.portk, &dp.exint);
+    let dc_parts = dc::DcParts::start(
+        dp.tc1, dp.tc4, dp.adc, &dp.portb, &dp.porth, &dp.portk, &dp.exint,
+    );
     let anemometer = Anemometer::new(dp.exint, ExtInt::Int4);
     // The reed contact to ground needs the pull-up of PE4.
     let porte = dp.porte;
@@ -401,7 +403,11 @@ fn run_tracker(dp: Parts) -> ! {
     // The I²C devices.
     let bus = RefCell::new(I2c::new(dp.twi));
     #[cfg(feature = "dc")]
-    let adc = RefCell::new(Adc::new(dp.adc));
+    let dc_board = dc::DcBoard {
+        parts: &dc_parts,
+        porta: &porta,
+        portc: &portc,
+    };
     let mut platform = MegaPlatform {
         _millis: millis_clock,
         anemometer,
@@ -413,7 +419,7 @@ fn run_tracker(dp: Parts) -> ! {
         #[cfg(not(feature = "dc"))]
         adc: Adc::new(dp.adc),
         #[cfg(feature = "dc")]
-        adc: &adc,
+        adc: &dc_parts.adc,
         adc_channel: SUPPLY_CHANNEL,
         supply: None,
         irradiance: None,
@@ -424,15 +430,7 @@ fn run_tracker(dp: Parts) -> ! {
     #[cfg(not(feature = "dc"))]
     let mut firmware = build_firmware(&porta, &portc, &bus, &mut platform.store, gps, log);
     #[cfg(feature = "dc")]
-    let mut firmware = build_firmware(
-        &porta,
-        &portc,
-        (&dc_parts, &adc),
-        &bus,
-        &mut platform.store,
-        gps,
-        log,
-    );
+    let mut firmware = build_firmware(&dc_board, &bus, &mut platform.store, gps, log);
     // Run it where it is, inside the result: moving it out would put a
     // second copy of its kilobytes on the stack.
     match &mut firmware {
@@ -479,10 +477,6 @@ type MegaDrive<'p> = MegaAxis<'p>;
 #[cfg(feature = "dc")]
 type MegaDrive<'p> = dc::MegaDcAxis<'p>;
 
-/// What the `dc` image's axes borrow besides the ports.
-#[cfg(feature = "dc")]
-type DcBorrow<'p> = (&'p dc::DcParts, &'p RefCell<Adc>);
-
 /// The firmware on the board's axes, devices and stored configuration (the
 /// log says where it came from; a configuration the checks refuse halts).
 /// Not inlined: the configuration is read here, the axes and the sensors
@@ -493,9 +487,12 @@ type DcBorrow<'p> = (&'p dc::DcParts, &'p RefCell<Adc>);
 /// stack at power-on) runs with only the configuration in this frame.
 #[inline(never)]
 fn build_firmware<'p, 'b>(
-    porta: &'p chip::PORTA,
-    portc: &'p chip::PORTC,
-    #[cfg(feature = "dc")] dc_borrow: DcBorrow<'p>,
+    #[cfg(not(feature = "dc"))] porta: &'p chip::PORTA,
+    #[cfg(not(feature = "dc"))] portc: &'p chip::PORTC,
+    // The `dc` image's ports and motor parts in one argument: with one
+    // more, the configuration below was passed to `assemble_firmware` as a
+    // copy on the stack (207 B on the deepest stack, at start-up).
+    #[cfg(feature = "dc")] board: &'p dc::DcBoard<'p>,
     bus: &'b RefCell<I2c>,
     store: &mut ConfigStore<EepromStorage<Eeprom>>,
     gps: Usart1,
@@ -508,16 +505,16 @@ fn build_firmware<'p, 'b>(
     #[cfg(not(feature = "dc"))]
     return assemble_firmware(porta, portc, bus, config, gps, log);
     #[cfg(feature = "dc")]
-    return assemble_firmware(porta, portc, dc_borrow, bus, config, gps, log);
+    return assemble_firmware(board, bus, config, gps, log);
 }
 
 /// The firmware on the board's axes and devices with `config`. Not
 /// inlined: see [`build_firmware`].
 #[inline(never)]
 fn assemble_firmware<'p, 'b>(
-    porta: &'p chip::PORTA,
-    portc: &'p chip::PORTC,
-    #[cfg(feature = "dc")] (dc_parts, adc): DcBorrow<'p>,
+    #[cfg(not(feature = "dc"))] porta: &'p chip::PORTA,
+    #[cfg(not(feature = "dc"))] portc: &'p chip::PORTC,
+    #[cfg(feature = "dc")] board: &'p dc::DcBoard<'p>,
     bus: &'b RefCell<I2c>,
     config: Config,
     gps: Usart1,
@@ -526,7 +523,11 @@ fn assemble_firmware<'p, 'b>(
     #[cfg(not(feature = "dc"))]
     let axes = stepper_axes(porta, portc, &mut log);
     #[cfg(feature = "dc")]
-    let axes = dc::dc_axes(dc_parts, porta, portc, adc, &config.axes, &mut log);
+    // A copy of the axes' settings: lending `config` itself out would
+    // make the caller pass it as a copy (207 B more on the start-up stack).
+    let axis_configs = config.axes;
+    #[cfg(feature = "dc")]
+    let axes = dc::dc_axes(board, &axis_configs, &mut log);
     let rtc = Ds3231::new(SharedI2c::new(bus));
     let sensors = attitude_sensors(bus, &mut log);
     Firmware::new(
