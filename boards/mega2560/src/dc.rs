@@ -106,6 +106,11 @@ pub const DC_LOOP: DcAxisConfig = DcAxisConfig {
     move_margin_ms: 3_000,
 };
 
+/// The set-point deadband of the DC axes, degrees: a closed-loop correction
+/// is made beyond it (`sim::dc_drive::worm_slew_axis_config`'s 0.05°, 70
+/// Hall counts; the axis's own loop stops within 14).
+pub const DC_DEADBAND_DEG: f32 = 0.05;
+
 /// The board's configuration with the DC axes: the stepper image's ranges
 /// and switches, Hall counts and the slew drive's gears.
 #[allow(clippy::field_reassign_with_default)]
@@ -118,6 +123,7 @@ pub fn dc_config() -> Config {
             gear_ratio: DC_GEAR_RATIO,
             backlash_deg: 0.0,
             max_speed_deg_s: DC_MAX_SPEED_DEG_S,
+            deadband_deg: DC_DEADBAND_DEG,
             ..*ax
         };
     }

@@ -593,6 +593,11 @@ fn controller_options() -> ControllerOptions<f32> {
     ControllerOptions {
         plan_positions_per_tick: PLAN_POSITIONS_PER_TICK,
         attitude_every_ms: ATTITUDE_EVERY_MS,
+        // The DC axes count Hall edges from their home switches: each axis
+        // is corrected from that count ([`dc`]), so a move cut short (an
+        // obstruction, a stall) is finished by the retry.
+        #[cfg(feature = "dc")]
+        feedback: suntracker::motion::FeedbackMode::ClosedLoop,
         ..mechanics::controller_options()
     }
 }

@@ -25,7 +25,7 @@
 
 use drivers::dc_motor::Output;
 use sim::dc_drive::worm_slew_motor;
-use sim::dc_motor::{Bts7960Sense, DcMotor};
+use sim::dc_motor::{duty_of, Bts7960Sense, DcMotor};
 
 use crate::sim::Sim;
 
@@ -164,7 +164,7 @@ pub struct DcAxisModel {
     /// An obstacle: the axis cannot pass this angle from below (`Some`).
     pub obstacle_deg: Option<f64>,
     /// A current worth noting, A: [`DcAxisModel::crossings`] lists when
-    /// the motor's current rose above it.
+    /// the motor's current, while driven, rose above it.
     pub current_mark_a: f64,
     /// The CPU cycles at which the current rose above `current_mark_a`.
     pub crossings: Vec<u64>,
@@ -272,7 +272,10 @@ impl DcAxisModel {
             self.motor.step(dt_s);
             let to = self.motor.motor_angle_deg();
             let t0 = cycle0 as f64 + k as f64 * cycles_per_step;
-            let above = self.motor.current_a().abs() > self.current_mark_a;
+            // While driven: the current a high side carries, which the IS
+            // pin reports (a brake's reverse current is not sensed).
+            let above =
+                duty_of(output).is_some() && self.motor.current_a().abs() > self.current_mark_a;
             if above && !self.above {
                 self.crossings.push((t0 + cycles_per_step) as u64);
             }
