@@ -20,6 +20,13 @@ ELF_AVR_UNO="$FW_TARGET_DIR/avr-none/release/avr_tracker.elf"
 ELF_AVR_BENCH="$FW_TARGET_DIR/avr-none/release/avr_bench.elf"
 ELF_AVR_MEGA="$FW_TARGET_DIR/mega/avr-none/release/avr_mega_tracker.elf"
 ELF_AVR_MEGA_EMU="$FW_TARGET_DIR/mega-emu/avr-none/release/avr_mega_tracker.elf"
+# The Mega's `dc` image (DC gear motors): not an ELF_AVR_* name yet, so
+# .ci/avr_wide_math.sh does not check it: the core's DcAxis
+# (src/hw/dc_axis.rs) divides in 64 bits (its speed, duty, overrun and
+# move-time estimates), which links __udivdi3/__divdi3 into this image.
+# The budget, panic and code-generation checks do run on it.
+ELF_MEGA_DC="$FW_TARGET_DIR/mega-dc/avr-none/release/avr_mega_tracker.elf"
+ELF_MEGA_DC_EMU="$FW_TARGET_DIR/mega-dc-emu/avr-none/release/avr_mega_tracker.elf"
 ELF_AVR_UNO_EMU="$FW_TARGET_DIR/uno-emu/avr-none/release/avr_tracker.elf"
 ELF_AVR_UNO_PSA2020="$FW_TARGET_DIR/uno-psa2020/avr-none/release/avr_tracker.elf"
 ELF_AVR_UNO_DS1302="$FW_TARGET_DIR/uno-ds1302/avr-none/release/avr_tracker.elf"
@@ -79,6 +86,13 @@ build_avr_mega() {
     cargo +nightly build --release --target avr-none -Z build-std=core \
     -p suntracker-mega2560 --bin avr_mega_tracker -p suntracker-avr --bin avr_board_selftest --target-dir "$FW_TARGET_DIR/mega"
 }
+# The Mega with DC gear motors on IBT-2 (BTS7960) bridges and Hall encoders
+# (feature `dc`, boards/mega2560/src/dc.rs), held to the Mega's budget.
+build_avr_mega_dc() {
+  RUSTFLAGS="$AVR_MEGA_RUSTFLAGS" \
+    cargo +nightly build --release --target avr-none -Z build-std=core -p suntracker-mega2560 --features dc \
+    --bin avr_mega_tracker --target-dir "$FW_TARGET_DIR/mega-dc"
+}
 # The same image for the emulator harness (emu/): its Timer0 clock advances
 # EMU_MS_PER_TICK ms per 1 ms tick (boards/avr/src/millis.rs); nothing else
 # differs.
@@ -87,6 +101,13 @@ build_avr_mega_emu() {
   SUNTRACKER_EMU_MS_PER_TICK=$EMU_MS_PER_TICK RUSTFLAGS="$AVR_MEGA_RUSTFLAGS" \
     cargo +nightly build --release --target avr-none -Z build-std=core -p suntracker-mega2560 \
     --bin avr_mega_tracker --target-dir "$FW_TARGET_DIR/mega-emu"
+}
+# The `dc` image for the emulator harness, the same way (the harness holds
+# PL0 high, real time, while a motor is driven or turns).
+build_avr_mega_dc_emu() {
+  SUNTRACKER_EMU_MS_PER_TICK=$EMU_MS_PER_TICK RUSTFLAGS="$AVR_MEGA_RUSTFLAGS" \
+    cargo +nightly build --release --target avr-none -Z build-std=core -p suntracker-mega2560 --features dc \
+    --bin avr_mega_tracker --target-dir "$FW_TARGET_DIR/mega-dc-emu"
 }
 # The Uno images for the emulator harness, the same way.
 build_avr_uno_emu() {
@@ -109,7 +130,9 @@ build_all_firmware() {
   build_avr_uno_psa2020
   build_avr_uno_ds1302
   build_avr_mega
+  build_avr_mega_dc
   build_avr_mega_emu
+  build_avr_mega_dc_emu
   build_avr_uno_emu
   build_avr_uno_ds1302_emu
 }

@@ -47,6 +47,10 @@ OPTIONS:
                         /uno-ds1302-emu/avr-none/release/…): a DS1302 on
                         PC1-PC3 instead of the DS3231, in the --rtc state
                         (lost: clock halted, 2000-01-01)
+  --dc                  mega: the `dc` build (default ELF
+                        /mega-dc-emu/avr-none/release/avr_mega_tracker.elf):
+                        DC gear motors on IBT-2 bridges with Hall encoders
+                        (models/ibt2.rs) instead of the steppers
   --minutes N           emulated minutes to run (default 1440; uno-settings
                         5)
   --tilt-deg X          mount tilt about the tracker's x axis (default 0)
@@ -133,6 +137,7 @@ fn run() -> Result<ExitCode, String> {
     let mut start_deg = None::<(f64, f64)>;
     let mut eeprom = None::<PathBuf>;
     let mut ds1302 = false;
+    let mut dc = false;
     let mut eeprom_out = None::<PathBuf>;
     let mut site = None::<(f64, f64)>;
     let mut modbus_pty = None::<PathBuf>;
@@ -233,6 +238,7 @@ fn run() -> Result<ExitCode, String> {
                 }
             }
             Long("ds1302") => ds1302 = true,
+            Long("dc") => dc = true,
             Short('h') | Long("help") => {
                 println!("{HELP}");
                 return Ok(ExitCode::SUCCESS);
@@ -262,6 +268,7 @@ fn run() -> Result<ExitCode, String> {
         let target = std::env::var_os("CARGO_TARGET_DIR")
             .map_or_else(|| PathBuf::from("target"), PathBuf::from);
         target.join(match (image, ds1302) {
+            (Image::Mega, _) if dc => "mega-dc-emu/avr-none/release/avr_mega_tracker.elf",
             (Image::Mega, _) => "mega-emu/avr-none/release/avr_mega_tracker.elf",
             (Image::Uno, false) => "uno-emu/avr-none/release/avr_tracker.elf",
             (Image::UnoSettings, false) => "uno-emu/avr-none/release/avr_settings.elf",
@@ -278,6 +285,9 @@ fn run() -> Result<ExitCode, String> {
     }
     if image != Image::Mega && modbus_pty.is_some() {
         return Err("--modbus-pty: --image mega only".into());
+    }
+    if image != Image::Mega && dc {
+        return Err("--dc: --image mega only".into());
     }
     if image == Image::Mega && ds1302 {
         return Err("--ds1302: --image uno or uno-settings only".into());
@@ -462,6 +472,9 @@ fn run() -> Result<ExitCode, String> {
     let start = start.or(first).unwrap_or(default_start);
     let wind = gale.map_or_else(WindProfile::calm, |t| WindProfile::gust(t, 10, 40.0));
     let mut bench = MegaBench::mega(&elf);
+    if dc {
+        bench = bench.dc_drives();
+    }
     for (minute, line) in &typed {
         bench = bench.type_at(*minute, line);
     }

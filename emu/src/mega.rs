@@ -35,6 +35,7 @@ use std::time::{Duration, Instant};
 use crate::log::{parse_line, Event, LineAssembler};
 use crate::models::adxl345::Adxl345;
 use crate::models::ds3231::Ds3231;
+use crate::models::ibt2::DcAxisModel;
 use crate::models::modbus_master::{self, ModbusMaster, Step};
 use crate::models::mount::{Field, Mount};
 use crate::models::nmea::{GpsFeed, NmeaFeeder};
@@ -244,6 +245,9 @@ pub struct Run {
     /// Every pass awake longer than 10 ms of CPU time, in order: its CPU
     /// seconds and the emulated UTC it ended at.
     pub long_passes: Vec<(f64, f64)>,
+    /// With [`MegaBench::dc_drives`]: the emulated UTC (Unix seconds) of
+    /// each rise of a motor's current above [`DC_CURRENT_MARK_A`] (C, A).
+    pub current_rises: (Vec<f64>, Vec<f64>),
 }
 
 impl Run {
@@ -329,7 +333,19 @@ pub struct MegaBench {
     modbus: ModbusMaster,
     /// A pseudo-terminal bridged to USART2 ([`MegaBench::modbus_pty`]).
     modbus_pty: Option<PathBuf>,
+    /// DC gear motors on IBT-2 bridges instead of steppers
+    /// ([`MegaBench::dc_drives`]).
+    dc: bool,
+    /// Obstacles in a DC axis's way: from each emulated minute, axis (0 C,
+    /// 1 A) and the angle it holds the axis at coming from below (`None`:
+    /// gone).
+    obstacles: Vec<(f64, usize, Option<f64>)>,
 }
+
+/// The current the DC axes' rises are recorded above ([`Run::current_rises`]),
+/// A: the `dc` image's obstruction limit (`boards/mega2560/src/dc.rs`,
+/// 55 % of the motor's 5.5 A stall current at 12 V).
+pub const DC_CURRENT_MARK_A: f64 = 3.0;
 
 /// The board's supply divider (`boards/mega2560`'s `SUPPLY_ADC`): the pin
 /// sees 10/110 of the supply.
@@ -392,7 +408,28 @@ impl MegaBench {
             irradiance: Vec::new(),
             modbus: ModbusMaster::default(),
             modbus_pty: None,
+            dc: false,
+            obstacles: Vec::new(),
         }
+    }
+
+    /// The `dc` image's axes: DC gear motors (slew drives) on IBT-2
+    /// modules with Hall encoders ([`crate::models::ibt2`]), the switches
+    /// where the steppers' are; no stepper decoding. The bench runs at real
+    /// time while a motor is driven or turns (and [`REAL_TIME_HOLD_S`]
+    /// after), stepping the motors every emulated ms and putting each Hall
+    /// edge on port K at its cycle.
+    pub fn dc_drives(mut self) -> Self {
+        self.dc = true;
+        self
+    }
+
+    /// From emulated `minute`, an obstacle holds DC axis `axis` (0 C, 1 A)
+    /// at `deg` when it comes from below; `None` takes it away.
+    pub fn obstacle_at(mut self, minute: f64, axis: usize, deg: Option<f64>) -> Self {
+        self.obstacles.push((minute, axis, deg));
+        self.obstacles.sort_by(|a, b| a.0.total_cmp(&b.0));
+        self
     }
 
     /// Puts `step` on the RS-485 bus (USART2, DE on PH3) at emulated
@@ -597,6 +634,27 @@ impl MegaBench {
         };
         let mut c_axis = StepperDecoder::new(c_geometry, self.power_on.0);
         let mut a_axis = StepperDecoder::new(AxisGeometry::a_axis(), self.power_on.1);
+        let mut dc = self.dc.then(|| {
+            [
+                DcAxisModel::c_axis(self.power_on.0),
+                DcAxisModel::a_axis(self.power_on.1),
+            ]
+            .map(|mut m| {
+                m.current_mark_a = DC_CURRENT_MARK_A;
+                m
+            })
+        });
+        // The axes' angles: the DC models' or the decoded steppers'.
+        macro_rules! angles {
+            () => {
+                match &dc {
+                    Some([c, a]) => (c.angle_deg(), a.angle_deg()),
+                    None => (c_axis.angle_deg(), a_axis.angle_deg()),
+                }
+            };
+        }
+        // The DC axes' Hall levels: driven at power-on and after a reset.
+        let mut hall_driven = false;
         let mut timescale = match self.timescale {
             Some(n) => n,
             None => timescale_of(&self.elf)?,
@@ -646,7 +704,7 @@ impl MegaBench {
         let mut wind_level = None::<bool>;
         let mut last_change_emu = [f64::NEG_INFINITY; 2];
         let mut last_trace_min = -1i64;
-        let mut min_angles = (c_axis.angle_deg(), a_axis.angle_deg());
+        let mut min_angles = angles!();
         let mut cpu = CpuState::Running;
         let mut script = self.script.player();
         loop {
@@ -675,6 +733,7 @@ impl MegaBench {
                 // anemometer and real-time levels again.
                 switches = [None; 4];
                 contacts = [None; 3];
+                hall_driven = false;
                 supply_pin = None;
                 irradiance_pin = None;
                 sim.set_pin('L', 0, real_time);
@@ -683,19 +742,27 @@ impl MegaBench {
                 }
             }
             for text in due.lines {
-                let line = LogLine::harness(utc, text, (c_axis.angle_deg(), a_axis.angle_deg()));
+                let line = LogLine::harness(utc, text, angles!());
                 show_line(&line, self.echo, log_file.as_mut());
                 lines.push(line);
             }
 
             // Switches from the decoded angles: PC0 C home, PC1 A home,
             // PC2 C max, PC3 A max; active low.
-            let levels = [
-                !c_axis.home_closed(),
-                !a_axis.home_closed(),
-                !c_axis.max_closed(),
-                !a_axis.max_closed(),
-            ];
+            let levels = match &dc {
+                Some([c, a]) => [
+                    !c.home_closed(),
+                    !a.home_closed(),
+                    !c.max_closed(),
+                    !a.max_closed(),
+                ],
+                None => [
+                    !c_axis.home_closed(),
+                    !a_axis.home_closed(),
+                    !c_axis.max_closed(),
+                    !a_axis.max_closed(),
+                ],
+            };
             for (i, l) in levels.iter().enumerate() {
                 if switches[i] != Some(*l) {
                     if switches[i].is_some() {
@@ -763,6 +830,39 @@ impl MegaBench {
             if sim.uart_pending('1') > 0 {
                 gps_end_utc = gps_end_utc.max(utc + 64.0 * GPS_BYTE_S);
             }
+            // The DC axes: their bridges as the registers set them, the
+            // obstacles, the Hall levels; "coils" while a motor is driven
+            // or turns.
+            let dc_outputs = dc.as_mut().map(|models| {
+                for (k, m) in models.iter_mut().enumerate() {
+                    let obstacle = self
+                        .obstacles
+                        .iter()
+                        .rfind(|(min, ax, _)| *ax == k && now_emu >= min * 60.0)
+                        .and_then(|(_, _, deg)| *deg);
+                    m.set_obstacle(obstacle);
+                    if !hall_driven {
+                        let (a, b) = m.hall_levels();
+                        sim.set_pin('K', m.wiring.hall_bits.0, a);
+                        sim.set_pin('K', m.wiring.hall_bits.1, b);
+                    }
+                }
+                hall_driven = true;
+                let outputs = [models[0].wiring.output(&sim), models[1].wiring.output(&sim)];
+                let active = models[0].active(outputs[0]) || models[1].active(outputs[1]);
+                if active {
+                    coils = 1;
+                } else if coils != 0 {
+                    coils = 0;
+                    coils_off_emu = now_emu;
+                    trace.push(AngleSample {
+                        utc_s: utc,
+                        c_deg: models[0].angle_deg(),
+                        a_deg: models[1].angle_deg(),
+                    });
+                }
+                (outputs, active)
+            });
             // Real time while a coil is driven and REAL_TIME_HOLD_S after,
             // and while a GPS epoch is on the wire.
             let attached = pty.as_mut().is_some_and(|p| p.attached());
@@ -795,7 +895,12 @@ impl MegaBench {
             } else {
                 SERVICE_CYCLES
             };
-            cpu = sim.run_until(now_cycle + span);
+            cpu = match (dc.as_mut(), dc_outputs) {
+                (Some(models), Some((outputs, true))) if timescale <= 1.0 => {
+                    run_dc_span(&mut sim, models, outputs, now_cycle, span)
+                }
+                _ => sim.run_until(now_cycle + span),
+            };
             let after_emu = segments[segments.len() - 1].emu_s_at(sim.cycle());
             if let Some(p) = pty.as_mut() {
                 // The bridge: the client's bytes to USART2 as they come
@@ -838,14 +943,19 @@ impl MegaBench {
                     let line = LogLine::harness(
                         self.start_unix_s as f64 + after_emu,
                         format!("# modbus {}", t.summary()),
-                        (c_axis.angle_deg(), a_axis.angle_deg()),
+                        angles!(),
                     );
                     show_line(&line, self.echo, log_file.as_mut());
                     lines.push(line);
                 }
                 shown_modbus = master.transactions.len();
             }
-            for (cycle, value) in sim.port_changes('A') {
+            let port_a = sim.port_changes('A');
+            if let Some(models) = &dc {
+                min_angles.0 = min_angles.0.min(models[0].angle_deg());
+                min_angles.1 = min_angles.1.min(models[1].angle_deg());
+            }
+            for (cycle, value) in port_a.into_iter().filter(|_| dc.is_none()) {
                 let t = segments[segments.len() - 1].emu_s_at(cycle);
                 for (k, (axis, bits)) in [(&mut c_axis, value & 0x0F), (&mut a_axis, value >> 4)]
                     .into_iter()
@@ -889,16 +999,17 @@ impl MegaBench {
             let minute = (now_emu / 60.0) as i64;
             if minute != last_trace_min {
                 last_trace_min = minute;
+                let (c_deg, a_deg) = angles!();
                 trace.push(AngleSample {
                     utc_s: utc,
-                    c_deg: c_axis.angle_deg(),
-                    a_deg: a_axis.angle_deg(),
+                    c_deg,
+                    a_deg,
                 });
             }
 
             let bytes = sim.uart_take('0');
             if !bytes.is_empty() {
-                let start_angles = line_start.unwrap_or((c_axis.angle_deg(), a_axis.angle_deg()));
+                let start_angles = line_start.unwrap_or(angles!());
                 let t = segments[segments.len() - 1].emu_s_at(sim.cycle());
                 for text in log.push(&bytes) {
                     let event = parse_line(&text);
@@ -920,8 +1031,8 @@ impl MegaBench {
                         utc_s: self.start_unix_s as f64 + t,
                         text,
                         event,
-                        c_deg: c_axis.angle_deg(),
-                        a_deg: a_axis.angle_deg(),
+                        c_deg: angles!().0,
+                        a_deg: angles!().1,
                         c_start_deg: st.0,
                         a_start_deg: st.1,
                     };
@@ -973,11 +1084,27 @@ impl MegaBench {
             )
         };
         let longest_awake = sim.longest_awake().map(pass);
+        let rises = |k: usize| -> Vec<f64> {
+            dc.as_ref().map_or_else(Vec::new, |m| {
+                m[k].crossings
+                    .iter()
+                    .map(|&c| {
+                        let at = segments
+                            .iter()
+                            .rev()
+                            .find(|s| s.cycle <= c)
+                            .map_or(0.0, |s| s.emu_s_at(c));
+                        self.start_unix_s as f64 + at
+                    })
+                    .collect()
+            })
+        };
+        let current_rises = (rises(0), rises(1));
         let long_passes = sim.long_awake().iter().copied().map(pass).collect();
         Ok(Run {
             ram: RamUse::measure(&sim, RAM_START, static_end, PAINT),
             lines,
-            final_angles: (c_axis.angle_deg(), a_axis.angle_deg()),
+            final_angles: angles!(),
             illegal_steps: (c_axis.illegal.clone(), a_axis.illegal.clone()),
             step_times: (
                 std::mem::take(&mut step_times[0]),
@@ -1004,6 +1131,7 @@ impl MegaBench {
             twi_starts,
             longest_awake,
             long_passes,
+            current_rises,
             modbus: master,
             paced: self
                 .modbus_pty
@@ -1011,4 +1139,51 @@ impl MegaBench {
                 .then_some((paced_done_s + paced_s, behind_s)),
         })
     }
+}
+
+/// Runs the CPU for `span` cycles from `cycle0` with the DC models stepped
+/// over the same span under `outputs` (the bridges as the registers set
+/// them at its start): each Hall edge is put on port K at its cycle, the
+/// current sense on its ADC input at the start (the models' current at the
+/// span's end: the CPU reads a value at most one emulated ms early).
+fn run_dc_span(
+    sim: &mut Sim,
+    models: &mut [DcAxisModel; 2],
+    outputs: [drivers::dc_motor::Output; 2],
+    cycle0: u64,
+    span: u64,
+) -> CpuState {
+    let mut edges: Vec<(u64, u8, bool, bool)> = Vec::new();
+    for (k, m) in models.iter_mut().enumerate() {
+        edges.extend(
+            m.advance(outputs[k], cycle0, span, F_CPU)
+                .into_iter()
+                .map(|(c, a, b)| (c, k as u8, a, b)),
+        );
+        sim.set_adc_mv(m.wiring.sense_channel, m.sense_mv());
+    }
+    edges.sort_by_key(|e| e.0);
+    for (cycle, k, a, b) in edges {
+        let cpu = run_to(sim, cycle);
+        if cpu != CpuState::Running {
+            return cpu;
+        }
+        let (bit_a, bit_b) = models[usize::from(k)].wiring.hall_bits;
+        sim.set_pin('K', bit_a, a);
+        sim.set_pin('K', bit_b, b);
+    }
+    run_to(sim, cycle0 + span)
+}
+
+/// Runs the CPU to `cycle` (asleep too: [`Sim::stop_at`]), past the watched
+/// port writes that stop [`Sim::run_until`] early.
+fn run_to(sim: &mut Sim, cycle: u64) -> CpuState {
+    while sim.cycle() < cycle {
+        sim.stop_at(cycle);
+        let cpu = sim.run_until(cycle);
+        if cpu != CpuState::Running {
+            return cpu;
+        }
+    }
+    CpuState::Running
 }

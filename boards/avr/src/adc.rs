@@ -18,6 +18,9 @@
 //! the code. No interrupt is used and ADIF is left alone (simavr 1.6, the
 //! Debian package, does not clear it on a write of one; ADSC is enough).
 
+#[cfg(avr_atmega2560)]
+use core::cell::RefCell;
+
 use super::chip;
 
 /// Single-ended input channels: ADC0..ADC7 on the ATmega328P (ADC6/ADC7
@@ -125,9 +128,77 @@ impl Adc {
         Some(self.adc.adc().read().bits() & ADC_MAX_CODE)
     }
 
+    /// One conversion of `channel`, waited for (13 ADC clocks, 104 µs,
+    /// after any conversion under way ends): for a reading taken where it
+    /// is needed (a motor's current sense, [`SharedAdcChannel`]). A
+    /// conversion [`Adc::start`] began and [`Adc::poll`] has not taken is
+    /// started again on its own channel afterwards, so that its reader
+    /// gets a code of its channel, one conversion later.
+    #[cfg(avr_atmega2560)]
+    pub fn convert(&mut self, channel: u8) -> Result<u16, AdcError> {
+        if channel >= ADC_CHANNELS {
+            return Err(AdcError::NoSuchChannel(channel));
+        }
+        while self.is_busy() {}
+        let resume = self.pending.then(|| self.selected());
+        self.select(channel);
+        self.adc.adcsra().write(|w| control(w, true));
+        while self.is_busy() {}
+        let code = self.adc.adc().read().bits() & ADC_MAX_CODE;
+        if let Some(previous) = resume {
+            self.select(previous);
+            self.adc.adcsra().write(|w| control(w, true));
+        }
+        Ok(code)
+    }
+
+    /// The selected single-ended channel (MUX2:0 of ADMUX, MUX5 of ADCSRB).
+    #[cfg(avr_atmega2560)]
+    fn selected(&self) -> u8 {
+        let low = self.adc.admux().read().bits() & 0b111;
+        let high = if self.adc.adcsrb().read().mux5().bit_is_set() {
+            8
+        } else {
+            0
+        };
+        low | high
+    }
+
     /// Disables the ADC and gives it back.
     pub fn release(self) -> chip::ADC {
         self.adc.adcsra().reset();
         self.adc
+    }
+}
+
+/// One ADC input of an [`Adc`] shared with other readers (the image's own
+/// sampling of its supply and sensors): each reading is an
+/// [`Adc::convert`], a conversion waited for. Refused with
+/// [`AdcError::Busy`] while another reader holds the converter.
+#[cfg(avr_atmega2560)]
+pub struct SharedAdcChannel<'a> {
+    adc: &'a RefCell<Adc>,
+    channel: u8,
+}
+
+#[cfg(avr_atmega2560)]
+impl<'a> SharedAdcChannel<'a> {
+    /// Input `channel` (0 = ADC0) of `adc`; checked at each reading.
+    pub fn new(adc: &'a RefCell<Adc>, channel: u8) -> Self {
+        SharedAdcChannel { adc, channel }
+    }
+}
+
+#[cfg(avr_atmega2560)]
+impl drivers::adc::AdcChannel for SharedAdcChannel<'_> {
+    type Error = AdcError;
+
+    fn read_raw(&mut self) -> Result<u16, AdcError> {
+        let mut adc = self.adc.try_borrow_mut().map_err(|_| AdcError::Busy)?;
+        adc.convert(self.channel)
+    }
+
+    fn full_scale(&self) -> u16 {
+        ADC_MAX_CODE
     }
 }

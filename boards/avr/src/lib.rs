@@ -73,6 +73,8 @@ mod delay;
 pub mod eeprom;
 mod gpio;
 mod millis;
+#[cfg(avr_atmega2560)]
+mod motor_pwm;
 mod pcint;
 mod pwm;
 #[cfg(avr_atmega2560)]
@@ -86,11 +88,17 @@ pub use avr_device::atmega2560 as chip;
 #[cfg(not(avr_atmega2560))]
 pub use avr_device::atmega328p as chip;
 
+#[cfg(avr_atmega2560)]
+pub use adc::SharedAdcChannel;
 pub use adc::{Adc, AdcError, ADC_CHANNELS, ADC_MAX_CODE};
 pub use anemometer::{on_anemometer_edge, Anemometer, ExtInt};
 pub use delay::Delay;
 pub use gpio::{InputPin, OpenDrainPin, OutputPin, Port, PortInputPin, PortOutputPin};
 pub use millis::{millis, on_timer0_compare, sleep_until_interrupt, Millis, MS_PER_TICK};
+#[cfg(avr_atmega2560)]
+pub use motor_pwm::{
+    MotorDutyOutOfRange, MotorPwm, Timer1MotorPwm, Timer4MotorPwm, MOTOR_MAX_DUTY, MOTOR_PWM_TOP,
+};
 pub use pcint::{on_encoder_pin_change, EncoderPort, PinChangeEncoders};
 pub use pwm::{
     Oc1a, Oc1b, PulseWidth, PwmError, Timer1Pwm, COUNTS_PER_US, FRAME_TOP, FRAME_US, MAX_DUTY,

@@ -47,6 +47,12 @@
 //!  Mega D6 ─ DE,/RE ┘     └ B
 //! ```
 //!
+//! With the cargo feature `dc` the image drives DC gear motors (slew
+//! drives) through IBT-2 (BTS7960) modules instead, closed on their Hall
+//! encoders: the pins, the wiring and the drive's figures are in [`dc`];
+//! the stepper bridge pins PA0–PA7 above are then free but for the four
+//! bridge enables.
+//!
 //! Drives and axes: Li et al.'s (2022) mechanics, [`suntracker::mechanics`] (200-step
 //! motors, full step, 50:1 worms, 0.036° a step, C −180…+180°, A −90…+90°,
 //! homed at the low ends, open loop).
@@ -65,10 +71,15 @@
 
 use core::cell::RefCell;
 
+#[cfg(feature = "dc")]
+pub mod dc;
+
 use drivers::compass::calibration::Calibration;
 use drivers::compass::qmc5883l::{Config as QmcConfig, Qmc5883l};
 use drivers::rtc::Ds3231;
+#[cfg(not(feature = "dc"))]
 use drivers::stepper::hbridge::{BridgePins, HBridgeStepper};
+#[cfg(not(feature = "dc"))]
 use drivers::stepper::LimitSwitches;
 use drivers::tilt::adxl345::Adxl345;
 
@@ -76,19 +87,25 @@ use embedded_hal::digital::InputPin as _;
 use suntracker::config::Config;
 use suntracker::controller::{ControllerError, ControllerOptions};
 use suntracker::firmware::{AppConfig, ConfigPersist, Firmware, Platform, StartError};
-use suntracker::hw::{MountSensorsHw, StepperAxis};
+use suntracker::hw::MountSensorsHw;
+#[cfg(not(feature = "dc"))]
+use suntracker::hw::StepperAxis;
 use suntracker::log::Sink;
-use suntracker::mechanics::{self, bridge_config};
+use suntracker::mechanics;
+#[cfg(not(feature = "dc"))]
+use suntracker::mechanics::bridge_config;
 use suntracker::panel::{Divider, PanelAdc};
 use suntracker::persist::{ConfigStore, EepromStorage};
 use suntracker::safety::{Reading, StowInputs};
 use suntracker::sunspec::ModbusPort;
 use suntracker_avr::eeprom::Eeprom;
 use suntracker_avr::{
-    chip, millis, sleep_until_interrupt, Anemometer, ExtInt, I2c, InputPin, Millis, OutputPin,
-    Parity, PortInputPin, PortOutputPin, Rs485, SharedI2c, Usart0, Usart1, Watchdog, MS_PER_TICK,
+    chip, millis, sleep_until_interrupt, Anemometer, ExtInt, I2c, InputPin, Millis, Parity,
+    PortInputPin, Rs485, SharedI2c, Usart0, Usart1, Watchdog, MS_PER_TICK,
 };
 use suntracker_avr::{Adc, ADC_MAX_CODE};
+#[cfg(not(feature = "dc"))]
+use suntracker_avr::{OutputPin, PortOutputPin};
 use suntracker_modbus::sunspec::Identity;
 
 /// Board name in the boot line.
@@ -146,6 +163,13 @@ const MODBUS_IDENTITY: Identity<'static> = Identity {
     tracker_name: "tracker-1",
 };
 
+/// The platform's ADC: its own, or in the `dc` image shared with the
+/// motors' current sense.
+#[cfg(not(feature = "dc"))]
+type PlatformAdc<'p> = Adc;
+#[cfg(feature = "dc")]
+type PlatformAdc<'p> = &'p RefCell<Adc>;
+
 /// Monotonic clock, anemometer, watchdog, sleep, console input, the
 /// weather contacts and the configuration's EEPROM of the board.
 struct MegaPlatform<'p> {
@@ -155,7 +179,7 @@ struct MegaPlatform<'p> {
     stow_pins: [PortInputPin<'p, chip::PORTC>; 3],
     /// The ADC, the channel its conversion runs on, and the last readings
     /// of the supply and the pyranometer.
-    adc: Adc,
+    adc: PlatformAdc<'p>,
     adc_channel: u8,
     supply: Option<Reading>,
     irradiance: Option<Reading>,
@@ -185,11 +209,25 @@ impl Platform for MegaPlatform<'_> {
         // plant's contact is passed as its level (the configuration says
         // which one is active).
         let [snow, hail, plant] = &mut self.stow_pins;
+        #[cfg(not(feature = "dc"))]
+        let adc = &mut self.adc;
+        // Never held here: the motors' sense reads it inside the pass's
+        // drive service only.
+        #[cfg(feature = "dc")]
+        let Ok(mut adc) = self.adc.try_borrow_mut() else {
+            return StowInputs {
+                snow: snow.is_low().ok(),
+                hail: hail.is_low().ok(),
+                external_high: plant.is_high().ok(),
+                supply_mv: self.supply,
+                irradiance_w_m2: self.irradiance,
+            };
+        };
         // The supply and the pyranometer in turn: the conversion started a
         // tick ago read, the other channel's started (neither waits). A
         // supply code at a rail is no supply's; the pyranometer's output
         // never reaches full scale (2.5 V of 5).
-        if let Some(code) = self.adc.poll() {
+        if let Some(code) = adc.poll() {
             let reading = |v: Option<u32>| match v {
                 Some(v) if code != ADC_MAX_CODE => {
                     Reading::Value(u16::try_from(v).unwrap_or(u16::MAX))
@@ -209,7 +247,7 @@ impl Platform for MegaPlatform<'_> {
         } else {
             SUPPLY_CHANNEL
         };
-        let _ = self.adc.start(self.adc_channel);
+        let _ = adc.start(self.adc_channel);
         StowInputs {
             snow: snow.is_low().ok(),
             hail: hail.is_low().ok(),
@@ -247,6 +285,14 @@ pub fn run(dp: chip::Peripherals) -> ! {
         TWI,
         EEPROM,
         ADC,
+        #[cfg(feature = "dc")]
+        TC1,
+        #[cfg(feature = "dc")]
+        TC4,
+        #[cfg(feature = "dc")]
+        PORTB,
+        #[cfg(feature = "dc")]
+        PORTK,
         ..
     } = dp;
     run_tracker(Parts {
@@ -265,6 +311,14 @@ pub fn run(dp: chip::Peripherals) -> ! {
         twi: TWI,
         eeprom: EEPROM,
         adc: ADC,
+        #[cfg(feature = "dc")]
+        tc1: TC1,
+        #[cfg(feature = "dc")]
+        tc4: TC4,
+        #[cfg(feature = "dc")]
+        portb: PORTB,
+        #[cfg(feature = "dc")]
+        portk: PORTK,
     })
 }
 
@@ -285,6 +339,14 @@ struct Parts {
     twi: chip::TWI,
     eeprom: chip::EEPROM,
     adc: chip::ADC,
+    #[cfg(feature = "dc")]
+    tc1: chip::TC1,
+    #[cfg(feature = "dc")]
+    tc4: chip::TC4,
+    #[cfg(feature = "dc")]
+    portb: chip::PORTB,
+    #[cfg(feature = "dc")]
+    portk: chip::PORTK,
 }
 
 /// The configuration at power-on: the copy saved in the EEPROM (console
@@ -296,7 +358,7 @@ fn stored_config(store: &mut ConfigStore<EepromStorage<Eeprom>>, log: &mut Usart
     let loaded = store.load();
     if loaded.defaults {
         log.flash(suntracker::flash_str!("config source=defaults\n"));
-        mechanics::config()
+        board_config()
     } else {
         log.flash(suntracker::flash_str!("config source=stored\n"));
         loaded.config
@@ -323,6 +385,12 @@ fn run_tracker(dp: Parts) -> ! {
     // Motors and switches.
     let porta = dp.porta;
     let portc = dp.portc;
+    // The motors' timers and the Hall encoders' pin-change interrupt
+    // (before the anemometer takes the external-interrupt block).
+    #[cfg(feature = "dc")]
+    let dc_parts = dc::DcParts::start(
+        dp.tc1, dp.tc4, dp.adc, &dp.portb, &dp.porth, &dp.portk, &dp.exint,
+    );
     let anemometer = Anemometer::new(dp.exint, ExtInt::Int4);
     // The reed contact to ground needs the pull-up of PE4.
     let porte = dp.porte;
@@ -334,6 +402,12 @@ fn run_tracker(dp: Parts) -> ! {
 
     // The I²C devices.
     let bus = RefCell::new(I2c::new(dp.twi));
+    #[cfg(feature = "dc")]
+    let dc_board = dc::DcBoard {
+        parts: &dc_parts,
+        porta: &porta,
+        portc: &portc,
+    };
     let mut platform = MegaPlatform {
         _millis: millis_clock,
         anemometer,
@@ -342,7 +416,10 @@ fn run_tracker(dp: Parts) -> ! {
             InputPin::<_, 5>::new(&portc, true).erase(),
             InputPin::<_, 6>::new(&portc, true).erase(),
         ],
+        #[cfg(not(feature = "dc"))]
         adc: Adc::new(dp.adc),
+        #[cfg(feature = "dc")]
+        adc: &dc_parts.adc,
         adc_channel: SUPPLY_CHANNEL,
         supply: None,
         irradiance: None,
@@ -350,7 +427,10 @@ fn run_tracker(dp: Parts) -> ! {
         cpu: dp.cpu,
         store: ConfigStore::new(Eeprom::storage(dp.eeprom)),
     };
+    #[cfg(not(feature = "dc"))]
     let mut firmware = build_firmware(&porta, &portc, &bus, &mut platform.store, gps, log);
+    #[cfg(feature = "dc")]
+    let mut firmware = build_firmware(&dc_board, &bus, &mut platform.store, gps, log);
     // Run it where it is, inside the result: moving it out would put a
     // second copy of its kilobytes on the stack.
     match &mut firmware {
@@ -389,7 +469,13 @@ type MegaSensors<'b> = MountSensorsHw<Adxl345<SharedI2c<'b>>, Qmc5883l<SharedI2c
 
 /// The firmware loop on this board's parts.
 type MegaFirmware<'p, 'b> =
-    Firmware<f32, Ds3231<SharedI2c<'b>>, Usart1, MegaAxis<'p>, MegaSensors<'b>, Usart0, TABLE_LEN>;
+    Firmware<f32, Ds3231<SharedI2c<'b>>, Usart1, MegaDrive<'p>, MegaSensors<'b>, Usart0, TABLE_LEN>;
+
+/// The axes' drive: steppers, or DC motors with the `dc` feature.
+#[cfg(not(feature = "dc"))]
+type MegaDrive<'p> = MegaAxis<'p>;
+#[cfg(feature = "dc")]
+type MegaDrive<'p> = dc::MegaDcAxis<'p>;
 
 /// The firmware on the board's axes, devices and stored configuration (the
 /// log says where it came from; a configuration the checks refuse halts).
@@ -401,8 +487,12 @@ type MegaFirmware<'p, 'b> =
 /// stack at power-on) runs with only the configuration in this frame.
 #[inline(never)]
 fn build_firmware<'p, 'b>(
-    porta: &'p chip::PORTA,
-    portc: &'p chip::PORTC,
+    #[cfg(not(feature = "dc"))] porta: &'p chip::PORTA,
+    #[cfg(not(feature = "dc"))] portc: &'p chip::PORTC,
+    // The `dc` image's ports and motor parts in one argument: with one
+    // more, the configuration below was passed to `assemble_firmware` as a
+    // copy on the stack (207 B on the deepest stack, at start-up).
+    #[cfg(feature = "dc")] board: &'p dc::DcBoard<'p>,
     bus: &'b RefCell<I2c>,
     store: &mut ConfigStore<EepromStorage<Eeprom>>,
     gps: Usart1,
@@ -412,21 +502,32 @@ fn build_firmware<'p, 'b>(
     if config.validate().is_err() {
         halt(&mut log, "configuration refused");
     }
-    assemble_firmware(porta, portc, bus, config, gps, log)
+    #[cfg(not(feature = "dc"))]
+    return assemble_firmware(porta, portc, bus, config, gps, log);
+    #[cfg(feature = "dc")]
+    return assemble_firmware(board, bus, config, gps, log);
 }
 
 /// The firmware on the board's axes and devices with `config`. Not
 /// inlined: see [`build_firmware`].
 #[inline(never)]
 fn assemble_firmware<'p, 'b>(
-    porta: &'p chip::PORTA,
-    portc: &'p chip::PORTC,
+    #[cfg(not(feature = "dc"))] porta: &'p chip::PORTA,
+    #[cfg(not(feature = "dc"))] portc: &'p chip::PORTC,
+    #[cfg(feature = "dc")] board: &'p dc::DcBoard<'p>,
     bus: &'b RefCell<I2c>,
     config: Config,
     gps: Usart1,
     mut log: Usart0,
 ) -> Result<MegaFirmware<'p, 'b>, StartError> {
+    #[cfg(not(feature = "dc"))]
     let axes = stepper_axes(porta, portc, &mut log);
+    #[cfg(feature = "dc")]
+    // A copy of the axes' settings: lending `config` itself out would
+    // make the caller pass it as a copy (207 B more on the start-up stack).
+    let axis_configs = config.axes;
+    #[cfg(feature = "dc")]
+    let axes = dc::dc_axes(board, &axis_configs, &mut log);
     let rtc = Ds3231::new(SharedI2c::new(bus));
     let sensors = attitude_sensors(bus, &mut log);
     Firmware::new(
@@ -459,12 +560,19 @@ fn serve(
     }
 }
 
+#[cfg(feature = "dc")]
+use dc::dc_config as board_config;
+/// The board's own configuration: Li et al.'s (2022) mechanics, or with
+/// the `dc` feature the same axes on the slew drives ([`dc::dc_config`]).
+#[cfg(not(feature = "dc"))]
+use mechanics::config as board_config;
+
 /// The loop's settings: this board's name and its own configuration.
 /// Not inlined, as [`controller_options`].
 #[inline(never)]
 fn app_config() -> AppConfig {
     AppConfig {
-        defaults: mechanics::config,
+        defaults: board_config,
         ..AppConfig::new(BOARD)
     }
 }
@@ -485,11 +593,17 @@ fn controller_options() -> ControllerOptions<f32> {
     ControllerOptions {
         plan_positions_per_tick: PLAN_POSITIONS_PER_TICK,
         attitude_every_ms: ATTITUDE_EVERY_MS,
+        // The DC axes count Hall edges from their home switches: each axis
+        // is corrected from that count ([`dc`]), so a move cut short (an
+        // obstruction, a stall) is finished by the retry.
+        #[cfg(feature = "dc")]
+        feedback: suntracker::motion::FeedbackMode::ClosedLoop,
         ..mechanics::controller_options()
     }
 }
 
 /// A stepper axis of this board: its bridge on port A, its switches on port C.
+#[cfg(not(feature = "dc"))]
 type MegaAxis<'p> = StepperAxis<
     PortOutputPin<'p, chip::PORTA>,
     PortInputPin<'p, chip::PORTC>,
@@ -500,6 +614,7 @@ type MegaAxis<'p> = StepperAxis<
 /// PA4–PA7; their limit switches on PC0/PC2 and PC1/PC3, the lower ones
 /// also the home switches (active low, pulled up). Not inlined, as
 /// [`attitude_sensors`].
+#[cfg(not(feature = "dc"))]
 #[inline(never)]
 fn stepper_axes<'p>(
     porta: &'p chip::PORTA,

@@ -5,6 +5,7 @@ pub mod bcd_clock;
 pub mod ds1302;
 pub mod ds3231;
 pub mod fs5106r;
+pub mod ibt2;
 pub mod modbus_master;
 pub mod mount;
 pub mod nmea;

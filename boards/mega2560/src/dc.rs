@@ -1,0 +1,303 @@
+//! The `dc` image's axes: a DC gear motor (slew drive) on each axis, driven
+//! through an IBT-2 module (two Infineon BTS7960 half bridges) and closed on
+//! the motor's two-channel Hall encoder ([`suntracker::hw::DcAxis`]).
+//!
+//! | function | pin | Mega header |
+//! |---|---|---|
+//! | C axis IBT-2 RPWM / LPWM (20 kHz, Timer1 OC1A / OC1B) | PB5 / PB6 | D11 / D12 |
+//! | A axis IBT-2 RPWM / LPWM (20 kHz, Timer4 OC4B / OC4C) | PH4 / PH5 | D7 / D8 |
+//! | C axis IBT-2 R_EN / L_EN | PA0 / PA1 | D22 / D23 |
+//! | A axis IBT-2 R_EN / L_EN | PA4 / PA5 | D26 / D27 |
+//! | C axis IBT-2 R_IS and L_IS joined, 1 kΩ to GND | ADC2 (PF2) | A2 |
+//! | A axis IBT-2 R_IS and L_IS joined, 1 kΩ to GND | ADC3 (PF3) | A3 |
+//! | C axis Hall encoder channels A / B (PCINT20 / 21) | PK4 / PK5 | A12 / A13 |
+//! | A axis Hall encoder channels A / B (PCINT22 / 23) | PK6 / PK7 | A14 / A15 |
+//!
+//! The stepper image's bridge pins PA0–PA7 are free here (only four are
+//! used, as enables); the home and limit switches, the weather contacts,
+//! the supply and pyranometer inputs, the GPS, the I²C bus, the RS-485
+//! port (USART2 D16/D17, driver enable D6 = PH3, which Timer4 leaves to
+//! the port: its OC4A output stays disconnected) and the anemometer (D2)
+//! are those of the stepper image.
+//!
+//! Wiring sketch (one axis; the A axis is the same on its pins):
+//!
+//! ```text
+//!  Mega D11 ─ RPWM ┐                 ┌ M+ ─┐  Pololu 37D 131.25:1 gear motor
+//!  Mega D12 ─ LPWM │ IBT-2 (2×BTS7960)│    ├─ → 60:1 worm (slew drive) → C axis
+//!  Mega D22 ─ R_EN ├ (+12 V motor)    └ M− ─┘
+//!  Mega D23 ─ L_EN │
+//!  Mega A2 ─┬ R_IS ┤
+//!           └ L_IS ┘   A2 ─ 1 kΩ ─ GND
+//!  Mega A12 ─ Hall A   Mega A13 ─ Hall B   (encoder Vcc 5 V, GND)
+//!  Mega D37 ─ home switch (closed at the low stop) ─ GND
+//! ```
+//!
+//! The BTS7960 (Infineon, *BTS 7960 High Current PN Half Bridge*, data
+//! sheet Rev. 1.1, section 4.4 "Current sense") sources `I_IS = I_L /
+//! k_ILIS` from the IS pin of the conducting high side, k_ILIS typically
+//! 8,500 (item 4.4.6, characterised with R_IS = 1 kΩ); the idle half
+//! bridge's IS leaks at most 1 µA (item 4.4.8), so R_IS and L_IS share one
+//! resistor and one ADC input: 1 kΩ gives 0.118 V per A, 5.5 A (the motor's
+//! stall current at 12 V) 0.65 V, 132 codes of the 5 V, 10-bit ADC
+//! ([`SenseConfig::DATASHEET_1K_5V`]). The IS pin follows the PWM (its
+//! high side conducts during the on-time only): a capacitor across the
+//! resistor (1 µF: 1 ms against the 50 µs period) makes the reading the
+//! average, as the emulator's and the simulator's models read it.
+//!
+//! The drive is `sim::dc_drive::worm_slew_motor`'s: the Pololu 37D
+//! 131.25:1 gear motor at 12 V (10,000 rpm, 5.5 A stall at the motor) with
+//! its 64-count motor-shaft Hall encoder (16 pulses a turn on each of two
+//! channels, every edge counted by [`suntracker_avr::PinChangeEncoders`]),
+//! then a 60:1 worm: 7,875:1 in all, 504,000 counts an output turn (1,400
+//! a degree), 7.62 °/s at most. Its position loop and watches are
+//! [`DC_LOOP`] (the simulator's `WORM_SLEW_LOOP`, whose figures it
+//! explains).
+
+use core::cell::RefCell;
+
+use drivers::dc_motor::bts7960::{Bts7960Pins, CurrentSense, SenseConfig};
+use drivers::dc_motor::{Config as BridgeConfig, DcMotor, RestMode};
+use drivers::encoder::SharedEncoder;
+use suntracker::config::{AxisConfig, Config};
+use suntracker::firmware::Motion;
+use suntracker::hw::{DcAxis, DcAxisConfig};
+use suntracker::mechanics;
+use suntracker::motion::{AxisDrive, DriveFault};
+use suntracker_avr::{
+    chip, millis, Adc, MotorPwm, OutputPin, PinChangeEncoders, PortInputPin, PortOutputPin,
+    SharedAdcChannel, Timer1MotorPwm, Timer4MotorPwm, Usart0,
+};
+
+/// Hall counts per motor turn: 16 pulses on each of two channels, both
+/// edges of both counted.
+pub const HALL_COUNTS_PER_MOTOR_REV: u32 = 64;
+/// Gear ratio from the motor to the axis: 131.25 (gearbox) × 60 (worm).
+pub const DC_GEAR_RATIO: f32 = 7_875.0;
+/// The fastest an axis is commanded, °/s: under the 7.62 °/s of the
+/// motor's no-load speed through the gears.
+pub const DC_MAX_SPEED_DEG_S: f32 = 7.0;
+/// The C axis's current sense (A2).
+pub const C_SENSE_CHANNEL: u8 = 2;
+/// The A axis's current sense (A3).
+pub const A_SENSE_CHANNEL: u8 = 3;
+/// The bridges' duty ramp, ‰/ms: a start to full duty takes 0.5 s.
+pub const DC_RAMP_PERMILLE_PER_MS: u16 = 2;
+
+/// The position loop and watches of each axis: those of
+/// `sim::dc_drive::WORM_SLEW_LOOP` for this drive (full duty beyond 4°,
+/// 15 % at the target, done within 14 counts = 0.01°, a stall after
+/// 500 ms without a count, an obstruction above 3 A for 100 ms, 55 % of
+/// the 5.5 A stall current).
+pub const DC_LOOP: DcAxisConfig = DcAxisConfig {
+    max_duty_permille: 1_000,
+    min_duty_permille: 150,
+    slow_band_counts: 5_600,
+    deadband_counts: 14,
+    brake_lead_ms: 130,
+    settle_ms: 100,
+    max_reapproaches: 3,
+    stall_ms: 500,
+    drive_threshold_permille: 100,
+    max_idle_counts: 70,
+    max_current_ma: 3_000,
+    overcurrent_ms: 100,
+    min_speed_cps: 5_500,
+    move_margin_ms: 3_000,
+};
+
+/// The set-point deadband of the DC axes, degrees: a closed-loop correction
+/// is made beyond it (`sim::dc_drive::worm_slew_axis_config`'s 0.05°, 70
+/// Hall counts; the axis's own loop stops within 14).
+pub const DC_DEADBAND_DEG: f32 = 0.05;
+
+/// The board's configuration with the DC axes: the stepper image's ranges
+/// and switches, Hall counts and the slew drive's gears.
+#[allow(clippy::field_reassign_with_default)]
+pub fn dc_config() -> Config {
+    let mut config = mechanics::config();
+    for ax in config.axes.iter_mut() {
+        *ax = AxisConfig {
+            counts_per_motor_rev: HALL_COUNTS_PER_MOTOR_REV,
+            microsteps: 1,
+            gear_ratio: DC_GEAR_RATIO,
+            backlash_deg: 0.0,
+            max_speed_deg_s: DC_MAX_SPEED_DEG_S,
+            deadband_deg: DC_DEADBAND_DEG,
+            ..*ax
+        };
+    }
+    config
+}
+
+/// One axis's bridge inputs.
+type Pins<'p> = Bts7960Pins<MotorPwm<'p>, MotorPwm<'p>, PortOutputPin<'p, chip::PORTA>>;
+
+/// The core's DC axis over this board's parts.
+type Inner<'p> = DcAxis<
+    Pins<'p>,
+    &'static SharedEncoder,
+    PortInputPin<'p, chip::PORTC>,
+    CurrentSense<SharedAdcChannel<'p>>,
+>;
+
+/// A DC axis of this board: [`DcAxis`] run by the loop's pass
+/// ([`Motion`]) on the board's millisecond clock.
+pub struct MegaDcAxis<'p>(Inner<'p>);
+
+impl Motion for MegaDcAxis<'_> {
+    /// [`DcAxis::poll`] at the board's millisecond count (its low 32 bits:
+    /// the axis's times wrap with them). A fault it returns is no drive
+    /// error: the controller takes it through [`AxisDrive::take_fault`].
+    fn service(&mut self, _now_us: u64) -> bool {
+        match self.0.poll(millis() as u32) {
+            Ok(_) | Err(suntracker::hw::DcAxisError::Fault(_)) => true,
+            Err(_) => false,
+        }
+    }
+}
+
+impl<'p> AxisDrive for MegaDcAxis<'p> {
+    type Error = <Inner<'p> as AxisDrive>::Error;
+    const SELF_WATCHED: bool = true;
+    fn move_counts(&mut self, counts: i32) -> Result<(), Self::Error> {
+        self.0.move_counts(counts)
+    }
+    fn pending(&self) -> i32 {
+        self.0.pending()
+    }
+    fn stop(&mut self) -> Result<(), Self::Error> {
+        self.0.stop()
+    }
+    fn at_limit(&mut self) -> Result<bool, Self::Error> {
+        self.0.at_limit()
+    }
+    fn encoder_deg(&mut self) -> Result<Option<f32>, Self::Error> {
+        self.0.encoder_deg()
+    }
+    fn take_fault(&mut self) -> Option<DriveFault> {
+        self.0.take_fault()
+    }
+    fn fault_latched(&self) -> bool {
+        self.0.fault_latched()
+    }
+    fn clear_fault(&mut self) {
+        AxisDrive::clear_fault(&mut self.0)
+    }
+    fn rebase_counts(&mut self, counts: i32) {
+        self.0.rebase_counts(counts)
+    }
+    fn switch_stops(&mut self, on: bool) {
+        self.0.switch_stops(on)
+    }
+}
+
+/// The motor timers, the encoders' pin-change counter and the shared ADC
+/// the axes borrow.
+pub struct DcParts {
+    /// Timer1: the C axis's RPWM / LPWM.
+    pub timer1: Timer1MotorPwm,
+    /// Timer4: the A axis's RPWM / LPWM.
+    pub timer4: Timer4MotorPwm,
+    /// Both axes' Hall encoders.
+    pub encoders: PinChangeEncoders,
+    /// The ADC, shared by the current senses and the board's own readings.
+    pub adc: RefCell<Adc>,
+}
+
+impl DcParts {
+    /// Starts both timers (duty 0), the encoders' interrupt (pull-ups on:
+    /// the Hall outputs are then never left floating) and the ADC.
+    pub fn start(
+        tc1: chip::TC1,
+        tc4: chip::TC4,
+        adc: chip::ADC,
+        portb: &chip::PORTB,
+        porth: &chip::PORTH,
+        portk: &chip::PORTK,
+        exint: &chip::EXINT,
+    ) -> Self {
+        DcParts {
+            timer1: Timer1MotorPwm::start(tc1, portb),
+            timer4: Timer4MotorPwm::start(tc4, porth),
+            encoders: PinChangeEncoders::start(exint, portk, true),
+            adc: RefCell::new(Adc::new(adc)),
+        }
+    }
+}
+
+/// What the axes borrow: the motor parts and the ports of their enables
+/// and switches.
+pub struct DcBoard<'p> {
+    /// Timers, encoders, ADC.
+    pub parts: &'p DcParts,
+    /// The bridges' enables.
+    pub porta: &'p chip::PORTA,
+    /// The home switches.
+    pub portc: &'p chip::PORTC,
+}
+
+/// The two DC axes: C on Timer1, PA0/PA1, A2, PK4/PK5 and the home switch
+/// PC0; A on Timer4, PA4/PA5, A3, PK6/PK7 and PC1. `axes` gives each
+/// switch angle and scale. Not inlined, as the stepper image's axes.
+#[inline(never)]
+pub fn dc_axes<'p>(
+    board: &'p DcBoard<'p>,
+    axes: &[AxisConfig; 2],
+    log: &mut Usart0,
+) -> [MegaDcAxis<'p>; 2] {
+    let DcBoard {
+        parts,
+        porta,
+        portc,
+    } = *board;
+    let adc = &parts.adc;
+    let (c_rpwm, c_lpwm) = parts.timer1.channels();
+    let (a_rpwm, a_lpwm) = parts.timer4.channels();
+    let bridge = BridgeConfig {
+        ramp_permille_per_ms: DC_RAMP_PERMILLE_PER_MS,
+        rest: RestMode::Brake,
+    };
+    let c_pins = Bts7960Pins {
+        rpwm: c_rpwm,
+        lpwm: c_lpwm,
+        r_en: OutputPin::<_, 0>::new(porta, false).erase(),
+        l_en: OutputPin::<_, 1>::new(porta, false).erase(),
+    };
+    let a_pins = Bts7960Pins {
+        rpwm: a_rpwm,
+        lpwm: a_lpwm,
+        r_en: OutputPin::<_, 4>::new(porta, false).erase(),
+        l_en: OutputPin::<_, 5>::new(porta, false).erase(),
+    };
+    let c_home = suntracker_avr::InputPin::<_, 0>::new(portc, true).erase();
+    let a_home = suntracker_avr::InputPin::<_, 1>::new(portc, true).erase();
+    let axis = |pins, hall, home, channel, config: &AxisConfig| {
+        let motor = DcMotor::new(pins, bridge).ok()?;
+        let sense = CurrentSense::new(
+            SharedAdcChannel::new(adc, channel),
+            SenseConfig::DATASHEET_1K_5V,
+        )
+        .ok()?;
+        DcAxis::new(motor, hall, home, true, Some(sense), DC_LOOP, config).ok()
+    };
+    match (
+        axis(
+            c_pins,
+            parts.encoders.encoder_c(),
+            c_home,
+            C_SENSE_CHANNEL,
+            &axes[0],
+        ),
+        axis(
+            a_pins,
+            parts.encoders.encoder_a(),
+            a_home,
+            A_SENSE_CHANNEL,
+            &axes[1],
+        ),
+    ) {
+        (Some(c), Some(a)) => [MegaDcAxis(c), MegaDcAxis(a)],
+        _ => crate::halt(log, "dc axis configuration refused"),
+    }
+}
