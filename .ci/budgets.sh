@@ -191,7 +191,7 @@ check avr_settings_ds1302 "ATmega328P (Uno settings, ds1302)" "$ELF_AVR_SETTINGS
 # spare).
 check avr_mega_tracker "ATmega2560 (Mega)" "$ELF_AVR_MEGA" 245760 3072 || status=1
 # The Mega with DC gear motors (feature dc): the same budget.
-check avr_mega_tracker_dc "ATmega2560 (Mega, dc)" "$ELF_MEGA_DC" 245760 3072 || status=1
+check avr_mega_tracker_dc "ATmega2560 (Mega, dc)" "$ELF_AVR_MEGA_DC" 245760 3072 || status=1
 # Cortex-M images: 32 KiB static RAM. Flash: 64 KiB, the goal for the
 # Cortex-M images, for the QEMU image and the Black Pill's; the Black Pill
 # with its log over defmt (a debugging build: defmt's formatting and RTT

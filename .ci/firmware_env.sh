@@ -20,13 +20,9 @@ ELF_AVR_UNO="$FW_TARGET_DIR/avr-none/release/avr_tracker.elf"
 ELF_AVR_BENCH="$FW_TARGET_DIR/avr-none/release/avr_bench.elf"
 ELF_AVR_MEGA="$FW_TARGET_DIR/mega/avr-none/release/avr_mega_tracker.elf"
 ELF_AVR_MEGA_EMU="$FW_TARGET_DIR/mega-emu/avr-none/release/avr_mega_tracker.elf"
-# The Mega's `dc` image (DC gear motors): not an ELF_AVR_* name yet, so
-# .ci/avr_wide_math.sh does not check it: the core's DcAxis
-# (src/hw/dc_axis.rs) divides in 64 bits (its speed, duty, overrun and
-# move-time estimates), which links __udivdi3/__divdi3 into this image.
-# The budget, panic and code-generation checks do run on it.
-ELF_MEGA_DC="$FW_TARGET_DIR/mega-dc/avr-none/release/avr_mega_tracker.elf"
-ELF_MEGA_DC_EMU="$FW_TARGET_DIR/mega-dc-emu/avr-none/release/avr_mega_tracker.elf"
+# The Mega's `dc` image (DC gear motors), and its emulator build.
+ELF_AVR_MEGA_DC="$FW_TARGET_DIR/mega-dc/avr-none/release/avr_mega_tracker.elf"
+ELF_AVR_MEGA_DC_EMU="$FW_TARGET_DIR/mega-dc-emu/avr-none/release/avr_mega_tracker.elf"
 ELF_AVR_UNO_EMU="$FW_TARGET_DIR/uno-emu/avr-none/release/avr_tracker.elf"
 ELF_AVR_UNO_PSA2020="$FW_TARGET_DIR/uno-psa2020/avr-none/release/avr_tracker.elf"
 ELF_AVR_UNO_DS1302="$FW_TARGET_DIR/uno-ds1302/avr-none/release/avr_tracker.elf"

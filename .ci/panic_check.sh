@@ -191,7 +191,7 @@ load_allow
 check avr_tracker "$ELF_AVR_UNO"
 check avr_settings "$ELF_AVR_SETTINGS"
 check avr_mega_tracker "$ELF_AVR_MEGA"
-check avr_mega_tracker_dc "$ELF_MEGA_DC"
+check avr_mega_tracker_dc "$ELF_AVR_MEGA_DC"
 check qemu_tracker "$ELF_QEMU"
 check blackpill_tracker "$ELF_BLACKPILL"
 check blackpill_tracker_modbus "$ELF_BLACKPILL_MODBUS"

@@ -69,6 +69,7 @@ use drivers::dc_motor::bts7960::{CurrentSense, SenseError};
 use drivers::dc_motor::{Bridge, DcMotor, Direction, Error as MotorError, Output};
 use drivers::hall::{HallConfig, StallWatch, Watch};
 use embedded_hal::digital::InputPin;
+use sun_algos::time::{div_rem_u64, div_rem_u64_u16};
 
 use crate::config::AxisConfig;
 use crate::motion::{AxisDrive, DriveFault};
@@ -180,6 +181,13 @@ pub const SPEED_WINDOW_MS: u32 = 8;
 /// Slowest speed at a brake that re-measures the lead, counts/s: below it
 /// the overrun is a count or two and says nothing about the lead.
 pub const MIN_LEARN_SPEED_CPS: u32 = 200;
+
+/// `n / d` with 32-bit divisions only (`sun_algos::time::div_rem_u64`: on
+/// an AVR, `u64 / u64` links the compiler's 64-bit division routines);
+/// `u64::MAX` for `d` = 0, which no caller passes.
+fn div_u64(n: u64, d: u32) -> u64 {
+    div_rem_u64(n, d).map_or(u64::MAX, |(q, _)| q)
+}
 
 /// Position loop and watch settings of one DC axis.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -462,7 +470,8 @@ where
         if dt >= SPEED_WINDOW_MS {
             let dc = i64::from(count) - i64::from(c0);
             // |dc| < 2³³, · 1000 < 2⁴³: no overflow; dt ≥ 8.
-            let v = dc * 1_000 / i64::from(dt);
+            let v = i64::try_from(div_u64(dc.unsigned_abs() * 1_000, dt)).unwrap_or(i64::MAX);
+            let v = if dc < 0 { -v } else { v };
             self.speed_cps = i32::try_from(v).unwrap_or(if v < 0 { i32::MIN } else { i32::MAX });
             self.speed_ref = (count, now_ms);
         }
@@ -477,7 +486,7 @@ where
         }
         let span = u64::from(c.max_duty_permille - c.min_duty_permille);
         // span ≤ 1000, remaining < band ≤ 10⁸: the product is under 2⁴⁰.
-        let extra = span * remaining / band;
+        let extra = div_u64(span * remaining, c.slow_band_counts);
         c.min_duty_permille
             .saturating_add(u16::try_from(extra).unwrap_or(u16::MAX))
             .min(c.max_duty_permille)
@@ -486,7 +495,8 @@ where
     /// Counts the motor still runs after a brake at the present speed.
     fn predicted_overrun(&self) -> u64 {
         // |speed| ≤ 2³¹, lead ≤ 2000, · 9: under 2⁴⁷.
-        u64::from(self.speed_cps.unsigned_abs()) * u64::from(self.lead_ms) * 9 / 8_000
+        let n = u64::from(self.speed_cps.unsigned_abs()) * u64::from(self.lead_ms) * 9;
+        div_rem_u64_u16(n, 8_000).map_or(u64::MAX, |(q, _)| q)
     }
 
     /// Runs the position loop and the watch once; call every main-loop pass
@@ -563,12 +573,13 @@ where
 
     /// The time allowed for an approach of `distance` counts, ms.
     fn approach_ms(&self, distance: u64) -> u32 {
-        let speed = u64::from(self.config.min_speed_cps);
+        let speed = self.config.min_speed_cps;
         if speed == 0 {
             return u32::MAX;
         }
         // distance < 2³³, · 1000 < 2⁴³.
-        let ms = (distance * 1_000 / speed).saturating_add(u64::from(self.config.move_margin_ms));
+        let ms =
+            div_u64(distance * 1_000, speed).saturating_add(u64::from(self.config.move_margin_ms));
         u32::try_from(ms).unwrap_or(u32::MAX)
     }
 
@@ -583,11 +594,11 @@ where
     /// The stop is over: learn the lead, then rest or re-approach.
     fn settled(&mut self, count: i32, now_ms: u32, may_reapproach: bool) {
         if let Some((c0, v0)) = self.brake_at.take() {
-            let speed = u64::from(v0.unsigned_abs());
-            if speed >= u64::from(MIN_LEARN_SPEED_CPS) {
+            let speed = v0.unsigned_abs();
+            if speed >= MIN_LEARN_SPEED_CPS {
                 let overrun = (i64::from(count) - i64::from(c0)).unsigned_abs();
                 // overrun < 2³³: · 1000 under 2⁴³.
-                let lead = (overrun * 1_000 / speed).min(u64::from(MAX_LEAD_MS));
+                let lead = div_u64(overrun * 1_000, speed).min(u64::from(MAX_LEAD_MS));
                 let lead = u32::try_from(lead).unwrap_or(MAX_LEAD_MS);
                 // Half the old estimate, half the new one (both ≤ 2000).
                 self.lead_ms = (self.lead_ms + lead).div_ceil(2);
