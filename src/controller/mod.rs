@@ -981,8 +981,12 @@ where
                 // Counts are at most 10^9 (configuration ranges): f32
                 // keeps them to 7 digits, plenty for "was it ≥ 0.5°".
                 let cmd_deg = report.commanded_counts as f32 / ax.counts_per_deg();
+                // A drive that watches its own motor (a DC axis: no pulse
+                // while driven) is not judged a tick later: it may still be
+                // settling from its last stop or ramping up, and its own
+                // watch raises the stall (`drive_watch` below).
                 if let (Some(b), Some(w)) = (
-                    before.filter(|_| cmd_deg.abs() >= STALL_MIN_COMMAND_DEG),
+                    before.filter(|_| !D::SELF_WATCHED && cmd_deg.abs() >= STALL_MIN_COMMAND_DEG),
                     self.stall_watch.get_mut(i),
                 ) {
                     w.arm(b, now_ms);
@@ -994,7 +998,8 @@ where
         }
         if D::SELF_WATCHED {
             // What the motor's watch saw during this tick's moves; a move
-            // done without one ends an obstruction or unexpected motion.
+            // done without one ends a stall, an obstruction, unexpected
+            // motion or a slow move.
             // A latched fault explains the deviation: it is not a lost
             // reference.
             let drive = ax.drive_mut();
@@ -1003,6 +1008,7 @@ where
                 return;
             }
             if drive.pending() == 0 {
+                self.faults.clear(Fault::MotorStalled(id), now_ms);
                 self.faults.clear(Fault::Obstruction(id), now_ms);
                 self.faults.clear(Fault::UnexpectedMotion(id), now_ms);
                 self.faults.clear(Fault::MoveTimeout(id), now_ms);
