@@ -91,37 +91,10 @@ pub fn worm_slew_axis_config(min_deg: f32, max_deg: f32) -> AxisConfig {
     }
 }
 
-/// The position loop and watch of [`worm_slew_motor`]'s axis: full duty
-/// beyond 4° (5,600 counts), 15 % at the target; a first stopping lead of
-/// 130 ms (the model's mechanical time constant under braking,
-/// J·R / (k_t·k_e + R·b), is 0.107 s for the bare motor and 16 % more with the axis inertia,
-/// plus a few ms of speed-window lag); standstill = no count for 100 ms (the
-/// braked run-down crawls at tens of counts/s at its end); done within 0.01°
-/// (14 counts); stall after 500 ms without a count; unexpected motion beyond
-/// 70 counts (0.05°); overcurrent above 3 A for 100 ms (20 times the 0.15 A
-/// free-running current, 55 % of the 5.5 A stall current). A motor held
-/// still draws V·d/R: starting a slew into an obstacle, a 2 ‰/ms ramp
-/// reaches 3 A at 545 ‰ after 273 ms, so the overcurrent trips at 373 ms,
-/// before the stall; held at a tracking step's duty (under 20 %, about 1 A)
-/// it is a stall. An approach slower than 5,500 counts/s (about half the
-/// no-load 10,000 rpm × 64 / 60 = 10,667 counts/s) over its distance, plus
-/// 3 s for the slow band and the stop, is too slow.
-pub const WORM_SLEW_LOOP: DcAxisConfig = DcAxisConfig {
-    max_duty_permille: 1_000,
-    min_duty_permille: 150,
-    slow_band_counts: 5_600,
-    deadband_counts: 14,
-    brake_lead_ms: 130,
-    settle_ms: 100,
-    max_reapproaches: 3,
-    stall_ms: 500,
-    drive_threshold_permille: 100,
-    max_idle_counts: 70,
-    max_current_ma: 3_000,
-    overcurrent_ms: 100,
-    min_speed_cps: 5_500,
-    move_margin_ms: 3_000,
-};
+/// The position loop and watch of [`worm_slew_motor`]'s axis, the core's
+/// [`suntracker::mechanics::WORM_SLEW_LOOP`] (the Mega's `dc` image runs
+/// the same).
+pub use suntracker::mechanics::WORM_SLEW_LOOP;
 
 /// The hardware one axis shares between the firmware's ports and the run.
 #[derive(Debug, Clone, Copy)]

@@ -85,26 +85,11 @@ pub const A_SENSE_CHANNEL: u8 = 3;
 pub const DC_RAMP_PERMILLE_PER_MS: u16 = 2;
 
 /// The position loop and watches of each axis: those of
-/// `sim::dc_drive::WORM_SLEW_LOOP` for this drive (full duty beyond 4°,
+/// `suntracker::mechanics::WORM_SLEW_LOOP` (the simulator's) for this drive (full duty beyond 4°,
 /// 15 % at the target, done within 14 counts = 0.01°, a stall after
 /// 500 ms without a count, an obstruction above 3 A for 100 ms, 55 % of
 /// the 5.5 A stall current).
-pub const DC_LOOP: DcAxisConfig = DcAxisConfig {
-    max_duty_permille: 1_000,
-    min_duty_permille: 150,
-    slow_band_counts: 5_600,
-    deadband_counts: 14,
-    brake_lead_ms: 130,
-    settle_ms: 100,
-    max_reapproaches: 3,
-    stall_ms: 500,
-    drive_threshold_permille: 100,
-    max_idle_counts: 70,
-    max_current_ma: 3_000,
-    overcurrent_ms: 100,
-    min_speed_cps: 5_500,
-    move_margin_ms: 3_000,
-};
+pub const DC_LOOP: DcAxisConfig = suntracker::mechanics::WORM_SLEW_LOOP;
 
 /// The set-point deadband of the DC axes, degrees: a closed-loop correction
 /// is made beyond it (`sim::dc_drive::worm_slew_axis_config`'s 0.05°, 70
