@@ -205,6 +205,7 @@ for name, label, ram_fmt in [
         "avr_tracker": "`avr_tracker`",
         "avr_settings": "`avr_settings`",
         "avr_mega_tracker": "`avr_mega_tracker`",
+        "avr_mega_tracker_dc": "`avr_mega_tracker` with `dc`",
         "blackpill_tracker": "`blackpill_tracker`",
         "blackpill_tracker_modbus": "`blackpill_tracker` with `modbus`",
         "qemu_tracker": "`qemu_tracker`",
