@@ -2737,12 +2737,8 @@ fn v_modbus_master_reads_and_commands() {
 // `sim::dc_motor`, `sim::dc_drive::worm_slew_motor`: 1,400 Hall counts an
 // axis degree, at most 7.62 °/s). Gated on SUNTRACKER_EMU_ELF_MEGA_DC.
 //
-// Not asserted, and seen in both runs: homing raises move_timeout_c/a (the
-// homing moves top the target up while the axis drives, and the core's DC
-// axis allows the time of the first top-up only); the long first swing of
-// the day is braked and restarted at every tick (the closed loop drops a
-// move under way before it corrects); motor_stalled_c/a is raised and
-// cleared again within seconds at most set-points.
+// Not asserted: the long first swing of the day is braked and restarted at
+// every tick (the closed loop drops a move under way before it corrects).
 
 /// A DC-driven set-point is reached within this of the commanded angle,
 /// degrees (the brief's 0.2° bound on the panel normal; the image's
@@ -2796,6 +2792,19 @@ fn dc_morning_at_kano() {
         );
     }
     let n = check_set_points_of(&sps, &MountAttitude::level(), kano_sun, DC_POINTING_TOL_DEG);
+    // No motor fault on an unobstructed morning: no stall while an axis
+    // settles from its last stop, no slow move while homing tops its
+    // target up, no limit switch (the GPS is lost for its first seconds).
+    let faults: Vec<&str> = run
+        .lines
+        .iter()
+        .map(|l| l.text.as_str())
+        .filter(|t| t.starts_with("fault ") && !t.starts_with("fault gps_lost"))
+        .collect();
+    assert!(
+        faults.is_empty(),
+        "faults on an unobstructed morning: {faults:?}"
+    );
     println!(
         "dc: {n} set-points, worst shaft error {worst:.4}°, run {:.1} s",
         run.wall.as_secs_f64()

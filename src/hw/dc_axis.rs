@@ -571,16 +571,22 @@ where
         self.motor.poll(now_ms).map_err(DcAxisError::Motor)
     }
 
-    /// The time allowed for an approach of `distance` counts, ms.
+    /// The time allowed for an approach of `distance` counts, ms: its
+    /// travel at `min_speed_cps` and the margin.
     fn approach_ms(&self, distance: u64) -> u32 {
+        self.travel_ms(distance)
+            .saturating_add(self.config.move_margin_ms)
+    }
+
+    /// `distance` counts at `min_speed_cps`, ms (`u32::MAX` without a
+    /// speed: no time-out).
+    fn travel_ms(&self, distance: u64) -> u32 {
         let speed = self.config.min_speed_cps;
         if speed == 0 {
             return u32::MAX;
         }
         // distance < 2³³, · 1000 < 2⁴³.
-        let ms =
-            div_u64(distance * 1_000, speed).saturating_add(u64::from(self.config.move_margin_ms));
-        u32::try_from(ms).unwrap_or(u32::MAX)
+        u32::try_from(div_u64(distance * 1_000, speed)).unwrap_or(u32::MAX)
     }
 
     /// Longest stop, ms ([`STOP_LEADS`]); at most 10,000 + 8 · 2,000.
@@ -763,7 +769,14 @@ where
         if counts != 0 {
             self.target = self.target.saturating_add(counts);
             self.approaches = 0;
-            if !matches!(self.state, DcState::Driving { .. }) {
+            if matches!(self.state, DcState::Driving { .. }) {
+                // A target moved during the approach (homing tops its
+                // target up while it drives) gets the time of the counts
+                // added: the approach is timed from its first distance.
+                let (since, allowed) = self.approach;
+                let more = self.travel_ms(u64::from(counts.unsigned_abs()));
+                self.approach = (since, allowed.saturating_add(more));
+            } else {
                 self.state = DcState::Starting;
             }
         }
