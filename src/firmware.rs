@@ -32,7 +32,7 @@ use embedded_io::{Read, ReadReady};
 use sun_algos::{Error as SunError, Float, Site, UtcTime};
 
 use crate::attitude::Pose;
-use crate::config::Config;
+use crate::config::{Config, DriveSet};
 use crate::console::{self, Executed, Jogged, LineBuffer, Operator, StatusView, TimeSetError};
 use crate::controller::{Controller, ControllerError, ControllerOptions, TickInputs, TickReport};
 use crate::hw::GpsPort;
@@ -217,6 +217,9 @@ pub struct AppConfig {
     /// The board's own configuration: what the console's `defaults`
     /// restores (and what a board uses when nothing good is stored).
     pub defaults: fn() -> Config,
+    /// The drive kinds the board builds its axes of (`axis.c.drive`,
+    /// `axis.a.drive`): the console refuses the others.
+    pub drives: DriveSet,
 }
 
 impl AppConfig {
@@ -232,6 +235,7 @@ impl AppConfig {
             delta_t_s: 69.0,
             gps_hold_ms: 60_000,
             defaults: Config::default,
+            drives: DriveSet::STEPPER,
         }
     }
 }
@@ -805,7 +809,11 @@ where
     /// Puts a changed configuration into effect: the controller's, and the
     /// site when GPS does not give it.
     fn apply_config(&mut self, config: Config) -> bool {
-        if self.controller.reconfigure(config).is_err() {
+        // A drive kind the board has no driver for (a `load` of a record
+        // another image saved): the axes in force are of other kinds.
+        if config.check_drives(self.app.drives).is_err()
+            || self.controller.reconfigure(config).is_err()
+        {
             return false;
         }
         if self.site_origin == Some(LogSite::Gps) {
@@ -906,6 +914,9 @@ where
     }
     fn defaults(&self) -> Config {
         (self.fw.app.defaults)()
+    }
+    fn drives(&self) -> DriveSet {
+        self.fw.app.drives
     }
     fn apply(&mut self, config: Config) -> bool {
         self.fw.apply_config(config)

@@ -37,6 +37,8 @@ pub fn axis_configs() -> [AxisConfig; 2] {
         // Open loop: every set-point is driven to the nearest step.
         deadband_deg: 0.0,
         continuous: 0,
+        // Steppers; the current watch's defaults (DC axes only).
+        ..Config::DEFAULT.axes[0]
     };
     let a = AxisConfig {
         min_deg: -90.0,
@@ -89,8 +91,70 @@ pub fn controller_options<T: Float>() -> ControllerOptions<T> {
     }
 }
 
+/// The position loop and watch of a DC gear motor or slew drive closed on
+/// its Hall count (`axis.X.drive` 2, `dc_hall`), from the axis's
+/// configuration: `counts_per_deg` ([`AxisConfig::counts_per_deg`]), its
+/// top speed `max_speed_deg_s` and its current watch (`max_current_ma` for
+/// `overcurrent_ms`). The distances are in degrees of the axis, so that a
+/// drive of other gears keeps the same behaviour: full duty beyond 4°, 15 %
+/// at the target; done within 0.01°; unexpected motion beyond 0.05° while
+/// at rest; an approach slower than half the top speed over its distance,
+/// plus 3 s for the slow band and the stop, is too slow. The times are the
+/// worm slew drive's ([`WORM_SLEW_LOOP`], which explains them): a first
+/// stopping lead of 130 ms (re-measured at every stop), standstill after
+/// 100 ms without a count, a stall after 500 ms. Each count is rounded to
+/// the nearest whole one and kept within what [`DcAxisConfig::validate`]
+/// takes (a 1-count deadband at least, at most
+/// [`crate::hw::MAX_IDLE_COUNTS`] at rest), so that every valid
+/// axis configuration gives a valid loop.
+pub const fn dc_hall_loop_for(
+    counts_per_deg: f32,
+    max_speed_deg_s: f32,
+    max_current_ma: u16,
+    overcurrent_ms: u16,
+) -> DcAxisConfig {
+    /// `deg` of the axis in whole counts, at least `lo`, at most `hi`.
+    const fn counts(deg: f32, counts_per_deg: f32, lo: u32, hi: u32) -> u32 {
+        let c = (deg * counts_per_deg + 0.5) as u32;
+        if c < lo {
+            lo
+        } else if c > hi {
+            hi
+        } else {
+            c
+        }
+    }
+    DcAxisConfig {
+        max_duty_permille: 1_000,
+        min_duty_permille: 150,
+        slow_band_counts: counts(4.0, counts_per_deg, 2, 100_000_000),
+        deadband_counts: counts(0.01, counts_per_deg, 1, 1_000_000),
+        brake_lead_ms: 130,
+        settle_ms: 100,
+        max_reapproaches: 3,
+        stall_ms: 500,
+        drive_threshold_permille: 100,
+        max_idle_counts: counts(0.05, counts_per_deg, 0, crate::hw::MAX_IDLE_COUNTS),
+        max_current_ma: max_current_ma as u32,
+        overcurrent_ms: overcurrent_ms as u32,
+        min_speed_cps: counts(max_speed_deg_s * 0.5, counts_per_deg, 1, u32::MAX),
+        move_margin_ms: 3_000,
+    }
+}
+
+/// [`dc_hall_loop_for`] an axis's configuration.
+pub fn dc_hall_loop(axis: &AxisConfig) -> DcAxisConfig {
+    dc_hall_loop_for(
+        axis.counts_per_deg(),
+        axis.max_speed_deg_s,
+        axis.max_current_ma,
+        axis.overcurrent_ms,
+    )
+}
+
 /// The position loop and watch of the worm slew drive's axis (`sim::dc_drive::worm_slew_motor`: a Pololu 37D
-/// 131.25:1 gear motor with a 64-count Hall encoder, then a 60:1 worm): full duty
+/// 131.25:1 gear motor with a 64-count Hall encoder, then a 60:1 worm, 1,400
+/// counts a degree, commanded at up to 7 °/s), [`dc_hall_loop_for`] it: full duty
 /// beyond 4° (5,600 counts), 15 % at the target; a first stopping lead of
 /// 130 ms (the model's mechanical time constant under braking,
 /// J·R / (k_t·k_e + R·b), is 0.107 s for the bare motor and 16 % more with the axis inertia,
@@ -102,22 +166,8 @@ pub fn controller_options<T: Float>() -> ControllerOptions<T> {
 /// still draws V·d/R: starting a slew into an obstacle, a 2 ‰/ms ramp
 /// reaches 3 A at 545 ‰ after 273 ms, so the overcurrent trips at 373 ms,
 /// before the stall; held at a tracking step's duty (under 20 %, about 1 A)
-/// it is a stall. An approach slower than 5,500 counts/s (about half the
-/// no-load 10,000 rpm × 64 / 60 = 10,667 counts/s) over its distance, plus
-/// 3 s for the slow band and the stop, is too slow.
-pub const WORM_SLEW_LOOP: DcAxisConfig = DcAxisConfig {
-    max_duty_permille: 1_000,
-    min_duty_permille: 150,
-    slow_band_counts: 5_600,
-    deadband_counts: 14,
-    brake_lead_ms: 130,
-    settle_ms: 100,
-    max_reapproaches: 3,
-    stall_ms: 500,
-    drive_threshold_permille: 100,
-    max_idle_counts: 70,
-    max_current_ma: 3_000,
-    overcurrent_ms: 100,
-    min_speed_cps: 5_500,
-    move_margin_ms: 3_000,
-};
+/// it is a stall. An approach slower than 4,900 counts/s (3.5 °/s, half the
+/// top speed; the no-load 10,000 rpm × 64 / 60 = 10,667 counts/s is
+/// 7.62 °/s) over its distance, plus 3 s for the slow band and the stop, is
+/// too slow.
+pub const WORM_SLEW_LOOP: DcAxisConfig = dc_hall_loop_for(1_400.0, 7.0, 3_000, 100);

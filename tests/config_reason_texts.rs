@@ -60,12 +60,18 @@ fn expected(r: Reason) -> &'static str {
         }
         Reason::UtcOffsetH => "-12...14 h east of UTC",
         Reason::WindMSPerHz => "0...10 m/s per Hz (0: not known)",
+        Reason::DriveKind => {
+            "0 stepper, 1 servo_encoder, 2 dc_hall, 3 linear_hall, 4 linear_pot, 5 timed"
+        }
+        Reason::DriveNotOnBoard => "no driver for it on this board",
+        Reason::MaxCurrentMa => "100...40,000 mA",
+        Reason::OvercurrentMs => "10...5,000 ms",
     }
 }
 
 #[test]
 fn every_reason_prints_its_documented_text() {
-    assert_eq!(Reason::ALL.len(), 39);
+    assert_eq!(Reason::ALL.len(), 43);
     let mut wrong = Vec::new();
     for &r in Reason::ALL {
         let text = r.text();
@@ -172,6 +178,14 @@ fn book_rows() -> Vec<(&'static str, Vec<Vec<String>>)> {
         (
             "`axis.c.continuous`",
             vec![book_range(range_text::u8s(r::SWITCH))],
+        ),
+        (
+            "`axis.*.drive`, `max_current_ma`, `overcurrent_ms`",
+            vec![
+                book_range(range_text::u8s(r::DRIVE)),
+                book_range(range_text::u16s(r::MAX_CURRENT_MA)),
+                book_range(range_text::u16s(r::OVERCURRENT_MS)),
+            ],
         ),
         (
             "`wind.stow_hz`, `wind.hold_s`, `wind.release_s`, `wind.m_s_per_hz`",

@@ -42,9 +42,18 @@ fn encode_decode_round_trip() {
     // the weather stows' (22 bytes), the supply watch's (4 bytes) and the
     // overcast mode's (13 bytes), the C axis's `continuous` (1 byte), the
     // site's UTC offset (4), the anemometer's factor (4) and the Modbus
-    // silence's stow (1) follow it.
+    // silence's stow (1), and each axis's drive kind, current limit and
+    // overcurrent time (1 + 2 + 2) follow it.
     const HOLD_AT: usize = 143;
-    assert_eq!(n, HOLD_AT + 1 + 11 + 22 + 4 + 13 + 1 + 9);
+    assert_eq!(n, HOLD_AT + 1 + 11 + 22 + 4 + 13 + 1 + 9 + 2 * 5);
+    // The drive fields away from their defaults come back too.
+    let mut dc = c;
+    dc.axes[1].drive = 2;
+    dc.axes[1].max_current_ma = 4_500;
+    dc.axes[0].overcurrent_ms = 250;
+    let mut db = [0u8; 256];
+    assert_eq!(dc.encode(&mut db), Some(PAYLOAD_LEN));
+    assert_eq!(Config::decode(&db[..n]), Some(dc));
     let mut held = c;
     held.hold = OperatorHold {
         stow: true,
@@ -74,19 +83,23 @@ fn encode_decode_round_trip() {
     // Other lengths are rejected.
     assert_eq!(Config::decode(&buf[..HOLD_AT - 1]), None);
     assert_eq!(Config::decode(&buf[..HOLD_AT + 2]), None);
-    // Layout version 5's payload (without the UTC offset, the anemometer's
-    // factor and the silence's stow) and version 4's (also without
-    // `axis.c.continuous`) read with them at 0.
-    assert_eq!(Config::decode(&buf[..n - 9]), Some(c));
+    // Layout version 6's payload (without the drive fields: steppers, the
+    // current watch's defaults), version 5's (also without the UTC offset,
+    // the anemometer's factor and the silence's stow) and version 4's
+    // (also without `axis.c.continuous`) read with them at 0.
     assert_eq!(Config::decode(&buf[..n - 10]), Some(c));
+    assert_eq!(Config::decode(&db[..n - 10]), Some(c));
+    assert_eq!(Config::decode(&buf[..n - 19]), Some(c));
+    assert_eq!(Config::decode(&buf[..n - 20]), Some(c));
     assert_eq!(Config::decode(&buf[..n - 1]), None);
-    assert_eq!(Config::decode(&buf[..n - 11]), None);
+    assert_eq!(Config::decode(&buf[..n - 5]), None);
+    assert_eq!(Config::decode(&buf[..n - 21]), None);
     assert_eq!(Config::decode(&buf[..n + 1]), None);
     // Too small a buffer to encode into.
     assert_eq!(c.encode(&mut [0u8; 10]), None);
 }
 
-/// The payload of layout version 6 byte by byte, built here field by
+/// The payload of layout version 7 byte by byte, built here field by
 /// field in the order `src/config/codec.rs` documents (the configuration's
 /// declaration order, little-endian, the derived counts per degree left
 /// out, the hold after the fields of version 3, the Modbus and stow
@@ -209,6 +222,11 @@ fn payload_is_the_documented_layout() {
     f(&mut expected, c.site.utc_offset_h);
     f(&mut expected, c.wind.m_s_per_hz);
     expected.push(c.modbus.timeout_stow);
+    for a in &c.axes {
+        expected.push(a.drive);
+        expected.extend_from_slice(&a.max_current_ma.to_le_bytes());
+        expected.extend_from_slice(&a.overcurrent_ms.to_le_bytes());
+    }
     assert_eq!(expected.len(), PAYLOAD_LEN);
     let mut buf = [0u8; 256];
     let n = c.encode(&mut buf).unwrap();
@@ -331,10 +349,11 @@ fn old_version_and_bad_values_are_rejected_whole() {
     // Layouts 2 (written before the operator's hold existed: the fields
     // before it), 3 (before the Modbus settings: up to the hold) and 4
     // (before `axis.c.continuous`) and 5 (before the UTC offset, the
-    // anemometer's factor and the silence's stow) are still read, so an
+    // anemometer's factor and the silence's stow) and 6 (before the axes'
+    // drive kinds and current watch) are still read, so an
     // update keeps the saved configuration; version 3 with version 2's
     // length is not.
-    let (v2, v3, v4, v5) = (n - 61, n - 60, n - 10, n - 9);
+    let (v2, v3, v4, v5, v6) = (n - 71, n - 70, n - 20, n - 19, n - 10);
     let mut mem = MemStorage::<1024>::new();
     mem.write(0, &slot(2, &payload[..v2])).unwrap();
     mem.write(SLOT_LEN, &slot(3, &payload[..v2])).unwrap();
@@ -346,15 +365,15 @@ fn old_version_and_bad_values_are_rejected_whole() {
     mem.write(0, &slot(3, &payload[..v3])).unwrap();
     let l = ConfigStore::new(mem).load();
     assert_eq!((l.defaults, l.config), (false, c));
-    for (version, len) in [(4, v4), (5, v5)] {
+    for (version, len) in [(4, v4), (5, v5), (6, v6)] {
         let mut mem = MemStorage::<1024>::new();
         mem.write(0, &slot(version, &payload[..len])).unwrap();
         let l = ConfigStore::new(mem).load();
         assert_eq!((l.defaults, l.config), (false, c));
     }
     // Version 2 with version 3's length is not either, nor version 3 with
-    // version 4's, nor 4 with 5's, nor 5 with 6's.
-    for (version, len) in [(2, v3), (3, v4), (4, v5), (5, n)] {
+    // version 4's, nor 4 with 5's, nor 5 with 6's, nor 6 with 7's.
+    for (version, len) in [(2, v3), (3, v4), (4, v5), (5, v6), (6, n)] {
         let mut mem = MemStorage::<1024>::new();
         mem.write(0, &slot(version, &payload[..len])).unwrap();
         let l = ConfigStore::new(mem).load();

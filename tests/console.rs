@@ -6,7 +6,7 @@ mod common;
 
 use common::host_io::Buf;
 use sun_algos::UtcTime;
-use suntracker::config::Config;
+use suntracker::config::{Config, DriveKind, DriveSet};
 use suntracker::console::{
     self, apply_set, Command, Decimal, Key, LineBuffer, LineError, NumberError, Outcome,
     ParseError, RxRing, SetError, StatusView, TimeSetError, Value, KEYS, LINE_LEN,
@@ -17,6 +17,15 @@ use suntracker::safety::{AxisId, Fault, FaultManager, Mode, MAX_ACTIVE};
 use suntracker::site::PostalError;
 use suntracker::time::TimeOrigin;
 
+/// The drive kinds of the board these tests stand for: every kind (a
+/// board with fewer is tested in `drive_kinds_the_board_lacks_are_refused`).
+const DRIVES: DriveSet = DriveSet::STEPPER
+    .with(DriveKind::ServoEncoder)
+    .with(DriveKind::DcHall)
+    .with(DriveKind::LinearHall)
+    .with(DriveKind::LinearPot)
+    .with(DriveKind::Timed);
+
 /// Runs one line as a board would: parse, the configuration commands, the
 /// rest answered with a plain `ok NAME`. Returns the reply.
 fn run(config: &mut Config, line: &str) -> String {
@@ -24,7 +33,7 @@ fn run(config: &mut Config, line: &str) -> String {
     match console::parse(line) {
         Err(e) => console::write_parse_error(&mut out, &e),
         Ok(cmd) => {
-            if let Outcome::Pass(cmd) = console::run_config(&mut out, config, cmd) {
+            if let Outcome::Pass(cmd) = console::run_config(&mut out, config, DRIVES, cmd) {
                 console::write_ok(&mut out, cmd.name());
             }
         }
@@ -123,6 +132,9 @@ const DOC_RANGES: &[(&str, &str)] = &[
     ("site.utc_offset_h", "−12…14"),
     ("wind.m_s_per_hz", "0…10"),
     ("modbus.timeout_stow", "0…1"),
+    ("axis.c.drive", "0…5"),
+    ("axis.c.max_current_ma", "100…40,000"),
+    ("axis.c.overcurrent_ms", "10…5,000"),
 ];
 
 /// The home switch's range is relative to `min_deg` (documented as
@@ -275,10 +287,10 @@ fn typed(value: f64, integer: bool) -> String {
 #[test]
 fn key_table_names_every_field_once_and_the_docs_list_them() {
     let mut names: Vec<&str> = KEYS.iter().map(|k| k.name().as_str()).collect();
-    assert_eq!(names.len(), 62);
+    assert_eq!(names.len(), 68);
     names.sort_unstable();
     names.dedup();
-    assert_eq!(names.len(), 62, "duplicate keys");
+    assert_eq!(names.len(), 68, "duplicate keys");
     let docs = config_docs();
     let module =
         std::fs::read_to_string(concat!(env!("CARGO_MANIFEST_DIR"), "/src/console/mod.rs"))
@@ -401,7 +413,7 @@ fn every_out_of_range_value_is_refused_naming_the_field() {
                 panic!("{name} {text}: not a set");
             };
             assert_eq!(k, key);
-            let err = apply_set(&mut c, k, v).unwrap_err();
+            let err = apply_set(&mut c, k, v, DRIVES).unwrap_err();
             assert_eq!(c, original);
             let SetError::Invalid(e) = err else {
                 panic!("{name} {text}: {err:?}");
@@ -508,6 +520,71 @@ fn rules_between_fields_name_the_field_and_two_keys_change_together() {
         "error unexpected argument\n"
     );
     assert_eq!(c, before);
+}
+
+#[test]
+fn drive_kinds_the_board_lacks_are_refused() {
+    // A board of steppers and DC gear motors on Hall counts (the
+    // ATmega2560's kinds).
+    let board = DriveSet::STEPPER.with(DriveKind::DcHall);
+    let run_on = |c: &mut Config, line: &str| {
+        let mut out = Buf::default();
+        let cmd = console::parse(line).unwrap();
+        assert!(!matches!(
+            console::run_config(&mut out, c, board, cmd),
+            Outcome::Pass(_)
+        ));
+        out.take()
+    };
+    let original = Config::default();
+    let mut c = original;
+    for (kind, name) in [
+        (1, "servo_encoder"),
+        (3, "linear_hall"),
+        (4, "linear_pot"),
+        (5, "timed"),
+    ] {
+        assert_eq!(
+            DriveKind::from_code(kind).map(|k| k as u8),
+            Some(kind),
+            "{name}"
+        );
+        assert_eq!(
+            run_on(&mut c, &format!("set axis.a.drive {kind}")),
+            "error axis.a.drive: no driver for it on this board\n"
+        );
+        // Refused whole with a change the board takes.
+        assert_eq!(
+            run_on(&mut c, &format!("set axis.c.drive 2 axis.c.drive={kind}")),
+            "error axis.c.drive: no driver for it on this board\n"
+        );
+        assert_eq!(c, original);
+    }
+    assert_eq!(
+        run_on(&mut c, "set axis.a.drive 6"),
+        "error axis.a.drive: 0 stepper, 1 servo_encoder, 2 dc_hall, 3 linear_hall, 4 linear_pot, 5 timed\n"
+    );
+    assert_eq!(DriveKind::from_code(6), None);
+    assert_eq!(c, original);
+    assert_eq!(
+        run_on(
+            &mut c,
+            "set axis.a.drive 2 axis.a.max_current_ma 4500 axis.a.overcurrent_ms 250"
+        ),
+        "ok axis.a.drive=2 axis.a.max_current_ma=4500 axis.a.overcurrent_ms=250\n"
+    );
+    assert_eq!(
+        (
+            c.axes[1].drive,
+            c.axes[1].max_current_ma,
+            c.axes[1].overcurrent_ms
+        ),
+        (DriveKind::DcHall as u8, 4_500, 250)
+    );
+    assert!(c.check_drives(board).is_ok());
+    assert!(c.check_drives(DriveSet::STEPPER).is_err());
+    // Back to a stepper.
+    assert_eq!(run_on(&mut c, "set axis.a.drive 0"), "ok axis.a.drive=0\n");
 }
 
 // ---------------------------------------------------------------------------
@@ -882,7 +959,8 @@ fn a_flood_never_panics_and_ends_in_one_error() {
                 match console::parse(text) {
                     Err(e) => console::write_parse_error(&mut out, &e),
                     Ok(cmd) => {
-                        if let Outcome::Pass(cmd) = console::run_config(&mut out, &mut config, cmd)
+                        if let Outcome::Pass(cmd) =
+                            console::run_config(&mut out, &mut config, DRIVES, cmd)
                         {
                             console::write_ok(&mut out, cmd.name());
                         }
@@ -1075,20 +1153,20 @@ fn help_get_all_and_defaults() {
     );
     let mut out = Buf::default();
     assert_eq!(
-        console::run_config(&mut out, &mut c, Command::Defaults),
+        console::run_config(&mut out, &mut c, DRIVES, Command::Defaults),
         Outcome::Changed
     );
     assert_eq!(out.take(), "ok defaults\n");
     assert_eq!(c, Config::default());
     assert_eq!(
-        console::run_config(&mut out, &mut c, Command::Stow),
+        console::run_config(&mut out, &mut c, DRIVES, Command::Stow),
         Outcome::Pass(Command::Stow)
     );
     assert_eq!(out.take(), "");
     let lat = console::key_from_name("site.lat_deg").unwrap();
     let bad = Command::Set(lat, Decimal::parse("91").unwrap());
     assert_eq!(
-        console::run_config(&mut out, &mut c, bad),
+        console::run_config(&mut out, &mut c, DRIVES, bad),
         Outcome::Answered
     );
     assert_eq!(out.take(), "error site.lat_deg: -90...90 deg\n");

@@ -95,7 +95,7 @@ fn axis_config() -> AxisConfig {
 
 /// `sim::dc_drive::WORM_SLEW_LOOP` (its documentation gives each value's
 /// reason): stall after 500 ms without a count, overcurrent above 3 A for
-/// 100 ms, too slow under 5,500 counts/s plus 3 s.
+/// 100 ms, too slow under 4,900 counts/s plus 3 s.
 fn dc_config() -> DcAxisConfig {
     WORM_SLEW_LOOP
 }
@@ -335,8 +335,8 @@ fn an_obstruction_trips_the_stall_watch_without_one() {
 /// A supply sagging to 5 V (a flat battery, a long thin cable) turns the
 /// motor at 5/12 of its speed, drawing no more current than at 12 V: only
 /// the move timeout sees it. An 80° slew (112,000 counts) may take
-/// 112,000 / 5,500 s + 3 s = 23.4 s; at 5 V it needs about 26 s, at 12 V
-/// about 12 s.
+/// 112,000 / 4,900 s + 3 s = 25.86 s (half of the 7 °/s top speed, 1,400
+/// counts a degree); at 5 V it needs longer, at 12 V about 12 s.
 #[test]
 fn a_slow_motor_trips_the_move_timeout() {
     let slew = |supply_v: f64| {
@@ -368,7 +368,7 @@ fn a_slow_motor_trips_the_move_timeout() {
     let (ms, fault) = slew(5.0);
     println!("5 V: too slow after {ms} ms");
     assert_eq!(fault, Some(DcAxisError::Fault(DcFault::TooSlow)));
-    assert!((23_363..=23_366).contains(&ms), "{ms}");
+    assert!((25_856..=25_859).contains(&ms), "{ms}");
 }
 
 #[test]
@@ -597,4 +597,45 @@ fn a_load_back_driving_the_stop_ends_it_as_unexpected_motion() {
         rig.step_ms();
     }
     panic!("no unexpected motion: {axis:?}");
+}
+
+#[test]
+fn the_dc_hall_loop_follows_the_axis_configuration() {
+    use suntracker::mechanics::{dc_hall_loop, dc_hall_loop_for};
+    // The worm slew drive: 64 counts a motor turn × 7,875 / 360 = 1,400
+    // counts a degree; 4° = 5,600, 0.01° = 14, 0.05° = 70 counts, half of
+    // 7 °/s = 4,900 counts/s.
+    let slew = dc_hall_loop(&worm_slew_axis_config(-180.0, 180.0));
+    assert_eq!(slew, WORM_SLEW_LOOP);
+    assert_eq!(
+        (
+            slew.slow_band_counts,
+            slew.deadband_counts,
+            slew.max_idle_counts,
+            slew.min_speed_cps,
+            slew.max_current_ma,
+            slew.overcurrent_ms,
+        ),
+        (5_600, 14, 70, 4_900, 3_000, 100)
+    );
+    // The configuration's current watch goes into the loop.
+    let mut axis = worm_slew_axis_config(-180.0, 180.0);
+    axis.max_current_ma = 4_500;
+    axis.overcurrent_ms = 250;
+    let watched = dc_hall_loop(&axis);
+    assert_eq!(
+        (watched.max_current_ma, watched.overcurrent_ms),
+        (4_500, 250)
+    );
+    // Every counts per degree the configuration allows (1 to 10^6) and
+    // every speed gives a loop the DC axis takes.
+    for cpd in [1.0, 1.7, 10.0, 99.9, 1_400.0, 37_777.7, 1_000_000.0] {
+        for speed in [0.01, 1.0, 30.0] {
+            for (ma, ms) in [(100, 10), (40_000, 5_000)] {
+                let l = dc_hall_loop_for(cpd, speed, ma, ms);
+                assert!(l.validate().is_ok(), "{cpd} {speed}: {l:?}");
+                assert!(l.deadband_counts >= 1 && l.min_speed_cps >= 1);
+            }
+        }
+    }
 }

@@ -67,6 +67,8 @@ fn axis_config() -> AxisConfig {
         max_speed_deg_s: 10.0,
         deadband_deg: 0.05,
         continuous: 0,
+        drive: suntracker::config::DriveKind::LinearPot as u8,
+        ..suntracker::config::Config::DEFAULT.axes[0]
     }
 }
 
@@ -96,6 +98,7 @@ type PotAxis = LinearAxis<ActuatorBridge, PotFeedback<PotAdc>, NoEndSwitch, NoCu
 fn hall_axis_config() -> AxisConfig {
     AxisConfig {
         home_deg: FIRST_EDGE_DEG,
+        drive: suntracker::config::DriveKind::LinearHall as u8,
         ..axis_config()
     }
 }

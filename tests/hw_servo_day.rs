@@ -80,6 +80,8 @@ fn axis_config(min_deg: f32, max_deg: f32) -> AxisConfig {
         max_speed_deg_s: 4.0,
         deadband_deg: 0.05,
         continuous: 0,
+        drive: suntracker::config::DriveKind::ServoEncoder as u8,
+        ..suntracker::config::Config::DEFAULT.axes[0]
     }
 }
 

@@ -161,6 +161,27 @@ impl StallWatch {
         })
     }
 
+    /// Back to the state of [`StallWatch::new`] (not driven, no pulses
+    /// seen), the configuration kept.
+    ///
+    /// ```
+    /// use drivers::hall::{HallConfig, StallWatch, Watch};
+    ///
+    /// let config = HallConfig { stall_ms: 100, drive_threshold_permille: 200, max_idle_pulses: 0 };
+    /// let new = StallWatch::new(config)?;
+    /// let mut w = new;
+    /// w.set_drive(500, 0);
+    /// assert_eq!(w.check(100), Watch::Stall);
+    /// w.reset();
+    /// assert_eq!(w, new);
+    /// # Ok::<(), drivers::hall::HallError>(())
+    /// ```
+    pub fn reset(&mut self) {
+        self.drive_permille = 0;
+        self.since_ms = 0;
+        self.idle_pulses = 0;
+    }
+
     /// The duty now commanded, ‰ (positive = forward). The stall timer
     /// restarts when the motor becomes driven or reverses; the idle pulse
     /// count restarts when it stops being driven.

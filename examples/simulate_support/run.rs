@@ -904,8 +904,13 @@ fn simulate_with<P: SimAxis>(
                         let mut config = *ctl.config();
                         let number = suntracker::console::Decimal::parse(value.as_str())
                             .map_err(|e| format!("set {}: {e:?}", key.name()))?;
-                        suntracker::console::apply_set(&mut config, key, number)
-                            .map_err(|e| format!("set {}: {e:?}", key.name()))?;
+                        suntracker::console::apply_set(
+                            &mut config,
+                            key,
+                            number,
+                            suntracker::config::DriveSet::ALL,
+                        )
+                        .map_err(|e| format!("set {}: {e:?}", key.name()))?;
                         ctl.reconfigure(config)
                             .map_err(|e| format!("set {}: {e:?}", key.name()))?;
                     }

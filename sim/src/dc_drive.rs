@@ -88,11 +88,14 @@ pub fn worm_slew_axis_config(min_deg: f32, max_deg: f32) -> AxisConfig {
         max_speed_deg_s: 7.0,
         deadband_deg: 0.05,
         continuous: 0,
+        drive: suntracker::config::DriveKind::DcHall as u8,
+        max_current_ma: WORM_SLEW_LOOP.max_current_ma as u16,
+        overcurrent_ms: WORM_SLEW_LOOP.overcurrent_ms as u16,
     }
 }
 
 /// The position loop and watch of [`worm_slew_motor`]'s axis, the core's
-/// [`suntracker::mechanics::WORM_SLEW_LOOP`] (the Mega's `dc` image runs
+/// [`suntracker::mechanics::WORM_SLEW_LOOP`] (a Mega's DC axis on this drive runs
 /// the same).
 pub use suntracker::mechanics::WORM_SLEW_LOOP;
 

@@ -26,7 +26,7 @@ use drivers::adc::AdcChannel;
 use drivers::dc_motor::{Bridge, Config as BridgeConfig, DcMotor as MotorDriver, Error, Output};
 use drivers::linear::{ActuatorGeometry, LinearError, PotCalibration, PulseScale};
 use embedded_hal::digital::{ErrorType, InputPin};
-use suntracker::config::AxisConfig;
+use suntracker::config::{AxisConfig, DriveKind};
 use suntracker::hw::{
     DcAxisConfig, DcState, EncoderCount, HallFeedback, LinearAxis, LinearAxisConfig,
     LinearAxisError, NoCurrentSense, NoEndSwitch, PotConfig, PotError, PotFeedback,
@@ -681,6 +681,12 @@ pub fn la12_tilt_axis_config(feedback: FeedbackKind) -> Result<AxisConfig, Linea
         max_speed_deg_s: 10.0,
         deadband_deg: 0.05,
         continuous: 0,
+        drive: match feedback {
+            FeedbackKind::Hall => DriveKind::LinearHall,
+            FeedbackKind::Pot => DriveKind::LinearPot,
+        } as u8,
+        max_current_ma: LA12_HALL_LOOP.max_current_ma as u16,
+        overcurrent_ms: LA12_HALL_LOOP.overcurrent_ms as u16,
     })
 }
 

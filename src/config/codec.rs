@@ -1,14 +1,16 @@
-//! The configuration's binary payload, layout version 6
+//! The configuration's binary payload, layout version 7
 //! ([`super::LAYOUT_VERSION`]): the fields of the key table ([`super::KEYS`],
 //! which lists them in declaration order) but the derived counts per
 //! degree, in its order, with the operator's hold after the fields of
 //! version 3 ([`V3_KEYS`]) and the fields added since (`modbus.*`,
 //! `stow.*`, `supply.*`, `overcast.*` in version 4, `axis.c.continuous`
 //! in version 5, `site.utc_offset_h`, `wind.m_s_per_hz` and
-//! `modbus.timeout_stow` in version 6) after it;
+//! `modbus.timeout_stow` in version 6, each axis's `drive`,
+//! `max_current_ma` and `overcurrent_ms` in version 7) after it;
 //! little-endian, [`PAYLOAD_LEN`] bytes. The payloads of versions 2
 //! ([`PAYLOAD_LEN_V2`], without the hold), 3 ([`PAYLOAD_LEN_V3`]), 4
-//! ([`PAYLOAD_LEN_V4`]) and 5 ([`PAYLOAD_LEN_V5`]) are still read, the fields they lack at their
+//! ([`PAYLOAD_LEN_V4`]), 5 ([`PAYLOAD_LEN_V5`]) and 6
+//! ([`PAYLOAD_LEN_V6`]) are still read, the fields they lack at their
 //! defaults. Also the
 //! little-endian cursors that write and read it (the store writes its slot
 //! header with the same writer).
@@ -37,7 +39,21 @@ pub const PAYLOAD_LEN_V5: usize = PAYLOAD_LEN_V4 + 1;
 /// Payload length of layout version 6: version 5's, the site's UTC offset
 /// (4 bytes), the anemometer's m/s per Hz (4 bytes) and the Modbus
 /// silence's stow switch (1 byte).
-pub const PAYLOAD_LEN: usize = PAYLOAD_LEN_V5 + 4 + 4 + 1;
+pub const PAYLOAD_LEN_V6: usize = PAYLOAD_LEN_V5 + 4 + 4 + 1;
+
+/// Payload length of layout version 7: version 6's and each axis's drive
+/// kind (1 byte), current limit and overcurrent time (2 bytes each).
+pub const PAYLOAD_LEN: usize = PAYLOAD_LEN_V6 + 2 * (1 + 2 + 2);
+
+/// The keys of layout version 6, the first of [`KEYS`]: those up to
+/// `modbus.timeout_stow`.
+const V6_KEYS: usize = {
+    let mut i = 0;
+    while i < KEYS.len() && KEYS[i] as usize != super::Field::ModbusTimeoutStow as usize {
+        i += 1;
+    }
+    i + 1
+};
 
 /// The keys of layout version 5, the first of [`KEYS`]: those up to
 /// `axis.c.continuous`.
@@ -163,7 +179,9 @@ impl Config {
         }
     }
 
-    /// Parses a payload of layout version 6, or of version 5 (without the
+    /// Parses a payload of layout version 7, or of version 6 (without the
+    /// axes' drive kinds and current watch: steppers, the defaults), 5
+    /// (also without the
     /// UTC offset, the anemometer's factor and the Modbus silence's stow:
     /// 0, 0, off), 4 (also without `axis.c.continuous`: off), 3 (also without the Modbus, stow, supply
     /// and overcast settings: their defaults) or 2 (also without the hold:
@@ -177,6 +195,7 @@ impl Config {
         for (i, &key) in KEYS.iter().enumerate() {
             if (i == V4_KEYS && buf.len() == PAYLOAD_LEN_V4)
                 || (i == V5_KEYS && buf.len() == PAYLOAD_LEN_V5)
+                || (i == V6_KEYS && buf.len() == PAYLOAD_LEN_V6)
             {
                 break;
             }

@@ -118,6 +118,12 @@ named! {
         SiteUtcOffsetH => "site.utc_offset_h",
         WindMSPerHz => "wind.m_s_per_hz",
         ModbusTimeoutStow => "modbus.timeout_stow",
+        AxisCDrive => "axis.c.drive",
+        AxisCMaxCurrentMa => "axis.c.max_current_ma",
+        AxisCOvercurrentMs => "axis.c.overcurrent_ms",
+        AxisADrive => "axis.a.drive",
+        AxisAMaxCurrentMa => "axis.a.max_current_ma",
+        AxisAOvercurrentMs => "axis.a.overcurrent_ms",
     }
 }
 
@@ -194,6 +200,10 @@ named! {
         WholeCountsPerTurn => "needs a whole axis.c.gear_ratio (whole motor counts per turn)",
         UtcOffsetH => range_text!(f32s(r::UTC_OFFSET_H), Str(" h east of UTC")),
         WindMSPerHz => range_text!(f32s(r::WIND_M_S_PER_HZ), Str(" m/s per Hz (0: not known)")),
+        DriveKind => "0 stepper, 1 servo_encoder, 2 dc_hall, 3 linear_hall, 4 linear_pot, 5 timed",
+        DriveNotOnBoard => "no driver for it on this board",
+        MaxCurrentMa => range_text!(u16s(r::MAX_CURRENT_MA), Str(" mA")),
+        OvercurrentMs => range_text!(u16s(r::OVERCURRENT_MS), Str(" ms")),
     }
 }
 
@@ -204,6 +214,9 @@ named! {
 pub(super) struct AxisKeys {
     pub(super) counts_per_motor_rev: Field,
     pub(super) deadband_deg: Field,
+    /// The first of the axis's keys added in layout version 7 (its drive,
+    /// current limit and overcurrent time, in that order).
+    pub(super) drive: Field,
 }
 
 /// The keys of the C axis (`Config::axes[0]`), then the A axis.
@@ -211,9 +224,11 @@ pub(super) const AXIS_KEYS: [AxisKeys; 2] = [
     AxisKeys {
         counts_per_motor_rev: Field::AxisCCountsPerMotorRev,
         deadband_deg: Field::AxisCDeadbandDeg,
+        drive: Field::AxisCDrive,
     },
     AxisKeys {
         counts_per_motor_rev: Field::AxisACountsPerMotorRev,
         deadband_deg: Field::AxisADeadbandDeg,
+        drive: Field::AxisADrive,
     },
 ];

@@ -111,6 +111,78 @@ pub struct AxisConfig {
     /// counts per turn of the axis (an integer `gear_ratio`), or the count
     /// would drift by the fraction at each turn.
     pub continuous: u8,
+    /// The axis's drive: 0…5 (`axis.c.drive`), a [`DriveKind`] code: 0
+    /// stepper (an H-bridge or a STEP/DIR driver), 1 a continuous servo
+    /// on an encoder, 2 a DC gear motor or slew drive counted by its Hall
+    /// sensor (`counts_per_motor_rev` Hall counts a motor turn), 3 and 4 a
+    /// linear actuator on Hall pulses or a potentiometer, 5 a DC motor
+    /// timed, without feedback. A board builds its axes from it at
+    /// power-on (`save` and reset after changing it) and refuses a kind
+    /// its image has no driver for ([`Config::check_drives`]).
+    pub drive: u8,
+    /// A DC axis's motor current limit, milliamperes: 100…40,000
+    /// (`axis.c.max_current_ma`), from a small gear motor to the BTS7960's
+    /// 43 A; above it for `overcurrent_ms` is an obstruction
+    /// (`obstruction_c`/`_a`). Not used by the other drives.
+    pub max_current_ma: u16,
+    /// Time above `max_current_ma` that is an obstruction, milliseconds:
+    /// 10…5,000 (`axis.c.overcurrent_ms`); longer than a start's inrush,
+    /// shorter than the time a stalled motor takes to overheat.
+    pub overcurrent_ms: u16,
+}
+
+/// An axis's drive kind: the codes of `axis.c.drive` and `axis.a.drive`.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+#[repr(u8)]
+pub enum DriveKind {
+    /// A stepper motor (H-bridge or STEP/DIR driver).
+    Stepper = 0,
+    /// A continuous-rotation servo closed on an encoder.
+    ServoEncoder = 1,
+    /// A DC gear motor or slew drive closed on its Hall count.
+    DcHall = 2,
+    /// A linear actuator counted by its Hall or reed pulses.
+    LinearHall = 3,
+    /// A linear actuator read by its potentiometer.
+    LinearPot = 4,
+    /// A DC motor without feedback, moved by time.
+    Timed = 5,
+}
+
+impl DriveKind {
+    /// The kind of a code of `axis.c.drive`, if it is one.
+    pub const fn from_code(code: u8) -> Option<DriveKind> {
+        Some(match code {
+            0 => DriveKind::Stepper,
+            1 => DriveKind::ServoEncoder,
+            2 => DriveKind::DcHall,
+            3 => DriveKind::LinearHall,
+            4 => DriveKind::LinearPot,
+            5 => DriveKind::Timed,
+            _ => return None,
+        })
+    }
+}
+
+/// The drive kinds a board's image can build an axis of.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct DriveSet(u8);
+
+impl DriveSet {
+    /// Steppers only.
+    pub const STEPPER: DriveSet = DriveSet(1);
+    /// Every kind.
+    pub const ALL: DriveSet = DriveSet(0b11_1111);
+
+    /// This set and `kind`.
+    pub const fn with(self, kind: DriveKind) -> DriveSet {
+        DriveSet(self.0 | 1 << kind as u8)
+    }
+
+    /// True when `code` is the code of a kind of this set.
+    pub const fn has_code(self, code: u8) -> bool {
+        code < 8 && self.0 & (1 << code) != 0
+    }
 }
 
 impl AxisConfig {
@@ -349,6 +421,9 @@ impl Config {
             max_speed_deg_s: 2.0,
             deadband_deg: 0.05,
             continuous: 0,
+            drive: DriveKind::Stepper as u8,
+            max_current_ma: 3_000,
+            overcurrent_ms: 100,
         };
         Config {
             site: SiteConfig {

@@ -111,6 +111,17 @@ pub const UTC_OFFSET_H: (f32, f32) = (-12.0, 14.0);
 /// to 10 (cup anemometers give 0.3–2.5: the common 2.4 km/h per Hz type
 /// 0.667).
 pub const WIND_M_S_PER_HZ: (f32, f32) = (0.0, 10.0);
+/// An axis's drive kind: the codes 0 to 5 of
+/// [`DriveKind`](super::DriveKind).
+pub const DRIVE: (u8, u8) = (0, 5);
+/// A DC axis's current limit, milliamperes: 0.1 A (a small gear motor on
+/// an L298N) to 40 A (under the BTS7960's 43 A).
+pub const MAX_CURRENT_MA: (u16, u16) = (100, 40_000);
+/// Time above the current limit that is an obstruction, milliseconds:
+/// 10 ms (a few periods of a 1 kHz current reading) to 5 s (a stalled
+/// gear motor draws its stall current, several times the rated one: it
+/// must not wait longer).
+pub const OVERCURRENT_MS: (u16, u16) = (10, 5_000);
 /// An input's active level: 0 low, 1 high.
 pub const ACTIVE_LEVEL: (u8, u8) = (0, 1);
 /// An on/off switch: 0 off, 1 on.

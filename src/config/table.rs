@@ -110,11 +110,9 @@ macro_rules! key_table {
         /// not in the table.
         pub const KEYS: &[Field] = &[$(Field::$field,)*];
 
-        crate::progmem! {
-            /// The range of each key of [`KEYS`], at the same place.
-            pub(crate) static RANGES: [Range; KEYS.len()] =
-                [$(key_range!($kind, r::$range, $why),)*];
-        }
+        /// The range of each key of [`KEYS`], at the same place; when
+        /// compiling only ([`BOUNDS`] and [`REASONS`] hold it).
+        const RANGES: [Range; KEYS.len()] = [$(key_range!($kind, r::$range, $why),)*];
 
         /// The value of `key` in `$c` in the defaults table's bits
         /// ([`key_bits`]); when compiling.
@@ -196,6 +194,42 @@ key_table! { c;
     SiteUtcOffsetH F32 c.site.utc_offset_h, UTC_OFFSET_H UtcOffsetH;
     WindMSPerHz F32 c.wind.m_s_per_hz, WIND_M_S_PER_HZ WindMSPerHz;
     ModbusTimeoutStow U8 c.modbus.timeout_stow, SWITCH Switch;
+    AxisCDrive U8 c.axes[0].drive, DRIVE DriveKind;
+    AxisCMaxCurrentMa U16 c.axes[0].max_current_ma, MAX_CURRENT_MA MaxCurrentMa;
+    AxisCOvercurrentMs U16 c.axes[0].overcurrent_ms, OVERCURRENT_MS OvercurrentMs;
+    AxisADrive U8 c.axes[1].drive, DRIVE DriveKind;
+    AxisAMaxCurrentMa U16 c.axes[1].max_current_ma, MAX_CURRENT_MA MaxCurrentMa;
+    AxisAOvercurrentMs U16 c.axes[1].overcurrent_ms, OVERCURRENT_MS OvercurrentMs;
+}
+
+crate::progmem! {
+    /// The bounds of each key's range ([`Range`]'s `lo` and `hi`) at its
+    /// place in [`KEYS`]. Apart from the reasons: a [`Range`] a row took
+    /// 12 bytes on a 32-bit target (its one-byte reason padded), the two
+    /// tables 9.
+    pub(crate) static BOUNDS: [[u32; 2]; KEYS.len()] = {
+        let mut b = [[0u32; 2]; KEYS.len()];
+        let mut i = 0;
+        while i < KEYS.len() {
+            b[i] = [RANGES[i].lo, RANGES[i].hi];
+            i += 1;
+        }
+        b
+    };
+}
+
+crate::progmem! {
+    /// The reason of each key's range ([`Range`]'s `reason`) at its place
+    /// in [`KEYS`].
+    pub(crate) static REASONS: [Reason; KEYS.len()] = {
+        let mut r = [Reason::Switch; KEYS.len()];
+        let mut i = 0;
+        while i < KEYS.len() {
+            r[i] = RANGES[i].reason;
+            i += 1;
+        }
+        r
+    };
 }
 
 crate::progmem! {
@@ -248,6 +282,9 @@ const ZEROS: Config = {
         max_speed_deg_s: 0.0,
         deadband_deg: 0.0,
         continuous: 0,
+        drive: 0,
+        max_current_ma: 0,
+        overcurrent_ms: 0,
     };
     Config {
         site: SiteConfig {

@@ -6,8 +6,8 @@
 use core::ops::Range;
 
 use super::keys::AXIS_KEYS;
-use super::table::{read, Value, KEYS, RANGES};
-use super::{AxisConfig, Config, Field, Reason};
+use super::table::{read, Value, BOUNDS, KEYS, REASONS};
+use super::{AxisConfig, Config, DriveSet, Field, Reason};
 
 /// Which field of a [`Config`] is out of its range, and why.
 ///
@@ -78,6 +78,21 @@ const AXIS_SPANS: [(usize, usize); 2] = [
 const _: () = assert!(AXIS_SPANS[0].1 - AXIS_SPANS[0].0 == 10);
 const _: () = assert!(AXIS_SPANS[1].1 - AXIS_SPANS[1].0 == 10);
 
+/// The places in [`KEYS`] of each axis's keys of layout version 7:
+/// `drive`, `max_current_ma`, `overcurrent_ms` (listed together).
+const AXIS_DRIVE_SPANS: [(usize, usize); 2] = [
+    (
+        key_index(AXIS_KEYS[0].drive),
+        key_index(AXIS_KEYS[0].drive) + 3,
+    ),
+    (
+        key_index(AXIS_KEYS[1].drive),
+        key_index(AXIS_KEYS[1].drive) + 3,
+    ),
+];
+const _: () = assert!(AXIS_DRIVE_SPANS[0].1 <= KEYS.len());
+const _: () = assert!(AXIS_DRIVE_SPANS[1].1 <= KEYS.len());
+
 impl AxisConfig {
     /// Checks every field against its range; `axis` 0 is the C axis (keys
     /// `axis.c.*`), any other the A axis (`axis.a.*`). The deadband's
@@ -86,11 +101,16 @@ impl AxisConfig {
     pub fn validate(&self, axis: usize) -> Result<(), ConfigError> {
         let i = usize::from(axis != 0);
         let mut config = Config::default();
-        let (Some(slot), Some(&(from, to))) = (config.axes.get_mut(i), AXIS_SPANS.get(i)) else {
+        let (Some(slot), Some(&(from, to)), Some(&(drive_from, drive_to))) = (
+            config.axes.get_mut(i),
+            AXIS_SPANS.get(i),
+            AXIS_DRIVE_SPANS.get(i),
+        ) else {
             return Ok(());
         };
         *slot = *self;
-        config.check_keys(from..to)
+        config.check_keys(from..to)?;
+        config.check_keys(drive_from..drive_to)
     }
 }
 
@@ -115,8 +135,23 @@ impl Config {
         copy.check_keys(0..KEYS.len())
     }
 
+    /// `Err` naming the first axis whose `drive` is not a kind of
+    /// `drives` (the kinds a board's image can build: a configuration
+    /// saved by another image, or typed for another board).
+    pub fn check_drives(&self, drives: DriveSet) -> Result<(), ConfigError> {
+        for (a, k) in self.axes.iter().zip(AXIS_KEYS.iter()) {
+            if !drives.has_code(a.drive) {
+                return Err(ConfigError {
+                    field: k.drive,
+                    reason: Reason::DriveNotOnBoard,
+                });
+            }
+        }
+        Ok(())
+    }
+
     /// The keys at `places` of [`KEYS`] in order: each against its range
-    /// ([`RANGES`]), then the rules between fields that end at it. Takes
+    /// ([`BOUNDS`], [`REASONS`]), then the rules between fields that end at it. Takes
     /// the configuration mutably (the table's slots borrow for writing;
     /// nothing is written). Out of line on the AVR: with the copy of the
     /// configuration in its frame, the checks' slots lay beyond
@@ -124,12 +159,14 @@ impl Config {
     #[cfg_attr(target_arch = "avr", inline(never))]
     fn check_keys(&mut self, places: Range<usize>) -> Result<(), ConfigError> {
         for i in places {
-            let (Some(&key), Some(range)) = (KEYS.get(i), RANGES.get(i)) else {
+            let (Some(&key), Some([lo_bits, hi_bits]), Some(reason)) =
+                (KEYS.get(i), BOUNDS.get(i), REASONS.get(i))
+            else {
                 break;
             };
             let ok = match read(self, key) {
                 Value::F32(v) => {
-                    let (mut lo, mut hi) = (f32::from_bits(range.lo), f32::from_bits(range.hi));
+                    let (mut lo, mut hi) = (f32::from_bits(lo_bits), f32::from_bits(hi_bits));
                     // A home switch angle: from its offsets below and above
                     // `min_deg`, and never above `max_deg`.
                     let home = match key {
@@ -150,13 +187,10 @@ impl Config {
                     }
                     v.is_finite() && v >= lo && v <= hi
                 }
-                Value::U32(v) => v >= range.lo && v <= range.hi,
+                Value::U32(v) => v >= lo_bits && v <= hi_bits,
             };
             if !ok {
-                return Err(ConfigError {
-                    field: key,
-                    reason: range.reason,
-                });
+                return Err(ConfigError { field: key, reason });
             }
             self.rules_at(key)?;
         }

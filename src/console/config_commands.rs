@@ -6,7 +6,7 @@ use super::parse::{names, Command};
 use super::postal::apply_postal_code;
 use super::reply::{format_get, write_help, write_key_value, write_ok, write_set_error};
 use super::set::{apply_assignments, apply_set};
-use crate::config::{Config, Field};
+use crate::config::{Config, DriveSet, Field};
 use crate::log::Sink;
 
 /// What [`run_config`] did with a command.
@@ -23,9 +23,16 @@ pub enum Outcome<'a> {
 }
 
 /// Carries out and answers `help`, `get`, `set` and `defaults` on
-/// `config`; passes every other command back.
+/// `config`; passes every other command back. A `set` that gives an axis
+/// a drive kind outside `drives` (the board's) is refused like a value
+/// out of range.
 #[inline(never)]
-pub fn run_config<'a>(out: &mut dyn Sink, config: &mut Config, cmd: Command<'a>) -> Outcome<'a> {
+pub fn run_config<'a>(
+    out: &mut dyn Sink,
+    config: &mut Config,
+    drives: DriveSet,
+    cmd: Command<'a>,
+) -> Outcome<'a> {
     // The `set`s: their refusal answered by one call for all three kinds
     // (one in each arm cost more on the ATmega2560).
     let set = match cmd {
@@ -43,8 +50,8 @@ pub fn run_config<'a>(out: &mut dyn Sink, config: &mut Config, cmd: Command<'a>)
             format_get(out, config, k);
             return Outcome::Answered;
         }
-        Command::Set(k, v) => apply_set(config, k, v),
-        Command::SetMany(a) => apply_assignments(config, &a),
+        Command::Set(k, v) => apply_set(config, k, v, drives),
+        Command::SetMany(a) => apply_assignments(config, &a, drives),
         Command::SetPostalCode(text) => apply_postal_code(config, text).map(|_| ()),
         Command::Defaults => {
             *config = Config::default();

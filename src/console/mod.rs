@@ -94,7 +94,7 @@
 //! # Use
 //!
 //! ```
-//! use suntracker::config::Config;
+//! use suntracker::config::{Config, DriveSet};
 //! use suntracker::console::{self, LineBuffer, Outcome};
 //! use suntracker::log::Sink;
 //!
@@ -119,7 +119,7 @@
 //!         Some(Err(e)) => console::write_line_error(&mut out, e),
 //!         Some(Ok(text)) => match console::parse(text) {
 //!             Err(e) => console::write_parse_error(&mut out, &e),
-//!             Ok(cmd) => match console::run_config(&mut out, &mut config, cmd) {
+//!             Ok(cmd) => match console::run_config(&mut out, &mut config, DriveSet::STEPPER, cmd) {
 //!                 Outcome::Answered | Outcome::Changed => {}
 //!                 // status, save, stow, …: the firmware's part.
 //!                 Outcome::Pass(cmd) => console::write_ok(&mut out, cmd.name()),

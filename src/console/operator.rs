@@ -8,7 +8,7 @@ use super::reply::{
     write_saved, write_time_set,
 };
 use super::status::{write_status, StatusView};
-use crate::config::Config;
+use crate::config::{Config, DriveSet};
 use crate::log::Sink;
 use crate::persist::{Loaded, SaveError};
 use crate::safety::{AxisId, OperatorHold};
@@ -71,6 +71,9 @@ pub trait Operator {
     /// The board's own configuration, which `defaults` restores (its
     /// mechanics, not [`Config::default`]'s generic ones).
     fn defaults(&self) -> Config;
+    /// The drive kinds the board's image builds axes of (`set
+    /// axis.c.drive` refuses the others).
+    fn drives(&self) -> DriveSet;
     /// Puts a changed (valid) configuration into effect; false when the
     /// tracker refused it (then nothing changed).
     fn apply(&mut self, config: Config) -> bool;
@@ -200,7 +203,8 @@ pub fn execute(op: &mut dyn Operator, line: &str) -> Executed {
         }
         return Executed::Done;
     }
-    let cmd = match run_config(op.out(), &mut config, cmd) {
+    let drives = op.drives();
+    let cmd = match run_config(op.out(), &mut config, drives, cmd) {
         Outcome::Answered => return Executed::Done,
         Outcome::Changed => {
             put_into_effect(op, config);

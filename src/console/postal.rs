@@ -3,7 +3,7 @@
 
 use super::set::{commit, SetError};
 use super::words::{split_at_byte, trim_blank};
-use crate::config::Config;
+use crate::config::{Config, DriveSet};
 use crate::site::key::MAX_CODE_LEN;
 use crate::site::{lookup, PostalEntry, PostalError};
 
@@ -22,8 +22,9 @@ pub fn apply_postal_code(config: &mut Config, text: &str) -> Result<PostalEntry,
     let mut copy = *config;
     copy.site.latitude_deg = entry.latitude_deg::<f32>();
     copy.site.longitude_deg = entry.longitude_deg::<f32>();
-    // Validated and kept as a `set` is (one copy of that step).
-    commit(config, copy, None)?;
+    // Validated and kept as a `set` is (one copy of that step); a postal
+    // code changes no drive, so any kind passes.
+    commit(config, copy, None, DriveSet::ALL)?;
     Ok(entry)
 }
 

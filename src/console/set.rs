@@ -4,7 +4,7 @@
 use super::keys::{slot, Key, Slot};
 use super::number::Decimal;
 use super::parse::Assignments;
-use crate::config::{Config, ConfigError};
+use crate::config::{Config, ConfigError, DriveSet};
 use crate::site::PostalError;
 
 /// Why a `set` changed nothing.
@@ -67,17 +67,27 @@ fn store(c: &mut Config, key: Key, v: &Decimal) -> Result<bool, SetError> {
 }
 
 /// Sets `key` to `value` in a copy of `config`, validates the copy with
-/// [`Config::validate`] and only then stores it; on error `config` is
-/// unchanged.
-pub fn apply_set(config: &mut Config, key: Key, value: Decimal) -> Result<(), SetError> {
+/// [`Config::validate`] and against the board's drive kinds `drives`
+/// ([`Config::check_drives`]) and only then stores it; on error `config`
+/// is unchanged.
+pub fn apply_set(
+    config: &mut Config,
+    key: Key,
+    value: Decimal,
+    drives: DriveSet,
+) -> Result<(), SetError> {
     let mut copy = *config;
     let clipped = store(&mut copy, key, &value)?;
-    commit(config, copy, clipped.then_some(key))
+    commit(config, copy, clipped.then_some(key), drives)
 }
 
 /// Sets every pair of `set` in a copy of `config`, validates the copy once
-/// and only then stores it: all or nothing.
-pub fn apply_assignments(config: &mut Config, set: &Assignments<'_>) -> Result<(), SetError> {
+/// (as [`apply_set`]) and only then stores it: all or nothing.
+pub fn apply_assignments(
+    config: &mut Config,
+    set: &Assignments<'_>,
+    drives: DriveSet,
+) -> Result<(), SetError> {
     let mut copy = *config;
     let mut clipped = None;
     for (key, value) in set.iter() {
@@ -85,17 +95,20 @@ pub fn apply_assignments(config: &mut Config, set: &Assignments<'_>) -> Result<(
             clipped = Some(key);
         }
     }
-    commit(config, copy, clipped)
+    commit(config, copy, clipped, drives)
 }
 
-/// Stores `copy` if it is valid and no value had to be clipped to its
-/// field's type (`clipped` names such a key).
+/// Stores `copy` if it is valid, its axes' drive kinds are of `drives` and
+/// no value had to be clipped to its field's type (`clipped` names such a
+/// key).
 pub(super) fn commit(
     config: &mut Config,
     copy: Config,
     clipped: Option<Key>,
+    drives: DriveSet,
 ) -> Result<(), SetError> {
     copy.validate().map_err(SetError::Invalid)?;
+    copy.check_drives(drives).map_err(SetError::Invalid)?;
     if let Some(key) = clipped {
         return Err(SetError::OutOfRange(key));
     }

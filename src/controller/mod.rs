@@ -807,7 +807,7 @@ where
         if wait_until.is_some_and(|t| !monotonic::reached(now_ms, t)) {
             return true; // waiting before another attempt
         }
-        if D::SELF_WATCHED && drive_watch(&mut self.faults, ax.drive_mut(), id, now_ms) {
+        if ax.drive().self_watched() && drive_watch(&mut self.faults, ax.drive_mut(), id, now_ms) {
             return true; // a latched motor fault waits for its retry
         }
         // Bounded: a whole travel at the fine step is ≤ 50 × 370 chunks.
@@ -842,7 +842,7 @@ where
                     }
                     return true;
                 }
-                Err(_) if D::SELF_WATCHED && ax.drive().fault_latched() => {
+                Err(_) if ax.drive().self_watched() && ax.drive().fault_latched() => {
                     drive_watch(&mut self.faults, ax.drive_mut(), id, now_ms);
                     return true;
                 }
@@ -880,7 +880,7 @@ where
         if disabled && !ticks.is_multiple_of(probe_every) {
             return;
         }
-        if D::SELF_WATCHED && drive_watch(&mut self.faults, ax.drive_mut(), id, now_ms) {
+        if ax.drive().self_watched() && drive_watch(&mut self.faults, ax.drive_mut(), id, now_ms) {
             return; // a latched motor fault waits for its retry
         }
         // Unexpected limit switch: closed far from the home angle (within
@@ -966,7 +966,7 @@ where
                 Err(AxisError::NotHomed) => return,
                 // Refused: the motor's watch tripped during this tick's
                 // moves (raised below).
-                Err(_) if D::SELF_WATCHED && ax.drive().fault_latched() => break,
+                Err(_) if ax.drive().self_watched() && ax.drive().fault_latched() => break,
                 Err(_) => {
                     self.faults
                         .raise(Fault::I2cError(Sensor::Encoder(id)), now_ms);
@@ -985,8 +985,9 @@ where
                 // while driven) is not judged a tick later: it may still be
                 // settling from its last stop or ramping up, and its own
                 // watch raises the stall (`drive_watch` below).
+                let watched = ax.drive().self_watched();
                 if let (Some(b), Some(w)) = (
-                    before.filter(|_| !D::SELF_WATCHED && cmd_deg.abs() >= STALL_MIN_COMMAND_DEG),
+                    before.filter(|_| !watched && cmd_deg.abs() >= STALL_MIN_COMMAND_DEG),
                     self.stall_watch.get_mut(i),
                 ) {
                     w.arm(b, now_ms);
@@ -996,7 +997,7 @@ where
                 last_dev = Some(a - report.target_deg);
             }
         }
-        if D::SELF_WATCHED {
+        if ax.drive().self_watched() {
             // What the motor's watch saw during this tick's moves; a move
             // done without one ends a stall, an obstruction, unexpected
             // motion or a slow move.
@@ -1044,7 +1045,7 @@ fn raise_drive_fault<D: AxisDrive>(
     faults.raise(fault, now_ms);
 }
 
-/// For a drive that watches its own motor ([`AxisDrive::SELF_WATCHED`]):
+/// For a drive that watches its own motor ([`AxisDrive::self_watched`]):
 /// raises what the watch saw, and returns true while a latched fault
 /// (stall, obstruction, move timeout) waits for its retry, leaving the
 /// axis alone. When the fault manager's back-off for it has passed (or the

@@ -310,8 +310,7 @@ pub struct DcAxis<B: Bridge, E, H, C> {
     home_active_low: bool,
     sense: Option<C>,
     config: DcAxisConfig,
-    /// A fresh watch (copied in at every start and rest).
-    watch_new: StallWatch,
+    /// The Hall watch (reset at every start and rest).
     watch: StallWatch,
     state: DcState,
     target: i32,
@@ -398,7 +397,6 @@ where
             home_active_low,
             sense,
             config,
-            watch_new: watch,
             watch,
             state: DcState::Idle { reported: false },
             target: count,
@@ -458,7 +456,7 @@ where
     }
 
     fn rest(&mut self, now_ms: u32) {
-        self.watch = self.watch_new;
+        self.watch.reset();
         self.watch.set_drive(0, now_ms);
         self.state = DcState::Idle { reported: false };
     }
@@ -533,7 +531,7 @@ where
             DcState::Starting => {
                 // A stop cut short by a new target measured no run-on.
                 self.brake_at = None;
-                self.watch = self.watch_new;
+                self.watch.reset();
                 self.speed_ref = (count, now_ms);
                 self.over_since_ms = None;
                 let e = i64::from(self.target) - i64::from(count);

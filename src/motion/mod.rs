@@ -39,6 +39,12 @@ pub trait AxisDrive {
     /// True for a drive that watches its own motor ([`AxisDrive::take_fault`]);
     /// the controller's checks of it compile away for the others.
     const SELF_WATCHED: bool = false;
+    /// True while this drive watches its own motor: [`AxisDrive::SELF_WATCHED`],
+    /// unless the kind is chosen at run time (a board's axis that is a
+    /// stepper or a DC motor by its configuration).
+    fn self_watched(&self) -> bool {
+        Self::SELF_WATCHED
+    }
     /// A fault the drive detected itself (a DC motor's current and Hall
     /// watch), reported once: a latched fault ([`DriveFault::Stall`],
     /// [`DriveFault::Obstruction`], [`DriveFault::TooSlow`]) refuses moves until

@@ -140,6 +140,9 @@ pub fn axis_configs_geared(gear_ratio: [f32; 2]) -> [AxisConfig; 2] {
         max_speed_deg_s: HOMING_SPEED_DEG_S / if gear >= 1.0 { gear } else { 1.0 },
         deadband_deg: 0.0,
         continuous: 0,
+        drive: crate::config::DriveKind::ServoEncoder as u8,
+        // The current watch's defaults (DC axes only).
+        ..crate::config::Config::DEFAULT.axes[0]
     };
     [axis(gear_c, -180.0, 180.0), axis(gear_a, -90.0, 90.0)]
 }
