@@ -20,7 +20,7 @@ ELF_AVR_UNO="$FW_TARGET_DIR/avr-none/release/avr_tracker.elf"
 ELF_AVR_BENCH="$FW_TARGET_DIR/avr-none/release/avr_bench.elf"
 ELF_AVR_MEGA="$FW_TARGET_DIR/mega/avr-none/release/avr_mega_tracker.elf"
 ELF_AVR_MEGA_EMU="$FW_TARGET_DIR/mega-emu/avr-none/release/avr_mega_tracker.elf"
-# The Mega's `dc` image (DC gear motors), and its emulator build.
+# The Mega's `dc` image (both axes DC gear motors in its own configuration), and its emulator build.
 ELF_AVR_MEGA_DC="$FW_TARGET_DIR/mega-dc/avr-none/release/avr_mega_tracker.elf"
 ELF_AVR_MEGA_DC_EMU="$FW_TARGET_DIR/mega-dc-emu/avr-none/release/avr_mega_tracker.elf"
 ELF_AVR_UNO_EMU="$FW_TARGET_DIR/uno-emu/avr-none/release/avr_tracker.elf"

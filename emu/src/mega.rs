@@ -413,7 +413,7 @@ impl MegaBench {
         }
     }
 
-    /// The `dc` image's axes: DC gear motors (slew drives) on IBT-2
+    /// DC axes (`axis.X.drive` 2, the `dc` image's own): DC gear motors (slew drives) on IBT-2
     /// modules with Hall encoders ([`crate::models::ibt2`]), the switches
     /// where the steppers' are; no stepper decoding. The bench runs at real
     /// time while a motor is driven or turns (and [`REAL_TIME_HOLD_S`]
@@ -1063,6 +1063,23 @@ impl MegaBench {
                 sim.min_sp(),
                 sim.min_sp_pc()
             );
+            // Every 3-byte window of the stack at that point read as a
+            // return address (a `call` on the ATmega2560 pushes the word
+            // address's 22 bits high byte deepest): those in flash, as byte
+            // addresses, for `avr-addr2line -f -e ELF`.
+            if let Some(stack) = sim.min_sp_stack() {
+                let mut found = Vec::new();
+                for (i, w) in stack.windows(3).enumerate() {
+                    let word = u32::from(w[0]) << 16 | u32::from(w[1]) << 8 | u32::from(w[2]);
+                    if word != 0 && word < 0x20000 {
+                        found.push(format!("+{i}:{:#x}", word * 2));
+                    }
+                }
+                eprintln!(
+                    "suntracker-emu: stack return address candidates {}",
+                    found.join(" ")
+                );
+            }
         }
         if let Some(p) = sim.profile() {
             // Top addresses by cycles, for `avr-addr2line -f -e ELF`.

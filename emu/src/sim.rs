@@ -101,6 +101,10 @@ pub struct Sim {
     min_sp: u16,
     /// The program counter (byte address) when it was seen.
     min_sp_pc: u32,
+    /// The stack's bytes above [`Sim::min_sp`] when it was reached (kept
+    /// only with `SUNTRACKER_EMU_PC` set: the return addresses of the
+    /// deepest call chain, for `avr-addr2line`).
+    min_sp_stack: Option<Vec<u8>>,
     /// Cycles run before the last power cycle: [`Sim::cycle`] counts on
     /// across it (simavr's own count restarts at 0).
     cycle_base: Rc<std::cell::Cell<u64>>,
@@ -238,6 +242,7 @@ impl Sim {
             tx_pending: false,
             min_sp: u16::MAX,
             min_sp_pc: 0,
+            min_sp_stack: std::env::var_os("SUNTRACKER_EMU_PC").map(|_| Vec::new()),
             awake_from: None,
             longest_awake: None,
             long_awake: Vec::new(),
@@ -698,6 +703,12 @@ impl Sim {
         self.min_sp_pc
     }
 
+    /// The stack's bytes above the lowest stack pointer when it was
+    /// reached, from `min_sp + 1` up (only with `SUNTRACKER_EMU_PC` set).
+    pub fn min_sp_stack(&self) -> Option<&[u8]> {
+        self.min_sp_stack.as_deref()
+    }
+
     /// RAMEND of the MCU (data-space address of the last RAM byte).
     pub fn ramend(&self) -> u16 {
         unsafe { self.avr.as_ref().ramend }
@@ -776,6 +787,11 @@ impl Sim {
             if sp < self.min_sp {
                 self.min_sp = sp;
                 self.min_sp_pc = pc;
+                if self.min_sp_stack.is_some() {
+                    let top = self.ramend();
+                    let bytes = (sp.saturating_add(1)..=top).map(|a| self.peek(a)).collect();
+                    self.min_sp_stack = Some(bytes);
+                }
             }
             match state {
                 ffi::cpu_Running | ffi::cpu_Sleeping | ffi::cpu_Step | ffi::cpu_StepDone => {}

@@ -1,6 +1,9 @@
-//! The `dc` image's axes: a DC gear motor (slew drive) on each axis, driven
-//! through an IBT-2 module (two Infineon BTS7960 half bridges) and closed on
-//! the motor's two-channel Hall encoder ([`suntracker::hw::DcAxis`]).
+//! The board's DC axes (`axis.c.drive` / `axis.a.drive` 2, `dc_hall`): a
+//! DC gear motor (slew drive) on the axis, driven through an IBT-2 module
+//! (two Infineon BTS7960 half bridges) and closed on the motor's
+//! two-channel Hall encoder ([`suntracker::hw::DcAxis`]). The `dc`
+//! feature's image has both axes so by default ([`dc_config`]); any image
+//! takes them by configuration.
 //!
 //! | function | pin | Mega header |
 //! |---|---|---|
@@ -13,12 +16,16 @@
 //! | C axis Hall encoder channels A / B (PCINT20 / 21) | PK4 / PK5 | A12 / A13 |
 //! | A axis Hall encoder channels A / B (PCINT22 / 23) | PK6 / PK7 | A14 / A15 |
 //!
-//! The stepper image's bridge pins PA0–PA7 are free here (only four are
-//! used, as enables); the home and limit switches, the weather contacts,
+//! A DC axis takes two of its stepper bridge's four pins (PA0–PA3 for C,
+//! PA4–PA7 for A) as its enables and leaves the other two alone, so one axis
+//! can be a stepper and the other a DC motor; the timers' outputs (D7, D8,
+//! D11, D12, driven low at duty 0) and the encoder inputs (A12–A15, pulled
+//! up) are set up in every image. The home switches, the weather contacts,
 //! the supply and pyranometer inputs, the GPS, the I²C bus, the RS-485
 //! port (USART2 D16/D17, driver enable D6 = PH3, which Timer4 leaves to
 //! the port: its OC4A output stays disconnected) and the anemometer (D2)
-//! are those of the stepper image.
+//! are those of the stepper axes (a DC axis has no high-end switch: its
+//! soft limits and its own watch bound it).
 //!
 //! Wiring sketch (one axis; the A axis is the same on its pins):
 //!
@@ -50,23 +57,25 @@
 //! its 64-count motor-shaft Hall encoder (16 pulses a turn on each of two
 //! channels, every edge counted by [`suntracker_avr::PinChangeEncoders`]),
 //! then a 60:1 worm: 7,875:1 in all, 504,000 counts an output turn (1,400
-//! a degree), 7.62 °/s at most. Its position loop and watches are
-//! [`DC_LOOP`] (the simulator's `WORM_SLEW_LOOP`, whose figures it
-//! explains).
+//! a degree), 7.62 °/s at most. Each axis's position loop and watches are
+//! [`suntracker::mechanics::dc_hall_loop`] of its configuration: for this
+//! drive the simulator's `WORM_SLEW_LOOP`, whose figures it explains, with
+//! the configuration's current limit (`axis.X.max_current_ma`, 3,000 mA)
+//! and time (`axis.X.overcurrent_ms`, 100 ms).
 
 use core::cell::RefCell;
 
 use drivers::dc_motor::bts7960::{Bts7960Pins, CurrentSense, SenseConfig};
 use drivers::dc_motor::{Config as BridgeConfig, DcMotor, RestMode};
 use drivers::encoder::SharedEncoder;
-use suntracker::config::{AxisConfig, Config};
+use suntracker::config::{AxisConfig, Config, DriveKind};
 use suntracker::firmware::Motion;
-use suntracker::hw::{DcAxis, DcAxisConfig};
+use suntracker::hw::DcAxis;
 use suntracker::mechanics;
 use suntracker::motion::{AxisDrive, DriveFault};
 use suntracker_avr::{
     chip, millis, Adc, MotorPwm, OutputPin, PinChangeEncoders, PortInputPin, PortOutputPin,
-    SharedAdcChannel, Timer1MotorPwm, Timer4MotorPwm, Usart0,
+    SharedAdcChannel, Timer1MotorPwm, Timer4MotorPwm,
 };
 
 /// Hall counts per motor turn: 16 pulses on each of two channels, both
@@ -84,20 +93,14 @@ pub const A_SENSE_CHANNEL: u8 = 3;
 /// The bridges' duty ramp, ‰/ms: a start to full duty takes 0.5 s.
 pub const DC_RAMP_PERMILLE_PER_MS: u16 = 2;
 
-/// The position loop and watches of each axis: those of
-/// `suntracker::mechanics::WORM_SLEW_LOOP` (the simulator's) for this drive (full duty beyond 4°,
-/// 15 % at the target, done within 14 counts = 0.01°, a stall after
-/// 500 ms without a count, an obstruction above 3 A for 100 ms, 55 % of
-/// the 5.5 A stall current).
-pub const DC_LOOP: DcAxisConfig = suntracker::mechanics::WORM_SLEW_LOOP;
-
 /// The set-point deadband of the DC axes, degrees: a closed-loop correction
 /// is made beyond it (`sim::dc_drive::worm_slew_axis_config`'s 0.05°, 70
 /// Hall counts; the axis's own loop stops within 14).
 pub const DC_DEADBAND_DEG: f32 = 0.05;
 
-/// The board's configuration with the DC axes: the stepper image's ranges
-/// and switches, Hall counts and the slew drive's gears.
+/// The board's configuration with the DC axes (the `dc` feature's
+/// defaults): the stepper axes' ranges and switches, Hall counts and the
+/// slew drive's gears.
 #[allow(clippy::field_reassign_with_default)]
 pub fn dc_config() -> Config {
     let mut config = mechanics::config();
@@ -109,6 +112,7 @@ pub fn dc_config() -> Config {
             backlash_deg: 0.0,
             max_speed_deg_s: DC_MAX_SPEED_DEG_S,
             deadband_deg: DC_DEADBAND_DEG,
+            drive: DriveKind::DcHall as u8,
             ..*ax
         };
     }
@@ -222,67 +226,55 @@ pub struct DcBoard<'p> {
     pub portc: &'p chip::PORTC,
 }
 
-/// The two DC axes: C on Timer1, PA0/PA1, A2, PK4/PK5 and the home switch
-/// PC0; A on Timer4, PA4/PA5, A3, PK6/PK7 and PC1. `axes` gives each
-/// switch angle and scale. Not inlined, as the stepper image's axes.
+/// The DC axis `index` (0: C on Timer1, PA0/PA1, A2, PK4/PK5 and the home
+/// switch PC0; 1: A on Timer4, PA4/PA5, A3, PK6/PK7 and PC1), with the loop
+/// of its configuration `config` ([`suntracker::mechanics::dc_hall_loop`]);
+/// `None` when the bridge, the current sense or the loop refuse their
+/// settings (none does for a configuration that passed its checks).
 #[inline(never)]
-pub fn dc_axes<'p>(
+pub fn dc_axis<'p>(
     board: &'p DcBoard<'p>,
-    axes: &[AxisConfig; 2],
-    log: &mut Usart0,
-) -> [MegaDcAxis<'p>; 2] {
+    index: usize,
+    config: &AxisConfig,
+) -> Option<MegaDcAxis<'p>> {
     let DcBoard {
         parts,
         porta,
         portc,
     } = *board;
-    let adc = &parts.adc;
-    let (c_rpwm, c_lpwm) = parts.timer1.channels();
-    let (a_rpwm, a_lpwm) = parts.timer4.channels();
     let bridge = BridgeConfig {
         ramp_permille_per_ms: DC_RAMP_PERMILLE_PER_MS,
         rest: RestMode::Brake,
     };
-    let c_pins = Bts7960Pins {
-        rpwm: c_rpwm,
-        lpwm: c_lpwm,
-        r_en: OutputPin::<_, 0>::new(porta, false).erase(),
-        l_en: OutputPin::<_, 1>::new(porta, false).erase(),
+    let (pins, hall, home, channel) = if index == 0 {
+        let (rpwm, lpwm) = parts.timer1.channels();
+        let pins = Bts7960Pins {
+            rpwm,
+            lpwm,
+            r_en: OutputPin::<_, 0>::new(porta, false).erase(),
+            l_en: OutputPin::<_, 1>::new(porta, false).erase(),
+        };
+        let home = suntracker_avr::InputPin::<_, 0>::new(portc, true).erase();
+        (pins, parts.encoders.encoder_c(), home, C_SENSE_CHANNEL)
+    } else {
+        let (rpwm, lpwm) = parts.timer4.channels();
+        let pins = Bts7960Pins {
+            rpwm,
+            lpwm,
+            r_en: OutputPin::<_, 4>::new(porta, false).erase(),
+            l_en: OutputPin::<_, 5>::new(porta, false).erase(),
+        };
+        let home = suntracker_avr::InputPin::<_, 1>::new(portc, true).erase();
+        (pins, parts.encoders.encoder_a(), home, A_SENSE_CHANNEL)
     };
-    let a_pins = Bts7960Pins {
-        rpwm: a_rpwm,
-        lpwm: a_lpwm,
-        r_en: OutputPin::<_, 4>::new(porta, false).erase(),
-        l_en: OutputPin::<_, 5>::new(porta, false).erase(),
-    };
-    let c_home = suntracker_avr::InputPin::<_, 0>::new(portc, true).erase();
-    let a_home = suntracker_avr::InputPin::<_, 1>::new(portc, true).erase();
-    let axis = |pins, hall, home, channel, config: &AxisConfig| {
-        let motor = DcMotor::new(pins, bridge).ok()?;
-        let sense = CurrentSense::new(
-            SharedAdcChannel::new(adc, channel),
-            SenseConfig::DATASHEET_1K_5V,
-        )
-        .ok()?;
-        DcAxis::new(motor, hall, home, true, Some(sense), DC_LOOP, config).ok()
-    };
-    match (
-        axis(
-            c_pins,
-            parts.encoders.encoder_c(),
-            c_home,
-            C_SENSE_CHANNEL,
-            &axes[0],
-        ),
-        axis(
-            a_pins,
-            parts.encoders.encoder_a(),
-            a_home,
-            A_SENSE_CHANNEL,
-            &axes[1],
-        ),
-    ) {
-        (Some(c), Some(a)) => [MegaDcAxis(c), MegaDcAxis(a)],
-        _ => crate::halt(log, "dc axis configuration refused"),
-    }
+    let motor = DcMotor::new(pins, bridge).ok()?;
+    let sense = CurrentSense::new(
+        SharedAdcChannel::new(&parts.adc, channel),
+        SenseConfig::DATASHEET_1K_5V,
+    )
+    .ok()?;
+    let lp = mechanics::dc_hall_loop(config);
+    DcAxis::new(motor, hall, home, true, Some(sense), lp, config)
+        .ok()
+        .map(MegaDcAxis)
 }

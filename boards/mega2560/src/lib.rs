@@ -47,11 +47,14 @@
 //!  Mega D6 ─ DE,/RE ┘     └ B
 //! ```
 //!
-//! With the cargo feature `dc` the image drives DC gear motors (slew
-//! drives) through IBT-2 (BTS7960) modules instead, closed on their Hall
-//! encoders: the pins, the wiring and the drive's figures are in [`dc`];
-//! the stepper bridge pins PA0–PA7 above are then free but for the four
-//! bridge enables.
+//! Each axis is a stepper or a DC gear motor (slew drive) driven through an
+//! IBT-2 (BTS7960) module and closed on its Hall encoder, as its
+//! configuration says (`axis.c.drive`, `axis.a.drive`: [`axes`]; read at
+//! power-on). The DC axes' pins, wiring and figures are in [`dc`]; a DC
+//! axis takes two of its stepper bridge's pins above as its enables. The
+//! cargo feature `dc` only changes the board's own configuration (the one
+//! `defaults` restores and a board without a saved one runs): both axes
+//! DC ([`dc::dc_config`]).
 //!
 //! Drives and axes: Li et al.'s (2022) mechanics, [`suntracker::mechanics`] (200-step
 //! motors, full step, 50:1 worms, 0.036° a step, C −180…+180°, A −90…+90°,
@@ -71,16 +74,12 @@
 
 use core::cell::RefCell;
 
-#[cfg(feature = "dc")]
+pub mod axes;
 pub mod dc;
 
 use drivers::compass::calibration::Calibration;
 use drivers::compass::qmc5883l::{Config as QmcConfig, Qmc5883l};
 use drivers::rtc::Ds3231;
-#[cfg(not(feature = "dc"))]
-use drivers::stepper::hbridge::{BridgePins, HBridgeStepper};
-#[cfg(not(feature = "dc"))]
-use drivers::stepper::LimitSwitches;
 use drivers::tilt::adxl345::Adxl345;
 
 use embedded_hal::digital::InputPin as _;
@@ -88,12 +87,8 @@ use suntracker::config::Config;
 use suntracker::controller::{ControllerError, ControllerOptions};
 use suntracker::firmware::{AppConfig, ConfigPersist, Firmware, Platform, StartError};
 use suntracker::hw::MountSensorsHw;
-#[cfg(not(feature = "dc"))]
-use suntracker::hw::StepperAxis;
 use suntracker::log::Sink;
 use suntracker::mechanics;
-#[cfg(not(feature = "dc"))]
-use suntracker::mechanics::bridge_config;
 use suntracker::panel::{Divider, PanelAdc};
 use suntracker::persist::{ConfigStore, EepromStorage};
 use suntracker::safety::{Reading, StowInputs};
@@ -104,8 +99,6 @@ use suntracker_avr::{
     PortInputPin, Rs485, SharedI2c, Usart0, Usart1, Watchdog, MS_PER_TICK,
 };
 use suntracker_avr::{Adc, ADC_MAX_CODE};
-#[cfg(not(feature = "dc"))]
-use suntracker_avr::{OutputPin, PortOutputPin};
 use suntracker_modbus::sunspec::Identity;
 
 /// Board name in the boot line.
@@ -163,13 +156,6 @@ const MODBUS_IDENTITY: Identity<'static> = Identity {
     tracker_name: "tracker-1",
 };
 
-/// The platform's ADC: its own, or in the `dc` image shared with the
-/// motors' current sense.
-#[cfg(not(feature = "dc"))]
-type PlatformAdc<'p> = Adc;
-#[cfg(feature = "dc")]
-type PlatformAdc<'p> = &'p RefCell<Adc>;
-
 /// Monotonic clock, anemometer, watchdog, sleep, console input, the
 /// weather contacts and the configuration's EEPROM of the board.
 struct MegaPlatform<'p> {
@@ -179,7 +165,8 @@ struct MegaPlatform<'p> {
     stow_pins: [PortInputPin<'p, chip::PORTC>; 3],
     /// The ADC, the channel its conversion runs on, and the last readings
     /// of the supply and the pyranometer.
-    adc: PlatformAdc<'p>,
+    /// Shared with the DC axes' current sense.
+    adc: &'p RefCell<Adc>,
     adc_channel: u8,
     supply: Option<Reading>,
     irradiance: Option<Reading>,
@@ -209,11 +196,8 @@ impl Platform for MegaPlatform<'_> {
         // plant's contact is passed as its level (the configuration says
         // which one is active).
         let [snow, hail, plant] = &mut self.stow_pins;
-        #[cfg(not(feature = "dc"))]
-        let adc = &mut self.adc;
         // Never held here: the motors' sense reads it inside the pass's
         // drive service only.
-        #[cfg(feature = "dc")]
         let Ok(mut adc) = self.adc.try_borrow_mut() else {
             return StowInputs {
                 snow: snow.is_low().ok(),
@@ -285,13 +269,9 @@ pub fn run(dp: chip::Peripherals) -> ! {
         TWI,
         EEPROM,
         ADC,
-        #[cfg(feature = "dc")]
         TC1,
-        #[cfg(feature = "dc")]
         TC4,
-        #[cfg(feature = "dc")]
         PORTB,
-        #[cfg(feature = "dc")]
         PORTK,
         ..
     } = dp;
@@ -311,13 +291,9 @@ pub fn run(dp: chip::Peripherals) -> ! {
         twi: TWI,
         eeprom: EEPROM,
         adc: ADC,
-        #[cfg(feature = "dc")]
         tc1: TC1,
-        #[cfg(feature = "dc")]
         tc4: TC4,
-        #[cfg(feature = "dc")]
         portb: PORTB,
-        #[cfg(feature = "dc")]
         portk: PORTK,
     })
 }
@@ -339,25 +315,29 @@ struct Parts {
     twi: chip::TWI,
     eeprom: chip::EEPROM,
     adc: chip::ADC,
-    #[cfg(feature = "dc")]
     tc1: chip::TC1,
-    #[cfg(feature = "dc")]
     tc4: chip::TC4,
-    #[cfg(feature = "dc")]
     portb: chip::PORTB,
-    #[cfg(feature = "dc")]
     portk: chip::PORTK,
 }
 
 /// The configuration at power-on: the copy saved in the EEPROM (console
 /// `save`), else the board's own (Li et al.'s (2022) mechanics, Kano); the log
-/// says which. Not inlined: the slots read (two 256-byte buffers) leave
-/// the stack before the loop starts.
+/// says which. A saved copy whose axes are of a kind this image does not
+/// build (saved by another image) is not used either: the log says so. Not
+/// inlined: the slots read (two 256-byte buffers) leave the stack before
+/// the loop starts, and so does the choice (a second configuration in the
+/// frame of its caller was 227 B more on the start-up stack).
 #[inline(never)]
 fn stored_config(store: &mut ConfigStore<EepromStorage<Eeprom>>, log: &mut Usart0) -> Config {
     let loaded = store.load();
     if loaded.defaults {
         log.flash(suntracker::flash_str!("config source=defaults\n"));
+        board_config()
+    } else if loaded.config.check_drives(axes::DRIVES).is_err() {
+        log.flash(suntracker::flash_str!(
+            "config refused: axis drive not on this board; config source=defaults\n"
+        ));
         board_config()
     } else {
         log.flash(suntracker::flash_str!("config source=stored\n"));
@@ -385,9 +365,9 @@ fn run_tracker(dp: Parts) -> ! {
     // Motors and switches.
     let porta = dp.porta;
     let portc = dp.portc;
-    // The motors' timers and the Hall encoders' pin-change interrupt
-    // (before the anemometer takes the external-interrupt block).
-    #[cfg(feature = "dc")]
+    // The DC motors' timers (duty 0) and the Hall encoders' pin-change
+    // interrupt, whatever the axes' kinds (before the anemometer takes the
+    // external-interrupt block).
     let dc_parts = dc::DcParts::start(
         dp.tc1, dp.tc4, dp.adc, &dp.portb, &dp.porth, &dp.portk, &dp.exint,
     );
@@ -402,7 +382,6 @@ fn run_tracker(dp: Parts) -> ! {
 
     // The I²C devices.
     let bus = RefCell::new(I2c::new(dp.twi));
-    #[cfg(feature = "dc")]
     let dc_board = dc::DcBoard {
         parts: &dc_parts,
         porta: &porta,
@@ -416,9 +395,6 @@ fn run_tracker(dp: Parts) -> ! {
             InputPin::<_, 5>::new(&portc, true).erase(),
             InputPin::<_, 6>::new(&portc, true).erase(),
         ],
-        #[cfg(not(feature = "dc"))]
-        adc: Adc::new(dp.adc),
-        #[cfg(feature = "dc")]
         adc: &dc_parts.adc,
         adc_channel: SUPPLY_CHANNEL,
         supply: None,
@@ -427,9 +403,6 @@ fn run_tracker(dp: Parts) -> ! {
         cpu: dp.cpu,
         store: ConfigStore::new(Eeprom::storage(dp.eeprom)),
     };
-    #[cfg(not(feature = "dc"))]
-    let mut firmware = build_firmware(&porta, &portc, &bus, &mut platform.store, gps, log);
-    #[cfg(feature = "dc")]
     let mut firmware = build_firmware(&dc_board, &bus, &mut platform.store, gps, log);
     // Run it where it is, inside the result: moving it out would put a
     // second copy of its kilobytes on the stack.
@@ -471,11 +444,8 @@ type MegaSensors<'b> = MountSensorsHw<Adxl345<SharedI2c<'b>>, Qmc5883l<SharedI2c
 type MegaFirmware<'p, 'b> =
     Firmware<f32, Ds3231<SharedI2c<'b>>, Usart1, MegaDrive<'p>, MegaSensors<'b>, Usart0, TABLE_LEN>;
 
-/// The axes' drive: steppers, or DC motors with the `dc` feature.
-#[cfg(not(feature = "dc"))]
-type MegaDrive<'p> = MegaAxis<'p>;
-#[cfg(feature = "dc")]
-type MegaDrive<'p> = dc::MegaDcAxis<'p>;
+/// The axes' drive: each a stepper or a DC motor, by its configuration.
+type MegaDrive<'p> = axes::MegaAxis<'p>;
 
 /// The firmware on the board's axes, devices and stored configuration (the
 /// log says where it came from; a configuration the checks refuse halts).
@@ -487,12 +457,10 @@ type MegaDrive<'p> = dc::MegaDcAxis<'p>;
 /// stack at power-on) runs with only the configuration in this frame.
 #[inline(never)]
 fn build_firmware<'p, 'b>(
-    #[cfg(not(feature = "dc"))] porta: &'p chip::PORTA,
-    #[cfg(not(feature = "dc"))] portc: &'p chip::PORTC,
-    // The `dc` image's ports and motor parts in one argument: with one
-    // more, the configuration below was passed to `assemble_firmware` as a
-    // copy on the stack (207 B on the deepest stack, at start-up).
-    #[cfg(feature = "dc")] board: &'p dc::DcBoard<'p>,
+    // The axes' ports and motor parts in one argument: with one more, the
+    // configuration below was passed to `assemble_firmware` as a copy on
+    // the stack (207 B on the deepest stack, at start-up).
+    board: &'p dc::DcBoard<'p>,
     bus: &'b RefCell<I2c>,
     store: &mut ConfigStore<EepromStorage<Eeprom>>,
     gps: Usart1,
@@ -502,38 +470,31 @@ fn build_firmware<'p, 'b>(
     if config.validate().is_err() {
         halt(&mut log, "configuration refused");
     }
-    #[cfg(not(feature = "dc"))]
-    return assemble_firmware(porta, portc, bus, config, gps, log);
-    #[cfg(feature = "dc")]
-    return assemble_firmware(board, bus, config, gps, log);
+    assemble_firmware(board, bus, config, gps, log)
 }
 
 /// The firmware on the board's axes and devices with `config`. Not
 /// inlined: see [`build_firmware`].
 #[inline(never)]
 fn assemble_firmware<'p, 'b>(
-    #[cfg(not(feature = "dc"))] porta: &'p chip::PORTA,
-    #[cfg(not(feature = "dc"))] portc: &'p chip::PORTC,
-    #[cfg(feature = "dc")] board: &'p dc::DcBoard<'p>,
+    board: &'p dc::DcBoard<'p>,
     bus: &'b RefCell<I2c>,
     config: Config,
     gps: Usart1,
     mut log: Usart0,
 ) -> Result<MegaFirmware<'p, 'b>, StartError> {
-    #[cfg(not(feature = "dc"))]
-    let axes = stepper_axes(porta, portc, &mut log);
-    #[cfg(feature = "dc")]
-    // A copy of the axes' settings: lending `config` itself out would
-    // make the caller pass it as a copy (207 B more on the start-up stack).
-    let axis_configs = config.axes;
-    #[cfg(feature = "dc")]
-    let axes = dc::dc_axes(board, &axis_configs, &mut log);
+    let axes = mega_axes(board, &config.axes, &mut log);
+    // Any DC axis: closed on its Hall count.
+    let closed_loop = config
+        .axes
+        .iter()
+        .any(|a| a.drive == suntracker::config::DriveKind::DcHall as u8);
     let rtc = Ds3231::new(SharedI2c::new(bus));
     let sensors = attitude_sensors(bus, &mut log);
     Firmware::new(
         app_config(),
         config,
-        controller_options(),
+        controller_options(closed_loop),
         rtc,
         gps,
         axes,
@@ -562,8 +523,9 @@ fn serve(
 
 #[cfg(feature = "dc")]
 use dc::dc_config as board_config;
-/// The board's own configuration: Li et al.'s (2022) mechanics, or with
-/// the `dc` feature the same axes on the slew drives ([`dc::dc_config`]).
+/// The board's own configuration: Li et al.'s (2022) mechanics (steppers),
+/// or with the `dc` feature the same axes on the slew drives
+/// ([`dc::dc_config`]).
 #[cfg(not(feature = "dc"))]
 use mechanics::config as board_config;
 
@@ -573,6 +535,7 @@ use mechanics::config as board_config;
 fn app_config() -> AppConfig {
     AppConfig {
         defaults: board_config,
+        drives: axes::DRIVES,
         ..AppConfig::new(BOARD)
     }
 }
@@ -582,7 +545,7 @@ fn app_config() -> AppConfig {
 /// the 63 bytes `ldd`/`std` reach from the frame pointer, 12 bytes more
 /// each.
 #[inline(never)]
-fn controller_options() -> ControllerOptions<f32> {
+fn controller_options(closed_loop: bool) -> ControllerOptions<f32> {
     // A sun position costs about 45,000 cycles here (psa-2020 in f32):
     // planning a day (some 370 positions, about a second) is spread over
     // ticks, four positions (11 ms) per tick, so that the loop keeps serving
@@ -595,72 +558,31 @@ fn controller_options() -> ControllerOptions<f32> {
         attitude_every_ms: ATTITUDE_EVERY_MS,
         // The DC axes count Hall edges from their home switches: each axis
         // is corrected from that count ([`dc`]), so a move cut short (an
-        // obstruction, a stall) is finished by the retry.
-        #[cfg(feature = "dc")]
-        feedback: suntracker::motion::FeedbackMode::ClosedLoop,
+        // obstruction, a stall) is finished by the retry. (A stepper axis
+        // beside one has no encoder: its counted steps stand.)
+        feedback: if closed_loop {
+            suntracker::motion::FeedbackMode::ClosedLoop
+        } else {
+            suntracker::motion::FeedbackMode::OpenLoop
+        },
         ..mechanics::controller_options()
     }
 }
 
-/// A stepper axis of this board: its bridge on port A, its switches on port C.
-#[cfg(not(feature = "dc"))]
-type MegaAxis<'p> = StepperAxis<
-    PortOutputPin<'p, chip::PORTA>,
-    PortInputPin<'p, chip::PORTC>,
-    PortInputPin<'p, chip::PORTC>,
->;
-
-/// The two stepper axes: the C axis's bridge on PA0–PA3, the A axis's on
-/// PA4–PA7; their limit switches on PC0/PC2 and PC1/PC3, the lower ones
-/// also the home switches (active low, pulled up). Not inlined, as
-/// [`attitude_sensors`].
-#[cfg(not(feature = "dc"))]
+/// Both axes, each of the kind its configuration names ([`axes::axis`]).
+/// Not inlined, as [`attitude_sensors`].
 #[inline(never)]
-fn stepper_axes<'p>(
-    porta: &'p chip::PORTA,
-    portc: &'p chip::PORTC,
+fn mega_axes<'p>(
+    board: &'p dc::DcBoard<'p>,
+    configs: &[suntracker::config::AxisConfig; 2],
     log: &mut Usart0,
-) -> [MegaAxis<'p>; 2] {
-    let bridge = |p0, p1, p2, p3| BridgePins {
-        in1: p0,
-        in2: p1,
-        in3: p2,
-        in4: p3,
-    };
-    let c_pins = bridge(
-        OutputPin::<_, 0>::new(porta, false).erase(),
-        OutputPin::<_, 1>::new(porta, false).erase(),
-        OutputPin::<_, 2>::new(porta, false).erase(),
-        OutputPin::<_, 3>::new(porta, false).erase(),
-    );
-    let a_pins = bridge(
-        OutputPin::<_, 4>::new(porta, false).erase(),
-        OutputPin::<_, 5>::new(porta, false).erase(),
-        OutputPin::<_, 6>::new(porta, false).erase(),
-        OutputPin::<_, 7>::new(porta, false).erase(),
-    );
-    let c_limits = LimitSwitches {
-        min: Some(InputPin::<_, 0>::new(portc, true).erase()),
-        max: Some(InputPin::<_, 2>::new(portc, true).erase()),
-        active_low: true,
-    };
-    let a_limits = LimitSwitches {
-        min: Some(InputPin::<_, 1>::new(portc, true).erase()),
-        max: Some(InputPin::<_, 3>::new(portc, true).erase()),
-        active_low: true,
-    };
-    let c_home = InputPin::<_, 0>::new(portc, true).erase();
-    let a_home = InputPin::<_, 1>::new(portc, true).erase();
-    let config = bridge_config();
+) -> [axes::MegaAxis<'p>; 2] {
     match (
-        HBridgeStepper::new(c_pins, c_limits, config),
-        HBridgeStepper::new(a_pins, a_limits, config),
+        axes::axis(board, 0, &configs[0]),
+        axes::axis(board, 1, &configs[1]),
     ) {
-        (Ok(c), Ok(a)) => [
-            StepperAxis::new(c, c_home, true),
-            StepperAxis::new(a, a_home, true),
-        ],
-        _ => halt(log, "stepper configuration refused"),
+        (Some(c), Some(a)) => [c, a],
+        _ => halt(log, "axis configuration refused"),
     }
 }
 

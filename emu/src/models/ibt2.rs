@@ -1,5 +1,5 @@
-//! A DC gear-motor axis of the ATmega2560's `dc` image
-//! (`boards/mega2560/src/dc.rs`): an IBT-2 module (two Infineon BTS7960 half
+//! A DC gear-motor axis of the ATmega2560's images (an axis whose
+//! `axis.X.drive` is `dc_hall`: `boards/mega2560/src/dc.rs`): an IBT-2 module (two Infineon BTS7960 half
 //! bridges) read from the image's registers, the motor, gears and Hall
 //! encoder of `sim::dc_drive::worm_slew_motor` (the physics is
 //! `sim::dc_motor`'s, shared with the host simulator), the encoder's edges

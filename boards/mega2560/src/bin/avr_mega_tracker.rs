@@ -9,11 +9,9 @@
 use suntracker_avr::chip;
 
 // Timer0 millisecond clock, log and console USART0, GPS USART1, the
-// RS-485 port's USART2, anemometer on INT4.
-#[cfg(not(feature = "dc"))]
-suntracker_avr::avr_board_interrupts!(timer0, usart0, usart1, usart2, int4);
-// The `dc` image's Hall encoders on PCINT2 as well.
-#[cfg(feature = "dc")]
+// RS-485 port's USART2, anemometer on INT4, the DC axes' Hall encoders on
+// PCINT2 (enabled in every image: an axis is DC by its configuration; an
+// unbound vector would reset the chip at the first Hall edge).
 suntracker_avr::avr_board_interrupts!(timer0, usart0, usart1, usart2, int4, pcint2);
 
 #[avr_device::entry]
