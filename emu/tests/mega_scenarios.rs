@@ -2753,6 +2753,18 @@ fn v_modbus_master_reads_and_commands() {
 /// deadband is 14 counts, 0.01°).
 const DC_POINTING_TOL_DEG: f64 = 0.2;
 
+/// The DC axes' bench of (dc), (dc2), (dc3): Kano with GPS and a valid
+/// RTC, power-on at `start` with the shafts at `c_deg`, `a_deg`.
+fn kano_dc_bench(elf: &Path, start: i64, c_deg: f64, a_deg: f64) -> MegaBench {
+    MegaBench::mega(elf)
+        .dc_drives()
+        .start(start)
+        .rtc(Rtc::Valid)
+        .gps(GpsFeed::kano())
+        .power_on_angles(c_deg, a_deg)
+        .echo(std::env::var_os("SUNTRACKER_EMU_ECHO").is_some())
+}
+
 /// The DC axes after `from_s` (Unix seconds): homed before the first
 /// set-point, set-points for 30 minutes and more, each reached by the
 /// models' shafts within [`DC_POINTING_TOL_DEG`] before the next, the
@@ -2802,13 +2814,7 @@ fn assert_dc_morning(run: &Run, from_s: f64) -> (usize, f64) {
 fn dc_morning_at_kano() {
     let elf = elf_or_skip!("SUNTRACKER_EMU_ELF_MEGA_DC");
     let start = t("2026-06-21T05:00:00Z");
-    let run = MegaBench::mega(&elf)
-        .dc_drives()
-        .start(start)
-        .rtc(Rtc::Valid)
-        .gps(GpsFeed::kano())
-        .power_on_angles(30.0, 20.0)
-        .echo(std::env::var_os("SUNTRACKER_EMU_ECHO").is_some())
+    let run = kano_dc_bench(&elf, start, 30.0, 20.0)
         .run_minutes(75.0)
         .unwrap();
     report("dc", &run);
@@ -2850,15 +2856,9 @@ const DC2_CLEAR_MIN: f64 = 8.0;
 fn dc2_obstruction_on_the_a_axis() {
     let elf = elf_or_skip!("SUNTRACKER_EMU_ELF_MEGA_DC");
     let start = t("2026-06-21T10:00:00Z");
-    let run = MegaBench::mega(&elf)
-        .dc_drives()
-        .start(start)
-        .rtc(Rtc::Valid)
-        .gps(GpsFeed::kano())
-        .power_on_angles(30.0, -60.0)
+    let run = kano_dc_bench(&elf, start, 30.0, -60.0)
         .obstacle_at(0.0, 1, Some(DC2_OBSTACLE_DEG))
         .obstacle_at(DC2_CLEAR_MIN, 1, None)
-        .echo(std::env::var_os("SUNTRACKER_EMU_ECHO").is_some())
         .run_minutes(24.0)
         .unwrap();
     report("dc2", &run);
@@ -2962,14 +2962,7 @@ const DC3_TYPED: [&str; 10] = [
 fn dc3_drive_kinds_typed_saved_and_built_at_power_on() {
     let elf = elf_or_skip!();
     let start = t("2026-06-21T05:00:00Z");
-    let mut bench = MegaBench::mega(&elf)
-        .dc_drives()
-        .start(start)
-        .rtc(Rtc::Valid)
-        .gps(GpsFeed::kano())
-        .power_on_angles(30.0, 20.0)
-        .echo(std::env::var_os("SUNTRACKER_EMU_ECHO").is_some())
-        .type_at(0.5, "set axis.a.drive 4");
+    let mut bench = kano_dc_bench(&elf, start, 30.0, 20.0).type_at(0.5, "set axis.a.drive 4");
     for (i, line) in DC3_TYPED.iter().enumerate() {
         bench = bench.type_at(1.0 + 0.1 * i as f64, line);
     }

@@ -171,8 +171,8 @@ pub struct DriveSet(u8);
 impl DriveSet {
     /// Steppers only.
     pub const STEPPER: DriveSet = DriveSet(1);
-    /// Every kind.
-    pub const ALL: DriveSet = DriveSet(0b11_1111);
+    /// Every kind: the codes of [`ranges::DRIVE`].
+    pub const ALL: DriveSet = DriveSet((1u8 << (ranges::DRIVE.1 + 1)) - 1);
 
     /// This set and `kind`.
     pub const fn with(self, kind: DriveKind) -> DriveSet {

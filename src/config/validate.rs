@@ -92,6 +92,15 @@ const AXIS_DRIVE_SPANS: [(usize, usize); 2] = [
 ];
 const _: () = assert!(AXIS_DRIVE_SPANS[0].1 <= KEYS.len());
 const _: () = assert!(AXIS_DRIVE_SPANS[1].1 <= KEYS.len());
+// Each span holds the axis's own three keys, in that order.
+const _: () =
+    assert!(KEYS[AXIS_DRIVE_SPANS[0].0 + 1] as usize == Field::AxisCMaxCurrentMa as usize);
+const _: () =
+    assert!(KEYS[AXIS_DRIVE_SPANS[1].0 + 1] as usize == Field::AxisAMaxCurrentMa as usize);
+const _: () =
+    assert!(KEYS[AXIS_DRIVE_SPANS[0].1 - 1] as usize == Field::AxisCOvercurrentMs as usize);
+const _: () =
+    assert!(KEYS[AXIS_DRIVE_SPANS[1].1 - 1] as usize == Field::AxisAOvercurrentMs as usize);
 
 impl AxisConfig {
     /// Checks every field against its range; `axis` 0 is the C axis (keys
