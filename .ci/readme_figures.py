@@ -70,6 +70,8 @@ SIM_RUNS = {
     "tromso_timed_faults": (TROMSO, "--drive timed --mount level --faults"),
     "kano_linearpot_faults": (KANO, "--drive linear-pot --feedback encoder --mount level --faults"),
     "tromso_linearpot_faults": (TROMSO, "--drive linear-pot --feedback encoder --mount level --faults"),
+    "kano_linearhall_faults": (KANO, "--drive linear-hall --feedback encoder --mount level --faults"),
+    "tromso_linearhall_faults": (TROMSO, "--drive linear-hall --feedback encoder --mount level --faults"),
 }
 
 # group -> shell command (run from the repository root, stdout + stderr).
@@ -468,6 +470,8 @@ SIM_LABELS = {
     "tromso_timed_faults": "Tromsø, DC gear motor timed (no feedback), level, `--faults`",
     "kano_linearpot_faults": "Kano, A axis LA12 + potentiometer, level, `--faults`",
     "tromso_linearpot_faults": "Tromsø, A axis LA12 + potentiometer, level, `--faults`",
+    "kano_linearhall_faults": "Kano, A axis dual-Hall actuator, level, `--faults`",
+    "tromso_linearhall_faults": "Tromsø, A axis dual-Hall actuator, level, `--faults`",
 }
 SIM_LAST = (
     r"^simulate: pointing_p95_deg=(?P<p95>[0-9.]+) energy_vs_ideal=(?P<ideal>[0-9.]+) "
@@ -506,6 +510,8 @@ for sid, label in [
     ("tromso_timed_faults", "Tromsø, DC gear motor timed"),
     ("kano_linearpot_faults", "Kano, A axis LA12 + potentiometer"),
     ("tromso_linearpot_faults", "Tromsø, A axis LA12 + potentiometer"),
+    ("kano_linearhall_faults", "Kano, A axis dual-Hall actuator"),
+    ("tromso_linearhall_faults", "Tromsø, A axis dual-Hall actuator"),
 ]:
     figure(f"sim.drive.{sid}", "sim_" + sid, sim_drive_row,
            f"| {label} | {{p95}}° | {{ideal}} | {{c}}° / {{a}}° | {{raised}} / {{rec}} |")

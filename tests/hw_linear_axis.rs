@@ -270,7 +270,7 @@ fn pot_axis_reaches_15_degrees_within_an_adc_count() {
 }
 
 #[test]
-fn a_target_beyond_the_stroke_stops_at_the_extended_end() {
+fn a_target_beyond_the_stroke_stops_at_the_extended_end_and_back_from_it() {
     let plant = plant(95.0);
     let mut axis = pot_axis(&plant);
     let now = Cell::new(0);
@@ -285,7 +285,62 @@ fn a_target_beyond_the_stroke_stops_at_the_extended_end() {
         axis.inner().output(),
         Output::Brake | Output::Coast
     ));
+    // Then 5° back: the rod leaves the end at once for 14.158°; the target
+    // did not stay 10.8° out of reach.
+    axis.move_counts(-500).unwrap();
+    run(&plant, &mut axis, &now, 10_000);
+    let truth = plant.borrow().actuator.axis_deg(&GEOMETRY).unwrap();
+    // Within the 0.1 mm deadband at 0.43°/mm and the 0.3 mm end tolerance.
+    assert!((truth - 14.158).abs() < 0.2, "{truth}");
     assert_eq!(axis.take_fault(), None);
+}
+
+#[test]
+fn a_switch_closed_far_from_home_does_not_hold_the_next_homing_short() {
+    let plant = plant(20.0);
+    let mut axis = hall_axis(&plant);
+    let now = Cell::new(0);
+    home(&plant, &mut axis, &now);
+    axis.move_counts(2_000).unwrap();
+    run(&plant, &mut axis, &now, 20_000);
+    let out = plant.borrow().actuator.extension_mm();
+    assert!(out > 30.0, "{out} mm");
+    // The controller reads the switch every tick: open out there. Then it
+    // sticks closed for a reading: that closing edge moves the reference
+    // (as any closing edge does), 53 mm up.
+    assert!(!axis.at_limit().unwrap());
+    plant.borrow_mut().switch_stuck = Some(true);
+    assert!(axis.at_limit().unwrap());
+    plant.borrow_mut().switch_stuck = None;
+    assert!(!axis.at_limit().unwrap());
+    assert_eq!(axis.extension_mm(), Some(1.0));
+    // The next homing run goes on past where that reference put the
+    // retracted end, to the real switch, and is referenced there again.
+    home(&plant, &mut axis, &now);
+    assert_eq!(plant.borrow().actuator.extension_mm(), 0.0);
+    let at_home = axis.encoder_deg().unwrap().unwrap();
+    assert!((at_home - FIRST_EDGE_DEG).abs() < 0.001, "{at_home}");
+}
+
+#[test]
+fn a_dual_hall_pair_counts_a_rod_pushed_back_as_going_back() {
+    // While driven out the rod is pushed back from 50 mm to 45 mm. A
+    // single output counts the 5 pulses up (by the commanded direction);
+    // a quadrature pair (0.1875 mm a shift) counts ⌊45 / 0.1875⌋ −
+    // ⌊50 / 0.1875⌋ = 240 − 266 = −26.
+    for (spec, counted) in [
+        (ActuatorSpec::LA12_L1_12V, 5),
+        (ActuatorSpec::LA12_DUAL_HALL_12V, -26),
+    ] {
+        use drivers::dc_motor::Bridge;
+        use suntracker::hw::EncoderCount;
+        let hw = ActuatorHardware::shared(LinearActuator::new(spec, 50.0), 0.0, SEED);
+        ActuatorBridge(Rc::clone(&hw))
+            .apply(&mut (), Output::Forward(1_000))
+            .unwrap();
+        hw.borrow_mut().slip_to(45.0);
+        assert_eq!(PulseCounter(Rc::clone(&hw)).count(), counted);
+    }
 }
 
 #[test]

@@ -90,8 +90,8 @@ stow times; its last line holds the figures as key=value.",
                 "axis drives: stepper (steppers through a gear), servo (servos on output \
                  encoders), dc-hall (DC gear motors with motor-shaft Hall encoders), timed (the \
                  same motors run by time with no feedback; sim::dc_drive), linear-hall or \
-                 linear-pot (the C axis as dc-hall, the A axis a LINAK LA12 linear actuator on its \
-                 Hall pulses or its potentiometer; sim::linear_drive)",
+                 linear-pot (the C axis as dc-hall, the A axis a linear actuator: the LA12's motor \
+                 on a dual Hall pair, or a LINAK LA12 on its potentiometer; sim::linear_drive)",
                 "stepper",
             ),
             opt(

@@ -48,6 +48,21 @@
 //! The manual gives no no-load current: **1 A is an assumption** (a field).
 //! Derived stall point at full duty: `o_stall = 26 / (26 − 14) = 2.167`
 //! rated loads, `i_stall = 1 + 4 · 2.167 = 9.67 A`.
+//!
+//! # Dual Hall ([`ActuatorSpec::LA12_DUAL_HALL_12V`])
+//!
+//! LINAK's larger actuators (the TECHLINE LA36 of many solar trackers
+//! among them) are sold with **dual Hall, digital** feedback: two Hall
+//! outputs A and B in quadrature, **16 state shifts per spindle turn, 3 mm
+//! pitch → 0.1875 mm, 4 mm pitch → 0.25 mm per shift**, each state held
+//! at least 5 ms (LINAK, *Actuator system* user manual, "Input/output
+//! specifications: Dual Hall, digital (F2) positioning"). A quadrature
+//! pair tells the direction itself, so a rod pushed back by its load is
+//! counted back, where a single output is counted by the commanded
+//! direction. The preset keeps the LA12's motor figures above and puts
+//! such an encoder on a 3 mm spindle (0.1875 mm a shift; at 26 mm/s a
+//! state lasts 7.2 ms): an assumed actuator, a finer pulse on the same mount
+//! (`simulate --drive linear-hall`).
 
 use drivers::dc_motor::Output;
 use drivers::linear::{ActuatorGeometry, LinearError};
@@ -67,8 +82,13 @@ pub struct ActuatorSpec {
     pub no_load_a: f64,
     /// Current at rated load, A.
     pub rated_load_a: f64,
-    /// Rod travel per Hall pulse, mm (> 0).
+    /// Rod travel per Hall pulse, mm (> 0); with two outputs in
+    /// quadrature, per state shift of the pair.
     pub mm_per_pulse: f64,
+    /// Two Hall outputs in quadrature (LINAK's dual Hall, digital): the
+    /// counter has the rod's own direction. Otherwise a single output,
+    /// counted by the commanded direction.
+    pub hall_quadrature: bool,
     /// Potentiometer output fully retracted, V.
     pub pot_retracted_v: f64,
     /// Potentiometer output fully extended, V.
@@ -87,9 +107,19 @@ impl ActuatorSpec {
         no_load_a: 1.0,
         rated_load_a: 5.0,
         mm_per_pulse: 1.0,
+        hall_quadrature: false,
         pot_retracted_v: 0.5,
         pot_extended_v: 4.5,
         end_switches: true,
+    };
+
+    /// [`ActuatorSpec::LA12_L1_12V`]'s motor and stroke with a dual Hall
+    /// encoder of 0.1875 mm a state shift (module documentation: the LA12
+    /// itself is sold with a single Hall only).
+    pub const LA12_DUAL_HALL_12V: ActuatorSpec = ActuatorSpec {
+        mm_per_pulse: 0.1875,
+        hall_quadrature: true,
+        ..Self::LA12_L1_12V
     };
 
     /// Speed lost per rated load, mm/s.
@@ -228,7 +258,11 @@ impl LinearActuator {
             return Blocked::No;
         };
         let (limit, is_end) = self.limit(duty.signum());
-        if (self.extension_mm - limit).abs() > 1e-9 {
+        // Exact: `step` stops the rod on the limit itself (`min`/`max`).
+        // With a tolerance a rod a hair short of the retracted end (a
+        // rounding residue of 1e-12 mm) was held there by the end switch
+        // while the home switch, closed at 0 mm, read open.
+        if self.extension_mm != limit {
             Blocked::No
         } else if is_end && self.spec.end_switches {
             Blocked::EndSwitch
@@ -392,6 +426,29 @@ mod tests {
         assert_eq!(a.blocked(), Blocked::No);
         assert!(close(a.speed_mm_s(), -26.0, 1e-12));
         assert!(close(a.current_a(), -1.0, 1e-12));
+    }
+
+    #[test]
+    fn a_retracting_rod_stops_on_the_end_itself() {
+        // 0.13 mm less five steps of 0.026 mm is 6.9e-18 mm in f64, not 0:
+        // the rod must still run on to the end (where the home switch,
+        // closed at 0 mm, reads it), not stop a rounding residue short.
+        let mut a = la12(0.13);
+        a.set_output(FULL_IN);
+        run(&mut a, 0.010);
+        assert_eq!(a.extension_mm(), 0.0);
+        assert_eq!(a.blocked(), Blocked::EndSwitch);
+    }
+
+    #[test]
+    fn a_dual_hall_shift_is_0_1875_mm() {
+        // LINAK: 16 state shifts per turn of a 3 mm spindle.
+        let mut a = LinearActuator::new(ActuatorSpec::LA12_DUAL_HALL_12V, 10.0);
+        let before = a.hall_pulses();
+        a.set_output(FULL_OUT);
+        run(&mut a, 1.0);
+        // 26 mm at 26 mm/s: from ⌊10 / 0.1875⌋ = 53 to ⌊36 / 0.1875⌋ = 192.
+        assert_eq!((before, a.hall_pulses()), (53, 192));
     }
 
     #[test]

@@ -1,14 +1,17 @@
 //! The parts a board reads a linear actuator through
 //! ([`crate::linear_actuator::LinearActuator`]), shared between the
-//! firmware's ports and a test or a run: the H-bridge, the single-Hall
-//! pulse counter, a switch at the retracted end, and the potentiometer on
+//! firmware's ports and a test or a run: the H-bridge, the Hall pulse
+//! counter, a switch at the retracted end, and the potentiometer on
 //! a 10-bit ADC. For the core's [`suntracker::hw::LinearAxis`]; needs the
 //! `std` feature (the ports share the actuator through `Rc`).
 //!
 //! * Hall: the model's pulses (an edge at each multiple of the pulse
 //!   length) counted up or down by the bridge's last commanded direction,
 //!   as a board's interrupt counts a single Hall output (it has no
-//!   direction of its own). The count freezes while the sensor is failed.
+//!   direction of its own); or, for a dual Hall pair in quadrature
+//!   ([`ActuatorSpec::hall_quadrature`]), by the rod's own direction, as a
+//!   quadrature decoder counts it. The count freezes while the sensor is
+//!   failed.
 //! * Potentiometer: the model's voltage (LINAK LA12 option K, 0.5–4.5 V
 //!   over the stroke) plus Gaussian noise of [`PotAdc::noise_lsb`] counts
 //!   rms, rounded to a 10-bit ADC at 5 V (0..=1023). The noise is an
@@ -111,10 +114,15 @@ impl ActuatorHardware {
     fn count_edges_from(&mut self, extension_mm: f64) {
         let mut was = self.actuator;
         was.set_extension_mm(extension_mm);
-        let before = was.hall_pulses();
-        let edges = (self.actuator.hall_pulses() - before).unsigned_abs();
-        let edges = i32::try_from(edges).unwrap_or(i32::MAX);
-        self.count = self.count.saturating_add(edges.saturating_mul(self.dir));
+        let moved = self.actuator.hall_pulses() - was.hall_pulses();
+        let edges = i32::try_from(moved.unsigned_abs()).unwrap_or(i32::MAX);
+        // A quadrature pair has the rod's own direction.
+        let dir = if self.actuator.spec().hall_quadrature {
+            moved.signum() as i32
+        } else {
+            self.dir
+        };
+        self.count = self.count.saturating_add(edges.saturating_mul(dir));
     }
 
     /// The potentiometer's reading now (noise drawn), counts.
@@ -149,7 +157,8 @@ impl Bridge for ActuatorBridge {
     }
 }
 
-/// The Hall pulse counter (counted by the commanded direction).
+/// The Hall pulse counter (a single output counted by the commanded
+/// direction, a quadrature pair by the rod's).
 #[derive(Debug)]
 pub struct PulseCounter(pub SharedActuator);
 
@@ -637,6 +646,17 @@ pub const LA12_HALL_LOOP: DcAxisConfig = DcAxisConfig {
     move_margin_ms: 3_000,
 };
 
+/// The same on [`ActuatorSpec::LA12_DUAL_HALL_12V`]'s quadrature pair
+/// (counts of half a state shift, 10.67 a mm): the same distances and
+/// speeds in its counts (full duty beyond 5 mm, 2 mm at rest unexpected,
+/// slower than 5 mm/s too slow); a shift every 18 ms at 40 %.
+pub const LA12_DUAL_HALL_LOOP: DcAxisConfig = DcAxisConfig {
+    slow_band_counts: 53,
+    max_idle_counts: 21,
+    min_speed_cps: 53,
+    ..LA12_HALL_LOOP
+};
+
 /// The same on the potentiometer (tenths of a mm): done within 0.1 mm
 /// (0.33° at the extended end: under the 0.5° command after which the
 /// controller expects the encoder to move), 2 mm at rest is unexpected
@@ -661,13 +681,16 @@ pub const LA12_POT_READING: PotConfig = PotConfig {
 /// [`LA12_TILT_MOUNT`]'s A axis on `feedback` as the controller sees it:
 /// 100 counts a degree, limits at the stroke's ends (homed at the
 /// retracted end; on Hall pulses at the first edge above the switch,
-/// 1 mm out), no backlash.
+/// 0.1875 mm out), no backlash.
 pub fn la12_tilt_axis_config(feedback: FeedbackKind) -> Result<AxisConfig, LinearError> {
     let g = LA12_TILT_MOUNT;
     let lo = g.axis_deg(g.retracted_mm)?;
     let hi = g.axis_deg(g.retracted_mm + g.stroke_mm)?;
     let home = match feedback {
-        FeedbackKind::Hall => g.axis_deg(g.retracted_mm + 1.0)?,
+        FeedbackKind::Hall => {
+            let first_edge_mm = ActuatorSpec::LA12_DUAL_HALL_12V.mm_per_pulse as f32;
+            g.axis_deg(g.retracted_mm + first_edge_mm)?
+        }
         FeedbackKind::Pot => lo,
     };
     Ok(AxisConfig {
@@ -690,17 +713,22 @@ pub fn la12_tilt_axis_config(feedback: FeedbackKind) -> Result<AxisConfig, Linea
     })
 }
 
-/// The A axis of `simulate`: [`ActuatorSpec::LA12_L1_12V`] on
-/// [`LA12_TILT_MOUNT`], the bridge ramping 5 ‰/ms and braking at rest,
-/// one count rms of ADC noise drawn from `seed`.
+/// The A axis of `simulate` on [`LA12_TILT_MOUNT`]: on Hall pulses
+/// [`ActuatorSpec::LA12_DUAL_HALL_12V`] (homed at its first state shift
+/// above the switch), on the potentiometer [`ActuatorSpec::LA12_L1_12V`];
+/// the bridge ramping 5 ‰/ms and braking at rest, one count rms of ADC
+/// noise drawn from `seed`.
 pub fn la12_tilt_spec(feedback: FeedbackKind, seed: u64) -> LinearDriveSpec {
-    let (switch_extension_mm, end_tolerance_mm, loop_config) = match feedback {
-        FeedbackKind::Hall => (1.0, 0.0, LA12_HALL_LOOP),
+    let (actuator, switch_extension_mm, end_tolerance_mm, loop_config) = match feedback {
+        FeedbackKind::Hall => {
+            let a = ActuatorSpec::LA12_DUAL_HALL_12V;
+            (a, a.mm_per_pulse as f32, 0.0, LA12_DUAL_HALL_LOOP)
+        }
         // An ADC count is 0.12 mm, the hysteresis 0.1 mm.
-        FeedbackKind::Pot => (0.0, 0.3, LA12_POT_LOOP),
+        FeedbackKind::Pot => (ActuatorSpec::LA12_L1_12V, 0.0, 0.3, LA12_POT_LOOP),
     };
     LinearDriveSpec {
-        actuator: ActuatorSpec::LA12_L1_12V,
+        actuator,
         feedback,
         mount: LinearAxisConfig {
             geometry: LA12_TILT_MOUNT,

@@ -26,8 +26,14 @@
 //! Targets are clamped to the stroke. The ends are end switches: whenever
 //! the measured extension is at or beyond an end while the motor drives
 //! that way, the axis stops (and a new target beyond it is clamped to it).
-//! The Hall axis additionally has its home switch (the retracted end, where
-//! the pulse count is referenced, as [`DcAxis`] references its count).
+//! The Hall axis has its home switch at the retracted end instead, where
+//! the pulse count is referenced (as [`DcAxis`] references its count, at
+//! each closing edge): its retracted end is where that switch closes, not
+//! where the count says, and a target below the stroke (only a homing run
+//! asks for one) goes on at the stroke's mean mm per degree until the
+//! switch stops it. So a switch that closed far from home (stuck, or a
+//! bounce), which moved the reference there, cannot hold the next homing
+//! run short of the real switch.
 //!
 //! # Feedback
 //!
@@ -306,6 +312,16 @@ impl InputPin for NoEndSwitch {
     }
 }
 
+/// `counts` rounded to the nearest whole count (beyond ±2³¹ the f32 → i32
+/// cast saturates; NaN is 0).
+fn round_counts(counts: f32) -> i32 {
+    (if counts >= 0.0 {
+        counts + 0.5
+    } else {
+        counts - 0.5
+    }) as i32
+}
+
 /// The actuator's mounting and where its home switch closes.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct LinearAxisConfig {
@@ -526,25 +542,49 @@ where
         self.base_deg + self.target_counts as f32 / self.counts_per_deg
     }
 
-    /// The inner count for the target angle, clamped to the stroke.
+    /// Keeps the target within the stroke (on a relative feedback, down to
+    /// a whole stroke below it: room for a homing run), so that moves asked
+    /// beyond an end (a homing run backing off a switch stuck closed, a
+    /// target the rod cannot reach) do not pile up there: a move back
+    /// starts from the end, not from where the piled-up target was.
+    fn bound_target(&mut self) {
+        let (lo, hi) = self.range_deg;
+        let floor = if F::ABSOLUTE { lo } else { lo - (hi - lo) };
+        let deg = self.target_deg();
+        if deg > hi || deg < floor {
+            let to = deg.clamp(floor, hi);
+            // Within two strokes of the base angle: no saturation.
+            self.target_counts = round_counts((to - self.base_deg) * self.counts_per_deg);
+        }
+    }
+
+    /// The inner count for the target angle, clamped to the stroke; on a
+    /// relative feedback a target below the retracted end (a homing run's)
+    /// goes on at the stroke's mean mm per degree (module documentation).
     fn inner_target(&self) -> Option<i32> {
         let origin = self.origin()?;
         let (lo, hi) = self.range_deg;
         let g = &self.geometry;
-        let length = g.length_mm(self.target_deg().clamp(lo, hi)).ok()?;
-        let ext = g.extension_mm(length).ok()?;
+        let deg = self.target_deg();
+        let ext = if deg < lo && !F::ABSOLUTE {
+            (deg - lo) * self.mean_mm_per_deg
+        } else {
+            g.extension_mm(g.length_mm(deg.clamp(lo, hi)).ok()?).ok()?
+        };
         let counts = self.inner.encoder().counts_for(ext).ok()?;
         Some(origin.saturating_add(counts))
     }
 
-    /// Stops the inner axis when it drives into a stroke end.
+    /// Stops the inner axis when it drives into a stroke end (on a
+    /// relative feedback the retracted end is its home switch's).
     fn check_ends(&mut self) -> Result<(), LinErr<B, F, H, C>> {
         let (Some(ext), DcState::Driving { dir }) = (self.extension_mm(), self.inner.state())
         else {
             return Ok(());
         };
         let tol = self.end_tolerance_mm;
-        let at_end = (dir > 0 && ext >= self.geometry.stroke_mm - tol) || (dir < 0 && ext <= tol);
+        let at_end = (dir > 0 && ext >= self.geometry.stroke_mm - tol)
+            || (dir < 0 && F::ABSOLUTE && ext <= tol);
         if at_end {
             self.inner.stop().map_err(LinearAxisError::Axis)?;
         }
@@ -599,6 +639,7 @@ where
         }
         self.sync_reference();
         self.target_counts = self.target_counts.saturating_add(counts);
+        self.bound_target();
         let inner_counts = if let Some(target) = self.inner_target() {
             target.saturating_sub(self.inner.target())
         } else {
@@ -619,11 +660,7 @@ where
             return 0;
         }
         let left = match self.measured_deg() {
-            Ok(Some(now)) => {
-                let e = (self.target_deg() - now) * self.counts_per_deg;
-                // Rounded; beyond ±2³¹ the f32 → i32 cast saturates.
-                (if e >= 0.0 { e + 0.5 } else { e - 0.5 }) as i32
-            }
+            Ok(Some(now)) => round_counts((self.target_deg() - now) * self.counts_per_deg),
             _ => inner,
         };
         if left != 0 {
