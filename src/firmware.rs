@@ -277,6 +277,9 @@ pub struct Firmware<T, R, G, D, S, L, const N: usize> {
     site_origin: Option<LogSite>,
     /// Lines the console's ring lost whole, still to answer.
     lost_lines_due: u8,
+    /// The axes whose drive held a latched fault at the last pass (a bit
+    /// an axis, the last in bit 0).
+    latched_axes: u8,
     stats: Stats,
     last_tick_ms: u32,
     /// Monotonic ms (the 32-bit clock of [`crate::time::monotonic`], as
@@ -375,6 +378,7 @@ where
             console_line: LineBuffer::new(),
             saving: None,
             lost_lines_due: 0,
+            latched_axes: 0,
             rejected_at_fault: None,
             last_time: None,
             last_wind_hz: None,
@@ -460,18 +464,27 @@ where
         // The drives' microseconds from the board's 64-bit count: they
         // never wrap.
         let now_us = us_from_ms(board_ms);
+        // A bit an axis, the last axis in bit 0.
+        let mut latched = 0u8;
         for ax in self.controller.axes_mut().iter_mut() {
             if !ax.drive_mut().service(now_us) {
                 count_up(&mut self.stats.drive_errors);
             }
+            latched = (latched << 1) | u8::from(ax.drive().fault_latched());
         }
+        // A drive that stopped itself on a fault in this pass (a DC
+        // motor's obstruction or stall) brings the tick forward: the fault
+        // is raised and logged now, not up to a tick later.
+        let tripped = latched & !self.latched_axes != 0;
+        self.latched_axes = latched;
         self.service_console(platform, now_ms);
         let tick_ms = self.app.tick_ms.max(1);
-        let due = self
+        let reached = self
             .next_tick_ms
             .is_none_or(|t| monotonic::reached(now_ms, t));
+        let due = reached || tripped;
         if due {
-            if let Some(t) = self.next_tick_ms {
+            if let (true, Some(t)) = (reached, self.next_tick_ms) {
                 if monotonic::elapsed_ms(now_ms, t) > tick_ms {
                     count_up(&mut self.stats.late_ticks);
                 }

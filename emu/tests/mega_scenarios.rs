@@ -2744,9 +2744,6 @@ fn v_modbus_master_reads_and_commands() {
 // `sim::dc_motor`, `sim::dc_drive::worm_slew_motor`: 1,400 Hall counts an
 // axis degree, at most 7.62 °/s). (dc) and (dc2) gated on
 // SUNTRACKER_EMU_ELF_MEGA_DC, (dc3) on SUNTRACKER_EMU_ELF_MEGA.
-//
-// Not asserted: the long first swing of the day is braked and restarted at
-// every tick (the closed loop drops a move under way before it corrects).
 
 /// A DC-driven set-point is reached within this of the commanded angle,
 /// degrees (the brief's 0.2° bound on the panel normal; the image's
@@ -2878,6 +2875,11 @@ fn dc2_obstruction_on_the_a_axis() {
         .expect("the A motor's current passes 3 A before the fault");
     let delay_s = first_fault - rise;
     println!("dc2: obstruction_a {delay_s:.3} s after the current passed 3 A");
+    // The swing to the obstacle is one move: its current passes 3 A once,
+    // at the obstacle (a move braked and started again at every tick,
+    // as the closed loop once did, passed it at most restarts).
+    let before = rises.iter().filter(|&&r| r <= first_fault).count();
+    assert_eq!(before, 1, "A current rises before the fault: {rises:?}");
     assert!(
         (0.0..=1.0).contains(&delay_s),
         "obstruction_a {delay_s:.3} s after the current limit"

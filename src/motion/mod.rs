@@ -860,7 +860,14 @@ impl<D: AxisDrive> AxisController<D> {
         let deviation = feedback_deg.map(|f| f - t);
         let goal_counts = g.counts(t - g.home_deg);
         if let (FeedbackMode::ClosedLoop, Some(fb)) = (mode, feedback_deg) {
-            if (t - fb).abs() > g.deadband_deg {
+            // A drive that closes its own loop (a DC motor on its Hall
+            // count) still running to this same goal finishes the move:
+            // dropped and commanded again, a swing longer than a tick was
+            // braked and started again at every tick.
+            let finishing = goal_counts == self.position_counts
+                && self.drive.pending() != 0
+                && self.drive.self_watched();
+            if (t - fb).abs() > g.deadband_deg && !finishing {
                 // Re-anchor the count on the measurement and correct; a
                 // move still under way is dropped first, or its counts
                 // would be commanded twice.
@@ -869,7 +876,8 @@ impl<D: AxisDrive> AxisController<D> {
                 }
                 self.reanchor(fb);
             } else {
-                // Inside the deadband: trust the counted position.
+                // Inside the deadband, or finishing: trust the counted
+                // position.
                 return Ok(AxisReport {
                     target_deg: t,
                     clamped,
