@@ -237,6 +237,31 @@ fn hall_axis_homes_then_reaches_15_degrees_at_90_pulses() {
 }
 
 #[test]
+fn a_correction_at_rest_on_an_edge_is_taken_from_that_edge() {
+    let plant = plant(20.0);
+    let mut axis = hall_axis(&plant);
+    let now = Cell::new(0);
+    home(&plant, &mut axis, &now);
+    let at_home = axis.encoder_deg().unwrap().unwrap();
+    axis.move_counts(((15.0 - at_home) * 100.0).round() as i32)
+        .unwrap();
+    run(&plant, &mut axis, &now, 20_000);
+    // On the 90 mm edge, 14.825° (hand-worked above): 0.175° short of 15°,
+    // more than the controller's 0.05° deadband, so it corrects by +18
+    // counts at its next tick, as `AxisController::update` does.
+    let deg = axis.encoder_deg().unwrap().unwrap();
+    assert!((deg - 14.825).abs() < 0.001, "{deg}");
+    axis.rebase_at_rest();
+    axis.move_counts(18).unwrap();
+    run(&plant, &mut axis, &now, 20_000);
+    // From the edge: 15.005°, L = 335.42 mm, 90.42 mm, still nearest the
+    // 90 mm edge: the rod stays. (Added to the 15° target it was 15.18°,
+    // 90.83 mm: the 91 mm edge, and the next correction back.)
+    let ext = plant.borrow().actuator.extension_mm();
+    assert!((90.0..90.05).contains(&ext), "{ext} mm");
+}
+
+#[test]
 fn pot_axis_reaches_15_degrees_within_an_adc_count() {
     let plant = plant(20.0);
     let mut axis = pot_axis(&plant);

@@ -453,6 +453,9 @@ impl AxisDrive for LinearDrive {
     fn switch_stops(&mut self, on: bool) {
         on_fw!(&mut self.fw, ax -> ax.switch_stops(on));
     }
+    fn rebase_at_rest(&mut self) {
+        on_fw!(&mut self.fw, ax -> ax.rebase_at_rest());
+    }
 }
 
 impl SimAxis for LinearDrive {
@@ -579,6 +582,9 @@ impl AxisDrive for SlewTilt {
     }
     fn switch_stops(&mut self, on: bool) {
         on_axis!(self, ax -> ax.switch_stops(on));
+    }
+    fn rebase_at_rest(&mut self) {
+        on_axis!(self, ax -> ax.rebase_at_rest());
     }
 }
 

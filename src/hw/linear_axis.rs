@@ -702,6 +702,19 @@ where
         self.inner.switch_stops(on);
     }
 
+    /// On Hall pulses, at rest: the target becomes the measured edge (the
+    /// potentiometer's axis keeps its target: its held reading moves only
+    /// by more than its hysteresis).
+    fn rebase_at_rest(&mut self) {
+        if F::ABSOLUTE || !matches!(self.inner.state(), DcState::Idle { .. }) {
+            return;
+        }
+        if let Ok(Some(deg)) = self.measured_deg() {
+            self.base_deg = deg;
+            self.target_counts = 0;
+        }
+    }
+
     /// The inner axis's faults, and a lost feedback as
     /// [`DriveFault::Stall`].
     fn take_fault(&mut self) -> Option<DriveFault> {

@@ -72,6 +72,13 @@ pub trait AxisDrive {
     /// axis that turns without end once it is homed (the switch is then an
     /// index it passes once a turn) and on again to home.
     fn switch_stops(&mut self, _on: bool) {}
+    /// At rest, takes the next move from where the drive measures itself
+    /// rather than from its last target; [`AxisController::update`] calls
+    /// it before it corrects a measured error. For a drive that rests only
+    /// on its feedback's steps (a linear actuator on Hall pulse edges: the
+    /// edge nearest the target), so that the correction of that step's
+    /// error does not move it to the step on the other side, and back.
+    fn rebase_at_rest(&mut self) {}
 }
 
 /// A fault seen by the drive itself ([`AxisDrive::take_fault`]).
@@ -873,6 +880,8 @@ impl<D: AxisDrive> AxisController<D> {
                 // would be commanded twice.
                 if self.drive.pending() != 0 {
                     self.drive.stop().map_err(AxisError::Drive)?;
+                } else {
+                    self.drive.rebase_at_rest();
                 }
                 self.reanchor(fb);
             } else {
