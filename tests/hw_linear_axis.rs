@@ -83,8 +83,10 @@ fn motor(plant: &Shared) -> DcMotor<ActuatorBridge> {
     .unwrap()
 }
 
-/// The loops and the reading of `simulate`'s A axis (their documentation
-/// gives each value's reason): on Hall pulses done on the target's edge,
+/// The loops and the reading of the LA12 in `sim::linear_drive` (their
+/// documentation gives each value's reason; `simulate`'s Hall axis runs
+/// the dual-Hall loop, the same in its finer counts): on the single Hall's
+/// pulses done on the target's edge,
 /// stall after 1 s without a pulse; on the potentiometer done within
 /// 0.1 mm, sixteen conversions a poll and a hysteresis of 0.1 mm.
 const HALL_LOOP: DcAxisConfig = LA12_HALL_LOOP;

@@ -538,6 +538,14 @@ where
         }
     }
 
+    /// The target becomes the measured angle, once referenced.
+    fn target_at_measured(&mut self) {
+        if let Ok(Some(deg)) = self.measured_deg() {
+            self.base_deg = deg;
+            self.target_counts = 0;
+        }
+    }
+
     fn target_deg(&self) -> f32 {
         self.base_deg + self.target_counts as f32 / self.counts_per_deg
     }
@@ -673,10 +681,7 @@ where
     /// Brakes at once; the target becomes the measured angle.
     fn stop(&mut self) -> Result<(), Self::Error> {
         self.inner.stop().map_err(LinearAxisError::Axis)?;
-        if let Ok(Some(deg)) = self.measured_deg() {
-            self.base_deg = deg;
-            self.target_counts = 0;
-        }
+        self.target_at_measured();
         Ok(())
     }
 
@@ -709,10 +714,7 @@ where
         if F::ABSOLUTE || !matches!(self.inner.state(), DcState::Idle { .. }) {
             return;
         }
-        if let Ok(Some(deg)) = self.measured_deg() {
-            self.base_deg = deg;
-            self.target_counts = 0;
-        }
+        self.target_at_measured();
     }
 
     /// The inner axis's faults, and a lost feedback as
@@ -735,9 +737,6 @@ where
         self.feedback_lost = false;
         self.unseen_lost = false;
         AxisDrive::clear_fault(&mut self.inner);
-        if let Ok(Some(deg)) = self.measured_deg() {
-            self.base_deg = deg;
-            self.target_counts = 0;
-        }
+        self.target_at_measured();
     }
 }
