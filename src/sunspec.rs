@@ -909,7 +909,7 @@ mod tests {
         for (i, f) in all.iter().enumerate() {
             let b = fault_bit(*f);
             // In the order the names are listed.
-            assert_eq!(b as usize, i, "{}", f.name().as_str());
+            assert_eq!(b as usize, i, "{}", f.name());
             let (lo, hi) = fault_bits([*f].iter());
             // One bit each, of `Flt` below 32, of `Flt2` from 32.
             assert_eq!(lo.count_ones() + hi.count_ones(), 1);

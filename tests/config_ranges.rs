@@ -4,10 +4,10 @@ use suntracker::config::{ranges, AxisConfig, Config, ConfigError, Reason};
 use suntracker::plan::ScheduleConfig;
 use suntracker::safety::OperatorHold;
 
-fn field_of(c: &Config) -> Option<&'static str> {
+fn field_of(c: &Config) -> Option<String> {
     c.validate()
         .err()
-        .map(|e: ConfigError| e.field.name().as_str())
+        .map(|e: ConfigError| e.field.name().to_string())
 }
 
 #[test]
@@ -22,10 +22,10 @@ fn huge_gear_ratio_is_rejected_by_name() {
     let mut c = Config::default();
     c.axes[0].gear_ratio = 1e30;
     assert!(!c.is_valid());
-    assert_eq!(field_of(&c), Some("axis.c.gear_ratio"));
+    assert_eq!(field_of(&c).as_deref(), Some("axis.c.gear_ratio"));
     let mut c = Config::default();
     c.axes[1].gear_ratio = f32::NAN;
-    assert_eq!(field_of(&c), Some("axis.a.gear_ratio"));
+    assert_eq!(field_of(&c).as_deref(), Some("axis.a.gear_ratio"));
 }
 
 #[test]
@@ -36,13 +36,13 @@ fn counts_per_degree_product_is_bounded() {
     a.counts_per_motor_rev = ranges::COUNTS_PER_MOTOR_REV.1;
     a.microsteps = ranges::MICROSTEPS.1;
     a.gear_ratio = ranges::GEAR_RATIO.1;
-    assert_eq!(field_of(&c), Some("axis.a.counts_per_deg"));
+    assert_eq!(field_of(&c).as_deref(), Some("axis.a.counts_per_deg"));
     // A bare 200-step motor: 0.56 counts per degree, coarser than 1°.
     let a = &mut c.axes[1];
     a.counts_per_motor_rev = 200;
     a.microsteps = 1;
     a.gear_ratio = 1.0;
-    assert_eq!(field_of(&c), Some("axis.a.counts_per_deg"));
+    assert_eq!(field_of(&c).as_deref(), Some("axis.a.counts_per_deg"));
     // The same with 2 microsteps: 1.1 counts per degree.
     c.axes[1].microsteps = 2;
     assert_eq!(c.validate(), Ok(()));
@@ -255,13 +255,13 @@ fn an_axis_alone_is_checked_under_its_own_keys() {
     a.backlash_deg = 6.0;
     let e = a.validate(1).unwrap_err();
     assert_eq!(
-        (e.field.name().as_str(), e.reason),
+        (e.field.name().to_string().as_str(), e.reason),
         ("axis.a.backlash_deg", Reason::Deg0To5)
     );
     // Any axis but 0 is the A axis; 0 the C axis.
     assert_eq!(a.validate(7), Err(e));
     let e = a.validate(0).unwrap_err();
-    assert_eq!(e.field.name().as_str(), "axis.c.backlash_deg");
+    assert_eq!(e.field.name().to_string(), "axis.c.backlash_deg");
     // The deadband's relation to safety.max_deviation_deg is the whole
     // configuration's rule, not the axis's.
     let mut a: AxisConfig = Config::default().axes[0];

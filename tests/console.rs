@@ -61,7 +61,7 @@ fn get_text(config: &Config, key: Key) -> String {
 }
 
 fn is_read_only(key: Key) -> bool {
-    key.name().ends_with("counts_per_deg")
+    key.name().to_string().ends_with("counts_per_deg")
 }
 
 // ---------------------------------------------------------------------------
@@ -221,7 +221,7 @@ fn base_for(key: &str, value: f64) -> Config {
 /// range's ends, unless a rule between fields excludes them, and some in
 /// between).
 fn valid_values(docs: &str, key: Key) -> Vec<f64> {
-    let name = key.name().as_str();
+    let name = &key.name().to_string();
     let defaults = Config::default();
     if name.ends_with(".home_deg") {
         assert!(
@@ -286,7 +286,7 @@ fn typed(value: f64, integer: bool) -> String {
 
 #[test]
 fn key_table_names_every_field_once_and_the_docs_list_them() {
-    let mut names: Vec<&str> = KEYS.iter().map(|k| k.name().as_str()).collect();
+    let mut names: Vec<String> = KEYS.iter().map(|k| k.name().to_string()).collect();
     assert_eq!(names.len(), 68);
     names.sort_unstable();
     names.dedup();
@@ -296,7 +296,7 @@ fn key_table_names_every_field_once_and_the_docs_list_them() {
         std::fs::read_to_string(concat!(env!("CARGO_MANIFEST_DIR"), "/src/console/mod.rs"))
             .expect("src/console/mod.rs");
     for k in KEYS {
-        let name = k.name().as_str();
+        let name = &k.name().to_string();
         // Every key is a field key of src/config/mod.rs's docs (where its
         // unit and range are written, once), or one the console's docs name.
         let c_name = name.replace("axis.a.", "axis.c.");
@@ -318,7 +318,7 @@ fn key_table_names_every_field_once_and_the_docs_list_them() {
 fn every_key_round_trips_get_set_get() {
     let docs = config_docs();
     for &key in KEYS {
-        let name = key.name().as_str();
+        let name = &key.name().to_string();
         if is_read_only(key) {
             let mut c = Config::default();
             let v = get_text(&c, key);
@@ -387,7 +387,7 @@ fn every_out_of_range_value_is_refused_naming_the_field() {
     let docs = config_docs();
     let mut checked = 0;
     for &key in KEYS {
-        let name = key.name().as_str();
+        let name = &key.name().to_string();
         if is_read_only(key) {
             continue;
         }

@@ -613,7 +613,11 @@ fn help_lists_the_commands_and_keys() {
         assert!(reply.contains(word), "{word} in {reply:?}");
     }
     for k in settings::KEYS {
-        assert!(reply.contains(&*k.name()), "{} in {reply:?}", &*k.name());
+        assert!(
+            reply.contains(&k.name().to_string()),
+            "{} in {reply:?}",
+            k.name()
+        );
     }
     assert_eq!(rig.send("help me"), "error unexpected argument\n");
 }

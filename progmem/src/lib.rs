@@ -131,11 +131,16 @@ impl FlashStr {
 
     /// Whether the text equals `other`, ASCII case ignored.
     pub fn eq_ignore_ascii_case(self, other: &str) -> bool {
+        self.eq_ignore_ascii_case_bytes(other.as_bytes())
+    }
+
+    /// Whether the text's bytes equal `other`, ASCII case ignored.
+    pub fn eq_ignore_ascii_case_bytes(self, other: &[u8]) -> bool {
         self.len() == other.len()
             && self
                 .bytes()
-                .zip(other.bytes())
-                .all(|(a, b)| a.eq_ignore_ascii_case(&b))
+                .zip(other.iter())
+                .all(|(a, b)| a.eq_ignore_ascii_case(b))
     }
 
     /// Copies the text into `buf` `CHUNK` bytes at a time and hands each

@@ -10,24 +10,16 @@ use Piece::{Offset, Str};
 /// An enum of names: each variant with its text (a constant `&str`
 /// expression), the texts in one [`FlashStrs`](crate::text::FlashStrs) table
 /// read through a function (linked where called), and `Debug`/`Display`;
-/// `ALL` lists the variants.
+/// `ALL` lists the variants. The `@table` form makes the enum, `ALL` and the
+/// table (read by `text_at`) only, for an enum whose names are more than its
+/// table's texts ([`Field`]).
 macro_rules! named {
     ($(#[$m:meta])* $vis:vis enum $name:ident fn $f:ident { $($v:ident => $s:expr,)* }) => {
-        $(#[$m])*
-        #[derive(Clone, Copy, PartialEq, Eq)]
-        #[allow(missing_docs)]
-        $vis enum $name { $($v,)* }
+        named! { @table $(#[$m])* $vis enum $name { $($v => $s,)* } }
         impl $name {
-            /// Every variant, in declaration order.
-            pub const ALL: &'static [$name] = &[$($name::$v,)*];
-
             /// The text (in flash on AVR: [`FlashStr`]).
             pub fn $f(self) -> FlashStr {
-                // One table of the texts, by the variant's number (they
-                // are declared in the same order; `ALL` lists them so).
-                crate::flash_strs!($($s),*)
-                    .get(self as usize)
-                    .unwrap_or(crate::flash_str!(""))
+                Self::text_at(self as usize)
             }
         }
         impl core::fmt::Debug for $name {
@@ -51,31 +43,56 @@ macro_rules! named {
             }
         }
     };
+    (@table $(#[$m:meta])* $vis:vis enum $name:ident { $($v:ident => $s:expr,)* }) => {
+        $(#[$m])*
+        #[derive(Clone, Copy, PartialEq, Eq)]
+        #[allow(missing_docs)]
+        $vis enum $name { $($v,)* }
+        impl $name {
+            /// Every variant, in declaration order.
+            pub const ALL: &'static [$name] = &[$($name::$v,)*];
+
+            /// The text of the variant numbered `i` (empty past the last).
+            fn text_at(i: usize) -> FlashStr {
+                // One table of the texts, by the variant's number (they
+                // are declared in the same order; `ALL` lists them so).
+                crate::flash_strs!($($s),*)
+                    .get(i)
+                    .unwrap_or(crate::flash_str!(""))
+            }
+        }
+    };
 }
 
 named! {
+    @table
     /// A field of [`Config`](super::Config) by its dotted key with unit ([`Field::name`]).
-    pub enum Field fn name {
-        AxisCCountsPerMotorRev => "axis.c.counts_per_motor_rev",
-        AxisCMicrosteps => "axis.c.microsteps",
-        AxisCGearRatio => "axis.c.gear_ratio",
-        AxisCCountsPerDeg => "axis.c.counts_per_deg",
-        AxisCMinDeg => "axis.c.min_deg",
-        AxisCMaxDeg => "axis.c.max_deg",
-        AxisCHomeDeg => "axis.c.home_deg",
-        AxisCBacklashDeg => "axis.c.backlash_deg",
-        AxisCMaxSpeedDegS => "axis.c.max_speed_deg_s",
-        AxisCDeadbandDeg => "axis.c.deadband_deg",
-        AxisACountsPerMotorRev => "axis.a.counts_per_motor_rev",
-        AxisAMicrosteps => "axis.a.microsteps",
-        AxisAGearRatio => "axis.a.gear_ratio",
-        AxisACountsPerDeg => "axis.a.counts_per_deg",
-        AxisAMinDeg => "axis.a.min_deg",
-        AxisAMaxDeg => "axis.a.max_deg",
-        AxisAHomeDeg => "axis.a.home_deg",
-        AxisABacklashDeg => "axis.a.backlash_deg",
-        AxisAMaxSpeedDegS => "axis.a.max_speed_deg_s",
-        AxisADeadbandDeg => "axis.a.deadband_deg",
+    ///
+    /// (Its table holds an axis key's name without `axis.c.` or `axis.a.`,
+    /// and an A-axis key's not at all: see [`Field::name`].)
+    pub enum Field {
+        AxisCCountsPerMotorRev => "counts_per_motor_rev",
+        AxisCMicrosteps => "microsteps",
+        AxisCGearRatio => "gear_ratio",
+        AxisCCountsPerDeg => "counts_per_deg",
+        AxisCMinDeg => "min_deg",
+        AxisCMaxDeg => "max_deg",
+        AxisCHomeDeg => "home_deg",
+        AxisCBacklashDeg => "backlash_deg",
+        AxisCMaxSpeedDegS => "max_speed_deg_s",
+        AxisCDeadbandDeg => "deadband_deg",
+        // The A axis's keys: each named by its C-axis twin's text (after
+        // `axis.a.`, `Field::name`), not kept in the table twice.
+        AxisACountsPerMotorRev => "",
+        AxisAMicrosteps => "",
+        AxisAGearRatio => "",
+        AxisACountsPerDeg => "",
+        AxisAMinDeg => "",
+        AxisAMaxDeg => "",
+        AxisAHomeDeg => "",
+        AxisABacklashDeg => "",
+        AxisAMaxSpeedDegS => "",
+        AxisADeadbandDeg => "",
         SiteLatDeg => "site.lat_deg",
         SiteLonDeg => "site.lon_deg",
         SiteElevationM => "site.elevation_m",
@@ -114,16 +131,152 @@ named! {
         OvercastEnterS => "overcast.enter_s",
         OvercastLeaveS => "overcast.leave_s",
         OvercastMaxMovesPerHour => "overcast.max_moves_per_hour",
-        AxisCContinuous => "axis.c.continuous",
+        AxisCContinuous => "continuous",
         SiteUtcOffsetH => "site.utc_offset_h",
         WindMSPerHz => "wind.m_s_per_hz",
         ModbusTimeoutStow => "modbus.timeout_stow",
-        AxisCDrive => "axis.c.drive",
-        AxisCMaxCurrentMa => "axis.c.max_current_ma",
-        AxisCOvercurrentMs => "axis.c.overcurrent_ms",
-        AxisADrive => "axis.a.drive",
-        AxisAMaxCurrentMa => "axis.a.max_current_ma",
-        AxisAOvercurrentMs => "axis.a.overcurrent_ms",
+        AxisCDrive => "drive",
+        AxisCMaxCurrentMa => "max_current_ma",
+        AxisCOvercurrentMs => "overcurrent_ms",
+        // (The C-axis twin's name, as above.)
+        AxisADrive => "",
+        AxisAMaxCurrentMa => "",
+        AxisAOvercurrentMs => "",
+    }
+}
+
+/// The prefixes of the axes' keys.
+const C_AXIS: FlashStr = crate::flash_str!("axis.c.");
+const A_AXIS: FlashStr = crate::flash_str!("axis.a.");
+
+/// A configuration key's dotted name ([`Field::name`]): a prefix and a
+/// text. An axis key's text is kept once for both axes, after `axis.c.` or
+/// `axis.a.` (the axes have the same keys), which keeps some 330 bytes of
+/// names out of every image.
+#[derive(Clone, Copy)]
+pub struct KeyName {
+    /// `axis.c.`, `axis.a.` or empty.
+    prefix: FlashStr,
+    /// The rest.
+    text: FlashStr,
+}
+
+impl KeyName {
+    /// A name that is one text (the console's `site.postal_code`, a
+    /// command's word).
+    pub const fn plain(text: FlashStr) -> KeyName {
+        KeyName {
+            prefix: crate::flash_str!(""),
+            text,
+        }
+    }
+
+    /// Writes the name to `out`.
+    pub fn write(self, out: &mut dyn crate::log::Sink) {
+        out.flash(self.prefix);
+        out.flash(self.text);
+    }
+
+    /// Whether `name` is this name, ASCII case ignored (the console's
+    /// reading of a key).
+    pub fn eq_ignore_ascii_case(self, name: &str) -> bool {
+        match name.as_bytes().split_at_checked(self.prefix.len()) {
+            Some((head, rest)) => {
+                self.prefix.eq_ignore_ascii_case_bytes(head)
+                    && self.text.eq_ignore_ascii_case_bytes(rest)
+            }
+            None => false,
+        }
+    }
+}
+
+impl core::fmt::Display for KeyName {
+    fn fmt(&self, f: &mut core::fmt::Formatter<'_>) -> core::fmt::Result {
+        core::fmt::Display::fmt(&self.prefix, f)?;
+        core::fmt::Display::fmt(&self.text, f)
+    }
+}
+
+impl core::fmt::Debug for KeyName {
+    fn fmt(&self, f: &mut core::fmt::Formatter<'_>) -> core::fmt::Result {
+        core::fmt::Display::fmt(self, f)
+    }
+}
+
+impl PartialEq<str> for KeyName {
+    fn eq(&self, other: &str) -> bool {
+        match other.split_at_checked(self.prefix.len()) {
+            Some((head, rest)) => self.prefix == *head && self.text == *rest,
+            None => false,
+        }
+    }
+}
+
+impl PartialEq<&str> for KeyName {
+    fn eq(&self, other: &&str) -> bool {
+        *self == **other
+    }
+}
+
+impl Field {
+    /// The dotted key with unit (`axis.c.gear_ratio`, `site.lat_deg`).
+    pub fn name(self) -> KeyName {
+        // The axes' keys come in runs: the A axis's two each in the order
+        // of a C-axis run (declared above), a run's distance after it.
+        const C_RUN_1: (u8, u8) = (
+            Field::AxisCCountsPerMotorRev as u8,
+            Field::AxisCDeadbandDeg as u8,
+        );
+        const A_RUN_1: (u8, u8) = (
+            Field::AxisACountsPerMotorRev as u8,
+            Field::AxisADeadbandDeg as u8,
+        );
+        const C_RUN_2: (u8, u8) = (Field::AxisCDrive as u8, Field::AxisCOvercurrentMs as u8);
+        const A_RUN_2: (u8, u8) = (Field::AxisADrive as u8, Field::AxisAOvercurrentMs as u8);
+        const C_ALONE: u8 = Field::AxisCContinuous as u8;
+        // The first run begins the table, and each A run is as long as its
+        // C run.
+        const _: () = assert!(C_RUN_1.0 == 0);
+        const _: () = assert!(A_RUN_1.1 - A_RUN_1.0 == C_RUN_1.1 - C_RUN_1.0);
+        const _: () = assert!(A_RUN_2.1 - A_RUN_2.0 == C_RUN_2.1 - C_RUN_2.0);
+        let i = self as u8;
+        let (prefix, text) = if i >= A_RUN_1.0 && i <= A_RUN_1.1 {
+            (A_AXIS, i - (A_RUN_1.0 - C_RUN_1.0))
+        } else if i >= A_RUN_2.0 && i <= A_RUN_2.1 {
+            (A_AXIS, i - (A_RUN_2.0 - C_RUN_2.0))
+        } else if i <= C_RUN_1.1 || i == C_ALONE || (i >= C_RUN_2.0 && i <= C_RUN_2.1) {
+            (C_AXIS, i)
+        } else {
+            (crate::flash_str!(""), i)
+        };
+        KeyName {
+            prefix,
+            text: Field::text_at(usize::from(text)),
+        }
+    }
+}
+
+impl core::fmt::Debug for Field {
+    fn fmt(&self, f: &mut core::fmt::Formatter<'_>) -> core::fmt::Result {
+        core::fmt::Display::fmt(&self.name(), f)
+    }
+}
+
+impl core::fmt::Display for Field {
+    fn fmt(&self, f: &mut core::fmt::Formatter<'_>) -> core::fmt::Result {
+        core::fmt::Display::fmt(&self.name(), f)
+    }
+}
+
+impl PartialEq<str> for Field {
+    fn eq(&self, other: &str) -> bool {
+        self.name() == *other
+    }
+}
+
+impl PartialEq<&str> for Field {
+    fn eq(&self, other: &&str) -> bool {
+        self.name() == **other
     }
 }
 
@@ -232,3 +385,100 @@ pub(super) const AXIS_KEYS: [AxisKeys; 2] = [
         drive: Field::AxisADrive,
     },
 ];
+
+#[cfg(test)]
+mod tests {
+    extern crate std;
+    use super::*;
+    use std::string::{String, ToString};
+
+    /// The A axis's keys as the console and the book name them, written
+    /// out here rather than derived from the C axis's.
+    const A_AXIS_NAMES: [(Field, &str); 13] = [
+        (Field::AxisACountsPerMotorRev, "axis.a.counts_per_motor_rev"),
+        (Field::AxisAMicrosteps, "axis.a.microsteps"),
+        (Field::AxisAGearRatio, "axis.a.gear_ratio"),
+        (Field::AxisACountsPerDeg, "axis.a.counts_per_deg"),
+        (Field::AxisAMinDeg, "axis.a.min_deg"),
+        (Field::AxisAMaxDeg, "axis.a.max_deg"),
+        (Field::AxisAHomeDeg, "axis.a.home_deg"),
+        (Field::AxisABacklashDeg, "axis.a.backlash_deg"),
+        (Field::AxisAMaxSpeedDegS, "axis.a.max_speed_deg_s"),
+        (Field::AxisADeadbandDeg, "axis.a.deadband_deg"),
+        (Field::AxisADrive, "axis.a.drive"),
+        (Field::AxisAMaxCurrentMa, "axis.a.max_current_ma"),
+        (Field::AxisAOvercurrentMs, "axis.a.overcurrent_ms"),
+    ];
+
+    /// For a key of the A axis, the same key of the C axis (by the text
+    /// both names end in); else `None`.
+    fn c_axis_twin(field: Field) -> Option<Field> {
+        let name = field.name();
+        if name.prefix != A_AXIS {
+            return None;
+        }
+        Field::ALL
+            .iter()
+            .copied()
+            .find(|c| c.name().prefix == C_AXIS && Field::text_at(*c as usize) == name.text)
+    }
+
+    #[test]
+    fn axis_keys_are_named_from_one_text_for_both_axes() {
+        for (field, name) in A_AXIS_NAMES {
+            assert_eq!(field.name().to_string(), name);
+            assert!(field.name() == name);
+            assert!(field.name().eq_ignore_ascii_case(&name.to_uppercase()));
+            let twin = c_axis_twin(field).map(|c| c.name().to_string());
+            assert_eq!(twin, Some(name.replace("axis.a.", "axis.c.")));
+            assert!(
+                Field::text_at(field as usize).is_empty(),
+                "{name} kept in the table"
+            );
+        }
+        let a_axis: usize = Field::ALL
+            .iter()
+            .filter(|f| c_axis_twin(**f).is_some())
+            .count();
+        assert_eq!(a_axis, A_AXIS_NAMES.len());
+        // Every other key is its table's text, after `axis.c.` for the C
+        // axis's 14 (its 13 twins and `continuous`).
+        let mut c_axis = 0;
+        for f in Field::ALL.iter().filter(|f| c_axis_twin(**f).is_none()) {
+            let text = Field::text_at(*f as usize).as_str();
+            assert!(!text.is_empty());
+            let name = f.name().to_string();
+            if name.starts_with("axis.") {
+                assert_eq!(name, std::format!("axis.c.{text}"));
+                c_axis += 1;
+            } else {
+                assert_eq!(name, text);
+            }
+        }
+        assert_eq!(c_axis, 14);
+    }
+
+    #[test]
+    fn a_name_matches_only_whole() {
+        let gear = Field::AxisAGearRatio.name();
+        let not_it: [String; 8] = [
+            "axis.a.gear_ratio2".into(),
+            "axis.a.gear_rati".into(),
+            "axis.c.gear_ratio".into(),
+            "axis.a.".into(),
+            "axis.a".into(),
+            String::new(),
+            // A character of two bytes across the prefix's end.
+            "axis.a\u{e9}gear_ratio".into(),
+            "axis.a.gear_rati\u{f3}".into(),
+        ];
+        for other in &not_it {
+            assert!(!gear.eq_ignore_ascii_case(other), "{other:?}");
+            assert!(gear != **other, "{other:?}");
+        }
+        let lat = Field::SiteLatDeg.name();
+        assert!(lat == "site.lat_deg");
+        assert!(lat != "SITE.LAT_DEG");
+        assert!(lat.eq_ignore_ascii_case("SITE.LAT_DEG"));
+    }
+}

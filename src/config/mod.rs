@@ -31,7 +31,7 @@ mod table;
 mod validate;
 
 pub use codec::PAYLOAD_LEN;
-pub use keys::{Field, Reason};
+pub use keys::{Field, KeyName, Reason};
 pub use record::{LAYOUT_VERSION, RECORD_LEN};
 pub use table::{get, is_read_only, Value, KEYS};
 pub(crate) use table::{slot, Slot};

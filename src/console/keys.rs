@@ -2,7 +2,6 @@
 //! fields, their kinds and places is the configuration's own,
 //! [`crate::config::KEYS`]), and the `site.postal_code` pseudo-key.
 
-use super::words::same_word;
 use crate::config::Field;
 use crate::text::FlashStr;
 
@@ -23,5 +22,7 @@ pub fn key_from_name(name: &str) -> Option<Key> {
 
 /// The key of `keys` named `name` (ASCII case-insensitive).
 pub(super) fn key_in(keys: &[Key], name: &str) -> Option<Key> {
-    keys.iter().copied().find(|k| same_word(name, k.name()))
+    keys.iter()
+        .copied()
+        .find(|k| k.name().eq_ignore_ascii_case(name))
 }

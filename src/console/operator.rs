@@ -8,7 +8,7 @@ use super::reply::{
     write_saved, write_time_set,
 };
 use super::status::{write_status, StatusView};
-use crate::config::{Config, DriveSet};
+use crate::config::{Config, DriveSet, KeyName};
 use crate::log::Sink;
 use crate::persist::{Loaded, SaveError};
 use crate::safety::{AxisId, OperatorHold};
@@ -141,7 +141,11 @@ pub fn write_hold_saved(
     match result {
         Ok(()) if ok_when_saved => write_ok(out, name),
         Ok(()) => {}
-        Err(_) => write_field_error(out, name, crate::flash_str!("in force but not saved")),
+        Err(_) => write_field_error(
+            out,
+            KeyName::plain(name),
+            crate::flash_str!("in force but not saved"),
+        ),
     }
 }
 

@@ -7,7 +7,7 @@ use super::number::write_number;
 use super::operator::TimeSetError;
 use super::parse::ParseError;
 use super::set::SetError;
-use crate::config::{Config, ConfigError};
+use crate::config::{Config, ConfigError, KeyName};
 use crate::log::Sink;
 use crate::persist::{Loaded, SaveError};
 use crate::safety::FaultManager;
@@ -58,7 +58,7 @@ pub fn write_help(out: &mut dyn Sink) {
 
 /// `KEY=VALUE`, without `ok` or end of line.
 pub fn write_key_value(out: &mut dyn Sink, config: &Config, key: Key) {
-    out.flash(key.name());
+    key.name().write(out);
     out.flash(crate::flash_str!("="));
     match get(config, key) {
         Value::F32(v) => write_number(out, v),
@@ -120,16 +120,20 @@ pub fn write_set_error(out: &mut dyn Sink, e: &SetError) {
         SetError::OutOfRange(k) => (Some(k), crate::flash_str!("out of range")),
         SetError::Postal(p) => (None, postal_error_text(p)),
     };
-    write_field_error(out, key.map_or(POSTAL_CODE_KEY, Key::name), reason);
+    write_field_error(
+        out,
+        key.map_or(KeyName::plain(POSTAL_CODE_KEY), Key::name),
+        reason,
+    );
 }
 
 /// `error NAME: REASON`: a refused value (a key's, a command's). One copy
 /// for the parser's, `set`'s and the hold's refusals (written out at each,
 /// 44 B more on the ATmega2560).
 #[inline(never)]
-pub(super) fn write_field_error(out: &mut dyn Sink, name: FlashStr, reason: FlashStr) {
+pub(super) fn write_field_error(out: &mut dyn Sink, name: KeyName, reason: FlashStr) {
     out.flash(ERROR);
-    out.flash(name);
+    name.write(out);
     out.flash(crate::flash_str!(": "));
     out.flash(reason);
     out.flash(crate::flash_str!("\n"));

@@ -237,7 +237,7 @@ fn log_source(out: &mut dyn Sink, loaded: &Loaded<Settings>) {
 /// `KEY=VALUE`, without `ok` or end of line.
 fn write_key_value(out: &mut dyn Sink, s: &Settings, key: Field) {
     if let Some(v) = s.get(key) {
-        out.flash(key.name());
+        key.name().write(out);
         out.flash(crate::flash_str!("="));
         console::write_number(out, v);
     }
