@@ -37,7 +37,7 @@ ELF_AVR_SELFTEST="$FW_TARGET_DIR/mega/avr-none/release/avr_board_selftest.elf"
 # The ATmega2560 flags: the same as .cargo/config.toml's avr-none flags but
 # for the other CPU, with boards/mega2560/.cargo/config.toml's inline
 # threshold (RUSTFLAGS replaces the config files' lists entirely).
-AVR_MEGA_RUSTFLAGS="-C target-cpu=atmega2560 --cfg avr_atmega2560 -C link-arg=-Wl,--whole-archive -C link-arg=-lm -C link-arg=-Wl,--no-whole-archive -C link-arg=-Wl,--relax -C debuginfo=0 -C llvm-args=-inline-threshold=0"
+AVR_MEGA_RUSTFLAGS="-C target-cpu=atmega2560 --cfg avr_atmega2560 -C link-arg=-Wl,--whole-archive -C link-arg=-lm -C link-arg=-Wl,--no-whole-archive -C link-arg=-Wl,--relax -C debuginfo=0 -C llvm-args=-inline-threshold=5"
 
 build_qemu() {
   cargo build --release --target thumbv7em-none-eabihf -p suntracker-mps2-an386 \
