@@ -42,15 +42,18 @@ fn encode_decode_round_trip() {
     // the weather stows' (22 bytes), the supply watch's (4 bytes) and the
     // overcast mode's (13 bytes), the C axis's `continuous` (1 byte), the
     // site's UTC offset (4), the anemometer's factor (4) and the Modbus
-    // silence's stow (1), and each axis's drive kind, current limit and
-    // overcurrent time (1 + 2 + 2) follow it.
+    // silence's stow (1), each axis's drive kind, current limit and
+    // overcurrent time (1 + 2 + 2) and each axis's backward speed (4)
+    // follow it.
     const HOLD_AT: usize = 143;
-    assert_eq!(n, HOLD_AT + 1 + 11 + 22 + 4 + 13 + 1 + 9 + 2 * 5);
+    assert_eq!(n, HOLD_AT + 1 + 11 + 22 + 4 + 13 + 1 + 9 + 2 * 5 + 2 * 4);
     // The drive fields away from their defaults come back too.
     let mut dc = c;
     dc.axes[1].drive = 2;
     dc.axes[1].max_current_ma = 4_500;
     dc.axes[0].overcurrent_ms = 250;
+    dc.axes[0].back_speed_deg_s = 0.75;
+    dc.axes[1].back_speed_deg_s = 12.5;
     let mut db = [0u8; 256];
     assert_eq!(dc.encode(&mut db), Some(PAYLOAD_LEN));
     assert_eq!(Config::decode(&db[..n]), Some(dc));
@@ -83,17 +86,23 @@ fn encode_decode_round_trip() {
     // Other lengths are rejected.
     assert_eq!(Config::decode(&buf[..HOLD_AT - 1]), None);
     assert_eq!(Config::decode(&buf[..HOLD_AT + 2]), None);
-    // Layout version 6's payload (without the drive fields: steppers, the
+    // Layout version 7's payload (without the backward speeds: the
+    // defaults), version 6's (also without the drive fields: steppers, the
     // current watch's defaults), version 5's (also without the UTC offset,
     // the anemometer's factor and the silence's stow) and version 4's
     // (also without `axis.c.continuous`) read with them at 0.
-    assert_eq!(Config::decode(&buf[..n - 10]), Some(c));
-    assert_eq!(Config::decode(&db[..n - 10]), Some(c));
-    assert_eq!(Config::decode(&buf[..n - 19]), Some(c));
-    assert_eq!(Config::decode(&buf[..n - 20]), Some(c));
+    let mut dc_v7 = dc;
+    dc_v7.axes[0].back_speed_deg_s = c.axes[0].back_speed_deg_s;
+    dc_v7.axes[1].back_speed_deg_s = c.axes[1].back_speed_deg_s;
+    assert_eq!(Config::decode(&db[..n - 8]), Some(dc_v7));
+    assert_eq!(Config::decode(&buf[..n - 18]), Some(c));
+    assert_eq!(Config::decode(&db[..n - 18]), Some(c));
+    assert_eq!(Config::decode(&buf[..n - 27]), Some(c));
+    assert_eq!(Config::decode(&buf[..n - 28]), Some(c));
     assert_eq!(Config::decode(&buf[..n - 1]), None);
-    assert_eq!(Config::decode(&buf[..n - 5]), None);
-    assert_eq!(Config::decode(&buf[..n - 21]), None);
+    assert_eq!(Config::decode(&buf[..n - 4]), None);
+    assert_eq!(Config::decode(&buf[..n - 13]), None);
+    assert_eq!(Config::decode(&buf[..n - 29]), None);
     assert_eq!(Config::decode(&buf[..n + 1]), None);
     // Too small a buffer to encode into.
     assert_eq!(c.encode(&mut [0u8; 10]), None);
@@ -227,6 +236,9 @@ fn payload_is_the_documented_layout() {
         expected.extend_from_slice(&a.max_current_ma.to_le_bytes());
         expected.extend_from_slice(&a.overcurrent_ms.to_le_bytes());
     }
+    for a in &c.axes {
+        f(&mut expected, a.back_speed_deg_s);
+    }
     assert_eq!(expected.len(), PAYLOAD_LEN);
     let mut buf = [0u8; 256];
     let n = c.encode(&mut buf).unwrap();
@@ -349,11 +361,11 @@ fn old_version_and_bad_values_are_rejected_whole() {
     // Layouts 2 (written before the operator's hold existed: the fields
     // before it), 3 (before the Modbus settings: up to the hold) and 4
     // (before `axis.c.continuous`) and 5 (before the UTC offset, the
-    // anemometer's factor and the silence's stow) and 6 (before the axes'
-    // drive kinds and current watch) are still read, so an
-    // update keeps the saved configuration; version 3 with version 2's
-    // length is not.
-    let (v2, v3, v4, v5, v6) = (n - 71, n - 70, n - 20, n - 19, n - 10);
+    // anemometer's factor and the silence's stow), 6 (before the axes'
+    // drive kinds and current watch) and 7 (before the axes' backward
+    // speeds) are still read, so an update keeps the saved configuration;
+    // version 3 with version 2's length is not.
+    let (v2, v3, v4, v5, v6, v7) = (n - 79, n - 78, n - 28, n - 27, n - 18, n - 8);
     let mut mem = MemStorage::<1024>::new();
     mem.write(0, &slot(2, &payload[..v2])).unwrap();
     mem.write(SLOT_LEN, &slot(3, &payload[..v2])).unwrap();
@@ -365,15 +377,16 @@ fn old_version_and_bad_values_are_rejected_whole() {
     mem.write(0, &slot(3, &payload[..v3])).unwrap();
     let l = ConfigStore::new(mem).load();
     assert_eq!((l.defaults, l.config), (false, c));
-    for (version, len) in [(4, v4), (5, v5), (6, v6)] {
+    for (version, len) in [(4, v4), (5, v5), (6, v6), (7, v7)] {
         let mut mem = MemStorage::<1024>::new();
         mem.write(0, &slot(version, &payload[..len])).unwrap();
         let l = ConfigStore::new(mem).load();
         assert_eq!((l.defaults, l.config), (false, c));
     }
     // Version 2 with version 3's length is not either, nor version 3 with
-    // version 4's, nor 4 with 5's, nor 5 with 6's, nor 6 with 7's.
-    for (version, len) in [(2, v3), (3, v4), (4, v5), (5, v6), (6, n)] {
+    // version 4's, nor 4 with 5's, nor 5 with 6's, nor 6 with 7's, nor 7
+    // with 8's.
+    for (version, len) in [(2, v3), (3, v4), (4, v5), (5, v6), (6, v7), (7, n)] {
         let mut mem = MemStorage::<1024>::new();
         mem.write(0, &slot(version, &payload[..len])).unwrap();
         let l = ConfigStore::new(mem).load();

@@ -135,6 +135,7 @@ const DOC_RANGES: &[(&str, &str)] = &[
     ("axis.c.drive", "0…5"),
     ("axis.c.max_current_ma", "100…40,000"),
     ("axis.c.overcurrent_ms", "10…5,000"),
+    ("axis.c.back_speed_deg_s", "0.01…30"),
 ];
 
 /// The home switch's range is relative to `min_deg` (documented as
@@ -287,10 +288,10 @@ fn typed(value: f64, integer: bool) -> String {
 #[test]
 fn key_table_names_every_field_once_and_the_docs_list_them() {
     let mut names: Vec<String> = KEYS.iter().map(|k| k.name().to_string()).collect();
-    assert_eq!(names.len(), 68);
+    assert_eq!(names.len(), 70);
     names.sort_unstable();
     names.dedup();
-    assert_eq!(names.len(), 68, "duplicate keys");
+    assert_eq!(names.len(), 70, "duplicate keys");
     let docs = config_docs();
     let module =
         std::fs::read_to_string(concat!(env!("CARGO_MANIFEST_DIR"), "/src/console/mod.rs"))

@@ -716,6 +716,7 @@ pub fn la12_tilt_axis_config(feedback: FeedbackKind) -> Result<AxisConfig, Linea
         } as u8,
         max_current_ma: LA12_HALL_LOOP.max_current_ma as u16,
         overcurrent_ms: LA12_HALL_LOOP.overcurrent_ms as u16,
+        back_speed_deg_s: 10.0,
     })
 }
 

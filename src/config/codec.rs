@@ -1,4 +1,4 @@
-//! The configuration's binary payload, layout version 7
+//! The configuration's binary payload, layout version 8
 //! ([`super::LAYOUT_VERSION`]): the fields of the key table ([`super::KEYS`],
 //! which lists them in declaration order) but the derived counts per
 //! degree, in its order, with the operator's hold after the fields of
@@ -6,11 +6,12 @@
 //! `stow.*`, `supply.*`, `overcast.*` in version 4, `axis.c.continuous`
 //! in version 5, `site.utc_offset_h`, `wind.m_s_per_hz` and
 //! `modbus.timeout_stow` in version 6, each axis's `drive`,
-//! `max_current_ma` and `overcurrent_ms` in version 7) after it;
+//! `max_current_ma` and `overcurrent_ms` in version 7, each axis's
+//! `back_speed_deg_s` in version 8) after it;
 //! little-endian, [`PAYLOAD_LEN`] bytes. The payloads of versions 2
 //! ([`PAYLOAD_LEN_V2`], without the hold), 3 ([`PAYLOAD_LEN_V3`]), 4
-//! ([`PAYLOAD_LEN_V4`]), 5 ([`PAYLOAD_LEN_V5`]) and 6
-//! ([`PAYLOAD_LEN_V6`]) are still read, the fields they lack at their
+//! ([`PAYLOAD_LEN_V4`]), 5 ([`PAYLOAD_LEN_V5`]), 6 ([`PAYLOAD_LEN_V6`])
+//! and 7 ([`PAYLOAD_LEN_V7`]) are still read, the fields they lack at their
 //! defaults. Also the
 //! little-endian cursors that write and read it (the store writes its slot
 //! header with the same writer).
@@ -43,7 +44,21 @@ pub const PAYLOAD_LEN_V6: usize = PAYLOAD_LEN_V5 + 4 + 4 + 1;
 
 /// Payload length of layout version 7: version 6's and each axis's drive
 /// kind (1 byte), current limit and overcurrent time (2 bytes each).
-pub const PAYLOAD_LEN: usize = PAYLOAD_LEN_V6 + 2 * (1 + 2 + 2);
+pub const PAYLOAD_LEN_V7: usize = PAYLOAD_LEN_V6 + 2 * (1 + 2 + 2);
+
+/// Payload length of layout version 8: version 7's and each axis's
+/// backward speed (4 bytes).
+pub const PAYLOAD_LEN: usize = PAYLOAD_LEN_V7 + 2 * 4;
+
+/// The keys of layout version 7, the first of [`KEYS`]: those up to the A
+/// axis's `overcurrent_ms`.
+const V7_KEYS: usize = {
+    let mut i = 0;
+    while i < KEYS.len() && KEYS[i] as usize != super::Field::AxisAOvercurrentMs as usize {
+        i += 1;
+    }
+    i + 1
+};
 
 /// The keys of layout version 6, the first of [`KEYS`]: those up to
 /// `modbus.timeout_stow`.
@@ -179,7 +194,8 @@ impl Config {
         }
     }
 
-    /// Parses a payload of layout version 7, or of version 6 (without the
+    /// Parses a payload of layout version 8, or of version 7 (without the
+    /// axes' backward speeds: the defaults), 6 (also without the
     /// axes' drive kinds and current watch: steppers, the defaults), 5
     /// (also without the
     /// UTC offset, the anemometer's factor and the Modbus silence's stow:
@@ -196,6 +212,7 @@ impl Config {
             if (i == V4_KEYS && buf.len() == PAYLOAD_LEN_V4)
                 || (i == V5_KEYS && buf.len() == PAYLOAD_LEN_V5)
                 || (i == V6_KEYS && buf.len() == PAYLOAD_LEN_V6)
+                || (i == V7_KEYS && buf.len() == PAYLOAD_LEN_V7)
             {
                 break;
             }

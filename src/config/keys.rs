@@ -142,6 +142,9 @@ named! {
         AxisADrive => "",
         AxisAMaxCurrentMa => "",
         AxisAOvercurrentMs => "",
+        AxisCBackSpeedDegS => "back_speed_deg_s",
+        // (The C-axis twin's name, as above.)
+        AxisABackSpeedDegS => "",
     }
 }
 
@@ -234,6 +237,9 @@ impl Field {
         const C_RUN_2: (u8, u8) = (Field::AxisCDrive as u8, Field::AxisCOvercurrentMs as u8);
         const A_RUN_2: (u8, u8) = (Field::AxisADrive as u8, Field::AxisAOvercurrentMs as u8);
         const C_ALONE: u8 = Field::AxisCContinuous as u8;
+        // A run of one key: the C axis's, then the A axis's.
+        const C_BACK: u8 = Field::AxisCBackSpeedDegS as u8;
+        const _: () = assert!(Field::AxisABackSpeedDegS as u8 == C_BACK + 1);
         // The first run begins the table, and each A run is as long as its
         // C run.
         const _: () = assert!(C_RUN_1.0 == 0);
@@ -244,7 +250,13 @@ impl Field {
             (A_AXIS, i - (A_RUN_1.0 - C_RUN_1.0))
         } else if i >= A_RUN_2.0 && i <= A_RUN_2.1 {
             (A_AXIS, i - (A_RUN_2.0 - C_RUN_2.0))
-        } else if i <= C_RUN_1.1 || i == C_ALONE || (i >= C_RUN_2.0 && i <= C_RUN_2.1) {
+        } else if i == C_BACK + 1 {
+            (A_AXIS, C_BACK)
+        } else if i <= C_RUN_1.1
+            || i == C_ALONE
+            || i == C_BACK
+            || (i >= C_RUN_2.0 && i <= C_RUN_2.1)
+        {
             (C_AXIS, i)
         } else {
             (crate::flash_str!(""), i)
@@ -370,6 +382,8 @@ pub(super) struct AxisKeys {
     /// The first of the axis's keys added in layout version 7 (its drive,
     /// current limit and overcurrent time, in that order).
     pub(super) drive: Field,
+    /// The axis's key added in layout version 8.
+    pub(super) back_speed_deg_s: Field,
 }
 
 /// The keys of the C axis (`Config::axes[0]`), then the A axis.
@@ -378,11 +392,13 @@ pub(super) const AXIS_KEYS: [AxisKeys; 2] = [
         counts_per_motor_rev: Field::AxisCCountsPerMotorRev,
         deadband_deg: Field::AxisCDeadbandDeg,
         drive: Field::AxisCDrive,
+        back_speed_deg_s: Field::AxisCBackSpeedDegS,
     },
     AxisKeys {
         counts_per_motor_rev: Field::AxisACountsPerMotorRev,
         deadband_deg: Field::AxisADeadbandDeg,
         drive: Field::AxisADrive,
+        back_speed_deg_s: Field::AxisABackSpeedDegS,
     },
 ];
 
@@ -394,7 +410,7 @@ mod tests {
 
     /// The A axis's keys as the console and the book name them, written
     /// out here rather than derived from the C axis's.
-    const A_AXIS_NAMES: [(Field, &str); 13] = [
+    const A_AXIS_NAMES: [(Field, &str); 14] = [
         (Field::AxisACountsPerMotorRev, "axis.a.counts_per_motor_rev"),
         (Field::AxisAMicrosteps, "axis.a.microsteps"),
         (Field::AxisAGearRatio, "axis.a.gear_ratio"),
@@ -408,6 +424,7 @@ mod tests {
         (Field::AxisADrive, "axis.a.drive"),
         (Field::AxisAMaxCurrentMa, "axis.a.max_current_ma"),
         (Field::AxisAOvercurrentMs, "axis.a.overcurrent_ms"),
+        (Field::AxisABackSpeedDegS, "axis.a.back_speed_deg_s"),
     ];
 
     /// For a key of the A axis, the same key of the C axis (by the text
@@ -442,7 +459,7 @@ mod tests {
             .count();
         assert_eq!(a_axis, A_AXIS_NAMES.len());
         // Every other key is its table's text, after `axis.c.` for the C
-        // axis's 14 (its 13 twins and `continuous`).
+        // axis's 15 (its 14 twins and `continuous`).
         let mut c_axis = 0;
         for f in Field::ALL.iter().filter(|f| c_axis_twin(**f).is_none()) {
             let text = Field::text_at(*f as usize).as_str();
@@ -455,7 +472,7 @@ mod tests {
                 assert_eq!(name, text);
             }
         }
-        assert_eq!(c_axis, 14);
+        assert_eq!(c_axis, 15);
     }
 
     #[test]

@@ -129,6 +129,13 @@ pub struct AxisConfig {
     /// 10…5,000 (`axis.c.overcurrent_ms`); longer than a start's inrush,
     /// shorter than the time a stalled motor takes to overheat.
     pub overcurrent_ms: u16,
+    /// A timed axis's speed driven backward (toward its home switch),
+    /// degrees per second: 0.01…30 (`axis.c.back_speed_deg_s`), the range
+    /// of `max_speed_deg_s`, which is its speed forward. Both are measured
+    /// on the installed axis at full duty (a linear actuator retracts
+    /// under the panel's weight faster or slower than it extends). Not
+    /// used by the other drives.
+    pub back_speed_deg_s: f32,
 }
 
 /// An axis's drive kind: the codes of `axis.c.drive` and `axis.a.drive`.
@@ -424,6 +431,7 @@ impl Config {
             drive: DriveKind::Stepper as u8,
             max_current_ma: 3_000,
             overcurrent_ms: 100,
+            back_speed_deg_s: 2.0,
         };
         Config {
             site: SiteConfig {

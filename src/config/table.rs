@@ -200,6 +200,8 @@ key_table! { c;
     AxisADrive U8 c.axes[1].drive, DRIVE DriveKind;
     AxisAMaxCurrentMa U16 c.axes[1].max_current_ma, MAX_CURRENT_MA MaxCurrentMa;
     AxisAOvercurrentMs U16 c.axes[1].overcurrent_ms, OVERCURRENT_MS OvercurrentMs;
+    AxisCBackSpeedDegS F32 c.axes[0].back_speed_deg_s, MAX_SPEED_DEG_S SpeedDegS;
+    AxisABackSpeedDegS F32 c.axes[1].back_speed_deg_s, MAX_SPEED_DEG_S SpeedDegS;
 }
 
 crate::progmem! {
@@ -285,6 +287,7 @@ const ZEROS: Config = {
         drive: 0,
         max_current_ma: 0,
         overcurrent_ms: 0,
+        back_speed_deg_s: 0.0,
     };
     Config {
         site: SiteConfig {

@@ -102,6 +102,14 @@ const _: () =
 const _: () =
     assert!(KEYS[AXIS_DRIVE_SPANS[1].1 - 1] as usize == Field::AxisAOvercurrentMs as usize);
 
+/// The place in [`KEYS`] of each axis's key of layout version 8,
+/// `back_speed_deg_s`.
+const AXIS_BACK_SPEED: [usize; 2] = [
+    key_index(AXIS_KEYS[0].back_speed_deg_s),
+    key_index(AXIS_KEYS[1].back_speed_deg_s),
+];
+const _: () = assert!(AXIS_BACK_SPEED[0] < KEYS.len() && AXIS_BACK_SPEED[1] < KEYS.len());
+
 impl AxisConfig {
     /// Checks every field against its range; `axis` 0 is the C axis (keys
     /// `axis.c.*`), any other the A axis (`axis.a.*`). The deadband's
@@ -119,7 +127,9 @@ impl AxisConfig {
         };
         *slot = *self;
         config.check_keys(from..to)?;
-        config.check_keys(drive_from..drive_to)
+        config.check_keys(drive_from..drive_to)?;
+        let back = AXIS_BACK_SPEED[i];
+        config.check_keys(back..back + 1)
     }
 }
 
