@@ -12,7 +12,7 @@ use drivers::stepper::ramp::Ramp;
 
 use crate::config::{AxisConfig, Config};
 use crate::controller::{AttitudeSource, ControllerOptions};
-use crate::hw::DcAxisConfig;
+use crate::hw::{DcAxisConfig, TimedAxisConfig};
 use crate::motion::FeedbackMode;
 use sun_algos::Float;
 
@@ -150,6 +150,29 @@ pub fn dc_hall_loop(axis: &AxisConfig) -> DcAxisConfig {
         axis.max_current_ma,
         axis.overcurrent_ms,
     )
+}
+
+/// The runs of a DC motor moved by time without feedback (`axis.X.drive`
+/// 5, `timed`: [`crate::hw::TimedAxis`]) from the axis's configuration:
+/// forward at `max_speed_deg_s`, backward at `back_speed_deg_s` (both
+/// measured on the installed axis at full duty), every run at full duty,
+/// the current watch `max_current_ma` for `overcurrent_ms`; `lag_ms` is the
+/// motor's mechanical time constant (the board's motor). The runs are not
+/// scaled by a supply measurement (`calibration_supply_mv` 0). The
+/// configuration's ranges lie within what [`TimedAxisConfig::validate`]
+/// takes (speeds 0.01–30 °/s, a current limit of 100 mA at least, at most
+/// 5 s above it), so every valid axis configuration gives valid runs for a
+/// `lag_ms` up to 10 s.
+pub fn timed_runs(axis: &AxisConfig, lag_ms: u32) -> TimedAxisConfig {
+    TimedAxisConfig {
+        forward_deg_s: axis.max_speed_deg_s,
+        backward_deg_s: axis.back_speed_deg_s,
+        duty_permille: 1_000,
+        calibration_supply_mv: 0,
+        max_current_ma: u32::from(axis.max_current_ma),
+        overcurrent_ms: u32::from(axis.overcurrent_ms),
+        lag_ms,
+    }
 }
 
 /// The position loop and watch of the worm slew drive's axis (`sim::dc_drive::worm_slew_motor`: a Pololu 37D

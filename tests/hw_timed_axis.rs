@@ -191,6 +191,78 @@ fn an_obstruction_stops_the_run_and_the_retry_finishes_it() {
     assert!((end - 40.0).abs() < 0.1, "{end}");
 }
 
+/// The same going backward: jammed on the way from 40° down to 5°, once
+/// it passes 30°; the part of the run kept for the retry is negative and
+/// the retry ends the axis at 5°.
+#[test]
+fn an_obstruction_on_a_backward_run_keeps_its_rest_for_the_retry() {
+    let mut d = drive(calibrated(), 40.0);
+    d.begin_tick(0.0);
+    d.move_counts(-35 * 1_400).unwrap();
+    let mut t = 0;
+    while d.output_deg() > 30.0 {
+        d.begin_tick(0.01);
+        t += 10;
+        assert!(t < 3_000, "never reached 30°");
+    }
+    d.inject(Injected {
+        obstructed: true,
+        ..Injected::default()
+    });
+    d.begin_tick(1.0);
+    assert_eq!(d.take_fault(), Some(DriveFault::Obstruction));
+    let held_at = d.output_deg();
+    assert!((29.8..30.0).contains(&held_at), "{held_at}");
+    d.inject(Injected::default());
+    d.clear_fault();
+    assert!(d.pending() < -30_000, "the rest kept: {}", d.pending());
+    d.begin_tick(10.0);
+    let end = d.output_deg();
+    println!("held at {held_at:.3}°, retried to {end:.3}°");
+    assert!((end - 5.0).abs() < 0.1, "{end}");
+}
+
+/// A board's timed axis takes its runs from the axis's configuration
+/// (`mechanics::timed_runs`): forward at `max_speed_deg_s`, backward at
+/// `back_speed_deg_s`, the current watch from `max_current_ma` and
+/// `overcurrent_ms`; at every end of those keys' ranges the runs are valid,
+/// so no configuration that passed its checks stops a board at power-on.
+#[test]
+fn runs_from_every_valid_axis_configuration_are_valid() {
+    use suntracker::config::ranges as r;
+    use suntracker::mechanics::timed_runs;
+    let base = axis_config();
+    let (s_lo, s_hi) = r::MAX_SPEED_DEG_S;
+    let (i_lo, i_hi) = r::MAX_CURRENT_MA;
+    let (o_lo, o_hi) = r::OVERCURRENT_MS;
+    for (fwd, back) in [(s_lo, s_hi), (s_hi, s_lo), (s_lo, s_lo), (s_hi, s_hi)] {
+        for (ma, ms) in [(i_lo, o_lo), (i_hi, o_hi)] {
+            let axis = AxisConfig {
+                max_speed_deg_s: fwd,
+                back_speed_deg_s: back,
+                max_current_ma: ma,
+                overcurrent_ms: ms,
+                ..base
+            };
+            assert_eq!(axis.validate(0), Ok(()));
+            let runs = timed_runs(&axis, 10_000);
+            assert_eq!(runs.validate(), Ok(()), "{axis:?}");
+            assert_eq!((runs.forward_deg_s, runs.backward_deg_s), (fwd, back));
+            assert_eq!(
+                (runs.max_current_ma, runs.overcurrent_ms, runs.duty_permille),
+                (u32::from(ma), u32::from(ms), 1_000)
+            );
+        }
+    }
+    // An axis refused by its checks is not given runs that pass either.
+    let slow = AxisConfig {
+        back_speed_deg_s: 0.0,
+        ..base
+    };
+    assert!(slow.validate(0).is_err());
+    assert!(timed_runs(&slow, 120).validate().is_err());
+}
+
 #[test]
 fn homing_stops_on_the_switch_then_moves_by_time() {
     let mut ax = AxisController::new(drive(calibrated(), -70.0), axis_config());

@@ -45,6 +45,7 @@
 
 use drivers::dc_motor::{Bridge, DcMotor, Direction, Error as MotorError, Output};
 use embedded_hal::digital::InputPin;
+use sun_algos::time::div_rem_u64;
 
 use super::dc_axis::{MotorCurrent, NoCurrentSense};
 use crate::config::AxisConfig;
@@ -387,10 +388,15 @@ fn run_share_after(run: Run, elapsed_ms: u32) -> i32 {
     if left == 0 {
         return 0;
     }
-    // |counts| < 2³¹ and left ≤ length: the share fits in i32.
-    let share = i64::from(run.counts) * i64::from(left) / i64::from(run.length_ms.max(1));
+    // |counts| ≤ 2³¹ and left ≤ length: the share is at most |counts|.
+    // Divided with 32-bit divisions only (`div_rem_u64`: on an AVR,
+    // `u64 / u64` links the compiler's 64-bit division routines), the
+    // magnitude rounded toward zero as `i64` division rounds.
+    let product = u64::from(run.counts.unsigned_abs()) * u64::from(left);
+    let share = div_rem_u64(product, run.length_ms.max(1)).map_or(0, |(q, _)| q);
     match i32::try_from(share) {
         Ok(0) => run.counts.signum(),
+        Ok(s) if run.counts < 0 => -s,
         Ok(s) => s,
         Err(_) => run.counts,
     }
@@ -458,6 +464,56 @@ impl<B: Bridge, H: InputPin, C: MotorCurrent> AxisDrive for TimedAxis<B, H, C> {
         if let Some(left) = self.held.take() {
             self.queued = self.queued.saturating_add(left);
             self.unseen = false;
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The share of a run left after `elapsed_ms`, in 32-bit divisions,
+    /// is what `i64` arithmetic gives (rounded toward zero, at least one
+    /// count while time is left), at the ends of both ranges.
+    #[test]
+    fn run_share_is_the_i64_quotient() {
+        for counts in [
+            1,
+            -1,
+            7,
+            -7,
+            1_400,
+            -56_000,
+            i32::MAX,
+            i32::MIN + 1,
+            i32::MIN,
+        ] {
+            for length_ms in [1, 3, 1_000, 33, MAX_RUN_MS] {
+                for elapsed_ms in [0, 1, length_ms / 3, length_ms - 1, length_ms, u32::MAX] {
+                    let run = Run {
+                        counts,
+                        forward: counts > 0,
+                        start_ms: 0,
+                        length_ms,
+                    };
+                    let left = length_ms.saturating_sub(elapsed_ms);
+                    let want = if left == 0 {
+                        0
+                    } else {
+                        let q = i64::from(counts) * i64::from(left) / i64::from(length_ms);
+                        match i32::try_from(q) {
+                            Ok(0) => counts.signum(),
+                            Ok(s) => s,
+                            Err(_) => counts,
+                        }
+                    };
+                    assert_eq!(
+                        run_share_after(run, elapsed_ms),
+                        want,
+                        "{counts} counts, {elapsed_ms} of {length_ms} ms"
+                    );
+                }
+            }
         }
     }
 }
