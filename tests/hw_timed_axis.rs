@@ -191,6 +191,57 @@ fn an_obstruction_stops_the_run_and_the_retry_finishes_it() {
     assert!((end - 40.0).abs() < 0.1, "{end}");
 }
 
+/// A stop while the obstruction is latched (a controller with no target
+/// stops its axes at every tick) keeps the part of the run not done: the
+/// controller counted the whole move when it commanded it, and once the
+/// obstacle goes the retry still brings the axis to the controller's
+/// count (0° to 40° through an obstacle at 5°).
+#[test]
+fn a_stop_while_obstructed_keeps_the_run_for_the_retry() {
+    let mut ax = AxisController::new(drive(calibrated(), -70.0), axis_config());
+    let mut now = 0u32;
+    while ax.home_state() != HomeState::Done {
+        ax.drive_mut().begin_tick(1.0);
+        now += 1_000;
+        ax.home_step(0.45, now).unwrap();
+        assert!(now < 200_000, "not homed");
+    }
+    // Where the axis rests at its home count (the run-on past the switch,
+    // as in `homing_stops_on_the_switch_then_moves_by_time`).
+    let home_at = ax.drive().output_deg();
+    // Each tick's moves run within it (`DcDrive::begin_tick`).
+    ax.drive_mut().begin_tick(20.0);
+    ax.update(0.0, FeedbackMode::OpenLoop, None).unwrap();
+    ax.drive_mut().begin_tick(0.0);
+    ax.update(40.0, FeedbackMode::OpenLoop, None).unwrap();
+    let mut t = 0;
+    while ax.drive().output_deg() < 5.0 {
+        ax.drive_mut().begin_tick(0.01);
+        t += 10;
+        assert!(t < 2_000, "never reached 5°");
+    }
+    ax.drive_mut().inject(Injected {
+        obstructed: true,
+        ..Injected::default()
+    });
+    ax.drive_mut().begin_tick(1.0);
+    assert_eq!(ax.drive_mut().take_fault(), Some(DriveFault::Obstruction));
+    for _ in 0..3 {
+        ax.stop().unwrap();
+        ax.drive_mut().begin_tick(1.0);
+    }
+    assert!(
+        (ax.counted_deg() - 40.0).abs() < 1e-3,
+        "{}",
+        ax.counted_deg()
+    );
+    ax.drive_mut().inject(Injected::default());
+    ax.drive_mut().clear_fault();
+    ax.drive_mut().begin_tick(10.0);
+    let end = ax.drive().output_deg() - home_at;
+    assert!((end - 130.0).abs() < 0.1, "retried to {end} from home");
+}
+
 /// The same going backward: jammed on the way from 40° down to 5°, once
 /// it passes 30°; the part of the run kept for the retry is negative and
 /// the retry ends the axis at 5°.

@@ -429,14 +429,17 @@ impl<B: Bridge, H: InputPin, C: MotorCurrent> AxisDrive for TimedAxis<B, H, C> {
         self.queued.saturating_add(running)
     }
 
-    /// Brakes at once; the queue (and a run held by an obstruction) is
-    /// dropped.
+    /// Brakes at once; the queue is dropped. A run held by an obstruction
+    /// is kept for the retry: [`AxisDrive::pending`] does not count it (0
+    /// while latched), so the controller, which takes a stop's dropped
+    /// counts off its position by `pending`, still counts it as done, and
+    /// the axis gets there once the fault clears. (Dropped, the held part
+    /// was lost for good: a controller with no target stops its axes at
+    /// every tick, and an obstruction met on the way to the day's first
+    /// set-point left the axis 40° short until the night's homing.)
     fn stop(&mut self) -> Result<(), Self::Error> {
         self.queued = 0;
         self.carry_counts = 0.0;
-        if self.held.is_some() {
-            self.held = Some(0);
-        }
         self.end_run()
     }
 
