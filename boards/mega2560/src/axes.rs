@@ -1,10 +1,11 @@
 //! The board's two axes, each of the kind its configuration names
 //! (`axis.c.drive`, `axis.a.drive`), built at power-on: a stepper on its
 //! H-bridge (0, `stepper`: Li et al.'s (2022) build, the pins in the crate's
-//! table) or a DC gear motor on an IBT-2 closed on its Hall encoder (2,
-//! `dc_hall`: [`crate::dc`]). The console refuses the other kinds
-//! ([`DRIVES`]); a kind changed by `set` is built at the next power-on
-//! (`save`, then reset).
+//! table), a DC gear motor on an IBT-2 closed on its Hall encoder (2,
+//! `dc_hall`: [`crate::dc`]) or a DC motor on the same IBT-2 moved by time
+//! without feedback (5, `timed`: [`crate::dc::timed_axis`]). The console
+//! refuses the other kinds ([`DRIVES`]); a kind changed by `set` is built
+//! at the next power-on (`save`, then reset).
 
 use drivers::stepper::hbridge::{BridgePins, HBridgeStepper};
 use drivers::stepper::LimitSwitches;
@@ -15,10 +16,12 @@ use suntracker::mechanics::bridge_config;
 use suntracker::motion::{AxisDrive, DriveFault};
 use suntracker_avr::{chip, InputPin, OutputPin, PortInputPin, PortOutputPin};
 
-use crate::dc::{self, DcBoard, MegaDcAxis};
+use crate::dc::{self, DcBoard, MegaDcAxis, MegaTimedAxis};
 
 /// The drive kinds this board builds an axis of.
-pub const DRIVES: DriveSet = DriveSet::STEPPER.with(DriveKind::DcHall);
+pub const DRIVES: DriveSet = DriveSet::STEPPER
+    .with(DriveKind::DcHall)
+    .with(DriveKind::Timed);
 
 /// A stepper axis of this board: its bridge on port A, its switches on port C.
 pub type MegaStepperAxis<'p> = StepperAxis<
@@ -33,6 +36,8 @@ pub enum MegaAxis<'p> {
     Stepper(MegaStepperAxis<'p>),
     /// A DC gear motor on an IBT-2 with its Hall encoder.
     Dc(MegaDcAxis<'p>),
+    /// A DC motor on an IBT-2, moved by time.
+    Timed(MegaTimedAxis<'p>),
 }
 
 /// A drive error of either kind (the controller takes any as a failed
@@ -41,7 +46,8 @@ pub enum MegaAxis<'p> {
 pub enum MegaAxisError {
     /// The stepper's pins or its home switch.
     Stepper,
-    /// The DC axis's bridge, switch or current sense, or a motor fault.
+    /// A DC or timed axis's bridge, switch or current sense, or a motor
+    /// fault.
     Dc,
 }
 
@@ -50,6 +56,7 @@ impl Motion for MegaAxis<'_> {
         match self {
             MegaAxis::Stepper(s) => s.service(now_us),
             MegaAxis::Dc(d) => d.service(now_us),
+            MegaAxis::Timed(t) => t.service(now_us),
         }
     }
 }
@@ -60,65 +67,75 @@ impl AxisDrive for MegaAxis<'_> {
         match self {
             MegaAxis::Stepper(s) => s.move_counts(counts).map_err(|_| MegaAxisError::Stepper),
             MegaAxis::Dc(d) => d.move_counts(counts).map_err(|_| MegaAxisError::Dc),
+            MegaAxis::Timed(t) => t.move_counts(counts).map_err(|_| MegaAxisError::Dc),
         }
     }
     fn pending(&self) -> i32 {
         match self {
             MegaAxis::Stepper(s) => s.pending(),
             MegaAxis::Dc(d) => d.pending(),
+            MegaAxis::Timed(t) => t.pending(),
         }
     }
     fn stop(&mut self) -> Result<(), Self::Error> {
         match self {
             MegaAxis::Stepper(s) => s.stop().map_err(|_| MegaAxisError::Stepper),
             MegaAxis::Dc(d) => d.stop().map_err(|_| MegaAxisError::Dc),
+            MegaAxis::Timed(t) => t.stop().map_err(|_| MegaAxisError::Dc),
         }
     }
     fn at_limit(&mut self) -> Result<bool, Self::Error> {
         match self {
             MegaAxis::Stepper(s) => s.at_limit().map_err(|_| MegaAxisError::Stepper),
             MegaAxis::Dc(d) => d.at_limit().map_err(|_| MegaAxisError::Dc),
+            MegaAxis::Timed(t) => t.at_limit().map_err(|_| MegaAxisError::Dc),
         }
     }
     fn encoder_deg(&mut self) -> Result<Option<f32>, Self::Error> {
         match self {
             MegaAxis::Stepper(s) => s.encoder_deg().map_err(|_| MegaAxisError::Stepper),
             MegaAxis::Dc(d) => d.encoder_deg().map_err(|_| MegaAxisError::Dc),
+            MegaAxis::Timed(t) => t.encoder_deg().map_err(|_| MegaAxisError::Dc),
         }
     }
     // The associated `SELF_WATCHED` stays false: which axis watches its
     // own motor is known at run time only.
     fn self_watched(&self) -> bool {
-        matches!(self, MegaAxis::Dc(_))
+        matches!(self, MegaAxis::Dc(_) | MegaAxis::Timed(_))
     }
     fn take_fault(&mut self) -> Option<DriveFault> {
         match self {
             MegaAxis::Stepper(s) => s.take_fault(),
             MegaAxis::Dc(d) => d.take_fault(),
+            MegaAxis::Timed(t) => t.take_fault(),
         }
     }
     fn fault_latched(&self) -> bool {
         match self {
             MegaAxis::Stepper(s) => s.fault_latched(),
             MegaAxis::Dc(d) => d.fault_latched(),
+            MegaAxis::Timed(t) => t.fault_latched(),
         }
     }
     fn clear_fault(&mut self) {
         match self {
             MegaAxis::Stepper(s) => s.clear_fault(),
             MegaAxis::Dc(d) => d.clear_fault(),
+            MegaAxis::Timed(t) => t.clear_fault(),
         }
     }
     fn rebase_counts(&mut self, counts: i32) {
         match self {
             MegaAxis::Stepper(s) => s.rebase_counts(counts),
             MegaAxis::Dc(d) => d.rebase_counts(counts),
+            MegaAxis::Timed(t) => t.rebase_counts(counts),
         }
     }
     fn switch_stops(&mut self, on: bool) {
         match self {
             MegaAxis::Stepper(s) => s.switch_stops(on),
             MegaAxis::Dc(d) => d.switch_stops(on),
+            MegaAxis::Timed(t) => t.switch_stops(on),
         }
     }
 }
@@ -172,6 +189,7 @@ pub fn axis<'p>(board: &'p DcBoard<'p>, index: usize, config: &AxisConfig) -> Op
     match DriveKind::from_code(config.drive)? {
         DriveKind::Stepper => stepper_axis(board.porta, board.portc, index).map(MegaAxis::Stepper),
         DriveKind::DcHall => dc::dc_axis(board, index, config).map(MegaAxis::Dc),
+        DriveKind::Timed => dc::timed_axis(board, index, config).map(MegaAxis::Timed),
         _ => None,
     }
 }

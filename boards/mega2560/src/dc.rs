@@ -3,7 +3,10 @@
 //! (two Infineon BTS7960 half bridges) and closed on the motor's
 //! two-channel Hall encoder ([`suntracker::hw::DcAxis`]). The `dc`
 //! feature's image has both axes so by default ([`dc_config`]); any image
-//! takes them by configuration.
+//! takes them by configuration. A timed axis (`drive` 5, `timed`: a gear
+//! motor or linear actuator without feedback, moved for the time a move
+//! takes at its calibrated speeds, [`suntracker::hw::TimedAxis`]) is wired
+//! the same but for the encoder ([`timed_axis`]).
 //!
 //! | function | pin | Mega header |
 //! |---|---|---|
@@ -70,7 +73,7 @@ use drivers::dc_motor::{Config as BridgeConfig, DcMotor, RestMode};
 use drivers::encoder::SharedEncoder;
 use suntracker::config::{AxisConfig, Config, DriveKind};
 use suntracker::firmware::Motion;
-use suntracker::hw::DcAxis;
+use suntracker::hw::{DcAxis, TimedAxis};
 use suntracker::mechanics;
 use suntracker::motion::{AxisDrive, DriveFault};
 use suntracker_avr::{
@@ -98,6 +101,15 @@ pub const DC_RAMP_PERMILLE_PER_MS: u16 = 2;
 /// Hall counts; the axis's own loop stops within 14).
 pub const DC_DEADBAND_DEG: f32 = 0.05;
 
+/// A timed axis's motor lag, ms: its mechanical time constant, which a run
+/// cut short by an obstacle does not pay back
+/// ([`suntracker::hw::TimedAxisConfig::lag_ms`]): the slew drive's braked
+/// time constant with the panels, 0.12 s
+/// ([`suntracker::mechanics::WORM_SLEW_LOOP`]'s figures; a linear
+/// actuator's is shorter, and the retry of such a run then goes a few
+/// tenths of a degree too far).
+pub const TIMED_LAG_MS: u32 = 120;
+
 /// The board's configuration with the DC axes (the `dc` feature's
 /// defaults): the stepper axes' ranges and switches, Hall counts and the
 /// slew drive's gears.
@@ -122,33 +134,65 @@ pub fn dc_config() -> Config {
 /// One axis's bridge inputs.
 type Pins<'p> = Bts7960Pins<MotorPwm<'p>, MotorPwm<'p>, PortOutputPin<'p, chip::PORTA>>;
 
+/// One axis's current sense.
+type Sense<'p> = CurrentSense<SharedAdcChannel<'p>>;
+
+/// One axis's home switch.
+type Home<'p> = PortInputPin<'p, chip::PORTC>;
+
 /// The core's DC axis over this board's parts.
-type Inner<'p> = DcAxis<
-    Pins<'p>,
-    &'static SharedEncoder,
-    PortInputPin<'p, chip::PORTC>,
-    CurrentSense<SharedAdcChannel<'p>>,
->;
+type Inner<'p> = DcAxis<Pins<'p>, &'static SharedEncoder, Home<'p>, Sense<'p>>;
 
-/// A DC axis of this board: [`DcAxis`] run by the loop's pass
-/// ([`Motion`]) on the board's millisecond clock.
-pub struct MegaDcAxis<'p>(Inner<'p>);
+/// The core's timed axis over this board's parts.
+type TimedInner<'p> = TimedAxis<Pins<'p>, Home<'p>, Sense<'p>>;
 
-impl Motion for MegaDcAxis<'_> {
-    /// [`DcAxis::poll`] at the board's millisecond count (its low 32 bits:
-    /// the axis's times wrap with them). A fault it returns is no drive
-    /// error: the controller takes it through [`AxisDrive::take_fault`].
-    fn service(&mut self, _now_us: u64) -> bool {
-        match self.0.poll(millis() as u32) {
+/// A DC or timed axis of this board ([`DcAxis`], [`TimedAxis`]) run by the
+/// loop's pass ([`Motion`]) on the board's millisecond clock.
+pub struct Polled<A>(A);
+
+/// A DC axis of this board.
+pub type MegaDcAxis<'p> = Polled<Inner<'p>>;
+
+/// A timed axis of this board.
+pub type MegaTimedAxis<'p> = Polled<TimedInner<'p>>;
+
+/// An axis polled with the monotonic millisecond count.
+pub trait PollMs {
+    /// Polls at `now_ms`; false on a drive error. A motor fault (an
+    /// obstruction, a stall) is no drive error: the controller takes it
+    /// through [`AxisDrive::take_fault`].
+    fn poll_ms(&mut self, now_ms: u32) -> bool;
+}
+
+impl PollMs for Inner<'_> {
+    fn poll_ms(&mut self, now_ms: u32) -> bool {
+        match self.poll(now_ms) {
             Ok(_) | Err(suntracker::hw::DcAxisError::Fault(_)) => true,
             Err(_) => false,
         }
     }
 }
 
-impl<'p> AxisDrive for MegaDcAxis<'p> {
-    type Error = <Inner<'p> as AxisDrive>::Error;
-    const SELF_WATCHED: bool = true;
+impl PollMs for TimedInner<'_> {
+    fn poll_ms(&mut self, now_ms: u32) -> bool {
+        match self.poll(now_ms) {
+            Ok(_) | Err(suntracker::hw::TimedAxisError::Obstruction) => true,
+            Err(_) => false,
+        }
+    }
+}
+
+impl<A: PollMs> Motion for Polled<A> {
+    /// The axis's poll at the board's millisecond count (its low 32 bits:
+    /// the axis's times wrap with them).
+    fn service(&mut self, _now_us: u64) -> bool {
+        self.0.poll_ms(millis() as u32)
+    }
+}
+
+impl<A: AxisDrive> AxisDrive for Polled<A> {
+    type Error = A::Error;
+    const SELF_WATCHED: bool = A::SELF_WATCHED;
     fn move_counts(&mut self, counts: i32) -> Result<(), Self::Error> {
         self.0.move_counts(counts)
     }
@@ -164,6 +208,9 @@ impl<'p> AxisDrive for MegaDcAxis<'p> {
     fn encoder_deg(&mut self) -> Result<Option<f32>, Self::Error> {
         self.0.encoder_deg()
     }
+    fn self_watched(&self) -> bool {
+        self.0.self_watched()
+    }
     fn take_fault(&mut self) -> Option<DriveFault> {
         self.0.take_fault()
     }
@@ -171,7 +218,7 @@ impl<'p> AxisDrive for MegaDcAxis<'p> {
         self.0.fault_latched()
     }
     fn clear_fault(&mut self) {
-        AxisDrive::clear_fault(&mut self.0)
+        self.0.clear_fault()
     }
     fn rebase_counts(&mut self, counts: i32) {
         self.0.rebase_counts(counts)
@@ -226,24 +273,29 @@ pub struct DcBoard<'p> {
     pub portc: &'p chip::PORTC,
 }
 
-/// The DC axis `index` (0: C on Timer1, PA0/PA1, A2, PK4/PK5 and the home
-/// switch PC0; 1: A on Timer4, PA4/PA5, A3, PK6/PK7 and PC1), with the loop
-/// of its configuration `config` ([`suntracker::mechanics::dc_hall_loop`]);
-/// `None` when the bridge, the current sense or the loop refuse their
-/// settings (none does for a configuration that passed its checks).
+/// The bridge of axis `index` (0: C on Timer1 and the enables PA0/PA1; 1:
+/// A on Timer4 and PA4/PA5) with `bridge`'s ramp, braking at rest, its Hall
+/// encoder (PK4/PK5, PK6/PK7), home switch (PC0, PC1) and current sense
+/// (A2, A3); `None` when the bridge or the sense refuse their settings
+/// (they take the board's). Not inlined: one copy for both kinds.
 #[inline(never)]
-pub fn dc_axis<'p>(
+fn axis_parts<'p>(
     board: &'p DcBoard<'p>,
     index: usize,
-    config: &AxisConfig,
-) -> Option<MegaDcAxis<'p>> {
+    ramp_permille_per_ms: u16,
+) -> Option<(
+    DcMotor<Pins<'p>>,
+    &'static SharedEncoder,
+    Home<'p>,
+    Sense<'p>,
+)> {
     let DcBoard {
         parts,
         porta,
         portc,
     } = *board;
     let bridge = BridgeConfig {
-        ramp_permille_per_ms: DC_RAMP_PERMILLE_PER_MS,
+        ramp_permille_per_ms,
         rest: RestMode::Brake,
     };
     let (pins, hall, home, channel) = if index == 0 {
@@ -273,8 +325,42 @@ pub fn dc_axis<'p>(
         SenseConfig::DATASHEET_1K_5V,
     )
     .ok()?;
+    Some((motor, hall, home, sense))
+}
+
+/// The DC axis `index` ([`axis_parts`]: C on Timer1, PA0/PA1, A2,
+/// PK4/PK5 and the home switch PC0; A on Timer4, PA4/PA5, A3, PK6/PK7 and
+/// PC1), its bridge ramping [`DC_RAMP_PERMILLE_PER_MS`], with the loop of
+/// its configuration `config` ([`suntracker::mechanics::dc_hall_loop`]);
+/// `None` when a part or the loop refuse their settings (none does for a
+/// configuration that passed its checks).
+pub fn dc_axis<'p>(
+    board: &'p DcBoard<'p>,
+    index: usize,
+    config: &AxisConfig,
+) -> Option<MegaDcAxis<'p>> {
+    let (motor, hall, home, sense) = axis_parts(board, index, DC_RAMP_PERMILLE_PER_MS)?;
     let lp = mechanics::dc_hall_loop(config);
     DcAxis::new(motor, hall, home, true, Some(sense), lp, config)
         .ok()
-        .map(MegaDcAxis)
+        .map(Polled)
+}
+
+/// The timed axis `index` on the pins of [`axis_parts`] (its encoder
+/// unused), its bridge without a duty ramp (a run's time assumes full duty
+/// from its start: [`TimedAxis`]), with the runs of its configuration
+/// `config` ([`suntracker::mechanics::timed_runs`]: forward at
+/// `max_speed_deg_s`, backward at `back_speed_deg_s`) and
+/// [`TIMED_LAG_MS`]; `None` when a part or the runs refuse their settings
+/// (none does for a configuration that passed its checks).
+pub fn timed_axis<'p>(
+    board: &'p DcBoard<'p>,
+    index: usize,
+    config: &AxisConfig,
+) -> Option<MegaTimedAxis<'p>> {
+    let (motor, _, home, sense) = axis_parts(board, index, 0)?;
+    let runs = mechanics::timed_runs(config, TIMED_LAG_MS);
+    TimedAxis::new(motor, home, true, Some(sense), runs, config)
+        .ok()
+        .map(Polled)
 }

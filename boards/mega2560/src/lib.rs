@@ -484,17 +484,18 @@ fn assemble_firmware<'p, 'b>(
     mut log: Usart0,
 ) -> Result<MegaFirmware<'p, 'b>, StartError> {
     let axes = mega_axes(board, &config.axes, &mut log);
-    // Any DC axis: closed on its Hall count.
-    let closed_loop = config
-        .axes
-        .iter()
-        .any(|a| a.drive == suntracker::config::DriveKind::DcHall as u8);
+    // Any DC axis: closed on its Hall count. Any timed axis: re-homed
+    // after every stow too.
+    let has =
+        |kind: suntracker::config::DriveKind| config.axes.iter().any(|a| a.drive == kind as u8);
+    let closed_loop = has(suntracker::config::DriveKind::DcHall);
+    let timed = has(suntracker::config::DriveKind::Timed);
     let rtc = Ds3231::new(SharedI2c::new(bus));
     let sensors = attitude_sensors(bus, &mut log);
     Firmware::new(
         app_config(),
         config,
-        controller_options(closed_loop),
+        controller_options(closed_loop, timed),
         rtc,
         gps,
         axes,
@@ -545,7 +546,7 @@ fn app_config() -> AppConfig {
 /// the 63 bytes `ldd`/`std` reach from the frame pointer, 12 bytes more
 /// each.
 #[inline(never)]
-fn controller_options(closed_loop: bool) -> ControllerOptions<f32> {
+fn controller_options(closed_loop: bool, timed: bool) -> ControllerOptions<f32> {
     // A sun position costs about 45,000 cycles here (psa-2020 in f32):
     // planning a day (some 370 positions, about a second) is spread over
     // ticks, four positions (11 ms) per tick, so that the loop keeps serving
@@ -565,6 +566,10 @@ fn controller_options(closed_loop: bool) -> ControllerOptions<f32> {
         } else {
             suntracker::motion::FeedbackMode::OpenLoop
         },
+        // A timed axis knows where it is from its home switch and the time
+        // it ran only: re-homed at every end of day (as every axis here)
+        // and after every stow, whose long slews add up its error.
+        rehome_after_stow: timed,
         ..mechanics::controller_options()
     }
 }
