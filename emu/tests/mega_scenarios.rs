@@ -3024,6 +3024,25 @@ fn assert_set_lines_taken(log: &[&str], typed: &[impl AsRef<str>]) {
     }
 }
 
+/// `bench` with `lines` typed from minute 1 (a tenth of a minute apart),
+/// `save` at minute 2.5 and a power cut at minute 4.
+fn typed_saved_and_cut(mut bench: MegaBench, lines: &[impl AsRef<str>]) -> MegaBench {
+    for (i, line) in lines.iter().enumerate() {
+        bench = bench.type_at(1.0 + 0.1 * i as f64, line.as_ref());
+    }
+    bench.type_at(2.5, "save").reset_at(4.0)
+}
+
+/// The slew drive's speed as an installer calibrates a timed axis, °/s
+/// as typed: its no-load speed through the gears at 12 V, from the motor's
+/// constants (`sim::dc_motor::MotorSpec::no_load_motor_rad_s`), what timing
+/// a sweep each way measures.
+fn timed_speed() -> String {
+    let motor = sim::dc_drive::worm_slew_motor();
+    let deg_s = (motor.no_load_motor_rad_s() / motor.gear_ratio).to_degrees();
+    format!("{deg_s:.3}")
+}
+
 /// The lines (dc3) types on the default image's console: both axes to the
 /// slew drives of the `dc` image (`dc::dc_config`: Hall counts, gears, top
 /// speed, deadband), one key a line (a line holds 64 characters).
@@ -3054,13 +3073,8 @@ const DC3_TYPED: [&str; 10] = [
 fn dc3_drive_kinds_typed_saved_and_built_at_power_on() {
     let elf = elf_or_skip!();
     let start = t("2026-06-21T05:00:00Z");
-    let mut bench = kano_dc_bench(&elf, start, 30.0, 20.0).type_at(0.5, "set axis.a.drive 4");
-    for (i, line) in DC3_TYPED.iter().enumerate() {
-        bench = bench.type_at(1.0 + 0.1 * i as f64, line);
-    }
-    let run = bench
-        .type_at(2.5, "save")
-        .reset_at(4.0)
+    let bench = kano_dc_bench(&elf, start, 30.0, 20.0).type_at(0.5, "set axis.a.drive 4");
+    let run = typed_saved_and_cut(bench, &DC3_TYPED)
         .run_minutes(80.0)
         .unwrap();
     report("dc3", &run);
@@ -3125,18 +3139,10 @@ const TIMED_POINTING_TOL_DEG: f64 = DC_POINTING_TOL_DEG;
 fn dc4_timed_axes_typed_saved_and_homed_after_a_stow() {
     let elf = elf_or_skip!();
     let start = t("2026-06-21T05:00:00Z");
-    let motor = sim::dc_drive::worm_slew_motor();
-    let speed_deg_s = (motor.no_load_motor_rad_s() / motor.gear_ratio).to_degrees();
-    let speed = format!("{speed_deg_s:.3}");
+    let speed = timed_speed();
     let typed = dc4_typed(&speed);
-    let mut bench = kano_dc_bench(&elf, start, 30.0, 20.0);
-    for (i, line) in typed.iter().enumerate() {
-        bench = bench.type_at(1.0 + 0.1 * i as f64, line);
-    }
     let (stow_min, resume_min) = (50.0, 55.0);
-    let run = bench
-        .type_at(2.5, "save")
-        .reset_at(4.0)
+    let run = typed_saved_and_cut(kano_dc_bench(&elf, start, 30.0, 20.0), &typed)
         .type_at(stow_min, "stow")
         .type_at(resume_min, "resume")
         .run_minutes(80.0)
@@ -3213,17 +3219,10 @@ const DC5_CLEAR_MIN: f64 = 14.0;
 fn dc5_obstruction_on_a_timed_a_axis() {
     let elf = elf_or_skip!();
     let start = t("2026-06-21T10:00:00Z");
-    let motor = sim::dc_drive::worm_slew_motor();
-    let speed_deg_s = (motor.no_load_motor_rad_s() / motor.gear_ratio).to_degrees();
-    let mut bench = kano_dc_bench(&elf, start, 30.0, -60.0)
+    let bench = kano_dc_bench(&elf, start, 30.0, -60.0)
         .obstacle_at(0.0, 1, Some(DC2_OBSTACLE_DEG))
         .obstacle_at(DC5_CLEAR_MIN, 1, None);
-    for (i, line) in dc4_typed(&format!("{speed_deg_s:.3}")).iter().enumerate() {
-        bench = bench.type_at(1.0 + 0.1 * i as f64, line);
-    }
-    let run = bench
-        .type_at(2.5, "save")
-        .reset_at(4.0)
+    let run = typed_saved_and_cut(bench, &dc4_typed(&timed_speed()))
         .run_minutes(30.0)
         .unwrap();
     report("dc5", &run);
