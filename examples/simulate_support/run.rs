@@ -483,35 +483,42 @@ fn calibration_supply_v(supply: Supply) -> f64 {
     }
 }
 
-/// The timed axes: the same motor as `dc_spec`'s, run at full duty for the
-/// time a move takes at the speed calibrated at `calibration_supply_v`
-/// (the motor's no-load speed there, through the gears: the model's load is
-/// friction alone, the same both ways).
-fn timed_plants(args: &Args, config: &Config) -> Result<[DcDrive<SimTimedAxis>; 2], String> {
-    let (motor, bridge) = (worm_slew_motor(), dc_bridge(0));
+/// The timed axes' calibrated speed, °/s: [`worm_slew_motor`]'s no-load
+/// speed through the gears at `calibration_supply_v` (the model's load is
+/// friction alone, the same both ways), what timing a sweep each way on the
+/// installed axis measures.
+fn timed_speed_deg_s(supply: Supply) -> f32 {
     let calibrated = MotorSpec {
-        supply_v: calibration_supply_v(args.supply),
-        ..motor
+        supply_v: calibration_supply_v(supply),
+        ..worm_slew_motor()
     };
-    let deg_s = (calibrated.no_load_motor_rad_s() / calibrated.gear_ratio).to_degrees() as f32;
+    (calibrated.no_load_motor_rad_s() / calibrated.gear_ratio).to_degrees() as f32
+}
+
+/// The timed axes: the same motor as `dc_spec`'s, run at full duty for the
+/// time a move takes at the axes' calibrated speeds (`max_speed_deg_s`
+/// forward, `back_speed_deg_s` backward: [`timed_speed_deg_s`]), built as a
+/// board builds them from the configuration
+/// ([`suntracker::mechanics::timed_runs`]: the current watch of the axis's
+/// keys, which are `WORM_SLEW_LOOP`'s), with the motor's lag.
+fn timed_plants(args: &Args, config: &Config) -> Result<[DcDrive<SimTimedAxis>; 2], String> {
+    // The motor's braked time constant with the panels (0.12 s,
+    // WORM_SLEW_LOOP's documentation).
+    let [c, a] = config
+        .axes
+        .map(|ax| suntracker::mechanics::timed_runs(&ax, 120));
+    // One spec drives both axes: their run settings must agree.
+    if c != a {
+        return Err("the timed axes need the same speeds and current watch".into());
+    }
     let spec = DcDriveSpec {
-        motor,
-        bridge,
+        motor: worm_slew_motor(),
+        bridge: dc_bridge(0),
         // The board measures the motor supply (sim::dc_drive::supply_adc_mv)
         // and scales each run by calibration / measured supply.
         firmware: suntracker::hw::TimedAxisConfig {
-            forward_deg_s: deg_s,
-            backward_deg_s: deg_s,
-            duty_permille: 1_000,
             calibration_supply_mv: (calibration_supply_v(args.supply) * 1_000.0).round() as u32,
-            // As the Hall-closed axis's watch (WORM_SLEW_LOOP); with no duty
-            // ramp a start draws up to the 5.5 A stall current for a few
-            // ms of the 0.12 s time constant, under the 100 ms.
-            max_current_ma: WORM_SLEW_LOOP.max_current_ma,
-            overcurrent_ms: WORM_SLEW_LOOP.overcurrent_ms,
-            // The motor's braked time constant with the panels (0.12 s,
-            // WORM_SLEW_LOOP's documentation).
-            lag_ms: 120,
+            ..c
         },
     };
     dc_drives(spec, config)
@@ -696,6 +703,14 @@ fn simulate_with<P: SimAxis>(
                 ax.gear_ratio = WORM_SLEW_GEAR_RATIO;
                 ax.backlash_deg = 0.0;
                 ax.max_speed_deg_s = 7.0;
+            }
+            if args.drive == Drive::Timed {
+                // The calibrated speed both ways.
+                let speed = timed_speed_deg_s(args.supply);
+                for ax in config.axes.iter_mut() {
+                    ax.max_speed_deg_s = speed;
+                    ax.back_speed_deg_s = speed;
+                }
             }
         }
         Drive::Stepper => {}
