@@ -187,6 +187,7 @@ fn book_rows() -> Vec<(&'static str, Vec<Vec<String>>)> {
                 book_range(range_text::u16s(r::OVERCURRENT_MS)),
             ],
         ),
+        ("`axis.*.back_speed_deg_s`", vec![f(r::MAX_SPEED_DEG_S)]),
         (
             "`wind.stow_hz`, `wind.hold_s`, `wind.release_s`, `wind.m_s_per_hz`",
             vec![
