@@ -143,9 +143,10 @@ pub const CONSOLE_BYTES_PER_PASS: usize = 16;
 
 /// A drive whose motion is produced by the main loop (a stepper's steps).
 pub trait Motion {
-    /// Takes the step(s) due at `now_us` of the monotonic clock; false when
-    /// the drive reported an error.
-    fn service(&mut self, now_us: u64) -> bool;
+    /// Takes the step(s) due at `now_ms` of the loop's monotonic clock (the
+    /// board's 64-bit millisecond count: it never wraps); false when the
+    /// drive reported an error.
+    fn service(&mut self, now_ms: u64) -> bool;
 }
 
 impl<P, L, H, E> Motion for crate::hw::StepperAxis<P, L, H>
@@ -157,8 +158,8 @@ where
     // Out of line on the AVR: the main loop's pass held a copy for each
     // axis.
     #[cfg_attr(target_arch = "avr", inline(never))]
-    fn service(&mut self, now_us: u64) -> bool {
-        self.poll(now_us).is_ok()
+    fn service(&mut self, now_ms: u64) -> bool {
+        self.poll(us_from_ms(now_ms)).is_ok()
     }
 }
 
@@ -171,8 +172,46 @@ where
     E: crate::hw::EncoderCount,
     H: embedded_hal::digital::InputPin,
 {
-    fn service(&mut self, _now_us: u64) -> bool {
+    fn service(&mut self, _now_ms: u64) -> bool {
         self.poll().is_ok()
+    }
+}
+
+/// A DC axis closes its loop on the Hall count once per pass, at the
+/// loop's millisecond count ([`crate::hw::DcAxis::poll`]). A motor fault
+/// (an obstruction, a stall) is no drive error: the controller takes it
+/// through [`AxisDrive::take_fault`].
+impl<B, E, H, C> Motion for crate::hw::DcAxis<B, E, H, C>
+where
+    B: drivers::dc_motor::Bridge,
+    E: crate::hw::EncoderCount,
+    H: embedded_hal::digital::InputPin,
+    C: crate::hw::MotorCurrent,
+{
+    fn service(&mut self, now_ms: u64) -> bool {
+        // The axis's times wrap with the count's low 32 bits.
+        match self.poll(now_ms as u32) {
+            Ok(_) | Err(crate::hw::DcAxisError::Fault(_)) => true,
+            Err(_) => false,
+        }
+    }
+}
+
+/// A timed axis ends a run whose time is up once per pass
+/// ([`crate::hw::TimedAxis::poll`]); an obstruction is no drive error, as
+/// for a DC axis.
+impl<B, H, C> Motion for crate::hw::TimedAxis<B, H, C>
+where
+    B: drivers::dc_motor::Bridge,
+    H: embedded_hal::digital::InputPin,
+    C: crate::hw::MotorCurrent,
+{
+    fn service(&mut self, now_ms: u64) -> bool {
+        // The axis's times wrap with the count's low 32 bits.
+        match self.poll(now_ms as u32) {
+            Ok(_) | Err(crate::hw::TimedAxisError::Obstruction) => true,
+            Err(_) => false,
+        }
     }
 }
 
@@ -461,13 +500,13 @@ where
             Ok(fix) => self.fix = fix,
             Err(_) => count_up(&mut self.stats.gps_errors),
         }
-        // The drives' microseconds from the board's 64-bit count: they
-        // never wrap.
-        let now_us = us_from_ms(board_ms);
+        // The drives' time read again, after the GPS bytes: a DC axis's
+        // count is read when it is served, and stamped with this.
+        let drive_ms = platform.now_ms();
         // A bit an axis, the last axis in bit 0.
         let mut latched = 0u8;
         for ax in self.controller.axes_mut().iter_mut() {
-            if !ax.drive_mut().service(now_us) {
+            if !ax.drive_mut().service(drive_ms) {
                 count_up(&mut self.stats.drive_errors);
             }
             latched = (latched << 1) | u8::from(ax.drive().fault_latched());

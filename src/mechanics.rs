@@ -91,6 +91,30 @@ pub fn controller_options<T: Float>() -> ControllerOptions<T> {
     }
 }
 
+/// `options` for the drive kinds of `axes`: with a DC axis closed on its
+/// Hall count (`dc_hall`) the controller corrects each axis from its
+/// measured angle ([`FeedbackMode::ClosedLoop`]: a move cut short by an
+/// obstruction or a stall is finished by the retry; a stepper beside one
+/// has no encoder, and its counted steps stand); with a timed axis it
+/// re-homes after every stow as well as every night (a timed axis knows
+/// where it is from its home switch and the time it ran only, and a
+/// stow's long slews add up its error).
+pub fn options_for_drives<T: Float>(
+    options: ControllerOptions<T>,
+    axes: &[AxisConfig; 2],
+) -> ControllerOptions<T> {
+    let has = |kind: crate::config::DriveKind| axes.iter().any(|a| a.drive == kind as u8);
+    ControllerOptions {
+        feedback: if has(crate::config::DriveKind::DcHall) {
+            FeedbackMode::ClosedLoop
+        } else {
+            options.feedback
+        },
+        rehome_after_stow: options.rehome_after_stow || has(crate::config::DriveKind::Timed),
+        ..options
+    }
+}
+
 /// The position loop and watch of a DC gear motor or slew drive closed on
 /// its Hall count (`axis.X.drive` 2, `dc_hall`), from the axis's
 /// configuration: `counts_per_deg` ([`AxisConfig::counts_per_deg`]), its
@@ -173,6 +197,53 @@ pub fn timed_runs(axis: &AxisConfig, lag_ms: u32) -> TimedAxisConfig {
         overcurrent_ms: u32::from(axis.overcurrent_ms),
         lag_ms,
     }
+}
+
+/// Hall counts per motor turn of the worm slew drive (the Pololu 37D gear
+/// motor's encoder: 16 pulses a turn on each of two channels, both edges
+/// of both counted).
+pub const WORM_SLEW_COUNTS_PER_MOTOR_REV: u32 = 64;
+/// The worm slew drive's gears from the motor to the axis: 131.25
+/// (gearbox) × 60 (worm).
+pub const WORM_SLEW_GEAR_RATIO: f32 = 7_875.0;
+/// The fastest the worm slew drive's axis is commanded, °/s: under the
+/// 7.62 °/s of the motor's no-load speed through the gears.
+pub const WORM_SLEW_MAX_SPEED_DEG_S: f32 = 7.0;
+/// The worm slew drive's set-point deadband, degrees: a closed-loop
+/// correction is made beyond it (70 Hall counts; the axis's own loop stops
+/// within 14).
+pub const WORM_SLEW_DEADBAND_DEG: f32 = 0.05;
+/// The worm slew drive's bridge duty ramp, ‰/ms: a start to full duty
+/// takes 0.5 s.
+pub const WORM_SLEW_RAMP_PERMILLE_PER_MS: u16 = 2;
+/// The worm slew drive's motor lag moved by time, ms: its mechanical time
+/// constant, which a run cut short by an obstacle does not pay back
+/// ([`TimedAxisConfig::lag_ms`]): the braked time constant with the
+/// panels, 0.12 s ([`WORM_SLEW_LOOP`]'s figures; a linear actuator's is
+/// shorter, and the retry of such a run then goes a few tenths of a degree
+/// too far).
+pub const WORM_SLEW_LAG_MS: u32 = 120;
+
+/// The tracker configuration with both axes on worm slew drives closed on
+/// their Hall counts (`axis.X.drive` 2, `dc_hall`): the stepper axes'
+/// ranges and switches ([`config`]), the slew drive's counts, gears, top
+/// speed and deadband.
+#[allow(clippy::field_reassign_with_default)]
+pub fn worm_slew_config() -> Config {
+    let mut config = config();
+    for ax in config.axes.iter_mut() {
+        *ax = AxisConfig {
+            counts_per_motor_rev: WORM_SLEW_COUNTS_PER_MOTOR_REV,
+            microsteps: 1,
+            gear_ratio: WORM_SLEW_GEAR_RATIO,
+            backlash_deg: 0.0,
+            max_speed_deg_s: WORM_SLEW_MAX_SPEED_DEG_S,
+            deadband_deg: WORM_SLEW_DEADBAND_DEG,
+            drive: crate::config::DriveKind::DcHall as u8,
+            ..*ax
+        };
+    }
+    config
 }
 
 /// The position loop and watch of the worm slew drive's axis (`sim::dc_drive::worm_slew_motor`: a Pololu 37D

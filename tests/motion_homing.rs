@@ -77,7 +77,7 @@ fn home(ax: &mut AxisController<MotorPlant>, tick_ms: u64) -> Run {
     let mut max_queued_counts = 0;
     let mut now_ms = 0;
     while now_ms <= 3_600_000 {
-        ax.drive_mut().service(now_ms * 1000);
+        ax.drive_mut().service(now_ms);
         if now_ms % tick_ms == 0 {
             // As Controller::tick: steps at this instant while the drive
             // finishes their moves at once (bounded).

@@ -103,7 +103,7 @@ impl<'e> Bench<'e> {
                 Some(mv),
             );
             for step in 0..1000 {
-                self.tracker.service((self.now_ms + step) * 1000);
+                self.tracker.service(self.now_ms + step);
                 let mut busy = false;
                 for (m, e) in self.models.iter().zip(self.encoders) {
                     let mut m = m.borrow_mut();

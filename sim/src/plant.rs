@@ -120,8 +120,8 @@ pub struct MotorPlant {
     pub stops_at_switch: bool,
     /// Output travel, degrees.
     pub travel_deg: f64,
-    /// Monotonic time of the last [`Motion::service`], µs.
-    last_service_us: Option<u64>,
+    /// Monotonic time of the last [`Motion::service`], ms.
+    last_service_ms: Option<u64>,
     /// The axis turns without end (a slip ring): no end stops, the switch
     /// an index once a turn, an absolute single-turn output encoder.
     continuous: bool,
@@ -164,7 +164,7 @@ impl MotorPlant {
             encoder_timeout: false,
             stops_at_switch: true,
             travel_deg: 0.0,
-            last_service_us: None,
+            last_service_ms: None,
             continuous: false,
         }
     }
@@ -197,7 +197,7 @@ impl MotorPlant {
             encoder_timeout: false,
             stops_at_switch: true,
             travel_deg: 0.0,
-            last_service_us: None,
+            last_service_ms: None,
             continuous: false,
         }
     }
@@ -403,10 +403,10 @@ impl SimAxis for MotorPlant {
 /// the previous one, then ends the tick, so a move commanded afterwards
 /// starts at the next service (no motion before the command).
 impl Motion for MotorPlant {
-    fn service(&mut self, now_us: u64) -> bool {
-        let dt_us = self.last_service_us.map_or(0, |t| now_us.saturating_sub(t));
-        self.last_service_us = Some(now_us);
-        self.begin_tick(dt_us as f64 * 1e-6);
+    fn service(&mut self, now_ms: u64) -> bool {
+        let dt_ms = self.last_service_ms.map_or(0, |t| now_ms.saturating_sub(t));
+        self.last_service_ms = Some(now_ms);
+        self.begin_tick(dt_ms as f64 * 1e-3);
         self.begin_tick(0.0);
         true
     }

@@ -176,6 +176,8 @@ impl DriveKind {
 pub struct DriveSet(u8);
 
 impl DriveSet {
+    /// No kind (a set to add kinds to: [`DriveSet::with`]).
+    pub const NONE: DriveSet = DriveSet(0);
     /// Steppers only.
     pub const STEPPER: DriveSet = DriveSet(1);
     /// Every kind: the codes of [`ranges::DRIVE`].

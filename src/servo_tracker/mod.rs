@@ -451,11 +451,11 @@ impl<R: RtcDriver, D: AxisDrive + Motion> ServoTracker<R, D> {
     /// Every pass of the main loop (about every millisecond): each drive
     /// closes its loop once.
     #[inline(never)]
-    pub fn service(&mut self, now_us: u64) {
+    pub fn service(&mut self, now_ms: u64) {
         // A failed PWM write is retried at the next pass: the servo axis
         // only records a pass that reached the servo.
         for ax in self.axes.iter_mut() {
-            let _ = ax.axis.drive_mut().service(now_us);
+            let _ = ax.axis.drive_mut().service(now_ms);
         }
     }
 

@@ -71,64 +71,22 @@ use core::cell::RefCell;
 use drivers::dc_motor::bts7960::{Bts7960Pins, CurrentSense, SenseConfig};
 use drivers::dc_motor::{Config as BridgeConfig, DcMotor, RestMode};
 use drivers::encoder::SharedEncoder;
-use suntracker::config::{AxisConfig, Config, DriveKind};
-use suntracker::firmware::Motion;
+use suntracker::config::{AxisConfig, Config};
 use suntracker::hw::{DcAxis, TimedAxis};
 use suntracker::mechanics;
-use suntracker::motion::{AxisDrive, DriveFault};
 use suntracker_avr::{
-    chip, millis, Adc, MotorPwm, OutputPin, PinChangeEncoders, PortInputPin, PortOutputPin,
+    chip, Adc, MotorPwm, OutputPin, PinChangeEncoders, PortInputPin, PortOutputPin,
     SharedAdcChannel, Timer1MotorPwm, Timer4MotorPwm,
 };
 
-/// Hall counts per motor turn: 16 pulses on each of two channels, both
-/// edges of both counted.
-pub const HALL_COUNTS_PER_MOTOR_REV: u32 = 64;
-/// Gear ratio from the motor to the axis: 131.25 (gearbox) × 60 (worm).
-pub const DC_GEAR_RATIO: f32 = 7_875.0;
-/// The fastest an axis is commanded, °/s: under the 7.62 °/s of the
-/// motor's no-load speed through the gears.
-pub const DC_MAX_SPEED_DEG_S: f32 = 7.0;
 /// The C axis's current sense (A2).
 pub const C_SENSE_CHANNEL: u8 = 2;
 /// The A axis's current sense (A3).
 pub const A_SENSE_CHANNEL: u8 = 3;
-/// The bridges' duty ramp, ‰/ms: a start to full duty takes 0.5 s.
-pub const DC_RAMP_PERMILLE_PER_MS: u16 = 2;
-
-/// The set-point deadband of the DC axes, degrees: a closed-loop correction
-/// is made beyond it (`sim::dc_drive::worm_slew_axis_config`'s 0.05°, 70
-/// Hall counts; the axis's own loop stops within 14).
-pub const DC_DEADBAND_DEG: f32 = 0.05;
-
-/// A timed axis's motor lag, ms: its mechanical time constant, which a run
-/// cut short by an obstacle does not pay back
-/// ([`suntracker::hw::TimedAxisConfig::lag_ms`]): the slew drive's braked
-/// time constant with the panels, 0.12 s
-/// ([`suntracker::mechanics::WORM_SLEW_LOOP`]'s figures; a linear
-/// actuator's is shorter, and the retry of such a run then goes a few
-/// tenths of a degree too far).
-pub const TIMED_LAG_MS: u32 = 120;
-
 /// The board's configuration with the DC axes (the `dc` feature's
-/// defaults): the stepper axes' ranges and switches, Hall counts and the
-/// slew drive's gears.
-#[allow(clippy::field_reassign_with_default)]
+/// defaults): [`mechanics::worm_slew_config`].
 pub fn dc_config() -> Config {
-    let mut config = mechanics::config();
-    for ax in config.axes.iter_mut() {
-        *ax = AxisConfig {
-            counts_per_motor_rev: HALL_COUNTS_PER_MOTOR_REV,
-            microsteps: 1,
-            gear_ratio: DC_GEAR_RATIO,
-            backlash_deg: 0.0,
-            max_speed_deg_s: DC_MAX_SPEED_DEG_S,
-            deadband_deg: DC_DEADBAND_DEG,
-            drive: DriveKind::DcHall as u8,
-            ..*ax
-        };
-    }
-    config
+    mechanics::worm_slew_config()
 }
 
 /// One axis's bridge inputs.
@@ -140,93 +98,12 @@ type Sense<'p> = CurrentSense<SharedAdcChannel<'p>>;
 /// One axis's home switch.
 type Home<'p> = PortInputPin<'p, chip::PORTC>;
 
-/// The core's DC axis over this board's parts.
-type Inner<'p> = DcAxis<Pins<'p>, &'static SharedEncoder, Home<'p>, Sense<'p>>;
-
-/// The core's timed axis over this board's parts.
-type TimedInner<'p> = TimedAxis<Pins<'p>, Home<'p>, Sense<'p>>;
-
-/// A DC or timed axis of this board ([`DcAxis`], [`TimedAxis`]) run by the
-/// loop's pass ([`Motion`]) on the board's millisecond clock.
-pub struct Polled<A>(A);
-
-/// A DC axis of this board.
-pub type MegaDcAxis<'p> = Polled<Inner<'p>>;
+/// A DC axis of this board (the loop runs it through the core's
+/// [`suntracker::firmware::Motion`] at its millisecond count).
+pub type MegaDcAxis<'p> = DcAxis<Pins<'p>, &'static SharedEncoder, Home<'p>, Sense<'p>>;
 
 /// A timed axis of this board.
-pub type MegaTimedAxis<'p> = Polled<TimedInner<'p>>;
-
-/// An axis polled with the monotonic millisecond count.
-pub trait PollMs {
-    /// Polls at `now_ms`; false on a drive error. A motor fault (an
-    /// obstruction, a stall) is no drive error: the controller takes it
-    /// through [`AxisDrive::take_fault`].
-    fn poll_ms(&mut self, now_ms: u32) -> bool;
-}
-
-impl PollMs for Inner<'_> {
-    fn poll_ms(&mut self, now_ms: u32) -> bool {
-        match self.poll(now_ms) {
-            Ok(_) | Err(suntracker::hw::DcAxisError::Fault(_)) => true,
-            Err(_) => false,
-        }
-    }
-}
-
-impl PollMs for TimedInner<'_> {
-    fn poll_ms(&mut self, now_ms: u32) -> bool {
-        match self.poll(now_ms) {
-            Ok(_) | Err(suntracker::hw::TimedAxisError::Obstruction) => true,
-            Err(_) => false,
-        }
-    }
-}
-
-impl<A: PollMs> Motion for Polled<A> {
-    /// The axis's poll at the board's millisecond count (its low 32 bits:
-    /// the axis's times wrap with them).
-    fn service(&mut self, _now_us: u64) -> bool {
-        self.0.poll_ms(millis() as u32)
-    }
-}
-
-impl<A: AxisDrive> AxisDrive for Polled<A> {
-    type Error = A::Error;
-    const SELF_WATCHED: bool = A::SELF_WATCHED;
-    fn move_counts(&mut self, counts: i32) -> Result<(), Self::Error> {
-        self.0.move_counts(counts)
-    }
-    fn pending(&self) -> i32 {
-        self.0.pending()
-    }
-    fn stop(&mut self) -> Result<(), Self::Error> {
-        self.0.stop()
-    }
-    fn at_limit(&mut self) -> Result<bool, Self::Error> {
-        self.0.at_limit()
-    }
-    fn encoder_deg(&mut self) -> Result<Option<f32>, Self::Error> {
-        self.0.encoder_deg()
-    }
-    fn self_watched(&self) -> bool {
-        self.0.self_watched()
-    }
-    fn take_fault(&mut self) -> Option<DriveFault> {
-        self.0.take_fault()
-    }
-    fn fault_latched(&self) -> bool {
-        self.0.fault_latched()
-    }
-    fn clear_fault(&mut self) {
-        self.0.clear_fault()
-    }
-    fn rebase_counts(&mut self, counts: i32) {
-        self.0.rebase_counts(counts)
-    }
-    fn switch_stops(&mut self, on: bool) {
-        self.0.switch_stops(on)
-    }
-}
+pub type MegaTimedAxis<'p> = TimedAxis<Pins<'p>, Home<'p>, Sense<'p>>;
 
 /// The motor timers, the encoders' pin-change counter and the shared ADC
 /// the axes borrow.
@@ -330,7 +207,7 @@ fn axis_parts<'p>(
 
 /// The DC axis `index` ([`axis_parts`]: C on Timer1, PA0/PA1, A2,
 /// PK4/PK5 and the home switch PC0; A on Timer4, PA4/PA5, A3, PK6/PK7 and
-/// PC1), its bridge ramping [`DC_RAMP_PERMILLE_PER_MS`], with the loop of
+/// PC1), its bridge ramping [`mechanics::WORM_SLEW_RAMP_PERMILLE_PER_MS`], with the loop of
 /// its configuration `config` ([`suntracker::mechanics::dc_hall_loop`]);
 /// `None` when a part or the loop refuse their settings (none does for a
 /// configuration that passed its checks).
@@ -339,11 +216,10 @@ pub fn dc_axis<'p>(
     index: usize,
     config: &AxisConfig,
 ) -> Option<MegaDcAxis<'p>> {
-    let (motor, hall, home, sense) = axis_parts(board, index, DC_RAMP_PERMILLE_PER_MS)?;
+    let (motor, hall, home, sense) =
+        axis_parts(board, index, mechanics::WORM_SLEW_RAMP_PERMILLE_PER_MS)?;
     let lp = mechanics::dc_hall_loop(config);
-    DcAxis::new(motor, hall, home, true, Some(sense), lp, config)
-        .ok()
-        .map(Polled)
+    DcAxis::new(motor, hall, home, true, Some(sense), lp, config).ok()
 }
 
 /// The timed axis `index` on the pins of [`axis_parts`] (its encoder
@@ -351,7 +227,7 @@ pub fn dc_axis<'p>(
 /// from its start: [`TimedAxis`]), with the runs of its configuration
 /// `config` ([`suntracker::mechanics::timed_runs`]: forward at
 /// `max_speed_deg_s`, backward at `back_speed_deg_s`) and
-/// [`TIMED_LAG_MS`]; `None` when a part or the runs refuse their settings
+/// [`mechanics::WORM_SLEW_LAG_MS`]; `None` when a part or the runs refuse their settings
 /// (none does for a configuration that passed its checks).
 pub fn timed_axis<'p>(
     board: &'p DcBoard<'p>,
@@ -359,8 +235,6 @@ pub fn timed_axis<'p>(
     config: &AxisConfig,
 ) -> Option<MegaTimedAxis<'p>> {
     let (motor, _, home, sense) = axis_parts(board, index, 0)?;
-    let runs = mechanics::timed_runs(config, TIMED_LAG_MS);
-    TimedAxis::new(motor, home, true, Some(sense), runs, config)
-        .ok()
-        .map(Polled)
+    let runs = mechanics::timed_runs(config, mechanics::WORM_SLEW_LAG_MS);
+    TimedAxis::new(motor, home, true, Some(sense), runs, config).ok()
 }

@@ -40,8 +40,8 @@ pub struct StepperModel {
     max_steps: i32,
     /// Steps commanded and not yet taken (negative: toward the switch).
     pending: i32,
-    /// Monotonic time of the last [`Motion::service`], µs.
-    last_service_us: Option<u64>,
+    /// Monotonic time of the last [`Motion::service`], ms.
+    last_service_ms: Option<u64>,
 }
 
 impl StepperModel {
@@ -57,7 +57,7 @@ impl StepperModel {
             min_steps: -STOP_STEPS,
             max_steps: travel_steps.saturating_add(STOP_STEPS),
             pending: 0,
-            last_service_us: None,
+            last_service_ms: None,
         }
     }
 
@@ -118,12 +118,12 @@ impl AxisDrive for StepperModel {
 /// since the previous one; a move commanded afterwards starts at the next
 /// service (no motion before the command).
 impl Motion for StepperModel {
-    fn service(&mut self, now_us: u64) -> bool {
-        let dt_us = self.last_service_us.map_or(0, |t| now_us.saturating_sub(t));
-        self.last_service_us = Some(now_us);
+    fn service(&mut self, now_ms: u64) -> bool {
+        let dt_ms = self.last_service_ms.map_or(0, |t| now_ms.saturating_sub(t));
+        self.last_service_ms = Some(now_ms);
         // A 32-bit division (no 64-bit division routine in the image):
         // the elapsed time saturates at 71 minutes, far past any move.
-        let dt_us = u32::try_from(dt_us).unwrap_or(u32::MAX);
+        let dt_us = u32::try_from(dt_ms.saturating_mul(1_000)).unwrap_or(u32::MAX);
         let budget = i32::try_from(dt_us / US_PER_STEP).unwrap_or(i32::MAX);
         self.run(budget);
         true

@@ -234,7 +234,7 @@ pub fn run(dp: chip::Peripherals) -> ! {
     let mut next_tick_ms = 0u64;
     loop {
         let now_ms = millis();
-        tracker.service(now_ms.saturating_mul(1000));
+        tracker.service(now_ms);
         if now_ms >= next_tick_ms {
             // The conversion started at the previous tick (104 µs) is done.
             let panel_mv = adc.poll().and_then(|code| PANEL.panel_mv(code).ok());
