@@ -16,6 +16,7 @@ ELF_QEMU_BENCH="$FW_TARGET_DIR/thumbv7em-none-eabihf/release/qemu_bench"
 ELF_BLACKPILL="$FW_TARGET_DIR/blackpill/thumbv7em-none-eabihf/release/blackpill_tracker"
 ELF_BLACKPILL_DEFMT="$FW_TARGET_DIR/blackpill-defmt/thumbv7em-none-eabihf/release/blackpill_tracker"
 ELF_BLACKPILL_MODBUS="$FW_TARGET_DIR/blackpill-modbus/thumbv7em-none-eabihf/release/blackpill_tracker"
+ELF_BLACKPILL_DC="$FW_TARGET_DIR/blackpill-dc/thumbv7em-none-eabihf/release/blackpill_tracker"
 ELF_AVR_UNO="$FW_TARGET_DIR/avr-none/release/avr_tracker.elf"
 ELF_AVR_BENCH="$FW_TARGET_DIR/avr-none/release/avr_bench.elf"
 ELF_AVR_MEGA="$FW_TARGET_DIR/mega/avr-none/release/avr_mega_tracker.elf"
@@ -61,6 +62,11 @@ build_blackpill_defmt() {
 build_blackpill_modbus() {
   (cd boards/stm32f411 && cargo build --release --target thumbv7em-none-eabihf -p suntracker-stm32f411 --features modbus \
     --bin blackpill_tracker --target-dir "$FW_TARGET_DIR/blackpill-modbus")
+}
+# The Black Pill with DC motors on IBT-2 bridges (dc_hall or timed axes).
+build_blackpill_dc() {
+  (cd boards/stm32f411 && cargo build --release --target thumbv7em-none-eabihf -p suntracker-stm32f411 --features dc \
+    --bin blackpill_tracker --target-dir "$FW_TARGET_DIR/blackpill-dc")
 }
 build_avr_uno() {
   cargo +nightly build --release --target avr-none -Z build-std=core \
@@ -122,6 +128,7 @@ build_all_firmware() {
   build_blackpill
   build_blackpill_defmt
   build_blackpill_modbus
+  build_blackpill_dc
   build_avr_uno
   build_avr_uno_psa2020
   build_avr_uno_ds1302

@@ -195,6 +195,7 @@ check avr_mega_tracker_dc "$ELF_AVR_MEGA_DC"
 check qemu_tracker "$ELF_QEMU"
 check blackpill_tracker "$ELF_BLACKPILL"
 check blackpill_tracker_modbus "$ELF_BLACKPILL_MODBUS"
+check blackpill_tracker_dc "$ELF_BLACKPILL_DC"
 summary
 
 for i in "${!AL_LINE[@]}"; do

@@ -188,6 +188,7 @@ for name, label, ram_fmt in [
     ("blackpill_tracker", "blackpill_tracker, STM32F411", "{ram} + stack"),
     ("blackpill_tracker_defmt", "blackpill_tracker with `defmt`, STM32F411", "{ram} + stack"),
     ("blackpill_tracker_modbus", "blackpill_tracker with `modbus`, STM32F411", "{ram} + stack"),
+    ("blackpill_tracker_dc", "blackpill_tracker with `dc`, STM32F411", "{ram} + stack"),
 ]:
     SIZE_IMAGES.append(name)
     figure(
@@ -210,6 +211,7 @@ for name, label, ram_fmt in [
         "avr_mega_tracker_dc": "`avr_mega_tracker` with `dc`",
         "blackpill_tracker": "`blackpill_tracker`",
         "blackpill_tracker_modbus": "`blackpill_tracker` with `modbus`",
+        "blackpill_tracker_dc": "`blackpill_tracker` with `dc`",
         "qemu_tracker": "`qemu_tracker`",
     }
     if name in readme_images:

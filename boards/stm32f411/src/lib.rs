@@ -11,7 +11,7 @@
 //! | GPS NMEA in, 9600 8N1 (receiver TX → A10) | USART1 RX, interrupt-driven | A10 |
 //! | I²C 100 kHz: DS3231 0x68, QMC5883L 0x0D, ADXL345 0x53 (one bus, shared with `embedded_hal_bus::i2c::AtomicDevice`) | I2C1 | B6 SCL, B7 SDA |
 //! | WitMotion RS-485 inclinometer, Modbus RTU 9600 8N1 | USART2 + MAX485 DE/RE | A2 TX (DI), A3 RX (RO), A1 DE+/RE |
-//! | or, with the feature `modbus`: the plant's RS-485 bus, Modbus RTU server at `modbus.baud` and `modbus.parity` ([`modbus_line`]) | USART2 + MAX485 DE/RE, TIM5 the µs clock | A2 TX (DI), A3 RX (RO), A1 DE+/RE |
+//! | or, with the feature `modbus`: the plant's RS-485 bus, Modbus RTU server at `modbus.baud` and `modbus.parity` (`modbus_line`) | USART2 + MAX485 DE/RE, TIM5 the µs clock | A2 TX (DI), A3 RX (RO), A1 DE+/RE |
 //! | C axis (azimuth rotation γ) H-bridge IN1–IN4 | GPIO push-pull | A4, A5, A6, A7 |
 //! | A axis (tilt α) H-bridge IN1–IN4 | GPIO push-pull | B12, B13, B14, B15 |
 //! | C home switch (low end, to GND, pull-up) | GPIO input | B0 |
@@ -99,13 +99,19 @@
 //! stops the driver at the high end. Open loop (no encoder): homed at
 //! power-on and at every end of day.
 //!
+//! **DC gear motors** (feature `dc`, `cargo board-run-dc`): each axis a DC
+//! gear motor or slew drive on an IBT-2 bridge, closed on its Hall encoder
+//! or moved by time, by configuration, in place of the steppers and the
+//! RS-485 inclinometer (pins and figures in the `dc` module,
+//! `src/dc.rs`).
+//!
 //! **The Modbus server** (feature `modbus`, `cargo board-run-modbus`): the
 //! transceiver on USART2 serves the SunSpec map of
 //! [`suntracker::sunspec::ModbusPort`] (models 1, 601, 305 and the vendor
 //! model) to the plant's SCADA instead of polling the WitMotion
 //! inclinometer: the three USARTs are taken (GPS, console, RS-485), so that
 //! image's tilt comes from the ADXL345. The loop serves the port after each
-//! pass; the replies go out by interrupts ([`modbus_line`]).
+//! pass; the replies go out by interrupts (`modbus_line`).
 //!
 //! Attitude sensors, probed at power-on, in this order: the WitMotion
 //! inclinometer (one Modbus read of roll and pitch at address 0x50 over
@@ -121,6 +127,11 @@
 //! waits stowed (`mode wait_for_time`).
 #![no_std]
 
+#[cfg(all(feature = "dc", feature = "modbus"))]
+compile_error!("the `dc` and `modbus` features both take USART2's pins (A1-A3): build one of them");
+
+#[cfg(feature = "dc")]
+pub mod dc;
 #[cfg(feature = "defmt")]
 mod defmt_log;
 pub mod flash;
@@ -139,30 +150,32 @@ use cortex_m_rt::exception;
 use drivers::compass::calibration::Calibration;
 use drivers::compass::qmc5883l::{Config as QmcConfig, Qmc5883l};
 use drivers::rtc::Ds3231;
+#[cfg(not(feature = "dc"))]
 use drivers::stepper::hbridge::{BridgePins, HBridgeStepper};
+#[cfg(not(feature = "dc"))]
 use drivers::stepper::LimitSwitches;
 use drivers::tilt::adxl345::Adxl345;
-#[cfg(not(feature = "modbus"))]
+#[cfg(not(any(feature = "modbus", feature = "dc")))]
 use drivers::tilt::modbus::Timeout;
-#[cfg(not(feature = "modbus"))]
+#[cfg(not(any(feature = "modbus", feature = "dc")))]
 use drivers::tilt::witmotion::{WitInclinometer, DEFAULT_ADDRESS as WIT_ADDRESS};
 use embedded_hal_bus::i2c::AtomicDevice;
 use embedded_hal_bus::util::AtomicCell;
 use stm32f4xx_hal as hal;
 
 use hal::gpio::{Edge, ErasedPin, ExtiPin, Input, PA8};
-#[cfg(not(feature = "modbus"))]
+#[cfg(not(any(feature = "modbus", feature = "dc")))]
 use hal::gpio::{Output, PA1};
 use hal::i2c::{I2c, Mode as I2cMode};
 use hal::pac::{self, interrupt, Interrupt};
 use hal::prelude::*;
 use hal::rcc::Config as RccConfig;
-#[cfg(not(feature = "modbus"))]
+#[cfg(not(any(feature = "modbus", feature = "dc")))]
 use hal::serial::Serial;
 #[cfg(not(feature = "defmt"))]
 use hal::serial::Tx;
 use hal::serial::{Rx, RxListen};
-#[cfg(not(feature = "modbus"))]
+#[cfg(not(any(feature = "modbus", feature = "dc")))]
 use hal::timer::DelayUs;
 use hal::watchdog::IndependentWatchdog;
 
@@ -171,11 +184,15 @@ use suntracker::config::Config;
 use suntracker::console::RxRing;
 use suntracker::controller::Controller;
 use suntracker::firmware::{AppConfig, ConfigPersist, Firmware, Platform};
-#[cfg(not(feature = "modbus"))]
+#[cfg(not(any(feature = "modbus", feature = "dc")))]
 use suntracker::hw::EitherTilt;
-use suntracker::hw::{MountSensorsHw, StepperAxis};
+use suntracker::hw::MountSensorsHw;
+#[cfg(not(feature = "dc"))]
+use suntracker::hw::StepperAxis;
 use suntracker::log::Sink;
-use suntracker::mechanics::{self, bridge_config};
+use suntracker::mechanics;
+#[cfg(not(feature = "dc"))]
+use suntracker::mechanics::bridge_config;
 use suntracker::motion::AxisDrive;
 use suntracker::persist::{ConfigStore, NorFlashStorage};
 use suntracker::ports::AttitudeSensor;
@@ -243,6 +260,28 @@ fn modbus_serial_config(baud: u32, parity: u8) -> hal::serial::Config {
         _ => config.parity_even().wordlength_9(),
     }
 }
+
+/// The drive kinds this image builds an axis of: steppers, or with the
+/// `dc` feature DC motors (`dc::DRIVES`).
+#[cfg(not(feature = "dc"))]
+pub const DRIVES: suntracker::config::DriveSet = suntracker::config::DriveSet::STEPPER;
+#[cfg(feature = "dc")]
+pub use dc::DRIVES;
+
+/// The board's own configuration: Li et al.'s (2022) mechanics (steppers),
+/// or with the `dc` feature the same axes on worm slew drives
+/// ([`mechanics::worm_slew_config`]).
+#[cfg(not(feature = "dc"))]
+use mechanics::config as board_config;
+#[cfg(feature = "dc")]
+use mechanics::worm_slew_config as board_config;
+
+/// One axis of this image: a stepper on its H-bridge, or with the `dc`
+/// feature a DC or timed axis (`dc::BlackPillAxis`).
+#[cfg(not(feature = "dc"))]
+type Axis<'a> = StepperAxis<hal::gpio::ErasedPin<hal::gpio::Output>, Switch<'a>, Switch<'a>>;
+#[cfg(feature = "dc")]
+type Axis<'a> = dc::BlackPillAxis<'a>;
 
 /// Start of the flash (RM0383 §2.3 "Memory map"; the configuration
 /// sectors are at offsets from it).
@@ -333,6 +372,9 @@ fn EXTI9_5() {
             }
         }
     });
+    // The C axis's Hall channel A (A9) shares the handler.
+    #[cfg(feature = "dc")]
+    dc::on_exti9();
 }
 
 /// The millisecond clock.
@@ -450,17 +492,17 @@ impl Sink for LogUart {
 /// USART2 for the Modbus master, which drives the RS-485 direction pin
 /// itself and waits for `flush` (transmission complete) before releasing
 /// the bus.
-#[cfg(not(feature = "modbus"))]
+#[cfg(not(any(feature = "modbus", feature = "dc")))]
 pub struct Rs485 {
     serial: Serial<pac::USART2>,
 }
 
-#[cfg(not(feature = "modbus"))]
+#[cfg(not(any(feature = "modbus", feature = "dc")))]
 impl embedded_io::ErrorType for Rs485 {
     type Error = hal::serial::Error;
 }
 
-#[cfg(not(feature = "modbus"))]
+#[cfg(not(any(feature = "modbus", feature = "dc")))]
 impl embedded_io::Read for Rs485 {
     fn read(&mut self, buf: &mut [u8]) -> Result<usize, Self::Error> {
         let Some(first) = buf.first_mut() else {
@@ -473,7 +515,7 @@ impl embedded_io::Read for Rs485 {
     }
 }
 
-#[cfg(not(feature = "modbus"))]
+#[cfg(not(any(feature = "modbus", feature = "dc")))]
 impl embedded_io::ReadReady for Rs485 {
     fn read_ready(&mut self) -> Result<bool, Self::Error> {
         use hal::serial::RxISR;
@@ -481,7 +523,7 @@ impl embedded_io::ReadReady for Rs485 {
     }
 }
 
-#[cfg(not(feature = "modbus"))]
+#[cfg(not(any(feature = "modbus", feature = "dc")))]
 impl embedded_io::Write for Rs485 {
     fn write(&mut self, buf: &[u8]) -> Result<usize, Self::Error> {
         let Some(&first) = buf.first() else {
@@ -521,13 +563,13 @@ impl embedded_hal::digital::InputPin for Switch<'_> {
 /// none: only the main loop talks I²C).
 type Bus<'a> = AtomicDevice<'a, I2c<pac::I2C1>>;
 /// The RS-485 inclinometer.
-#[cfg(not(feature = "modbus"))]
+#[cfg(not(any(feature = "modbus", feature = "dc")))]
 type Inclinometer = WitInclinometer<Rs485, PA1<Output>, DelayUs<pac::TIM5>>;
 /// Whichever tilt sensor answered.
-#[cfg(not(feature = "modbus"))]
+#[cfg(not(any(feature = "modbus", feature = "dc")))]
 type Tilt<'a> = EitherTilt<Inclinometer, Adxl345<Bus<'a>>>;
 /// The tilt sensor: USART2's transceiver serves the plant's Modbus bus.
-#[cfg(feature = "modbus")]
+#[cfg(any(feature = "modbus", feature = "dc"))]
 type Tilt<'a> = Adxl345<Bus<'a>>;
 
 /// The configuration's storage: flash sectors 1 and 2.
@@ -680,31 +722,38 @@ pub fn run(dp: pac::Peripherals, cp: cortex_m::Peripherals) -> ! {
 
     // Motors and switches.
     let c_home = gpiob.pb0.into_pull_up_input().erase();
-    let c_max = gpiob.pb1.into_pull_up_input().erase();
     let a_home = gpiob.pb8.into_pull_up_input().erase();
+    #[cfg(not(feature = "dc"))]
+    let c_max = gpiob.pb1.into_pull_up_input().erase();
+    #[cfg(not(feature = "dc"))]
     let a_max = gpiob.pb9.into_pull_up_input().erase();
+    #[cfg(not(feature = "dc"))]
     let c_pins = BridgePins {
         in1: gpioa.pa4.into_push_pull_output().erase(),
         in2: gpioa.pa5.into_push_pull_output().erase(),
         in3: gpioa.pa6.into_push_pull_output().erase(),
         in4: gpioa.pa7.into_push_pull_output().erase(),
     };
+    #[cfg(not(feature = "dc"))]
     let a_pins = BridgePins {
         in1: gpiob.pb12.into_push_pull_output().erase(),
         in2: gpiob.pb13.into_push_pull_output().erase(),
         in3: gpiob.pb14.into_push_pull_output().erase(),
         in4: gpiob.pb15.into_push_pull_output().erase(),
     };
+    #[cfg(not(feature = "dc"))]
     let c_limits = LimitSwitches {
         min: Some(Switch(&c_home)),
         max: Some(Switch(&c_max)),
         active_low: true,
     };
+    #[cfg(not(feature = "dc"))]
     let a_limits = LimitSwitches {
         min: Some(Switch(&a_home)),
         max: Some(Switch(&a_max)),
         active_low: true,
     };
+    #[cfg(not(feature = "dc"))]
     let axes = match (
         HBridgeStepper::new(c_pins, c_limits, bridge_config()),
         HBridgeStepper::new(a_pins, a_limits, bridge_config()),
@@ -715,6 +764,42 @@ pub fn run(dp: pac::Peripherals, cp: cortex_m::Peripherals) -> ! {
         ],
         _ => halt(&mut log, "stepper configuration refused"),
     };
+    // The DC image: the bridges' timers and pins, the Hall interrupts and
+    // the ADC; the axes follow the configuration, below.
+    #[cfg(feature = "dc")]
+    let dc_pins = dc::DcPins::start(
+        dc::DcPinsIn {
+            pa0: gpioa.pa0,
+            pa1: gpioa.pa1,
+            pa2: gpioa.pa2,
+            pa3: gpioa.pa3,
+            pa4: gpioa.pa4,
+            pa5: gpioa.pa5,
+            pa6: gpioa.pa6,
+            pa7: gpioa.pa7,
+            pa9: gpioa.pa9,
+            pa15: gpioa.pa15,
+            pb4: gpiob.pb4,
+            pb12: gpiob.pb12,
+            pb13: gpiob.pb13,
+            pb14: gpiob.pb14,
+        },
+        dp.TIM3,
+        dp.TIM9,
+        &mut syscfg,
+        &mut exti,
+        &mut rcc,
+    );
+    #[cfg(feature = "dc")]
+    let adc = RefCell::new(dc::Adc1::start(dp.ADC1, &dp.ADC_COMMON, &mut rcc));
+    // SAFETY: as for the interrupts above: the Hall handlers touch only
+    // their statics (`dc`), through `free`, and those are set.
+    #[cfg(feature = "dc")]
+    #[allow(unsafe_code)]
+    unsafe {
+        NVIC::unmask(Interrupt::EXTI4);
+        NVIC::unmask(Interrupt::EXTI15_10);
+    }
 
     // The I²C devices on one bus.
     let bus = AtomicCell::new(I2c::new(
@@ -728,13 +813,13 @@ pub fn run(dp: pac::Peripherals, cp: cortex_m::Peripherals) -> ! {
 
     // The tilt sensor: the RS-485 inclinometer if it answers, else an
     // ADXL345.
-    #[cfg(not(feature = "modbus"))]
+    #[cfg(not(any(feature = "modbus", feature = "dc")))]
     let de = gpioa.pa1.into_push_pull_output();
-    #[cfg(not(feature = "modbus"))]
+    #[cfg(not(any(feature = "modbus", feature = "dc")))]
     let delay = dp.TIM5.delay_us(&mut rcc);
-    #[cfg(not(feature = "modbus"))]
+    #[cfg(not(any(feature = "modbus", feature = "dc")))]
     let mut tilt: Option<Tilt<'_>> = None;
-    #[cfg(not(feature = "modbus"))]
+    #[cfg(not(any(feature = "modbus", feature = "dc")))]
     if let Ok(serial) =
         dp.USART2
             .serial((gpioa.pa2, gpioa.pa3), INCLINOMETER_BAUD_HZ.bps(), &mut rcc)
@@ -746,7 +831,7 @@ pub fn run(dp: pac::Peripherals, cp: cortex_m::Peripherals) -> ! {
             tilt = Some(EitherTilt::First(wit));
         }
     }
-    #[cfg(not(feature = "modbus"))]
+    #[cfg(not(any(feature = "modbus", feature = "dc")))]
     if tilt.is_none() {
         let mut adxl = Adxl345::new(AtomicDevice::new(&bus), ADXL345_ADDRESS);
         if adxl.init().is_ok() {
@@ -754,7 +839,7 @@ pub fn run(dp: pac::Peripherals, cp: cortex_m::Peripherals) -> ! {
             tilt = Some(EitherTilt::Second(adxl));
         }
     }
-    #[cfg(feature = "modbus")]
+    #[cfg(any(feature = "modbus", feature = "dc"))]
     let tilt: Option<Tilt<'_>> = {
         let mut adxl = Adxl345::new(AtomicDevice::new(&bus), ADXL345_ADDRESS);
         match adxl.init() {
@@ -786,13 +871,28 @@ pub fn run(dp: pac::Peripherals, cp: cortex_m::Peripherals) -> ! {
         .map(|s| s.load())
         .filter(|loaded| !loaded.defaults)
         .map(|loaded| loaded.config)
-        .filter(|config| controller_takes(&axes, &sensors, config));
+        .filter(|config| config.check_drives(DRIVES).is_ok())
+        .filter(|config| controller_takes::<Axis<'_>, _>(&sensors, config));
     let from_store = stored.is_some();
-    let config = stored.unwrap_or_else(mechanics::config);
+    let config = stored.unwrap_or_else(board_config);
     if config.validate().is_err() {
         halt(&mut log, "configuration refused");
     }
+    #[cfg(not(feature = "dc"))]
     let options = mechanics::controller_options();
+    #[cfg(feature = "dc")]
+    let options = mechanics::options_for_drives(mechanics::controller_options(), &config.axes);
+    #[cfg(feature = "dc")]
+    let axes = match dc::axes(
+        dc_pins,
+        Switch(&c_home),
+        Switch(&a_home),
+        &adc,
+        &config.axes,
+    ) {
+        Some(axes) => axes,
+        None => halt(&mut log, "axis configuration refused"),
+    };
     let mut platform = BlackPillPlatform {
         watchdog,
         store,
@@ -836,7 +936,8 @@ pub fn run(dp: pac::Peripherals, cp: cortex_m::Peripherals) -> ! {
     };
     let mut firmware = Firmware::<f32, _, _, _, _, _, TABLE_LEN>::new(
         AppConfig {
-            defaults: mechanics::config,
+            defaults: board_config,
+            drives: DRIVES,
             ..AppConfig::new(BOARD)
         },
         config,
@@ -906,10 +1007,9 @@ fn config_store(flash: pac::FLASH, log: &mut dyn Sink) -> Option<Store> {
     }
 }
 
-/// Whether the controller over these axes and sensors accepts `config`
-/// (the types are the board's; the values only name them).
+/// Whether the controller over axes of type `D` and these sensors accepts
+/// `config` (the types are the board's; the value only names them).
 fn controller_takes<D: AxisDrive, S: AttitudeSensor<f32>>(
-    _axes: &[D; 2],
     _sensors: &Option<S>,
     config: &Config,
 ) -> bool {

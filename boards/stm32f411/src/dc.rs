@@ -1,0 +1,483 @@
+//! The `dc` feature's axes: each a DC gear motor or slew drive on an IBT-2
+//! module (two Infineon BTS7960 half bridges), closed on the motor's
+//! two-channel Hall encoder (`axis.X.drive` 2, `dc_hall`:
+//! [`suntracker::hw::DcAxis`]) or moved by time without feedback (5,
+//! `timed`: [`suntracker::hw::TimedAxis`], the encoder unused), the kind
+//! chosen per axis by the configuration at power-on. The image's own
+//! configuration has both axes on the worm slew drive
+//! ([`suntracker::mechanics::worm_slew_config`]). Steppers are the default
+//! image's: this one refuses them ([`DRIVES`]), so that a configuration
+//! never drives stepper phases into a bridge's inputs.
+//!
+//! | function | peripheral | Black Pill pin |
+//! |---|---|---|
+//! | C axis IBT-2 RPWM / LPWM (20 kHz) | TIM3 CH1 / CH2 | A6 / A7 |
+//! | C axis IBT-2 R_EN / L_EN | GPIO push-pull | A4 / A5 |
+//! | C axis IBT-2 R_IS and L_IS joined, 680 Ω and 1 µF to GND | ADC1 IN0 | A0 |
+//! | C axis Hall encoder channels A / B (both edges, pulled up) | EXTI9 / EXTI15 | A9 / A15 |
+//! | A axis IBT-2 RPWM / LPWM (20 kHz) | TIM9 CH1 / CH2 | A2 / A3 |
+//! | A axis IBT-2 R_EN / L_EN | GPIO push-pull | B12 / B13 |
+//! | A axis IBT-2 R_IS and L_IS joined, 680 Ω and 1 µF to GND | ADC1 IN1 | A1 |
+//! | A axis Hall encoder channels A / B (both edges, pulled up) | EXTI14 / EXTI4 | B14 / B4 |
+//!
+//! The home switches stay on B0 (C) and B8 (A); a DC axis has no high-end
+//! switch (its soft limits and its own watch bound it), so B1 and B9 are
+//! unused. The bridges take USART2's pins (A1–A3), so this image has no
+//! RS-485 inclinometer: its tilt comes from the ADXL345 on I²C, and it
+//! cannot be built with the `modbus` feature. The other pins are the
+//! default image's.
+//!
+//! Wiring sketch (the C axis; the A axis the same on its pins):
+//!
+//! ```text
+//!  A6 ─ RPWM ┐                   ┌ M+ ─┐  Pololu 37D 131.25:1 gear motor
+//!  A7 ─ LPWM │ IBT-2 (2×BTS7960) │     ├─ → 60:1 worm (slew drive) → C axis
+//!  A4 ─ R_EN ├ (+12 V motor,     └ M− ─┘
+//!  A5 ─ L_EN │  VCC 5 V: its inputs take 3.3 V logic)
+//!  A0 ─┬ R_IS┤
+//!      └ L_IS┘   A0 ─ 680 Ω ∥ 1 µF ─ GND
+//!  A9 ─ Hall A   A15 ─ Hall B   (encoder on 3.3 V, or open-collector outputs)
+//!  B0 ─ home switch (closed at the low stop) ─ GND
+//! ```
+//!
+//! **Current sense.** The BTS7960's IS pin of the conducting high side
+//! sources `I_IS = I_L / k_ILIS`, k_ILIS typically 8,500 (Infineon, *BTS
+//! 7960 High Current PN Half Bridge*, data sheet Rev. 1.1, section 4.4
+//! "Current sense", item 4.4.6); the idle half bridge's IS leaks at most
+//! 1 µA (item 4.4.8), so both IS pins share one resistor and one input.
+//! With 680 Ω (the Mega's 1 kΩ would put 3.3 V at 33 A, inside what the
+//! bridge conducts) the 3.3 V, 12-bit ADC reads 0.080 V per A, full scale
+//! at 41 A; the 5.5 A stall current of the motor below reads 0.44 V, 546
+//! codes ([`SENSE`]). The IS pin follows the PWM (its high side conducts
+//! during the on-time only): the 1 µF across the resistor (0.7 ms against
+//! the 50 µs period) makes the reading the average.
+//!
+//! **Conversions.** [`Adc1`] converts one channel at a time, started by
+//! software (RM0383 §11.3.1 "ADC on-off control", §11.3.3 "Single
+//! conversion mode"), with the ADC clock at PCLK2 / 4 = 25 MHz (at most
+//! 36 MHz: the F411 data sheet's f_ADC) and 84 cycles of sampling
+//! (§11.6 "Channel-wise programmable sampling time"): 96 cycles, 3.84 µs a
+//! conversion. A conversion that has not ended after [`ADC_WAIT_POLLS`]
+//! reads of the status register is an error, not a wait without end.
+//!
+//! **Hall counts.** Each edge of either channel interrupts (EXTI, both
+//! edges); the handler reads both channels and steps the axis's
+//! [`drivers::encoder::AtomicEncoder`] (an illegal transition is counted
+//! as an error, not a step). The drive of the image's configuration
+//! (`sim::dc_drive::worm_slew_motor`: 64 counts a motor turn at
+//! 10,000 rpm) gives at most 10,667 edges a second on each axis.
+
+use core::cell::RefCell;
+use core::convert::Infallible;
+
+use cortex_m::interrupt::{free, Mutex};
+use drivers::adc::AdcChannel;
+use drivers::dc_motor::bts7960::{Bts7960Pins, CurrentSense, SenseConfig};
+use drivers::dc_motor::{Config as BridgeConfig, DcMotor, RestMode};
+use drivers::encoder::AtomicEncoder;
+use embedded_hal::pwm::SetDutyCycle;
+use stm32f4xx_hal as hal;
+use suntracker::config::{AxisConfig, DriveKind, DriveSet};
+use suntracker::hw::{AnyAxis, DcAxis, TimedAxis};
+use suntracker::mechanics;
+
+use hal::gpio::{Edge, ErasedPin, ExtiPin, Input, Output, PA15, PA9, PB14, PB4};
+use hal::pac::{self, interrupt};
+use hal::rcc::Enable;
+use hal::syscfg::SysCfg;
+use hal::timer::pwm::ErasedChannel;
+
+use crate::Switch;
+
+/// The drive kinds this image builds an axis of: DC motors, with Hall
+/// counts or by time.
+pub const DRIVES: DriveSet = DriveSet::NONE
+    .with(DriveKind::DcHall)
+    .with(DriveKind::Timed);
+
+/// The bridges' PWM frequency: above hearing, and 50 µs against the
+/// BTS7960's switching times (data sheet section 4.3 "Switching times").
+pub const PWM_HZ: u32 = 20_000;
+
+/// The current sense of both axes: k_ILIS 8,500 (typical), R_IS 680 Ω,
+/// the 3.3 V reference (module docs).
+pub const SENSE: SenseConfig = SenseConfig {
+    k_ilis: 8_500,
+    r_is_ohm: 680,
+    vref_mv: 3_300,
+};
+
+/// Status register reads a conversion may take: 96 ADC cycles are 384
+/// core cycles at 100 MHz, and each read takes several.
+pub const ADC_WAIT_POLLS: u32 = 1_000;
+
+/// The C axis's current sense channel (A0).
+const C_SENSE_CHANNEL: u8 = 0;
+/// The A axis's current sense channel (A1).
+const A_SENSE_CHANNEL: u8 = 1;
+
+/// The C axis's Hall count.
+static ENCODER_C: AtomicEncoder = AtomicEncoder::new();
+/// The A axis's Hall count.
+static ENCODER_A: AtomicEncoder = AtomicEncoder::new();
+
+/// The Hall inputs, owned by their interrupt handlers once set up.
+struct HallPins {
+    c_a: PA9<Input>,
+    c_b: PA15<Input>,
+    a_a: PB14<Input>,
+    a_b: PB4<Input>,
+}
+
+/// The Hall inputs, for their handlers.
+static HALLS: Mutex<RefCell<Option<HallPins>>> = Mutex::new(RefCell::new(None));
+
+/// Steps an axis's count after an edge on `line` (its pending bit is
+/// cleared): the C axis for lines 9 and 15, the A axis for 14 and 4.
+fn hall_edge(line: u8) {
+    free(|cs| {
+        let Ok(mut halls) = HALLS.borrow(cs).try_borrow_mut() else {
+            return;
+        };
+        let Some(h) = halls.as_mut() else {
+            return;
+        };
+        let c = match line {
+            9 if h.c_a.check_interrupt() => {
+                h.c_a.clear_interrupt_pending_bit();
+                true
+            }
+            15 if h.c_b.check_interrupt() => {
+                h.c_b.clear_interrupt_pending_bit();
+                true
+            }
+            14 if h.a_a.check_interrupt() => {
+                h.a_a.clear_interrupt_pending_bit();
+                false
+            }
+            4 if h.a_b.check_interrupt() => {
+                h.a_b.clear_interrupt_pending_bit();
+                false
+            }
+            _ => return,
+        };
+        if c {
+            ENCODER_C.update(h.c_a.is_high(), h.c_b.is_high());
+        } else {
+            ENCODER_A.update(h.a_a.is_high(), h.a_b.is_high());
+        }
+    });
+}
+
+/// The C axis's Hall channel A (A9); called by the board's `EXTI9_5`
+/// handler, which also counts the anemometer (A8).
+pub(crate) fn on_exti9() {
+    hall_edge(9);
+}
+
+/// The A axis's Hall channel B (B4).
+// `#[export_name]` binding: see the board's `USART1` handler.
+#[allow(unsafe_code)]
+#[interrupt]
+fn EXTI4() {
+    hall_edge(4);
+}
+
+/// The A axis's Hall channel A (B14) and the C axis's channel B (A15).
+// `#[export_name]` binding: see the board's `USART1` handler.
+#[allow(unsafe_code)]
+#[interrupt]
+fn EXTI15_10() {
+    hall_edge(14);
+    hall_edge(15);
+}
+
+/// A bridge input's PWM channel: TIM3's (C axis) or TIM9's (A axis), as
+/// one type so that both axes are of one type.
+pub enum Pwm {
+    /// TIM3 CH1 or CH2.
+    Tim3(ErasedChannel<pac::TIM3>),
+    /// TIM9 CH1 or CH2.
+    Tim9(ErasedChannel<pac::TIM9>),
+}
+
+impl embedded_hal::pwm::ErrorType for Pwm {
+    type Error = Infallible;
+}
+
+impl SetDutyCycle for Pwm {
+    fn max_duty_cycle(&self) -> u16 {
+        match self {
+            Pwm::Tim3(ch) => ch.max_duty_cycle(),
+            Pwm::Tim9(ch) => ch.max_duty_cycle(),
+        }
+    }
+    fn set_duty_cycle(&mut self, duty: u16) -> Result<(), Infallible> {
+        match self {
+            Pwm::Tim3(ch) => ch.set_duty_cycle(duty),
+            Pwm::Tim9(ch) => ch.set_duty_cycle(duty),
+        }
+    }
+}
+
+/// Why a conversion failed.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum AdcError {
+    /// The end of conversion did not come within [`ADC_WAIT_POLLS`] reads.
+    Timeout,
+}
+
+/// ADC1, converting one channel at a time (module docs).
+pub struct Adc1 {
+    adc: pac::ADC1,
+}
+
+impl Adc1 {
+    /// Clocks ADC1 (PCLK2 / 4), sets 84 sampling cycles on channels 0 and
+    /// 1, and switches it on (RM0383 §11.3.1: t_STAB, 3 µs at most, passes
+    /// long before the loop's first conversion).
+    pub fn start(adc: pac::ADC1, common: &pac::ADC_COMMON, rcc: &mut hal::rcc::Rcc) -> Self {
+        pac::ADC1::enable(rcc);
+        common.ccr().modify(|_, w| w.adcpre().div4());
+        adc.smpr2().modify(|_, w| {
+            w.smp0().cycles84();
+            w.smp1().cycles84()
+        });
+        // One conversion in the regular sequence; 12 bits, right aligned
+        // (the reset values of CR1 and CR2's ALIGN).
+        adc.sqr1().modify(|_, w| w.l().set(0));
+        adc.cr2().modify(|_, w| w.adon().set_bit());
+        Adc1 { adc }
+    }
+
+    /// One conversion of `channel` (0..=15), 0..=4,095.
+    pub fn convert(&mut self, channel: u8) -> Result<u16, AdcError> {
+        // SAFETY: SQ1 takes any channel number of its five bits (0..=18
+        // are channels; the board passes 0 and 1).
+        #[allow(unsafe_code)]
+        self.adc
+            .sqr3()
+            .modify(|_, w| unsafe { w.sq1().bits(channel & 0x1f) });
+        self.adc.cr2().modify(|_, w| w.swstart().set_bit());
+        for _ in 0..ADC_WAIT_POLLS {
+            if self.adc.sr().read().eoc().bit_is_set() {
+                // Reading DR clears EOC.
+                return Ok(self.adc.dr().read().data().bits());
+            }
+        }
+        Err(AdcError::Timeout)
+    }
+}
+
+/// One channel of the shared [`Adc1`].
+pub struct SenseInput<'a> {
+    adc: &'a RefCell<Adc1>,
+    channel: u8,
+}
+
+impl AdcChannel for SenseInput<'_> {
+    type Error = AdcError;
+    fn read_raw(&mut self) -> Result<u16, AdcError> {
+        // Only the loop converts; a second borrow cannot happen, and is
+        // an error rather than a panic should it.
+        let mut adc = self.adc.try_borrow_mut().map_err(|_| AdcError::Timeout)?;
+        adc.convert(self.channel)
+    }
+    fn full_scale(&self) -> u16 {
+        4_095
+    }
+}
+
+/// One axis's bridge inputs.
+type Pins = Bts7960Pins<Pwm, Pwm, ErasedPin<Output>>;
+/// One axis's current sense.
+type Sense<'a> = CurrentSense<SenseInput<'a>>;
+
+/// A DC axis of this image.
+pub type BlackPillDcAxis<'a> = DcAxis<Pins, &'static AtomicEncoder, Switch<'a>, Sense<'a>>;
+/// A timed axis of this image.
+pub type BlackPillTimedAxis<'a> = TimedAxis<Pins, Switch<'a>, Sense<'a>>;
+/// An axis of this image: DC or timed, by configuration (no stepper:
+/// [`DRIVES`]).
+pub type BlackPillAxis<'a> = AnyAxis<Infallible, BlackPillDcAxis<'a>, BlackPillTimedAxis<'a>>;
+
+/// One axis's bridge and sense pins, before the kind is chosen.
+pub struct AxisPins {
+    rpwm: Pwm,
+    lpwm: Pwm,
+    r_en: ErasedPin<Output>,
+    l_en: ErasedPin<Output>,
+    channel: u8,
+}
+
+/// The pins and timers the axes take (module docs), set up: both timers
+/// at [`PWM_HZ`] with duty 0, the enables low, the sense inputs analog,
+/// the Hall inputs pulled up and interrupting on both edges.
+pub struct DcPins {
+    /// The C axis's bridge.
+    pub c: AxisPins,
+    /// The A axis's bridge.
+    pub a: AxisPins,
+}
+
+/// The parts of [`DcPins::start`] from the board's GPIO ports.
+pub struct DcPinsIn {
+    pub pa0: hal::gpio::PA0,
+    pub pa1: hal::gpio::PA1,
+    pub pa2: hal::gpio::PA2,
+    pub pa3: hal::gpio::PA3,
+    pub pa4: hal::gpio::PA4,
+    pub pa5: hal::gpio::PA5,
+    pub pa6: hal::gpio::PA6,
+    pub pa7: hal::gpio::PA7,
+    pub pa9: hal::gpio::PA9,
+    pub pa15: hal::gpio::PA15<hal::gpio::Alternate<0>>,
+    pub pb4: hal::gpio::PB4<hal::gpio::Alternate<0>>,
+    pub pb12: hal::gpio::PB12,
+    pub pb13: hal::gpio::PB13,
+    pub pb14: hal::gpio::PB14,
+}
+
+impl DcPins {
+    /// Sets the pins and timers up and hands the Hall inputs to their
+    /// interrupts (unmasked by the caller: `EXTI4`, `EXTI9_5`,
+    /// `EXTI15_10`).
+    pub fn start(
+        p: DcPinsIn,
+        tim3: pac::TIM3,
+        tim9: pac::TIM9,
+        syscfg: &mut SysCfg,
+        exti: &mut pac::EXTI,
+        rcc: &mut hal::rcc::Rcc,
+    ) -> Self {
+        use hal::prelude::*;
+        use hal::timer::PwmExt;
+        let (_, (c_r, c_l, ..)) = tim3.pwm_hz(PWM_HZ.Hz(), rcc);
+        let (_, (a_r, a_l)) = tim9.pwm_hz(PWM_HZ.Hz(), rcc);
+        let mut c_r = c_r.with(p.pa6);
+        let mut c_l = c_l.with(p.pa7);
+        let mut a_r = a_r.with(p.pa2);
+        let mut a_l = a_l.with(p.pa3);
+        // Duty 0 before the outputs are connected (the compare registers'
+        // reset value, written so that it does not depend on it).
+        c_r.set_duty(0);
+        c_l.set_duty(0);
+        a_r.set_duty(0);
+        a_l.set_duty(0);
+        c_r.enable();
+        c_l.enable();
+        a_r.enable();
+        a_l.enable();
+        let _ = p.pa0.into_analog();
+        let _ = p.pa1.into_analog();
+        let mut halls = HallPins {
+            c_a: p.pa9.into_pull_up_input(),
+            c_b: p.pa15.into_pull_up_input(),
+            a_a: p.pb14.into_pull_up_input(),
+            a_b: p.pb4.into_pull_up_input(),
+        };
+        ENCODER_C.update(halls.c_a.is_high(), halls.c_b.is_high());
+        ENCODER_A.update(halls.a_a.is_high(), halls.a_b.is_high());
+        arm(&mut halls.c_a, syscfg, exti);
+        arm(&mut halls.c_b, syscfg, exti);
+        arm(&mut halls.a_a, syscfg, exti);
+        arm(&mut halls.a_b, syscfg, exti);
+        free(|cs| {
+            if let Ok(mut slot) = HALLS.borrow(cs).try_borrow_mut() {
+                *slot = Some(halls);
+            }
+        });
+        DcPins {
+            c: AxisPins {
+                rpwm: Pwm::Tim3(c_r.erase()),
+                lpwm: Pwm::Tim3(c_l.erase()),
+                r_en: p.pa4.into_push_pull_output().erase(),
+                l_en: p.pa5.into_push_pull_output().erase(),
+                channel: C_SENSE_CHANNEL,
+            },
+            a: AxisPins {
+                rpwm: Pwm::Tim9(a_r.erase()),
+                lpwm: Pwm::Tim9(a_l.erase()),
+                r_en: p.pb12.into_push_pull_output().erase(),
+                l_en: p.pb13.into_push_pull_output().erase(),
+                channel: A_SENSE_CHANNEL,
+            },
+        }
+    }
+}
+
+/// A Hall input interrupting on both edges.
+fn arm<P: ExtiPin>(pin: &mut P, syscfg: &mut SysCfg, exti: &mut pac::EXTI) {
+    pin.make_interrupt_source(syscfg);
+    pin.trigger_on_edge(exti, Edge::RisingFalling);
+    pin.enable_interrupt(exti);
+    pin.clear_interrupt_pending_bit();
+}
+
+/// The axis on `pins` of the kind `config.drive` names, its home switch
+/// `home` (active low) and its count (`encoder`, unused by a timed axis):
+/// a DC axis ramping [`mechanics::WORM_SLEW_RAMP_PERMILLE_PER_MS`] with
+/// the loop of its configuration ([`mechanics::dc_hall_loop`]), or a timed
+/// axis without a ramp with the runs of its configuration
+/// ([`mechanics::timed_runs`], [`mechanics::WORM_SLEW_LAG_MS`]); `None`
+/// for a kind this image does not build or a part that refuses its
+/// settings (none does for a configuration that passed its checks).
+fn axis<'a>(
+    pins: AxisPins,
+    encoder: &'static AtomicEncoder,
+    home: Switch<'a>,
+    adc: &'a RefCell<Adc1>,
+    config: &AxisConfig,
+) -> Option<BlackPillAxis<'a>> {
+    let kind = DriveKind::from_code(config.drive)?;
+    let ramp_permille_per_ms = match kind {
+        DriveKind::DcHall => mechanics::WORM_SLEW_RAMP_PERMILLE_PER_MS,
+        DriveKind::Timed => 0,
+        _ => return None,
+    };
+    let bridge = Bts7960Pins {
+        rpwm: pins.rpwm,
+        lpwm: pins.lpwm,
+        r_en: pins.r_en,
+        l_en: pins.l_en,
+    };
+    let motor = DcMotor::new(
+        bridge,
+        BridgeConfig {
+            ramp_permille_per_ms,
+            rest: RestMode::Brake,
+        },
+    )
+    .ok()?;
+    let input = SenseInput {
+        adc,
+        channel: pins.channel,
+    };
+    let sense = CurrentSense::new(input, SENSE).ok()?;
+    if kind == DriveKind::DcHall {
+        let lp = mechanics::dc_hall_loop(config);
+        DcAxis::new(motor, encoder, home, true, Some(sense), lp, config)
+            .ok()
+            .map(AnyAxis::Dc)
+    } else {
+        let runs = mechanics::timed_runs(config, mechanics::WORM_SLEW_LAG_MS);
+        TimedAxis::new(motor, home, true, Some(sense), runs, config)
+            .ok()
+            .map(AnyAxis::Timed)
+    }
+}
+
+/// Both axes, each of the kind its configuration names: C on TIM3, A0,
+/// A9/A15 and the home switch `c_home`; A on TIM9, A1, B14/B4 and
+/// `a_home`; `None` when either refuses (module docs).
+pub fn axes<'a>(
+    pins: DcPins,
+    c_home: Switch<'a>,
+    a_home: Switch<'a>,
+    adc: &'a RefCell<Adc1>,
+    configs: &[AxisConfig; 2],
+) -> Option<[BlackPillAxis<'a>; 2]> {
+    let c = axis(pins.c, &ENCODER_C, c_home, adc, &configs[0])?;
+    let a = axis(pins.a, &ENCODER_A, a_home, adc, &configs[1])?;
+    Some([c, a])
+}
