@@ -485,6 +485,16 @@ where
     pub fn poll<P: Platform>(&mut self, platform: &mut P) -> bool {
         let board_ms = platform.now_ms();
         let now_ms = monotonic::from_board_ms(board_ms);
+        // The drives first, at the pass's instant: a DC axis's count is
+        // read when it is served, and stamped with it.
+        // A bit an axis, the last axis in bit 0.
+        let mut latched = 0u8;
+        for ax in self.controller.axes_mut().iter_mut() {
+            if !ax.drive_mut().service(board_ms) {
+                count_up(&mut self.stats.drive_errors);
+            }
+            latched = (latched << 1) | u8::from(ax.drive().fault_latched());
+        }
         // The reader stamps what it decodes with the instant it is given;
         // the bytes drained now came at any time since the previous pass.
         // After a pass longer than GPS_STAMP_SLACK_MS they are stamped at
@@ -499,17 +509,6 @@ where
         match self.gps.service(stamp_ms) {
             Ok(fix) => self.fix = fix,
             Err(_) => count_up(&mut self.stats.gps_errors),
-        }
-        // The drives' time read again, after the GPS bytes: a DC axis's
-        // count is read when it is served, and stamped with this.
-        let drive_ms = platform.now_ms();
-        // A bit an axis, the last axis in bit 0.
-        let mut latched = 0u8;
-        for ax in self.controller.axes_mut().iter_mut() {
-            if !ax.drive_mut().service(drive_ms) {
-                count_up(&mut self.stats.drive_errors);
-            }
-            latched = (latched << 1) | u8::from(ax.drive().fault_latched());
         }
         // A drive that stopped itself on a fault in this pass (a DC
         // motor's obstruction or stall) brings the tick forward: the fault
