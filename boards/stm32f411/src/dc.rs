@@ -33,12 +33,18 @@
 //!  A6 ─ RPWM ┐                   ┌ M+ ─┐  Pololu 37D 131.25:1 gear motor
 //!  A7 ─ LPWM │ IBT-2 (2×BTS7960) │     ├─ → 60:1 worm (slew drive) → C axis
 //!  A4 ─ R_EN ├ (+12 V motor,     └ M− ─┘
-//!  A5 ─ L_EN │  VCC 5 V: its inputs take 3.3 V logic)
+//!  A5 ─ L_EN │  VCC from 3V3)
 //!  A0 ─┬ R_IS┤
 //!      └ L_IS┘   A0 ─ 680 Ω ∥ 1 µF ─ GND
-//!  A9 ─ Hall A   A15 ─ Hall B   (encoder on 3.3 V, or open-collector outputs)
+//!  A9 ─ Hall A   A15 ─ Hall B   (3.3 V levels: see below)
 //!  B0 ─ home switch (closed at the low stop) ─ GND
 //! ```
+//!
+//! The IBT-2's logic supply (VCC) comes from the Black Pill's 3V3: its
+//! 74HC244 input buffer then switches at 3.3 V logic levels (at 5 V a
+//! 74HC input needs 0.7 · VCC, 3.5 V, for a high). The Hall outputs reach
+//! the pins at 3.3 V levels: open-collector outputs on the pins' pull-ups,
+//! or a 5 V encoder's push-pull outputs through a level shifter.
 //!
 //! **Current sense.** The BTS7960's IS pin of the conducting high side
 //! sources `I_IS = I_L / k_ILIS`, k_ILIS typically 8,500 (Infineon, *BTS
@@ -376,13 +382,18 @@ impl DcPins {
             a_a: p.pb14.into_pull_up_input(),
             a_b: p.pb4.into_pull_up_input(),
         };
+        // The decoders start from the levels as they are (a first edge
+        // is then a step, not an illegal jump from 00).
         ENCODER_C.update(halls.c_a.is_high(), halls.c_b.is_high());
         ENCODER_A.update(halls.a_a.is_high(), halls.a_b.is_high());
-        arm(&mut halls.c_a, syscfg, exti);
-        arm(&mut halls.c_b, syscfg, exti);
-        arm(&mut halls.a_a, syscfg, exti);
-        arm(&mut halls.a_b, syscfg, exti);
+        // Armed and handed over in one critical section: an edge between
+        // the two would find no pins, leave its pending bit set and
+        // interrupt again without end.
         free(|cs| {
+            arm(&mut halls.c_a, syscfg, exti);
+            arm(&mut halls.c_b, syscfg, exti);
+            arm(&mut halls.a_a, syscfg, exti);
+            arm(&mut halls.a_b, syscfg, exti);
             if let Ok(mut slot) = HALLS.borrow(cs).try_borrow_mut() {
                 *slot = Some(halls);
             }
