@@ -33,18 +33,20 @@
 //!  A6 ─ RPWM ┐                   ┌ M+ ─┐  Pololu 37D 131.25:1 gear motor
 //!  A7 ─ LPWM │ IBT-2 (2×BTS7960) │     ├─ → 60:1 worm (slew drive) → C axis
 //!  A4 ─ R_EN ├ (+12 V motor,     └ M− ─┘
-//!  A5 ─ L_EN │  VCC from 3V3)
+//!  A5 ─ L_EN │  VCC 5 V; the four inputs through a 74HCT buffer)
 //!  A0 ─┬ R_IS┤
 //!      └ L_IS┘   A0 ─ 680 Ω ∥ 1 µF ─ GND
 //!  A9 ─ Hall A   A15 ─ Hall B   (3.3 V levels: see below)
 //!  B0 ─ home switch (closed at the low stop) ─ GND
 //! ```
 //!
-//! The IBT-2's logic supply (VCC) comes from the Black Pill's 3V3: its
-//! 74HC244 input buffer then switches at 3.3 V logic levels (at 5 V a
-//! 74HC input needs 0.7 · VCC, 3.5 V, for a high). The Hall outputs reach
-//! the pins at 3.3 V levels: open-collector outputs on the pins' pull-ups,
-//! or a 5 V encoder's push-pull outputs through a level shifter.
+//! The IBT-2 takes its logic supply (VCC) at 5 V, and its inputs go
+//! through the module's 74HC244 buffer, which at 5 V needs 0.7 · VCC =
+//! 3.5 V for a high: more than a 3.3 V output gives. So RPWM, LPWM, R_EN
+//! and L_EN go through a 3.3 → 5 V buffer whose inputs take TTL levels (a
+//! 74HCT244 or 74AHCT125 on 5 V: a high from 2 V). The Hall outputs reach
+//! the pins at 3.3 V levels: open-collector outputs on the pins'
+//! pull-ups, or a 5 V encoder's push-pull outputs through a level shifter.
 //!
 //! **Current sense.** The BTS7960's IS pin of the conducting high side
 //! sources `I_IS = I_L / k_ILIS`, k_ILIS typically 8,500 (Infineon, *BTS
