@@ -484,18 +484,12 @@ fn assemble_firmware<'p, 'b>(
     mut log: Usart0,
 ) -> Result<MegaFirmware<'p, 'b>, StartError> {
     let axes = mega_axes(board, &config.axes, &mut log);
-    // Any DC axis: closed on its Hall count. Any timed axis: re-homed
-    // after every stow too.
-    let has =
-        |kind: suntracker::config::DriveKind| config.axes.iter().any(|a| a.drive == kind as u8);
-    let closed_loop = has(suntracker::config::DriveKind::DcHall);
-    let timed = has(suntracker::config::DriveKind::Timed);
     let rtc = Ds3231::new(SharedI2c::new(bus));
     let sensors = attitude_sensors(bus, &mut log);
     Firmware::new(
         app_config(),
         config,
-        controller_options(closed_loop, timed),
+        controller_options(&config.axes),
         rtc,
         gps,
         axes,
@@ -546,32 +540,22 @@ fn app_config() -> AppConfig {
 /// the 63 bytes `ldd`/`std` reach from the frame pointer, 12 bytes more
 /// each.
 #[inline(never)]
-fn controller_options(closed_loop: bool, timed: bool) -> ControllerOptions<f32> {
+fn controller_options(axes: &[suntracker::config::AxisConfig; 2]) -> ControllerOptions<f32> {
     // A sun position costs about 45,000 cycles here (psa-2020 in f32):
     // planning a day (some 370 positions, about a second) is spread over
     // ticks, four positions (11 ms) per tick, so that the loop keeps serving
     // the motors, the GPS ring and the watchdog; tracking starts about 90 s
     // after the time is trusted. The attitude (four readings of each sensor
     // and their trigonometry, about 10 ms) is read every 10 s, not every
-    // tick: the mount does not move in between.
-    ControllerOptions {
+    // tick: the mount does not move in between. With a DC axis the
+    // controller corrects each axis from its count, with a timed axis it
+    // re-homes after every stow too ([`mechanics::options_for_drives`]).
+    let options = ControllerOptions {
         plan_positions_per_tick: PLAN_POSITIONS_PER_TICK,
         attitude_every_ms: ATTITUDE_EVERY_MS,
-        // The DC axes count Hall edges from their home switches: each axis
-        // is corrected from that count ([`dc`]), so a move cut short (an
-        // obstruction, a stall) is finished by the retry. (A stepper axis
-        // beside one has no encoder: its counted steps stand.)
-        feedback: if closed_loop {
-            suntracker::motion::FeedbackMode::ClosedLoop
-        } else {
-            suntracker::motion::FeedbackMode::OpenLoop
-        },
-        // A timed axis knows where it is from its home switch and the time
-        // it ran only: re-homed at every end of day (as every axis here)
-        // and after every stow, whose long slews add up its error.
-        rehome_after_stow: timed,
         ..mechanics::controller_options()
-    }
+    };
+    mechanics::options_for_drives(options, axes)
 }
 
 /// Both axes, each of the kind its configuration names ([`axes::axis`]).
