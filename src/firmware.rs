@@ -529,6 +529,15 @@ where
             }
             let pulses = platform.take_wind_pulses();
             let stow_inputs = platform.stow_inputs();
+            // The motor supply to the drives (a timed axis scales its runs
+            // by it); an impossible reading or none is no supply.
+            let supply_mv = match stow_inputs.supply_mv {
+                Some(crate::safety::Reading::Value(mv)) => u32::from(mv),
+                _ => 0,
+            };
+            for ax in self.controller.axes_mut().iter_mut() {
+                ax.drive_mut().set_supply_mv(supply_mv);
+            }
             self.tick(now_ms, pulses, stow_inputs);
             self.next_tick_ms = Some(now_ms.wrapping_add(tick_ms));
             self.periodic_status(now_ms);

@@ -179,20 +179,21 @@ pub fn dc_hall_loop(axis: &AxisConfig) -> DcAxisConfig {
 /// The runs of a DC motor moved by time without feedback (`axis.X.drive`
 /// 5, `timed`: [`crate::hw::TimedAxis`]) from the axis's configuration:
 /// forward at `max_speed_deg_s`, backward at `back_speed_deg_s` (both
-/// measured on the installed axis at full duty), every run at full duty,
-/// the current watch `max_current_ma` for `overcurrent_ms`; `lag_ms` is the
-/// motor's mechanical time constant (the board's motor). The runs are not
-/// scaled by a supply measurement (`calibration_supply_mv` 0). The
-/// configuration's ranges lie within what [`TimedAxisConfig::validate`]
-/// takes (speeds 0.01–30 °/s, a current limit of 100 mA at least, at most
-/// 5 s above it), so every valid axis configuration gives valid runs for a
-/// `lag_ms` up to 10 s.
-pub fn timed_runs(axis: &AxisConfig, lag_ms: u32) -> TimedAxisConfig {
+/// measured on the installed axis at full duty, at the motor supply
+/// `calibration_supply_mv`: `supply.calibration_mv`, 0 for runs not scaled
+/// by the measured supply), every run at full duty, the current watch
+/// `max_current_ma` for `overcurrent_ms`; `lag_ms` is the motor's
+/// mechanical time constant (the board's motor). The configuration's
+/// ranges lie within what [`TimedAxisConfig::validate`] takes (speeds
+/// 0.01–30 °/s, a current limit of 100 mA at least, at most 5 s above it,
+/// a calibration supply up to 60 V), so every valid configuration gives
+/// valid runs for a `lag_ms` up to 10 s.
+pub fn timed_runs(axis: &AxisConfig, calibration_supply_mv: u16, lag_ms: u32) -> TimedAxisConfig {
     TimedAxisConfig {
         forward_deg_s: axis.max_speed_deg_s,
         backward_deg_s: axis.back_speed_deg_s,
         duty_permille: 1_000,
-        calibration_supply_mv: 0,
+        calibration_supply_mv: u32::from(calibration_supply_mv),
         max_current_ma: u32::from(axis.max_current_ma),
         overcurrent_ms: u32::from(axis.overcurrent_ms),
         lag_ms,

@@ -245,6 +245,10 @@ fn book_rows() -> Vec<(&'static str, Vec<Vec<String>>)> {
             ],
         ),
         (
+            "`supply.calibration_mv`",
+            vec![book_range(range_text::u16s(r::SUPPLY_MV))],
+        ),
+        (
             "`overcast.ratio`, `enter_s`, `leave_s`, `max_moves_per_hour`",
             vec![
                 f(r::OVERCAST_RATIO),

@@ -43,10 +43,13 @@ fn encode_decode_round_trip() {
     // overcast mode's (13 bytes), the C axis's `continuous` (1 byte), the
     // site's UTC offset (4), the anemometer's factor (4) and the Modbus
     // silence's stow (1), each axis's drive kind, current limit and
-    // overcurrent time (1 + 2 + 2) and each axis's backward speed (4)
-    // follow it.
+    // overcurrent time (1 + 2 + 2), each axis's backward speed (4) and
+    // the timed axes' calibration supply (2) follow it.
     const HOLD_AT: usize = 143;
-    assert_eq!(n, HOLD_AT + 1 + 11 + 22 + 4 + 13 + 1 + 9 + 2 * 5 + 2 * 4);
+    assert_eq!(
+        n,
+        HOLD_AT + 1 + 11 + 22 + 4 + 13 + 1 + 9 + 2 * 5 + 2 * 4 + 2
+    );
     // The drive fields away from their defaults come back too.
     let mut dc = c;
     dc.axes[1].drive = 2;
@@ -54,6 +57,7 @@ fn encode_decode_round_trip() {
     dc.axes[0].overcurrent_ms = 250;
     dc.axes[0].back_speed_deg_s = 0.75;
     dc.axes[1].back_speed_deg_s = 12.5;
+    dc.supply.calibration_mv = 12_000;
     let mut db = [0u8; 256];
     assert_eq!(dc.encode(&mut db), Some(PAYLOAD_LEN));
     assert_eq!(Config::decode(&db[..n]), Some(dc));
@@ -86,29 +90,34 @@ fn encode_decode_round_trip() {
     // Other lengths are rejected.
     assert_eq!(Config::decode(&buf[..HOLD_AT - 1]), None);
     assert_eq!(Config::decode(&buf[..HOLD_AT + 2]), None);
-    // Layout version 7's payload (without the backward speeds: the
-    // defaults), version 6's (also without the drive fields: steppers, the
+    // Layout version 8's payload (without the calibration supply: 0),
+    // version 7's (also without the backward speeds: the defaults),
+    // version 6's (also without the drive fields: steppers, the
     // current watch's defaults), version 5's (also without the UTC offset,
     // the anemometer's factor and the silence's stow) and version 4's
     // (also without `axis.c.continuous`) read with them at 0.
-    let mut dc_v7 = dc;
+    let mut dc_v8 = dc;
+    dc_v8.supply.calibration_mv = 0;
+    assert_eq!(Config::decode(&db[..n - 2]), Some(dc_v8));
+    let mut dc_v7 = dc_v8;
     dc_v7.axes[0].back_speed_deg_s = c.axes[0].back_speed_deg_s;
     dc_v7.axes[1].back_speed_deg_s = c.axes[1].back_speed_deg_s;
-    assert_eq!(Config::decode(&db[..n - 8]), Some(dc_v7));
-    assert_eq!(Config::decode(&buf[..n - 18]), Some(c));
-    assert_eq!(Config::decode(&db[..n - 18]), Some(c));
-    assert_eq!(Config::decode(&buf[..n - 27]), Some(c));
-    assert_eq!(Config::decode(&buf[..n - 28]), Some(c));
+    assert_eq!(Config::decode(&db[..n - 10]), Some(dc_v7));
+    assert_eq!(Config::decode(&buf[..n - 20]), Some(c));
+    assert_eq!(Config::decode(&db[..n - 20]), Some(c));
+    assert_eq!(Config::decode(&buf[..n - 29]), Some(c));
+    assert_eq!(Config::decode(&buf[..n - 30]), Some(c));
     assert_eq!(Config::decode(&buf[..n - 1]), None);
-    assert_eq!(Config::decode(&buf[..n - 4]), None);
-    assert_eq!(Config::decode(&buf[..n - 13]), None);
-    assert_eq!(Config::decode(&buf[..n - 29]), None);
+    assert_eq!(Config::decode(&buf[..n - 3]), None);
+    assert_eq!(Config::decode(&buf[..n - 6]), None);
+    assert_eq!(Config::decode(&buf[..n - 15]), None);
+    assert_eq!(Config::decode(&buf[..n - 31]), None);
     assert_eq!(Config::decode(&buf[..n + 1]), None);
     // Too small a buffer to encode into.
     assert_eq!(c.encode(&mut [0u8; 10]), None);
 }
 
-/// The payload of layout version 7 byte by byte, built here field by
+/// The payload of layout version 9 byte by byte, built here field by
 /// field in the order `src/config/codec.rs` documents (the configuration's
 /// declaration order, little-endian, the derived counts per degree left
 /// out, the hold after the fields of version 3, the Modbus and stow
@@ -158,6 +167,7 @@ fn payload_is_the_documented_layout() {
     c.site.utc_offset_h = 5.75;
     c.wind.m_s_per_hz = 0.667;
     c.modbus.timeout_stow = 1;
+    c.supply.calibration_mv = 12_600;
     let mut expected = Vec::new();
     let f = |v: &mut Vec<u8>, x: f32| v.extend_from_slice(&x.to_le_bytes());
     let u = |v: &mut Vec<u8>, x: u32| v.extend_from_slice(&x.to_le_bytes());
@@ -239,6 +249,7 @@ fn payload_is_the_documented_layout() {
     for a in &c.axes {
         f(&mut expected, a.back_speed_deg_s);
     }
+    expected.extend_from_slice(&c.supply.calibration_mv.to_le_bytes());
     assert_eq!(expected.len(), PAYLOAD_LEN);
     let mut buf = [0u8; 256];
     let n = c.encode(&mut buf).unwrap();
@@ -362,10 +373,11 @@ fn old_version_and_bad_values_are_rejected_whole() {
     // before it), 3 (before the Modbus settings: up to the hold) and 4
     // (before `axis.c.continuous`) and 5 (before the UTC offset, the
     // anemometer's factor and the silence's stow), 6 (before the axes'
-    // drive kinds and current watch) and 7 (before the axes' backward
-    // speeds) are still read, so an update keeps the saved configuration;
-    // version 3 with version 2's length is not.
-    let (v2, v3, v4, v5, v6, v7) = (n - 79, n - 78, n - 28, n - 27, n - 18, n - 8);
+    // drive kinds and current watch), 7 (before the axes' backward
+    // speeds) and 8 (before the timed axes' calibration supply) are still
+    // read, so an update keeps the saved configuration; version 3 with
+    // version 2's length is not.
+    let (v2, v3, v4, v5, v6, v7, v8) = (n - 81, n - 80, n - 30, n - 29, n - 20, n - 10, n - 2);
     let mut mem = MemStorage::<1024>::new();
     mem.write(0, &slot(2, &payload[..v2])).unwrap();
     mem.write(SLOT_LEN, &slot(3, &payload[..v2])).unwrap();
@@ -377,7 +389,7 @@ fn old_version_and_bad_values_are_rejected_whole() {
     mem.write(0, &slot(3, &payload[..v3])).unwrap();
     let l = ConfigStore::new(mem).load();
     assert_eq!((l.defaults, l.config), (false, c));
-    for (version, len) in [(4, v4), (5, v5), (6, v6), (7, v7)] {
+    for (version, len) in [(4, v4), (5, v5), (6, v6), (7, v7), (8, v8)] {
         let mut mem = MemStorage::<1024>::new();
         mem.write(0, &slot(version, &payload[..len])).unwrap();
         let l = ConfigStore::new(mem).load();
@@ -385,8 +397,8 @@ fn old_version_and_bad_values_are_rejected_whole() {
     }
     // Version 2 with version 3's length is not either, nor version 3 with
     // version 4's, nor 4 with 5's, nor 5 with 6's, nor 6 with 7's, nor 7
-    // with 8's.
-    for (version, len) in [(2, v3), (3, v4), (4, v5), (5, v6), (6, v7), (7, n)] {
+    // with 8's, nor 8 with 9's.
+    for (version, len) in [(2, v3), (3, v4), (4, v5), (5, v6), (6, v7), (7, v8), (8, n)] {
         let mut mem = MemStorage::<1024>::new();
         mem.write(0, &slot(version, &payload[..len])).unwrap();
         let l = ConfigStore::new(mem).load();

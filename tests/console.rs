@@ -136,6 +136,7 @@ const DOC_RANGES: &[(&str, &str)] = &[
     ("axis.c.max_current_ma", "100…40,000"),
     ("axis.c.overcurrent_ms", "10…5,000"),
     ("axis.c.back_speed_deg_s", "0.01…30"),
+    ("supply.calibration_mv", "0…60,000"),
 ];
 
 /// The home switch's range is relative to `min_deg` (documented as
@@ -288,10 +289,10 @@ fn typed(value: f64, integer: bool) -> String {
 #[test]
 fn key_table_names_every_field_once_and_the_docs_list_them() {
     let mut names: Vec<String> = KEYS.iter().map(|k| k.name().to_string()).collect();
-    assert_eq!(names.len(), 70);
+    assert_eq!(names.len(), 71);
     names.sort_unstable();
     names.dedup();
-    assert_eq!(names.len(), 70, "duplicate keys");
+    assert_eq!(names.len(), 71, "duplicate keys");
     let docs = config_docs();
     let module =
         std::fs::read_to_string(concat!(env!("CARGO_MANIFEST_DIR"), "/src/console/mod.rs"))

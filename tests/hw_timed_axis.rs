@@ -276,7 +276,8 @@ fn an_obstruction_on_a_backward_run_keeps_its_rest_for_the_retry() {
 /// A board's timed axis takes its runs from the axis's configuration
 /// (`mechanics::timed_runs`): forward at `max_speed_deg_s`, backward at
 /// `back_speed_deg_s`, the current watch from `max_current_ma` and
-/// `overcurrent_ms`; at every end of those keys' ranges the runs are valid,
+/// `overcurrent_ms`, scaled from the supply `supply.calibration_mv`; at
+/// every end of those keys' ranges the runs are valid,
 /// so no configuration that passed its checks stops a board at power-on.
 #[test]
 fn runs_from_every_valid_axis_configuration_are_valid() {
@@ -286,8 +287,9 @@ fn runs_from_every_valid_axis_configuration_are_valid() {
     let (s_lo, s_hi) = r::MAX_SPEED_DEG_S;
     let (i_lo, i_hi) = r::MAX_CURRENT_MA;
     let (o_lo, o_hi) = r::OVERCURRENT_MS;
+    let (v_lo, v_hi) = r::SUPPLY_MV;
     for (fwd, back) in [(s_lo, s_hi), (s_hi, s_lo), (s_lo, s_lo), (s_hi, s_hi)] {
-        for (ma, ms) in [(i_lo, o_lo), (i_hi, o_hi)] {
+        for (ma, ms, mv) in [(i_lo, o_lo, v_lo), (i_hi, o_hi, v_hi)] {
             let axis = AxisConfig {
                 max_speed_deg_s: fwd,
                 back_speed_deg_s: back,
@@ -296,9 +298,10 @@ fn runs_from_every_valid_axis_configuration_are_valid() {
                 ..base
             };
             assert_eq!(axis.validate(0), Ok(()));
-            let runs = timed_runs(&axis, 10_000);
+            let runs = timed_runs(&axis, mv, 10_000);
             assert_eq!(runs.validate(), Ok(()), "{axis:?}");
             assert_eq!((runs.forward_deg_s, runs.backward_deg_s), (fwd, back));
+            assert_eq!(runs.calibration_supply_mv, u32::from(mv));
             assert_eq!(
                 (runs.max_current_ma, runs.overcurrent_ms, runs.duty_permille),
                 (u32::from(ma), u32::from(ms), 1_000)
@@ -311,7 +314,7 @@ fn runs_from_every_valid_axis_configuration_are_valid() {
         ..base
     };
     assert!(slow.validate(0).is_err());
-    assert!(timed_runs(&slow, 120).validate().is_err());
+    assert!(timed_runs(&slow, 0, 120).validate().is_err());
 }
 
 #[test]

@@ -461,7 +461,8 @@ impl MegaBench {
         self
     }
 
-    /// The motor supply the board's divider sees from emulated `minute`,
+    /// The motor supply the board's divider sees, and the DC models'
+    /// motors run on, from emulated `minute`,
     /// mV (0: the divider come loose, the ADC at its rail).
     pub fn supply_at(mut self, minute: f64, supply_mv: u32) -> Self {
         self.supply.push((minute, supply_mv));
@@ -789,6 +790,13 @@ impl MegaBench {
             if supply_pin != Some(supply_pin_mv(supply_mv)) {
                 sim.set_adc_mv(0, supply_pin_mv(supply_mv));
                 supply_pin = Some(supply_pin_mv(supply_mv));
+                // The DC motors run on the supply the divider measures (a
+                // divider come loose leaves them theirs).
+                if let (Some(models), true) = (dc.as_mut(), supply_mv > 0) {
+                    for m in models.iter_mut() {
+                        m.motor.set_supply_v(f64::from(supply_mv) / 1_000.0);
+                    }
+                }
             }
             let w_m2 = self
                 .irradiance

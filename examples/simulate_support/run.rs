@@ -502,11 +502,15 @@ fn timed_speed_deg_s(supply: Supply) -> f32 {
 /// ([`suntracker::mechanics::timed_runs`]: the current watch of the axis's
 /// keys, which are `WORM_SLEW_LOOP`'s), with the motor's lag.
 fn timed_plants(args: &Args, config: &Config) -> Result<[DcDrive<SimTimedAxis>; 2], String> {
-    // The motor's braked time constant with the panels (0.12 s,
-    // WORM_SLEW_LOOP's documentation).
+    // The board measures the motor supply (sim::dc_drive::supply_adc_mv)
+    // and scales each run by calibration / measured supply: the speeds are
+    // calibrated at the supply model's calibration voltage
+    // (`supply.calibration_mv`). The motor's braked time constant with the
+    // panels is 0.12 s (WORM_SLEW_LOOP's documentation).
+    let calibration_mv = (calibration_supply_v(args.supply) * 1_000.0).round() as u16;
     let [c, a] = config
         .axes
-        .map(|ax| suntracker::mechanics::timed_runs(&ax, 120));
+        .map(|ax| suntracker::mechanics::timed_runs(&ax, calibration_mv, 120));
     // One spec drives both axes: their run settings must agree.
     if c != a {
         return Err("the timed axes need the same speeds and current watch".into());
@@ -514,12 +518,7 @@ fn timed_plants(args: &Args, config: &Config) -> Result<[DcDrive<SimTimedAxis>; 
     let spec = DcDriveSpec {
         motor: worm_slew_motor(),
         bridge: dc_bridge(0),
-        // The board measures the motor supply (sim::dc_drive::supply_adc_mv)
-        // and scales each run by calibration / measured supply.
-        firmware: suntracker::hw::TimedAxisConfig {
-            calibration_supply_mv: (calibration_supply_v(args.supply) * 1_000.0).round() as u32,
-            ..c
-        },
+        firmware: c,
     };
     dc_drives(spec, config)
 }

@@ -1,4 +1,4 @@
-//! The configuration's binary payload, layout version 8
+//! The configuration's binary payload, layout version 9
 //! ([`super::LAYOUT_VERSION`]): the fields of the key table ([`super::KEYS`],
 //! which lists them in declaration order) but the derived counts per
 //! degree, in its order, with the operator's hold after the fields of
@@ -7,11 +7,12 @@
 //! in version 5, `site.utc_offset_h`, `wind.m_s_per_hz` and
 //! `modbus.timeout_stow` in version 6, each axis's `drive`,
 //! `max_current_ma` and `overcurrent_ms` in version 7, each axis's
-//! `back_speed_deg_s` in version 8) after it;
+//! `back_speed_deg_s` in version 8, `supply.calibration_mv` in version 9)
+//! after it;
 //! little-endian, [`PAYLOAD_LEN`] bytes. The payloads of versions 2
 //! ([`PAYLOAD_LEN_V2`], without the hold), 3 ([`PAYLOAD_LEN_V3`]), 4
 //! ([`PAYLOAD_LEN_V4`]), 5 ([`PAYLOAD_LEN_V5`]), 6 ([`PAYLOAD_LEN_V6`])
-//! and 7 ([`PAYLOAD_LEN_V7`]) are still read, the fields they lack at their
+//! 7 ([`PAYLOAD_LEN_V7`]) and 8 ([`PAYLOAD_LEN_V8`]) are still read, the fields they lack at their
 //! defaults. Also the
 //! little-endian cursors that write and read it (the store writes its slot
 //! header with the same writer).
@@ -48,7 +49,21 @@ pub const PAYLOAD_LEN_V7: usize = PAYLOAD_LEN_V6 + 2 * (1 + 2 + 2);
 
 /// Payload length of layout version 8: version 7's and each axis's
 /// backward speed (4 bytes).
-pub const PAYLOAD_LEN: usize = PAYLOAD_LEN_V7 + 2 * 4;
+pub const PAYLOAD_LEN_V8: usize = PAYLOAD_LEN_V7 + 2 * 4;
+
+/// Payload length of layout version 9: version 8's and the timed axes'
+/// calibration supply (2 bytes).
+pub const PAYLOAD_LEN: usize = PAYLOAD_LEN_V8 + 2;
+
+/// The keys of layout version 8, the first of [`KEYS`]: those up to the A
+/// axis's `back_speed_deg_s`.
+const V8_KEYS: usize = {
+    let mut i = 0;
+    while i < KEYS.len() && KEYS[i] as usize != super::Field::AxisABackSpeedDegS as usize {
+        i += 1;
+    }
+    i + 1
+};
 
 /// The keys of layout version 7, the first of [`KEYS`]: those up to the A
 /// axis's `overcurrent_ms`.
@@ -194,7 +209,8 @@ impl Config {
         }
     }
 
-    /// Parses a payload of layout version 8, or of version 7 (without the
+    /// Parses a payload of layout version 9, or of version 8 (without the
+    /// timed axes' calibration supply: 0, unscaled), 7 (also without the
     /// axes' backward speeds: the defaults), 6 (also without the
     /// axes' drive kinds and current watch: steppers, the defaults), 5
     /// (also without the
@@ -213,6 +229,7 @@ impl Config {
                 || (i == V5_KEYS && buf.len() == PAYLOAD_LEN_V5)
                 || (i == V6_KEYS && buf.len() == PAYLOAD_LEN_V6)
                 || (i == V7_KEYS && buf.len() == PAYLOAD_LEN_V7)
+                || (i == V8_KEYS && buf.len() == PAYLOAD_LEN_V8)
             {
                 break;
             }

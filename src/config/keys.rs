@@ -145,6 +145,7 @@ named! {
         AxisCBackSpeedDegS => "back_speed_deg_s",
         // (The C-axis twin's name, as above.)
         AxisABackSpeedDegS => "",
+        SupplyCalibrationMv => "supply.calibration_mv",
     }
 }
 

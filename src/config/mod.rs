@@ -344,6 +344,14 @@ pub struct SupplyConfig {
     /// load taken off a sagging battery does not end the stow at once
     /// (12,200 for a 12 V lead-acid battery, 60 % charge at rest).
     pub resume_mv: u16,
+    /// The motor supply the timed axes' speeds (`axis.X.max_speed_deg_s`
+    /// forward, `axis.X.back_speed_deg_s` backward) were measured at,
+    /// millivolts: 0…60,000 (`supply.calibration_mv`). A board that
+    /// measures its motor supply then scales each timed run by this over
+    /// the measured supply (a DC motor's speed is about proportional to
+    /// its voltage: [`crate::hw::TimedAxis`]); 0 (the default) leaves the
+    /// runs unscaled.
+    pub calibration_mv: u16,
 }
 
 /// The overcast mode (`overcast`): under a sky whose measured irradiance
@@ -493,6 +501,7 @@ impl Config {
             supply: SupplyConfig {
                 stow_mv: 0,
                 resume_mv: 0,
+                calibration_mv: 0,
             },
             overcast: OvercastConfig {
                 ratio: 0.0,

@@ -4,6 +4,7 @@
 
 use super::codec::{
     PAYLOAD_LEN_V2, PAYLOAD_LEN_V3, PAYLOAD_LEN_V4, PAYLOAD_LEN_V5, PAYLOAD_LEN_V6, PAYLOAD_LEN_V7,
+    PAYLOAD_LEN_V8,
 };
 use super::{Config, PAYLOAD_LEN};
 use crate::persist::{record_len, ConfigStore, Record, SLOT_LEN};
@@ -14,13 +15,13 @@ use crate::ports::Storage;
 /// settings (`modbus.*`, `stow.*`, `supply.*`, `overcast.*`), 5 the C
 /// axis's `axis.c.continuous`, 6 `site.utc_offset_h`, `wind.m_s_per_hz`
 /// and `modbus.timeout_stow`, 7 each axis's `drive`, `max_current_ma`
-/// and `overcurrent_ms`, 8 each axis's `back_speed_deg_s`. Slots of
-/// versions 2 to 7 are read (with the
+/// and `overcurrent_ms`, 8 each axis's `back_speed_deg_s`, 9
+/// `supply.calibration_mv`. Slots of versions 2 to 8 are read (with the
 /// defaults of what they lack, and no hold in force from version 2), so a
 /// configuration saved before survives the update; one of version 1 is
 /// reported as [`SlotState::OldVersion`](crate::persist::SlotState::OldVersion)
 /// and not used.
-pub const LAYOUT_VERSION: u16 = 8;
+pub const LAYOUT_VERSION: u16 = 9;
 
 /// The first four bytes of a slot holding a [`Config`].
 const MAGIC: [u8; 4] = *b"STCF";
@@ -38,6 +39,7 @@ impl Record for Config {
     const VERSION: u16 = LAYOUT_VERSION;
     const PAYLOAD_LEN: usize = PAYLOAD_LEN;
     const PREVIOUS: &'static [(u16, usize)] = &[
+        (8, PAYLOAD_LEN_V8),
         (7, PAYLOAD_LEN_V7),
         (6, PAYLOAD_LEN_V6),
         (5, PAYLOAD_LEN_V5),

@@ -202,6 +202,7 @@ key_table! { c;
     AxisAOvercurrentMs U16 c.axes[1].overcurrent_ms, OVERCURRENT_MS OvercurrentMs;
     AxisCBackSpeedDegS F32 c.axes[0].back_speed_deg_s, MAX_SPEED_DEG_S SpeedDegS;
     AxisABackSpeedDegS F32 c.axes[1].back_speed_deg_s, MAX_SPEED_DEG_S SpeedDegS;
+    SupplyCalibrationMv U16 c.supply.calibration_mv, SUPPLY_MV SupplyMv;
 }
 
 crate::progmem! {
@@ -345,6 +346,7 @@ const ZEROS: Config = {
         supply: SupplyConfig {
             stow_mv: 0,
             resume_mv: 0,
+            calibration_mv: 0,
         },
         overcast: OvercastConfig {
             ratio: 0.0,

@@ -133,6 +133,13 @@ impl<S: AxisDrive, D: AxisDrive, T: AxisDrive> AxisDrive for AnyAxis<S, D, T> {
             AnyAxis::Timed(t) => t.rebase_at_rest(),
         }
     }
+    fn set_supply_mv(&mut self, supply_mv: u32) {
+        match self {
+            AnyAxis::Stepper(s) => s.set_supply_mv(supply_mv),
+            AnyAxis::Dc(d) => d.set_supply_mv(supply_mv),
+            AnyAxis::Timed(t) => t.set_supply_mv(supply_mv),
+        }
+    }
 }
 
 /// A kind an image does not build: `Infallible` in its place of an

@@ -469,6 +469,9 @@ impl<B: Bridge, H: InputPin, C: MotorCurrent> AxisDrive for TimedAxis<B, H, C> {
             self.unseen = false;
         }
     }
+    fn set_supply_mv(&mut self, supply_mv: u32) {
+        TimedAxis::set_supply_mv(self, supply_mv);
+    }
 }
 
 #[cfg(test)]

@@ -79,6 +79,10 @@ pub trait AxisDrive {
     /// edge nearest the target), so that the correction of that step's
     /// error does not move it to the step on the other side, and back.
     fn rebase_at_rest(&mut self) {}
+    /// The motor supply measured now, mV (0: none). A drive whose runs
+    /// depend on it (a DC motor moved by time: [`crate::hw::TimedAxis`])
+    /// scales them; the others ignore it.
+    fn set_supply_mv(&mut self, _supply_mv: u32) {}
 }
 
 /// A fault seen by the drive itself ([`AxisDrive::take_fault`]).

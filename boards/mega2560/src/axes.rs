@@ -73,14 +73,22 @@ fn stepper_axis<'p>(
         .map(|s| StepperAxis::new(s, home, true))
 }
 
-/// The axis `index` of the kind `config.drive` names; `None` for a kind
-/// this board does not build (not in [`DRIVES`]) or a drive that refuses
-/// its settings.
-pub fn axis<'p>(board: &'p DcBoard<'p>, index: usize, config: &AxisConfig) -> Option<MegaAxis<'p>> {
+/// The axis `index` of the kind `config.drive` names (a timed axis's runs
+/// calibrated at `calibration_supply_mv`, `supply.calibration_mv`); `None`
+/// for a kind this board does not build (not in [`DRIVES`]) or a drive
+/// that refuses its settings.
+pub fn axis<'p>(
+    board: &'p DcBoard<'p>,
+    index: usize,
+    config: &AxisConfig,
+    calibration_supply_mv: u16,
+) -> Option<MegaAxis<'p>> {
     match DriveKind::from_code(config.drive)? {
         DriveKind::Stepper => stepper_axis(board.porta, board.portc, index).map(AnyAxis::Stepper),
         DriveKind::DcHall => dc::dc_axis(board, index, config).map(AnyAxis::Dc),
-        DriveKind::Timed => dc::timed_axis(board, index, config).map(AnyAxis::Timed),
+        DriveKind::Timed => {
+            dc::timed_axis(board, index, config, calibration_supply_mv).map(AnyAxis::Timed)
+        }
         _ => None,
     }
 }

@@ -227,14 +227,17 @@ pub fn dc_axis<'p>(
 /// from its start: [`TimedAxis`]), with the runs of its configuration
 /// `config` ([`suntracker::mechanics::timed_runs`]: forward at
 /// `max_speed_deg_s`, backward at `back_speed_deg_s`) and
-/// [`mechanics::WORM_SLEW_LAG_MS`]; `None` when a part or the runs refuse their settings
-/// (none does for a configuration that passed its checks).
+/// [`mechanics::WORM_SLEW_LAG_MS`], scaled by the measured supply against
+/// `calibration_supply_mv` (`supply.calibration_mv`; 0: not scaled);
+/// `None` when a part or the runs refuse their settings (none does for a
+/// configuration that passed its checks).
 pub fn timed_axis<'p>(
     board: &'p DcBoard<'p>,
     index: usize,
     config: &AxisConfig,
+    calibration_supply_mv: u16,
 ) -> Option<MegaTimedAxis<'p>> {
     let (motor, _, home, sense) = axis_parts(board, index, 0)?;
-    let runs = mechanics::timed_runs(config, mechanics::WORM_SLEW_LAG_MS);
+    let runs = mechanics::timed_runs(config, calibration_supply_mv, mechanics::WORM_SLEW_LAG_MS);
     TimedAxis::new(motor, home, true, Some(sense), runs, config).ok()
 }

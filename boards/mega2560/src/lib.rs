@@ -483,7 +483,7 @@ fn assemble_firmware<'p, 'b>(
     gps: Usart1,
     mut log: Usart0,
 ) -> Result<MegaFirmware<'p, 'b>, StartError> {
-    let axes = mega_axes(board, &config.axes, &mut log);
+    let axes = mega_axes(board, &config, &mut log);
     let rtc = Ds3231::new(SharedI2c::new(bus));
     let sensors = attitude_sensors(bus, &mut log);
     Firmware::new(
@@ -563,12 +563,13 @@ fn controller_options(axes: &[suntracker::config::AxisConfig; 2]) -> ControllerO
 #[inline(never)]
 fn mega_axes<'p>(
     board: &'p dc::DcBoard<'p>,
-    configs: &[suntracker::config::AxisConfig; 2],
+    config: &Config,
     log: &mut Usart0,
 ) -> [axes::MegaAxis<'p>; 2] {
+    let calibration_mv = config.supply.calibration_mv;
     match (
-        axes::axis(board, 0, &configs[0]),
-        axes::axis(board, 1, &configs[1]),
+        axes::axis(board, 0, &config.axes[0], calibration_mv),
+        axes::axis(board, 1, &config.axes[1], calibration_mv),
     ) {
         (Some(c), Some(a)) => [c, a],
         _ => halt(log, "axis configuration refused"),

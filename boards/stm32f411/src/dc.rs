@@ -432,7 +432,8 @@ fn arm<P: ExtiPin>(pin: &mut P, syscfg: &mut SysCfg, exti: &mut pac::EXTI) {
 /// a DC axis ramping [`mechanics::WORM_SLEW_RAMP_PERMILLE_PER_MS`] with
 /// the loop of its configuration ([`mechanics::dc_hall_loop`]), or a timed
 /// axis without a ramp with the runs of its configuration
-/// ([`mechanics::timed_runs`], [`mechanics::WORM_SLEW_LAG_MS`]); `None`
+/// ([`mechanics::timed_runs`], [`mechanics::WORM_SLEW_LAG_MS`]; not
+/// scaled by a supply measurement: this board reads none); `None`
 /// for a kind this image does not build or a part that refuses its
 /// settings (none does for a configuration that passed its checks).
 fn axis<'a>(
@@ -473,7 +474,7 @@ fn axis<'a>(
             .ok()
             .map(AnyAxis::Dc)
     } else {
-        let runs = mechanics::timed_runs(config, mechanics::WORM_SLEW_LAG_MS);
+        let runs = mechanics::timed_runs(config, 0, mechanics::WORM_SLEW_LAG_MS);
         TimedAxis::new(motor, home, true, Some(sense), runs, config)
             .ok()
             .map(AnyAxis::Timed)
