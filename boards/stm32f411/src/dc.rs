@@ -61,10 +61,11 @@
 //! the 50 µs period) makes the reading the average.
 //!
 //! **Conversions.** [`Adc1`] converts one channel at a time, started by
-//! software (RM0383 §11.3.1 "ADC on-off control", §11.3.3 "Single
-//! conversion mode"), with the ADC clock at PCLK2 / 4 = 25 MHz (at most
-//! 36 MHz: the F411 data sheet's f_ADC) and 84 cycles of sampling
-//! (§11.6 "Channel-wise programmable sampling time"): 96 cycles, 3.84 µs a
+//! software (ST, RM0383 reference manual, chapter "Analog-to-digital
+//! converter (ADC)": "ADC on-off control", "Single conversion mode"), with
+//! the ADC clock at PCLK2 / 4 = 25 MHz (at most 36 MHz: the F411 data
+//! sheet's f_ADC) and 84 cycles of sampling ("Channel-wise programmable
+//! sampling time"), 12 more for a 12-bit result: 96 cycles, 3.84 µs a
 //! conversion. A conversion that has not ended after [`ADC_WAIT_POLLS`]
 //! reads of the status register is an error, not a wait without end.
 //!
@@ -103,8 +104,8 @@ pub const DRIVES: DriveSet = DriveSet::NONE
     .with(DriveKind::DcHall)
     .with(DriveKind::Timed);
 
-/// The bridges' PWM frequency: above hearing, and 50 µs against the
-/// BTS7960's switching times (data sheet section 4.3 "Switching times").
+/// The bridges' PWM frequency: above hearing, as the ATmega2560's
+/// bridges run.
 pub const PWM_HZ: u32 = 20_000;
 
 /// The current sense of both axes: k_ILIS 8,500 (typical), R_IS 680 Ω,
@@ -242,8 +243,9 @@ pub struct Adc1 {
 
 impl Adc1 {
     /// Clocks ADC1 (PCLK2 / 4), sets 84 sampling cycles on channels 0 and
-    /// 1, and switches it on (RM0383 §11.3.1: t_STAB, 3 µs at most, passes
-    /// long before the loop's first conversion).
+    /// 1, and switches it on (RM0383, "ADC on-off control": the converter
+    /// needs its stabilisation time t_STAB after ADON, which passes long
+    /// before the loop's first conversion).
     pub fn start(adc: pac::ADC1, common: &pac::ADC_COMMON, rcc: &mut hal::rcc::Rcc) -> Self {
         pac::ADC1::enable(rcc);
         common.ccr().modify(|_, w| w.adcpre().div4());
