@@ -12,8 +12,8 @@
 //! little-endian, [`PAYLOAD_LEN`] bytes. The payloads of versions 2
 //! ([`PAYLOAD_LEN_V2`], without the hold), 3 ([`PAYLOAD_LEN_V3`]), 4
 //! ([`PAYLOAD_LEN_V4`]), 5 ([`PAYLOAD_LEN_V5`]), 6 ([`PAYLOAD_LEN_V6`])
-//! 7 ([`PAYLOAD_LEN_V7`]) and 8 ([`PAYLOAD_LEN_V8`]) are still read, the fields they lack at their
-//! defaults. Also the
+//! 7 ([`PAYLOAD_LEN_V7`]) and 8 ([`PAYLOAD_LEN_V8`]) are still read, the
+//! fields they lack at their defaults. Also the
 //! little-endian cursors that write and read it (the store writes its slot
 //! header with the same writer).
 
@@ -55,66 +55,40 @@ pub const PAYLOAD_LEN_V8: usize = PAYLOAD_LEN_V7 + 2 * 4;
 /// calibration supply (2 bytes).
 pub const PAYLOAD_LEN: usize = PAYLOAD_LEN_V8 + 2;
 
-/// The keys of layout version 8, the first of [`KEYS`]: those up to the A
-/// axis's `back_speed_deg_s`.
-const V8_KEYS: usize = {
+/// How many of [`KEYS`] there are up to and including `last`: the keys of
+/// a layout version that ended with it.
+const fn keys_through(last: super::Field) -> usize {
     let mut i = 0;
-    while i < KEYS.len() && KEYS[i] as usize != super::Field::AxisABackSpeedDegS as usize {
+    while i < KEYS.len() && KEYS[i] as usize != last as usize {
         i += 1;
     }
     i + 1
-};
+}
+
+/// The keys of layout version 8, the first of [`KEYS`]: those up to the A
+/// axis's `back_speed_deg_s`.
+const V8_KEYS: usize = keys_through(super::Field::AxisABackSpeedDegS);
 
 /// The keys of layout version 7, the first of [`KEYS`]: those up to the A
 /// axis's `overcurrent_ms`.
-const V7_KEYS: usize = {
-    let mut i = 0;
-    while i < KEYS.len() && KEYS[i] as usize != super::Field::AxisAOvercurrentMs as usize {
-        i += 1;
-    }
-    i + 1
-};
+const V7_KEYS: usize = keys_through(super::Field::AxisAOvercurrentMs);
 
 /// The keys of layout version 6, the first of [`KEYS`]: those up to
 /// `modbus.timeout_stow`.
-const V6_KEYS: usize = {
-    let mut i = 0;
-    while i < KEYS.len() && KEYS[i] as usize != super::Field::ModbusTimeoutStow as usize {
-        i += 1;
-    }
-    i + 1
-};
+const V6_KEYS: usize = keys_through(super::Field::ModbusTimeoutStow);
 
 /// The keys of layout version 5, the first of [`KEYS`]: those up to
 /// `axis.c.continuous`.
-const V5_KEYS: usize = {
-    let mut i = 0;
-    while i < KEYS.len() && KEYS[i] as usize != super::Field::AxisCContinuous as usize {
-        i += 1;
-    }
-    i + 1
-};
+const V5_KEYS: usize = keys_through(super::Field::AxisCContinuous);
 
 /// The keys of layout version 4, the first of [`KEYS`]: those up to
 /// `overcast.max_moves_per_hour`.
-const V4_KEYS: usize = {
-    let mut i = 0;
-    while i < KEYS.len() && KEYS[i] as usize != super::Field::OvercastMaxMovesPerHour as usize {
-        i += 1;
-    }
-    i + 1
-};
+const V4_KEYS: usize = keys_through(super::Field::OvercastMaxMovesPerHour);
 
 /// The keys of layout versions 2 and 3, the first of [`KEYS`]: those up to
 /// `log.status_min`. The operator's hold follows them; the keys after are
 /// newer.
-const V3_KEYS: usize = {
-    let mut i = 0;
-    while i < KEYS.len() && KEYS[i] as usize != super::Field::LogStatusMin as usize {
-        i += 1;
-    }
-    i + 1
-};
+const V3_KEYS: usize = keys_through(super::Field::LogStatusMin);
 
 /// A little-endian writer into `buf` from `pos`; a write past the end
 /// sets `overflow` and writes nothing.

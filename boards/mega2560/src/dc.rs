@@ -207,8 +207,9 @@ fn axis_parts<'p>(
 
 /// The DC axis `index` ([`axis_parts`]: C on Timer1, PA0/PA1, A2,
 /// PK4/PK5 and the home switch PC0; A on Timer4, PA4/PA5, A3, PK6/PK7 and
-/// PC1), its bridge ramping [`mechanics::WORM_SLEW_RAMP_PERMILLE_PER_MS`], with the loop of
-/// its configuration `config` ([`suntracker::mechanics::dc_hall_loop`]);
+/// PC1), its bridge ramping
+/// [`mechanics::WORM_SLEW_RAMP_PERMILLE_PER_MS`], with the loop of its
+/// configuration `config` ([`suntracker::mechanics::dc_hall_loop`]);
 /// `None` when a part or the loop refuse their settings (none does for a
 /// configuration that passed its checks).
 pub fn dc_axis<'p>(
