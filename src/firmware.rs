@@ -215,6 +215,29 @@ where
     }
 }
 
+/// A linear actuator's axis closes its loop on its feedback once per
+/// pass ([`crate::hw::LinearAxis::poll`]); a motor fault or a failed
+/// reading is no drive error, as for a DC axis: the controller takes it
+/// through [`AxisDrive::take_fault`].
+impl<B, F, H, C> Motion for crate::hw::LinearAxis<B, F, H, C>
+where
+    B: drivers::dc_motor::Bridge,
+    F: crate::hw::LinearFeedback,
+    H: embedded_hal::digital::InputPin,
+    C: crate::hw::MotorCurrent,
+{
+    fn service(&mut self, now_ms: u64) -> bool {
+        use crate::hw::LinearAxisError as E;
+        // The axis's times wrap with the count's low 32 bits.
+        match self.poll(now_ms as u32) {
+            Ok(_)
+            | Err(E::Axis(crate::hw::DcAxisError::Fault(_)))
+            | Err(E::Feedback(_) | E::FeedbackLost) => true,
+            Err(_) => false,
+        }
+    }
+}
+
 /// Longest pass after which a GPS fix decoded in the next pass keeps its
 /// stamp (the moment it was decoded): 50 ms, a few ticks of a loop that
 /// wakes every millisecond. After a longer pass (a day plan's step, the

@@ -1,7 +1,7 @@
 //! An axis of whichever kind the configuration names (`hw::AnyAxis`):
 //! every method reaches the axis inside and only it, each kind's errors
 //! come out as that kind's, and the loop's millisecond count reaches a
-//! DC or timed axis as it is; the board-independent choices that go with
+//! DC, timed or linear axis as it is; the board-independent choices that go with
 //! the kinds (`mechanics::worm_slew_config`, `mechanics::options_for_drives`).
 
 use core::convert::Infallible;
@@ -81,7 +81,7 @@ impl AxisDrive for Recorder {
     }
 }
 
-type Axis = AnyAxis<Recorder, Recorder, Recorder>;
+type Axis = AnyAxis<Recorder, Recorder, Recorder, Recorder, Recorder>;
 
 /// Every method once, in this order.
 fn exercise(axis: &mut Axis) -> Vec<String> {
@@ -95,7 +95,11 @@ fn exercise(axis: &mut Axis) -> Vec<String> {
     axis.rebase_counts(360);
     axis.switch_stops(false);
     axis.rebase_at_rest();
-    let (AnyAxis::Stepper(r) | AnyAxis::Dc(r) | AnyAxis::Timed(r)) = axis;
+    let (AnyAxis::Stepper(r)
+    | AnyAxis::Dc(r)
+    | AnyAxis::Timed(r)
+    | AnyAxis::LinearHall(r)
+    | AnyAxis::LinearPot(r)) = axis;
     r.calls.clone()
 }
 
@@ -114,7 +118,13 @@ const EXPECTED: [&str; 10] = [
 
 #[test]
 fn every_method_reaches_the_axis_inside_with_its_arguments() {
-    for make in [AnyAxis::Stepper, AnyAxis::Dc, AnyAxis::Timed] {
+    for make in [
+        AnyAxis::Stepper,
+        AnyAxis::Dc,
+        AnyAxis::Timed,
+        AnyAxis::LinearHall,
+        AnyAxis::LinearPot,
+    ] {
         let mut axis: Axis = make(Recorder::default());
         assert_eq!(exercise(&mut axis), EXPECTED);
         // The values come back as the axis gave them.
@@ -136,12 +146,16 @@ fn each_kinds_errors_come_out_as_that_kind() {
     let mut stepper: Axis = AnyAxis::Stepper(failing());
     let mut dc: Axis = AnyAxis::Dc(failing());
     let mut timed: Axis = AnyAxis::Timed(failing());
+    let mut hall: Axis = AnyAxis::LinearHall(failing());
+    let mut pot: Axis = AnyAxis::LinearPot(failing());
     assert_eq!(stepper.move_counts(1), Err(AnyAxisError::Stepper));
     assert_eq!(stepper.stop(), Err(AnyAxisError::Stepper));
     assert_eq!(dc.at_limit(), Err(AnyAxisError::Motor));
     assert_eq!(dc.encoder_deg(), Err(AnyAxisError::Motor));
     assert_eq!(timed.move_counts(1), Err(AnyAxisError::Motor));
     assert!(!timed.service(5));
+    assert_eq!(hall.stop(), Err(AnyAxisError::Motor));
+    assert_eq!(pot.encoder_deg(), Err(AnyAxisError::Motor));
 }
 
 #[test]
@@ -153,13 +167,15 @@ fn which_axis_watches_its_own_motor_is_the_axis_insides_answer() {
     assert!(!Axis::Stepper(Recorder::default()).self_watched());
     assert!(Axis::Dc(watched()).self_watched());
     assert!(Axis::Timed(watched()).self_watched());
+    assert!(Axis::LinearPot(watched()).self_watched());
     // Which one is known at run time only.
     const { assert!(!Axis::SELF_WATCHED) };
 }
 
 #[test]
 fn a_kind_the_image_does_not_build_is_no_variant() {
-    // An image without steppers: the other two kinds work as before.
+    // An image without steppers (nor, by default, linear actuators): the
+    // other two kinds work as before.
     let mut axis: AnyAxis<Infallible, Recorder, Recorder> = AnyAxis::Dc(Recorder::default());
     assert_eq!(axis.move_counts(3), Ok(()));
     assert!(axis.service(9));

@@ -397,6 +397,20 @@ fn a_pot_reading_at_a_rail_is_a_fault_not_a_panic() {
 }
 
 #[test]
+fn the_loop_takes_a_failed_reading_as_a_motor_fault_not_a_drive_error() {
+    // Through the firmware loop's `Motion`: the pass goes on (true), and
+    // the controller learns of the fault through `take_fault`.
+    let plant = plant(50.0);
+    let mut axis = pot_axis(&plant);
+    plant.borrow_mut().adc_fails = true;
+    assert!(suntracker::firmware::Motion::service(&mut axis, 1_000));
+    assert_eq!(axis.take_fault(), Some(DriveFault::Stall));
+    // Refused moves stay refused until cleared, and the loop still runs.
+    assert!(suntracker::firmware::Motion::service(&mut axis, 1_001));
+    assert_eq!(axis.move_counts(10), Err(LinearAxisError::FeedbackLost));
+}
+
+#[test]
 fn an_adc_error_is_a_fault() {
     let plant = plant(50.0);
     let mut axis = pot_axis(&plant);

@@ -1,159 +1,145 @@
 //! One axis of whichever kind its configuration names (`axis.c.drive`,
 //! `axis.a.drive`), chosen when a board builds its axes at power-on: a
 //! stepper ([`super::StepperAxis`]), a DC gear motor closed on its Hall
-//! count ([`super::DcAxis`]) or a DC motor moved by time
-//! ([`super::TimedAxis`]). The controller drives both axes of one type, so a
+//! count ([`super::DcAxis`]), a DC motor moved by time
+//! ([`super::TimedAxis`]) or a linear actuator ([`super::LinearAxis`]). The controller drives both axes of one type, so a
 //! board that takes more than one kind by configuration hands it this enum;
 //! each method passes to the axis inside.
+
+use core::convert::Infallible;
 
 use crate::firmware::Motion;
 use crate::motion::{AxisDrive, DriveFault};
 
-/// An axis of one of three kinds: `S` a stepper, `D` a DC axis with
-/// feedback, `T` a timed axis (any [`AxisDrive`] and [`Motion`] fit each
-/// place; the names say what the boards put there; `Infallible` stands for
-/// a kind the image does not build).
+/// An axis of one of five kinds: `S` a stepper, `D` a DC axis with
+/// feedback, `T` a timed axis, `H` a linear actuator on Hall pulses, `P`
+/// one on its potentiometer (any [`AxisDrive`] and [`Motion`] fit each
+/// place; the names say what the boards put there; `Infallible`, the
+/// default of the linear places, stands for a kind the image does not
+/// build).
 #[derive(Debug)]
-pub enum AnyAxis<S, D, T> {
+pub enum AnyAxis<S, D, T, H = Infallible, P = Infallible> {
     /// A stepper on its bridge or driver.
     Stepper(S),
     /// A DC gear motor on its H-bridge, closed on its Hall count.
     Dc(D),
     /// A DC motor on its H-bridge, moved by time.
     Timed(T),
+    /// A linear actuator on its H-bridge, closed on its Hall pulses.
+    LinearHall(H),
+    /// A linear actuator on its H-bridge, closed on its potentiometer.
+    LinearPot(P),
 }
 
 /// A drive error of an [`AnyAxis`] (the controller takes any as a failed
-/// move; a DC or timed motor's own faults come through
+/// move; a DC, timed or linear motor's own faults come through
 /// [`AxisDrive::take_fault`]).
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum AnyAxisError {
     /// The stepper's pins or its switches.
     Stepper,
-    /// A DC or timed axis's bridge, switch or current sense, or a motor
-    /// fault.
+    /// A DC, timed or linear axis's bridge, switch, current sense or
+    /// feedback, or a motor fault.
     Motor,
 }
 
-impl<S: Motion, D: Motion, T: Motion> Motion for AnyAxis<S, D, T> {
-    fn service(&mut self, now_ms: u64) -> bool {
-        match self {
-            AnyAxis::Stepper(s) => s.service(now_ms),
-            AnyAxis::Dc(d) => d.service(now_ms),
-            AnyAxis::Timed(t) => t.service(now_ms),
+/// `$e` on the axis inside `$axis` (bound to `$a`), whichever kind it is.
+macro_rules! each {
+    ($axis:expr, $a:ident => $e:expr) => {
+        match $axis {
+            AnyAxis::Stepper($a) => $e,
+            AnyAxis::Dc($a) => $e,
+            AnyAxis::Timed($a) => $e,
+            AnyAxis::LinearHall($a) => $e,
+            AnyAxis::LinearPot($a) => $e,
         }
+    };
+}
+
+/// `$e`, a `Result`, on the axis inside `$axis`, its error mapped to the
+/// kind's [`AnyAxisError`].
+macro_rules! each_mapped {
+    ($axis:expr, $a:ident => $e:expr) => {
+        match $axis {
+            AnyAxis::Stepper($a) => $e.map_err(|_| AnyAxisError::Stepper),
+            AnyAxis::Dc($a) => $e.map_err(|_| AnyAxisError::Motor),
+            AnyAxis::Timed($a) => $e.map_err(|_| AnyAxisError::Motor),
+            AnyAxis::LinearHall($a) => $e.map_err(|_| AnyAxisError::Motor),
+            AnyAxis::LinearPot($a) => $e.map_err(|_| AnyAxisError::Motor),
+        }
+    };
+}
+
+impl<S: Motion, D: Motion, T: Motion, H: Motion, P: Motion> Motion for AnyAxis<S, D, T, H, P> {
+    fn service(&mut self, now_ms: u64) -> bool {
+        each!(self, a => a.service(now_ms))
     }
 }
 
-impl<S: AxisDrive, D: AxisDrive, T: AxisDrive> AxisDrive for AnyAxis<S, D, T> {
+impl<S, D, T, H, P> AxisDrive for AnyAxis<S, D, T, H, P>
+where
+    S: AxisDrive,
+    D: AxisDrive,
+    T: AxisDrive,
+    H: AxisDrive,
+    P: AxisDrive,
+{
     type Error = AnyAxisError;
     // The associated `SELF_WATCHED` stays false: which axis watches its
     // own motor is known at run time only (`self_watched`).
     fn move_counts(&mut self, counts: i32) -> Result<(), Self::Error> {
-        match self {
-            AnyAxis::Stepper(s) => s.move_counts(counts).map_err(|_| AnyAxisError::Stepper),
-            AnyAxis::Dc(d) => d.move_counts(counts).map_err(|_| AnyAxisError::Motor),
-            AnyAxis::Timed(t) => t.move_counts(counts).map_err(|_| AnyAxisError::Motor),
-        }
+        each_mapped!(self, a => a.move_counts(counts))
     }
     fn pending(&self) -> i32 {
-        match self {
-            AnyAxis::Stepper(s) => s.pending(),
-            AnyAxis::Dc(d) => d.pending(),
-            AnyAxis::Timed(t) => t.pending(),
-        }
+        each!(self, a => a.pending())
     }
     fn stop(&mut self) -> Result<(), Self::Error> {
-        match self {
-            AnyAxis::Stepper(s) => s.stop().map_err(|_| AnyAxisError::Stepper),
-            AnyAxis::Dc(d) => d.stop().map_err(|_| AnyAxisError::Motor),
-            AnyAxis::Timed(t) => t.stop().map_err(|_| AnyAxisError::Motor),
-        }
+        each_mapped!(self, a => a.stop())
     }
     fn at_limit(&mut self) -> Result<bool, Self::Error> {
-        match self {
-            AnyAxis::Stepper(s) => s.at_limit().map_err(|_| AnyAxisError::Stepper),
-            AnyAxis::Dc(d) => d.at_limit().map_err(|_| AnyAxisError::Motor),
-            AnyAxis::Timed(t) => t.at_limit().map_err(|_| AnyAxisError::Motor),
-        }
+        each_mapped!(self, a => a.at_limit())
     }
     fn encoder_deg(&mut self) -> Result<Option<f32>, Self::Error> {
-        match self {
-            AnyAxis::Stepper(s) => s.encoder_deg().map_err(|_| AnyAxisError::Stepper),
-            AnyAxis::Dc(d) => d.encoder_deg().map_err(|_| AnyAxisError::Motor),
-            AnyAxis::Timed(t) => t.encoder_deg().map_err(|_| AnyAxisError::Motor),
-        }
+        each_mapped!(self, a => a.encoder_deg())
     }
     fn self_watched(&self) -> bool {
-        match self {
-            AnyAxis::Stepper(s) => s.self_watched(),
-            AnyAxis::Dc(d) => d.self_watched(),
-            AnyAxis::Timed(t) => t.self_watched(),
-        }
+        each!(self, a => a.self_watched())
     }
     fn take_fault(&mut self) -> Option<DriveFault> {
-        match self {
-            AnyAxis::Stepper(s) => s.take_fault(),
-            AnyAxis::Dc(d) => d.take_fault(),
-            AnyAxis::Timed(t) => t.take_fault(),
-        }
+        each!(self, a => a.take_fault())
     }
     fn fault_latched(&self) -> bool {
-        match self {
-            AnyAxis::Stepper(s) => s.fault_latched(),
-            AnyAxis::Dc(d) => d.fault_latched(),
-            AnyAxis::Timed(t) => t.fault_latched(),
-        }
+        each!(self, a => a.fault_latched())
     }
     fn clear_fault(&mut self) {
-        match self {
-            AnyAxis::Stepper(s) => s.clear_fault(),
-            AnyAxis::Dc(d) => d.clear_fault(),
-            AnyAxis::Timed(t) => t.clear_fault(),
-        }
+        each!(self, a => a.clear_fault())
     }
     fn rebase_counts(&mut self, counts: i32) {
-        match self {
-            AnyAxis::Stepper(s) => s.rebase_counts(counts),
-            AnyAxis::Dc(d) => d.rebase_counts(counts),
-            AnyAxis::Timed(t) => t.rebase_counts(counts),
-        }
+        each!(self, a => a.rebase_counts(counts))
     }
     fn switch_stops(&mut self, on: bool) {
-        match self {
-            AnyAxis::Stepper(s) => s.switch_stops(on),
-            AnyAxis::Dc(d) => d.switch_stops(on),
-            AnyAxis::Timed(t) => t.switch_stops(on),
-        }
+        each!(self, a => a.switch_stops(on))
     }
     fn rebase_at_rest(&mut self) {
-        match self {
-            AnyAxis::Stepper(s) => s.rebase_at_rest(),
-            AnyAxis::Dc(d) => d.rebase_at_rest(),
-            AnyAxis::Timed(t) => t.rebase_at_rest(),
-        }
+        each!(self, a => a.rebase_at_rest())
     }
     fn set_supply_mv(&mut self, supply_mv: u32) {
-        match self {
-            AnyAxis::Stepper(s) => s.set_supply_mv(supply_mv),
-            AnyAxis::Dc(d) => d.set_supply_mv(supply_mv),
-            AnyAxis::Timed(t) => t.set_supply_mv(supply_mv),
-        }
+        each!(self, a => a.set_supply_mv(supply_mv))
     }
 }
 
 /// A kind an image does not build: `Infallible` in its place of an
 /// [`AnyAxis`] (no value exists, so that variant is never built and its
 /// arms are no code).
-impl Motion for core::convert::Infallible {
+impl Motion for Infallible {
     fn service(&mut self, _now_ms: u64) -> bool {
         match *self {}
     }
 }
 
 /// See the [`Motion`] impl.
-impl AxisDrive for core::convert::Infallible {
-    type Error = core::convert::Infallible;
+impl AxisDrive for Infallible {
+    type Error = Infallible;
     fn move_counts(&mut self, _counts: i32) -> Result<(), Self::Error> {
         match *self {}
     }

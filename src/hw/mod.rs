@@ -12,7 +12,7 @@
 //! | [`LinearAxis`] | [`crate::motion::AxisDrive`] | a [`DcAxis`] on a linear actuator between two pivots ([`drivers::linear::ActuatorGeometry`]), Hall pulses ([`HallFeedback`]) or a potentiometer ([`PotFeedback`]) |
 //! | [`TimedAxis`] | [`crate::motion::AxisDrive`] | [`drivers::dc_motor::DcMotor`] + home switch + optional current sense, no feedback: runs timed at calibrated speeds |
 //! | [`StepperAxis`] | [`crate::motion::AxisDrive`] | [`drivers::stepper::hbridge::HBridgeStepper`] + home switch |
-//! | [`AnyAxis`] | [`crate::motion::AxisDrive`] | a stepper, DC or timed axis, the kind chosen by the configuration at power-on |
+//! | [`AnyAxis`] | [`crate::motion::AxisDrive`] | a stepper, DC, timed or linear actuator axis, the kind chosen by the configuration at power-on |
 //!
 //! Time and site fallbacks (GPS, then RTC, then the stored site or a postal
 //! code) are in [`crate::time`].
