@@ -12,8 +12,12 @@ use drivers::stepper::ramp::Ramp;
 
 use crate::config::{AxisConfig, Config};
 use crate::controller::{AttitudeSource, ControllerOptions};
-use crate::hw::{DcAxisConfig, TimedAxisConfig};
+use crate::hw::{DcAxisConfig, PotConfig, TimedAxisConfig};
+#[cfg(feature = "linear")]
+use crate::hw::{LinearAxisConfig, POT_COUNTS_PER_MM};
 use crate::motion::FeedbackMode;
+#[cfg(feature = "linear")]
+use drivers::linear::LinearError;
 use sun_algos::Float;
 
 /// Full steps per motor turn.
@@ -22,6 +26,9 @@ pub const STEPS_PER_TURN: u32 = 200;
 pub const GEAR_RATIO: f32 = 50.0;
 /// Highest axis speed, degrees per second (56 full steps/s).
 pub const MAX_SPEED_DEG_S: f32 = 2.0;
+
+/// The default configuration's C axis, whose drive fields the axes take.
+const DEFAULT_AXIS: AxisConfig = Config::DEFAULT.axes[0];
 
 /// The axis configuration (C then A).
 pub fn axis_configs() -> [AxisConfig; 2] {
@@ -37,8 +44,15 @@ pub fn axis_configs() -> [AxisConfig; 2] {
         // Open loop: every set-point is driven to the nearest step.
         deadband_deg: 0.0,
         continuous: 0,
-        // Steppers; the current watch's defaults (DC axes only).
-        ..Config::DEFAULT.axes[0]
+        // Steppers; the defaults of the other drives' fields, each by its
+        // own constant (the whole default configuration, taken as a
+        // constant to copy from, was 283 B of the ATmega2560's RAM).
+        drive: DEFAULT_AXIS.drive,
+        max_current_ma: DEFAULT_AXIS.max_current_ma,
+        overcurrent_ms: DEFAULT_AXIS.overcurrent_ms,
+        back_speed_deg_s: DEFAULT_AXIS.back_speed_deg_s,
+        #[cfg(feature = "linear")]
+        linear: crate::config::LinearMount::DEFAULT,
     };
     let a = AxisConfig {
         min_deg: -90.0,
@@ -105,7 +119,10 @@ pub fn options_for_drives<T: Float>(
 ) -> ControllerOptions<T> {
     let has = |kind: crate::config::DriveKind| axes.iter().any(|a| a.drive == kind as u8);
     ControllerOptions {
-        feedback: if has(crate::config::DriveKind::DcHall) {
+        feedback: if has(crate::config::DriveKind::DcHall)
+            || has(crate::config::DriveKind::LinearHall)
+            || has(crate::config::DriveKind::LinearPot)
+        {
             FeedbackMode::ClosedLoop
         } else {
             options.feedback
@@ -174,6 +191,96 @@ pub fn dc_hall_loop(axis: &AxisConfig) -> DcAxisConfig {
         axis.max_current_ma,
         axis.overcurrent_ms,
     )
+}
+
+/// The position loop and watch of a linear actuator (`linear_hall`,
+/// `linear_pot`: [`crate::hw::LinearAxis`]) whose feedback gives
+/// `counts_per_mm` counts a mm of stroke, with the axis's current watch
+/// (`max_current_ma` for `overcurrent_ms`). The distances are in mm of
+/// the stroke, the simulator's LINAK LA12 figures
+/// (`sim::linear_drive::LA12_HALL_LOOP`, which explains them, for Hall
+/// pulses and the potentiometer alike): full duty beyond 5 mm, 40 % at
+/// the target; done on the target's count; the spindle stops the rod when
+/// braked (no stopping lead); 2 mm at rest is unexpected motion; an
+/// approach slower than 5 mm/s plus 3 s is too slow; a stall after 1 s
+/// without a count, or four counts' time at 10 mm/s (40 % duty) for
+/// feedback coarser than 0.4 counts a mm (a reed contact).
+pub fn linear_loop(axis: &AxisConfig, counts_per_mm: f32) -> DcAxisConfig {
+    /// `mm` of stroke in whole counts, at least `lo`.
+    fn counts(mm: f32, counts_per_mm: f32, lo: u32) -> u32 {
+        ((mm * counts_per_mm + 0.5) as u32).max(lo)
+    }
+    DcAxisConfig {
+        max_duty_permille: 1_000,
+        min_duty_permille: 400,
+        slow_band_counts: counts(5.0, counts_per_mm, 2),
+        deadband_counts: 1,
+        brake_lead_ms: 0,
+        settle_ms: 100,
+        max_reapproaches: 2,
+        stall_ms: counts(400.0, 1.0 / counts_per_mm, 1_000),
+        drive_threshold_permille: 100,
+        max_idle_counts: counts(2.0, counts_per_mm, 2).min(crate::hw::MAX_IDLE_COUNTS),
+        max_current_ma: u32::from(axis.max_current_ma),
+        overcurrent_ms: u32::from(axis.overcurrent_ms),
+        min_speed_cps: counts(5.0, counts_per_mm, 1),
+        move_margin_ms: 3_000,
+    }
+}
+
+/// A linear actuator's bridge ramp, per mille of duty per ms (the
+/// simulator's LA12 drive, `sim::linear_drive::la12_tilt_spec`: full duty
+/// in 0.2 s).
+pub const LINEAR_RAMP_PERMILLE_PER_MS: u16 = 5;
+
+/// How a linear actuator's potentiometer is read
+/// ([`crate::hw::PotFeedback`]): sixteen conversions a poll (one count rms
+/// of noise becomes a quarter), a hysteresis of 0.1 mm, readings within 8
+/// counts outside the calibrated span taken as the end (the simulator's
+/// `LA12_POT_READING`).
+pub const LINEAR_POT_READING: PotConfig = PotConfig {
+    samples: 16,
+    hysteresis_mm: 0.1,
+    end_margin_counts: 8,
+};
+
+/// The mounting and loop of a linear actuator's axis from its
+/// configuration (`axis.X.pivot_a_mm` … `pot_extended_counts`): the
+/// geometry; on Hall pulses (`linear_hall`) the home switch's pulse edge
+/// at the extension where the axis is at `home_deg` (the first edge above
+/// the switch: [`crate::hw::HallFeedback`]), on the potentiometer
+/// (`linear_pot`, homed at the retracted end) an end tolerance of the
+/// reading's hysteresis and two ADC counts; the loop
+/// [`linear_loop`] in the feedback's counts (half pulses, 2 a pulse, or
+/// tenths of a mm). `Err` when the geometry has no angle at `home_deg`
+/// (a configuration that passed its checks has one).
+#[cfg(feature = "linear")]
+pub fn linear_mount(axis: &AxisConfig) -> Result<LinearAxisConfig, LinearError> {
+    let m = &axis.linear;
+    let g = m.geometry();
+    let pot = axis.drive == crate::config::DriveKind::LinearPot as u8;
+    let (switch_extension_mm, end_tolerance_mm, counts_per_mm) = if pot {
+        let span = m.pot_retracted_counts.abs_diff(m.pot_extended_counts);
+        let mm_per_count = g.stroke_mm / f32::from(span.max(1));
+        (
+            0.0,
+            LINEAR_POT_READING.hysteresis_mm + 2.0 * mm_per_count,
+            POT_COUNTS_PER_MM,
+        )
+    } else {
+        let at_home_mm = g.extension_mm(g.length_mm(axis.home_deg)?)?;
+        (
+            at_home_mm.clamp(0.0, g.stroke_mm),
+            0.0,
+            2.0 * m.pulses_per_mm,
+        )
+    };
+    Ok(LinearAxisConfig {
+        geometry: g,
+        switch_extension_mm,
+        end_tolerance_mm,
+        loop_config: linear_loop(axis, counts_per_mm),
+    })
 }
 
 /// The runs of a DC motor moved by time without feedback (`axis.X.drive`

@@ -1,6 +1,6 @@
 //! Configuration ranges: every field is checked and the error names it.
 
-use suntracker::config::{ranges, AxisConfig, Config, ConfigError, Reason};
+use suntracker::config::{ranges, AxisConfig, Config, ConfigError, Reason, PAYLOAD_LEN};
 use suntracker::plan::ScheduleConfig;
 use suntracker::safety::OperatorHold;
 
@@ -242,7 +242,7 @@ fn every_field_out_of_range_is_named_with_its_reason() {
         assert_eq!(e.to_string(), format!("{key}: {}", e.reason));
         assert!(!c.is_valid());
         // Never stored nor loaded.
-        let mut buf = [0u8; 256];
+        let mut buf = [0u8; PAYLOAD_LEN];
         let n = c.encode(&mut buf).unwrap();
         assert_eq!(Config::decode(&buf[..n]), None, "{key}");
     }
@@ -339,7 +339,7 @@ fn ends_of_every_range_validate() {
         let mut c = Config::default();
         mutate(&mut c);
         assert_eq!(c.validate(), Ok(()), "extreme {i}");
-        let mut buf = [0u8; 256];
+        let mut buf = [0u8; PAYLOAD_LEN];
         let n = c.encode(&mut buf).unwrap();
         assert_eq!(Config::decode(&buf[..n]), Some(c), "extreme {i}");
     }

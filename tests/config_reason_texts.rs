@@ -66,12 +66,23 @@ fn expected(r: Reason) -> &'static str {
         Reason::DriveNotOnBoard => "no driver for it on this board",
         Reason::MaxCurrentMa => "100...40,000 mA",
         Reason::OvercurrentMs => "10...5,000 ms",
+        Reason::LengthMm => "10...5,000 mm",
+        Reason::PulsesPerMm => "0.01...1,000 pulses per mm",
+        Reason::AdcCounts => "0...4,095 ADC counts",
+        Reason::LinearGeometry => {
+            "no triangle: |a - b| < retracted length, extended length < a + b"
+        }
+        Reason::WithinStroke => "must lie within the actuator's stroke",
+        Reason::HomeAtRetracted => {
+            "must be the angle fully retracted (linear_pot), within 0.01 deg"
+        }
+        Reason::PotSpan => "must differ from pot_retracted_counts",
     }
 }
 
 #[test]
 fn every_reason_prints_its_documented_text() {
-    assert_eq!(Reason::ALL.len(), 43);
+    assert_eq!(Reason::ALL.len(), 50);
     let mut wrong = Vec::new();
     for &r in Reason::ALL {
         let text = r.text();
@@ -188,6 +199,19 @@ fn book_rows() -> Vec<(&'static str, Vec<Vec<String>>)> {
             ],
         ),
         ("`axis.*.back_speed_deg_s`", vec![f(r::MAX_SPEED_DEG_S)]),
+        (
+            "`axis.*.pivot_a_mm`, `pivot_b_mm`, `pivot_offset_deg`, `retracted_mm`, `stroke_mm`, `pulses_per_mm`, `pot_retracted_counts`, `pot_extended_counts`",
+            vec![
+                f(r::LENGTH_MM),
+                f(r::LENGTH_MM),
+                f(r::LIMIT_DEG),
+                f(r::LENGTH_MM),
+                f(r::LENGTH_MM),
+                f(r::PULSES_PER_MM),
+                book_range(range_text::u16s(r::ADC_COUNTS)),
+                book_range(range_text::u16s(r::ADC_COUNTS)),
+            ],
+        ),
         (
             "`wind.stow_hz`, `wind.hold_s`, `wind.release_s`, `wind.m_s_per_hz`",
             vec![

@@ -33,7 +33,7 @@ fn tromso() -> Config {
 #[test]
 fn encode_decode_round_trip() {
     let c = tromso();
-    let mut buf = [0u8; 256];
+    let mut buf = [0u8; PAYLOAD_LEN];
     let n = c.encode(&mut buf).unwrap();
     assert_eq!(n, PAYLOAD_LEN);
     assert_eq!(Config::decode(&buf[..n]), Some(c));
@@ -43,12 +43,13 @@ fn encode_decode_round_trip() {
     // overcast mode's (13 bytes), the C axis's `continuous` (1 byte), the
     // site's UTC offset (4), the anemometer's factor (4) and the Modbus
     // silence's stow (1), each axis's drive kind, current limit and
-    // overcurrent time (1 + 2 + 2), each axis's backward speed (4) and
-    // the timed axes' calibration supply (2) follow it.
+    // overcurrent time (1 + 2 + 2), each axis's backward speed (4), the
+    // timed axes' calibration supply (2) and each axis's linear actuator
+    // (six `f32`, two `u16`) follow it.
     const HOLD_AT: usize = 143;
     assert_eq!(
         n,
-        HOLD_AT + 1 + 11 + 22 + 4 + 13 + 1 + 9 + 2 * 5 + 2 * 4 + 2
+        HOLD_AT + 1 + 11 + 22 + 4 + 13 + 1 + 9 + 2 * 5 + 2 * 4 + 2 + 2 * (6 * 4 + 2 * 2)
     );
     // The drive fields away from their defaults come back too.
     let mut dc = c;
@@ -58,7 +59,9 @@ fn encode_decode_round_trip() {
     dc.axes[0].back_speed_deg_s = 0.75;
     dc.axes[1].back_speed_deg_s = 12.5;
     dc.supply.calibration_mv = 12_000;
-    let mut db = [0u8; 256];
+    dc.axes[1].linear.pivot_a_mm = 412.5;
+    dc.axes[0].linear.pot_extended_counts = 3_900;
+    let mut db = [0u8; PAYLOAD_LEN];
     assert_eq!(dc.encode(&mut db), Some(PAYLOAD_LEN));
     assert_eq!(Config::decode(&db[..n]), Some(dc));
     let mut held = c;
@@ -67,7 +70,7 @@ fn encode_decode_round_trip() {
         manual: false,
         service: true,
     };
-    let mut hb = [0u8; 256];
+    let mut hb = [0u8; PAYLOAD_LEN];
     assert_eq!(held.encode(&mut hb), Some(PAYLOAD_LEN));
     assert_eq!(hb[HOLD_AT], 0b101);
     assert_eq!(hb[..HOLD_AT], buf[..HOLD_AT]);
@@ -83,46 +86,55 @@ fn encode_decode_round_trip() {
     on_bus.modbus.address = 17;
     on_bus.modbus.write = 1;
     on_bus.stow.snow_release_s = 60;
-    let mut mb = [0u8; 256];
+    let mut mb = [0u8; PAYLOAD_LEN];
     assert_eq!(on_bus.encode(&mut mb), Some(PAYLOAD_LEN));
     assert_eq!(Config::decode(&mb[..HOLD_AT + 1]), Some(held));
     assert_eq!(Config::decode(&mb[..HOLD_AT]), Some(c));
     // Other lengths are rejected.
     assert_eq!(Config::decode(&buf[..HOLD_AT - 1]), None);
     assert_eq!(Config::decode(&buf[..HOLD_AT + 2]), None);
+    // Layout version 9's payload (without the linear actuators: their
+    // defaults).
+    let v9 = n - 2 * (6 * 4 + 2 * 2);
+    let mut dc_v9 = dc;
+    dc_v9.axes[0].linear = c.axes[0].linear;
+    dc_v9.axes[1].linear = c.axes[1].linear;
+    assert_eq!(Config::decode(&db[..v9]), Some(dc_v9));
+    assert_eq!(Config::decode(&buf[..v9 - 1]), None);
     // Layout version 8's payload (without the calibration supply: 0),
     // version 7's (also without the backward speeds: the defaults),
     // version 6's (also without the drive fields: steppers, the
     // current watch's defaults), version 5's (also without the UTC offset,
     // the anemometer's factor and the silence's stow) and version 4's
     // (also without `axis.c.continuous`) read with them at 0.
-    let mut dc_v8 = dc;
+    let mut dc_v8 = dc_v9;
     dc_v8.supply.calibration_mv = 0;
-    assert_eq!(Config::decode(&db[..n - 2]), Some(dc_v8));
+    assert_eq!(Config::decode(&db[..v9 - 2]), Some(dc_v8));
     let mut dc_v7 = dc_v8;
     dc_v7.axes[0].back_speed_deg_s = c.axes[0].back_speed_deg_s;
     dc_v7.axes[1].back_speed_deg_s = c.axes[1].back_speed_deg_s;
-    assert_eq!(Config::decode(&db[..n - 10]), Some(dc_v7));
-    assert_eq!(Config::decode(&buf[..n - 20]), Some(c));
-    assert_eq!(Config::decode(&db[..n - 20]), Some(c));
-    assert_eq!(Config::decode(&buf[..n - 29]), Some(c));
-    assert_eq!(Config::decode(&buf[..n - 30]), Some(c));
-    assert_eq!(Config::decode(&buf[..n - 1]), None);
-    assert_eq!(Config::decode(&buf[..n - 3]), None);
-    assert_eq!(Config::decode(&buf[..n - 6]), None);
-    assert_eq!(Config::decode(&buf[..n - 15]), None);
-    assert_eq!(Config::decode(&buf[..n - 31]), None);
-    assert_eq!(Config::decode(&buf[..n + 1]), None);
+    assert_eq!(Config::decode(&db[..v9 - 10]), Some(dc_v7));
+    assert_eq!(Config::decode(&buf[..v9 - 20]), Some(c));
+    assert_eq!(Config::decode(&db[..v9 - 20]), Some(c));
+    assert_eq!(Config::decode(&buf[..v9 - 29]), Some(c));
+    assert_eq!(Config::decode(&buf[..v9 - 30]), Some(c));
+    assert_eq!(Config::decode(&buf[..v9 - 1]), None);
+    assert_eq!(Config::decode(&buf[..v9 - 3]), None);
+    assert_eq!(Config::decode(&buf[..v9 - 6]), None);
+    assert_eq!(Config::decode(&buf[..v9 - 15]), None);
+    assert_eq!(Config::decode(&buf[..v9 - 31]), None);
+    assert_eq!(Config::decode(&buf[..n - 55]), None);
     // Too small a buffer to encode into.
     assert_eq!(c.encode(&mut [0u8; 10]), None);
 }
 
-/// The payload of layout version 9 byte by byte, built here field by
+/// The payload of layout version 10 byte by byte, built here field by
 /// field in the order `src/config/codec.rs` documents (the configuration's
 /// declaration order, little-endian, the derived counts per degree left
 /// out, the hold after the fields of version 3, the Modbus and stow
 /// settings after it, the C axis's `continuous`, the UTC offset, the
-/// anemometer's factor and the Modbus silence's stow last), so that a change of the key table that would move a stored
+/// anemometer's factor, the Modbus silence's stow, the drives, the
+/// backward speeds, the calibration supply and the linear actuators last), so that a change of the key table that would move a stored
 /// field fails here: every field gets a value of its own.
 #[test]
 fn payload_is_the_documented_layout() {
@@ -168,6 +180,9 @@ fn payload_is_the_documented_layout() {
     c.wind.m_s_per_hz = 0.667;
     c.modbus.timeout_stow = 1;
     c.supply.calibration_mv = 12_600;
+    c.axes[1].linear.pivot_b_mm = 140.0;
+    c.axes[1].linear.pulses_per_mm = 5.25;
+    c.axes[0].linear.pot_retracted_counts = 3_000;
     let mut expected = Vec::new();
     let f = |v: &mut Vec<u8>, x: f32| v.extend_from_slice(&x.to_le_bytes());
     let u = |v: &mut Vec<u8>, x: u32| v.extend_from_slice(&x.to_le_bytes());
@@ -250,8 +265,23 @@ fn payload_is_the_documented_layout() {
         f(&mut expected, a.back_speed_deg_s);
     }
     expected.extend_from_slice(&c.supply.calibration_mv.to_le_bytes());
+    for a in &c.axes {
+        let m = &a.linear;
+        for x in [
+            m.pivot_a_mm,
+            m.pivot_b_mm,
+            m.pivot_offset_deg,
+            m.retracted_mm,
+            m.stroke_mm,
+            m.pulses_per_mm,
+        ] {
+            f(&mut expected, x);
+        }
+        expected.extend_from_slice(&m.pot_retracted_counts.to_le_bytes());
+        expected.extend_from_slice(&m.pot_extended_counts.to_le_bytes());
+    }
     assert_eq!(expected.len(), PAYLOAD_LEN);
-    let mut buf = [0u8; 256];
+    let mut buf = [0u8; PAYLOAD_LEN];
     let n = c.encode(&mut buf).unwrap();
     assert_eq!(&buf[..n], &expected[..]);
     assert_eq!(Config::decode(&expected), Some(c));
@@ -350,19 +380,9 @@ fn one_corrupt_slot_uses_the_other() {
 fn old_version_and_bad_values_are_rejected_whole() {
     // Build a slot by hand: layout version 0 with a valid CRC.
     let c = tromso();
-    let mut payload = [0u8; 256];
+    let mut payload = [0u8; PAYLOAD_LEN];
     let n = c.encode(&mut payload).unwrap();
-    let slot = |version: u16, body: &[u8]| {
-        let mut s = Vec::new();
-        s.extend_from_slice(b"STCF");
-        s.extend_from_slice(&version.to_le_bytes());
-        s.extend_from_slice(&(body.len() as u16).to_le_bytes());
-        s.extend_from_slice(&9u32.to_le_bytes());
-        s.extend_from_slice(body);
-        let crc = crc32(&s);
-        s.extend_from_slice(&crc.to_le_bytes());
-        s
-    };
+    let slot = |version: u16, body: &[u8]| record(version, 9, body);
     let mut mem = MemStorage::<1024>::new();
     mem.write(0, &slot(0, &payload[..n])).unwrap();
     let l = ConfigStore::new(mem).load();
@@ -374,10 +394,13 @@ fn old_version_and_bad_values_are_rejected_whole() {
     // (before `axis.c.continuous`) and 5 (before the UTC offset, the
     // anemometer's factor and the silence's stow), 6 (before the axes'
     // drive kinds and current watch), 7 (before the axes' backward
-    // speeds) and 8 (before the timed axes' calibration supply) are still
-    // read, so an update keeps the saved configuration; version 3 with
-    // version 2's length is not.
-    let (v2, v3, v4, v5, v6, v7, v8) = (n - 81, n - 80, n - 30, n - 29, n - 20, n - 10, n - 2);
+    // speeds), 8 (before the timed axes' calibration supply) and 9
+    // (before the axes' linear actuators) are still read, so an update
+    // keeps the saved configuration; version 3 with version 2's length is
+    // not.
+    let v9 = n - 2 * (6 * 4 + 2 * 2);
+    let (v2, v3, v4, v5, v6, v7, v8) =
+        (v9 - 81, v9 - 80, v9 - 30, v9 - 29, v9 - 20, v9 - 10, v9 - 2);
     let mut mem = MemStorage::<1024>::new();
     mem.write(0, &slot(2, &payload[..v2])).unwrap();
     mem.write(SLOT_LEN, &slot(3, &payload[..v2])).unwrap();
@@ -389,7 +412,7 @@ fn old_version_and_bad_values_are_rejected_whole() {
     mem.write(0, &slot(3, &payload[..v3])).unwrap();
     let l = ConfigStore::new(mem).load();
     assert_eq!((l.defaults, l.config), (false, c));
-    for (version, len) in [(4, v4), (5, v5), (6, v6), (7, v7), (8, v8)] {
+    for (version, len) in [(4, v4), (5, v5), (6, v6), (7, v7), (8, v8), (9, v9)] {
         let mut mem = MemStorage::<1024>::new();
         mem.write(0, &slot(version, &payload[..len])).unwrap();
         let l = ConfigStore::new(mem).load();
@@ -397,8 +420,17 @@ fn old_version_and_bad_values_are_rejected_whole() {
     }
     // Version 2 with version 3's length is not either, nor version 3 with
     // version 4's, nor 4 with 5's, nor 5 with 6's, nor 6 with 7's, nor 7
-    // with 8's, nor 8 with 9's.
-    for (version, len) in [(2, v3), (3, v4), (4, v5), (5, v6), (6, v7), (7, v8), (8, n)] {
+    // with 8's, nor 8 with 9's, nor 9 with 10's.
+    for (version, len) in [
+        (2, v3),
+        (3, v4),
+        (4, v5),
+        (5, v6),
+        (6, v7),
+        (7, v8),
+        (8, v9),
+        (9, n),
+    ] {
         let mut mem = MemStorage::<1024>::new();
         mem.write(0, &slot(version, &payload[..len])).unwrap();
         let l = ConfigStore::new(mem).load();
@@ -429,23 +461,13 @@ fn old_version_and_bad_values_are_rejected_whole() {
 fn sequence_wraps_around() {
     // Slot 0 holds sequence u32::MAX, slot 1 sequence 0 (written after it).
     let c = tromso();
-    let mut payload = [0u8; 256];
+    let mut payload = [0u8; PAYLOAD_LEN];
     let n = c.encode(&mut payload).unwrap();
     let mut newer = c;
     newer.wind.release_s = 1234;
-    let mut payload2 = [0u8; 256];
+    let mut payload2 = [0u8; PAYLOAD_LEN];
     let n2 = newer.encode(&mut payload2).unwrap();
-    let slot = |seq: u32, body: &[u8]| {
-        let mut s = Vec::new();
-        s.extend_from_slice(b"STCF");
-        s.extend_from_slice(&LAYOUT_VERSION.to_le_bytes());
-        s.extend_from_slice(&(body.len() as u16).to_le_bytes());
-        s.extend_from_slice(&seq.to_le_bytes());
-        s.extend_from_slice(body);
-        let crc = crc32(&s);
-        s.extend_from_slice(&crc.to_le_bytes());
-        s
-    };
+    let slot = |seq: u32, body: &[u8]| record(LAYOUT_VERSION, seq, body);
     let mut mem = MemStorage::<1024>::new();
     mem.write(0, &slot(u32::MAX, &payload[..n])).unwrap();
     mem.write(SLOT_LEN, &slot(0, &payload2[..n2])).unwrap();
@@ -567,4 +589,96 @@ fn no_save_while_a_slot_cannot_be_read() {
     // Readable again: the copy is there.
     let FailingReads { mem, .. } = st.release();
     assert_eq!(ConfigStore::new(mem).load().config, tromso());
+}
+
+/// A record as the store writes it: header (magic, `version`, length,
+/// `seq`), `body`, CRC-32.
+fn record(version: u16, seq: u32, body: &[u8]) -> Vec<u8> {
+    let mut s = Vec::new();
+    s.extend_from_slice(b"STCF");
+    s.extend_from_slice(&version.to_le_bytes());
+    s.extend_from_slice(&(body.len() as u16).to_le_bytes());
+    s.extend_from_slice(&seq.to_le_bytes());
+    s.extend_from_slice(body);
+    let crc = crc32(&s);
+    s.extend_from_slice(&crc.to_le_bytes());
+    s
+}
+
+#[test]
+fn a_copy_in_slot_1_of_the_256_byte_slots_is_kept_across_the_update() {
+    // Before layout 10 a slot was 256 bytes: an EEPROM held slot 0 at 0
+    // and slot 1 at 256. Here slot 1 holds the newer copy (sequence 6)
+    // and slot 0 an older one (5), both of layout 9.
+    const { assert!(SLOT_LEN == 512) };
+    let older = tromso();
+    let mut newer = tromso();
+    newer.site.latitude_deg = 12.5;
+    let v9_len = PAYLOAD_LEN - 2 * (6 * 4 + 2 * 2);
+    let mut body = [0u8; PAYLOAD_LEN];
+    let n = older.encode(&mut body).unwrap();
+    assert_eq!(n, PAYLOAD_LEN);
+    let mut mem = MemStorage::<1024>::new();
+    mem.write(0, &record(9, 5, &body[..v9_len])).unwrap();
+    newer.encode(&mut body).unwrap();
+    mem.write(256, &record(9, 6, &body[..v9_len])).unwrap();
+    let mut st = ConfigStore::new(mem);
+    let l = st.load();
+    // The newer copy, not the older one in slot 0; the slots of 512 bytes
+    // report slot 0's copy and an empty slot 1.
+    assert_eq!((l.defaults, l.config), (false, newer));
+    assert_eq!(l.slots, [SlotState::Good(5), SlotState::Empty]);
+
+    // The next save goes to slot 1 (byte 512), past the old copy, which
+    // stays as it was until then.
+    let mut saved = newer;
+    saved.wind.release_s = 4_321;
+    st.save(&saved).unwrap();
+    let mut mem = st.release();
+    let mut header = [0u8; 12];
+    mem.read(SLOT_LEN, &mut header).unwrap();
+    assert_eq!(&header[..4], b"STCF");
+    assert_eq!(u32::from_le_bytes(header[8..12].try_into().unwrap()), 7);
+    let mut old_slot_1 = [0u8; 12];
+    mem.read(256, &mut old_slot_1).unwrap();
+    assert_eq!(u32::from_le_bytes(old_slot_1[8..12].try_into().unwrap()), 6);
+    let mut st = ConfigStore::new(mem);
+    assert_eq!(st.load().config, saved);
+    // And the one after it to slot 0, which overwrites the old slot 1's
+    // header: from then on only the two new slots count.
+    let mut again = saved;
+    again.wind.release_s = 1_234;
+    st.save(&again).unwrap();
+    let mem = st.release();
+    let l = ConfigStore::new(mem).load();
+    assert_eq!(l.config, again);
+    assert_eq!(l.slots, [SlotState::Good(8), SlotState::Good(7)]);
+}
+
+#[test]
+fn an_older_copy_at_byte_256_does_not_win_over_a_newer_slot() {
+    // A stale copy of 256-byte slots (sequence 3) and a newer one in slot 0
+    // of the 512-byte slots (sequence 4): the newer is taken.
+    let older = tromso();
+    let mut newer = tromso();
+    newer.site.longitude_deg = -3.25;
+    let v9_len = PAYLOAD_LEN - 2 * (6 * 4 + 2 * 2);
+    let mut body = [0u8; PAYLOAD_LEN];
+    let mut mem = MemStorage::<1024>::new();
+    older.encode(&mut body).unwrap();
+    mem.write(SLOT_LEN / 2, &record(9, 3, &body[..v9_len]))
+        .unwrap();
+    let n = newer.encode(&mut body).unwrap();
+    // Slot 0 of 512 bytes holds a record of 296 bytes: it reaches past
+    // byte 256, so write the old copy first and the new record at 0 would
+    // overwrite it; here the old copy sits in slot 1's place instead.
+    let mut mem2 = MemStorage::<1024>::new();
+    mem2.write(0, &record(LAYOUT_VERSION, 4, &body[..n]))
+        .unwrap();
+    assert_eq!(ConfigStore::new(mem2).load().config, newer);
+    mem.write(SLOT_LEN, &record(LAYOUT_VERSION, 4, &body[..n]))
+        .unwrap();
+    let l = ConfigStore::new(mem).load();
+    assert_eq!(l.config, newer);
+    assert_eq!(l.slots, [SlotState::Empty, SlotState::Good(4)]);
 }

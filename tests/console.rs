@@ -137,6 +137,14 @@ const DOC_RANGES: &[(&str, &str)] = &[
     ("axis.c.overcurrent_ms", "10…5,000"),
     ("axis.c.back_speed_deg_s", "0.01…30"),
     ("supply.calibration_mv", "0…60,000"),
+    ("axis.c.pivot_a_mm", "10…5,000"),
+    ("axis.c.pivot_b_mm", "10…5,000"),
+    ("axis.c.pivot_offset_deg", "−360…360"),
+    ("axis.c.retracted_mm", "10…5,000"),
+    ("axis.c.stroke_mm", "10…5,000"),
+    ("axis.c.pulses_per_mm", "0.01…1,000"),
+    ("axis.c.pot_retracted_counts", "0…4,095"),
+    ("axis.c.pot_extended_counts", "0…4,095"),
 ];
 
 /// The home switch's range is relative to `min_deg` (documented as
@@ -289,10 +297,10 @@ fn typed(value: f64, integer: bool) -> String {
 #[test]
 fn key_table_names_every_field_once_and_the_docs_list_them() {
     let mut names: Vec<String> = KEYS.iter().map(|k| k.name().to_string()).collect();
-    assert_eq!(names.len(), 71);
+    assert_eq!(names.len(), 87);
     names.sort_unstable();
     names.dedup();
-    assert_eq!(names.len(), 71, "duplicate keys");
+    assert_eq!(names.len(), 87, "duplicate keys");
     let docs = config_docs();
     let module =
         std::fs::read_to_string(concat!(env!("CARGO_MANIFEST_DIR"), "/src/console/mod.rs"))

@@ -140,7 +140,7 @@ where
     let mut logged_at = Vec::new();
     let mut seen = 0usize;
     let mut homed_at_switch = [false; 2];
-    let mut buf = [0u8; 256];
+    let mut buf = [0u8; suntracker::config::PAYLOAD_LEN];
     let end_ms = u64::from(seconds) * 1000;
     let mut next_epoch_ms = 0u64;
     let mut next_pulse_s = 0u64;
@@ -412,7 +412,7 @@ fn a_fix_found_after_a_long_pass_does_not_set_the_clock_back() {
         pulses: 0,
         fed: 0,
     };
-    let mut buf = [0u8; 256];
+    let mut buf = [0u8; suntracker::config::PAYLOAD_LEN];
     let late_from_ms = 20_000;
     let late_ms = 5_000;
     // One pass every 10 ms; an epoch each second (its last byte at the

@@ -694,6 +694,8 @@ fn invalid_configurations_do_not_panic() {
             max_current_ma: r.next_u64() as u16,
             overcurrent_ms: r.next_u64() as u16,
             back_speed_deg_s: f32::from_bits(r.next_u64() as u32),
+            // Not read by the axis controller.
+            linear: suntracker::config::LinearMount::DEFAULT,
         };
         let mut d = Mock::new(0, Switch::Normal, -1_000_000, 1_000_000);
         d.pos = (r.next_u64() % 2_000_000) as i64 - 1_000_000;

@@ -369,8 +369,8 @@ fn eeprom_sweep<R: Documented, const N: usize>(
     let new = *new;
     let rec = record(&new, seq);
     assert_eq!(rec.len(), N, "the record as documented is N bytes");
-    let base = slot * SLOT_LEN;
-    let other = (1 - slot) * SLOT_LEN;
+    let base = slot * R::SLOT_LEN;
+    let other = (1 - slot) * R::SLOT_LEN;
     // Bytes that differ between the record and what the slot holds: the
     // writes a save makes (equal bytes are skipped).
     let writes = rec
@@ -389,8 +389,8 @@ fn eeprom_sweep<R: Documented, const N: usize>(
     let after = store.release().release().bytes;
     assert_eq!(&after[base..base + rec.len()], &rec[..]);
     assert_eq!(
-        &after[other..other + SLOT_LEN],
-        &image[other..other + SLOT_LEN]
+        &after[other..other + R::SLOT_LEN],
+        &image[other..other + R::SLOT_LEN]
     );
     assert_eq!(eeprom_load::<R, N>(&after).config, new);
 
@@ -402,8 +402,8 @@ fn eeprom_sweep<R: Documented, const N: usize>(
             let (left, end) = eeprom_save::<R, N>(image, &new, Some((k, how)));
             assert_eq!(end, End::Cut, "{what}");
             assert_eq!(
-                &left[other..other + SLOT_LEN],
-                &image[other..other + SLOT_LEN],
+                &left[other..other + R::SLOT_LEN],
+                &image[other..other + R::SLOT_LEN],
                 "{what}: the other slot changed"
             );
             let l = eeprom_load::<R, N>(&left);

@@ -29,7 +29,7 @@
 use std::path::{Path, PathBuf};
 
 use suntracker::attitude::{angle_between_deg, sun_vector_xyz, MountAttitude, Pose};
-use suntracker::persist::{MemStorage, SLOT_LEN};
+use suntracker::persist::{MemStorage, Record};
 use suntracker::servo_tracker::settings::{Settings, SettingsStore, DEFAULTS, EEPROM_LEN};
 use suntracker_emu::log::{format_utc, Event};
 use suntracker_emu::script::xorshift32_noise;
@@ -89,6 +89,10 @@ fn sydney() -> Settings {
         ..DEFAULTS
     }
 }
+
+/// Bytes of a slot of the settings record (its own length: the
+/// configuration's may differ).
+const SLOT_LEN: usize = <Settings as Record>::SLOT_LEN;
 
 /// The sequence number in slot `slot`'s header.
 fn seq_of(eeprom: &[u8], slot: usize) -> u32 {

@@ -721,7 +721,7 @@ fn simulate_with<P: SimAxis>(
     }
     let (run_supply, run_overcast_ratio) = (config.supply, config.overcast.ratio);
     // The configuration as stored on the board: a power cycle reloads it.
-    let mut store = ConfigStore::new(MemStorage::<512>::new());
+    let mut store = ConfigStore::new(MemStorage::<{ 2 * suntracker::persist::SLOT_LEN }>::new());
     store
         .save(&config)
         .map_err(|e| format!("configuration not stored: {e:?}"))?;

@@ -434,8 +434,10 @@ macro_rules! flash_str {
 /// ```
 #[macro_export]
 macro_rules! flash_strs {
-    ($($text:expr),* $(,)?) => {{
-        const TEXTS: &[&str] = &[$($text),*];
+    // The texts as one constant slice expression (a caller that leaves
+    // some out by `cfg` builds it itself).
+    (@texts $texts:expr) => {{
+        const TEXTS: &[&str] = $texts;
         #[cfg_attr(target_arch = "avr", link_section = ".progmem.data")]
         static BYTES: [u8; $crate::joined_len(TEXTS)] =
             $crate::join::<{ $crate::joined_len(TEXTS) }>(TEXTS);
@@ -445,6 +447,9 @@ macro_rules! flash_strs {
         // above), below 64 KB; `join` and `ends` made them from ASCII texts.
         unsafe { $crate::FlashStrs::from_static(&BYTES, &ENDS) }
     }};
+    ($($text:expr),* $(,)?) => {
+        $crate::flash_strs!(@texts &[$($text),*])
+    };
 }
 
 /// A constant (a table, a value) in program memory on AVR, an ordinary

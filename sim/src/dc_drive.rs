@@ -92,6 +92,8 @@ pub fn worm_slew_axis_config(min_deg: f32, max_deg: f32) -> AxisConfig {
         max_current_ma: WORM_SLEW_LOOP.max_current_ma as u16,
         overcurrent_ms: WORM_SLEW_LOOP.overcurrent_ms as u16,
         back_speed_deg_s: 7.0,
+        #[cfg(feature = "linear")]
+        linear: suntracker::config::LinearMount::DEFAULT,
     }
 }
 

@@ -717,6 +717,19 @@ pub fn la12_tilt_axis_config(feedback: FeedbackKind) -> Result<AxisConfig, Linea
         max_current_ma: LA12_HALL_LOOP.max_current_ma as u16,
         overcurrent_ms: LA12_HALL_LOOP.overcurrent_ms as u16,
         back_speed_deg_s: 10.0,
+        // The mount and the feedback's scale as the configuration's keys
+        // give them (`axis.a.pivot_a_mm` … `pot_extended_counts`).
+        #[cfg(feature = "linear")]
+        linear: suntracker::config::LinearMount {
+            pivot_a_mm: g.a_mm,
+            pivot_b_mm: g.b_mm,
+            pivot_offset_deg: g.offset_deg,
+            retracted_mm: g.retracted_mm,
+            stroke_mm: g.stroke_mm,
+            pulses_per_mm: (1.0 / ActuatorSpec::LA12_DUAL_HALL_12V.mm_per_pulse) as f32,
+            pot_retracted_counts: adc_counts(ActuatorSpec::LA12_L1_12V.pot_retracted_v),
+            pot_extended_counts: adc_counts(ActuatorSpec::LA12_L1_12V.pot_extended_v),
+        },
     })
 }
 

@@ -1,4 +1,4 @@
-//! The configuration's binary payload, layout version 9
+//! The configuration's binary payload, layout version 10
 //! ([`super::LAYOUT_VERSION`]): the fields of the key table ([`super::KEYS`],
 //! which lists them in declaration order) but the derived counts per
 //! degree, in its order, with the operator's hold after the fields of
@@ -7,12 +7,13 @@
 //! in version 5, `site.utc_offset_h`, `wind.m_s_per_hz` and
 //! `modbus.timeout_stow` in version 6, each axis's `drive`,
 //! `max_current_ma` and `overcurrent_ms` in version 7, each axis's
-//! `back_speed_deg_s` in version 8, `supply.calibration_mv` in version 9)
-//! after it;
+//! `back_speed_deg_s` in version 8, `supply.calibration_mv` in version 9, each axis's linear actuator
+//! (`pivot_a_mm` to `pot_extended_counts`) in version 10) after it;
 //! little-endian, [`PAYLOAD_LEN`] bytes. The payloads of versions 2
 //! ([`PAYLOAD_LEN_V2`], without the hold), 3 ([`PAYLOAD_LEN_V3`]), 4
 //! ([`PAYLOAD_LEN_V4`]), 5 ([`PAYLOAD_LEN_V5`]), 6 ([`PAYLOAD_LEN_V6`])
-//! 7 ([`PAYLOAD_LEN_V7`]) and 8 ([`PAYLOAD_LEN_V8`]) are still read, the
+//! 7 ([`PAYLOAD_LEN_V7`]), 8 ([`PAYLOAD_LEN_V8`]) and 9
+//! ([`PAYLOAD_LEN_V9`]) are still read, the
 //! fields they lack at their defaults. Also the
 //! little-endian cursors that write and read it (the store writes its slot
 //! header with the same writer).
@@ -53,7 +54,18 @@ pub const PAYLOAD_LEN_V8: usize = PAYLOAD_LEN_V7 + 2 * 4;
 
 /// Payload length of layout version 9: version 8's and the timed axes'
 /// calibration supply (2 bytes).
-pub const PAYLOAD_LEN: usize = PAYLOAD_LEN_V8 + 2;
+pub const PAYLOAD_LEN_V9: usize = PAYLOAD_LEN_V8 + 2;
+
+/// Payload length of layout version 10: version 9's and each axis's
+/// linear actuator (six lengths, angles and scales of 4 bytes, two ADC
+/// readings of 2). An image built without the `linear` feature writes
+/// version 9, the length below.
+#[cfg(feature = "linear")]
+pub const PAYLOAD_LEN: usize = PAYLOAD_LEN_V9 + 2 * (6 * 4 + 2 * 2);
+/// Payload length of this image's layout: version 9's, without the
+/// linear actuators' keys (the `linear` feature adds them: version 10).
+#[cfg(not(feature = "linear"))]
+pub const PAYLOAD_LEN: usize = PAYLOAD_LEN_V9;
 
 /// How many of [`KEYS`] there are up to and including `last`: the keys of
 /// a layout version that ended with it.
@@ -64,6 +76,10 @@ const fn keys_through(last: super::Field) -> usize {
     }
     i + 1
 }
+
+/// The keys of layout version 9, the first of [`KEYS`]: those up to
+/// `supply.calibration_mv`.
+const V9_KEYS: usize = keys_through(super::Field::SupplyCalibrationMv);
 
 /// The keys of layout version 8, the first of [`KEYS`]: those up to the A
 /// axis's `back_speed_deg_s`.
@@ -183,7 +199,8 @@ impl Config {
         }
     }
 
-    /// Parses a payload of layout version 9, or of version 8 (without the
+    /// Parses a payload of layout version 10, or of version 9 (without the
+    /// axes' linear actuators: their defaults), 8 (also without the
     /// timed axes' calibration supply: 0, unscaled), 7 (also without the
     /// axes' backward speeds: the defaults), 6 (also without the
     /// axes' drive kinds and current watch: steppers, the defaults), 5
@@ -204,6 +221,7 @@ impl Config {
                 || (i == V6_KEYS && buf.len() == PAYLOAD_LEN_V6)
                 || (i == V7_KEYS && buf.len() == PAYLOAD_LEN_V7)
                 || (i == V8_KEYS && buf.len() == PAYLOAD_LEN_V8)
+                || (cfg!(feature = "linear") && i == V9_KEYS && buf.len() == PAYLOAD_LEN_V9)
             {
                 break;
             }

@@ -14,8 +14,8 @@ use Piece::{Offset, Str};
 /// table (read by `text_at`) only, for an enum whose names are more than its
 /// table's texts ([`Field`]).
 macro_rules! named {
-    ($(#[$m:meta])* $vis:vis enum $name:ident fn $f:ident { $($v:ident => $s:expr,)* }) => {
-        named! { @table $(#[$m])* $vis enum $name { $($v => $s,)* } }
+    ($(#[$m:meta])* $vis:vis enum $name:ident fn $f:ident { $($(#[$vm:meta])* $v:ident => $s:expr,)* }) => {
+        named! { @table $(#[$m])* $vis enum $name { $($(#[$vm])* $v => $s,)* } }
         impl $name {
             /// The text (in flash on AVR: [`FlashStr`]).
             pub fn $f(self) -> FlashStr {
@@ -43,20 +43,20 @@ macro_rules! named {
             }
         }
     };
-    (@table $(#[$m:meta])* $vis:vis enum $name:ident { $($v:ident => $s:expr,)* }) => {
+    (@table $(#[$m:meta])* $vis:vis enum $name:ident { $($(#[$vm:meta])* $v:ident => $s:expr,)* }) => {
         $(#[$m])*
         #[derive(Clone, Copy, PartialEq, Eq)]
         #[allow(missing_docs)]
-        $vis enum $name { $($v,)* }
+        $vis enum $name { $($(#[$vm])* $v,)* }
         impl $name {
             /// Every variant, in declaration order.
-            pub const ALL: &'static [$name] = &[$($name::$v,)*];
+            pub const ALL: &'static [$name] = &[$($(#[$vm])* $name::$v,)*];
 
             /// The text of the variant numbered `i` (empty past the last).
             fn text_at(i: usize) -> FlashStr {
                 // One table of the texts, by the variant's number (they
                 // are declared in the same order; `ALL` lists them so).
-                crate::flash_strs!($($s),*)
+                crate::flash_strs!(@texts &[$($(#[$vm])* $s),*])
                     .get(i)
                     .unwrap_or(crate::flash_str!(""))
             }
@@ -146,6 +146,39 @@ named! {
         // (The C-axis twin's name, as above.)
         AxisABackSpeedDegS => "",
         SupplyCalibrationMv => "supply.calibration_mv",
+        #[cfg(feature = "linear")]
+        AxisCPivotAMm => "pivot_a_mm",
+        #[cfg(feature = "linear")]
+        AxisCPivotBMm => "pivot_b_mm",
+        #[cfg(feature = "linear")]
+        AxisCPivotOffsetDeg => "pivot_offset_deg",
+        #[cfg(feature = "linear")]
+        AxisCRetractedMm => "retracted_mm",
+        #[cfg(feature = "linear")]
+        AxisCStrokeMm => "stroke_mm",
+        #[cfg(feature = "linear")]
+        AxisCPulsesPerMm => "pulses_per_mm",
+        #[cfg(feature = "linear")]
+        AxisCPotRetractedCounts => "pot_retracted_counts",
+        #[cfg(feature = "linear")]
+        AxisCPotExtendedCounts => "pot_extended_counts",
+        // (The C-axis twin's name, as above.)
+        #[cfg(feature = "linear")]
+        AxisAPivotAMm => "",
+        #[cfg(feature = "linear")]
+        AxisAPivotBMm => "",
+        #[cfg(feature = "linear")]
+        AxisAPivotOffsetDeg => "",
+        #[cfg(feature = "linear")]
+        AxisARetractedMm => "",
+        #[cfg(feature = "linear")]
+        AxisAStrokeMm => "",
+        #[cfg(feature = "linear")]
+        AxisAPulsesPerMm => "",
+        #[cfg(feature = "linear")]
+        AxisAPotRetractedCounts => "",
+        #[cfg(feature = "linear")]
+        AxisAPotExtendedCounts => "",
     }
 }
 
@@ -237,6 +270,22 @@ impl Field {
         );
         const C_RUN_2: (u8, u8) = (Field::AxisCDrive as u8, Field::AxisCOvercurrentMs as u8);
         const A_RUN_2: (u8, u8) = (Field::AxisADrive as u8, Field::AxisAOvercurrentMs as u8);
+        // The linear actuators' keys (an image without them: two empty
+        // runs, which no key is in).
+        #[cfg(feature = "linear")]
+        const C_RUN_3: (u8, u8) = (
+            Field::AxisCPivotAMm as u8,
+            Field::AxisCPotExtendedCounts as u8,
+        );
+        #[cfg(feature = "linear")]
+        const A_RUN_3: (u8, u8) = (
+            Field::AxisAPivotAMm as u8,
+            Field::AxisAPotExtendedCounts as u8,
+        );
+        #[cfg(not(feature = "linear"))]
+        const C_RUN_3: (u8, u8) = (u8::MAX, 0);
+        #[cfg(not(feature = "linear"))]
+        const A_RUN_3: (u8, u8) = (u8::MAX, 0);
         const C_ALONE: u8 = Field::AxisCContinuous as u8;
         // A run of one key: the C axis's, then the A axis's.
         const C_BACK: u8 = Field::AxisCBackSpeedDegS as u8;
@@ -246,17 +295,22 @@ impl Field {
         const _: () = assert!(C_RUN_1.0 == 0);
         const _: () = assert!(A_RUN_1.1 - A_RUN_1.0 == C_RUN_1.1 - C_RUN_1.0);
         const _: () = assert!(A_RUN_2.1 - A_RUN_2.0 == C_RUN_2.1 - C_RUN_2.0);
+        #[cfg(feature = "linear")]
+        const _: () = assert!(A_RUN_3.1 - A_RUN_3.0 == C_RUN_3.1 - C_RUN_3.0);
         let i = self as u8;
         let (prefix, text) = if i >= A_RUN_1.0 && i <= A_RUN_1.1 {
             (A_AXIS, i - (A_RUN_1.0 - C_RUN_1.0))
         } else if i >= A_RUN_2.0 && i <= A_RUN_2.1 {
             (A_AXIS, i - (A_RUN_2.0 - C_RUN_2.0))
+        } else if i >= A_RUN_3.0 && i <= A_RUN_3.1 {
+            (A_AXIS, i - (A_RUN_3.0 - C_RUN_3.0))
         } else if i == C_BACK + 1 {
             (A_AXIS, C_BACK)
         } else if i <= C_RUN_1.1
             || i == C_ALONE
             || i == C_BACK
             || (i >= C_RUN_2.0 && i <= C_RUN_2.1)
+            || (i >= C_RUN_3.0 && i <= C_RUN_3.1)
         {
             (C_AXIS, i)
         } else {
@@ -370,6 +424,20 @@ named! {
         DriveNotOnBoard => "no driver for it on this board",
         MaxCurrentMa => range_text!(u16s(r::MAX_CURRENT_MA), Str(" mA")),
         OvercurrentMs => range_text!(u16s(r::OVERCURRENT_MS), Str(" ms")),
+        #[cfg(feature = "linear")]
+        LengthMm => range_text!(f32s(r::LENGTH_MM), Str(" mm")),
+        #[cfg(feature = "linear")]
+        PulsesPerMm => range_text!(f32s(r::PULSES_PER_MM), Str(" pulses per mm")),
+        #[cfg(feature = "linear")]
+        AdcCounts => range_text!(u16s(r::ADC_COUNTS), Str(" ADC counts")),
+        #[cfg(feature = "linear")]
+        LinearGeometry => "no triangle: |a - b| < retracted length, extended length < a + b",
+        #[cfg(feature = "linear")]
+        WithinStroke => "must lie within the actuator's stroke",
+        #[cfg(feature = "linear")]
+        HomeAtRetracted => "must be the angle fully retracted (linear_pot), within 0.01 deg",
+        #[cfg(feature = "linear")]
+        PotSpan => "must differ from pot_retracted_counts",
     }
 }
 
@@ -379,27 +447,60 @@ named! {
 /// `safety.max_deviation_deg` names).
 pub(super) struct AxisKeys {
     pub(super) counts_per_motor_rev: Field,
+    #[cfg(feature = "linear")]
+    pub(super) min_deg: Field,
+    #[cfg(feature = "linear")]
+    pub(super) max_deg: Field,
+    #[cfg(feature = "linear")]
+    pub(super) home_deg: Field,
     pub(super) deadband_deg: Field,
     /// The first of the axis's keys added in layout version 7 (its drive,
     /// current limit and overcurrent time, in that order).
     pub(super) drive: Field,
     /// The axis's key added in layout version 8.
     pub(super) back_speed_deg_s: Field,
+    /// The first and the last of the axis's keys added in layout version
+    /// 10 (its linear actuator's, `pivot_a_mm` to `pot_extended_counts`).
+    #[cfg(feature = "linear")]
+    pub(super) linear: (Field, Field),
+    /// The stroke (the linear geometry's rule names it).
+    #[cfg(feature = "linear")]
+    pub(super) stroke_mm: Field,
 }
 
 /// The keys of the C axis (`Config::axes[0]`), then the A axis.
 pub(super) const AXIS_KEYS: [AxisKeys; 2] = [
     AxisKeys {
         counts_per_motor_rev: Field::AxisCCountsPerMotorRev,
+        #[cfg(feature = "linear")]
+        min_deg: Field::AxisCMinDeg,
+        #[cfg(feature = "linear")]
+        max_deg: Field::AxisCMaxDeg,
+        #[cfg(feature = "linear")]
+        home_deg: Field::AxisCHomeDeg,
         deadband_deg: Field::AxisCDeadbandDeg,
         drive: Field::AxisCDrive,
         back_speed_deg_s: Field::AxisCBackSpeedDegS,
+        #[cfg(feature = "linear")]
+        linear: (Field::AxisCPivotAMm, Field::AxisCPotExtendedCounts),
+        #[cfg(feature = "linear")]
+        stroke_mm: Field::AxisCStrokeMm,
     },
     AxisKeys {
         counts_per_motor_rev: Field::AxisACountsPerMotorRev,
+        #[cfg(feature = "linear")]
+        min_deg: Field::AxisAMinDeg,
+        #[cfg(feature = "linear")]
+        max_deg: Field::AxisAMaxDeg,
+        #[cfg(feature = "linear")]
+        home_deg: Field::AxisAHomeDeg,
         deadband_deg: Field::AxisADeadbandDeg,
         drive: Field::AxisADrive,
         back_speed_deg_s: Field::AxisABackSpeedDegS,
+        #[cfg(feature = "linear")]
+        linear: (Field::AxisAPivotAMm, Field::AxisAPotExtendedCounts),
+        #[cfg(feature = "linear")]
+        stroke_mm: Field::AxisAStrokeMm,
     },
 ];
 
@@ -411,7 +512,7 @@ mod tests {
 
     /// The A axis's keys as the console and the book name them, written
     /// out here rather than derived from the C axis's.
-    const A_AXIS_NAMES: [(Field, &str); 14] = [
+    const A_AXIS_NAMES: &[(Field, &str)] = &[
         (Field::AxisACountsPerMotorRev, "axis.a.counts_per_motor_rev"),
         (Field::AxisAMicrosteps, "axis.a.microsteps"),
         (Field::AxisAGearRatio, "axis.a.gear_ratio"),
@@ -426,6 +527,25 @@ mod tests {
         (Field::AxisAMaxCurrentMa, "axis.a.max_current_ma"),
         (Field::AxisAOvercurrentMs, "axis.a.overcurrent_ms"),
         (Field::AxisABackSpeedDegS, "axis.a.back_speed_deg_s"),
+        #[cfg(feature = "linear")]
+        (Field::AxisAPivotAMm, "axis.a.pivot_a_mm"),
+        #[cfg(feature = "linear")]
+        (Field::AxisAPivotBMm, "axis.a.pivot_b_mm"),
+        #[cfg(feature = "linear")]
+        (Field::AxisAPivotOffsetDeg, "axis.a.pivot_offset_deg"),
+        #[cfg(feature = "linear")]
+        (Field::AxisARetractedMm, "axis.a.retracted_mm"),
+        #[cfg(feature = "linear")]
+        (Field::AxisAStrokeMm, "axis.a.stroke_mm"),
+        #[cfg(feature = "linear")]
+        (Field::AxisAPulsesPerMm, "axis.a.pulses_per_mm"),
+        #[cfg(feature = "linear")]
+        (
+            Field::AxisAPotRetractedCounts,
+            "axis.a.pot_retracted_counts",
+        ),
+        #[cfg(feature = "linear")]
+        (Field::AxisAPotExtendedCounts, "axis.a.pot_extended_counts"),
     ];
 
     /// For a key of the A axis, the same key of the C axis (by the text
@@ -443,7 +563,7 @@ mod tests {
 
     #[test]
     fn axis_keys_are_named_from_one_text_for_both_axes() {
-        for (field, name) in A_AXIS_NAMES {
+        for &(field, name) in A_AXIS_NAMES {
             assert_eq!(field.name().to_string(), name);
             assert!(field.name() == name);
             assert!(field.name().eq_ignore_ascii_case(&name.to_uppercase()));
@@ -460,7 +580,7 @@ mod tests {
             .count();
         assert_eq!(a_axis, A_AXIS_NAMES.len());
         // Every other key is its table's text, after `axis.c.` for the C
-        // axis's 15 (its 14 twins and `continuous`).
+        // axis's twins and `continuous`.
         let mut c_axis = 0;
         for f in Field::ALL.iter().filter(|f| c_axis_twin(**f).is_none()) {
             let text = Field::text_at(*f as usize).as_str();
@@ -473,7 +593,7 @@ mod tests {
                 assert_eq!(name, text);
             }
         }
-        assert_eq!(c_axis, 15);
+        assert_eq!(c_axis, A_AXIS_NAMES.len() + 1);
     }
 
     #[test]

@@ -136,6 +136,79 @@ pub struct AxisConfig {
     /// under the panel's weight faster or slower than it extends). Not
     /// used by the other drives.
     pub back_speed_deg_s: f32,
+    /// A linear actuator's mounting and feedback (`linear_hall`,
+    /// `linear_pot`; the keys of an image built with the `linear`
+    /// feature). Not used by the other drives.
+    #[cfg(feature = "linear")]
+    pub linear: LinearMount,
+}
+
+/// A linear actuator between two pivots on either side of an axis's hinge
+/// (drive kinds `linear_hall` and `linear_pot`): the mounting
+/// geometry of [`drivers::linear::ActuatorGeometry`] (the axis angle
+/// follows from the actuator's pivot-to-pivot length by the law of
+/// cosines, `L² = a² + b² − 2ab·cos γ`, axis = γ − offset) and its
+/// feedback's scale. The defaults are the simulator's LA12 tilt mount
+/// (`sim::linear_drive::LA12_TILT_MOUNT`: a LINAK LA12 of 100 mm stroke,
+/// 245 mm retracted, pivots 237 mm and 110 mm from the hinge), a single
+/// Hall pulse a mm (LINAK, *Actuator LA12 User manual*, "I/O
+/// specifications", option L) and its potentiometer's 0.5 V and 4.5 V on
+/// a 10-bit ADC at 5 V.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct LinearMount {
+    /// Hinge to the actuator's fixed pivot, mm: 10…5,000
+    /// (`axis.c.pivot_a_mm`).
+    pub pivot_a_mm: f32,
+    /// Hinge to the actuator's rod-end pivot, mm: 10…5,000
+    /// (`axis.c.pivot_b_mm`).
+    pub pivot_b_mm: f32,
+    /// The hinge angle γ at axis angle 0, degrees: −360…360
+    /// (`axis.c.pivot_offset_deg`; axis = γ − offset).
+    pub pivot_offset_deg: f32,
+    /// Pivot-to-pivot length fully retracted, mm: 10…5,000
+    /// (`axis.c.retracted_mm`).
+    pub retracted_mm: f32,
+    /// Stroke, mm: 10…5,000 (`axis.c.stroke_mm`). With the pivots the
+    /// whole stroke must form a triangle (`a + b` above the extended
+    /// length, `|a − b|` below the retracted one), and the axis's soft
+    /// limits and home switch lie within the stroke's angles.
+    pub stroke_mm: f32,
+    /// Hall or reed pulses counted per mm of stroke (`linear_hall`):
+    /// 0.01…1,000 (`axis.c.pulses_per_mm`); every edge counted, so a dual
+    /// Hall (quadrature) output of 0.1875 mm a state shift is 5.333.
+    pub pulses_per_mm: f32,
+    /// The potentiometer's ADC reading fully retracted (`linear_pot`):
+    /// 0…4,095 (`axis.c.pot_retracted_counts`), a 12-bit converter's span.
+    pub pot_retracted_counts: u16,
+    /// The potentiometer's ADC reading fully extended: 0…4,095
+    /// (`axis.c.pot_extended_counts`), not the retracted reading (either
+    /// may be the larger: a potentiometer wired the other way round).
+    pub pot_extended_counts: u16,
+}
+
+impl LinearMount {
+    /// The defaults ([`LinearMount`]).
+    pub const DEFAULT: LinearMount = LinearMount {
+        pivot_a_mm: 237.0,
+        pivot_b_mm: 110.0,
+        pivot_offset_deg: 172.9,
+        retracted_mm: 245.0,
+        stroke_mm: 100.0,
+        pulses_per_mm: 1.0,
+        pot_retracted_counts: 102,
+        pot_extended_counts: 921,
+    };
+
+    /// The mounting geometry.
+    pub const fn geometry(&self) -> drivers::linear::ActuatorGeometry {
+        drivers::linear::ActuatorGeometry {
+            a_mm: self.pivot_a_mm,
+            b_mm: self.pivot_b_mm,
+            offset_deg: self.pivot_offset_deg,
+            retracted_mm: self.retracted_mm,
+            stroke_mm: self.stroke_mm,
+        }
+    }
 }
 
 /// An axis's drive kind: the codes of `axis.c.drive` and `axis.a.drive`.
@@ -442,6 +515,8 @@ impl Config {
             max_current_ma: 3_000,
             overcurrent_ms: 100,
             back_speed_deg_s: 2.0,
+            #[cfg(feature = "linear")]
+            linear: LinearMount::DEFAULT,
         };
         Config {
             site: SiteConfig {

@@ -122,6 +122,17 @@ pub const MAX_CURRENT_MA: (u16, u16) = (100, 40_000);
 /// gear motor draws its stall current, several times the rated one: it
 /// must not wait longer).
 pub const OVERCURRENT_MS: (u16, u16) = (10, 5_000);
+/// A linear actuator's pivot distances, lengths and stroke, mm: 1 cm
+/// (the smallest actuators' strokes) to 5 m (beyond any tracker's
+/// actuator and mounting).
+pub const LENGTH_MM: (f32, f32) = (10.0, 5_000.0);
+/// A linear actuator's feedback pulses per mm: a reed contact every
+/// 10 cm to an optical encoder's 1,000 a mm (a LINAK LA12's single Hall
+/// gives 1, its dual Hall outputs 5.3 edges).
+pub const PULSES_PER_MM: (f32, f32) = (0.01, 1_000.0);
+/// A potentiometer's ADC reading: a 12-bit converter's codes (the
+/// ATmega's 10-bit ADC reads 0…1,023).
+pub const ADC_COUNTS: (u16, u16) = (0, 4_095);
 /// An input's active level: 0 low, 1 high.
 pub const ACTIVE_LEVEL: (u8, u8) = (0, 1);
 /// An on/off switch: 0 off, 1 on.

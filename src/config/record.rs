@@ -2,6 +2,8 @@
 //! ([`crate::persist::ConfigStore`]): its magic, layout version and
 //! length, and the store of a [`Config`] ([`ConfigStore::new`]).
 
+#[cfg(feature = "linear")]
+use super::codec::PAYLOAD_LEN_V9;
 use super::codec::{
     PAYLOAD_LEN_V2, PAYLOAD_LEN_V3, PAYLOAD_LEN_V4, PAYLOAD_LEN_V5, PAYLOAD_LEN_V6, PAYLOAD_LEN_V7,
     PAYLOAD_LEN_V8,
@@ -16,12 +18,15 @@ use crate::ports::Storage;
 /// axis's `axis.c.continuous`, 6 `site.utc_offset_h`, `wind.m_s_per_hz`
 /// and `modbus.timeout_stow`, 7 each axis's `drive`, `max_current_ma`
 /// and `overcurrent_ms`, 8 each axis's `back_speed_deg_s`, 9
-/// `supply.calibration_mv`. Slots of versions 2 to 8 are read (with the
+/// `supply.calibration_mv`, 10 each axis's linear actuator
+/// (`pivot_a_mm` to `pot_extended_counts`: written by an image built
+/// with the `linear` feature; one without writes version 9). Slots of
+/// versions 2 to 9 are read (with the
 /// defaults of what they lack, and no hold in force from version 2), so a
 /// configuration saved before survives the update; one of version 1 is
 /// reported as [`SlotState::OldVersion`](crate::persist::SlotState::OldVersion)
 /// and not used.
-pub const LAYOUT_VERSION: u16 = 9;
+pub const LAYOUT_VERSION: u16 = if cfg!(feature = "linear") { 10 } else { 9 };
 
 /// The first four bytes of a slot holding a [`Config`].
 const MAGIC: [u8; 4] = *b"STCF";
@@ -39,6 +44,8 @@ impl Record for Config {
     const VERSION: u16 = LAYOUT_VERSION;
     const PAYLOAD_LEN: usize = PAYLOAD_LEN;
     const PREVIOUS: &'static [(u16, usize)] = &[
+        #[cfg(feature = "linear")]
+        (9, PAYLOAD_LEN_V9),
         (8, PAYLOAD_LEN_V8),
         (7, PAYLOAD_LEN_V7),
         (6, PAYLOAD_LEN_V6),

@@ -5,6 +5,8 @@
 //! [`Config::validate`] checks its ranges in that order, so that one table
 //! says all three.
 
+#[cfg(feature = "linear")]
+use super::LinearMount;
 use super::{
     ranges as r, AxisConfig, Calibration, Config, Field, LogConfig, ModbusConfig, OvercastConfig,
     Reason, SafetyConfig, SiteConfig, StowConfig, SupplyConfig, WindConfig,
@@ -104,28 +106,28 @@ pub(crate) enum Slot<'a> {
 /// configuration. The matches are exhaustive over [`Field`]: a field added
 /// to the configuration's keys must be added here.
 macro_rules! key_table {
-    ($c:ident; $( $field:ident $kind:ident $place:expr, $range:ident $why:ident; )*) => {
+    ($c:ident; $( $(#[$m:meta])* $field:ident $kind:ident $place:expr, $range:ident $why:ident; )*) => {
         /// Every key, in the order of the configuration's layout (`get`
         /// lists them in this order). `site.postal_code` is not a field and
         /// not in the table.
-        pub const KEYS: &[Field] = &[$(Field::$field,)*];
+        pub const KEYS: &[Field] = &[$($(#[$m])* Field::$field,)*];
 
         /// The range of each key of [`KEYS`], at the same place; when
         /// compiling only ([`BOUNDS`] and [`REASONS`] hold it).
-        const RANGES: [Range; KEYS.len()] = [$(key_range!($kind, r::$range, $why),)*];
+        const RANGES: [Range; KEYS.len()] = [$($(#[$m])* key_range!($kind, r::$range, $why),)*];
 
         /// The value of `key` in `$c` in the defaults table's bits
         /// ([`key_bits`]); when compiling.
         const fn key_bits($c: &Config, key: Field) -> u32 {
             match key {
-                $(Field::$field => key_bits!($kind, $place),)*
+                $($(#[$m])* Field::$field => key_bits!($kind, $place),)*
             }
         }
 
         /// The field of `key`, to write.
         pub(crate) fn slot($c: &mut Config, key: Field) -> Slot<'_> {
             match key {
-                $(Field::$field => key_slot!($kind, $place),)*
+                $($(#[$m])* Field::$field => key_slot!($kind, $place),)*
             }
         }
     };
@@ -203,6 +205,38 @@ key_table! { c;
     AxisCBackSpeedDegS F32 c.axes[0].back_speed_deg_s, MAX_SPEED_DEG_S SpeedDegS;
     AxisABackSpeedDegS F32 c.axes[1].back_speed_deg_s, MAX_SPEED_DEG_S SpeedDegS;
     SupplyCalibrationMv U16 c.supply.calibration_mv, SUPPLY_MV SupplyMv;
+    #[cfg(feature = "linear")]
+    AxisCPivotAMm F32 c.axes[0].linear.pivot_a_mm, LENGTH_MM LengthMm;
+    #[cfg(feature = "linear")]
+    AxisCPivotBMm F32 c.axes[0].linear.pivot_b_mm, LENGTH_MM LengthMm;
+    #[cfg(feature = "linear")]
+    AxisCPivotOffsetDeg F32 c.axes[0].linear.pivot_offset_deg, LIMIT_DEG LimitDeg;
+    #[cfg(feature = "linear")]
+    AxisCRetractedMm F32 c.axes[0].linear.retracted_mm, LENGTH_MM LengthMm;
+    #[cfg(feature = "linear")]
+    AxisCStrokeMm F32 c.axes[0].linear.stroke_mm, LENGTH_MM LengthMm;
+    #[cfg(feature = "linear")]
+    AxisCPulsesPerMm F32 c.axes[0].linear.pulses_per_mm, PULSES_PER_MM PulsesPerMm;
+    #[cfg(feature = "linear")]
+    AxisCPotRetractedCounts U16 c.axes[0].linear.pot_retracted_counts, ADC_COUNTS AdcCounts;
+    #[cfg(feature = "linear")]
+    AxisCPotExtendedCounts U16 c.axes[0].linear.pot_extended_counts, ADC_COUNTS AdcCounts;
+    #[cfg(feature = "linear")]
+    AxisAPivotAMm F32 c.axes[1].linear.pivot_a_mm, LENGTH_MM LengthMm;
+    #[cfg(feature = "linear")]
+    AxisAPivotBMm F32 c.axes[1].linear.pivot_b_mm, LENGTH_MM LengthMm;
+    #[cfg(feature = "linear")]
+    AxisAPivotOffsetDeg F32 c.axes[1].linear.pivot_offset_deg, LIMIT_DEG LimitDeg;
+    #[cfg(feature = "linear")]
+    AxisARetractedMm F32 c.axes[1].linear.retracted_mm, LENGTH_MM LengthMm;
+    #[cfg(feature = "linear")]
+    AxisAStrokeMm F32 c.axes[1].linear.stroke_mm, LENGTH_MM LengthMm;
+    #[cfg(feature = "linear")]
+    AxisAPulsesPerMm F32 c.axes[1].linear.pulses_per_mm, PULSES_PER_MM PulsesPerMm;
+    #[cfg(feature = "linear")]
+    AxisAPotRetractedCounts U16 c.axes[1].linear.pot_retracted_counts, ADC_COUNTS AdcCounts;
+    #[cfg(feature = "linear")]
+    AxisAPotExtendedCounts U16 c.axes[1].linear.pot_extended_counts, ADC_COUNTS AdcCounts;
 }
 
 crate::progmem! {
@@ -289,6 +323,17 @@ const ZEROS: Config = {
         max_current_ma: 0,
         overcurrent_ms: 0,
         back_speed_deg_s: 0.0,
+        #[cfg(feature = "linear")]
+        linear: LinearMount {
+            pivot_a_mm: 0.0,
+            pivot_b_mm: 0.0,
+            pivot_offset_deg: 0.0,
+            retracted_mm: 0.0,
+            stroke_mm: 0.0,
+            pulses_per_mm: 0.0,
+            pot_retracted_counts: 0,
+            pot_extended_counts: 0,
+        },
     };
     Config {
         site: SiteConfig {

@@ -7,6 +7,8 @@ use core::ops::Range;
 
 use super::keys::AXIS_KEYS;
 use super::table::{read, Value, BOUNDS, KEYS, REASONS};
+#[cfg(feature = "linear")]
+use super::DriveKind;
 use super::{AxisConfig, Config, DriveSet, Field, Reason};
 
 /// Which field of a [`Config`] is out of its range, and why.
@@ -110,6 +112,32 @@ const AXIS_BACK_SPEED: [usize; 2] = [
 ];
 const _: () = assert!(AXIS_BACK_SPEED[0] < KEYS.len() && AXIS_BACK_SPEED[1] < KEYS.len());
 
+#[cfg(feature = "linear")]
+/// The places in [`KEYS`] of each axis's keys of layout version 10, its
+/// linear actuator's (`pivot_a_mm` to `pot_extended_counts`, listed
+/// together).
+const AXIS_LINEAR_SPANS: [(usize, usize); 2] = [
+    (
+        key_index(AXIS_KEYS[0].linear.0),
+        key_index(AXIS_KEYS[0].linear.1) + 1,
+    ),
+    (
+        key_index(AXIS_KEYS[1].linear.0),
+        key_index(AXIS_KEYS[1].linear.1) + 1,
+    ),
+];
+#[cfg(feature = "linear")]
+const _: () = assert!(AXIS_LINEAR_SPANS[0].1 - AXIS_LINEAR_SPANS[0].0 == 8);
+#[cfg(feature = "linear")]
+const _: () = assert!(AXIS_LINEAR_SPANS[1].1 - AXIS_LINEAR_SPANS[1].0 == 8);
+#[cfg(feature = "linear")]
+const _: () = assert!(AXIS_LINEAR_SPANS[1].1 <= KEYS.len());
+
+/// How far a soft limit or home switch angle may lie outside a linear
+/// actuator's stroke, degrees: the rounding of a typed angle.
+#[cfg(feature = "linear")]
+const STROKE_TOLERANCE_DEG: f32 = 0.01;
+
 impl AxisConfig {
     /// Checks every field against its range; `axis` 0 is the C axis (keys
     /// `axis.c.*`), any other the A axis (`axis.a.*`). The deadband's
@@ -129,7 +157,13 @@ impl AxisConfig {
         config.check_keys(from..to)?;
         config.check_keys(drive_from..drive_to)?;
         let back = AXIS_BACK_SPEED[i];
-        config.check_keys(back..back + 1)
+        config.check_keys(back..back + 1)?;
+        #[cfg(feature = "linear")]
+        {
+            let (lin_from, lin_to) = AXIS_LINEAR_SPANS[i];
+            config.check_keys(lin_from..lin_to)?;
+        }
+        Ok(())
     }
 }
 
@@ -254,12 +288,71 @@ impl Config {
         if key == Field::ModbusBaud && !super::ranges::MODBUS_BAUDS.contains(&self.modbus.baud) {
             return fail(key, Reason::ModbusBaud);
         }
+        #[cfg(feature = "linear")]
+        {
+            let linear = match key {
+                Field::AxisCPotExtendedCounts => Some(0),
+                Field::AxisAPotExtendedCounts => Some(1),
+                _ => None,
+            };
+            if let Some(i) = linear {
+                self.check_linear(i)?;
+            }
+        }
         if key == Field::SafetyMaxRetries {
             for (a, k) in self.axes.iter().zip(AXIS_KEYS.iter()) {
                 if a.deadband_deg >= self.safety.max_deviation_deg {
                     return fail(k.deadband_deg, Reason::BelowMaxDeviation);
                 }
             }
+        }
+        Ok(())
+    }
+
+    /// The rules of axis `i`'s linear actuator, when its drive is one
+    /// (`linear_hall`, `linear_pot`): the mounting forms a triangle over
+    /// the whole stroke ([`drivers::linear::ActuatorGeometry::validate`]),
+    /// the soft limits and the home switch lie within the stroke's angles
+    /// (a potentiometer's home is the retracted end itself: the axis is
+    /// homed there), and the potentiometer's two readings differ.
+    /// Not inlined: one copy for both axes.
+    #[cfg(feature = "linear")]
+    #[inline(never)]
+    fn check_linear(&self, i: usize) -> Result<(), ConfigError> {
+        let (Some(a), Some(k)) = (self.axes.get(i), AXIS_KEYS.get(i)) else {
+            return Ok(());
+        };
+        let pot = a.drive == DriveKind::LinearPot as u8;
+        if !pot && a.drive != DriveKind::LinearHall as u8 {
+            return Ok(());
+        }
+        let fail = |field, reason| Err(ConfigError { field, reason });
+        let m = &a.linear;
+        if pot && m.pot_retracted_counts == m.pot_extended_counts {
+            return fail(k.linear.1, Reason::PotSpan);
+        }
+        let g = m.geometry();
+        let ends = g.validate().and_then(|()| {
+            Ok((
+                g.axis_deg(g.retracted_mm)?,
+                g.axis_deg(g.retracted_mm + g.stroke_mm)?,
+            ))
+        });
+        let Ok((lo, hi)) = ends else {
+            return fail(k.stroke_mm, Reason::LinearGeometry);
+        };
+        let (lo, hi) = (lo - STROKE_TOLERANCE_DEG, hi + STROKE_TOLERANCE_DEG);
+        if a.min_deg < lo {
+            return fail(k.min_deg, Reason::WithinStroke);
+        }
+        if a.max_deg > hi {
+            return fail(k.max_deg, Reason::WithinStroke);
+        }
+        if pot && a.home_deg > lo + 2.0 * STROKE_TOLERANCE_DEG {
+            return fail(k.home_deg, Reason::HomeAtRetracted);
+        }
+        if a.home_deg < lo || a.home_deg > hi {
+            return fail(k.home_deg, Reason::WithinStroke);
         }
         Ok(())
     }

@@ -15,6 +15,11 @@
 //! | Black Pill (STM32F411CE, 512 KiB flash) | flash sectors 1 and 2 | 0x0800_4000 (sector 1, 16 KiB) | 0x0800_8000 (sector 2, 16 KiB) | erase the sector (the CPU stalls), then program 16 bytes a step |
 //! | QEMU mps2-an386, hosts | RAM ([`MemStorage`]) | bytes 0–255 | bytes 256–511 | one write |
 //!
+//! A build with the core's `linear` feature (the linear actuators' keys:
+//! a configuration record of 296 bytes) has slots of 512 bytes: slot 1 at
+//! byte 512, and the old slot 1 at byte 256 still read ([`SLOT_LEN`]; the
+//! store's module docs). The hosts' tests and simulator are built so.
+//!
 //! Each slot holds one record of [`RECORD_LEN`](crate::config::RECORD_LEN)
 //! bytes at its start (layout in `store`, [`ConfigStore`]); a save writes the slot
 //! without the newest good copy, so the other one stays good through any
@@ -124,7 +129,8 @@ mod store;
 
 pub use mem::{MemError, MemStorage};
 pub use store::{
-    crc32, record_len, ConfigStore, Loaded, Record, SaveError, SaveStatus, SlotState, SLOT_LEN,
+    crc32, record_len, slot_len, ConfigStore, Loaded, Record, SaveError, SaveStatus, SlotState,
+    SHORT_SLOT_LEN, SLOT_LEN,
 };
 
 /// The cells of a byte-writable EEPROM: what [`EepromStorage`] needs from

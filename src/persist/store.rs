@@ -3,7 +3,8 @@
 //! [`Storage`], saved in steps beside a main loop.
 //!
 //! # Slot layout (little-endian)
-//! Each slot is [`SLOT_LEN`] bytes at offset `slot × SLOT_LEN`:
+//! Each slot is [`Record::SLOT_LEN`] bytes (256, or 512 for a record
+//! longer than 256: [`slot_len`]) at offset `slot × SLOT_LEN`:
 //!
 //! | bytes | field |
 //! |---|---|
@@ -20,6 +21,17 @@
 //! newest sequence; a bad CRC, a wrong magic or version, a payload of the
 //! wrong length or values out of range make a slot bad as a whole. With no
 //! good slot the defaults are used. Nothing is ever applied in part.
+//!
+//! # Slots of 512 bytes
+//! Before the configuration's layout 10 (whose record is 296 bytes) every
+//! slot was 256 bytes: slot 1 began at byte 256. A store of 512-byte
+//! slots also reads a record there ([`SHORT_SLOT_LEN`]) and takes it when
+//! it is good and the newest, so that a configuration saved before the
+//! update is not lost (nor an older copy in slot 0 taken for it). A save
+//! then writes slot 1 (at byte 512), which leaves that copy intact until
+//! a good one is there. On a NOR flash each slot has whole erase units of
+//! its own, so the old slot 1 is the new one and the place at byte 256 of
+//! slot 0 is erased.
 
 use crate::config::codec::Writer;
 // The store's defaults: `ConfigStore<S>` keeps the tracker's `Config`.
@@ -28,8 +40,28 @@ use crate::config::LAYOUT_VERSION;
 use crate::config::{Config, RECORD_LEN};
 use crate::ports::Storage;
 
-/// Bytes per slot.
-pub const SLOT_LEN: usize = 256;
+/// Bytes of a slot of a record of up to 256 bytes; where slot 1 began
+/// in a store of longer records before their slots grew (module docs).
+pub const SHORT_SLOT_LEN: usize = 256;
+
+/// Bytes of a slot of a record of `record_len` bytes (header, payload and
+/// CRC): [`SHORT_SLOT_LEN`], or 512 for a longer one.
+pub const fn slot_len(record_len: usize) -> usize {
+    if record_len > SHORT_SLOT_LEN {
+        2 * SHORT_SLOT_LEN
+    } else {
+        SHORT_SLOT_LEN
+    }
+}
+
+/// Bytes per slot of the tracker's [`Config`] (256; 512 with the
+/// `linear` feature's keys): the slots a board's configuration storage
+/// holds.
+pub const SLOT_LEN: usize = slot_len(RECORD_LEN);
+
+/// The index [`slot_offset`] takes for the old slot 1 at
+/// [`SHORT_SLOT_LEN`] of a store of longer slots.
+const LEGACY: usize = 2;
 /// Header bytes before the payload.
 const HEADER_LEN: usize = 12;
 /// Bytes of the CRC-32 after the payload.
@@ -90,6 +122,8 @@ pub trait Record: Copy {
     /// Earlier layout versions still read, each with its payload length:
     /// [`Record::decode`] takes a payload of those lengths too.
     const PREVIOUS: &'static [(u16, usize)] = &[];
+    /// Bytes of each slot: [`slot_len`] of the record.
+    const SLOT_LEN: usize = slot_len(record_len(Self::PAYLOAD_LEN));
     /// Serialises into `buf` (at least [`Record::PAYLOAD_LEN`] bytes);
     /// the length written, or `None` when `buf` is too small.
     fn encode(&self, buf: &mut [u8]) -> Option<usize>;
@@ -195,9 +229,9 @@ struct Scan<E> {
 /// # In a main loop
 ///
 /// ```
-/// use suntracker::persist::{ConfigStore, MemStorage, SaveStatus};
+/// use suntracker::persist::{ConfigStore, MemStorage, SaveStatus, SLOT_LEN};
 ///
-/// let mut store = ConfigStore::new(MemStorage::<512>::new());
+/// let mut store = ConfigStore::new(MemStorage::<{ 2 * SLOT_LEN }>::new());
 /// let config = store.load().config; // at boot: reads only
 /// store.begin_save(&config).unwrap(); // console `save`: stages, writes nothing
 /// loop {
@@ -245,15 +279,28 @@ fn seq_newer(a: u32, b: u32) -> bool {
     a != b && a.wrapping_sub(b) < 0x8000_0000
 }
 
-/// Offset of byte `at` of slot `slot`, checked.
-fn slot_offset(slot: usize, at: usize) -> Option<usize> {
-    slot.checked_mul(SLOT_LEN)?.checked_add(at)
+/// Offset of byte `at` of slot `slot` (0, 1, or [`LEGACY`] when slots
+/// are longer than [`SHORT_SLOT_LEN`]) of slots of `len` bytes, checked.
+fn slot_offset(len: usize, slot: usize, at: usize) -> Option<usize> {
+    if len > SHORT_SLOT_LEN && slot == LEGACY {
+        SHORT_SLOT_LEN.checked_add(at)
+    } else {
+        slot.checked_mul(len)?.checked_add(at)
+    }
 }
 
 impl<S: Storage, R: Record, const N: usize> ConfigStore<S, R, N> {
     /// `N` holds a record of `R` and a slot holds `N` (checked when
     /// compiling each store type).
-    const FITS: () = assert!(N == record_len(R::PAYLOAD_LEN) && N <= SLOT_LEN);
+    const FITS: () = assert!(N == record_len(R::PAYLOAD_LEN) && N <= R::SLOT_LEN);
+
+    /// The slots a load reads: 0 and 1, and [`LEGACY`] in a store of
+    /// slots longer than [`SHORT_SLOT_LEN`].
+    const SLOTS_READ: usize = if R::SLOT_LEN > SHORT_SLOT_LEN {
+        LEGACY + 1
+    } else {
+        2
+    };
 
     /// A store of record `R` over `storage`; nothing is read until
     /// [`ConfigStore::load`] or a save.
@@ -301,7 +348,7 @@ impl<S: Storage, R: Record, const N: usize> ConfigStore<S, R, N> {
         out: &mut Option<R>,
     ) -> Result<SlotState, S::Error> {
         const CORRUPT: SlotState = SlotState::Corrupt;
-        let Some(base) = slot_offset(slot, 0) else {
+        let Some(base) = slot_offset(R::SLOT_LEN, slot, 0) else {
             return Ok(CORRUPT);
         };
         let mut header = [0u8; HEADER_LEN];
@@ -315,7 +362,17 @@ impl<S: Storage, R: Record, const N: usize> ConfigStore<S, R, N> {
         let seq = u32::from_le_bytes([s0, s1, s2, s3]);
         // The CRC must lie inside the slot.
         let crc_at = match HEADER_LEN.checked_add(len) {
-            Some(at) if at.checked_add(CRC_LEN).is_some_and(|end| end <= SLOT_LEN) => at,
+            Some(at)
+                if at.checked_add(CRC_LEN).is_some_and(|end| {
+                    end <= if R::SLOT_LEN > SHORT_SLOT_LEN && slot == LEGACY {
+                        SHORT_SLOT_LEN
+                    } else {
+                        R::SLOT_LEN
+                    }
+                }) =>
+            {
+                at
+            }
             _ => return Ok(CORRUPT),
         };
         let mut crc = crc32_update(!0, &header);
@@ -329,7 +386,8 @@ impl<S: Storage, R: Record, const N: usize> ConfigStore<S, R, N> {
         let mut at = HEADER_LEN;
         while at < crc_at {
             let n = (crc_at - at).min(chunk.len());
-            let (Some(part), Some(from)) = (chunk.get_mut(..n), slot_offset(slot, at)) else {
+            let (Some(part), Some(from)) = (chunk.get_mut(..n), slot_offset(R::SLOT_LEN, slot, at))
+            else {
                 return Ok(CORRUPT);
             };
             self.storage.read(from, part)?;
@@ -342,7 +400,7 @@ impl<S: Storage, R: Record, const N: usize> ConfigStore<S, R, N> {
             at += n;
         }
         let mut stored = [0u8; CRC_LEN];
-        let Some(at) = slot_offset(slot, crc_at) else {
+        let Some(at) = slot_offset(R::SLOT_LEN, slot, crc_at) else {
             return Ok(CORRUPT);
         };
         self.storage.read(at, &mut stored)?;
@@ -379,7 +437,9 @@ impl<S: Storage, R: Record, const N: usize> ConfigStore<S, R, N> {
             best: None,
             error: None,
         };
-        for slot in 0..2 {
+        // Slot 0, slot 1, and in a store of longer slots the old slot 1
+        // (module docs), not reported.
+        for slot in 0..Self::SLOTS_READ {
             let best_seq = scan.best.map(|(_, seq)| seq);
             let state = match self.read_slot(slot, best_seq, best_config) {
                 Ok(state) => {
@@ -444,7 +504,16 @@ impl<S: Storage, R: Record, const N: usize> ConfigStore<S, R, N> {
             }
         }
         Ok(match self.newest {
-            Newest::Slot { slot, seq } => (if slot == 0 { 1 } else { 0 }, seq.wrapping_add(1)),
+            // Not the newest's slot; after a copy at the old slot 1's
+            // place, slot 1 (which leaves it intact).
+            Newest::Slot { slot, seq } => (
+                if R::SLOT_LEN > SHORT_SLOT_LEN {
+                    usize::from(slot != 1)
+                } else {
+                    usize::from(slot == 0)
+                },
+                seq.wrapping_add(1),
+            ),
             Newest::NoGoodSlot | Newest::Unknown => (0, 1),
         })
     }
@@ -492,7 +561,7 @@ impl<S: Storage, R: Record, const N: usize> ConfigStore<S, R, N> {
         if !cfg.is_valid() {
             return Err(SaveError::Invalid);
         }
-        if self.storage.capacity() < 2 * SLOT_LEN {
+        if self.storage.capacity() < 2 * R::SLOT_LEN {
             return Err(SaveError::TooSmall);
         }
         let (slot, seq) = self.target()?;
@@ -538,16 +607,16 @@ impl<S: Storage, R: Record, const N: usize> ConfigStore<S, R, N> {
 
     /// One storage step of `job`: the next phase, or `None` when done.
     fn step(&mut self, job: Job) -> Result<Option<Phase>, SaveError<S::Error>> {
-        let offset = |at: usize| slot_offset(job.slot, at).ok_or(SaveError::TooSmall);
+        let offset = |at: usize| slot_offset(R::SLOT_LEN, job.slot, at).ok_or(SaveError::TooSmall);
         match job.phase {
             Phase::Erase { done } => {
-                let left = SLOT_LEN.saturating_sub(done);
+                let left = R::SLOT_LEN.saturating_sub(done);
                 let n = self
                     .storage
                     .erase_step(offset(done)?, left)
                     .map_err(SaveError::Storage)?;
                 let done = done.saturating_add(n.min(left));
-                Ok(Some(if done >= SLOT_LEN {
+                Ok(Some(if done >= R::SLOT_LEN {
                     Phase::Write { pos: 0 }
                 } else {
                     Phase::Erase { done }
