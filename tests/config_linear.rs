@@ -9,6 +9,7 @@
 use sim::linear_actuator::ActuatorSpec;
 use sim::linear_drive::{
     la12_tilt_axis_config, FeedbackKind, LA12_DUAL_HALL_LOOP, LA12_POT_LOOP, LA12_POT_READING,
+    LA12_TILT_MOUNT,
 };
 use suntracker::config::{Config, DriveKind, Field, LinearMount, Reason, PAYLOAD_LEN};
 use suntracker::mechanics::{linear_loop, linear_mount, LINEAR_POT_READING};
@@ -70,6 +71,13 @@ fn the_stroke_angles_worked_by_hand() {
     // stroke spans −91.997° to −6.131°.
     assert!((axis_deg(245.0) - -91.9974).abs() < 1e-3);
     assert!((axis_deg(345.0) - -6.1308).abs() < 1e-3);
+}
+
+#[test]
+fn the_default_mount_is_the_simulators_la12_tilt_mount() {
+    // As `LinearMount`'s docs say; the core cannot name the simulator's
+    // constant, so this keeps the two the same.
+    assert_eq!(LinearMount::DEFAULT.geometry(), LA12_TILT_MOUNT);
 }
 
 #[test]

@@ -338,20 +338,23 @@ impl Config {
                 g.axis_deg(g.retracted_mm + g.stroke_mm)?,
             ))
         });
-        let Ok((lo, hi)) = ends else {
+        let Ok((retracted_deg, extended_deg)) = ends else {
             return fail(k.stroke_mm, Reason::LinearGeometry);
         };
-        let (lo, hi) = (lo - STROKE_TOLERANCE_DEG, hi + STROKE_TOLERANCE_DEG);
-        if a.min_deg < lo {
+        let within = |deg: f32| {
+            deg >= retracted_deg - STROKE_TOLERANCE_DEG
+                && deg <= extended_deg + STROKE_TOLERANCE_DEG
+        };
+        if !within(a.min_deg) {
             return fail(k.min_deg, Reason::WithinStroke);
         }
-        if a.max_deg > hi {
+        if !within(a.max_deg) {
             return fail(k.max_deg, Reason::WithinStroke);
         }
-        if pot && a.home_deg > lo + 2.0 * STROKE_TOLERANCE_DEG {
+        if pot && (a.home_deg - retracted_deg).abs() > STROKE_TOLERANCE_DEG {
             return fail(k.home_deg, Reason::HomeAtRetracted);
         }
-        if a.home_deg < lo || a.home_deg > hi {
+        if !within(a.home_deg) {
             return fail(k.home_deg, Reason::WithinStroke);
         }
         Ok(())

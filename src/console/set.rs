@@ -107,14 +107,16 @@ pub(super) fn commit(
     clipped: Option<Key>,
     drives: DriveSet,
 ) -> Result<(), SetError> {
-    // A kind the board has no driver for before the rules of that kind (a
-    // linear actuator's mounting means nothing on a board without one);
-    // a code out of the range of kinds is that range's error.
+    // A kind the board has no driver for is named before the rules of that
+    // kind (a linear actuator's mounting means nothing on a board without
+    // one); a code out of the range of kinds is that range's error.
+    let valid = copy.validate();
     if let Err(e) = copy.check_drives(drives) {
-        let range = copy.validate().err().filter(|v| v.field == e.field);
-        return Err(SetError::Invalid(range.unwrap_or(e)));
+        if !matches!(valid, Err(v) if v.field == e.field) {
+            return Err(SetError::Invalid(e));
+        }
     }
-    copy.validate().map_err(SetError::Invalid)?;
+    valid.map_err(SetError::Invalid)?;
     if let Some(key) = clipped {
         return Err(SetError::OutOfRange(key));
     }

@@ -506,14 +506,7 @@ impl<S: Storage, R: Record, const N: usize> ConfigStore<S, R, N> {
         Ok(match self.newest {
             // Not the newest's slot; after a copy at the old slot 1's
             // place, slot 1 (which leaves it intact).
-            Newest::Slot { slot, seq } => (
-                if R::SLOT_LEN > SHORT_SLOT_LEN {
-                    usize::from(slot != 1)
-                } else {
-                    usize::from(slot == 0)
-                },
-                seq.wrapping_add(1),
-            ),
+            Newest::Slot { slot, seq } => (usize::from(slot != 1), seq.wrapping_add(1)),
             Newest::NoGoodSlot | Newest::Unknown => (0, 1),
         })
     }
