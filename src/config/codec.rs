@@ -245,6 +245,6 @@ impl Config {
         if r.pos != buf.len() {
             return None;
         }
-        cfg.is_valid().then_some(cfg)
+        cfg.check_in_place().is_ok().then_some(cfg)
     }
 }

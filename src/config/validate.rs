@@ -185,7 +185,16 @@ impl Config {
         // Read through the table's slots, which borrow for writing: a
         // copy, made here so that the checks' frame does not hold it.
         let mut copy = *self;
-        copy.check_keys(0..KEYS.len())
+        copy.check_in_place()
+    }
+
+    /// [`Config::validate`] of a configuration the caller owns and lets
+    /// it borrow mutably (nothing is written): no copy of it. A copy is
+    /// a [`Config`]'s size on the stack (on an 8-bit board, a few percent
+    /// of its RAM) in the frame of whoever reads a stored copy or commits
+    /// a typed one.
+    pub(crate) fn check_in_place(&mut self) -> Result<(), ConfigError> {
+        self.check_keys(0..KEYS.len())
     }
 
     /// `Err` naming the first axis whose `drive` is not a kind of
