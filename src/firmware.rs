@@ -38,7 +38,7 @@ use crate::controller::{Controller, ControllerError, ControllerOptions, TickInpu
 use crate::hw::GpsPort;
 use crate::log::{self, ChangeLog, Sink, SiteSource as LogSite};
 use crate::motion::AxisDrive;
-use crate::persist::{Loaded, SaveError, SaveStatus};
+use crate::persist::{LoadReport, SaveError, SaveStatus};
 use crate::ports::AttitudeSensor;
 use crate::safety::{AxisId, Fault, Mode, OperatorHold};
 use crate::site::filter::{SiteDecision, SiteFilter, SiteFilterConfig};
@@ -90,8 +90,9 @@ pub trait Platform {
 /// save stepwise (an EEPROM byte takes 3.4 ms, a flash sector erase
 /// hundreds: the loop keeps running while a save goes on).
 pub trait ConfigPersist {
-    /// Reads the stored copies: the newest good one, or the defaults.
-    fn load(&mut self) -> Loaded;
+    /// Reads the stored copies into `into`: the newest good one, or the
+    /// defaults.
+    fn load(&mut self, into: &mut Config) -> LoadReport;
     /// Starts storing `config`.
     fn begin_save(&mut self, config: &Config) -> Result<(), SaveError<()>>;
     /// Goes on with a save without waiting: `None` while it is not done,
@@ -108,8 +109,8 @@ pub trait ConfigPersist {
 
 /// The two-slot store over any storage, stepped from the loop.
 impl<S: crate::ports::Storage> ConfigPersist for crate::persist::ConfigStore<S> {
-    fn load(&mut self) -> Loaded {
-        crate::persist::ConfigStore::load(self)
+    fn load(&mut self, into: &mut Config) -> LoadReport {
+        self.load_into(into)
     }
     fn begin_save(&mut self, config: &Config) -> Result<(), SaveError<()>> {
         crate::persist::ConfigStore::begin_save(self, config).map_err(drop_storage_error)
@@ -881,12 +882,12 @@ where
         platform: &mut P,
     ) -> Option<Result<(), SaveError<()>>> {
         let store = platform.config_store()?;
-        let mut loaded = store.load();
-        if loaded.defaults {
-            loaded.config = (self.app.defaults)();
+        let mut config = (self.app.defaults)();
+        if store.load(&mut config).defaults {
+            config = (self.app.defaults)();
         }
-        loaded.config.hold = self.controller.hold();
-        Some(store.begin_save(&loaded.config))
+        config.hold = self.controller.hold();
+        Some(store.begin_save(&config))
     }
 
     /// Puts a changed configuration into effect: the controller's, and the
@@ -1013,8 +1014,8 @@ where
     fn begin_save(&mut self, config: &Config) -> Option<Result<(), SaveError<()>>> {
         self.platform.config_store().map(|s| s.begin_save(config))
     }
-    fn load(&mut self) -> Option<Loaded> {
-        self.platform.config_store().map(|s| s.load())
+    fn load(&mut self, into: &mut Config) -> Option<LoadReport> {
+        self.platform.config_store().map(|s| s.load(into))
     }
     fn set_time(&mut self, t: &UtcTime) -> Result<(), TimeSetError> {
         if self.fw.time_origin == Some(TimeOrigin::Gps) {

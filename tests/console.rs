@@ -12,7 +12,7 @@ use suntracker::console::{
     ParseError, RxRing, SetError, StatusView, TimeSetError, Value, KEYS, LINE_LEN,
 };
 use suntracker::log::SiteSource;
-use suntracker::persist::{Loaded, MemError, SaveError, SlotState};
+use suntracker::persist::{LoadReport, MemError, SaveError, SlotState};
 use suntracker::safety::{AxisId, Fault, FaultManager, Mode, MAX_ACTIVE};
 use suntracker::site::PostalError;
 use suntracker::time::TimeOrigin;
@@ -1281,8 +1281,7 @@ fn fault_time_save_and_load_replies() {
         out.take(),
         "ok save\nerror save: config invalid\nerror save: storage too small\nerror save: storage failed\n"
     );
-    let loaded = |defaults| Loaded {
-        config: Config::default(),
+    let loaded = |defaults| LoadReport {
         defaults,
         slots: [SlotState::Good(1), SlotState::Empty],
     };

@@ -211,10 +211,21 @@ impl Config {
     /// none is in force), and checks every value; `None` for a buffer of
     /// another length or any value out of range.
     pub fn decode(buf: &[u8]) -> Option<Config> {
+        let mut cfg = Config::default();
+        Config::decode_into(buf, &mut cfg).then_some(cfg)
+    }
+
+    /// [`Config::decode`] into `cfg`, in place: true when `buf` held a
+    /// good payload, now in `cfg`; false for a wrong length or a value
+    /// out of range, with `cfg` holding fields of it and the defaults (not
+    /// a configuration to use). The store reads a slot into its caller's
+    /// copy this way: a configuration returned was one more on an 8-bit
+    /// board's stack.
+    pub(crate) fn decode_into(buf: &[u8], cfg: &mut Config) -> bool {
         let mut r = Reader { buf, pos: 0 };
         // The fields a payload has are read; the others keep their
         // defaults.
-        let mut cfg = Config::default();
+        super::table::write_defaults(cfg);
         for (i, &key) in KEYS.iter().enumerate() {
             if (i == V4_KEYS && buf.len() == PAYLOAD_LEN_V4)
                 || (i == V5_KEYS && buf.len() == PAYLOAD_LEN_V5)
@@ -229,22 +240,25 @@ impl Config {
                 if buf.len() == PAYLOAD_LEN_V2 {
                     break;
                 }
-                cfg.hold = OperatorHold::from_bits(r.u8()?)?;
+                let Some(hold) = r.u8().and_then(OperatorHold::from_bits) else {
+                    return false;
+                };
+                cfg.hold = hold;
                 if buf.len() == PAYLOAD_LEN_V3 {
                     break;
                 }
             }
-            match slot(&mut cfg, key) {
-                Slot::F32(v) => *v = r.f32()?,
-                Slot::U32(v) => *v = r.u32()?,
-                Slot::U16(v) => *v = r.u16()?,
-                Slot::U8(v) => *v = r.u8()?,
-                Slot::Derived => {}
+            let read = match slot(cfg, key) {
+                Slot::F32(v) => r.f32().map(|x| *v = x),
+                Slot::U32(v) => r.u32().map(|x| *v = x),
+                Slot::U16(v) => r.u16().map(|x| *v = x),
+                Slot::U8(v) => r.u8().map(|x| *v = x),
+                Slot::Derived => Some(()),
+            };
+            if read.is_none() {
+                return false;
             }
         }
-        if r.pos != buf.len() {
-            return None;
-        }
-        cfg.check_in_place().is_ok().then_some(cfg)
+        r.pos == buf.len() && cfg.check_in_place().is_ok()
     }
 }

@@ -57,14 +57,17 @@ impl Record for Config {
     fn encode(&self, buf: &mut [u8]) -> Option<usize> {
         Config::encode(self, buf)
     }
-    fn decode(buf: &[u8]) -> Option<Self> {
-        Config::decode(buf)
+    fn decode_into(buf: &[u8], out: &mut Self) -> bool {
+        Config::decode_into(buf, out)
     }
     fn is_valid(&self) -> bool {
         Config::is_valid(self)
     }
     fn defaults() -> Self {
         Config::default()
+    }
+    fn write_defaults(out: &mut Self) {
+        super::table::write_defaults(out);
     }
 }
 

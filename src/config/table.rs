@@ -284,13 +284,23 @@ crate::progmem! {
 }
 
 /// [`Config::DEFAULT`], written key by key from [`DEFAULTS`] into a
-/// configuration of zeros (the operator's hold, not a key, is none).
-/// Through the table: on the AVR the fields written one by one were
-/// several times the code of this loop and the table's 4 bytes a key.
+/// configuration of zeros ([`write_defaults`]).
 pub(crate) fn defaults() -> Config {
     let mut config = ZEROS;
+    write_defaults(&mut config);
+    config
+}
+
+/// Writes [`Config::DEFAULT`] over `config` in place, key by key from
+/// [`DEFAULTS`] (the operator's hold, not a key, to none): every field.
+/// Through the table: on the AVR the fields written one by one were
+/// several times the code of this loop and the table's 4 bytes a key.
+/// In place: a configuration built and returned was a second copy on an
+/// 8-bit board's stack under whoever reads a stored one.
+pub(crate) fn write_defaults(config: &mut Config) {
+    config.hold = OperatorHold::NONE;
     for (i, &key) in KEYS.iter().enumerate() {
-        let field = slot(&mut config, key);
+        let field = slot(config, key);
         let bits = DEFAULTS.get(i).unwrap_or(0);
         // Each value came from its own field (`key_bits`): the narrowing
         // casts give it back.
@@ -302,7 +312,6 @@ pub(crate) fn defaults() -> Config {
             Slot::Derived => {}
         }
     }
-    config
 }
 
 /// A configuration of zeros (every field's bits 0), which [`defaults`]

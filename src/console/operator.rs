@@ -10,7 +10,7 @@ use super::reply::{
 use super::status::{write_status, StatusView};
 use crate::config::{Config, DriveSet, KeyName};
 use crate::log::Sink;
-use crate::persist::{Loaded, SaveError};
+use crate::persist::{LoadReport, SaveError};
 use crate::safety::{AxisId, OperatorHold};
 use crate::text::FlashStr;
 use crate::time::{datetime_from_utc, DateWindow};
@@ -84,9 +84,9 @@ pub trait Operator {
     /// Starts storing `config`: `None` when the board has no storage; the
     /// reply to a started save comes when it ends (the caller polls it).
     fn begin_save(&mut self, config: &Config) -> Option<Result<(), SaveError<()>>>;
-    /// Reads the stored configuration: `None` when the board has no
-    /// storage.
-    fn load(&mut self) -> Option<Loaded>;
+    /// Reads the stored configuration into `into` (the defaults when no
+    /// stored copy is good): `None` when the board has no storage.
+    fn load(&mut self, into: &mut Config) -> Option<LoadReport>;
     /// Sets the RTC.
     fn set_time(&mut self, t: &UtcTime) -> Result<(), TimeSetError>;
     /// An operator's stow (true) or its release (false).
@@ -237,11 +237,13 @@ pub fn execute(op: &mut dyn Operator, line: &str) -> Executed {
             }
             None => Err(crate::flash_str!("save: no storage on this board")),
         },
-        Command::Load => match op.load() {
-            Some(loaded) => {
-                write_loaded(op.out(), &loaded);
-                if !loaded.defaults {
-                    put_into_effect(op, loaded.config);
+        // Read into this command's copy: no second configuration on the
+        // stack (an 8-bit board runs this on top of its loop's).
+        Command::Load => match op.load(&mut config) {
+            Some(report) => {
+                write_loaded(op.out(), &report);
+                if !report.defaults {
+                    put_into_effect(op, config);
                 }
                 return Executed::Done;
             }

@@ -9,7 +9,7 @@ use super::parse::ParseError;
 use super::set::SetError;
 use crate::config::{Config, ConfigError, KeyName};
 use crate::log::Sink;
-use crate::persist::{Loaded, SaveError};
+use crate::persist::{LoadReport, SaveError};
 use crate::safety::FaultManager;
 use crate::site::PostalError;
 use crate::text::FlashStr;
@@ -205,7 +205,7 @@ pub fn write_saved<E>(out: &mut dyn Sink, r: &Result<(), SaveError<E>>) {
 /// The reply to `load`: `ok load` when a stored copy was good, else
 /// `error load: no valid stored config` (the firmware then keeps the
 /// configuration in force; `defaults` gives the defaults).
-pub fn write_loaded<R>(out: &mut dyn Sink, l: &Loaded<R>) {
+pub fn write_loaded(out: &mut dyn Sink, l: &LoadReport) {
     if l.defaults {
         write_error(out, crate::flash_str!("load: no valid stored config"));
     } else {

@@ -120,20 +120,38 @@ pub trait Record: Copy {
     /// Payload bytes of this version.
     const PAYLOAD_LEN: usize;
     /// Earlier layout versions still read, each with its payload length:
-    /// [`Record::decode`] takes a payload of those lengths too.
+    /// [`Record::decode_into`] takes a payload of those lengths too.
     const PREVIOUS: &'static [(u16, usize)] = &[];
     /// Bytes of each slot: [`slot_len`] of the record.
     const SLOT_LEN: usize = slot_len(record_len(Self::PAYLOAD_LEN));
     /// Serialises into `buf` (at least [`Record::PAYLOAD_LEN`] bytes);
     /// the length written, or `None` when `buf` is too small.
     fn encode(&self, buf: &mut [u8]) -> Option<usize>;
-    /// Parses a payload and checks every value; `None` for a wrong length
-    /// or a value out of range.
-    fn decode(buf: &[u8]) -> Option<Self>;
+    /// Parses a payload into `out` and checks every value: true when it
+    /// is good (then in `out`), false for a wrong length or a value out of
+    /// range (`out` then holds no record to use). In place: the store
+    /// reads each slot into one copy of its own, not a returned one.
+    fn decode_into(buf: &[u8], out: &mut Self) -> bool;
     /// Every value inside its range.
     fn is_valid(&self) -> bool;
     /// The record used when no slot is good.
     fn defaults() -> Self;
+    /// Writes [`Record::defaults`] over `out` (in place where the record
+    /// can: a large one built and returned is a second copy on the
+    /// stack).
+    fn write_defaults(out: &mut Self) {
+        *out = Self::defaults();
+    }
+}
+
+/// What [`ConfigStore::load_into`] found: whether a slot was good and
+/// what each held.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct LoadReport {
+    /// True when no slot was good: the configuration read is the defaults.
+    pub defaults: bool,
+    /// What each slot held.
+    pub slots: [SlotState; 2],
 }
 
 /// The result of [`ConfigStore::load`].
@@ -333,7 +351,8 @@ impl<S: Storage, R: Record, const N: usize> ConfigStore<S, R, N> {
 
     /// Reads and checks slot `slot`: its state and, when good and newer
     /// than `best_seq` (the newest good copy read before, if any), its
-    /// configuration into `out`; `Err` when the storage could not be read.
+    /// configuration into `out` (when given); `Err` when the storage could
+    /// not be read.
     // The good copy goes into `out` (the slot state alone is returned: a
     // returned `(SlotState, Option<Config>)` made the compiler keep a
     // 149-byte constant of it in an AVR's RAM), and straight into the
@@ -345,7 +364,7 @@ impl<S: Storage, R: Record, const N: usize> ConfigStore<S, R, N> {
         &mut self,
         slot: usize,
         best_seq: Option<u32>,
-        out: &mut Option<R>,
+        out: Option<&mut R>,
     ) -> Result<SlotState, S::Error> {
         const CORRUPT: SlotState = SlotState::Corrupt;
         let Some(base) = slot_offset(R::SLOT_LEN, slot, 0) else {
@@ -413,25 +432,35 @@ impl<S: Storage, R: Record, const N: usize> ConfigStore<S, R, N> {
         if !current {
             return Ok(CORRUPT);
         }
-        match payload.get(..len).and_then(R::decode) {
-            Some(cfg) => {
-                if best_seq.is_none_or(|best| seq_newer(seq, best)) {
-                    *out = Some(cfg);
-                }
-                Ok(SlotState::Good(seq))
-            }
-            None => Ok(CORRUPT),
+        // Decoded into a copy of the caller's (initialised without
+        // building a record here), which replaces it only when good and
+        // newer: a slot that fails leaves the best copy read before.
+        let Some(payload) = payload.get(..len) else {
+            return Ok(CORRUPT);
+        };
+        let mut copy = match &out {
+            Some(best) => **best,
+            None => R::defaults(),
+        };
+        if !R::decode_into(payload, &mut copy) {
+            return Ok(CORRUPT);
         }
+        if let Some(best) = out {
+            if best_seq.is_none_or(|b| seq_newer(seq, b)) {
+                *best = copy;
+            }
+        }
+        Ok(SlotState::Good(seq))
     }
 
     /// Reads both slots; remembers which holds the newest good copy, and
-    /// puts its configuration in `best_config` (left as it is when no
-    /// slot is good).
+    /// puts its configuration in `best_config` when given (left as it is
+    /// when no slot is good).
     // The configuration goes to the caller's place, not into the returned
     // scan: a scan holding it was built in this frame and copied out
     // whole, and the frame's small slots lay beyond `ldd`/`std` reach on
     // the AVR.
-    fn scan(&mut self, best_config: &mut Option<R>) -> Scan<S::Error> {
+    fn scan(&mut self, mut best_config: Option<&mut R>) -> Scan<S::Error> {
         let mut scan = Scan {
             slots: [SlotState::Unreadable; 2],
             best: None,
@@ -441,7 +470,7 @@ impl<S: Storage, R: Record, const N: usize> ConfigStore<S, R, N> {
         // (module docs), not reported.
         for slot in 0..Self::SLOTS_READ {
             let best_seq = scan.best.map(|(_, seq)| seq);
-            let state = match self.read_slot(slot, best_seq, best_config) {
+            let state = match self.read_slot(slot, best_seq, best_config.as_deref_mut()) {
                 Ok(state) => {
                     // The slot's copy went into `best_config` when newer.
                     if let SlotState::Good(seq) = state {
@@ -477,19 +506,28 @@ impl<S: Storage, R: Record, const N: usize> ConfigStore<S, R, N> {
     /// defaults when neither is good. Only reads (two slots, a CRC each);
     /// a save under way goes on.
     pub fn load(&mut self) -> Loaded<R> {
-        let mut best = None;
-        let scan = self.scan(&mut best);
-        match best {
-            Some(config) => Loaded {
-                config,
-                defaults: false,
-                slots: scan.slots,
-            },
-            None => Loaded {
-                config: R::defaults(),
-                defaults: true,
-                slots: scan.slots,
-            },
+        let mut config = R::defaults();
+        let report = self.load_into(&mut config);
+        Loaded {
+            config,
+            defaults: report.defaults,
+            slots: report.slots,
+        }
+    }
+
+    /// [`ConfigStore::load`] into the caller's `config`: the newest good
+    /// copy, or the defaults when neither slot is good. No configuration
+    /// is returned: on an 8-bit board each one is a few percent of the
+    /// RAM, and the console's `load` runs on top of the loop's stack.
+    pub fn load_into(&mut self, config: &mut R) -> LoadReport {
+        let scan = self.scan(Some(&mut *config));
+        let defaults = scan.best.is_none();
+        if defaults {
+            R::write_defaults(config);
+        }
+        LoadReport {
+            defaults,
+            slots: scan.slots,
         }
     }
 
@@ -499,7 +537,7 @@ impl<S: Storage, R: Record, const N: usize> ConfigStore<S, R, N> {
     /// good copy).
     fn target(&mut self) -> Result<(usize, u32), SaveError<S::Error>> {
         if self.newest == Newest::Unknown {
-            if let Some(e) = self.scan(&mut None).error {
+            if let Some(e) = self.scan(None).error {
                 return Err(SaveError::Storage(e));
             }
         }

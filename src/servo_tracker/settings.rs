@@ -194,17 +194,25 @@ impl Record for Settings {
         Some(PAYLOAD_LEN)
     }
 
-    fn decode(buf: &[u8]) -> Option<Self> {
+    fn decode_into(buf: &[u8], out: &mut Self) -> bool {
         let f = |at: usize| -> Option<f32> {
             let b: [u8; 4] = buf.get(at..at + 4)?.try_into().ok()?;
             Some(f32::from_le_bytes(b))
         };
-        let s = Settings {
-            lat_deg: f(0)?,
-            lon_deg: f(4)?,
-            gear_ratio: [f(8)?, f(12)?],
+        let (Some(lat_deg), Some(lon_deg), Some(gear_c), Some(gear_a)) = (f(0), f(4), f(8), f(12))
+        else {
+            return false;
         };
-        (buf.len() == PAYLOAD_LEN && s.is_valid()).then_some(s)
+        let s = Settings {
+            lat_deg,
+            lon_deg,
+            gear_ratio: [gear_c, gear_a],
+        };
+        if buf.len() != PAYLOAD_LEN || !s.is_valid() {
+            return false;
+        }
+        *out = s;
+        true
     }
 
     fn is_valid(&self) -> bool {
@@ -364,11 +372,12 @@ fn execute<S: Storage, R: RtcDriver>(
             console::write_ok(out, crate::flash_str!("defaults"));
         }
         Command::Load => {
-            let loaded = store.load();
-            if !loaded.defaults {
-                *settings = loaded.config;
+            let mut loaded = *settings;
+            let report = store.load_into(&mut loaded);
+            if !report.defaults {
+                *settings = loaded;
             }
-            console::write_loaded(out, &loaded);
+            console::write_loaded(out, &report);
         }
         Command::Save => {
             if let Err(e) = store.begin_save(settings) {
