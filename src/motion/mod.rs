@@ -398,7 +398,11 @@ pub struct AxisController<D> {
 impl<D: AxisDrive> AxisController<D> {
     /// An axis over `drive`; not homed yet. Any `config` is accepted; the
     /// arithmetic stays in range even for one that fails
-    /// `Config::validate` (its values are then clamped).
+    /// `Config::validate` (its values are then clamped). Always inlined on
+    /// the AVR: built in its place in the controller, not first in a
+    /// frame of the controller's constructor (two axes there were 440 B of
+    /// the ATmega2560's deepest stack, the power-on's).
+    #[cfg_attr(target_arch = "avr", inline(always))]
     pub fn new(drive: D, config: AxisConfig) -> Self {
         AxisController {
             drive,

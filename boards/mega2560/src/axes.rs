@@ -76,7 +76,8 @@ fn stepper_axis<'p>(
 /// The axis `index` of the kind `config.drive` names (a timed axis's runs
 /// calibrated at `calibration_supply_mv`, `supply.calibration_mv`); `None`
 /// for a kind this board does not build (not in [`DRIVES`]) or a drive
-/// that refuses its settings.
+/// that refuses its settings. Not inlined: one copy, called for each axis.
+#[inline(never)]
 pub fn axis<'p>(
     board: &'p DcBoard<'p>,
     index: usize,

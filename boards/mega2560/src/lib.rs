@@ -566,13 +566,27 @@ fn mega_axes<'p>(
     config: &Config,
     log: &mut Usart0,
 ) -> [axes::MegaAxis<'p>; 2] {
-    let calibration_mv = config.supply.calibration_mv;
-    match (
-        axes::axis(board, 0, &config.axes[0], calibration_mv),
-        axes::axis(board, 1, &config.axes[1], calibration_mv),
-    ) {
-        (Some(c), Some(a)) => [c, a],
-        _ => halt(log, "axis configuration refused"),
+    [
+        axis_or_halt(board, 0, config, log),
+        axis_or_halt(board, 1, config, log),
+    ]
+}
+
+/// Axis `index` of `config` ([`axes::axis`]), or the board halted when
+/// its configuration is refused. Not inlined: each axis is built in its
+/// place in [`mega_axes`]'s array, not both first in a frame of their own
+/// (582 B more on the deepest stack, the power-on's).
+#[inline(never)]
+fn axis_or_halt<'p>(
+    board: &'p dc::DcBoard<'p>,
+    index: usize,
+    config: &Config,
+    log: &mut Usart0,
+) -> axes::MegaAxis<'p> {
+    let axis = config.axes.get(index);
+    match axis.and_then(|a| axes::axis(board, index, a, config.supply.calibration_mv)) {
+        Some(built) => built,
+        None => halt(log, "axis configuration refused"),
     }
 }
 
