@@ -458,6 +458,44 @@ fn old_version_and_bad_values_are_rejected_whole() {
 }
 
 #[test]
+fn a_newer_slot_with_a_bad_value_leaves_the_older_copy_in_the_callers_place() {
+    // Slot 0: Tromsø, sequence 9. Slot 1: newer (10), its CRC good, but a
+    // latitude of 95°: the store decodes it into a copy of its own, so the
+    // older copy already read is what the caller gets.
+    let c = tromso();
+    let mut bad = c;
+    bad.site.latitude_deg = 95.0;
+    let mut payload = [0u8; PAYLOAD_LEN];
+    let mut mem = MemStorage::<1024>::new();
+    let n = c.encode(&mut payload).unwrap();
+    mem.write(0, &record(LAYOUT_VERSION, 9, &payload[..n]))
+        .unwrap();
+    let n = bad.encode(&mut payload).unwrap();
+    mem.write(SLOT_LEN, &record(LAYOUT_VERSION, 10, &payload[..n]))
+        .unwrap();
+    let mut store = ConfigStore::new(mem);
+    let mut into = Config::default();
+    let report = store.load_into(&mut into);
+    assert_eq!(report.slots, [SlotState::Good(9), SlotState::Corrupt]);
+    assert!(!report.defaults);
+    assert_eq!(into, c);
+    // The next save goes to the slot not holding that copy, after it.
+    store.save(&c).unwrap();
+    let mut into = bad;
+    let report = store.load_into(&mut into);
+    assert_eq!(report.slots, [SlotState::Good(9), SlotState::Good(10)]);
+    assert_eq!(into, c);
+
+    // No good slot: the caller's copy becomes the defaults.
+    let mut store = ConfigStore::new(MemStorage::<1024>::new());
+    let mut into = c;
+    let report = store.load_into(&mut into);
+    assert!(report.defaults);
+    assert_eq!(report.slots, [SlotState::Empty, SlotState::Empty]);
+    assert_eq!(into, Config::default());
+}
+
+#[test]
 fn sequence_wraps_around() {
     // Slot 0 holds sequence u32::MAX, slot 1 sequence 0 (written after it).
     let c = tromso();

@@ -432,8 +432,8 @@ impl<S: Storage, R: Record, const N: usize> ConfigStore<S, R, N> {
         if !current {
             return Ok(CORRUPT);
         }
-        // Decoded into a copy of the caller's (initialised without
-        // building a record here), which replaces it only when good and
+        // Decoded into a copy of the caller's record (the defaults when
+        // the caller keeps none), which replaces it only when good and
         // newer: a slot that fails leaves the best copy read before.
         let Some(payload) = payload.get(..len) else {
             return Ok(CORRUPT);
