@@ -629,6 +629,33 @@ fn no_save_while_a_slot_cannot_be_read() {
     assert_eq!(ConfigStore::new(mem).load().config, tromso());
 }
 
+#[test]
+fn a_read_failing_inside_a_newer_payload_leaves_the_older_copy() {
+    // Two saves: slot 0 then slot 1 (newer). Slot 1's payload cannot be
+    // read from its 100th byte on: the record decoded from the storage as
+    // it is read is dropped, the slot is unreadable, and slot 0's copy,
+    // read before it into the same place, is read again whole.
+    let older = tromso();
+    let mut newer = older;
+    newer.site.elevation_m = 99.0;
+    let mut st = ConfigStore::new(MemStorage::<1024>::new());
+    st.save(&older).unwrap();
+    st.save(&newer).unwrap();
+    let mem = st.release();
+    let mut st = ConfigStore::new(FailingReads {
+        mem,
+        bad: SLOT_LEN + 100..SLOT_LEN + 101,
+    });
+    let mut into = Config::default();
+    let report = st.load_into(&mut into);
+    assert_eq!(report.slots, [SlotState::Good(1), SlotState::Unreadable]);
+    assert!(!report.defaults);
+    assert_eq!(into, older);
+    // Readable again: the newer copy wins.
+    let FailingReads { mem, .. } = st.release();
+    assert_eq!(ConfigStore::new(mem).load().config, newer);
+}
+
 /// A record as the store writes it: header (magic, `version`, length,
 /// `seq`), `body`, CRC-32.
 fn record(version: u16, seq: u32, body: &[u8]) -> Vec<u8> {

@@ -19,6 +19,7 @@
 //! header with the same writer).
 
 use super::{slot, Config, Slot, KEYS};
+use crate::persist::{Payload, PayloadBytes};
 use crate::safety::OperatorHold;
 
 /// Payload length of layout version 2 (version 1 had no `log` fields).
@@ -126,45 +127,32 @@ impl Writer<'_> {
         }
         self.pos += b.len();
     }
-    pub(crate) fn u8(&mut self, v: u8) {
-        self.bytes(&[v]);
-    }
-    pub(crate) fn u16(&mut self, v: u16) {
-        self.bytes(&v.to_le_bytes());
-    }
-    pub(crate) fn u32(&mut self, v: u32) {
-        self.bytes(&v.to_le_bytes());
-    }
-    pub(crate) fn f32(&mut self, v: f32) {
-        self.bytes(&v.to_le_bytes());
+    /// `v`'s low `n` bytes (1, 2 or 4), little-endian: one writer for
+    /// every width.
+    pub(crate) fn word(&mut self, v: u32, n: usize) {
+        match v.to_le_bytes().get(..n) {
+            Some(b) => self.bytes(b),
+            None => self.overflow = true,
+        }
     }
 }
 
-/// A little-endian reader of `buf` from `pos`.
+/// A little-endian reader of a payload, in order.
 struct Reader<'a> {
-    buf: &'a [u8],
+    payload: &'a mut dyn Payload,
+    /// Bytes read.
     pos: usize,
 }
 
 impl Reader<'_> {
-    fn take<const K: usize>(&mut self) -> Option<[u8; K]> {
-        let s = self.buf.get(self.pos..self.pos + K)?;
-        self.pos += K;
-        let mut a = [0u8; K];
-        a.copy_from_slice(s);
-        Some(a)
-    }
-    fn u8(&mut self) -> Option<u8> {
-        self.take::<1>().map(|a| a[0])
-    }
-    fn u16(&mut self) -> Option<u16> {
-        self.take().map(u16::from_le_bytes)
-    }
-    fn u32(&mut self) -> Option<u32> {
-        self.take().map(u32::from_le_bytes)
-    }
-    fn f32(&mut self) -> Option<f32> {
-        self.u32().map(f32::from_bits)
+    /// The next `n` bytes (1, 2 or 4), little-endian, widened: one reader
+    /// for every width.
+    fn word(&mut self, n: usize) -> Option<u32> {
+        let mut a = [0u8; 4];
+        let part = a.get_mut(..n)?;
+        let ok = self.payload.read(part);
+        self.pos += n;
+        ok.then_some(u32::from_le_bytes(a))
     }
 }
 
@@ -182,13 +170,13 @@ impl Config {
         let mut fields = *self;
         for (i, &key) in KEYS.iter().enumerate() {
             if i == V3_KEYS {
-                w.u8(self.hold.to_bits());
+                w.word(u32::from(self.hold.to_bits()), 1);
             }
             match slot(&mut fields, key) {
-                Slot::F32(v) => w.f32(*v),
-                Slot::U32(v) => w.u32(*v),
-                Slot::U16(v) => w.u16(*v),
-                Slot::U8(v) => w.u8(*v),
+                Slot::F32(v) => w.word(v.to_bits(), 4),
+                Slot::U32(v) => w.word(*v, 4),
+                Slot::U16(v) => w.word(u32::from(*v), 2),
+                Slot::U8(v) => w.word(u32::from(*v), 1),
                 Slot::Derived => {}
             }
         }
@@ -212,53 +200,56 @@ impl Config {
     /// another length or any value out of range.
     pub fn decode(buf: &[u8]) -> Option<Config> {
         let mut cfg = Config::default();
-        Config::decode_into(buf, &mut cfg).then_some(cfg)
+        Config::decode_from(&mut PayloadBytes::new(buf), &mut cfg).then_some(cfg)
     }
 
-    /// [`Config::decode`] into `cfg`, in place: true when `buf` held a
-    /// good payload, now in `cfg`; false for a wrong length or a value
-    /// out of range, with `cfg` holding fields of it and the defaults (not
-    /// a configuration to use). The store reads a slot into its caller's
-    /// copy this way: a configuration returned was one more on an 8-bit
-    /// board's stack.
-    pub(crate) fn decode_into(buf: &[u8], cfg: &mut Config) -> bool {
-        let mut r = Reader { buf, pos: 0 };
+    /// [`Config::decode`] of the payload `payload` reads, into `cfg` in
+    /// place: true when it was good, now in `cfg`; false for a wrong
+    /// length, a value out of range or a failed read, with `cfg` holding
+    /// fields of it and the defaults (not a configuration to use). The
+    /// store reads a slot this way, from the storage into its caller's
+    /// copy: a payload buffer and a configuration returned were two more
+    /// on an 8-bit board's stack.
+    pub(crate) fn decode_from(payload: &mut dyn Payload, cfg: &mut Config) -> bool {
+        let len = payload.length();
+        let mut r = Reader { payload, pos: 0 };
         // The fields a payload has are read; the others keep their
         // defaults.
         super::table::write_defaults(cfg);
         for (i, &key) in KEYS.iter().enumerate() {
-            if (i == V4_KEYS && buf.len() == PAYLOAD_LEN_V4)
-                || (i == V5_KEYS && buf.len() == PAYLOAD_LEN_V5)
-                || (i == V6_KEYS && buf.len() == PAYLOAD_LEN_V6)
-                || (i == V7_KEYS && buf.len() == PAYLOAD_LEN_V7)
-                || (i == V8_KEYS && buf.len() == PAYLOAD_LEN_V8)
-                || (cfg!(feature = "linear") && i == V9_KEYS && buf.len() == PAYLOAD_LEN_V9)
+            if (i == V4_KEYS && len == PAYLOAD_LEN_V4)
+                || (i == V5_KEYS && len == PAYLOAD_LEN_V5)
+                || (i == V6_KEYS && len == PAYLOAD_LEN_V6)
+                || (i == V7_KEYS && len == PAYLOAD_LEN_V7)
+                || (i == V8_KEYS && len == PAYLOAD_LEN_V8)
+                || (cfg!(feature = "linear") && i == V9_KEYS && len == PAYLOAD_LEN_V9)
             {
                 break;
             }
             if i == V3_KEYS {
-                if buf.len() == PAYLOAD_LEN_V2 {
+                if len == PAYLOAD_LEN_V2 {
                     break;
                 }
-                let Some(hold) = r.u8().and_then(OperatorHold::from_bits) else {
+                let Some(hold) = r.word(1).and_then(|b| OperatorHold::from_bits(b as u8)) else {
                     return false;
                 };
                 cfg.hold = hold;
-                if buf.len() == PAYLOAD_LEN_V3 {
+                if len == PAYLOAD_LEN_V3 {
                     break;
                 }
             }
             let read = match slot(cfg, key) {
-                Slot::F32(v) => r.f32().map(|x| *v = x),
-                Slot::U32(v) => r.u32().map(|x| *v = x),
-                Slot::U16(v) => r.u16().map(|x| *v = x),
-                Slot::U8(v) => r.u8().map(|x| *v = x),
+                // Each narrowing keeps the bytes read (`word`'s width).
+                Slot::F32(v) => r.word(4).map(|x| *v = f32::from_bits(x)),
+                Slot::U32(v) => r.word(4).map(|x| *v = x),
+                Slot::U16(v) => r.word(2).map(|x| *v = x as u16),
+                Slot::U8(v) => r.word(1).map(|x| *v = x as u8),
                 Slot::Derived => Some(()),
             };
             if read.is_none() {
                 return false;
             }
         }
-        r.pos == buf.len() && cfg.check_in_place().is_ok()
+        r.pos == len && cfg.check_in_place().is_ok()
     }
 }

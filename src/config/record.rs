@@ -9,7 +9,7 @@ use super::codec::{
     PAYLOAD_LEN_V8,
 };
 use super::{Config, PAYLOAD_LEN};
-use crate::persist::{record_len, ConfigStore, Record, SLOT_LEN};
+use crate::persist::{record_len, ConfigStore, Payload, Record, SLOT_LEN};
 use crate::ports::Storage;
 
 /// Layout version written by this firmware: 2 added `log.status_min`, 3
@@ -57,8 +57,8 @@ impl Record for Config {
     fn encode(&self, buf: &mut [u8]) -> Option<usize> {
         Config::encode(self, buf)
     }
-    fn decode_into(buf: &[u8], out: &mut Self) -> bool {
-        Config::decode_into(buf, out)
+    fn decode_from(payload: &mut dyn Payload, out: &mut Self) -> bool {
+        Config::decode_from(payload, out)
     }
     fn is_valid(&self) -> bool {
         Config::is_valid(self)

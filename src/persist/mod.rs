@@ -129,8 +129,8 @@ mod store;
 
 pub use mem::{MemError, MemStorage};
 pub use store::{
-    crc32, record_len, slot_len, ConfigStore, LoadReport, Loaded, Record, SaveError, SaveStatus,
-    SlotState, SHORT_SLOT_LEN, SLOT_LEN,
+    crc32, record_len, slot_len, ConfigStore, LoadReport, Loaded, Payload, PayloadBytes, Record,
+    SaveError, SaveStatus, SlotState, SHORT_SLOT_LEN, SLOT_LEN,
 };
 
 /// The cells of a byte-writable EEPROM: what [`EepromStorage`] needs from

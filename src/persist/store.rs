@@ -120,18 +120,20 @@ pub trait Record: Copy {
     /// Payload bytes of this version.
     const PAYLOAD_LEN: usize;
     /// Earlier layout versions still read, each with its payload length:
-    /// [`Record::decode_into`] takes a payload of those lengths too.
+    /// [`Record::decode_from`] takes a payload of those lengths too.
     const PREVIOUS: &'static [(u16, usize)] = &[];
     /// Bytes of each slot: [`slot_len`] of the record.
     const SLOT_LEN: usize = slot_len(record_len(Self::PAYLOAD_LEN));
     /// Serialises into `buf` (at least [`Record::PAYLOAD_LEN`] bytes);
     /// the length written, or `None` when `buf` is too small.
     fn encode(&self, buf: &mut [u8]) -> Option<usize>;
-    /// Parses a payload into `out` and checks every value: true when it
-    /// is good (then in `out`), false for a wrong length or a value out of
-    /// range (`out` then holds no record to use). In place: the store
-    /// reads each slot into one copy of its own, not a returned one.
-    fn decode_into(buf: &[u8], out: &mut Self) -> bool;
+    /// Parses a payload read from `payload` into `out` and checks every
+    /// value: true when it is good (then in `out`), false for a wrong
+    /// length, a value out of range or a failed read (`out` then holds no
+    /// record to use). In place and from where the payload lies: the
+    /// store reads a slot into its caller's copy with no copy of the
+    /// payload in RAM.
+    fn decode_from(payload: &mut dyn Payload, out: &mut Self) -> bool;
     /// Every value inside its range.
     fn is_valid(&self) -> bool;
     /// The record used when no slot is good.
@@ -141,6 +143,85 @@ pub trait Record: Copy {
     /// stack).
     fn write_defaults(out: &mut Self) {
         *out = Self::defaults();
+    }
+}
+
+/// A stored payload read in order, a few bytes at a time, from where it
+/// lies: a slot of the storage while the store loads
+/// ([`Record::decode_from`]), or a buffer ([`PayloadBytes`]).
+pub trait Payload {
+    /// The payload's length, bytes (its layout's).
+    fn length(&self) -> usize;
+    /// Fills `out` with the next bytes; false when fewer are left or they
+    /// could not be read.
+    fn read(&mut self, out: &mut [u8]) -> bool;
+}
+
+/// A payload in a buffer.
+#[derive(Debug)]
+pub struct PayloadBytes<'a> {
+    bytes: &'a [u8],
+    pos: usize,
+}
+
+impl<'a> PayloadBytes<'a> {
+    /// The payload `bytes`, read from its start.
+    pub fn new(bytes: &'a [u8]) -> Self {
+        PayloadBytes { bytes, pos: 0 }
+    }
+}
+
+impl Payload for PayloadBytes<'_> {
+    fn length(&self) -> usize {
+        self.bytes.len()
+    }
+    fn read(&mut self, out: &mut [u8]) -> bool {
+        let end = self.pos.saturating_add(out.len());
+        match self.bytes.get(self.pos..end) {
+            Some(part) => {
+                crate::bytes::copy_prefix(out, part);
+                self.pos = end;
+                true
+            }
+            None => false,
+        }
+    }
+}
+
+/// The payload of one slot, read from the storage into the CRC; a failed
+/// read is kept for the load to report.
+struct SlotPayload<'s, S: Storage> {
+    storage: &'s mut S,
+    /// Where the payload starts in the storage.
+    base: usize,
+    len: usize,
+    pos: usize,
+    /// The CRC-32 register over the header and the bytes read.
+    crc: u32,
+    error: Option<S::Error>,
+}
+
+impl<S: Storage> Payload for SlotPayload<'_, S> {
+    fn length(&self) -> usize {
+        self.len
+    }
+    fn read(&mut self, out: &mut [u8]) -> bool {
+        let end = self.pos.saturating_add(out.len());
+        if end > self.len {
+            return false;
+        }
+        // Inside the slot (its CRC's place was checked): no overflow.
+        match self.storage.read(self.base.saturating_add(self.pos), out) {
+            Ok(()) => {
+                self.pos = end;
+                self.crc = crc32_update(self.crc, out);
+                true
+            }
+            Err(e) => {
+                self.error = Some(e);
+                false
+            }
+        }
     }
 }
 
@@ -271,8 +352,11 @@ struct Scan<E> {
 /// the CPU, for the whole erase ([`crate::persist`]).
 ///
 /// RAM: the store keeps the staged record (`N` bytes: [`RECORD_LEN`] for
-/// the [`Config`]) and a few words; [`ConfigStore::load`] uses a buffer of
-/// `N` bytes on the stack.
+/// the [`Config`]) and a few words. A load ([`ConfigStore::load_into`])
+/// needs no buffer: each slot is read once, into its CRC and (when its
+/// layout is one this firmware reads) decoded straight from the storage
+/// into the caller's record ([`Record::decode_from`]); the newest good
+/// copy is read a second time when a slot read after it overwrote it.
 ///
 /// The store keeps any [`Record`] `R` in records of `N` bytes (header,
 /// payload, CRC-32: [`record_len`]); [`ConfigStore::new`] makes the
@@ -349,23 +433,19 @@ impl<S: Storage, R: Record, const N: usize> ConfigStore<S, R, N> {
         self.job.is_some()
     }
 
-    /// Reads and checks slot `slot`: its state and, when good and newer
-    /// than `best_seq` (the newest good copy read before, if any), its
-    /// configuration into `out` (when given); `Err` when the storage could
-    /// not be read.
-    // The good copy goes into `out` (the slot state alone is returned: a
-    // returned `(SlotState, Option<Config>)` made the compiler keep a
-    // 149-byte constant of it in an AVR's RAM), and straight into the
-    // caller's best copy: a copy per slot in the scan's frame was 218 B
-    // more on the ATmega2560's deepest stack (the power-on's read).
-    // Not inlined: one copy for both slots.
+    /// Reads and checks slot `slot`: its state, and when its layout is one
+    /// this firmware reads, its record decoded into `out` as its bytes go
+    /// into the CRC (good only when the CRC is good too; written either
+    /// way: the caller reads its best slot again when a later one
+    /// overwrote it); `Err` when the storage could not be read.
+    // The slot state alone is returned: a returned `(SlotState,
+    // Option<Config>)` made the compiler keep a 149-byte constant of it in
+    // an AVR's RAM. Decoded from the storage, into the caller's copy: a
+    // payload buffer and a copy of the record here were 580 B of the
+    // ATmega2560's deepest stack (a console `load`).
+    // Not inlined: one copy for every slot.
     #[inline(never)]
-    fn read_slot(
-        &mut self,
-        slot: usize,
-        best_seq: Option<u32>,
-        out: Option<&mut R>,
-    ) -> Result<SlotState, S::Error> {
+    fn read_slot(&mut self, slot: usize, out: &mut R) -> Result<SlotState, S::Error> {
         const CORRUPT: SlotState = SlotState::Corrupt;
         let Some(base) = slot_offset(R::SLOT_LEN, slot, 0) else {
             return Ok(CORRUPT);
@@ -394,73 +474,61 @@ impl<S: Storage, R: Record, const N: usize> ConfigStore<S, R, N> {
             }
             _ => return Ok(CORRUPT),
         };
-        let mut crc = crc32_update(!0, &header);
-        // The payload, in small pieces into the CRC; kept when it has this
-        // layout's version and length (another one only decides between
-        // `OldVersion` and `Corrupt`).
-        let current = (version == R::VERSION && len == R::PAYLOAD_LEN)
-            || R::PREVIOUS.contains(&(version, len));
-        let mut payload = [0u8; N];
-        let mut chunk = [0u8; 16];
-        let mut at = HEADER_LEN;
-        while at < crc_at {
-            let n = (crc_at - at).min(chunk.len());
-            let (Some(part), Some(from)) = (chunk.get_mut(..n), slot_offset(R::SLOT_LEN, slot, at))
-            else {
-                return Ok(CORRUPT);
-            };
-            self.storage.read(from, part)?;
-            crc = crc32_update(crc, part);
-            let into = at - HEADER_LEN;
-            if let (true, Some(keep)) = (current, payload.get_mut(into..into + n)) {
-                // Both are n bytes long.
-                crate::bytes::copy_prefix(keep, part);
-            }
-            at += n;
-        }
-        let mut stored = [0u8; CRC_LEN];
-        let Some(at) = slot_offset(R::SLOT_LEN, slot, crc_at) else {
+        // The slot's bytes lie at `base` on (`slot_offset`): the payload
+        // and the CRC after it, inside the slot (checked above).
+        let (Some(payload_at), Some(stored_at)) =
+            (base.checked_add(HEADER_LEN), base.checked_add(crc_at))
+        else {
             return Ok(CORRUPT);
         };
-        self.storage.read(at, &mut stored)?;
-        if !crc != u32::from_le_bytes(stored) {
+        // The payload read once, into the CRC as it goes: decoded into
+        // `out` when it has a layout's version and length this firmware
+        // reads, the rest (all of another one's) read in small pieces.
+        // The record decoded counts only when the CRC is good too.
+        let current = (version == R::VERSION && len == R::PAYLOAD_LEN)
+            || R::PREVIOUS.contains(&(version, len));
+        let mut payload = SlotPayload {
+            storage: &mut self.storage,
+            base: payload_at,
+            len,
+            pos: 0,
+            crc: crc32_update(!0, &header),
+            error: None,
+        };
+        let decoded = current && R::decode_from(&mut payload, out);
+        let mut chunk = [0u8; 16];
+        while let Some(part) = chunk.get_mut(..(len - payload.pos).min(16)) {
+            if part.is_empty() || !payload.read(part) {
+                break;
+            }
+        }
+        let (read, crc) = (payload.pos, payload.crc);
+        if let Some(e) = payload.error {
+            return Err(e);
+        }
+        let mut stored = [0u8; CRC_LEN];
+        self.storage.read(stored_at, &mut stored)?;
+        if read != len || !crc != u32::from_le_bytes(stored) {
             return Ok(CORRUPT);
         }
         if version != R::VERSION && !R::PREVIOUS.iter().any(|&(v, _)| v == version) {
             return Ok(SlotState::OldVersion(version));
         }
-        if !current {
-            return Ok(CORRUPT);
-        }
-        // Decoded into a copy of the caller's record (the defaults when
-        // the caller keeps none), which replaces it only when good and
-        // newer: a slot that fails leaves the best copy read before.
-        let Some(payload) = payload.get(..len) else {
-            return Ok(CORRUPT);
-        };
-        let mut copy = match &out {
-            Some(best) => **best,
-            None => R::defaults(),
-        };
-        if !R::decode_into(payload, &mut copy) {
-            return Ok(CORRUPT);
-        }
-        if let Some(best) = out {
-            if best_seq.is_none_or(|b| seq_newer(seq, b)) {
-                *best = copy;
-            }
-        }
-        Ok(SlotState::Good(seq))
+        Ok(if decoded {
+            SlotState::Good(seq)
+        } else {
+            CORRUPT
+        })
     }
 
     /// Reads both slots; remembers which holds the newest good copy, and
-    /// puts its configuration in `best_config` when given (left as it is
-    /// when no slot is good).
+    /// leaves its record in `best_config` (anything when no slot is good:
+    /// each slot is decoded into it).
     // The configuration goes to the caller's place, not into the returned
     // scan: a scan holding it was built in this frame and copied out
     // whole, and the frame's small slots lay beyond `ldd`/`std` reach on
     // the AVR.
-    fn scan(&mut self, mut best_config: Option<&mut R>) -> Scan<S::Error> {
+    fn scan(&mut self, best_config: &mut R) -> Scan<S::Error> {
         let mut scan = Scan {
             slots: [SlotState::Unreadable; 2],
             best: None,
@@ -469,12 +537,10 @@ impl<S: Storage, R: Record, const N: usize> ConfigStore<S, R, N> {
         // Slot 0, slot 1, and in a store of longer slots the old slot 1
         // (module docs), not reported.
         for slot in 0..Self::SLOTS_READ {
-            let best_seq = scan.best.map(|(_, seq)| seq);
-            let state = match self.read_slot(slot, best_seq, best_config.as_deref_mut()) {
+            let state = match self.read_slot(slot, best_config) {
                 Ok(state) => {
-                    // The slot's copy went into `best_config` when newer.
                     if let SlotState::Good(seq) = state {
-                        if best_seq.is_none_or(|best| seq_newer(seq, best)) {
+                        if scan.best.is_none_or(|(_, best)| seq_newer(seq, best)) {
                             scan.best = Some((slot, seq));
                         }
                     }
@@ -491,6 +557,21 @@ impl<S: Storage, R: Record, const N: usize> ConfigStore<S, R, N> {
                 *s = state;
             }
         }
+        // The newest good copy read again when a slot read after it
+        // overwrote its record (it reads the same unless the storage
+        // fails now: then no copy is taken, and the next save reads the
+        // slots again).
+        if let Some((slot, seq)) = scan.best {
+            if slot + 1 != Self::SLOTS_READ {
+                let again = self.read_slot(slot, best_config);
+                if !matches!(again, Ok(SlotState::Good(s)) if s == seq) {
+                    scan.best = None;
+                    if scan.error.is_none() {
+                        scan.error = again.err();
+                    }
+                }
+            }
+        }
         self.newest = match (&scan.best, &scan.error) {
             (Some((slot, seq)), _) => Newest::Slot {
                 slot: *slot,
@@ -503,8 +584,9 @@ impl<S: Storage, R: Record, const N: usize> ConfigStore<S, R, N> {
     }
 
     /// Reads both slots and returns the newest good configuration, or the
-    /// defaults when neither is good. Only reads (two slots, a CRC each);
-    /// a save under way goes on.
+    /// defaults when neither is good. Only reads (each slot once, and the
+    /// newest good copy again when a slot read after it overwrote it); a
+    /// save under way goes on.
     pub fn load(&mut self) -> Loaded<R> {
         let mut config = R::defaults();
         let report = self.load_into(&mut config);
@@ -520,7 +602,7 @@ impl<S: Storage, R: Record, const N: usize> ConfigStore<S, R, N> {
     /// is returned: on an 8-bit board each one is a few percent of the
     /// RAM, and the console's `load` runs on top of the loop's stack.
     pub fn load_into(&mut self, config: &mut R) -> LoadReport {
-        let scan = self.scan(Some(&mut *config));
+        let scan = self.scan(config);
         let defaults = scan.best.is_none();
         if defaults {
             R::write_defaults(config);
@@ -537,7 +619,7 @@ impl<S: Storage, R: Record, const N: usize> ConfigStore<S, R, N> {
     /// good copy).
     fn target(&mut self) -> Result<(usize, u32), SaveError<S::Error>> {
         if self.newest == Newest::Unknown {
-            if let Some(e) = self.scan(None).error {
+            if let Some(e) = self.rescan() {
                 return Err(SaveError::Storage(e));
             }
         }
@@ -547,6 +629,15 @@ impl<S: Storage, R: Record, const N: usize> ConfigStore<S, R, N> {
             Newest::Slot { slot, seq } => (usize::from(slot != 1), seq.wrapping_add(1)),
             Newest::NoGoodSlot | Newest::Unknown => (0, 1),
         })
+    }
+
+    /// Reads the slots to learn which holds the newest good copy (before
+    /// a save); the first read error, if any. Not inlined on the AVR: the
+    /// record the slots are decoded into is on the stack only here.
+    #[cfg_attr(target_arch = "avr", inline(never))]
+    fn rescan(&mut self) -> Option<S::Error> {
+        let mut scratch = R::defaults();
+        self.scan(&mut scratch).error
     }
 
     /// Encodes `cfg` with sequence `seq` into the staged record; its
@@ -563,9 +654,9 @@ impl<S: Storage, R: Record, const N: usize> ConfigStore<S, R, N> {
             overflow: false,
         };
         w.bytes(&R::MAGIC);
-        w.u16(R::VERSION);
-        w.u16(u16::try_from(n).ok()?);
-        w.u32(seq);
+        w.word(u32::from(R::VERSION), 2);
+        w.word(u32::from(u16::try_from(n).ok()?), 2);
+        w.word(seq, 4);
         if w.overflow {
             return None;
         }
@@ -575,7 +666,7 @@ impl<S: Storage, R: Record, const N: usize> ConfigStore<S, R, N> {
             pos: crc_at,
             overflow: false,
         };
-        w.u32(crc);
+        w.word(crc, 4);
         if w.overflow {
             return None;
         }

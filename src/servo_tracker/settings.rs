@@ -50,7 +50,7 @@ use sun_algos::Site;
 use crate::config::{check_f32, ranges, AxisConfig, ConfigError, Field, Reason};
 use crate::console::{self, Command, Decimal, LineBuffer, SetError};
 use crate::log::Sink;
-use crate::persist::{record_len, ConfigStore, Loaded, Record, SaveStatus};
+use crate::persist::{record_len, ConfigStore, Loaded, Payload, Record, SaveStatus};
 use crate::ports::Storage;
 use crate::text::FlashStr;
 use drivers::rtc::Clock as RtcDriver;
@@ -194,7 +194,11 @@ impl Record for Settings {
         Some(PAYLOAD_LEN)
     }
 
-    fn decode_into(buf: &[u8], out: &mut Self) -> bool {
+    fn decode_from(payload: &mut dyn Payload, out: &mut Self) -> bool {
+        let mut buf = [0u8; PAYLOAD_LEN];
+        if payload.length() != PAYLOAD_LEN || !payload.read(&mut buf) {
+            return false;
+        }
         let f = |at: usize| -> Option<f32> {
             let b: [u8; 4] = buf.get(at..at + 4)?.try_into().ok()?;
             Some(f32::from_le_bytes(b))
@@ -208,7 +212,7 @@ impl Record for Settings {
             lon_deg,
             gear_ratio: [gear_c, gear_a],
         };
-        if buf.len() != PAYLOAD_LEN || !s.is_valid() {
+        if !s.is_valid() {
             return false;
         }
         *out = s;

@@ -330,19 +330,18 @@ struct Parts {
 /// frame of its caller was 227 B more on the start-up stack).
 #[inline(never)]
 fn stored_config(store: &mut ConfigStore<EepromStorage<Eeprom>>, log: &mut Usart0) -> Config {
-    let loaded = store.load();
-    if loaded.defaults {
+    let mut config = board_config();
+    if store.load_into(&mut config).defaults {
         log.flash(suntracker::flash_str!("config source=defaults\n"));
-        board_config()
-    } else if loaded.config.check_drives(axes::DRIVES).is_err() {
+    } else if config.check_drives(axes::DRIVES).is_err() {
         log.flash(suntracker::flash_str!(
             "config refused: axis drive not on this board; config source=defaults\n"
         ));
-        board_config()
     } else {
         log.flash(suntracker::flash_str!("config source=stored\n"));
-        loaded.config
+        return config;
     }
+    board_config()
 }
 
 // Not inlined into `run`, whose frame would otherwise hold the moved-from

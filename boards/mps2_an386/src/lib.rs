@@ -966,22 +966,23 @@ enum ConfigSource {
 /// copies stay out of `run`'s frame, which is on the stack for good.
 #[inline(never)]
 fn boot_config(store: &mut Store) -> (Config, ConfigSource) {
-    let loaded = store.load();
-    if loaded.defaults {
-        (board_config(), ConfigSource::Defaults)
+    let mut config = board_config();
+    let source = if store.load_into(&mut config).defaults {
+        ConfigSource::Defaults
     } else if Controller::<
         f32,
         suntracker::sun::BoardSource<f32>,
         StepperModel,
         Infallible,
         TABLE_LEN,
-    >::check(&loaded.config)
+    >::check(&config)
     .is_ok()
     {
-        (loaded.config, ConfigSource::Stored)
+        return (config, ConfigSource::Stored);
     } else {
-        (board_config(), ConfigSource::StoredRefused)
-    }
+        ConfigSource::StoredRefused
+    };
+    (board_config(), source)
 }
 
 /// Starts the tracker; returns only through semihosting exit (when the host

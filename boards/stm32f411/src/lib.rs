@@ -865,16 +865,17 @@ pub fn run(dp: pac::Peripherals, cp: cortex_m::Peripherals) -> ! {
 
     // The configuration: the stored copy when it is good and the
     // controller takes it, else the board's own.
+    // Read into the board's own, which stays when no stored copy is good.
     let mut store = config_store(dp.FLASH, &mut log);
-    let stored = store
+    let mut config = board_config();
+    let from_store = store
         .as_mut()
-        .map(|s| s.load())
-        .filter(|loaded| !loaded.defaults)
-        .map(|loaded| loaded.config)
-        .filter(|config| config.check_drives(DRIVES).is_ok())
-        .filter(|config| controller_takes::<Axis<'_>, _>(&sensors, config));
-    let from_store = stored.is_some();
-    let config = stored.unwrap_or_else(board_config);
+        .is_some_and(|s| !s.load_into(&mut config).defaults)
+        && config.check_drives(DRIVES).is_ok()
+        && controller_takes::<Axis<'_>, _>(&sensors, &config);
+    if !from_store {
+        config = board_config();
+    }
     if config.validate().is_err() {
         halt(&mut log, "configuration refused");
     }
