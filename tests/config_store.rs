@@ -460,8 +460,9 @@ fn old_version_and_bad_values_are_rejected_whole() {
 #[test]
 fn a_newer_slot_with_a_bad_value_leaves_the_older_copy_in_the_callers_place() {
     // Slot 0: Tromsø, sequence 9. Slot 1: newer (10), its CRC good, but a
-    // latitude of 95°: the store decodes it into a copy of its own, so the
-    // older copy already read is what the caller gets.
+    // latitude of 95°: decoded into the caller's place over the older
+    // copy, it is refused, and the older copy is read again: that is what
+    // the caller gets.
     let c = tromso();
     let mut bad = c;
     bad.site.latitude_deg = 95.0;
