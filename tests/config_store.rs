@@ -657,6 +657,66 @@ fn a_read_failing_inside_a_newer_payload_leaves_the_older_copy() {
     assert_eq!(ConfigStore::new(mem).load().config, newer);
 }
 
+/// RAM storage that returns byte `at` flipped on its `flip_on`th read
+/// (a marginal cell read differently twice).
+struct FlakyReads {
+    mem: MemStorage<1024>,
+    at: usize,
+    reads: usize,
+    flip_on: usize,
+}
+
+impl Storage for FlakyReads {
+    type Error = MemError;
+    fn capacity(&self) -> usize {
+        self.mem.capacity()
+    }
+    fn read(&mut self, offset: usize, buf: &mut [u8]) -> Result<(), MemError> {
+        self.mem.read(offset, buf)?;
+        if (offset..offset + buf.len()).contains(&self.at) {
+            self.reads += 1;
+            if self.reads == self.flip_on {
+                buf[self.at - offset] ^= 0x01;
+            }
+        }
+        Ok(())
+    }
+    fn write(&mut self, offset: usize, data: &[u8]) -> Result<(), MemError> {
+        self.mem.write(offset, data)
+    }
+}
+
+#[test]
+fn a_copy_that_reads_differently_the_second_time_is_not_taken_nor_overwritten() {
+    // Slot 0 holds the only copy. The load reads it, then the slots after
+    // it, then slot 0 again into the caller's place: that second read
+    // differs (its CRC fails). No copy is taken, and the save after it
+    // reads the slots again rather than take slot 0 for empty.
+    let c = tromso();
+    let mut st = ConfigStore::new(MemStorage::<1024>::new());
+    st.save(&c).unwrap();
+    let mem = st.release();
+    let mut st = ConfigStore::new(FlakyReads {
+        mem,
+        at: 40,
+        reads: 0,
+        flip_on: 2,
+    });
+    let mut into = Config::default();
+    let report = st.load_into(&mut into);
+    assert!(report.defaults);
+    assert_eq!(into, Config::default());
+    // Read a third time, slot 0 is good again: the save goes to slot 1.
+    let mut d = c;
+    d.site.elevation_m = 99.0;
+    st.save(&d).unwrap();
+    let FlakyReads { mem, .. } = st.release();
+    let mut st = ConfigStore::new(mem);
+    let l = st.load();
+    assert_eq!(l.slots, [SlotState::Good(1), SlotState::Good(2)]);
+    assert_eq!(l.config, d);
+}
+
 /// A record as the store writes it: header (magic, `version`, length,
 /// `seq`), `body`, CRC-32.
 fn record(version: u16, seq: u32, body: &[u8]) -> Vec<u8> {

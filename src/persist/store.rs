@@ -558,14 +558,16 @@ impl<S: Storage, R: Record, const N: usize> ConfigStore<S, R, N> {
             }
         }
         // The newest good copy read again when a slot read after it
-        // overwrote its record (it reads the same unless the storage
-        // fails now: then no copy is taken, and the next save reads the
-        // slots again).
+        // overwrote its record. It reads the same unless the storage fails
+        // or changed: then no copy is taken and the newest is not known
+        // (the next save reads the slots again rather than guess one).
+        let mut unsure = false;
         if let Some((slot, seq)) = scan.best {
             if slot + 1 != Self::SLOTS_READ {
                 let again = self.read_slot(slot, best_config);
                 if !matches!(again, Ok(SlotState::Good(s)) if s == seq) {
                     scan.best = None;
+                    unsure = true;
                     if scan.error.is_none() {
                         scan.error = again.err();
                     }
@@ -578,6 +580,7 @@ impl<S: Storage, R: Record, const N: usize> ConfigStore<S, R, N> {
                 seq: *seq,
             },
             (None, Some(_)) => Newest::Unknown,
+            (None, None) if unsure => Newest::Unknown,
             (None, None) => Newest::NoGoodSlot,
         };
         scan
