@@ -99,6 +99,9 @@ pub struct Sim {
     tx_pending: bool,
     /// The lowest stack pointer seen after an instruction.
     min_sp: u16,
+    /// The high byte of the stack pointer was written and the low byte
+    /// not yet ([`sp_write_half`]): the pointer is between two values.
+    sp_half_written: bool,
     /// The program counter (byte address) when it was seen.
     min_sp_pc: u32,
     /// The stack's bytes above [`Sim::min_sp`] when it was reached (kept
@@ -241,6 +244,7 @@ impl Sim {
             port_flag: Default::default(),
             tx_pending: false,
             min_sp: u16::MAX,
+            sp_half_written: false,
             min_sp_pc: 0,
             min_sp_stack: std::env::var_os("SUNTRACKER_EMU_PC").map(|_| Vec::new()),
             awake_from: None,
@@ -685,6 +689,19 @@ impl Sim {
         (avr.pc, sp)
     }
 
+    /// The program word at byte address `pc` (0 beyond the flash).
+    fn flash_word(&self, pc: u32) -> u16 {
+        let avr = unsafe { self.avr.as_ref() };
+        let Ok(at) = usize::try_from(pc) else {
+            return 0;
+        };
+        if at.saturating_add(1) > avr.flashend as usize {
+            return 0;
+        }
+        // SAFETY: `at + 1 <= flashend`, inside simavr's flash buffer.
+        unsafe { u16::from(*avr.flash.add(at)) | u16::from(*avr.flash.add(at + 1)) << 8 }
+    }
+
     /// A byte of the data space (registers at 0–31, I/O, RAM).
     pub fn peek(&self, addr: u16) -> u8 {
         unsafe { *self.avr.as_ref().data.add(usize::from(addr)) }
@@ -783,8 +800,13 @@ impl Sim {
                 (false, None) => self.awake_from = Some(before),
                 _ => {}
             }
+            match sp_write_half(self.flash_word(pc_before)) {
+                Some(SpHalf::High) => self.sp_half_written = true,
+                Some(SpHalf::Low) => self.sp_half_written = false,
+                None => {}
+            }
             let (pc, sp) = self.pc_sp();
-            if sp < self.min_sp {
+            if sp < self.min_sp && !self.sp_half_written {
                 self.min_sp = sp;
                 self.min_sp_pc = pc;
                 if self.min_sp_stack.is_some() {
@@ -807,6 +829,34 @@ impl Sim {
 /// allocated sections in RAM (`.data`, `.bss`, `.noinit`) cover, read from
 /// the ELF32 section headers (data addresses carry avr-gcc's 0x800000
 /// offset).
+/// Which half of the stack pointer an instruction writes.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+enum SpHalf {
+    /// `out 0x3e, Rr`: SPH.
+    High,
+    /// `out 0x3d, Rr`: SPL.
+    Low,
+}
+
+/// The half of the stack pointer the instruction `word` writes, if it is
+/// an `OUT` to SPH or SPL (`1011 1AAr rrrr AAAA`, I/O address 0x3E or
+/// 0x3D: Microchip, *AVR Instruction Set Manual*, "OUT"; the stack pointer
+/// at I/O 0x3E:0x3D, ATmega2560 data sheet §7.6). A frame is reserved by
+/// writing SPH, SREG, then SPL, interrupts held off in between: after the
+/// first write the pointer holds the new high byte beside the old low
+/// byte, up to 255 B below both values, and nothing is pushed there. The
+/// peak is not taken from that instant.
+fn sp_write_half(word: u16) -> Option<SpHalf> {
+    if word & 0xF800 != 0xB800 {
+        return None;
+    }
+    match ((word >> 5) & 0x30) | (word & 0x0F) {
+        0x3E => Some(SpHalf::High),
+        0x3D => Some(SpHalf::Low),
+        _ => None,
+    }
+}
+
 /// RAM of a run: the static RAM from the ELF, the stack's peak measured
 /// two ways, and what was never touched.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -986,6 +1036,18 @@ impl std::fmt::Display for ElfIdentity {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn only_the_writes_of_the_stack_pointer_halves_are_seen_as_such() {
+        // A prologue's words as avr-objdump prints them (little-endian):
+        // `de bf` out 0x3e, r29; `0f be` out 0x3f, r0; `cd bf` out 0x3d,
+        // r28; `de b7` in r29, 0x3e; `f8 94` cli.
+        assert_eq!(sp_write_half(0xBFDE), Some(SpHalf::High));
+        assert_eq!(sp_write_half(0xBFCD), Some(SpHalf::Low));
+        assert_eq!(sp_write_half(0xBE0F), None);
+        assert_eq!(sp_write_half(0xB7DE), None);
+        assert_eq!(sp_write_half(0x94F8), None);
+    }
 
     #[test]
     fn elf_identity_is_sha256_and_tells_the_builds_apart() {
