@@ -22,6 +22,14 @@ pub enum Outcome<'a> {
     Pass(Command<'a>),
 }
 
+/// `config` back to its defaults. Not inlined on the AVR: the defaults
+/// are built in this frame, on the stack only while it runs (inlined
+/// elsewhere: 28 B less on the Cortex-M images).
+#[cfg_attr(target_arch = "avr", inline(never))]
+fn reset(config: &mut Config) {
+    *config = Config::default();
+}
+
 /// Carries out and answers `help`, `get`, `set` and `defaults` on
 /// `config`; passes every other command back. A `set` that gives an axis
 /// a drive kind outside `drives` (the board's) is refused like a value
@@ -54,7 +62,7 @@ pub fn run_config<'a>(
         Command::SetMany(a) => apply_assignments(config, &a, drives),
         Command::SetPostalCode(text) => apply_postal_code(config, text).map(|_| ()),
         Command::Defaults => {
-            *config = Config::default();
+            reset(config);
             write_ok(out, names::DEFAULTS);
             return Outcome::Changed;
         }

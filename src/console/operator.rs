@@ -186,6 +186,16 @@ fn put_into_effect(op: &mut dyn Operator, config: Config) -> bool {
     applied
 }
 
+/// `defaults`: the board's defaults put into effect, answered. Not
+/// inlined on the AVR: the defaults are on the stack only while it runs.
+#[cfg_attr(target_arch = "avr", inline(never))]
+fn put_defaults_into_effect(op: &mut dyn Operator) {
+    let defaults = op.defaults();
+    if put_into_effect(op, defaults) {
+        write_ok(op.out(), names::DEFAULTS);
+    }
+}
+
 /// Parses `line`, carries it out through `op` and answers on
 /// [`Operator::out`]. Not inlined: a command's temporaries (a copy of the
 /// configuration, the status view) are on the stack only while it runs.
@@ -199,14 +209,11 @@ pub fn execute(op: &mut dyn Operator, line: &str) -> Executed {
             return Executed::Done;
         }
     };
-    let mut config = op.config();
     if cmd == Command::Defaults {
-        let defaults = op.defaults();
-        if put_into_effect(op, defaults) {
-            write_ok(op.out(), names::DEFAULTS);
-        }
+        put_defaults_into_effect(op);
         return Executed::Done;
     }
+    let mut config = op.config();
     let drives = op.drives();
     let cmd = match run_config(op.out(), &mut config, drives, cmd) {
         Outcome::Answered => return Executed::Done,

@@ -16,7 +16,8 @@ use super::set::apply_set;
 ///
 /// A numeric code not in the table is tried again with leading zeros, up
 /// to the longest code the table stores, so that `DZ:9000` finds
-/// `DZ:09000`.
+/// `DZ:09000`. Not inlined on the AVR, as [`apply_set`].
+#[cfg_attr(target_arch = "avr", inline(never))]
 pub fn apply_postal_code(config: &mut Config, text: &str) -> Result<PostalEntry, SetError> {
     let entry = find_postal(text).map_err(SetError::Postal)?;
     let mut copy = *config;
@@ -24,7 +25,7 @@ pub fn apply_postal_code(config: &mut Config, text: &str) -> Result<PostalEntry,
     copy.site.longitude_deg = entry.longitude_deg::<f32>();
     // Validated and kept as a `set` is (one copy of that step); a postal
     // code changes no drive, so any kind passes.
-    commit(config, copy, None, DriveSet::ALL)?;
+    commit(config, &mut copy, None, DriveSet::ALL)?;
     Ok(entry)
 }
 

@@ -350,7 +350,11 @@ where
     /// The operator's hold in force stays (it is not a setting).
     pub fn reconfigure(&mut self, mut config: Config) -> Result<(), ControllerError> {
         config.hold = self.config.hold;
-        Self::check(&config)?;
+        // Checked where it lies (it is this call's own): `check` would
+        // copy it once more (a configuration's size on an 8-bit board's
+        // stack, under the console's command).
+        config.check_in_place().map_err(ControllerError::Config)?;
+        Scheduler::<T, P, N>::check(&config.schedule).map_err(ControllerError::Schedule)?;
         if config.schedule != self.config.schedule {
             self.scheduler
                 .set_config(config.schedule)
