@@ -36,6 +36,7 @@ use crate::log::{parse_line, Event, LineAssembler};
 use crate::models::adxl345::Adxl345;
 use crate::models::ds3231::Ds3231;
 use crate::models::ibt2::DcAxisModel;
+use crate::models::linear::{self, LinearAxisModel, LinearEvent, LinearFeedback};
 use crate::models::modbus_master::{self, ModbusMaster, Step};
 use crate::models::mount::{Field, Mount};
 use crate::models::nmea::{GpsFeed, NmeaFeeder};
@@ -246,7 +247,9 @@ pub struct Run {
     /// seconds and the emulated UTC it ended at.
     pub long_passes: Vec<(f64, f64)>,
     /// With [`MegaBench::dc_drives`]: the emulated UTC (Unix seconds) of
-    /// each rise of a motor's current above [`DC_CURRENT_MARK_A`] (C, A).
+    /// each rise of a motor's current above [`DC_CURRENT_MARK_A`] (C, A;
+    /// a linear A axis's ([`MegaBench::linear_a`]) above
+    /// [`linear::CURRENT_MARK_A`]).
     pub current_rises: (Vec<f64>, Vec<f64>),
 }
 
@@ -340,6 +343,9 @@ pub struct MegaBench {
     /// 1 A) and the angle it holds the axis at coming from below (`None`:
     /// gone).
     obstacles: Vec<(f64, usize, Option<f64>)>,
+    /// The A axis a linear actuator ([`MegaBench::linear_a`]): its
+    /// feedback and the rod's extension at power-on, mm.
+    linear_a: Option<(LinearFeedback, f64)>,
 }
 
 /// The current the DC axes' rises are recorded above ([`Run::current_rises`]),
@@ -410,6 +416,7 @@ impl MegaBench {
             modbus_pty: None,
             dc: false,
             obstacles: Vec::new(),
+            linear_a: None,
         }
     }
 
@@ -424,8 +431,28 @@ impl MegaBench {
         self
     }
 
+    /// Makes the A axis a LINAK LA12 linear actuator on its IBT-2
+    /// module ([`crate::models::linear`]; implies [`MegaBench::dc_drives`],
+    /// the C axis a DC gear motor): read by its potentiometer on ADC5
+    /// ([`LinearFeedback::Pot`]) or its dual Hall pair on PK6/PK7
+    /// ([`LinearFeedback::Hall`]), the home switch (PC1) closed at the
+    /// retracted end, PC3 open; the rod at `start_extension_mm` (0..=100)
+    /// at power-on (the A power-on angle is not used). The A angles the run
+    /// reports are the mounting's (`sim::linear_drive::LA12_TILT_MOUNT`,
+    /// −92.0° retracted … −6.13° extended). The run fails with an error
+    /// when the extension is outside the stroke.
+    pub fn linear_a(mut self, feedback: LinearFeedback, start_extension_mm: f64) -> Self {
+        self.dc = true;
+        self.linear_a = Some((feedback, start_extension_mm));
+        self
+    }
+
     /// From emulated `minute`, an obstacle holds DC axis `axis` (0 C, 1 A)
-    /// at `deg` when it comes from below; `None` takes it away.
+    /// at `deg` when it comes from below; `None` takes it away. On a
+    /// linear A axis ([`MegaBench::linear_a`]) it is an obstruction at the
+    /// extension of that angle (the run fails with an error if it is
+    /// outside the stroke's angles), in the rod's way once the rod has been
+    /// at or below it.
     pub fn obstacle_at(mut self, minute: f64, axis: usize, deg: Option<f64>) -> Self {
         self.obstacles.push((minute, axis, deg));
         self.obstacles.sort_by(|a, b| a.0.total_cmp(&b.0));
@@ -635,16 +662,43 @@ impl MegaBench {
         };
         let mut c_axis = StepperDecoder::new(c_geometry, self.power_on.0);
         let mut a_axis = StepperDecoder::new(AxisGeometry::a_axis(), self.power_on.1);
-        let mut dc = self.dc.then(|| {
-            [
-                DcAxisModel::c_axis(self.power_on.0),
-                DcAxisModel::a_axis(self.power_on.1),
-            ]
-            .map(|mut m| {
-                m.current_mark_a = DC_CURRENT_MARK_A;
-                m
-            })
-        });
+        let mut dc = match (self.dc, self.linear_a) {
+            (false, _) => None,
+            (true, None) => Some(
+                [
+                    DcAxisModel::c_axis(self.power_on.0),
+                    DcAxisModel::a_axis(self.power_on.1),
+                ]
+                .map(|mut m| {
+                    m.current_mark_a = DC_CURRENT_MARK_A;
+                    BridgeAxis::Dc(m)
+                }),
+            ),
+            (true, Some((feedback, start_mm))) => {
+                let mut c = DcAxisModel::c_axis(self.power_on.0);
+                c.current_mark_a = DC_CURRENT_MARK_A;
+                let mut a = LinearAxisModel::a_axis(feedback, start_mm)
+                    .map_err(|e| format!("linear A axis: {e}"))?;
+                a.current_mark_a = linear::CURRENT_MARK_A;
+                Some([BridgeAxis::Dc(c), BridgeAxis::Linear(a)])
+            }
+        };
+        // The obstacles, on a linear A axis at the extension of their
+        // angle.
+        let obstacles = match &dc {
+            Some([_, BridgeAxis::Linear(a)]) => self
+                .obstacles
+                .iter()
+                .map(|&(minute, axis, deg)| match (axis, deg) {
+                    (1, Some(deg)) => a
+                        .extension_at_deg(deg)
+                        .map(|mm| (minute, axis, Some(mm)))
+                        .map_err(|e| format!("obstacle at minute {minute}, linear A axis: {e}")),
+                    _ => Ok((minute, axis, deg)),
+                })
+                .collect::<Result<Vec<_>, String>>()?,
+            _ => self.obstacles.clone(),
+        };
         // The axes' angles: the DC models' or the decoded steppers'.
         macro_rules! angles {
             () => {
@@ -794,7 +848,7 @@ impl MegaBench {
                 // divider come loose leaves them theirs).
                 if let (Some(models), true) = (dc.as_mut(), supply_mv > 0) {
                     for m in models.iter_mut() {
-                        m.motor.set_supply_v(f64::from(supply_mv) / 1_000.0);
+                        m.set_supply_v(f64::from(supply_mv) / 1_000.0);
                     }
                 }
             }
@@ -839,24 +893,21 @@ impl MegaBench {
                 gps_end_utc = gps_end_utc.max(utc + 64.0 * GPS_BYTE_S);
             }
             // The DC axes: their bridges as the registers set them, the
-            // obstacles, the Hall levels; "coils" while a motor is driven
-            // or turns.
+            // obstacles, the Hall levels (a linear axis's Hall levels or
+            // wiper); "coils" while a motor is driven or turns.
             let dc_outputs = dc.as_mut().map(|models| {
                 for (k, m) in models.iter_mut().enumerate() {
-                    let obstacle = self
-                        .obstacles
+                    let obstacle = obstacles
                         .iter()
                         .rfind(|(min, ax, _)| *ax == k && now_emu >= min * 60.0)
-                        .and_then(|(_, _, deg)| *deg);
+                        .and_then(|(_, _, at)| *at);
                     m.set_obstacle(obstacle);
                     if !hall_driven {
-                        let (a, b) = m.hall_levels();
-                        sim.set_pin('K', m.wiring.hall_bits.0, a);
-                        sim.set_pin('K', m.wiring.hall_bits.1, b);
+                        m.drive_inputs(&mut sim);
                     }
                 }
                 hall_driven = true;
-                let outputs = [models[0].wiring.output(&sim), models[1].wiring.output(&sim)];
+                let outputs = [models[0].output(&sim), models[1].output(&sim)];
                 let active = models[0].active(outputs[0]) || models[1].active(outputs[1]);
                 if active {
                     coils = 1;
@@ -1111,7 +1162,7 @@ impl MegaBench {
         let longest_awake = sim.longest_awake().map(pass);
         let rises = |k: usize| -> Vec<f64> {
             dc.as_ref().map_or_else(Vec::new, |m| {
-                m[k].crossings
+                m[k].crossings()
                     .iter()
                     .map(|&c| {
                         let at = segments
@@ -1166,36 +1217,189 @@ impl MegaBench {
     }
 }
 
+/// A bridge-driven axis of the bench ([`MegaBench::dc_drives`]): a DC gear
+/// motor, or (the A axis, [`MegaBench::linear_a`]) a linear actuator.
+#[derive(Debug, Clone)]
+enum BridgeAxis {
+    Dc(DcAxisModel),
+    Linear(LinearAxisModel),
+}
+
+impl BridgeAxis {
+    /// The axis angle, degrees.
+    fn angle_deg(&self) -> f64 {
+        match self {
+            BridgeAxis::Dc(m) => m.angle_deg(),
+            BridgeAxis::Linear(m) => m.angle_deg(),
+        }
+    }
+
+    fn home_closed(&self) -> bool {
+        match self {
+            BridgeAxis::Dc(m) => m.home_closed(),
+            BridgeAxis::Linear(m) => m.home_closed(),
+        }
+    }
+
+    fn max_closed(&self) -> bool {
+        match self {
+            BridgeAxis::Dc(m) => m.max_closed(),
+            BridgeAxis::Linear(m) => m.max_closed(),
+        }
+    }
+
+    /// The bridge's command as the image's registers set it.
+    fn output(&self, sim: &Sim) -> drivers::dc_motor::Output {
+        match self {
+            BridgeAxis::Dc(m) => m.wiring.output(sim),
+            BridgeAxis::Linear(m) => m.wiring.output(sim),
+        }
+    }
+
+    /// The bench must step the axis under `output`.
+    fn active(&self, output: drivers::dc_motor::Output) -> bool {
+        match self {
+            BridgeAxis::Dc(m) => m.active(output),
+            BridgeAxis::Linear(m) => m.active(output),
+        }
+    }
+
+    /// The motor supply (the linear actuator's figures are at 12 V).
+    fn set_supply_v(&mut self, supply_v: f64) {
+        if let BridgeAxis::Dc(m) = self {
+            m.motor.set_supply_v(supply_v);
+        }
+    }
+
+    /// An obstacle: an angle on a DC axis, an extension (mm) on a linear
+    /// one.
+    fn set_obstacle(&mut self, at: Option<f64>) {
+        match self {
+            BridgeAxis::Dc(m) => m.set_obstacle(at),
+            BridgeAxis::Linear(m) => m.set_obstacle_mm(at),
+        }
+    }
+
+    /// The CPU cycles the current rose above its mark at.
+    fn crossings(&self) -> &[u64] {
+        match self {
+            BridgeAxis::Dc(m) => &m.crossings,
+            BridgeAxis::Linear(m) => &m.crossings,
+        }
+    }
+
+    /// Port K's bits of the Hall pair (A, B).
+    fn hall_bits(&self) -> (u8, u8) {
+        match self {
+            BridgeAxis::Dc(m) => m.wiring.hall_bits,
+            BridgeAxis::Linear(m) => m.wiring.hall_bits,
+        }
+    }
+
+    /// Drives the feedback the image reads as it is now (at power-on and
+    /// after a reset): the Hall levels, or a linear axis's wiper.
+    fn drive_inputs(&mut self, sim: &mut Sim) {
+        let event = match self {
+            BridgeAxis::Dc(m) => {
+                let (a, b) = m.hall_levels();
+                PinEvent::Hall(a, b)
+            }
+            BridgeAxis::Linear(m) => m.inputs_now().into(),
+        };
+        self.apply(sim, event);
+    }
+
+    /// Puts `event` on the image's pins.
+    fn apply(&self, sim: &mut Sim, event: PinEvent) {
+        match event {
+            PinEvent::Hall(a, b) => {
+                let (bit_a, bit_b) = self.hall_bits();
+                sim.set_pin('K', bit_a, a);
+                sim.set_pin('K', bit_b, b);
+            }
+            PinEvent::AdcMv(channel, mv) => sim.set_adc_mv(channel, mv),
+        }
+    }
+
+    /// The current sense: its ADC channel and the IS voltage, mV.
+    fn sense(&self) -> (u8, u32) {
+        match self {
+            BridgeAxis::Dc(m) => (m.wiring.sense_channel, m.sense_mv()),
+            BridgeAxis::Linear(m) => (m.wiring.sense_channel, m.sense_mv()),
+        }
+    }
+
+    /// Steps the axis under `output` over `span` cycles from `cycle0`:
+    /// what to put on the pins, with the cycle of each.
+    fn advance(
+        &mut self,
+        output: drivers::dc_motor::Output,
+        cycle0: u64,
+        span: u64,
+    ) -> Vec<(u64, PinEvent)> {
+        match self {
+            BridgeAxis::Dc(m) => m
+                .advance(output, cycle0, span, F_CPU)
+                .into_iter()
+                .map(|(c, a, b)| (c, PinEvent::Hall(a, b)))
+                .collect(),
+            BridgeAxis::Linear(m) => m
+                .advance(output, cycle0, span, F_CPU)
+                .into_iter()
+                .map(|(c, e)| (c, e.into()))
+                .collect(),
+        }
+    }
+}
+
+/// What a bridge axis puts on the image's pins.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+enum PinEvent {
+    /// The Hall pair's levels (A, B) on its port K bits.
+    Hall(bool, bool),
+    /// A voltage on an ADC channel, mV.
+    AdcMv(u8, u32),
+}
+
+impl From<LinearEvent> for PinEvent {
+    fn from(e: LinearEvent) -> Self {
+        match e {
+            LinearEvent::Hall(a, b) => PinEvent::Hall(a, b),
+            LinearEvent::PotMv(mv) => PinEvent::AdcMv(linear::POT_ADC_CHANNEL, mv),
+        }
+    }
+}
+
 /// Runs the CPU for `span` cycles from `cycle0` with the DC models stepped
 /// over the same span under `outputs` (the bridges as the registers set
-/// them at its start): each Hall edge is put on port K at its cycle, the
+/// them at its start): each Hall edge is put on port K at its cycle (a
+/// linear axis's wiper on its ADC input at the end of each model step), the
 /// current sense on its ADC input at the start (the models' current at the
 /// span's end: the CPU reads a value at most one emulated ms early).
 fn run_dc_span(
     sim: &mut Sim,
-    models: &mut [DcAxisModel; 2],
+    models: &mut [BridgeAxis; 2],
     outputs: [drivers::dc_motor::Output; 2],
     cycle0: u64,
     span: u64,
 ) -> CpuState {
-    let mut edges: Vec<(u64, u8, bool, bool)> = Vec::new();
+    let mut events: Vec<(u64, u8, PinEvent)> = Vec::new();
     for (k, m) in models.iter_mut().enumerate() {
-        edges.extend(
-            m.advance(outputs[k], cycle0, span, F_CPU)
+        events.extend(
+            m.advance(outputs[k], cycle0, span)
                 .into_iter()
-                .map(|(c, a, b)| (c, k as u8, a, b)),
+                .map(|(c, e)| (c, k as u8, e)),
         );
-        sim.set_adc_mv(m.wiring.sense_channel, m.sense_mv());
+        let (channel, mv) = m.sense();
+        sim.set_adc_mv(channel, mv);
     }
-    edges.sort_by_key(|e| e.0);
-    for (cycle, k, a, b) in edges {
+    events.sort_by_key(|e| e.0);
+    for (cycle, k, event) in events {
         let cpu = run_to(sim, cycle);
         if cpu != CpuState::Running {
             return cpu;
         }
-        let (bit_a, bit_b) = models[usize::from(k)].wiring.hall_bits;
-        sim.set_pin('K', bit_a, a);
-        sim.set_pin('K', bit_b, b);
+        models[usize::from(k)].apply(sim, event);
     }
     run_to(sim, cycle0 + span)
 }

@@ -22,6 +22,7 @@ use sun_algos::{Algorithm, Options, Site, UtcTime};
 use suntracker::attitude::{angle_between_deg, sun_vector_xyz, MountAttitude, Pose};
 use suntracker_emu::log::{format_utc, parse_utc, Event};
 use suntracker_emu::mega::SwitchEvent;
+use suntracker_emu::models::linear::LinearFeedback;
 use suntracker_emu::models::modbus_master;
 use suntracker_emu::models::nmea::lying_epochs;
 use suntracker_emu::script::xorshift32_noise;
@@ -2794,6 +2795,17 @@ fn kano_dc_bench(elf: &Path, start: i64, c_deg: f64, a_deg: f64) -> MegaBench {
 /// The number of set-points and the worst shaft error, degrees.
 fn assert_dc_morning(run: &Run, from_s: f64, tol_deg: f64, angle_tol_deg: f64) -> (usize, f64) {
     let homed = homed_at(&run.switch_events, from_s).expect("both axes reach home");
+    assert_tracked_after(run, from_s, homed, tol_deg, angle_tol_deg)
+}
+
+/// [`assert_dc_morning`] for axes homed at `homed` (Unix seconds).
+fn assert_tracked_after(
+    run: &Run,
+    from_s: f64,
+    homed: f64,
+    tol_deg: f64,
+    angle_tol_deg: f64,
+) -> (usize, f64) {
     let sps: Vec<_> = set_points(run)
         .into_iter()
         .filter(|(l, ..)| l.utc_s > from_s)
@@ -3014,21 +3026,33 @@ fn assert_obstruction_a(
     }
 }
 
-/// Each typed `set KEY VALUE` of `typed` answered `ok KEY=VALUE` in `log`.
+/// Each typed `set KEY VALUE` of `typed` answered `ok KEY=VALUE` in `log`
+/// (a number as the console writes it back: `-92.00` typed is `-92`).
 fn assert_set_lines_taken(log: &[&str], typed: &[impl AsRef<str>]) {
     for line in typed {
         let mut words = line.as_ref().split(' ').skip(1);
         let (key, value) = (words.next().unwrap(), words.next().unwrap());
         let want = format!("ok {key}={value}");
-        assert!(log.contains(&want.as_str()), "{want}: {log:?}");
+        let prefix = format!("ok {key}=");
+        let same_number = |l: &&str| {
+            l.strip_prefix(prefix.as_str())
+                .and_then(|v| Some((v.parse::<f64>().ok()?, value.parse::<f64>().ok()?)))
+                .is_some_and(|(got, typed)| got == typed)
+        };
+        assert!(
+            log.contains(&want.as_str()) || log.iter().any(same_number),
+            "{want}: {log:?}"
+        );
     }
 }
 
-/// `bench` with `lines` typed from minute 1 (a tenth of a minute apart),
+/// `bench` with `lines` typed from minute 1 (a tenth of a minute apart,
+/// closer when there are more than 14, so that all come before the save),
 /// `save` at minute 2.5 and a power cut at minute 4.
 fn typed_saved_and_cut(mut bench: MegaBench, lines: &[impl AsRef<str>]) -> MegaBench {
+    let apart_min = (1.4 / lines.len() as f64).min(0.1);
     for (i, line) in lines.iter().enumerate() {
-        bench = bench.type_at(1.0 + 0.1 * i as f64, line.as_ref());
+        bench = bench.type_at(1.0 + apart_min * i as f64, line.as_ref());
     }
     bench.type_at(2.5, "save").reset_at(4.0)
 }
@@ -3062,9 +3086,9 @@ const DC3_TYPED: [&str; 10] = [
 /// (dc3) The drive kind by configuration, on the default image (the one
 /// built without the `dc` feature, whose own axes are steppers), with the
 /// DC gear motors and IBT-2 models of (dc) wired: Kano, 2026-06-21,
-/// power-on 05:00Z. An installer types `set axis.a.drive 4` (a linear
-/// actuator on its potentiometer: refused, no driver for it on this
-/// board), then [`DC3_TYPED`], `save`, and cuts the power at minute 4;
+/// power-on 05:00Z. An installer types `set axis.a.drive 1` (a servo on
+/// an encoder: refused, no driver for it on this board), then
+/// [`DC3_TYPED`], `save`, and cuts the power at minute 4;
 /// after it the image reads the stored configuration, builds both axes as
 /// DC axes, homes them on the motors and tracks: set-points for 30 minutes
 /// and more, each reached by the models' shafts within 0.2°, the panel
@@ -3073,7 +3097,7 @@ const DC3_TYPED: [&str; 10] = [
 fn dc3_drive_kinds_typed_saved_and_built_at_power_on() {
     let elf = elf_or_skip!();
     let start = t("2026-06-21T05:00:00Z");
-    let bench = kano_dc_bench(&elf, start, 30.0, 20.0).type_at(0.5, "set axis.a.drive 4");
+    let bench = kano_dc_bench(&elf, start, 30.0, 20.0).type_at(0.5, "set axis.a.drive 1");
     let run = typed_saved_and_cut(bench, &DC3_TYPED)
         .run_minutes(80.0)
         .unwrap();
@@ -3316,5 +3340,188 @@ fn dc6_timed_runs_scaled_by_the_measured_supply() {
         "dc6: timed axes at {DC6_SUPPLY_MV} mV, speeds timed at 12 V: {n} set-points within \
          {worst:.4}° with the runs scaled, {unscaled:.2}° without, run {:.1} s",
         run.wall.as_secs_f64()
+    );
+}
+
+/// The mounting of the emulator's linear actuator (`sim::linear_drive::
+/// LA12_TILT_MOUNT`): pivots 237 mm and 110 mm from the hinge, the hinge
+/// angle 172.9° at the axis's zero, 245 mm pivot to pivot retracted, a
+/// stroke of 100 mm.
+const LA12_PIVOTS_MM: (f64, f64) = (237.0, 110.0);
+const LA12_OFFSET_DEG: f64 = 172.9;
+const LA12_RETRACTED_MM: f64 = 245.0;
+const LA12_STROKE_MM: f64 = 100.0;
+/// The LA12's dual Hall outputs: a state shift every 0.1875 mm (LINAK,
+/// *Actuator system* user manual, "Dual Hall, digital (F2)": 16 shifts a
+/// turn of a 3 mm spindle).
+const LA12_MM_PER_SHIFT: f64 = 0.1875;
+/// The issue's pointing targets for the linear axes, degrees: on the
+/// potentiometer and on Hall pulses.
+const LINEAR_POT_TOL_DEG: f64 = 0.5;
+const LINEAR_HALL_TOL_DEG: f64 = 0.2;
+
+/// The axis angle at pivot-to-pivot length `l_mm` of the LA12 mount, by
+/// the law of cosines (`L² = a² + b² − 2ab·cos γ`, axis = γ − offset),
+/// computed here in `f64`, apart from the firmware's `f32` geometry.
+fn la12_axis_deg(l_mm: f64) -> f64 {
+    let (a, b) = LA12_PIVOTS_MM;
+    ((a * a + b * b - l_mm * l_mm) / (2.0 * a * b))
+        .acos()
+        .to_degrees()
+        - LA12_OFFSET_DEG
+}
+
+/// What an installer types for the linear scenarios on the default
+/// image: the C axis the slew drive of (dc) ([`DC3_TYPED`]'s C lines), the
+/// A axis the LA12 on its mount, 100 counts a degree (as the simulator's
+/// `la12_tilt_axis_config`), its soft limits the stroke's ends (rounded
+/// inward to the hundredth), home at the retracted end (potentiometer) or
+/// at the first state shift above the switch (Hall), 10 °/s, the LA12's
+/// 6 A limit for 200 ms (the simulator's `LA12_HALL_LOOP`), and the
+/// feedback: the potentiometer's readings at the ends as the ATmega's
+/// ADC gives them (0.5 V and 4.5 V of its 5 V reference: ⌊V / 5 · 1,023⌋,
+/// datasheet §26.7, ADC = V_IN · 1024 / V_REF, truncated) or the Hall
+/// pair's state shifts a mm; the drive kind last (its rules read the rest).
+fn linear_typed(pot: bool) -> Vec<String> {
+    let lo = la12_axis_deg(LA12_RETRACTED_MM);
+    let hi = la12_axis_deg(LA12_RETRACTED_MM + LA12_STROKE_MM);
+    let home = if pot {
+        lo
+    } else {
+        la12_axis_deg(LA12_RETRACTED_MM + LA12_MM_PER_SHIFT)
+    };
+    let adc = |volts: f64| (volts / 5.0 * 1_023.0).floor();
+    let mut lines: Vec<String> = DC3_TYPED[..5].iter().map(|l| l.to_string()).collect();
+    lines.extend([
+        "set axis.a.counts_per_motor_rev 36000".into(),
+        "set axis.a.microsteps 1".into(),
+        "set axis.a.gear_ratio 1".into(),
+        format!("set axis.a.pivot_a_mm {}", LA12_PIVOTS_MM.0),
+        format!("set axis.a.pivot_b_mm {}", LA12_PIVOTS_MM.1),
+        format!("set axis.a.pivot_offset_deg {LA12_OFFSET_DEG}"),
+        format!("set axis.a.retracted_mm {LA12_RETRACTED_MM}"),
+        format!("set axis.a.stroke_mm {LA12_STROKE_MM}"),
+        format!("set axis.a.min_deg {:.2}", (lo * 100.0).ceil() / 100.0),
+        format!("set axis.a.max_deg {:.2}", (hi * 100.0).floor() / 100.0),
+        format!("set axis.a.home_deg {:.2}", home),
+        "set axis.a.max_speed_deg_s 10".into(),
+        "set axis.a.deadband_deg 0.05".into(),
+        "set axis.a.max_current_ma 6000".into(),
+        "set axis.a.overcurrent_ms 200".into(),
+    ]);
+    if pot {
+        lines.push(format!("set axis.a.pot_retracted_counts {}", adc(0.5)));
+        lines.push(format!("set axis.a.pot_extended_counts {}", adc(4.5)));
+        lines.push("set axis.a.drive 4".into());
+    } else {
+        // To the five decimals the console keeps and writes back
+        // (5.33333: 0.00006 mm short over the stroke).
+        lines.push(format!(
+            "set axis.a.pulses_per_mm {:.5}",
+            1.0 / LA12_MM_PER_SHIFT
+        ));
+        lines.push("set axis.a.drive 3".into());
+    }
+    lines
+}
+
+/// The linear scenarios: Kano, 2026-06-21, power-on 05:00Z on the default
+/// image, the C axis the slew drive of (dc), the A axis the LA12 on the
+/// mount of [`linear_typed`] read by `feedback`, its rod 30 mm out. An
+/// installer types [`linear_typed`], `save`, and cuts the power at minute
+/// 4; after it the image builds the C axis as a DC axis and the A axis as
+/// a linear actuator from the stored configuration and tracks: set-points
+/// for 30 minutes and more, each reached by the shafts within `tol_deg`
+/// before the next, the panel normal within `tol_deg` of SPA, and no motor
+/// fault after the cut. The number of set-points and the worst error.
+fn linear_morning(
+    elf: &Path,
+    feedback: LinearFeedback,
+    tol_deg: f64,
+    name: &str,
+) -> (usize, f64, f64) {
+    let start = t("2026-06-21T05:00:00Z");
+    let pot = feedback == LinearFeedback::Pot;
+    let typed = linear_typed(pot);
+    let bench = kano_dc_bench(elf, start, 30.0, 20.0).linear_a(feedback, 30.0);
+    let run = typed_saved_and_cut(bench, &typed)
+        .run_minutes(80.0)
+        .unwrap();
+    report(name, &run);
+    let (texts, cut) = texts_and_cut(&run);
+    let (before, after) = texts.split_at(cut);
+    assert_set_lines_taken(before, &typed);
+    assert!(before.contains(&"ok save"), "{before:?}");
+    assert!(after.contains(&"config source=stored"), "{after:?}");
+    assert_no_motor_fault(after, "after the cut");
+    let cut_s = run.lines[cut].utc_s;
+    let homed = if pot {
+        pot_homed_at(&run, cut_s)
+    } else {
+        homed_at(&run.switch_events, cut_s).expect("both axes reach home")
+    };
+    let (n, worst) = assert_tracked_after(&run, cut_s, homed, tol_deg, tol_deg);
+    (n, worst, run.wall.as_secs_f64())
+}
+
+/// How far from the retracted end a rod homed on its potentiometer may
+/// stop, mm: the reading's hysteresis (0.1 mm) and two of its ADC counts
+/// (100 mm over 818 counts: 0.24 mm), rounded up to allow the brake's
+/// coast.
+const LA12_POT_HOME_TOL_MM: f64 = 0.5;
+
+/// On the potentiometer there is no switch (the model's at the retracted
+/// end may stay open a fraction of a mm short of it): the time homing
+/// ended after `from_s` (the first mode line after `mode homing`), with
+/// the C axis's switch closed before it and the A shaft then within
+/// [`LA12_POT_HOME_TOL_MM`] of the retracted end.
+fn pot_homed_at(run: &Run, from_s: f64) -> f64 {
+    let after: Vec<_> = run.lines.iter().filter(|l| l.utc_s >= from_s).collect();
+    let homing = after
+        .iter()
+        .position(|l| matches!(&l.event, Event::Mode(m) if m == "homing"))
+        .expect("homing after the cut");
+    let done = after[homing + 1..]
+        .iter()
+        .find(|l| matches!(&l.event, Event::Mode(m) if m != "homing"))
+        .expect("homing ends");
+    let c_home = run
+        .switch_events
+        .iter()
+        .find(|e| e.switch == 0 && e.closed && e.utc_s >= from_s)
+        .expect("the C axis reaches its switch");
+    assert!(c_home.utc_s <= done.utc_s, "C homed before homing ended");
+    let end_deg = la12_axis_deg(LA12_RETRACTED_MM);
+    let tol_deg = la12_axis_deg(LA12_RETRACTED_MM + LA12_POT_HOME_TOL_MM) - end_deg;
+    assert!(
+        (done.a_start_deg - end_deg).abs() <= tol_deg,
+        "A at {:.3}° when homing ended, the retracted end {end_deg:.3}° (±{tol_deg:.3}°)",
+        done.a_start_deg
+    );
+    done.utc_s
+}
+
+/// (dc7) [`linear_morning`] on the LA12's potentiometer (`linear_pot`,
+/// the wiper on A5): within the issue's 0.5°.
+#[test]
+fn dc7_linear_actuator_on_its_potentiometer_typed_saved_and_tracking() {
+    let elf = elf_or_skip!();
+    let (n, worst, wall_s) = linear_morning(&elf, LinearFeedback::Pot, LINEAR_POT_TOL_DEG, "dc7");
+    println!(
+        "dc7: {n} set-points after the cut, the A axis a linear actuator on its \
+         potentiometer, worst shaft error {worst:.4}°, run {wall_s:.1} s"
+    );
+}
+
+/// (dc8) [`linear_morning`] on the LA12's dual Hall pair (`linear_hall`,
+/// on the A axis's encoder inputs), homed on its retracted-end switch:
+/// within the issue's 0.2°.
+#[test]
+fn dc8_linear_actuator_on_hall_pulses_typed_saved_and_tracking() {
+    let elf = elf_or_skip!();
+    let (n, worst, wall_s) = linear_morning(&elf, LinearFeedback::Hall, LINEAR_HALL_TOL_DEG, "dc8");
+    println!(
+        "dc8: {n} set-points after the cut, the A axis a linear actuator on Hall pulses, \
+         worst shaft error {worst:.4}°, run {wall_s:.1} s"
     );
 }

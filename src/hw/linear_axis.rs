@@ -295,7 +295,9 @@ impl<A: AdcChannel> LinearFeedback for PotFeedback<A> {
 }
 
 /// The switch input of an axis without a home switch (a potentiometer's):
-/// never closed.
+/// it reads low, so never closed as an active-high switch: build the axis
+/// with `home_active_low = false` (with `true` it would read as closed for
+/// ever, and motion toward it would stop).
 #[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
 pub struct NoEndSwitch;
 

@@ -6,7 +6,12 @@
 //! takes them by configuration. A timed axis (`drive` 5, `timed`: a gear
 //! motor or linear actuator without feedback, moved for the time a move
 //! takes at its calibrated speeds, [`suntracker::hw::TimedAxis`]) is wired
-//! the same but for the encoder ([`timed_axis`]).
+//! the same but for the encoder ([`timed_axis`]). A linear actuator
+//! ([`suntracker::hw::LinearAxis`]) is wired the same on its Hall pulses
+//! (`drive` 3, `linear_hall`: the pulse outputs on the encoder inputs, the
+//! home switch at the retracted end; [`linear_hall_axis`]) or with its
+//! potentiometer's wiper on A4 (C) or A5 (A) in place of the encoder and
+//! the home switch (`drive` 4, `linear_pot`; [`linear_pot_axis`]).
 //!
 //! | function | pin | Mega header |
 //! |---|---|---|
@@ -18,6 +23,8 @@
 //! | A axis IBT-2 R_IS and L_IS joined, 1 kΩ to GND | ADC3 (PF3) | A3 |
 //! | C axis Hall encoder channels A / B (PCINT20 / 21) | PK4 / PK5 | A12 / A13 |
 //! | A axis Hall encoder channels A / B (PCINT22 / 23) | PK6 / PK7 | A14 / A15 |
+//! | C axis linear actuator potentiometer wiper (`linear_pot`) | ADC4 (PF4) | A4 |
+//! | A axis linear actuator potentiometer wiper (`linear_pot`) | ADC5 (PF5) | A5 |
 //!
 //! A DC axis takes two of its stepper bridge's four pins (PA0–PA3 for C,
 //! PA4–PA7 for A) as its enables and leaves the other two alone, so one axis
@@ -71,18 +78,28 @@ use core::cell::RefCell;
 use drivers::dc_motor::bts7960::{Bts7960Pins, CurrentSense, SenseConfig};
 use drivers::dc_motor::{Config as BridgeConfig, DcMotor, RestMode};
 use drivers::encoder::SharedEncoder;
+use drivers::linear::{PotCalibration, PulseScale};
 use suntracker::config::{AxisConfig, Config};
-use suntracker::hw::{DcAxis, TimedAxis};
+use suntracker::hw::{
+    AnyAxis, DcAxis, HallFeedback, LinearAxis, NoEndSwitch, PotFeedback, TimedAxis,
+};
+
+use crate::axes::MegaAxis;
+use crate::refused;
 use suntracker::mechanics;
 use suntracker_avr::{
     chip, Adc, MotorPwm, OutputPin, PinChangeEncoders, PortInputPin, PortOutputPin,
-    SharedAdcChannel, Timer1MotorPwm, Timer4MotorPwm,
+    SharedAdcChannel, Timer1MotorPwm, Timer4MotorPwm, Usart0,
 };
 
 /// The C axis's current sense (A2).
 pub const C_SENSE_CHANNEL: u8 = 2;
 /// The A axis's current sense (A3).
 pub const A_SENSE_CHANNEL: u8 = 3;
+/// The C axis's linear actuator potentiometer (A4).
+pub const C_POT_CHANNEL: u8 = 4;
+/// The A axis's linear actuator potentiometer (A5).
+pub const A_POT_CHANNEL: u8 = 5;
 /// The board's configuration with the DC axes (the `dc` feature's
 /// defaults): [`mechanics::worm_slew_config`].
 pub fn dc_config() -> Config {
@@ -104,6 +121,15 @@ pub type MegaDcAxis<'p> = DcAxis<Pins<'p>, &'static SharedEncoder, Home<'p>, Sen
 
 /// A timed axis of this board.
 pub type MegaTimedAxis<'p> = TimedAxis<Pins<'p>, Home<'p>, Sense<'p>>;
+
+/// A linear actuator axis of this board on Hall pulses (its encoder
+/// inputs).
+pub type MegaLinearHallAxis<'p> =
+    LinearAxis<Pins<'p>, HallFeedback<&'static SharedEncoder>, Home<'p>, Sense<'p>>;
+
+/// A linear actuator axis of this board on its potentiometer.
+pub type MegaLinearPotAxis<'p> =
+    LinearAxis<Pins<'p>, PotFeedback<SharedAdcChannel<'p>>, NoEndSwitch, Sense<'p>>;
 
 /// The motor timers, the encoders' pin-change counter and the shared ADC
 /// the axes borrow.
@@ -210,17 +236,25 @@ fn axis_parts<'p>(
 /// PC1), its bridge ramping
 /// [`mechanics::WORM_SLEW_RAMP_PERMILLE_PER_MS`], with the loop of its
 /// configuration `config` ([`suntracker::mechanics::dc_hall_loop`]);
-/// `None` when a part or the loop refuse their settings (none does for a
-/// configuration that passed its checks).
+/// the board halted (`refused`) when a part or the loop refuse their
+/// settings (none does for a configuration that passed its checks).
+#[inline(never)]
 pub fn dc_axis<'p>(
     board: &'p DcBoard<'p>,
     index: usize,
     config: &AxisConfig,
-) -> Option<MegaDcAxis<'p>> {
-    let (motor, hall, home, sense) =
-        axis_parts(board, index, mechanics::WORM_SLEW_RAMP_PERMILLE_PER_MS)?;
+    log: &mut Usart0,
+) -> MegaAxis<'p> {
+    let Some((motor, hall, home, sense)) =
+        axis_parts(board, index, mechanics::WORM_SLEW_RAMP_PERMILLE_PER_MS)
+    else {
+        refused(log)
+    };
     let lp = mechanics::dc_hall_loop(config);
-    DcAxis::new(motor, hall, home, true, Some(sense), lp, config).ok()
+    match DcAxis::new(motor, hall, home, true, Some(sense), lp, config) {
+        Ok(axis) => AnyAxis::Dc(axis),
+        Err(_) => refused(log),
+    }
 }
 
 /// The timed axis `index` on the pins of [`axis_parts`] (its encoder
@@ -230,15 +264,94 @@ pub fn dc_axis<'p>(
 /// `max_speed_deg_s`, backward at `back_speed_deg_s`) and
 /// [`mechanics::WORM_SLEW_LAG_MS`], scaled by the measured supply against
 /// `calibration_supply_mv` (`supply.calibration_mv`; 0: not scaled);
-/// `None` when a part or the runs refuse their settings (none does for a
-/// configuration that passed its checks).
+/// the board halted (`refused`) when a part or the runs refuse their
+/// settings (none does for a configuration that passed its checks).
+#[inline(never)]
 pub fn timed_axis<'p>(
     board: &'p DcBoard<'p>,
     index: usize,
     config: &AxisConfig,
     calibration_supply_mv: u16,
-) -> Option<MegaTimedAxis<'p>> {
-    let (motor, _, home, sense) = axis_parts(board, index, 0)?;
+    log: &mut Usart0,
+) -> MegaAxis<'p> {
+    let Some((motor, _, home, sense)) = axis_parts(board, index, 0) else {
+        refused(log)
+    };
     let runs = mechanics::timed_runs(config, calibration_supply_mv, mechanics::WORM_SLEW_LAG_MS);
-    TimedAxis::new(motor, home, true, Some(sense), runs, config).ok()
+    match TimedAxis::new(motor, home, true, Some(sense), runs, config) {
+        Ok(axis) => AnyAxis::Timed(axis),
+        Err(_) => refused(log),
+    }
+}
+
+/// The linear actuator axis `index` on Hall pulses (`linear_hall`) on the
+/// pins of [`axis_parts`] (the Hall outputs on its encoder inputs, the
+/// home switch at the retracted end), its bridge ramping
+/// [`mechanics::LINEAR_RAMP_PERMILLE_PER_MS`], with the mounting and loop
+/// of its configuration ([`mechanics::linear_mount`]); the board halted
+/// (`refused`) when a part or the mounting refuse their settings (none
+/// does for a configuration that passed its checks).
+#[inline(never)]
+pub fn linear_hall_axis<'p>(
+    board: &'p DcBoard<'p>,
+    index: usize,
+    config: &AxisConfig,
+    log: &mut Usart0,
+) -> MegaAxis<'p> {
+    let parts = axis_parts(board, index, mechanics::LINEAR_RAMP_PERMILLE_PER_MS);
+    let mount = mechanics::linear_mount(config).ok();
+    let scale = PulseScale::new(config.linear.pulses_per_mm).ok();
+    let (Some((motor, hall, home, sense)), Some(mount), Some(scale)) = (parts, mount, scale) else {
+        refused(log)
+    };
+    let pulses = HallFeedback::new(hall, scale);
+    match LinearAxis::new(motor, pulses, home, true, Some(sense), mount, config) {
+        Ok(axis) => AnyAxis::LinearHall(axis),
+        Err(_) => refused(log),
+    }
+}
+
+/// The linear actuator axis `index` on its potentiometer (`linear_pot`)
+/// on the pins of [`axis_parts`] but the encoder and home switch (the
+/// wiper on A4 for C, A5 for A: [`C_POT_CHANNEL`], [`A_POT_CHANNEL`];
+/// homed at the retracted end, which the potentiometer reads), read as
+/// [`mechanics::LINEAR_POT_READING`] says; the board halted
+/// (`refused`) when a part or the mounting refuse their settings, or the
+/// potentiometer's first reading lies outside its calibrated span (a
+/// broken wiper or lead: the board halts with "axis configuration
+/// refused" rather than drive blind).
+#[inline(never)]
+pub fn linear_pot_axis<'p>(
+    board: &'p DcBoard<'p>,
+    index: usize,
+    config: &AxisConfig,
+    log: &mut Usart0,
+) -> MegaAxis<'p> {
+    let m = &config.linear;
+    let channel = if index == 0 {
+        C_POT_CHANNEL
+    } else {
+        A_POT_CHANNEL
+    };
+    let parts = axis_parts(board, index, mechanics::LINEAR_RAMP_PERMILLE_PER_MS);
+    let mount = mechanics::linear_mount(config).ok();
+    let pot = PotCalibration::new(m.pot_retracted_counts, m.pot_extended_counts, m.stroke_mm)
+        .ok()
+        .and_then(|calibration| {
+            PotFeedback::new(
+                SharedAdcChannel::new(&board.parts.adc, channel),
+                calibration,
+                m.stroke_mm,
+                mechanics::LINEAR_POT_READING,
+            )
+            .ok()
+        });
+    let (Some((motor, _, _, sense)), Some(mount), Some(pot)) = (parts, mount, pot) else {
+        refused(log)
+    };
+    // No switch: its input reads low, open only as an active-high switch.
+    match LinearAxis::new(motor, pot, NoEndSwitch, false, Some(sense), mount, config) {
+        Ok(axis) => AnyAxis::LinearPot(axis),
+        Err(_) => refused(log),
+    }
 }

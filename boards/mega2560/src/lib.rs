@@ -406,18 +406,7 @@ fn run_tracker(dp: Parts) -> ! {
     // Run it where it is, inside the result: moving it out would put a
     // second copy of its kilobytes on the stack.
     match &mut firmware {
-        Ok(fw) => {
-            let modbus_config = fw.controller().config().modbus;
-            let mut rs485 = Rs485::new(
-                dp.usart2,
-                dp.tc5,
-                &dp.porth,
-                modbus_config.baud,
-                Parity::from_code(modbus_config.parity),
-            );
-            let mut modbus = ModbusPort::new(MODBUS_IDENTITY, true);
-            serve(fw, &mut platform, &mut modbus, &mut rs485)
-        }
+        Ok(fw) => serve(fw, &mut platform, dp.usart2, dp.tc5, &dp.porth),
         // The board's own configuration was checked above; the scheduler's
         // intervals are the defaults. Nothing is driven; the watchdog,
         // no longer fed, resets the board.
@@ -498,19 +487,32 @@ fn assemble_firmware<'p, 'b>(
 }
 
 /// The loop: its pass, the Modbus port's (at most one request served),
-/// then sleep until the next interrupt. Inlined: a frame of its own would
-/// add to the deepest stack (the console's, below `Firmware::poll`).
-#[inline(always)]
+/// then sleep until the next interrupt. The RS-485 port (USART2, Timer5,
+/// its driver enable on PH3) and the Modbus port start here, at the
+/// configured rate and parity. Not inlined: the Modbus port's buffers
+/// (369 B) are on the stack only once the firmware is built, not under
+/// its building too (the deepest stack at power-on).
+#[inline(never)]
 fn serve(
     fw: &mut MegaFirmware<'_, '_>,
     platform: &mut MegaPlatform<'_>,
-    modbus: &mut ModbusPort,
-    rs485: &mut Rs485,
+    usart2: chip::USART2,
+    tc5: chip::TC5,
+    porth: &chip::PORTH,
 ) -> ! {
+    let modbus_config = fw.controller().config().modbus;
+    let mut rs485 = Rs485::new(
+        usart2,
+        tc5,
+        porth,
+        modbus_config.baud,
+        Parity::from_code(modbus_config.parity),
+    );
+    let mut modbus = ModbusPort::new(MODBUS_IDENTITY, true);
     loop {
         fw.poll(platform);
         let now_ms = platform.now_ms();
-        modbus.poll(fw, rs485, now_ms);
+        modbus.poll(fw, &mut rs485, now_ms);
         platform.wait_for_interrupt();
     }
 }
@@ -557,36 +559,21 @@ fn controller_options(axes: &[suntracker::config::AxisConfig; 2]) -> ControllerO
     mechanics::options_for_drives(options, axes)
 }
 
-/// Both axes, each of the kind its configuration names ([`axes::axis`]).
-/// Not inlined, as [`attitude_sensors`].
+/// Both axes, each of the kind its configuration names ([`axes::axis`]),
+/// each built in its place in the array (the board halted when one is
+/// refused). Not inlined, as [`attitude_sensors`].
 #[inline(never)]
 fn mega_axes<'p>(
     board: &'p dc::DcBoard<'p>,
     config: &Config,
     log: &mut Usart0,
 ) -> [axes::MegaAxis<'p>; 2] {
+    let calibration_mv = config.supply.calibration_mv;
+    let [c, a] = &config.axes;
     [
-        axis_or_halt(board, 0, config, log),
-        axis_or_halt(board, 1, config, log),
+        axes::axis(board, 0, c, calibration_mv, log),
+        axes::axis(board, 1, a, calibration_mv, log),
     ]
-}
-
-/// Axis `index` of `config` ([`axes::axis`]), or the board halted when
-/// its configuration is refused. Not inlined: each axis is built in its
-/// place in [`mega_axes`]'s array, not both first in a frame of their own
-/// (582 B more on the deepest stack, the power-on's).
-#[inline(never)]
-fn axis_or_halt<'p>(
-    board: &'p dc::DcBoard<'p>,
-    index: usize,
-    config: &Config,
-    log: &mut Usart0,
-) -> axes::MegaAxis<'p> {
-    let axis = config.axes.get(index);
-    match axis.and_then(|a| axes::axis(board, index, a, config.supply.calibration_mv)) {
-        Some(built) => built,
-        None => halt(log, "axis configuration refused"),
-    }
 }
 
 /// The mount's attitude sensors on the I²C bus (ADXL345 and QMC5883L), or
@@ -615,6 +602,12 @@ fn attitude_sensors<'b>(
             None
         }
     }
+}
+
+/// An axis's configuration refused by its drive: says so and stops
+/// ([`halt`]).
+fn refused(log: &mut Usart0) -> ! {
+    halt(log, "axis configuration refused")
 }
 
 /// Says why and stops: the watchdog, no longer fed, resets the board.

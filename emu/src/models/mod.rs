@@ -6,6 +6,7 @@ pub mod ds1302;
 pub mod ds3231;
 pub mod fs5106r;
 pub mod ibt2;
+pub mod linear;
 pub mod modbus_master;
 pub mod mount;
 pub mod nmea;
