@@ -3425,6 +3425,10 @@ fn linear_typed(pot: bool) -> Vec<String> {
     lines
 }
 
+/// How long the linear scenarios run, emulated minutes: tracking starts
+/// at 05:12Z, and set-points to 05:48Z make the 30 minutes asked.
+const LINEAR_RUN_MIN: f64 = 50.0;
+
 /// The linear scenarios: Kano, 2026-06-21, power-on 05:00Z on the default
 /// image, the C axis the slew drive of (dc), the A axis the LA12 on the
 /// mount of [`linear_typed`] read by `feedback`, its rod 30 mm out. An
@@ -3445,7 +3449,7 @@ fn linear_morning(
     let typed = linear_typed(pot);
     let bench = kano_dc_bench(elf, start, 30.0, 20.0).linear_a(feedback, 30.0);
     let run = typed_saved_and_cut(bench, &typed)
-        .run_minutes(80.0)
+        .run_minutes(LINEAR_RUN_MIN)
         .unwrap();
     report(name, &run);
     let (texts, cut) = texts_and_cut(&run);
