@@ -2934,14 +2934,16 @@ struct Obstruction {
     fault_s: f64,
     /// Cleared, emulated UTC s.
     cleared_s: f64,
-    /// Rises of the A motor's current over 3 A between the fault and the
+    /// Rises of the A motor's current over its mark (the bench's current
+    /// limit: 3 A a DC motor, 6 A the linear actuator) between the fault and the
     /// obstacle's going: the retries.
     retries: usize,
 }
 
 /// An obstacle held the A axis at `obstacle_deg` until `clear_s`:
 /// `obstruction_a` raised within a second of the last rise of the A
-/// motor's current above 3 A before it, the axis not past the obstacle at
+/// motor's current above its mark (3 A a DC motor, 6 A the linear
+/// actuator) before it, the axis not past the obstacle at
 /// the fault, retried (the current rises again) before the obstacle goes,
 /// the fault cleared only after it went, and at least two set-points after
 /// that reached within `angle_tol_deg` on each axis, their panel normals
@@ -2955,7 +2957,7 @@ fn assert_obstruction_a(
 ) -> Obstruction {
     let rises = &run.current_rises.1;
     println!(
-        "A current rises above 3 A at {:?}",
+        "A current rises above its mark at {:?}",
         rises.iter().map(|r| r - start as f64).collect::<Vec<_>>()
     );
     let raised = fault_raised(run, "obstruction_a");
@@ -2965,9 +2967,9 @@ fn assert_obstruction_a(
     let rise = *rises
         .iter()
         .rfind(|&&r| r <= fault_s)
-        .expect("the A motor's current passes 3 A before the fault");
+        .expect("the A motor's current passes its mark before the fault");
     let delay_s = fault_s - rise;
-    println!("obstruction_a {delay_s:.3} s after the current passed 3 A");
+    println!("obstruction_a {delay_s:.3} s after the current passed its mark");
     assert!(
         (0.0..=1.0).contains(&delay_s),
         "obstruction_a {delay_s:.3} s after the current limit"
@@ -2975,9 +2977,12 @@ fn assert_obstruction_a(
     // Stopped: from the fault until the obstacle goes, the A axis never
     // passed it, and the motor was not left driven against it (every rise
     // of the current is a new attempt, at least one more: the retry).
+    // Within 1e-4° of the obstacle: a linear axis's model holds the rod at
+    // the obstacle's extension, and its angle comes back through f32
+    // (−77.9999924° for −78°).
     let at_fault = run.lines.iter().find(|l| l.utc_s >= fault_s).unwrap();
     assert!(
-        at_fault.a_deg <= obstacle_deg + 1e-6,
+        at_fault.a_deg <= obstacle_deg + 1e-4,
         "A at {}",
         at_fault.a_deg
     );
@@ -3527,5 +3532,60 @@ fn dc8_linear_actuator_on_hall_pulses_typed_saved_and_tracking() {
     println!(
         "dc8: {n} set-points after the cut, the A axis a linear actuator on Hall pulses, \
          worst shaft error {worst:.4}°, run {wall_s:.1} s"
+    );
+}
+
+/// The linear A axis's obstacle in (dc9): it holds the rod at the
+/// extension of this angle, degrees, on its first way up from the
+/// retracted end (−92°).
+const DC9_OBSTACLE_DEG: f64 = -78.0;
+/// The emulated minute the obstacle goes.
+const DC9_CLEAR_MIN: f64 = 16.0;
+
+/// (dc9) Obstruction on a linear actuator: Kano, 2026-06-21, power-on
+/// 06:30Z on the default image (before the C axis's unwind of the day, at
+/// about 08:05Z), the A axis the LA12 on Hall pulses typed as in (dc8),
+/// `save`, a power cut at minute 4, and an obstacle in the rod's way at
+/// the extension of −78° until minute 16. After the cut the rod retracts
+/// to home through the obstacle's place (it holds only a rod coming from
+/// below); its first swing up runs into it, and the held actuator's current
+/// (9.67 A stalled at full duty in the model) passes the typed 6 A limit:
+/// `obstruction_a` within a second of it (the limit's 200 ms and a tick),
+/// the rod not past the obstacle, retried on the fault's back-off, and
+/// once the obstacle is gone the retry carries the axis to its set-point
+/// and the fault is cleared; the set-points after it within the issue's
+/// 0.2° for Hall pulses.
+#[test]
+fn dc9_obstruction_on_a_linear_a_axis() {
+    let elf = elf_or_skip!();
+    let start = t("2026-06-21T06:30:00Z");
+    let typed = linear_typed(false);
+    let bench = kano_dc_bench(&elf, start, 30.0, 20.0)
+        .linear_a(LinearFeedback::Hall, 30.0)
+        .obstacle_at(0.0, 1, Some(DC9_OBSTACLE_DEG))
+        .obstacle_at(DC9_CLEAR_MIN, 1, None);
+    let run = typed_saved_and_cut(bench, &typed)
+        .run_minutes(30.0)
+        .unwrap();
+    report("dc9", &run);
+    let (texts, cut) = texts_and_cut(&run);
+    let (before, after) = texts.split_at(cut);
+    assert_set_lines_taken(before, &typed);
+    assert!(after.contains(&"config source=stored"), "{after:?}");
+    let clear_s = start as f64 + DC9_CLEAR_MIN * 60.0;
+    let ob = assert_obstruction_a(
+        &run,
+        start,
+        clear_s,
+        DC9_OBSTACLE_DEG,
+        (LINEAR_HALL_TOL_DEG, LINEAR_HALL_TOL_DEG),
+    );
+    assert!(ob.fault_s > run.lines[cut].utc_s, "the fault after the cut");
+    println!(
+        "dc9: fault {} cleared {} ({} retries), run {:.1} s",
+        format_utc(ob.fault_s as i64),
+        format_utc(ob.cleared_s as i64),
+        ob.retries,
+        run.wall.as_secs_f64()
     );
 }
