@@ -270,7 +270,8 @@ pub fn linear_mount(axis: &AxisConfig) -> Result<LinearAxisConfig, LinearError> 
     } else {
         let at_home_mm = g.extension_mm(g.length_mm(axis.home_deg)?)?;
         (
-            at_home_mm.clamp(0.0, g.stroke_mm),
+            // Not `f32::clamp`: no panic path in the image.
+            Float::clamp(at_home_mm, 0.0, g.stroke_mm),
             0.0,
             2.0 * m.pulses_per_mm,
         )

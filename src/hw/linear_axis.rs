@@ -63,6 +63,7 @@ use drivers::adc::AdcChannel;
 use drivers::dc_motor::{Bridge, DcMotor, Output};
 use drivers::linear::{ActuatorGeometry, LinearError, PotCalibration, PulseScale};
 use embedded_hal::digital::{ErrorType, InputPin};
+use sun_algos::Float;
 
 use super::dc_axis::{DcAxis, DcAxisConfig, DcAxisConfigError, DcAxisError, DcState, MotorCurrent};
 use super::servo_axis::EncoderCount;
@@ -255,7 +256,9 @@ impl<A: AdcChannel> PotFeedback<A> {
     }
 
     fn hold(&mut self, mm: f32) {
-        self.held_mm = mm.clamp(0.0, self.stroke_mm);
+        // `Float::clamp`, not `f32::clamp`: no panic path for bounds that
+        // are not ordered (none here: a calibrated stroke is positive).
+        self.held_mm = Float::clamp(mm, 0.0, self.stroke_mm);
         // 0..=stroke · 10: a stroke of a valid calibration is finite.
         self.count = PulseScale::new(POT_COUNTS_PER_MM)
             .and_then(|s| s.pulses(self.held_mm))
@@ -562,7 +565,7 @@ where
         let floor = if F::ABSOLUTE { lo } else { lo - (hi - lo) };
         let deg = self.target_deg();
         if deg > hi || deg < floor {
-            let to = deg.clamp(floor, hi);
+            let to = Float::clamp(deg, floor, hi);
             // Within two strokes of the base angle: no saturation.
             self.target_counts = round_counts((to - self.base_deg) * self.counts_per_deg);
         }
@@ -579,7 +582,8 @@ where
         let ext = if deg < lo && !F::ABSOLUTE {
             (deg - lo) * self.mean_mm_per_deg
         } else {
-            g.extension_mm(g.length_mm(deg.clamp(lo, hi)).ok()?).ok()?
+            g.extension_mm(g.length_mm(Float::clamp(deg, lo, hi)).ok()?)
+                .ok()?
         };
         let counts = self.inner.encoder().counts_for(ext).ok()?;
         Some(origin.saturating_add(counts))
