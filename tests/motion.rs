@@ -348,6 +348,42 @@ fn stuck_closed_switch_after_a_reference_stays_below_max() {
 }
 
 #[test]
+fn an_axis_still_on_its_switch_after_a_move_away_is_at_home_not_above_it() {
+    // A drive that starts slowly (a DC motor ramping up) still closes its
+    // switch after a move of 90° away from it is commanded: the axis is
+    // where the drive is, not where the count already says. The
+    // controller raises `limit_switch` for a switch closed more than 2°
+    // above home, so by the count alone it raised one on every such move.
+    let c = AxisConfig {
+        backlash_deg: 0.0,
+        ..Config::default().axes[0]
+    };
+    let mut ax = AxisController::new(mock(&c, -100.0, Switch::Normal), c);
+    home_attempts(&mut ax, 1.0, 1).unwrap();
+    ax.drive_mut().speed = counts(&c, 1.0);
+    ax.move_to(c.home_deg + 90.0).unwrap();
+    assert!(
+        ax.drive_mut().at_limit().unwrap(),
+        "the drive has not moved yet"
+    );
+    assert!(ax.above_home_deg().abs() < 0.1, "{}", ax.above_home_deg());
+    ax.drive_mut().tick();
+    assert!(
+        (ax.above_home_deg() - 1.0).abs() < 0.1,
+        "{}",
+        ax.above_home_deg()
+    );
+    while ax.drive().pending() != 0 {
+        ax.drive_mut().tick();
+    }
+    assert!(
+        (ax.above_home_deg() - 90.0).abs() < 0.1,
+        "{}",
+        ax.above_home_deg()
+    );
+}
+
+#[test]
 fn stuck_closed_then_repaired_switch_still_homes() {
     let c = Config::default().axes[1];
     let mut ax = AxisController::new(mock(&c, 0.0, Switch::StuckClosed), c);

@@ -537,17 +537,21 @@ impl<D: AxisDrive> AxisController<D> {
         deg - turns as f32 * 360.0
     }
 
-    /// How far above its home switch the axis is, degrees: on an axis
-    /// that turns without end, where it is now (the counted position less
-    /// the counts the drive has still to run: a move passes the switch
-    /// once a turn) within the turn, within [`HOMING_BACKOFF_MAX_DEG`]
-    /// below the switch counting as at it (negative).
+    /// How far above its home switch the axis is now, degrees: the counted
+    /// position less the counts the drive has still to run. A move is
+    /// counted when it is commanded, and a drive that starts slowly (a DC
+    /// motor ramping up) is still on its switch a tick or more after a
+    /// move away from it: by the counted position alone its closed switch
+    /// read as met far from home. On an axis that turns without end, within
+    /// the turn (a move passes the switch once a turn), within
+    /// [`HOMING_BACKOFF_MAX_DEG`] below the switch counting as at it
+    /// (negative).
     pub fn above_home_deg(&self) -> f32 {
         let turn = self.geo.turn_counts;
-        if turn == 0 {
-            return self.counted_deg() - self.geo.home_deg;
-        }
         let now = sat_sub(self.position_counts, self.drive.pending());
+        if turn == 0 {
+            return self.deg_from_home(now) - self.geo.home_deg;
+        }
         let d = now.wrapping_rem_euclid(turn) as f32 / self.geo.counts_per_deg;
         if d > 360.0 - HOMING_BACKOFF_MAX_DEG {
             d - 360.0
