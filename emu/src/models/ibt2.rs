@@ -246,9 +246,7 @@ impl DcAxisModel {
 
     /// The IS voltage on the ADC pin, mV.
     pub fn sense_mv(&self) -> u32 {
-        let v =
-            Bts7960Sense::TYPICAL_1K_5V.is_voltage_v(self.motor.output(), self.motor.current_a());
-        (v * 1_000.0).round() as u32
+        sense_mv(self.motor.output(), self.motor.current_a())
     }
 
     /// Runs the motor under `output` for the `cycles` CPU cycles from
@@ -291,6 +289,15 @@ impl DcAxisModel {
         }
         edges
     }
+}
+
+/// The IS voltage a BTS7960 pair puts on its 1 kΩ sense resistor
+/// ([`Bts7960Sense::TYPICAL_1K_5V`]) under `output` at `current_a`, mV:
+/// what a bridge-driven model (a DC motor, a linear actuator) puts on its
+/// ADC pin.
+pub fn sense_mv(output: Output, current_a: f64) -> u32 {
+    let v = Bts7960Sense::TYPICAL_1K_5V.is_voltage_v(output, current_a);
+    (v * 1_000.0).round() as u32
 }
 
 #[cfg(test)]

@@ -42,7 +42,7 @@
 //! - The BTS7960's current sense: the conducting high side's IS pin
 //!   sources `I / k_ILIS` (k_ILIS = 8,500, Infineon BTS 7960 data sheet
 //!   item 4.4.6) into 1 kΩ on ADC3, from the actuator's current
-//!   ([`Bts7960Sense::TYPICAL_1K_5V`]).
+//!   ([`sim::dc_motor::Bts7960Sense::TYPICAL_1K_5V`]).
 //! - The home switch (PC1, active low) closed at an extension of 0 mm or
 //!   less, as `sim::linear_drive::RetractedSwitch`; no high-end switch
 //!   (PC3 stays open: the actuator's own end switch cuts the motor there).
@@ -52,11 +52,11 @@
 
 use drivers::dc_motor::Output;
 use drivers::linear::ActuatorGeometry;
-use sim::dc_motor::{duty_of, Bts7960Sense};
+use sim::dc_motor::duty_of;
 use sim::linear_actuator::{ActuatorSpec, LinearActuator};
 use sim::linear_drive::{FeedbackKind, LA12_HALL_LOOP, LA12_TILT_MOUNT};
 
-use crate::models::ibt2::{Ibt2Wiring, ADC_VREF_V};
+use crate::models::ibt2::{self, Ibt2Wiring, ADC_VREF_V};
 use crate::models::quadrature::levels_of_count;
 
 /// The potentiometer's wiper: ADC5 (PF5, the Mega's header A5).
@@ -300,8 +300,7 @@ impl LinearAxisModel {
 
     /// The IS voltage on the ADC pin, mV.
     pub fn sense_mv(&self) -> u32 {
-        let v = Bts7960Sense::TYPICAL_1K_5V.is_voltage_v(self.output, self.actuator.current_a());
-        (v * 1_000.0).round() as u32
+        ibt2::sense_mv(self.output, self.actuator.current_a())
     }
 
     /// Runs the actuator under `output` for the `cycles` CPU cycles from
