@@ -13,7 +13,7 @@
 //! | Timer0 | [`Millis`] | 1 kHz tick, [`millis`] |
 //! | INTn | [`Anemometer`] | falling-edge pulse count |
 //! | WDT | [`Watchdog`] | ~2 s, [`Watchdog::feed`] |
-//! | Timer1, fast PWM mode 14, 50 Hz | [`Timer1Pwm`]: [`Oc1a`], [`Oc1b`] | `embedded_hal::pwm::SetDutyCycle` (max duty 40,000 = one 0.5 µs count per duty step) |
+//! | Timer1, fast PWM mode 14, 50 Hz (Timer3 on the 2560 too) | [`Timer1Pwm`]: [`Oc1a`], [`Oc1b`]; `Timer3Pwm`: `Oc3a`, `Oc3c` | `embedded_hal::pwm::SetDutyCycle` (max duty 40,000 = one 0.5 µs count per duty step) |
 //! | PCINT23:16 (PD4–PD7; PK4–PK7 on the 2560) | [`PinChangeEncoders`] | two `drivers::encoder::SharedEncoder`s (`suntracker::hw::EncoderCount`) |
 //! | ADC, AVcc reference, 125 kHz | [`Adc`] | [`Adc::start`] / [`Adc::poll`], no waiting |
 //! | USART2 with a driver enable on PH3, Timer5 (2560 only) | [`Rs485`] | [`suntracker::sunspec::ModbusLine`]: bytes with µs stamps in, a reply sent by interrupts |
@@ -101,8 +101,11 @@ pub use motor_pwm::{
 };
 pub use pcint::{on_encoder_pin_change, EncoderPort, PinChangeEncoders};
 pub use pwm::{
-    Oc1a, Oc1b, PulseWidth, PwmError, Timer1Pwm, COUNTS_PER_US, FRAME_TOP, FRAME_US, MAX_DUTY,
+    Oc1a, Oc1b, PulseWidth, PwmError, Timer1Channel, Timer1Pwm, COUNTS_PER_US, FRAME_TOP, FRAME_US,
+    MAX_DUTY,
 };
+#[cfg(avr_atmega2560)]
+pub use pwm::{Oc3a, Oc3c, Timer3Channel, Timer3Pwm};
 #[cfg(avr_atmega2560)]
 pub use rs485::{
     on_usart2_rx, on_usart2_tx, on_usart2_udre, Parity, Rs485, RX_ENTRIES, US_PER_COUNT,

@@ -29,6 +29,14 @@
 //! OC1A = PB5 (Mega D11), OC1B = PB6 (Mega D12). OC1C (ATmega2560 PB7) is
 //! not used. Timer1 is then taken, ICP1 and its interrupts included.
 //!
+//! The ATmega2560 has the same servo frames on Timer3 (`Timer3Pwm`, the
+//! same registers numbered 3: §17): OC3A = PE3 (Mega D5) and OC3C = PE5
+//! (Mega D3), where the Mega's servo axes take them (Timer1 drives its DC
+//! bridges at 20 kHz there). OC3B = PE4 (D2) is INT4, the anemometer's
+//! input, and stays disconnected. `Timer3Pwm::start_with` can leave an
+//! output disconnected until its servo is built: a board that has no servo
+//! on it sends no pulse.
+//!
 //! Start-up without a glitch: [`Timer1Pwm::start`] stops the timer, clears
 //! both compare-output latches (a forced compare match in normal mode,
 //! §15.11.3 "TCCR1C": FOC1x applies COM1x, here "clear"), writes ICR1 and
@@ -59,20 +67,9 @@ pub const FRAME_TOP: u16 = (FRAME_US * COUNTS_PER_US - 1) as u16;
 /// pulse of `d` counts; see the module notes).
 pub const MAX_DUTY: u16 = FRAME_TOP + 1;
 
-/// OC1A / OC1B bits of PORTB.
-#[cfg(not(avr_atmega2560))]
-const OC1A_BIT: u8 = 1;
-#[cfg(not(avr_atmega2560))]
-const OC1B_BIT: u8 = 2;
-#[cfg(avr_atmega2560)]
-const OC1A_BIT: u8 = 5;
-#[cfg(avr_atmega2560)]
-const OC1B_BIT: u8 = 6;
-const PINS_MASK: u8 = (1 << OC1A_BIT) | (1 << OC1B_BIT);
-
-/// WGM11:10 of mode 14 (TCCR1A).
+/// WGMn1:n0 of mode 14 (TCCRnA).
 const WGM_14_LOW: u8 = 0b10;
-/// WGM13:12 of mode 14 (TCCR1B).
+/// WGMn3:n2 of mode 14 (TCCRnB).
 const WGM_14_HIGH: u8 = 0b11;
 
 /// Errors of the Timer1 PWM.
@@ -127,69 +124,132 @@ impl PulseWidth {
     }
 }
 
-/// Timer1 running 50 Hz servo frames on OC1A and OC1B.
-pub struct Timer1Pwm {
-    tc1: chip::TC1,
-}
+/// A 16-bit timer running 50 Hz servo frames on two of its outputs, and
+/// those outputs as channels: `$timer` takes `$tc` and drives the `$port`
+/// bits `$a_bit` and `$b_bit` (`$a` and `$b`, compare registers `$ocr_a`,
+/// `$ocr_b`, output modes `$com_a`, `$com_b`, force bits `$foc_a`,
+/// `$foc_b`). The timers share the register layout (ATmega2560 §17.11
+/// "Register Description": TCCRnA/B/C, TCNTn, OCRnx, ICRn, TIMSKn), so one
+/// body serves Timer1 and Timer3.
+macro_rules! servo_timer {
+    (
+        $timer:ident, $either:ident, $tc:ident, $port:ident, $doc:literal,
+        regs: $tccra:ident, $tccrb:ident, $tccrc:ident, $icr:ident, $tcnt:ident, $timsk:ident, $wgm:ident, $cs:ident;
+        $a:ident: $ocr_a:ident, $com_a:ident, $foc_a:ident, $a_bit:literal, $a_pin:literal;
+        $b:ident: $ocr_b:ident, $com_b:ident, $foc_b:ident, $b_bit:literal, $b_pin:literal;
+    ) => {
+        #[doc = $doc]
+        pub struct $timer {
+            tc: chip::$tc,
+        }
 
-impl Timer1Pwm {
-    /// Takes Timer1 and starts the frames, OC1A at `oc1a` and OC1B at
-    /// `oc1b` from the first pulse (see the module notes). Makes both pins
-    /// outputs (PORTB bits low first).
-    pub fn start(tc1: chip::TC1, portb: &chip::PORTB, oc1a: PulseWidth, oc1b: PulseWidth) -> Self {
-        // Stopped, normal mode, pins not connected to the timer.
-        tc1.tccr1b().reset();
-        tc1.tccr1a().reset();
-        tc1.timsk1().reset();
-        // The pins low while the port drives them.
-        portb.set_port(PINS_MASK, false);
-        // Compare-output latches cleared: in normal mode with COM1x =
-        // "clear on compare match", a forced match clears them.
-        tc1.tccr1a()
-            .write(|w| w.com1a().match_clear().com1b().match_clear());
-        tc1.tccr1c()
-            .write(|w| w.foc1a().set_bit().foc1b().set_bit());
-        // Frame and first pulses, written straight into ICR1 / OCR1x (no
-        // double buffering in normal mode).
-        tc1.icr1().write(|w| w.set(FRAME_TOP));
-        tc1.ocr1a().write(|w| w.set(oc1a.counts - 1));
-        tc1.ocr1b().write(|w| w.set(oc1b.counts - 1));
-        tc1.tcnt1().write(|w| w.set(0));
-        // Mode 14, pins connected (low: latches clear), outputs on, then
-        // the clock.
-        tc1.tccr1a().write(|w| {
-            w.wgm1()
-                .set(WGM_14_LOW)
-                .com1a()
-                .match_clear()
-                .com1b()
-                .match_clear()
-        });
-        portb.set_ddr(PINS_MASK, true);
-        tc1.tccr1b()
-            .write(|w| w.wgm1().set(WGM_14_HIGH).cs1().prescale_8());
-        Timer1Pwm { tc1 }
-    }
+        impl $timer {
+            /// Takes the timer and starts the frames, the first output at
+            /// `a` and the second at `b` from the first pulse (see the
+            /// module notes). Makes both pins outputs (port bits low
+            /// first).
+            pub fn start(tc: chip::$tc, port: &chip::$port, a: PulseWidth, b: PulseWidth) -> Self {
+                Self::start_with(tc, port, Some(a), Some(b))
+            }
 
-    /// The two channels, each borrowing the timer.
-    pub fn channels(&mut self) -> (Oc1a<'_>, Oc1b<'_>) {
-        (Oc1a { tc1: &self.tc1 }, Oc1b { tc1: &self.tc1 })
-    }
+            /// [`Self::start`] with an output left disconnected (`None`:
+            /// its pin an output held low, no pulse, until its channel is
+            /// given a duty): a servo that gets no pulse stays still.
+            pub fn start_with(
+                tc: chip::$tc,
+                port: &chip::$port,
+                a: Option<PulseWidth>,
+                b: Option<PulseWidth>,
+            ) -> Self {
+                let mask: u8 = (1 << $a_bit) | (1 << $b_bit);
+                // Stopped, normal mode, pins not connected to the timer.
+                tc.$tccrb().reset();
+                tc.$tccra().reset();
+                tc.$timsk().reset();
+                // The pins low while the port drives them.
+                port.set_port(mask, false);
+                // Compare-output latches cleared: in normal mode with COMnx =
+                // "clear on compare match", a forced match clears them.
+                tc.$tccra()
+                    .write(|w| w.$com_a().match_clear().$com_b().match_clear());
+                tc.$tccrc().write(|w| w.$foc_a().set_bit().$foc_b().set_bit());
+                // Frame and first pulses, written straight into ICRn / OCRnx
+                // (no double buffering in normal mode).
+                tc.$icr().write(|w| w.set(FRAME_TOP));
+                let counts = |p: Option<PulseWidth>| p.map_or(0, |p| p.counts - 1);
+                tc.$ocr_a().write(|w| w.set(counts(a)));
+                tc.$ocr_b().write(|w| w.set(counts(b)));
+                tc.$tcnt().write(|w| w.set(0));
+                // Mode 14, the given outputs connected (low: latches clear),
+                // pins outputs, then the clock.
+                tc.$tccra().write(|w| {
+                    let w = w.$wgm().set(WGM_14_LOW);
+                    let w = if a.is_some() {
+                        w.$com_a().match_clear()
+                    } else {
+                        w.$com_a().disconnected()
+                    };
+                    if b.is_some() {
+                        w.$com_b().match_clear()
+                    } else {
+                        w.$com_b().disconnected()
+                    }
+                });
+                port.set_ddr(mask, true);
+                tc.$tccrb()
+                    .write(|w| w.$wgm().set(WGM_14_HIGH).$cs().prescale_8());
+                $timer { tc }
+            }
 
-    /// Stops the timer and gives it back: the pins show PORTB's bits again
-    /// (outputs, low), i.e. no pulses (an FS5106R stops on a lost signal).
-    pub fn release(self) -> chip::TC1 {
-        self.tc1.tccr1b().reset();
-        self.tc1.tccr1a().reset();
-        self.tc1
-    }
+            /// The two channels, each borrowing the timer.
+            pub fn channels(&self) -> ($a<'_>, $b<'_>) {
+                ($a { tc: &self.tc }, $b { tc: &self.tc })
+            }
+
+            /// Stops the timer and gives it back: the pins show the port's
+            /// bits again (outputs, low), i.e. no pulses (an FS5106R stops
+            /// on a lost signal).
+            pub fn release(self) -> chip::$tc {
+                self.tc.$tccrb().reset();
+                self.tc.$tccra().reset();
+                self.tc
+            }
+        }
+
+        channel!($tc, $tccra, $a, $ocr_a, $com_a, $a_pin);
+        channel!($tc, $tccra, $b, $ocr_b, $com_b, $b_pin);
+
+        #[doc = concat!("Either channel of [`", stringify!($timer), "`], so that two servo axes on its two outputs are of one type.")]
+        pub enum $either<'t> {
+            #[doc = concat!("The ", stringify!($a), " output (", $a_pin, ").")]
+            $a($a<'t>),
+            #[doc = concat!("The ", stringify!($b), " output (", $b_pin, ").")]
+            $b($b<'t>),
+        }
+
+        impl ErrorType for $either<'_> {
+            type Error = PwmError;
+        }
+
+        impl SetDutyCycle for $either<'_> {
+            fn max_duty_cycle(&self) -> u16 {
+                MAX_DUTY
+            }
+            fn set_duty_cycle(&mut self, duty: u16) -> Result<(), PwmError> {
+                match self {
+                    $either::$a(ch) => ch.set_duty_cycle(duty),
+                    $either::$b(ch) => ch.set_duty_cycle(duty),
+                }
+            }
+        }
+    };
 }
 
 macro_rules! channel {
-    ($name:ident, $ocr:ident, $com:ident, $pin:literal) => {
-        #[doc = concat!("Timer1's ", stringify!($name), " output (", $pin, ") as a PWM channel: duty `d` of [`MAX_DUTY`] is a pulse of `d` counts (0.5 µs each) per 20 ms frame.")]
+    ($tc:ident, $tccra:ident, $name:ident, $ocr:ident, $com:ident, $pin:literal) => {
+        #[doc = concat!("The ", stringify!($name), " output (", $pin, ") as a PWM channel: duty `d` of [`MAX_DUTY`] is a pulse of `d` counts (0.5 µs each) per 20 ms frame.")]
         pub struct $name<'t> {
-            tc1: &'t chip::TC1,
+            tc: &'t chip::$tc,
         }
 
         impl ErrorType for $name<'_> {
@@ -201,7 +261,7 @@ macro_rules! channel {
                 MAX_DUTY
             }
 
-            /// 1..=[`MAX_DUTY`]: OCR1x = duty − 1, from the next frame;
+            /// 1..=[`MAX_DUTY`]: OCRnx = duty − 1, from the next frame;
             /// 0: the pin disconnected from the timer (low) at once, a
             /// pulse under way cut short. Above [`MAX_DUTY`]: an error,
             /// nothing changed.
@@ -211,14 +271,14 @@ macro_rules! channel {
                 }
                 if duty == 0 {
                     interrupt::free(|_| {
-                        self.tc1.tccr1a().modify(|_, w| w.$com().disconnected());
+                        self.tc.$tccra().modify(|_, w| w.$com().disconnected());
                     });
                     return Ok(());
                 }
-                self.tc1.$ocr().write(|w| w.set(duty - 1));
-                if self.tc1.tccr1a().read().$com().is_disconnected() {
+                self.tc.$ocr().write(|w| w.set(duty - 1));
+                if self.tc.$tccra().read().$com().is_disconnected() {
                     interrupt::free(|_| {
-                        self.tc1.tccr1a().modify(|_, w| w.$com().match_clear());
+                        self.tc.$tccra().modify(|_, w| w.$com().match_clear());
                     });
                 }
                 Ok(())
@@ -228,10 +288,25 @@ macro_rules! channel {
 }
 
 #[cfg(not(avr_atmega2560))]
-channel!(Oc1a, ocr1a, com1a, "PB1, Uno D9");
-#[cfg(not(avr_atmega2560))]
-channel!(Oc1b, ocr1b, com1b, "PB2, Uno D10");
+servo_timer!(
+    Timer1Pwm, Timer1Channel, TC1, PORTB, "Timer1 running 50 Hz servo frames on OC1A (PB1, Uno D9) and OC1B (PB2, Uno D10).",
+    regs: tccr1a, tccr1b, tccr1c, icr1, tcnt1, timsk1, wgm1, cs1;
+    Oc1a: ocr1a, com1a, foc1a, 1, "PB1, Uno D9";
+    Oc1b: ocr1b, com1b, foc1b, 2, "PB2, Uno D10";
+);
 #[cfg(avr_atmega2560)]
-channel!(Oc1a, ocr1a, com1a, "PB5, Mega D11");
+servo_timer!(
+    Timer1Pwm, Timer1Channel, TC1, PORTB, "Timer1 running 50 Hz servo frames on OC1A (PB5, Mega D11) and OC1B (PB6, Mega D12).",
+    regs: tccr1a, tccr1b, tccr1c, icr1, tcnt1, timsk1, wgm1, cs1;
+    Oc1a: ocr1a, com1a, foc1a, 5, "PB5, Mega D11";
+    Oc1b: ocr1b, com1b, foc1b, 6, "PB6, Mega D12";
+);
+// OC3B (PE4, Mega D2) is INT4, the anemometer's input: it stays
+// disconnected (COM3B = 0).
 #[cfg(avr_atmega2560)]
-channel!(Oc1b, ocr1b, com1b, "PB6, Mega D12");
+servo_timer!(
+    Timer3Pwm, Timer3Channel, TC3, PORTE, "Timer3 running 50 Hz servo frames on OC3A (PE3, Mega D5) and OC3C (PE5, Mega D3); OC3B (PE4, D2) stays disconnected.",
+    regs: tccr3a, tccr3b, tccr3c, icr3, tcnt3, timsk3, wgm3, cs3;
+    Oc3a: ocr3a, com3a, foc3a, 3, "PE3, Mega D5";
+    Oc3c: ocr3c, com3c, foc3c, 5, "PE5, Mega D3";
+);

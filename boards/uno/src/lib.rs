@@ -46,7 +46,6 @@
 #![no_std]
 
 use drivers::servo::ContinuousServo;
-use embedded_hal::pwm::{ErrorType, SetDutyCycle};
 use suntracker::console;
 use suntracker::hw::ServoAxis;
 use suntracker::log::{self, Sink, SiteSource};
@@ -57,8 +56,8 @@ use suntracker::text::FlashStr;
 use suntracker::time::monotonic;
 use suntracker_avr::eeprom::Eeprom;
 use suntracker_avr::{
-    chip, millis, sleep_until_interrupt, Adc, InputPin, Millis, Oc1a, Oc1b, PinChangeEncoders,
-    PulseWidth, PwmError, Timer1Pwm, Usart0, Watchdog, MAX_DUTY, MS_PER_TICK,
+    chip, millis, sleep_until_interrupt, Adc, InputPin, Millis, PinChangeEncoders, PulseWidth,
+    Timer1Channel, Timer1Pwm, Usart0, Watchdog, MS_PER_TICK,
 };
 
 /// Board name in the boot line.
@@ -80,30 +79,6 @@ pub const PANEL: PanelAdc = PanelAdc {
 };
 /// ADC channel of the panel voltage (A0).
 const PANEL_CHANNEL: u8 = 0;
-
-/// Either Timer1 channel, so that both axes have one drive type.
-enum ServoPwm<'t> {
-    /// OC1A (D9): the tilt servo.
-    A(Oc1a<'t>),
-    /// OC1B (D10): the azimuth servo.
-    B(Oc1b<'t>),
-}
-
-impl ErrorType for ServoPwm<'_> {
-    type Error = PwmError;
-}
-
-impl SetDutyCycle for ServoPwm<'_> {
-    fn max_duty_cycle(&self) -> u16 {
-        MAX_DUTY
-    }
-    fn set_duty_cycle(&mut self, duty: u16) -> Result<(), PwmError> {
-        match self {
-            ServoPwm::A(ch) => ch.set_duty_cycle(duty),
-            ServoPwm::B(ch) => ch.set_duty_cycle(duty),
-        }
-    }
-}
 
 /// The clock chip: the DS3231 on the I²C bus, or with the `ds1302` feature
 /// the DS1302 the paper also names, on three port C pins (its I/O
@@ -156,7 +131,7 @@ pub fn run(dp: chip::Peripherals) -> ! {
     let _millis = Millis::start(TC0);
     let mut watchdog = Watchdog::enable(WDT, &CPU);
     let neutral = PulseWidth::NEUTRAL_1500_US;
-    let mut pwm = Timer1Pwm::start(TC1, &PORTB, neutral, neutral);
+    let pwm = Timer1Pwm::start(TC1, &PORTB, neutral, neutral);
     let encoders = PinChangeEncoders::start(&EXINT, &PORTD, true);
     let home_c = InputPin::<_, 0>::new(&PORTB, true).erase();
     let home_a = InputPin::<_, 4>::new(&PORTB, true).erase();
@@ -202,8 +177,8 @@ pub fn run(dp: chip::Peripherals) -> ! {
 
     let (oc1a, oc1b) = pwm.channels();
     let (Ok(servo_c), Ok(servo_a)) = (
-        ContinuousServo::new(ServoPwm::B(oc1b), SERVO),
-        ContinuousServo::new(ServoPwm::A(oc1a), SERVO),
+        ContinuousServo::new(Timer1Channel::Oc1b(oc1b), SERVO),
+        ContinuousServo::new(Timer1Channel::Oc1a(oc1a), SERVO),
     ) else {
         halt(
             &mut out,

@@ -331,7 +331,7 @@ mod firmware {
         /// Starts the 50 Hz frames at neutral on both channels, then
         /// OC1B at 1,750 µs, through the servo driver.
         pub fn pwm(out: &mut Usart0, tc1: chip::TC1, portb: &chip::PORTB) -> Timer1Pwm {
-            let mut pwm = Timer1Pwm::start(
+            let pwm = Timer1Pwm::start(
                 tc1,
                 portb,
                 PulseWidth::NEUTRAL_1500_US,
