@@ -105,8 +105,10 @@ pub fn controller_options<T: Float>() -> ControllerOptions<T> {
     }
 }
 
-/// `options` for the drive kinds of `axes`: with a DC axis closed on its
-/// Hall count (`dc_hall`) the controller corrects each axis from its
+/// `options` for the drive kinds of `axes`: with an axis closed on its
+/// own feedback (a DC axis on its Hall count, `dc_hall`; a linear
+/// actuator, `linear_hall` or `linear_pot`; a continuous servo on its
+/// encoder, `servo_encoder`) the controller corrects each axis from its
 /// measured angle ([`FeedbackMode::ClosedLoop`]: a move cut short by an
 /// obstruction or a stall is finished by the retry; a stepper beside one
 /// has no encoder, and its counted steps stand); with a timed axis it
@@ -122,6 +124,7 @@ pub fn options_for_drives<T: Float>(
         feedback: if has(crate::config::DriveKind::DcHall)
             || has(crate::config::DriveKind::LinearHall)
             || has(crate::config::DriveKind::LinearPot)
+            || has(crate::config::DriveKind::ServoEncoder)
         {
             FeedbackMode::ClosedLoop
         } else {

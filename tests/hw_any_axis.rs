@@ -81,7 +81,7 @@ impl AxisDrive for Recorder {
     }
 }
 
-type Axis = AnyAxis<Recorder, Recorder, Recorder, Recorder, Recorder>;
+type Axis = AnyAxis<Recorder, Recorder, Recorder, Recorder, Recorder, Recorder>;
 
 /// Every method once, in this order.
 fn exercise(axis: &mut Axis) -> Vec<String> {
@@ -99,7 +99,8 @@ fn exercise(axis: &mut Axis) -> Vec<String> {
     | AnyAxis::Dc(r)
     | AnyAxis::Timed(r)
     | AnyAxis::LinearHall(r)
-    | AnyAxis::LinearPot(r)) = axis;
+    | AnyAxis::LinearPot(r)
+    | AnyAxis::ServoEncoder(r)) = axis;
     r.calls.clone()
 }
 
@@ -124,6 +125,7 @@ fn every_method_reaches_the_axis_inside_with_its_arguments() {
         AnyAxis::Timed,
         AnyAxis::LinearHall,
         AnyAxis::LinearPot,
+        AnyAxis::ServoEncoder,
     ] {
         let mut axis: Axis = make(Recorder::default());
         assert_eq!(exercise(&mut axis), EXPECTED);
@@ -148,6 +150,7 @@ fn each_kinds_errors_come_out_as_that_kind() {
     let mut timed: Axis = AnyAxis::Timed(failing());
     let mut hall: Axis = AnyAxis::LinearHall(failing());
     let mut pot: Axis = AnyAxis::LinearPot(failing());
+    let mut servo: Axis = AnyAxis::ServoEncoder(failing());
     assert_eq!(stepper.move_counts(1), Err(AnyAxisError::Stepper));
     assert_eq!(stepper.stop(), Err(AnyAxisError::Stepper));
     assert_eq!(dc.at_limit(), Err(AnyAxisError::Motor));
@@ -156,6 +159,8 @@ fn each_kinds_errors_come_out_as_that_kind() {
     assert!(!timed.service(5));
     assert_eq!(hall.stop(), Err(AnyAxisError::Motor));
     assert_eq!(pot.encoder_deg(), Err(AnyAxisError::Motor));
+    assert_eq!(servo.move_counts(1), Err(AnyAxisError::Servo));
+    assert_eq!(servo.at_limit(), Err(AnyAxisError::Servo));
 }
 
 #[test]
@@ -227,4 +232,11 @@ fn the_options_follow_the_kinds_of_the_axes() {
     assert!(timed.rehome_after_stow);
     // Everything else is the options given.
     assert_eq!(timed.sensor_samples, base.sensor_samples);
+
+    // A servo on its encoder measures its angle too.
+    let mut servo_axes = mechanics::config().axes;
+    servo_axes[1].drive = DriveKind::ServoEncoder as u8;
+    let servo = mechanics::options_for_drives(base, &servo_axes);
+    assert_eq!(servo.feedback, FeedbackMode::ClosedLoop);
+    assert!(!servo.rehome_after_stow);
 }

@@ -2,7 +2,9 @@
 //! `axis.a.drive`), chosen when a board builds its axes at power-on: a
 //! stepper ([`super::StepperAxis`]), a DC gear motor closed on its Hall
 //! count ([`super::DcAxis`]), a DC motor moved by time
-//! ([`super::TimedAxis`]) or a linear actuator ([`super::LinearAxis`]). The controller drives both axes of one type, so a
+//! ([`super::TimedAxis`]), a linear actuator ([`super::LinearAxis`]) or a
+//! continuous servo closed on its encoder ([`super::ServoAxis`]). The
+//! controller drives both axes of one type, so a
 //! board that takes more than one kind by configuration hands it this enum;
 //! each method passes to the axis inside.
 
@@ -11,14 +13,14 @@ use core::convert::Infallible;
 use crate::firmware::Motion;
 use crate::motion::{AxisDrive, DriveFault};
 
-/// An axis of one of five kinds: `S` a stepper, `D` a DC axis with
+/// An axis of one of six kinds: `S` a stepper, `D` a DC axis with
 /// feedback, `T` a timed axis, `H` a linear actuator on Hall pulses, `P`
-/// one on its potentiometer (any [`AxisDrive`] and [`Motion`] fit each
-/// place; the names say what the boards put there; `Infallible`, the
-/// default of the linear places, stands for a kind the image does not
-/// build).
+/// one on its potentiometer, `V` a continuous servo on its encoder (any
+/// [`AxisDrive`] and [`Motion`] fit each place; the names say what the
+/// boards put there; `Infallible`, the default of the last three places,
+/// stands for a kind the image does not build).
 #[derive(Debug)]
-pub enum AnyAxis<S, D, T, H = Infallible, P = Infallible> {
+pub enum AnyAxis<S, D, T, H = Infallible, P = Infallible, V = Infallible> {
     /// A stepper on its bridge or driver.
     Stepper(S),
     /// A DC gear motor on its H-bridge, closed on its Hall count.
@@ -29,6 +31,8 @@ pub enum AnyAxis<S, D, T, H = Infallible, P = Infallible> {
     LinearHall(H),
     /// A linear actuator on its H-bridge, closed on its potentiometer.
     LinearPot(P),
+    /// A continuous-rotation servo, closed on its quadrature encoder.
+    ServoEncoder(V),
 }
 
 /// A drive error of an [`AnyAxis`] (the controller takes any as a failed
@@ -38,6 +42,8 @@ pub enum AnyAxis<S, D, T, H = Infallible, P = Infallible> {
 pub enum AnyAxisError {
     /// The stepper's pins or its switches.
     Stepper,
+    /// The servo's PWM channel or its home switch.
+    Servo,
     /// A DC, timed or linear axis's bridge, switch, current sense or
     /// feedback, or a motor fault.
     Motor,
@@ -52,6 +58,7 @@ macro_rules! each {
             AnyAxis::Timed($a) => $e,
             AnyAxis::LinearHall($a) => $e,
             AnyAxis::LinearPot($a) => $e,
+            AnyAxis::ServoEncoder($a) => $e,
         }
     };
 }
@@ -66,23 +73,27 @@ macro_rules! each_mapped {
             AnyAxis::Timed($a) => $e.map_err(|_| AnyAxisError::Motor),
             AnyAxis::LinearHall($a) => $e.map_err(|_| AnyAxisError::Motor),
             AnyAxis::LinearPot($a) => $e.map_err(|_| AnyAxisError::Motor),
+            AnyAxis::ServoEncoder($a) => $e.map_err(|_| AnyAxisError::Servo),
         }
     };
 }
 
-impl<S: Motion, D: Motion, T: Motion, H: Motion, P: Motion> Motion for AnyAxis<S, D, T, H, P> {
+impl<S: Motion, D: Motion, T: Motion, H: Motion, P: Motion, V: Motion> Motion
+    for AnyAxis<S, D, T, H, P, V>
+{
     fn service(&mut self, now_ms: u64) -> bool {
         each!(self, a => a.service(now_ms))
     }
 }
 
-impl<S, D, T, H, P> AxisDrive for AnyAxis<S, D, T, H, P>
+impl<S, D, T, H, P, V> AxisDrive for AnyAxis<S, D, T, H, P, V>
 where
     S: AxisDrive,
     D: AxisDrive,
     T: AxisDrive,
     H: AxisDrive,
     P: AxisDrive,
+    V: AxisDrive,
 {
     type Error = AnyAxisError;
     // The associated `SELF_WATCHED` stays false: which axis watches its
