@@ -6,7 +6,9 @@ use sim::sensors::{MountSensors, SensorAccuracy};
 use sun_algos::{Algorithm, Options, Site, UtcTime};
 use suntracker::attitude::{angle_between_deg, sun_vector_xyz, MountAttitude, Pose};
 use suntracker::config::Config;
-use suntracker::controller::{AttitudeSource, Controller, ControllerOptions, TickInputs};
+use suntracker::controller::{
+    AttitudeSource, Controller, ControllerOptions, TickInputs, STALL_MIN_WAIT_MS,
+};
 use suntracker::motion::{AxisDrive, FeedbackMode};
 use suntracker::safety::{AxisId, Fault, Mode, Sensor};
 use suntracker::sun::{AlgorithmSource, PositionSource};
@@ -278,6 +280,63 @@ fn faults_are_raised_handled_and_cleared() {
     assert_eq!(ctl.faults().active_count(), 0);
     assert_eq!(ctl.faults().raised, ctl.faults().recovered);
     assert!(ctl.faults().raised >= 5);
+}
+
+/// A tick that comes at once after the one that commanded a move (the
+/// pass before it ran longer than the tick interval, and the firmware runs
+/// the late tick straight away) finds a drive that has not had time to
+/// move: the stall is judged at the first tick `STALL_MIN_WAIT_MS` after
+/// the command, not at that one. Seen in the ATmega2560 emulator with a
+/// servo axis, whose first pulse comes in the 20 ms frame after the tick.
+#[test]
+fn a_stall_is_judged_only_once_the_drive_had_time_to_move() {
+    let truth = MountAttitude::level();
+    let mut ctl = controller(true, AttitudeSource::Fixed(truth), truth);
+    let now0 = t("2026-03-20T09:00:00Z");
+    let at = |m: i64| now0.add_seconds(m * 60).unwrap();
+    for m in -1..3 {
+        step(&mut ctl, &inputs(at(m)));
+    }
+    let stalled = |ctl: &Ctl| ctl.faults().is_active(Fault::MotorStalled(AxisId::C));
+    assert!(!stalled(&ctl));
+    let base = inputs(at(3));
+    // A tick `dt_ms` after `base`, the drives given `motion_s` to move in.
+    let tick_at = |ctl: &mut Ctl, dt_ms: u32, motion_s: f64| {
+        for ax in ctl.axes_mut().iter_mut() {
+            ax.drive_mut().begin_tick(motion_s);
+        }
+        ctl.tick(&TickInputs {
+            now_ms: base.now_ms.wrapping_add(dt_ms),
+            ..base
+        });
+    };
+    // A swing of the C axis, with no time to start it.
+    ctl.manual(Some(Pose {
+        gamma_deg: -60.0,
+        alpha_deg: 30.0,
+    }));
+    tick_at(&mut ctl, 0, 0.0);
+    tick_at(&mut ctl, 10, 0.0);
+    assert!(!stalled(&ctl), "judged 10 ms after the command");
+    // A tick later it has moved, and the next has nothing more to judge.
+    tick_at(&mut ctl, 1_000, 60.0);
+    tick_at(&mut ctl, 1_600, 60.0);
+    assert!(!stalled(&ctl));
+    // Stalled: not at the tick 10 ms after the command, at the one
+    // STALL_MIN_WAIT_MS after it.
+    ctl.axes_mut()[0].drive_mut().stalled = true;
+    ctl.manual(Some(Pose {
+        gamma_deg: 60.0,
+        alpha_deg: 30.0,
+    }));
+    tick_at(&mut ctl, 2_000, 60.0);
+    tick_at(&mut ctl, 2_010, 60.0);
+    assert!(!stalled(&ctl), "judged 10 ms after the command");
+    // Commanded again at each tick, judged from the first command.
+    tick_at(&mut ctl, 2_000 + STALL_MIN_WAIT_MS - 1, 60.0);
+    assert!(!stalled(&ctl), "judged before STALL_MIN_WAIT_MS");
+    tick_at(&mut ctl, 2_000 + STALL_MIN_WAIT_MS, 60.0);
+    assert!(stalled(&ctl));
 }
 
 // ------------------------------------------------ field incidents, replayed

@@ -55,6 +55,15 @@ pub const STALL_MIN_COMMAND_DEG: f32 = 0.5;
 /// feedback, seen at the next tick.
 pub const STALL_MIN_MOTION_DEG: f32 = 0.05;
 
+/// The least monotonic time between a command that arms the stall watch
+/// and a tick that judges it, ms: a tick that comes at once after a pass
+/// longer than the tick interval (the firmware then runs the late tick
+/// straight away) finds a drive that has not had a frame to start in (a
+/// servo takes a new pulse every 20 ms); it leaves the watch armed for
+/// the next tick. Half the boards' 1 s tick, so that ticks at their
+/// interval judge as before.
+pub const STALL_MIN_WAIT_MS: u32 = 500;
+
 /// The C axis's limits for the choice of a pose when it turns without end
 /// (`axis.c.continuous`), degrees: beyond any pose it is driven to (its
 /// count is kept within a turn of the switch, its targets within half a
@@ -215,7 +224,8 @@ pub struct Controller<T, P, D, S, const N: usize> {
     /// Attitude readings in a row that found no new compass sample.
     attitude_not_ready: u8,
     /// Per axis: the stall watch, armed by a command of at least
-    /// [`STALL_MIN_COMMAND_DEG`] and decided at the next tick.
+    /// [`STALL_MIN_COMMAND_DEG`] and decided at the next tick at least
+    /// [`STALL_MIN_WAIT_MS`] later.
     stall_watch: [StallWatch; 2],
     /// Re-homed at the last end of day.
     rehomed_tonight: bool,
@@ -940,25 +950,28 @@ where
         let target = target_deg.to_f32();
         let mut last_dev = None;
         // Stall: the previous command was long enough to be seen, but the
-        // encoder has not moved since (one tick later, whatever the speed).
+        // encoder has not moved since (one tick later, whatever the speed,
+        // and at least STALL_MIN_WAIT_MS later: until then the watch
+        // stays armed as it was).
         let first = read(ax, &mut self.faults);
         let watch = match self.stall_watch.get_mut(i) {
             Some(w) => w,
             None => return,
         };
-        if let Some(now_deg) = first {
-            match watch.check(now_deg, now_ms, STALL_MIN_MOTION_DEG, 0) {
-                // Retry is simply commanding again below.
-                Some(StallVerdict::Stalled) => {
-                    self.faults.raise(stall, now_ms);
-                }
-                Some(StallVerdict::Moving) => {
-                    self.faults.clear(stall, now_ms);
-                }
-                Some(StallVerdict::Waiting) | None => {}
+        match first.and_then(|d| watch.check(d, now_ms, STALL_MIN_MOTION_DEG, STALL_MIN_WAIT_MS)) {
+            // Retry is simply commanding again below.
+            Some(StallVerdict::Stalled) => {
+                self.faults.raise(stall, now_ms);
+                watch.disarm();
             }
+            // Moved: the watch restarted where it was seen.
+            Some(StallVerdict::Moving) => {
+                self.faults.clear(stall, now_ms);
+                watch.disarm();
+            }
+            Some(StallVerdict::Waiting) => {}
+            None => watch.disarm(),
         }
-        watch.disarm();
         for pass in 0..passes {
             let before = if pass == 0 {
                 first
@@ -990,11 +1003,16 @@ where
                 // settling from its last stop or ramping up, and its own
                 // watch raises the stall (`drive_watch` below).
                 let watched = ax.drive().self_watched();
+                // A watch still waiting for its verdict keeps the first
+                // command's angle and time: commanded again at every tick
+                // that comes sooner, it would never be judged.
                 if let (Some(b), Some(w)) = (
                     before.filter(|_| !watched && cmd_deg.abs() >= STALL_MIN_COMMAND_DEG),
                     self.stall_watch.get_mut(i),
                 ) {
-                    w.arm(b, now_ms);
+                    if !w.is_armed() {
+                        w.arm(b, now_ms);
+                    }
                 }
             }
             if let Some(a) = read(ax, &mut self.faults) {

@@ -7,7 +7,9 @@
 //! callers choose the two thresholds: the library
 //! [`Controller`](crate::controller::Controller) decides one tick after a
 //! command of at least half a degree, with 0.05° of motion as the proof
-//! (a timeout of 0: the next look decides); the servo loop of the Uno
+//! (a timeout of
+//! [`STALL_MIN_WAIT_MS`](crate::controller::STALL_MIN_WAIT_MS): the next
+//! look at least that long after the command decides); the servo loop of the Uno
 //! waits [`STALL_TIMEOUT_MS`](crate::servo_tracker::STALL_TIMEOUT_MS) for
 //! half an encoder count. Both run on the monotonic clock, so a step of
 //! the wall clock never delays the verdict.
