@@ -6,9 +6,10 @@
 //! without feedback (5, `timed`: [`crate::dc::timed_axis`]) or a linear
 //! actuator on the same IBT-2, read by its Hall pulses (3, `linear_hall`:
 //! [`crate::dc::linear_hall_axis`]) or its potentiometer (4, `linear_pot`:
-//! [`crate::dc::linear_pot_axis`]). The console
-//! refuses the other kinds ([`DRIVES`]); a kind changed by `set` is built
-//! at the next power-on (`save`, then reset).
+//! [`crate::dc::linear_pot_axis`]), or a continuous servo closed on its
+//! encoder (1, `servo_encoder`: [`crate::servo`]). The board builds every
+//! kind ([`DRIVES`]); a kind changed by `set` is built at the next
+//! power-on (`save`, then reset).
 
 use drivers::stepper::hbridge::{BridgePins, HBridgeStepper};
 use drivers::stepper::LimitSwitches;
@@ -19,9 +20,11 @@ use suntracker_avr::{chip, InputPin, OutputPin, PortInputPin, PortOutputPin, Usa
 
 use crate::dc::{self, DcBoard, MegaDcAxis, MegaLinearHallAxis, MegaLinearPotAxis, MegaTimedAxis};
 use crate::refused;
+use crate::servo::{self, MegaServoAxis};
 
 /// The drive kinds this board builds an axis of.
 pub const DRIVES: DriveSet = DriveSet::STEPPER
+    .with(DriveKind::ServoEncoder)
     .with(DriveKind::DcHall)
     .with(DriveKind::Timed)
     .with(DriveKind::LinearHall)
@@ -41,6 +44,7 @@ pub type MegaAxis<'p> = AnyAxis<
     MegaTimedAxis<'p>,
     MegaLinearHallAxis<'p>,
     MegaLinearPotAxis<'p>,
+    MegaServoAxis<'p>,
 >;
 
 /// The stepper axis `index` (0: C, its bridge on PA0–PA3, its limit
@@ -118,6 +122,7 @@ pub fn axis<'p>(
     // in this frame: 1,315 B of it on the ATmega2560 when they were).
     match DriveKind::from_code(config.drive) {
         Some(DriveKind::Stepper) => stepper(board, index, log),
+        Some(DriveKind::ServoEncoder) => servo::servo_axis(board, index, config, log),
         Some(DriveKind::DcHall) => dc::dc_axis(board, index, config, log),
         Some(DriveKind::Timed) => dc::timed_axis(board, index, config, calibration_supply_mv, log),
         Some(DriveKind::LinearHall) => dc::linear_hall_axis(board, index, config, log),

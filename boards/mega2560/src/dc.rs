@@ -89,7 +89,7 @@ use crate::refused;
 use suntracker::mechanics;
 use suntracker_avr::{
     chip, Adc, MotorPwm, OutputPin, PinChangeEncoders, PortInputPin, PortOutputPin,
-    SharedAdcChannel, Timer1MotorPwm, Timer4MotorPwm, Usart0,
+    SharedAdcChannel, Timer1MotorPwm, Timer3Pwm, Timer4MotorPwm, Usart0,
 };
 
 /// The C axis's current sense (A2).
@@ -131,11 +131,24 @@ pub type MegaLinearHallAxis<'p> =
 pub type MegaLinearPotAxis<'p> =
     LinearAxis<Pins<'p>, PotFeedback<SharedAdcChannel<'p>>, NoEndSwitch, Sense<'p>>;
 
+/// The timers the axes' drives take: Timer1 and Timer4 for the DC
+/// bridges, Timer3 for the servos.
+pub struct MotorTimers {
+    /// The C axis's bridge.
+    pub tc1: chip::TC1,
+    /// The servos' signals ([`crate::servo`]).
+    pub tc3: chip::TC3,
+    /// The A axis's bridge.
+    pub tc4: chip::TC4,
+}
+
 /// The motor timers, the encoders' pin-change counter and the shared ADC
 /// the axes borrow.
 pub struct DcParts {
     /// Timer1: the C axis's RPWM / LPWM.
     pub timer1: Timer1MotorPwm,
+    /// Timer3: the servo axes' signals, C on OC3A (D5), A on OC3C (D3).
+    pub timer3: Timer3Pwm,
     /// Timer4: the A axis's RPWM / LPWM.
     pub timer4: Timer4MotorPwm,
     /// Both axes' Hall encoders.
@@ -145,20 +158,23 @@ pub struct DcParts {
 }
 
 impl DcParts {
-    /// Starts both timers (duty 0), the encoders' interrupt (pull-ups on:
-    /// the Hall outputs are then never left floating) and the ADC.
+    /// Starts the bridges' timers (duty 0), the servos' (both outputs
+    /// disconnected, no pulse until a servo axis is built), the encoders'
+    /// interrupt (pull-ups on: the Hall outputs are then never left
+    /// floating) and the ADC.
     pub fn start(
-        tc1: chip::TC1,
-        tc4: chip::TC4,
+        timers: MotorTimers,
         adc: chip::ADC,
         portb: &chip::PORTB,
+        porte: &chip::PORTE,
         porth: &chip::PORTH,
         portk: &chip::PORTK,
         exint: &chip::EXINT,
     ) -> Self {
         DcParts {
-            timer1: Timer1MotorPwm::start(tc1, portb),
-            timer4: Timer4MotorPwm::start(tc4, porth),
+            timer1: Timer1MotorPwm::start(timers.tc1, portb),
+            timer3: Timer3Pwm::start_with(timers.tc3, porte, None, None),
+            timer4: Timer4MotorPwm::start(timers.tc4, porth),
             encoders: PinChangeEncoders::start(exint, portk, true),
             adc: RefCell::new(Adc::new(adc)),
         }

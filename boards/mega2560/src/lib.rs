@@ -47,11 +47,13 @@
 //!  Mega D6 ─ DE,/RE ┘     └ B
 //! ```
 //!
-//! Each axis is a stepper or a DC gear motor (slew drive) driven through an
-//! IBT-2 (BTS7960) module and closed on its Hall encoder, as its
-//! configuration says (`axis.c.drive`, `axis.a.drive`: [`axes`]; read at
-//! power-on). The DC axes' pins, wiring and figures are in [`dc`]; a DC
-//! axis takes two of its stepper bridge's pins above as its enables. The
+//! Each axis is a stepper, a DC gear motor (slew drive), a DC motor moved
+//! by time or a linear actuator driven through an IBT-2 (BTS7960) module,
+//! or a continuous servo closed on its encoder, as its configuration says
+//! (`axis.c.drive`, `axis.a.drive`: [`axes`]; read at power-on). The DC
+//! and linear axes' pins, wiring and figures are in [`dc`], the servos'
+//! in [`servo`]; a DC axis takes two of its stepper bridge's pins above as
+//! its enables. The
 //! cargo feature `dc` only changes the board's own configuration (the one
 //! `defaults` restores and a board without a saved one runs): both axes
 //! DC ([`dc::dc_config`]).
@@ -76,6 +78,7 @@ use core::cell::RefCell;
 
 pub mod axes;
 pub mod dc;
+pub mod servo;
 
 use drivers::compass::calibration::Calibration;
 use drivers::compass::qmc5883l::{Config as QmcConfig, Qmc5883l};
@@ -270,6 +273,7 @@ pub fn run(dp: chip::Peripherals) -> ! {
         EEPROM,
         ADC,
         TC1,
+        TC3,
         TC4,
         PORTB,
         PORTK,
@@ -292,6 +296,7 @@ pub fn run(dp: chip::Peripherals) -> ! {
         eeprom: EEPROM,
         adc: ADC,
         tc1: TC1,
+        tc3: TC3,
         tc4: TC4,
         portb: PORTB,
         portk: PORTK,
@@ -316,6 +321,7 @@ struct Parts {
     eeprom: chip::EEPROM,
     adc: chip::ADC,
     tc1: chip::TC1,
+    tc3: chip::TC3,
     tc4: chip::TC4,
     portb: chip::PORTB,
     portk: chip::PORTK,
@@ -364,11 +370,21 @@ fn run_tracker(dp: Parts) -> ! {
     // Motors and switches.
     let porta = dp.porta;
     let portc = dp.portc;
-    // The DC motors' timers (duty 0) and the Hall encoders' pin-change
-    // interrupt, whatever the axes' kinds (before the anemometer takes the
-    // external-interrupt block).
+    // The DC motors' timers (duty 0), the servos' (no pulse) and the
+    // encoders' pin-change interrupt, whatever the axes' kinds (before the
+    // anemometer takes the external-interrupt block).
     let dc_parts = dc::DcParts::start(
-        dp.tc1, dp.tc4, dp.adc, &dp.portb, &dp.porth, &dp.portk, &dp.exint,
+        dc::MotorTimers {
+            tc1: dp.tc1,
+            tc3: dp.tc3,
+            tc4: dp.tc4,
+        },
+        dp.adc,
+        &dp.portb,
+        &dp.porte,
+        &dp.porth,
+        &dp.portk,
+        &dp.exint,
     );
     let anemometer = Anemometer::new(dp.exint, ExtInt::Int4);
     // The reed contact to ground needs the pull-up of PE4.
