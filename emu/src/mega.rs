@@ -41,6 +41,7 @@ use crate::models::modbus_master::{self, ModbusMaster, Step};
 use crate::models::mount::{Field, Mount};
 use crate::models::nmea::{GpsFeed, NmeaFeeder};
 use crate::models::qmc5883l::Qmc5883l;
+use crate::models::servo_axis::ServoAxisModel;
 use crate::models::stepper::{AxisGeometry, IllegalStep, StepperDecoder};
 use crate::models::wind::{Anemometer, WindProfile};
 use crate::script::Script;
@@ -59,6 +60,17 @@ pub const GPS_END_MARGIN_S: f64 = 0.05;
 /// CPU cycles between two services of the slow models at real time (one
 /// emulated ms; at 60× [`SERVICE_CYCLES`] is 3.84 emulated ms).
 pub const REAL_TIME_SERVICE_CYCLES: u64 = 16_000;
+/// With a servo axis ([`MegaBench::servo_a`]), a pass awake longer than
+/// this (5 ms of CPU time) runs on at real time. The controller judges a
+/// servo axis's stall at the first tick 500 ms after its command
+/// (`suntracker::controller::STALL_MIN_WAIT_MS`), and the servo starts in
+/// the pass after the tick that commands it: a tracking tick of 56 ms of
+/// CPU counted at 60× is 3.4 emulated s, and the image then runs the next
+/// tick straight after it, before the servo has had a frame. On a board
+/// the tick takes its 56 ms. The first 5 ms of a pass are still
+/// compressed (300 emulated ms at 60×), so that the many short passes
+/// cost no more time than before.
+pub const SERVO_AWAKE_REAL_CYCLES: u64 = 80_000;
 /// Default timescale of an emulation build before the image says
 /// otherwise.
 pub const DEFAULT_TIMESCALE: f64 = 60.0;
@@ -346,6 +358,9 @@ pub struct MegaBench {
     /// The A axis a linear actuator ([`MegaBench::linear_a`]): its
     /// feedback and the rod's extension at power-on, mm.
     linear_a: Option<(LinearFeedback, f64)>,
+    /// The A axis a servo on its encoder ([`MegaBench::servo_a`]): its
+    /// gear, servo turns per axis turn.
+    servo_a: Option<f64>,
 }
 
 /// The current the DC axes' rises are recorded above ([`Run::current_rises`]),
@@ -417,6 +432,7 @@ impl MegaBench {
             dc: false,
             obstacles: Vec::new(),
             linear_a: None,
+            servo_a: None,
         }
     }
 
@@ -444,6 +460,18 @@ impl MegaBench {
     pub fn linear_a(mut self, feedback: LinearFeedback, start_extension_mm: f64) -> Self {
         self.dc = true;
         self.linear_a = Some((feedback, start_extension_mm));
+        self
+    }
+
+    /// Makes the A axis an FS5106R continuous servo on its YMT22 encoder
+    /// ([`crate::models::servo_axis`]; implies [`MegaBench::dc_drives`],
+    /// the C axis a DC gear motor): the servo on OC3C (D3) turning the
+    /// axis through `gear`:1, the encoder on PK6/PK7, the home switch
+    /// (PC1) closed at and below −90°, PC3 at and above +91°, a hard stop
+    /// at −92°; at the A power-on angle. Obstacles are not modelled on it.
+    pub fn servo_a(mut self, gear: f64) -> Self {
+        self.dc = true;
+        self.servo_a = Some(gear);
         self
     }
 
@@ -662,9 +690,15 @@ impl MegaBench {
         };
         let mut c_axis = StepperDecoder::new(c_geometry, self.power_on.0);
         let mut a_axis = StepperDecoder::new(AxisGeometry::a_axis(), self.power_on.1);
-        let mut dc = match (self.dc, self.linear_a) {
-            (false, _) => None,
-            (true, None) => Some(
+        let mut dc = match (self.dc, self.linear_a, self.servo_a) {
+            (false, _, _) => None,
+            (true, None, Some(gear)) => {
+                let mut c = DcAxisModel::c_axis(self.power_on.0);
+                c.current_mark_a = DC_CURRENT_MARK_A;
+                let a = ServoAxisModel::a_axis(self.power_on.1, gear);
+                Some([BridgeAxis::Dc(c), BridgeAxis::Servo(a)])
+            }
+            (true, None, None) => Some(
                 [
                     DcAxisModel::c_axis(self.power_on.0),
                     DcAxisModel::a_axis(self.power_on.1),
@@ -674,7 +708,7 @@ impl MegaBench {
                     BridgeAxis::Dc(m)
                 }),
             ),
-            (true, Some((feedback, start_mm))) => {
+            (true, Some((feedback, start_mm)), _) => {
                 let mut c = DcAxisModel::c_axis(self.power_on.0);
                 c.current_mark_a = DC_CURRENT_MARK_A;
                 let mut a = LinearAxisModel::a_axis(feedback, start_mm)
@@ -925,11 +959,18 @@ impl MegaBench {
             // Real time while a coil is driven and REAL_TIME_HOLD_S after,
             // and while a GPS epoch is on the wire.
             let attached = pty.as_mut().is_some_and(|p| p.attached());
+            // With a servo axis, also while a pass has been awake longer
+            // than SERVO_AWAKE_REAL_CYCLES (see the constant).
+            let long_pass = self.servo_a.is_some()
+                && sim
+                    .awake_since()
+                    .is_some_and(|from| now_cycle.saturating_sub(from) > SERVO_AWAKE_REAL_CYCLES);
             let want_real = coils != 0
                 || now_emu - coils_off_emu < REAL_TIME_HOLD_S
                 || utc < gps_end_utc + GPS_END_MARGIN_S
                 || master.wants_real_time(now_emu)
-                || attached;
+                || attached
+                || long_pass;
             if want_real != real_time && compressed > 1.0 {
                 real_time = want_real;
                 if real_time {
@@ -1217,12 +1258,22 @@ impl MegaBench {
     }
 }
 
-/// A bridge-driven axis of the bench ([`MegaBench::dc_drives`]): a DC gear
-/// motor, or (the A axis, [`MegaBench::linear_a`]) a linear actuator.
+/// A motor-driven axis of the bench ([`MegaBench::dc_drives`]): a DC gear
+/// motor, or (the A axis) a linear actuator ([`MegaBench::linear_a`]) or
+/// a servo on its encoder ([`MegaBench::servo_a`]).
 #[derive(Debug, Clone)]
 enum BridgeAxis {
     Dc(DcAxisModel),
     Linear(LinearAxisModel),
+    Servo(ServoAxisModel),
+}
+
+/// What the image's registers command an axis's drive: a bridge's output,
+/// or a servo's pulse (µs; `None`: no pulse).
+#[derive(Debug, Clone, Copy, PartialEq)]
+enum DriveInput {
+    Bridge(drivers::dc_motor::Output),
+    Pulse(Option<f64>),
 }
 
 impl BridgeAxis {
@@ -1231,6 +1282,7 @@ impl BridgeAxis {
         match self {
             BridgeAxis::Dc(m) => m.angle_deg(),
             BridgeAxis::Linear(m) => m.angle_deg(),
+            BridgeAxis::Servo(m) => m.angle_deg(),
         }
     }
 
@@ -1238,6 +1290,7 @@ impl BridgeAxis {
         match self {
             BridgeAxis::Dc(m) => m.home_closed(),
             BridgeAxis::Linear(m) => m.home_closed(),
+            BridgeAxis::Servo(m) => m.home_closed(),
         }
     }
 
@@ -1245,22 +1298,26 @@ impl BridgeAxis {
         match self {
             BridgeAxis::Dc(m) => m.max_closed(),
             BridgeAxis::Linear(m) => m.max_closed(),
+            BridgeAxis::Servo(m) => m.max_closed(),
         }
     }
 
-    /// The bridge's command as the image's registers set it.
-    fn output(&self, sim: &Sim) -> drivers::dc_motor::Output {
+    /// The drive's command as the image's registers set it.
+    fn output(&self, sim: &Sim) -> DriveInput {
         match self {
-            BridgeAxis::Dc(m) => m.wiring.output(sim),
-            BridgeAxis::Linear(m) => m.wiring.output(sim),
+            BridgeAxis::Dc(m) => DriveInput::Bridge(m.wiring.output(sim)),
+            BridgeAxis::Linear(m) => DriveInput::Bridge(m.wiring.output(sim)),
+            BridgeAxis::Servo(m) => DriveInput::Pulse(m.wiring.pulse_us(sim)),
         }
     }
 
-    /// The bench must step the axis under `output`.
-    fn active(&self, output: drivers::dc_motor::Output) -> bool {
-        match self {
-            BridgeAxis::Dc(m) => m.active(output),
-            BridgeAxis::Linear(m) => m.active(output),
+    /// The bench must step the axis under `input`.
+    fn active(&self, input: DriveInput) -> bool {
+        match (self, input) {
+            (BridgeAxis::Dc(m), DriveInput::Bridge(o)) => m.active(o),
+            (BridgeAxis::Linear(m), DriveInput::Bridge(o)) => m.active(o),
+            (BridgeAxis::Servo(m), DriveInput::Pulse(w)) => m.active(w),
+            _ => false,
         }
     }
 
@@ -1277,6 +1334,7 @@ impl BridgeAxis {
         match self {
             BridgeAxis::Dc(m) => m.set_obstacle(at),
             BridgeAxis::Linear(m) => m.set_obstacle_mm(at),
+            BridgeAxis::Servo(_) => {}
         }
     }
 
@@ -1285,14 +1343,16 @@ impl BridgeAxis {
         match self {
             BridgeAxis::Dc(m) => &m.crossings,
             BridgeAxis::Linear(m) => &m.crossings,
+            BridgeAxis::Servo(_) => &[],
         }
     }
 
-    /// Port K's bits of the Hall pair (A, B).
+    /// Port K's bits of the Hall pair or encoder channels (A, B).
     fn hall_bits(&self) -> (u8, u8) {
         match self {
             BridgeAxis::Dc(m) => m.wiring.hall_bits,
             BridgeAxis::Linear(m) => m.wiring.hall_bits,
+            BridgeAxis::Servo(m) => m.wiring.encoder_bits,
         }
     }
 
@@ -1305,6 +1365,10 @@ impl BridgeAxis {
                 PinEvent::Hall(a, b)
             }
             BridgeAxis::Linear(m) => m.inputs_now().into(),
+            BridgeAxis::Servo(m) => {
+                let (a, b) = m.encoder_levels();
+                PinEvent::Hall(a, b)
+            }
         };
         self.apply(sim, event);
     }
@@ -1321,33 +1385,37 @@ impl BridgeAxis {
         }
     }
 
-    /// The current sense: its ADC channel and the IS voltage, mV.
-    fn sense(&self) -> (u8, u32) {
+    /// The current sense: its ADC channel and the IS voltage, mV (a
+    /// servo has none).
+    fn sense(&self) -> Option<(u8, u32)> {
         match self {
-            BridgeAxis::Dc(m) => (m.wiring.sense_channel, m.sense_mv()),
-            BridgeAxis::Linear(m) => (m.wiring.sense_channel, m.sense_mv()),
+            BridgeAxis::Dc(m) => Some((m.wiring.sense_channel, m.sense_mv())),
+            BridgeAxis::Linear(m) => Some((m.wiring.sense_channel, m.sense_mv())),
+            BridgeAxis::Servo(_) => None,
         }
     }
 
     /// Steps the axis under `output` over `span` cycles from `cycle0`:
     /// what to put on the pins, with the cycle of each.
-    fn advance(
-        &mut self,
-        output: drivers::dc_motor::Output,
-        cycle0: u64,
-        span: u64,
-    ) -> Vec<(u64, PinEvent)> {
-        match self {
-            BridgeAxis::Dc(m) => m
-                .advance(output, cycle0, span, F_CPU)
+    fn advance(&mut self, input: DriveInput, cycle0: u64, span: u64) -> Vec<(u64, PinEvent)> {
+        let hall = |(c, a, b): (u64, bool, bool)| (c, PinEvent::Hall(a, b));
+        match (self, input) {
+            (BridgeAxis::Dc(m), DriveInput::Bridge(o)) => m
+                .advance(o, cycle0, span, F_CPU)
                 .into_iter()
-                .map(|(c, a, b)| (c, PinEvent::Hall(a, b)))
+                .map(hall)
                 .collect(),
-            BridgeAxis::Linear(m) => m
-                .advance(output, cycle0, span, F_CPU)
+            (BridgeAxis::Linear(m), DriveInput::Bridge(o)) => m
+                .advance(o, cycle0, span, F_CPU)
                 .into_iter()
                 .map(|(c, e)| (c, e.into()))
                 .collect(),
+            (BridgeAxis::Servo(m), DriveInput::Pulse(w)) => m
+                .advance(w, cycle0, span, F_CPU)
+                .into_iter()
+                .map(hall)
+                .collect(),
+            _ => Vec::new(),
         }
     }
 }
@@ -1379,7 +1447,7 @@ impl From<LinearEvent> for PinEvent {
 fn run_dc_span(
     sim: &mut Sim,
     models: &mut [BridgeAxis; 2],
-    outputs: [drivers::dc_motor::Output; 2],
+    outputs: [DriveInput; 2],
     cycle0: u64,
     span: u64,
 ) -> CpuState {
@@ -1390,8 +1458,9 @@ fn run_dc_span(
                 .into_iter()
                 .map(|(c, e)| (c, k as u8, e)),
         );
-        let (channel, mv) = m.sense();
-        sim.set_adc_mv(channel, mv);
+        if let Some((channel, mv)) = m.sense() {
+            sim.set_adc_mv(channel, mv);
+        }
     }
     events.sort_by_key(|e| e.0);
     for (cycle, k, event) in events {

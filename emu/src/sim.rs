@@ -755,6 +755,11 @@ impl Sim {
         self.longest_awake
     }
 
+    /// The cycle the CPU woke at, while it is awake (`None` asleep).
+    pub fn awake_since(&self) -> Option<u64> {
+        self.awake_from
+    }
+
     /// The stretches awake longer than [`LONG_AWAKE_CYCLES`], in order:
     /// (cycles, the cycle each ended at).
     pub fn long_awake(&self) -> &[(u64, u64)] {

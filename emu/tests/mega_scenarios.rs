@@ -3091,8 +3091,8 @@ const DC3_TYPED: [&str; 10] = [
 /// (dc3) The drive kind by configuration, on the default image (the one
 /// built without the `dc` feature, whose own axes are steppers), with the
 /// DC gear motors and IBT-2 models of (dc) wired: Kano, 2026-06-21,
-/// power-on 05:00Z. An installer types `set axis.a.drive 1` (a servo on
-/// an encoder: refused, no driver for it on this board), then
+/// power-on 05:00Z. An installer types `set axis.a.drive 6` (no such
+/// kind: refused with the kinds' list; the board builds every kind), then
 /// [`DC3_TYPED`], `save`, and cuts the power at minute 4;
 /// after it the image reads the stored configuration, builds both axes as
 /// DC axes, homes them on the motors and tracks: set-points for 30 minutes
@@ -3102,7 +3102,7 @@ const DC3_TYPED: [&str; 10] = [
 fn dc3_drive_kinds_typed_saved_and_built_at_power_on() {
     let elf = elf_or_skip!();
     let start = t("2026-06-21T05:00:00Z");
-    let bench = kano_dc_bench(&elf, start, 30.0, 20.0).type_at(0.5, "set axis.a.drive 1");
+    let bench = kano_dc_bench(&elf, start, 30.0, 20.0).type_at(0.5, "set axis.a.drive 6");
     let run = typed_saved_and_cut(bench, &DC3_TYPED)
         .run_minutes(80.0)
         .unwrap();
@@ -3114,7 +3114,10 @@ fn dc3_drive_kinds_typed_saved_and_built_at_power_on() {
         "the default image starts on its own (stepper) axes: {before:?}"
     );
     assert!(
-        before.contains(&"error axis.a.drive: no driver for it on this board"),
+        before.contains(
+            &"error axis.a.drive: 0 stepper, 1 servo_encoder, 2 dc_hall, 3 linear_hall, \
+              4 linear_pot, 5 timed"
+        ),
         "{before:?}"
     );
     assert_set_lines_taken(before, &DC3_TYPED);
@@ -3453,17 +3456,7 @@ fn linear_morning(
     let pot = feedback == LinearFeedback::Pot;
     let typed = linear_typed(pot);
     let bench = kano_dc_bench(elf, start, 30.0, 20.0).linear_a(feedback, 30.0);
-    let run = typed_saved_and_cut(bench, &typed)
-        .run_minutes(LINEAR_RUN_MIN)
-        .unwrap();
-    report(name, &run);
-    let (texts, cut) = texts_and_cut(&run);
-    let (before, after) = texts.split_at(cut);
-    assert_set_lines_taken(before, &typed);
-    assert!(before.contains(&"ok save"), "{before:?}");
-    assert!(after.contains(&"config source=stored"), "{after:?}");
-    assert_no_motor_fault(after, "after the cut");
-    let cut_s = run.lines[cut].utc_s;
+    let (run, cut_s) = typed_morning(bench, &typed, name);
     let homed = if pot {
         pot_homed_at(&run, cut_s)
     } else {
@@ -3471,6 +3464,25 @@ fn linear_morning(
     };
     let (n, worst) = assert_tracked_after(&run, cut_s, homed, tol_deg, tol_deg);
     (n, worst, run.wall.as_secs_f64())
+}
+
+/// [`linear_morning`]'s and (sv1)'s run: `typed` on `bench`, `save`, a
+/// power cut at minute 4, [`LINEAR_RUN_MIN`] minutes in all; every line
+/// taken, saved, the stored configuration used after the cut, no motor
+/// fault after it. The run and the cut's time.
+fn typed_morning(bench: MegaBench, typed: &[String], name: &str) -> (Run, f64) {
+    let run = typed_saved_and_cut(bench, typed)
+        .run_minutes(LINEAR_RUN_MIN)
+        .unwrap();
+    report(name, &run);
+    let (texts, cut) = texts_and_cut(&run);
+    let (before, after) = texts.split_at(cut);
+    assert_set_lines_taken(before, typed);
+    assert!(before.contains(&"ok save"), "{before:?}");
+    assert!(after.contains(&"config source=stored"), "{after:?}");
+    assert_no_motor_fault(after, "after the cut");
+    let cut_s = run.lines[cut].utc_s;
+    (run, cut_s)
 }
 
 /// How far from the retracted end a rod homed on its potentiometer may
@@ -3596,6 +3608,65 @@ fn dc9_obstruction_on_a_linear_a_axis() {
         format_utc(ob.fault_s as i64),
         format_utc(ob.cleared_s as i64),
         ob.retries,
+        run.wall.as_secs_f64()
+    );
+}
+
+/// The servo A axis's gear in (sv1), servo turns per axis turn: 0.003° of
+/// axis a count of the YMT22's 1,200, 5.7 °/s at the FS5106R's 95 rpm.
+const SV1_GEAR: u32 = 100;
+/// How close (sv1)'s servo axis reaches each set-point, degrees: the
+/// Mega's pointing bound (0.03°), ten counts of its encoder.
+const SERVO_TOL_DEG: f64 = 0.03;
+
+/// (sv1) A continuous servo on its encoder: Kano, 2026-06-21, power-on
+/// 05:00Z on the default image, the C axis the slew drive of (dc) typed
+/// as in (dc7), the A axis an FS5106R through a 100:1 gear on a YMT22
+/// (`servo_encoder`: the servo on OC3C, D3; the encoder on PK6/PK7) typed
+/// with it, `save`, a power cut at minute 4. After it the image builds the
+/// A axis as a servo from the stored configuration, homes it on its switch
+/// (PC1) and tracks: set-points for 30 minutes and more, the C shaft
+/// within the DC axes' 0.2° and the A shaft within 0.03° of each before
+/// the next, the panel normal within 0.2° of SPA, no motor fault after the
+/// cut.
+#[test]
+fn sv1_servo_a_axis_on_its_encoder_typed_saved_and_tracking() {
+    let elf = elf_or_skip!();
+    let start = t("2026-06-21T05:00:00Z");
+    let mut typed: Vec<String> = DC3_TYPED[..5].iter().map(|l| l.to_string()).collect();
+    typed.extend([
+        "set axis.a.drive 1".into(),
+        "set axis.a.counts_per_motor_rev 1200".into(),
+        "set axis.a.microsteps 1".into(),
+        format!("set axis.a.gear_ratio {SV1_GEAR}"),
+        "set axis.a.max_speed_deg_s 4".into(),
+        "set axis.a.deadband_deg 0.01".into(),
+    ]);
+    let bench = kano_dc_bench(&elf, start, 30.0, 20.0).servo_a(f64::from(SV1_GEAR));
+    let (run, cut_s) = typed_morning(bench, &typed, "sv1");
+    let homed = homed_at(&run.switch_events, cut_s).expect("both axes reach home");
+    let (n, worst) =
+        assert_tracked_after(&run, cut_s, homed, DC_POINTING_TOL_DEG, DC_POINTING_TOL_DEG);
+    // The servo's own bound, tighter than the slew drive's.
+    let sps: Vec<_> = set_points(&run)
+        .into_iter()
+        .filter(|(l, ..)| l.utc_s > cut_s)
+        .collect();
+    let mut worst_a: f64 = 0.0;
+    for w in sps.windows(2) {
+        let (_, utc, _, a) = w[0];
+        let err = (w[1].0.a_start_deg - a).abs();
+        worst_a = worst_a.max(err);
+        assert!(
+            err <= SERVO_TOL_DEG,
+            "set-point {} a={a}: the servo axis at {:.4} before the next one",
+            format_utc(utc),
+            w[1].0.a_start_deg
+        );
+    }
+    println!(
+        "sv1: {n} set-points after the cut, the A axis a servo on its encoder, worst A \
+         error {worst_a:.4}° (both shafts {worst:.4}°), run {:.1} s",
         run.wall.as_secs_f64()
     );
 }

@@ -13,5 +13,6 @@ pub mod nmea;
 pub mod panel;
 pub mod qmc5883l;
 pub mod quadrature;
+pub mod servo_axis;
 pub mod stepper;
 pub mod wind;
