@@ -648,8 +648,10 @@ where
         self.last_count = count;
         self.last_poll_ms = now_ms;
         self.update_speed(count, now_ms);
-        match self.state {
-            DcState::Faulted(_) => {}
+        // One call of `drive` (for a new approach and one under way), so
+        // that it is built into this function, in its stack frame.
+        let driving = match self.state {
+            DcState::Faulted(_) | DcState::Idle { reported: true } => false,
             DcState::Idle { reported: false } => {
                 // Each count is a pulse; beyond the limit more make no
                 // difference (so at most MAX_IDLE_COUNTS + 1 in all).
@@ -666,8 +668,8 @@ where
                     self.motor.brake().map_err(DcAxisError::Motor)?;
                     return Err(DcAxisError::Fault(DcFault::UnexpectedMotion));
                 }
+                false
             }
-            DcState::Idle { reported: true } => {}
             DcState::Starting => {
                 // A stop cut short by a new target measured no run-on.
                 self.brake_at = None;
@@ -677,15 +679,16 @@ where
                 let e = i64::from(self.target) - i64::from(count);
                 if e.unsigned_abs() <= u64::from(self.config.deadband_counts) {
                     self.rest(now_ms);
+                    false
                 } else {
                     self.state = DcState::Driving {
                         dir: if e > 0 { 1 } else { -1 },
                     };
                     self.approach = (now_ms, self.approach_ms(e.unsigned_abs()));
-                    return self.drive(count, now_ms, moved, io);
+                    true
                 }
             }
-            DcState::Driving { .. } => return self.drive(count, now_ms, moved, io),
+            DcState::Driving { .. } => true,
             DcState::Stopping { may_reapproach } => {
                 if moved != 0 {
                     self.still_since_ms = now_ms;
@@ -704,7 +707,11 @@ where
                     self.brake_at = None;
                     self.rest(now_ms);
                 }
+                false
             }
+        };
+        if driving {
+            return self.drive(count, now_ms, moved, io);
         }
         self.motor.poll(now_ms).map_err(DcAxisError::Motor)
     }
