@@ -414,6 +414,7 @@ where
 {
     /// An axis resting at its present count. `axis` gives the switch angle
     /// and the counts per degree; `sense` is the current sense, if fitted.
+    #[cfg_attr(target_arch = "avr", inline(always))]
     pub fn new(
         motor: DcMotor<B>,
         hall: E,
@@ -423,7 +424,22 @@ where
         config: DcAxisConfig,
         axis: &AxisConfig,
     ) -> Result<Self, DcAxisConfigError> {
-        let core = DcLoop::new(motor, hall.count(), home_active_low, sense, config, axis)?;
+        // Checked first, so that one out-of-line `DcLoop::new` builds the
+        // loop with no `Result` around it. On the AVR this function is
+        // built into its caller, whose frame holds the loop on its way
+        // into the axis: in a frame of its own here it made the linear
+        // actuator's start-up, the deepest stack of the Mega's runs,
+        // 135 B deeper.
+        let watch = watch_for(&config)?;
+        let core = DcLoop::new(
+            motor,
+            hall.count(),
+            home_active_low,
+            sense,
+            config,
+            watch,
+            axis,
+        );
         Ok(DcAxis { core, hall, home })
     }
 
@@ -510,29 +526,37 @@ where
     }
 }
 
+/// Checks `config` and builds the Hall watch of a loop on it.
+fn watch_for(config: &DcAxisConfig) -> Result<StallWatch, DcAxisConfigError> {
+    config.validate()?;
+    StallWatch::new(HallConfig {
+        stall_ms: config.stall_ms,
+        drive_threshold_permille: config.drive_threshold_permille,
+        max_idle_pulses: config.max_idle_counts,
+    })
+    .map_err(|_| DcAxisConfigError::Stall)
+}
+
 impl<B, C> DcLoop<B, C>
 where
     B: Bridge,
     C: MotorCurrent,
 {
-    /// A loop resting at `count` ([`DcAxis::new`]).
+    /// A loop resting at `count` ([`DcAxis::new`]), `watch` from
+    /// [`watch_for`] on `config`. Out of line on the AVR: one copy for
+    /// every axis type.
+    #[cfg_attr(target_arch = "avr", inline(never))]
     fn new(
         motor: DcMotor<B>,
         count: i32,
         home_active_low: bool,
         sense: Option<C>,
         config: DcAxisConfig,
+        watch: StallWatch,
         axis: &AxisConfig,
-    ) -> Result<Self, DcAxisConfigError> {
-        config.validate()?;
-        let watch = StallWatch::new(HallConfig {
-            stall_ms: config.stall_ms,
-            drive_threshold_permille: config.drive_threshold_permille,
-            max_idle_pulses: config.max_idle_counts,
-        })
-        .map_err(|_| DcAxisConfigError::Stall)?;
+    ) -> Self {
         let cpd = axis.counts_per_deg();
-        Ok(DcLoop {
+        DcLoop {
             motor,
             home_active_low,
             sense,
@@ -561,7 +585,7 @@ where
             } else {
                 1.0
             },
-        })
+        }
     }
 
     fn switch_closed<HE>(&mut self, io: &mut dyn Inputs<HE>) -> Result<bool, LoopErr<B, HE, C>> {
