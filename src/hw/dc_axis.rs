@@ -303,10 +303,52 @@ pub enum DcState {
 /// One tracker axis on a DC gear motor with a Hall encoder; counts are Hall
 /// counts (`AxisConfig::counts_per_motor_rev` = Hall counts per motor
 /// revolution, `microsteps` = 1, `gear_ratio` = all stages).
+///
+/// The position loop and the watches are a private `DcLoop`, generic over
+/// the bridge and the current sense only: it reads the count and the
+/// switch through a trait object, so that one copy of it serves every
+/// feedback and switch type of an image (on the ATmega2560: the DC gear
+/// motor on its Hall encoder, and the linear actuator on Hall pulses or
+/// on a potentiometer, [`super::LinearAxis`]). This type holds the count
+/// and the switch and lends them to the loop.
 pub struct DcAxis<B: Bridge, E, H, C> {
-    motor: DcMotor<B>,
+    core: DcLoop<B, C>,
     hall: E,
     home: H,
+}
+
+/// What [`DcLoop`] reads while it runs, at the moment it needs it: the
+/// count (again at a switch's closing edge) and the home switch. A trait
+/// object, so that the loop is not compiled once per feedback and switch
+/// type.
+trait Inputs<HE> {
+    /// The Hall count now.
+    fn count(&self) -> i32;
+    /// The switch input's level now (true: high).
+    fn switch_high(&mut self) -> Result<bool, HE>;
+}
+
+/// A [`DcAxis`]'s count and switch, lent to its loop for one call.
+struct Io<'a, E, H> {
+    hall: &'a E,
+    home: &'a mut H,
+}
+
+impl<E: EncoderCount, H: InputPin> Inputs<H::Error> for Io<'_, E, H> {
+    fn count(&self) -> i32 {
+        self.hall.count()
+    }
+    fn switch_high(&mut self) -> Result<bool, H::Error> {
+        self.home.is_high()
+    }
+}
+
+/// The position loop and the watches of a [`DcAxis`] (the module
+/// documentation), without its count and switch: each call takes the
+/// count read by the axis, and the loop reads the switch (and the count
+/// at its closing edge) through [`Inputs`].
+struct DcLoop<B: Bridge, C> {
+    motor: DcMotor<B>,
     home_active_low: bool,
     sense: Option<C>,
     config: DcAxisConfig,
@@ -345,23 +387,23 @@ pub struct DcAxis<B: Bridge, E, H, C> {
 
 impl<B: Bridge, E, H, C> core::fmt::Debug for DcAxis<B, E, H, C> {
     fn fmt(&self, f: &mut core::fmt::Formatter<'_>) -> core::fmt::Result {
+        let l = &self.core;
         f.debug_struct("DcAxis")
-            .field("state", &self.state)
-            .field("target", &self.target)
-            .field("last_count", &self.last_count)
-            .field("speed_cps", &self.speed_cps)
-            .field("lead_ms", &self.lead_ms)
-            .field("output", &self.motor.output())
+            .field("state", &l.state)
+            .field("target", &l.target)
+            .field("last_count", &l.last_count)
+            .field("speed_cps", &l.speed_cps)
+            .field("lead_ms", &l.lead_ms)
+            .field("output", &l.motor.output())
             .finish_non_exhaustive()
     }
 }
 
-type AxisErr<B, H, C> = DcAxisError<
-    <B as Bridge>::PwmError,
-    <B as Bridge>::PinError,
-    <H as embedded_hal::digital::ErrorType>::Error,
-    <C as MotorCurrent>::Error,
->;
+type AxisErr<B, H, C> = LoopErr<B, <H as embedded_hal::digital::ErrorType>::Error, C>;
+
+/// The loop's errors, `HE` the switch's.
+type LoopErr<B, HE, C> =
+    DcAxisError<<B as Bridge>::PwmError, <B as Bridge>::PinError, HE, <C as MotorCurrent>::Error>;
 
 impl<B, E, H, C> DcAxis<B, E, H, C>
 where
@@ -372,6 +414,7 @@ where
 {
     /// An axis resting at its present count. `axis` gives the switch angle
     /// and the counts per degree; `sense` is the current sense, if fitted.
+    #[cfg_attr(target_arch = "avr", inline(always))]
     pub fn new(
         motor: DcMotor<B>,
         hall: E,
@@ -381,19 +424,140 @@ where
         config: DcAxisConfig,
         axis: &AxisConfig,
     ) -> Result<Self, DcAxisConfigError> {
-        config.validate()?;
-        let watch = StallWatch::new(HallConfig {
-            stall_ms: config.stall_ms,
-            drive_threshold_permille: config.drive_threshold_permille,
-            max_idle_pulses: config.max_idle_counts,
-        })
-        .map_err(|_| DcAxisConfigError::Stall)?;
-        let cpd = axis.counts_per_deg();
-        let count = hall.count();
-        Ok(DcAxis {
+        // Checked first, so that one out-of-line `DcLoop::new` builds the
+        // loop with no `Result` around it. On the AVR this function is
+        // built into its caller, whose frame holds the loop on its way
+        // into the axis: in a frame of its own here it made the linear
+        // actuator's start-up, the deepest stack of the Mega's runs,
+        // 135 B deeper.
+        let watch = watch_for(&config)?;
+        let core = DcLoop::new(
             motor,
-            hall,
-            home,
+            hall.count(),
+            home_active_low,
+            sense,
+            config,
+            watch,
+            axis,
+        );
+        Ok(DcAxis { core, hall, home })
+    }
+
+    /// Runs the position loop and the watch once; call every main-loop pass
+    /// with the monotonic millisecond counter. Returns what the bridge now
+    /// does. A stall, overcurrent or slow move brakes the motor and is returned here
+    /// once (then [`DcAxis::fault`] keeps it); unexpected motion at rest is
+    /// returned once per rest.
+    pub fn poll(&mut self, now_ms: u32) -> Result<Output, AxisErr<B, H, C>> {
+        let count = self.hall.count();
+        let mut io = Io {
+            hall: &self.hall,
+            home: &mut self.home,
+        };
+        self.core.poll(now_ms, count, &mut io)
+    }
+
+    /// The latched fault (stall, overcurrent, slow move), if any.
+    pub fn fault(&self) -> Option<DcFault> {
+        self.core.fault()
+    }
+
+    /// Ends a latched fault: the axis rests where it is, braked.
+    pub fn clear_fault(&mut self, now_ms: u32) {
+        if self.core.fault().is_some() {
+            self.core.clear_fault(self.hall.count(), now_ms);
+        }
+    }
+
+    /// What the loop is doing.
+    pub fn state(&self) -> DcState {
+        self.core.state
+    }
+
+    /// The Hall count.
+    pub fn count(&self) -> i32 {
+        self.hall.count()
+    }
+
+    /// The count where the home switch was first found closed, if it was.
+    pub fn count_at_switch(&self) -> Option<i32> {
+        self.core.count_at_switch
+    }
+
+    /// The counter.
+    pub fn encoder(&self) -> &E {
+        &self.hall
+    }
+
+    /// The counter (a feedback that needs reading before each poll, as
+    /// [`super::LinearAxis`]'s potentiometer does).
+    pub fn encoder_mut(&mut self) -> &mut E {
+        &mut self.hall
+    }
+
+    /// The target count.
+    pub fn target(&self) -> i32 {
+        self.core.target
+    }
+
+    /// The speed estimate, counts/s.
+    pub fn speed_cps(&self) -> i32 {
+        self.core.speed_cps
+    }
+
+    /// The present stopping lead, ms (see the module documentation).
+    pub fn lead_ms(&self) -> u32 {
+        self.core.lead_ms
+    }
+
+    /// What the bridge was last told to do.
+    pub fn output(&self) -> Output {
+        self.core.motor.output()
+    }
+
+    /// The duty output now, ‰ (signed).
+    pub fn duty_permille(&self) -> i16 {
+        self.core.motor.duty_permille()
+    }
+
+    /// Gives the motor, the switch and the current sense back.
+    pub fn destroy(self) -> (DcMotor<B>, H, Option<C>) {
+        (self.core.motor, self.home, self.core.sense)
+    }
+}
+
+/// Checks `config` and builds the Hall watch of a loop on it.
+fn watch_for(config: &DcAxisConfig) -> Result<StallWatch, DcAxisConfigError> {
+    config.validate()?;
+    StallWatch::new(HallConfig {
+        stall_ms: config.stall_ms,
+        drive_threshold_permille: config.drive_threshold_permille,
+        max_idle_pulses: config.max_idle_counts,
+    })
+    .map_err(|_| DcAxisConfigError::Stall)
+}
+
+impl<B, C> DcLoop<B, C>
+where
+    B: Bridge,
+    C: MotorCurrent,
+{
+    /// A loop resting at `count` ([`DcAxis::new`]), `watch` from
+    /// [`watch_for`] on `config`. Out of line on the AVR: one copy for
+    /// every axis type.
+    #[cfg_attr(target_arch = "avr", inline(never))]
+    fn new(
+        motor: DcMotor<B>,
+        count: i32,
+        home_active_low: bool,
+        sense: Option<C>,
+        config: DcAxisConfig,
+        watch: StallWatch,
+        axis: &AxisConfig,
+    ) -> Self {
+        let cpd = axis.counts_per_deg();
+        DcLoop {
+            motor,
             home_active_low,
             sense,
             config,
@@ -421,14 +585,14 @@ where
             } else {
                 1.0
             },
-        })
+        }
     }
 
-    fn switch_closed(&mut self) -> Result<bool, AxisErr<B, H, C>> {
-        let high = self.home.is_high().map_err(DcAxisError::Switch)?;
+    fn switch_closed<HE>(&mut self, io: &mut dyn Inputs<HE>) -> Result<bool, LoopErr<B, HE, C>> {
+        let high = io.switch_high().map_err(DcAxisError::Switch)?;
         let closed = high != self.home_active_low;
         if closed && !self.switch_was_closed {
-            self.count_at_switch = Some(self.hall.count());
+            self.count_at_switch = Some(io.count());
         }
         self.switch_was_closed = closed;
         Ok(closed)
@@ -436,7 +600,7 @@ where
 
     /// Brakes and waits for standstill; `may_reapproach` lets a stop outside
     /// the deadband be corrected.
-    fn brake(&mut self, now_ms: u32, may_reapproach: bool) -> Result<(), AxisErr<B, H, C>> {
+    fn brake<HE>(&mut self, now_ms: u32, may_reapproach: bool) -> Result<(), LoopErr<B, HE, C>> {
         self.motor.brake().map_err(DcAxisError::Motor)?;
         self.watch.set_drive(0, now_ms);
         self.still_since_ms = now_ms;
@@ -446,7 +610,7 @@ where
     }
 
     /// Brakes, latches `fault` and returns it.
-    fn trip(&mut self, fault: DcFault, count: i32) -> Result<Output, AxisErr<B, H, C>> {
+    fn trip<HE>(&mut self, fault: DcFault, count: i32) -> Result<Output, LoopErr<B, HE, C>> {
         self.target = count;
         self.brake_at = None;
         self.state = DcState::Faulted(fault);
@@ -497,19 +661,21 @@ where
         div_rem_u64_u16(n, 8_000).map_or(u64::MAX, |(q, _)| q)
     }
 
-    /// Runs the position loop and the watch once; call every main-loop pass
-    /// with the monotonic millisecond counter. Returns what the bridge now
-    /// does. A stall, overcurrent or slow move brakes the motor and is returned here
-    /// once (then [`DcAxis::fault`] keeps it); unexpected motion at rest is
-    /// returned once per rest.
-    pub fn poll(&mut self, now_ms: u32) -> Result<Output, AxisErr<B, H, C>> {
-        let count = self.hall.count();
+    /// [`DcAxis::poll`] with the count it read first.
+    fn poll<HE>(
+        &mut self,
+        now_ms: u32,
+        count: i32,
+        io: &mut dyn Inputs<HE>,
+    ) -> Result<Output, LoopErr<B, HE, C>> {
         let moved = count.saturating_sub(self.last_count);
         self.last_count = count;
         self.last_poll_ms = now_ms;
         self.update_speed(count, now_ms);
-        match self.state {
-            DcState::Faulted(_) => {}
+        // One call of `drive` (for a new approach and one under way), so
+        // that it is built into this function, in its stack frame.
+        let driving = match self.state {
+            DcState::Faulted(_) | DcState::Idle { reported: true } => false,
             DcState::Idle { reported: false } => {
                 // Each count is a pulse; beyond the limit more make no
                 // difference (so at most MAX_IDLE_COUNTS + 1 in all).
@@ -526,8 +692,8 @@ where
                     self.motor.brake().map_err(DcAxisError::Motor)?;
                     return Err(DcAxisError::Fault(DcFault::UnexpectedMotion));
                 }
+                false
             }
-            DcState::Idle { reported: true } => {}
             DcState::Starting => {
                 // A stop cut short by a new target measured no run-on.
                 self.brake_at = None;
@@ -537,22 +703,23 @@ where
                 let e = i64::from(self.target) - i64::from(count);
                 if e.unsigned_abs() <= u64::from(self.config.deadband_counts) {
                     self.rest(now_ms);
+                    false
                 } else {
                     self.state = DcState::Driving {
                         dir: if e > 0 { 1 } else { -1 },
                     };
                     self.approach = (now_ms, self.approach_ms(e.unsigned_abs()));
-                    return self.drive(count, now_ms, moved);
+                    true
                 }
             }
-            DcState::Driving { .. } => return self.drive(count, now_ms, moved),
+            DcState::Driving { .. } => true,
             DcState::Stopping { may_reapproach } => {
                 if moved != 0 {
                     self.still_since_ms = now_ms;
                     if moved < 0 {
                         // Running on toward the switch: its closing edge
                         // is the reference.
-                        self.switch_closed()?;
+                        self.switch_closed(io)?;
                     }
                 }
                 let since = *self.stop_since_ms.get_or_insert(now_ms);
@@ -564,7 +731,11 @@ where
                     self.brake_at = None;
                     self.rest(now_ms);
                 }
+                false
             }
+        };
+        if driving {
+            return self.drive(count, now_ms, moved, io);
         }
         self.motor.poll(now_ms).map_err(DcAxisError::Motor)
     }
@@ -618,7 +789,13 @@ where
         }
     }
 
-    fn drive(&mut self, count: i32, now_ms: u32, moved: i32) -> Result<Output, AxisErr<B, H, C>> {
+    fn drive<HE>(
+        &mut self,
+        count: i32,
+        now_ms: u32,
+        moved: i32,
+        io: &mut dyn Inputs<HE>,
+    ) -> Result<Output, LoopErr<B, HE, C>> {
         let DcState::Driving { dir } = self.state else {
             return self.motor.poll(now_ms).map_err(DcAxisError::Motor);
         };
@@ -643,7 +820,7 @@ where
                 self.over_since_ms = None;
             }
         }
-        if dir < 0 && self.switch_closed()? && self.switch_stops {
+        if dir < 0 && self.switch_closed(io)? && self.switch_stops {
             // At the switch: stop here, no re-approach past it.
             self.target = count;
             self.brake_at = None;
@@ -675,92 +852,23 @@ where
         Ok(out)
     }
 
-    /// The latched fault (stall, overcurrent, slow move), if any.
-    pub fn fault(&self) -> Option<DcFault> {
+    /// [`DcAxis::fault`].
+    fn fault(&self) -> Option<DcFault> {
         match self.state {
             DcState::Faulted(f) => Some(f),
             _ => None,
         }
     }
 
-    /// Ends a latched fault: the axis rests where it is, braked.
-    pub fn clear_fault(&mut self, now_ms: u32) {
-        if let DcState::Faulted(_) = self.state {
-            self.target = self.hall.count();
-            self.unseen = None;
-            self.rest(now_ms);
-        }
+    /// [`DcAxis::clear_fault`] of a latched fault, at `count`.
+    fn clear_fault(&mut self, count: i32, now_ms: u32) {
+        self.target = count;
+        self.unseen = None;
+        self.rest(now_ms);
     }
 
-    /// What the loop is doing.
-    pub fn state(&self) -> DcState {
-        self.state
-    }
-
-    /// The Hall count.
-    pub fn count(&self) -> i32 {
-        self.hall.count()
-    }
-
-    /// The count where the home switch was first found closed, if it was.
-    pub fn count_at_switch(&self) -> Option<i32> {
-        self.count_at_switch
-    }
-
-    /// The counter.
-    pub fn encoder(&self) -> &E {
-        &self.hall
-    }
-
-    /// The counter (a feedback that needs reading before each poll, as
-    /// [`super::LinearAxis`]'s potentiometer does).
-    pub fn encoder_mut(&mut self) -> &mut E {
-        &mut self.hall
-    }
-
-    /// The target count.
-    pub fn target(&self) -> i32 {
-        self.target
-    }
-
-    /// The speed estimate, counts/s.
-    pub fn speed_cps(&self) -> i32 {
-        self.speed_cps
-    }
-
-    /// The present stopping lead, ms (see the module documentation).
-    pub fn lead_ms(&self) -> u32 {
-        self.lead_ms
-    }
-
-    /// What the bridge was last told to do.
-    pub fn output(&self) -> Output {
-        self.motor.output()
-    }
-
-    /// The duty output now, ‰ (signed).
-    pub fn duty_permille(&self) -> i16 {
-        self.motor.duty_permille()
-    }
-
-    /// Gives the motor, the switch and the current sense back.
-    pub fn destroy(self) -> (DcMotor<B>, H, Option<C>) {
-        (self.motor, self.home, self.sense)
-    }
-}
-
-impl<B, E, H, C> AxisDrive for DcAxis<B, E, H, C>
-where
-    B: Bridge,
-    E: EncoderCount,
-    H: InputPin,
-    C: MotorCurrent,
-{
-    type Error = AxisErr<B, H, C>;
-    const SELF_WATCHED: bool = true;
-
-    /// Moves the target; refused while a stall, overcurrent or slow move is latched.
-    fn move_counts(&mut self, counts: i32) -> Result<(), Self::Error> {
+    /// [`AxisDrive::move_counts`].
+    fn move_counts<HE>(&mut self, counts: i32) -> Result<(), LoopErr<B, HE, C>> {
         if let DcState::Faulted(f) = self.state {
             return Err(DcAxisError::Fault(f));
         }
@@ -781,10 +889,9 @@ where
         Ok(())
     }
 
-    /// Counts to go while a move runs (never 0 while driving); 0 at rest,
-    /// faulted, or in the last stop of a move.
-    fn pending(&self) -> i32 {
-        let e = self.target.saturating_sub(self.hall.count());
+    /// [`AxisDrive::pending`] at `count`.
+    fn pending(&self, count: i32) -> i32 {
+        let e = self.target.saturating_sub(count);
         match self.state {
             DcState::Starting | DcState::Driving { .. } => {
                 if e != 0 {
@@ -804,9 +911,9 @@ where
         }
     }
 
-    /// Brakes at once; the target becomes the present count.
-    fn stop(&mut self) -> Result<(), Self::Error> {
-        self.target = self.hall.count();
+    /// [`AxisDrive::stop`] at `count`.
+    fn stop<HE>(&mut self, count: i32) -> Result<(), LoopErr<B, HE, C>> {
+        self.target = count;
         self.brake_at = None;
         self.stop_since_ms = None;
         self.motor.brake().map_err(DcAxisError::Motor)?;
@@ -818,29 +925,7 @@ where
         Ok(())
     }
 
-    fn at_limit(&mut self) -> Result<bool, Self::Error> {
-        self.switch_closed()
-    }
-
-    fn encoder_deg(&mut self) -> Result<Option<f32>, Self::Error> {
-        Ok(self.count_at_switch.map(|c0| {
-            // Wraps with the Hall count: an axis that turns without end is
-            // kept within a turn of its switch (`rebase_counts`).
-            let d = self.hall.count().wrapping_sub(c0);
-            self.home_deg + d as f32 / self.counts_per_deg
-        }))
-    }
-
-    fn rebase_counts(&mut self, counts: i32) {
-        self.count_at_switch = self.count_at_switch.map(|c0| c0.wrapping_add(counts));
-    }
-
-    fn switch_stops(&mut self, on: bool) {
-        self.switch_stops = on;
-    }
-
-    /// A stall, overcurrent or unexpected motion seen by `poll` since the
-    /// last call.
+    /// [`AxisDrive::take_fault`].
     fn take_fault(&mut self) -> Option<DriveFault> {
         self.unseen.take().map(|f| match f {
             DcFault::Stall => DriveFault::Stall,
@@ -849,6 +934,66 @@ where
             DcFault::TooSlow => DriveFault::TooSlow,
         })
     }
+}
+
+impl<B, E, H, C> AxisDrive for DcAxis<B, E, H, C>
+where
+    B: Bridge,
+    E: EncoderCount,
+    H: InputPin,
+    C: MotorCurrent,
+{
+    type Error = AxisErr<B, H, C>;
+    const SELF_WATCHED: bool = true;
+
+    /// Moves the target; refused while a stall, overcurrent or slow move is latched.
+    fn move_counts(&mut self, counts: i32) -> Result<(), Self::Error> {
+        self.core.move_counts(counts)
+    }
+
+    /// Counts to go while a move runs (never 0 while driving); 0 at rest,
+    /// faulted, or in the last stop of a move.
+    fn pending(&self) -> i32 {
+        self.core.pending(self.hall.count())
+    }
+
+    /// Brakes at once; the target becomes the present count.
+    fn stop(&mut self) -> Result<(), Self::Error> {
+        self.core.stop(self.hall.count())
+    }
+
+    fn at_limit(&mut self) -> Result<bool, Self::Error> {
+        let mut io = Io {
+            hall: &self.hall,
+            home: &mut self.home,
+        };
+        self.core.switch_closed(&mut io)
+    }
+
+    fn encoder_deg(&mut self) -> Result<Option<f32>, Self::Error> {
+        let l = &self.core;
+        Ok(l.count_at_switch.map(|c0| {
+            // Wraps with the Hall count: an axis that turns without end is
+            // kept within a turn of its switch (`rebase_counts`).
+            let d = self.hall.count().wrapping_sub(c0);
+            l.home_deg + d as f32 / l.counts_per_deg
+        }))
+    }
+
+    fn rebase_counts(&mut self, counts: i32) {
+        let l = &mut self.core;
+        l.count_at_switch = l.count_at_switch.map(|c0| c0.wrapping_add(counts));
+    }
+
+    fn switch_stops(&mut self, on: bool) {
+        self.core.switch_stops = on;
+    }
+
+    /// A stall, overcurrent or unexpected motion seen by `poll` since the
+    /// last call.
+    fn take_fault(&mut self) -> Option<DriveFault> {
+        self.core.take_fault()
+    }
 
     fn fault_latched(&self) -> bool {
         self.fault().is_some()
@@ -856,6 +1001,6 @@ where
 
     /// [`DcAxis::clear_fault`] at the time of the last poll.
     fn clear_fault(&mut self) {
-        DcAxis::clear_fault(self, self.last_poll_ms);
+        DcAxis::clear_fault(self, self.core.last_poll_ms);
     }
 }
