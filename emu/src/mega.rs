@@ -468,7 +468,9 @@ impl MegaBench {
     /// the C axis a DC gear motor): the servo on OC3C (D3) turning the
     /// axis through `gear`:1, the encoder on PK6/PK7, the home switch
     /// (PC1) closed at and below −90°, PC3 at and above +91°, a hard stop
-    /// at −92°; at the A power-on angle. Obstacles are not modelled on it.
+    /// at −92°; at the A power-on angle. Obstacles are not modelled on it:
+    /// the run fails with an error when one is set on the A axis, or when
+    /// [`MegaBench::linear_a`] is set too.
     pub fn servo_a(mut self, gear: f64) -> Self {
         self.dc = true;
         self.servo_a = Some(gear);
@@ -708,7 +710,10 @@ impl MegaBench {
                     BridgeAxis::Dc(m)
                 }),
             ),
-            (true, Some((feedback, start_mm)), _) => {
+            (true, Some(_), Some(_)) => {
+                return Err("the A axis is a linear actuator or a servo, not both".into())
+            }
+            (true, Some((feedback, start_mm)), None) => {
                 let mut c = DcAxisModel::c_axis(self.power_on.0);
                 c.current_mark_a = DC_CURRENT_MARK_A;
                 let mut a = LinearAxisModel::a_axis(feedback, start_mm)
@@ -718,7 +723,10 @@ impl MegaBench {
             }
         };
         // The obstacles, on a linear A axis at the extension of their
-        // angle.
+        // angle; none on a servo axis, whose model has no load.
+        if self.servo_a.is_some() && self.obstacles.iter().any(|&(_, axis, _)| axis == 1) {
+            return Err("an obstacle on the servo A axis: not modelled".into());
+        }
         let obstacles = match &dc {
             Some([_, BridgeAxis::Linear(a)]) => self
                 .obstacles
