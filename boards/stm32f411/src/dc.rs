@@ -1,10 +1,23 @@
-//! The `dc` feature's axes: each a DC gear motor or slew drive on an IBT-2
-//! module (two Infineon BTS7960 half bridges), closed on the motor's
-//! two-channel Hall encoder (`axis.X.drive` 2, `dc_hall`:
-//! [`suntracker::hw::DcAxis`]) or moved by time without feedback (5,
-//! `timed`: [`suntracker::hw::TimedAxis`], the encoder unused), the kind
-//! chosen per axis by the configuration at power-on. The image's own
-//! configuration has both axes on the worm slew drive
+//! The `dc` feature's axes, the kind chosen per axis by the configuration
+//! at power-on (`axis.X.drive`):
+//! - 2, `dc_hall`: a DC gear motor or slew drive on an IBT-2 module (two
+//!   Infineon BTS7960 half bridges), closed on the motor's two-channel
+//!   Hall encoder ([`suntracker::hw::DcAxis`]);
+//! - 5, `timed`: a DC motor or linear actuator on the bridge moved by time
+//!   without feedback ([`suntracker::hw::TimedAxis`], the encoder unused);
+//! - 3, `linear_hall`: a linear actuator on the bridge, closed on its Hall
+//!   pulses on the encoder inputs, its home switch at the retracted end
+//!   ([`suntracker::hw::LinearAxis`]);
+//! - 4, `linear_pot`: a linear actuator on the bridge, closed on its
+//!   potentiometer, whose wiper takes an ADC input (B0 for C, in place of
+//!   its home switch; B1 for A) and which reads the retracted end (no
+//!   switch);
+//! - 1, `servo_encoder`: a continuous-rotation servo (Chowdhury et al.'s
+//!   (2019) FEETECH FS5106R) closed on a quadrature encoder on the encoder
+//!   inputs ([`suntracker::hw::ServoAxis`]), its signal on the axis's
+//!   RPWM pin, whose timer then runs at 50 Hz: the bridge is not fitted.
+//!
+//! The image's own configuration has both axes on the worm slew drive
 //! ([`suntracker::mechanics::worm_slew_config`]). Steppers are the default
 //! image's: this one refuses them ([`DRIVES`]), so that a configuration
 //! never drives stepper phases into a bridge's inputs.
@@ -19,10 +32,21 @@
 //! | A axis IBT-2 R_EN / L_EN | GPIO push-pull | B12 / B13 |
 //! | A axis IBT-2 R_IS and L_IS joined, 680 Ω and 1 µF to GND | ADC1 IN1 | A1 |
 //! | A axis Hall encoder channels A / B (both edges, pulled up) | EXTI14 / EXTI4 | B14 / B4 |
+//! | C axis servo signal (`servo_encoder`; 50 Hz) | TIM3 CH1 | A6 |
+//! | A axis servo signal (`servo_encoder`; 50 Hz) | TIM9 CH1 | A2 |
+//! | C axis potentiometer wiper (`linear_pot`; 3.3 V across the track) | ADC1 IN8 | B0 |
+//! | A axis potentiometer wiper (`linear_pot`; 3.3 V across the track) | ADC1 IN9 | B1 |
 //!
-//! The home switches stay on B0 (C) and B8 (A); a DC axis has no high-end
-//! switch (its soft limits and its own watch bound it), so B1 and B9 are
-//! unused. The bridges take USART2's pins (A1–A3), so this image has no
+//! The home switches stay on B0 (C) and B8 (A), but B0 is a `linear_pot`
+//! C axis's wiper ([`CHomeInput`]); a DC axis has no high-end switch (its
+//! soft limits and its own watch bound it), so B9 is unused. A servo or
+//! a linear actuator's Hall pulses take the encoder inputs, pulled up to
+//! 3.3 V as for a Hall encoder; the servo's signal is a 3.3 V pulse (1,500
+//! µs at rest, [`suntracker::servo_tracker::SERVO`]), which most hobby
+//! servos take, else through the 74HCT buffer of the bridge's inputs. A
+//! potentiometer's track goes between 3.3 V and GND, never 5 V (the ADC
+//! inputs' limit is VDDA); its calibration (`axis.X.pot_retracted_counts`,
+//! `pot_extended_counts`) is in this ADC's 0…4,095 counts. The bridges take USART2's pins (A1–A3), so this image has no
 //! RS-485 inclinometer: its tilt comes from the ADXL345 on I²C, and it
 //! cannot be built with the `modbus` feature. The other pins are the
 //! default image's.
@@ -84,13 +108,18 @@ use drivers::adc::AdcChannel;
 use drivers::dc_motor::bts7960::{Bts7960Pins, CurrentSense, SenseConfig};
 use drivers::dc_motor::{Config as BridgeConfig, DcMotor, RestMode};
 use drivers::encoder::AtomicEncoder;
+use drivers::linear::{PotCalibration, PulseScale};
+use drivers::servo::ContinuousServo;
 use embedded_hal::pwm::SetDutyCycle;
 use stm32f4xx_hal as hal;
 use suntracker::config::{AxisConfig, DriveKind, DriveSet};
-use suntracker::hw::{AnyAxis, DcAxis, TimedAxis};
+use suntracker::hw::{
+    AnyAxis, DcAxis, HallFeedback, LinearAxis, NoEndSwitch, PotFeedback, ServoAxis, TimedAxis,
+};
 use suntracker::mechanics;
+use suntracker::servo_tracker::{POSITION_LOOP, SERVO};
 
-use hal::gpio::{Edge, ErasedPin, ExtiPin, Input, Output, PA15, PA9, PB14, PB4};
+use hal::gpio::{Analog, Edge, ErasedPin, ExtiPin, Input, Output, PA15, PA9, PB0, PB14, PB4};
 use hal::pac::{self, interrupt};
 use hal::rcc::Enable;
 use hal::syscfg::SysCfg;
@@ -98,15 +127,22 @@ use hal::timer::pwm::ErasedChannel;
 
 use crate::Switch;
 
-/// The drive kinds this image builds an axis of: DC motors, with Hall
-/// counts or by time.
+/// The drive kinds this image builds an axis of: every kind but the
+/// stepper (the default image's).
 pub const DRIVES: DriveSet = DriveSet::NONE
+    .with(DriveKind::ServoEncoder)
     .with(DriveKind::DcHall)
+    .with(DriveKind::LinearHall)
+    .with(DriveKind::LinearPot)
     .with(DriveKind::Timed);
 
 /// The bridges' PWM frequency: above hearing, as the ATmega2560's
 /// bridges run.
 pub const PWM_HZ: u32 = 20_000;
+
+/// A servo axis's timer: one pulse every 20 ms
+/// ([`suntracker::servo_tracker::SERVO`]'s period).
+pub const SERVO_FRAME_HZ: u32 = 50;
 
 /// The current sense of both axes: k_ILIS 8,500 (typical), R_IS 680 Ω,
 /// the 3.3 V reference (module docs).
@@ -124,6 +160,10 @@ pub const ADC_WAIT_POLLS: u32 = 1_000;
 const C_SENSE_CHANNEL: u8 = 0;
 /// The A axis's current sense channel (A1).
 const A_SENSE_CHANNEL: u8 = 1;
+/// A `linear_pot` C axis's potentiometer wiper (B0, ADC1 IN8).
+const C_POT_CHANNEL: u8 = 8;
+/// A `linear_pot` A axis's potentiometer wiper (B1, ADC1 IN9).
+const A_POT_CHANNEL: u8 = 9;
 
 /// The C axis's Hall count.
 static ENCODER_C: AtomicEncoder = AtomicEncoder::new();
@@ -242,8 +282,8 @@ pub struct Adc1 {
 }
 
 impl Adc1 {
-    /// Clocks ADC1 (PCLK2 / 4), sets 84 sampling cycles on channels 0 and
-    /// 1, and switches it on (RM0383, "ADC on-off control": the converter
+    /// Clocks ADC1 (PCLK2 / 4), sets 84 sampling cycles on channels 0, 1,
+    /// 8 and 9, and switches it on (RM0383, "ADC on-off control": the converter
     /// needs its stabilisation time t_STAB after ADON, which passes long
     /// before the loop's first conversion).
     pub fn start(adc: pac::ADC1, common: &pac::ADC_COMMON, rcc: &mut hal::rcc::Rcc) -> Self {
@@ -251,7 +291,9 @@ impl Adc1 {
         common.ccr().modify(|_, w| w.adcpre().div4());
         adc.smpr2().modify(|_, w| {
             w.smp0().cycles84();
-            w.smp1().cycles84()
+            w.smp1().cycles84();
+            w.smp8().cycles84();
+            w.smp9().cycles84()
         });
         // One conversion in the regular sequence; 12 bits, right aligned
         // (the reset values of CR1 and CR2's ALIGN).
@@ -263,7 +305,7 @@ impl Adc1 {
     /// One conversion of `channel` (0..=15), 0..=4,095.
     pub fn convert(&mut self, channel: u8) -> Result<u16, AdcError> {
         // SAFETY: SQ1 takes any channel number of its five bits (0..=18
-        // are channels; the board passes 0 and 1).
+        // are channels; the board passes 0, 1, 8 and 9).
         #[allow(unsafe_code)]
         self.adc
             .sqr3()
@@ -307,9 +349,24 @@ type Sense<'a> = CurrentSense<SenseInput<'a>>;
 pub type BlackPillDcAxis<'a> = DcAxis<Pins, &'static AtomicEncoder, Switch<'a>, Sense<'a>>;
 /// A timed axis of this image.
 pub type BlackPillTimedAxis<'a> = TimedAxis<Pins, Switch<'a>, Sense<'a>>;
-/// An axis of this image: DC or timed, by configuration (no stepper:
-/// [`DRIVES`]).
-pub type BlackPillAxis<'a> = AnyAxis<Infallible, BlackPillDcAxis<'a>, BlackPillTimedAxis<'a>>;
+/// A linear actuator on its Hall pulses.
+pub type BlackPillLinearHallAxis<'a> =
+    LinearAxis<Pins, HallFeedback<&'static AtomicEncoder>, Switch<'a>, Sense<'a>>;
+/// A linear actuator on its potentiometer.
+pub type BlackPillLinearPotAxis<'a> =
+    LinearAxis<Pins, PotFeedback<SenseInput<'a>>, NoEndSwitch, Sense<'a>>;
+/// A continuous servo on its encoder.
+pub type BlackPillServoAxis<'a> = ServoAxis<'static, Pwm, AtomicEncoder, Switch<'a>>;
+/// An axis of this image, of the kind its configuration names (no
+/// stepper: [`DRIVES`]).
+pub type BlackPillAxis<'a> = AnyAxis<
+    Infallible,
+    BlackPillDcAxis<'a>,
+    BlackPillTimedAxis<'a>,
+    BlackPillLinearHallAxis<'a>,
+    BlackPillLinearPotAxis<'a>,
+    BlackPillServoAxis<'a>,
+>;
 
 /// One axis's bridge and sense pins, before the kind is chosen.
 pub struct AxisPins {
@@ -320,9 +377,10 @@ pub struct AxisPins {
     channel: u8,
 }
 
-/// The pins and timers the axes take (module docs), set up: both timers
-/// at [`PWM_HZ`] with duty 0, the enables low, the sense inputs analog,
-/// the Hall inputs pulled up and interrupting on both edges.
+/// The pins and timers the axes take (module docs), set up: each axis's
+/// timer at [`PWM_HZ`], or [`SERVO_FRAME_HZ`] for a servo, with duty 0,
+/// the enables low, the sense inputs and B1 analog, the Hall inputs
+/// pulled up and interrupting on both edges.
 pub struct DcPins {
     /// The C axis's bridge.
     pub c: AxisPins,
@@ -342,6 +400,7 @@ pub struct DcPinsIn {
     pub pa7: hal::gpio::PA7,
     pub pa9: hal::gpio::PA9,
     pub pa15: hal::gpio::PA15<hal::gpio::Alternate<0>>,
+    pub pb1: hal::gpio::PB1,
     pub pb4: hal::gpio::PB4<hal::gpio::Alternate<0>>,
     pub pb12: hal::gpio::PB12,
     pub pb13: hal::gpio::PB13,
@@ -349,8 +408,9 @@ pub struct DcPinsIn {
 }
 
 impl DcPins {
-    /// Sets the pins and timers up and hands the Hall inputs to their
-    /// interrupts (unmasked by the caller: `EXTI4`, `EXTI9_5`,
+    /// Sets the pins and timers up for the axes `configs` name (a servo
+    /// axis's timer at [`SERVO_FRAME_HZ`]) and hands the Hall inputs to
+    /// their interrupts (unmasked by the caller: `EXTI4`, `EXTI9_5`,
     /// `EXTI15_10`).
     pub fn start(
         p: DcPinsIn,
@@ -359,11 +419,22 @@ impl DcPins {
         syscfg: &mut SysCfg,
         exti: &mut pac::EXTI,
         rcc: &mut hal::rcc::Rcc,
+        configs: &[AxisConfig; 2],
     ) -> Self {
         use hal::prelude::*;
         use hal::timer::PwmExt;
-        let (_, (c_r, c_l, ..)) = tim3.pwm_hz(PWM_HZ.Hz(), rcc);
-        let (_, (a_r, a_l)) = tim9.pwm_hz(PWM_HZ.Hz(), rcc);
+        let (mut tim3, (c_r, c_l, ..)) = tim3.pwm_hz(PWM_HZ.Hz(), rcc);
+        let (mut tim9, (a_r, a_l)) = tim9.pwm_hz(PWM_HZ.Hz(), rcc);
+        // A servo's frames: each timer's period set apart, by a constant,
+        // so that the HAL's prescaler and reload arithmetic folds (a
+        // frequency chosen at run time leaves it a reload check that
+        // panics).
+        if configs[0].drive == DriveKind::ServoEncoder as u8 {
+            tim3.set_period(SERVO_FRAME_HZ.Hz());
+        }
+        if configs[1].drive == DriveKind::ServoEncoder as u8 {
+            tim9.set_period(SERVO_FRAME_HZ.Hz());
+        }
         let mut c_r = c_r.with(p.pa6);
         let mut c_l = c_l.with(p.pa7);
         let mut a_r = a_r.with(p.pa2);
@@ -380,6 +451,7 @@ impl DcPins {
         a_l.enable();
         let _ = p.pa0.into_analog();
         let _ = p.pa1.into_analog();
+        let _ = p.pb1.into_analog();
         let mut halls = HallPins {
             c_a: p.pa9.into_pull_up_input(),
             c_b: p.pa15.into_pull_up_input(),
@@ -429,27 +501,85 @@ fn arm<P: ExtiPin>(pin: &mut P, syscfg: &mut SysCfg, exti: &mut pac::EXTI) {
     pin.clear_interrupt_pending_bit();
 }
 
+/// B0: the C axis's home switch (pulled up), or the wiper of a C axis
+/// that is a linear actuator on its potentiometer (`linear_pot`: homed by
+/// the potentiometer, no switch) on ADC1 IN8, as `c` names.
+pub enum CHomeInput {
+    /// The home switch, closed to GND at the low end.
+    Switch(ErasedPin<Input>),
+    /// The potentiometer's wiper.
+    Wiper(PB0<Analog>),
+}
+
+impl CHomeInput {
+    /// B0 set up for the C axis of the configuration `c`.
+    pub fn start(pb0: PB0, c: &AxisConfig) -> Self {
+        if c.drive == DriveKind::LinearPot as u8 {
+            CHomeInput::Wiper(pb0.into_analog())
+        } else {
+            CHomeInput::Switch(pb0.into_pull_up_input().erase())
+        }
+    }
+
+    /// The home switch, when B0 is one.
+    fn switch(&self) -> Option<Switch<'_>> {
+        match self {
+            CHomeInput::Switch(pin) => Some(Switch(pin)),
+            CHomeInput::Wiper(_) => None,
+        }
+    }
+}
+
 /// The axis on `pins` of the kind `config.drive` names, its home switch
-/// `home` (active low) and its count (`encoder`, unused by a timed axis):
-/// a DC axis ramping [`mechanics::WORM_SLEW_RAMP_PERMILLE_PER_MS`] with
-/// the loop of its configuration ([`mechanics::dc_hall_loop`]), or a timed
-/// axis without a ramp with the runs of its configuration
-/// ([`mechanics::timed_runs`], [`mechanics::WORM_SLEW_LAG_MS`]; not
-/// scaled by a supply measurement: this board reads none); `None`
-/// for a kind this image does not build or a part that refuses its
-/// settings (none does for a configuration that passed its checks).
+/// `home` (active low; `None` where B0 is a wiper), its count `encoder`
+/// (the Hall encoder, a linear actuator's Hall pulses or a servo's
+/// encoder; unused by a timed or potentiometer axis) and its
+/// potentiometer's channel `pot_channel` (`linear_pot`):
+/// - `dc_hall`: a DC axis ramping
+///   [`mechanics::WORM_SLEW_RAMP_PERMILLE_PER_MS`] with the loop of its
+///   configuration ([`mechanics::dc_hall_loop`]);
+/// - `timed`: a timed axis without a ramp with the runs of its
+///   configuration ([`mechanics::timed_runs`],
+///   [`mechanics::WORM_SLEW_LAG_MS`]; not scaled by a supply measurement:
+///   this board reads none);
+/// - `linear_hall` and `linear_pot`: a linear actuator ramping
+///   [`mechanics::LINEAR_RAMP_PERMILLE_PER_MS`] with the mounting of its
+///   configuration ([`mechanics::linear_mount`]), its potentiometer read
+///   as [`mechanics::LINEAR_POT_READING`] says;
+/// - `servo_encoder`: the servo's signal on the bridge's RPWM pin, its
+///   timer at 50 Hz ([`DcPins::start`]), with
+///   [`suntracker::servo_tracker::SERVO`]'s pulses and
+///   [`suntracker::servo_tracker::POSITION_LOOP`];
+///
+/// `None` for a stepper, a part that refuses its settings (none does for a
+/// configuration that passed its checks) or a potentiometer whose first
+/// reading lies outside its calibrated span (a broken wiper or lead: the
+/// board halts rather than drive blind).
 fn axis<'a>(
     pins: AxisPins,
     encoder: &'static AtomicEncoder,
-    home: Switch<'a>,
+    home: Option<Switch<'a>>,
+    pot_channel: u8,
     adc: &'a RefCell<Adc1>,
     config: &AxisConfig,
 ) -> Option<BlackPillAxis<'a>> {
     let kind = DriveKind::from_code(config.drive)?;
     let ramp_permille_per_ms = match kind {
         DriveKind::DcHall => mechanics::WORM_SLEW_RAMP_PERMILLE_PER_MS,
+        DriveKind::LinearHall | DriveKind::LinearPot => mechanics::LINEAR_RAMP_PERMILLE_PER_MS,
         DriveKind::Timed => 0,
-        _ => return None,
+        DriveKind::ServoEncoder => {
+            let servo = ContinuousServo::new(pins.rpwm, SERVO).ok()?;
+            return Some(AnyAxis::ServoEncoder(ServoAxis::new(
+                servo,
+                encoder,
+                home?,
+                true,
+                POSITION_LOOP,
+                config,
+            )));
+        }
+        DriveKind::Stepper => return None,
     };
     let bridge = Bts7960Pins {
         rpwm: pins.rpwm,
@@ -469,31 +599,80 @@ fn axis<'a>(
         adc,
         channel: pins.channel,
     };
-    let sense = CurrentSense::new(input, SENSE).ok()?;
-    if kind == DriveKind::DcHall {
-        let lp = mechanics::dc_hall_loop(config);
-        DcAxis::new(motor, encoder, home, true, Some(sense), lp, config)
-            .ok()
-            .map(AnyAxis::Dc)
-    } else {
-        let runs = mechanics::timed_runs(config, 0, mechanics::WORM_SLEW_LAG_MS);
-        TimedAxis::new(motor, home, true, Some(sense), runs, config)
-            .ok()
-            .map(AnyAxis::Timed)
+    let sense = Some(CurrentSense::new(input, SENSE).ok()?);
+    match kind {
+        DriveKind::DcHall => {
+            let lp = mechanics::dc_hall_loop(config);
+            DcAxis::new(motor, encoder, home?, true, sense, lp, config)
+                .ok()
+                .map(AnyAxis::Dc)
+        }
+        DriveKind::LinearHall => {
+            let mount = mechanics::linear_mount(config).ok()?;
+            let scale = PulseScale::new(config.linear.pulses_per_mm).ok()?;
+            let pulses = HallFeedback::new(encoder, scale);
+            LinearAxis::new(motor, pulses, home?, true, sense, mount, config)
+                .ok()
+                .map(AnyAxis::LinearHall)
+        }
+        DriveKind::LinearPot => {
+            let m = &config.linear;
+            let mount = mechanics::linear_mount(config).ok()?;
+            let calibration =
+                PotCalibration::new(m.pot_retracted_counts, m.pot_extended_counts, m.stroke_mm)
+                    .ok()?;
+            let wiper = SenseInput {
+                adc,
+                channel: pot_channel,
+            };
+            let pot = PotFeedback::new(
+                wiper,
+                calibration,
+                m.stroke_mm,
+                mechanics::LINEAR_POT_READING,
+            )
+            .ok()?;
+            // No switch: the potentiometer reads the retracted end.
+            LinearAxis::new(motor, pot, NoEndSwitch, false, sense, mount, config)
+                .ok()
+                .map(AnyAxis::LinearPot)
+        }
+        // Timed (a stepper and a servo returned above).
+        _ => {
+            let runs = mechanics::timed_runs(config, 0, mechanics::WORM_SLEW_LAG_MS);
+            TimedAxis::new(motor, home?, true, sense, runs, config)
+                .ok()
+                .map(AnyAxis::Timed)
+        }
     }
 }
 
 /// Both axes, each of the kind its configuration names: C on TIM3, A0,
-/// A9/A15 and the home switch `c_home`; A on TIM9, A1, B14/B4 and
-/// `a_home`; `None` when either refuses (module docs).
+/// A9/A15, its wiper on B0 or its home switch there (`c_home`); A on
+/// TIM9, A1, B14/B4, its wiper on B1 and its home switch `a_home`; `None`
+/// when either refuses (module docs).
 pub fn axes<'a>(
     pins: DcPins,
-    c_home: Switch<'a>,
+    c_home: &'a CHomeInput,
     a_home: Switch<'a>,
     adc: &'a RefCell<Adc1>,
     configs: &[AxisConfig; 2],
 ) -> Option<[BlackPillAxis<'a>; 2]> {
-    let c = axis(pins.c, &ENCODER_C, c_home, adc, &configs[0])?;
-    let a = axis(pins.a, &ENCODER_A, a_home, adc, &configs[1])?;
+    let c = axis(
+        pins.c,
+        &ENCODER_C,
+        c_home.switch(),
+        C_POT_CHANNEL,
+        adc,
+        &configs[0],
+    )?;
+    let a = axis(
+        pins.a,
+        &ENCODER_A,
+        Some(a_home),
+        A_POT_CHANNEL,
+        adc,
+        &configs[1],
+    )?;
     Some([c, a])
 }

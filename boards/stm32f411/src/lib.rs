@@ -99,11 +99,13 @@
 //! stops the driver at the high end. Open loop (no encoder): homed at
 //! power-on and at every end of day.
 //!
-//! **DC gear motors** (feature `dc`, `cargo board-run-dc`): each axis a DC
-//! gear motor or slew drive on an IBT-2 bridge, closed on its Hall encoder
-//! or moved by time, by configuration, in place of the steppers and the
-//! RS-485 inclinometer (pins and figures in the `dc` module,
-//! `src/dc.rs`).
+//! **DC motors, linear actuators and servos** (feature `dc`, `cargo
+//! board-run-dc`): each axis of the kind its configuration names, in place
+//! of the steppers and the RS-485 inclinometer: a DC gear motor or slew
+//! drive on an IBT-2 bridge closed on its Hall encoder or moved by time, a
+//! linear actuator on the bridge closed on its Hall pulses or its
+//! potentiometer, or a continuous servo on its encoder (pins and figures
+//! in the `dc` module, `src/dc.rs`).
 //!
 //! **The Modbus server** (feature `modbus`, `cargo board-run-modbus`): the
 //! transceiver on USART2 serves the SunSpec map of
@@ -277,7 +279,7 @@ use mechanics::config as board_config;
 use mechanics::worm_slew_config as board_config;
 
 /// One axis of this image: a stepper on its H-bridge, or with the `dc`
-/// feature a DC or timed axis (`dc::BlackPillAxis`).
+/// feature any kind but a stepper (`dc::BlackPillAxis`).
 #[cfg(not(feature = "dc"))]
 type Axis<'a> = StepperAxis<hal::gpio::ErasedPin<hal::gpio::Output>, Switch<'a>, Switch<'a>>;
 #[cfg(feature = "dc")]
@@ -720,7 +722,9 @@ pub fn run(dp: pac::Peripherals, cp: cortex_m::Peripherals) -> ! {
         NVIC::unmask(Interrupt::EXTI9_5);
     }
 
-    // Motors and switches.
+    // Motors and switches (the DC image's follow its configuration,
+    // below).
+    #[cfg(not(feature = "dc"))]
     let c_home = gpiob.pb0.into_pull_up_input().erase();
     let a_home = gpiob.pb8.into_pull_up_input().erase();
     #[cfg(not(feature = "dc"))]
@@ -764,43 +768,6 @@ pub fn run(dp: pac::Peripherals, cp: cortex_m::Peripherals) -> ! {
         ],
         _ => halt(&mut log, "stepper configuration refused"),
     };
-    // The DC image: the bridges' timers and pins, the Hall interrupts and
-    // the ADC; the axes follow the configuration, below.
-    #[cfg(feature = "dc")]
-    let dc_pins = dc::DcPins::start(
-        dc::DcPinsIn {
-            pa0: gpioa.pa0,
-            pa1: gpioa.pa1,
-            pa2: gpioa.pa2,
-            pa3: gpioa.pa3,
-            pa4: gpioa.pa4,
-            pa5: gpioa.pa5,
-            pa6: gpioa.pa6,
-            pa7: gpioa.pa7,
-            pa9: gpioa.pa9,
-            pa15: gpioa.pa15,
-            pb4: gpiob.pb4,
-            pb12: gpiob.pb12,
-            pb13: gpiob.pb13,
-            pb14: gpiob.pb14,
-        },
-        dp.TIM3,
-        dp.TIM9,
-        &mut syscfg,
-        &mut exti,
-        &mut rcc,
-    );
-    #[cfg(feature = "dc")]
-    let adc = RefCell::new(dc::Adc1::start(dp.ADC1, &dp.ADC_COMMON, &mut rcc));
-    // SAFETY: as for the interrupts above: the Hall handlers touch only
-    // their statics (`dc`), through `free`, and those are set.
-    #[cfg(feature = "dc")]
-    #[allow(unsafe_code)]
-    unsafe {
-        NVIC::unmask(Interrupt::EXTI4);
-        NVIC::unmask(Interrupt::EXTI15_10);
-    }
-
     // The I²C devices on one bus.
     let bus = AtomicCell::new(I2c::new(
         dp.I2C1,
@@ -883,14 +850,49 @@ pub fn run(dp: pac::Peripherals, cp: cortex_m::Peripherals) -> ! {
     let options = mechanics::controller_options();
     #[cfg(feature = "dc")]
     let options = mechanics::options_for_drives(mechanics::controller_options(), &config.axes);
+    // The DC image: the bridges' timers and pins, the Hall interrupts and
+    // the ADC; each axis as its configuration names.
     #[cfg(feature = "dc")]
-    let axes = match dc::axes(
-        dc_pins,
-        Switch(&c_home),
-        Switch(&a_home),
-        &adc,
+    let dc_pins = dc::DcPins::start(
+        dc::DcPinsIn {
+            pa0: gpioa.pa0,
+            pa1: gpioa.pa1,
+            pa2: gpioa.pa2,
+            pa3: gpioa.pa3,
+            pa4: gpioa.pa4,
+            pa5: gpioa.pa5,
+            pa6: gpioa.pa6,
+            pa7: gpioa.pa7,
+            pa9: gpioa.pa9,
+            pa15: gpioa.pa15,
+            pb1: gpiob.pb1,
+            pb4: gpiob.pb4,
+            pb12: gpiob.pb12,
+            pb13: gpiob.pb13,
+            pb14: gpiob.pb14,
+        },
+        dp.TIM3,
+        dp.TIM9,
+        &mut syscfg,
+        &mut exti,
+        &mut rcc,
         &config.axes,
-    ) {
+    );
+    #[cfg(feature = "dc")]
+    let c_home = dc::CHomeInput::start(gpiob.pb0, &config.axes[0]);
+    #[cfg(feature = "dc")]
+    let adc = RefCell::new(dc::Adc1::start(dp.ADC1, &dp.ADC_COMMON, &mut rcc));
+    // SAFETY: as for the interrupts above: the Hall handlers touch only
+    // their statics (`dc`), through `free`, and those are set.
+    #[cfg(feature = "dc")]
+    #[allow(unsafe_code)]
+    unsafe {
+        NVIC::unmask(Interrupt::EXTI4);
+        NVIC::unmask(Interrupt::EXTI15_10);
+    }
+
+    #[cfg(feature = "dc")]
+    let axes = match dc::axes(dc_pins, &c_home, Switch(&a_home), &adc, &config.axes) {
         Some(axes) => axes,
         None => halt(&mut log, "axis configuration refused"),
     };
