@@ -15,12 +15,19 @@
 //! - 1, `servo_encoder`: a continuous-rotation servo (Chowdhury et al.'s
 //!   (2019) FEETECH FS5106R) closed on a quadrature encoder on the encoder
 //!   inputs ([`suntracker::hw::ServoAxis`]), its signal on the axis's
-//!   RPWM pin, whose timer then runs at 50 Hz: the bridge is not fitted.
+//!   RPWM pin, whose timer then runs at 50 Hz: the bridge is not fitted;
+//! - 0, `stepper`: the default image's stepper on an L298N, on that
+//!   image's pins (IN1–IN4: A4–A7 for C, B12–B15 for A), which this image
+//!   then sets up as outputs in place of the bridge's inputs; its home
+//!   switch is also its driver's low-end limit, and it has no high-end
+//!   switch here (B1 is the A axis's wiper; B9 stays free): its soft limits
+//!   bound it, as they bound a DC axis.
 //!
 //! The image's own configuration has both axes on the worm slew drive
-//! ([`suntracker::mechanics::worm_slew_config`]). Steppers are the default
-//! image's: this one refuses them ([`DRIVES`]), so that a configuration
-//! never drives stepper phases into a bridge's inputs.
+//! ([`suntracker::mechanics::worm_slew_config`]). The pins follow the
+//! configuration read at power-on ([`DcPins::start`], [`CHomeInput`]); a
+//! `set` of another kind is saved and takes effect at the next power-on,
+//! when a bridge's or a stepper's wiring must be the one the kind names.
 //!
 //! | function | peripheral | Black Pill pin |
 //! |---|---|---|
@@ -36,6 +43,8 @@
 //! | A axis servo signal (`servo_encoder`; 50 Hz) | TIM9 CH1 | A2 |
 //! | C axis potentiometer wiper (`linear_pot`; 3.3 V across the track) | ADC1 IN8 | B0 |
 //! | A axis potentiometer wiper (`linear_pot`; 3.3 V across the track) | ADC1 IN9 | B1 |
+//! | C axis L298N IN1–IN4 (`stepper`) | GPIO push-pull | A4, A5, A6, A7 |
+//! | A axis L298N IN1–IN4 (`stepper`) | GPIO push-pull | B12, B13, B14, B15 |
 //!
 //! The home switches stay on B0 (C) and B8 (A), but B0 is a `linear_pot`
 //! C axis's wiper ([`CHomeInput`]); a DC axis has no high-end switch (its
@@ -110,11 +119,14 @@ use drivers::dc_motor::{Config as BridgeConfig, DcMotor, RestMode};
 use drivers::encoder::AtomicEncoder;
 use drivers::linear::{PotCalibration, PulseScale};
 use drivers::servo::ContinuousServo;
+use drivers::stepper::hbridge::{BridgePins, HBridgeStepper};
+use drivers::stepper::LimitSwitches;
 use embedded_hal::pwm::SetDutyCycle;
 use stm32f4xx_hal as hal;
 use suntracker::config::{AxisConfig, DriveKind, DriveSet};
 use suntracker::hw::{
-    AnyAxis, DcAxis, HallFeedback, LinearAxis, NoEndSwitch, PotFeedback, ServoAxis, TimedAxis,
+    AnyAxis, DcAxis, HallFeedback, LinearAxis, NoEndSwitch, PotFeedback, ServoAxis, StepperAxis,
+    TimedAxis,
 };
 use suntracker::mechanics;
 use suntracker::servo_tracker::{POSITION_LOOP, SERVO};
@@ -127,14 +139,8 @@ use hal::timer::pwm::ErasedChannel;
 
 use crate::Switch;
 
-/// The drive kinds this image builds an axis of: every kind but the
-/// stepper (the default image's).
-pub const DRIVES: DriveSet = DriveSet::NONE
-    .with(DriveKind::ServoEncoder)
-    .with(DriveKind::DcHall)
-    .with(DriveKind::LinearHall)
-    .with(DriveKind::LinearPot)
-    .with(DriveKind::Timed);
+/// The drive kinds this image builds an axis of: every kind.
+pub const DRIVES: DriveSet = DriveSet::ALL;
 
 /// The bridges' PWM frequency: above hearing, as the ATmega2560's
 /// bridges run.
@@ -174,7 +180,8 @@ static ENCODER_A: AtomicEncoder = AtomicEncoder::new();
 struct HallPins {
     c_a: PA9<Input>,
     c_b: PA15<Input>,
-    a_a: PB14<Input>,
+    /// `None` where B14 is a stepper's IN3.
+    a_a: Option<PB14<Input>>,
     a_b: PB4<Input>,
 }
 
@@ -200,8 +207,12 @@ fn hall_edge(line: u8) {
                 h.c_b.clear_interrupt_pending_bit();
                 true
             }
-            14 if h.a_a.check_interrupt() => {
-                h.a_a.clear_interrupt_pending_bit();
+            14 => {
+                let a_a = h.a_a.as_mut().filter(|pin| pin.check_interrupt());
+                let Some(a_a) = a_a else {
+                    return;
+                };
+                a_a.clear_interrupt_pending_bit();
                 false
             }
             4 if h.a_b.check_interrupt() => {
@@ -212,8 +223,8 @@ fn hall_edge(line: u8) {
         };
         if c {
             ENCODER_C.update(h.c_a.is_high(), h.c_b.is_high());
-        } else {
-            ENCODER_A.update(h.a_a.is_high(), h.a_b.is_high());
+        } else if let Some(a_a) = &h.a_a {
+            ENCODER_A.update(a_a.is_high(), h.a_b.is_high());
         }
     });
 }
@@ -357,10 +368,13 @@ pub type BlackPillLinearPotAxis<'a> =
     LinearAxis<Pins, PotFeedback<SenseInput<'a>>, NoEndSwitch, Sense<'a>>;
 /// A continuous servo on its encoder.
 pub type BlackPillServoAxis<'a> = ServoAxis<'static, Pwm, AtomicEncoder, Switch<'a>>;
-/// An axis of this image, of the kind its configuration names (no
-/// stepper: [`DRIVES`]).
+/// A stepper on its H-bridge, its home switch also its driver's low-end
+/// limit (no high-end switch here: module docs).
+pub type BlackPillStepperAxis<'a> = StepperAxis<ErasedPin<Output>, Switch<'a>, Switch<'a>>;
+/// An axis of this image, of the kind its configuration names
+/// ([`DRIVES`]).
 pub type BlackPillAxis<'a> = AnyAxis<
-    Infallible,
+    BlackPillStepperAxis<'a>,
     BlackPillDcAxis<'a>,
     BlackPillTimedAxis<'a>,
     BlackPillLinearHallAxis<'a>,
@@ -368,19 +382,27 @@ pub type BlackPillAxis<'a> = AnyAxis<
     BlackPillServoAxis<'a>,
 >;
 
-/// One axis's bridge and sense pins, before the kind is chosen.
-pub struct AxisPins {
-    rpwm: Pwm,
-    lpwm: Pwm,
-    r_en: ErasedPin<Output>,
-    l_en: ErasedPin<Output>,
-    channel: u8,
+/// One axis's pins, as its kind needs them.
+pub enum AxisPins {
+    /// An IBT-2 bridge's inputs (or a servo's signal on RPWM) and its
+    /// current sense channel.
+    Bridge {
+        rpwm: Pwm,
+        lpwm: Pwm,
+        r_en: ErasedPin<Output>,
+        l_en: ErasedPin<Output>,
+        channel: u8,
+    },
+    /// A stepper's H-bridge IN1–IN4, as in the default image.
+    Stepper(BridgePins<ErasedPin<Output>>),
 }
 
 /// The pins and timers the axes take (module docs), set up: each axis's
 /// timer at [`PWM_HZ`], or [`SERVO_FRAME_HZ`] for a servo, with duty 0,
 /// the enables low, the sense inputs and B1 analog, the Hall inputs
-/// pulled up and interrupting on both edges.
+/// pulled up and interrupting on both edges; a stepper axis's four
+/// outputs low instead of its bridge's inputs (and, on the A axis, of
+/// the Hall input B14).
 pub struct DcPins {
     /// The C axis's bridge.
     pub c: AxisPins,
@@ -405,6 +427,7 @@ pub struct DcPinsIn {
     pub pb12: hal::gpio::PB12,
     pub pb13: hal::gpio::PB13,
     pub pb14: hal::gpio::PB14,
+    pub pb15: hal::gpio::PB15,
 }
 
 impl DcPins {
@@ -435,61 +458,86 @@ impl DcPins {
         if configs[1].drive == DriveKind::ServoEncoder as u8 {
             tim9.set_period(SERVO_FRAME_HZ.Hz());
         }
-        let mut c_r = c_r.with(p.pa6);
-        let mut c_l = c_l.with(p.pa7);
-        let mut a_r = a_r.with(p.pa2);
-        let mut a_l = a_l.with(p.pa3);
-        // Duty 0 before the outputs are connected (the compare registers'
-        // reset value, written so that it does not depend on it).
-        c_r.set_duty(0);
-        c_l.set_duty(0);
-        a_r.set_duty(0);
-        a_l.set_duty(0);
-        c_r.enable();
-        c_l.enable();
-        a_r.enable();
-        a_l.enable();
+        let stepper = |c: &AxisConfig| c.drive == DriveKind::Stepper as u8;
+        let c = if stepper(&configs[0]) {
+            AxisPins::Stepper(BridgePins {
+                in1: p.pa4.into_push_pull_output().erase(),
+                in2: p.pa5.into_push_pull_output().erase(),
+                in3: p.pa6.into_push_pull_output().erase(),
+                in4: p.pa7.into_push_pull_output().erase(),
+            })
+        } else {
+            let mut c_r = c_r.with(p.pa6);
+            let mut c_l = c_l.with(p.pa7);
+            // Duty 0 before the outputs are connected (the compare
+            // registers' reset value, written so that it does not depend
+            // on it).
+            c_r.set_duty(0);
+            c_l.set_duty(0);
+            c_r.enable();
+            c_l.enable();
+            AxisPins::Bridge {
+                rpwm: Pwm::Tim3(c_r.erase()),
+                lpwm: Pwm::Tim3(c_l.erase()),
+                r_en: p.pa4.into_push_pull_output().erase(),
+                l_en: p.pa5.into_push_pull_output().erase(),
+                channel: C_SENSE_CHANNEL,
+            }
+        };
+        let (a, a_hall_a) = if stepper(&configs[1]) {
+            let pins = AxisPins::Stepper(BridgePins {
+                in1: p.pb12.into_push_pull_output().erase(),
+                in2: p.pb13.into_push_pull_output().erase(),
+                in3: p.pb14.into_push_pull_output().erase(),
+                in4: p.pb15.into_push_pull_output().erase(),
+            });
+            (pins, None)
+        } else {
+            let mut a_r = a_r.with(p.pa2);
+            let mut a_l = a_l.with(p.pa3);
+            a_r.set_duty(0);
+            a_l.set_duty(0);
+            a_r.enable();
+            a_l.enable();
+            let pins = AxisPins::Bridge {
+                rpwm: Pwm::Tim9(a_r.erase()),
+                lpwm: Pwm::Tim9(a_l.erase()),
+                r_en: p.pb12.into_push_pull_output().erase(),
+                l_en: p.pb13.into_push_pull_output().erase(),
+                channel: A_SENSE_CHANNEL,
+            };
+            (pins, Some(p.pb14.into_pull_up_input()))
+        };
         let _ = p.pa0.into_analog();
         let _ = p.pa1.into_analog();
         let _ = p.pb1.into_analog();
         let mut halls = HallPins {
             c_a: p.pa9.into_pull_up_input(),
             c_b: p.pa15.into_pull_up_input(),
-            a_a: p.pb14.into_pull_up_input(),
+            a_a: a_hall_a,
             a_b: p.pb4.into_pull_up_input(),
         };
         // The decoders start from the levels as they are (a first edge
         // is then a step, not an illegal jump from 00).
         ENCODER_C.update(halls.c_a.is_high(), halls.c_b.is_high());
-        ENCODER_A.update(halls.a_a.is_high(), halls.a_b.is_high());
+        if let Some(a_a) = &halls.a_a {
+            ENCODER_A.update(a_a.is_high(), halls.a_b.is_high());
+        }
         // Armed and handed over in one critical section: an edge between
         // the two would find no pins, leave its pending bit set and
         // interrupt again without end.
         free(|cs| {
             arm(&mut halls.c_a, syscfg, exti);
             arm(&mut halls.c_b, syscfg, exti);
-            arm(&mut halls.a_a, syscfg, exti);
+            if let Some(a_a) = &mut halls.a_a {
+                arm(a_a, syscfg, exti);
+            }
             arm(&mut halls.a_b, syscfg, exti);
             if let Ok(mut slot) = HALLS.borrow(cs).try_borrow_mut() {
                 *slot = Some(halls);
             }
         });
-        DcPins {
-            c: AxisPins {
-                rpwm: Pwm::Tim3(c_r.erase()),
-                lpwm: Pwm::Tim3(c_l.erase()),
-                r_en: p.pa4.into_push_pull_output().erase(),
-                l_en: p.pa5.into_push_pull_output().erase(),
-                channel: C_SENSE_CHANNEL,
-            },
-            a: AxisPins {
-                rpwm: Pwm::Tim9(a_r.erase()),
-                lpwm: Pwm::Tim9(a_l.erase()),
-                r_en: p.pb12.into_push_pull_output().erase(),
-                l_en: p.pb13.into_push_pull_output().erase(),
-                channel: A_SENSE_CHANNEL,
-            },
-        }
+        DcPins { c, a }
     }
 }
 
@@ -551,7 +599,10 @@ impl CHomeInput {
 ///   [`suntracker::servo_tracker::SERVO`]'s pulses and
 ///   [`suntracker::servo_tracker::POSITION_LOOP`];
 ///
-/// `None` for a stepper, a part that refuses its settings (none does for a
+/// - `stepper`: the default image's stepper on IN1–IN4 with
+///   [`mechanics::bridge_config`], its home switch its low-end limit;
+///
+/// `None` for pins of another kind, a part that refuses its settings (none does for a
 /// configuration that passed its checks) or a potentiometer whose first
 /// reading lies outside its calibrated span (a broken wiper or lead: the
 /// board halts rather than drive blind).
@@ -564,12 +615,32 @@ fn axis<'a>(
     config: &AxisConfig,
 ) -> Option<BlackPillAxis<'a>> {
     let kind = DriveKind::from_code(config.drive)?;
+    let (rpwm, lpwm, r_en, l_en, channel) = match pins {
+        AxisPins::Bridge {
+            rpwm,
+            lpwm,
+            r_en,
+            l_en,
+            channel,
+        } => (rpwm, lpwm, r_en, l_en, channel),
+        AxisPins::Stepper(pins) if kind == DriveKind::Stepper => {
+            let home = home?;
+            let limits = LimitSwitches {
+                min: Some(home),
+                max: None,
+                active_low: true,
+            };
+            let stepper = HBridgeStepper::new(pins, limits, mechanics::bridge_config()).ok()?;
+            return Some(AnyAxis::Stepper(StepperAxis::new(stepper, home, true)));
+        }
+        AxisPins::Stepper(_) => return None,
+    };
     let ramp_permille_per_ms = match kind {
         DriveKind::DcHall => mechanics::WORM_SLEW_RAMP_PERMILLE_PER_MS,
         DriveKind::LinearHall | DriveKind::LinearPot => mechanics::LINEAR_RAMP_PERMILLE_PER_MS,
         DriveKind::Timed => 0,
         DriveKind::ServoEncoder => {
-            let servo = ContinuousServo::new(pins.rpwm, SERVO).ok()?;
+            let servo = ContinuousServo::new(rpwm, SERVO).ok()?;
             return Some(AnyAxis::ServoEncoder(ServoAxis::new(
                 servo,
                 encoder,
@@ -582,10 +653,10 @@ fn axis<'a>(
         DriveKind::Stepper => return None,
     };
     let bridge = Bts7960Pins {
-        rpwm: pins.rpwm,
-        lpwm: pins.lpwm,
-        r_en: pins.r_en,
-        l_en: pins.l_en,
+        rpwm,
+        lpwm,
+        r_en,
+        l_en,
     };
     let motor = DcMotor::new(
         bridge,
@@ -595,10 +666,7 @@ fn axis<'a>(
         },
     )
     .ok()?;
-    let input = SenseInput {
-        adc,
-        channel: pins.channel,
-    };
+    let input = SenseInput { adc, channel };
     let sense = Some(CurrentSense::new(input, SENSE).ok()?);
     match kind {
         DriveKind::DcHall => {

@@ -99,13 +99,13 @@
 //! stops the driver at the high end. Open loop (no encoder): homed at
 //! power-on and at every end of day.
 //!
-//! **DC motors, linear actuators and servos** (feature `dc`, `cargo
-//! board-run-dc`): each axis of the kind its configuration names, in place
-//! of the steppers and the RS-485 inclinometer: a DC gear motor or slew
-//! drive on an IBT-2 bridge closed on its Hall encoder or moved by time, a
-//! linear actuator on the bridge closed on its Hall pulses or its
-//! potentiometer, or a continuous servo on its encoder (pins and figures
-//! in the `dc` module, `src/dc.rs`).
+//! **Every kind of axis** (feature `dc`, `cargo board-run-dc`): each axis
+//! of the kind its configuration names, in place of the RS-485
+//! inclinometer: a DC gear motor or slew drive on an IBT-2 bridge closed
+//! on its Hall encoder or moved by time, a linear actuator on the bridge
+//! closed on its Hall pulses or its potentiometer, a continuous servo on
+//! its encoder, or a stepper on this image's pins (pins and figures in the
+//! `dc` module, `src/dc.rs`).
 //!
 //! **The Modbus server** (feature `modbus`, `cargo board-run-modbus`): the
 //! transceiver on USART2 serves the SunSpec map of
@@ -264,7 +264,7 @@ fn modbus_serial_config(baud: u32, parity: u8) -> hal::serial::Config {
 }
 
 /// The drive kinds this image builds an axis of: steppers, or with the
-/// `dc` feature DC motors (`dc::DRIVES`).
+/// `dc` feature every kind (`dc::DRIVES`).
 #[cfg(not(feature = "dc"))]
 pub const DRIVES: suntracker::config::DriveSet = suntracker::config::DriveSet::STEPPER;
 #[cfg(feature = "dc")]
@@ -279,7 +279,7 @@ use mechanics::config as board_config;
 use mechanics::worm_slew_config as board_config;
 
 /// One axis of this image: a stepper on its H-bridge, or with the `dc`
-/// feature any kind but a stepper (`dc::BlackPillAxis`).
+/// feature any kind (`dc::BlackPillAxis`).
 #[cfg(not(feature = "dc"))]
 type Axis<'a> = StepperAxis<hal::gpio::ErasedPin<hal::gpio::Output>, Switch<'a>, Switch<'a>>;
 #[cfg(feature = "dc")]
@@ -870,6 +870,7 @@ pub fn run(dp: pac::Peripherals, cp: cortex_m::Peripherals) -> ! {
             pb12: gpiob.pb12,
             pb13: gpiob.pb13,
             pb14: gpiob.pb14,
+            pb15: gpiob.pb15,
         },
         dp.TIM3,
         dp.TIM9,
