@@ -73,6 +73,23 @@
 //!  B0 ─ home switch (closed at the low stop) ─ GND
 //! ```
 //!
+//! A linear actuator on its potentiometer (the A axis; a C axis's wiper
+//! on B0, which then has no switch), on the same bridge:
+//!
+//! ```text
+//!  3V3 ─ pot track ─ GND       (the actuator's potentiometer, 10 kΩ)
+//!           └ wiper ─ B1
+//! ```
+//!
+//! A servo on its encoder (the C axis; the A axis on A2, B14/B4, B8), no
+//! bridge fitted:
+//!
+//! ```text
+//!  A6 ─ signal ─ FS5106R (its own +6 V supply, GND common with the board)
+//!  A9 ─ encoder A   A15 ─ encoder B   (YMT22; 3.3 V levels)
+//!  B0 ─ home switch (closed at the low stop) ─ GND
+//! ```
+//!
 //! The IBT-2 takes its logic supply (VCC) at 5 V, and its inputs go
 //! through the module's 74HC244 buffer, which at 5 V needs 0.7 · VCC =
 //! 3.5 V for a high: more than a 3.3 V output gives. So RPWM, LPWM, R_EN
