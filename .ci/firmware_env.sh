@@ -63,7 +63,7 @@ build_blackpill_modbus() {
   (cd boards/stm32f411 && cargo build --release --target thumbv7em-none-eabihf -p suntracker-stm32f411 --features modbus \
     --bin blackpill_tracker --target-dir "$FW_TARGET_DIR/blackpill-modbus")
 }
-# The Black Pill with DC motors on IBT-2 bridges (dc_hall or timed axes).
+# The Black Pill with each axis of any kind by configuration (src/dc.rs).
 build_blackpill_dc() {
   (cd boards/stm32f411 && cargo build --release --target thumbv7em-none-eabihf -p suntracker-stm32f411 --features dc \
     --bin blackpill_tracker --target-dir "$FW_TARGET_DIR/blackpill-dc")
