@@ -427,24 +427,30 @@ pub struct DcPins {
     pub a: AxisPins,
 }
 
-/// The parts of [`DcPins::start`] from the board's GPIO ports.
+/// The parts of [`DcPins::start`] from the board's GPIO ports. The ones
+/// only a bridge's or a stepper's inputs take (A2–A7, B12, B13, B15) are
+/// outputs already, low (the output register's reset value): the board
+/// makes them so at once, so that nothing drives a motor while the
+/// configuration is read, before [`DcPins::start`] gives each axis its
+/// pins. B14 is the A axis's Hall input or its stepper's IN3, and stays
+/// an input until the kind is known.
 pub struct DcPinsIn {
     pub pa0: hal::gpio::PA0,
     pub pa1: hal::gpio::PA1,
-    pub pa2: hal::gpio::PA2,
-    pub pa3: hal::gpio::PA3,
-    pub pa4: hal::gpio::PA4,
-    pub pa5: hal::gpio::PA5,
-    pub pa6: hal::gpio::PA6,
-    pub pa7: hal::gpio::PA7,
+    pub pa2: hal::gpio::PA2<Output>,
+    pub pa3: hal::gpio::PA3<Output>,
+    pub pa4: hal::gpio::PA4<Output>,
+    pub pa5: hal::gpio::PA5<Output>,
+    pub pa6: hal::gpio::PA6<Output>,
+    pub pa7: hal::gpio::PA7<Output>,
     pub pa9: hal::gpio::PA9,
     pub pa15: hal::gpio::PA15<hal::gpio::Alternate<0>>,
     pub pb1: hal::gpio::PB1,
     pub pb4: hal::gpio::PB4<hal::gpio::Alternate<0>>,
-    pub pb12: hal::gpio::PB12,
-    pub pb13: hal::gpio::PB13,
+    pub pb12: hal::gpio::PB12<Output>,
+    pub pb13: hal::gpio::PB13<Output>,
     pub pb14: hal::gpio::PB14,
-    pub pb15: hal::gpio::PB15,
+    pub pb15: hal::gpio::PB15<Output>,
 }
 
 impl DcPins {
@@ -463,25 +469,25 @@ impl DcPins {
     ) -> Self {
         use hal::prelude::*;
         use hal::timer::PwmExt;
+        let is = |axis: usize, kind: DriveKind| configs[axis].drive == kind as u8;
         let (mut tim3, (c_r, c_l, ..)) = tim3.pwm_hz(PWM_HZ.Hz(), rcc);
         let (mut tim9, (a_r, a_l)) = tim9.pwm_hz(PWM_HZ.Hz(), rcc);
         // A servo's frames: each timer's period set apart, by a constant,
         // so that the HAL's prescaler and reload arithmetic folds (a
         // frequency chosen at run time leaves it a reload check that
         // panics).
-        if configs[0].drive == DriveKind::ServoEncoder as u8 {
+        if is(0, DriveKind::ServoEncoder) {
             tim3.set_period(SERVO_FRAME_HZ.Hz());
         }
-        if configs[1].drive == DriveKind::ServoEncoder as u8 {
+        if is(1, DriveKind::ServoEncoder) {
             tim9.set_period(SERVO_FRAME_HZ.Hz());
         }
-        let stepper = |c: &AxisConfig| c.drive == DriveKind::Stepper as u8;
-        let c = if stepper(&configs[0]) {
+        let c = if is(0, DriveKind::Stepper) {
             AxisPins::Stepper(BridgePins {
-                in1: p.pa4.into_push_pull_output().erase(),
-                in2: p.pa5.into_push_pull_output().erase(),
-                in3: p.pa6.into_push_pull_output().erase(),
-                in4: p.pa7.into_push_pull_output().erase(),
+                in1: p.pa4.erase(),
+                in2: p.pa5.erase(),
+                in3: p.pa6.erase(),
+                in4: p.pa7.erase(),
             })
         } else {
             let mut c_r = c_r.with(p.pa6);
@@ -496,17 +502,17 @@ impl DcPins {
             AxisPins::Bridge {
                 rpwm: Pwm::Tim3(c_r.erase()),
                 lpwm: Pwm::Tim3(c_l.erase()),
-                r_en: p.pa4.into_push_pull_output().erase(),
-                l_en: p.pa5.into_push_pull_output().erase(),
+                r_en: p.pa4.erase(),
+                l_en: p.pa5.erase(),
                 channel: C_SENSE_CHANNEL,
             }
         };
-        let (a, a_hall_a) = if stepper(&configs[1]) {
+        let (a, a_hall_a) = if is(1, DriveKind::Stepper) {
             let pins = AxisPins::Stepper(BridgePins {
-                in1: p.pb12.into_push_pull_output().erase(),
-                in2: p.pb13.into_push_pull_output().erase(),
+                in1: p.pb12.erase(),
+                in2: p.pb13.erase(),
                 in3: p.pb14.into_push_pull_output().erase(),
-                in4: p.pb15.into_push_pull_output().erase(),
+                in4: p.pb15.erase(),
             });
             (pins, None)
         } else {
@@ -519,8 +525,8 @@ impl DcPins {
             let pins = AxisPins::Bridge {
                 rpwm: Pwm::Tim9(a_r.erase()),
                 lpwm: Pwm::Tim9(a_l.erase()),
-                r_en: p.pb12.into_push_pull_output().erase(),
-                l_en: p.pb13.into_push_pull_output().erase(),
+                r_en: p.pb12.erase(),
+                l_en: p.pb13.erase(),
                 channel: A_SENSE_CHANNEL,
             };
             (pins, Some(p.pb14.into_pull_up_input()))
@@ -615,14 +621,13 @@ impl CHomeInput {
 ///   timer at 50 Hz ([`DcPins::start`]), with
 ///   [`suntracker::servo_tracker::SERVO`]'s pulses and
 ///   [`suntracker::servo_tracker::POSITION_LOOP`];
-///
 /// - `stepper`: the default image's stepper on IN1–IN4 with
-///   [`mechanics::bridge_config`], its home switch its low-end limit;
+///   [`mechanics::bridge_config`], its home switch its low-end limit.
 ///
-/// `None` for pins of another kind, a part that refuses its settings (none does for a
-/// configuration that passed its checks) or a potentiometer whose first
-/// reading lies outside its calibrated span (a broken wiper or lead: the
-/// board halts rather than drive blind).
+/// `None` for pins of another kind, a part that refuses its settings
+/// (none does for a configuration that passed its checks) or a
+/// potentiometer whose first reading lies outside its calibrated span (a
+/// broken wiper or lead: the board halts rather than drive blind).
 fn axis<'a>(
     pins: AxisPins,
     encoder: &'static AtomicEncoder,

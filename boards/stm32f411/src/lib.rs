@@ -727,6 +727,28 @@ pub fn run(dp: pac::Peripherals, cp: cortex_m::Peripherals) -> ! {
     #[cfg(not(feature = "dc"))]
     let c_home = gpiob.pb0.into_pull_up_input().erase();
     let a_home = gpiob.pb8.into_pull_up_input().erase();
+    // The DC image's bridge and stepper outputs low at once (`DcPinsIn`):
+    // its axes take them as their kinds name once the configuration is
+    // read (below).
+    #[cfg(feature = "dc")]
+    let dc_pins_in = dc::DcPinsIn {
+        pa0: gpioa.pa0,
+        pa1: gpioa.pa1,
+        pa2: gpioa.pa2.into_push_pull_output(),
+        pa3: gpioa.pa3.into_push_pull_output(),
+        pa4: gpioa.pa4.into_push_pull_output(),
+        pa5: gpioa.pa5.into_push_pull_output(),
+        pa6: gpioa.pa6.into_push_pull_output(),
+        pa7: gpioa.pa7.into_push_pull_output(),
+        pa9: gpioa.pa9,
+        pa15: gpioa.pa15,
+        pb1: gpiob.pb1,
+        pb4: gpiob.pb4,
+        pb12: gpiob.pb12.into_push_pull_output(),
+        pb13: gpiob.pb13.into_push_pull_output(),
+        pb14: gpiob.pb14,
+        pb15: gpiob.pb15.into_push_pull_output(),
+    };
     #[cfg(not(feature = "dc"))]
     let c_max = gpiob.pb1.into_pull_up_input().erase();
     #[cfg(not(feature = "dc"))]
@@ -854,24 +876,7 @@ pub fn run(dp: pac::Peripherals, cp: cortex_m::Peripherals) -> ! {
     // the ADC; each axis as its configuration names.
     #[cfg(feature = "dc")]
     let dc_pins = dc::DcPins::start(
-        dc::DcPinsIn {
-            pa0: gpioa.pa0,
-            pa1: gpioa.pa1,
-            pa2: gpioa.pa2,
-            pa3: gpioa.pa3,
-            pa4: gpioa.pa4,
-            pa5: gpioa.pa5,
-            pa6: gpioa.pa6,
-            pa7: gpioa.pa7,
-            pa9: gpioa.pa9,
-            pa15: gpioa.pa15,
-            pb1: gpiob.pb1,
-            pb4: gpiob.pb4,
-            pb12: gpiob.pb12,
-            pb13: gpiob.pb13,
-            pb14: gpiob.pb14,
-            pb15: gpiob.pb15,
-        },
+        dc_pins_in,
         dp.TIM3,
         dp.TIM9,
         &mut syscfg,
