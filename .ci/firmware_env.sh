@@ -1,7 +1,13 @@
 # Shared by the firmware scripts of .ci/ (sourced, not run): where each
 # release ELF lands, and how each image is built. Each image that needs other
-# compiler flags or features than the default builds in its own target
-# directory, so that building one never rebuilds or overwrites another.
+# compiler flags than its board's default builds in its own target directory.
+# The AVR images that differ from their board's default only by features or
+# the emulator's clock (SUNTRACKER_EMU_MS_PER_TICK) build one after another
+# in one directory per board (uno-variants, mega-variants), where their
+# dependencies, `core` and the host's build tools among them, are built once
+# (about 40 s of a 47 s build); each ELF is then copied to its own path
+# below, which no other build writes. So building one never overwrites
+# another's ELF, and a default image is never rebuilt for a variant.
 #
 # Needs: rustup with the stable toolchain + target thumbv7em-none-eabihf, the
 # nightly toolchain with rust-src (for avr-none), and avr-gcc + avr-libc
@@ -75,13 +81,28 @@ build_avr_uno() {
 # The Uno image's build options: psa-2020 instead of Chowdhury et al.'s (2019) michalsky,
 # a DS1302 instead of the DS3231 (the settings image too: its `time set`
 # sets that clock); built and held to the same budget.
+UNO_VARIANTS_DIR="$FW_TARGET_DIR/uno-variants"
+MEGA_VARIANTS_DIR="$FW_TARGET_DIR/mega-variants"
+# Copies the ELFs a variant build left in its directory to that variant's
+# paths: variant_elfs build-dir [elf-name dest-path]...
+variant_elfs() {
+  local dir=$1
+  shift
+  while [ $# -ge 2 ]; do
+    mkdir -p "$(dirname "$2")"
+    cp "$dir/avr-none/release/$1" "$2"
+    shift 2
+  done
+}
 build_avr_uno_psa2020() {
   cargo +nightly build --release --target avr-none -Z build-std=core -p suntracker-uno --features psa2020 \
-    --bin avr_tracker --target-dir "$FW_TARGET_DIR/uno-psa2020"
+    --bin avr_tracker --target-dir "$UNO_VARIANTS_DIR" &&
+    variant_elfs "$UNO_VARIANTS_DIR" avr_tracker.elf "$ELF_AVR_UNO_PSA2020"
 }
 build_avr_uno_ds1302() {
   cargo +nightly build --release --target avr-none -Z build-std=core -p suntracker-uno --features ds1302 \
-    --bin avr_tracker --bin avr_settings --target-dir "$FW_TARGET_DIR/uno-ds1302"
+    --bin avr_tracker --bin avr_settings --target-dir "$UNO_VARIANTS_DIR" &&
+    variant_elfs "$UNO_VARIANTS_DIR" avr_tracker.elf "$ELF_AVR_UNO_DS1302" avr_settings.elf "$ELF_AVR_SETTINGS_DS1302"
 }
 build_avr_mega() {
   RUSTFLAGS="$AVR_MEGA_RUSTFLAGS" \
@@ -93,7 +114,8 @@ build_avr_mega() {
 build_avr_mega_dc() {
   RUSTFLAGS="$AVR_MEGA_RUSTFLAGS" \
     cargo +nightly build --release --target avr-none -Z build-std=core -p suntracker-mega2560 --features dc \
-    --bin avr_mega_tracker --target-dir "$FW_TARGET_DIR/mega-dc"
+    --bin avr_mega_tracker --target-dir "$MEGA_VARIANTS_DIR" &&
+    variant_elfs "$MEGA_VARIANTS_DIR" avr_mega_tracker.elf "$ELF_AVR_MEGA_DC"
 }
 # The same image for the emulator harness (emu/): its Timer0 clock advances
 # EMU_MS_PER_TICK ms per 1 ms tick (boards/avr/src/millis.rs); nothing else
@@ -102,26 +124,30 @@ EMU_MS_PER_TICK=60
 build_avr_mega_emu() {
   SUNTRACKER_EMU_MS_PER_TICK=$EMU_MS_PER_TICK RUSTFLAGS="$AVR_MEGA_RUSTFLAGS" \
     cargo +nightly build --release --target avr-none -Z build-std=core -p suntracker-mega2560 \
-    --bin avr_mega_tracker --target-dir "$FW_TARGET_DIR/mega-emu"
+    --bin avr_mega_tracker --target-dir "$MEGA_VARIANTS_DIR" &&
+    variant_elfs "$MEGA_VARIANTS_DIR" avr_mega_tracker.elf "$ELF_AVR_MEGA_EMU"
 }
 # The `dc` image for the emulator harness, the same way (the harness holds
 # PL0 high, real time, while a motor is driven or turns).
 build_avr_mega_dc_emu() {
   SUNTRACKER_EMU_MS_PER_TICK=$EMU_MS_PER_TICK RUSTFLAGS="$AVR_MEGA_RUSTFLAGS" \
     cargo +nightly build --release --target avr-none -Z build-std=core -p suntracker-mega2560 --features dc \
-    --bin avr_mega_tracker --target-dir "$FW_TARGET_DIR/mega-dc-emu"
+    --bin avr_mega_tracker --target-dir "$MEGA_VARIANTS_DIR" &&
+    variant_elfs "$MEGA_VARIANTS_DIR" avr_mega_tracker.elf "$ELF_AVR_MEGA_DC_EMU"
 }
 # The Uno images for the emulator harness, the same way.
 build_avr_uno_emu() {
   SUNTRACKER_EMU_MS_PER_TICK=$EMU_MS_PER_TICK \
     cargo +nightly build --release --target avr-none -Z build-std=core -p suntracker-uno \
-    --bin avr_tracker --bin avr_settings --target-dir "$FW_TARGET_DIR/uno-emu"
+    --bin avr_tracker --bin avr_settings --target-dir "$UNO_VARIANTS_DIR" &&
+    variant_elfs "$UNO_VARIANTS_DIR" avr_tracker.elf "$ELF_AVR_UNO_EMU" avr_settings.elf "$ELF_AVR_SETTINGS_EMU"
 }
 # The DS1302 build of both Uno images for the harness's DS1302 model.
 build_avr_uno_ds1302_emu() {
   SUNTRACKER_EMU_MS_PER_TICK=$EMU_MS_PER_TICK \
     cargo +nightly build --release --target avr-none -Z build-std=core -p suntracker-uno --features ds1302 \
-    --bin avr_tracker --bin avr_settings --target-dir "$FW_TARGET_DIR/uno-ds1302-emu"
+    --bin avr_tracker --bin avr_settings --target-dir "$UNO_VARIANTS_DIR" &&
+    variant_elfs "$UNO_VARIANTS_DIR" avr_tracker.elf "$ELF_AVR_UNO_DS1302_EMU" avr_settings.elf "$ELF_AVR_SETTINGS_DS1302_EMU"
 }
 build_all_firmware() {
   build_qemu
