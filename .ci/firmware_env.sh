@@ -1,7 +1,8 @@
 # Shared by the firmware scripts of .ci/ (sourced, not run): where each
-# release ELF lands, and how each image is built. Each image that needs other
-# compiler flags than its board's default builds in its own target directory.
-# The AVR images that differ from their board's default only by features or
+# release ELF lands, and how each image is built. The Black Pill's images and
+# the Mega's default build in target directories of their own; the QEMU and
+# the Uno's default images in the workspace's (each under its target). The
+# AVR images that differ from their board's default only by features or
 # the emulator's clock (SUNTRACKER_EMU_MS_PER_TICK) build one after another
 # in one directory per board (uno-variants, mega-variants), where their
 # dependencies, `core` and the host's build tools among them, are built once
@@ -46,6 +47,21 @@ ELF_AVR_SELFTEST="$FW_TARGET_DIR/mega/avr-none/release/avr_board_selftest.elf"
 # threshold (RUSTFLAGS replaces the config files' lists entirely).
 AVR_MEGA_RUSTFLAGS="-C target-cpu=atmega2560 --cfg avr_atmega2560 -C link-arg=-Wl,--whole-archive -C link-arg=-lm -C link-arg=-Wl,--no-whole-archive -C link-arg=-Wl,--relax -C debuginfo=0 -C llvm-args=-inline-threshold=5"
 
+# Where the AVR variants build (see the top of this file).
+UNO_VARIANTS_DIR="$FW_TARGET_DIR/uno-variants"
+MEGA_VARIANTS_DIR="$FW_TARGET_DIR/mega-variants"
+# Copies the ELFs a variant build left in its directory to that variant's
+# paths: variant_elfs build-dir [elf-name dest-path]...
+variant_elfs() {
+  local dir=$1
+  shift
+  while [ $# -ge 2 ]; do
+    mkdir -p "$(dirname "$2")"
+    cp "$dir/avr-none/release/$1" "$2"
+    shift 2
+  done
+}
+
 build_qemu() {
   cargo build --release --target thumbv7em-none-eabihf -p suntracker-mps2-an386 \
     --bin qemu_tracker --bin qemu_bench
@@ -81,19 +97,6 @@ build_avr_uno() {
 # The Uno image's build options: psa-2020 instead of Chowdhury et al.'s (2019) michalsky,
 # a DS1302 instead of the DS3231 (the settings image too: its `time set`
 # sets that clock); built and held to the same budget.
-UNO_VARIANTS_DIR="$FW_TARGET_DIR/uno-variants"
-MEGA_VARIANTS_DIR="$FW_TARGET_DIR/mega-variants"
-# Copies the ELFs a variant build left in its directory to that variant's
-# paths: variant_elfs build-dir [elf-name dest-path]...
-variant_elfs() {
-  local dir=$1
-  shift
-  while [ $# -ge 2 ]; do
-    mkdir -p "$(dirname "$2")"
-    cp "$dir/avr-none/release/$1" "$2"
-    shift 2
-  done
-}
 build_avr_uno_psa2020() {
   cargo +nightly build --release --target avr-none -Z build-std=core -p suntracker-uno --features psa2020 \
     --bin avr_tracker --target-dir "$UNO_VARIANTS_DIR" &&
