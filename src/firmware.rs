@@ -7,7 +7,7 @@
 //! | part | trait | on a board |
 //! |---|---|---|
 //! | UTC clock | [`drivers::rtc::Clock`] | DS3231 on I²C |
-//! | GPS port | `embedded_io::{Read, ReadReady}` | NMEA on a UART, interrupt-driven receive ring |
+//! | GPS port | [`GpsInput`]: `embedded_io::{Read, ReadReady}`, or [`NoGps`](crate::hw::NoGps) | NMEA on a UART, interrupt-driven receive ring; none |
 //! | axis drives | [`AxisDrive`] + [`Motion`] | [`crate::hw::StepperAxis`]: H-bridge stepper + home switch |
 //! | attitude | [`AttitudeSensor`] | [`crate::hw::MountSensorsHw`]: ADXL345 or WitMotion + QMC5883L |
 //! | log | [`Sink`] | a UART, semihosting |
@@ -28,20 +28,19 @@
 use drivers::counter::count_up;
 use drivers::gps::GpsFix;
 use drivers::rtc::Clock as RtcDriver;
-use embedded_io::{Read, ReadReady};
 use sun_algos::{Error as SunError, Float, Site, UtcTime};
 
 use crate::attitude::Pose;
 use crate::config::{Config, DriveSet};
 use crate::console::{self, Executed, Jogged, LineBuffer, Operator, StatusView, TimeSetError};
 use crate::controller::{Controller, ControllerError, ControllerOptions, TickInputs, TickReport};
-use crate::hw::GpsPort;
+use crate::hw::{GpsInput, GpsState};
 use crate::log::{self, ChangeLog, Sink, SiteSource as LogSite};
 use crate::motion::AxisDrive;
 use crate::persist::{LoadReport, SaveError, SaveStatus};
 use crate::ports::AttitudeSensor;
 use crate::safety::{AxisId, Fault, Mode, OperatorHold};
-use crate::site::filter::{SiteDecision, SiteFilter, SiteFilterConfig};
+use crate::site::filter::{SiteDecision, SiteFilterConfig};
 use crate::site::{site_from_config, site_from_fix, site_moved, wmm_declination_deg};
 use crate::sun::BoardSource;
 use crate::time::TimeConfig;
@@ -328,13 +327,15 @@ pub struct Stats {
 }
 
 /// The tracker firmware over one board's parts.
-// In this order on the AVR: the small fields every tick reads first,
+// In this order on every target: the small fields every tick reads first,
 // within the 63 bytes an `ldd` reaches from the struct's address (a field
 // further on costs an address computation at each access), then the
 // controller. Rust's own order put the controller (2.3 KB) first and
-// these fields beyond it: 380 B more on the ATmega2560.
-#[cfg_attr(target_arch = "avr", repr(C))]
-pub struct Firmware<T, R, G, D, S, L, const N: usize> {
+// these fields beyond it: 380 B more on the ATmega2560. On the Cortex-M
+// images it cost the Black Pill 356 B more than this order once the GPS
+// parts became one field (offsets past Thumb-2's short reach).
+#[repr(C)]
+pub struct Firmware<T, R, G: GpsInput<T>, D, S, L, const N: usize> {
     log: L,
     time_origin: Option<TimeOrigin>,
     site_origin: Option<LogSite>,
@@ -350,7 +351,6 @@ pub struct Firmware<T, R, G, D, S, L, const N: usize> {
     next_tick_ms: Option<u32>,
     /// Monotonic ms of the last pass.
     last_pass_ms: Option<u32>,
-    last_gps_ms: Option<u32>,
     /// GPS epochs refused before the GPS time faults were raised, while
     /// they are.
     rejected_at_fault: Option<u32>,
@@ -373,13 +373,13 @@ pub struct Firmware<T, R, G, D, S, L, const N: usize> {
     site: Site<T>,
     /// The site and day (since 2000) the declination was computed for.
     declination_for: Option<(Site<T>, i32)>,
-    /// Which GPS positions become the site.
-    site_filter: SiteFilter<T>,
-    fix: GpsFix,
+    /// The GPS receiver's part of the loop: its port, its fix, the filter
+    /// of its positions; nothing on a board without one
+    /// ([`NoGps`](crate::hw::NoGps)).
+    gps: G::Part,
     app: AppConfig,
     console_line: LineBuffer<{ console::LINE_LEN }>,
     time: TimeKeeper<R>,
-    gps: GpsPort<G>,
     last_report: Option<TickReport<T>>,
 }
 
@@ -387,7 +387,7 @@ impl<T, R, G, D, S, L, const N: usize> Firmware<T, R, G, D, S, L, N>
 where
     T: Float,
     R: RtcDriver,
-    G: Read + ReadReady,
+    G: GpsInput<T>,
     D: AxisDrive + Motion,
     S: AttitudeSensor<T>,
     L: Sink,
@@ -419,12 +419,11 @@ where
             // Built in place (no temporary copy of the controller).
             controller: Controller::new_checked(config, options, source, axes, sensors),
             time: TimeKeeper::new(rtc, app.time),
-            gps: GpsPort::new(gps, app.time.max_gps_age_ms),
+            gps: gps.into_part(app.time.max_gps_age_ms, app.site_filter),
             log,
             app,
             changes: ChangeLog::new(),
             stats: Stats::default(),
-            fix: GpsFix::NONE,
             next_tick_ms: None,
             last_tick_ms: 0,
             last_tick_utc: None,
@@ -432,11 +431,9 @@ where
             time_origin: None,
             site_origin: None,
             site,
-            site_filter: SiteFilter::new(app.site_filter),
             declination_for: None,
             last_setpoint: None,
             last_report: None,
-            last_gps_ms: None,
             boot_fallback,
             console_line: LineBuffer::new(),
             saving: None,
@@ -479,9 +476,10 @@ where
     pub fn last_time(&self) -> Option<(UtcTime, TimeOrigin, u32)> {
         self.last_time.map(|(t, o)| (t, o, self.last_tick_ms))
     }
-    /// The GPS receiver's latest fix (`GpsFix::NONE` before any).
-    pub fn gps_fix(&self) -> &GpsFix {
-        &self.fix
+    /// The GPS receiver's latest fix (`GpsFix::NONE` before any); `None`
+    /// on a board without a receiver.
+    pub fn gps_fix(&self) -> Option<&GpsFix> {
+        self.gps.track().map(|g| &g.fix)
     }
     /// The anemometer's pulse rate over the last tick, Hz.
     pub fn wind_hz(&self) -> Option<f32> {
@@ -530,9 +528,8 @@ where
             Some(prev) if monotonic::elapsed_ms(now_ms, prev) > GPS_STAMP_SLACK_MS => prev,
             _ => now_ms,
         };
-        match self.gps.service(stamp_ms) {
-            Ok(fix) => self.fix = fix,
-            Err(_) => count_up(&mut self.stats.gps_errors),
+        if !self.gps.service(stamp_ms) {
+            count_up(&mut self.stats.gps_errors);
         }
         // A drive that stopped itself on a fault in this pass (a DC
         // motor's obstruction or stall) brings the tick forward: the fault
@@ -593,18 +590,25 @@ where
             .then(|| wind_pulses as f32 * 1000.0 / interval_ms as f32);
         count_up(&mut self.stats.ticks);
         let rejected_before = self.time.rejected_epochs();
-        let mut status = self.time.update(&self.fix, now_ms);
-        if status.origin == Some(TimeOrigin::Gps) {
-            self.last_gps_ms = Some(now_ms);
-        }
         let hold_ms = self.app.gps_hold_ms;
-        let gps_recent = self
-            .last_gps_ms
-            .as_mut()
-            .is_some_and(|t| monotonic::age_ms(t, now_ms) <= hold_ms);
+        // A constant `Some` or `None` of each image: a board without a
+        // receiver has the RTC alone and none of the GPS rules' code.
+        let mut status = match self.gps.track() {
+            Some(gps) => self.time.update(&gps.fix, now_ms),
+            None => self.time.update_without_gps(),
+        };
+        let gps_recent = self.gps.track_mut().is_some_and(|gps| {
+            if status.origin == Some(TimeOrigin::Gps) {
+                gps.last_time_ms = Some(now_ms);
+            }
+            gps.last_time_ms
+                .as_mut()
+                .is_some_and(|t| monotonic::age_ms(t, now_ms) <= hold_ms)
+        });
         // Between two epochs the RTC that GPS set carries the time: still
-        // GPS time as far as the log and the GPS fault are concerned.
-        status.gps_fix = gps_recent;
+        // GPS time as far as the log and the GPS fault are concerned. A
+        // board without a receiver has no fix to lose: no `gps_lost`.
+        status.gps_fix = gps_recent || self.gps.track().is_none();
         let origin = match status.origin {
             Some(TimeOrigin::Rtc) if gps_recent => Some(TimeOrigin::Gps),
             o => o,
@@ -625,7 +629,7 @@ where
         self.update_site(now_ms, status.now);
         let fallback = self.time.last_valid().unwrap_or(self.boot_fallback);
         let mut inputs = status.tick_inputs(now_ms, fallback, wind_pulses, interval_ms);
-        inputs.gps_position_unstable = self.site_filter.unstable();
+        inputs.gps_position_unstable = self.gps.track().is_some_and(|g| g.site_filter.unstable());
         inputs.stow_inputs = stow_inputs;
         self.run_controller(&inputs, status.origin, rejected_before);
     }
@@ -687,12 +691,15 @@ where
     fn update_site(&mut self, now_ms: u32, now: Option<UtcTime>) {
         // A position far from the site in use is taken only once it has
         // been consistent for a while (a fixed tracker does not travel).
-        self.site_filter.expire(now_ms);
-        let taken = site_from_fix::<T>(&self.fix).and_then(|s| {
-            match self.site_filter.update(s, &self.site, now_ms) {
-                SiteDecision::Take(s) => Some(s),
-                SiteDecision::Keep => None,
-            }
+        let site = self.site;
+        let taken = self.gps.track_mut().and_then(|gps| {
+            gps.site_filter.expire(now_ms);
+            site_from_fix::<T>(&gps.fix).and_then(|s| {
+                match gps.site_filter.update(s, &site, now_ms) {
+                    SiteDecision::Take(s) => Some(s),
+                    SiteDecision::Keep => None,
+                }
+            })
         });
         match taken {
             Some(s) => {
@@ -975,7 +982,7 @@ where
 }
 
 /// The firmware and its board as the console's [`Operator`].
-struct FirmwareConsole<'a, T, R, G, D, S, L, P, const N: usize> {
+struct FirmwareConsole<'a, T, R, G: GpsInput<T>, D, S, L, P, const N: usize> {
     fw: &'a mut Firmware<T, R, G, D, S, L, N>,
     platform: &'a mut P,
 }
@@ -984,7 +991,7 @@ impl<T, R, G, D, S, L, P, const N: usize> Operator for FirmwareConsole<'_, T, R,
 where
     T: Float,
     R: RtcDriver,
-    G: Read + ReadReady,
+    G: GpsInput<T>,
     D: AxisDrive + Motion,
     S: AttitudeSensor<T>,
     L: Sink,

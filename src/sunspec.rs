@@ -44,7 +44,6 @@
 
 use drivers::gps::FixQuality;
 use drivers::rtc::Clock as RtcDriver;
-use embedded_io::{Read, ReadReady};
 use sun_algos::{Float, UtcTime};
 use suntracker_modbus::rtu::MAX_FRAME_BYTES;
 use suntracker_modbus::sunspec::{
@@ -209,7 +208,7 @@ impl ModbusPort {
     ) where
         T: Float,
         R: RtcDriver,
-        G: Read + ReadReady,
+        G: crate::hw::GpsInput<T>,
         D: AxisDrive + Motion,
         S: AttitudeSensor<T>,
         L: Sink,
@@ -218,11 +217,12 @@ impl ModbusPort {
             return;
         }
         let now_ms = monotonic::from_board_ms(board_ms);
-        let fix = fw.gps_fix();
-        if fix.utc_received_ms != self.last_fix_ms {
-            if let Some(f) = model_305_fix(fix) {
-                self.last_fix = Some(f);
-                self.last_fix_ms = fix.utc_received_ms;
+        if let Some(fix) = fw.gps_fix() {
+            if fix.utc_received_ms != self.last_fix_ms {
+                if let Some(f) = model_305_fix(fix) {
+                    self.last_fix = Some(f);
+                    self.last_fix_ms = fix.utc_received_ms;
+                }
             }
         }
         // The settings in force: the configuration's `modbus` keys.
@@ -355,7 +355,7 @@ fn model_305_fix(fix: &drivers::gps::GpsFix) -> Option<GpsFix> {
 }
 
 /// The firmware as the map's [`TrackerData`], for one request.
-struct FirmwareData<'a, T, R, G, D, S, L, const N: usize> {
+struct FirmwareData<'a, T, R, G: crate::hw::GpsInput<T>, D, S, L, const N: usize> {
     fw: &'a mut Firmware<T, R, G, D, S, L, N>,
     remote: &'a mut Remote,
     identity: &'a Identity<'static>,
@@ -637,7 +637,7 @@ impl<T, R, G, D, S, L, const N: usize> FirmwareData<'_, T, R, G, D, S, L, N>
 where
     T: Float,
     R: RtcDriver,
-    G: Read + ReadReady,
+    G: crate::hw::GpsInput<T>,
     D: AxisDrive + Motion,
     S: AttitudeSensor<T>,
     L: Sink,
@@ -704,7 +704,7 @@ impl<T, R, G, D, S, L, const N: usize> TrackerData for FirmwareData<'_, T, R, G,
 where
     T: Float,
     R: RtcDriver,
-    G: Read + ReadReady,
+    G: crate::hw::GpsInput<T>,
     D: AxisDrive + Motion,
     S: AttitudeSensor<T>,
     L: Sink,

@@ -23,6 +23,7 @@ use sim::sensors::MountSensors;
 use sun_algos::{Algorithm, Float, Options, Site, UtcTime};
 use suntracker::controller::ControllerOptions;
 use suntracker::firmware::{AppConfig, Firmware, Platform};
+use suntracker::hw::NoGps;
 
 const LAT: f64 = 11.9683;
 const LON: f64 = 8.4261;
@@ -69,6 +70,26 @@ enum Gps {
     /// The week-rollover bug (a date 1024 weeks back) for the first this
     /// many seconds, then right.
     RolloverFor(u32),
+    /// No receiver wired: the board gives the loop [`NoGps`].
+    NotWired,
+}
+
+type HostFirmware<T, G> = Firmware<T, SimRtc, G, common::motor::Axis, MountSensors, Log, 361>;
+
+/// The firmware over the UART the receiver model writes, or without one.
+enum HostFw<T: Float> {
+    Wired(HostFirmware<T, Uart>),
+    NotWired(HostFirmware<T, NoGps>),
+}
+
+/// `$e` on the firmware inside `$fw`, named `$f`, whichever it is.
+macro_rules! on_fw {
+    ($fw:expr, $f:ident => $e:expr) => {
+        match $fw {
+            HostFw::Wired($f) => $e,
+            HostFw::NotWired($f) => $e,
+        }
+    };
 }
 
 fn run_day<T: Float>(start: UtcTime, seconds: u32, gps: Gps, rtc_lost_power: bool) -> Run
@@ -116,20 +137,30 @@ where
     }
     let uart = Uart::default();
     let log = Log::default();
-    let mut fw = Firmware::<T, _, _, _, MountSensors, _, 361>::new(
-        AppConfig {
-            tick_ms: std::env::var("FW_TICK_MS").map_or(1000, |v| v.parse().unwrap()),
-            ..AppConfig::new("host")
-        },
-        config,
-        options,
-        rtc,
-        uart.clone(),
-        [stepper_axis(&c), stepper_axis(&a)],
-        None,
-        log.clone(),
-    )
-    .expect("valid configuration");
+    let app = AppConfig {
+        tick_ms: std::env::var("FW_TICK_MS").map_or(1000, |v| v.parse().unwrap()),
+        ..AppConfig::new("host")
+    };
+    let axes = [stepper_axis(&c), stepper_axis(&a)];
+    let mut fw = match gps {
+        Gps::NotWired => HostFw::NotWired(
+            Firmware::new(app, config, options, rtc, NoGps, axes, None, log.clone())
+                .expect("valid configuration"),
+        ),
+        _ => HostFw::Wired(
+            Firmware::new(
+                app,
+                config,
+                options,
+                rtc,
+                uart.clone(),
+                axes,
+                None,
+                log.clone(),
+            )
+            .expect("valid configuration"),
+        ),
+    };
     let mut receiver = GpsReceiverModel::new(LAT, LON, 480.0);
     let mut platform = HostPlatform {
         now_ms: 0,
@@ -155,7 +186,7 @@ where
                 }
             }
         }
-        fw.time_keeper_mut().rtc_mut().advance(now);
+        on_fw!(&mut fw, f => f.time_keeper_mut().rtc_mut().advance(now));
         if platform.now_ms >= next_epoch_ms {
             if let Gps::RolloverFor(s) = gps {
                 // 1024 weeks (7,168 days) before the true date.
@@ -163,13 +194,13 @@ where
                 receiver.date_override =
                     (platform.now_ms < u64::from(s) * 1000).then_some((y as u16, m, d));
             }
-            if !matches!(gps, Gps::Silent) {
+            if !matches!(gps, Gps::Silent | Gps::NotWired) {
                 let n = receiver.epoch(now, &mut buf).unwrap();
                 uart.0.borrow_mut().extend(&buf[..n]);
             }
             next_epoch_ms += 1000;
         }
-        fw.poll(&mut platform);
+        on_fw!(&mut fw, f => f.poll(&mut platform));
         for m in [&c, &a] {
             m.borrow_mut().settle();
         }
@@ -205,10 +236,7 @@ where
         // board's loop wakes on every millisecond tick; idle: the next second.
         let pending = {
             use suntracker::motion::AxisDrive;
-            fw.controller()
-                .axes()
-                .iter()
-                .any(|ax| ax.drive().pending() != 0)
+            on_fw!(&fw, f => f.controller().axes().iter().any(|ax| ax.drive().pending() != 0))
         };
         let busy = pending || c.borrow().energised() || a.borrow().energised();
         platform.now_ms += if busy {
@@ -369,6 +397,20 @@ fn silent_gps_tracks_on_the_rtc_and_the_stored_site() {
         .any(|s| s.starts_with("time source=rtc utc=2026-03-20T05:00:00Z")));
     assert!(!l.iter().any(|s| s.starts_with("site source=gps")));
     assert!(l.iter().any(|s| s == "fault gps_lost raised"));
+    check_setpoints(&run, 12.0, 8.5);
+}
+
+/// A board without a receiver (the loop given `NoGps`): the RTC's time,
+/// the stored site, and no `gps_lost` (there is no fix to lose).
+#[test]
+fn no_receiver_wired_tracks_on_the_rtc_without_a_gps_fault() {
+    let run = run_day::<f32>(kano_morning(), 15 * 3600, Gps::NotWired, false);
+    let l = &run.lines;
+    assert!(l
+        .iter()
+        .any(|s| s.starts_with("time source=rtc utc=2026-03-20T05:00:00Z")));
+    assert!(!l.iter().any(|s| s.starts_with("site source=gps")));
+    assert!(!l.iter().any(|s| s.starts_with("fault gps")), "{l:#?}");
     check_setpoints(&run, 12.0, 8.5);
 }
 

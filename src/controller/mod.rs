@@ -152,7 +152,8 @@ pub struct TickInputs {
     /// False when no trusted time is known (RTC lost power or holds a date
     /// outside the firmware's window, and GPS has not set it).
     pub time_valid: bool,
-    /// True while GPS has a valid fix.
+    /// True while GPS has a valid fix, and always on a board without a
+    /// receiver (false raises `gps_lost`).
     pub gps_fix: bool,
     /// True while GPS reports a date outside the firmware's window (the
     /// week-rollover bug); its time is not used.

@@ -3,10 +3,119 @@
 
 use drivers::gps::{Error, GpsFix, GpsReader, GpsStats};
 use embedded_io::{Read, ReadReady};
+use sun_algos::Float;
+
+use crate::site::filter::{SiteFilter, SiteFilterConfig};
 
 /// Most reads per [`GpsPort::service`] call, so that a receiver that never
 /// stops talking cannot hold the loop (each read is one UART chunk).
 const MAX_READS_PER_SERVICE: u8 = 64;
+
+/// The GPS input a board gives the loop ([`crate::firmware::Firmware::new`]):
+/// any serial port with a receiver on it (`embedded_io::{Read, ReadReady}`),
+/// or [`NoGps`].
+pub trait GpsInput<T> {
+    /// What the loop keeps of the input.
+    type Part: GpsState<T>;
+    /// The loop's part over this input: its fix goes stale `stale_after_ms`
+    /// after the last epoch, `filter` decides which positions become the
+    /// site.
+    fn into_part(self, stale_after_ms: u32, filter: SiteFilterConfig) -> Self::Part;
+}
+
+/// A receiver's part of the loop, as the loop reads it.
+pub trait GpsState<T> {
+    /// Drains the port (bounded) and keeps the current fix; false when the
+    /// port reported an error (an overrun, a framing error).
+    fn service(&mut self, now_ms: u32) -> bool;
+    /// The fix and the loop's state about it; `None` without a receiver
+    /// (a constant of each image, so that the code using it folds away).
+    fn track(&self) -> Option<&GpsTrack<T>>;
+    /// The same, to update.
+    fn track_mut(&mut self) -> Option<&mut GpsTrack<T>>;
+}
+
+/// The loop's state about the GPS receiver's fix.
+#[derive(Debug)]
+pub struct GpsTrack<T> {
+    /// The current fix ([`GpsFix::NONE`] before any and once stale).
+    pub fix: GpsFix,
+    /// Monotonic ms of the last tick with trusted GPS time.
+    pub last_time_ms: Option<u32>,
+    /// Which GPS positions become the site.
+    pub site_filter: SiteFilter<T>,
+}
+
+/// A receiver on a serial port and the loop's state about it.
+#[derive(Debug)]
+pub struct GpsPart<T, R> {
+    port: GpsPort<R>,
+    track: GpsTrack<T>,
+}
+
+impl<T: Float, R: Read + ReadReady> GpsInput<T> for R {
+    type Part = GpsPart<T, R>;
+    fn into_part(self, stale_after_ms: u32, filter: SiteFilterConfig) -> GpsPart<T, R> {
+        GpsPart {
+            port: GpsPort::new(self, stale_after_ms),
+            track: GpsTrack {
+                fix: GpsFix::NONE,
+                last_time_ms: None,
+                site_filter: SiteFilter::new(filter),
+            },
+        }
+    }
+}
+
+impl<T, R: Read + ReadReady> GpsState<T> for GpsPart<T, R> {
+    fn service(&mut self, now_ms: u32) -> bool {
+        match self.port.service(now_ms) {
+            Ok(fix) => {
+                self.track.fix = fix;
+                true
+            }
+            Err(_) => false,
+        }
+    }
+    #[inline]
+    fn track(&self) -> Option<&GpsTrack<T>> {
+        Some(&self.track)
+    }
+    #[inline]
+    fn track_mut(&mut self) -> Option<&mut GpsTrack<T>> {
+        Some(&mut self.track)
+    }
+}
+
+/// The GPS input of a board without a receiver. Its part of the loop has
+/// no size and no fix: the loop's GPS parts (the sentence reader, the fix,
+/// the time keeper's GPS rules, the filter of GPS positions) are left out
+/// of the image and its RAM by type, as an attitude sensor of type
+/// `Infallible`.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub struct NoGps;
+
+impl<T> GpsInput<T> for NoGps {
+    type Part = NoGps;
+    fn into_part(self, _stale_after_ms: u32, _filter: SiteFilterConfig) -> NoGps {
+        self
+    }
+}
+
+impl<T> GpsState<T> for NoGps {
+    #[inline]
+    fn service(&mut self, _now_ms: u32) -> bool {
+        true
+    }
+    #[inline]
+    fn track(&self) -> Option<&GpsTrack<T>> {
+        None
+    }
+    #[inline]
+    fn track_mut(&mut self) -> Option<&mut GpsTrack<T>> {
+        None
+    }
+}
 
 /// A GPS receiver on a serial port, polled from the main loop.
 #[derive(Debug)]

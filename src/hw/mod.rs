@@ -37,7 +37,7 @@ pub use dc_axis::{
     NoCurrentSense, MAX_IDLE_COUNTS, MAX_LEAD_MS, MAX_SETTLE_MS, MIN_LEARN_SPEED_CPS,
     SPEED_WINDOW_MS, STOP_LEADS,
 };
-pub use gps::GpsPort;
+pub use gps::{GpsInput, GpsPart, GpsPort, GpsState, GpsTrack, NoGps};
 pub use linear_axis::{
     HallFeedback, LinearAxis, LinearAxisConfig, LinearAxisConfigError, LinearAxisError,
     LinearFeedback, NoEndSwitch, PotConfig, PotError, PotFeedback, POT_COUNTS_PER_MM,
