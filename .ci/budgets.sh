@@ -185,6 +185,12 @@ check avr_tracker_ds1302 "ATmega328P (Uno, ds1302)" "$ELF_AVR_UNO_DS1302" 31232 
 # within the part's 2,048 B checked in the emulator (emu/tests/uno_settings.rs).
 check avr_settings "ATmega328P (Uno settings)" "$ELF_AVR_SETTINGS" 32256 512 || status=1
 check avr_settings_ds1302 "ATmega328P (Uno settings, ds1302)" "$ELF_AVR_SETTINGS_DS1302" 32256 512 || status=1
+# ATmega328P, the library's firmware loop on the Uno's parts (the example
+# library_firmware: the one image the Uno is to run, with its console). The
+# goal is the part's 32,256 B; it measured 86,788 B when first built, and
+# this budget holds it there (86 KiB), so that the distance only shrinks.
+# Static RAM 768 B: the part's 2 KiB less the stack the firmware needs.
+check uno_library_firmware "ATmega328P (Uno, library loop)" "$ELF_AVR_UNO_LIBRARY" 88064 768 || status=1
 # ATmega2560: 240 KiB of its 256 KiB (the Mega's bootloader takes 8 KiB, 8 KiB
 # are left to spare); static RAM 3 KiB of the part's 8 KiB: the stack needs
 # the other 5 KiB (peak measured in the harness's scenarios, with 512 B to

@@ -35,6 +35,9 @@ ELF_AVR_UNO_EMU="$FW_TARGET_DIR/uno-emu/avr-none/release/avr_tracker.elf"
 ELF_AVR_UNO_PSA2020="$FW_TARGET_DIR/uno-psa2020/avr-none/release/avr_tracker.elf"
 ELF_AVR_UNO_DS1302="$FW_TARGET_DIR/uno-ds1302/avr-none/release/avr_tracker.elf"
 ELF_AVR_SETTINGS="$FW_TARGET_DIR/avr-none/release/avr_settings.elf"
+# The library's firmware loop on the Uno's parts (boards/uno/examples/library_firmware.rs):
+# built and held to a budget to measure how far it is from fitting the part; never flashed.
+ELF_AVR_UNO_LIBRARY="$FW_TARGET_DIR/avr-none/release/examples/library_firmware.elf"
 ELF_AVR_SETTINGS_DS1302="$FW_TARGET_DIR/uno-ds1302/avr-none/release/avr_settings.elf"
 ELF_AVR_SETTINGS_EMU="$FW_TARGET_DIR/uno-emu/avr-none/release/avr_settings.elf"
 ELF_AVR_UNO_DS1302_EMU="$FW_TARGET_DIR/uno-ds1302-emu/avr-none/release/avr_tracker.elf"
@@ -92,7 +95,8 @@ build_blackpill_dc() {
 }
 build_avr_uno() {
   cargo +nightly build --release --target avr-none -Z build-std=core \
-    -p suntracker-uno --bin avr_tracker --bin avr_settings -p suntracker-avr --bin avr_bench --bin avr_board_selftest
+    -p suntracker-uno --bin avr_tracker --bin avr_settings --example library_firmware \
+    -p suntracker-avr --bin avr_bench --bin avr_board_selftest
 }
 # The Uno image's build options: psa-2020 instead of Chowdhury et al.'s (2019) michalsky,
 # a DS1302 instead of the DS3231 (the settings image too: its `time set`

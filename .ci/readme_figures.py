@@ -182,6 +182,7 @@ for name, label, ram_fmt in [
     ("avr_tracker_ds1302", "avr_tracker with `ds1302`, ATmega328P", "{ram}"),
     ("avr_settings", "avr_settings, ATmega328P", "{ram}"),
     ("avr_settings_ds1302", "avr_settings with `ds1302`, ATmega328P", "{ram}"),
+    ("uno_library_firmware", "example library_firmware, ATmega328P", "{ram}"),
     ("avr_mega_tracker", "avr_mega_tracker, ATmega2560", "{ram}"),
     ("avr_mega_tracker_dc", "avr_mega_tracker with `dc`, ATmega2560", "{ram}"),
     ("qemu_tracker", "qemu_tracker, Cortex-M4F", "{ram} + stack"),

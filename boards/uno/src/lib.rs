@@ -45,7 +45,9 @@
 //! there is no room for a console beside the tracker.
 #![no_std]
 
+use drivers::encoder::SharedEncoder;
 use drivers::servo::ContinuousServo;
+use suntracker::config::AxisConfig;
 use suntracker::console;
 use suntracker::hw::ServoAxis;
 use suntracker::log::{self, Sink, SiteSource};
@@ -56,8 +58,8 @@ use suntracker::text::FlashStr;
 use suntracker::time::monotonic;
 use suntracker_avr::eeprom::Eeprom;
 use suntracker_avr::{
-    chip, millis, sleep_until_interrupt, Adc, InputPin, Millis, PinChangeEncoders, PulseWidth,
-    Timer1Channel, Timer1Pwm, Usart0, Watchdog, MS_PER_TICK,
+    chip, millis, sleep_until_interrupt, Adc, InputPin, Millis, PinChangeEncoders, PortInputPin,
+    PulseWidth, Timer1Channel, Timer1Pwm, Usart0, Watchdog, MS_PER_TICK,
 };
 
 /// Board name in the boot line.
@@ -175,34 +177,12 @@ pub fn run(dp: chip::Peripherals) -> ! {
     out.flash(servo_tracker::ALGORITHM_NAME);
     out.flash(suntracker::flash_str!("\n"));
 
-    let (oc1a, oc1b) = pwm.channels();
-    let (Ok(servo_c), Ok(servo_a)) = (
-        ContinuousServo::new(Timer1Channel::Oc1b(oc1b), SERVO),
-        ContinuousServo::new(Timer1Channel::Oc1a(oc1a), SERVO),
-    ) else {
+    let Some(axes) = servo_axes(&pwm, &encoders, [home_c, home_a], &configs) else {
         halt(
             &mut out,
             suntracker::flash_str!("servo configuration refused"),
         )
     };
-    let axes = [
-        ServoAxis::new(
-            servo_c,
-            encoders.encoder_c(),
-            home_c,
-            true,
-            POSITION_LOOP,
-            config_c,
-        ),
-        ServoAxis::new(
-            servo_a,
-            encoders.encoder_a(),
-            home_a,
-            true,
-            POSITION_LOOP,
-            config_a,
-        ),
-    ];
     let rtc = rtc(&PORTC, TWI);
     let mut tracker = ServoTracker::new(rtc, site, axes, &configs);
     let tick_ms = u64::from(servo_tracker::TICK_MS);
@@ -220,6 +200,50 @@ pub fn run(dp: chip::Peripherals) -> ! {
         watchdog.feed();
         sleep_until_interrupt(&CPU);
     }
+}
+
+/// A servo axis of this board: its signal on a Timer1 output, its encoder
+/// counted by the pin-change interrupt, its home switch on port B.
+pub type UnoServoAxis<'p> =
+    ServoAxis<'static, Timer1Channel<'p>, SharedEncoder, PortInputPin<'p, chip::PORTB>>;
+
+/// Both servo axes, C then A (C on OC1B (D10), its encoder on D4/D5; A on
+/// OC1A (D9), D6/D7), with their home switches `homes` (closed low) and
+/// the FS5106R's pulses and the encoder's position loop; `None` when a
+/// servo refuses its settings (it takes these).
+pub fn servo_axes<'p>(
+    pwm: &'p Timer1Pwm,
+    encoders: &PinChangeEncoders,
+    homes: [PortInputPin<'p, chip::PORTB>; 2],
+    configs: &[AxisConfig; 2],
+) -> Option<[UnoServoAxis<'p>; 2]> {
+    let (oc1a, oc1b) = pwm.channels();
+    let (Ok(servo_c), Ok(servo_a)) = (
+        ContinuousServo::new(Timer1Channel::Oc1b(oc1b), SERVO),
+        ContinuousServo::new(Timer1Channel::Oc1a(oc1a), SERVO),
+    ) else {
+        return None;
+    };
+    let [home_c, home_a] = homes;
+    let [config_c, config_a] = configs;
+    Some([
+        ServoAxis::new(
+            servo_c,
+            encoders.encoder_c(),
+            home_c,
+            true,
+            POSITION_LOOP,
+            config_c,
+        ),
+        ServoAxis::new(
+            servo_a,
+            encoders.encoder_a(),
+            home_a,
+            true,
+            POSITION_LOOP,
+            config_a,
+        ),
+    ])
 }
 
 /// Console bytes taken from the receive ring per pass of the settings
