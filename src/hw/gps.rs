@@ -220,6 +220,27 @@ mod tests {
     const RMC: &[u8] = b"$GPRMC,120000.00,A,1158.098,N,00825.566,E,0.0,0.0,210626,,,A*6C\r\n";
 
     #[test]
+    fn a_board_without_a_receiver_holds_nothing_and_has_no_fix() {
+        let mut part: NoGps =
+            <NoGps as GpsInput<f32>>::into_part(NoGps, 3_000, SiteFilterConfig::default());
+        assert_eq!(core::mem::size_of_val(&part), 0);
+        assert!(GpsState::<f32>::service(&mut part, 0));
+        assert!(GpsState::<f32>::track(&part).is_none());
+        assert!(GpsState::<f32>::track_mut(&mut part).is_none());
+    }
+
+    #[test]
+    fn a_serial_port_is_a_receiver_with_no_fix_before_its_first_epoch() {
+        let port = CountingPort::new(b"", 8);
+        let mut part = GpsInput::<f32>::into_part(port, 3_000, SiteFilterConfig::default());
+        assert!(part.service(0));
+        let track = part.track().expect("a receiver");
+        assert_eq!(track.fix, GpsFix::NONE);
+        assert_eq!(track.last_time_ms, None);
+        assert!(!track.site_filter.unstable());
+    }
+
+    #[test]
     fn an_empty_port_costs_one_ready_check_and_no_read() {
         let port = CountingPort::new(b"", 8);
         let mut gps = GpsPort::new(port, 3_000);
