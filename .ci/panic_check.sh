@@ -190,6 +190,7 @@ load_allow
 
 check avr_tracker "$ELF_AVR_UNO"
 check avr_settings "$ELF_AVR_SETTINGS"
+check uno_library_firmware "$ELF_AVR_UNO_LIBRARY"
 check avr_mega_tracker "$ELF_AVR_MEGA"
 check avr_mega_tracker_dc "$ELF_AVR_MEGA_DC"
 check qemu_tracker "$ELF_QEMU"
