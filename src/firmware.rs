@@ -39,7 +39,7 @@ use crate::log::{self, ChangeLog, Sink, SiteSource as LogSite};
 use crate::motion::AxisDrive;
 use crate::persist::{LoadReport, SaveError, SaveStatus};
 use crate::ports::AttitudeSensor;
-use crate::safety::{AxisId, Fault, Mode, OperatorHold};
+use crate::safety::{AxisId, Fault, Mode, OperatorHold, Weather, WeatherWatch};
 use crate::site::filter::{SiteDecision, SiteFilterConfig};
 use crate::site::{site_from_config, site_from_fix, site_moved, wmm_declination_deg};
 use crate::sun::BoardSource;
@@ -326,7 +326,12 @@ pub struct Stats {
     pub late_ticks: u32,
 }
 
-/// The tracker firmware over one board's parts.
+/// The tracker firmware over one board's parts: `R` the RTC, `G` the GPS
+/// input ([`GpsInput`]: a serial port or [`crate::hw::NoGps`]), `D` the axes'
+/// drive, `S` the attitude sensors, `L` the log, `N` the day table's
+/// capacity (0: real-time mode, [`crate::plan`]), `W` the weather inputs
+/// ([`Weather`]: [`WeatherWatch`], or [`crate::safety::NoWeather`] on a board
+/// that wires none).
 // In this order on the AVR: the small fields every tick reads first,
 // within the 63 bytes an `ldd` reaches from the struct's address (a field
 // further on costs an address computation at each access), then the
@@ -336,7 +341,7 @@ pub struct Stats {
 // smaller, but `Firmware::new` on QEMU then built the firmware aside and
 // copied it (a 6.5 KB frame; the day's peak stack 6,200 -> 12,376 B).
 #[cfg_attr(target_arch = "avr", repr(C))]
-pub struct Firmware<T, R, G: GpsInput<T>, D, S, L, const N: usize> {
+pub struct Firmware<T, R, G: GpsInput<T>, D, S, L, const N: usize, W = WeatherWatch> {
     log: L,
     time_origin: Option<TimeOrigin>,
     site_origin: Option<LogSite>,
@@ -359,7 +364,7 @@ pub struct Firmware<T, R, G: GpsInput<T>, D, S, L, const N: usize> {
     last_wind_hz: Option<f32>,
     /// Monotonic ms of the next periodic `status` line.
     next_status_ms: Option<u32>,
-    controller: Controller<T, BoardSource<T>, D, S, N>,
+    controller: Controller<T, BoardSource<T>, D, S, N, W>,
     /// UTC handed to the controller at the last tick.
     last_tick_utc: Option<UtcTime>,
     /// The trusted time at the last tick and where it came from.
@@ -384,7 +389,7 @@ pub struct Firmware<T, R, G: GpsInput<T>, D, S, L, const N: usize> {
     last_report: Option<TickReport<T>>,
 }
 
-impl<T, R, G, D, S, L, const N: usize> Firmware<T, R, G, D, S, L, N>
+impl<T, R, G, D, S, L, const N: usize, W> Firmware<T, R, G, D, S, L, N, W>
 where
     T: Float,
     R: RtcDriver,
@@ -392,6 +397,7 @@ where
     D: AxisDrive + Motion,
     S: AttitudeSensor<T>,
     L: Sink,
+    W: Weather,
 {
     /// The firmware at power-on: writes the boot line and the stored site.
     /// `axes` are the C (azimuth rotation) then the A (tilt) axis.
@@ -415,7 +421,8 @@ where
         let boot_fallback = UtcTime::from_days_ms(0, 0).map_err(StartError::Site)?;
         let site = site_from_config(&config.site).map_err(StartError::Site)?;
         let source = BoardSource::new(site, app.delta_t_s);
-        Controller::<T, BoardSource<T>, D, S, N>::check(&config).map_err(StartError::Controller)?;
+        Controller::<T, BoardSource<T>, D, S, N, W>::check(&config)
+            .map_err(StartError::Controller)?;
         Ok(Firmware {
             // Built in place (no temporary copy of the controller).
             controller: Controller::new_checked(config, options, source, axes, sensors),
@@ -448,11 +455,11 @@ where
     }
 
     /// The controller (tests and host tools look inside).
-    pub fn controller(&self) -> &Controller<T, BoardSource<T>, D, S, N> {
+    pub fn controller(&self) -> &Controller<T, BoardSource<T>, D, S, N, W> {
         &self.controller
     }
     /// The controller, mutable (an operator's console).
-    pub fn controller_mut(&mut self) -> &mut Controller<T, BoardSource<T>, D, S, N> {
+    pub fn controller_mut(&mut self) -> &mut Controller<T, BoardSource<T>, D, S, N, W> {
         &mut self.controller
     }
     /// The log sink.
@@ -983,12 +990,13 @@ where
 }
 
 /// The firmware and its board as the console's [`Operator`].
-struct FirmwareConsole<'a, T, R, G: GpsInput<T>, D, S, L, P, const N: usize> {
-    fw: &'a mut Firmware<T, R, G, D, S, L, N>,
+struct FirmwareConsole<'a, T, R, G: GpsInput<T>, D, S, L, P, const N: usize, W> {
+    fw: &'a mut Firmware<T, R, G, D, S, L, N, W>,
     platform: &'a mut P,
 }
 
-impl<T, R, G, D, S, L, P, const N: usize> Operator for FirmwareConsole<'_, T, R, G, D, S, L, P, N>
+impl<T, R, G, D, S, L, P, const N: usize, W> Operator
+    for FirmwareConsole<'_, T, R, G, D, S, L, P, N, W>
 where
     T: Float,
     R: RtcDriver,
@@ -997,6 +1005,7 @@ where
     S: AttitudeSensor<T>,
     L: Sink,
     P: Platform,
+    W: Weather,
 {
     fn out(&mut self) -> &mut dyn Sink {
         &mut self.fw.log

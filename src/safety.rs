@@ -813,6 +813,107 @@ impl OvercastMonitor {
     }
 }
 
+/// The weather inputs a board wires, as the controller's part chosen by
+/// type (the last parameter of [`crate::controller::Controller`] and
+/// [`crate::firmware::Firmware`]): [`WeatherWatch`] on a board with any of
+/// the snow, hail and stow contacts, the motor supply or a pyranometer
+/// ([`StowInputs`]); [`NoWeather`] on one that wires none of them (the
+/// Arduino Uno), which takes no RAM, links none of the watches' code and
+/// never stows for weather. The anemometer's wind stow is the controller's
+/// own ([`WindMonitor`]) either way.
+pub trait Weather: Default {
+    /// False for [`NoWeather`]: a constant of each image, so that the
+    /// controller's weather phase folds away on a board without inputs.
+    const WIRED: bool;
+    /// Feeds one tick's inputs at monotonic `now_ms`, the sun at
+    /// `zenith_deg` (none at night: [`OvercastMonitor::update`]); returns
+    /// whether the supply reading and the irradiance reading are
+    /// impossible (each a fault).
+    fn update(
+        &mut self,
+        inputs: &StowInputs,
+        zenith_deg: Option<f32>,
+        now_ms: u32,
+        config: &WeatherConfig<'_>,
+    ) -> (bool, bool);
+    /// The weather stows in force since the last update.
+    fn modes(&self) -> WeatherModes;
+    /// True while overcast (since the last update).
+    fn overcast(&self) -> bool;
+}
+
+/// The parts of the configuration the weather watches read.
+#[derive(Debug, Clone, Copy)]
+pub struct WeatherConfig<'a> {
+    /// Snow, hail and the stow contact.
+    pub stow: &'a StowConfig,
+    /// The motor supply's low-supply stow.
+    pub supply: &'a SupplyConfig,
+    /// The overcast mode.
+    pub overcast: &'a OvercastConfig,
+}
+
+/// The weather watches of a board with weather inputs: [`WeatherStow`] and
+/// [`OvercastMonitor`].
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub struct WeatherWatch {
+    stows: WeatherStow,
+    overcast: OvercastMonitor,
+}
+
+impl Weather for WeatherWatch {
+    const WIRED: bool = true;
+
+    fn update(
+        &mut self,
+        inputs: &StowInputs,
+        zenith_deg: Option<f32>,
+        now_ms: u32,
+        config: &WeatherConfig<'_>,
+    ) -> (bool, bool) {
+        let modes = self
+            .stows
+            .update(inputs, now_ms, config.stow, config.supply);
+        self.overcast
+            .update(inputs.irradiance_w_m2, zenith_deg, now_ms, config.overcast);
+        (modes.supply_fault, self.overcast.fault())
+    }
+
+    fn modes(&self) -> WeatherModes {
+        self.stows.modes()
+    }
+
+    fn overcast(&self) -> bool {
+        self.overcast.is_on()
+    }
+}
+
+/// No weather input on the board: never a weather stow, never overcast.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub struct NoWeather;
+
+impl Weather for NoWeather {
+    const WIRED: bool = false;
+
+    fn update(
+        &mut self,
+        _inputs: &StowInputs,
+        _zenith_deg: Option<f32>,
+        _now_ms: u32,
+        _config: &WeatherConfig<'_>,
+    ) -> (bool, bool) {
+        (false, false)
+    }
+
+    fn modes(&self) -> WeatherModes {
+        WeatherModes::default()
+    }
+
+    fn overcast(&self) -> bool {
+        false
+    }
+}
+
 /// Wind stow from an anemometer's pulse rate: stow after the rate stayed
 /// above the threshold for `hold_s`; leave stow after it stayed below for
 /// `release_s`.

@@ -10,7 +10,7 @@ use suntracker::controller::{
     AttitudeSource, Controller, ControllerOptions, TickInputs, STALL_MIN_WAIT_MS,
 };
 use suntracker::motion::{AxisDrive, FeedbackMode};
-use suntracker::safety::{AxisId, Fault, Mode, Sensor};
+use suntracker::safety::{AxisId, Fault, Mode, NoWeather, Reading, Sensor, StowInputs, Weather};
 use suntracker::sun::{AlgorithmSource, PositionSource};
 
 type Ctl = Controller<f64, AlgorithmSource<f64>, MotorPlant, MountSensors, 1441>;
@@ -203,6 +203,62 @@ fn wind_and_command_stow_and_manual_override() {
     assert!((ctl.axes()[1].drive().output_deg() - 45.0).abs() < 0.05);
     ctl.manual(None);
     assert_eq!(step(&mut ctl, &inputs(at(32))).mode, Mode::Tracking);
+}
+
+#[test]
+fn weather_stows_with_weather_inputs_and_never_without_them() {
+    // Snow reported and the supply input at a rail, with the low-supply
+    // stow configured (`supply.stow_mv`): a board with weather inputs
+    // stows for the snow (snow before low supply in the mode order) and
+    // raises `supply_reading`; one without (`NoWeather`, the Uno) tracks
+    // on, as its pins read nothing of the kind, and still stows for wind.
+    let truth = MountAttitude::level();
+    let opts = ControllerOptions {
+        attitude: AttitudeSource::Fixed(truth),
+        ..ControllerOptions::default()
+    };
+    let mut cfg = config();
+    cfg.supply.stow_mv = 11_000;
+    cfg.supply.resume_mv = 12_000;
+    let mut wired: Ctl = Controller::new(cfg, opts, source(), plants(true), None).unwrap();
+    let mut bare = Controller::<f64, _, _, MountSensors, 1441, NoWeather>::new(
+        cfg,
+        opts,
+        source(),
+        plants(true),
+        None,
+    )
+    .unwrap();
+    let now0 = t("2026-03-20T09:00:00Z");
+    let at = |m: i64| now0.add_seconds(m * 60).unwrap();
+    let snowy = |m: i64| TickInputs {
+        stow_inputs: StowInputs {
+            snow: Some(true),
+            supply_mv: Some(Reading::Impossible),
+            ..StowInputs::default()
+        },
+        ..inputs(at(m))
+    };
+    fn tick<W: Weather>(
+        ctl: &mut Controller<f64, AlgorithmSource<f64>, MotorPlant, MountSensors, 1441, W>,
+        inp: &TickInputs,
+    ) -> suntracker::controller::TickReport<f64> {
+        for ax in ctl.axes_mut().iter_mut() {
+            ax.drive_mut().begin_tick(60.0);
+        }
+        ctl.tick(inp)
+    }
+    for m in -1..5 {
+        tick(&mut wired, &inputs(at(m)));
+        tick(&mut bare, &inputs(at(m)));
+    }
+    assert_eq!(tick(&mut wired, &snowy(5)).mode, Mode::SnowStow);
+    assert!(wired.faults().is_active(Fault::SupplyReading));
+    assert_eq!(tick(&mut bare, &snowy(5)).mode, Mode::Tracking);
+    assert!(!bare.faults().is_active(Fault::SupplyReading));
+    let mut windy = snowy(6);
+    windy.wind_pulses = 2400;
+    assert_eq!(tick(&mut bare, &windy).mode, Mode::WindStow);
 }
 
 #[test]

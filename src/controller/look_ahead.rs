@@ -32,7 +32,7 @@ use crate::attitude::{sun_vector_xyz, Choice, MountAttitude, Pose, PoseLimits};
 use crate::motion::AxisDrive;
 use crate::plan::{Scheduler, SetPoint};
 use crate::ports::AttitudeSensor;
-use crate::safety::Mode;
+use crate::safety::{Mode, Weather};
 use crate::sun::PositionSource;
 
 /// Set-points of the day's remainder the look-ahead follows, at most.
@@ -56,12 +56,13 @@ const SWING_TIE: f32 = 0.01;
 /// A swing's weight besides the sun's elevation over 90°.
 const SWING_FLOOR: f32 = 0.05;
 
-impl<T, P, D, S, const N: usize> Controller<T, P, D, S, N>
+impl<T, P, D, S, const N: usize, W> Controller<T, P, D, S, N, W>
 where
     T: Float,
     P: PositionSource<T>,
     D: AxisDrive,
     S: AttitudeSensor<T>,
+    W: Weather,
 {
     /// Set-points a search may follow in one tick: half the scheduler's
     /// plan budget (each costs six inverse kinematics, and a sun position

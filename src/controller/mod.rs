@@ -25,8 +25,8 @@ use crate::motion::{
 use crate::plan::{ScheduleError, Scheduler, SetPoint};
 use crate::ports::{AttitudeReading, AttitudeSensor};
 use crate::safety::{
-    AxisId, Fault, FaultManager, Mode, OperatorHold, OvercastMonitor, Recovery, Sensor, StowInputs,
-    WeatherStow, WindMonitor,
+    AxisId, Fault, FaultManager, Mode, OperatorHold, Recovery, Sensor, StowInputs, Weather,
+    WeatherConfig, WeatherWatch, WindMonitor,
 };
 use crate::sun::PositionSource;
 use crate::time::monotonic;
@@ -191,7 +191,10 @@ pub struct TickReport<T> {
 }
 
 /// The tracker, computing in `T` (`f32` on microcontrollers, `f64` on
-/// hosts).
+/// hosts), its sun from `P`, its axes driven by `D`, its attitude from `S`,
+/// its day table `N` set-points long (0: real-time mode), its weather
+/// stows from `W` ([`Weather`]: [`WeatherWatch`], or
+/// [`crate::safety::NoWeather`] on a board without weather inputs).
 ///
 /// Fields in this order (`repr(C)`): the small state read and written every
 /// tick first, most used first, then the axes, configuration and fault
@@ -202,7 +205,7 @@ pub struct TickReport<T> {
 /// the small state: this order is 348 B less on the ATmega2560
 /// (117,116 -> 116,768 B).
 #[repr(C)]
-pub struct Controller<T, P, D, S, const N: usize> {
+pub struct Controller<T, P, D, S, const N: usize, W = WeatherWatch> {
     attitude: MountAttitude<T>,
     set_point: Option<SetPoint<T>>,
     night: bool,
@@ -249,8 +252,8 @@ pub struct Controller<T, P, D, S, const N: usize> {
     config: Config,
     faults: FaultManager,
     wind: WindMonitor,
-    weather: WeatherStow,
-    overcast: OvercastMonitor,
+    /// The weather watches, or none on a board without weather inputs.
+    weather: W,
     options: ControllerOptions<T>,
     sensors: Option<S>,
     /// The branch search in progress (the module `look_ahead`).
@@ -261,12 +264,13 @@ pub struct Controller<T, P, D, S, const N: usize> {
     scheduler: Scheduler<T, P, N>,
 }
 
-impl<T, P, D, S, const N: usize> Controller<T, P, D, S, N>
+impl<T, P, D, S, const N: usize, W> Controller<T, P, D, S, N, W>
 where
     T: Float,
     P: PositionSource<T>,
     D: AxisDrive,
     S: AttitudeSensor<T>,
+    W: Weather,
 {
     /// A controller at power-on. `axes` are the C axis then the A axis.
     /// A configuration with a value outside its range is refused, naming
@@ -318,8 +322,7 @@ where
             sensors,
             faults: FaultManager::new(config.safety),
             wind: WindMonitor::new(config.wind),
-            weather: WeatherStow::default(),
-            overcast: OvercastMonitor::default(),
+            weather: W::default(),
             attitude,
             set_point: None,
             home_set_point: None,
@@ -586,33 +589,32 @@ where
         let wind_stow = self
             .wind
             .update_pulses(inp.now_ms, inp.wind_pulses, inp.wind_interval_ms);
-        // Snow, hail, the plant's stow contact and the supply (monotonic
-        // clock only); an impossible supply reading is a fault.
-        let weather = self.weather.update(
-            &inp.stow_inputs,
-            inp.now_ms,
-            &self.config.stow,
-            &self.config.supply,
-        );
-        // The sky: with the sun of the set-point in force by day.
-        let zenith_deg = self
-            .set_point
-            .filter(|_| !self.night)
-            .map(|sp| sp.slope_deg.to_f32());
-        self.overcast.update(
-            inp.stow_inputs.irradiance_w_m2,
-            zenith_deg,
-            inp.now_ms,
-            &self.config.overcast,
-        );
-        for (on, fault) in [
-            (weather.supply_fault, Fault::SupplyReading),
-            (self.overcast.fault(), Fault::IrradianceReading),
-        ] {
-            if on {
-                self.faults.raise(fault, inp.now_ms);
-            } else {
-                self.faults.clear(fault, inp.now_ms);
+        // Snow, hail, the plant's stow contact, the supply and the sky
+        // (monotonic clock only; the sky with the sun of the set-point in
+        // force by day); an impossible supply or irradiance reading is a
+        // fault. Nothing of it on a board without weather inputs.
+        if W::WIRED {
+            let zenith_deg = self
+                .set_point
+                .filter(|_| !self.night)
+                .map(|sp| sp.slope_deg.to_f32());
+            let config = WeatherConfig {
+                stow: &self.config.stow,
+                supply: &self.config.supply,
+                overcast: &self.config.overcast,
+            };
+            let (supply_fault, irradiance_fault) =
+                self.weather
+                    .update(&inp.stow_inputs, zenith_deg, inp.now_ms, &config);
+            for (on, fault) in [
+                (supply_fault, Fault::SupplyReading),
+                (irradiance_fault, Fault::IrradianceReading),
+            ] {
+                if on {
+                    self.faults.raise(fault, inp.now_ms);
+                } else {
+                    self.faults.clear(fault, inp.now_ms);
+                }
             }
         }
         // 3. Scheduler (only with a trusted clock), daylight only with a

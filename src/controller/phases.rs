@@ -22,7 +22,7 @@ use crate::attitude::Pose;
 use crate::motion::{AxisDrive, FeedbackMode, HomeState};
 use crate::plan::{Action, Phase, ScheduleError};
 use crate::ports::AttitudeSensor;
-use crate::safety::{select_mode, Fault, Mode, ModeInputs};
+use crate::safety::{select_mode, Fault, Mode, ModeInputs, Weather};
 use crate::sun::PositionSource;
 use crate::time::monotonic;
 
@@ -31,12 +31,13 @@ use super::{look_ahead, AttitudeSource};
 /// A swing ends when both axes are this close to its pose, degrees.
 const UNWOUND_DEG: f32 = 1.0;
 
-impl<T, P, D, S, const N: usize> Controller<T, P, D, S, N>
+impl<T, P, D, S, const N: usize, W> Controller<T, P, D, S, N, W>
 where
     T: Float,
     P: PositionSource<T>,
     D: AxisDrive,
     S: AttitudeSensor<T>,
+    W: Weather,
 {
     /// Phase 1: Time and site health: the faults of an untrusted RTC, a lost GPS
     /// fix, an implausible or unstable GPS time and an unstable GPS position.
@@ -219,7 +220,7 @@ where
             unhomed,
             // An unwind under way ends first: the C axis then does not
             // turn through its range again when the sky clears.
-            overcast: self.overcast.is_on() && !self.unwinding,
+            overcast: self.weather.overcast() && !self.unwinding,
         });
         // Stow: the panel flat (α = 0), the C axis at the last commanded
         // azimuth; before any pose was commanded (just homed, no trusted

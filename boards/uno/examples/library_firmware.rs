@@ -2,7 +2,8 @@
 //! Uno's parts: both FS5106R servo axes closed on their YMT22 encoders,
 //! the home switches, the DS3231, the configuration console on USART0 and
 //! the configuration stored in the EEPROM; no GPS receiver (`NoGps`), no
-//! attitude sensors (`Infallible`), the real-time scheduler (no day table:
+//! attitude sensors (`Infallible`), no weather inputs (`NoWeather`: the
+//! anemometer's wind stow stays), the real-time scheduler (no day table:
 //! the part has 2 KB of RAM).
 //!
 //! This is the single image the Uno is to run in place of `avr_tracker`
@@ -22,6 +23,7 @@ use suntracker::firmware::{AppConfig, ConfigPersist, Firmware, Platform};
 use suntracker::hw::NoGps;
 use suntracker::mechanics;
 use suntracker::persist::{ConfigStore, EepromStorage};
+use suntracker::safety::NoWeather;
 use suntracker::servo_tracker::axis_configs;
 use suntracker_avr::eeprom::Eeprom;
 use suntracker_avr::{
@@ -128,7 +130,7 @@ fn main() -> ! {
     };
     let options = mechanics::options_for_drives(mechanics::controller_options(), &config.axes);
     let rtc = drivers::rtc::Ds3231::new(suntracker_avr::I2c::new(TWI));
-    let firmware = Firmware::<f32, _, _, _, Infallible, _, TABLE_LEN>::new(
+    let firmware = Firmware::<f32, _, _, _, Infallible, _, TABLE_LEN, NoWeather>::new(
         app, config, options, rtc, NoGps, axes, None, log,
     );
     match firmware {
