@@ -491,6 +491,18 @@ impl<P: PositionSource<f64>> PositionSource<f64> for Counting<P> {
     }
 }
 
+/// A real-time scheduler at `site` whose source counts its positions.
+fn counting(site: Textbook) -> RealTime<Counting<Textbook>> {
+    RealTime::new(
+        ScheduleConfig::default(),
+        Counting {
+            inner: site,
+            calls: 0,
+        },
+    )
+    .unwrap()
+}
+
 #[test]
 fn real_time_day_in_kano_follows_the_flowchart() {
     let mut s = RealTime::new(ScheduleConfig::default(), KANO).unwrap();
@@ -561,14 +573,7 @@ fn real_time_day_in_kano_follows_the_flowchart() {
 
 #[test]
 fn real_time_mode_computes_one_position_per_slot() {
-    let mut s = RealTime::new(
-        ScheduleConfig::default(),
-        Counting {
-            inner: KANO,
-            calls: 0,
-        },
-    )
-    .unwrap();
+    let mut s = counting(KANO);
     let start = t("2018-10-19T10:00:00Z");
     s.tick(start);
     // An hour of 1-second ticks: 15 set-points of Jimoh & Aliyu's 4-minute
@@ -638,6 +643,77 @@ fn real_time_clock_jumps_set_the_new_slot_at_once() {
         Action::Sleep {
             until: t("2018-10-18T02:04:00Z")
         }
+    );
+}
+
+#[test]
+fn real_time_mode_finds_the_coming_sunrise_a_budget_of_slots_a_tick() {
+    // Powered on at Kano at night, 4 positions a tick (the ATmega2560's
+    // budget): the coming sunrise is the first slot with the textbook sun's
+    // centre above the horizon (eq. 9), within a slot of eq. 9's closed
+    // form, and tracking begins at that slot.
+    let mut s = counting(KANO);
+    s.set_plan_budget(4);
+    let start = t("2018-10-19T01:00:00Z");
+    s.tick(start);
+    assert_eq!(s.next_sunrise(), None);
+    let day0 = t("2018-10-19T00:00:00Z").unix_seconds();
+    let rise = (0..360)
+        .map(|k| UtcTime::from_unix_seconds(day0 + k * 240).unwrap())
+        .find(|u| KANO.clone().position(u).unwrap().zenith_deg < 90.0)
+        .unwrap();
+    let (r_h, _) = KANO.rise_set_utc_h(292.0).unwrap();
+    assert!(rise.hours::<f64>() >= r_h && rise.hours::<f64>() - r_h < 4.0 / 60.0);
+    // From 01:04 (the first slot of the wait) to sunrise: one position per
+    // slot, at most 4 a tick, and none after it is found.
+    let slots = (rise.unix_seconds() - t("2018-10-19T01:04:00Z").unix_seconds()) / 240 + 1;
+    let mut found_at = None;
+    for k in 1..=600 {
+        let now = start.add_seconds(k).unwrap();
+        let before = s.source_mut().calls;
+        s.tick(now);
+        assert!(s.source_mut().calls - before <= 4 + 1, "at {now}");
+        if found_at.is_none() && s.next_sunrise().is_some() {
+            found_at = Some(k);
+        }
+    }
+    assert_eq!(s.next_sunrise(), Some(rise));
+    // The slot checks of the wait (one per 4 minutes) and the search.
+    let checks = 600 / 240 + 1;
+    assert_eq!(u64::from(s.source_mut().calls), slots as u64 + checks);
+    // Its first tick began the wait, the search began with the next.
+    assert_eq!(found_at, Some(1 + (slots + 3) / 4));
+    // Tracking from that slot on; the next night finds the next sunrise.
+    let acts = run(&mut s, start.add_seconds(601).unwrap(), 86_400, 10);
+    let first_set = acts
+        .iter()
+        .find(|(now, a)| matches!(a, Action::SetPoints(_)) && *now >= rise)
+        .unwrap();
+    assert_eq!(first_set.0.unix_seconds() / 240 * 240, rise.unix_seconds());
+    let next_rise = (0..360)
+        .map(|k| UtcTime::from_unix_seconds(day0 + 86_400 + k * 240).unwrap())
+        .find(|u| KANO.clone().position(u).unwrap().zenith_deg < 90.0)
+        .unwrap();
+    assert_eq!(s.next_sunrise(), Some(next_rise));
+}
+
+#[test]
+fn real_time_mode_finds_no_sunrise_in_a_polar_night_and_searches_a_day_ahead() {
+    // Tromsø, 21 December: no slot within a day has the sun up; the search
+    // keeps a day ahead of the clock (about one position per slot once it
+    // has caught up) and reports nothing.
+    let mut s = counting(TROMSO);
+    s.set_plan_budget(4);
+    let start = t("2026-12-21T00:00:00Z");
+    s.tick(start);
+    run(&mut s, start.add_seconds(1).unwrap(), 2 * 86_400, 60);
+    assert_eq!(s.next_sunrise(), None);
+    assert!(matches!(s.phase(), Phase::WaitSunrise { .. }));
+    // A day of slots ahead, two days of slots passed, two days of checks.
+    let calls = s.source_mut().calls;
+    assert!(
+        (3 * 360..=3 * 360 + 2 * 360 + 4).contains(&calls),
+        "{calls}"
     );
 }
 

@@ -29,12 +29,15 @@
 //! paper does not give): the same flowchart with the table replaced by one sun
 //! position per slot, computed when the slot falls due. Step 3's daylight is
 //! the sun's centre above the geometric horizon at the slot's time (Jimoh &
-//! Aliyu 2019 eq. 9, the table's own criterion); steps 4–6 wait for the next
-//! slot instead of a computed sunrise; step 10's end of day is the first slot
-//! after daylight (at most one slot after sunset); steps 11–14 match and hold
-//! as with a table, and home is the day's first daylight set-point. No
-//! sunrise/sunset search and no table: no 1.4 KB of day table in RAM, and none
-//! of the event search's or table's code in flash.
+//! Aliyu 2019 eq. 9, the table's own criterion); steps 4–6 wait slot by
+//! slot, and meanwhile the coming sunrise is found as the first slot with the
+//! sun up, testing a plan budget of slots per tick (at most a day ahead of
+//! `now`: [`Scheduler::next_sunrise`], where the tracker waits facing it);
+//! step 10's end of day is the first slot after daylight (at most one slot
+//! after sunset); steps 11–14 match and hold as with a table, and home is the
+//! day's first daylight set-point. No event search and no table: no day
+//! table in RAM (1.4 KB at 4 minutes), and none of the event search's or
+//! table's code in flash.
 //!
 //! `tick` never blocks: every delay of the flowchart is a time stored in the
 //! state and compared with the `now` of later ticks. A clock that jumps
@@ -512,6 +515,15 @@ enum Planner<T> {
     /// Filling the table of the solar day starting then (flowchart steps
     /// 7–8).
     Table(UtcTime),
+    /// Real-time mode, waiting for sunrise: searching for the coming
+    /// sunrise, the first slot at which the sun is up (`rt_check`'s test,
+    /// so tracking begins there), slots tested in order from the first slot
+    /// of the wait; this is the next slot to test. (In the planner's place:
+    /// real-time mode plans no day, and a table board's layout stays as it
+    /// was.)
+    RiseSearch(UtcTime),
+    /// Real-time mode: the coming sunrise, found.
+    Sunrise(UtcTime),
 }
 
 impl<T: Float, P: PositionSource<T>, const N: usize> Scheduler<T, P, N> {
@@ -678,10 +690,17 @@ impl<T: Float, P: PositionSource<T>, const N: usize> Scheduler<T, P, N> {
             self.table().get(0).map(|e| e.time)
         }
     }
-    /// The computed sunrise the scheduler waits for, if any (real-time
-    /// mode computes none: `None`).
+    /// The computed sunrise the scheduler waits for, if any: the table's
+    /// (the daylight search's), or in real-time mode the first slot with
+    /// the sun up once the search has found it (`None` while it searches,
+    /// and in a polar night, as long as no slot within a day of `now` has
+    /// the sun up).
     pub fn next_sunrise(&self) -> Option<UtcTime> {
         match self.phase {
+            Phase::WaitSunrise { .. } if Self::REAL_TIME => match self.planner {
+                Some(Planner::Sunrise(t)) => Some(t),
+                _ => None,
+            },
             Phase::WaitSunrise { until } if !self.real_time() => Some(until),
             _ => None,
         }
@@ -727,6 +746,9 @@ impl<T: Float, P: PositionSource<T>, const N: usize> Scheduler<T, P, N> {
     /// and tracking, or real-time mode's check of the present slot.
     fn step(&mut self, now: UtcTime) -> Result<Action<T>, ScheduleError> {
         let real_time = self.real_time();
+        if Self::REAL_TIME && matches!(self.phase, Phase::WaitSunrise { .. }) {
+            self.seek_sunrise(&now);
+        }
         match self.phase {
             Phase::PowerOn => {
                 // Step 1: the site is in the source; set-points zero.
@@ -775,7 +797,7 @@ impl<T: Float, P: PositionSource<T>, const N: usize> Scheduler<T, P, N> {
         let current = match &self.planner {
             Some(Planner::Daylight(s)) => s.window_start() == start,
             Some(Planner::Table(day_start)) => *day_start == start,
-            None => false,
+            _ => false,
         };
         if !current {
             self.planner = Some(Planner::Daylight(EventSearch::new(start)));
@@ -974,6 +996,39 @@ impl<T: Float, P: PositionSource<T>, const N: usize> Scheduler<T, P, N> {
         Ok(action)
     }
 
+    /// Real-time mode, while waiting for sunrise: tests up to the plan
+    /// budget of slots (all when it is 0) for the sun up, in order, no
+    /// further than a day after `now` (a polar night is searched as the
+    /// days pass). A failed position drops the search; the next slot's
+    /// check begins it again.
+    fn seek_sunrise(&mut self, now: &UtcTime) {
+        let Some(Planner::RiseSearch(mut slot)) = self.planner else {
+            return;
+        };
+        let step_s = self.config.table_step_s.clamp(60, 43_200) as i32;
+        let mut budget = self.plan_budget;
+        self.planner = loop {
+            if now.seconds_since(&slot).is_none_or(|ahead| ahead < -86_400) {
+                break Some(Planner::RiseSearch(slot));
+            }
+            let Ok(sun) = self.source.position(&slot) else {
+                break None;
+            };
+            if sun.zenith_deg < T::from_f64(90.0) {
+                break Some(Planner::Sunrise(slot));
+            }
+            let Ok(next) = add_s(&slot, step_s) else {
+                break None;
+            };
+            slot = next;
+            // 0: no limit (`set_plan_budget`).
+            budget = budget.wrapping_sub(1);
+            if budget == 0 {
+                break Some(Planner::RiseSearch(slot));
+            }
+        };
+    }
+
     /// Real-time mode, steps 2–14 at one instant: the slot `now` is in
     /// (whole multiples of the step from UTC midnight, as the table's),
     /// the sun at the slot's time, and what follows from it.
@@ -1005,6 +1060,12 @@ impl<T: Float, P: PositionSource<T>, const N: usize> Scheduler<T, P, N> {
                 // A day too long for the table has ended: the next is planned
                 // with the table again.
                 self.overflow = false;
+                // The search for the coming sunrise begins with the wait
+                // (again after a clock jump, a new site or a failed
+                // position).
+                if Self::REAL_TIME && (first || self.planner.is_none()) {
+                    self.planner = Some(Planner::RiseSearch(next_slot));
+                }
                 let (phase, action) = if tracking {
                     (
                         Phase::WaitNextDay { until: next_slot },
@@ -1022,6 +1083,10 @@ impl<T: Float, P: PositionSource<T>, const N: usize> Scheduler<T, P, N> {
                 return Ok(action);
             }
             let set_point = SetPoint::facing(&sun);
+            // Daylight: the next night searches its own sunrise.
+            if Self::REAL_TIME {
+                self.planner = None;
+            }
             // A new solar day: its first daylight slot is home (Li et al. 2022).
             let day_start = solar_day_start(&slot, self.source.site().longitude_deg())?;
             if self.rt_day.as_ref().is_none_or(|(d, _)| *d != day_start) {
