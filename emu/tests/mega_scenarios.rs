@@ -172,13 +172,19 @@ fn has_line(run: &Run, pred: impl Fn(&Event) -> bool) -> bool {
     run.lines.iter().any(|l| pred(&l.event))
 }
 
+/// The scheduler's hold after a set-point, seconds (Jimoh & Aliyu 2019:
+/// 2 minutes, `ScheduleConfig::hold_s`): a next set-point sooner than this
+/// comes only after a set-point taken late in its slot.
+const SCHEDULE_HOLD_S: f64 = 120.0;
+
 /// For each set-point but the last: the decoded angles just before the
 /// next set-point line started equal (c, a) within a step; the panel
 /// normal of (c, a) through `mount` is within `pointing_tol_deg` of Kano's
-/// sun. A set-point whose next line came within the same second (the
-/// tracker entered tracking late in a slot, and the next slot began as it
-/// logged the first) had no time to be reached: only its pointing is
-/// judged.
+/// sun. A set-point whose next line came within [`SCHEDULE_HOLD_S`] (the
+/// tracker entered tracking late in a slot, took that slot's set-point, and
+/// the next slot began before the axes could get there) had no time to be
+/// reached: only its pointing is judged. In steady tracking set-points are
+/// a slot (4 minutes) apart.
 fn check_set_points(run: &Run, mount: &MountAttitude<f64>, pointing_tol_deg: f64) -> usize {
     check_set_points_of(&set_points(run), mount, kano_sun, pointing_tol_deg)
 }
@@ -210,7 +216,7 @@ fn check_set_points_within(
         let (next, ..) = w[1];
         let dc = next.c_start_deg - c;
         let da = next.a_start_deg - a;
-        let superseded = next.utc_s - line.utc_s < 1.0;
+        let superseded = next.utc_s - line.utc_s < SCHEDULE_HOLD_S;
         if !superseded {
             worst_angle = worst_angle.max(dc.abs()).max(da.abs());
         }
@@ -1237,12 +1243,12 @@ fn assert_homed_once(run: &Run) {
     );
 }
 
-/// How late after its slot's start a set-point may be logged: after a new
-/// site or a stow the day is planned again (four positions a tick) and the
-/// day's branch searched (two set-points a tick, the axes holding still),
-/// which takes up to some 100 ticks; far below the hour a lying clock is
-/// off by.
-const SET_POINT_LATE_S: f64 = 120.0;
+/// How late after its slot's start a set-point may be logged: after
+/// power-on, a new site or a stow the real-time scheduler takes the present
+/// slot's set-point whenever in the 4-minute slot that comes, and the day's
+/// branch is then searched (two set-points a tick, the axes holding still,
+/// up to some 100 ticks); far below the hour a lying clock is off by.
+const SET_POINT_LATE_S: f64 = 360.0;
 
 /// Each set-point's slot is the true time (the tracker runs on the true
 /// clock): logged at most `late_s` after its slot and never before it by
@@ -1775,9 +1781,10 @@ const LONGEST_FIRST_PASS_S: f64 = 0.110;
 
 /// (p) The board build, the ELF a user flashes, at real time (1:1, as
 /// (h)): powered on at Kano after sunset (2026-06-21T19:30Z, RTC valid,
-/// GPS), 10 minutes: the night is planned, the axes home, the pose to wait
-/// for sunrise in is searched (48 sun positions and 288 inverse
-/// kinematics, spread over ticks) and driven to. Every pass after the
+/// GPS), 10 minutes: the axes home, the coming sunrise is found (the first
+/// 4-minute slot with the sun up, one sun position a slot, four a tick),
+/// the pose to wait for sunrise in is searched (48 sun positions and 288
+/// inverse kinematics, spread over ticks) and driven to. Every pass after the
 /// power-on one keeps the CPU awake at most [`LONGEST_PASS_S`] (the search
 /// in one tick took some 135 ms of every second, and a day's branch search
 /// about one second), the power-on pass at most [`LONGEST_FIRST_PASS_S`].
@@ -1838,6 +1845,24 @@ fn p_a_night_at_real_time_keeps_every_pass_short() {
     println!("p: later passes over 10 ms by 5 ms bins (ms: count): {hist:?}");
     // The search ran: passes over 10 ms after the homing, at night.
     assert!(!rest.is_empty());
+    // Waiting facing the coming sunrise: the first 4-minute slot of the
+    // morning with SPA's sun (geometric centre) above the horizon.
+    let first_slot = (start / 240 + 1) * 240;
+    let rise = (0..360)
+        .map(|k| first_slot + k * 240)
+        .find(|&u| kano_sun(u)[2] > 0.0)
+        .expect("a sunrise within a day");
+    let (c, a) = run.final_angles;
+    let normal = MountAttitude::level().normal_xyz(&Pose {
+        gamma_deg: c,
+        alpha_deg: a,
+    });
+    let off_deg = angle_between_deg(&normal, &kano_sun(rise));
+    println!(
+        "p: waiting facing the sunrise slot {} within {off_deg:.3}°",
+        format_utc(rise)
+    );
+    assert!(off_deg < 0.2, "{off_deg}° from the sun at sunrise");
     assert_no_illegal_steps(&run);
     assert_eq!(
         ElfIdentity::of(&elf).unwrap(),
@@ -2913,12 +2938,18 @@ fn dc2_obstruction_on_the_a_axis() {
         DC2_OBSTACLE_DEG,
         (ANGLE_TOL_DEG, DC_POINTING_TOL_DEG),
     );
-    // The swing to the obstacle is one move: its current passes 3 A once,
-    // at the obstacle (a move braked and started again at every tick,
-    // as the closed loop once did, passed it at most restarts).
+    // The swing to the obstacle is one move: its current passes 3 A at
+    // the obstacle, and before that at most once, as the motor starts from
+    // rest (its stall current at full duty until it turns), the 50° from
+    // home to the obstacle earlier (some 7 s at the axis's speed). A move
+    // braked and started again at every tick, as the closed loop once did,
+    // passed it at each restart, a second apart.
     let rises = &run.current_rises.1;
-    let before = rises.iter().filter(|&&r| r <= ob.fault_s).count();
-    assert_eq!(before, 1, "A current rises before the fault: {rises:?}");
+    let before: Vec<f64> = rises.iter().copied().filter(|&r| r <= ob.fault_s).collect();
+    assert!(
+        before.len() == 1 || (before.len() == 2 && before[1] - before[0] > 5.0),
+        "A current rises before the fault: {rises:?}"
+    );
     println!(
         "dc2: fault {} cleared {} ({} retries), run {:.1} s",
         format_utc(ob.fault_s as i64),

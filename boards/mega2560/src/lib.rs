@@ -112,11 +112,13 @@ pub const LOG_BAUD_HZ: u32 = 115_200;
 pub const GPS_BAUD_HZ: u32 = 9_600;
 /// ADXL345 address with SDO low (datasheet "Serial Communications", I²C).
 pub const ADXL345_ADDRESS: u8 = 0x53;
-/// Day-table capacity: Jimoh & Aliyu's (2019) 4-minute table of a day of up to
-/// 16 h (latitudes within about ±48°; a longer day is refused with the
-/// scheduler's `schedule_failed`, never truncated). A polar day's 360 entries
-/// would take 480 B more of the 8 KB RAM.
-pub const TABLE_LEN: usize = 240;
+/// Day-table capacity 0: the real-time scheduler (`suntracker::plan`, after
+/// Chowdhury et al. 2019): one sun position per 4-minute slot of Jimoh &
+/// Aliyu's (2019) flowchart as it falls due, and the coming sunrise found slot
+/// by slot at night. No day table in RAM (960 B at 240 entries) and no event
+/// search in flash (18 KB with the table's code); a day of any length, polar
+/// days included, is tracked.
+pub const TABLE_LEN: usize = 0;
 /// Sun positions computed per tick while a day is planned (see `run`).
 pub const PLAN_POSITIONS_PER_TICK: u16 = 4;
 /// Attitude sensors read every this many ms (see `run`).
