@@ -188,11 +188,13 @@ check avr_settings_ds1302 "ATmega328P (Uno settings, ds1302)" "$ELF_AVR_SETTINGS
 # ATmega328P, the library's firmware loop on the Uno's parts (the example
 # library_firmware: the one image the Uno is to run, with its console). The
 # goal is the part's 32,256 B; it measured 86,788 B when first built, and
-# this budget holds it there (86 KiB), so that the distance only shrinks.
+# 85,590 B with its weather watches left out by type (and real-time mode's
+# search for the pose facing sunrise in): this budget holds it there
+# (85 KiB), so that the distance only shrinks.
 # Static RAM 768 B (587 B measured): the image cannot run on the part, so
 # its stack is not measured; the single image must keep static RAM plus the
 # measured peak stack within 1,792 B, as avr_tracker does.
-check uno_library_firmware "ATmega328P (Uno, library loop)" "$ELF_AVR_UNO_LIBRARY" 88064 768 || status=1
+check uno_library_firmware "ATmega328P (Uno, library loop)" "$ELF_AVR_UNO_LIBRARY" 87040 768 || status=1
 # ATmega2560: 240 KiB of its 256 KiB (the Mega's bootloader takes 8 KiB, 8 KiB
 # are left to spare); static RAM 3 KiB of the part's 8 KiB: the stack needs
 # the other 5 KiB (peak measured in the harness's scenarios, with 512 B to

@@ -274,7 +274,7 @@ def run_read_only(run):
                   % (t_read.strftime("%H:%M:%S"), t_sp.strftime("%H:%M:%S"), el, sel, de, az, saz, da))
             iel, iaz = spa(t_read)
             print("     at the instant read (%s) SPA says El %.4f Az %.4f: the set-point differs by "
-                  "%.3f / %.3f deg (the table's 4-minute step)"
+                  "%.3f / %.3f deg (the schedule's 4-minute step)"
                   % (t_read.strftime("%H:%M:%S"), iel, iaz, abs(el - iel), angle_diff(az, iaz)))
         pe, pa = trk.ElPos.cvalue, trk.AzPos.cvalue
         check("601 ElPos/AzPos at the target within a step",
