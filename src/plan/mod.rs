@@ -509,6 +509,13 @@ pub struct Scheduler<T, P, const N: usize> {
     planner: Option<Planner<T>>,
 }
 
+/// Real-time mode's daylight at a slot: the sun's centre above the
+/// geometric horizon (Jimoh & Aliyu 2019 eq. 9, the table's own criterion);
+/// a NaN zenith is not daylight.
+fn sun_up<T: Float>(sun: &SunPosition<T>) -> bool {
+    sun.zenith_deg < T::from_f64(90.0)
+}
+
 /// A day being planned over several ticks.
 #[derive(Debug, Clone, Copy, PartialEq)]
 enum Planner<T> {
@@ -998,6 +1005,13 @@ impl<T: Float, P: PositionSource<T>, const N: usize> Scheduler<T, P, N> {
         Ok(action)
     }
 
+    /// Real-time mode's slot, seconds: the step, which divides a day
+    /// (`Scheduler::check`; at most 12 h); slots are whole steps from UTC
+    /// midnight.
+    fn slot_s(&self) -> u32 {
+        self.config.table_step_s.clamp(60, 43_200)
+    }
+
     /// Real-time mode, while waiting for sunrise: tests up to the plan
     /// budget of slots (all when it is 0) for the sun up, in order, no
     /// further than a day after `now` (a polar night is searched as the
@@ -1007,7 +1021,7 @@ impl<T: Float, P: PositionSource<T>, const N: usize> Scheduler<T, P, N> {
         let Some(Planner::RiseSearch(mut slot)) = self.planner else {
             return;
         };
-        let step_s = self.config.table_step_s.clamp(60, 43_200) as i32;
+        let step_s = self.slot_s() as i32;
         let mut budget = self.plan_budget;
         self.planner = loop {
             if now.seconds_since(&slot).is_none_or(|ahead| ahead < -86_400) {
@@ -1016,7 +1030,7 @@ impl<T: Float, P: PositionSource<T>, const N: usize> Scheduler<T, P, N> {
             let Ok(sun) = self.source.position(&slot) else {
                 break None;
             };
-            if sun.zenith_deg < T::from_f64(90.0) {
+            if sun_up(&sun) {
                 break Some(Planner::Sunrise(slot));
             }
             let Ok(next) = add_s(&slot, step_s) else {
@@ -1035,9 +1049,7 @@ impl<T: Float, P: PositionSource<T>, const N: usize> Scheduler<T, P, N> {
     /// (whole multiples of the step from UTC midnight, as the table's),
     /// the sun at the slot's time, and what follows from it.
     fn rt_check(&mut self, now: UtcTime) -> Result<Action<T>, ScheduleError> {
-        // The step divides a day (`Scheduler::check`; at most 12 h):
-        // slots are whole steps from UTC midnight.
-        let step_s = self.config.table_step_s.clamp(60, 43_200);
+        let step_s = self.slot_s();
         let of_day_s = now.ms_of_day() / 1000;
         // Below 86 400: fits an i32.
         let slot_s = (of_day_s - of_day_s % step_s) as i32;
@@ -1052,9 +1064,7 @@ impl<T: Float, P: PositionSource<T>, const N: usize> Scheduler<T, P, N> {
                 break 'check (self.config.recheck_s, Action::Idle);
             }
             let sun = self.source.position(&slot)?;
-            // (A NaN zenith is not daylight.)
-            let up = sun.zenith_deg < T::from_f64(90.0);
-            if !up {
+            if !sun_up(&sun) {
                 // Outside daylight (Jimoh & Aliyu eq. 9). After tracking: the day has
                 // ended (step 10), go home; else wait for the next slot (steps
                 // 4–6), with a Sleep the first time (power-on, clock jump).
