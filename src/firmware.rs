@@ -78,6 +78,12 @@ pub trait Platform {
     fn console_lost_lines(&mut self) -> u8 {
         0
     }
+    /// Whether `set site.postal_code` has the built-in postal-code table
+    /// ([`crate::site::postal`]; with its search, 2.3 KB of the Uno's
+    /// single image). A board short of flash says false: the command is
+    /// then answered `error site.postal_code: not in this image`, and
+    /// latitude and longitude are typed as keys.
+    const POSTAL_CODES: bool = true;
     /// Where the configuration is stored (console `save` and `load`);
     /// `None` (the default): this board keeps it in RAM only.
     fn config_store(&mut self) -> Option<&mut dyn ConfigPersist> {
@@ -1018,6 +1024,13 @@ where
     }
     fn drives(&self) -> DriveSet {
         self.fw.app.drives
+    }
+    fn postal_lookup(&self) -> console::PostalLookup {
+        if P::POSTAL_CODES {
+            console::POSTAL_TABLE
+        } else {
+            None
+        }
     }
     fn apply(&mut self, config: Config) -> bool {
         self.fw.apply_config(config)

@@ -91,7 +91,9 @@ impl Storage for TestFlash {
     }
 }
 
-struct HostPlatform {
+/// `POSTAL`: whether the board has the postal-code table
+/// ([`Platform::POSTAL_CODES`]).
+struct HostPlatform<const POSTAL: bool = true> {
     now_ms: u64,
     /// Bytes "received" on the console, waiting for the firmware.
     console: VecDeque<u8>,
@@ -101,7 +103,8 @@ struct HostPlatform {
     store: Store,
 }
 
-impl Platform for HostPlatform {
+impl<const POSTAL: bool> Platform for HostPlatform<POSTAL> {
+    const POSTAL_CODES: bool = POSTAL;
     fn now_ms(&mut self) -> u64 {
         self.now_ms
     }
@@ -125,9 +128,9 @@ impl Platform for HostPlatform {
 const KANO: (f64, f64) = (11.9683, 8.4261);
 const SYDNEY: (f64, f64) = (-33.8688, 151.2093);
 
-struct Bench {
+struct Bench<const POSTAL: bool = true> {
     fw: Firmware<f32, SimRtc, Uart, common::motor::Axis, MountSensors, Log, 0>,
-    platform: HostPlatform,
+    platform: HostPlatform<POSTAL>,
     c: Rc<RefCell<Motor>>,
     a: Rc<RefCell<Motor>>,
     log: Log,
@@ -148,6 +151,12 @@ fn start_utc() -> UtcTime {
 
 impl Bench {
     fn new(config: Config, store: Store, rtc_lost_power: bool) -> Bench {
+        Bench::build(config, store, rtc_lost_power)
+    }
+}
+
+impl<const POSTAL: bool> Bench<POSTAL> {
+    fn build(config: Config, store: Store, rtc_lost_power: bool) -> Self {
         let options = ControllerOptions::<f32> {
             feedback: suntracker::motion::FeedbackMode::OpenLoop,
             homing_chunk_deg: 0.45,
@@ -173,7 +182,7 @@ impl Bench {
             log.clone(),
         )
         .expect("valid configuration");
-        Bench {
+        Self {
             fw,
             platform: HostPlatform {
                 now_ms: 0,
@@ -213,7 +222,7 @@ impl Bench {
 
     /// Runs the loop until monotonic `end_ms`; `feed` is called every
     /// millisecond (bytes arriving at line speed).
-    fn run_until(&mut self, end_ms: u64, mut feed: impl FnMut(&mut Bench)) {
+    fn run_until(&mut self, end_ms: u64, mut feed: impl FnMut(&mut Self)) {
         let mut buf = [0u8; 256];
         let mut next_epoch_ms = self.platform.now_ms - self.platform.now_ms % 1000;
         while self.platform.now_ms < end_ms {
@@ -587,6 +596,33 @@ fn load_and_defaults() {
     let mut expected = kano_config();
     expected.wind.threshold_hz = 30.0;
     assert_eq!(b.fw.controller().config(), &expected);
+}
+
+/// A board that leaves the postal-code table out (`Platform::POSTAL_CODES`
+/// false, as the Uno's single image does for flash) refuses `set
+/// site.postal_code` and changes nothing; the keys set the site as ever.
+/// With the table, the same line sets data/postal_codes.csv's place
+/// (`DZ,16000,Alger Gare,36.779443,3.061738`, stored at 1e-4°).
+#[test]
+fn postal_codes_only_where_the_board_has_the_table() {
+    let mut b = Bench::<false>::build(kano_config(), store(), false);
+    b.run_until(2_000, |_| {});
+    assert_eq!(
+        b.reply_to("set site.postal_code DZ:16000"),
+        ["error site.postal_code: not in this image"]
+    );
+    assert_eq!(b.fw.controller().config(), &kano_config());
+    assert_eq!(
+        b.reply_to("set site.lat_deg 36.7794 site.lon_deg 3.0617"),
+        ["ok site.lat_deg=36.7794 site.lon_deg=3.0617"]
+    );
+
+    let mut b = Bench::new(kano_config(), store(), false);
+    b.run_until(2_000, |_| {});
+    assert_eq!(
+        b.reply_to("set site.postal_code DZ:16000"),
+        ["ok site.lat_deg=36.7794 site.lon_deg=3.0617"]
+    );
 }
 
 /// A power cycle of the bench: the storage survives (the store is read

@@ -3,7 +3,7 @@
 
 use super::keys::KEYS;
 use super::parse::{names, Command};
-use super::postal::apply_postal_code;
+use super::postal::{apply_postal, PostalLookup, POSTAL_TABLE};
 use super::reply::{format_get, write_help, write_key_value, write_ok, write_set_error};
 use super::set::{apply_assignments, apply_set};
 use crate::config::{Config, DriveSet, Field};
@@ -33,12 +33,24 @@ fn reset(config: &mut Config) {
 /// Carries out and answers `help`, `get`, `set` and `defaults` on
 /// `config`; passes every other command back. A `set` that gives an axis
 /// a drive kind outside `drives` (the board's) is refused like a value
-/// out of range.
-#[inline(never)]
+/// out of range. `set site.postal_code` looks in the built-in table.
 pub fn run_config<'a>(
     out: &mut dyn Sink,
     config: &mut Config,
     drives: DriveSet,
+    cmd: Command<'a>,
+) -> Outcome<'a> {
+    run_config_with(out, config, drives, POSTAL_TABLE, cmd)
+}
+
+/// [`run_config`] with the image's postal-code lookup, `postal` (`None`:
+/// built without the table).
+#[inline(never)]
+pub fn run_config_with<'a>(
+    out: &mut dyn Sink,
+    config: &mut Config,
+    drives: DriveSet,
+    postal: PostalLookup,
     cmd: Command<'a>,
 ) -> Outcome<'a> {
     // The `set`s: their refusal answered by one call for all three kinds
@@ -60,7 +72,7 @@ pub fn run_config<'a>(
         }
         Command::Set(k, v) => apply_set(config, k, v, drives),
         Command::SetMany(a) => apply_assignments(config, &a, drives),
-        Command::SetPostalCode(text) => apply_postal_code(config, text).map(|_| ()),
+        Command::SetPostalCode(text) => apply_postal(config, text, postal).map(|_| ()),
         Command::Defaults => {
             reset(config);
             write_ok(out, names::DEFAULTS);

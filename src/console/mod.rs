@@ -89,7 +89,10 @@
 //! `set site.postal_code DZ:16000` looks the code up in the built-in table
 //! and sets latitude and longitude; a numeric code typed without its
 //! leading zeros (`DZ:9000` for `DZ:09000`) is found too. The table has no
-//! elevation: `site.elevation_m` is left as it is.
+//! elevation: `site.elevation_m` is left as it is. An image built without
+//! the table (its board's [`crate::firmware::Platform::POSTAL_CODES`]; the
+//! lookup is [`run_config_with`]'s and [`Operator::postal_lookup`]'s
+//! [`PostalLookup`]) answers `error site.postal_code: not in this image`.
 //!
 //! # Use
 //!
@@ -167,7 +170,7 @@ mod set;
 mod status;
 mod words;
 
-pub use config_commands::{run_config, Outcome};
+pub use config_commands::{run_config, run_config_with, Outcome};
 pub use keys::{get, is_read_only, key_from_name, Key, Value, KEYS, POSTAL_CODE_KEY};
 pub use line::{LineBuffer, LineError, LINE_LEN, LOST_INPUT, LOST_LINE_END};
 pub use number::{write_number, Decimal, NumberError};
@@ -175,7 +178,7 @@ pub use operator::{
     execute, set_rtc_time, write_hold_saved, Executed, Jogged, Operator, TimeSetError,
 };
 pub use parse::{parse, parse_in, parse_utc, Assignments, Command, ParseError};
-pub use postal::{apply_postal_code, find_postal};
+pub use postal::{apply_postal_code, find_postal, PostalLookup, POSTAL_TABLE};
 pub use reply::{
     format_get, postal_error_text, write_error, write_faults, write_help, write_key_value,
     write_line_error, write_loaded, write_ok, write_parse_error, write_saved, write_set_error,

@@ -1,8 +1,9 @@
 //! The operator: what a running tracker lets the console do
 //! ([`Operator`]), and [`execute`], which answers every command through it.
 
-use super::config_commands::{run_config, Outcome};
+use super::config_commands::{run_config_with, Outcome};
 use super::parse::{names, parse, Command, ParseError};
+use super::postal::{PostalLookup, POSTAL_TABLE};
 use super::reply::{
     time_error_text, write_error, write_field_error, write_loaded, write_ok, write_parse_error,
     write_saved, write_time_set,
@@ -74,6 +75,11 @@ pub trait Operator {
     /// The drive kinds the board's image builds axes of (`set
     /// axis.c.drive` refuses the others).
     fn drives(&self) -> DriveSet;
+    /// How `set site.postal_code` looks codes up: the built-in table (the
+    /// default), or `None` in an image built without it.
+    fn postal_lookup(&self) -> PostalLookup {
+        POSTAL_TABLE
+    }
     /// Puts a changed (valid) configuration into effect; false when the
     /// tracker refused it (then nothing changed).
     fn apply(&mut self, config: Config) -> bool;
@@ -215,7 +221,8 @@ pub fn execute(op: &mut dyn Operator, line: &str) -> Executed {
     }
     let mut config = op.config();
     let drives = op.drives();
-    let cmd = match run_config(op.out(), &mut config, drives, cmd) {
+    let postal = op.postal_lookup();
+    let cmd = match run_config_with(op.out(), &mut config, drives, postal, cmd) {
         Outcome::Answered => return Executed::Done,
         Outcome::Changed => {
             put_into_effect(op, config);

@@ -104,6 +104,7 @@ pub fn postal_error_text(e: PostalError) -> FlashStr {
         }
         PostalError::BadFormat => crate::flash_str!("expected CC:CODE, e.g. DZ:16000"),
         PostalError::UnknownPostalCode => crate::flash_str!("not in the table"),
+        PostalError::NoTable => crate::flash_str!("not in this image"),
     }
 }
 

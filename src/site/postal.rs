@@ -40,6 +40,9 @@ pub enum PostalError {
     BadFormat,
     /// Well-formed but not in the table.
     UnknownPostalCode,
+    /// This image was built without the table: its board left it out for
+    /// flash (`Platform::POSTAL_CODES` in the firmware loop).
+    NoTable,
 }
 
 impl From<KeyError> for PostalError {
@@ -58,6 +61,7 @@ impl core::fmt::Display for PostalError {
             PostalError::BadPostalCode => "postal code must be 1-10 of 0-9, A-Z, space, '-'",
             PostalError::BadFormat => "expected COUNTRY:CODE, e.g. DZ:16000",
             PostalError::UnknownPostalCode => "postal code not in the table",
+            PostalError::NoTable => "no postal-code table in this image",
         })
     }
 }
