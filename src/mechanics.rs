@@ -31,36 +31,40 @@ pub const MAX_SPEED_DEG_S: f32 = 2.0;
 const DEFAULT_AXIS: AxisConfig = Config::DEFAULT.axes[0];
 
 /// The axis configuration (C then A).
+///
+/// A copy of a table in program memory: built in code, each field written
+/// was its own instructions (the ATmega2560's `config` was 490 B).
 pub fn axis_configs() -> [AxisConfig; 2] {
-    let c = AxisConfig {
-        counts_per_motor_rev: STEPS_PER_TURN,
-        microsteps: 1,
-        gear_ratio: GEAR_RATIO,
-        min_deg: -180.0,
-        max_deg: 180.0,
-        home_deg: -180.0,
-        backlash_deg: 0.0,
-        max_speed_deg_s: MAX_SPEED_DEG_S,
-        // Open loop: every set-point is driven to the nearest step.
-        deadband_deg: 0.0,
-        continuous: 0,
-        // Steppers; the defaults of the other drives' fields, each by its
-        // own constant (the whole default configuration, taken as a
-        // constant to copy from, was 283 B of the ATmega2560's RAM).
-        drive: DEFAULT_AXIS.drive,
-        max_current_ma: DEFAULT_AXIS.max_current_ma,
-        overcurrent_ms: DEFAULT_AXIS.overcurrent_ms,
-        back_speed_deg_s: DEFAULT_AXIS.back_speed_deg_s,
-        #[cfg(feature = "linear")]
-        linear: crate::config::LinearMount::DEFAULT,
+    AXES.load()
+}
+
+crate::progmem! {
+    /// [`axis_configs`], in flash on every board (a constant the AVR
+    /// copied from RAM would take 2 × 60 B of it there).
+    static AXES: [AxisConfig; 2] = {
+        let c = AxisConfig {
+            counts_per_motor_rev: STEPS_PER_TURN,
+            microsteps: 1,
+            gear_ratio: GEAR_RATIO,
+            min_deg: -180.0,
+            max_deg: 180.0,
+            home_deg: -180.0,
+            backlash_deg: 0.0,
+            max_speed_deg_s: MAX_SPEED_DEG_S,
+            // Open loop: every set-point is driven to the nearest step.
+            deadband_deg: 0.0,
+            continuous: 0,
+            // Steppers; the defaults of the other drives' fields.
+            ..DEFAULT_AXIS
+        };
+        let a = AxisConfig {
+            min_deg: -90.0,
+            max_deg: 90.0,
+            home_deg: -90.0,
+            ..c
+        };
+        [c, a]
     };
-    let a = AxisConfig {
-        min_deg: -90.0,
-        max_deg: 90.0,
-        home_deg: -90.0,
-        ..c
-    };
-    [c, a]
 }
 
 /// The H-bridge drive settings: full steps, ramp from 20 to 56 steps/s.

@@ -117,19 +117,35 @@ const MS_PER_DAY: u32 = 86_400_000;
 
 /// The axes (C then A): C turns −180…+180° from its home switch at −180°,
 /// A tilts −90…+90° from its home at −90°; one encoder count is 0.3°.
+///
+/// A copy of a table in program memory: built in code, each field written
+/// was its own instructions (830 B in the Uno's single image).
 pub fn axis_configs() -> [AxisConfig; 2] {
-    axis_configs_geared([GEAR_RATIO; 2])
+    AXES.load()
+}
+
+crate::progmem! {
+    /// [`axis_configs`].
+    static AXES: [AxisConfig; 2] = axis_configs_geared([GEAR_RATIO; 2]);
 }
 
 /// The axes of [`axis_configs`] with a gear of `gear_ratio` (C, A) servo
 /// turns per axis turn between each servo and its axis (the encoder on the
 /// servo's shaft): a count is `0.3° / gear` of axis; homing runs at
 /// [`HOMING_SPEED_DEG_S`]` / gear`.
-pub fn axis_configs_geared(gear_ratio: [f32; 2]) -> [AxisConfig; 2] {
+pub const fn axis_configs_geared(gear_ratio: [f32; 2]) -> [AxisConfig; 2] {
     let [gear_c, gear_a] = gear_ratio;
-    // The home switch at the lowest angle; a ratio below 1, outside the
-    // configuration's range, counts as 1.
-    let axis = |gear: f32, min_deg: f32, max_deg: f32| AxisConfig {
+    [
+        servo_axis(gear_c, -180.0, 180.0),
+        servo_axis(gear_a, -90.0, 90.0),
+    ]
+}
+
+/// One servo axis of [`axis_configs_geared`]: the home switch at the
+/// lowest angle; a ratio below 1, outside the configuration's range,
+/// counts as 1.
+const fn servo_axis(gear: f32, min_deg: f32, max_deg: f32) -> AxisConfig {
+    AxisConfig {
         counts_per_motor_rev: COUNTS_PER_TURN,
         microsteps: 1,
         gear_ratio: gear,
@@ -143,8 +159,7 @@ pub fn axis_configs_geared(gear_ratio: [f32; 2]) -> [AxisConfig; 2] {
         drive: crate::config::DriveKind::ServoEncoder as u8,
         // The current watch's defaults (DC axes only).
         ..crate::config::Config::DEFAULT.axes[0]
-    };
-    [axis(gear_c, -180.0, 180.0), axis(gear_a, -90.0, 90.0)]
+    }
 }
 
 /// The FS5106R's pulses: 1,500 µs stop, 700 µs and 2,300 µs full speed

@@ -72,12 +72,13 @@ impl Platform for UnoPlatform<'_> {
 }
 
 /// The Uno's configuration: its servo axes, the rest the library's
-/// defaults.
+/// defaults (written in place, not by the struct update syntax clippy
+/// suggests, which built the defaults aside and copied them).
+#[allow(clippy::field_reassign_with_default)]
 fn uno_config() -> Config {
-    Config {
-        axes: axis_configs(),
-        ..Config::default()
-    }
+    let mut config = Config::default();
+    config.axes = axis_configs();
+    config
 }
 
 #[avr_device::entry]
