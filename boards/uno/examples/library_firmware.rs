@@ -19,8 +19,9 @@
 
 use core::convert::Infallible;
 
+use drivers::rtc::Ds3231;
 use suntracker::config::{Config, DriveKind, DriveSet};
-use suntracker::firmware::{AppConfig, ConfigPersist, Firmware, Platform};
+use suntracker::firmware::{AppConfig, ConfigPersist, Firmware, Platform, StartError};
 use suntracker::hw::NoGps;
 use suntracker::mechanics;
 use suntracker::persist::{ConfigStore, EepromStorage};
@@ -28,9 +29,10 @@ use suntracker::safety::NoWeather;
 use suntracker::servo_tracker::axis_configs;
 use suntracker_avr::eeprom::Eeprom;
 use suntracker_avr::{
-    chip, millis, sleep_until_interrupt, InputPin, Millis, PinChangeEncoders, PulseWidth,
-    Timer1Pwm, Usart0, Watchdog,
+    chip, millis, sleep_until_interrupt, I2c, InputPin, Millis, PinChangeEncoders, PortInputPin,
+    PulseWidth, Timer1Pwm, Usart0, Watchdog,
 };
+use suntracker_uno::UnoServoAxis;
 
 suntracker_avr::avr_board_interrupts!(timer0, pcint2, usart0);
 
@@ -119,12 +121,38 @@ fn main() -> ! {
         watchdog,
         store: ConfigStore::new(Eeprom::storage(EEPROM)),
     };
+    let homes = [home_c, home_a];
+    let mut firmware = build_firmware(&pwm, &encoders, homes, &mut platform.store, TWI, log);
+    // Run it where it is, inside the result: moving it out would copy its
+    // 1,832 B on the stack.
+    match &mut firmware {
+        Ok(fw) => fw.run(&mut platform),
+        Err(_) => halt(),
+    }
+}
+
+/// The loop on the Uno's parts.
+type UnoFirmware<'p> =
+    Firmware<f32, Ds3231<I2c>, NoGps, UnoServoAxis<'p>, Infallible, Usart0, TABLE_LEN, NoWeather>;
+
+/// The firmware on the Uno's axes and devices, with the stored
+/// configuration (the board's own when none is good); halts when the
+/// axes refuse it. Not inlined: the configuration and the axes it is built
+/// from are on the stack only while it runs, not under the loop's passes.
+#[inline(never)]
+fn build_firmware<'p>(
+    pwm: &'p Timer1Pwm,
+    encoders: &PinChangeEncoders,
+    homes: [PortInputPin<'p, chip::PORTB>; 2],
+    store: &mut ConfigStore<EepromStorage<Eeprom>>,
+    twi: chip::TWI,
+    log: Usart0,
+) -> Result<UnoFirmware<'p>, StartError> {
     let mut config = uno_config();
-    if platform.store.load_into(&mut config).defaults {
+    if store.load_into(&mut config).defaults {
         config = uno_config();
     }
-    let Some(axes) = suntracker_uno::servo_axes(&pwm, &encoders, [home_c, home_a], &config.axes)
-    else {
+    let Some(axes) = suntracker_uno::servo_axes(pwm, encoders, homes, &config.axes) else {
         halt()
     };
     let app = AppConfig {
@@ -134,14 +162,8 @@ fn main() -> ! {
         ..AppConfig::new(suntracker_uno::BOARD)
     };
     let options = mechanics::options_for_drives(mechanics::controller_options(), &config.axes);
-    let rtc = drivers::rtc::Ds3231::new(suntracker_avr::I2c::new(TWI));
-    let firmware = Firmware::<f32, _, _, _, Infallible, _, TABLE_LEN, NoWeather>::new(
-        app, config, options, rtc, NoGps, axes, None, log,
-    );
-    match firmware {
-        Ok(mut firmware) => firmware.run(&mut platform),
-        Err(_) => halt(),
-    }
+    let rtc = Ds3231::new(I2c::new(twi));
+    Firmware::new(app, config, options, rtc, NoGps, axes, None, log)
 }
 
 /// Stops: the watchdog, no longer fed, resets the board.
