@@ -89,7 +89,7 @@ where
     /// that entry, as the branch is the new day's.
     pub(super) fn begin_look_ahead(&mut self, now: UtcTime) -> bool {
         self.branch_anchor = None;
-        self.branch_search = None;
+        self.end_search();
         // A C axis that turns without end has both branches serve the day
         // alike. Tracking on (a polar day's new table), the branch
         // followed is kept: a change would be a swing for nothing. After
@@ -162,6 +162,16 @@ where
         }
     }
 
+    /// Ends the search in progress, the day's or the night's (one left
+    /// unfinished at sunrise gives no answer: it starts again should that
+    /// sunrise be waited for again).
+    fn end_search(&mut self) {
+        self.search = None;
+        if matches!(self.night_pose, Some(NightPose::Searching(_))) {
+            self.night_pose = None;
+        }
+    }
+
     /// The branch search along `path` from its first set-point `first`,
     /// the move from `here` charged; none when no pose faces `first`. Out of
     /// line on the AVR: the starts' stack copy pushed `begin_look_ahead`'s
@@ -173,7 +183,8 @@ where
         let limits = self.limits();
         // Built where it is stored (a copy on the stack would be some 170
         // bytes of an 8-bit board's 8 KB).
-        let search = self.branch_search.insert(PathSearch {
+        self.end_search();
+        let search = self.search.insert(PathSearch {
             path,
             starts: Starts([None; 6]),
         });
@@ -183,7 +194,7 @@ where
             gamma_deg: self.pose.gamma_deg,
         };
         if !search.starts.fill(&frame, first, Some(here)) {
-            self.branch_search = None;
+            self.search = None;
         } else if sampled {
             search.starts.visit(first, &self.attitude, &limits);
         }
@@ -195,14 +206,16 @@ where
         let points = self.search_points_per_tick();
         let limits = self.limits();
         // Advanced where it is stored.
-        let Some(search) = self.branch_search.as_mut() else {
+        // The one search is the night's while that runs.
+        let night = matches!(self.night_pose, Some(NightPose::Searching(_)));
+        let Some(search) = self.search.as_mut().filter(|_| !night) else {
             return false;
         };
         if !advance(&mut self.scheduler, &self.attitude, &limits, search, points) {
             return true;
         }
         self.branch_anchor = search.starts.best();
-        self.branch_search = None;
+        self.search = None;
         false
     }
 
@@ -218,7 +231,7 @@ where
         let limits = self.limits();
         match self.night_pose {
             Some(NightPose::Found(t, p)) if t == sunrise => return Some(p),
-            Some(NightPose::Searching(t, _)) if t == sunrise => {}
+            Some(NightPose::Searching(t)) if t == sunrise => {}
             _ => {
                 self.begin_night_search(sunrise, &limits);
                 // On a board that spreads its work, the first position and
@@ -233,7 +246,8 @@ where
         }
         let points = self.search_points_per_tick();
         // Advanced where it is stored, as the branch search.
-        let Some(NightPose::Searching(_, search)) = self.night_pose.as_mut() else {
+        let (Some(NightPose::Searching(_)), Some(search)) = (self.night_pose, self.search.as_mut())
+        else {
             return match self.night_pose {
                 Some(NightPose::Found(_, p)) => Some(p),
                 _ => Some(None),
@@ -243,6 +257,7 @@ where
             return None;
         }
         let pose = search.starts.best();
+        self.search = None;
         self.night_pose = Some(NightPose::Found(sunrise, pose));
         Some(pose)
     }
@@ -279,29 +294,27 @@ where
             limits,
             gamma_deg: self.pose.gamma_deg,
         };
-        let slot = self.night_pose.insert(NightPose::Searching(
-            sunrise,
-            PathSearch {
-                path: Path::Sampled {
-                    from: sunrise,
-                    next: 1,
-                },
-                starts: Starts([None; 6]),
+        // The one search, which a day's branch search leaves at night.
+        let search = self.search.insert(PathSearch {
+            path: Path::Sampled {
+                from: sunrise,
+                next: 1,
             },
-        ));
-        let started = match (slot, first) {
-            (NightPose::Searching(_, search), Some(first)) => {
-                let ok = search.starts.fill(&frame, &first, home.as_ref());
-                if ok {
-                    search.starts.visit(&first, &self.attitude, limits);
-                }
-                ok
+            starts: Starts([None; 6]),
+        });
+        let started = first.is_some_and(|first| {
+            let ok = search.starts.fill(&frame, &first, home.as_ref());
+            if ok {
+                search.starts.visit(&first, &self.attitude, limits);
             }
-            _ => false,
-        };
-        if !started {
-            self.night_pose = Some(NightPose::Found(sunrise, None));
-        }
+            ok
+        });
+        self.night_pose = Some(if started {
+            NightPose::Searching(sunrise)
+        } else {
+            self.search = None;
+            NightPose::Found(sunrise, None)
+        });
     }
 }
 
@@ -499,10 +512,11 @@ pub(super) struct PathSearch<T> {
     starts: Starts<T>,
 }
 
-/// Where to wait for a sunrise: being searched, or found (`None`: no pose
-/// faces it within the limits).
+/// Where to wait for a sunrise: being searched (in the controller's one
+/// search, which the day's branch search uses while tracking), or found
+/// (`None`: no pose faces it within the limits).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub(super) enum NightPose<T> {
-    Searching(UtcTime, PathSearch<T>),
+    Searching(UtcTime),
     Found(UtcTime, Option<Pose<T>>),
 }

@@ -256,8 +256,10 @@ pub struct Controller<T, P, D, S, const N: usize, W = WeatherWatch> {
     weather: W,
     options: ControllerOptions<T>,
     sensors: Option<S>,
-    /// The branch search in progress (the module `look_ahead`).
-    branch_search: Option<look_ahead::PathSearch<T>>,
+    /// The search in progress (the module `look_ahead`): the day's branch
+    /// search while tracking, or the night's for the pose facing sunrise
+    /// (`night_pose` says which). One for both, as they never run at once.
+    search: Option<look_ahead::PathSearch<T>>,
     /// Pose chosen to wait for a sunrise (before the first day), or none
     /// found, for that sunrise.
     night_pose: Option<look_ahead::NightPose<T>>,
@@ -337,7 +339,7 @@ where
             last_mode: None,
             branch_day: None,
             branch_anchor: None,
-            branch_search: None,
+            search: None,
             day_start_pose: None,
             smoothed: None,
             stall_watch: [StallWatch::new(); 2],
@@ -532,8 +534,7 @@ where
     /// AVR: once a tick, not in `tick`'s frame.
     #[cfg_attr(target_arch = "avr", inline(never))]
     fn keep_c_within_a_turn(&mut self) {
-        let searching = matches!(self.night_pose, Some(look_ahead::NightPose::Searching(..)));
-        if self.branch_search.is_some() || searching {
+        if self.search.is_some() {
             return;
         }
         let Some(c) = self.axes.first_mut() else {
