@@ -12,8 +12,8 @@ use super::set::apply_set;
 
 /// How an image looks a postal code up: [`POSTAL_TABLE`], or `None` in an
 /// image built without the table (`set site.postal_code` is then answered
-/// `error site.postal_code: not in this image`). The table
-/// and its search take 2.3 KB of the Uno's single image.
+/// `error site.postal_code: not in this image`). The table and its search
+/// take 2.3 KB of the Uno's single image.
 pub type PostalLookup = Option<fn(&str) -> Result<PostalEntry, PostalError>>;
 
 /// The built-in table ([`find_postal`]).

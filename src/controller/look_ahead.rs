@@ -181,9 +181,9 @@ where
     fn start_branch_search(&mut self, path: Path, first: &SetPoint<T>, here: &Pose<T>) {
         let sampled = matches!(path, Path::Sampled { .. });
         let limits = self.limits();
+        self.end_search();
         // Built where it is stored (a copy on the stack would be some 170
         // bytes of an 8-bit board's 8 KB).
-        self.end_search();
         let search = self.search.insert(PathSearch {
             path,
             starts: Starts([None; 6]),
