@@ -221,8 +221,8 @@ pub enum Recovery {
 impl Fault {
     /// The recovery for the `attempt`-th occurrence (1 = first) while the
     /// fault is active, with at most `max_retries` retries.
-    pub fn recovery(self, attempt: u32, max_retries: u8) -> Recovery {
-        let retries = u32::from(max_retries);
+    pub fn recovery(self, attempt: u16, max_retries: u8) -> Recovery {
+        let retries = u16::from(max_retries);
         match self {
             Fault::SensorTimeout(Sensor::Gps)
             | Fault::I2cError(Sensor::Gps)
@@ -292,7 +292,7 @@ pub const RECURRENCE_WINDOW_MS: u32 = 3_600_000;
 // at most): no 32-bit multiply and no variable shift, each a loop on an
 // 8-bit core. Out of line on the AVR: `FaultManager::raise` has two calls.
 #[cfg_attr(target_arch = "avr", inline(never))]
-pub fn retry_backoff_ms(attempt: u32) -> u32 {
+pub fn retry_backoff_ms(attempt: u16) -> u32 {
     let mut ms = RETRY_BACKOFF_BASE_MS;
     let mut doublings = attempt.saturating_sub(1);
     while doublings > 0 && ms < RETRY_BACKOFF_MAX_MS {
@@ -307,12 +307,10 @@ pub fn retry_backoff_ms(attempt: u32) -> u32 {
 pub struct ActiveFault {
     /// The fault.
     pub fault: Fault,
-    /// Monotonic time when first raised, milliseconds (the 32-bit clock of
-    /// [`crate::time::monotonic`]).
-    pub since_ms: u32,
     /// Attempts so far (1 = first occurrence); an attempt counts at most
-    /// once per back-off interval.
-    pub attempts: u32,
+    /// once per back-off interval, so the count stops at `u16::MAX` only
+    /// after more than a year of ten-minute back-offs.
+    pub attempts: u16,
     /// Monotonic time from which the next attempt counts, milliseconds; a
     /// passed one is kept at the present by [`FaultManager::catch_up`].
     pub next_attempt_ms: u32,
@@ -331,7 +329,7 @@ impl ActiveFault {
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 struct Cleared {
     fault: Fault,
-    attempts: u32,
+    attempts: u16,
     at_ms: u32,
 }
 
@@ -391,7 +389,7 @@ impl FaultManager {
         let max_retries = self.config.max_retries;
         if let Some(a) = self.active.iter_mut().flatten().find(|a| a.fault == fault) {
             if a.retry_due(now_ms) {
-                count_up(&mut a.attempts);
+                a.attempts = a.attempts.saturating_add(1);
                 a.next_attempt_ms = now_ms.wrapping_add(retry_backoff_ms(a.attempts));
                 a.recovery = fault.recovery(a.attempts, max_retries);
             }
@@ -415,7 +413,6 @@ impl FaultManager {
             Some(slot) => {
                 *slot = Some(ActiveFault {
                     fault,
-                    since_ms: now_ms,
                     attempts,
                     next_attempt_ms: now_ms.wrapping_add(retry_backoff_ms(attempts)),
                     recovery,

@@ -312,7 +312,7 @@ fn backoff_doubles_up_to_its_cap() {
     assert_eq!(retry_backoff_ms(8), 600_000);
     // Attempt 0 (before the first) waits as the first.
     assert_eq!(retry_backoff_ms(0), 10_000);
-    assert_eq!(retry_backoff_ms(u32::MAX), 600_000);
+    assert_eq!(retry_backoff_ms(u16::MAX), 600_000);
 }
 
 #[test]
@@ -322,7 +322,7 @@ fn a_fault_that_keeps_coming_back_escalates() {
     let mut m = FaultManager::new(Config::default().safety);
     let l = Fault::LimitSwitchHit(AxisId::A);
     let mut t = 0;
-    for attempt in 1..=4u32 {
+    for attempt in 1..=4u16 {
         let r = m.raise(l, at(t));
         assert_eq!(m.get(l).unwrap().attempts, attempt);
         if attempt < 4 {
@@ -342,6 +342,24 @@ fn a_fault_that_keeps_coming_back_escalates() {
     let later = t + RECURRENCE_WINDOW_MS / 1000 + 1;
     m.raise(l, at(later));
     assert_eq!(m.get(l).unwrap().attempts, 1);
+}
+
+#[test]
+fn attempts_stop_counting_at_the_top() {
+    // A fault reported on and on, each report after its back-off (at most
+    // ten minutes): the count climbs by one a report and stays at the top
+    // of its 16 bits, never back to small (a first attempt again would
+    // retry instead of keeping the final recovery).
+    let mut m = FaultManager::new(Config::default().safety);
+    let f = Fault::GpsLost;
+    let step_ms = retry_backoff_ms(u16::MAX);
+    let mut now_ms = 0u32;
+    for _ in 0..u32::from(u16::MAX) + 10 {
+        m.raise(f, now_ms);
+        now_ms = now_ms.wrapping_add(step_ms);
+        m.catch_up(now_ms);
+    }
+    assert_eq!(m.get(f).unwrap().attempts, u16::MAX);
 }
 
 #[test]
