@@ -669,10 +669,10 @@ where
             }
             self.log.flash(crate::flash_str!(" to="));
             self.log.utc(&inputs.now);
-            self.log.text(match origin {
-                Some(TimeOrigin::Gps) => " source=gps",
-                Some(TimeOrigin::Rtc) => " source=rtc",
-                None => " source=none",
+            self.log.flash(match origin {
+                Some(TimeOrigin::Gps) => crate::flash_str!(" source=gps"),
+                Some(TimeOrigin::Rtc) => crate::flash_str!(" source=rtc"),
+                None => crate::flash_str!(" source=none"),
             });
             self.log
                 .flash(crate::flash_str!(": the day is planned again\n"));

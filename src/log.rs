@@ -29,6 +29,12 @@ pub trait Sink {
     /// Writes all of `bytes`.
     fn put(&mut self, bytes: &[u8]);
 
+    /// Writes one byte (from a register: a one-byte text is a constant the
+    /// AVR copies into RAM at reset).
+    fn byte(&mut self, byte: u8) {
+        self.put(&[byte]);
+    }
+
     /// Writes a string.
     fn text(&mut self, s: &str) {
         self.put(s.as_bytes());
@@ -61,7 +67,7 @@ pub trait Sink {
     /// Writes a signed integer in decimal.
     fn i32(&mut self, value: i32) {
         if value < 0 {
-            self.put(b"-");
+            self.byte(b'-');
         }
         self.u32(value.unsigned_abs());
     }
@@ -71,7 +77,7 @@ pub trait Sink {
         let mut limit: u32 = 10;
         for _ in 1..width {
             if value < limit {
-                self.put(b"0");
+                self.byte(b'0');
             }
             limit = limit.saturating_mul(10);
         }
@@ -81,9 +87,12 @@ pub trait Sink {
     /// Writes `value` rounded to `decimals` places (at most 6); `nan` for a
     /// value that is not finite or too large for the fixed-point range.
     fn fixed(&mut self, value: f32, decimals: u8) {
-        const POW10: [u32; 7] = [1, 10, 100, 1_000, 10_000, 100_000, 1_000_000];
+        // In program memory on the AVR (as a constant it took 28 B of RAM).
+        crate::progmem! {
+            static POW10: [u32; 7] = [1, 10, 100, 1_000, 10_000, 100_000, 1_000_000];
+        }
         let decimals = decimals.min(6);
-        let scale = POW10.get(usize::from(decimals)).copied().unwrap_or(1);
+        let scale = POW10.get(usize::from(decimals)).unwrap_or(1);
         let magnitude = if value < 0.0 { -value } else { value };
         let scaled = magnitude * scale as f32 + 0.5;
         // Also rejects NaN.
@@ -93,12 +102,12 @@ pub trait Sink {
         }
         let units = scaled as u32;
         if value < 0.0 && units != 0 {
-            self.put(b"-");
+            self.byte(b'-');
         }
         // `scale` is never zero; checked division keeps panics out anyway.
         self.u32(units.checked_div(scale).unwrap_or(0));
         if decimals > 0 {
-            self.put(b".");
+            self.byte(b'.');
             self.u32_padded(units.checked_rem(scale).unwrap_or(0), decimals);
         }
     }
@@ -108,17 +117,17 @@ pub trait Sink {
         let (y, mo, d) = t.ymd();
         let (h, mi, s, _) = t.hms_milli();
         self.i32(y);
-        self.put(b"-");
+        self.byte(b'-');
         self.u32_padded(u32::from(mo), 2);
-        self.put(b"-");
+        self.byte(b'-');
         self.u32_padded(u32::from(d), 2);
-        self.put(b"T");
+        self.byte(b'T');
         self.u32_padded(u32::from(h), 2);
-        self.put(b":");
+        self.byte(b':');
         self.u32_padded(u32::from(mi), 2);
-        self.put(b":");
+        self.byte(b':');
         self.u32_padded(u32::from(s), 2);
-        self.put(b"Z");
+        self.byte(b'Z');
     }
 }
 
@@ -134,7 +143,7 @@ pub enum SiteSource {
 /// `boot suntracker <version> board=<name>`
 pub fn boot(out: &mut dyn Sink, board: &str) {
     out.flash(crate::flash_str!("boot "));
-    out.text(crate::BANNER);
+    out.flash(crate::flash_str!(crate::BANNER));
     out.flash(crate::flash_str!(" board="));
     out.text(board);
     out.flash(crate::flash_str!("\n"));
@@ -143,9 +152,9 @@ pub fn boot(out: &mut dyn Sink, board: &str) {
 /// `time source=gps|rtc utc=…`, when the time is first trusted or its
 /// source changes.
 pub fn time(out: &mut dyn Sink, source: TimeOrigin, utc: &UtcTime) {
-    out.text(match source {
-        TimeOrigin::Gps => "time source=gps utc=",
-        TimeOrigin::Rtc => "time source=rtc utc=",
+    out.flash(match source {
+        TimeOrigin::Gps => crate::flash_str!("time source=gps utc="),
+        TimeOrigin::Rtc => crate::flash_str!("time source=rtc utc="),
     });
     out.utc(utc);
     out.flash(crate::flash_str!("\n"));
@@ -163,9 +172,9 @@ pub fn gps_rejected(out: &mut dyn Sink, epochs: u32) {
 
 /// `site source=gps|config lat=… lon=…`, when the site is taken or changes.
 pub fn site(out: &mut dyn Sink, source: SiteSource, lat_deg: f32, lon_deg: f32) {
-    out.text(match source {
-        SiteSource::Gps => "site source=gps lat=",
-        SiteSource::Config => "site source=config lat=",
+    out.flash(match source {
+        SiteSource::Gps => crate::flash_str!("site source=gps lat="),
+        SiteSource::Config => crate::flash_str!("site source=config lat="),
     });
     out.fixed(lat_deg, 4);
     out.flash(crate::flash_str!(" lon="));
@@ -237,7 +246,11 @@ pub fn mode(out: &mut dyn Sink, mode: Mode) {
 pub fn fault(out: &mut dyn Sink, fault: Fault, raised: bool) {
     out.flash(crate::flash_str!("fault "));
     out.flash(fault.name());
-    out.text(if raised { " raised\n" } else { " cleared\n" });
+    out.flash(if raised {
+        crate::flash_str!(" raised\n")
+    } else {
+        crate::flash_str!(" cleared\n")
+    });
 }
 
 /// Remembers the active faults and the mode between ticks and logs what

@@ -282,6 +282,11 @@ macro_rules! usart {
                     self.put_byte(byte);
                 }
             }
+
+            #[inline(never)]
+            fn byte(&mut self, byte: u8) {
+                self.put_byte(byte);
+            }
         }
     };
 }
