@@ -47,28 +47,17 @@ pub enum Transition {
     Illegal,
 }
 
-const N: Transition = Transition::None;
-const F: Transition = Transition::Forward;
-const B: Transition = Transition::Backward;
-const X: Transition = Transition::Illegal;
-
-/// Transition table, index `(prev << 2) | curr`, states `(A << 1) | B`.
-const TABLE: [Transition; 16] = [
-    // prev 00: to 00, 01, 10, 11
-    N, B, F, X, //
-    // prev 01
-    F, N, X, B, //
-    // prev 10
-    B, X, N, F, //
-    // prev 11
-    X, F, B, N,
-];
-
 fn state(a: bool, b: bool) -> u8 {
     (u8::from(a) << 1) | u8::from(b)
 }
 
-/// Looks up one transition.
+/// The position of state `s` (`(A << 1) | B`) in the Gray-code cycle
+/// 00 → 10 → 11 → 01 that A leading B runs: B, then A xor B.
+fn cycle_position(s: u8) -> u8 {
+    ((s & 1) << 1) | (((s >> 1) ^ s) & 1)
+}
+
+/// The transition from state `prev` to state `curr`.
 ///
 /// ```
 /// use drivers::encoder::{transition, Transition};
@@ -80,13 +69,17 @@ fn state(a: bool, b: bool) -> u8 {
 /// assert_eq!(transition(0b01, 0b10), Transition::Illegal); // both changed
 /// ```
 // Inlined into the pin-change interrupt's decoders (as at opt-level "s"
-// without the hint): a call there costs the handler cycles.
+// without the hint): a call there costs the handler cycles. Computed from
+// the positions in the cycle, not looked up: a table is constant data the
+// AVR copies into RAM at reset (16 B).
 #[inline]
 pub fn transition(prev: u8, curr: u8) -> Transition {
-    TABLE
-        .get(usize::from(((prev & 3) << 2) | (curr & 3)))
-        .copied()
-        .unwrap_or(Transition::Illegal)
+    match cycle_position(curr).wrapping_sub(cycle_position(prev)) & 3 {
+        0 => Transition::None,
+        1 => Transition::Forward,
+        3 => Transition::Backward,
+        _ => Transition::Illegal,
+    }
 }
 
 /// A plain decoder (single owner, no interrupt sharing).
