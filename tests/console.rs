@@ -305,7 +305,7 @@ fn key_table_names_every_field_once_and_the_docs_list_them() {
     let module =
         std::fs::read_to_string(concat!(env!("CARGO_MANIFEST_DIR"), "/src/console/mod.rs"))
             .expect("src/console/mod.rs");
-    for k in KEYS {
+    for k in KEYS.iter() {
         let name = &k.name().to_string();
         // Every key is a field key of src/config/mod.rs's docs (where its
         // unit and range are written, once), or one the console's docs name.
@@ -314,8 +314,8 @@ fn key_table_names_every_field_once_and_the_docs_list_them() {
             docs.contains(&format!("`{c_name}`")) || module.contains(&format!("`{name}`")),
             "{name} not in the docs"
         );
-        assert_eq!(console::key_from_name(name), Some(*k));
-        assert_eq!(console::key_from_name(&name.to_uppercase()), Some(*k));
+        assert_eq!(console::key_from_name(name), Some(k));
+        assert_eq!(console::key_from_name(&name.to_uppercase()), Some(k));
     }
     // The console's docs point to the ranges instead of repeating them.
     assert!(module.contains("[`crate::config::ranges`]"));
@@ -327,7 +327,7 @@ fn key_table_names_every_field_once_and_the_docs_list_them() {
 #[test]
 fn every_key_round_trips_get_set_get() {
     let docs = config_docs();
-    for &key in KEYS {
+    for key in KEYS.iter() {
         let name = &key.name().to_string();
         if is_read_only(key) {
             let mut c = Config::default();
@@ -396,7 +396,7 @@ fn every_key_round_trips_get_set_get() {
 fn every_out_of_range_value_is_refused_naming_the_field() {
     let docs = config_docs();
     let mut checked = 0;
-    for &key in KEYS {
+    for key in KEYS.iter() {
         let name = &key.name().to_string();
         if is_read_only(key) {
             continue;
@@ -1121,6 +1121,22 @@ fn malformed_commands_get_errors() {
             "error time must be YYYY-MM-DDTHH:MM:SSZ\n",
         ),
         (
+            "time set 2026-03-20T06.30:05Z",
+            "error time must be YYYY-MM-DDTHH:MM:SSZ\n",
+        ),
+        (
+            "time set 2026:03-20T06:30:05Z",
+            "error time must be YYYY-MM-DDTHH:MM:SSZ\n",
+        ),
+        (
+            "time set 2026-03-20X06:30:05Z",
+            "error time must be YYYY-MM-DDTHH:MM:SSZ\n",
+        ),
+        (
+            "time set 2026-03-20T06:30:0aZ",
+            "error time must be YYYY-MM-DDTHH:MM:SSZ\n",
+        ),
+        (
             "time set 2026-03-20T06:30:05Z x",
             "error unexpected argument\n",
         ),
@@ -1135,7 +1151,7 @@ fn malformed_commands_get_errors() {
 fn help_get_all_and_defaults() {
     let mut c = Config::default();
     let help = run(&mut c, "help");
-    assert_eq!(help.lines().count(), console::HELP.len());
+    assert_eq!(help.lines().count(), console::help_lines().len());
     for word in [
         "status",
         "get",

@@ -612,7 +612,7 @@ fn help_lists_the_commands_and_keys() {
     ] {
         assert!(reply.contains(word), "{word} in {reply:?}");
     }
-    for k in settings::KEYS {
+    for k in settings::KEYS.iter() {
         assert!(
             reply.contains(&k.name().to_string()),
             "{} in {reply:?}",

@@ -456,10 +456,10 @@ macro_rules! flash_strs {
 /// static elsewhere; read by copy. Made by [`progmem!`], which places the
 /// static in `.progmem.data`.
 #[repr(transparent)]
-pub struct ProgMem<T>(T);
+pub struct ProgMem<T: ?Sized>(T);
 
 // SAFETY: a ProgMem is never written; its reads copy constant memory.
-unsafe impl<T> Sync for ProgMem<T> {}
+unsafe impl<T: ?Sized> Sync for ProgMem<T> {}
 
 impl<T: Copy> ProgMem<T> {
     /// Wraps `value`; use [`progmem!`].
@@ -493,14 +493,57 @@ impl<T: Copy, const N: usize> ProgMem<[T; N]> {
     /// A copy of element `i`, `None` past the end (one element is read,
     /// not the table).
     pub fn get(&'static self, i: usize) -> Option<T> {
-        // SAFETY: `self` is a static in program memory on AVR (`new`), and
-        // so is each of its elements.
+        self.as_slice().get(i)
+    }
+
+    /// Copies of the elements in order.
+    pub fn iter(&'static self) -> impl Iterator<Item = T> {
+        self.as_slice().iter()
+    }
+
+    /// The table as a slice of any length in program memory (what a
+    /// caller that takes tables of several lengths stores).
+    pub const fn as_slice(&'static self) -> &'static ProgMem<[T]> {
+        self
+    }
+}
+
+/// A table of a length known at run time in program memory on AVR
+/// ([`ProgMem::as_slice`]).
+///
+/// ```
+/// progmem::progmem! {
+///     static ODD: [u8; 3] = [1, 3, 5];
+/// }
+/// let odd: &'static progmem::ProgMem<[u8]> = ODD.as_slice();
+/// assert_eq!(odd.len(), 3);
+/// assert_eq!(odd.get(1), Some(3));
+/// assert_eq!(odd.get(3), None);
+/// assert_eq!(odd.iter().sum::<u8>(), 9);
+/// ```
+impl<T: Copy> ProgMem<[T]> {
+    /// Number of elements.
+    pub const fn len(&self) -> usize {
+        self.0.len()
+    }
+
+    /// True for an empty table.
+    pub const fn is_empty(&self) -> bool {
+        self.0.is_empty()
+    }
+
+    /// A copy of element `i`, `None` past the end (one element is read,
+    /// not the table).
+    pub fn get(&'static self, i: usize) -> Option<T> {
+        // SAFETY: `self` is a static in program memory on AVR (`new`, then
+        // `as_slice`), and so is each of its elements.
         self.0.get(i).map(|slot| unsafe { read_flash(slot) })
     }
 
     /// Copies of the elements in order.
     pub fn iter(&'static self) -> impl Iterator<Item = T> {
-        (0..N).filter_map(move |i| self.get(i))
+        // SAFETY: as in `get`.
+        self.0.iter().map(|slot| unsafe { read_flash(slot) })
     }
 }
 

@@ -18,7 +18,7 @@
 //! little-endian cursors that write and read it (the store writes its slot
 //! header with the same writer).
 
-use super::{slot, Config, Slot, KEYS};
+use super::{slot, Config, Slot, KEYS, KEY_LIST};
 use crate::persist::{Payload, PayloadBytes};
 use crate::safety::OperatorHold;
 
@@ -72,7 +72,7 @@ pub const PAYLOAD_LEN: usize = PAYLOAD_LEN_V9;
 /// a layout version that ended with it.
 const fn keys_through(last: super::Field) -> usize {
     let mut i = 0;
-    while i < KEYS.len() && KEYS[i] as usize != last as usize {
+    while i < KEY_LIST.len() && KEY_LIST[i] as usize != last as usize {
         i += 1;
     }
     i + 1
@@ -168,7 +168,8 @@ impl Config {
         // Each field by its slot in the table (a copy: the slots are
         // mutable references).
         let mut fields = *self;
-        for (i, &key) in KEYS.iter().enumerate() {
+        for i in 0..KEYS.len() {
+            let Some(key) = KEYS.get(i) else { break };
             if i == V3_KEYS {
                 w.word(u32::from(self.hold.to_bits()), 1);
             }
@@ -216,7 +217,8 @@ impl Config {
         // The fields a payload has are read; the others keep their
         // defaults.
         super::table::write_defaults(cfg);
-        for (i, &key) in KEYS.iter().enumerate() {
+        for i in 0..KEYS.len() {
+            let Some(key) = KEYS.get(i) else { break };
             if (i == V4_KEYS && len == PAYLOAD_LEN_V4)
                 || (i == V5_KEYS && len == PAYLOAD_LEN_V5)
                 || (i == V6_KEYS && len == PAYLOAD_LEN_V6)

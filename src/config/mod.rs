@@ -34,7 +34,7 @@ pub use codec::PAYLOAD_LEN;
 pub use keys::{Field, KeyName, Reason};
 pub use record::{LAYOUT_VERSION, RECORD_LEN};
 pub use table::{get, is_read_only, Value, KEYS};
-pub(crate) use table::{slot, Slot};
+pub(crate) use table::{slot, Slot, KEY_LIST};
 pub(crate) use validate::check_f32;
 pub use validate::ConfigError;
 

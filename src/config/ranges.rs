@@ -85,9 +85,12 @@ pub const MODBUS_ADDRESS: (u8, u8) = (1, 247);
 /// Modbus serial rate, baud: 1,200 to 115,200, and one of the standard
 /// rates ([`MODBUS_BAUDS`]).
 pub const MODBUS_BAUD: (u32, u32) = (1_200, 115_200);
-/// The standard serial rates a Modbus device offers (the serial line
-/// spec requires 9,600 and 19,200, §2.5.1; the others are common).
-pub const MODBUS_BAUDS: [u32; 8] = [1_200, 2_400, 4_800, 9_600, 19_200, 38_400, 57_600, 115_200];
+crate::progmem! {
+    /// The standard serial rates a Modbus device offers (the serial line
+    /// spec requires 9,600 and 19,200, §2.5.1; the others are common). In
+    /// program memory on the AVR: as a constant it took 32 B of RAM.
+    pub static MODBUS_BAUDS: [u32; 8] = [1_200, 2_400, 4_800, 9_600, 19_200, 38_400, 57_600, 115_200];
+}
 /// Modbus parity: 0 none (with two stop bits), 1 odd, 2 even (the
 /// default the serial line spec requires, §2.5.1).
 pub const MODBUS_PARITY: (u8, u8) = (0, 2);

@@ -107,14 +107,22 @@ pub(crate) enum Slot<'a> {
 /// to the configuration's keys must be added here.
 macro_rules! key_table {
     ($c:ident; $( $(#[$m:meta])* $field:ident $kind:ident $place:expr, $range:ident $why:ident; )*) => {
-        /// Every key, in the order of the configuration's layout (`get`
-        /// lists them in this order). `site.postal_code` is not a field and
-        /// not in the table.
-        pub const KEYS: &[Field] = &[$($(#[$m])* Field::$field,)*];
+        /// [`KEYS`] when compiling (the tables built from it, the layout's
+        /// places); at run time [`KEYS`] is read, from program memory on
+        /// the AVR.
+        pub(crate) const KEY_LIST: &[Field] = &[$($(#[$m])* Field::$field,)*];
+
+        crate::progmem! {
+            /// Every key, in the order of the configuration's layout (`get`
+            /// lists them in this order). `site.postal_code` is not a field
+            /// and not in the table. In program memory on the AVR: as a
+            /// constant slice it took a byte of RAM a key.
+            pub static KEYS: [Field; KEY_LIST.len()] = [$($(#[$m])* Field::$field,)*];
+        }
 
         /// The range of each key of [`KEYS`], at the same place; when
         /// compiling only ([`BOUNDS`] and [`REASONS`] hold it).
-        const RANGES: [Range; KEYS.len()] = [$($(#[$m])* key_range!($kind, r::$range, $why),)*];
+        const RANGES: [Range; KEY_LIST.len()] = [$($(#[$m])* key_range!($kind, r::$range, $why),)*];
 
         /// The value of `key` in `$c` in the defaults table's bits
         /// ([`key_bits`]); when compiling.
@@ -244,10 +252,10 @@ crate::progmem! {
     /// place in [`KEYS`]. Apart from the reasons: a [`Range`] a row took
     /// 12 bytes on a 32-bit target (its one-byte reason padded), the two
     /// tables 9.
-    pub(crate) static BOUNDS: [[u32; 2]; KEYS.len()] = {
-        let mut b = [[0u32; 2]; KEYS.len()];
+    pub(crate) static BOUNDS: [[u32; 2]; KEY_LIST.len()] = {
+        let mut b = [[0u32; 2]; KEY_LIST.len()];
         let mut i = 0;
-        while i < KEYS.len() {
+        while i < KEY_LIST.len() {
             b[i] = [RANGES[i].lo, RANGES[i].hi];
             i += 1;
         }
@@ -258,10 +266,10 @@ crate::progmem! {
 crate::progmem! {
     /// The reason of each key's range ([`Range`]'s `reason`) at its place
     /// in [`KEYS`].
-    pub(crate) static REASONS: [Reason; KEYS.len()] = {
-        let mut r = [Reason::Switch; KEYS.len()];
+    pub(crate) static REASONS: [Reason; KEY_LIST.len()] = {
+        let mut r = [Reason::Switch; KEY_LIST.len()];
         let mut i = 0;
-        while i < KEYS.len() {
+        while i < KEY_LIST.len() {
             r[i] = RANGES[i].reason;
             i += 1;
         }
@@ -272,11 +280,11 @@ crate::progmem! {
 crate::progmem! {
     /// Each key's default ([`Config::DEFAULT`]) at its place in [`KEYS`],
     /// in the bits of [`key_bits`]; built when compiling.
-    pub(crate) static DEFAULTS: [u32; KEYS.len()] = {
-        let mut bits = [0u32; KEYS.len()];
+    pub(crate) static DEFAULTS: [u32; KEY_LIST.len()] = {
+        let mut bits = [0u32; KEY_LIST.len()];
         let mut i = 0;
-        while i < KEYS.len() {
-            bits[i] = key_bits(&Config::DEFAULT, KEYS[i]);
+        while i < KEY_LIST.len() {
+            bits[i] = key_bits(&Config::DEFAULT, KEY_LIST[i]);
             i += 1;
         }
         bits
@@ -299,7 +307,10 @@ pub(crate) fn defaults() -> Config {
 /// 8-bit board's stack under whoever reads a stored one.
 pub(crate) fn write_defaults(config: &mut Config) {
     config.hold = OperatorHold::NONE;
-    for (i, &key) in KEYS.iter().enumerate() {
+    // By place (here and in the codec): an `enumerate` over the table's
+    // reads from program memory was 230 B more on the AVR.
+    for i in 0..KEYS.len() {
+        let Some(key) = KEYS.get(i) else { break };
         let field = slot(config, key);
         let bits = DEFAULTS.get(i).unwrap_or(0);
         // Each value came from its own field (`key_bits`): the narrowing

@@ -6,7 +6,7 @@
 use core::ops::Range;
 
 use super::keys::AXIS_KEYS;
-use super::table::{read, Value, BOUNDS, KEYS, REASONS};
+use super::table::{read, Value, BOUNDS, KEYS, KEY_LIST, REASONS};
 #[cfg(feature = "linear")]
 use super::DriveKind;
 use super::{AxisConfig, Config, DriveSet, Field, Reason};
@@ -56,13 +56,13 @@ pub(crate) fn check_f32(
 /// The place of `key` in [`KEYS`] (its length when it is not there).
 const fn key_index(key: Field) -> usize {
     let mut i = 0;
-    while i < KEYS.len() {
-        if KEYS[i] as usize == key as usize {
+    while i < KEY_LIST.len() {
+        if KEY_LIST[i] as usize == key as usize {
             return i;
         }
         i += 1;
     }
-    KEYS.len()
+    KEY_LIST.len()
 }
 
 /// The places in [`KEYS`] of each axis's keys, `counts_per_motor_rev`
@@ -92,17 +92,17 @@ const AXIS_DRIVE_SPANS: [(usize, usize); 2] = [
         key_index(AXIS_KEYS[1].drive) + 3,
     ),
 ];
-const _: () = assert!(AXIS_DRIVE_SPANS[0].1 <= KEYS.len());
-const _: () = assert!(AXIS_DRIVE_SPANS[1].1 <= KEYS.len());
+const _: () = assert!(AXIS_DRIVE_SPANS[0].1 <= KEY_LIST.len());
+const _: () = assert!(AXIS_DRIVE_SPANS[1].1 <= KEY_LIST.len());
 // Each span holds the axis's own three keys, in that order.
 const _: () =
-    assert!(KEYS[AXIS_DRIVE_SPANS[0].0 + 1] as usize == Field::AxisCMaxCurrentMa as usize);
+    assert!(KEY_LIST[AXIS_DRIVE_SPANS[0].0 + 1] as usize == Field::AxisCMaxCurrentMa as usize);
 const _: () =
-    assert!(KEYS[AXIS_DRIVE_SPANS[1].0 + 1] as usize == Field::AxisAMaxCurrentMa as usize);
+    assert!(KEY_LIST[AXIS_DRIVE_SPANS[1].0 + 1] as usize == Field::AxisAMaxCurrentMa as usize);
 const _: () =
-    assert!(KEYS[AXIS_DRIVE_SPANS[0].1 - 1] as usize == Field::AxisCOvercurrentMs as usize);
+    assert!(KEY_LIST[AXIS_DRIVE_SPANS[0].1 - 1] as usize == Field::AxisCOvercurrentMs as usize);
 const _: () =
-    assert!(KEYS[AXIS_DRIVE_SPANS[1].1 - 1] as usize == Field::AxisAOvercurrentMs as usize);
+    assert!(KEY_LIST[AXIS_DRIVE_SPANS[1].1 - 1] as usize == Field::AxisAOvercurrentMs as usize);
 
 /// The place in [`KEYS`] of each axis's key of layout version 8,
 /// `back_speed_deg_s`.
@@ -110,7 +110,7 @@ const AXIS_BACK_SPEED: [usize; 2] = [
     key_index(AXIS_KEYS[0].back_speed_deg_s),
     key_index(AXIS_KEYS[1].back_speed_deg_s),
 ];
-const _: () = assert!(AXIS_BACK_SPEED[0] < KEYS.len() && AXIS_BACK_SPEED[1] < KEYS.len());
+const _: () = assert!(AXIS_BACK_SPEED[0] < KEY_LIST.len() && AXIS_BACK_SPEED[1] < KEY_LIST.len());
 
 #[cfg(feature = "linear")]
 /// The places in [`KEYS`] of each axis's keys of layout version 10, its
@@ -131,7 +131,7 @@ const _: () = assert!(AXIS_LINEAR_SPANS[0].1 - AXIS_LINEAR_SPANS[0].0 == 8);
 #[cfg(feature = "linear")]
 const _: () = assert!(AXIS_LINEAR_SPANS[1].1 - AXIS_LINEAR_SPANS[1].0 == 8);
 #[cfg(feature = "linear")]
-const _: () = assert!(AXIS_LINEAR_SPANS[1].1 <= KEYS.len());
+const _: () = assert!(AXIS_LINEAR_SPANS[1].1 <= KEY_LIST.len());
 
 /// How far a soft limit or home switch angle may lie outside a linear
 /// actuator's stroke, degrees: the rounding of a typed angle.
@@ -221,7 +221,7 @@ impl Config {
     #[cfg_attr(target_arch = "avr", inline(never))]
     fn check_keys(&mut self, places: Range<usize>) -> Result<(), ConfigError> {
         for i in places {
-            let (Some(&key), Some([lo_bits, hi_bits]), Some(reason)) =
+            let (Some(key), Some([lo_bits, hi_bits]), Some(reason)) =
                 (KEYS.get(i), BOUNDS.get(i), REASONS.get(i))
             else {
                 break;
@@ -294,7 +294,11 @@ impl Config {
         if key == Field::SupplyResumeMv && self.supply.resume_mv < self.supply.stow_mv {
             return fail(key, Reason::AtLeastStowMv);
         }
-        if key == Field::ModbusBaud && !super::ranges::MODBUS_BAUDS.contains(&self.modbus.baud) {
+        if key == Field::ModbusBaud
+            && !super::ranges::MODBUS_BAUDS
+                .iter()
+                .any(|b| b == self.modbus.baud)
+        {
             return fail(key, Reason::ModbusBaud);
         }
         #[cfg(feature = "linear")]

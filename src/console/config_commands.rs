@@ -61,8 +61,8 @@ pub fn run_config_with<'a>(
             return Outcome::Answered;
         }
         Command::GetAll => {
-            for k in KEYS {
-                format_get(out, config, *k);
+            for k in KEYS.iter() {
+                format_get(out, config, k);
             }
             return Outcome::Answered;
         }

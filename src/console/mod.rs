@@ -15,7 +15,7 @@
 //!
 //! | command | reply |
 //! |---|---|
-//! | `help` | one `ok …` line per line of [`HELP`] |
+//! | `help` | one `ok …` line per line of [`help_lines`] |
 //! | `status` | `ok mode=<mode> utc=<YYYY-MM-DDTHH:MM:SSZ>\|none time=gps\|rtc\|none lat=<deg> lon=<deg> site=gps\|config c=<deg>\|none a=<deg>\|none faults=<name>,…\|none wind_hz=<Hz>\|none` ([`write_status`]) |
 //! | `get` | `ok KEY=VALUE` for every key of the table below |
 //! | `get KEY` | `ok KEY=VALUE` |
@@ -171,7 +171,7 @@ mod status;
 mod words;
 
 pub use config_commands::{run_config, run_config_with, Outcome};
-pub use keys::{get, is_read_only, key_from_name, Key, Value, KEYS, POSTAL_CODE_KEY};
+pub use keys::{get, is_read_only, key_from_name, Key, KeyList, Value, KEYS, POSTAL_CODE_KEY};
 pub use line::{LineBuffer, LineError, LINE_LEN, LOST_INPUT, LOST_LINE_END};
 pub use number::{write_number, Decimal, NumberError};
 pub use operator::{
@@ -180,9 +180,9 @@ pub use operator::{
 pub use parse::{parse, parse_in, parse_utc, Assignments, Command, ParseError};
 pub use postal::{apply_postal_code, find_postal, PostalLookup, POSTAL_TABLE};
 pub use reply::{
-    format_get, postal_error_text, write_error, write_faults, write_help, write_key_value,
-    write_line_error, write_loaded, write_ok, write_parse_error, write_saved, write_set_error,
-    write_time_error, write_time_refused, write_time_set, HELP,
+    format_get, help_lines, postal_error_text, write_error, write_faults, write_help,
+    write_key_value, write_line_error, write_lines, write_loaded, write_ok, write_parse_error,
+    write_saved, write_set_error, write_time_error, write_time_refused, write_time_set,
 };
 pub use ring::RxRing;
 pub use set::{apply_assignments, apply_set, SetError};

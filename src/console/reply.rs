@@ -12,22 +12,26 @@ use crate::log::Sink;
 use crate::persist::{LoadReport, SaveError};
 use crate::safety::FaultManager;
 use crate::site::PostalError;
-use crate::text::FlashStr;
+use crate::text::{FlashStr, FlashStrs};
 use sun_algos::UtcTime;
 
 #[cfg(doc)]
 use super::{line::LineBuffer, parse::parse};
 
-/// The lines `help` prints, each after `ok `.
-pub const HELP: &[FlashStr] = &[
-    crate::flash_str!("status | faults | clear"),
-    crate::flash_str!("get [KEY] | set KEY VALUE [KEY VALUE ...]"),
-    crate::flash_str!("set site.postal_code CC:CODE"),
-    crate::flash_str!("save | load | defaults"),
-    crate::flash_str!("time set YYYY-MM-DDTHH:MM:SSZ"),
-    crate::flash_str!("stow | resume | home | jog c|a DEG | manual off"),
-    crate::flash_str!("service on | service off"),
-];
+/// The lines `help` prints, each after `ok ` (one table in program memory
+/// on the AVR: a slice of texts was 4 B of RAM a line there, and a
+/// constant of the table 8 B).
+pub fn help_lines() -> FlashStrs {
+    crate::flash_strs!(
+        "status | faults | clear",
+        "get [KEY] | set KEY VALUE [KEY VALUE ...]",
+        "set site.postal_code CC:CODE",
+        "save | load | defaults",
+        "time set YYYY-MM-DDTHH:MM:SSZ",
+        "stow | resume | home | jog c|a DEG | manual off",
+        "service on | service off",
+    )
+}
 
 /// `ok WHAT` (`ok` alone for an empty `what`).
 pub fn write_ok(out: &mut dyn Sink, what: FlashStr) {
@@ -49,10 +53,17 @@ pub fn write_error(out: &mut dyn Sink, what: FlashStr) {
     out.flash(crate::flash_str!("\n"));
 }
 
-/// `ok LINE` for every line of [`HELP`].
+/// `ok LINE` for every line of [`help_lines`].
 pub fn write_help(out: &mut dyn Sink) {
-    for line in HELP {
-        write_ok(out, *line);
+    write_lines(out, help_lines());
+}
+
+/// `ok LINE` for every line of `lines`.
+pub fn write_lines(out: &mut dyn Sink, lines: FlashStrs) {
+    for i in 0..lines.len() {
+        if let Some(line) = lines.get(i) {
+            write_ok(out, line);
+        }
     }
 }
 
@@ -148,7 +159,7 @@ pub fn write_faults(out: &mut dyn Sink, m: &FaultManager) {
         out.flash(crate::flash_str!("ok fault="));
         out.flash(a.fault.name());
         out.flash(crate::flash_str!(" attempts="));
-        out.u32(a.attempts);
+        out.u32(u32::from(a.attempts));
         out.flash(crate::flash_str!("\n"));
         any = true;
     }

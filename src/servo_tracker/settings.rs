@@ -52,25 +52,29 @@ use crate::console::{self, Command, Decimal, LineBuffer, SetError};
 use crate::log::Sink;
 use crate::persist::{record_len, ConfigStore, Loaded, Payload, Record, SaveStatus};
 use crate::ports::Storage;
-use crate::text::FlashStr;
+use crate::text::FlashStrs;
 use drivers::rtc::Clock as RtcDriver;
 
-/// The keys of the settings, in `get`'s order.
-pub const KEYS: &[Field] = &[
-    Field::SiteLatDeg,
-    Field::SiteLonDeg,
-    Field::AxisCGearRatio,
-    Field::AxisAGearRatio,
-];
+crate::progmem! {
+    /// The keys of the settings, in `get`'s order.
+    pub static KEYS: [Field; 4] = [
+        Field::SiteLatDeg,
+        Field::SiteLonDeg,
+        Field::AxisCGearRatio,
+        Field::AxisAGearRatio,
+    ];
+}
 
 /// `help`'s lines. The last names [`KEYS`] as text: written from the
 /// table at run time it took 8 B more of the Uno's flash
 /// (`help_lists_the_commands_and_keys` checks that it names each key).
-const HELP: &[FlashStr] = &[
-    crate::flash_str!("get [KEY] | set KEY VALUE [KEY VALUE] | save | load | defaults"),
-    crate::flash_str!("set site.postal_code CC:CODE | time set YYYY-MM-DDTHH:MM:SSZ"),
-    crate::flash_str!("keys: site.lat_deg site.lon_deg axis.c.gear_ratio axis.a.gear_ratio"),
-];
+fn help_lines() -> FlashStrs {
+    crate::flash_strs!(
+        "get [KEY] | set KEY VALUE [KEY VALUE] | save | load | defaults",
+        "set site.postal_code CC:CODE | time set YYYY-MM-DDTHH:MM:SSZ",
+        "keys: site.lat_deg site.lon_deg axis.c.gear_ratio axis.a.gear_ratio",
+    )
+}
 
 /// The ATmega328P's EEPROM, bytes (datasheet §8.4): room for both slots.
 pub const EEPROM_LEN: usize = 1024;
@@ -340,19 +344,17 @@ fn execute<S: Storage, R: RtcDriver>(
     rtc: &mut R,
     out: &mut dyn Sink,
 ) {
-    let cmd = match console::parse_in(line, KEYS) {
+    let cmd = match console::parse_in(line, KEYS.as_slice()) {
         Ok(cmd) => cmd,
         Err(e) => return console::write_parse_error(out, &e),
     };
     match cmd {
         Command::Help => {
-            for l in HELP {
-                console::write_ok(out, *l);
-            }
+            console::write_lines(out, help_lines());
         }
         Command::GetAll => {
-            for k in KEYS {
-                write_get(out, settings, *k);
+            for k in KEYS.iter() {
+                write_get(out, settings, k);
             }
         }
         Command::Get(k) => write_get(out, settings, k),
