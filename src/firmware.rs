@@ -153,6 +153,13 @@ pub trait Motion {
     /// board's 64-bit millisecond count: it never wraps); false when the
     /// drive reported an error.
     fn service(&mut self, now_ms: u64) -> bool;
+
+    /// Milliseconds from `now_ms` to the next instant this drive must be
+    /// served at to stay on time (a timed run's end), if it has one; the
+    /// pass puts a tick off while one is near ([`TICK_HOLD_MS`]).
+    fn due_in_ms(&self, _now_ms: u64) -> Option<u32> {
+        None
+    }
 }
 
 impl<P, L, H, E> Motion for crate::hw::StepperAxis<P, L, H>
@@ -219,6 +226,12 @@ where
             Err(_) => false,
         }
     }
+
+    /// The end of the run under way: a run ended late turns the axis on
+    /// by the speed times the lateness until the next move.
+    fn due_in_ms(&self, now_ms: u64) -> Option<u32> {
+        self.run_left_ms(now_ms as u32)
+    }
 }
 
 /// A linear actuator's axis closes its loop on its feedback once per
@@ -243,6 +256,14 @@ where
         }
     }
 }
+
+/// How long a tick is put off while a drive is due within it, ms: a tick
+/// on the ATmega2560 takes up to 70 ms (the longest pass of the emulator
+/// scenarios, 138 ms, is the first after power-on), and a timed run that
+/// ended after it would run on by that (0.5° at 7.6 °/s). A tick waits
+/// for the drive's instant, at most this long past its own, unless a drive
+/// stopped itself on a fault in the pass.
+pub const TICK_HOLD_MS: u32 = 150;
 
 /// Longest pass after which a GPS fix decoded in the next pass keeps its
 /// stamp (the moment it was decoded): 50 ms, a few ticks of a loop that
@@ -555,7 +576,16 @@ where
         let reached = self
             .next_tick_ms
             .is_none_or(|t| monotonic::reached(now_ms, t));
-        let due = reached || tripped;
+        // A drive due soon holds a tick that is not late by TICK_HOLD_MS
+        // yet (none after a tripped drive): the drive is then served on
+        // time in a short pass, and the tick follows.
+        let held = !tripped
+            && reached
+            && self
+                .next_tick_ms
+                .is_some_and(|t| monotonic::elapsed_ms(now_ms, t) < TICK_HOLD_MS)
+            && self.drive_due_within(board_ms, TICK_HOLD_MS);
+        let due = (reached && !held) || tripped;
         if due {
             if let (true, Some(t)) = (reached, self.next_tick_ms) {
                 if monotonic::elapsed_ms(now_ms, t) > tick_ms {
@@ -591,6 +621,15 @@ where
             platform.feed_watchdog();
         }
         due
+    }
+
+    /// True when a drive must be served within `within_ms` of `board_ms`.
+    fn drive_due_within(&self, board_ms: u64, within_ms: u32) -> bool {
+        self.controller.axes().iter().any(|ax| {
+            ax.drive()
+                .due_in_ms(board_ms)
+                .is_some_and(|ms| ms < within_ms)
+        })
     }
 
     // Its own frame on the AVR, apart from the pass's (a stack slot more

@@ -101,6 +101,26 @@ fn the_rounding_of_many_short_runs_does_not_add_up() {
     assert!(err.abs() < 0.008, "{err}");
 }
 
+/// A run whose end comes in a long pass of the main loop (30 ms from
+/// 20 ms into a 32.8 ms step: its end served 17 ms late) turns the motor
+/// 0.13° on; the next step is that much shorter, so the axis is back within
+/// a millisecond's travel of its count, not 0.13° off until its homing.
+#[test]
+fn a_run_ended_late_is_made_up_by_the_next() {
+    let mut d = drive(calibrated(), 0.0);
+    d.begin_tick(60.0);
+    d.long_pass(20, 30);
+    d.move_counts(350).unwrap();
+    let over = d.output_deg() - 0.25;
+    // 17 ms at 7.62 °/s is 0.13°.
+    assert!(over > 0.1, "ran on {over:+.4}°");
+    d.begin_tick(60.0);
+    d.move_counts(350).unwrap();
+    let err = d.output_deg() - 0.5;
+    println!("ran on {over:+.4}° in the long pass, {err:+.4}° after the next step");
+    assert!(err.abs() < 0.008, "{err}");
+}
+
 #[test]
 fn a_miscalibrated_speed_errs_in_proportion() {
     // Calibrated 5 % slow: every run is 5 % long.

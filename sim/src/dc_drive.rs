@@ -319,6 +319,9 @@ pub struct DcDrive<A: FirmwareAxis = SimDcAxis> {
     /// Milliseconds left in this tick.
     budget_ms: u32,
     travel_deg: f64,
+    /// A main-loop pass with no poll: from this ms of the axis's clock,
+    /// for this many.
+    long_pass: Option<(u32, u32)>,
 }
 
 impl<A: FirmwareAxis + core::fmt::Debug> core::fmt::Debug for DcDrive<A> {
@@ -383,6 +386,7 @@ impl<A: FirmwareAxis> DcDrive<A> {
             now_ms: 0,
             budget_ms: 0,
             travel_deg: 0.0,
+            long_pass: None,
         })
     }
 
@@ -401,9 +405,22 @@ impl<A: FirmwareAxis> DcDrive<A> {
         m.motor_speed_rad_s().abs() < AT_REST_RAD_S && duty_free(m.output())
     }
 
-    /// One millisecond: a poll, then the model's steps.
+    /// A main-loop pass of `length_ms` that starts `after_ms` from now on
+    /// the axis's clock (a GPS burst, a console line, a tick): the axis is
+    /// not polled in it while the motor runs on.
+    pub fn long_pass(&mut self, after_ms: u32, length_ms: u32) {
+        self.long_pass = Some((self.now_ms.wrapping_add(after_ms), length_ms));
+    }
+
+    /// One millisecond: a poll (none in a long pass), then the model's
+    /// steps.
     fn step_ms(&mut self) {
-        self.axis.poll_ms(self.now_ms);
+        let in_long_pass = self
+            .long_pass
+            .is_some_and(|(from_ms, length_ms)| self.now_ms.wrapping_sub(from_ms) < length_ms);
+        if !in_long_pass {
+            self.axis.poll_ms(self.now_ms);
+        }
         let mut hw = self.hw.borrow_mut();
         let before = hw.motor.output_angle_deg();
         for _ in 0..STEPS_PER_MS {

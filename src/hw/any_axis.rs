@@ -84,6 +84,9 @@ impl<S: Motion, D: Motion, T: Motion, H: Motion, P: Motion, V: Motion> Motion
     fn service(&mut self, now_ms: u64) -> bool {
         each!(self, a => a.service(now_ms))
     }
+    fn due_in_ms(&self, now_ms: u64) -> Option<u32> {
+        each!(self, a => a.due_in_ms(now_ms))
+    }
 }
 
 impl<S, D, T, H, P, V> AxisDrive for AnyAxis<S, D, T, H, P, V>

@@ -13,7 +13,11 @@
 //! [`AxisDrive::move_counts`] queues; [`TimedAxis::poll`], called every
 //! main-loop pass with the monotonic millisecond counter, starts the
 //! queued move, ends a run when its time is up (braking) and brakes at once
-//! when the home switch closes on a run toward it. It never blocks.
+//! when the home switch closes on a run toward it. It never blocks. A run
+//! whose end is served late (a poll after a long pass) has turned the motor
+//! on for the extra time: the next run is that much shorter (or longer),
+//! so the lateness does not stay in the axis's position until its next
+//! homing.
 //!
 //! On a supply that varies (a battery), the speeds are those at
 //! [`TimedAxisConfig::calibration_supply_mv`], and a board that measures
@@ -149,7 +153,7 @@ pub enum TimedAxisError<PE, NE, HE, CE> {
 }
 
 /// A run under way.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+#[derive(Debug, Clone, Copy, PartialEq)]
 struct Run {
     /// Counts it moves (signed).
     counts: i32,
@@ -159,6 +163,8 @@ struct Run {
     /// Its start and length, ms.
     start_ms: u32,
     length_ms: u32,
+    /// Its speed, counts per ms.
+    counts_per_ms: f32,
 }
 
 /// One tracker axis on a DC motor without feedback.
@@ -178,8 +184,9 @@ pub struct TimedAxis<B: Bridge, H, C = NoCurrentSense> {
     /// Counts commanded and not started yet.
     queued: i32,
     run: Option<Run>,
-    /// Counts the rounding of the last run's time left over (less than a
-    /// millisecond's worth, either sign).
+    /// Counts the next run adds: what the rounding of the last run's time
+    /// left over (less than a millisecond's worth, either sign), less what
+    /// it ran on past its time when its end was served late.
     carry_counts: f32,
     /// The time of the last poll, ms.
     last_poll_ms: u32,
@@ -247,10 +254,10 @@ impl<B: Bridge, H: InputPin, C: MotorCurrent> TimedAxis<B, H, C> {
     /// The run of `counts` plus the rounding carried from the runs
     /// before, at the speed of its direction: its time in whole ms (at most
     /// [`MAX_RUN_MS`]), the counts that rounding leaves over for the next
-    /// run, and whether it runs forward. Tracker steps are alike (0.25° is
-    /// 32.8 ms at 7.6 °/s): each rounded on its own, their roundings would
-    /// add up in one direction all day.
-    fn plan(&self, counts: i32) -> (u32, f32, bool) {
+    /// run, whether it runs forward, and its speed in counts per ms.
+    /// Tracker steps are alike (0.25° is 32.8 ms at 7.6 °/s): each rounded
+    /// on its own, their roundings would add up in one direction all day.
+    fn plan(&self, counts: i32) -> (u32, f32, bool, f32) {
         let want = counts as f32 + self.carry_counts;
         let speed = if want > 0.0 {
             self.config.forward_deg_s
@@ -264,12 +271,13 @@ impl<B: Bridge, H: InputPin, C: MotorCurrent> TimedAxis<B, H, C> {
         let forward = want > 0.0;
         // Also for a NaN, which the checks at construction rule out.
         if ms.is_nan() || ms >= MAX_RUN_MS as f32 {
-            return (MAX_RUN_MS, 0.0, forward);
+            return (MAX_RUN_MS, 0.0, forward, per_ms);
         }
         // Rounded to the nearest millisecond; non-negative and finite.
         let whole = (ms + 0.5) as u32;
         let done = whole as f32 * per_ms;
-        (whole, want - if forward { done } else { -done }, forward)
+        let left = want - if forward { done } else { -done };
+        (whole, left, forward, per_ms)
     }
 
     /// Calibration supply / measured supply (1 without either), at most
@@ -336,13 +344,21 @@ impl<B: Bridge, H: InputPin, C: MotorCurrent> TimedAxis<B, H, C> {
                 self.queued = 0;
                 self.carry_counts = 0.0;
                 self.end_run()?;
-            } else if now_ms.wrapping_sub(run.start_ms) >= run.length_ms {
+            } else if let Some(over_ms) =
+                now_ms.wrapping_sub(run.start_ms).checked_sub(run.length_ms)
+            {
+                // Ended `over_ms` late (the poll came after a long pass):
+                // the motor ran that much further, which the next run
+                // takes off, as it takes a rounding. Without it the
+                // overrun stayed until the next homing.
+                let overrun = over_ms.min(MAX_RUN_MS) as f32 * run.counts_per_ms;
+                self.carry_counts -= if run.forward { overrun } else { -overrun };
                 self.end_run()?;
             }
         }
         if self.run.is_none() && self.queued != 0 && self.held.is_none() {
             let counts = core::mem::take(&mut self.queued);
-            let (length_ms, carry, forward) = self.plan(counts);
+            let (length_ms, carry, forward, counts_per_ms) = self.plan(counts);
             let at_home = !forward && self.switch_closed()?;
             self.carry_counts = if at_home { 0.0 } else { carry };
             if length_ms > 0 && !at_home {
@@ -359,10 +375,18 @@ impl<B: Bridge, H: InputPin, C: MotorCurrent> TimedAxis<B, H, C> {
                     forward,
                     start_ms: now_ms,
                     length_ms,
+                    counts_per_ms,
                 });
             }
         }
         self.motor.poll(now_ms).map_err(TimedAxisError::Motor)
+    }
+
+    /// Milliseconds from `now_ms` to the end of the run under way (0 when
+    /// it is due), `None` without one.
+    pub fn run_left_ms(&self, now_ms: u32) -> Option<u32> {
+        self.run
+            .map(|r| r.length_ms.saturating_sub(now_ms.wrapping_sub(r.start_ms)))
     }
 
     /// What the bridge was last told to do.
@@ -501,6 +525,7 @@ mod tests {
                         forward: counts > 0,
                         start_ms: 0,
                         length_ms,
+                        counts_per_ms: 1.0,
                     };
                     let left = length_ms.saturating_sub(elapsed_ms);
                     let want = if left == 0 {
