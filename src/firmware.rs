@@ -577,10 +577,9 @@ where
             .next_tick_ms
             .is_none_or(|t| monotonic::reached(now_ms, t));
         // A drive due soon holds a tick that is not late by TICK_HOLD_MS
-        // yet (none after a tripped drive): the drive is then served on
-        // time in a short pass, and the tick follows.
-        let held = !tripped
-            && reached
+        // yet: the drive is then served on time in a short pass, and the
+        // tick follows. A tripped drive ticks at once all the same.
+        let held = reached
             && self
                 .next_tick_ms
                 .is_some_and(|t| monotonic::elapsed_ms(now_ms, t) < TICK_HOLD_MS)
